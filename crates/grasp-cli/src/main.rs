@@ -1,0 +1,91 @@
+//! `grasp`: the command-line front end. Flags become a validated configuration before any work
+//! starts; the physics lives in `grasp-model`, the hand-off in `grasp-transfer`.
+
+mod output;
+mod report;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand};
+use grasp_model::{GraspModel, GraspSolver, Scene, SolveOptions};
+
+/// Elastic grasp contact forces and object hand-offs (Sinha 1989 contact-stress model).
+#[derive(Parser, Debug)]
+#[command(name = "grasp", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Solve one grasp: normal and friction forces of every finger, element by element.
+    Solve {
+        /// Scene file (JSON; see `grasp schema`).
+        scene: PathBuf,
+        /// Write the whole solution (elements, residuals, timing) as JSON to this file.
+        #[arg(long, value_name = "OUT.json")]
+        json: Option<PathBuf>,
+        /// Overwrite output files that already exist.
+        #[arg(long)]
+        force: bool,
+        /// Solver tolerance on the scaled program (feasibility and gap).
+        #[arg(long, default_value_t = 1e-10, value_name = "TOL")]
+        tolerance: f64,
+    },
+    /// Print the JSON Schema of the scene format.
+    Schema,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<ExitCode> {
+    match cli.command {
+        Command::Schema => {
+            let schema = grasp_model::scene_json_schema();
+            println!("{}", serde_json::to_string_pretty(&schema)?);
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Solve { scene, json, force, tolerance } => {
+            if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1e-2) {
+                anyhow::bail!("--tolerance is {tolerance}; give a value in (0, 1e-2), e.g. 1e-10");
+            }
+            if let Some(out) = &json {
+                output::check_writable(out, force)?;
+            }
+            let scene_obj = load_scene(&scene)?;
+            let t0 = Instant::now();
+            let model = GraspModel::from_scene(&scene_obj)
+                .with_context(|| format!("{} is not a usable scene", scene.display()))?;
+            let build_s = t0.elapsed().as_secs_f64();
+            let options = SolveOptions { tolerance, ..SolveOptions::default() };
+            let solution = GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
+            print!("{}", report::solution_table(&scene, &model, &solution, build_s));
+            if let Some(out) = &json {
+                let text = serde_json::to_string_pretty(&solution)?;
+                output::write_new(out, text.as_bytes(), force)?;
+                println!("wrote {}", out.display());
+            }
+            Ok(if solution.status.has_forces() { ExitCode::SUCCESS } else { ExitCode::from(2) })
+        }
+    }
+}
+
+/// Reads and validates a scene file; the error names the file and lists every problem.
+fn load_scene(path: &PathBuf) -> Result<Scene> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read scene file {}", path.display()))?;
+    Scene::from_json_str(&text).with_context(|| format!("{} is not a usable scene", path.display()))
+}

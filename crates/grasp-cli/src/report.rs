@@ -1,0 +1,95 @@
+//! Human-readable reports (tables with units in the headers).
+
+use std::fmt::Write;
+use std::path::Path;
+
+use grasp_model::{GraspModel, Solution};
+
+/// The per-finger table, the rigid displacement, and the error beside the run time.
+pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s: f64) -> String {
+    let mut s = String::new();
+    let planar = if model.plane.is_some() { "planar" } else { "3-D" };
+    let _ = writeln!(
+        s,
+        "{}: {} fingers, {} scene, {} unknowns, {} equality + {} cone rows",
+        scene.display(),
+        model.fingers.len(),
+        planar,
+        sol.solver.unknowns,
+        sol.solver.equality_rows,
+        sol.solver.cone_rows
+    );
+    let status = serde_json::to_value(sol.status).ok();
+    let status = status.as_ref().and_then(|v| v.as_str()).unwrap_or("?");
+    let _ = writeln!(s, "status: {status}");
+    if let Some(r) = &sol.reason {
+        let _ = writeln!(s, "  {r}");
+    }
+    if sol.status.has_forces() {
+        let _ = writeln!(
+            s,
+            "\n{:<10} {:>11} {:>11} {:>30} {:>12} {:>7} {:>12} {:>12} {:>17}",
+            "finger",
+            "P [N]",
+            "|Q| [N]",
+            "Q world [N]",
+            "T_n [N m]",
+            "|Q|/muP",
+            "area [m^2]",
+            "p_max [Pa]",
+            "stick/slip/sep"
+        );
+        for f in &sol.fingers {
+            let q = f.tangential_force_n;
+            let _ = writeln!(
+                s,
+                "{:<10} {:>11.5} {:>11.5} {:>30} {:>12.3e} {:>7.3} {:>12.3e} {:>12.4e} {:>17}",
+                f.name,
+                f.normal_force_n,
+                f.tangential_magnitude_n,
+                format!("[{:+.4}, {:+.4}, {:+.4}]", q[0], q[1], q[2]),
+                f.torsional_moment_nm,
+                f.friction_utilization,
+                f.contact_area_m2,
+                f.peak_pressure_pa,
+                format!("{}/{}/{}", f.stick_count, f.slip_count, f.separated_count)
+            );
+        }
+        if let Some(d) = &sol.rigid_displacement {
+            let t = d.translation_m;
+            let r = d.rotation_rad;
+            let _ = writeln!(
+                s,
+                "\nobject rigid displacement: translation of the centre of mass \
+                 [{:+.3e}, {:+.3e}, {:+.3e}] m, rotation [{:+.3e}, {:+.3e}, {:+.3e}] rad",
+                t[0], t[1], t[2], r[0], r[1], r[2]
+            );
+        }
+        if let Some(r) = &sol.residuals {
+            let _ = writeln!(
+                s,
+                "error: equilibrium {:.1e} of the load ({:.3e} N, {:.3e} N m), cones {:.1e}, \
+                 penetration {:.1e}, compatibility {:.1e}, complementarity {:.1e}, stick motion \
+                 {:.1e}, slip direction {:.1e}",
+                r.equilibrium_relative,
+                r.force_n,
+                r.moment_nm,
+                r.cone_violation_relative,
+                r.penetration_relative,
+                r.compatibility_relative,
+                r.complementarity_relative,
+                r.stick_motion_relative,
+                r.slip_direction_error
+            );
+        }
+    }
+    let _ = writeln!(
+        s,
+        "time: model {:.1} ms, solve {:.1} ms (Clarabel {:.1} ms, {} iterations)",
+        build_s * 1e3,
+        sol.solve_time_s * 1e3,
+        sol.solver.solver_time_s * 1e3,
+        sol.solver.iterations
+    );
+    s
+}

@@ -1,0 +1,88 @@
+//! Errors of the contact-model crate.
+//!
+//! Bad input is an error that names the field (as a JSON path) and the fix. Solver outcomes
+//! (infeasible grasp, no convergence) are NOT errors: they are [`crate::SolveStatus`] values in
+//! a [`crate::Solution`].
+
+use std::fmt;
+
+/// One problem found in a scene: where, what, and how to fix it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SceneProblem {
+    /// JSON path of the offending field, e.g. `fingers[2].normal`.
+    pub path: String,
+    /// What is wrong.
+    pub message: String,
+    /// What to do about it.
+    pub fix: String,
+}
+
+impl fmt::Display for SceneProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}; fix: {}", self.path, self.message, self.fix)
+    }
+}
+
+/// A scene that cannot be used.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum SceneError {
+    /// The text is not valid JSON of the scene format (syntax, types, unknown fields).
+    #[error("{path}: {message}")]
+    Parse {
+        /// JSON path where parsing stopped (`.` for the top level).
+        path: String,
+        /// The parser's message.
+        message: String,
+    },
+    /// The scene parsed but some values are unusable; every problem found is listed.
+    #[error("{}", format_problems(.0))]
+    Invalid(Vec<SceneProblem>),
+}
+
+impl SceneError {
+    /// Every problem as (path, message, fix); a parse error is a single problem.
+    pub fn problems(&self) -> Vec<SceneProblem> {
+        match self {
+            SceneError::Parse { path, message } => vec![SceneProblem {
+                path: path.clone(),
+                message: message.clone(),
+                fix: "correct the JSON (see `grasp schema`)".into(),
+            }],
+            SceneError::Invalid(p) => p.clone(),
+        }
+    }
+}
+
+fn format_problems(p: &[SceneProblem]) -> String {
+    let mut s = format!("the scene has {} problem(s):", p.len());
+    for q in p {
+        s.push_str("\n  - ");
+        s.push_str(&q.to_string());
+    }
+    s
+}
+
+/// Errors raised while assembling or running the cone program that are not solver outcomes:
+/// they indicate a bug or an input that validation should have caught.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum ModelError {
+    /// A prescribed load vector has the wrong length.
+    #[error("expected {expected} prescribed loads (one per force-controlled finger), got {got}")]
+    LoadCount {
+        /// Number of force-controlled fingers.
+        expected: usize,
+        /// Number of loads given.
+        got: usize,
+    },
+    /// A prescribed load is negative or not finite.
+    #[error("prescribed load of finger `{finger}` is {value} N; it must be finite and >= 0")]
+    BadLoad {
+        /// Finger name.
+        finger: String,
+        /// The value given.
+        value: f64,
+    },
+    /// Clarabel refused the problem data.
+    #[error("the cone solver rejected the problem: {0}")]
+    Solver(String),
+}

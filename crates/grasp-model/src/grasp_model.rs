@@ -1,0 +1,311 @@
+//! The grasp model: everything derived once from a validated scene and never mutated while
+//! solving (frames, patches, compliance blocks, the equilibrium map, scales).
+//!
+//! Unknown layout: fingers in scene order; within finger `i`, `[F_1..F_N, G1_1..G1_N,
+//! G2_1..G2_N]` truncated to `1 + n_tangential` blocks, where `n_tangential` is 0 for a
+//! frictionless finger, 1 in a planar scene and 2 otherwise. Forces in newtons.
+
+use nalgebra::{DMatrix, Vector3};
+
+use crate::equilibrium::{unit_wrench, EquilibriumMap, Wrench};
+use crate::error::{ModelError, SceneError};
+use crate::friction::FrictionLaw;
+use crate::influence::{patch_compliance, PairConstants};
+use crate::material::Material;
+use crate::patch::{ContactFrame, Patch};
+use crate::scene::{ModelKind, RadiusSpec, Scene};
+
+/// How a finger is driven.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Control {
+    /// Position-held: its normal load is an unknown of the program.
+    Held,
+    /// Force-controlled: `sum_k F_k = P` with `P` in newtons.
+    NormalLoad {
+        /// Prescribed total normal force `P_i`, N.
+        newtons: f64,
+    },
+}
+
+/// One finger, fully prepared.
+#[derive(Debug, Clone)]
+pub struct FingerModel {
+    /// Name from the scene.
+    pub name: String,
+    /// Contact frame (`normal` into the object).
+    pub frame: ContactFrame,
+    /// Patch geometry and initial gaps.
+    pub patch: Patch,
+    /// Fingertip material.
+    pub material: Material,
+    /// Kernel constants of the pair (finger, object).
+    pub pair: PairConstants,
+    /// Friction law.
+    pub friction: FrictionLaw,
+    /// Tangential unknowns per element: 0 (frictionless), 1 (planar) or 2.
+    pub n_tangential: usize,
+    /// Patch compliance `C`, m/N, `(1 + n_tangential) N` square (see
+    /// [`crate::influence::patch_compliance`]).
+    pub compliance_m_per_n: DMatrix<f64>,
+    /// How the finger is driven (as in the scene; loads may be overridden per solve).
+    pub control: Control,
+    /// Index of this finger's first unknown in the program's `x`.
+    pub offset: usize,
+}
+
+impl FingerModel {
+    /// Number of unknowns of this finger.
+    pub fn n_unknowns(&self) -> usize {
+        self.patch.len() * (1 + self.n_tangential)
+    }
+
+    /// Unit direction (world) of component `c` (0 normal, 1 `t1`, 2 `t2`).
+    pub fn direction(&self, c: usize) -> Vector3<f64> {
+        match c {
+            0 => self.frame.normal,
+            1 => self.frame.t1,
+            _ => self.frame.t2,
+        }
+    }
+
+    /// World position of element `k`'s centre, m.
+    pub fn element_point(&self, k: usize) -> Vector3<f64> {
+        let [x, y] = self.patch.centres_m[k];
+        self.frame.point(x, y)
+    }
+
+    /// Friction coefficient used by the energy model.
+    pub fn mu(&self) -> f64 {
+        self.friction.mu_at(0.0)
+    }
+}
+
+/// Non-dimensionalisation of the program (model.md, "Scale before solving").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scales {
+    /// Load scale, N: the largest of the weight, external forces and prescribed loads (1 N if
+    /// all vanish).
+    pub load_n: f64,
+    /// Element force unit `Fu = load / (largest element count of a patch)`, N.
+    pub element_force_n: f64,
+    /// Compliance unit `Cu`, m/N: the largest diagonal entry of any patch compliance.
+    pub compliance_m_per_n: f64,
+    /// Length unit `Lu`, m, for moment rows: the largest distance of a contact point or patch
+    /// corner from the reference point.
+    pub length_m: f64,
+}
+
+impl Scales {
+    /// Displacement unit `Fu Cu`, m: the size of a typical elastic approach.
+    pub fn displacement_m(&self) -> f64 {
+        self.element_force_n * self.compliance_m_per_n
+    }
+}
+
+/// The immutable grasp model.
+#[derive(Debug, Clone)]
+pub struct GraspModel {
+    /// Fingers in scene order.
+    pub fingers: Vec<FingerModel>,
+    /// Plane `(e1, e2, p)` of a planar scene (`e1 x e2 = p`).
+    pub plane: Option<(Vector3<f64>, Vector3<f64>, Vector3<f64>)>,
+    /// Reference point `O` of moments and of the rigid displacement: centroid of the contact
+    /// points, m.
+    pub reference_point_m: Vector3<f64>,
+    /// Object centre of mass, m.
+    pub center_of_mass_m: Vector3<f64>,
+    /// External wrench on the object (weight and external forces), moments about `O`.
+    pub external_wrench: Wrench,
+    /// Scales of the program.
+    pub scales: Scales,
+    /// Scaled equilibrium map.
+    pub equilibrium: EquilibriumMap,
+    /// Total number of unknowns.
+    pub n_unknowns: usize,
+    /// Contact law.
+    pub kind: ModelKind,
+    /// Object material.
+    pub object_material: Material,
+}
+
+impl GraspModel {
+    /// Builds the model from a scene, validating it first.
+    pub fn from_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
+        scene.validate()?;
+        let v3 = |a: &[f64; 3]| Vector3::new(a[0], a[1], a[2]);
+        let object_material = Material::from(&scene.object.material);
+        let plane = scene.planar.as_ref().map(|p| {
+            let p = v3(&p.normal).normalize();
+            let hint = if p.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
+            let e1 = (hint - p * p.dot(&hint)).normalize();
+            let e2 = p.cross(&e1);
+            (e1, e2, p)
+        });
+        let mut fingers = Vec::with_capacity(scene.fingers.len());
+        let mut offset = 0;
+        for f in &scene.fingers {
+            let frame = ContactFrame::new(
+                v3(&f.contact_point),
+                v3(&f.normal),
+                f.tangent.as_ref().map(v3),
+                plane.map(|(_, _, p)| p),
+            );
+            let tip = f.tip_radius.map_or(0.0, |r| 1.0 / r);
+            let obj = match f.object_radius {
+                None => [0.0, 0.0],
+                Some(RadiusSpec::Isotropic(r)) => [1.0 / r, 1.0 / r],
+                Some(RadiusSpec::Principal([a, b])) => {
+                    [a.map_or(0.0, |r| 1.0 / r), b.map_or(0.0, |r| 1.0 / r)]
+                }
+            };
+            let patch = Patch::new(f.patch.size, f.patch.grid, [tip + obj[0], tip + obj[1]]);
+            let material = Material::from(&f.material);
+            let pair = PairConstants::new(&material, &object_material);
+            let friction = FrictionLaw::from(&f.friction);
+            let n_tangential = if friction.is_frictionless() {
+                0
+            } else if plane.is_some() {
+                1
+            } else {
+                2
+            };
+            let compliance_m_per_n = patch_compliance(&patch.grid, &pair, n_tangential);
+            let control = match f.control.normal_load_n() {
+                Some(p) => Control::NormalLoad { newtons: p },
+                None => Control::Held,
+            };
+            let fm = FingerModel {
+                name: f.name.clone(),
+                frame,
+                patch,
+                material,
+                pair,
+                friction,
+                n_tangential,
+                compliance_m_per_n,
+                control,
+                offset,
+            };
+            offset += fm.n_unknowns();
+            fingers.push(fm);
+        }
+        let reference_point_m = fingers
+            .iter()
+            .map(|f| f.frame.origin_m)
+            .sum::<Vector3<f64>>()
+            / fingers.len() as f64;
+        let center_of_mass_m = v3(&scene.object.center_of_mass);
+        let o = &scene.object;
+        let mut external_wrench = Wrench::zeros();
+        if o.weight > 0.0 {
+            let g = v3(&o.gravity).normalize();
+            external_wrench += unit_wrench(&g, &center_of_mass_m, &reference_point_m) * o.weight;
+        }
+        let mut load_n = o.weight;
+        for r in &o.external_forces {
+            let fv = v3(&r.force);
+            let mag = fv.norm();
+            if mag > 0.0 {
+                external_wrench += unit_wrench(&(fv / mag), &v3(&r.at), &reference_point_m) * mag;
+            }
+            load_n = load_n.max(mag);
+        }
+        for f in &fingers {
+            if let Control::NormalLoad { newtons } = f.control {
+                load_n = load_n.max(newtons);
+            }
+        }
+        if load_n <= 0.0 {
+            load_n = 1.0;
+        }
+        let max_elems = fingers.iter().map(|f| f.patch.len()).max().unwrap_or(1);
+        let compliance = fingers
+            .iter()
+            .flat_map(|f| f.compliance_m_per_n.diagonal().iter().copied().collect::<Vec<_>>())
+            .fold(0.0_f64, f64::max);
+        let length_m = fingers
+            .iter()
+            .map(|f| {
+                let half = 0.5 * (f.patch.grid.hx * f.patch.grid.nx as f64)
+                    .hypot(f.patch.grid.hy * f.patch.grid.ny as f64);
+                (f.frame.origin_m - reference_point_m).norm() + half
+            })
+            .fold(0.0_f64, f64::max);
+        let scales = Scales {
+            load_n,
+            element_force_n: load_n / max_elems as f64,
+            compliance_m_per_n: compliance,
+            length_m,
+        };
+        let equilibrium = EquilibriumMap::new(length_m, plane);
+        Ok(GraspModel {
+            fingers,
+            plane,
+            reference_point_m,
+            center_of_mass_m,
+            external_wrench,
+            scales,
+            equilibrium,
+            n_unknowns: offset,
+            kind: scene.model,
+            object_material,
+        })
+    }
+
+    /// Indices of the force-controlled fingers, in scene order.
+    pub fn force_controlled(&self) -> Vec<usize> {
+        (0..self.fingers.len())
+            .filter(|&i| matches!(self.fingers[i].control, Control::NormalLoad { .. }))
+            .collect()
+    }
+
+    /// The prescribed loads of the scene (N), one per force-controlled finger.
+    pub fn scene_loads_n(&self) -> Vec<f64> {
+        self.force_controlled()
+            .iter()
+            .map(|&i| match self.fingers[i].control {
+                Control::NormalLoad { newtons } => newtons,
+                Control::Held => 0.0,
+            })
+            .collect()
+    }
+
+    /// Checks a vector of prescribed loads (one per force-controlled finger, N).
+    pub fn check_loads(&self, loads_n: &[f64]) -> Result<(), ModelError> {
+        let fc = self.force_controlled();
+        if fc.len() != loads_n.len() {
+            return Err(ModelError::LoadCount { expected: fc.len(), got: loads_n.len() });
+        }
+        for (&i, &p) in fc.iter().zip(loads_n) {
+            if !(p.is_finite() && p >= 0.0) {
+                return Err(ModelError::BadLoad { finger: self.fingers[i].name.clone(), value: p });
+            }
+        }
+        Ok(())
+    }
+
+    /// World wrench (moments about `O`) of a unit force in component `c` of element `k` of
+    /// finger `i`: the column of the equilibrium matrix (thesis eqs. 48-49).
+    pub fn unit_wrench(&self, i: usize, k: usize, c: usize) -> Wrench {
+        let f = &self.fingers[i];
+        unit_wrench(&f.direction(c), &f.element_point(k), &self.reference_point_m)
+    }
+
+    /// Net wrench (N, N m about `O`) of contact forces `x` (N, program layout) plus the external
+    /// wrench: zero at equilibrium.
+    pub fn net_wrench(&self, x_n: &[f64]) -> Wrench {
+        let mut w = self.external_wrench;
+        for (i, f) in self.fingers.iter().enumerate() {
+            let n = f.patch.len();
+            for c in 0..=f.n_tangential {
+                for k in 0..n {
+                    let v = x_n[f.offset + c * n + k];
+                    if v != 0.0 {
+                        w += self.unit_wrench(i, k, c) * v;
+                    }
+                }
+            }
+        }
+        w
+    }
+}

@@ -1,0 +1,67 @@
+//! Hertz: a spherical fingertip pressed on a flat object (Johnson, Contact Mechanics,
+//! section 4.2). The model must reproduce the peak pressure and the approach within 1 % at a
+//! stated grid, and the error must shrink as the grid is refined.
+
+use grasp_model::closed_form::HertzSphere;
+use grasp_model::material::Material;
+use grasp_model::{solve, GraspModel, Scene, SolveStatus};
+
+const E: f64 = 210e9; // steel, Pa
+const NU: f64 = 0.3;
+const R: f64 = 0.01; // tip radius, m
+const P: f64 = 10.0; // load, N
+
+fn hertz() -> HertzSphere {
+    let m = Material::Elastic { youngs_modulus_pa: E, poisson_ratio: NU };
+    HertzSphere::new(P, R, m.effective_modulus_pa(&m))
+}
+
+/// One frictionless spherical fingertip under an object of weight `P` resting on it: the
+/// finger is held, so the object's downward translation is the Hertz approach.
+fn scene(grid: usize, patch_over_a: f64) -> Scene {
+    let side = patch_over_a * hertz().contact_radius_m;
+    let json = format!(
+        r#"{{
+        "object": {{ "weight": {P}, "center_of_mass": [0, 0, 0.02], "gravity": [0, 0, -1],
+                    "material": {{"youngs_modulus": {E}, "poisson_ratio": {NU}}} }},
+        "fingers": [ {{ "name": "tip", "contact_point": [0, 0, 0], "normal": [0, 0, 1],
+                       "material": {{"youngs_modulus": {E}, "poisson_ratio": {NU}}},
+                       "tip_radius": {R}, "patch": {{"size": [{side}, {side}], "grid": [{grid}, {grid}]}},
+                       "friction": {{"mu": 0.0}} }} ]
+    }}"#
+    );
+    Scene::from_json_str(&json).expect("valid scene")
+}
+
+/// Relative errors (peak pressure, approach) at an odd grid over a patch of 2.4 a.
+fn errors(grid: usize) -> (f64, f64) {
+    let model = GraspModel::from_scene(&scene(grid, 2.4)).unwrap();
+    let sol = solve(&model).unwrap();
+    assert_eq!(sol.status, SolveStatus::Solved, "{:?}", sol.reason);
+    let f = &sol.fingers[0];
+    assert!((f.normal_force_n - P).abs() < 1e-9 * P);
+    let h = hertz();
+    // Approach: the object moves toward the held finger, i.e. against the normal (+z).
+    let approach = -sol.rigid_displacement.unwrap().translation_m[2];
+    let e_p = (f.peak_pressure_pa - h.peak_pressure_pa).abs() / h.peak_pressure_pa;
+    let e_d = (approach - h.approach_m).abs() / h.approach_m;
+    (e_p, e_d)
+}
+
+#[test]
+fn peak_pressure_and_approach_within_one_percent_at_31x31() {
+    let (e_p, e_d) = errors(31);
+    eprintln!("31x31 over 2.4a: peak pressure error {e_p:.4}, approach error {e_d:.4}");
+    assert!(e_p < 0.01, "peak pressure error {e_p}");
+    assert!(e_d < 0.01, "approach error {e_d}");
+}
+
+#[test]
+fn error_shrinks_as_the_grid_is_refined() {
+    let e: Vec<(f64, f64)> = [11, 21, 31].iter().map(|&g| errors(g)).collect();
+    eprintln!("errors (peak, approach) at 11, 21, 31: {e:?}");
+    for w in e.windows(2) {
+        assert!(w[1].0 < w[0].0, "peak pressure error did not shrink: {e:?}");
+        assert!(w[1].1 < w[0].1, "approach error did not shrink: {e:?}");
+    }
+}
