@@ -12,7 +12,10 @@ const R: f64 = 0.01; // tip radius, m
 const P: f64 = 10.0; // load, N
 
 fn hertz() -> HertzSphere {
-    let m = Material::Elastic { youngs_modulus_pa: E, poisson_ratio: NU };
+    let m = Material::Elastic {
+        youngs_modulus_pa: E,
+        poisson_ratio: NU,
+    };
     HertzSphere::new(P, R, m.effective_modulus_pa(&m))
 }
 

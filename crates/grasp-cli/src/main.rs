@@ -58,7 +58,12 @@ fn run(cli: Cli) -> Result<ExitCode> {
             println!("{}", serde_json::to_string_pretty(&schema)?);
             Ok(ExitCode::SUCCESS)
         }
-        Command::Solve { scene, json, force, tolerance } => {
+        Command::Solve {
+            scene,
+            json,
+            force,
+            tolerance,
+        } => {
             if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1e-2) {
                 anyhow::bail!("--tolerance is {tolerance}; give a value in (0, 1e-2), e.g. 1e-10");
             }
@@ -70,15 +75,26 @@ fn run(cli: Cli) -> Result<ExitCode> {
             let model = GraspModel::from_scene(&scene_obj)
                 .with_context(|| format!("{} is not a usable scene", scene.display()))?;
             let build_s = t0.elapsed().as_secs_f64();
-            let options = SolveOptions { tolerance, ..SolveOptions::default() };
-            let solution = GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
-            print!("{}", report::solution_table(&scene, &model, &solution, build_s));
+            let options = SolveOptions {
+                tolerance,
+                ..SolveOptions::default()
+            };
+            let solution =
+                GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
+            print!(
+                "{}",
+                report::solution_table(&scene, &model, &solution, build_s)
+            );
             if let Some(out) = &json {
                 let text = serde_json::to_string_pretty(&solution)?;
                 output::write_new(out, text.as_bytes(), force)?;
                 println!("wrote {}", out.display());
             }
-            Ok(if solution.status.has_forces() { ExitCode::SUCCESS } else { ExitCode::from(2) })
+            Ok(if solution.status.has_forces() {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::from(2)
+            })
         }
     }
 }

@@ -15,7 +15,11 @@ pub fn check_writable(path: &Path, force: bool) -> Result<()> {
     }
     if let Some(dir) = path.parent() {
         if !dir.as_os_str().is_empty() && !dir.is_dir() {
-            bail!("cannot write {}: folder {} does not exist", path.display(), dir.display());
+            bail!(
+                "cannot write {}: folder {} does not exist",
+                path.display(),
+                dir.display()
+            );
         }
     }
     Ok(())
@@ -26,9 +30,10 @@ pub fn check_writable(path: &Path, force: bool) -> Result<()> {
 pub fn write_new(path: &Path, bytes: &[u8], force: bool) -> Result<()> {
     check_writable(path, force)?;
     let tmp = path.with_extension("partial");
-    let mut f = std::fs::File::create(&tmp)
-        .with_context(|| format!("cannot create {}", tmp.display()))?;
-    f.write_all(bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
+    let mut f =
+        std::fs::File::create(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
+    f.write_all(bytes)
+        .with_context(|| format!("cannot write {}", tmp.display()))?;
     f.sync_all().ok();
     std::fs::rename(&tmp, path).with_context(|| format!("cannot move into {}", path.display()))?;
     Ok(())

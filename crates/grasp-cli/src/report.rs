@@ -8,7 +8,11 @@ use grasp_model::{GraspModel, Solution};
 /// The per-finger table, the rigid displacement, and the error beside the run time.
 pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s: f64) -> String {
     let mut s = String::new();
-    let planar = if model.plane.is_some() { "planar" } else { "3-D" };
+    let planar = if model.plane.is_some() {
+        "planar"
+    } else {
+        "3-D"
+    };
     let _ = writeln!(
         s,
         "{}: {} fingers, {} scene, {} unknowns, {} equality + {} cone rows",

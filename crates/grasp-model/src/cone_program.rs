@@ -112,7 +112,11 @@ impl ConeProgram {
             let dim = c.nrows();
             for col in 0..dim {
                 for row in 0..=col {
-                    pcols.push(f.offset + row, f.offset + col, c[(row, col)] / s.compliance_m_per_n);
+                    pcols.push(
+                        f.offset + row,
+                        f.offset + col,
+                        c[(row, col)] / s.compliance_m_per_n,
+                    );
                 }
             }
             for (k, gap) in f.patch.gap_m.iter().enumerate() {
@@ -154,7 +158,9 @@ impl ConeProgram {
             for col in 0..n {
                 acols.push(r, col, e_red[(r, col)]);
             }
-            let rhs: f64 = (0..rows).map(|k| -reduction.basis[(k, r)] * external_scaled[k]).sum();
+            let rhs: f64 = (0..rows)
+                .map(|k| -reduction.basis[(k, r)] * external_scaled[k])
+                .sum();
             b.push(rhs);
         }
         let mut load_rows = Vec::with_capacity(fc.len());
@@ -218,7 +224,10 @@ impl ConeProgram {
         if n_nonneg > 0 {
             cones.push(SupportedConeT::NonnegativeConeT(n_nonneg));
         }
-        cones.extend(std::iter::repeat_n(SupportedConeT::SecondOrderConeT(3), n_soc));
+        cones.extend(std::iter::repeat_n(
+            SupportedConeT::SecondOrderConeT(3),
+            n_soc,
+        ));
         ConeProgram {
             p,
             q,

@@ -26,7 +26,10 @@ pub struct EquilibriumMap {
 
 impl EquilibriumMap {
     /// Builds the map for a 3-D scene (`planar = None`) or a planar one (`Some((e1, e2, p))`).
-    pub fn new(length_scale_m: f64, planar: Option<(Vector3<f64>, Vector3<f64>, Vector3<f64>)>) -> Self {
+    pub fn new(
+        length_scale_m: f64,
+        planar: Option<(Vector3<f64>, Vector3<f64>, Vector3<f64>)>,
+    ) -> Self {
         let inv_l = 1.0 / length_scale_m;
         let select = match planar {
             None => {

@@ -136,7 +136,11 @@ impl GraspModel {
         let object_material = Material::from(&scene.object.material);
         let plane = scene.planar.as_ref().map(|p| {
             let p = v3(&p.normal).normalize();
-            let hint = if p.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
+            let hint = if p.x.abs() < 0.9 {
+                Vector3::x()
+            } else {
+                Vector3::y()
+            };
             let e1 = (hint - p * p.dot(&hint)).normalize();
             let e2 = p.cross(&e1);
             (e1, e2, p)
@@ -221,13 +225,20 @@ impl GraspModel {
         let max_elems = fingers.iter().map(|f| f.patch.len()).max().unwrap_or(1);
         let compliance = fingers
             .iter()
-            .flat_map(|f| f.compliance_m_per_n.diagonal().iter().copied().collect::<Vec<_>>())
+            .flat_map(|f| {
+                f.compliance_m_per_n
+                    .diagonal()
+                    .iter()
+                    .copied()
+                    .collect::<Vec<_>>()
+            })
             .fold(0.0_f64, f64::max);
         let length_m = fingers
             .iter()
             .map(|f| {
-                let half = 0.5 * (f.patch.grid.hx * f.patch.grid.nx as f64)
-                    .hypot(f.patch.grid.hy * f.patch.grid.ny as f64);
+                let half = 0.5
+                    * (f.patch.grid.hx * f.patch.grid.nx as f64)
+                        .hypot(f.patch.grid.hy * f.patch.grid.ny as f64);
                 (f.frame.origin_m - reference_point_m).norm() + half
             })
             .fold(0.0_f64, f64::max);
@@ -274,11 +285,17 @@ impl GraspModel {
     pub fn check_loads(&self, loads_n: &[f64]) -> Result<(), ModelError> {
         let fc = self.force_controlled();
         if fc.len() != loads_n.len() {
-            return Err(ModelError::LoadCount { expected: fc.len(), got: loads_n.len() });
+            return Err(ModelError::LoadCount {
+                expected: fc.len(),
+                got: loads_n.len(),
+            });
         }
         for (&i, &p) in fc.iter().zip(loads_n) {
             if !(p.is_finite() && p >= 0.0) {
-                return Err(ModelError::BadLoad { finger: self.fingers[i].name.clone(), value: p });
+                return Err(ModelError::BadLoad {
+                    finger: self.fingers[i].name.clone(),
+                    value: p,
+                });
             }
         }
         Ok(())
@@ -288,7 +305,11 @@ impl GraspModel {
     /// finger `i`: the column of the equilibrium matrix (thesis eqs. 48-49).
     pub fn unit_wrench(&self, i: usize, k: usize, c: usize) -> Wrench {
         let f = &self.fingers[i];
-        unit_wrench(&f.direction(c), &f.element_point(k), &self.reference_point_m)
+        unit_wrench(
+            &f.direction(c),
+            &f.element_point(k),
+            &self.reference_point_m,
+        )
     }
 
     /// Net wrench (N, N m about `O`) of contact forces `x` (N, program layout) plus the external

@@ -170,7 +170,11 @@ impl GridSpec {
 ///
 /// Blocks depend only on the index offset between elements (Toeplitz), so each distinct
 /// offset's integrals are computed once.
-pub fn patch_compliance(grid: &GridSpec, pair: &PairConstants, n_tangential: usize) -> DMatrix<f64> {
+pub fn patch_compliance(
+    grid: &GridSpec,
+    pair: &PairConstants,
+    n_tangential: usize,
+) -> DMatrix<f64> {
     let (nx, ny, hx, hy) = (grid.nx, grid.ny, grid.hx, grid.hy);
     let n = grid.len();
     let area = hx * hy;
@@ -248,7 +252,9 @@ mod tests {
     ];
 
     fn pick(r: &RectangleIntegrals, i: usize) -> f64 {
-        [r.inv_rho, r.xx_rho3, r.yy_rho3, r.xy_rho3, r.x_rho2, r.y_rho2][i]
+        [
+            r.inv_rho, r.xx_rho3, r.yy_rho3, r.xy_rho3, r.x_rho2, r.y_rho2,
+        ][i]
     }
 
     /// Composite Simpson rule on [a, b] with `n` (even) panels.
@@ -270,7 +276,12 @@ mod tests {
         // k(rho cos, rho sin) * rho = k(cos, sin) for degree -1 kernels.
         let g = |t: f64| k(sx * t.cos(), sy * t.sin());
         simpson(|t| g(t) * a / t.cos(), 0.0, split, 4000)
-            + simpson(|t| g(t) * b / t.sin(), split, std::f64::consts::FRAC_PI_2, 4000)
+            + simpson(
+                |t| g(t) * b / t.sin(),
+                split,
+                std::f64::consts::FRAC_PI_2,
+                4000,
+            )
     }
 
     /// Integral over [x1, x2] x [y1, y2] by splitting at the axes into quadrant rectangles
@@ -304,10 +315,22 @@ mod tests {
     fn rectangle_integrals_match_polar_quadrature_including_self_terms() {
         // Self term, adjacent, diagonal neighbour, and a field point on the source's edge line.
         let (hx, hy) = (0.02, 0.013);
-        for &(dx, dy) in &[(0.0, 0.0), (hx, 0.0), (0.0, -hy), (hx, hy), (-2.0 * hx, 0.5 * hy)] {
+        for &(dx, dy) in &[
+            (0.0, 0.0),
+            (hx, 0.0),
+            (0.0, -hy),
+            (hx, hy),
+            (-2.0 * hx, 0.5 * hy),
+        ] {
             let r = RectangleIntegrals::for_offset(dx, dy, hx, hy);
             for (i, (name, k)) in KERNELS.iter().enumerate() {
-                let q = polar_rect(*k, dx - hx / 2.0, dx + hx / 2.0, dy - hy / 2.0, dy + hy / 2.0);
+                let q = polar_rect(
+                    *k,
+                    dx - hx / 2.0,
+                    dx + hx / 2.0,
+                    dy - hy / 2.0,
+                    dy + hy / 2.0,
+                );
                 let got = pick(&r, i);
                 // Simpson with 4000 panels on smooth integrands: ~1e-12 relative; tolerance
                 // 1e-9 of the 1/rho scale (the odd kernels vanish by symmetry at the self term).
@@ -326,7 +349,14 @@ mod tests {
         for &(dx, dy) in &[(0.05, 0.03), (-0.04, 0.07), (0.1, -0.1)] {
             let r = RectangleIntegrals::for_offset(dx, dy, hx, hy);
             for (i, (name, k)) in KERNELS.iter().enumerate() {
-                let q = midpoint_rect(*k, dx - hx / 2.0, dx + hx / 2.0, dy - hy / 2.0, dy + hy / 2.0, 400);
+                let q = midpoint_rect(
+                    *k,
+                    dx - hx / 2.0,
+                    dx + hx / 2.0,
+                    dy - hy / 2.0,
+                    dy + hy / 2.0,
+                    400,
+                );
                 let got = pick(&r, i);
                 // Midpoint rule error ~ h^2 k''/24 per cell: below 1e-7 relative here.
                 assert!(
@@ -338,10 +368,16 @@ mod tests {
     }
 
     fn steel() -> Material {
-        Material::Elastic { youngs_modulus_pa: 210e9, poisson_ratio: 0.3 }
+        Material::Elastic {
+            youngs_modulus_pa: 210e9,
+            poisson_ratio: 0.3,
+        }
     }
     fn rubber() -> Material {
-        Material::Elastic { youngs_modulus_pa: 5e6, poisson_ratio: 0.45 }
+        Material::Elastic {
+            youngs_modulus_pa: 5e6,
+            poisson_ratio: 0.45,
+        }
     }
 
     #[test]
@@ -349,7 +385,9 @@ mod tests {
         // Seeded pseudo-random materials and grids (64-bit LCG).
         let mut seed: u64 = 0x9e3779b97f4a7c15;
         let mut next = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
         for _ in 0..12 {
@@ -377,7 +415,10 @@ mod tests {
                 assert!(asym <= 1e-14 * c.abs().max(), "not symmetric: {asym}");
                 let eig = nalgebra::SymmetricEigen::new(c.clone());
                 let min = eig.eigenvalues.min();
-                assert!(min > 0.0, "not positive definite: min eigenvalue {min}, grid {grid:?}");
+                assert!(
+                    min > 0.0,
+                    "not positive definite: min eigenvalue {min}, grid {grid:?}"
+                );
             }
         }
     }
@@ -386,7 +427,12 @@ mod tests {
     fn far_field_entries_tend_to_point_load_formulas() {
         let (f, o) = (rubber(), steel());
         let pair = PairConstants::new(&f, &o);
-        let grid = GridSpec { nx: 41, ny: 3, hx: 1e-3, hy: 1e-3 };
+        let grid = GridSpec {
+            nx: 41,
+            ny: 3,
+            hx: 1e-3,
+            hy: 1e-3,
+        };
         let n = grid.len();
         let c = patch_compliance(&grid, &pair, 2);
         // Field element (40, 2), source (0, 0): X = 40 h, Y = 2 h.
@@ -412,7 +458,12 @@ mod tests {
     fn coupling_is_the_difference_of_the_bodies_and_vanishes_for_equal_materials() {
         let equal = PairConstants::new(&steel(), &steel());
         assert!(equal.uncoupled());
-        let grid = GridSpec { nx: 3, ny: 3, hx: 1e-3, hy: 1e-3 };
+        let grid = GridSpec {
+            nx: 3,
+            ny: 3,
+            hx: 1e-3,
+            hy: 1e-3,
+        };
         let c = patch_compliance(&grid, &equal, 2);
         let n = grid.len();
         assert_eq!(c.view((0, n), (n, 2 * n)).abs().max(), 0.0);

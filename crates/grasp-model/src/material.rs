@@ -35,7 +35,9 @@ impl Material {
     pub fn inverse_modulus_per_pa(&self) -> f64 {
         match *self {
             Material::Rigid => 0.0,
-            Material::Elastic { youngs_modulus_pa, .. } => 1.0 / youngs_modulus_pa,
+            Material::Elastic {
+                youngs_modulus_pa, ..
+            } => 1.0 / youngs_modulus_pa,
         }
     }
 

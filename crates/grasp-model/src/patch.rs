@@ -48,7 +48,12 @@ impl ContactFrame {
             (hint - n * n.dot(&hint)).normalize()
         };
         let t2 = n.cross(&t1);
-        ContactFrame { origin_m, normal: n, t1, t2 }
+        ContactFrame {
+            origin_m,
+            normal: n,
+            t1,
+            t2,
+        }
     }
 
     /// World position of the point with patch coordinates `(x, y)` metres.
@@ -87,7 +92,11 @@ impl Patch {
                 gap_m.push(0.5 * (curvature_per_m[0] * x * x + curvature_per_m[1] * y * y));
             }
         }
-        Patch { grid: GridSpec { nx, ny, hx, hy }, centres_m, gap_m }
+        Patch {
+            grid: GridSpec { nx, ny, hx, hy },
+            centres_m,
+            gap_m,
+        }
     }
 
     /// Number of elements.

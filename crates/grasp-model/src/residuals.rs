@@ -58,7 +58,10 @@ pub fn contact_kinematics(
         gap_m.push(g);
         tangential_m.push(w);
     }
-    ContactKinematics { gap_m, tangential_m }
+    ContactKinematics {
+        gap_m,
+        tangential_m,
+    }
 }
 
 /// Residuals of a solution; all relative ones are dimensionless.
@@ -147,8 +150,9 @@ pub fn evaluate(
                 (gap - mu * wn, (mu * fk - gn).max(0.0) * wn)
             };
             let normal = fk.max(0.0) * opening.abs();
-            r.complementarity_relative =
-                r.complementarity_relative.max(normal.max(tangential_slack) / (fu * du));
+            r.complementarity_relative = r
+                .complementarity_relative
+                .max(normal.max(tangential_slack) / (fu * du));
             match states[i][k] {
                 ElementState::Separated => {}
                 ElementState::Stick => {

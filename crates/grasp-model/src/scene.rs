@@ -81,7 +81,7 @@ pub struct ExternalForceSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(
     untagged,
-    expecting = "a material: \"rigid\" or {\"youngs_modulus\": Pa, \"poisson_ratio\": -}"
+    expecting = "expected a material: \"rigid\" or {\"youngs_modulus\": Pa, \"poisson_ratio\": -}"
 )]
 pub enum MaterialSpec {
     /// A rigid body.
@@ -145,7 +145,7 @@ pub struct FingerSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(
     untagged,
-    expecting = "a radius in metres, or [R1, R2] with each a number or null"
+    expecting = "expected a radius in metres, or [R1, R2] with each a number or null"
 )]
 pub enum RadiusSpec {
     /// The same radius in every direction.
@@ -176,7 +176,7 @@ pub struct FrictionSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(
     untagged,
-    expecting = "a control: \"held\" or {\"normal_load\": N}"
+    expecting = "expected a control: \"held\" or {\"normal_load\": N}"
 )]
 pub enum ControlSpec {
     /// Position-held: its load is found by the model.

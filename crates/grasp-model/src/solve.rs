@@ -36,7 +36,11 @@ pub struct SolveOptions {
 
 impl Default for SolveOptions {
     fn default() -> Self {
-        SolveOptions { tolerance: 1e-10, max_iterations: 200, time_limit_s: f64::INFINITY }
+        SolveOptions {
+            tolerance: 1e-10,
+            max_iterations: 200,
+            time_limit_s: f64::INFINITY,
+        }
     }
 }
 
@@ -52,7 +56,11 @@ impl GraspSolver {
     /// Assembles the program of `model` with the scene's prescribed loads.
     pub fn new(model: &GraspModel, options: SolveOptions) -> Self {
         let program = ConeProgram::assemble(model, &model.scene_loads_n());
-        GraspSolver { program, clarabel: None, options }
+        GraspSolver {
+            program,
+            clarabel: None,
+            options,
+        }
     }
 
     /// The assembled program.
@@ -92,13 +100,20 @@ impl GraspSolver {
                 - self.program.load_rows.len(),
         };
         if let Some(reason) = &self.program.unbalanced {
-            return Ok(failed(model, SolveStatus::NoEquilibrium, reason.clone(), start, stats0));
+            return Ok(failed(
+                model,
+                SolveStatus::NoEquilibrium,
+                reason.clone(),
+                start,
+                stats0,
+            ));
         }
         let settings = self.settings();
         let p = &self.program;
         let solver = match self.clarabel.as_mut() {
             Some(s) => {
-                s.update_b(&p.b).map_err(|e| ModelError::Solver(e.to_string()))?;
+                s.update_b(&p.b)
+                    .map_err(|e| ModelError::Solver(e.to_string()))?;
                 s
             }
             None => {
@@ -119,7 +134,13 @@ impl GraspSolver {
             SolverStatus::AlmostSolved => SolveStatus::ReducedAccuracy,
             SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
                 let reason = escape_reason(model, &self.program, &sol.z);
-                return Ok(failed(model, SolveStatus::NoEquilibrium, reason, start, stats));
+                return Ok(failed(
+                    model,
+                    SolveStatus::NoEquilibrium,
+                    reason,
+                    start,
+                    stats,
+                ));
             }
             other => {
                 let reason = format!(
@@ -127,7 +148,13 @@ impl GraspSolver {
                      iterations; try a coarser grid, or report the scene",
                     sol.iterations
                 );
-                return Ok(failed(model, SolveStatus::NoConvergence, reason, start, stats));
+                return Ok(failed(
+                    model,
+                    SolveStatus::NoConvergence,
+                    reason,
+                    start,
+                    stats,
+                ));
             }
         };
         let x = sol.x.clone();
@@ -175,9 +202,12 @@ fn rigid_from_multipliers(
     let r = program.equilibrium_rows();
     let zr = DVector::from_column_slice(&z[..r]);
     let full = &program.reduction.basis * zr; // scaled equilibrium coordinates
-    // delta = Fu Cu S' full; S has 1/L on moment rows.
+                                              // delta = Fu Cu S' full; S has 1/L on moment rows.
     let d = model.equilibrium.select.transpose() * full * model.scales.displacement_m();
-    (Vector3::new(d[0], d[1], d[2]), Vector3::new(d[3], d[4], d[5]))
+    (
+        Vector3::new(d[0], d[1], d[2]),
+        Vector3::new(d[3], d[4], d[5]),
+    )
 }
 
 fn fmt3(v: &Vector3<f64>) -> String {
@@ -237,7 +267,11 @@ fn build_solution(
                 let w = kin.tangential_m[i][k];
                 let wn = (w[0] * w[0] + w[1] * w[1]).sqrt() / du;
                 let gap = kin.gap_m[i][k] / du;
-                let opening = if f.n_tangential == 0 { gap } else { gap - mu * wn };
+                let opening = if f.n_tangential == 0 {
+                    gap
+                } else {
+                    gap - mu * wn
+                };
                 // Primal slack against dual slack: the larger one says which side is active.
                 if fk < opening.max(1e-7) {
                     ElementState::Separated
@@ -289,7 +323,11 @@ fn build_solution(
                 state: states[i][k],
             });
         }
-        let cop = if p > 0.0 { f.frame.point(cx / p, cy / p) } else { f.frame.origin_m };
+        let cop = if p > 0.0 {
+            f.frame.point(cx / p, cy / p)
+        } else {
+            f.frame.origin_m
+        };
         let qn = q.norm();
         fingers.push(FingerSolution {
             name: f.name.clone(),
@@ -300,7 +338,11 @@ fn build_solution(
             center_of_pressure_m: [cop.x, cop.y, cop.z],
             contact_area_m2: (ne - n_sep) as f64 * area,
             peak_pressure_pa: peak,
-            friction_utilization: if mu > 0.0 && p > 0.0 { qn / (mu * p) } else { 0.0 },
+            friction_utilization: if mu > 0.0 && p > 0.0 {
+                qn / (mu * p)
+            } else {
+                0.0
+            },
             approach_m: approach[i],
             stick_count: n_stick,
             slip_count: n_slip,

@@ -42,7 +42,11 @@ impl Scene {
             );
         }
         v.finite3("object.center_of_mass", &o.center_of_mass);
-        v.direction("object.gravity", &o.gravity, "give a nonzero direction, e.g. [0, 0, -1]");
+        v.direction(
+            "object.gravity",
+            &o.gravity,
+            "give a nonzero direction, e.g. [0, 0, -1]",
+        );
         v.material("object.material", &o.material);
         for (j, r) in o.external_forces.iter().enumerate() {
             v.finite3(&format!("object.external_forces[{j}].force"), &r.force);
@@ -59,7 +63,11 @@ impl Scene {
         for (i, f) in self.fingers.iter().enumerate() {
             let p = format!("fingers[{i}]");
             if f.name.trim().is_empty() {
-                v.push(&format!("{p}.name"), "is empty".into(), "give each finger a unique name");
+                v.push(
+                    &format!("{p}.name"),
+                    "is empty".into(),
+                    "give each finger a unique name",
+                );
             }
             if let Some(j) = self.fingers[..i].iter().position(|g| g.name == f.name) {
                 v.push(
@@ -75,8 +83,11 @@ impl Scene {
                 "give the contact normal pointing into the object, e.g. [0, 0, 1]",
             );
             if let Some(t) = &f.tangent {
-                if v.direction(&format!("{p}.tangent"), t, "give a nonzero tangent or omit it")
-                    && n_ok
+                if v.direction(
+                    &format!("{p}.tangent"),
+                    t,
+                    "give a nonzero tangent or omit it",
+                ) && n_ok
                 {
                     let (n, t) = (unit(&f.normal), unit(t));
                     if cross(&n, &t).iter().map(|x| x * x).sum::<f64>().sqrt() < 1e-6 {
@@ -160,7 +171,11 @@ impl Scene {
         }
         self.check_reach(&mut v);
         if let Some(pl) = &self.planar {
-            if v.direction("planar.normal", &pl.normal, "give the normal of the plane of motion") {
+            if v.direction(
+                "planar.normal",
+                &pl.normal,
+                "give the normal of the plane of motion",
+            ) {
                 self.check_planar(&unit(&pl.normal), &mut v);
             }
         }
@@ -206,7 +221,11 @@ impl Scene {
             .fingers
             .iter()
             .map(|f| norm(&sub(&f.contact_point, &r)))
-            .chain(self.fingers.iter().map(|f| f.patch.size[0].max(f.patch.size[1])))
+            .chain(
+                self.fingers
+                    .iter()
+                    .map(|f| f.patch.size[0].max(f.patch.size[1])),
+            )
             .fold(0.0_f64, f64::max)
             .max(f64::MIN_POSITIVE);
         let off_plane = |x: &Vec3| dot(&sub(x, &r), p).abs() > PLANAR_TOLERANCE * scale;
@@ -281,7 +300,11 @@ impl Problems {
         if x.iter().all(|c| c.is_finite()) {
             return true;
         }
-        self.push(path, "has a non-finite component".into(), "give three finite numbers");
+        self.push(
+            path,
+            "has a non-finite component".into(),
+            "give three finite numbers",
+        );
         false
     }
 

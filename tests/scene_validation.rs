@@ -1,0 +1,154 @@
+//! Bad scene files: each class of mistake gives an error naming the JSON path and the fix.
+
+mod support;
+use support::*;
+
+use grasp_model::{Scene, SceneError};
+use serde_json::{json, Value};
+
+fn problems(v: &Value) -> Vec<String> {
+    match Scene::from_json_str(&v.to_string()) {
+        Ok(_) => panic!("scene was accepted"),
+        Err(e) => e.problems().iter().map(|p| p.to_string()).collect(),
+    }
+}
+
+fn assert_problem(v: &Value, path: &str, words: &str) {
+    let p = problems(v);
+    assert!(
+        p.iter()
+            .any(|m| m.starts_with(path) && m.contains(words) && m.contains("fix")),
+        "expected `{path}` ... `{words}` ... fix, got {p:#?}"
+    );
+}
+
+fn cube() -> Value {
+    example_json("cube_a.json")
+}
+
+#[test]
+fn zero_length_normal() {
+    let mut v = cube();
+    v["fingers"][2]["normal"] = json!([0, 0, 0]);
+    assert_problem(&v, "fingers[2].normal", "zero length");
+}
+
+#[test]
+fn contact_point_far_from_any_plausible_object() {
+    let mut v = cube();
+    // Millimetres typed where metres are expected.
+    v["fingers"][1]["contact_point"] = json!([50.0, 0.0, 50.0]);
+    assert_problem(&v, "fingers[1].contact_point", "no plausible object");
+}
+
+#[test]
+fn nonpositive_modulus() {
+    let mut v = cube();
+    v["fingers"][0]["material"]["youngs_modulus"] = json!(0.0);
+    assert_problem(&v, "fingers[0].material.youngs_modulus", "is 0 Pa");
+    let mut v = cube();
+    v["object"]["material"]["youngs_modulus"] = json!(-5e9);
+    assert_problem(&v, "object.material.youngs_modulus", "-5000000000 Pa");
+}
+
+#[test]
+fn poisson_ratio_outside_its_range() {
+    for bad in [0.5, -0.1, 0.7] {
+        let mut v = cube();
+        v["fingers"][1]["material"]["poisson_ratio"] = json!(bad);
+        assert_problem(&v, "fingers[1].material.poisson_ratio", "is");
+    }
+}
+
+#[test]
+fn patch_grid_of_zero() {
+    let mut v = cube();
+    v["fingers"][0]["patch"]["grid"] = json!([0, 5]);
+    assert_problem(&v, "fingers[0].patch.grid[0]", "is 0");
+}
+
+#[test]
+fn duplicate_finger_names() {
+    let mut v = cube();
+    v["fingers"][2]["name"] = json!("f1");
+    assert_problem(&v, "fingers[2].name", "also the name of fingers[0]");
+}
+
+#[test]
+fn unknown_fields_are_named_with_their_path() {
+    let mut v = cube();
+    v["fingers"][1]["frictoin"] = v["fingers"][1]["friction"].clone();
+    let p = problems(&v);
+    assert!(
+        p[0].starts_with("fingers[1]") && p[0].contains("frictoin"),
+        "{p:?}"
+    );
+    let mut v = cube();
+    v["object"]["mass"] = json!(1.0);
+    let p = problems(&v);
+    assert!(p[0].starts_with("object") && p[0].contains("mass"), "{p:?}");
+}
+
+#[test]
+fn wrong_types_are_named_with_their_path() {
+    let mut v = cube();
+    v["fingers"][0]["normal"] = json!([0, 1]);
+    let p = problems(&v);
+    assert!(p[0].starts_with("fingers[0].normal"), "{p:?}");
+    let mut v = cube();
+    v["fingers"][0]["control"] = json!("squeeze");
+    let p = problems(&v);
+    assert!(
+        p[0].starts_with("fingers[0].control") && p[0].contains("held"),
+        "{p:?}"
+    );
+}
+
+#[test]
+fn every_problem_is_reported_at_once() {
+    let mut v = cube();
+    v["fingers"][0]["normal"] = json!([0, 0, 0]);
+    v["fingers"][1]["friction"]["mu"] = json!(-1.0);
+    v["object"]["weight"] = json!(-2.0);
+    let p = problems(&v);
+    assert_eq!(p.len(), 3, "{p:#?}");
+    let e = Scene::from_json_str(&v.to_string()).unwrap_err();
+    assert!(matches!(e, SceneError::Invalid(_)));
+    assert!(e.to_string().contains("3 problem(s)"));
+}
+
+#[test]
+fn both_bodies_rigid() {
+    let mut v = cube();
+    v["object"]["material"] = json!("rigid");
+    v["fingers"][0]["material"] = json!("rigid");
+    assert_problem(&v, "fingers[0].material", "rigid and so is the object");
+    // One rigid body per contact is fine.
+    let mut v = cube();
+    v["object"]["material"] = json!("rigid");
+    assert!(Scene::from_json_str(&v.to_string()).is_ok());
+}
+
+#[test]
+fn planar_scene_with_a_point_off_the_plane() {
+    let mut v = example_json("plate_four_fingers.json");
+    v["fingers"][1]["contact_point"] = json!([0.03, 0.01, -0.05]);
+    assert_problem(&v, "fingers[1].contact_point", "off the plane");
+    let mut v = example_json("plate_four_fingers.json");
+    v["fingers"][0]["normal"] = json!([1, 1, 0]);
+    assert_problem(&v, "fingers[0].normal", "leaves the plane");
+}
+
+#[test]
+fn radius_smaller_than_the_patch() {
+    let mut v = cube();
+    v["fingers"][0]["tip_radius"] = json!(0.001);
+    assert_problem(&v, "fingers[0].tip_radius", "smaller than half the patch");
+}
+
+#[test]
+fn tangent_parallel_to_the_normal() {
+    let mut v = cube();
+    v["fingers"][2]["tangent"] = json!([0, 0, 2]);
+    assert_problem(&v, "fingers[2].tangent", "parallel to the normal");
+}
