@@ -2,7 +2,9 @@
 //! starts; the physics lives in `grasp-model`, the hand-off in `grasp-transfer`.
 
 mod output;
+mod plot;
 mod report;
+mod transfer;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -36,8 +38,41 @@ enum Command {
         #[arg(long, default_value_t = 1e-10, value_name = "TOL")]
         tolerance: f64,
     },
-    /// Print the JSON Schema of the scene format.
-    Schema,
+    /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
+    Transfer {
+        /// Scene file (JSON).
+        scene: PathBuf,
+        /// Schedule file (JSON; see `grasp schema --schedule`).
+        #[arg(long, value_name = "SCHEDULE.json")]
+        schedule: PathBuf,
+        /// Write an MCAP log (per-finger resultants and per-element fields, JSON with schemas).
+        #[arg(long, value_name = "F.mcap")]
+        mcap: Option<PathBuf>,
+        /// Write a Rerun recording (.rrd) to replay in the Rerun viewer.
+        #[arg(long, value_name = "F.rrd")]
+        rrd: Option<PathBuf>,
+        /// Write the force histories as CSV.
+        #[arg(long, value_name = "F.csv")]
+        csv: Option<PathBuf>,
+        /// Write a force-history plot (SVG), like thesis figures 15 and 17.
+        #[arg(long, value_name = "F.svg")]
+        plot: Option<PathBuf>,
+        /// Continue past a step without equilibrium (default: stop there).
+        #[arg(long)]
+        keep_going: bool,
+        /// Rebuild the program at every step instead of reusing it (for comparison).
+        #[arg(long)]
+        cold: bool,
+        /// Overwrite output files that already exist.
+        #[arg(long)]
+        force: bool,
+    },
+    /// Print the JSON Schema of the scene format (or of the schedule format).
+    Schema {
+        /// Print the schedule format's schema instead.
+        #[arg(long)]
+        schedule: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -53,10 +88,34 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli) -> Result<ExitCode> {
     match cli.command {
-        Command::Schema => {
-            let schema = grasp_model::scene_json_schema();
+        Command::Schema { schedule } => {
+            let schema = if schedule {
+                serde_json::to_value(schemars::schema_for!(grasp_transfer::ScheduleSpec))?
+            } else {
+                serde_json::to_value(grasp_model::scene_json_schema())?
+            };
             println!("{}", serde_json::to_string_pretty(&schema)?);
             Ok(ExitCode::SUCCESS)
+        }
+        Command::Transfer {
+            scene,
+            schedule,
+            mcap,
+            rrd,
+            csv,
+            plot,
+            keep_going,
+            cold,
+            force,
+        } => {
+            let outputs = transfer::Outputs {
+                mcap,
+                rrd,
+                csv,
+                plot,
+                force,
+            };
+            transfer::run(&scene, &schedule, &outputs, keep_going, cold)
         }
         Command::Solve {
             scene,
@@ -100,7 +159,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
 }
 
 /// Reads and validates a scene file; the error names the file and lists every problem.
-fn load_scene(path: &PathBuf) -> Result<Scene> {
+pub(crate) fn load_scene(path: &PathBuf) -> Result<Scene> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("cannot read scene file {}", path.display()))?;
     Scene::from_json_str(&text).with_context(|| format!("{} is not a usable scene", path.display()))

@@ -1,0 +1,79 @@
+//! Load profiles from CSV files: a header row, then comma-separated numbers.
+
+use std::path::Path;
+
+/// Reads `(time s, load N)` rows from the named columns. On failure returns
+/// `(field, message, fix)` where `field` is the schedule field to blame (`path`,
+/// `time_column` or `load_column`).
+pub fn read_profile_csv(
+    path: &Path,
+    time_column: &str,
+    load_column: &str,
+) -> Result<Vec<(f64, f64)>, (&'static str, String, String)> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        (
+            "path",
+            format!("cannot read {}: {e}", path.display()),
+            "give an existing CSV file".into(),
+        )
+    })?;
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let Some((_, header)) = lines.next() else {
+        return Err((
+            "path",
+            format!("{} is empty", path.display()),
+            "add a header row and data".into(),
+        ));
+    };
+    let cols: Vec<&str> = header.split(',').map(|c| c.trim()).collect();
+    let find = |name: &str, field: &'static str| {
+        cols.iter().position(|c| *c == name).ok_or_else(|| {
+            (
+                field,
+                format!(
+                    "column `{name}` is not in {} (columns: {})",
+                    path.display(),
+                    cols.join(", ")
+                ),
+                "name an existing column".to_string(),
+            )
+        })
+    };
+    let (ti, li) = (
+        find(time_column, "time_column")?,
+        find(load_column, "load_column")?,
+    );
+    let mut rows = Vec::new();
+    for (n, line) in lines {
+        let cells: Vec<&str> = line.split(',').map(|c| c.trim()).collect();
+        let num = |i: usize, what: &str| -> Result<f64, (&'static str, String, String)> {
+            cells
+                .get(i)
+                .and_then(|c| c.parse::<f64>().ok())
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| {
+                    (
+                        "path",
+                        format!(
+                            "line {} of {}: the {what} is not a number",
+                            n + 1,
+                            path.display()
+                        ),
+                        "give finite numbers in every row".to_string(),
+                    )
+                })
+        };
+        rows.push((num(ti, "time")?, num(li, "load")?));
+    }
+    if rows.is_empty() {
+        return Err((
+            "path",
+            format!("{} has no data rows", path.display()),
+            "add rows".into(),
+        ));
+    }
+    Ok(rows)
+}

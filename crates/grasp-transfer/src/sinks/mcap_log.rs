@@ -1,0 +1,272 @@
+//! MCAP sink: JSON-encoded messages with JSON Schemas, so Foxglove can plot them.
+//!
+//! Channels:
+//! - `/grasp/fingers` (`grasp.FingerResultants`): per step, every finger's command and
+//!   resultants;
+//! - `/grasp/patches` (`grasp.PatchFields`): per step, every active patch's element fields.
+//!
+//! Log and publish time are the schedule time in nanoseconds. Nothing nondeterministic (wall
+//! times) is written, so the same inputs give the same file.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+use serde_json::json;
+
+use super::{sink_err, RunInfo, Sink};
+use crate::error::TransferError;
+use crate::schedule::Command;
+use crate::stepper::StepRecord;
+
+/// Topic of per-finger resultants.
+pub const FINGERS_TOPIC: &str = "/grasp/fingers";
+/// Topic of per-element patch fields.
+pub const PATCHES_TOPIC: &str = "/grasp/patches";
+
+/// One finger in a `/grasp/fingers` message.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+pub struct FingerMessage {
+    /// Finger name.
+    pub name: String,
+    /// `held`, `load` or `released`.
+    pub control: String,
+    /// Commanded load, N (0 unless `load`).
+    pub commanded_load_n: f64,
+    /// Normal force, N.
+    pub normal_force_n: f64,
+    /// Friction force, world frame, N.
+    pub tangential_force_n: [f64; 3],
+    /// `|Q|`, N.
+    pub tangential_magnitude_n: f64,
+    /// Torsional moment about the normal, N m.
+    pub torsional_moment_nm: f64,
+    /// `|Q|/(mu P)`.
+    pub friction_utilization: f64,
+    /// Fraction of the contact elements that slip.
+    pub slip_fraction: f64,
+}
+
+/// A `/grasp/fingers` message.
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+pub struct FingersMessage {
+    /// Schedule time, s.
+    pub time_s: f64,
+    /// Step index.
+    pub step: usize,
+    /// Solve status.
+    pub status: String,
+    /// Why, if not solved.
+    pub reason: Option<String>,
+    /// Interior-point iterations.
+    pub iterations: u32,
+    /// Relative equilibrium residual (absent without forces).
+    pub equilibrium_residual: Option<f64>,
+    /// Every scene finger, scene order.
+    pub fingers: Vec<FingerMessage>,
+}
+
+impl FingersMessage {
+    /// Builds the message of a step (all scene fingers, released ones with zero forces).
+    pub fn from_record(r: &StepRecord) -> Self {
+        let status = serde_json::to_value(r.solution.status)
+            .ok()
+            .and_then(|v| v.as_str().map(String::from))
+            .unwrap_or_default();
+        FingersMessage {
+            time_s: r.time_s,
+            step: r.index,
+            status,
+            reason: r.solution.reason.clone(),
+            iterations: r.solution.solver.iterations,
+            equilibrium_residual: r.solution.residuals.map(|x| x.equilibrium_relative),
+            fingers: r
+                .commands
+                .iter()
+                .map(|c| {
+                    let (control, load) = match c.command {
+                        Command::Held => ("held", 0.0),
+                        Command::Load(p) => ("load", p),
+                        Command::Released => ("released", 0.0),
+                    };
+                    let f = r.solution.finger(&c.name);
+                    let contact = f.map_or(0, |f| f.stick_count + f.slip_count);
+                    FingerMessage {
+                        name: c.name.clone(),
+                        control: control.into(),
+                        commanded_load_n: load,
+                        normal_force_n: f.map_or(0.0, |f| f.normal_force_n),
+                        tangential_force_n: f.map_or([0.0; 3], |f| f.tangential_force_n),
+                        tangential_magnitude_n: f.map_or(0.0, |f| f.tangential_magnitude_n),
+                        torsional_moment_nm: f.map_or(0.0, |f| f.torsional_moment_nm),
+                        friction_utilization: f.map_or(0.0, |f| f.friction_utilization),
+                        slip_fraction: f.map_or(0.0, |f| {
+                            if contact > 0 {
+                                f.slip_count as f64 / contact as f64
+                            } else {
+                                0.0
+                            }
+                        }),
+                    }
+                })
+                .collect(),
+        }
+    }
+}
+
+fn fingers_schema() -> serde_json::Value {
+    let num = json!({"type": "number"});
+    json!({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": "grasp.FingerResultants",
+        "type": "object",
+        "properties": {
+            "time_s": num, "step": {"type": "integer"}, "status": {"type": "string"},
+            "reason": {"type": ["string", "null"]}, "iterations": {"type": "integer"},
+            "equilibrium_residual": {"type": ["number", "null"]},
+            "fingers": {"type": "array", "items": {"type": "object", "properties": {
+                "name": {"type": "string"}, "control": {"type": "string", "enum": ["held", "load", "released"]},
+                "commanded_load_n": num, "normal_force_n": num,
+                "tangential_force_n": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},
+                "tangential_magnitude_n": num, "torsional_moment_nm": num,
+                "friction_utilization": num, "slip_fraction": num
+            }}}
+        }
+    })
+}
+
+fn patches_schema() -> serde_json::Value {
+    let num = json!({"type": "number"});
+    let v2 = json!({"type": "array", "items": num, "minItems": 2, "maxItems": 2});
+    let v3 = json!({"type": "array", "items": num, "minItems": 3, "maxItems": 3});
+    json!({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": "grasp.PatchFields",
+        "type": "object",
+        "properties": {
+            "time_s": num, "step": {"type": "integer"},
+            "patches": {"type": "array", "items": {"type": "object", "properties": {
+                "name": {"type": "string"},
+                "elements": {"type": "array", "items": {"type": "object", "properties": {
+                    "index": {"type": "array", "items": {"type": "integer"}},
+                    "position_m": v3, "normal_force_n": num, "tangential_force_n": v2,
+                    "pressure_pa": num, "gap_m": num, "slip_m": v2,
+                    "state": {"type": "string", "enum": ["stick", "slip", "separated"]}
+                }}}
+            }}}
+        }
+    })
+}
+
+/// The `/grasp/patches` message of a step.
+pub fn patches_message(r: &StepRecord) -> serde_json::Value {
+    json!({
+        "time_s": r.time_s,
+        "step": r.index,
+        "patches": r.solution.fingers.iter().map(|f| json!({
+            "name": f.name,
+            "elements": f.elements.iter().map(|e| json!({
+                "index": e.index, "position_m": e.position_m, "normal_force_n": e.normal_force_n,
+                "tangential_force_n": e.tangential_force_n, "pressure_pa": e.pressure_pa,
+                "gap_m": e.gap_m, "slip_m": e.slip_m, "state": e.state
+            })).collect::<Vec<_>>()
+        })).collect::<Vec<_>>()
+    })
+}
+
+/// Writes an MCAP file.
+pub struct McapSink {
+    path: PathBuf,
+    writer: Option<mcap::Writer<BufWriter<File>>>,
+    fingers_channel: u16,
+    patches_channel: u16,
+    sequence: u32,
+}
+
+impl McapSink {
+    /// Creates the file (the caller has checked it may be written).
+    pub fn create(path: &Path) -> Result<Self, TransferError> {
+        let file =
+            File::create(path).map_err(|e| sink_err("mcap", format!("{}: {e}", path.display())))?;
+        let writer = mcap::WriteOptions::new()
+            .profile("")
+            .library(concat!("grasp-transfer ", env!("CARGO_PKG_VERSION")))
+            .create(BufWriter::new(file))
+            .map_err(|e| sink_err("mcap", e))?;
+        Ok(McapSink {
+            path: path.to_path_buf(),
+            writer: Some(writer),
+            fingers_channel: 0,
+            patches_channel: 0,
+            sequence: 0,
+        })
+    }
+
+    fn writer(&mut self) -> Result<&mut mcap::Writer<BufWriter<File>>, TransferError> {
+        self.writer
+            .as_mut()
+            .ok_or_else(|| sink_err("mcap", "already finished"))
+    }
+
+    fn write(&mut self, channel: u16, time_s: f64, data: &[u8]) -> Result<(), TransferError> {
+        let ns = (time_s * 1e9).round() as u64;
+        self.sequence += 1;
+        let header = mcap::records::MessageHeader {
+            channel_id: channel,
+            sequence: self.sequence,
+            log_time: ns,
+            publish_time: ns,
+        };
+        self.writer()?
+            .write_to_known_channel(&header, data)
+            .map_err(|e| sink_err("mcap", e))
+    }
+}
+
+impl Sink for McapSink {
+    fn begin(&mut self, _run: &RunInfo) -> Result<(), TransferError> {
+        let w = self.writer()?;
+        let meta = BTreeMap::new();
+        let fs = w
+            .add_schema(
+                "grasp.FingerResultants",
+                "jsonschema",
+                fingers_schema().to_string().as_bytes(),
+            )
+            .map_err(|e| sink_err("mcap", e))?;
+        let ps = w
+            .add_schema(
+                "grasp.PatchFields",
+                "jsonschema",
+                patches_schema().to_string().as_bytes(),
+            )
+            .map_err(|e| sink_err("mcap", e))?;
+        let fc = w
+            .add_channel(fs, FINGERS_TOPIC, "json", &meta)
+            .map_err(|e| sink_err("mcap", e))?;
+        let pc = w
+            .add_channel(ps, PATCHES_TOPIC, "json", &meta)
+            .map_err(|e| sink_err("mcap", e))?;
+        self.fingers_channel = fc;
+        self.patches_channel = pc;
+        Ok(())
+    }
+
+    fn step(&mut self, _run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
+        let f =
+            serde_json::to_vec(&FingersMessage::from_record(r)).map_err(|e| sink_err("mcap", e))?;
+        self.write(self.fingers_channel, r.time_s, &f)?;
+        let p = serde_json::to_vec(&patches_message(r)).map_err(|e| sink_err("mcap", e))?;
+        self.write(self.patches_channel, r.time_s, &p)
+    }
+
+    fn finish(&mut self) -> Result<(), TransferError> {
+        if let Some(mut w) = self.writer.take() {
+            w.finish()
+                .map_err(|e| sink_err("mcap", format!("{}: {e}", self.path.display())))?;
+        }
+        Ok(())
+    }
+}

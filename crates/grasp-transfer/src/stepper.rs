@@ -1,0 +1,298 @@
+//! Quasi-static stepping of a hand-off (thesis section 4.2.1).
+//!
+//! At each step the schedule gives every finger a command (held, prescribed load, released);
+//! the active fingers and their controls form the step's grasp, solved by the energy program.
+//! Warm stepping reuses the assembled program of the same structure (active set and which
+//! fingers are force-controlled): only the load entries of `b` change and Clarabel's workspace
+//! is updated in place (`update_b`, same sparsity). Cold stepping rebuilds the model and the
+//! program at every step (the reference for checking and benchmarking).
+
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+use grasp_model::scene::{ControlSpec, HeldTag, NormalLoadSpec};
+use grasp_model::{GraspModel, GraspSolver, Scene, Solution, SolveOptions};
+use serde::Serialize;
+
+use crate::error::TransferError;
+use crate::schedule::{Command, Schedule};
+
+/// Options of a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TransferOptions {
+    /// Continue past a step without equilibrium (default: stop there).
+    pub keep_going: bool,
+    /// Reuse assembled programs between steps (default true).
+    pub warm_start: bool,
+    /// Options of each solve.
+    pub solve: SolveOptions,
+}
+
+impl Default for TransferOptions {
+    fn default() -> Self {
+        TransferOptions {
+            keep_going: false,
+            warm_start: true,
+            solve: SolveOptions::default(),
+        }
+    }
+}
+
+/// A finger's command at one step.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FingerCommand {
+    /// Finger name.
+    pub name: String,
+    /// What it was told.
+    pub command: Command,
+}
+
+/// Everything recorded at one step.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StepRecord {
+    /// Step index (0-based).
+    pub index: usize,
+    /// Schedule time, s.
+    pub time_s: f64,
+    /// Command of every scene finger, scene order.
+    pub commands: Vec<FingerCommand>,
+    /// The solution of the active fingers (status, forces, residuals, solver statistics).
+    pub solution: Solution,
+    /// Wall time of the step (model and program building if any, solve), s.
+    pub wall_time_s: f64,
+    /// True when the step reused an assembled program (warm).
+    pub reused_program: bool,
+}
+
+impl StepRecord {
+    /// The normal force of scene finger `name` (0 if released or failed), N.
+    pub fn normal_force_n(&self, name: &str) -> f64 {
+        self.solution.finger(name).map_or(0.0, |f| f.normal_force_n)
+    }
+}
+
+type StructureKey = Vec<(usize, bool)>;
+
+/// Steps a schedule over a scene.
+pub struct Stepper<'a> {
+    scene: &'a Scene,
+    schedule: &'a Schedule,
+    options: TransferOptions,
+    cache: BTreeMap<StructureKey, (GraspModel, GraspSolver)>,
+    /// Normal force of each scene finger at the last successful step, N.
+    previous_normal_n: Vec<f64>,
+    /// Per scene finger: `(phase index, resolved "current" value N)` of its active phase.
+    current: Vec<Option<(usize, f64)>>,
+    next: usize,
+    stopped: bool,
+}
+
+impl<'a> Stepper<'a> {
+    /// A stepper at the first step. The schedule must have been resolved against this scene.
+    pub fn new(scene: &'a Scene, schedule: &'a Schedule, options: TransferOptions) -> Self {
+        let n = scene.fingers.len();
+        Stepper {
+            scene,
+            schedule,
+            options,
+            cache: BTreeMap::new(),
+            previous_normal_n: vec![0.0; n],
+            current: vec![None; n],
+            next: 0,
+            stopped: false,
+        }
+    }
+
+    /// Number of steps of the schedule.
+    pub fn len(&self) -> usize {
+        self.schedule.times.len()
+    }
+
+    /// True for a schedule without steps.
+    pub fn is_empty(&self) -> bool {
+        self.schedule.times.is_empty()
+    }
+
+    fn scene_command(&self, i: usize) -> Command {
+        match self.scene.fingers[i].control.normal_load_n() {
+            None => Command::Held,
+            Some(p) if p > 0.0 => Command::Load(p),
+            Some(_) => Command::Released,
+        }
+    }
+
+    /// Loads the fingers carry in the scene as written (the `"current"` of a first step).
+    fn initial_loads(&self) -> Result<Vec<f64>, TransferError> {
+        let model = GraspModel::from_scene(self.scene).map_err(|source| TransferError::Scene {
+            time_s: self.schedule.times[0],
+            source,
+        })?;
+        let sol =
+            GraspSolver::new(&model, self.options.solve).solve(&model, &model.scene_loads_n())?;
+        Ok(self
+            .scene
+            .fingers
+            .iter()
+            .map(|f| sol.finger(&f.name).map_or(0.0, |s| s.normal_force_n))
+            .collect())
+    }
+
+    /// The commands of every finger at step `k`, resolving `"current"` on phase entry.
+    fn commands(&mut self, k: usize) -> Result<Vec<Command>, TransferError> {
+        let t = self.schedule.times[k];
+        let mut out = Vec::with_capacity(self.scene.fingers.len());
+        let mut initial: Option<Vec<f64>> = None;
+        for i in 0..self.scene.fingers.len() {
+            let phase = self.schedule.phase_index(i, t);
+            if let Some(p) = phase {
+                if self.current[i].map(|c| c.0) != Some(p) {
+                    let value = if k == 0 {
+                        if initial.is_none() {
+                            initial = Some(self.initial_loads()?);
+                        }
+                        initial.as_ref().expect("computed")[i]
+                    } else {
+                        self.previous_normal_n[i]
+                    };
+                    self.current[i] = Some((p, value));
+                }
+            }
+            let cur = self.current[i].map_or(0.0, |c| c.1);
+            out.push(self.schedule.command(i, t, cur, self.scene_command(i)));
+        }
+        Ok(out)
+    }
+
+    /// Solves step `k` of the schedule.
+    fn solve_step(&mut self, k: usize) -> Result<StepRecord, TransferError> {
+        let start = Instant::now();
+        let t = self.schedule.times[k];
+        let commands = self.commands(k)?;
+        let key: StructureKey = commands
+            .iter()
+            .enumerate()
+            .filter_map(|(i, c)| match c {
+                Command::Held => Some((i, false)),
+                Command::Load(_) => Some((i, true)),
+                Command::Released => None,
+            })
+            .collect();
+        let loads: Vec<f64> = commands
+            .iter()
+            .filter_map(|c| {
+                if let Command::Load(p) = c {
+                    Some(*p)
+                } else {
+                    None
+                }
+            })
+            .collect();
+        let reused = self.options.warm_start && self.cache.contains_key(&key);
+        if !reused {
+            let mut sub = self.scene.clone();
+            sub.fingers = key
+                .iter()
+                .map(|&(i, fc)| {
+                    let mut f = self.scene.fingers[i].clone();
+                    f.control = if fc {
+                        ControlSpec::Load(NormalLoadSpec { normal_load: 1.0 })
+                    } else {
+                        ControlSpec::Held(HeldTag::Held)
+                    };
+                    f
+                })
+                .collect();
+            if sub.fingers.is_empty() {
+                // Nothing holds the object: a reported outcome, not an error.
+                let sol = empty_grasp_solution(self.scene);
+                return Ok(self.record(k, t, commands, sol, start, false));
+            }
+            let model = GraspModel::from_scene(&sub)
+                .map_err(|source| TransferError::Scene { time_s: t, source })?;
+            let solver = GraspSolver::new(&model, self.options.solve);
+            if !self.options.warm_start {
+                self.cache.clear();
+            }
+            self.cache.insert(key.clone(), (model, solver));
+        }
+        let (model, solver) = self.cache.get_mut(&key).expect("cached");
+        let sol = solver.solve(model, &loads)?;
+        Ok(self.record(k, t, commands, sol, start, reused))
+    }
+
+    fn record(
+        &mut self,
+        k: usize,
+        t: f64,
+        commands: Vec<Command>,
+        solution: Solution,
+        start: Instant,
+        reused: bool,
+    ) -> StepRecord {
+        if solution.status.has_forces() {
+            for (i, f) in self.scene.fingers.iter().enumerate() {
+                self.previous_normal_n[i] =
+                    solution.finger(&f.name).map_or(0.0, |s| s.normal_force_n);
+            }
+        }
+        StepRecord {
+            index: k,
+            time_s: t,
+            commands: self
+                .scene
+                .fingers
+                .iter()
+                .zip(commands)
+                .map(|(f, command)| FingerCommand {
+                    name: f.name.clone(),
+                    command,
+                })
+                .collect(),
+            solution,
+            wall_time_s: start.elapsed().as_secs_f64(),
+            reused_program: reused,
+        }
+    }
+}
+
+impl Iterator for Stepper<'_> {
+    type Item = Result<StepRecord, TransferError>;
+
+    /// The next step, until the schedule ends (or a step fails without `keep_going`).
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.stopped || self.next >= self.schedule.times.len() {
+            return None;
+        }
+        let k = self.next;
+        self.next += 1;
+        let r = self.solve_step(k);
+        match &r {
+            Ok(rec) if !rec.solution.status.has_forces() && !self.options.keep_going => {
+                self.stopped = true
+            }
+            Err(_) => self.stopped = true,
+            _ => {}
+        }
+        Some(r)
+    }
+}
+
+/// The outcome of a step at which no finger is active.
+fn empty_grasp_solution(scene: &Scene) -> Solution {
+    Solution {
+        status: grasp_model::SolveStatus::NoEquilibrium,
+        reason: Some("no equilibrium: every finger is released, nothing holds the object".into()),
+        fingers: Vec::new(),
+        rigid_displacement: None,
+        residuals: None,
+        load_scale_n: scene.object.weight.max(1.0),
+        solve_time_s: 0.0,
+        solver: grasp_model::solution::SolverStats {
+            iterations: 0,
+            solver_time_s: 0.0,
+            unknowns: 0,
+            equality_rows: 0,
+            cone_rows: 0,
+        },
+    }
+}
