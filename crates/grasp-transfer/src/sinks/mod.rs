@@ -5,7 +5,7 @@ mod mcap_log;
 mod rerun_log;
 
 pub use csv_history::CsvSink;
-pub use mcap_log::{McapSink, FINGERS_TOPIC, PATCHES_TOPIC};
+pub use mcap_log::{FingerMessage, FingersMessage, McapSink, FINGERS_TOPIC, PATCHES_TOPIC};
 pub use rerun_log::RerunSink;
 
 use grasp_model::{GraspModel, Scene};

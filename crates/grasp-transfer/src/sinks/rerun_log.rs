@@ -11,13 +11,21 @@
 //!   separated grey);
 //! - `plots/normal_force/<name>`, `plots/friction/<name>`: time series in newtons.
 //!
-//! Timelines: `schedule_time` (s) and `step`. Log time is disabled and the recording id is
-//! fixed, so the same inputs give the same file.
+//! Timelines: `schedule_time` (s) and `step`. Every row is sent as a pre-built chunk whose
+//! chunk and row ids count up from a fixed origin (Rerun's default ids mix wall time and
+//! randomness), log time is disabled and the recording id is fixed, so the same inputs give a
+//! byte-identical file.
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use grasp_model::ElementState;
-use rerun::{Arrows3D, Boxes3D, Color, Points3D, RecordingStream, Scalars, SeriesLines};
+use rerun::external::re_tuid::Tuid;
+use rerun::log::{Chunk, ChunkId, RowId};
+use rerun::{
+    Arrows3D, AsComponents, Boxes3D, Color, Points3D, RecordingStream, Scalars,
+    SerializedComponentBatch, SeriesLines, TimeCell, TimePoint,
+};
 
 use super::{sink_err, RunInfo, Sink};
 use crate::error::TransferError;
@@ -27,7 +35,22 @@ use crate::stepper::StepRecord;
 pub struct RerunSink {
     rec: Option<RecordingStream>,
     arrow_m_per_n: f32,
+    /// Counter of the deterministic chunk and row ids.
+    ids: u64,
+    /// Time point of the current step (empty: static).
+    time: TimePoint,
+    /// Rows accumulated per entity: one chunk per entity, sent in path order at the end.
+    pending: BTreeMap<(String, bool), PendingChunk>,
 }
+
+/// Rows of one entity waiting to be sent as one chunk.
+struct PendingChunk {
+    id: ChunkId,
+    rows: Vec<(RowId, TimePoint, Vec<SerializedComponentBatch>)>,
+}
+
+/// Origin of the deterministic ids (2024-01-01T00:00:00Z in ns); only their order matters.
+const ID_ORIGIN_NS: u64 = 1_704_067_200_000_000_000;
 
 fn v3(v: &nalgebra::Vector3<f64>) -> [f32; 3] {
     [v.x as f32, v.y as f32, v.z as f32]
@@ -61,13 +84,41 @@ impl RerunSink {
         Ok(RerunSink {
             rec: Some(rec),
             arrow_m_per_n: 1.0,
+            ids: 0,
+            time: TimePoint::default(),
+            pending: BTreeMap::new(),
         })
     }
 
-    fn rec(&self) -> Result<&RecordingStream, TransferError> {
-        self.rec
-            .as_ref()
-            .ok_or_else(|| sink_err("rerun", "already finished"))
+    fn next_id(&mut self) -> Tuid {
+        self.ids += 1;
+        Tuid::from_nanos_and_inc(ID_ORIGIN_NS, self.ids)
+    }
+
+    /// Adds one row at the current time point (static before the first step) to the entity's
+    /// chunk.
+    fn send(
+        &mut self,
+        path: impl Into<String>,
+        arch: &dyn AsComponents,
+    ) -> Result<(), TransferError> {
+        // Static and temporal rows of an entity go to separate chunks.
+        let key = (path.into(), self.time.is_static());
+        if !self.pending.contains_key(&key) {
+            let id = ChunkId::from_tuid(self.next_id());
+            self.pending.insert(
+                key.clone(),
+                PendingChunk {
+                    id,
+                    rows: Vec::new(),
+                },
+            );
+        }
+        let row_id = RowId::from_tuid(self.next_id());
+        let time = self.time.clone();
+        let p = self.pending.get_mut(&key).expect("inserted");
+        p.rows.push((row_id, time, arch.as_serialized_batches()));
+        Ok(())
     }
 }
 
@@ -82,53 +133,51 @@ impl Sink for RerunSink {
         }
         let size = (hi - lo).norm().max(1e-3);
         self.arrow_m_per_n = (0.3 * size / g.scales.load_n) as f32;
-        let rec = self.rec()?;
-        let err = |e: rerun::RecordingStreamError| sink_err("rerun", e);
         let centre = (lo + hi) * 0.5;
         let half = ((hi - lo) * 0.5).map(|x| x.max(0.02 * size));
-        rec.log_static(
+        self.send(
             "world/object",
             &Boxes3D::from_centers_and_half_sizes([v3(&centre)], [v3(&half)]),
-        )
-        .map_err(err)?;
-        rec.log_static(
+        )?;
+        self.send(
             "world/object/center_of_mass",
             &Points3D::new([v3(&g.center_of_mass_m)])
                 .with_radii([0.01 * size as f32])
                 .with_labels(["centre of mass"]),
-        )
-        .map_err(err)?;
+        )?;
         for f in &g.fingers {
             let len = 0.25 * size;
             let base = f.frame.origin_m - f.frame.normal * len;
-            rec.log_static(
+            self.send(
                 format!("world/fingers/{}", f.name),
                 &Arrows3D::from_vectors([v3(&(f.frame.normal * (0.9 * len)))])
                     .with_origins([v3(&base)])
                     .with_colors([Color::from_rgb(150, 150, 160)])
                     .with_labels([f.name.as_str()]),
-            )
-            .map_err(err)?;
-            rec.log_static(
+            )?;
+            self.send(
                 format!("plots/normal_force/{}", f.name),
                 &SeriesLines::new().with_names([format!("{} normal force [N]", f.name)]),
-            )
-            .map_err(err)?;
-            rec.log_static(
+            )?;
+            self.send(
                 format!("plots/friction/{}", f.name),
                 &SeriesLines::new().with_names([format!("{} friction force [N]", f.name)]),
-            )
-            .map_err(err)?;
+            )?;
         }
         Ok(())
     }
 
     fn step(&mut self, run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
         let scale = self.arrow_m_per_n as f64;
-        let rec = self.rec()?;
-        let err = |e: rerun::RecordingStreamError| sink_err("rerun", e);
-        rec.set_duration_secs("schedule_time", r.time_s);
-        rec.set_time_sequence("step", r.index as i64);
+        self.time = [
+            (
+                "schedule_time",
+                TimeCell::from_duration_nanos((r.time_s * 1e9).round() as i64),
+            ),
+            ("step", TimeCell::from_sequence(r.index as i64)),
+        ]
+        .into_iter()
+        .collect();
         let p_max = r
             .solution
             .fingers
@@ -142,59 +191,52 @@ impl Sink for RerunSink {
                 // Released (or failed step): clear its arrows and patch, plot zero.
                 let none: [[f32; 3]; 0] = [];
                 for part in ["normal", "friction"] {
-                    rec.log(
+                    self.send(
                         format!("world/forces/{name}/{part}"),
                         &Arrows3D::from_vectors(none),
-                    )
-                    .map_err(err)?;
+                    )?;
                 }
                 for part in ["pressure", "state"] {
-                    rec.log(format!("world/patches/{name}/{part}"), &Points3D::new(none))
-                        .map_err(err)?;
+                    self.send(format!("world/patches/{name}/{part}"), &Points3D::new(none))?;
                 }
-                rec.log(format!("plots/normal_force/{name}"), &Scalars::new([0.0]))
-                    .map_err(err)?;
-                rec.log(format!("plots/friction/{name}"), &Scalars::new([0.0]))
-                    .map_err(err)?;
+                self.send(format!("plots/normal_force/{name}"), &Scalars::new([0.0]))?;
+                self.send(format!("plots/friction/{name}"), &Scalars::new([0.0]))?;
                 continue;
             };
             let cop = nalgebra::Vector3::from(f.center_of_pressure_m);
             let pn = fm.frame.normal * (f.normal_force_n * scale);
-            rec.log(
+            self.send(
                 format!("world/forces/{name}/normal"),
                 &Arrows3D::from_vectors([v3(&pn)])
                     .with_origins([v3(&(cop - pn))])
                     .with_colors([Color::from_rgb(220, 60, 60)]),
-            )
-            .map_err(err)?;
+            )?;
             let q = nalgebra::Vector3::from(f.tangential_force_n) * scale;
-            rec.log(
+            self.send(
                 format!("world/forces/{name}/friction"),
                 &Arrows3D::from_vectors([v3(&q)])
                     .with_origins([v3(&cop)])
                     .with_colors([Color::from_rgb(60, 120, 230)]),
-            )
-            .map_err(err)?;
+            )?;
             let h = 0.5 * fm.patch.grid.hx.min(fm.patch.grid.hy);
             let pos: Vec<[f32; 3]> = f
                 .elements
                 .iter()
                 .map(|e| e.position_m.map(|x| x as f32))
                 .collect();
-            rec.log(
+            self.send(
                 format!("world/patches/{name}/pressure"),
                 &Points3D::new(pos.clone())
                     .with_colors(f.elements.iter().map(|e| ramp(e.pressure_pa / p_max)))
                     .with_radii(std::iter::repeat_n(0.9 * h as f32, pos.len())),
-            )
-            .map_err(err)?;
+            )?;
             let off = fm.frame.normal * (-2.0 * h);
             let pos_state: Vec<[f32; 3]> = f
                 .elements
                 .iter()
                 .map(|e| v3(&(nalgebra::Vector3::from(e.position_m) + off)))
                 .collect();
-            rec.log(
+            self.send(
                 format!("world/patches/{name}/state"),
                 &Points3D::new(pos_state)
                     .with_colors(f.elements.iter().map(|e| match e.state {
@@ -203,24 +245,28 @@ impl Sink for RerunSink {
                         ElementState::Separated => Color::from_rgb(128, 128, 128),
                     }))
                     .with_radii(std::iter::repeat_n(0.6 * h as f32, f.elements.len())),
-            )
-            .map_err(err)?;
-            rec.log(
+            )?;
+            self.send(
                 format!("plots/normal_force/{name}"),
                 &Scalars::new([f.normal_force_n]),
-            )
-            .map_err(err)?;
-            rec.log(
+            )?;
+            self.send(
                 format!("plots/friction/{name}"),
                 &Scalars::new([f.tangential_magnitude_n]),
-            )
-            .map_err(err)?;
+            )?;
         }
         Ok(())
     }
 
     fn finish(&mut self) -> Result<(), TransferError> {
         if let Some(rec) = self.rec.take() {
+            for ((path, _), p) in std::mem::take(&mut self.pending) {
+                let mut b = Chunk::builder_with_id(p.id, path.as_str());
+                for (row, time, batches) in p.rows {
+                    b = b.with_serialized_batches(row, time, batches);
+                }
+                rec.send_chunk(b.build().map_err(|e| sink_err("rerun", e))?);
+            }
             rec.flush_blocking().map_err(|e| sink_err("rerun", e))?;
             drop(rec);
         }
