@@ -3,10 +3,9 @@
 # 1. installs the independent checker (Python package rerun-sdk==0.36.3, for `rerun rrd verify`
 #    and `rerun mcap check`) into a cached virtualenv;
 # 2. checks formatting, builds and tests the workspace in the release profile (the only profile
-#    built, shared with `cargo run --release`).
+#    built, shared with `cargo run --release`; CARGO_TARGET_DIR is honoured).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/grasp-target}"
 bash scripts/install-checkers.sh
 export GRASP_RERUN_CLI="${GRASP_RERUN_CLI:-$HOME/.cache/grasp-venv/bin/rerun}"
 cargo fmt --all -- --check

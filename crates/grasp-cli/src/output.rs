@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 
-/// Fails early if `path` exists and `force` is not set, or if its folder does not exist.
+/// Fails early if `path` exists and `force` is not set; creates its folder if missing.
 pub fn check_writable(path: &Path, force: bool) -> Result<()> {
     if path.exists() && !force {
         bail!(

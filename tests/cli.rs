@@ -1,0 +1,203 @@
+//! The `grasp` binary: exit codes, messages, and never overwriting a user's file without
+//! `--force`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn grasp(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_grasp"))
+        .args(args)
+        .output()
+        .expect("run grasp")
+}
+
+fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn tmp(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("grasp-cli-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+#[test]
+fn solve_prints_a_table_and_writes_json() {
+    let dir = tmp("solve");
+    let out = dir.join("cube_a.solution.json");
+    let o = grasp(&[
+        "solve",
+        &example("cube_a.json"),
+        "--json",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("P [N]") && t.contains("status: solved") && t.contains("error: equilibrium"),
+        "{t}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(v["status"], "solved");
+    for key in ["name", "normal_force_n", "tangential_force_n", "elements"] {
+        assert!(!v["fingers"][0][key].is_null(), "missing fingers[0].{key}");
+    }
+    assert!(v["residuals"]["equilibrium_relative"].as_f64().unwrap() < 1e-9);
+    assert!(v["solve_time_s"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn existing_output_is_not_overwritten_without_force() {
+    let dir = tmp("force");
+    let out = dir.join("mine.json");
+    std::fs::write(&out, "precious").unwrap();
+    let o = grasp(&[
+        "solve",
+        &example("cube_a.json"),
+        "--json",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("already exists") && text(&o).contains("--force"));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "precious");
+    let mcap = dir.join("mine.mcap");
+    std::fs::write(&mcap, "precious").unwrap();
+    let o = grasp(&[
+        "transfer",
+        &example("plate_transfer.json"),
+        "--schedule",
+        &example("plate_transfer.schedule.json"),
+        "--mcap",
+        mcap.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(std::fs::read_to_string(&mcap).unwrap(), "precious");
+    let o = grasp(&[
+        "solve",
+        &example("cube_a.json"),
+        "--json",
+        out.to_str().unwrap(),
+        "--force",
+    ]);
+    assert!(o.status.success());
+    assert_ne!(std::fs::read_to_string(&out).unwrap(), "precious");
+}
+
+#[test]
+fn infeasible_grasp_is_a_reported_outcome_with_exit_code_2() {
+    let dir = tmp("infeasible");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(example("cube_b.json")).unwrap()).unwrap();
+    for f in v["fingers"].as_array_mut().unwrap() {
+        f["friction"]["mu"] = 0.3.into();
+    }
+    let scene = dir.join("cube_b_mu03.json");
+    std::fs::write(&scene, v.to_string()).unwrap();
+    let o = grasp(&["solve", scene.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("no equilibrium"), "{}", text(&o));
+    assert!(!text(&o).contains("panicked"));
+}
+
+#[test]
+fn bad_scene_and_bad_schedule_name_the_field() {
+    let dir = tmp("bad");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(example("cube_a.json")).unwrap()).unwrap();
+    v["fingers"][2]["normal"] = serde_json::json!([0, 0, 0]);
+    let scene = dir.join("bad.json");
+    std::fs::write(&scene, v.to_string()).unwrap();
+    let o = grasp(&["solve", scene.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o).contains("fingers[2].normal: has zero length"),
+        "{}",
+        text(&o)
+    );
+    let sched = dir.join("bad.schedule.json");
+    std::fs::write(
+        &sched,
+        r#"{"time": {"start": 0, "end": 1, "step": 0.5}, "fingers": {"f7": [{"held": {}}]}}"#,
+    )
+    .unwrap();
+    let o = grasp(&[
+        "transfer",
+        &example("plate_transfer.json"),
+        "--schedule",
+        sched.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o).contains("fingers.f7: no finger named `f7`"),
+        "{}",
+        text(&o)
+    );
+}
+
+#[test]
+fn schema_commands_print_json_schemas() {
+    for args in [vec!["schema"], vec!["schema", "--schedule"]] {
+        let o = grasp(&args);
+        assert!(o.status.success());
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["type"], "object");
+        assert!(v["properties"]["fingers"].is_object());
+    }
+}
+
+#[test]
+fn transfer_writes_every_output_and_summarises() {
+    let dir = tmp("transfer");
+    let (m, r, c, p) = (
+        dir.join("d.mcap"),
+        dir.join("d.rrd"),
+        dir.join("d.csv"),
+        dir.join("d.svg"),
+    );
+    let o = grasp(&[
+        "transfer",
+        &example("disc_transfer.json"),
+        "--schedule",
+        &example("disc_transfer.schedule.json"),
+        "--mcap",
+        m.to_str().unwrap(),
+        "--rrd",
+        r.to_str().unwrap(),
+        "--csv",
+        c.to_str().unwrap(),
+        "--plot",
+        p.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    for want in [
+        "receiving fingers carry half the load: t =",
+        "carry all the load:  t =",
+        "peak squeeze",
+        "smallest slip margin",
+        "failed steps: none",
+    ] {
+        assert!(t.contains(want), "missing `{want}` in\n{t}");
+    }
+    for f in [&m, &r, &c, &p] {
+        assert!(
+            std::fs::metadata(f).unwrap().len() > 0,
+            "{} empty",
+            f.display()
+        );
+    }
+    assert!(std::fs::read_to_string(&p).unwrap().starts_with("<svg"));
+}
