@@ -9,4 +9,11 @@ cd "$(dirname "$0")/.."
 bash scripts/install-checkers.sh
 export GRASP_RERUN_CLI="${GRASP_RERUN_CLI:-$HOME/.cache/grasp-venv/bin/rerun}"
 cargo fmt --all -- --check
-cargo test --release --workspace --no-fail-fast
+log="$(mktemp)"
+trap 'rm -f "$log"' EXIT
+status=0
+cargo test --release --workspace --lib --bins --tests --no-fail-fast 2>&1 | tee "$log" || status=$?
+# One closing line with the totals over every test binary.
+awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($i ~ /^passed/) p += $(i-1); if ($i ~ /^failed/) f += $(i-1) } }
+     END { printf "%d passed, %d failed\n", p, f }' "$log"
+exit "$status"
