@@ -8,7 +8,7 @@ use grasp_transfer::{Schedule, Stepper, TransferOptions, TransferSummary};
 
 #[test]
 fn receiving_pair_ramps_up_and_the_disc_ends_in_its_grasp() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples");
     let scene =
         Scene::from_json_str(&std::fs::read_to_string(dir.join("disc_transfer.json")).unwrap())
             .unwrap();

@@ -8,7 +8,7 @@ use grasp_model::{solve, GraspModel, Scene, SolveStatus};
 use grasp_transfer::{Command, Schedule, StepRecord, Stepper, TransferOptions};
 
 fn examples() -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
 }
 
 fn load() -> (Scene, Schedule) {

@@ -145,3 +145,22 @@ fn cube_b_has_no_equilibrium_at_low_friction_and_solves_at_high() {
     }
     solved(&v);
 }
+
+/// A rigid object (1/E = 0) is allowed as long as each contact has one elastic body; the
+/// forces stay in equilibrium and, for flat pads, barely change (the pads dominate).
+#[test]
+fn rigid_object_solves() {
+    let mut v = example_json("cube_a.json");
+    let elastic = solved(&v);
+    v["object"]["material"] = serde_json::json!("rigid");
+    let rigid = solved(&v);
+    assert!(rigid.residuals.unwrap().equilibrium_relative < 1e-9);
+    for (a, b) in elastic.fingers.iter().zip(&rigid.fingers) {
+        // Aluminium is 35000 times stiffer than the pads: relative change below 1e-3.
+        assert!(
+            (a.normal_force_n - b.normal_force_n).abs() < 1e-3 * a.normal_force_n.max(1.0),
+            "{}",
+            a.name
+        );
+    }
+}

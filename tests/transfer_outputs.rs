@@ -12,7 +12,7 @@ use grasp_transfer::sinks::{FINGERS_TOPIC, PATCHES_TOPIC};
 use grasp_transfer::{CsvSink, McapSink, RerunSink, Schedule, Sink, StepRecord, TransferOptions};
 
 fn examples() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
 }
 
 fn out_dir(tag: &str) -> PathBuf {

@@ -6,7 +6,7 @@ use serde_json::Value;
 
 /// Path of a file in the workspace's `examples/` folder.
 pub fn example_path(name: &str) -> String {
-    format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"))
+    format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
 /// An example scene as JSON, for editing.

@@ -201,3 +201,71 @@ fn transfer_writes_every_output_and_summarises() {
     }
     assert!(std::fs::read_to_string(&p).unwrap().starts_with("<svg"));
 }
+
+/// The schemas published in docs/ are the ones the code generates (regenerate with
+/// `grasp schema > docs/scene.schema.json` and `grasp schema --schedule > docs/schedule.schema.json`).
+#[test]
+fn published_schemas_match_the_code() {
+    for (args, file) in [
+        (vec!["schema"], "scene.schema.json"),
+        (vec!["schema", "--schedule"], "schedule.schema.json"),
+    ] {
+        let o = grasp(&args);
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../docs")
+            .join(file);
+        let published = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            String::from_utf8_lossy(&o.stdout),
+            published,
+            "docs/{file} is stale"
+        );
+    }
+}
+
+/// A step without equilibrium stops the run; `--keep-going` records it and goes on.
+#[test]
+fn keep_going_continues_past_a_failed_step() {
+    let dir = tmp("keep-going");
+    // Release the first pair before the second engages: the middle steps have no fingers.
+    let sched = dir.join("gap.schedule.json");
+    std::fs::write(
+        &sched,
+        r#"{"time": {"times": [0, 1, 2, 3]},
+            "fingers": {"f1": [{"held": {"until": 0}}, {"ramp": {"keyframes": [[1, 0]]}}],
+                        "f2": [{"held": {"until": 0}}, {"ramp": {"keyframes": [[1, 0]]}}],
+                        "f3": [{"ramp": {"keyframes": [[2, 0]]}}, {"held": {}}],
+                        "f4": [{"ramp": {"keyframes": [[2, 0]]}}, {"held": {}}]}}"#,
+    )
+    .unwrap();
+    let csv = dir.join("gap.csv");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "transfer",
+            &*Box::leak(example("plate_transfer.json").into_boxed_str()),
+            "--schedule",
+            sched.to_str().unwrap(),
+            "--csv",
+            csv.to_str().unwrap(),
+            "--force",
+        ];
+        args.extend_from_slice(extra);
+        grasp(&args)
+    };
+    let o = run(&[]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(
+        text(&o).contains("steps: 2 of 4") && text(&o).contains("nothing holds the object"),
+        "{}",
+        text(&o)
+    );
+    let o = run(&["--keep-going"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o).contains("steps: 4 of 4") && text(&o).contains("failed steps: 2"),
+        "{}",
+        text(&o)
+    );
+    let rows = std::fs::read_to_string(&csv).unwrap().lines().count();
+    assert_eq!(rows, 5, "header and four steps");
+}
