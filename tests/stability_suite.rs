@@ -1,0 +1,510 @@
+//! Numerical stability on stiff and extreme cases (issue 4). Every case either solves with
+//! equilibrium residual below 1e-8 of the load scale, cones satisfied and no NaN, or returns a
+//! named outcome with a reason; a panic anywhere fails the case by name. Cases are built from
+//! fixed seeds; each class prints a summary line of how many cases ran and how they ended.
+
+mod support;
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use grasp_model::{solve, GraspModel, Scene, Solution, SolveStatus};
+use serde_json::{json, Value};
+
+/// Deterministic pseudo-random numbers in [0, 1) (64-bit LCG, top 53 bits).
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    /// Log-uniform in [lo, hi].
+    fn log(&mut self, lo: f64, hi: f64) -> f64 {
+        (lo.ln() + (hi.ln() - lo.ln()) * self.next()).exp()
+    }
+}
+
+fn elastic(e: f64, nu: f64) -> Value {
+    json!({"youngs_modulus": e, "poisson_ratio": nu})
+}
+
+/// Parameters of the three-finger cube grasp (thesis cube A geometry, side `s` m).
+#[derive(Clone)]
+struct Cube {
+    side_m: f64,
+    weight_n: f64,
+    finger: Value,
+    object: Value,
+    mu: f64,
+    grid: usize,
+    patch_m: f64,
+}
+
+impl Default for Cube {
+    fn default() -> Self {
+        Cube {
+            side_m: 0.1,
+            weight_n: 4.448,
+            finger: elastic(2e6, 0.45),
+            object: elastic(70e9, 0.33),
+            mu: 0.5,
+            grid: 3,
+            patch_m: 0.01,
+        }
+    }
+}
+
+impl Cube {
+    fn scene(&self) -> Value {
+        let s = self.side_m;
+        let f = |name: &str, p: [f64; 3], n: [f64; 3]| {
+            json!({"name": name, "contact_point": [p[0] * s, p[1] * s, p[2] * s], "normal": n,
+                   "material": self.finger, "patch": {"size": [self.patch_m, self.patch_m], "grid": [self.grid, self.grid]},
+                   "friction": {"mu": self.mu}})
+        };
+        json!({"object": {"weight": self.weight_n, "center_of_mass": [0.5 * s, 0.5 * s, 0.5 * s], "material": self.object},
+               "fingers": [f("f1", [0.5, 1.0, 0.3], [0.0, -1.0, 0.0]), f("f2", [0.5, 0.0, 0.5], [0.0, 1.0, 0.0]),
+                           f("f3", [0.6, 0.5, 0.0], [0.0, 0.0, 1.0])]})
+    }
+}
+
+#[derive(Default)]
+struct Tally {
+    solved: usize,
+    named: Vec<String>,
+}
+
+/// Runs one case: a panic, a NaN, a residual over 1e-8 or an unnamed failure fails the test.
+fn run_case(class: &str, case: &str, scene: &Value, tally: &mut Tally) -> Option<Solution> {
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        let scene = Scene::from_json_str(&scene.to_string())
+            .unwrap_or_else(|e| panic!("{class}/{case}: scene rejected: {e}"));
+        let model = GraspModel::from_scene(&scene).unwrap();
+        solve(&model).unwrap()
+    }));
+    let sol = match result {
+        Ok(s) => s,
+        Err(_) => panic!("{class}/{case}: panicked"),
+    };
+    if sol.status.has_forces() {
+        let r = sol.residuals.expect("residuals with forces");
+        assert!(
+            r.equilibrium_relative < 1e-8,
+            "{class}/{case}: equilibrium {}",
+            r.equilibrium_relative
+        );
+        assert!(
+            r.cone_violation_relative < 1e-8,
+            "{class}/{case}: cones {}",
+            r.cone_violation_relative
+        );
+        for f in &sol.fingers {
+            let all = [
+                f.normal_force_n,
+                f.tangential_magnitude_n,
+                f.torsional_moment_nm,
+                f.peak_pressure_pa,
+                f.approach_m,
+            ]
+            .into_iter()
+            .chain(f.tangential_force_n)
+            .chain(f.center_of_pressure_m)
+            .chain(f.elements.iter().flat_map(|e| {
+                [
+                    e.normal_force_n,
+                    e.gap_m,
+                    e.slip_m[0],
+                    e.slip_m[1],
+                    e.tangential_force_n[0],
+                    e.tangential_force_n[1],
+                ]
+            }));
+            for v in all {
+                assert!(
+                    v.is_finite(),
+                    "{class}/{case}: non-finite value in finger {}",
+                    f.name
+                );
+            }
+        }
+        let d = sol.rigid_displacement.unwrap();
+        assert!(
+            d.translation_m
+                .iter()
+                .chain(&d.rotation_rad)
+                .all(|v| v.is_finite()),
+            "{class}/{case}: rigid displacement"
+        );
+        tally.solved += 1;
+    } else {
+        let reason = sol.reason.clone().unwrap_or_default();
+        assert!(
+            !reason.is_empty(),
+            "{class}/{case}: {:?} without a reason",
+            sol.status
+        );
+        tally.named.push(format!("{case}: {:?}", sol.status));
+    }
+    Some(sol)
+}
+
+fn report(class: &str, t: &Tally) {
+    println!(
+        "stability {class}: {} cases, {} solved, {} named outcomes{}",
+        t.solved + t.named.len(),
+        t.solved,
+        t.named.len(),
+        if t.named.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", t.named.join("; "))
+        }
+    );
+}
+
+#[test]
+fn moduli_from_1e5_to_1e12_and_rigid_bodies() {
+    let mut t = Tally::default();
+    for &ef in &[1e5, 1e7, 1e9, 1e11, 1e12] {
+        for &eo in &[1e5, 1e8, 1e12] {
+            let c = Cube {
+                finger: elastic(ef, 0.3),
+                object: elastic(eo, 0.3),
+                ..Cube::default()
+            };
+            run_case(
+                "moduli",
+                &format!("Ef={ef:e} Eo={eo:e}"),
+                &c.scene(),
+                &mut t,
+            );
+        }
+        let c = Cube {
+            finger: elastic(ef, 0.3),
+            object: json!("rigid"),
+            ..Cube::default()
+        };
+        run_case(
+            "moduli",
+            &format!("Ef={ef:e} rigid object"),
+            &c.scene(),
+            &mut t,
+        );
+        let c = Cube {
+            finger: json!("rigid"),
+            object: elastic(ef, 0.3),
+            ..Cube::default()
+        };
+        run_case(
+            "moduli",
+            &format!("rigid finger Eo={ef:e}"),
+            &c.scene(),
+            &mut t,
+        );
+    }
+    report("moduli", &t);
+    assert!(t.named.is_empty(), "every modulus case is a holdable grasp");
+}
+
+#[test]
+fn modulus_ratios_up_to_1e6_either_way() {
+    let mut t = Tally::default();
+    let mut rng = Lcg(11);
+    for k in 0..8 {
+        let base = rng.log(1e5, 1e6);
+        let ratio = 10f64.powi(6) * rng.next().max(0.1);
+        let (ef, eo) = if k % 2 == 0 {
+            (base, base * ratio)
+        } else {
+            (base * ratio, base)
+        };
+        let c = Cube {
+            finger: elastic(ef, rng.next() * 0.49),
+            object: elastic(eo, rng.next() * 0.49),
+            ..Cube::default()
+        };
+        run_case(
+            "ratios",
+            &format!("Ef={ef:.3e} Eo={eo:.3e}"),
+            &c.scene(),
+            &mut t,
+        );
+    }
+    report("ratios", &t);
+    assert!(t.named.is_empty());
+}
+
+#[test]
+fn poisson_ratios_from_0_to_0_499() {
+    let mut t = Tally::default();
+    for &nf in &[0.0, 0.25, 0.45, 0.499] {
+        for &no in &[0.0, 0.3, 0.499] {
+            let c = Cube {
+                finger: elastic(2e6, nf),
+                object: elastic(2e8, no),
+                ..Cube::default()
+            };
+            run_case(
+                "poisson",
+                &format!("nu_f={nf} nu_o={no}"),
+                &c.scene(),
+                &mut t,
+            );
+        }
+    }
+    report("poisson", &t);
+    assert!(t.named.is_empty());
+}
+
+#[test]
+fn friction_from_0_to_10() {
+    let mut t = Tally::default();
+    for &mu in &[0.0, 0.05, 0.2, 0.5, 1.0, 3.0, 10.0] {
+        let c = Cube {
+            mu,
+            ..Cube::default()
+        };
+        let s = run_case("friction", &format!("mu={mu}"), &c.scene(), &mut t).unwrap();
+        // The cube cannot hang on frictionless fingers (gravity along the f1-f2 plane needs
+        // friction): that must be the named outcome, not a wrong answer.
+        if mu == 0.0 {
+            assert_eq!(s.status, SolveStatus::NoEquilibrium);
+        }
+    }
+    report("friction", &t);
+}
+
+#[test]
+fn loads_from_1e_6_to_1e6_newtons() {
+    let mut t = Tally::default();
+    let mut reference: Option<Vec<f64>> = None;
+    for e in -6..=6 {
+        let w = 10f64.powi(e);
+        let c = Cube {
+            weight_n: w,
+            ..Cube::default()
+        };
+        let s = run_case("loads", &format!("W={w:e}"), &c.scene(), &mut t).unwrap();
+        // Flat pads, constant mu: forces scale with the weight exactly; check to 1e-6.
+        let p: Vec<f64> = s.fingers.iter().map(|f| f.normal_force_n / w).collect();
+        if let Some(r) = &reference {
+            for (a, b) in p.iter().zip(r) {
+                assert!(
+                    (a - b).abs() < 1e-6 * b.abs().max(1.0),
+                    "W={w:e}: {a} vs {b}"
+                );
+            }
+        } else {
+            reference = Some(p);
+        }
+    }
+    report("loads", &t);
+    assert!(t.named.is_empty());
+}
+
+#[test]
+fn element_sizes_from_1_micrometre_to_10_cm() {
+    let mut t = Tally::default();
+    for &h in &[1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 0.1] {
+        let grid = 3;
+        // Patch of 3 elements of size h on a cube large enough to hold it.
+        let c = Cube {
+            patch_m: 3.0 * h,
+            grid,
+            side_m: (30.0 * h).max(0.1),
+            ..Cube::default()
+        };
+        run_case("element size", &format!("h={h:e} m"), &c.scene(), &mut t);
+    }
+    report("element size", &t);
+    assert!(t.named.is_empty());
+}
+
+#[test]
+fn grids_from_1x1_to_32x32() {
+    let mut t = Tally::default();
+    for &g in &[1, 2, 4, 8] {
+        let c = Cube {
+            grid: g,
+            ..Cube::default()
+        };
+        run_case("grids", &format!("cube {g}x{g}"), &c.scene(), &mut t);
+    }
+    // 32 x 32 on one frictionless spherical tip (1024 unknowns; the dense 3-D friction case
+    // at this grid is a benchmark, not a CI test).
+    let scene = json!({"object": {"weight": 10.0, "center_of_mass": [0, 0, 0.02], "material": elastic(210e9, 0.3)},
+        "fingers": [{"name": "tip", "contact_point": [0, 0, 0], "normal": [0, 0, 1], "material": elastic(210e9, 0.3),
+                     "tip_radius": 0.01, "patch": {"size": [2e-4, 2e-4], "grid": [32, 32]}, "friction": {"mu": 0.0}}]});
+    run_case("grids", "hertz 32x32", &scene, &mut t);
+    report("grids", &t);
+    assert!(t.named.is_empty());
+}
+
+#[test]
+fn degenerate_geometry() {
+    let mut t = Tally::default();
+    let pad = |name: &str, p: [f64; 3], n: [f64; 3], mu: f64| {
+        json!({"name": name, "contact_point": p, "normal": n, "material": elastic(2e6, 0.45),
+               "patch": {"size": [0.01, 0.01], "grid": [3, 3]}, "friction": {"mu": mu}})
+    };
+    let obj = |w: f64, com: [f64; 3], ext: Value| json!({"weight": w, "center_of_mass": com, "material": elastic(70e9, 0.33), "external_forces": ext});
+    // All normals parallel (a table of three pads under the object): holds a vertical load.
+    let table = json!({"object": obj(5.0, [0.0, 0.0, 0.05], json!([])),
+        "fingers": [pad("a", [0.05, 0.0, 0.0], [0.0, 0.0, 1.0], 0.0), pad("b", [-0.05, 0.05, 0.0], [0.0, 0.0, 1.0], 0.0),
+                    pad("c", [-0.05, -0.05, 0.0], [0.0, 0.0, 1.0], 0.0)]});
+    let s = run_case(
+        "degenerate",
+        "parallel normals, vertical load",
+        &table,
+        &mut t,
+    )
+    .unwrap();
+    assert_eq!(s.status, SolveStatus::Solved);
+    // ... but not a sideways push without friction: named outcome.
+    let mut push = table.clone();
+    push["object"]["external_forces"] = json!([{"force": [1.0, 0.0, 0.0], "at": [0.0, 0.0, 0.05]}]);
+    let s = run_case(
+        "degenerate",
+        "parallel normals, sideways push, mu = 0",
+        &push,
+        &mut t,
+    )
+    .unwrap();
+    assert_eq!(s.status, SolveStatus::NoEquilibrium);
+    assert!(s.reason.unwrap().contains("no contact force can resist"));
+    // Contacts in a line with the centre of mass off it: a tipping moment.
+    let line = json!({"object": obj(5.0, [0.0, 0.3, 0.05], json!([])),
+        "fingers": [pad("a", [-0.05, 0.0, 0.0], [0.0, 0.0, 1.0], 0.5), pad("b", [0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 0.5),
+                    pad("c", [0.05, 0.0, 0.0], [0.0, 0.0, 1.0], 0.5)]});
+    let s = run_case(
+        "degenerate",
+        "contacts in a line, com off the line",
+        &line,
+        &mut t,
+    )
+    .unwrap();
+    assert_eq!(s.status, SolveStatus::NoEquilibrium);
+    // ... and with the centre of mass over the line it holds.
+    let mut on = line.clone();
+    on["object"]["center_of_mass"] = json!([0.0, 0.0, 0.05]);
+    let s = run_case("degenerate", "contacts in a line, com over it", &on, &mut t).unwrap();
+    assert_eq!(s.status, SolveStatus::Solved);
+    // Coincident contact points: two fingers at the same place share the load equally.
+    let twin = json!({"object": obj(5.0, [0.0, 0.0, 0.05], json!([])),
+        "fingers": [pad("a", [0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 0.5), pad("b", [0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 0.5)]});
+    let s = run_case("degenerate", "coincident contact points", &twin, &mut t).unwrap();
+    assert_eq!(s.status, SolveStatus::Solved);
+    assert!((s.fingers[0].normal_force_n - s.fingers[1].normal_force_n).abs() < 1e-6 * 5.0);
+    // A single finger under the centre of mass.
+    let single = json!({"object": obj(5.0, [0.0, 0.0, 0.05], json!([])), "fingers": [pad("a", [0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 0.5)]});
+    run_case("degenerate", "one finger", &single, &mut t);
+    // No load at all: zero forces, no NaN.
+    let empty = json!({"object": obj(0.0, [0.0, 0.0, 0.05], json!([])), "fingers": [pad("a", [0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 0.5)]});
+    let s = run_case("degenerate", "no load", &empty, &mut t).unwrap();
+    assert!(s.fingers[0].normal_force_n.abs() < 1e-9);
+    report("degenerate", &t);
+}
+
+/// Two force-controlled pads squeezing a block sideways hold its weight W iff 2 mu P >= W
+/// (each pad's friction is at most mu times its prescribed load): just above solves, just
+/// below is the named outcome.
+#[test]
+fn just_above_and_just_below_the_friction_needed() {
+    let mut t = Tally::default();
+    let (p, w) = (10.0, 4.0);
+    let needed = w / (2.0 * p);
+    for (factor, holds) in [(1.02, true), (1.005, true), (0.995, false), (0.98, false)] {
+        let mu = needed * factor;
+        let pad = |name: &str, x: f64, n: f64| {
+            json!({"name": name, "contact_point": [x, 0.0, 0.0], "normal": [n, 0.0, 0.0], "material": elastic(2e6, 0.45),
+                   "patch": {"size": [0.01, 0.01], "grid": [3, 3]}, "friction": {"mu": mu}, "control": {"normal_load": p}})
+        };
+        let scene = json!({"object": {"weight": w, "center_of_mass": [0.0, 0.0, 0.0], "material": elastic(70e9, 0.33)},
+                           "fingers": [pad("left", -0.05, 1.0), pad("right", 0.05, -1.0)]});
+        let s = run_case(
+            "friction margin",
+            &format!("mu = {factor} x needed"),
+            &scene,
+            &mut t,
+        )
+        .unwrap();
+        assert_eq!(
+            s.status.has_forces(),
+            holds,
+            "mu = {factor} x needed: {:?} {:?}",
+            s.status,
+            s.reason
+        );
+    }
+    // Cube B's threshold, bracketed by 1 %: the energy model's own limit (docs/results.md).
+    for (mu, holds) in [(0.34, true), (0.33, false)] {
+        let mut v = support::example_json("cube_b.json");
+        for f in v["fingers"].as_array_mut().unwrap() {
+            f["friction"]["mu"] = mu.into();
+        }
+        let s = run_case("friction margin", &format!("cube B mu = {mu}"), &v, &mut t).unwrap();
+        assert_eq!(s.status.has_forces(), holds);
+    }
+    report("friction margin", &t);
+}
+
+/// The same scene written in mm / N / MPa and in m / N / Pa gives the same forces to 1e-6.
+#[test]
+fn results_do_not_depend_on_the_choice_of_units() {
+    for name in [
+        "cube_a.json",
+        "disc_three_fingers.json",
+        "pipe_three_fingers.json",
+    ] {
+        let si = support::example_json(name);
+        let mut mm = si.clone();
+        let scale3 = |v: &mut Value, k: f64| {
+            for c in v.as_array_mut().unwrap() {
+                *c = (c.as_f64().unwrap() * k).into();
+            }
+        };
+        let scale_mat = |m: &mut Value| {
+            if let Some(e) = m.get_mut("youngs_modulus") {
+                *e = (e.as_f64().unwrap() * 1e-6).into();
+            }
+        };
+        scale3(&mut mm["object"]["center_of_mass"], 1e3);
+        scale_mat(&mut mm["object"]["material"]);
+        for f in mm["fingers"].as_array_mut().unwrap() {
+            scale3(&mut f["contact_point"], 1e3);
+            scale3(&mut f["patch"]["size"], 1e3);
+            scale_mat(&mut f["material"]);
+            match f["object_radius"].clone() {
+                Value::Number(r) => f["object_radius"] = (r.as_f64().unwrap() * 1e3).into(),
+                Value::Array(rs) => {
+                    f["object_radius"] = rs
+                        .iter()
+                        .map(|r| r.as_f64().map_or(Value::Null, |x| (x * 1e3).into()))
+                        .collect()
+                }
+                _ => {}
+            }
+        }
+        let (a, b) = (support::solved(&si), support::solved(&mm));
+        for (fa, fb) in a.fingers.iter().zip(&b.fingers) {
+            assert!(
+                (fa.normal_force_n - fb.normal_force_n).abs() <= 1e-6 * a.load_scale_n,
+                "{name} {}",
+                fa.name
+            );
+            for c in 0..3 {
+                assert!(
+                    (fa.tangential_force_n[c] - fb.tangential_force_n[c]).abs()
+                        <= 1e-6 * a.load_scale_n
+                );
+            }
+            // Pressure in N/mm^2 = MPa: 1e-6 of the SI value.
+            assert!(
+                (fa.peak_pressure_pa * 1e-6 - fb.peak_pressure_pa).abs()
+                    <= 1e-6 * fa.peak_pressure_pa * 1e-6 + 1e-12
+            );
+        }
+    }
+}
