@@ -4,6 +4,7 @@
 mod output;
 mod plot;
 mod report;
+mod study;
 mod transfer;
 
 use std::path::PathBuf;
@@ -37,6 +38,34 @@ enum Command {
         /// Solver tolerance on the scaled program (feasibility and gap).
         #[arg(long, default_value_t = 1e-10, value_name = "TOL")]
         tolerance: f64,
+        /// Also estimate the discretisation error from a solve on grids half as fine
+        /// (Richardson, order 1) and report its extra cost.
+        #[arg(long)]
+        error_estimate: bool,
+        /// Grow curved patches whose boundary carries load until it does not (thesis 2.2.1).
+        #[arg(long)]
+        auto_patch: bool,
+    },
+    /// Grid-refinement study: error, unknowns, wall time and peak memory per grid.
+    Study {
+        /// Scene file (JSON).
+        scene: PathBuf,
+        /// Elements along the first side of every patch, one solve each (aspect ratio kept).
+        #[arg(long, value_delimiter = ',', default_value = "5,9,17")]
+        grids: Vec<usize>,
+        /// Error reference: `hertz` (closed form; one spherical tip on a flat) or `finest`
+        /// (the finest grid of the study).
+        #[arg(long, default_value = "finest", value_parser = ["hertz", "finest"])]
+        reference: String,
+        /// Write the table as CSV.
+        #[arg(long, value_name = "F.csv")]
+        csv: Option<PathBuf>,
+        /// Write an error-versus-time plot (SVG).
+        #[arg(long, value_name = "F.svg")]
+        plot: Option<PathBuf>,
+        /// Overwrite output files that already exist.
+        #[arg(long)]
+        force: bool,
     },
     /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
     Transfer {
@@ -117,11 +146,28 @@ fn run(cli: Cli) -> Result<ExitCode> {
             };
             transfer::run(&scene, &schedule, &outputs, keep_going, cold)
         }
+        Command::Study {
+            scene,
+            grids,
+            reference,
+            csv,
+            plot,
+            force,
+        } => study::run(
+            &scene,
+            &grids,
+            &reference,
+            csv.as_deref(),
+            plot.as_deref(),
+            force,
+        ),
         Command::Solve {
             scene,
             json,
             force,
             tolerance,
+            error_estimate,
+            auto_patch,
         } => {
             if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1e-2) {
                 anyhow::bail!("--tolerance is {tolerance}; give a value in (0, 1e-2), e.g. 1e-10");
@@ -130,20 +176,35 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 output::check_writable(out, force)?;
             }
             let scene_obj = load_scene(&scene)?;
-            let t0 = Instant::now();
-            let model = GraspModel::from_scene(&scene_obj)
-                .with_context(|| format!("{} is not a usable scene", scene.display()))?;
-            let build_s = t0.elapsed().as_secs_f64();
             let options = SolveOptions {
                 tolerance,
                 ..SolveOptions::default()
             };
-            let solution =
-                GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
+            let t0 = Instant::now();
+            let (scene_obj, model, solution, build_s) = if auto_patch {
+                let a = grasp_model::patch_sizing::auto_patch(&scene_obj, options, 6)?;
+                for line in &a.log {
+                    println!("auto-patch: {line}");
+                }
+                (a.scene, a.model, a.solution, 0.0)
+            } else {
+                let model = GraspModel::from_scene(&scene_obj)
+                    .with_context(|| format!("{} is not a usable scene", scene.display()))?;
+                let build_s = t0.elapsed().as_secs_f64();
+                let solution =
+                    GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
+                (scene_obj, model, solution, build_s)
+            };
             print!(
                 "{}",
                 report::solution_table(&scene, &model, &solution, build_s)
             );
+            if error_estimate && solution.status.has_forces() {
+                println!(
+                    "{}",
+                    report::error_estimate_line(&scene_obj, &solution, options)?
+                );
+            }
             if let Some(out) = &json {
                 let text = serde_json::to_string_pretty(&solution)?;
                 output::write_new(out, text.as_bytes(), force)?;

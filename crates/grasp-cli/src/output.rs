@@ -15,11 +15,13 @@ pub fn check_writable(path: &Path, force: bool) -> Result<()> {
     }
     if let Some(dir) = path.parent() {
         if !dir.as_os_str().is_empty() && !dir.is_dir() {
-            bail!(
-                "cannot write {}: folder {} does not exist",
-                path.display(),
-                dir.display()
-            );
+            std::fs::create_dir_all(dir).with_context(|| {
+                format!(
+                    "cannot create folder {} for {}",
+                    dir.display(),
+                    path.display()
+                )
+            })?;
         }
     }
     Ok(())

@@ -29,6 +29,9 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
     if let Some(r) = &sol.reason {
         let _ = writeln!(s, "  {r}");
     }
+    for w in &sol.warnings {
+        let _ = writeln!(s, "warning: {w}");
+    }
     if sol.status.has_forces() {
         let _ = writeln!(
             s,
@@ -96,4 +99,32 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
         sol.solver.iterations
     );
     s
+}
+
+/// The discretisation error estimate as one line, with its extra cost.
+pub fn error_estimate_line(
+    scene: &grasp_model::Scene,
+    sol: &Solution,
+    options: grasp_model::SolveOptions,
+) -> anyhow::Result<String> {
+    use grasp_model::refinement::{estimate_error, NoEstimate};
+    Ok(match estimate_error(scene, sol, options)? {
+        Ok(e) => format!(
+            "discretisation error estimate (coarse grids {:?}, ratio {:.2}, order 1): P within {:.2e} N, \
+             Q within {:.2e} N ({:.1e} of the load), peak pressure {:.1e} relative; extra time {:.1} ms",
+            e.coarse_grids,
+            e.refinement_ratio,
+            e.normal_force_error_n,
+            e.tangential_force_error_n,
+            e.relative,
+            e.peak_pressure_relative,
+            e.extra_time_s * 1e3
+        ),
+        Err(NoEstimate::CannotCoarsen) => {
+            "discretisation error estimate: not available, every grid is 1 x 1".into()
+        }
+        Err(NoEstimate::CoarseFailed(why)) => {
+            format!("discretisation error estimate: not available, the coarse grid failed: {why}")
+        }
+    })
 }

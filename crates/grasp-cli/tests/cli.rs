@@ -269,3 +269,17 @@ fn keep_going_continues_past_a_failed_step() {
     let rows = std::fs::read_to_string(&csv).unwrap().lines().count();
     assert_eq!(rows, 5, "header and four steps");
 }
+
+#[test]
+fn missing_output_folders_are_created() {
+    let dir = tmp("mkdir").join("new").join("deeper");
+    let out = dir.join("cube_a.json");
+    let o = grasp(&[
+        "solve",
+        &example("cube_a.json"),
+        "--json",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(out.is_file());
+}

@@ -34,6 +34,8 @@ pub mod grasp_model;
 pub mod influence;
 pub mod material;
 pub mod patch;
+pub mod patch_sizing;
+pub mod refinement;
 pub mod residuals;
 pub mod scene;
 pub mod solution;

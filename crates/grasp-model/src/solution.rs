@@ -88,6 +88,9 @@ pub struct FingerSolution {
     pub peak_pressure_pa: f64,
     /// `|Q_i| / (mu P_i)`: 1 when the whole finger slides (0 if frictionless or unloaded).
     pub friction_utilization: f64,
+    /// Fraction of `P` carried by the patch's boundary ring of elements (thesis 2.2.1: above
+    /// zero for a curved contact means the patch is too small).
+    pub boundary_load_fraction: f64,
     /// Approach of the finger along its inward normal, m: the prescribed-load multiplier for
     /// a force-controlled finger, 0 for a held finger (the reference).
     pub approach_m: f64,
@@ -132,6 +135,8 @@ pub struct Solution {
     pub status: SolveStatus,
     /// Why, when the status is not `solved`.
     pub reason: Option<String>,
+    /// Things the user should know about an otherwise valid answer (undersized patches).
+    pub warnings: Vec<String>,
     /// Per finger, scene order (empty without forces).
     pub fingers: Vec<FingerSolution>,
     /// Rigid displacement of the object (absent without forces).

@@ -184,6 +184,7 @@ fn failed(
     Solution {
         status,
         reason: Some(reason),
+        warnings: Vec::new(),
         fingers: Vec::new(),
         rigid_displacement: None,
         residuals: None,
@@ -294,11 +295,15 @@ fn build_solution(
         let mut elements = Vec::with_capacity(ne);
         let (mut p, mut q, mut torsion, mut cx, mut cy) = (0.0, Vector3::zeros(), 0.0, 0.0, 0.0);
         let (mut n_stick, mut n_slip, mut n_sep, mut peak) = (0, 0, 0, 0.0_f64);
+        let mut boundary = 0.0;
         for k in 0..ne {
             let fk = x_n[f.offset + k];
             let g = tangential(&x_n, f.offset, ne, f.n_tangential, k);
             let [x, y] = f.patch.centres_m[k];
             p += fk;
+            if f.patch.on_boundary(k) {
+                boundary += fk;
+            }
             q += f.frame.t1 * g[0] + f.frame.t2 * g[1];
             torsion += x * g[1] - y * g[0];
             cx += fk * x;
@@ -343,6 +348,7 @@ fn build_solution(
             } else {
                 0.0
             },
+            boundary_load_fraction: if p > 0.0 { boundary / p } else { 0.0 },
             approach_m: approach[i],
             stick_count: n_stick,
             slip_count: n_slip,
@@ -351,9 +357,10 @@ fn build_solution(
         });
     }
     let t_com = t_o + theta.cross(&(model.center_of_mass_m - model.reference_point_m));
-    Solution {
+    let mut sol = Solution {
         status: SolveStatus::Solved,
         reason: None,
+        warnings: Vec::new(),
         fingers,
         rigid_displacement: Some(RigidDisplacement {
             translation_m: [t_com.x, t_com.y, t_com.z],
@@ -363,5 +370,7 @@ fn build_solution(
         load_scale_n: s.load_n,
         solve_time_s: 0.0,
         solver: stats,
-    }
+    };
+    sol.warnings = crate::patch_sizing::patch_warnings(model, &sol);
+    sol
 }

@@ -282,6 +282,7 @@ fn empty_grasp_solution(scene: &Scene) -> Solution {
     Solution {
         status: grasp_model::SolveStatus::NoEquilibrium,
         reason: Some("no equilibrium: every finger is released, nothing holds the object".into()),
+        warnings: Vec::new(),
         fingers: Vec::new(),
         rigid_displacement: None,
         residuals: None,
