@@ -1,20 +1,14 @@
 //! The disc hand-off (thesis section 4.2.3), style 2: the receiving pair ramps up while the
 //! releasing pair is held; then the held pair is ramped down. Checks symmetry and completion.
 
-use std::path::Path;
+mod support;
 
-use grasp_model::Scene;
-use grasp_transfer::{Schedule, Stepper, TransferOptions, TransferSummary};
+use grasp_transfer::{Stepper, TransferOptions, TransferSummary};
 
 #[test]
 fn receiving_pair_ramps_up_and_the_disc_ends_in_its_grasp() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples");
-    let scene =
-        Scene::from_json_str(&std::fs::read_to_string(dir.join("disc_transfer.json")).unwrap())
-            .unwrap();
+    let (scene, schedule) = support::transfer_example("disc_transfer");
     let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
-    let text = std::fs::read_to_string(dir.join("disc_transfer.schedule.json")).unwrap();
-    let schedule = Schedule::from_json_str(&text, &names, &dir).unwrap();
     let recs: Vec<_> = Stepper::new(&scene, &schedule, TransferOptions::default())
         .map(|r| r.unwrap())
         .collect();

@@ -2,24 +2,13 @@
 //! pairs stay symmetric, loads move monotonically from one pair to the other, and warm-started
 //! stepping equals a fresh one-shot solve of the same grasp.
 
-use std::path::Path;
+mod support;
 
 use grasp_model::{solve, GraspModel, Scene, SolveStatus};
 use grasp_transfer::{Command, Schedule, StepRecord, Stepper, TransferOptions};
 
-fn examples() -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
-}
-
 fn load() -> (Scene, Schedule) {
-    let dir = examples();
-    let scene =
-        Scene::from_json_str(&std::fs::read_to_string(dir.join("plate_transfer.json")).unwrap())
-            .unwrap();
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
-    let text = std::fs::read_to_string(dir.join("plate_transfer.schedule.json")).unwrap();
-    let schedule = Schedule::from_json_str(&text, &names, &dir).unwrap();
-    (scene, schedule)
+    support::transfer_example("plate_transfer")
 }
 
 fn run(options: TransferOptions) -> Vec<StepRecord> {

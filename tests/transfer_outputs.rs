@@ -3,17 +3,14 @@
 //! independent `rerun` CLI (Python package rerun-sdk==0.36.3, installed by
 //! scripts/install-checkers.sh) accepting the `.mcap` and the `.rrd`.
 
+mod support;
+
 use std::path::{Path, PathBuf};
 use std::process::Command as Process;
 
-use grasp_model::Scene;
 use grasp_transfer::sinks::FingersMessage;
 use grasp_transfer::sinks::{FINGERS_TOPIC, PATCHES_TOPIC};
-use grasp_transfer::{CsvSink, McapSink, RerunSink, Schedule, Sink, StepRecord, TransferOptions};
-
-fn examples() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
-}
+use grasp_transfer::{CsvSink, McapSink, RerunSink, Sink, StepRecord, TransferOptions};
 
 fn out_dir(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("grasp-outputs-{tag}-{}", std::process::id()));
@@ -23,13 +20,7 @@ fn out_dir(tag: &str) -> PathBuf {
 
 /// Runs the plate hand-off into `dir` (plate.mcap, plate.rrd, plate.csv).
 fn run_plate(dir: &Path) -> Vec<StepRecord> {
-    let scene = Scene::from_json_str(
-        &std::fs::read_to_string(examples().join("plate_transfer.json")).unwrap(),
-    )
-    .unwrap();
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
-    let text = std::fs::read_to_string(examples().join("plate_transfer.schedule.json")).unwrap();
-    let schedule = Schedule::from_json_str(&text, &names, &examples()).unwrap();
+    let (scene, schedule) = support::transfer_example("plate_transfer");
     let mut m = McapSink::create(&dir.join("plate.mcap")).unwrap();
     let mut r = RerunSink::create(&dir.join("plate.rrd")).unwrap();
     let mut c = CsvSink::create(&dir.join("plate.csv")).unwrap();

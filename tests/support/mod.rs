@@ -54,3 +54,15 @@ pub const EXAMPLES: [&str; 5] = [
     "cube_a.json",
     "cube_b.json",
 ];
+
+/// A bundled hand-off: its scene and its schedule (`<name>.json`, `<name>.schedule.json`).
+pub fn transfer_example(name: &str) -> (Scene, grasp_transfer::Schedule) {
+    let dir = std::path::PathBuf::from(example_path(""));
+    let scene =
+        Scene::from_json_str(&std::fs::read_to_string(dir.join(format!("{name}.json"))).unwrap())
+            .unwrap();
+    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let text = std::fs::read_to_string(dir.join(format!("{name}.schedule.json"))).unwrap();
+    let schedule = grasp_transfer::Schedule::from_json_str(&text, &names, &dir).unwrap();
+    (scene, schedule)
+}

@@ -37,6 +37,21 @@ pub fn grid_with_first_side(original: [usize; 2], n: usize) -> [usize; 2] {
     [n.max(1), ny]
 }
 
+/// Largest differences between two solutions of the same fingers: normal force and friction
+/// force vector (N).
+fn force_differences_n(a: &Solution, b: &Solution) -> (f64, f64) {
+    let (mut dp, mut dq) = (0.0_f64, 0.0_f64);
+    for (fa, fb) in a.fingers.iter().zip(&b.fingers) {
+        dp = dp.max((fa.normal_force_n - fb.normal_force_n).abs());
+        let d: f64 = (0..3)
+            .map(|c| (fa.tangential_force_n[c] - fb.tangential_force_n[c]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        dq = dq.max(d);
+    }
+    (dp, dq)
+}
+
 /// A discretisation error estimate of a solution.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ErrorEstimate {
@@ -101,14 +116,9 @@ pub fn estimate_error(
         })
         .fold(f64::INFINITY, f64::min);
     let denom = ratio.powf(ASSUMED_ORDER) - 1.0;
-    let (mut dp, mut dq, mut dpk) = (0.0_f64, 0.0_f64, 0.0_f64);
+    let (dp, dq) = force_differences_n(fine, &coarse);
+    let mut dpk = 0.0_f64;
     for (a, b) in fine.fingers.iter().zip(&coarse.fingers) {
-        dp = dp.max((a.normal_force_n - b.normal_force_n).abs());
-        let d: f64 = (0..3)
-            .map(|c| (a.tangential_force_n[c] - b.tangential_force_n[c]).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        dq = dq.max(d);
         if a.peak_pressure_pa > 0.0 {
             dpk = dpk.max((a.peak_pressure_pa - b.peak_pressure_pa).abs() / a.peak_pressure_pa);
         }
@@ -255,16 +265,8 @@ pub fn refinement_study(
     if hertz.is_none() {
         let finest = sols.last().expect("one grid at least");
         for (row, sol) in rows.iter_mut().zip(&sols) {
-            let mut e = 0.0_f64;
-            for (a, b) in sol.fingers.iter().zip(&finest.fingers) {
-                e = e.max((a.normal_force_n - b.normal_force_n).abs());
-                let d: f64 = (0..3)
-                    .map(|c| (a.tangential_force_n[c] - b.tangential_force_n[c]).powi(2))
-                    .sum::<f64>()
-                    .sqrt();
-                e = e.max(d);
-            }
-            row.error = e / finest.load_scale_n;
+            let (dp, dq) = force_differences_n(sol, finest);
+            row.error = dp.max(dq) / finest.load_scale_n;
         }
     }
     Ok(rows)
