@@ -63,9 +63,14 @@ pub fn force_history_svg(records: &[StepRecord], names: &[String], title: &str) 
             fmt(f)
         );
     }
+    // At most a dozen ticks, counted by integers (adding dt to a large t may not change it).
     let dt = nice_ceiling((t1 - t0) / 6.0);
-    let mut t = (t0 / dt).ceil() * dt;
-    while t <= t1 + 1e-9 * dt {
+    let first = (t0 / dt).ceil();
+    for i in 0..12 {
+        let t = (first + i as f64) * dt;
+        if t > t1 + 1e-9 * dt {
+            break;
+        }
         let _ = writeln!(
             s,
             r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#,
@@ -73,7 +78,6 @@ pub fn force_history_svg(records: &[StepRecord], names: &[String], title: &str) 
             h - mb + 18.0,
             fmt(t)
         );
-        t += dt;
     }
     let _ = writeln!(
         s,

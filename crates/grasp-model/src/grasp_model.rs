@@ -132,6 +132,20 @@ impl GraspModel {
     /// Builds the model from a scene, validating it first.
     pub fn from_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
         scene.validate()?;
+        Self::from_validated_scene(scene)
+    }
+
+    /// Builds the model of a scene the caller has validated, or of a subset of the fingers of
+    /// a validated scene (whose per-finger checks hold; the reach heuristic, which compares
+    /// fingers, is not re-run).
+    pub fn from_validated_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
+        if scene.fingers.is_empty() {
+            return Err(SceneError::Invalid(vec![crate::error::SceneProblem {
+                path: "fingers".into(),
+                message: "is empty".into(),
+                fix: "list at least one finger".into(),
+            }]));
+        }
         let v3 = |a: &[f64; 3]| Vector3::new(a[0], a[1], a[2]);
         let object_material = Material::from(&scene.object.material);
         let plane = scene.planar.as_ref().map(|p| {

@@ -454,6 +454,66 @@ mod tests {
         assert_eq!(c[(n + j, k)], c[(k, n + j)]);
     }
 
+    /// Far-field entries against the point-load formulas written out by hand from Johnson
+    /// (3.22c, 3.86a-c) for a rubber finger (E = 5 MPa, nu = 0.45) on a steel object
+    /// (E = 210 GPa, nu = 0.3), without the crate's material constants:
+    /// - normal: sum_b (1 - nu_b^2)/(pi E_b) / r;
+    /// - Cerruti: sum_b (1 + nu_b)/(pi E_b) ((1 - nu_b)/r + nu_b x^2/r^3) (thesis eq. 43 has
+    ///   `- nu x^2/r^3`, its defect 1);
+    /// - coupling (gap increase from a tangential force on the object along +x):
+    ///   (kappa_o - kappa_f) x / r^2, kappa = (1 + nu)(1 - 2 nu)/(2 pi E); for a soft finger
+    ///   this is NEGATIVE (the thesis's summed form, its defect 2, would make it positive).
+    #[test]
+    fn far_field_matches_hand_written_point_load_formulas() {
+        let pi = std::f64::consts::PI;
+        let (ef, nf, eo, no) = (5e6_f64, 0.45_f64, 210e9_f64, 0.3_f64);
+        let pair = PairConstants::new(
+            &Material::Elastic {
+                youngs_modulus_pa: ef,
+                poisson_ratio: nf,
+            },
+            &Material::Elastic {
+                youngs_modulus_pa: eo,
+                poisson_ratio: no,
+            },
+        );
+        let grid = GridSpec {
+            nx: 41,
+            ny: 3,
+            hx: 1e-3,
+            hy: 1e-3,
+        };
+        let n = grid.len();
+        let c = patch_compliance(&grid, &pair, 2);
+        let (k, j) = (grid.index(40, 2), grid.index(0, 0));
+        let (x, y): (f64, f64) = (40.0e-3, 2.0e-3);
+        let r = x.hypot(y);
+        let normal = ((1.0 - nf * nf) / ef + (1.0 - no * no) / eo) / (pi * r);
+        let cerruti = ((1.0 + nf) / ef * ((1.0 - nf) / r + nf * x * x / r.powi(3))
+            + (1.0 + no) / eo * ((1.0 - no) / r + no * x * x / r.powi(3)))
+            / pi;
+        let kappa = |e: f64, nu: f64| (1.0 + nu) * (1.0 - 2.0 * nu) / (2.0 * pi * e);
+        let coupling = (kappa(eo, no) - kappa(ef, nf)) * x / (r * r);
+        assert!(coupling < 0.0);
+        let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+        // Next term of the far-field expansion: O((h/r)^2 / 24) ~ 3e-5.
+        assert!(
+            rel(c[(k, j)], normal) < 1e-4,
+            "normal {} vs {normal}",
+            c[(k, j)]
+        );
+        assert!(
+            rel(c[(n + k, n + j)], cerruti) < 1e-4,
+            "Cerruti {} vs {cerruti}",
+            c[(n + k, n + j)]
+        );
+        assert!(
+            rel(c[(k, n + j)], coupling) < 1e-4,
+            "coupling {} vs {coupling}",
+            c[(k, n + j)]
+        );
+    }
+
     #[test]
     fn coupling_is_the_difference_of_the_bodies_and_vanishes_for_equal_materials() {
         let equal = PairConstants::new(&steel(), &steel());

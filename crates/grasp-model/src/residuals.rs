@@ -75,7 +75,8 @@ pub struct Residuals {
     pub equilibrium_relative: f64,
     /// Largest cone violation `max(0, |G_k| - mu F_k, -F_k)` over the element force unit.
     pub cone_violation_relative: f64,
-    /// Largest penetration `max(0, -gap)` over the displacement unit `Fu Cu`.
+    /// Largest penetration `max(0, -gap)` (frictional elements: `max(0, mu |w| - gap)`, the
+    /// dual cone) over the displacement unit `Fu Cu`.
     pub penetration_relative: f64,
     /// Largest `|gap - mu |w||` over loaded elements, over the displacement unit.
     pub compatibility_relative: f64,
@@ -141,9 +142,17 @@ pub fn evaluate(
             let viol = (gn - mu * fk).max(-fk).max(0.0);
             r.cone_violation_relative = r.cone_violation_relative.max(viol / fu);
             let gap = kin.gap_m[i][k];
-            r.penetration_relative = r.penetration_relative.max((-gap).max(0.0) / du);
+
             let wk = kin.tangential_m[i][k];
             let wn = (wk[0] * wk[0] + wk[1] * wk[1]).sqrt();
+            // Penetration, and for frictional elements the dual cone `gap >= mu |w|` (model.md:
+            // a slipping element opens by mu |slip|; a separated one at least as much).
+            let dual_gap = if f.n_tangential == 0 {
+                gap
+            } else {
+                gap - mu * wn
+            };
+            r.penetration_relative = r.penetration_relative.max((-dual_gap).max(0.0) / du);
             let (opening, tangential_slack) = if f.n_tangential == 0 {
                 (gap, 0.0)
             } else {

@@ -139,7 +139,8 @@ pub struct Solution {
     pub warnings: Vec<String>,
     /// Per finger, scene order (empty without forces).
     pub fingers: Vec<FingerSolution>,
-    /// Rigid displacement of the object (absent without forces).
+    /// Rigid displacement of the object (absent without forces, or when no contact carries
+    /// load and the grasp does not determine it).
     pub rigid_displacement: Option<RigidDisplacement>,
     /// Residuals computed from the solution (absent without forces).
     pub residuals: Option<Residuals>,

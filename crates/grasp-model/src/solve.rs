@@ -362,7 +362,13 @@ fn build_solution(
         reason: None,
         warnings: Vec::new(),
         fingers,
-        rigid_displacement: Some(RigidDisplacement {
+        // With no contact force at all the multipliers are any interior point: the object's
+        // position is not determined by the grasp, so none is reported.
+        rigid_displacement: (x_n
+            .iter()
+            .take(model.n_unknowns)
+            .any(|&v| v.abs() > 1e-12 * s.element_force_n))
+        .then_some(RigidDisplacement {
             translation_m: [t_com.x, t_com.y, t_com.z],
             rotation_rad: [theta.x, theta.y, theta.z],
         }),

@@ -11,6 +11,17 @@ pub const MAX_ELEMENTS_PER_PATCH: usize = 64 * 64;
 /// all contact points is taken as a unit mistake (millimetres written as metres, say).
 pub const PLAUSIBLE_REACH_FACTOR: f64 = 100.0;
 
+/// Physical range of Young's modulus, Pa (soft gels to beyond diamond); outside it the input is
+/// almost surely in the wrong unit.
+pub const MODULUS_RANGE_PA: (f64, f64) = (1.0, 1e15);
+
+/// Physical range of a patch side, m.
+pub const PATCH_SIDE_RANGE_M: (f64, f64) = (1e-9, 10.0);
+
+/// Largest memory the dense patch compliance blocks may take, bytes (the cone solver needs a
+/// few times more).
+pub const MAX_COMPLIANCE_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
+
 /// Relative tolerance of the planarity checks (normalised directions, distances over the
 /// scene's length scale).
 pub const PLANAR_TOLERANCE: f64 = 1e-6;
@@ -135,6 +146,15 @@ impl Scene {
                         format!("is {s} m"),
                         "give the patch side length in metres, > 0",
                     );
+                } else if !(PATCH_SIDE_RANGE_M.0..=PATCH_SIDE_RANGE_M.1).contains(&s) {
+                    v.push(
+                        &format!("{p}.patch.size[{k}]"),
+                        format!(
+                            "is {s:e} m, outside [{:e}, {}] m",
+                            PATCH_SIDE_RANGE_M.0, PATCH_SIDE_RANGE_M.1
+                        ),
+                        "give the side in metres",
+                    );
                 }
                 if f.patch.grid[k] == 0 {
                     v.push(
@@ -169,6 +189,7 @@ impl Scene {
                 }
             }
         }
+        self.check_memory(&mut v);
         self.check_reach(&mut v);
         if let Some(pl) = &self.planar {
             if v.direction(
@@ -180,6 +201,36 @@ impl Scene {
             }
         }
         v.finish()
+    }
+
+    /// Refuses scenes whose dense compliance blocks would not fit in memory.
+    fn check_memory(&self, v: &mut Problems) {
+        let bytes: f64 = self
+            .fingers
+            .iter()
+            .map(|f| {
+                let tangential = if f.friction.mu == 0.0 {
+                    0
+                } else if self.planar.is_some() {
+                    1
+                } else {
+                    2
+                };
+                let n = (f.patch.grid[0].saturating_mul(f.patch.grid[1]) * (1 + tangential)) as f64;
+                8.0 * n * n
+            })
+            .sum();
+        if bytes > MAX_COMPLIANCE_BYTES {
+            v.push(
+                "fingers",
+                format!(
+                    "the patch compliance blocks need {:.1} GiB, more than {:.0} GiB",
+                    bytes / 1073741824.0,
+                    MAX_COMPLIANCE_BYTES / 1073741824.0
+                ),
+                "use coarser grids (see `grasp study` for the accuracy each grid gives)",
+            );
+        }
     }
 
     /// Flags contact points implausibly far from the centre of mass (a unit mistake).
@@ -326,6 +377,15 @@ impl Problems {
                     &format!("{path}.youngs_modulus"),
                     format!("is {} Pa", e.youngs_modulus),
                     "give Young's modulus in pascals, > 0 (or write \"rigid\" for the material)",
+                );
+            } else if !(MODULUS_RANGE_PA.0..=MODULUS_RANGE_PA.1).contains(&e.youngs_modulus) {
+                self.push(
+                    &format!("{path}.youngs_modulus"),
+                    format!(
+                        "is {:e} Pa, outside the physical range [{:e}, {:e}] Pa",
+                        e.youngs_modulus, MODULUS_RANGE_PA.0, MODULUS_RANGE_PA.1
+                    ),
+                    "give Young's modulus in pascals (1 MPa = 1e6 Pa), or \"rigid\"",
                 );
             }
             if !(e.poisson_ratio.is_finite() && (0.0..0.5).contains(&e.poisson_ratio)) {

@@ -70,6 +70,16 @@ pub enum TransferError {
         #[source]
         source: grasp_model::SceneError,
     },
+    /// A held finger's `"current"` load at the first step needs the scene as written to hold.
+    #[error(
+        "fingers.{finger}: \"current\" at the first step is the load the finger carries in the \
+         scene as written, but that grasp has no equilibrium; fix: give a number instead, or make \
+         the scene hold"
+    )]
+    Current {
+        /// Finger name.
+        finger: String,
+    },
     /// The model refused the data.
     #[error(transparent)]
     Model(#[from] grasp_model::ModelError),

@@ -44,20 +44,30 @@ pub fn run(
         scene,
         geometry: &geometry,
     };
-    for s in sinks.iter_mut() {
-        s.begin(&info)?;
-    }
     let mut records = Vec::with_capacity(schedule.times.len());
-    for r in Stepper::new(scene, schedule, options) {
-        let r = r?;
+    let outcome = (|| {
         for s in sinks.iter_mut() {
-            s.step(&info, &r)?;
+            s.begin(&info)?;
         }
-        on_step(&r);
-        records.push(r);
-    }
-    for s in sinks.iter_mut() {
-        s.finish()?;
+        for r in Stepper::new(scene, schedule, options) {
+            let r = r?;
+            for s in sinks.iter_mut() {
+                s.step(&info, &r)?;
+            }
+            on_step(&r);
+            records.push(r);
+        }
+        for s in sinks.iter_mut() {
+            s.finish()?;
+        }
+        Ok(())
+    })();
+    if let Err(e) = outcome {
+        // Keep what was written in the `.partial` files; leave the user's files untouched.
+        for s in sinks.iter_mut() {
+            s.abort();
+        }
+        return Err(e);
     }
     let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
     let summary = TransferSummary::from_records(&records, &names);

@@ -454,7 +454,7 @@ impl Schedule {
         let n = list.len();
         Some(
             list.iter()
-                .position(|p| p.end().is_none_or(|e| t <= e + 1e-12))
+                .position(|p| p.end().is_none_or(|e| t <= e + 1e-9 * e.abs().max(1.0)))
                 .unwrap_or(n - 1),
         )
     }

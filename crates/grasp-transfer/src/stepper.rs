@@ -85,6 +85,8 @@ pub struct Stepper<'a> {
     current: Vec<Option<(usize, f64)>>,
     next: usize,
     stopped: bool,
+    /// Largest external load (weight, external forces), N.
+    external_scale_n: f64,
 }
 
 impl<'a> Stepper<'a> {
@@ -100,6 +102,12 @@ impl<'a> Stepper<'a> {
             current: vec![None; n],
             next: 0,
             stopped: false,
+            external_scale_n: scene
+                .object
+                .external_forces
+                .iter()
+                .map(|r| r.force.iter().map(|c| c * c).sum::<f64>().sqrt())
+                .fold(scene.object.weight, f64::max),
         }
     }
 
@@ -121,8 +129,10 @@ impl<'a> Stepper<'a> {
         }
     }
 
-    /// Loads the fingers carry in the scene as written (the `"current"` of a first step).
-    fn initial_loads(&self) -> Result<Vec<f64>, TransferError> {
+    /// Loads the fingers carry in the scene as written (the `"current"` of a first step). If
+    /// that grasp has no equilibrium, force-controlled fingers keep their commanded loads and a
+    /// held finger's `"current"` cannot be resolved: a named error.
+    fn initial_loads(&self) -> Result<Vec<Option<f64>>, TransferError> {
         let model = GraspModel::from_scene(self.scene).map_err(|source| TransferError::Scene {
             time_s: self.schedule.times[0],
             source,
@@ -133,15 +143,21 @@ impl<'a> Stepper<'a> {
             .scene
             .fingers
             .iter()
-            .map(|f| sol.finger(&f.name).map_or(0.0, |s| s.normal_force_n))
-            .collect())
+            .map(
+                |f| match (sol.status.has_forces(), f.control.normal_load_n()) {
+                    (true, _) => Some(sol.finger(&f.name).map_or(0.0, |s| s.normal_force_n)),
+                    (false, Some(p)) => Some(p),
+                    (false, None) => None,
+                },
+            )
+            .collect::<Vec<_>>())
     }
 
     /// The commands of every finger at step `k`, resolving `"current"` on phase entry.
     fn commands(&mut self, k: usize) -> Result<Vec<Command>, TransferError> {
         let t = self.schedule.times[k];
         let mut out = Vec::with_capacity(self.scene.fingers.len());
-        let mut initial: Option<Vec<f64>> = None;
+        let mut initial: Option<Vec<Option<f64>>> = None;
         for i in 0..self.scene.fingers.len() {
             let phase = self.schedule.phase_index(i, t);
             if let Some(p) = phase {
@@ -150,7 +166,11 @@ impl<'a> Stepper<'a> {
                         if initial.is_none() {
                             initial = Some(self.initial_loads()?);
                         }
-                        initial.as_ref().expect("computed")[i]
+                        initial.as_ref().expect("computed")[i].ok_or_else(|| {
+                            TransferError::Current {
+                                finger: self.scene.fingers[i].name.clone(),
+                            }
+                        })?
                     } else {
                         self.previous_normal_n[i]
                     };
@@ -187,15 +207,24 @@ impl<'a> Stepper<'a> {
                 }
             })
             .collect();
-        let reused = self.options.warm_start && self.cache.contains_key(&key);
+        // The program is scaled by the loads it was built with; reuse it while the step's load
+        // scale stays within a factor 1e3 of that (the scaled problem stays well conditioned).
+        let step_scale = loads.iter().copied().fold(self.external_scale_n, f64::max);
+        let reused = self.options.warm_start
+            && self.cache.get(&key).is_some_and(|(m, _)| {
+                let r = step_scale / m.scales.load_n;
+                step_scale <= 0.0 || (1e-3..=1e3).contains(&r)
+            });
         if !reused {
             let mut sub = self.scene.clone();
+            let mut load = loads.iter();
             sub.fingers = key
                 .iter()
                 .map(|&(i, fc)| {
                     let mut f = self.scene.fingers[i].clone();
                     f.control = if fc {
-                        ControlSpec::Load(NormalLoadSpec { normal_load: 1.0 })
+                        let p = *load.next().expect("one load per force-controlled finger");
+                        ControlSpec::Load(NormalLoadSpec { normal_load: p })
                     } else {
                         ControlSpec::Held(HeldTag::Held)
                     };
@@ -207,7 +236,9 @@ impl<'a> Stepper<'a> {
                 let sol = empty_grasp_solution(self.scene);
                 return Ok(self.record(k, t, commands, sol, start, false));
             }
-            let model = GraspModel::from_scene(&sub)
+            // The full scene was validated; a subset of its fingers needs no new validation
+            // (the reach heuristic, say, would judge the subset differently).
+            let model = GraspModel::from_validated_scene(&sub)
                 .map_err(|source| TransferError::Scene { time_s: t, source })?;
             let solver = GraspSolver::new(&model, self.options.solve);
             if !self.options.warm_start {

@@ -15,15 +15,18 @@ use crate::stepper::StepRecord;
 /// Writes a CSV force history.
 pub struct CsvSink {
     out: Option<BufWriter<File>>,
+    path: std::path::PathBuf,
 }
 
 impl CsvSink {
     /// Creates the file (the caller has checked it may be written).
     pub fn create(path: &Path) -> Result<Self, TransferError> {
+        let tmp = super::partial_path(path);
         let f =
-            File::create(path).map_err(|e| sink_err("csv", format!("{}: {e}", path.display())))?;
+            File::create(&tmp).map_err(|e| sink_err("csv", format!("{}: {e}", tmp.display())))?;
         Ok(CsvSink {
             out: Some(BufWriter::new(f)),
+            path: path.to_path_buf(),
         })
     }
 
@@ -67,7 +70,15 @@ impl Sink for CsvSink {
     fn finish(&mut self) -> Result<(), TransferError> {
         if let Some(mut o) = self.out.take() {
             o.flush().map_err(|e| sink_err("csv", e))?;
+            drop(o);
+            super::move_into_place("csv", &super::partial_path(&self.path), &self.path)?;
         }
         Ok(())
+    }
+
+    fn abort(&mut self) {
+        if let Some(mut o) = self.out.take() {
+            let _ = o.flush();
+        }
     }
 }

@@ -188,8 +188,9 @@ pub struct McapSink {
 impl McapSink {
     /// Creates the file (the caller has checked it may be written).
     pub fn create(path: &Path) -> Result<Self, TransferError> {
+        let tmp = super::partial_path(path);
         let file =
-            File::create(path).map_err(|e| sink_err("mcap", format!("{}: {e}", path.display())))?;
+            File::create(&tmp).map_err(|e| sink_err("mcap", format!("{}: {e}", tmp.display())))?;
         let writer = mcap::WriteOptions::new()
             .profile("")
             .library(concat!("grasp-transfer ", env!("CARGO_PKG_VERSION")))
@@ -266,7 +267,15 @@ impl Sink for McapSink {
         if let Some(mut w) = self.writer.take() {
             w.finish()
                 .map_err(|e| sink_err("mcap", format!("{}: {e}", self.path.display())))?;
+            drop(w);
+            super::move_into_place("mcap", &super::partial_path(&self.path), &self.path)?;
         }
         Ok(())
+    }
+
+    fn abort(&mut self) {
+        if let Some(mut w) = self.writer.take() {
+            let _ = w.finish();
+        }
     }
 }

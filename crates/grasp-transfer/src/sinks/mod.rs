@@ -27,8 +27,34 @@ pub trait Sink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError>;
     /// Called after every step, in order.
     fn step(&mut self, run: &RunInfo, record: &StepRecord) -> Result<(), TransferError>;
-    /// Called once after the last step; flushes and closes the output.
+    /// Called once after the last step; flushes, closes and moves the output into place.
     fn finish(&mut self) -> Result<(), TransferError>;
+    /// Called instead of `finish` when the run fails: the output written so far stays in its
+    /// `.partial` file and the file the user named is left untouched.
+    fn abort(&mut self) {}
+}
+
+/// The temporary file a sink writes before moving it into place: `<path>.partial`.
+pub fn partial_path(path: &std::path::Path) -> std::path::PathBuf {
+    let mut name = path
+        .file_name()
+        .map(|n| n.to_os_string())
+        .unwrap_or_default();
+    name.push(".partial");
+    path.with_file_name(name)
+}
+
+pub(crate) fn move_into_place(
+    sink: &'static str,
+    tmp: &std::path::Path,
+    path: &std::path::Path,
+) -> Result<(), TransferError> {
+    std::fs::rename(tmp, path).map_err(|e| {
+        sink_err(
+            sink,
+            format!("cannot move {} to {}: {e}", tmp.display(), path.display()),
+        )
+    })
 }
 
 pub(crate) fn sink_err(sink: &'static str, e: impl std::fmt::Display) -> TransferError {

@@ -34,6 +34,7 @@ use crate::stepper::StepRecord;
 /// Writes a Rerun recording.
 pub struct RerunSink {
     rec: Option<RecordingStream>,
+    path: std::path::PathBuf,
     arrow_m_per_n: f32,
     /// Counter of the deterministic chunk and row ids.
     ids: u64,
@@ -78,11 +79,12 @@ impl RerunSink {
     pub fn create(path: &Path) -> Result<Self, TransferError> {
         let rec = rerun::RecordingStreamBuilder::new("grasp")
             .recording_id("grasp-transfer")
-            .save(path)
+            .save(super::partial_path(path))
             .map_err(|e| sink_err("rerun", format!("{}: {e}", path.display())))?;
         rec.set_log_time_enabled(false);
         Ok(RerunSink {
             rec: Some(rec),
+            path: path.to_path_buf(),
             arrow_m_per_n: 1.0,
             ids: 0,
             time: TimePoint::default(),
@@ -269,7 +271,23 @@ impl Sink for RerunSink {
             }
             rec.flush_blocking().map_err(|e| sink_err("rerun", e))?;
             drop(rec);
+            super::move_into_place("rerun", &super::partial_path(&self.path), &self.path)?;
         }
         Ok(())
+    }
+
+    fn abort(&mut self) {
+        if let Some(rec) = self.rec.take() {
+            for ((path, _), p) in std::mem::take(&mut self.pending) {
+                let mut b = Chunk::builder_with_id(p.id, path.as_str());
+                for (row, time, batches) in p.rows {
+                    b = b.with_serialized_batches(row, time, batches);
+                }
+                if let Ok(c) = b.build() {
+                    rec.send_chunk(c);
+                }
+            }
+            let _ = rec.flush_blocking();
+        }
     }
 }

@@ -1,0 +1,70 @@
+//! Regressions found in review: a hand-off step must equal the one-shot solve of the same grasp
+//! whatever the size of the loads (the program is scaled by the step's loads), and phase
+//! boundaries hold at large schedule times.
+
+use std::path::Path;
+
+use grasp_model::{solve, GraspModel, Scene};
+use grasp_transfer::{Command, Schedule, Stepper, TransferOptions};
+use serde_json::json;
+
+fn squeeze(load: f64, weight: f64) -> serde_json::Value {
+    let pad = |name: &str, x: f64, n: f64| {
+        json!({"name": name, "contact_point": [x, 0.0, 0.0], "normal": [n, 0.0, 0.0],
+               "material": {"youngs_modulus": 2e6, "poisson_ratio": 0.45},
+               "patch": {"size": [0.01, 0.01], "grid": [3, 3]}, "friction": {"mu": 0.5},
+               "control": {"normal_load": load}})
+    };
+    json!({"object": {"weight": weight, "center_of_mass": [0.0, 0.0, 0.0], "material": {"youngs_modulus": 7e10, "poisson_ratio": 0.33}},
+           "fingers": [pad("l", -0.05, 1.0), pad("r", 0.05, -1.0)]})
+}
+
+#[test]
+fn hand_off_steps_equal_one_shot_solves_at_any_load_size() {
+    for (load, weight) in [(1e-6, 1e-7), (1.0, 0.1), (1e5, 1e4)] {
+        let v = squeeze(load, weight);
+        let scene = Scene::from_json_str(&v.to_string()).unwrap();
+        let one_shot = solve(&GraspModel::from_scene(&scene).unwrap()).unwrap();
+        let names = vec!["l".to_string(), "r".to_string()];
+        let sched = json!({"time": {"times": [0, 1]}, "fingers": {
+            "l": [{"ramp": {"keyframes": [[0, load], [1, load]]}}],
+            "r": [{"ramp": {"keyframes": [[0, load], [1, load]]}}]}});
+        let schedule = Schedule::from_json_str(&sched.to_string(), &names, Path::new(".")).unwrap();
+        for r in Stepper::new(&scene, &schedule, TransferOptions::default()) {
+            let r = r.unwrap();
+            for (a, b) in r.solution.fingers.iter().zip(&one_shot.fingers) {
+                assert_eq!(
+                    (a.stick_count, a.slip_count, a.separated_count),
+                    (b.stick_count, b.slip_count, b.separated_count),
+                    "load {load}"
+                );
+                assert!((a.tangential_magnitude_n - b.tangential_magnitude_n).abs() <= 1e-7 * load);
+            }
+        }
+    }
+}
+
+#[test]
+fn phase_boundaries_hold_at_large_times() {
+    let names = vec!["l".to_string(), "r".to_string()];
+    // 0 + 163841 * 0.1 = 16384.100000000002 in floating point: just above the phase end
+    // 16384.1 written in the file; it must still count as the end of the held phase.
+    let sched = json!({"time": {"start": 0, "end": 16384.5, "step": 0.1}, "fingers": {
+        "l": [{"held": {"until": 16384.1}}, {"ramp": {"keyframes": [[16384.1, 2.0], [16390, 1.0]]}}]}});
+    let s = Schedule::from_json_str(&sched.to_string(), &names, Path::new(".")).unwrap();
+    let k = 163841;
+    assert!(
+        s.times[k] > 16384.1,
+        "the test needs a time rounded above the boundary"
+    );
+    assert_eq!(
+        s.command(0, s.times[k], 0.0, Command::Held),
+        Command::Held,
+        "t = {} is still in the held phase",
+        s.times[k]
+    );
+    assert!(matches!(
+        s.command(0, s.times[k + 1], 0.0, Command::Held),
+        Command::Load(_)
+    ));
+}
