@@ -82,6 +82,9 @@ pub enum ModelError {
         /// The value given.
         value: f64,
     },
+    /// A contact state built for another model was passed to a solve.
+    #[error("the contact state does not belong to this model (finger names or element counts differ); build it with ContactState::new(model)")]
+    StateMismatch,
     /// Clarabel refused the problem data.
     #[error("the cone solver rejected the problem: {0}")]
     Solver(String),

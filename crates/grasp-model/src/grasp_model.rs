@@ -73,11 +73,6 @@ impl FingerModel {
         let [x, y] = self.patch.centres_m[k];
         self.frame.point(x, y)
     }
-
-    /// Friction coefficient used by the energy model.
-    pub fn mu(&self) -> f64 {
-        self.friction.mu_at(0.0)
-    }
 }
 
 /// Non-dimensionalisation of the program (model.md, "Scale before solving").
@@ -179,7 +174,7 @@ impl GraspModel {
             let patch = Patch::new(f.patch.size, f.patch.grid, [tip + obj[0], tip + obj[1]]);
             let material = Material::from(&f.material);
             let pair = PairConstants::new(&material, &object_material);
-            let friction = FrictionLaw::from(&f.friction);
+            let friction = FrictionLaw::from_spec(&f.friction, &material, &object_material);
             let n_tangential = if friction.is_frictionless() {
                 0
             } else if plane.is_some() {

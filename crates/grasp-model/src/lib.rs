@@ -27,6 +27,7 @@
 
 pub mod closed_form;
 pub mod cone_program;
+pub mod contact_state;
 pub mod equilibrium;
 pub mod error;
 pub mod friction;
@@ -38,14 +39,16 @@ pub mod patch_sizing;
 pub mod refinement;
 pub mod residuals;
 pub mod scene;
+pub mod sequential;
 pub mod solution;
 pub mod solve;
 pub mod validation;
 
 pub use cone_program::ConeProgram;
+pub use contact_state::{ContactState, FingerState};
 pub use error::{ModelError, SceneError, SceneProblem};
 pub use grasp_model::{Control, FingerModel, GraspModel, Scales};
 pub use residuals::Residuals;
 pub use scene::{scene_json_schema, Scene};
-pub use solution::{ElementState, FingerSolution, Solution, SolveStatus};
+pub use solution::{ElementState, FingerSolution, SequentialReport, Solution, SolveStatus};
 pub use solve::{solve, GraspSolver, SolveOptions};

@@ -1,11 +1,14 @@
 //! Residuals of a solution, computed from the forces and the rigid displacement with this
 //! crate's own matrices, never taken from the solver's report.
 //!
-//! Compatibility (thesis eqs. 61-65, with model.md's associated-friction correction):
-//! `gap_k = c_k + (C x)_n,k + n . delta(p_k) - a_i >= 0`, `= 0` where element `k` sticks and
-//! `= mu |w_k|` where it slips, with `w_k = (C x)_t,k + t . delta(p_k)` the relative tangential
-//! displacement (object minus finger) and `delta(p) = t + theta x (p - O)` the object's rigid
-//! displacement.
+//! Compatibility (thesis eqs. 61-65): `gap_k = c_k + (C x)_n,k + n . delta(p_k) - a_i >= 0`,
+//! with `w_k = (C x)_t,k + t . delta(p_k)` the relative tangential displacement (object minus
+//! finger) and `delta(p) = t + theta x (p - O)` the object's rigid displacement.
+//!
+//! - Energy model (associated friction, model.md): `gap_k = 0` where element `k` sticks and
+//!   `= mu |w_k|` where it slips.
+//! - Coulomb model (non-associated): `gap_k = 0` wherever `F_k > 0`; the slip of this step is
+//!   `w_k - m_k` (`m_k`: slip memory), zero in stick and opposite `G_k` in slip.
 
 use nalgebra::{DVector, Vector3};
 use serde::{Deserialize, Serialize};
@@ -75,16 +78,17 @@ pub struct Residuals {
     pub equilibrium_relative: f64,
     /// Largest cone violation `max(0, |G_k| - mu F_k, -F_k)` over the element force unit.
     pub cone_violation_relative: f64,
-    /// Largest penetration `max(0, -gap)` (frictional elements: `max(0, mu |w| - gap)`, the
-    /// dual cone) over the displacement unit `Fu Cu`.
+    /// Largest penetration `max(0, -gap)` (frictional elements of the energy model:
+    /// `max(0, mu |w| - gap)`, the dual cone) over the displacement unit `Fu Cu`.
     pub penetration_relative: f64,
     /// Largest `|gap - mu |w||` over loaded elements, over the displacement unit.
     pub compatibility_relative: f64,
-    /// Largest of `F_k (gap_k - mu |w_k|)` (normal) and `(mu F_k - |G_k|) |w_k|`
-    /// (tangential) over `Fu * (Fu Cu)`: both vanish at an exact solution of the associated
-    /// law (model.md: a slipping element opens by `mu |slip|`).
+    /// Largest of `F_k (gap_k - mu |w_k|)` (normal; `F_k gap_k` for Coulomb) and
+    /// `(mu F_k - |G_k|) |w_k|` (tangential; `w_k` this step's slip) over `Fu * (Fu Cu)`: both
+    /// vanish at an exact solution (model.md: under the associated law a slipping element
+    /// opens by `mu |slip|`).
     pub complementarity_relative: f64,
-    /// Largest `|w_k|` over stick elements, over the displacement unit.
+    /// Largest `|w_k|` (this step's slip) over stick elements, over the displacement unit.
     pub stick_motion_relative: f64,
     /// Largest `1 + cos(angle(w_k, G_k))` over slip elements (0: slip exactly opposes the
     /// friction force; 2: along it).
@@ -108,12 +112,45 @@ impl Residuals {
     }
 }
 
-/// Computes the residuals of forces `x_n` (N), given their kinematics and element states.
+/// The friction rule a solution is checked against.
+#[derive(Debug, Clone, Copy)]
+pub enum FrictionRule<'a> {
+    /// Energy model: associated cones, a slipping element opens by `mu |slip|`.
+    Associated,
+    /// Coulomb model: no opening on slip; slip measured from the memory `m` (m, per finger,
+    /// per element).
+    Coulomb {
+        /// Slip memory at the start of the step.
+        memory_m: &'a [Vec<[f64; 2]>],
+    },
+}
+
+impl FrictionRule<'_> {
+    /// This step's slip `w_k - m_k` of element `k` of finger `i` (`w_k` for the energy model).
+    pub fn step_slip(&self, i: usize, k: usize, w: [f64; 2]) -> [f64; 2] {
+        match self {
+            FrictionRule::Associated => w,
+            FrictionRule::Coulomb { memory_m } => {
+                [w[0] - memory_m[i][k][0], w[1] - memory_m[i][k][1]]
+            }
+        }
+    }
+
+    /// True for the associated (energy) rule.
+    pub fn is_associated(&self) -> bool {
+        matches!(self, FrictionRule::Associated)
+    }
+}
+
+/// Computes the residuals of forces `x_n` (N), given their kinematics, element states, the
+/// friction coefficient of each finger at its load (`mu`) and the friction rule.
 pub fn evaluate(
     model: &GraspModel,
     x_n: &[f64],
     kin: &ContactKinematics,
     states: &[Vec<ElementState>],
+    mu: &[f64],
+    rule: FrictionRule<'_>,
 ) -> Residuals {
     let s = model.scales;
     let w = model.net_wrench(x_n);
@@ -134,7 +171,13 @@ pub fn evaluate(
     };
     for (i, f) in model.fingers.iter().enumerate() {
         let ne = f.patch.len();
-        let mu = f.mu();
+        let mu = mu[i];
+        // Opening on slip: `mu` for the associated law, none for Coulomb.
+        let dilatancy = if rule.is_associated() && f.n_tangential > 0 {
+            mu
+        } else {
+            0.0
+        };
         for k in 0..ne {
             let fk = x_n[f.offset + k];
             let g = tangential(x_n, f.offset, ne, f.n_tangential, k);
@@ -143,20 +186,16 @@ pub fn evaluate(
             r.cone_violation_relative = r.cone_violation_relative.max(viol / fu);
             let gap = kin.gap_m[i][k];
 
-            let wk = kin.tangential_m[i][k];
+            let wk = rule.step_slip(i, k, kin.tangential_m[i][k]);
             let wn = (wk[0] * wk[0] + wk[1] * wk[1]).sqrt();
-            // Penetration, and for frictional elements the dual cone `gap >= mu |w|` (model.md:
+            // Penetration, and for the associated law the dual cone `gap >= mu |w|` (model.md:
             // a slipping element opens by mu |slip|; a separated one at least as much).
-            let dual_gap = if f.n_tangential == 0 {
-                gap
-            } else {
-                gap - mu * wn
-            };
+            let dual_gap = gap - dilatancy * wn;
             r.penetration_relative = r.penetration_relative.max((-dual_gap).max(0.0) / du);
             let (opening, tangential_slack) = if f.n_tangential == 0 {
                 (gap, 0.0)
             } else {
-                (gap - mu * wn, (mu * fk - gn).max(0.0) * wn)
+                (gap - dilatancy * wn, (mu * fk - gn).max(0.0) * wn)
             };
             let normal = fk.max(0.0) * opening.abs();
             r.complementarity_relative = r
@@ -169,7 +208,7 @@ pub fn evaluate(
                     r.stick_motion_relative = r.stick_motion_relative.max(wn / du);
                 }
                 ElementState::Slip => {
-                    let slip_gap = if f.n_tangential == 0 { 0.0 } else { mu * wn };
+                    let slip_gap = dilatancy * wn;
                     r.compatibility_relative =
                         r.compatibility_relative.max((gap - slip_gap).abs() / du);
                     if f.n_tangential > 0 && gn > 0.0 && wn > 1e-9 * du {

@@ -164,12 +164,76 @@ pub struct PatchSpec {
     pub grid: [usize; 2],
 }
 
-/// Friction law of a contact.
+/// Friction law of a contact (thesis section 2.6): `{"mu": c}`, `{"table": [[P, mu], ...]}` or
+/// `{"elastic": {...}}` (thesis eq. 40).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(
+    untagged,
+    expecting = "expected a friction law: {\"mu\": c}, {\"table\": [[P_N, mu], ...]} or \
+                 {\"elastic\": {\"finger_radius\": m, \"object_radius\": m, \"contact_length\": m}}"
+)]
+pub enum FrictionSpec {
+    /// A constant Coulomb coefficient.
+    Coefficient(CoefficientSpec),
+    /// A measured coefficient, piecewise linear in the finger's normal load.
+    Table(TableSpec),
+    /// Villaggio's elastic law (thesis eq. 40), `mu` growing like `sqrt(P)`.
+    Elastic(ElasticLawSpec),
+}
+
+impl FrictionSpec {
+    /// A constant coefficient `mu`.
+    pub fn constant(mu: f64) -> Self {
+        FrictionSpec::Coefficient(CoefficientSpec { mu })
+    }
+
+    /// True when `mu` is zero at every load (the finger then has no tangential unknowns).
+    pub fn is_frictionless(&self) -> bool {
+        match self {
+            FrictionSpec::Coefficient(c) => c.mu == 0.0,
+            FrictionSpec::Table(t) => t.table.iter().all(|p| p[1] == 0.0),
+            FrictionSpec::Elastic(_) => false,
+        }
+    }
+}
+
+/// A constant Coulomb coefficient.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
-pub struct FrictionSpec {
+pub struct CoefficientSpec {
     /// Coulomb coefficient `mu` (>= 0; 0 is a frictionless finger with no tangential unknowns).
     pub mu: f64,
+}
+
+/// A measured friction coefficient.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TableSpec {
+    /// Points `[P, mu]`: the finger's total normal load `P` in newtons (>= 0, strictly
+    /// increasing) and the coefficient there (>= 0). Linear in between, constant outside.
+    pub table: Vec<[f64; 2]>,
+}
+
+/// The elastic friction law of thesis eq. (40).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ElasticLawSpec {
+    /// Parameters of eq. (40).
+    pub elastic: ElasticLawParams,
+}
+
+/// Parameters of thesis eq. (40); the moduli and Poisson ratios are the finger's and the
+/// object's materials (the object must be elastic).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ElasticLawParams {
+    /// `R1`: radius of curvature of the finger at the contact, m (> 0).
+    pub finger_radius: f64,
+    /// `R2`: radius of curvature of the object at the contact, m (> `R1`).
+    pub object_radius: f64,
+    /// `L`: length of the line contact, m (> 0). Eq. (40) is a plane-strain law in the load
+    /// per unit length `P / L`.
+    pub contact_length: f64,
 }
 
 /// How a finger is driven.
@@ -224,6 +288,10 @@ pub enum ModelKind {
     /// Minimum complementary energy with associated friction cones (model.md, "energy").
     #[default]
     Energy,
+    /// Non-associated Coulomb friction: Tresca cones of radius `mu F_k` from the previous
+    /// iterate, iterated to a fixed point, with slip memory between steps (model.md,
+    /// "coulomb").
+    Coulomb,
 }
 
 /// The JSON Schema of the scene format, generated from these types.

@@ -60,8 +60,13 @@ pub struct ElementSolution {
     /// Gap after loading, m (`c_k + u_k - approach`; 0 in stick, `mu |slip|` in slip).
     pub gap_m: f64,
     /// Relative tangential displacement of the object with respect to the finger, along
-    /// `[t1, t2]`, m (0 in stick; the slip, opposite the friction force, in slip).
+    /// `[t1, t2]`, m. Energy model: 0 in stick, the slip (opposite the friction force) in slip.
+    /// Coulomb model: the accumulated slip, which is the slip memory carried to the next step.
     pub slip_m: [f64; 2],
+    /// Slip of this step along `[t1, t2]`, m: `slip_m` minus the memory at the start of the
+    /// step (equal to `slip_m` in the energy model). Zero in stick, opposite the friction force
+    /// in slip.
+    pub step_slip_m: [f64; 2],
     /// Contact state.
     pub state: ElementState,
 }
@@ -86,6 +91,8 @@ pub struct FingerSolution {
     pub contact_area_m2: f64,
     /// Largest element pressure, Pa.
     pub peak_pressure_pa: f64,
+    /// Friction coefficient `mu(P_i)` of the finger's law at its load (dimensionless).
+    pub friction_coefficient: f64,
     /// `|Q_i| / (mu P_i)`: 1 when the whole finger slides (0 if frictionless or unloaded).
     pub friction_utilization: f64,
     /// Fraction of `P` carried by the patch's boundary ring of elements (thesis 2.2.1: above
@@ -116,7 +123,7 @@ pub struct RigidDisplacement {
 /// Solver statistics.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SolverStats {
-    /// Interior-point iterations.
+    /// Interior-point iterations (all convex solves).
     pub iterations: u32,
     /// Time inside Clarabel, s.
     pub solver_time_s: f64,
@@ -126,6 +133,26 @@ pub struct SolverStats {
     pub equality_rows: usize,
     /// Conic rows (nonnegative and second-order).
     pub cone_rows: usize,
+}
+
+/// How the sequential (fixed-point) solve went: the coulomb model, and the energy model with a
+/// load-dependent `mu`, solve a sequence of convex programs with the Tresca radii or `mu`
+/// frozen at the previous iterate (model.md, "coulomb", "Load-dependent friction").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SequentialReport {
+    /// Convex solves of the last (successful or failed) sequence.
+    pub iterations: u32,
+    /// Largest change of an element normal force between the last two iterates, N.
+    pub last_change_n: f64,
+    /// Convergence tolerance on that change, N.
+    pub tolerance_n: f64,
+    /// True when the change fell below the tolerance.
+    pub converged: bool,
+    /// True when the first iterate started from the previous step's forces (warm start);
+    /// false when it started from an energy-model solve (cold start).
+    pub warm_started: bool,
+    /// Times a warm start proved infeasible and the sequence restarted cold.
+    pub cold_restarts: u32,
 }
 
 /// The full answer of one solve.
@@ -148,8 +175,10 @@ pub struct Solution {
     pub load_scale_n: f64,
     /// Wall time of the solve (assembly, solver, post-processing), s.
     pub solve_time_s: f64,
-    /// Solver statistics.
+    /// Solver statistics (summed over the convex solves of a sequential solve).
     pub solver: SolverStats,
+    /// The sequential solve, when the model needs one (`None`: a single convex program).
+    pub sequential: Option<SequentialReport>,
 }
 
 impl Solution {

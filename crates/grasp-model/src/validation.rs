@@ -1,7 +1,7 @@
 //! Parsing and validating a scene: every problem with its JSON path and the fix.
 
 use crate::error::{SceneError, SceneProblem};
-use crate::scene::{ControlSpec, MaterialSpec, RadiusSpec, Scene, Vec3};
+use crate::scene::{ControlSpec, FrictionSpec, MaterialSpec, RadiusSpec, Scene, Vec3};
 
 /// Largest number of elements allowed in one patch. The compliance block of a patch is dense
 /// (`(3 nx ny)^2` entries), so 64 x 64 elements already means a 12288 x 12288 block.
@@ -172,13 +172,7 @@ impl Scene {
                     "use a coarser grid (the patch compliance is a dense matrix)",
                 );
             }
-            if !(f.friction.mu.is_finite() && f.friction.mu >= 0.0) {
-                v.push(
-                    &format!("{p}.friction.mu"),
-                    format!("is {}", f.friction.mu),
-                    "give a friction coefficient >= 0 (0 for a frictionless finger)",
-                );
-            }
+            v.friction(&format!("{p}.friction"), &f.friction, object_rigid);
             if let ControlSpec::Load(l) = f.control {
                 if !(l.normal_load.is_finite() && l.normal_load >= 0.0) {
                     v.push(
@@ -209,7 +203,7 @@ impl Scene {
             .fingers
             .iter()
             .map(|f| {
-                let tangential = if f.friction.mu == 0.0 {
+                let tangential = if f.friction.is_frictionless() {
                     0
                 } else if self.planar.is_some() {
                     1
@@ -412,6 +406,94 @@ impl Problems {
                 "shrink patch.size below the diameter, or check the radius (the gap is the \
                  parabolic approximation of the surface)",
             );
+        }
+    }
+
+    /// Checks a friction law (thesis section 2.6).
+    fn friction(&mut self, path: &str, spec: &FrictionSpec, object_rigid: bool) {
+        match spec {
+            FrictionSpec::Coefficient(c) => {
+                if !(c.mu.is_finite() && c.mu >= 0.0) {
+                    self.push(
+                        &format!("{path}.mu"),
+                        format!("is {}", c.mu),
+                        "give a friction coefficient >= 0 (0 for a frictionless finger)",
+                    );
+                }
+            }
+            FrictionSpec::Table(t) => {
+                if t.table.is_empty() {
+                    self.push(
+                        &format!("{path}.table"),
+                        "is empty".into(),
+                        "list at least one [P_N, mu] point (one point is a constant mu)",
+                    );
+                }
+                for (j, pt) in t.table.iter().enumerate() {
+                    if !(pt[0].is_finite() && pt[0] >= 0.0) {
+                        self.push(
+                            &format!("{path}.table[{j}][0]"),
+                            format!("is {} N", pt[0]),
+                            "give the finger's normal load in newtons, finite and >= 0",
+                        );
+                    }
+                    if !(pt[1].is_finite() && pt[1] >= 0.0) {
+                        self.push(
+                            &format!("{path}.table[{j}][1]"),
+                            format!("is {}", pt[1]),
+                            "give a friction coefficient >= 0",
+                        );
+                    }
+                    if j > 0 && !(pt[0] > t.table[j - 1][0]) {
+                        self.push(
+                            &format!("{path}.table[{j}][0]"),
+                            format!(
+                                "is {} N, not above the previous load {} N",
+                                pt[0],
+                                t.table[j - 1][0]
+                            ),
+                            "sort the points by strictly increasing load",
+                        );
+                    }
+                }
+            }
+            FrictionSpec::Elastic(e) => {
+                let q = &e.elastic;
+                for (name, val) in [
+                    ("finger_radius", q.finger_radius),
+                    ("object_radius", q.object_radius),
+                    ("contact_length", q.contact_length),
+                ] {
+                    if !(val.is_finite() && val > 0.0) {
+                        self.push(
+                            &format!("{path}.elastic.{name}"),
+                            format!("is {val} m"),
+                            "give a length in metres, finite and > 0",
+                        );
+                    }
+                }
+                if q.finger_radius.is_finite()
+                    && q.object_radius.is_finite()
+                    && q.finger_radius >= q.object_radius
+                {
+                    self.push(
+                        &format!("{path}.elastic.object_radius"),
+                        format!(
+                            "is {} m, not larger than finger_radius {} m",
+                            q.object_radius, q.finger_radius
+                        ),
+                        "thesis eq. (40) needs R1 < R2 (finger radius below the object's); \
+                         use a table or a constant mu otherwise",
+                    );
+                }
+                if object_rigid {
+                    self.push(
+                        &format!("{path}.elastic"),
+                        "needs an elastic object (eq. 40 uses the object's shear modulus)".into(),
+                        "give object.material elastic constants, or use a table or constant mu",
+                    );
+                }
+            }
         }
     }
 

@@ -1,17 +1,27 @@
 //! Quasi-static stepping of a hand-off (thesis section 4.2.1).
 //!
 //! At each step the schedule gives every finger a command (held, prescribed load, released);
-//! the active fingers and their controls form the step's grasp, solved by the energy program.
-//! Warm stepping reuses the assembled program of the same structure (active set and which
-//! fingers are force-controlled): only the load entries of `b` change and Clarabel's workspace
-//! is updated in place (`update_b`, same sparsity). Cold stepping rebuilds the model and the
-//! program at every step (the reference for checking and benchmarking).
+//! the active fingers and their controls form the step's grasp, solved by the scene's model
+//! (energy, or coulomb with its sequential solve).
+//!
+//! - Warm stepping reuses the assembled program of the same structure (active set and which
+//!   fingers are force-controlled): only loads, radii and memory change, and Clarabel's
+//!   workspace is updated in place (same sparsity). The sequential solve starts from the
+//!   previous step's forces.
+//! - Cold stepping rebuilds the model and the program at every step and starts every
+//!   sequential solve from an energy-model solve (the reference for checking and
+//!   benchmarking).
+//! - The contact state (slip memory of the coulomb model) follows each finger by name from
+//!   step to step, in warm and cold stepping alike: it is physics, not a guess. A released
+//!   finger's memory is cleared (a new contact starts without slip).
 
 use std::collections::BTreeMap;
 use std::time::Instant;
 
 use grasp_model::scene::{ControlSpec, HeldTag, NormalLoadSpec};
-use grasp_model::{GraspModel, GraspSolver, Scene, Solution, SolveOptions};
+use grasp_model::{
+    ContactState, FingerState, GraspModel, GraspSolver, Scene, Solution, SolveOptions,
+};
 use serde::Serialize;
 
 use crate::error::TransferError;
@@ -22,7 +32,8 @@ use crate::schedule::{Command, Schedule};
 pub struct TransferOptions {
     /// Continue past a step without equilibrium (default: stop there).
     pub keep_going: bool,
-    /// Reuse assembled programs between steps (default true).
+    /// Reuse assembled programs between steps and start sequential solves from the previous
+    /// step's forces (default true).
     pub warm_start: bool,
     /// Options of each solve.
     pub solve: SolveOptions,
@@ -79,6 +90,8 @@ pub struct Stepper<'a> {
     schedule: &'a Schedule,
     options: TransferOptions,
     cache: BTreeMap<StructureKey, (GraspModel, GraspSolver)>,
+    /// Contact state of each active finger, by name.
+    states: BTreeMap<String, FingerState>,
     /// Normal force of each scene finger at the last successful step, N.
     previous_normal_n: Vec<f64>,
     /// Per scene finger: `(phase index, resolved "current" value N)` of its active phase.
@@ -98,6 +111,7 @@ impl<'a> Stepper<'a> {
             schedule,
             options,
             cache: BTreeMap::new(),
+            states: BTreeMap::new(),
             previous_normal_n: vec![0.0; n],
             current: vec![None; n],
             next: 0,
@@ -233,6 +247,7 @@ impl<'a> Stepper<'a> {
                 .collect();
             if sub.fingers.is_empty() {
                 // Nothing holds the object: a reported outcome, not an error.
+                self.states.clear();
                 let sol = empty_grasp_solution(self.scene);
                 return Ok(self.record(k, t, commands, sol, start, false));
             }
@@ -240,14 +255,36 @@ impl<'a> Stepper<'a> {
             // (the reach heuristic, say, would judge the subset differently).
             let model = GraspModel::from_validated_scene(&sub)
                 .map_err(|source| TransferError::Scene { time_s: t, source })?;
-            let solver = GraspSolver::new(&model, self.options.solve);
+            let mut solve_options = self.options.solve;
+            solve_options.warm_start &= self.options.warm_start;
+            let solver = GraspSolver::new(&model, solve_options);
             if !self.options.warm_start {
                 self.cache.clear();
             }
             self.cache.insert(key.clone(), (model, solver));
         }
         let (model, solver) = self.cache.get_mut(&key).expect("cached");
-        let sol = solver.solve(model, &loads)?;
+        // Released fingers lose their contact state; active ones carry theirs over.
+        let active: Vec<&str> = model.fingers.iter().map(|f| f.name.as_str()).collect();
+        self.states
+            .retain(|name, _| active.contains(&name.as_str()));
+        let mut state = ContactState {
+            fingers: model
+                .fingers
+                .iter()
+                .map(|f| {
+                    self.states
+                        .get(&f.name)
+                        .filter(|s| s.slip_memory_m.len() == f.patch.len())
+                        .cloned()
+                        .unwrap_or_else(|| FingerState::fresh(&f.name, f.patch.len()))
+                })
+                .collect(),
+        };
+        let sol = solver.solve_step(model, &loads, &mut state)?;
+        for f in state.fingers {
+            self.states.insert(f.name.clone(), f);
+        }
         Ok(self.record(k, t, commands, sol, start, reused))
     }
 
@@ -326,5 +363,6 @@ fn empty_grasp_solution(scene: &Scene) -> Solution {
             equality_rows: 0,
             cone_rows: 0,
         },
+        sequential: None,
     }
 }
