@@ -42,3 +42,75 @@ impl HertzSphere {
 pub fn cattaneo_stick_radius_m(contact_radius_m: f64, q_n: f64, mu: f64, p_n: f64) -> f64 {
     contact_radius_m * (1.0 - q_n / (mu * p_n)).max(0.0).cbrt()
 }
+
+/// Mindlin's tangential displacement of a Hertz contact under a monotonically increasing
+/// tangential force `Q < mu P` at constant `P` (Johnson section 7.2, eq. 7.42, written for two
+/// bodies): `delta = 3 mu P / (16 a) * S * (1 - (1 - Q/(mu P))^(2/3))`, m, with the combined
+/// tangential compliance `S = sum_b (2 - nu_b)/G_b` (1/Pa) and `a` the Hertz radius, m.
+pub fn mindlin_displacement_m(
+    contact_radius_m: f64,
+    compliance_sum_per_pa: f64,
+    q_n: f64,
+    mu: f64,
+    p_n: f64,
+) -> f64 {
+    let x = (q_n / (mu * p_n)).min(1.0);
+    3.0 * mu * p_n / (16.0 * contact_radius_m)
+        * compliance_sum_per_pa
+        * (1.0 - (1.0 - x).powf(2.0 / 3.0))
+}
+
+/// Energy dissipated per cycle of a tangential force oscillating between `+-Q*` at constant
+/// `P` (Mindlin-Deresiewicz; Johnson section 7.4, eq. 7.64, written for two bodies), J:
+///
+/// ```text
+///   dW = 9 mu^2 P^2 / (10 a) * S * (1 - (1 - x)^(5/3) - 5x/6 (1 + (1 - x)^(2/3))),  x = Q*/(mu P)
+/// ```
+///
+/// with `S = sum_b (2 - nu_b)/G_b`. It is the area between the unloading and reloading curves
+/// built from [`mindlin_displacement_m`] by Masing's rule (`delta* - 2 delta_m((Q* - Q)/2)`);
+/// the unit test integrates them numerically.
+pub fn mindlin_deresiewicz_dissipation_j(
+    contact_radius_m: f64,
+    compliance_sum_per_pa: f64,
+    q_amplitude_n: f64,
+    mu: f64,
+    p_n: f64,
+) -> f64 {
+    let x = (q_amplitude_n / (mu * p_n)).min(1.0);
+    9.0 * mu * mu * p_n * p_n / (10.0 * contact_radius_m)
+        * compliance_sum_per_pa
+        * (1.0 - (1.0 - x).powf(5.0 / 3.0) - 5.0 * x / 6.0 * (1.0 + (1.0 - x).powf(2.0 / 3.0)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed-form loop area equals a numerical integration of the Masing loop built from
+    /// Mindlin's monotonic curve (trapezoid rule, 2e5 intervals: error ~1e-9 relative).
+    #[test]
+    fn dissipation_is_the_area_of_the_masing_loop() {
+        let (a, s, mu, p) = (1e-4, 2.0 * 1.7 / 80e9, 0.3, 10.0);
+        let dm = |q: f64| mindlin_displacement_m(a, s, q, mu, p);
+        for x in [0.2, 0.5, 0.8] {
+            let qs = x * mu * p;
+            let ds = dm(qs);
+            let n = 200_000;
+            let h = 2.0 * qs / n as f64;
+            let mut area = 0.0;
+            for i in 0..=n {
+                let q = -qs + i as f64 * h;
+                let unload = ds - 2.0 * dm((qs - q) / 2.0);
+                let reload = -ds + 2.0 * dm((qs + q) / 2.0);
+                let w = if i == 0 || i == n { 0.5 } else { 1.0 };
+                area += w * h * (unload - reload).abs();
+            }
+            let closed = mindlin_deresiewicz_dissipation_j(a, s, qs, mu, p);
+            assert!(
+                (area / closed - 1.0).abs() < 1e-6,
+                "x = {x}: {area} vs {closed}"
+            );
+        }
+    }
+}

@@ -29,6 +29,9 @@ use crate::solve::{
     GraspSolver, ProgramSolver, Raw,
 };
 
+/// Smallest Tresca radius, in element force units.
+pub const RADIUS_FLOOR: f64 = 1e-8;
+
 /// A first guess of each finger's total normal load, N: the prescribed load of a
 /// force-controlled finger, an equal share of the load scale for a held one.
 pub fn guess_loads(model: &GraspModel, loads_n: &[f64]) -> Vec<f64> {
@@ -287,7 +290,13 @@ pub(crate) fn solve_sequential(
             Some(
                 f.iter()
                     .zip(&mu)
-                    .map(|(fi, &m)| fi.iter().map(|v| m * v.max(0.0)).collect())
+                    .map(|(fi, &m)| {
+                        fi.iter()
+                            .map(|v| {
+                                (m * v.max(0.0)).max(RADIUS_FLOOR * model.scales.element_force_n)
+                            })
+                            .collect()
+                    })
                     .collect(),
             )
         } else {
