@@ -152,3 +152,47 @@ fn tangent_parallel_to_the_normal() {
     v["fingers"][2]["tangent"] = json!([0, 0, 2]);
     assert_problem(&v, "fingers[2].tangent", "parallel to the normal");
 }
+
+#[test]
+fn friction_tables_must_be_sorted_and_nonnegative() {
+    let mut v = cube();
+    v["fingers"][1]["friction"] = json!({"table": [[0.0, 0.3], [2.0, 0.5], [1.0, 0.4]]});
+    assert_problem(
+        &v,
+        "fingers[1].friction.table[2][0]",
+        "not above the previous load",
+    );
+    v["fingers"][1]["friction"] = json!({"table": [[0.0, -0.3]]});
+    assert_problem(&v, "fingers[1].friction.table[0][1]", "is -0.3");
+    v["fingers"][1]["friction"] = json!({"table": []});
+    assert_problem(&v, "fingers[1].friction.table", "is empty");
+}
+
+#[test]
+fn elastic_friction_law_needs_r1_below_r2_and_an_elastic_object() {
+    let mut v = cube();
+    v["fingers"][0]["friction"] =
+        json!({"elastic": {"finger_radius": 0.02, "object_radius": 0.01, "contact_length": 0.01}});
+    assert_problem(
+        &v,
+        "fingers[0].friction.elastic.object_radius",
+        "not larger",
+    );
+    v["fingers"][0]["friction"] =
+        json!({"elastic": {"finger_radius": 0.01, "object_radius": 1.0, "contact_length": 0.0}});
+    assert_problem(&v, "fingers[0].friction.elastic.contact_length", "is 0 m");
+    v["fingers"][0]["friction"] =
+        json!({"elastic": {"finger_radius": 0.01, "object_radius": 1.0, "contact_length": 0.01}});
+    v["object"]["material"] = json!("rigid");
+    assert_problem(&v, "fingers[0].friction.elastic", "needs an elastic object");
+}
+
+#[test]
+fn unknown_friction_law_says_what_is_expected() {
+    let mut v = cube();
+    v["fingers"][0]["friction"] = json!({"coefficient": 0.3});
+    assert_problem(&v, "fingers[0].friction", "expected a friction law");
+    v["model"] = json!("tresca");
+    v["fingers"][0]["friction"] = json!({"mu": 0.3});
+    assert_problem(&v, "model", "coulomb");
+}

@@ -29,7 +29,10 @@ use crate::solve::{
     GraspSolver, ProgramSolver, Raw,
 };
 
-/// Smallest Tresca radius, in element force units.
+/// Smallest Tresca radius, in element force units `Fu`. A cone of radius 0 has no interior
+/// and stalls the interior-point method (measured: "almost solved" on the Cattaneo case of
+/// `tests/cattaneo_mindlin.rs` at `Q = 0.5 mu P`); with this floor an unloaded element can carry
+/// at most `1e-8 Fu` of friction, which shows as a cone violation of that size.
 pub const RADIUS_FLOOR: f64 = 1e-8;
 
 /// A first guess of each finger's total normal load, N: the prescribed load of a
@@ -50,7 +53,15 @@ pub fn guess_loads(model: &GraspModel, loads_n: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// Each finger's friction coefficient at finger loads `p_n` (N); 0 for frictionless fingers.
+/// Smallest frozen friction coefficient of a frictional finger. The energy model's cone
+/// `(mu F, G)` implies `F >= 0` only while `mu > 0`, and a very thin cone stalls the
+/// interior-point method: with a floor of 1e-6, the unloaded finger f4 of the plate example
+/// under the law of thesis eq. (40) (`mu(0) = 0`) came back "almost solved" with a negative
+/// load. A finger frozen at this floor carries at most `1e-3` of its normal force as friction.
+pub const MU_FLOOR: f64 = 1e-3;
+
+/// Each finger's friction coefficient to freeze at finger loads `p_n` (N): its law at that
+/// load, at least [`MU_FLOOR`]; 0 for frictionless fingers.
 pub fn mu_at(model: &GraspModel, p_n: &[f64]) -> Vec<f64> {
     model
         .fingers
@@ -60,7 +71,7 @@ pub fn mu_at(model: &GraspModel, p_n: &[f64]) -> Vec<f64> {
             if f.n_tangential == 0 {
                 0.0
             } else {
-                f.friction.mu_at(p)
+                f.friction.mu_at(p).max(MU_FLOOR)
             }
         })
         .collect()
@@ -206,9 +217,10 @@ fn cold_start(
     counters.1 += time;
     Ok(match raw {
         Raw::Solved { x, .. } => Ok(normal_forces(model, &x)),
+        // Not even the energy model's friction holds the object: Coulomb friction cannot.
         Raw::Infeasible { z } => Err((
             SolveStatus::NoEquilibrium,
-            escape_reason(model, &start.program, &z),
+            cannot_hold_reason(model, &start.program, &z),
         )),
         Raw::Failed { reason } => Err((SolveStatus::NoConvergence, reason)),
     })
