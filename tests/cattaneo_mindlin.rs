@@ -10,7 +10,7 @@ use grasp_model::closed_form::{
 };
 use grasp_model::material::Material;
 use grasp_model::{
-    ContactState, ElementState, GraspModel, GraspSolver, Scene, Solution, SolveOptions, SolveStatus,
+    ContactState, GraspModel, GraspSolver, Scene, Solution, SolveOptions, SolveStatus,
 };
 
 const E: f64 = 210e9; // steel, Pa

@@ -89,9 +89,14 @@ enum Command {
         /// Continue past a step without equilibrium (default: stop there).
         #[arg(long)]
         keep_going: bool,
-        /// Rebuild the program at every step instead of reusing it (for comparison).
+        /// Rebuild the program at every step and start every sequential solve from an
+        /// energy-model solve instead of the previous step (for comparison).
         #[arg(long)]
         cold: bool,
+        /// After the run, find the smallest load of the receiving (force-controlled) fingers
+        /// at which the releasing fingers can let go without any finger sliding as a whole.
+        #[arg(long)]
+        min_squeeze: bool,
         /// Overwrite output files that already exist.
         #[arg(long)]
         force: bool,
@@ -135,6 +140,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             plot,
             keep_going,
             cold,
+            min_squeeze,
             force,
         } => {
             let outputs = transfer::Outputs {
@@ -144,7 +150,12 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 plot,
                 force,
             };
-            transfer::run(&scene, &schedule, &outputs, keep_going, cold)
+            let flags = transfer::Flags {
+                keep_going,
+                cold,
+                min_squeeze,
+            };
+            transfer::run(&scene, &schedule, &outputs, flags)
         }
         Command::Study {
             scene,

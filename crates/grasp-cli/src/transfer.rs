@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use grasp_transfer::{
-    CsvSink, McapSink, RerunSink, Schedule, Sink, TransferOptions, TransferSummary,
+    CsvSink, McapSink, RerunSink, Schedule, Sink, SqueezeOutcome, TransferOptions, TransferSummary,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -21,12 +21,18 @@ pub struct Outputs {
     pub force: bool,
 }
 
+/// Switches of a transfer.
+pub struct Flags {
+    pub keep_going: bool,
+    pub cold: bool,
+    pub min_squeeze: bool,
+}
+
 pub fn run(
     scene_path: &PathBuf,
     schedule_path: &PathBuf,
     out: &Outputs,
-    keep_going: bool,
-    cold: bool,
+    flags: Flags,
 ) -> Result<ExitCode> {
     // Validate everything before any work: outputs, scene, schedule.
     for p in [&out.mcap, &out.rrd, &out.csv, &out.plot]
@@ -68,8 +74,8 @@ pub fn run(
         .expect("valid template"),
     );
     let options = TransferOptions {
-        keep_going,
-        warm_start: !cold,
+        keep_going: flags.keep_going,
+        warm_start: !flags.cold,
         ..TransferOptions::default()
     };
     let (records, summary) = grasp_transfer::run(&scene, &schedule, options, &mut sinks, |r| {
@@ -86,6 +92,15 @@ pub fn run(
         "{}",
         summary_text(&summary, records.len(), schedule.times.len())
     );
+    if flags.min_squeeze {
+        match records.last() {
+            Some(last) => {
+                let outcome = grasp_transfer::minimum_squeeze(&scene, last, options.solve)?;
+                print!("{}", squeeze_text(&outcome));
+            }
+            None => println!("minimum squeeze: no step was solved"),
+        }
+    }
     for (p, what) in [
         (&out.mcap, "MCAP"),
         (&out.rrd, "Rerun recording"),
@@ -143,6 +158,14 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
             let _ = writeln!(o, "  step {i} (t = {time:.3} s): {why}");
         }
     }
+    if let Some(q) = &s.sequential {
+        let _ = writeln!(
+            o,
+            "sequential solves: {} convex solves, at most {} in a step, {} of {done} steps \
+             warm-started, {} cold restarts",
+            q.convex_solves, q.most_in_a_step, q.warm_started_steps, q.cold_restarts
+        );
+    }
     let _ = writeln!(
         o,
         "error: worst equilibrium residual {:.1e} of the load; time: {:.3} s in all, {:.2} ms per step, {} iterations",
@@ -152,6 +175,30 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
         s.total_iterations
     );
     o
+}
+
+fn squeeze_text(o: &SqueezeOutcome) -> String {
+    match o {
+        SqueezeOutcome::NotFound(why) => format!("minimum squeeze: not found: {why}\n"),
+        SqueezeOutcome::Found(m) => {
+            let fingers: Vec<String> = m
+                .fingers
+                .iter()
+                .map(|f| {
+                    format!(
+                        "{} {:.4} N (scheduled {:.4} N)",
+                        f.name, f.minimum_n, f.scheduled_n
+                    )
+                })
+                .collect();
+            format!(
+                "minimum squeeze to let go: {}; margin {:.3}x; just below it: {}\n",
+                fingers.join(", "),
+                m.margin,
+                m.limiting
+            )
+        }
+    }
 }
 
 fn list(v: &[String]) -> String {

@@ -14,12 +14,14 @@
 pub mod easing;
 pub mod error;
 pub mod load_profile;
+pub mod minimum_squeeze;
 pub mod schedule;
 pub mod sinks;
 pub mod stepper;
 pub mod summary;
 
 pub use error::{ScheduleError, TransferError};
+pub use minimum_squeeze::{minimum_squeeze, MinimumSqueeze, SqueezeOutcome};
 pub use schedule::{Command, Schedule, ScheduleSpec};
 pub use sinks::{CsvSink, McapSink, RerunSink, RunInfo, Sink};
 pub use stepper::{StepRecord, Stepper, TransferOptions};

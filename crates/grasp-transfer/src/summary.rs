@@ -37,6 +37,21 @@ pub struct TransferSummary {
     pub total_wall_time_s: f64,
     /// Sum of interior-point iterations.
     pub total_iterations: u64,
+    /// Sequential solves (coulomb model, load-dependent mu): totals over the steps.
+    pub sequential: Option<SequentialTotals>,
+}
+
+/// Totals of the sequential (fixed-point) solves of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SequentialTotals {
+    /// Convex solves over all steps.
+    pub convex_solves: u64,
+    /// Most convex solves in one step.
+    pub most_in_a_step: u32,
+    /// Steps that started from the previous step's forces.
+    pub warm_started_steps: usize,
+    /// Warm starts that proved infeasible and restarted cold.
+    pub cold_restarts: u32,
 }
 
 impl TransferSummary {
@@ -123,6 +138,23 @@ impl TransferSummary {
                 .iter()
                 .map(|r| r.solution.solver.iterations as u64)
                 .sum(),
+            sequential: sequential_totals(records),
         }
     }
+}
+
+fn sequential_totals(records: &[StepRecord]) -> Option<SequentialTotals> {
+    let reports: Vec<_> = records
+        .iter()
+        .filter_map(|r| r.solution.sequential)
+        .collect();
+    if reports.is_empty() {
+        return None;
+    }
+    Some(SequentialTotals {
+        convex_solves: reports.iter().map(|s| s.iterations as u64).sum(),
+        most_in_a_step: reports.iter().map(|s| s.iterations).max().unwrap_or(0),
+        warm_started_steps: reports.iter().filter(|s| s.warm_started).count(),
+        cold_restarts: reports.iter().map(|s| s.cold_restarts).sum(),
+    })
 }

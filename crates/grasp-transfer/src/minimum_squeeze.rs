@@ -1,0 +1,163 @@
+//! The minimum squeeze of a hand-off: the smallest load of the receiving fingers at which the
+//! releasing fingers can let go without any finger sliding as a whole.
+//!
+//! The grasp after the hand-off (the commands of the schedule's last step: held fingers,
+//! force-controlled receiving fingers, released ones dropped) is solved with every receiving
+//! finger's load scaled by a common factor `s` of its scheduled final load; bisection on `s`
+//! finds the smallest factor at which the grasp holds: the step solves and every loaded
+//! frictional finger keeps at least one sticking element (a finger whose elements all slip
+//! slides as a whole, `|Q| = mu P`). Each trial starts from a fresh contact state (no slip
+//! memory): the answer is a property of the final grasp, not of the path to it. Under the
+//! coulomb model normal forces come only from the commanded loads, so this is the grip the
+//! receiving gripper must command; under the energy model it is the load above which the
+//! model's own squeeze suffices.
+
+use grasp_model::scene::{ControlSpec, HeldTag, NormalLoadSpec};
+use grasp_model::{GraspModel, GraspSolver, Scene, Solution, SolveOptions};
+use serde::Serialize;
+
+use crate::error::TransferError;
+use crate::schedule::Command;
+use crate::stepper::StepRecord;
+
+/// Relative width of the final bisection bracket.
+pub const SQUEEZE_TOLERANCE: f64 = 1e-4;
+
+/// Largest factor over the scheduled loads that is tried.
+pub const MAX_SQUEEZE_FACTOR: f64 = 1e3;
+
+/// One receiving finger's minimum and scheduled loads.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SqueezeFinger {
+    /// Finger name.
+    pub name: String,
+    /// Smallest load at which the grasp holds, N.
+    pub minimum_n: f64,
+    /// The schedule's final load, N.
+    pub scheduled_n: f64,
+}
+
+/// The minimum squeeze of a hand-off.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MinimumSqueeze {
+    /// The receiving (force-controlled at the end) fingers.
+    pub fingers: Vec<SqueezeFinger>,
+    /// Scheduled over minimum loads: above 1 the schedule has that much margin; below 1 the
+    /// scheduled grip does not hold.
+    pub margin: f64,
+    /// What fails just below the minimum: the finger sliding as a whole, or the solver's
+    /// reason.
+    pub limiting: String,
+}
+
+/// Outcome of the search.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SqueezeOutcome {
+    /// Found.
+    Found(MinimumSqueeze),
+    /// Not applicable or not found: why.
+    NotFound(String),
+}
+
+/// Whether a solved grasp holds, and if not, why.
+fn holds(sol: &Solution) -> Result<(), String> {
+    if !sol.status.has_forces() {
+        return Err(sol.reason.clone().unwrap_or_else(|| "no solution".into()));
+    }
+    for f in &sol.fingers {
+        let loaded = f.normal_force_n > 1e-9 * sol.load_scale_n;
+        if loaded && f.friction_coefficient > 0.0 && f.stick_count == 0 {
+            return Err(format!("{} slides as a whole", f.name));
+        }
+    }
+    Ok(())
+}
+
+/// Finds the minimum squeeze of the grasp given by the commands of `last`, the final step of a
+/// schedule over `scene`.
+pub fn minimum_squeeze(
+    scene: &Scene,
+    last: &StepRecord,
+    options: SolveOptions,
+) -> Result<SqueezeOutcome, TransferError> {
+    let commands: Vec<Command> = last.commands.iter().map(|c| c.command).collect();
+    let scheduled: Vec<(usize, f64)> = commands
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| match c {
+            Command::Load(p) => Some((i, *p)),
+            _ => None,
+        })
+        .collect();
+    if scheduled.is_empty() {
+        return Ok(SqueezeOutcome::NotFound(
+            "no finger is force-controlled at the end of the schedule: the receiving grip is \
+             position-held, so there is no load to minimise"
+                .into(),
+        ));
+    }
+    let trial = |s: f64| -> Result<Solution, TransferError> {
+        let mut sub = scene.clone();
+        sub.fingers = commands
+            .iter()
+            .enumerate()
+            .filter_map(|(i, c)| {
+                let mut f = scene.fingers[i].clone();
+                f.control = match c {
+                    Command::Held => ControlSpec::Held(HeldTag::Held),
+                    Command::Load(p) => ControlSpec::Load(NormalLoadSpec { normal_load: s * p }),
+                    Command::Released => return None,
+                };
+                Some(f)
+            })
+            .collect();
+        let model =
+            GraspModel::from_validated_scene(&sub).map_err(|source| TransferError::Scene {
+                time_s: last.time_s,
+                source,
+            })?;
+        Ok(GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?)
+    };
+    // Bracket: the smallest power of two (from 1) at which the grasp holds.
+    let mut hi = 1.0;
+    while let Err(why) = holds(&trial(hi)?) {
+        hi *= 2.0;
+        if hi > MAX_SQUEEZE_FACTOR {
+            return Ok(SqueezeOutcome::NotFound(format!(
+                "the grasp does not hold even at {MAX_SQUEEZE_FACTOR} times the scheduled \
+                 loads ({why})"
+            )));
+        }
+    }
+    let mut lo = 0.0;
+    let mut limiting = match holds(&trial(0.0)?) {
+        Ok(()) => {
+            hi = 0.0;
+            "the grasp holds without any receiving load".to_string()
+        }
+        Err(why) => why,
+    };
+    while hi - lo > SQUEEZE_TOLERANCE * hi {
+        let mid = 0.5 * (lo + hi);
+        match holds(&trial(mid)?) {
+            Ok(()) => hi = mid,
+            Err(why) => {
+                lo = mid;
+                limiting = why;
+            }
+        }
+    }
+    Ok(SqueezeOutcome::Found(MinimumSqueeze {
+        fingers: scheduled
+            .iter()
+            .map(|&(i, p)| SqueezeFinger {
+                name: scene.fingers[i].name.clone(),
+                minimum_n: hi * p,
+                scheduled_n: p,
+            })
+            .collect(),
+        margin: if hi > 0.0 { 1.0 / hi } else { f64::INFINITY },
+        limiting,
+    }))
+}
