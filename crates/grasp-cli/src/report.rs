@@ -25,7 +25,22 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
     );
     let status = serde_json::to_value(sol.status).ok();
     let status = status.as_ref().and_then(|v| v.as_str()).unwrap_or("?");
+    let kind = serde_json::to_value(model.kind).ok();
+    let kind = kind.as_ref().and_then(|v| v.as_str()).unwrap_or("?");
+    let _ = writeln!(s, "model: {kind}");
     let _ = writeln!(s, "status: {status}");
+    if let Some(q) = &sol.sequential {
+        let _ =
+            writeln!(
+            s,
+            "sequential solve: {} convex solves, last change of an element normal force {:.2e} N \
+             (tolerance {:.2e} N), {}",
+            q.iterations,
+            q.last_change_n,
+            q.tolerance_n,
+            if q.converged { "converged" } else { "not converged" }
+        );
+    }
     if let Some(r) = &sol.reason {
         let _ = writeln!(s, "  {r}");
     }

@@ -530,7 +530,8 @@ pub(crate) fn build_solution(
             contact_area_m2: (ne - n_sep) as f64 * area,
             peak_pressure_pa: peak,
             friction_coefficient: mu,
-            friction_utilization: if mu > 0.0 && p > 0.0 {
+            // An unloaded finger (interior-point noise only) has no meaningful ratio.
+            friction_utilization: if mu > 0.0 && p > 1e-9 * s.load_n {
                 qn / (mu * p)
             } else {
                 0.0

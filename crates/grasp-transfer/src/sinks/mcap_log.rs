@@ -152,7 +152,7 @@ fn patches_schema() -> serde_json::Value {
                 "elements": {"type": "array", "items": {"type": "object", "properties": {
                     "index": {"type": "array", "items": {"type": "integer"}},
                     "position_m": v3, "normal_force_n": num, "tangential_force_n": v2,
-                    "pressure_pa": num, "gap_m": num, "slip_m": v2,
+                    "pressure_pa": num, "gap_m": num, "slip_m": v2, "step_slip_m": v2,
                     "state": {"type": "string", "enum": ["stick", "slip", "separated"]}
                 }}}
             }}}
@@ -170,7 +170,8 @@ pub fn patches_message(r: &StepRecord) -> serde_json::Value {
             "elements": f.elements.iter().map(|e| json!({
                 "index": e.index, "position_m": e.position_m, "normal_force_n": e.normal_force_n,
                 "tangential_force_n": e.tangential_force_n, "pressure_pa": e.pressure_pa,
-                "gap_m": e.gap_m, "slip_m": e.slip_m, "state": e.state
+                "gap_m": e.gap_m, "slip_m": e.slip_m, "step_slip_m": e.step_slip_m,
+                "state": e.state
             })).collect::<Vec<_>>()
         })).collect::<Vec<_>>()
     })
