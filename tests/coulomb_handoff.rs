@@ -8,16 +8,13 @@ mod support;
 use support::*;
 
 use grasp_model::{ContactState, GraspModel, GraspSolver, SolveOptions, SolveStatus};
-use grasp_transfer::{minimum_squeeze, SqueezeOutcome, StepRecord, Stepper, TransferOptions};
+use grasp_transfer::{minimum_squeeze, SqueezeOutcome, StepRecord, TransferOptions};
 
 const W: f64 = 4.448;
 const MU: f64 = 0.4;
 
 fn run(options: TransferOptions) -> Vec<StepRecord> {
-    let (scene, schedule) = transfer_example("plate_handoff_coulomb");
-    Stepper::new(&scene, &schedule, options)
-        .map(|r| r.unwrap())
-        .collect()
+    step_transfer_example("plate_handoff_coulomb", options)
 }
 
 #[test]

@@ -5,17 +5,14 @@
 mod support;
 
 use grasp_model::{solve, GraspModel, Scene, SolveStatus};
-use grasp_transfer::{Command, Schedule, StepRecord, Stepper, TransferOptions};
+use grasp_transfer::{Command, Schedule, StepRecord, TransferOptions};
 
 fn load() -> (Scene, Schedule) {
     support::transfer_example("plate_transfer")
 }
 
 fn run(options: TransferOptions) -> Vec<StepRecord> {
-    let (scene, schedule) = load();
-    Stepper::new(&scene, &schedule, options)
-        .map(|r| r.unwrap())
-        .collect()
+    support::step_transfer_example("plate_transfer", options)
 }
 
 #[test]

@@ -66,3 +66,14 @@ pub fn transfer_example(name: &str) -> (Scene, grasp_transfer::Schedule) {
     let schedule = grasp_transfer::Schedule::from_json_str(&text, &names, &dir).unwrap();
     (scene, schedule)
 }
+
+/// Steps a bundled hand-off with `options`, insisting that every step runs.
+pub fn step_transfer_example(
+    name: &str,
+    options: grasp_transfer::TransferOptions,
+) -> Vec<grasp_transfer::StepRecord> {
+    let (scene, schedule) = transfer_example(name);
+    grasp_transfer::Stepper::new(&scene, &schedule, options)
+        .map(|r| r.unwrap())
+        .collect()
+}

@@ -270,13 +270,12 @@ impl ConeProgram {
             .iter()
             .enumerate()
             .map(|(i, f)| {
-                let ne = f.patch.len();
                 let per = if f.n_tangential == 1 { 2 } else { 1 };
                 mu_rows[i]
                     .iter()
                     .enumerate()
                     .map(|(j, &r)| {
-                        let col = f.offset + j / per % ne.max(1);
+                        let col = f.offset + j / per;
                         let (lo, hi) = (a.colptr[col], a.colptr[col + 1]);
                         lo + a.rowval[lo..hi]
                             .binary_search(&r)
