@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
-use grasp_model::{GraspModel, GraspSolver, Scene, SolveOptions};
+use grasp_model::{GraspModel, GraspSolver, Scene, SolveOptions, SolverChoice};
 
 /// Elastic grasp contact forces and object hand-offs (Sinha 1989 contact-stress model).
 #[derive(Parser, Debug)]
@@ -45,6 +45,10 @@ enum Command {
         /// Grow curved patches whose boundary carries load until it does not (thesis 2.2.1).
         #[arg(long)]
         auto_patch: bool,
+        /// Solver: `auto` (native, falling back to Clarabel when it does not converge),
+        /// `native` or `clarabel`.
+        #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+        solver: SolverChoice,
     },
     /// Grid-refinement study: error, unknowns, wall time and peak memory per grid.
     Study {
@@ -66,6 +70,9 @@ enum Command {
         /// Overwrite output files that already exist.
         #[arg(long)]
         force: bool,
+        /// Solver: `auto`, `native` or `clarabel`.
+        #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+        solver: SolverChoice,
     },
     /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
     Transfer {
@@ -100,6 +107,9 @@ enum Command {
         /// Overwrite output files that already exist.
         #[arg(long)]
         force: bool,
+        /// Solver: `auto`, `native` or `clarabel`.
+        #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+        solver: SolverChoice,
     },
     /// Print the JSON Schema of the scene format (or of the schedule format).
     Schema {
@@ -142,6 +152,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             cold,
             min_squeeze,
             force,
+            solver,
         } => {
             let outputs = transfer::Outputs {
                 mcap,
@@ -154,6 +165,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 keep_going,
                 cold,
                 min_squeeze,
+                solver,
             };
             transfer::run(&scene, &schedule, &outputs, flags)
         }
@@ -164,6 +176,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             csv,
             plot,
             force,
+            solver,
         } => study::run(
             &scene,
             &grids,
@@ -171,6 +184,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             csv.as_deref(),
             plot.as_deref(),
             force,
+            solver,
         ),
         Command::Solve {
             scene,
@@ -179,6 +193,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             tolerance,
             error_estimate,
             auto_patch,
+            solver,
         } => {
             if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1e-2) {
                 anyhow::bail!("--tolerance is {tolerance}; give a value in (0, 1e-2), e.g. 1e-10");
@@ -189,6 +204,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             let scene_obj = load_scene(&scene)?;
             let options = SolveOptions {
                 tolerance,
+                solver,
                 ..SolveOptions::default()
             };
             let t0 = Instant::now();
@@ -202,6 +218,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 let model = GraspModel::from_scene(&scene_obj)
                     .with_context(|| format!("{} is not a usable scene", scene.display()))?;
                 let build_s = t0.elapsed().as_secs_f64();
+                // The solve's time covers the program assembly (GraspSolver::new) too.
                 let solution =
                     GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
                 (scene_obj, model, solution, build_s)

@@ -107,13 +107,32 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
     }
     let _ = writeln!(
         s,
-        "time: model {:.1} ms, solve {:.1} ms (Clarabel {:.1} ms, {} iterations)",
+        "time: model {:.1} ms, solve {:.1} ms ({})",
         build_s * 1e3,
         sol.solve_time_s * 1e3,
-        sol.solver.solver_time_s * 1e3,
-        sol.solver.iterations
+        solver_words(&sol.solver)
     );
+    if let Some(why) = &sol.solver.fallback {
+        let _ = writeln!(s, "solver fallback: {why}");
+    }
     s
+}
+
+/// Which solver answered, its time and iterations, in words.
+pub fn solver_words(st: &grasp_model::solution::SolverStats) -> String {
+    match st.solver {
+        grasp_model::SolverKind::Native => format!(
+            "native solver {:.1} ms, {} Newton steps, {} factorizations",
+            st.solver_time_s * 1e3,
+            st.iterations,
+            st.factorizations
+        ),
+        grasp_model::SolverKind::Clarabel => format!(
+            "Clarabel {:.1} ms, {} iterations",
+            st.solver_time_s * 1e3,
+            st.iterations
+        ),
+    }
 }
 
 /// The discretisation error estimate as one line, with its extra cost.

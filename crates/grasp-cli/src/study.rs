@@ -27,6 +27,7 @@ pub fn run(
     csv: Option<&Path>,
     plot: Option<&Path>,
     force: bool,
+    solver: grasp_model::SolverChoice,
 ) -> Result<ExitCode> {
     if grids.iter().any(|&g| g == 0) {
         bail!("--grids has a 0; give element counts >= 1, e.g. --grids 5,9,17");
@@ -44,7 +45,10 @@ pub fn run(
         &scene_obj,
         grids,
         reference,
-        SolveOptions::default(),
+        SolveOptions {
+            solver,
+            ..SolveOptions::default()
+        },
         peak_memory_bytes,
     ) {
         Ok(r) => r,

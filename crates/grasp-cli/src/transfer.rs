@@ -26,6 +26,7 @@ pub struct Flags {
     pub keep_going: bool,
     pub cold: bool,
     pub min_squeeze: bool,
+    pub solver: grasp_model::SolverChoice,
 }
 
 pub fn run(
@@ -76,7 +77,10 @@ pub fn run(
     let options = TransferOptions {
         keep_going: flags.keep_going,
         warm_start: !flags.cold,
-        ..TransferOptions::default()
+        solve: grasp_model::SolveOptions {
+            solver: flags.solver,
+            ..grasp_model::SolveOptions::default()
+        },
     };
     let (records, summary) = grasp_transfer::run(&scene, &schedule, options, &mut sinks, |r| {
         bar.set_message(format!("{:.3} s", r.time_s));

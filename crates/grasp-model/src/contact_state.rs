@@ -5,6 +5,7 @@
 //! steps (the split MuJoCo makes between `mjModel` and `mjData`).
 
 use crate::grasp_model::GraspModel;
+use crate::solution::Solution;
 
 /// State of one finger's contact patch.
 #[derive(Debug, Clone, PartialEq)]
@@ -81,5 +82,26 @@ impl ContactState {
             .iter()
             .map(|f| f.slip_memory_m.clone())
             .collect()
+    }
+}
+
+impl ContactState {
+    /// Writes a successful solution into the state: forces and loads (warm start) and, for the
+    /// coulomb model (`memory`), the accumulated slip as the new slip memory.
+    pub fn record(&mut self, model: &GraspModel, sol: &Solution, memory: bool) {
+        for ((fs, f), fm) in self
+            .fingers
+            .iter_mut()
+            .zip(&sol.fingers)
+            .zip(&model.fingers)
+        {
+            fs.normal_forces_n = Some(f.elements.iter().map(|e| e.normal_force_n).collect());
+            fs.normal_load_n = Some(f.normal_force_n);
+            if memory && fm.n_tangential > 0 {
+                for (m, e) in fs.slip_memory_m.iter_mut().zip(&f.elements) {
+                    *m = e.slip_m;
+                }
+            }
+        }
     }
 }

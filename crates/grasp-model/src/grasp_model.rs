@@ -5,6 +5,8 @@
 //! G2_1..G2_N]` truncated to `1 + n_tangential` blocks, where `n_tangential` is 0 for a
 //! frictionless finger, 1 in a planar scene and 2 otherwise. Forces in newtons.
 
+use std::sync::Arc;
+
 use nalgebra::{DMatrix, Vector3};
 
 use crate::equilibrium::{unit_wrench, EquilibriumMap, Wrench};
@@ -45,8 +47,9 @@ pub struct FingerModel {
     /// Tangential unknowns per element: 0 (frictionless), 1 (planar) or 2.
     pub n_tangential: usize,
     /// Patch compliance `C`, m/N, `(1 + n_tangential) N` square (see
-    /// [`crate::influence::patch_compliance`]).
-    pub compliance_m_per_n: DMatrix<f64>,
+    /// [`crate::influence::patch_compliance`]); shared by the models restricted to some
+    /// fingers ([`GraspModel::restricted`]).
+    pub compliance_m_per_n: Arc<DMatrix<f64>>,
     /// How the finger is driven (as in the scene; loads may be overridden per solve).
     pub control: Control,
     /// Index of this finger's first unknown in the program's `x`.
@@ -97,6 +100,30 @@ impl Scales {
     }
 }
 
+/// A force on the object (weight or external force): world vector, N, at a world point, m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExternalLoad {
+    /// Force, N.
+    pub force_n: Vector3<f64>,
+    /// Point of application, m.
+    pub point_m: Vector3<f64>,
+}
+
+/// What a model keeps of the scene besides its fingers (to restrict it to some fingers).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectModel {
+    /// Object centre of mass, m.
+    pub center_of_mass_m: Vector3<f64>,
+    /// Weight (first, when nonzero) and external forces.
+    pub loads: Vec<ExternalLoad>,
+    /// Object material.
+    pub material: Material,
+    /// Plane `(e1, e2, p)` of a planar scene (`e1 x e2 = p`).
+    pub plane: Option<(Vector3<f64>, Vector3<f64>, Vector3<f64>)>,
+    /// Contact law.
+    pub kind: ModelKind,
+}
+
 /// The immutable grasp model.
 #[derive(Debug, Clone)]
 pub struct GraspModel {
@@ -121,6 +148,8 @@ pub struct GraspModel {
     pub kind: ModelKind,
     /// Object material.
     pub object_material: Material,
+    /// The scene's object and loads, for [`GraspModel::restricted`].
+    pub object: ObjectModel,
 }
 
 impl GraspModel {
@@ -141,85 +170,53 @@ impl GraspModel {
                 fix: "list at least one finger".into(),
             }]));
         }
-        let v3 = |a: &[f64; 3]| Vector3::new(a[0], a[1], a[2]);
-        let object_material = Material::from(&scene.object.material);
-        let plane = scene.planar.as_ref().map(|p| {
-            let p = v3(&p.normal).normalize();
-            let hint = if p.x.abs() < 0.9 {
-                Vector3::x()
-            } else {
-                Vector3::y()
-            };
-            let e1 = (hint - p * p.dot(&hint)).normalize();
-            let e2 = p.cross(&e1);
-            (e1, e2, p)
-        });
-        let mut fingers = Vec::with_capacity(scene.fingers.len());
+        let object = object_model(scene);
+        let fingers = scene
+            .fingers
+            .iter()
+            .map(|f| finger_model(f, &object))
+            .collect();
+        Ok(Self::from_parts(fingers, object))
+    }
+
+    /// The model of the fingers `active` (index into this model's fingers, with the control
+    /// each has), in that order, sharing their compliance blocks: the grasp of one hand-off
+    /// step. `None` when `active` is empty or names a finger this model does not have.
+    pub fn restricted(&self, active: &[(usize, Control)]) -> Option<GraspModel> {
+        if active.is_empty() {
+            return None;
+        }
+        let fingers = active
+            .iter()
+            .map(|&(i, control)| {
+                let mut f = self.fingers.get(i)?.clone();
+                f.control = control;
+                Some(f)
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(Self::from_parts(fingers, self.object.clone()))
+    }
+
+    /// Offsets, reference point, external wrench, scales and equilibrium map of `fingers` (at
+    /// least one) holding `object`.
+    fn from_parts(mut fingers: Vec<FingerModel>, object: ObjectModel) -> GraspModel {
         let mut offset = 0;
-        for f in &scene.fingers {
-            let frame = ContactFrame::new(
-                v3(&f.contact_point),
-                v3(&f.normal),
-                f.tangent.as_ref().map(v3),
-                plane.map(|(_, _, p)| p),
-            );
-            let tip = f.tip_radius.map_or(0.0, |r| 1.0 / r);
-            let obj = match f.object_radius {
-                None => [0.0, 0.0],
-                Some(RadiusSpec::Isotropic(r)) => [1.0 / r, 1.0 / r],
-                Some(RadiusSpec::Principal([a, b])) => {
-                    [a.map_or(0.0, |r| 1.0 / r), b.map_or(0.0, |r| 1.0 / r)]
-                }
-            };
-            let patch = Patch::new(f.patch.size, f.patch.grid, [tip + obj[0], tip + obj[1]]);
-            let material = Material::from(&f.material);
-            let pair = PairConstants::new(&material, &object_material);
-            let friction = FrictionLaw::from_spec(&f.friction, &material, &object_material);
-            let n_tangential = if friction.is_frictionless() {
-                0
-            } else if plane.is_some() {
-                1
-            } else {
-                2
-            };
-            let compliance_m_per_n = patch_compliance(&patch.grid, &pair, n_tangential);
-            let control = match f.control.normal_load_n() {
-                Some(p) => Control::NormalLoad { newtons: p },
-                None => Control::Held,
-            };
-            let fm = FingerModel {
-                name: f.name.clone(),
-                frame,
-                patch,
-                material,
-                pair,
-                friction,
-                n_tangential,
-                compliance_m_per_n,
-                control,
-                offset,
-            };
-            offset += fm.n_unknowns();
-            fingers.push(fm);
+        for f in &mut fingers {
+            f.offset = offset;
+            offset += f.n_unknowns();
         }
         let reference_point_m = fingers
             .iter()
             .map(|f| f.frame.origin_m)
             .sum::<Vector3<f64>>()
             / fingers.len() as f64;
-        let center_of_mass_m = v3(&scene.object.center_of_mass);
-        let o = &scene.object;
         let mut external_wrench = Wrench::zeros();
-        if o.weight > 0.0 {
-            let g = v3(&o.gravity).normalize();
-            external_wrench += unit_wrench(&g, &center_of_mass_m, &reference_point_m) * o.weight;
-        }
-        let mut load_n = o.weight;
-        for r in &o.external_forces {
-            let fv = v3(&r.force);
-            let mag = fv.norm();
+        let mut load_n: f64 = 0.0;
+        for l in &object.loads {
+            let mag = l.force_n.norm();
             if mag > 0.0 {
-                external_wrench += unit_wrench(&(fv / mag), &v3(&r.at), &reference_point_m) * mag;
+                external_wrench +=
+                    unit_wrench(&(l.force_n / mag), &l.point_m, &reference_point_m) * mag;
             }
             load_n = load_n.max(mag);
         }
@@ -231,45 +228,21 @@ impl GraspModel {
         if load_n <= 0.0 {
             load_n = 1.0;
         }
-        let max_elems = fingers.iter().map(|f| f.patch.len()).max().unwrap_or(1);
-        let compliance = fingers
-            .iter()
-            .flat_map(|f| {
-                f.compliance_m_per_n
-                    .diagonal()
-                    .iter()
-                    .copied()
-                    .collect::<Vec<_>>()
-            })
-            .fold(0.0_f64, f64::max);
-        let length_m = fingers
-            .iter()
-            .map(|f| {
-                let half = 0.5
-                    * (f.patch.grid.hx * f.patch.grid.nx as f64)
-                        .hypot(f.patch.grid.hy * f.patch.grid.ny as f64);
-                (f.frame.origin_m - reference_point_m).norm() + half
-            })
-            .fold(0.0_f64, f64::max);
-        let scales = Scales {
-            load_n,
-            element_force_n: load_n / max_elems as f64,
-            compliance_m_per_n: compliance,
-            length_m,
-        };
-        let equilibrium = EquilibriumMap::new(length_m, plane);
-        Ok(GraspModel {
+        let scales = scales_of(&fingers, load_n, &reference_point_m);
+        let equilibrium = EquilibriumMap::new(scales.length_m, object.plane);
+        GraspModel {
             fingers,
-            plane,
+            plane: object.plane,
             reference_point_m,
-            center_of_mass_m,
+            center_of_mass_m: object.center_of_mass_m,
             external_wrench,
             scales,
             equilibrium,
             n_unknowns: offset,
-            kind: scene.model,
-            object_material,
-        })
+            kind: object.kind,
+            object_material: object.material,
+            object,
+        }
     }
 
     /// Indices of the force-controlled fingers, in scene order.
@@ -337,5 +310,123 @@ impl GraspModel {
             }
         }
         w
+    }
+}
+
+fn v3(a: &[f64; 3]) -> Vector3<f64> {
+    Vector3::new(a[0], a[1], a[2])
+}
+
+/// The object, its loads and the plane of a scene.
+fn object_model(scene: &Scene) -> ObjectModel {
+    let plane = scene.planar.as_ref().map(|p| {
+        let p = v3(&p.normal).normalize();
+        let hint = if p.x.abs() < 0.9 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        };
+        let e1 = (hint - p * p.dot(&hint)).normalize();
+        let e2 = p.cross(&e1);
+        (e1, e2, p)
+    });
+    let o = &scene.object;
+    let center_of_mass_m = v3(&o.center_of_mass);
+    let mut loads = Vec::new();
+    if o.weight > 0.0 {
+        loads.push(ExternalLoad {
+            force_n: v3(&o.gravity).normalize() * o.weight,
+            point_m: center_of_mass_m,
+        });
+    }
+    for r in &o.external_forces {
+        loads.push(ExternalLoad {
+            force_n: v3(&r.force),
+            point_m: v3(&r.at),
+        });
+    }
+    ObjectModel {
+        center_of_mass_m,
+        loads,
+        material: Material::from(&o.material),
+        plane,
+        kind: scene.model,
+    }
+}
+
+/// One finger of a scene, prepared (offset 0 until the model places it).
+fn finger_model(f: &crate::scene::FingerSpec, object: &ObjectModel) -> FingerModel {
+    let frame = ContactFrame::new(
+        v3(&f.contact_point),
+        v3(&f.normal),
+        f.tangent.as_ref().map(v3),
+        object.plane.map(|(_, _, p)| p),
+    );
+    let tip = f.tip_radius.map_or(0.0, |r| 1.0 / r);
+    let obj = match f.object_radius {
+        None => [0.0, 0.0],
+        Some(RadiusSpec::Isotropic(r)) => [1.0 / r, 1.0 / r],
+        Some(RadiusSpec::Principal([a, b])) => {
+            [a.map_or(0.0, |r| 1.0 / r), b.map_or(0.0, |r| 1.0 / r)]
+        }
+    };
+    let patch = Patch::new(f.patch.size, f.patch.grid, [tip + obj[0], tip + obj[1]]);
+    let material = Material::from(&f.material);
+    let pair = PairConstants::new(&material, &object.material);
+    let friction = FrictionLaw::from_spec(&f.friction, &material, &object.material);
+    let n_tangential = if friction.is_frictionless() {
+        0
+    } else if object.plane.is_some() {
+        1
+    } else {
+        2
+    };
+    let compliance_m_per_n = Arc::new(patch_compliance(&patch.grid, &pair, n_tangential));
+    let control = match f.control.normal_load_n() {
+        Some(p) => Control::NormalLoad { newtons: p },
+        None => Control::Held,
+    };
+    FingerModel {
+        name: f.name.clone(),
+        frame,
+        patch,
+        material,
+        pair,
+        friction,
+        n_tangential,
+        compliance_m_per_n,
+        control,
+        offset: 0,
+    }
+}
+
+/// Scales of a model (model.md, "Scale before solving"): `load_n` over the largest element
+/// count, the largest compliance diagonal, the largest reach from the reference point.
+fn scales_of(fingers: &[FingerModel], load_n: f64, reference_point_m: &Vector3<f64>) -> Scales {
+    let max_elems = fingers.iter().map(|f| f.patch.len()).max().unwrap_or(1);
+    let compliance = fingers
+        .iter()
+        .flat_map(|f| {
+            f.compliance_m_per_n
+                .diagonal()
+                .iter()
+                .copied()
+                .collect::<Vec<_>>()
+        })
+        .fold(0.0_f64, f64::max);
+    let length_m = fingers
+        .iter()
+        .map(|f| {
+            let half = 0.5
+                * (f.patch.grid.hx * f.patch.grid.nx as f64)
+                    .hypot(f.patch.grid.hy * f.patch.grid.ny as f64);
+            (f.frame.origin_m - reference_point_m).norm() + half
+        })
+        .fold(0.0_f64, f64::max);
+    Scales {
+        load_n,
+        element_force_n: load_n / max_elems as f64,
+        compliance_m_per_n: compliance,
+        length_m,
     }
 }

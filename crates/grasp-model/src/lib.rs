@@ -11,11 +11,14 @@
 //!
 //! subject to force and moment equilibrium of the object, prescribed loads of force-controlled
 //! fingers and a Coulomb cone `||G_k|| <= mu F_k` per element: a second-order cone program
-//! solved with Clarabel (Sinha 1989, as corrected in `shared/docs/model.md`).
+//! (Sinha 1989, as corrected in `shared/docs/model.md`), solved by a native semismooth Newton
+//! method that factorises each finger's block and warm-starts from the previous solution
+//! ([`native`]), with Clarabel as the reference and fallback ([`backend`]).
 //!
 //! Data flow: [`Scene`] (file format, validated) -> [`GraspModel`] (immutable) ->
-//! [`ConeProgram`] (scaled, assembled once) -> [`GraspSolver::solve`] -> [`Solution`] (SI, with
-//! [`Residuals`] computed from the solution itself).
+//! [`ConeProgram`] (scaled, assembled once) -> [`GraspSolver::solve`] (strategy: one convex
+//! solve or the sequential fixed point; backend: native or Clarabel) -> [`Solution`] (SI, with
+//! [`Residuals`] computed from the solution itself, [`readout`]).
 //!
 //! A scene pays only for what it needs: a planar scene has 3 equilibrium rows and one
 //! tangential unknown per element; a frictionless finger has no tangential unknowns; equal
@@ -25,30 +28,38 @@
 
 #![warn(missing_docs)]
 
+pub mod backend;
 pub mod closed_form;
 pub mod cone_program;
 pub mod contact_state;
+pub mod convex_solve;
 pub mod equilibrium;
 pub mod error;
 pub mod friction;
 pub mod grasp_model;
 pub mod influence;
 pub mod material;
+pub mod native;
 pub mod patch;
+pub mod patch_check;
 pub mod patch_sizing;
+pub mod readout;
 pub mod refinement;
 pub mod residuals;
 pub mod scene;
 pub mod sequential;
 pub mod solution;
 pub mod solve;
+pub mod solve_options;
 pub mod validation;
 
 pub use cone_program::ConeProgram;
 pub use contact_state::{ContactState, FingerState};
 pub use error::{ModelError, SceneError, SceneProblem};
 pub use grasp_model::{Control, FingerModel, GraspModel, Scales};
-pub use residuals::Residuals;
 pub use scene::{scene_json_schema, Scene};
-pub use solution::{ElementState, FingerSolution, SequentialReport, Solution, SolveStatus};
-pub use solve::{solve, GraspSolver, SolveOptions};
+pub use solution::{
+    ElementState, FingerSolution, Residuals, SequentialReport, Solution, SolveStatus, SolverKind,
+};
+pub use solve::{solve, GraspSolver};
+pub use solve_options::{SolveOptions, SolverChoice};

@@ -11,10 +11,9 @@
 //!   `w_k - m_k` (`m_k`: slip memory), zero in stick and opposite `G_k` in slip.
 
 use nalgebra::{DVector, Vector3};
-use serde::{Deserialize, Serialize};
 
 use crate::grasp_model::GraspModel;
-use crate::solution::ElementState;
+use crate::solution::{ElementState, Residuals};
 
 /// Kinematics of every element: gaps and relative tangential displacements (m).
 #[derive(Debug, Clone, PartialEq)]
@@ -45,7 +44,7 @@ pub fn contact_kinematics(
     for (i, f) in model.fingers.iter().enumerate() {
         let ne = f.patch.len();
         let xi = DVector::from_column_slice(&x_n[f.offset..f.offset + f.n_unknowns()]);
-        let u = &f.compliance_m_per_n * xi;
+        let u = &*f.compliance_m_per_n * xi;
         let mut g = Vec::with_capacity(ne);
         let mut w = Vec::with_capacity(ne);
         for k in 0..ne {
@@ -64,51 +63,6 @@ pub fn contact_kinematics(
     ContactKinematics {
         gap_m,
         tangential_m,
-    }
-}
-
-/// Residuals of a solution; all relative ones are dimensionless.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Residuals {
-    /// `|sum of forces on the object|`, N.
-    pub force_n: f64,
-    /// `|sum of moments on the object|`, N m.
-    pub moment_nm: f64,
-    /// `max(force / load, moment / (load L))`: equilibrium error over the load scale.
-    pub equilibrium_relative: f64,
-    /// Largest cone violation `max(0, |G_k| - mu F_k, -F_k)` over the element force unit.
-    pub cone_violation_relative: f64,
-    /// Largest penetration `max(0, -gap)` (frictional elements of the energy model:
-    /// `max(0, mu |w| - gap)`, the dual cone) over the displacement unit `Fu Cu`.
-    pub penetration_relative: f64,
-    /// Largest `|gap - mu |w||` over loaded elements, over the displacement unit.
-    pub compatibility_relative: f64,
-    /// Largest of `F_k (gap_k - mu |w_k|)` (normal; `F_k gap_k` for Coulomb) and
-    /// `(mu F_k - |G_k|) |w_k|` (tangential; `w_k` this step's slip) over `Fu * (Fu Cu)`: both
-    /// vanish at an exact solution (model.md: under the associated law a slipping element
-    /// opens by `mu |slip|`).
-    pub complementarity_relative: f64,
-    /// Largest `|w_k|` (this step's slip) over stick elements, over the displacement unit.
-    pub stick_motion_relative: f64,
-    /// Largest `1 + cos(angle(w_k, G_k))` over slip elements (0: slip exactly opposes the
-    /// friction force; 2: along it).
-    pub slip_direction_error: f64,
-}
-
-impl Residuals {
-    /// The largest of the relative residuals.
-    pub fn worst(&self) -> f64 {
-        [
-            self.equilibrium_relative,
-            self.cone_violation_relative,
-            self.penetration_relative,
-            self.compatibility_relative,
-            self.complementarity_relative,
-            self.stick_motion_relative,
-            self.slip_direction_error,
-        ]
-        .into_iter()
-        .fold(0.0, f64::max)
     }
 }
 

@@ -1,39 +1,44 @@
-//! The sequential (SQP-style) solve: a sequence of convex cone programs iterated to a fixed
+//! The sequential (SQP-style) strategy: a sequence of convex cone programs iterated to a fixed
 //! point (model.md, "coulomb" and "Load-dependent friction"; thesis section 2.6).
 //!
 //! - **coulomb**: each iterate solves the program with Tresca cones `||G_k|| <= r_k`,
-//!   `r_k = mu_i(P_i) F_k` from the previous iterate (normal forces `F_k`, finger loads `P_i`),
-//!   and the slip memory `m` in the linear cost. The first iterate comes from the previous
-//!   step's forces (warm start; a force-controlled finger's forces are rescaled to its new
-//!   load) or, without them, from an energy-model solve (cold start). A warm start that proves
-//!   infeasible is retried cold once.
-//! - **energy** with a load-dependent `mu`: each iterate solves the energy program with
-//!   `mu_i` frozen at the previous iterate's finger load.
+//!   `r_k = mu_i(P_i) F_k` from the iterate's input forces `F_k` (finger loads `P_i`), and the
+//!   slip memory `m` in the linear cost. The first input comes from the previous step's forces
+//!   (warm start; a force-controlled finger's forces are rescaled to its new load) or, without
+//!   them, from an energy-model solve (cold start, whose solution also starts the first Tresca
+//!   solve). A warm start that proves infeasible is retried cold once.
+//! - **energy** with a load-dependent `mu`: each iterate solves the energy program with `mu_i`
+//!   frozen at the input's finger loads.
 //!
-//! Converged when no element normal force changes by more than `sequential_tolerance * Fu`
-//! between iterates. Outcomes: converged; no equilibrium (for coulomb, with the fingers that
-//! lack grip, read from the infeasibility certificate); no convergence within the iteration
-//! limit, with the last change.
+//! Each convex solve starts from the previous iterate's solution. The fixed-point map `T`
+//! (input forces to output normal forces) is iterated as `F <- F + omega (T(F) - F)`, with
+//! `omega = 1` until an iterate's program has no solution: the iteration then does not give up
+//! but backs off halfway towards the last input whose program was feasible, halving `omega`
+//! (down to [`MIN_RELAXATION`]) and letting it grow back after each feasible iterate (a
+//! Krasnoselskii-Mann iteration). Converged when `max |T(F) - F| <= sequential_tolerance Fu`.
+//! Outcomes: converged; no equilibrium (for coulomb, with the fingers that lack grip, read from
+//! the infeasibility certificate); no convergence within the iteration limit.
 
 use std::time::Instant;
 
-use crate::cone_program::{ConeLaw, ConeProgram, ConeRows};
+use crate::backend::{ConvexOutcome, ProgramSolver, Start};
+use crate::cone_program::{ConeLaw, ConeProgram};
 use crate::contact_state::ContactState;
+use crate::convex_solve::{add_run, start_of};
 use crate::error::ModelError;
 use crate::grasp_model::{Control, GraspModel};
+use crate::native::Iterate;
+use crate::readout::{build_solution, cannot_hold_reason, escape_reason, failed, Build};
 use crate::residuals::FrictionRule;
 use crate::scene::ModelKind;
-use crate::solution::{SequentialReport, Solution, SolveStatus, SolverStats};
-use crate::solve::{
-    build_solution, escape_reason, failed, record_state, rigid_from_multipliers, Build,
-    GraspSolver, ProgramSolver, Raw,
-};
+use crate::solution::{SequentialReport, Solution, SolveStatus, SolverStats, LOADED_FRACTION};
+use crate::solve_options::SolveOptions;
 
-/// Smallest Tresca radius, in element force units `Fu`. A cone of radius 0 has no interior
-/// and stalls the interior-point method (measured: "almost solved" on the Cattaneo case of
-/// `tests/cattaneo_mindlin.rs` at `Q = 0.5 mu P`); with this floor an unloaded element can carry
-/// at most `1e-8 Fu` of friction, which shows as a cone violation of that size.
-pub const RADIUS_FLOOR: f64 = 1e-8;
+pub use crate::cone_program::RADIUS_FLOOR;
+
+/// Smallest relaxation factor `omega` of the damped fixed-point iteration before an
+/// infeasible iterate is reported as the outcome.
+pub const MIN_RELAXATION: f64 = 1.0 / 64.0;
 
 /// A first guess of each finger's total normal load, N: the prescribed load of a
 /// force-controlled finger, an equal share of the load scale for a held one.
@@ -54,7 +59,7 @@ pub fn guess_loads(model: &GraspModel, loads_n: &[f64]) -> Vec<f64> {
 }
 
 /// Smallest frozen friction coefficient of a frictional finger. The energy model's cone
-/// `(mu F, G)` implies `F >= 0` only while `mu > 0`, and a very thin cone stalls the
+/// `(mu F, G)` implies `F >= 0` only while `mu > 0`, and a very thin cone stalls an
 /// interior-point method: with a floor of 1e-6, the unloaded finger f4 of the plate example
 /// under the law of thesis eq. (40) (`mu(0) = 0`) came back "almost solved" with a negative
 /// load. A finger frozen at this floor carries at most `1e-3` of its normal force as friction.
@@ -104,10 +109,29 @@ fn largest_change(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The previous step's forces as a first iterate, rescaled to the new loads of force-controlled
+/// `a + w (b - a)`, element by element.
+fn relax(a: &[Vec<f64>], b: &[Vec<f64>], w: f64) -> Vec<Vec<f64>> {
+    a.iter()
+        .zip(b)
+        .map(|(ra, rb)| ra.iter().zip(rb).map(|(x, y)| x + w * (y - x)).collect())
+        .collect()
+}
+
+/// Tresca radii `max(mu_i F_k, RADIUS_FLOOR Fu)` (N) of input forces `forces` (N).
+fn radii_of(model: &GraspModel, forces: &[Vec<f64>], mu: &[f64]) -> Vec<Vec<f64>> {
+    let floor = RADIUS_FLOOR * model.scales.element_force_n;
+    forces
+        .iter()
+        .zip(mu)
+        .map(|(fi, &m)| fi.iter().map(|v| (m * v.max(0.0)).max(floor)).collect())
+        .collect()
+}
+
+/// The previous step's forces as a first input, rescaled to the new loads of force-controlled
 /// fingers; `None` when the state has none or a force-controlled finger goes from no load to
 /// some (its distribution is then unknown).
 fn warm_forces(model: &GraspModel, loads_n: &[f64], state: &ContactState) -> Option<Vec<Vec<f64>>> {
+    let loaded = LOADED_FRACTION * model.scales.load_n;
     let mut out = Vec::with_capacity(model.fingers.len());
     let mut j = 0;
     for (f, s) in model.fingers.iter().zip(&state.fingers) {
@@ -118,9 +142,9 @@ fn warm_forces(model: &GraspModel, loads_n: &[f64], state: &ContactState) -> Opt
                 let p_new = loads_n[j];
                 j += 1;
                 let p_old: f64 = prev.iter().sum();
-                if p_old > 1e-12 * model.scales.load_n {
+                if p_old > loaded {
                     out.push(prev.iter().map(|v| v * p_new / p_old).collect());
-                } else if p_new <= 1e-12 * model.scales.load_n {
+                } else if p_new <= loaded {
                     out.push(vec![0.0; prev.len()]);
                 } else {
                     return None;
@@ -131,76 +155,21 @@ fn warm_forces(model: &GraspModel, loads_n: &[f64], state: &ContactState) -> Opt
     Some(out)
 }
 
-/// Which fingers slide in the infeasibility certificate of a Tresca program, with their share
-/// of the total certificate slip.
-fn sliding_fingers(model: &GraspModel, program: &ConeProgram, z: &[f64]) -> Vec<(String, f64)> {
-    let mut per: Vec<f64> = vec![0.0; model.fingers.len()];
-    for (i, f) in model.fingers.iter().enumerate() {
-        let ne = f.patch.len();
-        per[i] = match program.cone_rows[i] {
-            ConeRows::PlanarPairs(r) if f.n_tangential == 1 => (0..ne)
-                .map(|k| (z[r + 2 * k] - z[r + 2 * k + 1]).abs())
-                .sum(),
-            ConeRows::SecondOrder(r) if f.n_tangential == 2 => (0..ne)
-                .map(|k| z[r + 3 * k + 1].hypot(z[r + 3 * k + 2]))
-                .sum(),
-            _ => 0.0,
-        };
-    }
-    let total: f64 = per.iter().sum();
-    if !(total > 0.0 && total.is_finite()) {
-        return Vec::new();
-    }
-    let mut v: Vec<(String, f64)> = model
-        .fingers
-        .iter()
-        .zip(&per)
-        .filter(|(_, &s)| s > 0.02 * total)
-        .map(|(f, &s)| (f.name.clone(), s / total))
-        .collect();
-    v.sort_by(|a, b| b.1.total_cmp(&a.1));
-    v
-}
+/// A finished or failed sequence, or the cold start's forces and solution.
+type ColdStart = Result<(Vec<Vec<f64>>, Iterate), (SolveStatus, String)>;
 
-/// The reason of an infeasible Tresca iterate: too little normal force, which fingers slide,
-/// and how the object would move.
-fn cannot_hold_reason(model: &GraspModel, program: &ConeProgram, z: &[f64]) -> String {
-    let mut s = String::from(
-        "cannot hold: the commanded loads give too little normal force for Coulomb friction",
-    );
-    let sliding = sliding_fingers(model, program, z);
-    if !sliding.is_empty() {
-        let list: Vec<String> = sliding
-            .iter()
-            .map(|(n, share)| format!("{n} ({:.0} % of the slip)", share * 100.0))
-            .collect();
-        s.push_str(&format!("; lacking grip: {}", list.join(", ")));
-    }
-    let (t_o, theta) = rigid_from_multipliers(model, program, z);
-    let t = t_o + theta.cross(&(model.center_of_mass_m - model.reference_point_m));
-    let scale = t.norm().max(theta.norm() * model.scales.length_m);
-    if scale > 0.0 && scale.is_finite() && t.norm() > 1e-6 * scale {
-        let d = t.normalize();
-        s.push_str(&format!(
-            "; the object would slide along [{:.3}, {:.3}, {:.3}]",
-            d.x, d.y, d.z
-        ));
-    }
-    s.push_str("; raise the normal load of the fingers lacking grip (or mu)");
-    s
-}
-
-/// Cold start of the coulomb model: the energy model's forces (same loads and memory).
+/// Cold start of the coulomb model: the energy model's forces (same loads and memory) and its
+/// solution, which starts the first Tresca solve.
 fn cold_start(
-    solver: &mut GraspSolver,
+    energy: &mut Option<ProgramSolver>,
     model: &GraspModel,
     loads_n: &[f64],
     memory: &[Vec<[f64; 2]>],
-    counters: &mut (u32, f64),
-) -> Result<Result<Vec<Vec<f64>>, (SolveStatus, String)>, ModelError> {
-    let settings = solver.settings();
+    options: &SolveOptions,
+    stats: &mut SolverStats,
+) -> Result<ColdStart, ModelError> {
     let guess_mu = mu_at(model, &guess_loads(model, loads_n));
-    let start = solver.start.get_or_insert_with(|| {
+    let ps = energy.get_or_insert_with(|| {
         ProgramSolver::new(ConeProgram::assemble(
             model,
             loads_n,
@@ -208,200 +177,311 @@ fn cold_start(
             &guess_mu,
         ))
     });
-    start.program.set_loads(model, loads_n);
-    start.a_changed |= start.program.set_mu(&guess_mu);
-    start.program.set_slip_memory(model, memory);
-    start.q_changed = true;
-    let (raw, it, time) = start.run(&settings)?;
-    counters.0 += it;
-    counters.1 += time;
-    Ok(match raw {
-        Raw::Solved { x, .. } => Ok(normal_forces(model, &x)),
-        // Not even the energy model's friction holds the object: Coulomb friction cannot.
-        Raw::Infeasible { z } => Err((
-            SolveStatus::NoEquilibrium,
-            cannot_hold_reason(model, &start.program, &z),
+    ps.program.set_loads(model, loads_n);
+    ps.program.set_mu(&guess_mu);
+    ps.program.set_slip_memory(model, memory);
+    let run = ps.solve(model, options, start_of(options))?;
+    add_run(stats, &run);
+    Ok(match run.outcome {
+        ConvexOutcome::Solved { x, multipliers, .. } => Ok((
+            normal_forces(model, &x),
+            Iterate {
+                x,
+                lambda: multipliers,
+            },
         )),
-        Raw::Failed { reason } => Err((SolveStatus::NoConvergence, reason)),
+        // Not even the energy model's friction holds the object: Coulomb friction cannot.
+        ConvexOutcome::Infeasible(cert) => Err((
+            SolveStatus::NoEquilibrium,
+            cannot_hold_reason(model, &ps.program, &cert),
+        )),
+        ConvexOutcome::Failed { reason } => Err((SolveStatus::NoConvergence, reason)),
     })
 }
 
-/// Runs the sequential solve of one step (see the module docs).
+/// The input of an iterate: forces (N; `None` before the first energy iterate of a
+/// load-dependent `mu`) and finger loads (N).
+#[derive(Debug, Clone)]
+struct Input {
+    forces: Option<Vec<Vec<f64>>>,
+    loads: Vec<f64>,
+}
+
+impl Input {
+    fn of_forces(forces: Vec<Vec<f64>>) -> Self {
+        Input {
+            loads: totals(&forces),
+            forces: Some(forces),
+        }
+    }
+
+    /// Halfway (weight `w`) from `self` towards `other`.
+    fn towards(&self, other: &Input, w: f64) -> Input {
+        Input {
+            forces: match (&self.forces, &other.forces) {
+                (Some(a), Some(b)) => Some(relax(a, b, w)),
+                _ => other.forces.clone(),
+            },
+            loads: self
+                .loads
+                .iter()
+                .zip(&other.loads)
+                .map(|(a, b)| a + w * (b - a))
+                .collect(),
+        }
+    }
+}
+
+/// The sequence's bookkeeping.
+struct Sequence<'a> {
+    model: &'a GraspModel,
+    options: &'a SolveOptions,
+    coulomb: bool,
+    memory: Vec<Vec<[f64; 2]>>,
+    stats: SolverStats,
+    report: SequentialReport,
+    clock: Instant,
+}
+
+impl Sequence<'_> {
+    fn fail(&self, status: SolveStatus, reason: String) -> Solution {
+        let mut s = failed(self.model, status, reason, self.clock, self.stats.clone());
+        s.sequential = Some(self.report);
+        s
+    }
+
+    fn infeasible_reason(
+        &self,
+        program: &ConeProgram,
+        cert: &crate::backend::Certificate,
+        mu: &[f64],
+    ) -> String {
+        if self.coulomb {
+            cannot_hold_reason(self.model, program, cert)
+        } else {
+            format!(
+                "{} (mu frozen at iterate {}: {})",
+                escape_reason(self.model, program, cert),
+                self.report.iterations,
+                fmt_mu(self.model, mu)
+            )
+        }
+    }
+}
+
+/// Runs the sequential solve of one step (see the module docs). `main` holds the step's
+/// program (Tresca cones for coulomb); `energy` the coulomb model's cold-start program.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn solve_sequential(
-    solver: &mut GraspSolver,
+    main: &mut ProgramSolver,
+    energy: &mut Option<ProgramSolver>,
     model: &GraspModel,
     loads_n: &[f64],
     state: &mut ContactState,
-    stats0: SolverStats,
-    start: Instant,
+    options: &SolveOptions,
+    stats: SolverStats,
+    clock: Instant,
 ) -> Result<Solution, ModelError> {
-    let opts = solver.options;
-    let settings = solver.settings();
     let coulomb = model.kind == ModelKind::Coulomb;
-    let tol_n = opts.sequential_tolerance * model.scales.element_force_n;
-    let memory = state.slip_memory_m();
-    let mut counters = (0_u32, 0.0_f64);
-    let mut report = SequentialReport {
-        iterations: 0,
-        last_change_n: f64::INFINITY,
-        tolerance_n: tol_n,
-        converged: false,
-        warm_started: false,
-        cold_restarts: 0,
-    };
-    let fail = |status, reason: String, counters: (u32, f64), report: SequentialReport| {
-        let mut s = failed(
-            model,
-            status,
-            reason,
-            start,
-            SolverStats {
-                iterations: counters.0,
-                solver_time_s: counters.1,
-                ..stats0
-            },
-        );
-        s.sequential = Some(report);
-        s
+    let mut seq = Sequence {
+        model,
+        options,
+        coulomb,
+        memory: state.slip_memory_m(),
+        stats,
+        report: SequentialReport {
+            iterations: 0,
+            last_change_n: f64::INFINITY,
+            tolerance_n: options.sequential_tolerance * model.scales.element_force_n,
+            converged: false,
+            warm_started: false,
+            cold_restarts: 0,
+            damped_iterations: 0,
+        },
+        clock,
     };
     if coulomb {
-        solver.main.program.set_slip_memory(model, &memory);
-        solver.main.q_changed = true;
+        main.program.set_slip_memory(model, &seq.memory);
     }
-
-    // First iterate.
-    let warm = if opts.warm_start {
-        warm_forces(model, loads_n, state)
-    } else {
-        None
-    };
-    let mut forces: Option<Vec<Vec<f64>>> = warm;
-    report.warm_started = forces.is_some();
-    let mut loads_prev: Vec<f64> = match (&forces, coulomb) {
-        (Some(f), _) => totals(f),
-        (None, false) => guess_loads(model, loads_n),
-        (None, true) => Vec::new(),
-    };
-    if coulomb && forces.is_none() {
-        match cold_start(solver, model, loads_n, &memory, &mut counters)? {
-            Ok(f) => {
-                loads_prev = totals(&f);
-                forces = Some(f);
+    let warm = options
+        .warm_start
+        .then(|| warm_forces(model, loads_n, state))
+        .flatten();
+    seq.report.warm_started = warm.is_some();
+    let mut start_at: Option<Iterate> = None;
+    let mut input = match warm {
+        Some(f) => Input::of_forces(f),
+        None if coulomb => {
+            match cold_start(energy, model, loads_n, &seq.memory, options, &mut seq.stats)? {
+                Ok((f, it)) => {
+                    start_at = Some(it);
+                    Input::of_forces(f)
+                }
+                Err((status, reason)) => return Ok(seq.fail(status, reason)),
             }
-            Err((status, reason)) => return Ok(fail(status, reason, counters, report)),
         }
-    }
+        None => Input {
+            forces: None,
+            loads: guess_loads(model, loads_n),
+        },
+    };
+    iterate(main, energy, loads_n, state, &mut seq, &mut input, start_at)
+}
 
-    let mut j = 0;
+/// The fixed-point loop from `input` (see the module docs).
+fn iterate(
+    main: &mut ProgramSolver,
+    energy: &mut Option<ProgramSolver>,
+    loads_n: &[f64],
+    state: &mut ContactState,
+    seq: &mut Sequence<'_>,
+    input: &mut Input,
+    mut start_at: Option<Iterate>,
+) -> Result<Solution, ModelError> {
+    let model = seq.model;
+    let mut omega = 1.0_f64;
+    let mut last_feasible: Option<Input> = None;
     loop {
-        j += 1;
-        report.iterations = j;
-        let mu = mu_at(model, &loads_prev);
-        let radii: Option<Vec<Vec<f64>>> = if coulomb {
-            let f = forces.as_ref().expect("coulomb iterates start from forces");
-            Some(
-                f.iter()
-                    .zip(&mu)
-                    .map(|(fi, &m)| {
-                        fi.iter()
-                            .map(|v| {
-                                (m * v.max(0.0)).max(RADIUS_FLOOR * model.scales.element_force_n)
-                            })
-                            .collect()
-                    })
-                    .collect(),
-            )
-        } else {
-            solver.main.a_changed |= solver.main.program.set_mu(&mu);
-            None
-        };
-        if let Some(r) = &radii {
-            solver.main.program.set_radii(model, r);
+        seq.report.iterations += 1;
+        let mu = mu_at(model, &input.loads);
+        let radii = seq
+            .coulomb
+            .then(|| radii_of(model, input.forces.as_deref().unwrap_or(&[]), &mu));
+        match &radii {
+            Some(r) => main.program.set_radii(model, r),
+            None => main.program.set_mu(&mu),
         }
-        let (raw, it, time) = solver.main.run(&settings)?;
-        counters.0 += it;
-        counters.1 += time;
-        let (status, x, z) = match raw {
-            Raw::Solved { status, x, z } => (status, x, z),
-            Raw::Infeasible { z } => {
-                if coulomb && report.warm_started && j == 1 && report.cold_restarts == 0 {
+        let start = match &start_at {
+            Some(it) => Start::At(it),
+            None => start_of(seq.options),
+        };
+        let run = main.solve(model, seq.options, start)?;
+        start_at = None;
+        add_run(&mut seq.stats, &run);
+        match run.outcome {
+            ConvexOutcome::Solved {
+                reduced_accuracy,
+                x,
+                multipliers,
+            } => {
+                let out = normal_forces(model, &x);
+                let change = input
+                    .forces
+                    .as_ref()
+                    .map_or(f64::INFINITY, |f| largest_change(f, &out));
+                seq.report.last_change_n = change;
+                if change <= seq.report.tolerance_n {
+                    let how = (&mu, radii.as_deref(), reduced_accuracy);
+                    return Ok(converged(main, seq, state, &x, &multipliers, how));
+                }
+                if seq.report.iterations >= seq.options.max_sequential_iterations {
+                    return Ok(seq.fail(SolveStatus::NoConvergence, no_convergence(seq)));
+                }
+                last_feasible = Some(input.clone());
+                let target = Input::of_forces(out);
+                *input = if omega < 1.0 {
+                    seq.report.damped_iterations += 1;
+                    input.towards(&target, omega)
+                } else {
+                    target
+                };
+                omega = (2.0 * omega).min(1.0);
+            }
+            ConvexOutcome::Infeasible(cert) => {
+                let restart = seq.coulomb
+                    && seq.report.warm_started
+                    && seq.report.iterations == 1
+                    && seq.report.cold_restarts == 0;
+                if restart {
                     // The previous step's forces were a poor guess: restart from the energy model.
-                    report.cold_restarts += 1;
-                    match cold_start(solver, model, loads_n, &memory, &mut counters)? {
-                        Ok(f) => {
-                            loads_prev = totals(&f);
-                            forces = Some(f);
-                            j = 0;
+                    seq.report.cold_restarts += 1;
+                    let cold = cold_start(
+                        energy,
+                        model,
+                        loads_n,
+                        &seq.memory,
+                        seq.options,
+                        &mut seq.stats,
+                    )?;
+                    match cold {
+                        Ok((f, it)) => {
+                            start_at = Some(it);
+                            *input = Input::of_forces(f);
+                            seq.report.iterations = 0;
                             continue;
                         }
-                        Err((status, reason)) => return Ok(fail(status, reason, counters, report)),
+                        Err((status, reason)) => return Ok(seq.fail(status, reason)),
                     }
                 }
-                let reason = if coulomb {
-                    cannot_hold_reason(model, &solver.main.program, &z)
-                } else {
-                    format!(
-                        "{} (mu frozen at iterate {j}: {})",
-                        escape_reason(model, &solver.main.program, &z),
-                        fmt_mu(model, &mu)
-                    )
-                };
-                return Ok(fail(SolveStatus::NoEquilibrium, reason, counters, report));
+                match &last_feasible {
+                    Some(prev) if omega > MIN_RELAXATION => {
+                        // Back off halfway towards the last input whose program was feasible.
+                        omega *= 0.5;
+                        seq.report.damped_iterations += 1;
+                        *input = prev.towards(input, 0.5);
+                    }
+                    _ => {
+                        let reason = seq.infeasible_reason(&main.program, &cert, &mu);
+                        return Ok(seq.fail(SolveStatus::NoEquilibrium, reason));
+                    }
+                }
+                if seq.report.iterations >= seq.options.max_sequential_iterations {
+                    return Ok(seq.fail(SolveStatus::NoConvergence, no_convergence(seq)));
+                }
             }
-            Raw::Failed { reason } => {
-                return Ok(fail(SolveStatus::NoConvergence, reason, counters, report))
+            ConvexOutcome::Failed { reason } => {
+                return Ok(seq.fail(SolveStatus::NoConvergence, reason))
             }
-        };
-        let new_forces = normal_forces(model, &x);
-        let change = forces
-            .as_ref()
-            .map_or(f64::INFINITY, |f| largest_change(f, &new_forces));
-        report.last_change_n = change;
-        if change <= tol_n {
-            report.converged = true;
-            let stats = SolverStats {
-                iterations: counters.0,
-                solver_time_s: counters.1,
-                ..stats0
-            };
-            let rule = if coulomb {
-                FrictionRule::Coulomb { memory_m: &memory }
-            } else {
-                FrictionRule::Associated
-            };
-            let mut out = build_solution(
-                model,
-                &solver.main.program,
-                &x,
-                &z,
-                stats,
-                &Build {
-                    rule,
-                    mu: &mu,
-                    radii_n: radii.as_deref(),
-                },
-            );
-            out.status = status;
-            if status == SolveStatus::ReducedAccuracy {
-                out.reason = Some("solved to reduced accuracy; check the residuals".into());
-            }
-            out.sequential = Some(report);
-            out.solve_time_s = start.elapsed().as_secs_f64();
-            record_state(model, &out, state, coulomb);
-            return Ok(out);
         }
-        if j >= opts.max_sequential_iterations {
-            let reason = format!(
-                "no convergence: the sequential solve did not reach a fixed point in {j} \
-                 iterations; the element normal forces still changed by {change:.3e} N \
-                 (tolerance {tol_n:.3e} N); raise the iteration limit, refine the load steps, \
-                 or check that mu(P) is not too steep"
-            );
-            return Ok(fail(SolveStatus::NoConvergence, reason, counters, report));
-        }
-        loads_prev = totals(&new_forces);
-        forces = Some(new_forces);
     }
+}
+
+/// The converged solution of the last iterate; records the contact state.
+fn converged(
+    main: &ProgramSolver,
+    seq: &mut Sequence<'_>,
+    state: &mut ContactState,
+    x: &[f64],
+    multipliers: &[f64],
+    (mu, radii, reduced_accuracy): (&Vec<f64>, Option<&[Vec<f64>]>, bool),
+) -> Solution {
+    seq.report.converged = true;
+    let rule = if seq.coulomb {
+        FrictionRule::Coulomb {
+            memory_m: &seq.memory,
+        }
+    } else {
+        FrictionRule::Associated
+    };
+    let how = Build {
+        rule,
+        mu,
+        radii_n: radii,
+    };
+    let mut out = build_solution(
+        seq.model,
+        &main.program,
+        x,
+        multipliers,
+        seq.stats.clone(),
+        &how,
+    );
+    if reduced_accuracy {
+        out.status = SolveStatus::ReducedAccuracy;
+        out.reason = Some("solved to reduced accuracy; check the residuals".into());
+    }
+    out.sequential = Some(seq.report);
+    state.record(seq.model, &out, seq.coulomb);
+    out
+}
+
+fn no_convergence(seq: &Sequence<'_>) -> String {
+    format!(
+        "no convergence: the sequential solve did not reach a fixed point in {} iterations; the \
+         element normal forces still changed by {:.3e} N (tolerance {:.3e} N); raise the \
+         iteration limit, refine the load steps, or check that mu(P) is not too steep",
+        seq.report.iterations, seq.report.last_change_n, seq.report.tolerance_n
+    )
 }
 
 fn fmt_mu(model: &GraspModel, mu: &[f64]) -> String {

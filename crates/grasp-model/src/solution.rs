@@ -3,7 +3,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::residuals::Residuals;
+/// A finger or element counts as loaded when its normal force exceeds this fraction of the
+/// load scale (below it, a force is solver round-off: friction utilisation, stick counts and
+/// warm starts ignore it).
+pub const LOADED_FRACTION: f64 = 1e-9;
 
 /// What the solve concluded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -120,12 +123,39 @@ pub struct RigidDisplacement {
     pub rotation_rad: [f64; 3],
 }
 
+/// The solver that produced an answer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolverKind {
+    /// The native semismooth Newton solver.
+    Native,
+    /// Clarabel's interior-point method (the reference).
+    Clarabel,
+}
+
+impl std::fmt::Display for SolverKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            SolverKind::Native => "native",
+            SolverKind::Clarabel => "Clarabel",
+        })
+    }
+}
+
 /// Solver statistics.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SolverStats {
-    /// Interior-point iterations (all convex solves).
+    /// The solver whose answer this is (of the last convex solve).
+    pub solver: SolverKind,
+    /// Why the native solver's answer was not used, when it was not (the fallback to
+    /// Clarabel); `None` otherwise.
+    pub fallback: Option<String>,
+    /// Iterations over all convex solves: Newton steps of the native solver plus
+    /// interior-point iterations of Clarabel.
     pub iterations: u32,
-    /// Time inside Clarabel, s.
+    /// Reduced matrices factorised by the native solver (all convex solves).
+    pub factorizations: u32,
+    /// Time inside the convex solvers, s.
     pub solver_time_s: f64,
     /// Unknowns of the program.
     pub unknowns: usize,
@@ -133,6 +163,69 @@ pub struct SolverStats {
     pub equality_rows: usize,
     /// Conic rows (nonnegative and second-order).
     pub cone_rows: usize,
+}
+
+/// Residuals of a solution; all relative ones are dimensionless.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Residuals {
+    /// `|sum of forces on the object|`, N.
+    pub force_n: f64,
+    /// `|sum of moments on the object|`, N m.
+    pub moment_nm: f64,
+    /// `max(force / load, moment / (load L))`: equilibrium error over the load scale.
+    pub equilibrium_relative: f64,
+    /// Largest cone violation `max(0, |G_k| - mu F_k, -F_k)` over the element force unit.
+    pub cone_violation_relative: f64,
+    /// Largest penetration `max(0, -gap)` (frictional elements of the energy model:
+    /// `max(0, mu |w| - gap)`, the dual cone) over the displacement unit `Fu Cu`.
+    pub penetration_relative: f64,
+    /// Largest `|gap - mu |w||` over loaded elements, over the displacement unit.
+    pub compatibility_relative: f64,
+    /// Largest of `F_k (gap_k - mu |w_k|)` (normal; `F_k gap_k` for Coulomb) and
+    /// `(mu F_k - |G_k|) |w_k|` (tangential; `w_k` this step's slip) over `Fu * (Fu Cu)`: both
+    /// vanish at an exact solution (model.md: under the associated law a slipping element
+    /// opens by `mu |slip|`).
+    pub complementarity_relative: f64,
+    /// Largest `|w_k|` (this step's slip) over stick elements, over the displacement unit.
+    pub stick_motion_relative: f64,
+    /// Largest `1 + cos(angle(w_k, G_k))` over slip elements (0: slip exactly opposes the
+    /// friction force; 2: along it).
+    pub slip_direction_error: f64,
+}
+
+impl Residuals {
+    /// The largest of the relative residuals.
+    pub fn worst(&self) -> f64 {
+        [
+            self.equilibrium_relative,
+            self.cone_violation_relative,
+            self.penetration_relative,
+            self.compatibility_relative,
+            self.complementarity_relative,
+            self.stick_motion_relative,
+            self.slip_direction_error,
+        ]
+        .into_iter()
+        .fold(0.0, f64::max)
+    }
+
+    /// Why these residuals are too large for an answer to be trusted, if they are: equilibrium
+    /// and cone residuals above `force`, or penetration, compatibility, complementarity and
+    /// stick-motion residuals above `kinematic` (all relative, see the fields).
+    pub fn unacceptable(&self, force: f64, kinematic: f64) -> Option<String> {
+        let checks = [
+            ("equilibrium", self.equilibrium_relative, force),
+            ("cone violation", self.cone_violation_relative, force),
+            ("penetration", self.penetration_relative, kinematic),
+            ("compatibility", self.compatibility_relative, kinematic),
+            ("complementarity", self.complementarity_relative, kinematic),
+            ("stick motion", self.stick_motion_relative, kinematic),
+        ];
+        checks
+            .iter()
+            .find(|(_, v, limit)| !(*v <= *limit))
+            .map(|(name, v, limit)| format!("{name} residual {v:.1e} above {limit:.0e}"))
+    }
 }
 
 /// How the sequential (fixed-point) solve went: the coulomb model, and the energy model with a
@@ -153,6 +246,10 @@ pub struct SequentialReport {
     pub warm_started: bool,
     /// Times a warm start proved infeasible and the sequence restarted cold.
     pub cold_restarts: u32,
+    /// Iterates taken with a relaxation below 1: after an iterate's program had no solution,
+    /// the input was moved back towards the last feasible one instead of giving up.
+    #[serde(default)]
+    pub damped_iterations: u32,
 }
 
 /// The full answer of one solve.
@@ -173,7 +270,8 @@ pub struct Solution {
     pub residuals: Option<Residuals>,
     /// Load scale used to normalise residuals, N.
     pub load_scale_n: f64,
-    /// Wall time of the solve (assembly, solver, post-processing), s.
+    /// Wall time of the solve: program assembly (when this solve built it), solver,
+    /// post-processing, s.
     pub solve_time_s: f64,
     /// Solver statistics (summed over the convex solves of a sequential solve).
     pub solver: SolverStats,
@@ -185,5 +283,50 @@ impl Solution {
     /// The finger named `name`.
     pub fn finger(&self, name: &str) -> Option<&FingerSolution> {
         self.fingers.iter().find(|f| f.name == name)
+    }
+
+    /// True when every number of the answer (forces, fields, displacement, residuals) is
+    /// finite.
+    pub fn all_finite(&self) -> bool {
+        let fin = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let fingers = self.fingers.iter().all(|f| {
+            fin(&[
+                f.normal_force_n,
+                f.tangential_magnitude_n,
+                f.torsional_moment_nm,
+                f.contact_area_m2,
+                f.peak_pressure_pa,
+                f.friction_coefficient,
+                f.friction_utilization,
+                f.boundary_load_fraction,
+                f.approach_m,
+            ]) && fin(&f.tangential_force_n)
+                && fin(&f.center_of_pressure_m)
+                && f.elements.iter().all(|e| {
+                    fin(&[e.normal_force_n, e.pressure_pa, e.gap_m])
+                        && fin(&e.tangential_force_n)
+                        && fin(&e.traction_pa)
+                        && fin(&e.slip_m)
+                        && fin(&e.step_slip_m)
+                        && fin(&e.position_m)
+                })
+        });
+        let rigid = self
+            .rigid_displacement
+            .is_none_or(|r| fin(&r.translation_m) && fin(&r.rotation_rad));
+        let residuals = self.residuals.is_none_or(|r| {
+            fin(&[
+                r.force_n,
+                r.moment_nm,
+                r.equilibrium_relative,
+                r.cone_violation_relative,
+                r.penetration_relative,
+                r.compatibility_relative,
+                r.complementarity_relative,
+                r.stick_motion_relative,
+                r.slip_direction_error,
+            ])
+        });
+        fingers && rigid && residuals
     }
 }

@@ -83,6 +83,9 @@ pub enum TransferError {
     /// The model refused the data.
     #[error(transparent)]
     Model(#[from] grasp_model::ModelError),
+    /// An invariant of the stepper did not hold (a bug; please report the scene and schedule).
+    #[error("internal error: {0}; please report the scene and schedule")]
+    Internal(&'static str),
     /// A sink failed to write.
     #[error("{sink}: {message}")]
     Sink {

@@ -4,13 +4,17 @@
 //! the active fingers and their controls form the step's grasp, solved by the scene's model
 //! (energy, or coulomb with its sequential solve).
 //!
-//! - Warm stepping reuses the assembled program of the same structure (active set and which
-//!   fingers are force-controlled): only loads, radii and memory change, and Clarabel's
-//!   workspace is updated in place (same sparsity). The sequential solve starts from the
-//!   previous step's forces.
-//! - Cold stepping rebuilds the model and the program at every step and starts every
-//!   sequential solve from an energy-model solve (the reference for checking and
-//!   benchmarking).
+//! - Warm stepping reuses the model, the program and the solver of the same structure (active
+//!   set and which fingers are force-controlled): only loads, radii and memory change. Every
+//!   step starts from the previous step's solution (the native solver's Newton iteration from
+//!   its forces and multipliers, reusing its factorisations while the stick / slip / separation
+//!   pattern holds), and the sequential solve from the previous step's forces. A new structure
+//!   starts cold.
+//! - Cold stepping rebuilds the model and the program at every step and starts every convex
+//!   solve from scratch, every sequential solve from an energy-model solve (the reference for
+//!   checking and benchmarking).
+//! - A step's model is the scene's model restricted to the active fingers
+//!   ([`GraspModel::restricted`]): their compliance blocks are shared, not recomputed.
 //! - The contact state (slip memory of the coulomb model) follows each finger by name from
 //!   step to step, in warm and cold stepping alike: it is physics, not a guess. A released
 //!   finger's memory is cleared (a new contact starts without slip).
@@ -18,9 +22,10 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use grasp_model::scene::{ControlSpec, HeldTag, NormalLoadSpec};
+use grasp_model::solution::SolverStats;
 use grasp_model::{
-    ContactState, FingerState, GraspModel, GraspSolver, Scene, Solution, SolveOptions,
+    ContactState, Control, FingerState, GraspModel, GraspSolver, Scene, SceneError, Solution,
+    SolveOptions, SolverKind,
 };
 use serde::Serialize;
 
@@ -87,6 +92,8 @@ type StructureKey = Vec<(usize, bool)>;
 /// Steps a schedule over a scene.
 pub struct Stepper<'a> {
     scene: &'a Scene,
+    /// The model of the whole scene (every finger as written), or why there is none.
+    base: Result<GraspModel, SceneError>,
     schedule: &'a Schedule,
     options: TransferOptions,
     cache: BTreeMap<StructureKey, (GraspModel, GraspSolver)>,
@@ -108,6 +115,7 @@ impl<'a> Stepper<'a> {
         let n = scene.fingers.len();
         Stepper {
             scene,
+            base: GraspModel::from_scene(scene),
             schedule,
             options,
             cache: BTreeMap::new(),
@@ -147,12 +155,9 @@ impl<'a> Stepper<'a> {
     /// that grasp has no equilibrium, force-controlled fingers keep their commanded loads and a
     /// held finger's `"current"` cannot be resolved: a named error.
     fn initial_loads(&self) -> Result<Vec<Option<f64>>, TransferError> {
-        let model = GraspModel::from_scene(self.scene).map_err(|source| TransferError::Scene {
-            time_s: self.schedule.times[0],
-            source,
-        })?;
+        let model = self.base_model(self.schedule.times[0])?;
         let sol =
-            GraspSolver::new(&model, self.options.solve).solve(&model, &model.scene_loads_n())?;
+            GraspSolver::new(model, self.options.solve).solve(model, &model.scene_loads_n())?;
         Ok(self
             .scene
             .fingers
@@ -167,6 +172,14 @@ impl<'a> Stepper<'a> {
             .collect::<Vec<_>>())
     }
 
+    /// The model of the whole scene, or the scene's error (at schedule time `time_s`).
+    fn base_model(&self, time_s: f64) -> Result<&GraspModel, TransferError> {
+        self.base.as_ref().map_err(|e| TransferError::Scene {
+            time_s,
+            source: e.clone(),
+        })
+    }
+
     /// The commands of every finger at step `k`, resolving `"current"` on phase entry.
     fn commands(&mut self, k: usize) -> Result<Vec<Command>, TransferError> {
         let t = self.schedule.times[k];
@@ -177,13 +190,12 @@ impl<'a> Stepper<'a> {
             if let Some(p) = phase {
                 if self.current[i].map(|c| c.0) != Some(p) {
                     let value = if k == 0 {
-                        if initial.is_none() {
-                            initial = Some(self.initial_loads()?);
-                        }
-                        initial.as_ref().expect("computed")[i].ok_or_else(|| {
-                            TransferError::Current {
-                                finger: self.scene.fingers[i].name.clone(),
-                            }
+                        let loads = match &mut initial {
+                            Some(l) => l,
+                            None => initial.insert(self.initial_loads()?),
+                        };
+                        loads[i].ok_or_else(|| TransferError::Current {
+                            finger: self.scene.fingers[i].name.clone(),
                         })?
                     } else {
                         self.previous_normal_n[i]
@@ -230,31 +242,28 @@ impl<'a> Stepper<'a> {
                 step_scale <= 0.0 || (1e-3..=1e3).contains(&r)
             });
         if !reused {
-            let mut sub = self.scene.clone();
-            let mut load = loads.iter();
-            sub.fingers = key
-                .iter()
-                .map(|&(i, fc)| {
-                    let mut f = self.scene.fingers[i].clone();
-                    f.control = if fc {
-                        let p = *load.next().expect("one load per force-controlled finger");
-                        ControlSpec::Load(NormalLoadSpec { normal_load: p })
-                    } else {
-                        ControlSpec::Held(HeldTag::Held)
-                    };
-                    f
-                })
-                .collect();
-            if sub.fingers.is_empty() {
+            if key.is_empty() {
                 // Nothing holds the object: a reported outcome, not an error.
                 self.states.clear();
                 let sol = empty_grasp_solution(self.scene);
                 return Ok(self.record(k, t, commands, sol, start, false));
             }
+            let mut load = loads.iter();
+            let active: Vec<(usize, Control)> = key
+                .iter()
+                .map(|&(i, fc)| match (fc, load.next()) {
+                    (true, Some(&p)) => (i, Control::NormalLoad { newtons: p }),
+                    _ => (i, Control::Held),
+                })
+                .collect();
             // The full scene was validated; a subset of its fingers needs no new validation
             // (the reach heuristic, say, would judge the subset differently).
-            let model = GraspModel::from_validated_scene(&sub)
-                .map_err(|source| TransferError::Scene { time_s: t, source })?;
+            let model = self
+                .base_model(t)?
+                .restricted(&active)
+                .ok_or(TransferError::Internal(
+                    "a step's active fingers are not in the scene",
+                ))?;
             let mut solve_options = self.options.solve;
             solve_options.warm_start &= self.options.warm_start;
             let solver = GraspSolver::new(&model, solve_options);
@@ -263,7 +272,9 @@ impl<'a> Stepper<'a> {
             }
             self.cache.insert(key.clone(), (model, solver));
         }
-        let (model, solver) = self.cache.get_mut(&key).expect("cached");
+        let Some((model, solver)) = self.cache.get_mut(&key) else {
+            return Err(TransferError::Internal("the step's program is not cached"));
+        };
         // Released fingers lose their contact state; active ones carry theirs over.
         let active: Vec<&str> = model.fingers.iter().map(|f| f.name.as_str()).collect();
         self.states
@@ -356,8 +367,11 @@ fn empty_grasp_solution(scene: &Scene) -> Solution {
         residuals: None,
         load_scale_n: scene.object.weight.max(1.0),
         solve_time_s: 0.0,
-        solver: grasp_model::solution::SolverStats {
+        solver: SolverStats {
+            solver: SolverKind::Native,
+            fallback: None,
             iterations: 0,
+            factorizations: 0,
             solver_time_s: 0.0,
             unknowns: 0,
             equality_rows: 0,

@@ -1,0 +1,223 @@
+//! The backend layer: one assembled [`ConeProgram`] and the workspaces of the solvers that can
+//! answer it (the native semismooth Newton solver, Clarabel as the reference), created on first
+//! use. Each workspace notices by itself what changed in the program since its last solve.
+//!
+//! [`ProgramSolver::solve`] runs one convex solve with the chosen backend:
+//! - `clarabel`: Clarabel's interior-point method;
+//! - `native`: the native solver from the given start; if it does not converge, Clarabel is
+//!   asked only to certify: an infeasible program is reported as such (certified by
+//!   Clarabel), anything else as no convergence;
+//! - `auto`: the native solver, falling back to Clarabel's answer when it does not converge
+//!   (the run says why).
+
+use std::time::Instant;
+
+pub(crate) mod clarabel;
+
+use crate::cone_program::ConeProgram;
+use crate::error::ModelError;
+use crate::grasp_model::GraspModel;
+use crate::native::{Iterate, Limits, NativeSolver, NativeStatus};
+use crate::solution::SolverKind;
+use crate::solve_options::{SolveOptions, SolverChoice};
+
+use self::clarabel::ClarabelWorkspace;
+
+/// Largest number of Newton steps of one native solve.
+pub const MAX_NEWTON_ITERATIONS: u32 = 60;
+
+/// A certificate that the program has no solution, solver-neutral: `z` with `E'z` in the dual
+/// of the cones and `e'z < 0` (Farkas).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Certificate {
+    /// Its equality part (scaled; read as the object's escape motion).
+    pub equality: Vec<f64>,
+    /// Per finger, the sum over elements of the tangential part's magnitude (which fingers
+    /// would have to slide).
+    pub finger_slip: Vec<f64>,
+}
+
+/// What one convex solve concluded.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum ConvexOutcome {
+    /// Solved: scaled forces `x` and equality multipliers.
+    Solved {
+        /// Clarabel's "almost solved".
+        reduced_accuracy: bool,
+        /// Scaled forces (program layout).
+        x: Vec<f64>,
+        /// Scaled equality multipliers (equilibrium rows, then load rows).
+        multipliers: Vec<f64>,
+    },
+    /// No point satisfies the constraints.
+    Infeasible(Certificate),
+    /// No answer: why.
+    Failed {
+        /// Reason for the user.
+        reason: String,
+    },
+}
+
+/// One convex solve: outcome and cost.
+#[derive(Debug, Clone)]
+pub(crate) struct ConvexRun {
+    pub outcome: ConvexOutcome,
+    /// Iterations: Newton steps (native) plus interior-point iterations (Clarabel).
+    pub iterations: u32,
+    /// Reduced matrices factorised by the native solver.
+    pub factorisations: u32,
+    /// Time inside the solvers, s.
+    pub solver_time_s: f64,
+    /// The solver whose answer this is.
+    pub answered_by: SolverKind,
+    /// Why the native solver's answer was not used, when it was not.
+    pub fallback: Option<String>,
+}
+
+/// Where a native solve starts.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Start<'a> {
+    /// From the all-stick point.
+    Cold,
+    /// From the workspace's last solution (cold if there is none).
+    Last,
+    /// From this iterate (same program layout).
+    At(&'a Iterate),
+}
+
+/// A program and its solver workspaces.
+pub(crate) struct ProgramSolver {
+    /// The program; change it through its `set_*` methods between solves.
+    pub program: ConeProgram,
+    native: Option<NativeSolver>,
+    clarabel: Option<ClarabelWorkspace>,
+    /// The last solution, whichever backend gave it (the default warm start).
+    last: Option<Iterate>,
+}
+
+impl ProgramSolver {
+    pub(crate) fn new(program: ConeProgram) -> Self {
+        ProgramSolver {
+            program,
+            native: None,
+            clarabel: None,
+            last: None,
+        }
+    }
+
+    /// Forgets the last solution (the next `Start::Last` is cold).
+    pub(crate) fn forget(&mut self) {
+        self.last = None;
+    }
+
+    /// Solves the program as it stands with the backend of `options.solver`.
+    pub(crate) fn solve(
+        &mut self,
+        model: &GraspModel,
+        options: &SolveOptions,
+        start: Start<'_>,
+    ) -> Result<ConvexRun, ModelError> {
+        let run = match options.solver {
+            SolverChoice::Clarabel => self.solve_clarabel(model, options),
+            SolverChoice::Native | SolverChoice::Auto => self.solve_native(model, options, start),
+        }?;
+        if let ConvexOutcome::Solved { x, multipliers, .. } = &run.outcome {
+            self.last = Some(Iterate {
+                x: x.clone(),
+                lambda: multipliers.clone(),
+            });
+        }
+        Ok(run)
+    }
+
+    fn solve_clarabel(
+        &mut self,
+        model: &GraspModel,
+        options: &SolveOptions,
+    ) -> Result<ConvexRun, ModelError> {
+        let settings = clarabel::settings(
+            options.tolerance,
+            options.max_iterations,
+            options.time_limit_s,
+        )?;
+        let program = &self.program;
+        let ws = self
+            .clarabel
+            .get_or_insert_with(|| ClarabelWorkspace::new(model, program));
+        let run = ws.solve(program, &settings)?;
+        Ok(ConvexRun {
+            outcome: run.outcome,
+            iterations: run.iterations,
+            factorisations: 0,
+            solver_time_s: run.solve_time_s,
+            answered_by: SolverKind::Clarabel,
+            fallback: None,
+        })
+    }
+
+    fn solve_native(
+        &mut self,
+        model: &GraspModel,
+        options: &SolveOptions,
+        start: Start<'_>,
+    ) -> Result<ConvexRun, ModelError> {
+        let clock = Instant::now();
+        let program = &self.program;
+        let native = self
+            .native
+            .get_or_insert_with(|| NativeSolver::new(model, program));
+        let limits = Limits {
+            tolerance: options.tolerance,
+            max_iterations: options.max_iterations.min(MAX_NEWTON_ITERATIONS),
+        };
+        let from = match start {
+            Start::Cold => None,
+            Start::Last => self.last.as_ref(),
+            Start::At(it) => Some(it),
+        };
+        let result = native.solve(program, from, limits);
+        let native_time = clock.elapsed().as_secs_f64();
+        let why = match result.status {
+            NativeStatus::Converged => {
+                return Ok(ConvexRun {
+                    outcome: ConvexOutcome::Solved {
+                        reduced_accuracy: false,
+                        x: result.iterate.x,
+                        multipliers: result.iterate.lambda,
+                    },
+                    iterations: result.iterations,
+                    factorisations: result.factorisations,
+                    solver_time_s: native_time,
+                    answered_by: SolverKind::Native,
+                    fallback: None,
+                })
+            }
+            NativeStatus::Stalled(why) => format!(
+                "the native solver did not converge in {} Newton steps ({why})",
+                result.iterations
+            ),
+        };
+        let mut run = self.solve_clarabel(model, options)?;
+        run.iterations += result.iterations;
+        run.factorisations += result.factorisations;
+        run.solver_time_s += native_time;
+        run.fallback = Some(match (&run.outcome, options.solver) {
+            (ConvexOutcome::Infeasible(_), _) => {
+                format!("{why}; Clarabel certified that the program has no solution")
+            }
+            (_, SolverChoice::Auto) => format!("{why}; Clarabel answered"),
+            _ => why.clone(),
+        });
+        if options.solver == SolverChoice::Native {
+            if let ConvexOutcome::Solved { .. } = run.outcome {
+                run.outcome = ConvexOutcome::Failed {
+                    reason: format!(
+                        "no convergence: {why}; Clarabel solves this program, so run with \
+                         --solver auto (or clarabel)"
+                    ),
+                };
+            }
+        }
+        Ok(run)
+    }
+}

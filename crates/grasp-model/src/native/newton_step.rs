@@ -1,0 +1,211 @@
+//! One semismooth Newton step over all fingers: per finger, the fixed directions are set from
+//! their residuals and the free ones solve the reduced system ([`super::reduced_factor`]);
+//! the fingers couple only through the `m` equality rows, whose multipliers come from the
+//! Schur complement `S = sum_i W_i' W_i` (at most `6 + fingers` rows).
+//!
+//! With `z_i` the displacement of the fixed directions (`xi_j = -phi_j`), `r_i` the free
+//! rows' right-hand side less `D_F' P_i z_i`, and `g_i = L_i^-1 r_i`:
+//!
+//! ```text
+//!   S dlambda = sum_i W_i' g_i + (E x - e) + sum_i E_i z_i
+//!   xi_F,i    = L_i^-T (g_i - W_i dlambda),      dx_i = z_i + D_F,i xi_F,i
+//! ```
+//!
+//! `S` is solved through its eigendecomposition; directions with eigenvalues below `1e-12` of
+//! the largest are left out (the free set cannot move the equality rows along them).
+
+use nalgebra::{DMatrix, DVector};
+
+use super::finger_block::FingerBlockData;
+use super::linearisation::FingerLinearisation;
+use super::reduced_factor::{key_of, ReducedFactor};
+
+/// Relative eigenvalue threshold of the Schur complement.
+const SCHUR_CUTOFF: f64 = 1e-12;
+
+/// A Newton direction: `dx` (global), `dlambda`, and `dy = P dx + E' dlambda` (global).
+pub(crate) struct Step {
+    pub dx: Vec<f64>,
+    pub dlambda: Vec<f64>,
+    pub dy: Vec<f64>,
+    /// `E dx`.
+    pub e_dx: Vec<f64>,
+    /// The part of the equality right-hand side in the null space of `S`: the equality
+    /// residual that no free direction can remove (zero when the step meets every row).
+    pub unreachable: Vec<f64>,
+}
+
+/// Per-finger cache of reduced factors (most recent first).
+pub(crate) type FactorCache = Vec<ReducedFactor>;
+
+/// How many factors each finger keeps.
+const CACHE_SLOTS: usize = 2;
+
+/// The factor of `free` from the cache, or a new one (counted in `factorisations`).
+pub(crate) fn factor_for<'c>(
+    block: &FingerBlockData,
+    lin: &FingerLinearisation,
+    cache: &'c mut FactorCache,
+    factorisations: &mut u32,
+) -> Option<&'c ReducedFactor> {
+    let key = key_of(&lin.free);
+    if let Some(pos) = cache.iter().position(|f| f.matches(&key)) {
+        let f = cache.remove(pos);
+        cache.insert(0, f);
+    } else {
+        let f = ReducedFactor::new(block, &lin.free, key)?;
+        *factorisations += 1;
+        cache.insert(0, f);
+        cache.truncate(CACHE_SLOTS);
+    }
+    cache.first()
+}
+
+/// The first half of a finger's step: `z_i`, `g_i = L^-1 r_i` and `E_i z_i`.
+pub(crate) struct FingerHalf {
+    z: Vec<f64>,
+    g: Vec<f64>,
+    e_z: Vec<f64>,
+}
+
+pub(crate) fn first_half(
+    block: &FingerBlockData,
+    lin: &FingerLinearisation,
+    factor: &ReducedFactor,
+) -> FingerHalf {
+    let n = block.len();
+    let mut z = vec![0.0; n];
+    let mut support = Vec::new();
+    for d in &lin.fixed {
+        if d.phi != 0.0 {
+            for c in 0..block.dim {
+                if d.dir[c] != 0.0 {
+                    let i = block.index(d.element, c);
+                    z[i] -= d.dir[c] * d.phi;
+                    support.push(i);
+                }
+            }
+        }
+    }
+    support.sort_unstable();
+    support.dedup();
+    let mut pz = vec![0.0; n];
+    block.apply_columns(&z, &support, &mut pz);
+    let mut g: Vec<f64> = lin
+        .free
+        .iter()
+        .map(|d| {
+            let ppz: f64 = (0..block.dim)
+                .map(|c| d.dir[c] * pz[block.index(d.element, c)])
+                .sum();
+            -d.phi / (block.gamma * d.theta) - ppz
+        })
+        .collect();
+    factor.forward(&mut g);
+    let mut e_z = vec![0.0; block.equality_rows()];
+    block.add_equality(&z, &mut e_z);
+    FingerHalf { z, g, e_z }
+}
+
+/// Solves `S v = rhs` in the least-squares sense over the well-conditioned eigendirections;
+/// returns `v` and the part of `rhs` in the other directions (the null space of `S`).
+fn solve_schur(s: DMatrix<f64>, rhs: DVector<f64>) -> (DVector<f64>, DVector<f64>) {
+    let m = rhs.len();
+    if m == 0 {
+        return (rhs.clone(), rhs);
+    }
+    let eig = nalgebra::SymmetricEigen::new(s);
+    let lmax = eig.eigenvalues.iter().cloned().fold(0.0_f64, f64::max);
+    let mut out = DVector::zeros(m);
+    let mut null = DVector::zeros(m);
+    for j in 0..m {
+        let l = eig.eigenvalues[j];
+        let u = eig.eigenvectors.column(j);
+        if lmax > 0.0 && l > SCHUR_CUTOFF * lmax {
+            out += u * (u.dot(&rhs) / l);
+        } else {
+            null += u * u.dot(&rhs);
+        }
+    }
+    (out, null)
+}
+
+/// Computes the Newton step at the linearisations `lins` (one per finger) with equality
+/// residual `e_res = E x - e`. `None` when a reduced matrix cannot be factorised.
+pub(crate) fn newton_step(
+    blocks: &[FingerBlockData],
+    lins: &[FingerLinearisation],
+    caches: &mut [FactorCache],
+    e_res: &[f64],
+    n: usize,
+    factorisations: &mut u32,
+) -> Option<Step> {
+    let m = e_res.len();
+    let mut s = DMatrix::<f64>::zeros(m, m);
+    let mut rhs = DVector::from_column_slice(e_res);
+    let mut halves = Vec::with_capacity(blocks.len());
+    for ((block, lin), cache) in blocks.iter().zip(lins).zip(caches.iter_mut()) {
+        let factor = factor_for(block, lin, cache, factorisations)?;
+        let half = first_half(block, lin, factor);
+        let w = &factor.w;
+        for r in 0..m {
+            rhs[r] += half.e_z[r];
+            let wr = w.col(r);
+            rhs[r] += wr.iter().zip(&half.g).map(|(a, b)| a * b).sum::<f64>();
+            for c in 0..=r {
+                let v: f64 = wr.iter().zip(w.col(c).iter()).map(|(a, b)| a * b).sum();
+                s[(r, c)] += v;
+                if c != r {
+                    s[(c, r)] += v;
+                }
+            }
+        }
+        halves.push(half);
+    }
+    let (dlambda, unreachable) = solve_schur(s, rhs);
+    let mut step = Step {
+        dx: vec![0.0; n],
+        dlambda: dlambda.iter().copied().collect(),
+        dy: vec![0.0; n],
+        e_dx: vec![0.0; m],
+        unreachable: unreachable.iter().copied().collect(),
+    };
+    for (((block, lin), cache), half) in blocks.iter().zip(lins).zip(caches.iter()).zip(halves) {
+        second_half(block, lin, &cache[0], half, &mut step);
+    }
+    Some(step)
+}
+
+/// The second half of a finger's step: `xi_F`, `dx_i`, `dy_i` and `E_i dx_i`.
+fn second_half(
+    block: &FingerBlockData,
+    lin: &FingerLinearisation,
+    factor: &ReducedFactor,
+    half: FingerHalf,
+    step: &mut Step,
+) {
+    let mut xi = half.g;
+    for (a, v) in xi.iter_mut().enumerate() {
+        *v -= factor
+            .w
+            .row(a)
+            .iter()
+            .zip(&step.dlambda)
+            .map(|(w, l)| w * l)
+            .sum::<f64>();
+    }
+    factor.backward(&mut xi);
+    let mut dx = half.z;
+    for (d, v) in lin.free.iter().zip(&xi) {
+        for c in 0..block.dim {
+            dx[block.index(d.element, c)] += d.dir[c] * v;
+        }
+    }
+    let mut dy = vec![0.0; dx.len()];
+    block.apply(&dx, &mut dy);
+    block.add_equality_transpose(&step.dlambda, &mut dy);
+    block.add_equality(&dx, &mut step.e_dx);
+    let o = block.offset;
+    step.dx[o..o + dx.len()].copy_from_slice(&dx);
+    step.dy[o..o + dy.len()].copy_from_slice(&dy);
+}

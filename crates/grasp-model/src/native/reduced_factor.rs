@@ -1,0 +1,166 @@
+//! The reduced Newton matrix of one finger and its Cholesky factor (faer), kept apart from
+//! the assembly of the residuals ([`super::linearisation`]).
+//!
+//! Over the free directions `d_a` (element `k_a`) the matrix is
+//!
+//! ```text
+//!   M[a, b] = d_a' P_i[k_a, k_b] d_b + delta_ab beta_a,      beta = (1 - theta)/(gamma theta)
+//! ```
+//!
+//! (`P_i[k, l]` the `dim x dim` block of elements `k`, `l`), symmetric positive definite since
+//! `P_i` is. With `M = L L'` the factor also keeps `W = L^-1 Et'`, `Et = E_i D_F` the equality
+//! rows in the free directions, from which the Schur complement `W'W` on the equality rows
+//! follows. A factor depends only on the free directions and their weights: it is cached and
+//! reused while they stay the same (a hand-off step whose stick, slip and separation sets do
+//! not change, or a quiescent iterate, costs no factorisation).
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
+use faer::{Mat, MatMut, Par};
+
+use super::finger_block::FingerBlockData;
+use super::linearisation::Direction;
+
+/// A factorised reduced matrix.
+#[derive(Debug, Clone)]
+pub(crate) struct ReducedFactor {
+    /// The free directions it was built for (`element`, `dir`, `theta` bits).
+    key: Vec<u64>,
+    /// Lower Cholesky factor `L` of `M`.
+    l: Mat<f64>,
+    /// `W = L^-1 Et'` (`n_free x m`).
+    pub w: Mat<f64>,
+}
+
+/// The cache key of a list of free directions.
+pub(crate) fn key_of(free: &[Direction]) -> Vec<u64> {
+    let mut key = Vec::with_capacity(5 * free.len());
+    for d in free {
+        key.push(d.element as u64);
+        key.extend(d.dir.iter().map(|v| v.to_bits()));
+        key.push(d.theta.to_bits());
+    }
+    key
+}
+
+impl ReducedFactor {
+    /// True when the factor was built for exactly these free directions.
+    pub fn matches(&self, key: &[u64]) -> bool {
+        self.key == key
+    }
+
+    /// Assembles `M` and `Et'` for the free directions and factorises `M`. A pivot that is not
+    /// positive (round-off on a nearly singular block) is retried once with a diagonal shift of
+    /// `1e-12` of the largest diagonal entry; `None` if that fails too.
+    pub fn new(block: &FingerBlockData, free: &[Direction], key: Vec<u64>) -> Option<Self> {
+        let mut l = reduced_matrix(block, free);
+        let n = l.nrows();
+        let shift = 1e-12 * (0..n).map(|a| l[(a, a)]).fold(0.0_f64, f64::max);
+        let mut work = l.clone();
+        if !cholesky(work.as_mut()) {
+            for a in 0..n {
+                l[(a, a)] += shift;
+            }
+            work = l;
+            if !cholesky(work.as_mut()) {
+                return None;
+            }
+        }
+        let mut w = reduced_equality_transpose(block, free);
+        solve_lower_triangular_in_place(work.as_ref(), w.as_mut(), Par::Seq);
+        Some(ReducedFactor { key, l: work, w })
+    }
+
+    /// `v <- L^-1 v`.
+    pub fn forward(&self, v: &mut [f64]) {
+        let n = v.len();
+        solve_lower_triangular_in_place(
+            self.l.as_ref(),
+            MatMut::from_column_major_slice_mut(v, n, 1),
+            Par::Seq,
+        );
+    }
+
+    /// `v <- L^-T v`.
+    pub fn backward(&self, v: &mut [f64]) {
+        let n = v.len();
+        solve_upper_triangular_in_place(
+            self.l.as_ref().transpose(),
+            MatMut::from_column_major_slice_mut(v, n, 1),
+            Par::Seq,
+        );
+    }
+}
+
+/// In-place lower Cholesky; false on a non-positive pivot.
+pub(crate) fn cholesky(a: MatMut<'_, f64>) -> bool {
+    let n = a.nrows();
+    let mut mem = MemBuffer::new(cholesky_in_place_scratch::<f64>(
+        n,
+        Par::Seq,
+        Default::default(),
+    ));
+    cholesky_in_place(
+        a,
+        Default::default(),
+        Par::Seq,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .is_ok()
+}
+
+/// The nonzero components `(local index, coefficient)` of a direction.
+fn components(block: &FingerBlockData, d: &Direction) -> ([(usize, f64); 3], usize) {
+    let mut out = [(0, 0.0); 3];
+    let mut n = 0;
+    for c in 0..block.dim {
+        if d.dir[c] != 0.0 {
+            out[n] = (block.index(d.element, c), d.dir[c]);
+            n += 1;
+        }
+    }
+    (out, n)
+}
+
+/// `M = D_F' P_i D_F + diag(beta)` (lower triangle filled; the factorisation reads only it).
+fn reduced_matrix(block: &FingerBlockData, free: &[Direction]) -> Mat<f64> {
+    let n = free.len();
+    let comps: Vec<_> = free.iter().map(|d| components(block, d)).collect();
+    let mut m = Mat::<f64>::zeros(n, n);
+    for b in 0..n {
+        let (cb, nb) = comps[b];
+        for a in b..n {
+            let (ca, na) = comps[a];
+            let mut s = 0.0;
+            for &(ia, va) in &ca[..na] {
+                for &(ib, vb) in &cb[..nb] {
+                    s += va * vb * block.entry(ia, ib);
+                }
+            }
+            m[(a, b)] = s;
+        }
+        let t = free[b].theta;
+        m[(b, b)] += (1.0 - t) / (block.gamma * t);
+    }
+    m
+}
+
+/// `Et' = D_F' E_i'` (`n_free x m`).
+fn reduced_equality_transpose(block: &FingerBlockData, free: &[Direction]) -> Mat<f64> {
+    let m = block.equality_rows();
+    let mut out = Mat::<f64>::zeros(free.len(), m);
+    for (a, d) in free.iter().enumerate() {
+        let (ca, na) = components(block, d);
+        for r in 0..m {
+            out[(a, r)] = ca[..na]
+                .iter()
+                .map(|&(i, v)| v * block.equality(r, i))
+                .sum();
+        }
+    }
+    out
+}

@@ -1,0 +1,261 @@
+//! The native solver against Clarabel (issue 9): the same status and the same element forces,
+//! within 1e-8 of the load scale, on every example scene and on 240 seeded random grasps (3-D
+//! and planar, held and force-controlled, coupled and uncoupled materials, flat and curved
+//! tips, frictionless fingers, energy and coulomb, some without equilibrium). The stability
+//! suite runs the same comparison on each of its cases. Clarabel is the independent
+//! reference: a general interior-point method that shares only the program's statement with
+//! the native solver, run at a tolerance of 1e-12.
+//!
+//! On ill-conditioned random grasps (moduli 1e6-1e11 Pa across fingers and object) Clarabel
+//! cannot reach 1e-8 of the load element by element even at 1e-12 (it reports "almost solved"
+//! and its element forces drift up to ~5e-7 of the load along a flat valley of the energy).
+//! There the comparison needs an arbiter that trusts neither solver: the complementary energy,
+//! computed in `support` from the model's own matrices. The program is strictly convex, so a
+//! feasible answer with the lower energy is the one closer to the unique minimiser; such cases
+//! pass only when the native answer is feasible to 1e-10 and its energy is no higher than
+//! Clarabel's, and the summary line counts them apart.
+
+mod support;
+
+use grasp_model::SolveStatus;
+use serde_json::{json, Value};
+use support::*;
+
+/// Deterministic pseudo-random numbers in [0, 1) (64-bit LCG, top 53 bits).
+struct Lcg(u64);
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+    fn log(&mut self, lo: f64, hi: f64) -> f64 {
+        (lo.ln() + (hi.ln() - lo.ln()) * self.next()).exp()
+    }
+    fn int(&mut self, lo: usize, hi: usize) -> usize {
+        lo + ((hi - lo + 1) as f64 * self.next()) as usize
+    }
+    fn chance(&mut self, p: f64) -> bool {
+        self.next() < p
+    }
+}
+
+fn material(r: &mut Lcg, lo: f64, hi: f64) -> Value {
+    json!({"youngs_modulus": r.log(lo, hi), "poisson_ratio": r.range(0.0, 0.49)})
+}
+
+/// A face of the box: (outward axis, sign).
+const FACES: [(usize, f64); 6] = [
+    (0, 1.0),
+    (0, -1.0),
+    (1, 1.0),
+    (1, -1.0),
+    (2, 1.0),
+    (2, -1.0),
+];
+
+/// One finger on `face` of a box of side `s` centred at the origin.
+fn finger(r: &mut Lcg, name: &str, face: (usize, f64), s: f64, planar: bool, mat: &Value) -> Value {
+    let (axis, sign) = face;
+    let mut p = [0.0; 3];
+    for (c, v) in p.iter_mut().enumerate() {
+        *v = if c == axis {
+            0.5 * s * sign
+        } else if planar && c == 1 {
+            0.0
+        } else {
+            r.range(-0.35, 0.35) * s
+        };
+    }
+    let mut n = [0.0; 3];
+    n[axis] = -sign;
+    let (lx, ly) = if planar {
+        (r.range(0.05, 0.2) * s, r.range(0.01, 0.05) * s)
+    } else {
+        (r.range(0.05, 0.2) * s, r.range(0.05, 0.2) * s)
+    };
+    let grid = if planar {
+        [r.int(3, 9), r.int(1, 3)]
+    } else {
+        [r.int(1, 6), r.int(1, 6)]
+    };
+    let half = 0.5 * lx.max(ly);
+    let tip = if r.chance(0.35) {
+        json!(half * r.range(2.0, 20.0))
+    } else {
+        Value::Null
+    };
+    let mu = if r.chance(0.1) {
+        0.0
+    } else {
+        r.range(0.2, 1.5)
+    };
+    json!({"name": name, "contact_point": p, "normal": n, "material": mat,
+           "tip_radius": tip, "patch": {"size": [lx, ly], "grid": grid},
+           "friction": {"mu": mu}, "control": "held"})
+}
+
+/// A random grasp of a box (see the module docs); `planar` in the x-z plane.
+fn random_grasp(r: &mut Lcg, planar: bool, coulomb: bool) -> Value {
+    let s = r.range(0.04, 0.2);
+    let weight = r.log(0.1, 100.0);
+    let object = if r.chance(0.1) {
+        json!("rigid")
+    } else {
+        material(r, 1e7, 2e11)
+    };
+    let shared = material(r, 1e6, 1e11);
+    let faces: Vec<(usize, f64)> = FACES
+        .iter()
+        .copied()
+        .filter(|&(a, _)| !(planar && a == 1))
+        .collect();
+    // An opposing pair along x, then one or two more faces (planar: often the bottom, which
+    // carries the weight).
+    let mut chosen = vec![faces[0], faces[1]];
+    for _ in 0..r.int(0, 2) {
+        chosen.push(faces[r.int(0, faces.len() - 1)]);
+    }
+    let uncoupled = r.chance(0.25) && !object.is_string();
+    let fingers: Vec<Value> = chosen
+        .iter()
+        .enumerate()
+        .map(|(i, &face)| {
+            let mat = if uncoupled {
+                object.clone()
+            } else if r.chance(0.5) {
+                shared.clone()
+            } else {
+                material(r, 1e6, 1e11)
+            };
+            let mut f = finger(r, &format!("f{i}"), face, s, planar, &mat);
+            if i < 2 && (coulomb || r.chance(0.4)) {
+                // Coulomb grips need squeeze: about W / (2 mu) and more.
+                let (lo, hi) = if coulomb { (1.0, 10.0) } else { (0.3, 4.0) };
+                f["control"] = json!({"normal_load": weight * r.range(lo, hi)});
+            }
+            f
+        })
+        .collect();
+    // Gravity mostly across the squeeze axis x, where friction and squeeze can hold it.
+    let g = if planar {
+        let a = r.range(-0.5, 0.5) + std::f64::consts::PI;
+        [a.sin(), 0.0, a.cos()]
+    } else {
+        let (a, b) = (r.range(0.0, std::f64::consts::TAU), r.range(-0.4, 0.4));
+        let c = (1.0 - b * b).sqrt();
+        [b, c * a.cos(), c * a.sin()]
+    };
+    let com = [r.range(-0.1, 0.1) * s, 0.0, r.range(-0.1, 0.1) * s];
+    let mut scene = json!({
+        "object": {"weight": weight, "center_of_mass": com, "gravity": g, "material": object},
+        "fingers": fingers,
+        "model": if coulomb { "coulomb" } else { "energy" }
+    });
+    if planar {
+        scene["planar"] = json!({"normal": [0, 1, 0]});
+    }
+    scene
+}
+
+#[test]
+fn native_and_clarabel_agree_on_every_example() {
+    let mut n = 0;
+    for name in [
+        "plate_four_fingers",
+        "disc_three_fingers",
+        "pipe_three_fingers",
+        "cube_a",
+        "cube_b",
+        "hertz_sphere_on_flat",
+        "plate_transfer",
+        "disc_transfer",
+        "plate_handoff_coulomb",
+    ] {
+        let v = example_json(&format!("{name}.json"));
+        match native_agrees_with_clarabel(&v) {
+            Ok((_, Agreement::Within, d)) => {
+                println!("solver equivalence: {name}: forces agree to {d:.1e} of the load")
+            }
+            Ok((_, a, d)) => {
+                println!("solver equivalence: {name}: {a:?} (forces differ by {d:.1e} of the load)")
+            }
+            Err(e) => panic!("{name}: {e}"),
+        }
+        n += 1;
+    }
+    println!("solver equivalence: {n} examples");
+}
+
+#[test]
+fn native_and_clarabel_agree_on_240_random_grasps() {
+    let mut r = Lcg(0x9e37_79b9_7f4a_7c15);
+    let (mut solved, mut infeasible, mut other, mut invalid) = (0, 0, 0, 0);
+    let (mut within, mut minimiser, mut confirmed, mut unchecked) = (0, 0, 0, 0);
+    let (mut worst_within, mut worst_other) = (0.0_f64, 0.0_f64);
+    let mut failures = Vec::new();
+    // Outcomes by kind: [planar][coulomb] -> (solved, without equilibrium).
+    let mut kinds = [[(0, 0); 2]; 2];
+    for case in 0..240 {
+        let planar = case % 2 == 1;
+        let coulomb = case % 4 >= 2;
+        let v = random_grasp(&mut r, planar, coulomb);
+        if grasp_model::Scene::from_json_str(&v.to_string()).is_err() {
+            invalid += 1;
+            continue;
+        }
+        match native_agrees_with_clarabel(&v) {
+            Ok((s, agreement, d)) => {
+                let kind = &mut kinds[planar as usize][coulomb as usize];
+                if s.status.has_forces() {
+                    solved += 1;
+                    kind.0 += 1;
+                } else if s.status == SolveStatus::NoEquilibrium {
+                    infeasible += 1;
+                    kind.1 += 1;
+                } else {
+                    other += 1;
+                }
+                match agreement {
+                    Agreement::Within => {
+                        within += 1;
+                        worst_within = worst_within.max(d);
+                    }
+                    Agreement::NativeIsTheMinimiser => minimiser += 1,
+                    Agreement::FixedPointConfirmed => confirmed += 1,
+                    Agreement::ReferenceFailedResidualsHold => unchecked += 1,
+                }
+                if agreement != Agreement::Within && d.is_finite() {
+                    worst_other = worst_other.max(d);
+                }
+            }
+            Err(e) => failures.push(format!("case {case}: {e}\n  scene: {v}")),
+        }
+    }
+    println!(
+        "solver equivalence: 240 random grasps, {solved} solved, {infeasible} without \
+         equilibrium, {other} other outcomes, {invalid} rejected as invalid; {within} agree within \
+         1e-8 of the load (largest {worst_within:.1e}); differing by up to {worst_other:.1e}: \
+         {minimiser} where the native answer is the lower-energy feasible one, {confirmed} \
+         coulomb fixed points confirmed by Clarabel at their radii; {unchecked} coulomb cases \
+         Clarabel cannot solve whose native answers pass the residual checks; {} disagreements",
+        failures.len()
+    );
+    println!(
+        "solver equivalence: (solved, no equilibrium) 3-D energy {:?}, 3-D coulomb {:?}, planar \
+         energy {:?}, planar coulomb {:?}",
+        kinds[0][0], kinds[0][1], kinds[1][0], kinds[1][1]
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(invalid <= 24, "{invalid} random scenes were invalid");
+    assert!(solved >= 100 && infeasible >= 10, "too few of a kind");
+    assert!(
+        unchecked <= 3,
+        "{unchecked} cases checked by residuals only"
+    );
+}
