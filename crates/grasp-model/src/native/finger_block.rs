@@ -8,7 +8,7 @@
 //! [`FingerBlockData::apply_columns`], so a matrix-free operator (FFT products on the uniform
 //! grid) can replace the stored matrix here without touching the solver's strategy.
 
-use faer::{Accum, Mat, Par};
+use faer::Mat;
 
 use crate::cone_program::{BlockCone, FingerBlock};
 
@@ -23,8 +23,8 @@ pub(crate) struct FingerBlockData {
     pub elements: usize,
     /// Unknowns per element, `1 + n_tangential`.
     pub dim: usize,
-    /// `P_i = C_i / Cu`.
-    p: Mat<f64>,
+    /// `P_i = C_i / Cu`, column-major `n_i x n_i`.
+    p: Vec<f64>,
     /// `E_i`, the finger's columns of the equality matrix.
     e: Mat<f64>,
     /// Step of the natural residual `x - Proj(x - gamma y)`: `1 / ||P_i||_inf` (the largest
@@ -47,10 +47,13 @@ impl FingerBlockData {
         cold_contact: Vec<bool>,
     ) -> Self {
         let n = block.len();
-        let p = Mat::from_fn(n, n, |r, c| compliance[(r, c)] * scale);
+        // nalgebra stores column-major too: the same layout.
+        let p: Vec<f64> = compliance.as_slice().iter().map(|v| v * scale).collect();
         let e = Mat::from_fn(equality.nrows(), n, |r, c| equality[(r, block.offset + c)]);
-        let row_sum = (0..n)
-            .map(|r| p.row(r).iter().map(|v| v.abs()).sum::<f64>())
+        // P is symmetric: column sums are row sums.
+        let row_sum = p
+            .chunks_exact(n.max(1))
+            .map(|col| col.iter().map(|v| v.abs()).sum::<f64>())
             .fold(0.0_f64, f64::max);
         FingerBlockData {
             offset: block.offset,
@@ -78,14 +81,16 @@ impl FingerBlockData {
         self.e.nrows()
     }
 
-    /// `P_i[r, c]`.
-    pub fn entry(&self, r: usize, c: usize) -> f64 {
-        self.p[(r, c)]
-    }
-
     /// A copy of `P_i`.
     pub fn matrix(&self) -> Mat<f64> {
-        self.p.clone()
+        let n = self.len();
+        faer::MatRef::from_column_major_slice(&self.p, n, n).to_owned()
+    }
+
+    /// Column `c` of `P_i`.
+    pub fn column(&self, c: usize) -> &[f64] {
+        let n = self.len();
+        &self.p[c * n..(c + 1) * n]
     }
 
     /// `E_i` (`m x n_i`).
@@ -98,12 +103,11 @@ impl FingerBlockData {
         self.e[(r, c)]
     }
 
-    /// `out = P_i v` (local vectors).
+    /// `out = P_i v` (local vectors): a sum of columns, which vectorises at every size.
     pub fn apply(&self, v: &[f64], out: &mut [f64]) {
-        let n = self.len();
-        let vm = faer::MatRef::from_column_major_slice(v, n, 1);
-        let om = faer::MatMut::from_column_major_slice_mut(out, n, 1);
-        faer::linalg::matmul::matmul(om, Accum::Replace, self.p.as_ref(), vm, 1.0, Par::Seq);
+        out.fill(0.0);
+        let support: Vec<usize> = (0..v.len()).collect();
+        self.apply_columns(v, &support, out);
     }
 
     /// `out += P_i v` for a `v` that is zero outside the local indices `support`.
@@ -111,8 +115,7 @@ impl FingerBlockData {
         for &c in support {
             let vc = v[c];
             if vc != 0.0 {
-                let col = self.p.col(c);
-                for (o, r) in out.iter_mut().zip(col.iter()) {
+                for (o, r) in out.iter_mut().zip(self.column(c)) {
                     *o += r * vc;
                 }
             }

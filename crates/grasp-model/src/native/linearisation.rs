@@ -47,6 +47,50 @@ pub(crate) struct FingerLinearisation {
     pub residual_sq: f64,
     /// Largest absolute component of the natural residual.
     pub residual_max: f64,
+    /// The natural residual `Phi_k` of every element (first `dim` components used).
+    pub residuals: Vec<[f64; 3]>,
+}
+
+impl FingerLinearisation {
+    /// The same residual with the Newton directions of `old` (the directions of a cached
+    /// factor): a chord step's linearisation. `None` unless both have the same elements in
+    /// the same roles (free, fixed, partly free) and every direction moved by at most
+    /// `tolerance`.
+    pub fn with_directions_of(
+        &self,
+        old_free: &[Direction],
+        old_fixed: &[Direction],
+        tolerance: f64,
+    ) -> Option<Self> {
+        let close = |a: &[Direction], b: &[Direction]| {
+            a.len() == b.len()
+                && a.iter().zip(b).all(|(x, y)| {
+                    x.element == y.element
+                        && (x.theta == 1.0) == (y.theta == 1.0)
+                        && (0..3).all(|c| (x.dir[c] - y.dir[c]).abs() <= tolerance)
+                })
+        };
+        if !close(&self.free, old_free) || !close(&self.fixed, old_fixed) {
+            return None;
+        }
+        let rotate = |dirs: &[Direction]| -> Vec<Direction> {
+            dirs.iter()
+                .map(|d| {
+                    let r = self.residuals[d.element];
+                    Direction {
+                        phi: (0..3).map(|c| d.dir[c] * r[c]).sum(),
+                        ..*d
+                    }
+                })
+                .collect()
+        };
+        Some(FingerLinearisation {
+            free: rotate(old_free),
+            fixed: rotate(old_fixed),
+            residuals: self.residuals.clone(),
+            ..*self
+        })
+    }
 }
 
 /// The projection input `v_k = x_k - gamma y_k` of element `k` (local vectors).
@@ -78,7 +122,9 @@ pub(crate) fn linearise(
         let xk = block.gather(x, k);
         let v = projection_input(block, x, y, k);
         let p = block.element_cone(cone, k).project(v, d);
-        let phi = [xk[0] - p.point[0], xk[1] - p.point[1], xk[2] - p.point[2]];
+        let mut phi = [xk[0] - p.point[0], xk[1] - p.point[1], xk[2] - p.point[2]];
+        phi[d..].fill(0.0);
+        lin.residuals.push(phi);
         for &f in phi.iter().take(d) {
             lin.residual_sq += f * f;
             lin.residual_max = lin.residual_max.max(f.abs());

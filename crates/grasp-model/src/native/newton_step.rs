@@ -38,8 +38,36 @@ pub(crate) struct Step {
 /// Per-finger cache of reduced factors (most recent first).
 pub(crate) type FactorCache = Vec<ReducedFactor>;
 
+/// Sum over fingers of `n_free^3` above which the fingers are factorised in parallel.
+const PARALLEL_WORK: usize = 20_000_000;
+
 /// How many factors each finger keeps.
 const CACHE_SLOTS: usize = 2;
+
+/// Largest change of a Newton direction (per component) for which a cached factor is reused
+/// with its own directions: a chord step, whose Jacobian error of this size only slows the
+/// quadratic convergence to a linear one of about this rate.
+pub(crate) const CHORD_TOLERANCE: f64 = 1e-3;
+
+/// The linearisations with, per finger, the directions of its most recent cached factor where
+/// they are within [`CHORD_TOLERANCE`] of the new ones (same pattern): such fingers need no
+/// new factorisation this step.
+pub(crate) fn chord_linearisations(
+    lins: &[FingerLinearisation],
+    caches: &[FactorCache],
+) -> Vec<FingerLinearisation> {
+    lins.iter()
+        .zip(caches)
+        .map(|(lin, cache)| {
+            cache
+                .first()
+                .and_then(|f| {
+                    lin.with_directions_of(&f.directions.0, &f.directions.1, CHORD_TOLERANCE)
+                })
+                .unwrap_or_else(|| lin.clone())
+        })
+        .collect()
+}
 
 /// The factor of `free` from the cache, or a new one (counted in `factorisations`).
 pub(crate) fn factor_for<'c>(
@@ -53,7 +81,7 @@ pub(crate) fn factor_for<'c>(
         let f = cache.remove(pos);
         cache.insert(0, f);
     } else {
-        let f = ReducedFactor::new(block, &lin.free, key)?;
+        let f = ReducedFactor::new(block, &lin.free, &lin.fixed, key)?;
         *factorisations += 1;
         cache.insert(0, f);
         cache.truncate(CACHE_SLOTS);
@@ -143,9 +171,36 @@ pub(crate) fn newton_step(
     let m = e_res.len();
     let mut s = DMatrix::<f64>::zeros(m, m);
     let mut rhs = DVector::from_column_slice(e_res);
+    // Fingers are independent until the Schur complement: factorise them in parallel when the
+    // work pays for the threads (each finger's arithmetic stays sequential: deterministic).
+    let work: usize = lins.iter().map(|l| l.free.len().pow(3)).sum();
+    let per_finger =
+        |(block, lin, cache): (&FingerBlockData, &FingerLinearisation, &mut FactorCache)| {
+            let mut count = 0;
+            let ok = factor_for(block, lin, cache, &mut count).is_some();
+            (ok, count)
+        };
+    let triples = blocks
+        .iter()
+        .zip(lins)
+        .zip(caches.iter_mut())
+        .map(|((b, l), c)| (b, l, c));
+    let results: Vec<(bool, u32)> = if work >= PARALLEL_WORK && blocks.len() > 1 {
+        use rayon::prelude::*;
+        let v: Vec<_> = triples.collect();
+        v.into_par_iter().map(per_finger).collect()
+    } else {
+        triples.map(per_finger).collect()
+    };
+    for (ok, count) in results {
+        *factorisations += count;
+        if !ok {
+            return None;
+        }
+    }
     let mut halves = Vec::with_capacity(blocks.len());
-    for ((block, lin), cache) in blocks.iter().zip(lins).zip(caches.iter_mut()) {
-        let factor = factor_for(block, lin, cache, factorisations)?;
+    for ((block, lin), cache) in blocks.iter().zip(lins).zip(caches.iter()) {
+        let factor = &cache[0];
         let half = first_half(block, lin, factor);
         let w = &factor.w;
         for r in 0..m {

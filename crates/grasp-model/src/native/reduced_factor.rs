@@ -33,6 +33,8 @@ pub(crate) struct ReducedFactor {
     l: Mat<f64>,
     /// `W = L^-1 Et'` (`n_free x m`).
     pub w: Mat<f64>,
+    /// The linearisation's directions it was built for (free, fixed), for chord steps.
+    pub directions: (Vec<Direction>, Vec<Direction>),
 }
 
 /// The cache key of a list of free directions.
@@ -55,7 +57,12 @@ impl ReducedFactor {
     /// Assembles `M` and `Et'` for the free directions and factorises `M`. A pivot that is not
     /// positive (round-off on a nearly singular block) is retried once with a diagonal shift of
     /// `1e-12` of the largest diagonal entry; `None` if that fails too.
-    pub fn new(block: &FingerBlockData, free: &[Direction], key: Vec<u64>) -> Option<Self> {
+    pub fn new(
+        block: &FingerBlockData,
+        free: &[Direction],
+        fixed: &[Direction],
+        key: Vec<u64>,
+    ) -> Option<Self> {
         let mut l = reduced_matrix(block, free);
         let n = l.nrows();
         let shift = 1e-12 * (0..n).map(|a| l[(a, a)]).fold(0.0_f64, f64::max);
@@ -71,7 +78,12 @@ impl ReducedFactor {
         }
         let mut w = reduced_equality_transpose(block, free);
         solve_lower_triangular_in_place(work.as_ref(), w.as_mut(), Par::Seq);
-        Some(ReducedFactor { key, l: work, w })
+        Some(ReducedFactor {
+            key,
+            l: work,
+            w,
+            directions: (free.to_vec(), fixed.to_vec()),
+        })
     }
 
     /// `v <- L^-1 v`.
@@ -127,24 +139,37 @@ fn components(block: &FingerBlockData, d: &Direction) -> ([(usize, f64); 3], usi
 }
 
 /// `M = D_F' P_i D_F + diag(beta)` (lower triangle filled; the factorisation reads only it).
+/// Column `b` of `M` is `D_F'` applied to `P_i d_b`, a combination of at most three columns
+/// of `P_i` read as slices.
 fn reduced_matrix(block: &FingerBlockData, free: &[Direction]) -> Mat<f64> {
     let n = free.len();
     let comps: Vec<_> = free.iter().map(|d| components(block, d)).collect();
     let mut m = Mat::<f64>::zeros(n, n);
+    let mut pd = vec![0.0; block.len()];
     for b in 0..n {
         let (cb, nb) = comps[b];
-        for a in b..n {
-            let (ca, na) = comps[a];
-            let mut s = 0.0;
-            for &(ia, va) in &ca[..na] {
-                for &(ib, vb) in &cb[..nb] {
-                    s += va * vb * block.entry(ia, ib);
+        let col: &[f64] = if nb == 1 && cb[0].1 == 1.0 {
+            block.column(cb[0].0)
+        } else {
+            pd.fill(0.0);
+            for &(ib, vb) in &cb[..nb] {
+                for (o, p) in pd.iter_mut().zip(block.column(ib)) {
+                    *o += vb * p;
                 }
             }
-            m[(a, b)] = s;
+            &pd
+        };
+        let out = m
+            .col_mut(b)
+            .try_as_col_major_mut()
+            .map(|c| c.as_slice_mut());
+        let Some(out) = out else { continue };
+        for a in b..n {
+            let (ca, na) = comps[a];
+            out[a] = ca[..na].iter().map(|&(ia, va)| va * col[ia]).sum();
         }
         let t = free[b].theta;
-        m[(b, b)] += (1.0 - t) / (block.gamma * t);
+        out[b] += (1.0 - t) / (block.gamma * t);
     }
     m
 }

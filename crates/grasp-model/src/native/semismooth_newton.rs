@@ -13,7 +13,7 @@ use crate::cone_program::ConeProgram;
 
 use super::finger_block::FingerBlockData;
 use super::linearisation::{cold_pattern, linearise, residual_norms, FingerLinearisation};
-use super::newton_step::{newton_step, FactorCache, Step};
+use super::newton_step::{chord_linearisations, newton_step, FactorCache, Step};
 use super::{Iterate, NativeResult, NativeStatus};
 
 /// Armijo constant of the line search.
@@ -22,6 +22,8 @@ const ARMIJO: f64 = 1e-4;
 const WINDOW: usize = 5;
 /// Smallest step length tried.
 const MIN_STEP: f64 = 1e-10;
+/// Natural residual (relative to `max(1, max |x|)`) below which chord steps are taken.
+const CHORD_RESIDUAL: f64 = 1e-3;
 /// The joint iteration aims at this fraction of the tolerance.
 const TARGET: f64 = 1e-2;
 /// Joint Newton steps before the robust dual method takes over.
@@ -236,7 +238,15 @@ fn joint(
         history.push(psi);
         let reference = history.iter().cloned().fold(0.0_f64, f64::max);
         iterations += 1;
-        let Some(step) = newton_step(blocks, &lins, caches, &e_res, n, &mut factorisations) else {
+        // Near the solution the directions barely turn: reuse the cached factors (chord step).
+        let near = res_max <= CHORD_RESIDUAL * max_abs(&s.x).max(1.0);
+        let step_lins = if near {
+            chord_linearisations(&lins, caches)
+        } else {
+            lins.clone()
+        };
+        let Some(step) = newton_step(blocks, &step_lins, caches, &e_res, n, &mut factorisations)
+        else {
             return stalled(
                 s,
                 iterations,
