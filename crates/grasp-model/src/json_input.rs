@@ -85,6 +85,21 @@ pub fn kind(v: &Value) -> &'static str {
     }
 }
 
+/// A value as a message names it: its type, the string, or an object's keys.
+pub fn describe(v: &Value) -> String {
+    match v {
+        Value::String(s) => format!("the string \"{s}\""),
+        Value::Object(m) if !m.is_empty() => format!(
+            "an object with the key(s) {}",
+            m.keys()
+                .map(|k| format!("`{k}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        v => kind(v).to_string(),
+    }
+}
+
 /// A JSON value that refuses an object with the same key twice.
 pub struct StrictValue(pub Value);
 

@@ -16,7 +16,7 @@ use serde::de::Deserializer;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
-use crate::validation::json_input::{kind, variant, StrictValue};
+use crate::validation::json_input::{describe, variant, StrictValue};
 
 /// A 3-vector as written in the file (`[x, y, z]`).
 pub type Vec3 = [f64; 3];
@@ -308,18 +308,7 @@ const EXPECT_RADIUS: &str = "expected a radius in metres, or [R1, R2] with each 
 
 /// The error for a value of the wrong shape: what was expected and what was found.
 fn shape_error<E: serde::de::Error>(expected: &str, found: &Value) -> E {
-    let what = match found {
-        Value::String(s) => format!("the string \"{s}\""),
-        Value::Object(m) if !m.is_empty() => format!(
-            "an object with the key(s) {}",
-            m.keys()
-                .map(|k| format!("`{k}`"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-        v => kind(v).to_string(),
-    };
-    E::custom(format!("{expected}; found {what}"))
+    E::custom(format!("{expected}; found {}", describe(found)))
 }
 
 impl<'de> Deserialize<'de> for MaterialSpec {

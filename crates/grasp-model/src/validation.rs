@@ -53,6 +53,9 @@ pub const MAX_FRICTION_COEFFICIENT: f64 = 1e3;
 /// machine's memory).
 pub const MAX_COMPLIANCE_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
 
+/// Most problems listed in one error (the rest are counted).
+pub const MAX_LISTED_PROBLEMS: usize = 50;
+
 /// Relative tolerance of the planarity checks (normalised directions, distances over the
 /// scene's length scale).
 pub const PLANAR_TOLERANCE: f64 = 1e-6;
@@ -619,12 +622,21 @@ impl Problems {
         }
     }
 
-    fn finish(self) -> Result<(), SceneError> {
+    /// Every problem, the first [`MAX_LISTED_PROBLEMS`] listed and the rest counted.
+    fn finish(mut self) -> Result<(), SceneError> {
         if self.0.is_empty() {
-            Ok(())
-        } else {
-            Err(SceneError::Invalid(self.0))
+            return Ok(());
         }
+        if self.0.len() > MAX_LISTED_PROBLEMS {
+            let more = self.0.len() - MAX_LISTED_PROBLEMS;
+            self.0.truncate(MAX_LISTED_PROBLEMS);
+            self.push(
+                "(more)",
+                format!("{more} more problem(s) not listed"),
+                "correct the ones above and run again",
+            );
+        }
+        Err(SceneError::Invalid(self.0))
     }
 }
 
