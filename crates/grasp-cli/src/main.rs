@@ -1,13 +1,14 @@
 //! `grasp`: the command-line front end. Flags become a validated configuration before any work
 //! starts; the physics lives in `grasp-model`, the hand-off in `grasp-transfer`.
 
+mod limits;
 mod output;
 mod plot;
 mod report;
 mod study;
 mod transfer;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -45,6 +46,8 @@ enum Command {
         /// Grow curved patches whose boundary carries load until it does not (thesis 2.2.1).
         #[arg(long)]
         auto_patch: bool,
+        #[command(flatten)]
+        memory: MemoryArg,
     },
     /// Grid-refinement study: error, unknowns, wall time and peak memory per grid.
     Study {
@@ -66,6 +69,8 @@ enum Command {
         /// Overwrite output files that already exist.
         #[arg(long)]
         force: bool,
+        #[command(flatten)]
+        memory: MemoryArg,
     },
     /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
     Transfer {
@@ -100,6 +105,8 @@ enum Command {
         /// Overwrite output files that already exist.
         #[arg(long)]
         force: bool,
+        #[command(flatten)]
+        memory: MemoryArg,
     },
     /// Print the JSON Schema of the scene format (or of the schedule format).
     Schema {
@@ -109,8 +116,21 @@ enum Command {
     },
 }
 
+/// The memory limit of a command.
+#[derive(clap::Args, Debug)]
+struct MemoryArg {
+    /// Refuse scenes whose estimated memory exceeds this many bytes (suffixes K, M, G, T:
+    /// 512M, 4G); default: half of the machine's memory (MemTotal in /proc/meminfo).
+    #[arg(long, value_name = "BYTES", value_parser = limits::parse_bytes)]
+    max_memory: Option<u64>,
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = output::install_signal_cleanup() {
+        eprintln!("error: {e:#}");
+        return ExitCode::from(1);
+    }
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
@@ -142,6 +162,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             cold,
             min_squeeze,
             force,
+            memory,
         } => {
             let outputs = transfer::Outputs {
                 mcap,
@@ -154,6 +175,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 keep_going,
                 cold,
                 min_squeeze,
+                max_memory: memory.max_memory,
             };
             transfer::run(&scene, &schedule, &outputs, flags)
         }
@@ -164,13 +186,17 @@ fn run(cli: Cli) -> Result<ExitCode> {
             csv,
             plot,
             force,
+            memory,
         } => study::run(
             &scene,
             &grids,
             &reference,
-            csv.as_deref(),
-            plot.as_deref(),
-            force,
+            study::Outputs {
+                csv: csv.as_deref(),
+                plot: plot.as_deref(),
+                force,
+            },
+            memory.max_memory,
         ),
         Command::Solve {
             scene,
@@ -179,14 +205,16 @@ fn run(cli: Cli) -> Result<ExitCode> {
             tolerance,
             error_estimate,
             auto_patch,
+            memory,
         } => {
             if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1e-2) {
                 anyhow::bail!("--tolerance is {tolerance}; give a value in (0, 1e-2), e.g. 1e-10");
             }
-            if let Some(out) = &json {
-                output::check_writable(out, force)?;
-            }
+            let outputs: Vec<&Path> = json.iter().map(PathBuf::as_path).collect();
+            output::check_targets(&outputs, &[&scene], force)?;
             let scene_obj = load_scene(&scene)?;
+            let (limit, what) = limits::memory_limit(memory.max_memory);
+            limits::check_memory(&scene_obj, &scene, (limit, &what))?;
             let options = SolveOptions {
                 tolerance,
                 ..SolveOptions::default()
@@ -217,6 +245,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 );
             }
             if let Some(out) = &json {
+                // Every outcome is written, "no equilibrium" (exit 2) included: it is the result.
                 let text = serde_json::to_string_pretty(&solution)?;
                 output::write_new(out, text.as_bytes(), force)?;
                 println!("wrote {}", out.display());
@@ -231,8 +260,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
 }
 
 /// Reads and validates a scene file; the error names the file and lists every problem.
-pub(crate) fn load_scene(path: &PathBuf) -> Result<Scene> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read scene file {}", path.display()))?;
+pub(crate) fn load_scene(path: &Path) -> Result<Scene> {
+    let text = limits::read_input(path, "scene file")?;
     Scene::from_json_str(&text).with_context(|| format!("{} is not a usable scene", path.display()))
 }
