@@ -204,13 +204,13 @@ fn numbers_outside_the_physical_range() {
             "/object/weight",
             json!(1e200),
             "object.weight",
-            "outside [0e0, 1e7] N",
+            "neither 0 nor in [1e-15, 1e7] N",
         ),
         (
             "/fingers/0/control",
             json!({"normal_load": 1e308}),
             "fingers[0].control.normal_load",
-            "outside",
+            "neither 0 nor",
         ),
         (
             "/fingers/1/contact_point",
@@ -222,13 +222,25 @@ fn numbers_outside_the_physical_range() {
             "/object/external_forces",
             json!([{"force": [0, 0, -1e200], "at": [0, 0, 0]}]),
             "object.external_forces[0].force[2]",
-            "outside",
+            "neither 0 nor",
         ),
         (
             "/fingers/2/friction",
             json!({"mu": 1e9}),
             "fingers[2].friction.mu",
-            "outside",
+            "neither 0 nor",
+        ),
+        (
+            "/fingers/2/friction",
+            json!({"mu": 1e-320}),
+            "fingers[2].friction.mu",
+            "neither 0 nor",
+        ),
+        (
+            "/object/weight",
+            json!(1e-320),
+            "object.weight",
+            "neither 0 nor",
         ),
         (
             "/fingers/0/tip_radius",

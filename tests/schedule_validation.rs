@@ -149,7 +149,11 @@ fn step_counts_are_bounded_without_overflow() {
 fn loads_and_times_outside_the_physical_range() {
     let mut v = base();
     v["fingers"]["f1"][0]["ramp"]["keyframes"][0] = json!([0, 1e308]);
-    assert_problem(&v, "fingers.f1[0].ramp.keyframes[0]", "outside [0, 1e7] N");
+    assert_problem(
+        &v,
+        "fingers.f1[0].ramp.keyframes[0]",
+        "neither 0 nor in [1e-15, 1e7] N",
+    );
     let mut v = base();
     v["fingers"]["f2"] = json!([{"held": {"until": 1e300}}]);
     assert_problem(&v, "fingers.f2[0].held.until", "outside");
@@ -161,7 +165,8 @@ fn loads_and_times_outside_the_physical_range() {
     let p = problems(&v, &dir);
     assert!(
         p.iter().any(
-            |m| m.starts_with("fingers.f2[0].csv.path (row 3 of big.csv)") && m.contains("outside")
+            |m| m.starts_with("fingers.f2[0].csv.path (row 3 of big.csv)")
+                && m.contains("neither 0 nor")
         ),
         "{p:#?}"
     );

@@ -54,7 +54,7 @@ pub struct PlanarSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectSpec {
-    /// Weight `W` in newtons, in `[0, 1e7]`.
+    /// Weight `W` in newtons: 0 or in `[1e-15, 1e7]`.
     pub weight: f64,
     /// Centre of mass `r` in metres (world frame), each coordinate in `[-1e3, 1e3]`.
     pub center_of_mass: Vec3,
@@ -77,7 +77,7 @@ fn default_gravity() -> Vec3 {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ExternalForceSpec {
-    /// Force in newtons (world frame), each component in `[-1e7, 1e7]`.
+    /// Force in newtons (world frame), each component 0 or of magnitude in `[1e-15, 1e7]`.
     pub force: Vec3,
     /// Point of application in metres (world frame), each coordinate in `[-1e3, 1e3]`.
     pub at: Vec3,
@@ -203,8 +203,8 @@ impl FrictionSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CoefficientSpec {
-    /// Coulomb coefficient `mu` in `[0, 1e3]` (0 is a frictionless finger with no tangential
-    /// unknowns).
+    /// Coulomb coefficient `mu`: 0 (a frictionless finger with no tangential unknowns) or in
+    /// `[1e-6, 1e3]`.
     pub mu: f64,
 }
 
@@ -213,7 +213,7 @@ pub struct CoefficientSpec {
 #[serde(deny_unknown_fields)]
 pub struct TableSpec {
     /// Points `[P, mu]`: the finger's total normal load `P` in newtons (in `[0, 1e7]`,
-    /// strictly increasing) and the coefficient there (in `[0, 1e3]`). Linear in between,
+    /// strictly increasing) and the coefficient there (0 or in `[1e-6, 1e3]`). Linear in between,
     /// constant outside.
     pub table: Vec<[f64; 2]>,
 }
@@ -278,7 +278,7 @@ pub enum HeldTag {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NormalLoadSpec {
-    /// Total normal force `P_i` in newtons, in `[0, 1e7]`.
+    /// Total normal force `P_i` in newtons: 0 or in `[1e-15, 1e7]`.
     pub normal_load: f64,
 }
 

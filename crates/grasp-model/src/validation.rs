@@ -37,6 +37,18 @@ pub const PATCH_SIDE_RANGE_M: (f64, f64) = (1e-9, 10.0);
 /// of an external force, friction-table loads): about the weight of a 1000 t object.
 pub const MAX_FORCE_N: f64 = 1e7;
 
+/// Smallest nonzero force, N: below it a load is no physical grasp (and its scale would
+/// underflow the program's). Forces are 0 or in `[MIN_NONZERO_FORCE_N, MAX_FORCE_N]`.
+pub const MIN_NONZERO_FORCE_N: f64 = 1e-15;
+
+/// Smallest nonzero friction coefficient (0 is a frictionless finger).
+pub const MIN_NONZERO_FRICTION_COEFFICIENT: f64 = 1e-6;
+
+/// True for a force magnitude a grasp can have: 0, or in `[MIN_NONZERO_FORCE_N, MAX_FORCE_N]`.
+pub fn force_in_range(x: f64) -> bool {
+    x == 0.0 || (MIN_NONZERO_FORCE_N..=MAX_FORCE_N).contains(&x)
+}
+
 /// Largest absolute coordinate of a point (centre of mass, contact points, points of external
 /// forces), m.
 pub const MAX_COORDINATE_M: f64 = 1e3;
@@ -421,16 +433,25 @@ impl Problems {
         false
     }
 
-    /// A force magnitude in `[0, MAX_FORCE_N]`.
+    /// A force magnitude: 0 or in `[MIN_NONZERO_FORCE_N, MAX_FORCE_N]`.
     fn force(&mut self, path: &str, x: f64, fix: &str) -> bool {
-        let fix = format!("{fix}, finite, >= 0 and <= {MAX_FORCE_N:e} N");
-        self.range(path, x, (0.0, MAX_FORCE_N), "N", &fix)
+        if force_in_range(x) {
+            return true;
+        }
+        self.push(
+            path,
+            format!(
+                "is {} N, neither 0 nor in [{MIN_NONZERO_FORCE_N:e}, {MAX_FORCE_N:e}] N",
+                number(x)
+            ),
+            &format!("{fix}: 0 or between {MIN_NONZERO_FORCE_N:e} and {MAX_FORCE_N:e} N"),
+        );
+        false
     }
 
-    /// A force component in `[-MAX_FORCE_N, MAX_FORCE_N]`.
+    /// A force component: its magnitude is a force (see [`Problems::force`]).
     fn signed_force(&mut self, path: &str, x: f64) -> bool {
-        let fix = format!("give the component in newtons, |F| <= {MAX_FORCE_N:e} N");
-        self.range(path, x, (-MAX_FORCE_N, MAX_FORCE_N), "N", &fix)
+        self.force(path, x.abs(), "give the component in newtons")
     }
 
     /// A point with every coordinate in `[-MAX_COORDINATE_M, MAX_COORDINATE_M]`.
@@ -539,13 +560,23 @@ impl Problems {
         }
     }
 
-    /// A friction coefficient in `[0, MAX_FRICTION_COEFFICIENT]`.
+    /// A friction coefficient: 0, or in `[MIN_NONZERO_FRICTION_COEFFICIENT,
+    /// MAX_FRICTION_COEFFICIENT]`.
     fn coefficient(&mut self, path: &str, mu: f64) -> bool {
-        let fix = format!(
-            "give a friction coefficient >= 0 and <= {MAX_FRICTION_COEFFICIENT:e} (0 for a \
-             frictionless finger)"
+        let b = (MIN_NONZERO_FRICTION_COEFFICIENT, MAX_FRICTION_COEFFICIENT);
+        if mu == 0.0 || (b.0..=b.1).contains(&mu) {
+            return true;
+        }
+        self.push(
+            path,
+            format!("is {}, neither 0 nor in [{:e}, {:e}]", number(mu), b.0, b.1),
+            &format!(
+                "give a friction coefficient between {:e} and {:e}, or 0 for a frictionless \
+                 finger",
+                b.0, b.1
+            ),
         );
-        self.range(path, mu, (0.0, MAX_FRICTION_COEFFICIENT), "", &fix)
+        false
     }
 
     fn friction_table(&mut self, path: &str, table: &[[f64; 2]]) {

@@ -20,7 +20,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use grasp_model::validation::json_input::{self, describe, variant, StrictValue};
-use grasp_model::validation::MAX_FORCE_N;
+use grasp_model::validation::{force_in_range, MAX_FORCE_N, MIN_NONZERO_FORCE_N};
 use schemars::JsonSchema;
 use serde::{Deserialize, Deserializer, Serialize};
 use serde_json::Value;
@@ -102,7 +102,7 @@ pub struct HeldPhase {
     pub until: Option<f64>,
 }
 
-/// A keyframe value: newtons (in `[0, 1e7]`), or `"current"`.
+/// A keyframe value: newtons (0 or in `[1e-15, 1e7]`), or `"current"`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
 #[serde(untagged)]
 pub enum KeyValue {
@@ -124,8 +124,8 @@ pub enum CurrentTag {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RampPhase {
-    /// Keyframes `[time s, load]`, times strictly increasing (`|t| <= 1e9`), loads in
-    /// `[0, 1e7]` N or `"current"`.
+    /// Keyframes `[time s, load]`, times strictly increasing (`|t| <= 1e9`), loads 0 or in
+    /// `[1e-15, 1e7]` N, or `"current"`.
     pub keyframes: Vec<(f64, KeyValue)>,
     /// Interpolation between keyframes (default `linear`).
     #[serde(default)]
@@ -133,7 +133,7 @@ pub struct RampPhase {
 }
 
 /// A load profile from a CSV file (header row; comma-separated numbers; a regular file of at
-/// most 64 MiB; times `|t| <= 1e9` s strictly increasing, loads in `[0, 1e7]` N).
+/// most 64 MiB; times `|t| <= 1e9` s strictly increasing, loads 0 or in `[1e-15, 1e7]` N).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CsvPhase {
@@ -358,15 +358,15 @@ impl Problems {
         false
     }
 
-    /// A load in `[0, MAX_FORCE_N]`.
+    /// A load: 0 or in `[MIN_NONZERO_FORCE_N, MAX_FORCE_N]` (the scene's force range).
     fn load(&mut self, path: String, x: f64) -> bool {
-        if x.is_finite() && (0.0..=MAX_FORCE_N).contains(&x) {
+        if force_in_range(x) {
             return true;
         }
         self.push(
             path,
-            format!("load is {x} N, outside [0, {MAX_FORCE_N:e}] N"),
-            "give a load >= 0 N (0 releases the finger) and <= 1e7 N",
+            format!("load is {x} N, neither 0 nor in [{MIN_NONZERO_FORCE_N:e}, {MAX_FORCE_N:e}] N"),
+            "give 0 N (releases the finger) or a load between 1e-15 and 1e7 N",
         );
         false
     }
