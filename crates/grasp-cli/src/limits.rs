@@ -13,8 +13,9 @@ use grasp_model::Scene;
 pub const MAX_INPUT_BYTES: u64 = 64 * 1024 * 1024;
 
 /// Share of the machine's memory (`MemTotal` of /proc/meminfo) a run may plan to use when no
-/// `--max-memory` is given.
-pub const DEFAULT_MEMORY_SHARE: f64 = 0.5;
+/// `--max-memory` is given: a quarter, since the machine is often shared (and the estimate is
+/// an estimate).
+pub const DEFAULT_MEMORY_SHARE: f64 = 0.25;
 
 /// The limit when /proc/meminfo cannot be read, bytes.
 pub const FALLBACK_MEMORY_LIMIT: u64 = 4 << 30;
@@ -57,7 +58,7 @@ pub fn memory_limit(flag: Option<u64>) -> (u64, String) {
             (
                 b,
                 format!(
-                    "the default limit {} (half of this machine's memory)",
+                    "the default limit {} (a quarter of this machine's memory)",
                     human(b)
                 ),
             )

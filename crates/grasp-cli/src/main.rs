@@ -120,13 +120,20 @@ enum Command {
 #[derive(clap::Args, Debug)]
 struct MemoryArg {
     /// Refuse scenes whose estimated memory exceeds this many bytes (suffixes K, M, G, T:
-    /// 512M, 4G); default: half of the machine's memory (MemTotal in /proc/meminfo).
+    /// 512M, 4G); default: a quarter of the machine's memory (MemTotal in /proc/meminfo).
     #[arg(long, value_name = "BYTES", value_parser = limits::parse_bytes)]
     max_memory: Option<u64>,
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // A usage error is bad input: exit 1 (clap's own code, 2, means an outcome here).
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { 1 } else { 0 });
+        }
+    };
     if let Err(e) = output::install_signal_cleanup() {
         eprintln!("error: {e:#}");
         return ExitCode::from(1);

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use serde_json::json;
 
-use super::{io_err, RunInfo, Sink};
+use super::{io_err, io_err_chain, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::schedule::Command;
 use crate::stepper::StepRecord;
@@ -199,7 +199,7 @@ impl McapSink {
             .profile("")
             .library(concat!("grasp-transfer ", env!("CARGO_PKG_VERSION")))
             .create(BufWriter::new(file))
-            .map_err(|e| io_err("mcap", path, e))?;
+            .map_err(|e| io_err_chain("mcap", path, &e))?;
         Ok(McapSink {
             path: path.to_path_buf(),
             writer: Some(writer),
@@ -209,8 +209,8 @@ impl McapSink {
         })
     }
 
-    fn err(&self, e: impl std::fmt::Display) -> TransferError {
-        io_err("mcap", &self.path, e)
+    fn err(&self, e: impl std::error::Error) -> TransferError {
+        io_err_chain("mcap", &self.path, &e)
     }
 
     fn writer(&mut self) -> Result<&mut mcap::Writer<BufWriter<File>>, TransferError> {
@@ -237,7 +237,7 @@ impl McapSink {
 impl Sink for McapSink {
     fn begin(&mut self, _run: &RunInfo) -> Result<(), TransferError> {
         let path = self.path.clone();
-        let e = |e| io_err("mcap", &path, e);
+        let e = |e: mcap::McapError| io_err_chain("mcap", &path, &e);
         let w = self.writer()?;
         let meta = BTreeMap::new();
         let fs = w

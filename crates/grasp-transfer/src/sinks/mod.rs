@@ -50,6 +50,22 @@ pub(crate) fn io_err(
     }
 }
 
+/// An error of a sink writing `path`, with the chain of causes (e.g. the MCAP writer's I/O
+/// error and, below it, "No space left on device").
+pub(crate) fn io_err_chain(
+    sink: &'static str,
+    path: &std::path::Path,
+    e: &dyn std::error::Error,
+) -> TransferError {
+    let mut message = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        message.push_str(&format!(": {c}"));
+        cause = c.source();
+    }
+    io_err(sink, path, message)
+}
+
 /// One CSV field as RFC 4180 writes it: quoted (inner quotes doubled) when it holds a comma, a
 /// quote or a line break.
 pub fn csv_field(s: &str) -> std::borrow::Cow<'_, str> {
