@@ -34,7 +34,7 @@ pub fn run(
     out: Outputs,
     max_memory: Option<u64>,
 ) -> Result<ExitCode> {
-    if grids.iter().any(|&g| g == 0) {
+    if grids.contains(&0) {
         bail!("--grids has a 0; give element counts >= 1, e.g. --grids 5,9,17");
     }
     let (csv, plot) = (out.csv, out.plot);

@@ -458,9 +458,12 @@ impl Problems {
     fn point(&mut self, path: &str, x: &Vec3) -> bool {
         let fix = format!("give coordinates in metres, |x| <= {MAX_COORDINATE_M:e} m");
         let b = (-MAX_COORDINATE_M, MAX_COORDINATE_M);
-        (0..3).fold(true, |ok, k| {
-            self.range(&format!("{path}[{k}]"), x[k], b, "m", &fix) && ok
-        })
+        let mut ok = true;
+        for (k, c) in x.iter().enumerate() {
+            // Every coordinate is checked (and reported), not only up to the first bad one.
+            ok &= self.range(&format!("{path}[{k}]"), *c, b, "m", &fix);
+        }
+        ok
     }
 
     fn finite3(&mut self, path: &str, x: &Vec3) -> bool {
@@ -579,6 +582,8 @@ impl Problems {
         false
     }
 
+    // `!(a > b)` is meant: a NaN load must fail the ordering check too.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     fn friction_table(&mut self, path: &str, table: &[[f64; 2]]) {
         if table.is_empty() {
             self.push(

@@ -16,6 +16,9 @@
 //! newtons. The keyframe value `"current"` is the normal force the finger carried at the step
 //! before the phase began (so a ramp starts from whatever the grasp settled to).
 
+// Every `!(a > b)` in this file is meant: a NaN must fail the check as well.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use std::collections::BTreeMap;
 use std::path::Path;
 
