@@ -252,3 +252,36 @@ fn study_svg(rows: &[StudyRow], e1: &str, e2: &str, title: &str) -> String {
     s.push_str("</svg>\n");
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(n: usize, error: f64) -> StudyRow {
+        StudyRow {
+            grid: [n, n],
+            unknowns: 3 * n * n,
+            error,
+            error_2: None,
+            wall_time_s: 0.01 * n as f64,
+            peak_memory_bytes: None,
+            equilibrium_residual: 0.0,
+        }
+    }
+
+    /// A zero error (the reference grid itself) has no point on a log plot; the labels of the
+    /// other points stay with their own grids.
+    #[test]
+    fn plot_labels_stay_with_their_points_when_an_error_is_zero() {
+        let rows = [row(3, 1e-2), row(5, 0.0), row(9, 1e-3)];
+        let svg = study_svg(&rows, "force error", "", "t");
+        assert!(!svg.contains(">5x5<"), "{svg}");
+        let label = |g: &str| {
+            let i = svg.find(&format!(">{g}<")).unwrap();
+            let c = svg[..i].rfind("<circle cx=\"").unwrap() + 12;
+            svg[c..].split('"').next().unwrap().parse::<f64>().unwrap()
+        };
+        // The 9x9 label sits at the 9x9 point, right of the 3x3 one (larger wall time).
+        assert!(label("9x9") > label("3x3"), "{svg}");
+    }
+}
