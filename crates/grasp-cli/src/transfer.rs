@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
+use grasp_model::Scene;
 use grasp_transfer::{
     CsvSink, McapSink, RerunSink, Schedule, Sink, SqueezeOutcome, TransferOptions, TransferSummary,
 };
@@ -25,6 +26,22 @@ pub struct Outputs {
 }
 
 impl Outputs {
+    /// "wrote ..." lines of the outputs given.
+    fn wrote(&self) -> String {
+        let mut o = String::new();
+        for (p, what) in [
+            (&self.mcap, "MCAP"),
+            (&self.rrd, "Rerun recording"),
+            (&self.csv, "CSV"),
+            (&self.plot, "plot"),
+        ] {
+            if let Some(p) = p {
+                let _ = writeln!(o, "wrote {what}: {}", p.display());
+            }
+        }
+        o
+    }
+
     fn targets(&self) -> Vec<&Path> {
         [&self.mcap, &self.rrd, &self.csv, &self.plot]
             .into_iter()
@@ -53,29 +70,21 @@ struct OpenSinks {
 impl OpenSinks {
     fn create(out: &Outputs) -> Result<OpenSinks> {
         let mut pending = Vec::new();
-        let mut open = |p: &Option<PathBuf>| -> Result<Option<(File, PathBuf)>> {
+        // (open temporary file, its path, the target) of an output given.
+        let mut open = |p: &Option<PathBuf>| -> Result<Option<(File, PathBuf, PathBuf)>> {
             let Some(p) = p else { return Ok(None) };
             let (o, f) = PendingOutput::create(p)?;
             let tmp = o.tmp().to_path_buf();
             pending.push(o);
-            Ok(Some((f, tmp)))
+            Ok(Some((f, tmp, p.clone())))
         };
-        let mcap = match open(&out.mcap)? {
-            Some((f, _)) => Some(McapSink::from_file(
-                f,
-                out.mcap.as_deref().unwrap_or(Path::new("")),
-            )?),
-            None => None,
-        };
-        let rrd = match open(&out.rrd)? {
-            Some((_, tmp)) => Some(RerunSink::create_as(
-                &tmp,
-                out.rrd.as_deref().unwrap_or(&tmp),
-            )?),
-            None => None,
-        };
-        let csv = open(&out.csv)?
-            .map(|(f, _)| CsvSink::from_file(f, out.csv.as_deref().unwrap_or(Path::new(""))));
+        let mcap = open(&out.mcap)?
+            .map(|(f, _, target)| McapSink::from_file(f, &target))
+            .transpose()?;
+        let rrd = open(&out.rrd)?
+            .map(|(_, tmp, target)| RerunSink::create_as(&tmp, &target))
+            .transpose()?;
+        let csv = open(&out.csv)?.map(|(f, _, target)| CsvSink::from_file(f, &target));
         Ok(OpenSinks {
             mcap,
             rrd,
@@ -107,27 +116,10 @@ pub fn run(
 ) -> Result<ExitCode> {
     // Validate everything before any work: outputs, scene, memory, schedule.
     check_targets(&out.targets(), &[scene_path, schedule_path], out.force)?;
-    let scene = crate::load_scene(scene_path)?;
-    let (limit, what) = crate::limits::memory_limit(flags.max_memory);
-    crate::limits::check_memory(&scene, scene_path, (limit, &what))?;
-    let text = crate::limits::read_input(schedule_path, "schedule file")?;
+    let (scene, schedule) = load_inputs(scene_path, schedule_path, flags.max_memory)?;
     let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
-    let base = schedule_path
-        .parent()
-        .map(PathBuf::from)
-        .unwrap_or_default();
-    let schedule = Schedule::from_json_str(&text, &names, &base)
-        .with_context(|| format!("{} is not a usable schedule", schedule_path.display()))?;
-
     let mut open = OpenSinks::create(out)?;
-    // indicatif draws only on a terminal; piped output stays quiet.
-    let bar = ProgressBar::new(schedule.times.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} steps  t = {msg}  ({elapsed}, eta {eta})",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let bar = progress_bar(schedule.times.len());
     let options = TransferOptions {
         keep_going: flags.keep_going,
         warm_start: !flags.cold,
@@ -143,10 +135,8 @@ pub fn run(
             }
         })?;
     bar.finish_and_clear();
-    print!(
-        "{}",
-        summary_text(&summary, summary.steps, schedule.times.len())
-    );
+    let planned = schedule.times.len();
+    print!("{}", summary_text(&summary, summary.steps, planned));
     if summary.failed_step_count > 0 && !flags.keep_going {
         drop(open); // removes the temporary files
         if !out.targets().is_empty() {
@@ -174,21 +164,43 @@ pub fn run(
         }
     }
     commit_all(std::mem::take(&mut open.pending))?;
-    for (p, what) in [
-        (&out.mcap, "MCAP"),
-        (&out.rrd, "Rerun recording"),
-        (&out.csv, "CSV"),
-        (&out.plot, "plot"),
-    ] {
-        if let Some(p) = p {
-            println!("wrote {what}: {}", p.display());
-        }
-    }
-    Ok(if summary.failed_step_count == 0 {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(2)
+    print!("{}", out.wrote());
+    Ok(match summary.failed_step_count {
+        0 => ExitCode::SUCCESS,
+        _ => ExitCode::from(2),
     })
+}
+
+/// The scene (within the memory limit) and the schedule resolved against it.
+fn load_inputs(
+    scene_path: &Path,
+    schedule_path: &Path,
+    max_memory: Option<u64>,
+) -> Result<(Scene, Schedule)> {
+    let scene = crate::load_scene(scene_path)?;
+    let (limit, what) = crate::limits::memory_limit(max_memory);
+    crate::limits::check_memory(&scene, scene_path, (limit, &what))?;
+    let text = crate::limits::read_input(schedule_path, "schedule file")?;
+    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let base = schedule_path
+        .parent()
+        .map(PathBuf::from)
+        .unwrap_or_default();
+    let schedule = Schedule::from_json_str(&text, &names, &base)
+        .with_context(|| format!("{} is not a usable schedule", schedule_path.display()))?;
+    Ok((scene, schedule))
+}
+
+/// A progress bar of the steps (indicatif draws only on a terminal; piped output stays quiet).
+fn progress_bar(steps: usize) -> ProgressBar {
+    let bar = ProgressBar::new(steps as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} steps  t = {msg}  ({elapsed}, eta {eta})",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
 }
 
 fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
