@@ -68,3 +68,51 @@ fn phase_boundaries_hold_at_large_times() {
         Command::Load(_)
     ));
 }
+
+/// Regression (found by the mutation test): a held finger listed before a force-controlled one
+/// took that finger's load when a step's grasp was built, so the disc hand-off with f3 left to
+/// the scene (held) failed with "expected 2 prescribed loads, got 3". Every force-controlled
+/// finger must carry exactly its commanded load.
+#[test]
+fn a_held_finger_before_a_force_controlled_one_keeps_the_loads_in_order() {
+    let text = std::fs::read_to_string(format!(
+        "{}/../examples/disc_transfer.schedule.json",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let mut sched: serde_json::Value = serde_json::from_str(&text).unwrap();
+    sched["fingers"].as_object_mut().unwrap().remove("f3");
+    let scene_text = std::fs::read_to_string(format!(
+        "{}/../examples/disc_transfer.json",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let scene = Scene::from_json_str(&scene_text).unwrap();
+    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let schedule = Schedule::from_json_str(&sched.to_string(), &names, Path::new(".")).unwrap();
+    let mut loaded_after_held = 0;
+    for r in Stepper::new(&scene, &schedule, TransferOptions::default()) {
+        let r = r.unwrap();
+        assert!(
+            r.solution.status.has_forces(),
+            "t = {}: {:?}",
+            r.time_s,
+            r.solution.reason
+        );
+        for c in &r.commands {
+            if let Command::Load(p) = c.command {
+                let carried = r.normal_force_n(&c.name);
+                assert!(
+                    (carried - p).abs() <= 1e-9 * p.max(1.0),
+                    "{} carries {carried} N, commanded {p} N",
+                    c.name
+                );
+                loaded_after_held += usize::from(c.name == "f4");
+            }
+        }
+    }
+    assert!(
+        loaded_after_held > 0,
+        "f4 is never force-controlled: the test needs it"
+    );
+}

@@ -196,3 +196,166 @@ fn unknown_friction_law_says_what_is_expected() {
     v["fingers"][0]["friction"] = json!({"mu": 0.3});
     assert_problem(&v, "model", "coulomb");
 }
+
+#[test]
+fn numbers_outside_the_physical_range() {
+    let cases = [
+        (
+            "/object/weight",
+            json!(1e200),
+            "object.weight",
+            "neither 0 nor in [1e-15, 1e7] N",
+        ),
+        (
+            "/fingers/0/control",
+            json!({"normal_load": 1e308}),
+            "fingers[0].control.normal_load",
+            "neither 0 nor",
+        ),
+        (
+            "/fingers/1/contact_point",
+            json!([1e308, 0.0, 0.0]),
+            "fingers[1].contact_point[0]",
+            "outside [-1e3, 1e3] m",
+        ),
+        (
+            "/object/external_forces",
+            json!([{"force": [0, 0, -1e200], "at": [0, 0, 0]}]),
+            "object.external_forces[0].force[2]",
+            "neither 0 nor",
+        ),
+        (
+            "/fingers/2/friction",
+            json!({"mu": 1e9}),
+            "fingers[2].friction.mu",
+            "neither 0 nor",
+        ),
+        (
+            "/fingers/2/friction",
+            json!({"mu": 1e-320}),
+            "fingers[2].friction.mu",
+            "neither 0 nor",
+        ),
+        (
+            "/object/weight",
+            json!(1e-320),
+            "object.weight",
+            "neither 0 nor",
+        ),
+        (
+            "/fingers/0/tip_radius",
+            json!(1e9),
+            "fingers[0].tip_radius",
+            "outside",
+        ),
+    ];
+    for (ptr, value, path, words) in cases {
+        let mut v = cube();
+        set(&mut v, ptr, value);
+        assert_problem(&v, path, words);
+    }
+}
+
+#[test]
+fn huge_and_tiny_directions_normalise_without_overflow() {
+    let mut v = cube();
+    v["object"]["gravity"] = json!([0.0, 0.0, -1e200]);
+    v["fingers"][0]["normal"] = json!([1e-200, 0.0, 0.0]);
+    let s = scene(&v);
+    assert_eq!(s.object.gravity, [0.0, 0.0, -1.0]);
+    assert_eq!(s.fingers[0].normal, [1.0, 0.0, 0.0]);
+    // The solve sees the same scene as with unit vectors.
+    let mut w = cube();
+    w["object"]["gravity"] = json!([0.0, 0.0, -1.0]);
+    w["fingers"][0]["normal"] = json!([1.0, 0.0, 0.0]);
+    assert_eq!(s, scene(&w));
+    // A scene built in code is checked as it is: a square that overflows is refused.
+    let mut built = scene(&w);
+    built.object.gravity = [0.0, 0.0, -1e200];
+    let e = built.validate().unwrap_err().to_string();
+    assert!(e.contains("object.gravity: has a length"), "{e}");
+}
+
+#[test]
+fn trailing_data_after_the_scene() {
+    for tail in [" {}", "x", "\n{\"object\": 1}"] {
+        let text = format!("{}{tail}", cube());
+        let e = Scene::from_json_str(&text).unwrap_err().to_string();
+        assert!(e.contains("trailing characters at line"), "{e}");
+    }
+    assert!(Scene::from_json_str(&format!("{}\n\n", cube())).is_ok());
+}
+
+#[test]
+fn duplicate_keys_in_the_scene() {
+    let text = cube().to_string();
+    let twice = text.replacen("\"weight\":", "\"weight\": 1.0, \"weight\":", 1);
+    let e = Scene::from_json_str(&twice).unwrap_err().to_string();
+    assert!(e.contains("object: duplicate field `weight`"), "{e}");
+    let twice = text.replacen("\"mu\":", "\"mu\": 0.1, \"mu\":", 1);
+    let e = Scene::from_json_str(&twice).unwrap_err().to_string();
+    assert!(
+        e.contains("fingers[0].friction: duplicate field `mu`"),
+        "{e}"
+    );
+}
+
+#[test]
+fn nested_enum_errors_name_the_inner_field() {
+    let cases = [
+        (
+            "/object/material/poisson_ratio",
+            json!("x"),
+            "object.material.poisson_ratio: invalid type: string",
+        ),
+        (
+            "/fingers/0/friction",
+            json!({"mu": "a"}),
+            "fingers[0].friction.mu: invalid type",
+        ),
+        (
+            "/fingers/1/friction",
+            json!({"table": [[0.0, "x"]]}),
+            "fingers[1].friction.table[0][1]: invalid type",
+        ),
+        (
+            "/fingers/2/control",
+            json!({"normal_load": true}),
+            "fingers[2].control.normal_load: invalid type: boolean",
+        ),
+        (
+            "/fingers/0/material",
+            json!({"youngs_modulus": 1e6}),
+            "fingers[0].material: missing field `poisson_ratio`",
+        ),
+        (
+            "/fingers/0/object_radius",
+            json!([0.05, "flat"]),
+            "fingers[0].object_radius[1]: invalid type",
+        ),
+        (
+            "/fingers/0/friction",
+            json!({"elastic": {"finger_radius": 0.01, "object_radius": 1.0}}),
+            "fingers[0].friction.elastic: missing field `contact_length`",
+        ),
+    ];
+    for (ptr, value, want) in cases {
+        let mut v = cube();
+        set(&mut v, ptr, value);
+        let p = problems(&v);
+        assert!(p[0].starts_with(want), "want `{want}`, got {p:#?}");
+    }
+}
+
+/// Sets the value at a JSON pointer, adding the last key if missing.
+fn set(v: &mut Value, ptr: &str, value: Value) {
+    let (parent, key) = ptr.rsplit_once('/').unwrap();
+    let p = v.pointer_mut(parent).unwrap();
+    match p {
+        Value::Array(a) => a[key.parse::<usize>().unwrap()] = value,
+        Value::Object(m) => {
+            m.insert(key.to_string(), value);
+        }
+        _ => panic!("{ptr}"),
+    }
+}

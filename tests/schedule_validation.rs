@@ -2,6 +2,7 @@
 //! profile drives a finger's load.
 
 use std::path::{Path, PathBuf};
+use std::process::Command as Process;
 
 use grasp_transfer::{Command, Schedule};
 use serde_json::{json, Value};
@@ -125,4 +126,145 @@ fn csv_profile_and_easings_drive_the_load() {
     assert_eq!(s.command(2, 1.0, 0.0, Command::Held), Command::Load(3.0));
     // An unscheduled finger keeps the scene's command.
     assert_eq!(s.command(3, 0.5, 0.0, Command::Held), Command::Held);
+}
+
+#[test]
+fn step_counts_are_bounded_without_overflow() {
+    let mut v = base();
+    v["time"] = json!({"start": 0, "end": 1e308, "step": 0.1});
+    assert_problem(&v, "time.end", "outside [0e0, 1e9] s");
+    let mut v = base();
+    v["time"] = json!({"start": 0, "end": 1e9, "step": 1e-300});
+    assert_problem(&v, "time.step", "more than 1000000");
+    let mut v = base();
+    v["time"] = json!({"start": 0, "end": 1e6, "step": 1});
+    assert_problem(&v, "time.step", "gives 1.000e6 steps");
+    let mut v = base();
+    let times: Vec<f64> = (0..2_000_001).map(|i| i as f64 * 1e-3).collect();
+    v["time"] = json!({ "times": times });
+    assert_problem(&v, "time.times", "lists 2000001 times, more than 1000000");
+}
+
+#[test]
+fn loads_and_times_outside_the_physical_range() {
+    let mut v = base();
+    v["fingers"]["f1"][0]["ramp"]["keyframes"][0] = json!([0, 1e308]);
+    assert_problem(
+        &v,
+        "fingers.f1[0].ramp.keyframes[0]",
+        "neither 0 nor in [1e-15, 1e7] N",
+    );
+    let mut v = base();
+    v["fingers"]["f2"] = json!([{"held": {"until": 1e300}}]);
+    assert_problem(&v, "fingers.f2[0].held.until", "outside");
+    let dir = tmpdir("range");
+    std::fs::write(dir.join("big.csv"), "t_s,load_n\n0,1\n1,1e308\n").unwrap();
+    let mut v = base();
+    v["fingers"]["f2"] =
+        json!([{"csv": {"path": "big.csv", "time_column": "t_s", "load_column": "load_n"}}]);
+    let p = problems(&v, &dir);
+    assert!(
+        p.iter().any(
+            |m| m.starts_with("fingers.f2[0].csv.path (row 3 of big.csv)")
+                && m.contains("neither 0 nor")
+        ),
+        "{p:#?}"
+    );
+}
+
+#[test]
+fn duplicate_finger_names_in_a_schedule() {
+    let text = r#"{"time": {"times": [0, 1]},
+        "fingers": {"f1": [{"held": {}}], "f2": [{"held": {}}], "f1": [{"ramp": {"keyframes": [[0, 1]]}}]}}"#;
+    let e = Schedule::from_json_str(text, &names(), Path::new("."))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("fingers: `f1` is given twice"), "{e}");
+}
+
+#[test]
+fn trailing_data_after_the_schedule() {
+    let text = format!("{}\n{}", base(), base());
+    let e = Schedule::from_json_str(&text, &names(), Path::new("."))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("trailing characters at line 2 column 1"), "{e}");
+}
+
+#[test]
+fn nested_schedule_errors_name_the_inner_field() {
+    let cases = [
+        (
+            json!({"start": "0", "end": 1, "step": 0.5}),
+            None,
+            "time.start: invalid type: string",
+        ),
+        (
+            json!({"times": [0, "1"]}),
+            None,
+            "time.times[1]: invalid type: string",
+        ),
+        (
+            json!({"start": 0, "end": 1, "step": 0.5}),
+            Some(json!([{"ramp": {"keyframes": [[0, "lots"]]}}])),
+            "fingers.f1[0].ramp.keyframes[0][1]: expected a load in newtons or \"current\"; found the string \"lots\"",
+        ),
+        (
+            json!({"start": 0, "end": 1, "step": 0.5}),
+            Some(json!([{"held": {"until": "later"}}])),
+            "fingers.f1[0].held.until: invalid type: string",
+        ),
+        (
+            json!({"stop": 1}),
+            None,
+            "time: expected {\"start\", \"end\", \"step\"} or {\"times\": [...]}; found an object with the key(s) `stop`",
+        ),
+    ];
+    for (time, f1, want) in cases {
+        let mut v = base();
+        v["time"] = time;
+        if let Some(f) = f1 {
+            v["fingers"]["f1"] = f;
+        }
+        let p = problems(&v, Path::new("."));
+        assert!(p[0].starts_with(want), "want `{want}`, got {p:#?}");
+    }
+}
+
+/// Runs `f` on a thread and fails the test if it does not return within `secs`.
+fn within<T: Send + 'static>(secs: u64, f: impl FnOnce() -> T + Send + 'static) -> T {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || tx.send(f()).ok());
+    rx.recv_timeout(std::time::Duration::from_secs(secs))
+        .expect("did not return in time (blocked on the file?)")
+}
+
+#[test]
+fn csv_profiles_only_from_regular_files_of_bounded_size() {
+    let dir = tmpdir("special");
+    let fifo = dir.join("pipe.csv");
+    let _ = std::fs::remove_file(&fifo);
+    let made = Process::new("mkfifo").arg(&fifo).status();
+    let mut cases = vec![("/dev/zero".to_string(), "not a regular file")];
+    cases.push((dir.display().to_string(), "not a regular file"));
+    if made.is_ok_and(|s| s.success()) {
+        cases.push((fifo.display().to_string(), "not a regular file"));
+    } else {
+        println!("mkfifo unavailable: the FIFO case is skipped");
+    }
+    let big = dir.join("big.csv");
+    let f = std::fs::File::create(&big).unwrap();
+    f.set_len(64 * 1024 * 1024 + 1).unwrap();
+    cases.push((big.display().to_string(), "more than the 64 MiB"));
+    for (path, words) in cases {
+        let mut v = base();
+        v["fingers"]["f2"] =
+            json!([{"csv": {"path": path, "time_column": "t_s", "load_column": "load_n"}}]);
+        let p = within(10, move || problems(&v, Path::new("/")));
+        assert!(
+            p.iter()
+                .any(|m| m.starts_with("fingers.f2[0].csv.path") && m.contains(words)),
+            "{p:#?}"
+        );
+    }
 }

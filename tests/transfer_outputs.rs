@@ -10,6 +10,7 @@ use std::process::Command as Process;
 
 use grasp_transfer::sinks::FingersMessage;
 use grasp_transfer::sinks::{FINGERS_TOPIC, PATCHES_TOPIC};
+use grasp_transfer::summary::{TransferSummary, LOADED_FRACTION};
 use grasp_transfer::{CsvSink, McapSink, RerunSink, Sink, StepRecord, TransferOptions};
 
 fn out_dir(tag: &str) -> PathBuf {
@@ -25,14 +26,9 @@ fn run_plate(dir: &Path) -> Vec<StepRecord> {
     let mut r = RerunSink::create(&dir.join("plate.rrd")).unwrap();
     let mut c = CsvSink::create(&dir.join("plate.csv")).unwrap();
     let mut sinks: Vec<&mut dyn Sink> = vec![&mut m, &mut r, &mut c];
-    let (records, _) = grasp_transfer::run(
-        &scene,
-        &schedule,
-        TransferOptions::default(),
-        &mut sinks,
-        |_| {},
-    )
-    .unwrap();
+    let (records, _) =
+        grasp_transfer::run_collect(&scene, &schedule, TransferOptions::default(), &mut sinks)
+            .unwrap();
     records
 }
 
@@ -182,6 +178,7 @@ fn rerun_cli_accepts_the_mcap_and_the_rrd() {
     let Some(cli) = rerun_cli() else { return };
     let dir = out_dir("rerun");
     run_plate(&dir);
+    check_rrd_chunks(&cli, &dir);
     for args in [vec!["mcap", "check"], vec!["rrd", "verify"]] {
         let file = if args[0] == "mcap" {
             "plate.mcap"
@@ -212,4 +209,215 @@ fn rerun_cli_accepts_the_mcap_and_the_rrd() {
             assert!(!text.to_lowercase().contains("error"), "{text}");
         }
     }
+}
+
+/// The recording's rows are sent in chunks of at most `FLUSH_EVERY_STEPS` steps (memory does
+/// not grow with the run), with the same chunk and row ids on every run.
+fn check_rrd_chunks(cli: &Path, dir: &Path) {
+    let print = |file: &Path, verbose: &str| {
+        let out = Process::new(cli)
+            .args(["rrd", "print", verbose])
+            .arg(file)
+            .env("CI", "1")
+            .output()
+            .expect("run rerun CLI");
+        assert!(out.status.success(), "{out:?}");
+        String::from_utf8_lossy(&out.stdout).to_string()
+    };
+    let text = print(&dir.join("plate.rrd"), "-v");
+    let rows: Vec<usize> = text
+        .lines()
+        .filter(|l| l.contains("/plots/normal_force/f1 -") && l.contains("Scalars"))
+        .map(|l| {
+            l.split(" with ")
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap()
+        })
+        .collect();
+    let every = grasp_transfer::sinks::FLUSH_EVERY_STEPS;
+    assert!(rows.len() >= 2, "one chunk for 200 steps: {rows:?}");
+    assert!(rows.iter().all(|&n| n <= every), "{rows:?}");
+    assert_eq!(rows.iter().sum::<usize>(), 200, "{rows:?}");
+    let again = out_dir("rerun-again");
+    run_plate(&again);
+    assert_eq!(
+        print(&dir.join("plate.rrd"), "-vvv"),
+        print(&again.join("plate.rrd"), "-vvv"),
+        "chunk and row ids differ between two runs"
+    );
+}
+
+/// The summary as it was computed from every record before it was folded step by step (the
+/// reference the streamed summary must equal).
+fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummary {
+    let ok: Vec<&StepRecord> = records
+        .iter()
+        .filter(|r| r.solution.status.has_forces())
+        .collect();
+    let loaded =
+        |r: &StepRecord, n: &str| r.normal_force_n(n) > LOADED_FRACTION * r.solution.load_scale_n;
+    let (mut releasing, mut receiving) = (Vec::new(), Vec::new());
+    if let (Some(first), Some(last)) = (ok.first(), ok.last()) {
+        for n in names {
+            match (loaded(first, n), loaded(last, n)) {
+                (true, false) => releasing.push(n.clone()),
+                (false, true) => receiving.push(n.clone()),
+                _ => {}
+            }
+        }
+    }
+    let sum = |r: &StepRecord, set: &[String]| set.iter().map(|n| r.normal_force_n(n)).sum::<f64>();
+    let half = ok
+        .iter()
+        .find(|r| {
+            !receiving.is_empty()
+                && !releasing.is_empty()
+                && sum(r, &receiving) > 0.0
+                && sum(r, &receiving) >= sum(r, &releasing)
+        })
+        .map(|r| r.time_s);
+    let full = ok
+        .iter()
+        .find(|r| !releasing.is_empty() && releasing.iter().all(|n| !loaded(r, n)))
+        .map(|r| r.time_s);
+    let (mut peak, mut peak_t) = (0.0_f64, 0.0);
+    let mut margin: Option<(f64, f64, String)> = None;
+    let mut worst = 0.0_f64;
+    for r in &ok {
+        let total: f64 = r.solution.fingers.iter().map(|f| f.normal_force_n).sum();
+        if total > peak {
+            (peak, peak_t) = (total, r.time_s);
+        }
+        for f in &r.solution.fingers {
+            if f.normal_force_n > LOADED_FRACTION * r.solution.load_scale_n
+                && f.friction_utilization > 0.0
+            {
+                let m = 1.0 - f.friction_utilization;
+                if margin.as_ref().is_none_or(|x| m < x.0) {
+                    margin = Some((m, r.time_s, f.name.clone()));
+                }
+            }
+        }
+        if let Some(res) = &r.solution.residuals {
+            worst = worst.max(res.equilibrium_relative);
+        }
+    }
+    let failed: Vec<_> = records
+        .iter()
+        .filter(|r| !r.solution.status.has_forces())
+        .map(|r| {
+            (
+                r.index,
+                r.time_s,
+                r.solution.reason.clone().unwrap_or_default(),
+            )
+        })
+        .collect();
+    let seq: Vec<_> = records
+        .iter()
+        .filter_map(|r| r.solution.sequential)
+        .collect();
+    TransferSummary {
+        steps: records.len(),
+        failed_step_count: failed.len(),
+        failed_steps: failed,
+        releasing,
+        receiving,
+        half_transfer_time_s: half,
+        full_transfer_time_s: full,
+        peak_squeeze_n: peak,
+        peak_squeeze_time_s: peak_t,
+        smallest_slip_margin: margin,
+        worst_equilibrium_residual: worst,
+        total_wall_time_s: records.iter().map(|r| r.wall_time_s).sum(),
+        total_iterations: records
+            .iter()
+            .map(|r| r.solution.solver.iterations as u64)
+            .sum(),
+        sequential: (!seq.is_empty()).then(|| grasp_transfer::summary::SequentialTotals {
+            convex_solves: seq.iter().map(|s| s.iterations as u64).sum(),
+            most_in_a_step: seq.iter().map(|s| s.iterations).max().unwrap_or(0),
+            warm_started_steps: seq.iter().filter(|s| s.warm_started).count(),
+            cold_restarts: seq.iter().map(|s| s.cold_restarts).sum(),
+        }),
+    }
+}
+
+#[test]
+fn streamed_summary_equals_the_summary_of_all_records() {
+    for name in ["plate_transfer", "disc_transfer", "plate_handoff_coulomb"] {
+        let (scene, schedule) = support::transfer_example(name);
+        let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+        let mut records = Vec::new();
+        let (summary, last) = grasp_transfer::run(
+            &scene,
+            &schedule,
+            TransferOptions::default(),
+            &mut [],
+            |r| records.push(r.clone()),
+        )
+        .unwrap();
+        assert_eq!(last.as_ref(), records.last(), "{name}");
+        let reference = reference_summary(&records, &names);
+        assert_eq!(summary, reference, "{name}");
+        // Beyond MAX_FOLDED_FINGERS the accumulator keeps the forces instead: same summary.
+        let mut kept = grasp_transfer::SummaryAccumulator::with_folded_fingers(&names, 0);
+        records.iter().for_each(|r| kept.add(r));
+        assert_eq!(kept.finish(), reference, "{name}");
+        assert!(
+            summary.half_transfer_time_s.is_some(),
+            "{name}: {summary:?}"
+        );
+    }
+}
+
+/// Reads RFC 4180 CSV: quoted fields may hold commas, doubled quotes and line breaks.
+fn parse_csv(text: &str) -> Vec<Vec<String>> {
+    let (mut rows, mut row, mut field) = (Vec::new(), Vec::new(), String::new());
+    let mut chars = text.chars().peekable();
+    let mut quoted = false;
+    while let Some(c) = chars.next() {
+        match (quoted, c) {
+            (true, '"') if chars.peek() == Some(&'"') => {
+                field.push('"');
+                chars.next();
+            }
+            (true, '"') => quoted = false,
+            (true, c) => field.push(c),
+            (false, '"') => quoted = true,
+            (false, ',') => row.push(std::mem::take(&mut field)),
+            (false, '\n') => {
+                row.push(std::mem::take(&mut field));
+                rows.push(std::mem::take(&mut row));
+            }
+            (false, c) => field.push(c),
+        }
+    }
+    rows
+}
+
+#[test]
+fn csv_quotes_finger_names_by_rfc_4180() {
+    let (mut scene, _) = support::transfer_example("plate_transfer");
+    let odd = "f,\"1\"\nx";
+    scene.fingers[0].name = odd.to_string();
+    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let text = r#"{"time": {"times": [0, 1, 2]}, "fingers": {"f3": [{"held": {}}]}}"#;
+    let schedule = grasp_transfer::Schedule::from_json_str(text, &names, Path::new(".")).unwrap();
+    let dir = out_dir("quote");
+    let mut c = CsvSink::create(&dir.join("q.csv")).unwrap();
+    let (records, _) =
+        grasp_transfer::run_collect(&scene, &schedule, TransferOptions::default(), &mut [&mut c])
+            .unwrap();
+    let rows = parse_csv(&std::fs::read_to_string(dir.join("q.csv")).unwrap());
+    assert_eq!(rows.len(), records.len() + 1);
+    assert!(rows.iter().all(|r| r.len() == rows[0].len()), "{rows:?}");
+    assert_eq!(rows[0][3], format!("{odd}_normal_force_n"));
+    let p: f64 = rows[1][3].parse().unwrap();
+    assert_eq!(p, records[0].normal_force_n(odd));
 }

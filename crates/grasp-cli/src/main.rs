@@ -1,13 +1,14 @@
 //! `grasp`: the command-line front end. Flags become a validated configuration before any work
 //! starts; the physics lives in `grasp-model`, the hand-off in `grasp-transfer`.
 
+mod limits;
 mod output;
 mod plot;
 mod report;
 mod study;
 mod transfer;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -49,6 +50,8 @@ enum Command {
         /// `native` or `clarabel`.
         #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
         solver: SolverChoice,
+        #[command(flatten)]
+        memory: MemoryArg,
     },
     /// Grid-refinement study: error, unknowns, wall time and peak memory per grid.
     Study {
@@ -73,6 +76,8 @@ enum Command {
         /// Solver: `auto`, `native` or `clarabel`.
         #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
         solver: SolverChoice,
+        #[command(flatten)]
+        memory: MemoryArg,
     },
     /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
     Transfer {
@@ -110,6 +115,8 @@ enum Command {
         /// Solver: `auto`, `native` or `clarabel`.
         #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
         solver: SolverChoice,
+        #[command(flatten)]
+        memory: MemoryArg,
     },
     /// Print the JSON Schema of the scene format (or of the schedule format).
     Schema {
@@ -119,8 +126,28 @@ enum Command {
     },
 }
 
+/// The memory limit of a command.
+#[derive(clap::Args, Debug)]
+struct MemoryArg {
+    /// Refuse scenes whose estimated memory exceeds this many bytes (suffixes K, M, G, T:
+    /// 512M, 4G); default: a quarter of the machine's memory (MemTotal in /proc/meminfo).
+    #[arg(long, value_name = "BYTES", value_parser = limits::parse_bytes)]
+    max_memory: Option<u64>,
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // A usage error is bad input: exit 1 (clap's own code, 2, means an outcome here).
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { 1 } else { 0 });
+        }
+    };
+    if let Err(e) = output::install_signal_cleanup() {
+        eprintln!("error: {e:#}");
+        return ExitCode::from(1);
+    }
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
@@ -153,6 +180,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             min_squeeze,
             force,
             solver,
+            memory,
         } => {
             let outputs = transfer::Outputs {
                 mcap,
@@ -166,6 +194,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 cold,
                 min_squeeze,
                 solver,
+                max_memory: memory.max_memory,
             };
             transfer::run(&scene, &schedule, &outputs, flags)
         }
@@ -177,13 +206,17 @@ fn run(cli: Cli) -> Result<ExitCode> {
             plot,
             force,
             solver,
+            memory,
         } => study::run(
             &scene,
             &grids,
             &reference,
-            csv.as_deref(),
-            plot.as_deref(),
-            force,
+            study::Outputs {
+                csv: csv.as_deref(),
+                plot: plot.as_deref(),
+                force,
+            },
+            memory.max_memory,
             solver,
         ),
         Command::Solve {
@@ -194,14 +227,16 @@ fn run(cli: Cli) -> Result<ExitCode> {
             error_estimate,
             auto_patch,
             solver,
+            memory,
         } => {
             if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1e-2) {
                 anyhow::bail!("--tolerance is {tolerance}; give a value in (0, 1e-2), e.g. 1e-10");
             }
-            if let Some(out) = &json {
-                output::check_writable(out, force)?;
-            }
+            let outputs: Vec<&Path> = json.iter().map(PathBuf::as_path).collect();
+            output::check_targets(&outputs, &[&scene], force)?;
             let scene_obj = load_scene(&scene)?;
+            let (limit, what) = limits::memory_limit(memory.max_memory);
+            limits::check_memory(&scene_obj, &scene, (limit, &what))?;
             let options = SolveOptions {
                 tolerance,
                 solver,
@@ -234,6 +269,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 );
             }
             if let Some(out) = &json {
+                // Every outcome is written, "no equilibrium" (exit 2) included: it is the result.
                 let text = serde_json::to_string_pretty(&solution)?;
                 output::write_new(out, text.as_bytes(), force)?;
                 println!("wrote {}", out.display());
@@ -248,8 +284,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
 }
 
 /// Reads and validates a scene file; the error names the file and lists every problem.
-pub(crate) fn load_scene(path: &PathBuf) -> Result<Scene> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read scene file {}", path.display()))?;
+pub(crate) fn load_scene(path: &Path) -> Result<Scene> {
+    let text = limits::read_input(path, "scene file")?;
     Scene::from_json_str(&text).with_context(|| format!("{} is not a usable scene", path.display()))
 }

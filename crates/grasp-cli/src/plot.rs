@@ -10,20 +10,62 @@ const COLORS: [&str; 8] = [
     "#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf",
 ];
 
+/// What the plot needs of a run, gathered step by step: the first and last step times and,
+/// per step with forces, every finger's normal and friction force (2 numbers per finger and
+/// step).
+pub struct ForceHistory {
+    names: Vec<String>,
+    span: Option<(f64, f64)>,
+    /// `(time s, [P, |Q|] per finger in scene order)` of every step with forces.
+    points: Vec<(f64, Vec<[f64; 2]>)>,
+}
+
+impl ForceHistory {
+    /// An empty history of these fingers.
+    pub fn new(names: &[String]) -> Self {
+        ForceHistory {
+            names: names.to_vec(),
+            span: None,
+            points: Vec::new(),
+        }
+    }
+
+    /// Adds a step.
+    pub fn push(&mut self, r: &StepRecord) {
+        let t0 = self.span.map_or(r.time_s, |s| s.0);
+        self.span = Some((t0, r.time_s));
+        if !r.solution.status.has_forces() {
+            return;
+        }
+        let forces = self
+            .names
+            .iter()
+            .map(|n| {
+                r.solution
+                    .finger(n)
+                    .map_or([0.0, 0.0], |f| [f.normal_force_n, f.tangential_magnitude_n])
+            })
+            .collect();
+        self.points.push((r.time_s, forces));
+    }
+
+    /// The SVG document (see [`force_history_svg`]).
+    pub fn svg(&self, title: &str) -> String {
+        force_history_svg(self, title)
+    }
+}
+
 /// Returns an SVG document plotting every finger's normal and friction force against time.
-pub fn force_history_svg(records: &[StepRecord], names: &[String], title: &str) -> String {
+fn force_history_svg(hist: &ForceHistory, title: &str) -> String {
+    let names = &hist.names;
     let (w, h, ml, mr, mt, mb) = (900.0, 500.0, 70.0, 190.0, 40.0, 50.0);
-    let t0 = records.first().map_or(0.0, |r| r.time_s);
-    let t1 = records.last().map_or(1.0, |r| r.time_s).max(t0 + 1e-9);
-    let fmax = records
+    let t0 = hist.span.map_or(0.0, |s| s.0);
+    let t1 = hist.span.map_or(1.0, |s| s.1).max(t0 + 1e-9);
+    let fmax = hist
+        .points
         .iter()
-        .flat_map(|r| {
-            r.solution
-                .fingers
-                .iter()
-                .flat_map(|f| [f.normal_force_n, f.tangential_magnitude_n])
-        })
-        .fold(0.0_f64, f64::max)
+        .flat_map(|p| p.1.iter().flatten())
+        .fold(0.0_f64, |m, x| m.max(*x))
         .max(1e-9);
     let ytop = nice_ceiling(fmax);
     let x = |t: f64| ml + (t - t0) / (t1 - t0) * (w - ml - mr);
@@ -94,19 +136,10 @@ pub fn force_history_svg(records: &[StepRecord], names: &[String], title: &str) 
     for (i, name) in names.iter().enumerate() {
         let c = COLORS[i % COLORS.len()];
         for (dash, pick) in [("", 0usize), (r#" stroke-dasharray="6 4""#, 1usize)] {
-            let pts: Vec<String> = records
+            let pts: Vec<String> = hist
+                .points
                 .iter()
-                .filter(|r| r.solution.status.has_forces())
-                .map(|r| {
-                    let v = r.solution.finger(name).map_or(0.0, |f| {
-                        if pick == 0 {
-                            f.normal_force_n
-                        } else {
-                            f.tangential_magnitude_n
-                        }
-                    });
-                    format!("{:.2},{:.2}", x(r.time_s), y(v))
-                })
+                .map(|(t, f)| format!("{:.2},{:.2}", x(*t), y(f[i][pick])))
                 .collect();
             let _ = writeln!(
                 s,

@@ -5,11 +5,11 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::process::ExitCode;
 
-use anyhow::{bail, Result};
-use grasp_model::refinement::{refinement_study, StudyReference, StudyRow};
+use anyhow::{bail, Context, Result};
+use grasp_model::refinement::{self, refinement_study, StudyReference, StudyRow};
 use grasp_model::SolveOptions;
 
-use crate::output::{check_writable, write_new};
+use crate::output::{check_targets, commit_all, write_all, PendingOutput};
 
 /// Peak resident memory of this process (Linux `VmHWM`), bytes. Grids run in ascending order,
 /// so after each solve it is that grid's peak.
@@ -20,22 +20,36 @@ fn peak_memory_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
+/// Output files of a study.
+pub struct Outputs<'a> {
+    pub csv: Option<&'a Path>,
+    pub plot: Option<&'a Path>,
+    pub force: bool,
+}
+
 pub fn run(
     scene: &Path,
     grids: &[usize],
     reference: &str,
-    csv: Option<&Path>,
-    plot: Option<&Path>,
-    force: bool,
+    out: Outputs,
+    max_memory: Option<u64>,
     solver: grasp_model::SolverChoice,
 ) -> Result<ExitCode> {
-    if grids.iter().any(|&g| g == 0) {
+    if grids.contains(&0) {
         bail!("--grids has a 0; give element counts >= 1, e.g. --grids 5,9,17");
     }
-    for p in [csv, plot].into_iter().flatten() {
-        check_writable(p, force)?;
-    }
-    let scene_obj = crate::load_scene(&scene.to_path_buf())?;
+    let (csv, plot) = (out.csv, out.plot);
+    let targets: Vec<&Path> = [csv, plot].into_iter().flatten().collect();
+    check_targets(&targets, &[scene], out.force)?;
+    let scene_obj = crate::load_scene(scene)?;
+    let limit = crate::limits::memory_limit(max_memory);
+    let finest = grids.iter().copied().max().unwrap_or(1);
+    let finest_scene = refinement::with_grids(&scene_obj, |_, g| {
+        refinement::grid_with_first_side(g, finest)
+    });
+    crate::limits::check_memory(&finest_scene, scene, (limit.0, &limit.1)).with_context(|| {
+        format!("the finest grid of the study ({finest} elements along the first side)")
+    })?;
     let reference = if reference == "hertz" {
         StudyReference::Hertz
     } else {
@@ -58,6 +72,34 @@ pub fn run(
         StudyReference::Hertz => ("p0 error", "approach error"),
         StudyReference::FinestGrid => ("force error", ""),
     };
+    print!("{}", table_text(scene, reference, &rows, e1, e2));
+    let mut pending = Vec::new();
+    if let Some(p) = csv {
+        let (o, f) = PendingOutput::create(p)?;
+        write_all(&o, f, csv_text(&rows).as_bytes())?;
+        pending.push(o);
+    }
+    if let Some(p) = plot {
+        let svg = study_svg(&rows, e1, e2, &scene.display().to_string());
+        let (o, f) = PendingOutput::create(p)?;
+        write_all(&o, f, svg.as_bytes())?;
+        pending.push(o);
+    }
+    commit_all(pending)?;
+    for p in targets {
+        println!("wrote {}", p.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The Markdown table of the study.
+fn table_text(
+    scene: &Path,
+    reference: StudyReference,
+    rows: &[StudyRow],
+    e1: &str,
+    e2: &str,
+) -> String {
     let mut t = String::new();
     let _ = writeln!(
         t,
@@ -83,7 +125,7 @@ pub fn run(
         "|---|---|---|{}---|---|",
         if e2.is_empty() { "" } else { "---|" }
     );
-    for r in &rows {
+    for r in rows {
         let _ = writeln!(
             t,
             "| {}x{} | {} | {:.2e} | {}{:.3} | {} |",
@@ -97,46 +139,39 @@ pub fn run(
                 .map_or("-".into(), |b| format!("{:.0}", b as f64 / 1048576.0))
         );
     }
-    print!("{t}");
-    if let Some(p) = csv {
-        let mut c = String::from(
-            "nx,ny,unknowns,error,error_2,wall_time_s,peak_memory_bytes,equilibrium_residual\n",
+    t
+}
+
+/// The study as CSV (numbers only: no field needs quoting).
+fn csv_text(rows: &[StudyRow]) -> String {
+    let mut c = String::from(
+        "nx,ny,unknowns,error,error_2,wall_time_s,peak_memory_bytes,equilibrium_residual\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            c,
+            "{},{},{},{},{},{},{},{}",
+            r.grid[0],
+            r.grid[1],
+            r.unknowns,
+            r.error,
+            r.error_2.map_or(String::new(), |e| e.to_string()),
+            r.wall_time_s,
+            r.peak_memory_bytes.map_or(String::new(), |b| b.to_string()),
+            r.equilibrium_residual
         );
-        for r in &rows {
-            let _ = writeln!(
-                c,
-                "{},{},{},{},{},{},{},{}",
-                r.grid[0],
-                r.grid[1],
-                r.unknowns,
-                r.error,
-                r.error_2.map_or(String::new(), |e| e.to_string()),
-                r.wall_time_s,
-                r.peak_memory_bytes.map_or(String::new(), |b| b.to_string()),
-                r.equilibrium_residual
-            );
-        }
-        write_new(p, c.as_bytes(), force)?;
-        println!("wrote {}", p.display());
     }
-    if let Some(p) = plot {
-        write_new(
-            p,
-            study_svg(&rows, e1, e2, &scene.display().to_string()).as_bytes(),
-            force,
-        )?;
-        println!("wrote {}", p.display());
-    }
-    Ok(ExitCode::SUCCESS)
+    c
 }
 
 /// Log-log plot of error against wall time, one point per grid.
 fn study_svg(rows: &[StudyRow], e1: &str, e2: &str, title: &str) -> String {
     let (w, h, ml, mr, mt, mb) = (700.0, 460.0, 80.0, 30.0, 40.0, 55.0);
-    let pts: Vec<(f64, f64, Option<f64>)> = rows
+    // Points of a log-log plot need positive errors; each keeps its row for the label.
+    let pts: Vec<(f64, f64, Option<f64>, &StudyRow)> = rows
         .iter()
         .filter(|r| r.error > 0.0)
-        .map(|r| (r.wall_time_s, r.error, r.error_2.filter(|e| *e > 0.0)))
+        .map(|r| (r.wall_time_s, r.error, r.error_2.filter(|e| *e > 0.0), r))
         .collect();
     let xs: Vec<f64> = pts.iter().map(|p| p.0.log10()).collect();
     let ys: Vec<f64> = pts
@@ -201,8 +236,8 @@ fn study_svg(rows: &[StudyRow], e1: &str, e2: &str, title: &str) -> String {
         }
         let line: Vec<String> = pts
             .iter()
-            .zip(rows)
-            .filter_map(|(p, r)| {
+            .filter_map(|p| {
+                let r = p.3;
                 let v = if k == 0 { Some(p.1) } else { p.2 };
                 v.map(|v| {
                     let _ = writeln!(s, r#"<circle cx="{:.1}" cy="{:.1}" r="3.5" fill="{color}"/><text x="{:.1}" y="{:.1}" font-size="10">{}x{}</text>"#, x(p.0), y(v), x(p.0) + 5.0, y(v) - 5.0, r.grid[0], r.grid[1]);
@@ -220,4 +255,37 @@ fn study_svg(rows: &[StudyRow], e1: &str, e2: &str, title: &str) -> String {
     }
     s.push_str("</svg>\n");
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(n: usize, error: f64) -> StudyRow {
+        StudyRow {
+            grid: [n, n],
+            unknowns: 3 * n * n,
+            error,
+            error_2: None,
+            wall_time_s: 0.01 * n as f64,
+            peak_memory_bytes: None,
+            equilibrium_residual: 0.0,
+        }
+    }
+
+    /// A zero error (the reference grid itself) has no point on a log plot; the labels of the
+    /// other points stay with their own grids.
+    #[test]
+    fn plot_labels_stay_with_their_points_when_an_error_is_zero() {
+        let rows = [row(3, 1e-2), row(5, 0.0), row(9, 1e-3)];
+        let svg = study_svg(&rows, "force error", "", "t");
+        assert!(!svg.contains(">5x5<"), "{svg}");
+        let label = |g: &str| {
+            let i = svg.find(&format!(">{g}<")).unwrap();
+            let c = svg[..i].rfind("<circle cx=\"").unwrap() + 12;
+            svg[c..].split('"').next().unwrap().parse::<f64>().unwrap()
+        };
+        // The 9x9 label sits at the 9x9 point, right of the 3x3 one (larger wall time).
+        assert!(label("9x9") > label("3x3"), "{svg}");
+    }
 }

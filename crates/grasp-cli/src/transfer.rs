@@ -1,16 +1,20 @@
-//! `grasp transfer`: validated inputs, sinks, a progress bar, and the closing summary.
+//! `grasp transfer`: validated inputs, sinks writing temporary files, a progress bar, and the
+//! closing summary. Outputs are moved into place only when the run completes (see `output`).
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
+use std::fs::File;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
+use grasp_model::Scene;
 use grasp_transfer::{
     CsvSink, McapSink, RerunSink, Schedule, Sink, SqueezeOutcome, TransferOptions, TransferSummary,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::output::check_writable;
+use crate::output::{check_targets, commit_all, write_all, PendingOutput};
+use crate::plot::ForceHistory;
 
 /// Output files of a transfer.
 pub struct Outputs {
@@ -21,59 +25,102 @@ pub struct Outputs {
     pub force: bool,
 }
 
+impl Outputs {
+    /// "wrote ..." lines of the outputs given.
+    fn wrote(&self) -> String {
+        let mut o = String::new();
+        for (p, what) in [
+            (&self.mcap, "MCAP"),
+            (&self.rrd, "Rerun recording"),
+            (&self.csv, "CSV"),
+            (&self.plot, "plot"),
+        ] {
+            if let Some(p) = p {
+                let _ = writeln!(o, "wrote {what}: {}", p.display());
+            }
+        }
+        o
+    }
+
+    fn targets(&self) -> Vec<&Path> {
+        [&self.mcap, &self.rrd, &self.csv, &self.plot]
+            .into_iter()
+            .flatten()
+            .map(PathBuf::as_path)
+            .collect()
+    }
+}
+
 /// Switches of a transfer.
 pub struct Flags {
     pub keep_going: bool,
     pub cold: bool,
     pub min_squeeze: bool,
     pub solver: grasp_model::SolverChoice,
+    pub max_memory: Option<u64>,
+}
+
+/// The sinks of a run, each writing its temporary file.
+struct OpenSinks {
+    mcap: Option<McapSink>,
+    rrd: Option<RerunSink>,
+    csv: Option<CsvSink>,
+    pending: Vec<PendingOutput>,
+}
+
+impl OpenSinks {
+    fn create(out: &Outputs) -> Result<OpenSinks> {
+        let mut pending = Vec::new();
+        // (open temporary file, its path, the target) of an output given.
+        let mut open = |p: &Option<PathBuf>| -> Result<Option<(File, PathBuf, PathBuf)>> {
+            let Some(p) = p else { return Ok(None) };
+            let (o, f) = PendingOutput::create(p)?;
+            let tmp = o.tmp().to_path_buf();
+            pending.push(o);
+            Ok(Some((f, tmp, p.clone())))
+        };
+        let mcap = open(&out.mcap)?
+            .map(|(f, _, target)| McapSink::from_file(f, &target))
+            .transpose()?;
+        let rrd = open(&out.rrd)?
+            .map(|(_, tmp, target)| RerunSink::create_as(&tmp, &target))
+            .transpose()?;
+        let csv = open(&out.csv)?.map(|(f, _, target)| CsvSink::from_file(f, &target));
+        Ok(OpenSinks {
+            mcap,
+            rrd,
+            csv,
+            pending,
+        })
+    }
+
+    fn sinks(&mut self) -> Vec<&mut dyn Sink> {
+        let mut v: Vec<&mut dyn Sink> = Vec::new();
+        if let Some(s) = self.mcap.as_mut() {
+            v.push(s);
+        }
+        if let Some(s) = self.rrd.as_mut() {
+            v.push(s);
+        }
+        if let Some(s) = self.csv.as_mut() {
+            v.push(s);
+        }
+        v
+    }
 }
 
 pub fn run(
-    scene_path: &PathBuf,
-    schedule_path: &PathBuf,
+    scene_path: &Path,
+    schedule_path: &Path,
     out: &Outputs,
     flags: Flags,
 ) -> Result<ExitCode> {
-    // Validate everything before any work: outputs, scene, schedule.
-    for p in [&out.mcap, &out.rrd, &out.csv, &out.plot]
-        .into_iter()
-        .flatten()
-    {
-        check_writable(p, out.force)?;
-    }
-    let scene = crate::load_scene(scene_path)?;
-    let text = std::fs::read_to_string(schedule_path)
-        .with_context(|| format!("cannot read schedule file {}", schedule_path.display()))?;
+    // Validate everything before any work: outputs, scene, memory, schedule.
+    check_targets(&out.targets(), &[scene_path, schedule_path], out.force)?;
+    let (scene, schedule) = load_inputs(scene_path, schedule_path, flags.max_memory)?;
     let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
-    let base = schedule_path
-        .parent()
-        .map(PathBuf::from)
-        .unwrap_or_default();
-    let schedule = Schedule::from_json_str(&text, &names, &base)
-        .with_context(|| format!("{} is not a usable schedule", schedule_path.display()))?;
-
-    let mut mcap = out.mcap.as_deref().map(McapSink::create).transpose()?;
-    let mut rrd = out.rrd.as_deref().map(RerunSink::create).transpose()?;
-    let mut csv = out.csv.as_deref().map(CsvSink::create).transpose()?;
-    let mut sinks: Vec<&mut dyn Sink> = Vec::new();
-    if let Some(s) = mcap.as_mut() {
-        sinks.push(s);
-    }
-    if let Some(s) = rrd.as_mut() {
-        sinks.push(s);
-    }
-    if let Some(s) = csv.as_mut() {
-        sinks.push(s);
-    }
-    // indicatif draws only on a terminal; piped output stays quiet.
-    let bar = ProgressBar::new(schedule.times.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} steps  t = {msg}  ({elapsed}, eta {eta})",
-        )
-        .expect("valid template"),
-    );
+    let mut open = OpenSinks::create(out)?;
+    let bar = progress_bar(schedule.times.len());
     let options = TransferOptions {
         keep_going: flags.keep_going,
         warm_start: !flags.cold,
@@ -82,22 +129,37 @@ pub fn run(
             ..grasp_model::SolveOptions::default()
         },
     };
-    let (records, summary) = grasp_transfer::run(&scene, &schedule, options, &mut sinks, |r| {
-        bar.set_message(format!("{:.3} s", r.time_s));
-        bar.inc(1);
-    })?;
+    let mut history = out.plot.as_ref().map(|_| ForceHistory::new(&names));
+    let (summary, last) =
+        grasp_transfer::run(&scene, &schedule, options, &mut open.sinks(), |r| {
+            bar.set_message(format!("{:.3} s", r.time_s));
+            bar.inc(1);
+            if let Some(h) = history.as_mut() {
+                h.push(r);
+            }
+        })?;
     bar.finish_and_clear();
-    if let Some(p) = &out.plot {
-        let svg =
-            crate::plot::force_history_svg(&records, &names, &scene_path.display().to_string());
-        crate::output::write_new(p, svg.as_bytes(), out.force)?;
+    let planned = schedule.times.len();
+    print!("{}", summary_text(&summary, summary.steps, planned));
+    if summary.failed_step_count > 0 && !flags.keep_going {
+        drop(open); // removes the temporary files
+        if !out.targets().is_empty() {
+            println!(
+                "no output written: the run stopped at a failed step, so its logs are incomplete; \
+                 existing files are untouched (even with --force); pass --keep-going to log past \
+                 failed steps"
+            );
+        }
+        return Ok(ExitCode::from(2));
     }
-    print!(
-        "{}",
-        summary_text(&summary, records.len(), schedule.times.len())
-    );
+    if let (Some(p), Some(h)) = (&out.plot, &history) {
+        let svg = h.svg(&scene_path.display().to_string());
+        let (o, f) = PendingOutput::create(p)?;
+        write_all(&o, f, svg.as_bytes())?;
+        open.pending.push(o);
+    }
     if flags.min_squeeze {
-        match records.last() {
+        match &last {
             Some(last) => {
                 let outcome = grasp_transfer::minimum_squeeze(&scene, last, options.solve)?;
                 print!("{}", squeeze_text(&outcome));
@@ -105,21 +167,44 @@ pub fn run(
             None => println!("minimum squeeze: no step was solved"),
         }
     }
-    for (p, what) in [
-        (&out.mcap, "MCAP"),
-        (&out.rrd, "Rerun recording"),
-        (&out.csv, "CSV"),
-        (&out.plot, "plot"),
-    ] {
-        if let Some(p) = p {
-            println!("wrote {what}: {}", p.display());
-        }
-    }
-    Ok(if summary.failed_steps.is_empty() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(2)
+    commit_all(std::mem::take(&mut open.pending))?;
+    print!("{}", out.wrote());
+    Ok(match summary.failed_step_count {
+        0 => ExitCode::SUCCESS,
+        _ => ExitCode::from(2),
     })
+}
+
+/// The scene (within the memory limit) and the schedule resolved against it.
+fn load_inputs(
+    scene_path: &Path,
+    schedule_path: &Path,
+    max_memory: Option<u64>,
+) -> Result<(Scene, Schedule)> {
+    let scene = crate::load_scene(scene_path)?;
+    let (limit, what) = crate::limits::memory_limit(max_memory);
+    crate::limits::check_memory(&scene, scene_path, (limit, &what))?;
+    let text = crate::limits::read_input(schedule_path, "schedule file")?;
+    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let base = schedule_path
+        .parent()
+        .map(PathBuf::from)
+        .unwrap_or_default();
+    let schedule = Schedule::from_json_str(&text, &names, &base)
+        .with_context(|| format!("{} is not a usable schedule", schedule_path.display()))?;
+    Ok((scene, schedule))
+}
+
+/// A progress bar of the steps (indicatif draws only on a terminal; piped output stays quiet).
+fn progress_bar(steps: usize) -> ProgressBar {
+    let bar = ProgressBar::new(steps as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} steps  t = {msg}  ({elapsed}, eta {eta})",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
 }
 
 fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
@@ -154,10 +239,10 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
             let _ = writeln!(o, "smallest slip margin: no loaded frictional finger");
         }
     }
-    if s.failed_steps.is_empty() {
+    if s.failed_step_count == 0 {
         let _ = writeln!(o, "failed steps: none");
     } else {
-        let _ = writeln!(o, "failed steps: {}", s.failed_steps.len());
+        let _ = writeln!(o, "failed steps: {}", s.failed_step_count);
         for (i, time, why) in s.failed_steps.iter().take(5) {
             let _ = writeln!(o, "  step {i} (t = {time:.3} s): {why}");
         }

@@ -38,6 +38,7 @@ pub mod error;
 pub mod friction;
 pub mod grasp_model;
 pub mod influence;
+pub mod json_input;
 pub mod material;
 pub mod native;
 pub mod patch;
@@ -52,6 +53,7 @@ pub mod solution;
 pub mod solve;
 pub mod solve_options;
 pub mod validation;
+pub mod work_bounds;
 
 pub use cone_program::ConeProgram;
 pub use contact_state::{ContactState, FingerState};

@@ -12,7 +12,11 @@
 //!   so that `t1 x t2 = n`.
 
 use schemars::JsonSchema;
+use serde::de::Deserializer;
 use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+use crate::json_input::{describe, variant, StrictValue};
 
 /// A 3-vector as written in the file (`[x, y, z]`).
 pub type Vec3 = [f64; 3];
@@ -41,7 +45,8 @@ pub struct Scene {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PlanarSpec {
-    /// Normal of the plane of motion (any nonzero length; normalised on load).
+    /// Normal of the plane of motion (any finite nonzero length; normalised on load, scaled by
+    /// its largest component first).
     pub normal: Vec3,
 }
 
@@ -49,11 +54,12 @@ pub struct PlanarSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectSpec {
-    /// Weight `W` in newtons (>= 0).
+    /// Weight `W` in newtons: 0 or in `[1e-15, 1e7]`.
     pub weight: f64,
-    /// Centre of mass `r` in metres (world frame).
+    /// Centre of mass `r` in metres (world frame), each coordinate in `[-1e3, 1e3]`.
     pub center_of_mass: Vec3,
-    /// Direction of gravity (any nonzero length; normalised on load). Default `[0, 0, -1]`.
+    /// Direction of gravity (any finite nonzero length; normalised on load, scaled by its
+    /// largest component first). Default `[0, 0, -1]`.
     #[serde(default = "default_gravity")]
     pub gravity: Vec3,
     /// Material of the object near the contacts.
@@ -71,18 +77,15 @@ fn default_gravity() -> Vec3 {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ExternalForceSpec {
-    /// Force in newtons (world frame).
+    /// Force in newtons (world frame), each component 0 or of magnitude in `[1e-15, 1e7]`.
     pub force: Vec3,
-    /// Point of application in metres (world frame).
+    /// Point of application in metres (world frame), each coordinate in `[-1e3, 1e3]`.
     pub at: Vec3,
 }
 
 /// A linear-elastic isotropic material, or `"rigid"` (`1/E = 0`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[serde(
-    untagged,
-    expecting = "expected a material: \"rigid\" or {\"youngs_modulus\": Pa, \"poisson_ratio\": -}"
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
+#[serde(untagged)]
 pub enum MaterialSpec {
     /// A rigid body.
     Rigid(RigidTag),
@@ -102,7 +105,7 @@ pub enum RigidTag {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ElasticSpec {
-    /// Young's modulus `E` in pascals (> 0).
+    /// Young's modulus `E` in pascals, in `[1, 1e15]`.
     pub youngs_modulus: f64,
     /// Poisson's ratio `nu`, dimensionless, in `[0, 0.5)`.
     pub poisson_ratio: f64,
@@ -114,9 +117,11 @@ pub struct ElasticSpec {
 pub struct FingerSpec {
     /// Unique name, used in every report.
     pub name: String,
-    /// Initial contact point `v_i` on the object surface, metres (world frame).
+    /// Initial contact point `v_i` on the object surface, metres (world frame), each
+    /// coordinate in `[-1e3, 1e3]`.
     pub contact_point: Vec3,
-    /// Contact normal `n_i`, pointing INTO the object (any nonzero length; normalised).
+    /// Contact normal `n_i`, pointing INTO the object (any finite nonzero length; normalised
+    /// on load, scaled by its largest component first).
     pub normal: Vec3,
     /// Optional first tangent axis `t1` (projected onto the plane normal to `n`). In a planar
     /// scene it must be omitted or lie in the plane.
@@ -124,12 +129,14 @@ pub struct FingerSpec {
     pub tangent: Option<Vec3>,
     /// Material of the fingertip.
     pub material: MaterialSpec,
-    /// Fingertip radius of curvature in metres; `null` for a flat tip.
+    /// Fingertip radius of curvature in metres, in `[1e-9, 1e3]` and at least half the larger
+    /// patch side; `null` for a flat tip.
     #[serde(default)]
     pub tip_radius: Option<f64>,
     /// Local radius of curvature of the object at the contact in metres: `null` (flat), one
     /// number (sphere-like), or `[R1, R2]` principal radii along `t1` and `t2` (either may be
-    /// `null`; a cylinder whose axis runs along `t2` is `[R, null]`).
+    /// `null`; a cylinder whose axis runs along `t2` is `[R, null]`). Each radius in
+    /// `[1e-9, 1e3]` and at least half the patch side along it.
     #[serde(default)]
     pub object_radius: Option<RadiusSpec>,
     /// The candidate contact patch.
@@ -142,11 +149,8 @@ pub struct FingerSpec {
 }
 
 /// Curvature radius of the object at a contact.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[serde(
-    untagged,
-    expecting = "expected a radius in metres, or [R1, R2] with each a number or null"
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
+#[serde(untagged)]
 pub enum RadiusSpec {
     /// The same radius in every direction.
     Isotropic(f64),
@@ -158,20 +162,18 @@ pub enum RadiusSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PatchSpec {
-    /// Side lengths `[Lx, Ly]` in metres along `t1`, `t2`.
+    /// Side lengths `[Lx, Ly]` in metres along `t1`, `t2`, each in `[1e-9, 10]`.
     pub size: [f64; 2],
-    /// Elements `[nx, ny]` along `t1`, `t2` (each >= 1).
+    /// Elements `[nx, ny]` along `t1`, `t2` (each >= 1, `nx ny <= 4096`). The memory a solve
+    /// needs grows like `(nx ny)^2`; `grasp` refuses grids whose estimate exceeds
+    /// `--max-memory`.
     pub grid: [usize; 2],
 }
 
 /// Friction law of a contact (thesis section 2.6): `{"mu": c}`, `{"table": [[P, mu], ...]}` or
 /// `{"elastic": {...}}` (thesis eq. 40).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[serde(
-    untagged,
-    expecting = "expected a friction law: {\"mu\": c}, {\"table\": [[P_N, mu], ...]} or \
-                 {\"elastic\": {\"finger_radius\": m, \"object_radius\": m, \"contact_length\": m}}"
-)]
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+#[serde(untagged)]
 pub enum FrictionSpec {
     /// A constant Coulomb coefficient.
     Coefficient(CoefficientSpec),
@@ -201,7 +203,8 @@ impl FrictionSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CoefficientSpec {
-    /// Coulomb coefficient `mu` (>= 0; 0 is a frictionless finger with no tangential unknowns).
+    /// Coulomb coefficient `mu`: 0 (a frictionless finger with no tangential unknowns) or in
+    /// `[1e-6, 1e3]`.
     pub mu: f64,
 }
 
@@ -209,8 +212,9 @@ pub struct CoefficientSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TableSpec {
-    /// Points `[P, mu]`: the finger's total normal load `P` in newtons (>= 0, strictly
-    /// increasing) and the coefficient there (>= 0). Linear in between, constant outside.
+    /// Points `[P, mu]`: the finger's total normal load `P` in newtons (in `[0, 1e7]`,
+    /// strictly increasing) and the coefficient there (0 or in `[1e-6, 1e3]`). Linear in between,
+    /// constant outside.
     pub table: Vec<[f64; 2]>,
 }
 
@@ -227,21 +231,18 @@ pub struct ElasticLawSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ElasticLawParams {
-    /// `R1`: radius of curvature of the finger at the contact, m (> 0).
+    /// `R1`: radius of curvature of the finger at the contact, m, in `[1e-9, 1e3]`.
     pub finger_radius: f64,
-    /// `R2`: radius of curvature of the object at the contact, m (> `R1`).
+    /// `R2`: radius of curvature of the object at the contact, m (> `R1`, <= 1e3).
     pub object_radius: f64,
-    /// `L`: length of the line contact, m (> 0). Eq. (40) is a plane-strain law in the load
+    /// `L`: length of the line contact, m, in `[1e-9, 1e3]`. Eq. (40) is a plane-strain law in the load
     /// per unit length `P / L`.
     pub contact_length: f64,
 }
 
 /// How a finger is driven.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[serde(
-    untagged,
-    expecting = "expected a control: \"held\" or {\"normal_load\": N}"
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
+#[serde(untagged)]
 pub enum ControlSpec {
     /// Position-held: its load is found by the model.
     Held(HeldTag),
@@ -277,7 +278,7 @@ pub enum HeldTag {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NormalLoadSpec {
-    /// Total normal force `P_i` in newtons (>= 0).
+    /// Total normal force `P_i` in newtons: 0 or in `[1e-15, 1e7]`.
     pub normal_load: f64,
 }
 
@@ -292,6 +293,71 @@ pub enum ModelKind {
     /// iterate, iterated to a fixed point, with slip memory between steps (model.md,
     /// "coulomb").
     Coulomb,
+}
+
+/// What a material looks like, for messages.
+const EXPECT_MATERIAL: &str =
+    "expected a material: \"rigid\" or {\"youngs_modulus\": Pa, \"poisson_ratio\": -}";
+/// What a friction law looks like, for messages.
+const EXPECT_FRICTION: &str = "expected a friction law: {\"mu\": c}, {\"table\": [[P_N, mu], \
+     ...]} or {\"elastic\": {\"finger_radius\": m, \"object_radius\": m, \"contact_length\": m}}";
+/// What a control looks like, for messages.
+const EXPECT_CONTROL: &str = "expected a control: \"held\" or {\"normal_load\": N}";
+/// What a radius looks like, for messages.
+const EXPECT_RADIUS: &str = "expected a radius in metres, or [R1, R2] with each a number or null";
+
+/// The error for a value of the wrong shape: what was expected and what was found.
+fn shape_error<E: serde::de::Error>(expected: &str, found: &Value) -> E {
+    E::custom(format!("{expected}; found {}", describe(found)))
+}
+
+impl<'de> Deserialize<'de> for MaterialSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let StrictValue(v) = StrictValue::deserialize(d)?;
+        match v {
+            Value::String(ref s) if s == "rigid" => variant(v).map(MaterialSpec::Rigid),
+            Value::Object(_) => variant(v).map(MaterialSpec::Elastic),
+            v => Err(shape_error(EXPECT_MATERIAL, &v)),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for RadiusSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let StrictValue(v) = StrictValue::deserialize(d)?;
+        match v {
+            Value::Number(_) => variant(v).map(RadiusSpec::Isotropic),
+            Value::Array(_) => variant(v).map(RadiusSpec::Principal),
+            v => Err(shape_error(EXPECT_RADIUS, &v)),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for FrictionSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let StrictValue(v) = StrictValue::deserialize(d)?;
+        let has = |k: &str| v.get(k).is_some();
+        if has("mu") {
+            variant(v).map(FrictionSpec::Coefficient)
+        } else if has("table") {
+            variant(v).map(FrictionSpec::Table)
+        } else if has("elastic") {
+            variant(v).map(FrictionSpec::Elastic)
+        } else {
+            Err(shape_error(EXPECT_FRICTION, &v))
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for ControlSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let StrictValue(v) = StrictValue::deserialize(d)?;
+        match v {
+            Value::String(ref s) if s == "held" => variant(v).map(ControlSpec::Held),
+            Value::Object(_) => variant(v).map(ControlSpec::Load),
+            v => Err(shape_error(EXPECT_CONTROL, &v)),
+        }
+    }
 }
 
 /// The JSON Schema of the scene format, generated from these types.

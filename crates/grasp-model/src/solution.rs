@@ -148,7 +148,8 @@ pub struct SolverStats {
     /// The solver whose answer this is (of the last convex solve).
     pub solver: SolverKind,
     /// Why the native solver's answer was not used, when it was not (the fallback to
-    /// Clarabel); `None` otherwise.
+    /// Clarabel); absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fallback: Option<String>,
     /// Iterations over all convex solves: Newton steps of the native solver plus
     /// interior-point iterations of Clarabel.

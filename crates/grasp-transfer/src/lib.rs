@@ -28,16 +28,19 @@ pub use stepper::{StepRecord, Stepper, TransferOptions};
 pub use summary::TransferSummary;
 
 use grasp_model::{GraspModel, Scene};
+pub use summary::SummaryAccumulator;
 
-/// Runs a whole schedule, feeding every step to the sinks, calling `on_step` after each.
-/// Returns the records and the summary.
+/// Runs a whole schedule, streaming every step to the sinks and to `on_step` (nothing is kept
+/// but the summary, folded step by step, and the last step). Returns the summary and the last
+/// record. A run that stops at a failed step (without `keep_going`) still finishes its sinks:
+/// `summary.steps < schedule.times.len()` tells the caller it is incomplete.
 pub fn run(
     scene: &Scene,
     schedule: &Schedule,
     options: TransferOptions,
     sinks: &mut [&mut dyn Sink],
     mut on_step: impl FnMut(&StepRecord),
-) -> Result<(Vec<StepRecord>, TransferSummary), TransferError> {
+) -> Result<(TransferSummary, Option<StepRecord>), TransferError> {
     let geometry = GraspModel::from_scene(scene).map_err(|source| TransferError::Scene {
         time_s: 0.0,
         source,
@@ -46,7 +49,9 @@ pub fn run(
         scene,
         geometry: &geometry,
     };
-    let mut records = Vec::with_capacity(schedule.times.len());
+    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let mut summary = SummaryAccumulator::new(&names);
+    let mut last = None;
     let outcome = (|| {
         for s in sinks.iter_mut() {
             s.begin(&info)?;
@@ -57,7 +62,8 @@ pub fn run(
                 s.step(&info, &r)?;
             }
             on_step(&r);
-            records.push(r);
+            summary.add(&r);
+            last = Some(r);
         }
         for s in sinks.iter_mut() {
             s.finish()?;
@@ -65,13 +71,23 @@ pub fn run(
         Ok(())
     })();
     if let Err(e) = outcome {
-        // Keep what was written in the `.partial` files; leave the user's files untouched.
         for s in sinks.iter_mut() {
             s.abort();
         }
         return Err(e);
     }
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
-    let summary = TransferSummary::from_records(&records, &names);
+    Ok((summary.finish(), last))
+}
+
+/// [`run`], keeping every record (memory grows with the number of steps: for tests and short
+/// schedules).
+pub fn run_collect(
+    scene: &Scene,
+    schedule: &Schedule,
+    options: TransferOptions,
+    sinks: &mut [&mut dyn Sink],
+) -> Result<(Vec<StepRecord>, TransferSummary), TransferError> {
+    let mut records = Vec::new();
+    let (summary, _) = run(scene, schedule, options, sinks, |r| records.push(r.clone()))?;
     Ok((records, summary))
 }

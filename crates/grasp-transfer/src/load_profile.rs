@@ -1,6 +1,78 @@
 //! Load profiles from CSV files: a header row, then comma-separated numbers.
+//!
+//! Only a regular file is read (checked before opening, so a FIFO never blocks and a device
+//! such as `/dev/zero` is refused), of at most [`MAX_PROFILE_BYTES`].
 
+use std::io::Read;
 use std::path::Path;
+
+/// Largest CSV profile read, bytes.
+pub const MAX_PROFILE_BYTES: u64 = 64 * 1024 * 1024;
+
+type ProfileError = (&'static str, String, String);
+
+/// The text of a profile: a regular file (symlinks followed) of at most
+/// [`MAX_PROFILE_BYTES`], read without blocking on pipes or growing on devices.
+fn read_regular_file(path: &Path) -> Result<String, ProfileError> {
+    let err = |message: String, fix: &str| ("path", message, fix.to_string());
+    let meta = std::fs::metadata(path).map_err(|e| {
+        err(
+            format!("cannot read {}: {e}", path.display()),
+            "give an existing CSV file",
+        )
+    })?;
+    if !meta.is_file() {
+        return Err(err(
+            format!(
+                "{} is not a regular file (a folder, a pipe or a device)",
+                path.display()
+            ),
+            "give a CSV file",
+        ));
+    }
+    if meta.len() > MAX_PROFILE_BYTES {
+        return Err(err(
+            format!(
+                "{} has {} bytes, more than the {} MiB a profile may have",
+                path.display(),
+                meta.len(),
+                MAX_PROFILE_BYTES / 1048576
+            ),
+            "thin out the profile (the schedule interpolates between rows)",
+        ));
+    }
+    let file = std::fs::File::open(path).map_err(|e| {
+        err(
+            format!("cannot read {}: {e}", path.display()),
+            "give a readable CSV file",
+        )
+    })?;
+    let mut bytes = Vec::new();
+    file.take(MAX_PROFILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| {
+            err(
+                format!("cannot read {}: {e}", path.display()),
+                "give a readable CSV file",
+            )
+        })?;
+    if bytes.len() as u64 > MAX_PROFILE_BYTES {
+        return Err(err(
+            format!(
+                "{} grew beyond {} MiB while being read",
+                path.display(),
+                MAX_PROFILE_BYTES / 1048576
+            ),
+            "give a CSV file that is not being written",
+        ));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        err(
+            format!("{} is not UTF-8 text: {e}", path.display()),
+            "save the profile as plain (UTF-8) text",
+        )
+    })
+}
 
 /// Reads `(time s, load N)` rows from the named columns. On failure returns
 /// `(field, message, fix)` where `field` is the schedule field to blame (`path`,
@@ -9,14 +81,8 @@ pub fn read_profile_csv(
     path: &Path,
     time_column: &str,
     load_column: &str,
-) -> Result<Vec<(f64, f64)>, (&'static str, String, String)> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        (
-            "path",
-            format!("cannot read {}: {e}", path.display()),
-            "give an existing CSV file".into(),
-        )
-    })?;
+) -> Result<Vec<(f64, f64)>, ProfileError> {
+    let text = read_regular_file(path)?;
     let mut lines = text
         .lines()
         .enumerate()
@@ -49,7 +115,7 @@ pub fn read_profile_csv(
     let mut rows = Vec::new();
     for (n, line) in lines {
         let cells: Vec<&str> = line.split(',').map(|c| c.trim()).collect();
-        let num = |i: usize, what: &str| -> Result<f64, (&'static str, String, String)> {
+        let num = |i: usize, what: &str| -> Result<f64, ProfileError> {
             cells
                 .get(i)
                 .and_then(|c| c.parse::<f64>().ok())

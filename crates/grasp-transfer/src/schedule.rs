@@ -16,11 +16,17 @@
 //! newtons. The keyframe value `"current"` is the normal force the finger carried at the step
 //! before the phase began (so a ramp starts from whatever the grasp settled to).
 
+// Every `!(a > b)` in this file is meant: a NaN must fail the check as well.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use grasp_model::json_input::{self, describe, variant, StrictValue};
+use grasp_model::validation::{force_in_range, MAX_FORCE_N, MIN_NONZERO_FORCE_N};
 use schemars::JsonSchema;
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize};
+use serde_json::Value;
 
 use crate::easing::Easing;
 use crate::error::{ScheduleError, ScheduleProblem};
@@ -28,6 +34,10 @@ use crate::load_profile::read_profile_csv;
 
 /// Most steps a schedule may have.
 pub const MAX_STEPS: usize = 1_000_000;
+
+/// Largest absolute time in a schedule or profile, s (about 31 years; the logs store times in
+/// nanoseconds as 64-bit integers).
+pub const MAX_TIME_S: f64 = 1e9;
 
 /// A schedule file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -38,16 +48,15 @@ pub struct ScheduleSpec {
     pub description: Option<String>,
     /// The step times.
     pub time: TimeSpec,
-    /// Per finger (by name), its phases in order.
+    /// Per finger (by name, each name once), its phases in order.
+    #[serde(deserialize_with = "json_input::unique_keys")]
     pub fingers: BTreeMap<String, Vec<PhaseSpec>>,
 }
 
-/// Step times: a span with a step, or explicit times (s, >= 0, strictly increasing).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[serde(
-    untagged,
-    expecting = "expected {\"start\", \"end\", \"step\"} or {\"times\": [...]}"
-)]
+/// Step times: a span with a step, or explicit times (s, in `[0, 1e9]`, strictly increasing),
+/// at most 1e6 steps.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+#[serde(untagged)]
 pub enum TimeSpec {
     /// `start, start + step, ..., end` (end included when it falls on the grid to 1e-9 step).
     Span(SpanSpec),
@@ -59,11 +68,11 @@ pub enum TimeSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpanSpec {
-    /// First time, s (>= 0: it becomes the MCAP log time).
+    /// First time, s, in `[0, 1e9]` (it becomes the MCAP log time).
     pub start: f64,
-    /// Last time, s.
+    /// Last time, s, in `[start, 1e9]`.
     pub end: f64,
-    /// Step, s (> 0).
+    /// Step, s (> 0; at most 1e6 steps from start to end).
     pub step: f64,
 }
 
@@ -71,7 +80,7 @@ pub struct SpanSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ExplicitTimes {
-    /// Times, s, strictly increasing, >= 0.
+    /// Times, s, strictly increasing, in `[0, 1e9]`; at most 1e6 of them.
     pub times: Vec<f64>,
 }
 
@@ -91,14 +100,14 @@ pub enum PhaseSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct HeldPhase {
-    /// End of the phase, s (inclusive); absent: to the end of the schedule.
+    /// End of the phase, s (inclusive, `|t| <= 1e9`); absent: to the end of the schedule.
     #[serde(default)]
     pub until: Option<f64>,
 }
 
-/// A keyframe value: newtons, or `"current"`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[serde(untagged, expecting = "expected a load in newtons or \"current\"")]
+/// A keyframe value: newtons (0 or in `[1e-15, 1e7]`), or `"current"`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
+#[serde(untagged)]
 pub enum KeyValue {
     /// A load, N.
     Newtons(f64),
@@ -118,14 +127,16 @@ pub enum CurrentTag {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RampPhase {
-    /// Keyframes, times strictly increasing.
+    /// Keyframes `[time s, load]`, times strictly increasing (`|t| <= 1e9`), loads 0 or in
+    /// `[1e-15, 1e7]` N, or `"current"`.
     pub keyframes: Vec<(f64, KeyValue)>,
     /// Interpolation between keyframes (default `linear`).
     #[serde(default)]
     pub easing: Easing,
 }
 
-/// A load profile from a CSV file (header row; comma-separated numbers).
+/// A load profile from a CSV file (header row; comma-separated numbers; a regular file of at
+/// most 64 MiB; times `|t| <= 1e9` s strictly increasing, loads 0 or in `[1e-15, 1e7]` N).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CsvPhase {
@@ -138,6 +149,37 @@ pub struct CsvPhase {
     /// Interpolation between rows (default `linear`).
     #[serde(default)]
     pub easing: Easing,
+}
+
+impl<'de> Deserialize<'de> for TimeSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let StrictValue(v) = StrictValue::deserialize(d)?;
+        let has = |k: &str| v.get(k).is_some();
+        if has("times") {
+            variant(v).map(TimeSpec::Explicit)
+        } else if has("start") || has("end") || has("step") {
+            variant(v).map(TimeSpec::Span)
+        } else {
+            Err(serde::de::Error::custom(format!(
+                "expected {{\"start\", \"end\", \"step\"}} or {{\"times\": [...]}}; found {}",
+                describe(&v)
+            )))
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for KeyValue {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let StrictValue(v) = StrictValue::deserialize(d)?;
+        match v {
+            Value::Number(_) => variant(v).map(KeyValue::Newtons),
+            Value::String(ref s) if s == "current" => variant(v).map(KeyValue::Current),
+            v => Err(serde::de::Error::custom(format!(
+                "expected a load in newtons or \"current\"; found {}",
+                describe(&v)
+            ))),
+        }
+    }
 }
 
 /// What a finger is told to do at one step.
@@ -188,18 +230,17 @@ pub struct Schedule {
 }
 
 impl Schedule {
-    /// Parses, validates and resolves a schedule against the scene's finger names. CSV paths
-    /// are resolved relative to `base_dir`.
+    /// Parses, validates and resolves a schedule against the scene's finger names (one JSON
+    /// document, no key twice). CSV paths are resolved relative to `base_dir`.
     pub fn from_json_str(
         text: &str,
         finger_names: &[String],
         base_dir: &Path,
     ) -> Result<Schedule, ScheduleError> {
-        let de = &mut serde_json::Deserializer::from_str(text);
         let spec: ScheduleSpec =
-            serde_path_to_error::deserialize(de).map_err(|e| ScheduleError::Parse {
-                path: e.path().to_string(),
-                message: e.inner().to_string(),
+            json_input::from_str_strict(text).map_err(|e| ScheduleError::Parse {
+                path: e.path,
+                message: e.message,
             })?;
         Schedule::from_spec(&spec, finger_names, base_dir)
     }
@@ -210,275 +251,51 @@ impl Schedule {
         finger_names: &[String],
         base_dir: &Path,
     ) -> Result<Schedule, ScheduleError> {
-        let mut v: Vec<ScheduleProblem> = Vec::new();
-        let mut push = |path: String, message: String, fix: &str| {
-            v.push(ScheduleProblem {
-                path,
-                message,
-                fix: fix.to_string(),
-            })
-        };
+        let mut v = Problems::default();
         let times = match &spec.time {
-            TimeSpec::Span(s) => {
-                let ok = s.start.is_finite() && s.end.is_finite() && s.step.is_finite();
-                if !ok || s.start < 0.0 {
-                    push(
-                        "time.start".into(),
-                        format!("is {}", s.start),
-                        "give a start time >= 0 s",
-                    );
-                }
-                if !(s.step > 0.0) {
-                    push(
-                        "time.step".into(),
-                        format!("is {}", s.step),
-                        "give a step > 0 s",
-                    );
-                }
-                if !(s.end >= s.start) {
-                    push(
-                        "time.end".into(),
-                        format!("is {} s, before the start {} s", s.end, s.start),
-                        "give an end time >= start (times must increase)",
-                    );
-                }
-                if ok && s.step > 0.0 && s.end >= s.start && s.start >= 0.0 {
-                    let n = ((s.end - s.start) / s.step + 1e-9).floor() as usize + 1;
-                    if n > MAX_STEPS {
-                        push(
-                            "time.step".into(),
-                            format!("gives {n} steps, more than {MAX_STEPS}"),
-                            "use a larger step",
-                        );
-                        Vec::new()
-                    } else {
-                        (0..n).map(|i| s.start + i as f64 * s.step).collect()
-                    }
-                } else {
-                    Vec::new()
-                }
-            }
-            TimeSpec::Explicit(e) => {
-                if e.times.is_empty() {
-                    push(
-                        "time.times".into(),
-                        "is empty".into(),
-                        "list at least one time",
-                    );
-                }
-                for (i, t) in e.times.iter().enumerate() {
-                    if !(t.is_finite() && *t >= 0.0) {
-                        push(
-                            format!("time.times[{i}]"),
-                            format!("is {t}"),
-                            "give times >= 0 s",
-                        );
-                    }
-                    if i > 0 && !(*t > e.times[i - 1]) {
-                        push(
-                            format!("time.times[{i}]"),
-                            format!("is {t} s, not after {} s", e.times[i - 1]),
-                            "list times in strictly increasing order",
-                        );
-                    }
-                }
-                e.times.clone()
-            }
+            TimeSpec::Span(s) => span_times(s, &mut v),
+            TimeSpec::Explicit(e) => explicit_times(&e.times, &mut v),
         };
         let mut phases: Vec<Option<Vec<Phase>>> = vec![None; finger_names.len()];
         for (name, list) in &spec.fingers {
             let path = format!("fingers.{name}");
             let Some(idx) = finger_names.iter().position(|n| n == name) else {
-                push(
+                v.push(
                     path,
                     format!("no finger named `{name}` in the scene"),
                     &format!("use one of: {}", finger_names.join(", ")),
                 );
                 continue;
             };
-            if list.is_empty() {
-                push(
-                    path.clone(),
-                    "has no phases".into(),
-                    "give at least one phase, or omit the finger",
-                );
-            }
-            let mut resolved = Vec::with_capacity(list.len());
-            let mut last_end: Option<(f64, String)> = None;
-            for (p, phase) in list.iter().enumerate() {
-                let pp = format!("{path}[{p}]");
-                let ph = match phase {
-                    PhaseSpec::Held(h) => {
-                        if let Some(u) = h.until {
-                            if !u.is_finite() {
-                                push(
-                                    format!("{pp}.held.until"),
-                                    format!("is {u}"),
-                                    "give a finite time in s",
-                                );
-                            }
-                        }
-                        Phase::Held { until: h.until }
-                    }
-                    PhaseSpec::Ramp(r) => {
-                        if r.keyframes.is_empty() {
-                            push(
-                                format!("{pp}.ramp.keyframes"),
-                                "is empty".into(),
-                                "give at least one [time, load]",
-                            );
-                        }
-                        let mut kf = Vec::with_capacity(r.keyframes.len());
-                        for (k, (t, val)) in r.keyframes.iter().enumerate() {
-                            let kp = format!("{pp}.ramp.keyframes[{k}]");
-                            if !t.is_finite() {
-                                push(
-                                    kp.clone(),
-                                    format!("time is {t}"),
-                                    "give a finite time in s",
-                                );
-                            }
-                            if k > 0 && !(*t > r.keyframes[k - 1].0) {
-                                push(
-                                    kp.clone(),
-                                    format!("time {t} s is not after {} s", r.keyframes[k - 1].0),
-                                    "list keyframes in strictly increasing time",
-                                );
-                            }
-                            let load = match val {
-                                KeyValue::Newtons(x) => {
-                                    if !(x.is_finite() && *x >= 0.0) {
-                                        push(
-                                            kp.clone(),
-                                            format!("load is {x} N"),
-                                            "give a load >= 0 N (0 releases the finger)",
-                                        );
-                                    }
-                                    Some(*x)
-                                }
-                                KeyValue::Current(_) => None,
-                            };
-                            kf.push((*t, load));
-                        }
-                        Phase::Ramp {
-                            keyframes: kf,
-                            easing: r.easing,
-                        }
-                    }
-                    PhaseSpec::Csv(c) => {
-                        let cp = format!("{pp}.csv");
-                        match read_profile_csv(
-                            &base_dir.join(&c.path),
-                            &c.time_column,
-                            &c.load_column,
-                        ) {
-                            Ok(rows) => {
-                                for (k, (t, load)) in rows.iter().enumerate() {
-                                    if k > 0 && !(*t > rows[k - 1].0) {
-                                        push(
-                                            format!("{cp}.path"),
-                                            format!(
-                                                "row {} of {}: time {t} s is not after {} s",
-                                                k + 2,
-                                                c.path,
-                                                rows[k - 1].0
-                                            ),
-                                            "sort the rows by strictly increasing time",
-                                        );
-                                        break;
-                                    }
-                                    if *load < 0.0 {
-                                        push(
-                                            format!("{cp}.path"),
-                                            format!(
-                                                "row {} of {}: load is {load} N",
-                                                k + 2,
-                                                c.path
-                                            ),
-                                            "give loads >= 0 N (0 releases the finger)",
-                                        );
-                                        break;
-                                    }
-                                }
-                                Phase::Ramp {
-                                    keyframes: rows
-                                        .into_iter()
-                                        .map(|(t, l)| (t, Some(l)))
-                                        .collect(),
-                                    easing: c.easing,
-                                }
-                            }
-                            Err((field, message, fix)) => {
-                                push(format!("{cp}.{field}"), message, &fix);
-                                Phase::Ramp {
-                                    keyframes: Vec::new(),
-                                    easing: c.easing,
-                                }
-                            }
-                        }
-                    }
-                };
-                if let (Some((prev, prev_path)), Some(end)) = (&last_end, ph.end()) {
-                    if end < *prev {
-                        push(
-                            pp.clone(),
-                            format!("ends at {end} s, before the previous phase ({prev_path}) ends at {prev} s"),
-                            "order phases so that their end times increase",
-                        );
-                    }
-                }
-                if p + 1 < list.len() && ph.end().is_none() {
-                    push(
-                        pp.clone(),
-                        "lasts forever but is followed by more phases".into(),
-                        "give it an end (held.until), or remove the phases after it",
-                    );
-                }
-                if let Some(e) = ph.end() {
-                    last_end = Some((e, pp.clone()));
-                }
-                resolved.push(ph);
-            }
-            phases[idx] = Some(resolved);
+            phases[idx] = Some(finger_phases(&path, list, base_dir, &mut v));
         }
-        if !v.is_empty() {
-            return Err(ScheduleError::Invalid(v));
-        }
+        v.finish()?;
         Ok(Schedule { times, phases })
     }
 
     /// Index of the phase of finger `i` active at time `t` (the first whose end is >= t;
     /// the last phase after every end), or `None` if the finger is unscheduled.
     pub fn phase_index(&self, i: usize, t: f64) -> Option<usize> {
-        let list = self.phases[i].as_ref()?;
-        let n = list.len();
+        let list = self.phases.get(i)?.as_ref()?;
+        let last = list.len().checked_sub(1)?;
         Some(
             list.iter()
                 .position(|p| p.end().is_none_or(|e| t <= e + 1e-9 * e.abs().max(1.0)))
-                .unwrap_or(n - 1),
+                .unwrap_or(last),
         )
     }
 
     /// The command for finger `i` at time `t`, given the resolved value of `"current"` for its
     /// active phase (N) and the scene's own command (for unscheduled fingers).
     pub fn command(&self, i: usize, t: f64, current_n: f64, scene: Command) -> Command {
-        let Some(p) = self.phase_index(i, t) else {
-            return scene;
-        };
-        match &self.phases[i].as_ref().expect("scheduled")[p] {
-            Phase::Held { .. } => Command::Held,
-            Phase::Ramp { keyframes, easing } => {
-                let val = |k: usize| keyframes[k].1.unwrap_or(current_n);
-                let load = if t <= keyframes[0].0 {
-                    val(0)
-                } else if t >= keyframes[keyframes.len() - 1].0 {
-                    val(keyframes.len() - 1)
-                } else {
-                    let k = keyframes.iter().position(|kf| kf.0 > t).expect("inside") - 1;
-                    let (t0, t1) = (keyframes[k].0, keyframes[k + 1].0);
-                    let s = easing.apply((t - t0) / (t1 - t0));
-                    val(k) + (val(k + 1) - val(k)) * s
-                };
+        let phase = self
+            .phase_index(i, t)
+            .and_then(|p| self.phases.get(i)?.as_ref()?.get(p));
+        match phase {
+            None => scene,
+            Some(Phase::Held { .. }) => Command::Held,
+            Some(Phase::Ramp { keyframes, easing }) => {
+                let load = ramp_load(keyframes, *easing, t, current_n);
                 if load > 0.0 {
                     Command::Load(load)
                 } else {
@@ -486,5 +303,275 @@ impl Schedule {
                 }
             }
         }
+    }
+}
+
+/// The load of a ramp at time `t`: constant before the first and after the last keyframe,
+/// eased in between; `"current"` keyframes (and an empty ramp) take `current_n`.
+fn ramp_load(keyframes: &[(f64, Option<f64>)], easing: Easing, t: f64, current_n: f64) -> f64 {
+    let val = |k: &(f64, Option<f64>)| k.1.unwrap_or(current_n);
+    let (Some(first), Some(last)) = (keyframes.first(), keyframes.last()) else {
+        return current_n;
+    };
+    if t <= first.0 {
+        return val(first);
+    }
+    if t >= last.0 {
+        return val(last);
+    }
+    // first.0 < t < last.0: keyframes[k].0 <= t < keyframes[k + 1].0 with 0 <= k < len - 1.
+    let k = keyframes.partition_point(|kf| kf.0 <= t).saturating_sub(1);
+    let k = k.min(keyframes.len() - 2);
+    let (a, b) = (&keyframes[k], &keyframes[k + 1]);
+    let s = easing.apply((t - a.0) / (b.0 - a.0));
+    val(a) + (val(b) - val(a)) * s
+}
+
+/// Collects schedule problems; at most [`MAX_LISTED_PROBLEMS`] are listed.
+#[derive(Default)]
+struct Problems(Vec<ScheduleProblem>, usize);
+
+/// Most problems listed in one error (the rest are counted).
+const MAX_LISTED_PROBLEMS: usize = 50;
+
+impl Problems {
+    fn push(&mut self, path: String, message: String, fix: &str) {
+        if self.0.len() < MAX_LISTED_PROBLEMS {
+            self.0.push(ScheduleProblem {
+                path,
+                message,
+                fix: fix.to_string(),
+            });
+        } else {
+            self.1 += 1;
+        }
+    }
+
+    /// A finite time with `|t| <= MAX_TIME_S` (and `>= 0` if `nonnegative`).
+    fn time(&mut self, path: String, t: f64, nonnegative: bool) -> bool {
+        let lo = if nonnegative { 0.0 } else { -MAX_TIME_S };
+        if t.is_finite() && (lo..=MAX_TIME_S).contains(&t) {
+            return true;
+        }
+        self.push(
+            path,
+            format!("time is {t} s, outside [{lo:e}, {MAX_TIME_S:e}] s"),
+            "give a finite time in seconds within that range",
+        );
+        false
+    }
+
+    /// A load: 0 or in `[MIN_NONZERO_FORCE_N, MAX_FORCE_N]` (the scene's force range).
+    fn load(&mut self, path: String, x: f64) -> bool {
+        if force_in_range(x) {
+            return true;
+        }
+        self.push(
+            path,
+            format!("load is {x} N, neither 0 nor in [{MIN_NONZERO_FORCE_N:e}, {MAX_FORCE_N:e}] N"),
+            "give 0 N (releases the finger) or a load between 1e-15 and 1e7 N",
+        );
+        false
+    }
+
+    fn finish(mut self) -> Result<(), ScheduleError> {
+        if self.1 > 0 {
+            let more = self.1;
+            self.0.push(ScheduleProblem {
+                path: "(more)".into(),
+                message: format!("{more} more problem(s) not listed"),
+                fix: "correct the ones above and run again".into(),
+            });
+        }
+        if self.0.is_empty() {
+            Ok(())
+        } else {
+            Err(ScheduleError::Invalid(self.0))
+        }
+    }
+}
+
+/// The times of a span, counted without overflow and bounded by [`MAX_STEPS`].
+fn span_times(s: &SpanSpec, v: &mut Problems) -> Vec<f64> {
+    let start_ok = v.time("time.start".into(), s.start, true);
+    let end_ok = v.time("time.end".into(), s.end, true);
+    let step_ok = s.step.is_finite() && s.step > 0.0;
+    if !step_ok {
+        v.push(
+            "time.step".into(),
+            format!("is {}", s.step),
+            "give a step > 0 s",
+        );
+    }
+    if !(s.end >= s.start) {
+        v.push(
+            "time.end".into(),
+            format!("is {} s, before the start {} s", s.end, s.start),
+            "give an end time >= start (times must increase)",
+        );
+    }
+    if !(start_ok && end_ok && step_ok && s.end >= s.start) {
+        return Vec::new();
+    }
+    // Both in [0, 1e9] and step > 0: the quotient is finite or +inf, never NaN.
+    let intervals = ((s.end - s.start) / s.step + 1e-9).floor();
+    if !(intervals < MAX_STEPS as f64) {
+        v.push(
+            "time.step".into(),
+            format!(
+                "gives {:.3e} steps from {} s to {} s, more than {MAX_STEPS}",
+                intervals + 1.0,
+                s.start,
+                s.end
+            ),
+            "use a larger step or a shorter span",
+        );
+        return Vec::new();
+    }
+    let n = intervals as usize + 1;
+    (0..n).map(|i| s.start + i as f64 * s.step).collect()
+}
+
+/// Explicit times: bounded in number, each in range, strictly increasing.
+fn explicit_times(times: &[f64], v: &mut Problems) -> Vec<f64> {
+    if times.is_empty() {
+        v.push(
+            "time.times".into(),
+            "is empty".into(),
+            "list at least one time",
+        );
+    }
+    if times.len() > MAX_STEPS {
+        v.push(
+            "time.times".into(),
+            format!("lists {} times, more than {MAX_STEPS}", times.len()),
+            "list fewer steps (or split the hand-off into several runs)",
+        );
+        return Vec::new();
+    }
+    for (i, t) in times.iter().enumerate() {
+        v.time(format!("time.times[{i}]"), *t, true);
+        if i > 0 && !(*t > times[i - 1]) {
+            v.push(
+                format!("time.times[{i}]"),
+                format!("is {t} s, not after {} s", times[i - 1]),
+                "list times in strictly increasing order",
+            );
+        }
+    }
+    times.to_vec()
+}
+
+/// Resolves the phases of one finger.
+fn finger_phases(path: &str, list: &[PhaseSpec], base_dir: &Path, v: &mut Problems) -> Vec<Phase> {
+    if list.is_empty() {
+        v.push(
+            path.to_string(),
+            "has no phases".into(),
+            "give at least one phase, or omit the finger",
+        );
+    }
+    let mut resolved = Vec::with_capacity(list.len());
+    let mut last_end: Option<(f64, String)> = None;
+    for (p, phase) in list.iter().enumerate() {
+        let pp = format!("{path}[{p}]");
+        let ph = match phase {
+            PhaseSpec::Held(h) => {
+                if let Some(u) = h.until {
+                    v.time(format!("{pp}.held.until"), u, false);
+                }
+                Phase::Held { until: h.until }
+            }
+            PhaseSpec::Ramp(r) => ramp_phase(&pp, r, v),
+            PhaseSpec::Csv(c) => csv_phase(&format!("{pp}.csv"), c, base_dir, v),
+        };
+        if let (Some((prev, prev_path)), Some(end)) = (&last_end, ph.end()) {
+            if end < *prev {
+                v.push(
+                    pp.clone(),
+                    format!(
+                        "ends at {end} s, before the previous phase ({prev_path}) ends at {prev} s"
+                    ),
+                    "order phases so that their end times increase",
+                );
+            }
+        }
+        if p + 1 < list.len() && ph.end().is_none() {
+            v.push(
+                pp.clone(),
+                "lasts forever but is followed by more phases".into(),
+                "give it an end (held.until), or remove the phases after it",
+            );
+        }
+        if let Some(e) = ph.end() {
+            last_end = Some((e, pp));
+        }
+        resolved.push(ph);
+    }
+    resolved
+}
+
+/// A ramp's keyframes: times in range and increasing, loads in range.
+fn ramp_phase(pp: &str, r: &RampPhase, v: &mut Problems) -> Phase {
+    if r.keyframes.is_empty() {
+        v.push(
+            format!("{pp}.ramp.keyframes"),
+            "is empty".into(),
+            "give at least one [time, load]",
+        );
+    }
+    let mut kf = Vec::with_capacity(r.keyframes.len());
+    for (k, (t, val)) in r.keyframes.iter().enumerate() {
+        let kp = format!("{pp}.ramp.keyframes[{k}]");
+        v.time(kp.clone(), *t, false);
+        if k > 0 && !(*t > r.keyframes[k - 1].0) {
+            v.push(
+                kp.clone(),
+                format!("time {t} s is not after {} s", r.keyframes[k - 1].0),
+                "list keyframes in strictly increasing time",
+            );
+        }
+        let load = match val {
+            KeyValue::Newtons(x) => {
+                v.load(kp, *x);
+                Some(*x)
+            }
+            KeyValue::Current(_) => None,
+        };
+        kf.push((*t, load));
+    }
+    Phase::Ramp {
+        keyframes: kf,
+        easing: r.easing,
+    }
+}
+
+/// A CSV profile: read (a regular file, bounded size), rows in range and increasing in time.
+fn csv_phase(cp: &str, c: &CsvPhase, base_dir: &Path, v: &mut Problems) -> Phase {
+    let rows = match read_profile_csv(&base_dir.join(&c.path), &c.time_column, &c.load_column) {
+        Ok(rows) => rows,
+        Err((field, message, fix)) => {
+            v.push(format!("{cp}.{field}"), message, &fix);
+            Vec::new()
+        }
+    };
+    for (k, (t, load)) in rows.iter().enumerate() {
+        let row = format!("{cp}.path (row {} of {})", k + 2, c.path);
+        let ok = v.time(row.clone(), *t, false) && v.load(row.clone(), *load);
+        if !ok {
+            break;
+        }
+        if k > 0 && !(*t > rows[k - 1].0) {
+            v.push(
+                row,
+                format!("time {t} s is not after {} s", rows[k - 1].0),
+                "sort the rows by strictly increasing time",
+            );
+            break;
+        }
+    }
+    Phase::Ramp {
+        keyframes: rows.into_iter().map(|(t, l)| (t, Some(l))).collect(),
+        easing: c.easing,
     }
 }

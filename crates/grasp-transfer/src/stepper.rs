@@ -251,9 +251,12 @@ impl<'a> Stepper<'a> {
             let mut load = loads.iter();
             let active: Vec<(usize, Control)> = key
                 .iter()
-                .map(|&(i, fc)| match (fc, load.next()) {
-                    (true, Some(&p)) => (i, Control::NormalLoad { newtons: p }),
-                    _ => (i, Control::Held),
+                .map(|&(i, fc)| {
+                    // Only a force-controlled finger takes the next load.
+                    match fc.then(|| load.next()).flatten() {
+                        Some(&p) => (i, Control::NormalLoad { newtons: p }),
+                        None => (i, Control::Held),
+                    }
                 })
                 .collect();
             // The full scene was validated; a subset of its fingers needs no new validation

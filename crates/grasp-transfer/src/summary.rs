@@ -13,8 +13,10 @@ pub const LOADED_FRACTION: f64 = 1e-6;
 pub struct TransferSummary {
     /// Steps recorded.
     pub steps: usize,
-    /// Failed steps: `(index, time s, reason)`.
+    /// Failed steps: `(index, time s, reason)`, the first [`MAX_LISTED_FAILED_STEPS`].
     pub failed_steps: Vec<(usize, f64, String)>,
+    /// Number of failed steps.
+    pub failed_step_count: usize,
     /// Fingers loaded at the first successful step and unloaded at the last.
     pub releasing: Vec<String>,
     /// Fingers unloaded at the first successful step and loaded at the last.
@@ -55,106 +57,222 @@ pub struct SequentialTotals {
 }
 
 impl TransferSummary {
-    /// Summarises the recorded steps.
+    /// Summarises the recorded steps (the same as feeding them to a [`SummaryAccumulator`]).
     pub fn from_records(records: &[StepRecord], names: &[String]) -> TransferSummary {
-        let ok: Vec<&StepRecord> = records
+        let mut acc = SummaryAccumulator::new(names);
+        for r in records {
+            acc.add(r);
+        }
+        acc.finish()
+    }
+}
+
+/// Most failed steps listed in a summary (all are counted in `failed_step_count`).
+pub const MAX_LISTED_FAILED_STEPS: usize = 100;
+
+/// Most fingers for which the hand-off times are folded step by step (`2^n` candidate sets);
+/// beyond, the accumulator keeps each successful step's normal forces (`n + 1` numbers a step).
+pub const MAX_FOLDED_FINGERS: usize = 12;
+
+/// Folds step records into a [`TransferSummary`] one at a time, in memory independent of the
+/// number of steps (for up to [`MAX_FOLDED_FINGERS`] fingers).
+///
+/// Which fingers release and receive depends on the LAST successful step, which is known only
+/// at the end; so the half and full transfer times are kept for every candidate set of fingers
+/// loaded at the last step (a bit mask), and the one that turns out true is reported.
+pub struct SummaryAccumulator {
+    names: Vec<String>,
+    steps: usize,
+    failed_steps: Vec<(usize, f64, String)>,
+    failed_step_count: usize,
+    /// Loaded fingers at the first successful step.
+    first_loaded: Option<Vec<bool>>,
+    /// Loaded fingers at the latest successful step.
+    last_loaded: Option<Vec<bool>>,
+    /// Per candidate mask of fingers loaded at the end: (half time, full time).
+    candidates: Vec<(Option<f64>, Option<f64>)>,
+    /// Beyond [`MAX_FOLDED_FINGERS`]: (time, forces, loaded) of every successful step.
+    history: Vec<(f64, Vec<f64>, Vec<bool>)>,
+    peak: (f64, f64),
+    margin: Option<(f64, f64, String)>,
+    worst: f64,
+    total_wall_time_s: f64,
+    total_iterations: u64,
+    sequential: Option<SequentialTotals>,
+}
+
+impl SummaryAccumulator {
+    /// An empty summary of a scene with these finger names (scene order).
+    pub fn new(names: &[String]) -> Self {
+        Self::with_folded_fingers(names, MAX_FOLDED_FINGERS)
+    }
+
+    /// [`SummaryAccumulator::new`] folding the hand-off times for at most `max` fingers (the
+    /// same summary either way; for checking both ways).
+    pub fn with_folded_fingers(names: &[String], max: usize) -> Self {
+        let folded = names.len() <= max;
+        SummaryAccumulator {
+            names: names.to_vec(),
+            steps: 0,
+            failed_steps: Vec::new(),
+            failed_step_count: 0,
+            first_loaded: None,
+            last_loaded: None,
+            candidates: if folded {
+                vec![(None, None); 1 << names.len()]
+            } else {
+                Vec::new()
+            },
+            history: Vec::new(),
+            peak: (0.0, 0.0),
+            margin: None,
+            worst: 0.0,
+            total_wall_time_s: 0.0,
+            total_iterations: 0,
+            sequential: None,
+        }
+    }
+
+    /// Adds the next step.
+    pub fn add(&mut self, r: &StepRecord) {
+        self.steps += 1;
+        self.total_wall_time_s += r.wall_time_s;
+        self.total_iterations += r.solution.solver.iterations as u64;
+        if let Some(s) = r.solution.sequential {
+            let t = self.sequential.get_or_insert(SequentialTotals {
+                convex_solves: 0,
+                most_in_a_step: 0,
+                warm_started_steps: 0,
+                cold_restarts: 0,
+            });
+            t.convex_solves += s.iterations as u64;
+            t.most_in_a_step = t.most_in_a_step.max(s.iterations);
+            t.warm_started_steps += usize::from(s.warm_started);
+            t.cold_restarts += s.cold_restarts;
+        }
+        if !r.solution.status.has_forces() {
+            self.failed_step_count += 1;
+            if self.failed_steps.len() < MAX_LISTED_FAILED_STEPS {
+                let why = r.solution.reason.clone().unwrap_or_default();
+                self.failed_steps.push((r.index, r.time_s, why));
+            }
+            return;
+        }
+        self.add_solved(r);
+    }
+
+    fn add_solved(&mut self, r: &StepRecord) {
+        let forces: Vec<f64> = self.names.iter().map(|n| r.normal_force_n(n)).collect();
+        let loaded: Vec<bool> = forces
             .iter()
-            .filter(|r| r.solution.status.has_forces())
+            .map(|f| *f > LOADED_FRACTION * r.solution.load_scale_n)
             .collect();
-        let loaded = |r: &StepRecord, n: &str| {
-            r.normal_force_n(n) > LOADED_FRACTION * r.solution.load_scale_n
-        };
-        let (mut releasing, mut receiving) = (Vec::new(), Vec::new());
-        if let (Some(first), Some(last)) = (ok.first(), ok.last()) {
-            for n in names {
-                match (loaded(first, n), loaded(last, n)) {
-                    (true, false) => releasing.push(n.clone()),
-                    (false, true) => receiving.push(n.clone()),
-                    _ => {}
+        let first = self.first_loaded.get_or_insert_with(|| loaded.clone());
+        if self.candidates.is_empty() {
+            self.history.push((r.time_s, forces, loaded.clone()));
+        } else {
+            let first = first.clone();
+            let (mut rel, mut rec) = (Vec::new(), Vec::new());
+            for (mask, c) in self.candidates.iter_mut().enumerate() {
+                split_mask(&first, mask, &mut rel, &mut rec);
+                update(c, r.time_s, &forces, &loaded, &rel, &rec);
+            }
+        }
+        self.last_loaded = Some(loaded);
+        let total: f64 = r.solution.fingers.iter().map(|f| f.normal_force_n).sum();
+        if total > self.peak.0 {
+            self.peak = (total, r.time_s);
+        }
+        for f in &r.solution.fingers {
+            if f.normal_force_n > LOADED_FRACTION * r.solution.load_scale_n
+                && f.friction_utilization > 0.0
+            {
+                let m = 1.0 - f.friction_utilization;
+                if self.margin.as_ref().is_none_or(|x| m < x.0) {
+                    self.margin = Some((m, r.time_s, f.name.clone()));
                 }
             }
         }
-        let sum =
-            |r: &StepRecord, set: &[String]| set.iter().map(|n| r.normal_force_n(n)).sum::<f64>();
-        let half = ok
-            .iter()
-            .find(|r| {
-                !receiving.is_empty()
-                    && !releasing.is_empty()
-                    && sum(r, &receiving) > 0.0
-                    && sum(r, &receiving) >= sum(r, &releasing)
-            })
-            .map(|r| r.time_s);
-        let full = ok
-            .iter()
-            .find(|r| !releasing.is_empty() && releasing.iter().all(|n| !loaded(r, n)))
-            .map(|r| r.time_s);
-        let (mut peak, mut peak_t) = (0.0_f64, 0.0);
-        let mut margin: Option<(f64, f64, String)> = None;
-        let mut worst = 0.0_f64;
-        for r in &ok {
-            let total: f64 = r.solution.fingers.iter().map(|f| f.normal_force_n).sum();
-            if total > peak {
-                peak = total;
-                peak_t = r.time_s;
+        if let Some(res) = &r.solution.residuals {
+            self.worst = self.worst.max(res.equilibrium_relative);
+        }
+    }
+
+    /// The summary of the steps added.
+    pub fn finish(self) -> TransferSummary {
+        let (mut releasing, mut receiving, mut half, mut full) = (vec![], vec![], None, None);
+        if let (Some(first), Some(last)) = (&self.first_loaded, &self.last_loaded) {
+            let (rel, rec) = split(first, last);
+            releasing = rel.iter().map(|&i| self.names[i].clone()).collect();
+            receiving = rec.iter().map(|&i| self.names[i].clone()).collect();
+            let mask = last
+                .iter()
+                .enumerate()
+                .fold(0usize, |m, (i, &l)| m | (usize::from(l) << i));
+            let mut c = self.candidates.get(mask).copied().unwrap_or((None, None));
+            for (t, forces, loaded) in &self.history {
+                update(&mut c, *t, forces, loaded, &rel, &rec);
             }
-            for f in &r.solution.fingers {
-                if f.normal_force_n > LOADED_FRACTION * r.solution.load_scale_n
-                    && f.friction_utilization > 0.0
-                {
-                    let m = 1.0 - f.friction_utilization;
-                    if margin.as_ref().is_none_or(|x| m < x.0) {
-                        margin = Some((m, r.time_s, f.name.clone()));
-                    }
-                }
-            }
-            if let Some(res) = &r.solution.residuals {
-                worst = worst.max(res.equilibrium_relative);
-            }
+            (half, full) = c;
         }
         TransferSummary {
-            steps: records.len(),
-            failed_steps: records
-                .iter()
-                .filter(|r| !r.solution.status.has_forces())
-                .map(|r| {
-                    (
-                        r.index,
-                        r.time_s,
-                        r.solution.reason.clone().unwrap_or_default(),
-                    )
-                })
-                .collect(),
+            steps: self.steps,
+            failed_steps: self.failed_steps,
+            failed_step_count: self.failed_step_count,
             releasing,
             receiving,
             half_transfer_time_s: half,
             full_transfer_time_s: full,
-            peak_squeeze_n: peak,
-            peak_squeeze_time_s: peak_t,
-            smallest_slip_margin: margin,
-            worst_equilibrium_residual: worst,
-            total_wall_time_s: records.iter().map(|r| r.wall_time_s).sum(),
-            total_iterations: records
-                .iter()
-                .map(|r| r.solution.solver.iterations as u64)
-                .sum(),
-            sequential: sequential_totals(records),
+            peak_squeeze_n: self.peak.0,
+            peak_squeeze_time_s: self.peak.1,
+            smallest_slip_margin: self.margin,
+            worst_equilibrium_residual: self.worst,
+            total_wall_time_s: self.total_wall_time_s,
+            total_iterations: self.total_iterations,
+            sequential: self.sequential,
         }
     }
 }
 
-fn sequential_totals(records: &[StepRecord]) -> Option<SequentialTotals> {
-    let reports: Vec<_> = records
-        .iter()
-        .filter_map(|r| r.solution.sequential)
-        .collect();
-    if reports.is_empty() {
-        return None;
+/// Releasing (loaded first, unloaded last) and receiving (unloaded first, loaded last) finger
+/// indices, scene order.
+fn split(first: &[bool], last: &[bool]) -> (Vec<usize>, Vec<usize>) {
+    let rel = (0..first.len()).filter(|&i| first[i] && !last[i]).collect();
+    let rec = (0..first.len()).filter(|&i| !first[i] && last[i]).collect();
+    (rel, rec)
+}
+
+/// [`split`] with the last step's loaded fingers given as a bit mask, into reused buffers.
+fn split_mask(first: &[bool], mask: usize, rel: &mut Vec<usize>, rec: &mut Vec<usize>) {
+    rel.clear();
+    rec.clear();
+    for (i, &f) in first.iter().enumerate() {
+        match (f, mask >> i & 1 == 1) {
+            (true, false) => rel.push(i),
+            (false, true) => rec.push(i),
+            _ => {}
+        }
     }
-    Some(SequentialTotals {
-        convex_solves: reports.iter().map(|s| s.iterations as u64).sum(),
-        most_in_a_step: reports.iter().map(|s| s.iterations).max().unwrap_or(0),
-        warm_started_steps: reports.iter().filter(|s| s.warm_started).count(),
-        cold_restarts: reports.iter().map(|s| s.cold_restarts).sum(),
-    })
+}
+
+/// Records the first time the receiving fingers carry at least as much as the releasing ones
+/// (half) and the first time no releasing finger is loaded (full).
+fn update(
+    c: &mut (Option<f64>, Option<f64>),
+    t: f64,
+    forces: &[f64],
+    loaded: &[bool],
+    rel: &[usize],
+    rec: &[usize],
+) {
+    if c.0.is_none() && !rec.is_empty() && !rel.is_empty() {
+        let sum_rec = rec.iter().map(|&i| forces[i]).sum::<f64>();
+        let sum_rel = rel.iter().map(|&i| forces[i]).sum::<f64>();
+        if sum_rec > 0.0 && sum_rec >= sum_rel {
+            c.0 = Some(t);
+        }
+    }
+    if c.1.is_none() && !rel.is_empty() && rel.iter().all(|&i| !loaded[i]) {
+        c.1 = Some(t);
+    }
 }

@@ -5,35 +5,42 @@
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use super::{sink_err, RunInfo, Sink};
+use super::{csv_field, io_err, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::sinks::mcap_log::FingersMessage;
 use crate::stepper::StepRecord;
 
-/// Writes a CSV force history.
+/// Writes a CSV force history (RFC 4180: fields with a comma, quote or line break are quoted).
 pub struct CsvSink {
     out: Option<BufWriter<File>>,
-    path: std::path::PathBuf,
+    path: PathBuf,
 }
 
 impl CsvSink {
-    /// Creates the file (the caller has checked it may be written).
+    /// Creates (or truncates) the file at `path` and writes to it.
     pub fn create(path: &Path) -> Result<Self, TransferError> {
-        let tmp = super::partial_path(path);
-        let f =
-            File::create(&tmp).map_err(|e| sink_err("csv", format!("{}: {e}", tmp.display())))?;
-        Ok(CsvSink {
-            out: Some(BufWriter::new(f)),
-            path: path.to_path_buf(),
-        })
+        let f = File::create(path).map_err(|e| io_err("csv", path, e))?;
+        Ok(Self::from_file(f, path))
     }
 
-    fn out(&mut self) -> Result<&mut BufWriter<File>, TransferError> {
-        self.out
+    /// Writes to an open file; `path` names it in error messages.
+    pub fn from_file(file: File, path: &Path) -> Self {
+        CsvSink {
+            out: Some(BufWriter::new(file)),
+            path: path.to_path_buf(),
+        }
+    }
+
+    fn write(&mut self, text: &str) -> Result<(), TransferError> {
+        let path = self.path.clone();
+        let out = self
+            .out
             .as_mut()
-            .ok_or_else(|| sink_err("csv", "already finished"))
+            .ok_or_else(|| io_err("csv", &path, "already finished"))?;
+        out.write_all(text.as_bytes())
+            .map_err(|e| io_err("csv", &path, e))
     }
 }
 
@@ -41,20 +48,18 @@ impl Sink for CsvSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
         let mut h = String::from("time_s,step,status");
         for f in &run.scene.fingers {
-            h.push_str(&format!(
-                ",{0}_normal_force_n,{0}_friction_n,{0}_slip_fraction",
-                f.name
-            ));
+            for col in ["normal_force_n", "friction_n", "slip_fraction"] {
+                h.push(',');
+                h.push_str(&csv_field(&format!("{}_{col}", f.name)));
+            }
         }
         h.push_str(",iterations,wall_time_s\n");
-        self.out()?
-            .write_all(h.as_bytes())
-            .map_err(|e| sink_err("csv", e))
+        self.write(&h)
     }
 
     fn step(&mut self, _run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
         let m = FingersMessage::from_record(r);
-        let mut line = format!("{},{},{}", r.time_s, r.index, m.status);
+        let mut line = format!("{},{},{}", r.time_s, r.index, csv_field(&m.status));
         for f in &m.fingers {
             line.push_str(&format!(
                 ",{},{},{}",
@@ -62,23 +67,20 @@ impl Sink for CsvSink {
             ));
         }
         line.push_str(&format!(",{},{}\n", m.iterations, r.wall_time_s));
-        self.out()?
-            .write_all(line.as_bytes())
-            .map_err(|e| sink_err("csv", e))
+        self.write(&line)
     }
 
     fn finish(&mut self) -> Result<(), TransferError> {
-        if let Some(mut o) = self.out.take() {
-            o.flush().map_err(|e| sink_err("csv", e))?;
-            drop(o);
-            super::move_into_place("csv", &super::partial_path(&self.path), &self.path)?;
+        if let Some(o) = self.out.take() {
+            let f = o
+                .into_inner()
+                .map_err(|e| io_err("csv", &self.path, e.error()))?;
+            f.sync_all().map_err(|e| io_err("csv", &self.path, e))?;
         }
         Ok(())
     }
 
     fn abort(&mut self) {
-        if let Some(mut o) = self.out.take() {
-            let _ = o.flush();
-        }
+        self.out.take();
     }
 }

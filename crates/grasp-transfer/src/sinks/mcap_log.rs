@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use serde_json::json;
 
-use super::{sink_err, RunInfo, Sink};
+use super::{io_err, io_err_chain, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::schedule::Command;
 use crate::stepper::StepRecord;
@@ -187,16 +187,19 @@ pub struct McapSink {
 }
 
 impl McapSink {
-    /// Creates the file (the caller has checked it may be written).
+    /// Creates (or truncates) the file at `path` and writes to it.
     pub fn create(path: &Path) -> Result<Self, TransferError> {
-        let tmp = super::partial_path(path);
-        let file =
-            File::create(&tmp).map_err(|e| sink_err("mcap", format!("{}: {e}", tmp.display())))?;
+        let file = File::create(path).map_err(|e| io_err("mcap", path, e))?;
+        Self::from_file(file, path)
+    }
+
+    /// Writes to an open file; `path` names it in error messages.
+    pub fn from_file(file: File, path: &Path) -> Result<Self, TransferError> {
         let writer = mcap::WriteOptions::new()
             .profile("")
             .library(concat!("grasp-transfer ", env!("CARGO_PKG_VERSION")))
             .create(BufWriter::new(file))
-            .map_err(|e| sink_err("mcap", e))?;
+            .map_err(|e| io_err_chain("mcap", path, &e))?;
         Ok(McapSink {
             path: path.to_path_buf(),
             writer: Some(writer),
@@ -206,29 +209,35 @@ impl McapSink {
         })
     }
 
+    fn err(&self, e: impl std::error::Error) -> TransferError {
+        io_err_chain("mcap", &self.path, &e)
+    }
+
     fn writer(&mut self) -> Result<&mut mcap::Writer<BufWriter<File>>, TransferError> {
+        let path = self.path.clone();
         self.writer
             .as_mut()
-            .ok_or_else(|| sink_err("mcap", "already finished"))
+            .ok_or_else(|| io_err("mcap", &path, "already finished"))
     }
 
     fn write(&mut self, channel: u16, time_s: f64, data: &[u8]) -> Result<(), TransferError> {
         let ns = (time_s * 1e9).round() as u64;
-        self.sequence += 1;
+        self.sequence = self.sequence.wrapping_add(1);
         let header = mcap::records::MessageHeader {
             channel_id: channel,
             sequence: self.sequence,
             log_time: ns,
             publish_time: ns,
         };
-        self.writer()?
-            .write_to_known_channel(&header, data)
-            .map_err(|e| sink_err("mcap", e))
+        let r = self.writer()?.write_to_known_channel(&header, data);
+        r.map_err(|e| self.err(e))
     }
 }
 
 impl Sink for McapSink {
     fn begin(&mut self, _run: &RunInfo) -> Result<(), TransferError> {
+        let path = self.path.clone();
+        let e = |e: mcap::McapError| io_err_chain("mcap", &path, &e);
         let w = self.writer()?;
         let meta = BTreeMap::new();
         let fs = w
@@ -237,46 +246,41 @@ impl Sink for McapSink {
                 "jsonschema",
                 fingers_schema().to_string().as_bytes(),
             )
-            .map_err(|e| sink_err("mcap", e))?;
+            .map_err(e)?;
         let ps = w
             .add_schema(
                 "grasp.PatchFields",
                 "jsonschema",
                 patches_schema().to_string().as_bytes(),
             )
-            .map_err(|e| sink_err("mcap", e))?;
-        let fc = w
-            .add_channel(fs, FINGERS_TOPIC, "json", &meta)
-            .map_err(|e| sink_err("mcap", e))?;
-        let pc = w
-            .add_channel(ps, PATCHES_TOPIC, "json", &meta)
-            .map_err(|e| sink_err("mcap", e))?;
+            .map_err(e)?;
+        let fc = w.add_channel(fs, FINGERS_TOPIC, "json", &meta).map_err(e)?;
+        let pc = w.add_channel(ps, PATCHES_TOPIC, "json", &meta).map_err(e)?;
         self.fingers_channel = fc;
         self.patches_channel = pc;
         Ok(())
     }
 
     fn step(&mut self, _run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
-        let f =
-            serde_json::to_vec(&FingersMessage::from_record(r)).map_err(|e| sink_err("mcap", e))?;
+        let f = serde_json::to_vec(&FingersMessage::from_record(r)).map_err(|e| self.err(e))?;
         self.write(self.fingers_channel, r.time_s, &f)?;
-        let p = serde_json::to_vec(&patches_message(r)).map_err(|e| sink_err("mcap", e))?;
+        let p = serde_json::to_vec(&patches_message(r)).map_err(|e| self.err(e))?;
         self.write(self.patches_channel, r.time_s, &p)
     }
 
     fn finish(&mut self) -> Result<(), TransferError> {
         if let Some(mut w) = self.writer.take() {
-            w.finish()
-                .map_err(|e| sink_err("mcap", format!("{}: {e}", self.path.display())))?;
-            drop(w);
-            super::move_into_place("mcap", &super::partial_path(&self.path), &self.path)?;
+            w.finish().map_err(|e| self.err(e))?;
+            let file = w
+                .into_inner()
+                .into_inner()
+                .map_err(|e| self.err(e.error()))?;
+            file.sync_all().map_err(|e| self.err(e))?;
         }
         Ok(())
     }
 
     fn abort(&mut self) {
-        if let Some(mut w) = self.writer.take() {
-            let _ = w.finish();
-        }
+        self.writer.take();
     }
 }

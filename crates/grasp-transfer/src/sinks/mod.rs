@@ -6,7 +6,7 @@ mod rerun_log;
 
 pub use csv_history::CsvSink;
 pub use mcap_log::{FingerMessage, FingersMessage, McapSink, FINGERS_TOPIC, PATCHES_TOPIC};
-pub use rerun_log::RerunSink;
+pub use rerun_log::{RerunSink, FLUSH_EVERY_STEPS};
 
 use grasp_model::{GraspModel, Scene};
 
@@ -22,44 +22,56 @@ pub struct RunInfo<'a> {
 }
 
 /// A destination for step records.
+///
+/// A sink writes to the file it was given and never moves or deletes files: where the output
+/// lands (through a temporary file, moved into place only when the run succeeds) is the
+/// caller's decision (the `grasp` binary's `output` module).
 pub trait Sink {
     /// Called once before the first step.
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError>;
     /// Called after every step, in order.
     fn step(&mut self, run: &RunInfo, record: &StepRecord) -> Result<(), TransferError>;
-    /// Called once after the last step; flushes, closes and moves the output into place.
+    /// Called once after the last step: writes what is buffered, completes and closes the file.
     fn finish(&mut self) -> Result<(), TransferError>;
-    /// Called instead of `finish` when the run fails: the output written so far stays in its
-    /// `.partial` file and the file the user named is left untouched.
+    /// Called instead of `finish` when the run fails: closes the file as it is (the caller
+    /// discards it).
     fn abort(&mut self) {}
 }
 
-/// The temporary file a sink writes before moving it into place: `<path>.partial`.
-pub fn partial_path(path: &std::path::Path) -> std::path::PathBuf {
-    let mut name = path
-        .file_name()
-        .map(|n| n.to_os_string())
-        .unwrap_or_default();
-    name.push(".partial");
-    path.with_file_name(name)
-}
-
-pub(crate) fn move_into_place(
+/// An error of a sink writing `path`: names the file and the cause.
+pub(crate) fn io_err(
     sink: &'static str,
-    tmp: &std::path::Path,
     path: &std::path::Path,
-) -> Result<(), TransferError> {
-    std::fs::rename(tmp, path).map_err(|e| {
-        sink_err(
-            sink,
-            format!("cannot move {} to {}: {e}", tmp.display(), path.display()),
-        )
-    })
-}
-
-pub(crate) fn sink_err(sink: &'static str, e: impl std::fmt::Display) -> TransferError {
+    e: impl std::fmt::Display,
+) -> TransferError {
     TransferError::Sink {
         sink,
-        message: e.to_string(),
+        message: format!("cannot write {}: {e}", path.display()),
+    }
+}
+
+/// An error of a sink writing `path`, with the chain of causes (e.g. the MCAP writer's I/O
+/// error and, below it, "No space left on device").
+pub(crate) fn io_err_chain(
+    sink: &'static str,
+    path: &std::path::Path,
+    e: &dyn std::error::Error,
+) -> TransferError {
+    let mut message = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        message.push_str(&format!(": {c}"));
+        cause = c.source();
+    }
+    io_err(sink, path, message)
+}
+
+/// One CSV field as RFC 4180 writes it: quoted (inner quotes doubled) when it holds a comma, a
+/// quote or a line break.
+pub fn csv_field(s: &str) -> std::borrow::Cow<'_, str> {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\"")).into()
+    } else {
+        s.into()
     }
 }

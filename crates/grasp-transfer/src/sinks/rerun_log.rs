@@ -11,10 +11,11 @@
 //!   separated grey);
 //! - `plots/normal_force/<name>`, `plots/friction/<name>`: time series in newtons.
 //!
-//! Timelines: `schedule_time` (s) and `step`. Every row is sent as a pre-built chunk whose
-//! chunk and row ids count up from a fixed origin (Rerun's default ids mix wall time and
-//! randomness), log time is disabled and the recording id is fixed, so the same inputs give a
-//! byte-identical file.
+//! Timelines: `schedule_time` (s) and `step`. Rows are gathered per entity and sent as
+//! pre-built chunks every [`FLUSH_EVERY_STEPS`] steps (so memory does not grow with the number
+//! of steps) and at the end; chunk and row ids count up from a fixed origin (Rerun's default
+//! ids mix wall time and randomness), log time is disabled and the recording id is fixed, so
+//! the same inputs give a byte-identical file.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -27,7 +28,7 @@ use rerun::{
     SerializedComponentBatch, SeriesLines, TimeCell, TimePoint,
 };
 
-use super::{sink_err, RunInfo, Sink};
+use super::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::stepper::StepRecord;
 
@@ -40,9 +41,15 @@ pub struct RerunSink {
     ids: u64,
     /// Time point of the current step (empty: static).
     time: TimePoint,
-    /// Rows accumulated per entity: one chunk per entity, sent in path order at the end.
+    /// Rows accumulated per entity since the last flush: one chunk per entity, sent in path
+    /// order.
     pending: BTreeMap<(String, bool), PendingChunk>,
+    /// Steps logged since the last flush.
+    steps_since_flush: usize,
 }
+
+/// Steps whose rows are gathered before they are sent as chunks.
+pub const FLUSH_EVERY_STEPS: usize = 128;
 
 /// Rows of one entity waiting to be sent as one chunk.
 struct PendingChunk {
@@ -75,21 +82,44 @@ fn ramp(u: f64) -> Color {
 }
 
 impl RerunSink {
-    /// Creates the recording file (the caller has checked it may be written).
+    /// Creates (or truncates) the recording file at `path` and writes to it.
     pub fn create(path: &Path) -> Result<Self, TransferError> {
+        Self::create_as(path, path)
+    }
+
+    /// Creates (or truncates) the recording file at `path`; `name` names it in error messages
+    /// (the file the user asked for, when `path` is its temporary file).
+    pub fn create_as(path: &Path, name: &Path) -> Result<Self, TransferError> {
         let rec = rerun::RecordingStreamBuilder::new("grasp")
             .recording_id("grasp-transfer")
-            .save(super::partial_path(path))
-            .map_err(|e| sink_err("rerun", format!("{}: {e}", path.display())))?;
+            .save(path)
+            .map_err(|e| io_err("rerun", name, e))?;
         rec.set_log_time_enabled(false);
         Ok(RerunSink {
             rec: Some(rec),
-            path: path.to_path_buf(),
+            path: name.to_path_buf(),
             arrow_m_per_n: 1.0,
             ids: 0,
             time: TimePoint::default(),
             pending: BTreeMap::new(),
+            steps_since_flush: 0,
         })
+    }
+
+    /// Sends the gathered rows as one chunk per entity, in path order.
+    fn send_pending(&mut self) -> Result<(), TransferError> {
+        let Some(rec) = &self.rec else {
+            return Err(io_err("rerun", &self.path, "already finished"));
+        };
+        for ((path, _), p) in std::mem::take(&mut self.pending) {
+            let mut b = Chunk::builder_with_id(p.id, path.as_str());
+            for (row, time, batches) in p.rows {
+                b = b.with_serialized_batches(row, time, batches);
+            }
+            rec.send_chunk(b.build().map_err(|e| io_err("rerun", &self.path, e))?);
+        }
+        self.steps_since_flush = 0;
+        Ok(())
     }
 
     fn next_id(&mut self) -> Tuid {
@@ -108,18 +138,15 @@ impl RerunSink {
         let key = (path.into(), self.time.is_static());
         if !self.pending.contains_key(&key) {
             let id = ChunkId::from_tuid(self.next_id());
-            self.pending.insert(
-                key.clone(),
-                PendingChunk {
-                    id,
-                    rows: Vec::new(),
-                },
-            );
+            let rows = Vec::new();
+            self.pending.insert(key.clone(), PendingChunk { id, rows });
         }
         let row_id = RowId::from_tuid(self.next_id());
         let time = self.time.clone();
-        let p = self.pending.get_mut(&key).expect("inserted");
-        p.rows.push((row_id, time, arch.as_serialized_batches()));
+        // Inserted just above if it was missing.
+        if let Some(p) = self.pending.get_mut(&key) {
+            p.rows.push((row_id, time, arch.as_serialized_batches()));
+        }
         Ok(())
     }
 }
@@ -257,36 +284,27 @@ impl Sink for RerunSink {
                 &Scalars::new([f.tangential_magnitude_n]),
             )?;
         }
+        self.steps_since_flush += 1;
+        if self.steps_since_flush >= FLUSH_EVERY_STEPS {
+            self.send_pending()?;
+        }
         Ok(())
     }
 
     fn finish(&mut self) -> Result<(), TransferError> {
+        if self.rec.is_some() {
+            self.send_pending()?;
+        }
         if let Some(rec) = self.rec.take() {
-            for ((path, _), p) in std::mem::take(&mut self.pending) {
-                let mut b = Chunk::builder_with_id(p.id, path.as_str());
-                for (row, time, batches) in p.rows {
-                    b = b.with_serialized_batches(row, time, batches);
-                }
-                rec.send_chunk(b.build().map_err(|e| sink_err("rerun", e))?);
-            }
-            rec.flush_blocking().map_err(|e| sink_err("rerun", e))?;
-            drop(rec);
-            super::move_into_place("rerun", &super::partial_path(&self.path), &self.path)?;
+            rec.flush_blocking()
+                .map_err(|e| io_err("rerun", &self.path, e))?;
         }
         Ok(())
     }
 
     fn abort(&mut self) {
+        self.pending.clear();
         if let Some(rec) = self.rec.take() {
-            for ((path, _), p) in std::mem::take(&mut self.pending) {
-                let mut b = Chunk::builder_with_id(p.id, path.as_str());
-                for (row, time, batches) in p.rows {
-                    b = b.with_serialized_batches(row, time, batches);
-                }
-                if let Ok(c) = b.build() {
-                    rec.send_chunk(c);
-                }
-            }
             let _ = rec.flush_blocking();
         }
     }

@@ -1,0 +1,163 @@
+//! Work bounds of a command, checked before any allocation: the memory a scene's solve needs
+//! (estimated by `grasp_model::work_bounds`) against `--max-memory`, and the size
+//! and kind of the input files.
+
+use std::io::Read;
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
+use grasp_model::work_bounds;
+use grasp_model::Scene;
+
+/// Largest scene or schedule file read, bytes.
+pub const MAX_INPUT_BYTES: u64 = 64 * 1024 * 1024;
+
+/// Share of the machine's memory (`MemTotal` of /proc/meminfo) a run may plan to use when no
+/// `--max-memory` is given: a quarter, since the machine is often shared (and the estimate is
+/// an estimate).
+pub const DEFAULT_MEMORY_SHARE: f64 = 0.25;
+
+/// The limit when /proc/meminfo cannot be read, bytes.
+pub const FALLBACK_MEMORY_LIMIT: u64 = 4 << 30;
+
+/// Parses a byte count: a number with an optional binary suffix K, M, G or T (`512M`, `4G`,
+/// `1.5G`, `1073741824`); a trailing `B` or `iB` is allowed.
+pub fn parse_bytes(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let t = t
+        .strip_suffix("iB")
+        .or_else(|| t.strip_suffix('B'))
+        .unwrap_or(t);
+    let (num, mult) = match t.chars().last().map(|c| c.to_ascii_uppercase()) {
+        Some('K') => (&t[..t.len() - 1], 1u64 << 10),
+        Some('M') => (&t[..t.len() - 1], 1 << 20),
+        Some('G') => (&t[..t.len() - 1], 1 << 30),
+        Some('T') => (&t[..t.len() - 1], 1 << 40),
+        _ => (t, 1),
+    };
+    let bad = || {
+        format!("`{text}` is not a size; give bytes with an optional K, M, G or T, e.g. 512M or 4G")
+    };
+    let x: f64 = num.trim().parse().map_err(|_| bad())?;
+    let bytes = x * mult as f64;
+    if !(bytes.is_finite() && bytes >= 1.0 && bytes < u64::MAX as f64) {
+        return Err(bad());
+    }
+    Ok(bytes as u64)
+}
+
+/// `--max-memory` or, without it, [`DEFAULT_MEMORY_SHARE`] of `MemTotal`; with a description
+/// for messages.
+pub fn memory_limit(flag: Option<u64>) -> (u64, String) {
+    if let Some(b) = flag {
+        return (b, format!("--max-memory {}", human(b)));
+    }
+    match mem_total_bytes() {
+        Some(total) => {
+            let b = (total as f64 * DEFAULT_MEMORY_SHARE) as u64;
+            (
+                b,
+                format!(
+                    "the default limit {} (a quarter of this machine's memory)",
+                    human(b)
+                ),
+            )
+        }
+        None => (
+            FALLBACK_MEMORY_LIMIT,
+            format!(
+                "the default limit {} (/proc/meminfo unreadable)",
+                human(FALLBACK_MEMORY_LIMIT)
+            ),
+        ),
+    }
+}
+
+fn mem_total_bytes() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kb.checked_mul(1024)
+}
+
+/// Refuses a scene whose estimated memory exceeds the limit, naming the largest patch.
+pub fn check_memory(scene: &Scene, file: &Path, limit: (u64, &str)) -> Result<()> {
+    let need = work_bounds::estimate_memory_bytes(scene);
+    if need <= limit.0 {
+        return Ok(());
+    }
+    let biggest = scene
+        .fingers
+        .iter()
+        .enumerate()
+        .max_by_key(|(_, f)| work_bounds::finger_unknowns(scene, f));
+    let detail = biggest.map_or(String::new(), |(i, f)| {
+        let n = work_bounds::finger_unknowns(scene, f);
+        format!(
+            " (largest: fingers[{i}] `{}`, grid {}x{}, {n} unknowns, a dense {n} x {n} block)",
+            f.name, f.patch.grid[0], f.patch.grid[1]
+        )
+    });
+    bail!(
+        "{} needs an estimated {} of memory{detail}, more than {}; fix: use a coarser grid \
+         (`grasp study` shows the accuracy each grid gives), or raise --max-memory",
+        file.display(),
+        human(need),
+        limit.1
+    )
+}
+
+/// Bytes for a reader: GiB, MiB or KiB.
+pub fn human(b: u64) -> String {
+    let x = b as f64;
+    if x >= (1u64 << 30) as f64 {
+        format!("{:.1} GiB", x / (1u64 << 30) as f64)
+    } else if x >= (1u64 << 20) as f64 {
+        format!("{:.1} MiB", x / (1u64 << 20) as f64)
+    } else {
+        format!("{:.1} KiB", x / 1024.0)
+    }
+}
+
+/// Reads an input file: a regular file (checked before opening, so a pipe never blocks) of at
+/// most [`MAX_INPUT_BYTES`], as UTF-8 text.
+pub fn read_input(path: &Path, what: &str) -> Result<String> {
+    let meta = std::fs::metadata(path)
+        .with_context(|| format!("cannot read {what} {}", path.display()))?;
+    if !meta.is_file() {
+        bail!(
+            "{what} {} is not a regular file (a folder, a pipe or a device); give a JSON file",
+            path.display()
+        );
+    }
+    if meta.len() > MAX_INPUT_BYTES {
+        bail!(
+            "{what} {} has {} bytes, more than {}; give a smaller file",
+            path.display(),
+            meta.len(),
+            human(MAX_INPUT_BYTES)
+        );
+    }
+    let mut text = String::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_INPUT_BYTES).read_to_string(&mut text))
+        .with_context(|| format!("cannot read {what} {}", path.display()))?;
+    Ok(text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_with_suffixes() {
+        assert_eq!(parse_bytes("512M"), Ok(512 << 20));
+        assert_eq!(parse_bytes("4G"), Ok(4 << 30));
+        assert_eq!(parse_bytes("1.5GiB"), Ok(3 << 29));
+        assert_eq!(parse_bytes("1000"), Ok(1000));
+        assert_eq!(parse_bytes("2k"), Ok(2048));
+        for bad in ["", "G", "-1G", "1e400", "lots", "0"] {
+            assert!(parse_bytes(bad).is_err(), "{bad}");
+        }
+    }
+}
