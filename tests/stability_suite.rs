@@ -1,7 +1,9 @@
 //! Numerical stability on stiff and extreme cases (issue 4). Every case either solves with
 //! equilibrium residual below 1e-8 of the load scale, cones satisfied and no NaN, or returns a
-//! named outcome with a reason; a panic anywhere fails the case by name. Cases are built from
-//! fixed seeds; each class prints a summary line of how many cases ran and how they ended.
+//! named outcome with a reason; a panic anywhere fails the case by name. Every case is also
+//! solved by the native solver alone and by Clarabel, which must agree (issue 9; see
+//! `support::native_agrees_with_clarabel`). Cases are built from fixed seeds; each class
+//! prints a summary line of how many cases ran, how they ended and how the solvers agreed.
 
 mod support;
 
@@ -74,6 +76,13 @@ impl Cube {
 struct Tally {
     solved: usize,
     named: Vec<String>,
+    /// Native against Clarabel: within 1e-8 of the load, or shown right by an arbiter.
+    agree: usize,
+    arbitrated: usize,
+    /// Solves the default (auto) solver handed to Clarabel: for an answer, and to certify
+    /// that there is none.
+    fallbacks: usize,
+    certified: usize,
 }
 
 /// Runs one case: a panic, a NaN, a residual over 1e-8 or an unnamed failure fails the test.
@@ -88,6 +97,14 @@ fn run_case(class: &str, case: &str, scene: &Value, tally: &mut Tally) -> Option
         Ok(s) => s,
         Err(_) => panic!("{class}/{case}: panicked"),
     };
+    match support::native_agrees_with_clarabel(scene) {
+        Ok((_, support::Agreement::Within, _)) => tally.agree += 1,
+        Ok(_) => tally.arbitrated += 1,
+        Err(e) => panic!("{class}/{case}: native and Clarabel disagree: {e}"),
+    }
+    let handed = sol.solver.fallback.is_some();
+    tally.fallbacks += usize::from(handed && sol.status.has_forces());
+    tally.certified += usize::from(handed && !sol.status.has_forces());
     if sol.status.has_forces() {
         let r = sol.residuals.expect("residuals with forces");
         assert!(
@@ -171,10 +188,16 @@ fn run_case(class: &str, case: &str, scene: &Value, tally: &mut Tally) -> Option
 
 fn report(class: &str, t: &Tally) {
     println!(
-        "stability {class}: {} cases, {} solved, {} named outcomes{}",
+        "stability {class}: {} cases, {} solved, {} named outcomes; native vs Clarabel: {} \
+         agree within 1e-8 of the load, {} shown right by an arbiter; auto: {} fallbacks to \
+         Clarabel, {} outcomes certified by Clarabel{}",
         t.solved + t.named.len(),
         t.solved,
         t.named.len(),
+        t.agree,
+        t.arbitrated,
+        t.fallbacks,
+        t.certified,
         if t.named.is_empty() {
             String::new()
         } else {
@@ -530,4 +553,126 @@ fn results_do_not_depend_on_the_choice_of_units() {
             );
         }
     }
+}
+
+/// A spherical tip of radius `r` on a flat (steel on steel), one held finger under the
+/// weight `w`, friction `mu`, patch a fixed 0.2 mm: at small loads the contact covers a
+/// fraction of one element, at large ones the whole patch (issue 10: curved tips at tiny
+/// loads).
+fn sphere_on_flat(w: f64, mu: f64) -> Value {
+    json!({"object": {"weight": w, "center_of_mass": [0, 0, 0.02], "material": elastic(210e9, 0.3)},
+        "fingers": [{"name": "tip", "contact_point": [0, 0, 0], "normal": [0, 0, 1], "material": elastic(210e9, 0.3),
+                     "tip_radius": 0.01, "patch": {"size": [2e-4, 2e-4], "grid": [9, 9]}, "friction": {"mu": mu}}]})
+}
+
+/// Curved tips from 1e-12 N to 1e6 N: the Hertz contact alone (frictionless and with
+/// `mu = 1000`), and the three-finger cube with spherical tips. At 1e-12 N the contact radius
+/// is 1e-4 of the patch; at 1e6 N the patch is far too small (a warning, not a failure).
+#[test]
+fn curved_tips_at_tiny_and_huge_loads() {
+    let mut t = Tally::default();
+    for e in [-12, -9, -6, -3, 0, 3, 6] {
+        let w = 10f64.powi(e);
+        for mu in [0.0, 1000.0] {
+            run_case(
+                "curved tips",
+                &format!("sphere W={w:e} mu={mu}"),
+                &sphere_on_flat(w, mu),
+                &mut t,
+            );
+        }
+        let mut cube = Cube {
+            weight_n: w,
+            mu: 0.8,
+            ..Cube::default()
+        }
+        .scene();
+        for f in cube["fingers"].as_array_mut().unwrap() {
+            f["tip_radius"] = json!(0.02);
+        }
+        run_case("curved tips", &format!("cube W={w:e}"), &cube, &mut t);
+    }
+    report("curved tips", &t);
+    assert!(t.named.is_empty(), "every curved case holds");
+}
+
+/// The coulomb model from 1e-6 N to 1e6 N: two force-controlled pads squeezing a block
+/// (P = 2 W, mu = 0.5: twice the grip needed) and the same with spherical tips; forces scale
+/// with the load for the flat pads (constant mu), checked to 1e-6.
+#[test]
+fn coulomb_model_at_tiny_and_huge_loads() {
+    let mut t = Tally::default();
+    let mut reference: Option<Vec<f64>> = None;
+    for e in [-6, -3, 0, 3, 6] {
+        let w = 10f64.powi(e);
+        for curved in [false, true] {
+            let pad = |name: &str, x: f64, n: f64| {
+                json!({"name": name, "contact_point": [x, 0.0, 0.0], "normal": [n, 0.0, 0.0], "material": elastic(2e6, 0.45),
+                       "tip_radius": if curved { json!(0.05) } else { Value::Null },
+                       "patch": {"size": [0.01, 0.01], "grid": [5, 5]}, "friction": {"mu": 0.5},
+                       "control": {"normal_load": 2.0 * w}})
+            };
+            let scene = json!({"model": "coulomb",
+                "object": {"weight": w, "center_of_mass": [0.0, 0.0, 0.0], "material": elastic(70e9, 0.33)},
+                "fingers": [pad("left", -0.05, 1.0), pad("right", 0.05, -1.0)]});
+            let s = run_case(
+                "coulomb",
+                &format!("W={w:e} curved={curved}"),
+                &scene,
+                &mut t,
+            )
+            .unwrap();
+            if !curved {
+                let q: Vec<f64> = s
+                    .fingers
+                    .iter()
+                    .map(|f| f.tangential_magnitude_n / w)
+                    .collect();
+                match &reference {
+                    Some(r) => {
+                        for (a, b) in q.iter().zip(r) {
+                            assert!(
+                                (a - b).abs() < 1e-6 * b.abs().max(1.0),
+                                "W={w:e}: {a} vs {b}"
+                            );
+                        }
+                    }
+                    None => reference = Some(q),
+                }
+            }
+        }
+    }
+    report("coulomb", &t);
+    assert!(t.named.is_empty());
+}
+
+/// The planar model from 1e-6 N to 1e6 N: the four-finger plate (flat pads; forces scale with
+/// the weight, checked to 1e-6) and the three-finger disc (curved contacts).
+#[test]
+fn planar_model_at_tiny_and_huge_loads() {
+    let mut t = Tally::default();
+    let mut reference: Option<Vec<f64>> = None;
+    for e in [-6, -3, 0, 3, 6] {
+        let w = 10f64.powi(e);
+        let mut plate = support::example_json("plate_four_fingers.json");
+        plate["object"]["weight"] = json!(w);
+        let s = run_case("planar", &format!("plate W={w:e}"), &plate, &mut t).unwrap();
+        let p: Vec<f64> = s.fingers.iter().map(|f| f.normal_force_n / w).collect();
+        match &reference {
+            Some(r) => {
+                for (a, b) in p.iter().zip(r) {
+                    assert!(
+                        (a - b).abs() < 1e-6 * b.abs().max(1.0),
+                        "W={w:e}: {a} vs {b}"
+                    );
+                }
+            }
+            None => reference = Some(p),
+        }
+        let mut disc = support::example_json("disc_three_fingers.json");
+        disc["object"]["weight"] = json!(w);
+        run_case("planar", &format!("disc W={w:e}"), &disc, &mut t);
+    }
+    report("planar", &t);
+    assert!(t.named.is_empty());
 }

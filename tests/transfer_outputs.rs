@@ -339,6 +339,28 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
             .iter()
             .map(|r| r.solution.solver.iterations as u64)
             .sum(),
+        total_factorizations: records
+            .iter()
+            .map(|r| r.solution.solver.factorizations as u64)
+            .sum(),
+        answered_by_native: records
+            .iter()
+            .filter(|r| r.solution.solver.solver == grasp_model::SolverKind::Native)
+            .count(),
+        answered_by_clarabel: records
+            .iter()
+            .filter(|r| r.solution.solver.solver == grasp_model::SolverKind::Clarabel)
+            .count(),
+        fallbacks: (
+            records
+                .iter()
+                .filter(|r| r.solution.solver.fallback.is_some())
+                .count(),
+            records
+                .iter()
+                .find_map(|r| r.solution.solver.fallback.clone()),
+        ),
+        warm_steps: records.iter().filter(|r| r.reused_program).count(),
         sequential: (!seq.is_empty()).then(|| grasp_transfer::summary::SequentialTotals {
             convex_solves: seq.iter().map(|s| s.iterations as u64).sum(),
             most_in_a_step: seq.iter().map(|s| s.iterations).max().unwrap_or(0),

@@ -255,6 +255,23 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
             q.convex_solves, q.most_in_a_step, q.warm_started_steps, q.cold_restarts
         );
     }
+    let steps = done.max(1) as f64;
+    let _ = writeln!(
+        o,
+        "solver: native answered {} steps, Clarabel {}; {} warm steps (started from the \
+         previous one); {:.2} iterations and {:.2} factorizations per step",
+        s.answered_by_native,
+        s.answered_by_clarabel,
+        s.warm_steps,
+        s.total_iterations as f64 / steps,
+        s.total_factorizations as f64 / steps
+    );
+    if let (n, Some(why)) = &s.fallbacks {
+        let _ = writeln!(
+            o,
+            "solver fallbacks: {n} steps handed to Clarabel; first: {why}"
+        );
+    }
     let _ = writeln!(
         o,
         "error: worst equilibrium residual {:.1e} of the load; time: {:.3} s in all, {:.2} ms per step, {} iterations",

@@ -301,11 +301,20 @@ fn solution_is_sound(text: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// Every cell of a force-history CSV but the status column is a finite number.
+/// Every cell of a force-history CSV is a finite number, except the three text columns
+/// named in its header: `status`, `solver` (`native` or `clarabel`) and `warm_start`
+/// (`true` or `false`).
 fn csv_is_sound(text: &str) -> Result<(), String> {
+    let header: Vec<&str> = text.lines().next().unwrap_or("").split(',').collect();
     for (i, line) in text.lines().enumerate().skip(1) {
         for (j, cell) in line.split(',').enumerate() {
-            if j != 2 && !cell.parse::<f64>().is_ok_and(f64::is_finite) {
+            let sound = match header.get(j).copied() {
+                Some("status") => !cell.is_empty(),
+                Some("solver") => cell == "native" || cell == "clarabel",
+                Some("warm_start") => cell == "true" || cell == "false",
+                _ => cell.parse::<f64>().is_ok_and(f64::is_finite),
+            };
+            if !sound {
                 return Err(format!("row {i} column {j}: `{cell}`"));
             }
         }

@@ -33,10 +33,13 @@ use nalgebra::DMatrix;
 use crate::equilibrium::RowReduction;
 use crate::grasp_model::GraspModel;
 
-/// Smallest Tresca radius, in element force units `Fu`. A disc of radius 0 has no interior
-/// (it stalled the interior-point method on the Cattaneo case of `tests/cattaneo_mindlin.rs`
-/// at `Q = 0.5 mu P`); with this floor an unloaded element can carry at most `1e-8 Fu` of
-/// friction, which shows as a cone violation of that size.
+/// Largest floor on the Tresca radii Clarabel is given, in element force units `Fu` (the
+/// floor is this or Clarabel's tolerance, whichever is smaller). A disc of radius 0
+/// has no interior (it stalled Clarabel's interior-point method on the Cattaneo case of
+/// `tests/cattaneo_mindlin.rs` at `Q = 0.5 mu P`); with the floor an unloaded element can
+/// carry at most the floor of friction in Clarabel's answers, which shows as a cone violation
+/// of that size. The program itself keeps the exact radii, which the native solver uses
+/// (its projection onto a disc of radius 0 is exact).
 pub const RADIUS_FLOOR: f64 = 1e-8;
 
 /// Which cones bound the friction forces.
@@ -58,7 +61,7 @@ pub enum BlockCone {
         /// Friction coefficient frozen for this solve.
         mu: f64,
     },
-    /// `F_k >= 0` and `||G_k|| <= r_k` (Tresca), radii in element force units `Fu`, > 0.
+    /// `F_k >= 0` and `||G_k|| <= r_k` (Tresca), radii in element force units `Fu`, >= 0.
     Tresca {
         /// `r_k / Fu`, one per element.
         radii: Vec<f64>,
@@ -125,8 +128,7 @@ pub struct ConeProgram {
 impl ConeProgram {
     /// Assembles the program for `model` with prescribed loads `loads_n` (one per
     /// force-controlled finger, N; checked by the caller), cones of kind `law` and, for the
-    /// associated law, friction coefficients `mu` (one per finger). Tresca radii start at the
-    /// floor of [`RADIUS_FLOOR`] element force units.
+    /// associated law, friction coefficients `mu` (one per finger). Tresca radii start at 0.
     pub fn assemble(model: &GraspModel, loads_n: &[f64], law: ConeLaw, mu: &[f64]) -> ConeProgram {
         let s = model.scales;
         let blocks: Vec<FingerBlock> = model
@@ -141,7 +143,7 @@ impl ConeProgram {
                     (0, _) => BlockCone::Nonnegative,
                     (_, ConeLaw::Associated) => BlockCone::Friction { mu: m },
                     (_, ConeLaw::Tresca) => BlockCone::Tresca {
-                        radii: vec![RADIUS_FLOOR; f.patch.len()],
+                        radii: vec![0.0; f.patch.len()],
                     },
                 },
             })

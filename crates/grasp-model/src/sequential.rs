@@ -14,7 +14,7 @@
 //! (input forces to output normal forces) is iterated as `F <- F + omega (T(F) - F)`, with
 //! `omega = 1` until an iterate's program has no solution: the iteration then does not give up
 //! but backs off halfway towards the last input whose program was feasible, halving `omega`
-//! (down to [`MIN_RELAXATION`]) and letting it grow back after each feasible iterate (a
+//! (down to [`SolveOptions::min_relaxation`]) and letting it grow back after each feasible iterate (a
 //! Krasnoselskii-Mann iteration). Converged when `max |T(F) - F| <= sequential_tolerance Fu`.
 //! Outcomes: converged; no equilibrium (for coulomb, with the fingers that lack grip, read from
 //! the infeasibility certificate); no convergence within the iteration limit.
@@ -36,8 +36,8 @@ use crate::solve_options::SolveOptions;
 
 pub use crate::cone_program::RADIUS_FLOOR;
 
-/// Smallest relaxation factor `omega` of the damped fixed-point iteration before an
-/// infeasible iterate is reported as the outcome.
+/// Default smallest relaxation factor `omega` of the damped fixed-point iteration before an
+/// infeasible iterate is reported as the outcome ([`crate::SolveOptions::min_relaxation`]).
 pub const MIN_RELAXATION: f64 = 1.0 / 64.0;
 
 /// A first guess of each finger's total normal load, N: the prescribed load of a
@@ -117,13 +117,12 @@ fn relax(a: &[Vec<f64>], b: &[Vec<f64>], w: f64) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// Tresca radii `max(mu_i F_k, RADIUS_FLOOR Fu)` (N) of input forces `forces` (N).
-fn radii_of(model: &GraspModel, forces: &[Vec<f64>], mu: &[f64]) -> Vec<Vec<f64>> {
-    let floor = RADIUS_FLOOR * model.scales.element_force_n;
+/// Tresca radii `mu_i max(F_k, 0)` (N) of input forces `forces` (N).
+fn radii_of(forces: &[Vec<f64>], mu: &[f64]) -> Vec<Vec<f64>> {
     forces
         .iter()
         .zip(mu)
-        .map(|(fi, &m)| fi.iter().map(|v| (m * v.max(0.0)).max(floor)).collect())
+        .map(|(fi, &m)| fi.iter().map(|v| m * v.max(0.0)).collect())
         .collect()
 }
 
@@ -346,7 +345,7 @@ fn iterate(
         let mu = mu_at(model, &input.loads);
         let radii = seq
             .coulomb
-            .then(|| radii_of(model, input.forces.as_deref().unwrap_or(&[]), &mu));
+            .then(|| radii_of(input.forces.as_deref().unwrap_or(&[]), &mu));
         match &radii {
             Some(r) => main.program.set_radii(model, r),
             None => main.program.set_mu(&mu),
@@ -414,7 +413,7 @@ fn iterate(
                     }
                 }
                 match &last_feasible {
-                    Some(prev) if omega > MIN_RELAXATION => {
+                    Some(prev) if omega > seq.options.min_relaxation => {
                         // Back off halfway towards the last input whose program was feasible.
                         omega *= 0.5;
                         seq.report.damped_iterations += 1;

@@ -62,7 +62,8 @@ impl GraspSolver {
 
     /// The program in Clarabel's conic form (for inspection: sizes and nonzeros).
     pub fn clarabel_form(&self, model: &GraspModel) -> ClarabelForm {
-        ClarabelForm::assemble(model, &self.main.program)
+        let floor = crate::backend::clarabel::radius_floor(self.options.tolerance);
+        ClarabelForm::assemble(model, &self.main.program, floor)
     }
 
     /// Forgets the last solution: the next solve starts cold (the factorisations are kept).

@@ -60,6 +60,10 @@ pub struct SolveOptions {
     pub sequential_tolerance: f64,
     /// Sequential solve: largest number of convex solves per step.
     pub max_sequential_iterations: u32,
+    /// Sequential solve: smallest relaxation `omega` of the damped fixed-point iteration
+    /// before an iterate without solution is reported as the outcome (dimensionless, in
+    /// `(0, 1]`; `1` gives the plain, undamped iteration).
+    pub min_relaxation: f64,
     /// Start each solve from the previous solution of the same program (the previous step or
     /// iterate), and a coulomb step from the previous step's forces; `false` starts every
     /// convex solve cold (for comparison).
@@ -75,6 +79,7 @@ impl Default for SolveOptions {
             time_limit_s: f64::INFINITY,
             sequential_tolerance: 1e-7,
             max_sequential_iterations: 50,
+            min_relaxation: crate::sequential::MIN_RELAXATION,
             warm_start: true,
         }
     }

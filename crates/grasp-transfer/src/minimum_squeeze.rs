@@ -12,8 +12,8 @@
 //! receiving gripper must command; under the energy model it is the load above which the
 //! model's own squeeze suffices.
 
-use grasp_model::scene::{ControlSpec, HeldTag, NormalLoadSpec};
-use grasp_model::{GraspModel, GraspSolver, Scene, Solution, SolveOptions};
+use grasp_model::solution::LOADED_FRACTION;
+use grasp_model::{Control, GraspModel, GraspSolver, Scene, Solution, SolveOptions};
 use serde::Serialize;
 
 use crate::error::TransferError;
@@ -66,7 +66,7 @@ fn holds(sol: &Solution) -> Result<(), String> {
         return Err(sol.reason.clone().unwrap_or_else(|| "no solution".into()));
     }
     for f in &sol.fingers {
-        let loaded = f.normal_force_n > 1e-9 * sol.load_scale_n;
+        let loaded = f.normal_force_n > LOADED_FRACTION * sol.load_scale_n;
         if loaded && f.friction_coefficient > 0.0 && f.stick_count == 0 {
             return Err(format!("{} slides as a whole", f.name));
         }
@@ -97,26 +97,25 @@ pub fn minimum_squeeze(
                 .into(),
         ));
     }
+    let base = GraspModel::from_scene(scene).map_err(|source| TransferError::Scene {
+        time_s: last.time_s,
+        source,
+    })?;
+    // The final grasp with the receiving loads scaled by `s`: the scene's model restricted to
+    // the active fingers (their compliance blocks are shared, not recomputed).
     let trial = |s: f64| -> Result<Solution, TransferError> {
-        let mut sub = scene.clone();
-        sub.fingers = commands
+        let active: Vec<(usize, Control)> = commands
             .iter()
             .enumerate()
-            .filter_map(|(i, c)| {
-                let mut f = scene.fingers[i].clone();
-                f.control = match c {
-                    Command::Held => ControlSpec::Held(HeldTag::Held),
-                    Command::Load(p) => ControlSpec::Load(NormalLoadSpec { normal_load: s * p }),
-                    Command::Released => return None,
-                };
-                Some(f)
+            .filter_map(|(i, c)| match c {
+                Command::Held => Some((i, Control::Held)),
+                Command::Load(p) => Some((i, Control::NormalLoad { newtons: s * p })),
+                Command::Released => None,
             })
             .collect();
-        let model =
-            GraspModel::from_validated_scene(&sub).map_err(|source| TransferError::Scene {
-                time_s: last.time_s,
-                source,
-            })?;
+        let model = base.restricted(&active).ok_or(TransferError::Internal(
+            "the final grasp has no active finger",
+        ))?;
         Ok(GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?)
     };
     // Bracket: the smallest power of two (from 1) at which the grasp holds.

@@ -5,8 +5,9 @@ use serde::Serialize;
 
 use crate::stepper::StepRecord;
 
-/// A finger carries load when its normal force exceeds this fraction of the load scale.
-pub const LOADED_FRACTION: f64 = 1e-6;
+/// A finger carries load when its normal force exceeds this fraction of the load scale (the
+/// model's one meaning of "loaded").
+pub use grasp_model::solution::LOADED_FRACTION;
 
 /// The summary of a run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -37,8 +38,19 @@ pub struct TransferSummary {
     pub worst_equilibrium_residual: f64,
     /// Sum of step wall times, s.
     pub total_wall_time_s: f64,
-    /// Sum of interior-point iterations.
+    /// Sum of iterations (Newton steps of the native solver, interior-point iterations of
+    /// Clarabel).
     pub total_iterations: u64,
+    /// Sum of reduced matrices factorised by the native solver.
+    pub total_factorizations: u64,
+    /// Steps answered by the native solver and by Clarabel.
+    pub answered_by_native: usize,
+    /// Steps answered by Clarabel (`--solver clarabel`, or a fallback).
+    pub answered_by_clarabel: usize,
+    /// Steps where the native solver handed over to Clarabel, and the first reason.
+    pub fallbacks: (usize, Option<String>),
+    /// Steps that started from the previous step's solution.
+    pub warm_steps: usize,
     /// Sequential solves (coulomb model, load-dependent mu): totals over the steps.
     pub sequential: Option<SequentialTotals>,
 }
@@ -98,6 +110,10 @@ pub struct SummaryAccumulator {
     worst: f64,
     total_wall_time_s: f64,
     total_iterations: u64,
+    total_factorizations: u64,
+    answered: (usize, usize),
+    fallbacks: (usize, Option<String>),
+    warm_steps: usize,
     sequential: Option<SequentialTotals>,
 }
 
@@ -129,6 +145,10 @@ impl SummaryAccumulator {
             worst: 0.0,
             total_wall_time_s: 0.0,
             total_iterations: 0,
+            total_factorizations: 0,
+            answered: (0, 0),
+            fallbacks: (0, None),
+            warm_steps: 0,
             sequential: None,
         }
     }
@@ -138,6 +158,7 @@ impl SummaryAccumulator {
         self.steps += 1;
         self.total_wall_time_s += r.wall_time_s;
         self.total_iterations += r.solution.solver.iterations as u64;
+        self.add_solver(r);
         if let Some(s) = r.solution.sequential {
             let t = self.sequential.get_or_insert(SequentialTotals {
                 convex_solves: 0,
@@ -159,6 +180,21 @@ impl SummaryAccumulator {
             return;
         }
         self.add_solved(r);
+    }
+
+    /// Who answered the step, at what cost, and from where it started.
+    fn add_solver(&mut self, r: &StepRecord) {
+        let st = &r.solution.solver;
+        self.total_factorizations += st.factorizations as u64;
+        match st.solver {
+            grasp_model::SolverKind::Native => self.answered.0 += 1,
+            grasp_model::SolverKind::Clarabel => self.answered.1 += 1,
+        }
+        if let Some(why) = &st.fallback {
+            self.fallbacks.0 += 1;
+            self.fallbacks.1.get_or_insert_with(|| why.clone());
+        }
+        self.warm_steps += usize::from(r.reused_program);
     }
 
     fn add_solved(&mut self, r: &StepRecord) {
@@ -229,6 +265,11 @@ impl SummaryAccumulator {
             worst_equilibrium_residual: self.worst,
             total_wall_time_s: self.total_wall_time_s,
             total_iterations: self.total_iterations,
+            total_factorizations: self.total_factorizations,
+            answered_by_native: self.answered.0,
+            answered_by_clarabel: self.answered.1,
+            fallbacks: self.fallbacks.clone(),
+            warm_steps: self.warm_steps,
             sequential: self.sequential,
         }
     }

@@ -8,7 +8,7 @@
 //! 2. nonnegative cone: for the Tresca law, `F_k >= 0` for every element of every finger; then
 //!    per finger `F_k >= 0` (frictionless finger, associated law), or the planar pairs
 //!    `mu F_k + G_k >= 0`, `mu F_k - G_k >= 0` (associated) / `r_k + G_k >= 0`, `r_k - G_k >= 0`
-//!    (Tresca, `r_k` in `b`);
+//!    (Tresca, `r_k` in `b`, at least the radius floor, see [`radius_floor`]);
 //! 3. second-order cones of dimension 3, scalar first: `(mu F_k, G1_k, G2_k)` (associated) or
 //!    `(r_k, G1_k, G2_k)` with `r_k` in `b` (Tresca).
 //!
@@ -21,7 +21,8 @@ use clarabel::solver::{
 };
 
 use crate::backend::{Certificate, ConvexOutcome};
-use crate::cone_program::{BlockCone, ConeProgram};
+use crate::cone_program::{BlockCone, ConeProgram, RADIUS_FLOOR};
+
 use crate::error::ModelError;
 use crate::grasp_model::GraspModel;
 
@@ -88,15 +89,16 @@ impl Columns {
 }
 
 impl ClarabelForm {
-    /// Assembles Clarabel's form of `program` (see the module docs for the row order).
-    pub fn assemble(model: &GraspModel, program: &ConeProgram) -> ClarabelForm {
-        let mut form = ClarabelForm::constraints(program);
+    /// Assembles Clarabel's form of `program` (see the module docs for the row order), Tresca
+    /// radii raised to at least `floor` (element force units `Fu`, see [`radius_floor`]).
+    pub fn assemble(model: &GraspModel, program: &ConeProgram, floor: f64) -> ClarabelForm {
+        let mut form = ClarabelForm::constraints(program, floor);
         form.p = objective_matrix(model, program);
         form
     }
 
-    /// Everything but `P` (left empty), from the program alone.
-    fn constraints(program: &ConeProgram) -> ClarabelForm {
+    /// Everything but `P` (left empty), from the program alone, Tresca radii at least `floor`.
+    fn constraints(program: &ConeProgram, floor: f64) -> ClarabelForm {
         let n = program.n_unknowns;
         let mut acols = Columns::new(n);
         let mut b = program.equality_rhs.clone();
@@ -144,8 +146,8 @@ impl ClarabelForm {
                     for k in 0..ne {
                         acols.push(row + 2 * k, blk.offset + ne + k, -1.0);
                         acols.push(row + 2 * k + 1, blk.offset + ne + k, 1.0);
-                        b[row + 2 * k] = radii[k];
-                        b[row + 2 * k + 1] = radii[k];
+                        b[row + 2 * k] = radii[k].max(floor);
+                        b[row + 2 * k + 1] = radii[k].max(floor);
                     }
                     row += 2 * ne;
                 }
@@ -166,7 +168,7 @@ impl ClarabelForm {
                     BlockCone::Friction { mu } => {
                         acols.push_structural(row + 3 * k, blk.offset + k, -mu)
                     }
-                    BlockCone::Tresca { radii } => b[row + 3 * k] = radii[k],
+                    BlockCone::Tresca { radii } => b[row + 3 * k] = radii[k].max(floor),
                     BlockCone::Nonnegative => {}
                 }
                 acols.push(row + 3 * k + 1, blk.offset + ne + k, -1.0);
@@ -217,6 +219,14 @@ impl ClarabelForm {
     }
 }
 
+/// The smallest Tresca radius Clarabel is given at solve tolerance `tolerance`, in element
+/// force units `Fu`: [`RADIUS_FLOOR`], or the tolerance when that is smaller, so that the
+/// friction an unloaded element may carry in Clarabel's answer stays within the accuracy
+/// Clarabel was asked for (a disc of radius 0 has no interior for its interior-point method).
+pub fn radius_floor(tolerance: f64) -> f64 {
+    RADIUS_FLOOR.min(tolerance)
+}
+
 /// Clarabel's settings for a tolerance and limits.
 pub(crate) fn settings(
     tolerance: f64,
@@ -255,18 +265,20 @@ impl ClarabelWorkspace {
     /// A workspace for `program` (assembles `P` from the model's compliance blocks).
     pub(crate) fn new(model: &GraspModel, program: &ConeProgram) -> Self {
         ClarabelWorkspace {
-            form: ClarabelForm::assemble(model, program),
+            form: ClarabelForm::assemble(model, program, RADIUS_FLOOR),
             solver: None,
         }
     }
 
-    /// Brings the workspace up to date with `program` and solves.
+    /// Brings the workspace up to date with `program` and solves at `tolerance` (the
+    /// tolerance sets the radius floor, [`radius_floor`]).
     pub(crate) fn solve(
         &mut self,
         program: &ConeProgram,
+        tolerance: f64,
         settings: &DefaultSettings<f64>,
     ) -> Result<ClarabelRun, ModelError> {
-        let mut fresh = ClarabelForm::constraints(program);
+        let mut fresh = ClarabelForm::constraints(program, radius_floor(tolerance));
         fresh.p = std::mem::replace(&mut self.form.p, CscMatrix::zeros((0, 0)));
         let err = |e: clarabel::solver::DataUpdateError| ModelError::Solver(e.to_string());
         let solver = match self.solver.as_mut() {

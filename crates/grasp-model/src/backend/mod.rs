@@ -144,7 +144,7 @@ impl ProgramSolver {
         let ws = self
             .clarabel
             .get_or_insert_with(|| ClarabelWorkspace::new(model, program));
-        let run = ws.solve(program, &settings)?;
+        let run = ws.solve(program, options.tolerance, &settings)?;
         Ok(ConvexRun {
             outcome: run.outcome,
             iterations: run.iterations,

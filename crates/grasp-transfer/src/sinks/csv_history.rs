@@ -1,7 +1,9 @@
 //! CSV sink: force histories, one row per step.
 //!
 //! Columns: `time_s, step, status`, then per finger `<name>_normal_force_n`,
-//! `<name>_friction_n`, `<name>_slip_fraction`, then `iterations, wall_time_s`.
+//! `<name>_friction_n`, `<name>_slip_fraction`, then `solver, warm_start, iterations,
+//! factorizations, wall_time_s` (which solver answered, whether the step started from the
+//! previous one, its Newton or interior-point iterations and factorisations).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -53,7 +55,7 @@ impl Sink for CsvSink {
                 h.push_str(&csv_field(&format!("{}_{col}", f.name)));
             }
         }
-        h.push_str(",iterations,wall_time_s\n");
+        h.push_str(",solver,warm_start,iterations,factorizations,wall_time_s\n");
         self.write(&h)
     }
 
@@ -66,7 +68,14 @@ impl Sink for CsvSink {
                 f.normal_force_n, f.tangential_magnitude_n, f.slip_fraction
             ));
         }
-        line.push_str(&format!(",{},{}\n", m.iterations, r.wall_time_s));
+        line.push_str(&format!(
+            ",{},{},{},{},{}\n",
+            csv_field(&m.solver),
+            m.warm_start,
+            m.iterations,
+            m.factorizations,
+            r.wall_time_s
+        ));
         self.write(&line)
     }
 

@@ -60,8 +60,17 @@ pub struct FingersMessage {
     pub status: String,
     /// Why, if not solved.
     pub reason: Option<String>,
-    /// Interior-point iterations.
+    /// Which solver answered the step (`native` or `clarabel`).
+    pub solver: String,
+    /// Why the native solver's answer was not used, when it was not.
+    pub fallback: Option<String>,
+    /// True when the step started from the previous step's solution (same grasp structure).
+    pub warm_start: bool,
+    /// Iterations of the step: Newton steps of the native solver plus interior-point
+    /// iterations of Clarabel, over all its convex solves.
     pub iterations: u32,
+    /// Reduced matrices factorised by the native solver in the step.
+    pub factorizations: u32,
     /// Relative equilibrium residual (absent without forces).
     pub equilibrium_residual: Option<f64>,
     /// Every scene finger, scene order.
@@ -80,7 +89,14 @@ impl FingersMessage {
             step: r.index,
             status,
             reason: r.solution.reason.clone(),
+            solver: serde_json::to_value(r.solution.solver.solver)
+                .ok()
+                .and_then(|v| v.as_str().map(String::from))
+                .unwrap_or_default(),
+            fallback: r.solution.solver.fallback.clone(),
+            warm_start: r.reused_program,
             iterations: r.solution.solver.iterations,
+            factorizations: r.solution.solver.factorizations,
             equilibrium_residual: r.solution.residuals.map(|x| x.equilibrium_relative),
             fingers: r
                 .commands
@@ -124,7 +140,10 @@ fn fingers_schema() -> serde_json::Value {
         "type": "object",
         "properties": {
             "time_s": num, "step": {"type": "integer"}, "status": {"type": "string"},
-            "reason": {"type": ["string", "null"]}, "iterations": {"type": "integer"},
+            "reason": {"type": ["string", "null"]},
+            "solver": {"type": "string", "enum": ["native", "clarabel"]},
+            "fallback": {"type": ["string", "null"]}, "warm_start": {"type": "boolean"},
+            "iterations": {"type": "integer"}, "factorizations": {"type": "integer"},
             "equilibrium_residual": {"type": ["number", "null"]},
             "fingers": {"type": "array", "items": {"type": "object", "properties": {
                 "name": {"type": "string"}, "control": {"type": "string", "enum": ["held", "load", "released"]},
