@@ -2,13 +2,15 @@
 # The project's whole test command (README "Test"; .ci/run calls exactly this).
 # 1. installs the independent checker (Python package rerun-sdk==0.36.3, for `rerun rrd verify`
 #    and `rerun mcap check`) into a cached virtualenv;
-# 2. checks formatting, builds and tests the workspace in the release profile (the only profile
+# 2. checks formatting and lints (clippy), builds and tests the workspace in the release profile (the only profile
 #    built, shared with `cargo run --release`; CARGO_TARGET_DIR is honoured).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-checkers.sh
 export GRASP_RERUN_CLI="${GRASP_RERUN_CLI:-$HOME/.cache/grasp-venv/bin/rerun}"
 cargo fmt --all -- --check
+# Lints of every target (benches included), warnings as errors.
+cargo clippy --release --workspace --all-targets -- -D warnings
 log="$(mktemp)"
 trap 'rm -f "$log"' EXIT
 status=0

@@ -147,8 +147,8 @@ pub fn complementary_energy_j(model: &GraspModel, sol: &Solution) -> f64 {
             let row: f64 = (0..x.len()).map(|b| c[(a, b)] * x[b]).sum();
             j += 0.5 * x[a] * row;
         }
-        for k in 0..ne {
-            j += f.patch.gap_m[k] * x[k];
+        for (k, xk) in x.iter().enumerate().take(ne) {
+            j += f.patch.gap_m[k] * xk;
         }
     }
     j
@@ -228,6 +228,28 @@ pub fn clarabel_at_native_radii(model: &GraspModel, native: &Solution) -> Option
     })
 }
 
+/// Checks a coulomb answer `native` as a fixed point with Clarabel, independently of the
+/// native solver: one Clarabel solve of the Tresca program at the answer's radii `mu F`
+/// ([`clarabel_at_native_radii`]) either reproduces its forces within [`SOLVER_AGREEMENT`]
+/// of the load, or the answer is feasible for that program (Tresca discs at its own radii
+/// and equilibrium, to `1e-10`) with an energy no higher than Clarabel's answer's (to
+/// [`ENERGY_ROUNDOFF`]): the program is strictly convex, so the feasible answer with the lower
+/// energy is the closer one to its unique minimiser. Returns the force difference (relative
+/// to the load) when confirmed.
+pub fn fixed_point_confirmed(model: &GraspModel, native: &Solution) -> Option<f64> {
+    if !native.status.has_forces() {
+        return None;
+    }
+    let (d, c) = clarabel_at_native_radii(model, native)?;
+    let (jn, jc) = (
+        complementary_energy_j(model, native),
+        complementary_energy_j(model, &c),
+    );
+    let lower =
+        tresca_feasible_at_own_radii(model, native) && jn <= jc + ENERGY_ROUNDOFF * jc.abs();
+    (d <= SOLVER_AGREEMENT || lower).then_some(d)
+}
+
 /// Solves `v` with the native solver (default options) and with Clarabel at
 /// [`REFERENCE_TOLERANCE`] and compares them: the same status (solved and reduced accuracy
 /// count as one) and, with forces, element forces within [`SOLVER_AGREEMENT`] of the load
@@ -267,19 +289,7 @@ pub fn native_agrees_with_clarabel(v: &Value) -> Result<(Solution, Agreement, f6
         }
     };
     let coulomb = model.kind == grasp_model::scene::ModelKind::Coulomb;
-    let confirmed = |native: &Solution| {
-        coulomb
-            && native.status.has_forces()
-            && clarabel_at_native_radii(&model, native).is_some_and(|(d, c)| {
-                let (jn, jc) = (
-                    complementary_energy_j(&model, native),
-                    complementary_energy_j(&model, &c),
-                );
-                d <= SOLVER_AGREEMENT
-                    || (tresca_feasible_at_own_radii(&model, native)
-                        && jn <= jc + ENERGY_ROUNDOFF * jc.abs())
-            })
-    };
+    let confirmed = |native: &Solution| coulomb && fixed_point_confirmed(&model, native).is_some();
     let residuals_hold = |native: &Solution| {
         let cones = if coulomb {
             tresca_feasible_at_own_radii(&model, native)

@@ -1,6 +1,7 @@
 //! `grasp`: the command-line front end. Flags become a validated configuration before any work
 //! starts; the physics lives in `grasp-model`, the hand-off in `grasp-transfer`.
 
+mod bench;
 mod limits;
 mod output;
 mod plot;
@@ -118,6 +119,31 @@ enum Command {
         #[command(flatten)]
         memory: MemoryArg,
     },
+    /// Benchmark table: the cases of issue 9 (cube A grids, Hertz 41x41, both hand-offs warm
+    /// and cold, the whole transfer command) with each solver, medians against targets.
+    Bench {
+        /// Only the cases that take well under a second, one timing run each.
+        #[arg(long)]
+        quick: bool,
+        /// Print the table as Markdown.
+        #[arg(long)]
+        markdown: bool,
+        /// Solvers to compare (comma-separated).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "native,clarabel",
+            value_name = "auto|native|clarabel"
+        )]
+        solver: Vec<SolverChoice>,
+        /// Run only these cases (comma-separated names from the table).
+        #[arg(long = "case", value_delimiter = ',', value_name = "NAME")]
+        cases: Vec<String>,
+        /// Keep timing a case until this many seconds have passed (at least 2 runs, at most
+        /// 50).
+        #[arg(long, default_value_t = 1.0, value_name = "SECONDS")]
+        min_time: f64,
+    },
     /// Print the JSON Schema of the scene format (or of the schedule format).
     Schema {
         /// Print the schedule format's schema instead.
@@ -167,6 +193,24 @@ fn run(cli: Cli) -> Result<ExitCode> {
             };
             println!("{}", serde_json::to_string_pretty(&schema)?);
             Ok(ExitCode::SUCCESS)
+        }
+        Command::Bench {
+            quick,
+            markdown,
+            solver,
+            cases,
+            min_time,
+        } => {
+            if !(min_time.is_finite() && min_time >= 0.0) {
+                anyhow::bail!("--min-time {min_time}: give a number of seconds >= 0, e.g. 1");
+            }
+            bench::run(bench::Flags {
+                quick,
+                markdown,
+                solvers: solver,
+                cases,
+                min_time_s: min_time,
+            })
         }
         Command::Transfer {
             scene,

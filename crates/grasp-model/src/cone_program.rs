@@ -240,8 +240,8 @@ impl ConeProgram {
         for (i, f) in model.fingers.iter().enumerate() {
             let ne = f.patch.len();
             for c in 0..f.n_tangential {
-                for k in 0..ne {
-                    self.q[f.offset + (c + 1) * ne + k] = -memory_m[i][k][c] / du;
+                for (k, m) in memory_m[i].iter().enumerate().take(ne) {
+                    self.q[f.offset + (c + 1) * ne + k] = -m[c] / du;
                 }
             }
         }

@@ -241,8 +241,11 @@ pub fn patch_compliance(
 mod tests {
     use super::*;
 
+    /// A named kernel as a function of (X, Y).
+    type Kernel = (&'static str, fn(f64, f64) -> f64);
+
     /// Kernels as functions of (X, Y); all are homogeneous of degree -1.
-    const KERNELS: [(&str, fn(f64, f64) -> f64); 6] = [
+    const KERNELS: [Kernel; 6] = [
         ("1/rho", |x, y| 1.0 / x.hypot(y)),
         ("X^2/rho^3", |x, y| x * x / x.hypot(y).powi(3)),
         ("Y^2/rho^3", |x, y| y * y / x.hypot(y).powi(3)),

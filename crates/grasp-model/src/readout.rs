@@ -216,6 +216,7 @@ fn element_states(
 }
 
 /// Resultants and element fields of finger `i`.
+#[allow(clippy::too_many_arguments)] // the finger's inputs, each read once; a struct would only rename them
 fn finger_solution(
     model: &GraspModel,
     i: usize,

@@ -167,8 +167,8 @@ fn factorise(
                     let u: Vec<f64> = (0..c.dim()).map(|r| er.g[row0 + r][col]).collect();
                     let mut out = [0.0; 3];
                     w_inv_sq(sc, &u, &mut out[..c.dim()]);
-                    for r in 0..c.dim() {
-                        wg[row0 + r][col] = out[r];
+                    for (row, &o) in wg[row0..].iter_mut().zip(&out[..c.dim()]) {
+                        row[col] = o;
                     }
                 }
             }

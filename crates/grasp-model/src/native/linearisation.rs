@@ -161,8 +161,8 @@ pub(crate) fn residual_norms(
         let p = block
             .element_cone(cone, k)
             .project(projection_input(block, x, y, k), d);
-        for c in 0..d {
-            let f = xk[c] - p.point[c];
+        for (c, &xc) in xk.iter().enumerate().take(d) {
+            let f = xc - p.point[c];
             sq += f * f;
             max = max.max(f.abs());
         }

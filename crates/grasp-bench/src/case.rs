@@ -1,0 +1,239 @@
+//! The benchmark cases: which bundled scene, which patch grid, what is timed, and the target
+//! of issue 9 where there is one. Scenes are compiled in from `examples/`, so `grasp bench`
+//! runs anywhere.
+
+use std::path::Path;
+
+use grasp_model::{GraspModel, Scene, SolveOptions, SolverChoice};
+use grasp_transfer::{Schedule, TransferOptions};
+
+use crate::BenchError;
+
+/// What one sample of a case times.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CaseKind {
+    /// One solve of a model built beforehand: program assembly, factorisations and
+    /// iterations (a fresh solver each time, no warm start).
+    Solve,
+    /// Model build (influence coefficients, compliance blocks) and one solve, timed together.
+    OneShot,
+    /// A whole hand-off, reported per step; `warm` starts each step from the previous one.
+    HandOff {
+        /// Warm start (the default of `grasp transfer`) or cold (`--cold`).
+        warm: bool,
+    },
+}
+
+/// A target of issue 9: the case's time must not exceed `limit_s`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Target {
+    /// Largest acceptable median, s (per solve, per one-shot or per step, as the case times).
+    pub limit_s: f64,
+}
+
+/// One benchmark case.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Case {
+    /// Short name (table row, `--case` filter, divan argument).
+    pub name: &'static str,
+    /// What is timed.
+    pub kind: CaseKind,
+    /// Bundled example scene (file stem in `examples/`).
+    pub scene: &'static str,
+    /// Patch grid given to every finger, or `None` for the scene's own.
+    pub grid: Option<[usize; 2]>,
+    /// Target median, where issue 9 sets one.
+    pub target: Option<Target>,
+    /// Part of `--quick` (the CI smoke run): the cases that take well under a second.
+    pub quick: bool,
+}
+
+const fn case(
+    name: &'static str,
+    kind: CaseKind,
+    scene: &'static str,
+    grid: Option<[usize; 2]>,
+    target_s: Option<f64>,
+    quick: bool,
+) -> Case {
+    let target = match target_s {
+        Some(limit_s) => Some(Target { limit_s }),
+        None => None,
+    };
+    Case {
+        name,
+        kind,
+        scene,
+        grid,
+        target,
+        quick,
+    }
+}
+
+use CaseKind::{HandOff, OneShot, Solve};
+
+/// Every case, in table order. The cube A series (5x5 to 16x16 per finger) also gives the
+/// growth exponent of solve time against unknowns.
+pub const CASES: [Case; 10] = [
+    case("cube_a_5x5", Solve, "cube_a", None, Some(1e-3), true),
+    case("cube_a_8x8", Solve, "cube_a", Some([8, 8]), None, true),
+    case("cube_a_12x12", Solve, "cube_a", Some([12, 12]), None, false),
+    case(
+        "cube_a_16x16",
+        OneShot,
+        "cube_a",
+        Some([16, 16]),
+        Some(0.1),
+        false,
+    ),
+    case(
+        "hertz_41x41",
+        Solve,
+        "hertz_sphere_on_flat",
+        Some([41, 41]),
+        Some(0.3),
+        false,
+    ),
+    case(
+        "plate_handoff_warm",
+        HandOff { warm: true },
+        "plate_transfer",
+        None,
+        Some(0.5e-3),
+        true,
+    ),
+    case(
+        "plate_handoff_cold",
+        HandOff { warm: false },
+        "plate_transfer",
+        None,
+        None,
+        true,
+    ),
+    case(
+        "coulomb_handoff_warm",
+        HandOff { warm: true },
+        "plate_handoff_coulomb",
+        None,
+        Some(2e-3),
+        true,
+    ),
+    case(
+        "coulomb_handoff_cold",
+        HandOff { warm: false },
+        "plate_handoff_coulomb",
+        None,
+        None,
+        true,
+    ),
+    case(
+        "hertz_21x21",
+        Solve,
+        "hertz_sphere_on_flat",
+        None,
+        None,
+        true,
+    ),
+];
+
+/// The bundled scene and schedule texts (compiled in) of an example stem, e.g.
+/// `plate_transfer`.
+pub fn bundled(stem: &str) -> Option<(&'static str, Option<&'static str>)> {
+    macro_rules! example {
+        ($f:literal) => {
+            include_str!(concat!("../../../examples/", $f))
+        };
+    }
+    Some(match stem {
+        "cube_a" => (example!("cube_a.json"), None),
+        "hertz_sphere_on_flat" => (example!("hertz_sphere_on_flat.json"), None),
+        "plate_transfer" => (
+            example!("plate_transfer.json"),
+            Some(example!("plate_transfer.schedule.json")),
+        ),
+        "plate_handoff_coulomb" => (
+            example!("plate_handoff_coulomb.json"),
+            Some(example!("plate_handoff_coulomb.schedule.json")),
+        ),
+        _ => return None,
+    })
+}
+
+/// A case made ready to run: inputs parsed, and for [`CaseKind::Solve`] the model built.
+pub struct Prepared {
+    /// The case.
+    pub case: Case,
+    /// Solver asked for.
+    pub solver: SolverChoice,
+    /// The scene (grid applied).
+    pub scene: Scene,
+    /// The model, built once for [`CaseKind::Solve`].
+    pub model: Option<GraspModel>,
+    /// Time the model build took when it was built here, s.
+    pub build_s: f64,
+    /// The schedule of a hand-off.
+    pub schedule: Option<Schedule>,
+}
+
+impl Case {
+    /// Parses the inputs (and builds the model of a [`CaseKind::Solve`] case) for `solver`.
+    pub fn prepare(&self, solver: SolverChoice) -> Result<Prepared, BenchError> {
+        let err = |message: String| BenchError::Input {
+            case: self.name.to_string(),
+            message,
+        };
+        let (scene_text, schedule_text) =
+            bundled(self.scene).ok_or_else(|| err(format!("no bundled scene {}", self.scene)))?;
+        let mut scene = Scene::from_json_str(scene_text).map_err(|e| err(e.to_string()))?;
+        if let Some(grid) = self.grid {
+            for f in &mut scene.fingers {
+                f.patch.grid = grid;
+            }
+        }
+        let schedule = match (self.kind, schedule_text) {
+            (HandOff { .. }, Some(text)) => {
+                let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+                let s = Schedule::from_json_str(text, &names, Path::new("."))
+                    .map_err(|e| err(e.to_string()))?;
+                Some(s)
+            }
+            (HandOff { .. }, None) => return Err(err("a hand-off needs a schedule".into())),
+            _ => None,
+        };
+        let (model, build_s) = match self.kind {
+            Solve => {
+                let t = std::time::Instant::now();
+                let m = GraspModel::from_scene(&scene).map_err(|e| err(e.to_string()))?;
+                (Some(m), t.elapsed().as_secs_f64())
+            }
+            _ => (None, 0.0),
+        };
+        Ok(Prepared {
+            case: *self,
+            solver,
+            scene,
+            model,
+            build_s,
+            schedule,
+        })
+    }
+}
+
+impl Prepared {
+    /// The options of every solve of this case: defaults, with the solver asked for.
+    pub fn solve_options(&self) -> SolveOptions {
+        SolveOptions {
+            solver: self.solver,
+            ..SolveOptions::default()
+        }
+    }
+
+    /// The options of a hand-off case.
+    pub fn transfer_options(&self, warm: bool) -> TransferOptions {
+        TransferOptions {
+            warm_start: warm,
+            solve: self.solve_options(),
+            ..TransferOptions::default()
+        }
+    }
+}

@@ -1,0 +1,25 @@
+//! The benchmark cases of the project (issue 9's table) and how they are measured, shared by
+//! the `grasp bench` command (a table with both solvers side by side) and `cargo bench -p
+//! grasp-bench` (divan). Data flow: [`case`] names a case and prepares its inputs from the
+//! bundled example scenes; [`sample`] runs a prepared case once and says what it cost;
+//! [`statistics`] folds repeated samples (median, spread, growth exponent); [`peak_memory`]
+//! reads the process's resident memory (Linux `/proc`).
+
+pub mod case;
+pub mod peak_memory;
+pub mod sample;
+pub mod statistics;
+
+pub use case::{Case, CaseKind, Prepared, CASES};
+pub use sample::Sample;
+
+/// Why a benchmark case could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// A bundled scene or schedule did not load (a bug in the bundled inputs).
+    #[error("bench case {case}: {message}")]
+    Input { case: String, message: String },
+    /// The solve or the hand-off failed.
+    #[error("bench case {case}: {message}")]
+    Run { case: String, message: String },
+}

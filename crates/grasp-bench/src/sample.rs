@@ -1,0 +1,169 @@
+//! One run of a prepared case and what it cost: time (as the case's target counts it),
+//! unknowns, iterations, factorisations, peak memory, and the run's error.
+
+use std::time::Instant;
+
+use grasp_model::closed_form::HertzSphere;
+use grasp_model::refinement::hertz_parameters;
+use grasp_model::{GraspModel, GraspSolver, Solution, SolverKind};
+use grasp_transfer::Stepper;
+
+use crate::case::{CaseKind, Prepared};
+use crate::{peak_memory, BenchError};
+
+/// What one run of a case cost.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sample {
+    /// The timed quantity, s: one solve, one model build plus solve, or the mean of a
+    /// hand-off's steps (each step's wall time as the stepper reports it).
+    pub time_s: f64,
+    /// The solve alone, s (per step for a hand-off): the growth exponent is fitted to this.
+    pub solve_s: f64,
+    /// Model build, s (measured at preparation for [`CaseKind::Solve`]).
+    pub build_s: f64,
+    /// Unknowns of the program (the largest over a hand-off's steps).
+    pub unknowns: usize,
+    /// Solver iterations per solve (per step for a hand-off): Newton steps for the native
+    /// solver, interior-point iterations for Clarabel.
+    pub iterations: f64,
+    /// Matrix factorisations per solve (per step); 0 where the solver does not count them.
+    pub factorizations: f64,
+    /// Steps of a hand-off (1 otherwise).
+    pub steps: usize,
+    /// Solves answered by Clarabel although the native solver was asked (`auto` fallbacks).
+    pub fallbacks: usize,
+    /// Peak resident memory above the resident memory at the start of the run, bytes.
+    pub peak_memory_bytes: Option<u64>,
+    /// Error of the run: the relative error of the peak pressure against Hertz's closed form
+    /// (Johnson 4.2) for a Hertz scene; otherwise the worst relative residual of the solve
+    /// (the worst over the steps of a hand-off).
+    pub error: f64,
+}
+
+fn run_err(p: &Prepared, message: String) -> BenchError {
+    BenchError::Run {
+        case: p.case.name.to_string(),
+        message,
+    }
+}
+
+/// Error measure of one solution (see [`Sample::error`]).
+fn error_of(p: &Prepared, sol: &Solution) -> f64 {
+    if p.case.scene == "hertz_sphere_on_flat" {
+        if let Ok((r, e_star)) = hertz_parameters(&p.scene) {
+            let f = &sol.fingers[0];
+            let h = HertzSphere::new(f.normal_force_n, r, e_star);
+            return (f.peak_pressure_pa - h.peak_pressure_pa).abs() / h.peak_pressure_pa;
+        }
+    }
+    sol.residuals.map_or(f64::NAN, |r| r.worst())
+}
+
+fn one_solve(
+    p: &Prepared,
+    model: &GraspModel,
+    build_s: f64,
+    t0: Instant,
+) -> Result<Sample, BenchError> {
+    let t = Instant::now();
+    let sol = GraspSolver::new(model, p.solve_options())
+        .solve(model, &model.scene_loads_n())
+        .map_err(|e| run_err(p, e.to_string()))?;
+    let solve_s = t.elapsed().as_secs_f64();
+    let time_s = t0.elapsed().as_secs_f64();
+    if !sol.status.has_forces() {
+        return Err(run_err(
+            p,
+            format!("{:?}: {}", sol.status, sol.reason.unwrap_or_default()),
+        ));
+    }
+    Ok(Sample {
+        time_s,
+        solve_s,
+        build_s,
+        unknowns: sol.solver.unknowns,
+        iterations: f64::from(sol.solver.iterations),
+        factorizations: f64::from(sol.solver.factorizations),
+        steps: 1,
+        fallbacks: usize::from(fell_back(p, &sol)),
+        peak_memory_bytes: None,
+        error: error_of(p, &sol),
+    })
+}
+
+fn fell_back(p: &Prepared, sol: &Solution) -> bool {
+    p.solver != grasp_model::SolverChoice::Clarabel && sol.solver.solver == SolverKind::Clarabel
+}
+
+fn hand_off(p: &Prepared, warm: bool) -> Result<Sample, BenchError> {
+    let schedule = p
+        .schedule
+        .as_ref()
+        .ok_or_else(|| run_err(p, "no schedule".into()))?;
+    let mut s = Sample {
+        time_s: 0.0,
+        solve_s: 0.0,
+        build_s: 0.0,
+        unknowns: 0,
+        iterations: 0.0,
+        factorizations: 0.0,
+        steps: 0,
+        fallbacks: 0,
+        peak_memory_bytes: None,
+        error: 0.0,
+    };
+    for r in Stepper::new(&p.scene, schedule, p.transfer_options(warm)) {
+        let r = r.map_err(|e| run_err(p, e.to_string()))?;
+        let sol = &r.solution;
+        s.time_s += r.wall_time_s;
+        s.solve_s += sol.solve_time_s;
+        s.unknowns = s.unknowns.max(sol.solver.unknowns);
+        s.iterations += f64::from(sol.solver.iterations);
+        s.factorizations += f64::from(sol.solver.factorizations);
+        s.fallbacks += usize::from(fell_back(p, sol));
+        s.error = s.error.max(sol.residuals.map_or(f64::NAN, |x| x.worst()));
+        s.steps += 1;
+    }
+    let n = s.steps.max(1) as f64;
+    for v in [
+        &mut s.time_s,
+        &mut s.solve_s,
+        &mut s.iterations,
+        &mut s.factorizations,
+    ] {
+        *v /= n;
+    }
+    Ok(s)
+}
+
+impl Prepared {
+    /// Runs the case once and measures it; with `memory`, also its peak memory from the start
+    /// of this run (three reads of `/proc`, outside the timed part, but leave it off for
+    /// timing samples).
+    pub fn run(&self, memory: bool) -> Result<Sample, BenchError> {
+        let reset = memory && peak_memory::reset_peak();
+        let base = peak_memory::rss_bytes().filter(|_| reset);
+        let t0 = Instant::now();
+        let mut sample = match self.case.kind {
+            CaseKind::Solve => {
+                let model = self
+                    .model
+                    .as_ref()
+                    .ok_or_else(|| run_err(self, "model not built".into()))?;
+                one_solve(self, model, self.build_s, t0)?
+            }
+            CaseKind::OneShot => {
+                let model = GraspModel::from_scene(&self.scene)
+                    .map_err(|e| run_err(self, e.to_string()))?;
+                let build_s = t0.elapsed().as_secs_f64();
+                one_solve(self, &model, build_s, t0)?
+            }
+            CaseKind::HandOff { warm } => hand_off(self, warm)?,
+        };
+        sample.peak_memory_bytes = match base {
+            Some(b) => peak_memory::peak_rss_bytes().map(|p| p.saturating_sub(b)),
+            None => None,
+        };
+        Ok(sample)
+    }
+}
