@@ -239,7 +239,9 @@ pub fn refinement_study(
                 let f = &sol.fingers[0];
                 let h = HertzSphere::new(f.normal_force_n, r, e_star);
                 let n_i = &model.fingers[0].frame.normal;
-                let d = sol.rigid_displacement.expect("forces");
+                let d = sol
+                    .rigid_displacement
+                    .ok_or_else(|| format!("grid {n}: solved without a rigid displacement"))?;
                 let t_com = nalgebra::Vector3::from(d.translation_m);
                 let theta = nalgebra::Vector3::from(d.rotation_rad);
                 let at = model.fingers[0].frame.origin_m - model.center_of_mass_m;
@@ -263,7 +265,7 @@ pub fn refinement_study(
         sols.push(sol);
     }
     if hertz.is_none() {
-        let finest = sols.last().expect("one grid at least");
+        let finest = sols.last().ok_or("a study needs at least one grid")?;
         for (row, sol) in rows.iter_mut().zip(&sols) {
             let (dp, dq) = force_differences_n(sol, finest);
             row.error = dp.max(dq) / finest.load_scale_n;
