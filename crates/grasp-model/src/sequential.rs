@@ -36,9 +36,7 @@ use crate::solve_options::SolveOptions;
 
 pub use crate::cone_program::RADIUS_FLOOR;
 
-/// Default smallest relaxation factor `omega` of the damped fixed-point iteration before an
-/// infeasible iterate is reported as the outcome ([`crate::SolveOptions::min_relaxation`]).
-pub const MIN_RELAXATION: f64 = 1.0 / 64.0;
+pub use crate::solve_options::MIN_RELAXATION;
 
 /// A first guess of each finger's total normal load, N: the prescribed load of a
 /// force-controlled finger, an equal share of the load scale for a held one.

@@ -41,6 +41,11 @@ impl std::fmt::Display for SolverChoice {
     }
 }
 
+/// Default smallest relaxation factor `omega` of the damped fixed-point iteration
+/// ([`crate::sequential`]) before an infeasible iterate is reported as the outcome
+/// ([`SolveOptions::min_relaxation`]).
+pub const MIN_RELAXATION: f64 = 1.0 / 64.0;
+
 /// Options of a solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolveOptions {
@@ -79,7 +84,7 @@ impl Default for SolveOptions {
             time_limit_s: f64::INFINITY,
             sequential_tolerance: 1e-7,
             max_sequential_iterations: 50,
-            min_relaxation: crate::sequential::MIN_RELAXATION,
+            min_relaxation: MIN_RELAXATION,
             warm_start: true,
         }
     }

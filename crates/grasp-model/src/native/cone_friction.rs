@@ -13,7 +13,7 @@
 //!   `t = (0, bh_perp)` with weight `s mu / beta` (in (0, 1) in this case): the slip direction
 //!   turns with `b`.
 
-use super::element_cone::Projection;
+use super::projection::Projection;
 
 /// Projection of `v` (first `d` entries: `F`, then `G`) onto `K_mu`, `mu > 0`.
 pub(crate) fn project_friction(mu: f64, v: [f64; 3], d: usize) -> Projection {

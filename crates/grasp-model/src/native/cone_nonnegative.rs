@@ -1,6 +1,6 @@
 //! The nonnegative ray `F >= 0`: a frictionless element's normal force.
 
-use super::element_cone::Projection;
+use super::projection::Projection;
 
 /// Projection of `v[0]` onto `F >= 0`: itself with the direction free, or 0 with it fixed.
 pub(crate) fn project_nonnegative(v: [f64; 3]) -> Projection {

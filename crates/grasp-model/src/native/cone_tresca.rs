@@ -4,7 +4,7 @@
 //! projection is `r b/||b||`, whose Jacobian fixes the radial direction (weight 0) and, in 3-D,
 //! turns the tangential one with weight `r / ||b||`.
 
-use super::element_cone::Projection;
+use super::projection::Projection;
 
 /// Projection of `v` (first `d` entries) onto `{F >= 0} x {||G|| <= radius}`.
 pub(crate) fn project_tresca(radius: f64, v: [f64; 3], d: usize) -> Projection {

@@ -12,6 +12,7 @@
 use super::cone_friction::project_friction;
 use super::cone_nonnegative::project_nonnegative;
 use super::cone_tresca::project_tresca;
+use super::projection::Projection;
 
 /// The constraint set of one element.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -28,28 +29,6 @@ pub(crate) enum ElementCone {
         /// Radius in element force units, > 0.
         radius: f64,
     },
-}
-
-/// A projection with its Jacobian `sum_j theta_j d_j d_j'` (entries beyond `d` unused).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Projection {
-    /// `Proj_K(v)`.
-    pub point: [f64; 3],
-    /// Orthonormal directions `d_j` (columns).
-    pub dirs: [[f64; 3]; 3],
-    /// Jacobian weights `theta_j in [0, 1]`.
-    pub theta: [f64; 3],
-}
-
-impl Projection {
-    /// The identity: `v` lies in the set, every direction is free.
-    pub fn inside(v: [f64; 3]) -> Self {
-        Projection {
-            point: v,
-            dirs: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-            theta: [1.0; 3],
-        }
-    }
 }
 
 impl ElementCone {

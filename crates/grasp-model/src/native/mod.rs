@@ -23,6 +23,7 @@ pub(crate) mod interior_cones;
 pub(crate) mod interior_point;
 pub(crate) mod linearisation;
 pub(crate) mod newton_step;
+pub(crate) mod projection;
 pub(crate) mod reduced_factor;
 pub(crate) mod semismooth_newton;
 
