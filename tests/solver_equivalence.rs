@@ -21,30 +21,6 @@ use grasp_model::SolveStatus;
 use serde_json::{json, Value};
 use support::*;
 
-/// Deterministic pseudo-random numbers in [0, 1) (64-bit LCG, top 53 bits).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-    fn log(&mut self, lo: f64, hi: f64) -> f64 {
-        (lo.ln() + (hi.ln() - lo.ln()) * self.next()).exp()
-    }
-    fn int(&mut self, lo: usize, hi: usize) -> usize {
-        lo + ((hi - lo + 1) as f64 * self.next()) as usize
-    }
-    fn chance(&mut self, p: f64) -> bool {
-        self.next() < p
-    }
-}
-
 fn material(r: &mut Lcg, lo: f64, hi: f64) -> Value {
     json!({"youngs_modulus": r.log(lo, hi), "poisson_ratio": r.range(0.0, 0.49)})
 }

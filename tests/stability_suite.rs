@@ -6,27 +6,12 @@
 //! prints a summary line of how many cases ran, how they ended and how the solvers agreed.
 
 mod support;
+use support::Lcg;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use grasp_model::{solve, GraspModel, Scene, Solution, SolveStatus};
 use serde_json::{json, Value};
-
-/// Deterministic pseudo-random numbers in [0, 1) (64-bit LCG, top 53 bits).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    /// Log-uniform in [lo, hi].
-    fn log(&mut self, lo: f64, hi: f64) -> f64 {
-        (lo.ln() + (hi.ln() - lo.ln()) * self.next()).exp()
-    }
-}
 
 fn elastic(e: f64, nu: f64) -> Value {
     json!({"youngs_modulus": e, "poisson_ratio": nu})

@@ -4,14 +4,8 @@
 //! rows and columns are there, each timed median lies inside its range, a warm step needs no
 //! more iterations than a cold one, and a bad case name is refused with the list of names.
 
-use std::process::Command;
-
-fn grasp(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_grasp"))
-        .args(args)
-        .output()
-        .expect("grasp runs")
-}
+mod common;
+use common::grasp;
 
 /// Parses "1.234 ms", "56.7 us" or "1.20 s" into seconds.
 fn seconds(cell: &str) -> f64 {

@@ -2,35 +2,12 @@
 //! `--force`.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn grasp(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_grasp"))
-        .args(args)
-        .output()
-        .expect("run grasp")
-}
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-        .display()
-        .to_string()
-}
+mod common;
+use common::{example, grasp, text};
 
 fn tmp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("grasp-cli-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
+    common::tmp("cli", tag)
 }
 
 #[test]

@@ -4,37 +4,14 @@
 //! (a folder, a symlink, a device, a pipe, the same file twice, an input) are refused up front.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-fn grasp(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_grasp"))
-        .args(args)
-        .output()
-        .expect("run grasp")
-}
-
-fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-        .display()
-        .to_string()
-}
+mod common;
+use common::{example, grasp, text};
 
 fn tmp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("grasp-outputs-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
+    common::tmp("outputs", tag)
 }
 
 /// Temporary output files left in `dir`.

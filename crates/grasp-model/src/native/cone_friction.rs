@@ -47,6 +47,7 @@ pub(crate) fn project_friction(mu: f64, v: [f64; 3], d: usize) -> Projection {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::native::projection::assert_jacobian_matches_differences;
 
     fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
         a.iter().zip(b).map(|(x, y)| x * y).sum()
@@ -79,24 +80,6 @@ mod tests {
     #[test]
     fn jacobian_matches_finite_differences() {
         let mu = 0.7;
-        let v = [0.3, 0.9, -0.4];
-        let p = project_friction(mu, v, 3);
-        let h = 1e-7;
-        for c in 0..3 {
-            let (mut vp, mut vm) = (v, v);
-            vp[c] += h;
-            vm[c] -= h;
-            let (pp, pm) = (
-                project_friction(mu, vp, 3).point,
-                project_friction(mu, vm, 3).point,
-            );
-            for r in 0..3 {
-                let fd = (pp[r] - pm[r]) / (2.0 * h);
-                let jac: f64 = (0..3)
-                    .map(|j| p.theta[j] * p.dirs[j][r] * p.dirs[j][c])
-                    .sum();
-                assert!((fd - jac).abs() < 1e-6, "D[{r}][{c}] = {jac} vs {fd}");
-            }
-        }
+        assert_jacobian_matches_differences(|v| project_friction(mu, v, 3), [0.3, 0.9, -0.4]);
     }
 }

@@ -34,28 +34,11 @@ pub(crate) fn project_tresca(radius: f64, v: [f64; 3], d: usize) -> Projection {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::native::projection::assert_jacobian_matches_differences;
 
     #[test]
     fn jacobian_matches_finite_differences() {
-        let v = [0.5, 0.8, -0.9];
-        let p = project_tresca(0.6, v, 3);
-        let h = 1e-7;
-        for c in 0..3 {
-            let (mut vp, mut vm) = (v, v);
-            vp[c] += h;
-            vm[c] -= h;
-            let (pp, pm) = (
-                project_tresca(0.6, vp, 3).point,
-                project_tresca(0.6, vm, 3).point,
-            );
-            for r in 0..3 {
-                let fd = (pp[r] - pm[r]) / (2.0 * h);
-                let jac: f64 = (0..3)
-                    .map(|j| p.theta[j] * p.dirs[j][r] * p.dirs[j][c])
-                    .sum();
-                assert!((fd - jac).abs() < 1e-6, "D[{r}][{c}] = {jac} vs {fd}");
-            }
-        }
+        assert_jacobian_matches_differences(|v| project_tresca(0.6, v, 3), [0.5, 0.8, -0.9]);
     }
 
     #[test]
