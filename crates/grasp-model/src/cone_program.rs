@@ -156,38 +156,45 @@ impl ConeProgram {
         }
         let e_hat = equilibrium_matrix(model);
         let reduction = RowReduction::new(&e_hat);
-        let external_scaled: Vec<f64> = model
-            .equilibrium
-            .apply(&model.external_wrench)
-            .iter()
-            .map(|v| v / s.element_force_n)
-            .collect();
-        let unbalanced = unbalanced_reason(model, &reduction, &external_scaled);
         let (equality, load_rows) = equality_matrix(model, &reduction, &e_hat);
-        let r_eq = reduction.basis.ncols();
-        let mut equality_rhs: Vec<f64> = (0..r_eq)
-            .map(|r| {
-                -(0..external_scaled.len())
-                    .map(|k| reduction.basis[(k, r)] * external_scaled[k])
-                    .sum::<f64>()
-            })
-            .collect();
-        equality_rhs.resize(equality.nrows(), 0.0);
         let mut program = ConeProgram {
             law,
             blocks,
             n_unknowns: model.n_unknowns,
             compliance_scale: 1.0 / s.compliance_m_per_n,
             q,
+            equality_rhs: vec![0.0; equality.nrows()],
             equality,
-            equality_rhs,
             reduction,
             load_rows,
-            external_scaled,
-            unbalanced,
+            external_scaled: Vec::new(),
+            unbalanced: None,
         };
+        program.set_external_wrench(model);
         program.set_loads(model, loads_n);
         program
+    }
+
+    /// Overwrites the equilibrium rows of `e` with `model.external_wrench` (thesis eqs.
+    /// 48-49: `U' E_hat x = -U' S w_ext / Fu`) and re-checks that no component of it lies in a
+    /// direction no contact resists. The model must be this program's model up to its
+    /// external wrench (the same fingers, reference point and scales), as
+    /// [`GraspModel::with_extra_wrench`] makes it.
+    pub fn set_external_wrench(&mut self, model: &GraspModel) {
+        let fu = model.scales.element_force_n;
+        self.external_scaled = model
+            .equilibrium
+            .apply(&model.external_wrench)
+            .iter()
+            .map(|v| v / fu)
+            .collect();
+        self.unbalanced = unbalanced_reason(model, &self.reduction, &self.external_scaled);
+        let basis = &self.reduction.basis;
+        for r in 0..basis.ncols() {
+            self.equality_rhs[r] = -(0..self.external_scaled.len())
+                .map(|k| basis[(k, r)] * self.external_scaled[k])
+                .sum::<f64>();
+        }
     }
 
     /// Number of equilibrium rows kept after the reduction.

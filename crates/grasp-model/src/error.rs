@@ -85,6 +85,12 @@ pub enum ModelError {
     /// A contact state built for another model was passed to a solve.
     #[error("the contact state does not belong to this model (finger names or element counts differ); build it with ContactState::new(model)")]
     StateMismatch,
+    /// Sensitivities were asked of a solve without forces, or of another solver's solution.
+    #[error("sensitivities need a solved grasp from this solver; solve first and check that the status is solved")]
+    NoSolution,
+    /// The KKT system at the solution's active set could not be solved.
+    #[error("the derivative at the solution could not be computed: {0}")]
+    Derivative(String),
     /// Clarabel refused the problem data.
     #[error("the cone solver rejected the problem: {0}")]
     Solver(String),

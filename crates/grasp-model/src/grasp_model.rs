@@ -294,6 +294,27 @@ impl GraspModel {
         )
     }
 
+    /// The same model with `extra` (N, N m about `O`) added to its external wrench. The scales
+    /// stay this model's, so a solver built for this model solves it too (every solve reads the
+    /// external wrench of the model it is given).
+    pub fn with_extra_wrench(&self, extra: &Wrench) -> GraspModel {
+        let mut m = self.clone();
+        m.external_wrench += extra;
+        m
+    }
+
+    /// Wrench about `O` (N, N m) of a force `force_n` (N, world) applied at the centre of mass
+    /// plus a couple `torque_nm` (N m, world): `(f, t + (r - O) x f)` (thesis eq. 49's moment
+    /// of an external force).
+    pub fn wrench_at_center_of_mass(
+        &self,
+        force_n: &Vector3<f64>,
+        torque_nm: &Vector3<f64>,
+    ) -> Wrench {
+        let m = torque_nm + (self.center_of_mass_m - self.reference_point_m).cross(force_n);
+        Wrench::new(force_n.x, force_n.y, force_n.z, m.x, m.y, m.z)
+    }
+
     /// Net wrench (N, N m about `O`) of contact forces `x` (N, program layout) plus the external
     /// wrench: zero at equilibrium.
     pub fn net_wrench(&self, x_n: &[f64]) -> Wrench {

@@ -48,6 +48,7 @@ pub mod readout;
 pub mod refinement;
 pub mod residuals;
 pub mod scene;
+pub mod sensitivity;
 pub mod sequential;
 pub mod solution;
 pub mod solve;
@@ -60,6 +61,7 @@ pub use contact_state::{ContactState, FingerState};
 pub use error::{ModelError, SceneError, SceneProblem};
 pub use grasp_model::{Control, FingerModel, GraspModel, Scales};
 pub use scene::{scene_json_schema, Scene};
+pub use sensitivity::Sensitivities;
 pub use solution::{
     ElementState, FingerSolution, Residuals, SequentialReport, Solution, SolveStatus, SolverKind,
 };

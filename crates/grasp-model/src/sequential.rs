@@ -175,6 +175,7 @@ fn cold_start(
         ))
     });
     ps.program.set_loads(model, loads_n);
+    ps.program.set_external_wrench(model);
     ps.program.set_mu(&guess_mu);
     ps.program.set_slip_memory(model, memory);
     let run = ps.solve(model, options, start_of(options))?;

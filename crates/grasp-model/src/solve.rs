@@ -15,6 +15,7 @@ use crate::error::ModelError;
 use crate::grasp_model::GraspModel;
 use crate::readout::{enforce_invariant, failed};
 use crate::scene::ModelKind;
+use crate::sensitivity::Sensitivities;
 use crate::sequential::{guess_loads, mu_at, solve_sequential};
 use crate::solution::{Solution, SolveStatus, SolverKind, SolverStats};
 pub use crate::solve_options::{SolveOptions, SolverChoice};
@@ -66,6 +67,17 @@ impl GraspSolver {
         ClarabelForm::assemble(model, &self.main.program, floor)
     }
 
+    /// The sensitivities of `solution`, this solver's last answer for `model`
+    /// ([`crate::sensitivity`]): derivatives of the finger and element forces with respect to
+    /// an extra wrench on the object and to the commanded loads, at the active set.
+    pub fn sensitivities(
+        &mut self,
+        model: &GraspModel,
+        solution: &Solution,
+    ) -> Result<Sensitivities, ModelError> {
+        crate::sensitivity::sensitivities(&mut self.main, model, solution)
+    }
+
     /// Forgets the last solution: the next solve starts cold (the factorisations are kept).
     pub fn forget_warm_start(&mut self) {
         self.main.forget();
@@ -75,7 +87,8 @@ impl GraspSolver {
     }
 
     /// Solves with prescribed loads `loads_n` (N, one per force-controlled finger, scene
-    /// order) from a fresh contact state (no slip memory). Infeasible grasps and solver
+    /// order) and the external wrench of `model` (which may be this solver's model with another
+    /// external wrench, [`GraspModel::with_extra_wrench`]) from a fresh contact state (no slip memory). Infeasible grasps and solver
     /// failures are reported in the returned [`Solution`]'s status; `Err` only for malformed
     /// loads or data a solver refuses.
     pub fn solve(&mut self, model: &GraspModel, loads_n: &[f64]) -> Result<Solution, ModelError> {
@@ -113,6 +126,7 @@ impl GraspSolver {
         clock: Instant,
     ) -> Result<Solution, ModelError> {
         self.main.program.set_loads(model, loads_n);
+        self.main.program.set_external_wrench(model);
         let p = &self.main.program;
         let stats = SolverStats {
             solver: match self.options.solver {

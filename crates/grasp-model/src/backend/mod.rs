@@ -105,6 +105,20 @@ impl ProgramSolver {
         }
     }
 
+    /// The last solution, whichever backend gave it.
+    pub(crate) fn last(&self) -> Option<&Iterate> {
+        self.last.as_ref()
+    }
+
+    /// The native solver's workspace (created if no native solve ran yet), with the program.
+    pub(crate) fn native_workspace(&mut self, model: &GraspModel) -> (&NativeSolver, &ConeProgram) {
+        let program = &self.program;
+        let native = self
+            .native
+            .get_or_insert_with(|| NativeSolver::new(model, program));
+        (native, program)
+    }
+
     /// Forgets the last solution (the next `Start::Last` is cold).
     pub(crate) fn forget(&mut self) {
         self.last = None;

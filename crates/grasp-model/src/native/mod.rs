@@ -21,6 +21,7 @@ pub(crate) mod element_cone;
 pub(crate) mod finger_block;
 pub(crate) mod interior_cones;
 pub(crate) mod interior_point;
+pub(crate) mod kkt_derivative;
 pub(crate) mod linearisation;
 pub(crate) mod newton_step;
 pub(crate) mod projection;
@@ -92,6 +93,11 @@ impl NativeSolver {
             caches: vec![Vec::new(); blocks.len()],
             blocks,
         }
+    }
+
+    /// The fingers' fixed blocks.
+    pub(crate) fn blocks(&self) -> &[FingerBlockData] {
+        &self.blocks
     }
 
     /// Solves `program` from `start` (`None`: cold).

@@ -46,7 +46,7 @@ pub(crate) struct Limits {
 }
 
 /// `y = P x + q + E' lambda`.
-fn dual_of(
+pub(crate) fn dual_of(
     blocks: &[FingerBlockData],
     program: &ConeProgram,
     x: &[f64],
