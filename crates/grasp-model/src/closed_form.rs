@@ -114,3 +114,10 @@ mod tests {
         }
     }
 }
+
+/// Twisting moment that makes a Hertz contact slip completely, `M = 3 pi mu P a / 16`, N m
+/// (Johnson section 7.3, Lubkin's result: the Hertz pressure times `mu r` integrated over the
+/// contact circle of radius `a`, m, under normal load `P`, N).
+pub fn full_slip_torque_nm(mu: f64, load_n: f64, contact_radius_m: f64) -> f64 {
+    3.0 * PI * mu * load_n * contact_radius_m / 16.0
+}

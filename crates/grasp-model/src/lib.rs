@@ -39,6 +39,7 @@ pub mod friction;
 pub mod grasp_model;
 pub mod influence;
 pub mod json_input;
+pub mod margin;
 pub mod material;
 pub mod native;
 pub mod patch;
