@@ -83,6 +83,13 @@ pub fn mindlin_deresiewicz_dissipation_j(
         * (1.0 - (1.0 - x).powf(5.0 / 3.0) - 5.0 * x / 6.0 * (1.0 + (1.0 - x).powf(2.0 / 3.0)))
 }
 
+/// Twisting moment that makes a Hertz contact slip completely, `M = 3 pi mu P a / 16`, N m
+/// (Johnson section 7.3, Lubkin's result: the Hertz pressure times `mu r` integrated over the
+/// contact circle of radius `a`, m, under normal load `P`, N).
+pub fn full_slip_torque_nm(mu: f64, load_n: f64, contact_radius_m: f64) -> f64 {
+    3.0 * PI * mu * load_n * contact_radius_m / 16.0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -113,11 +120,4 @@ mod tests {
             );
         }
     }
-}
-
-/// Twisting moment that makes a Hertz contact slip completely, `M = 3 pi mu P a / 16`, N m
-/// (Johnson section 7.3, Lubkin's result: the Hertz pressure times `mu r` integrated over the
-/// contact circle of radius `a`, m, under normal load `P`, N).
-pub fn full_slip_torque_nm(mu: f64, load_n: f64, contact_radius_m: f64) -> f64 {
-    3.0 * PI * mu * load_n * contact_radius_m / 16.0
 }
