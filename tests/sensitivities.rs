@@ -121,6 +121,16 @@ fn check(scene: &Scene, label: &str) -> Option<(usize, usize)> {
     let mut load_col = 0;
     for (c, p) in sens.parameters.iter().enumerate() {
         let (plus, minus, h) = match p.kind.as_str() {
+            "squeeze" if !p.defined => continue,
+            "squeeze" => {
+                let h = 1e-4;
+                let scaled = |f: f64| loads.iter().map(|p| p * f).collect::<Vec<_>>();
+                (
+                    perturbed(&model, &scaled(1.0 + h), None),
+                    perturbed(&model, &scaled(1.0 - h), None),
+                    h,
+                )
+            }
             "load" if !p.defined => {
                 // No derivative: a raised load must lose equilibrium or change the active set.
                 let mut up = loads.clone();

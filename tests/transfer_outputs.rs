@@ -367,6 +367,29 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
             warm_started_steps: seq.iter().filter(|s| s.warm_started).count(),
             cold_restarts: seq.iter().map(|s| s.cold_restarts).sum(),
         }),
+        // The first step of the smallest margin.
+        least_safe_step: records
+            .iter()
+            .filter_map(|r| r.margin.as_ref().map(|m| (r, m)))
+            .fold(
+                None,
+                |best: Option<(&_, &grasp_transfer::StepMargin)>, (r, m)| match best {
+                    Some((_, b)) if b.smallest_n <= m.smallest_n => best,
+                    _ => Some((r, m)),
+                },
+            )
+            .map(|(r, m)| grasp_transfer::summary::LeastSafeStep {
+                step: r.index,
+                time_s: r.time_s,
+                margin_n: m.smallest_n,
+                direction: m.direction,
+                failing_finger: m.failing_finger.clone(),
+                bounded: m.bounded,
+            }),
+        margin_cost: records
+            .iter()
+            .filter_map(|r| r.margin.as_ref())
+            .fold((0, 0.0), |(n, t), m| (n + m.solves as u64, t + m.time_s)),
     }
 }
 

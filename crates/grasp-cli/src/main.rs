@@ -3,6 +3,7 @@
 
 mod bench;
 mod limits;
+mod margin;
 mod output;
 mod plot;
 mod report;
@@ -49,6 +50,49 @@ enum Command {
         auto_patch: bool,
         /// Solver: `auto` (native, falling back to Clarabel when it does not converge),
         /// `native` or `clarabel`.
+        #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+        solver: SolverChoice,
+        /// Also compute the derivatives of every finger's and element's forces with respect to
+        /// an extra force and couple on the object and to each commanded load (from the KKT
+        /// system at the active set); printed per finger and written into the JSON.
+        #[arg(long)]
+        sensitivities: bool,
+        #[command(flatten)]
+        memory: MemoryArg,
+    },
+    /// Disturbance margins: per direction of an extra wrench on the object, the largest
+    /// magnitude the grasp takes before it fails (no equilibrium, or coulomb: a finger slides as
+    /// a whole), with the finger that fails first.
+    Margin {
+        /// Scene file (JSON).
+        scene: PathBuf,
+        /// Directions: a number N (the axis directions, then combined ones spread over the
+        /// sphere) or a JSON file with a list of {"force": [N], "torque": [N m]}.
+        #[arg(long, value_name = "N|FILE")]
+        directions: Option<String>,
+        /// Contact law to judge the grasp with (default: the scene's).
+        #[arg(long, value_parser = ["energy", "coulomb"])]
+        model: Option<String>,
+        /// Characteristic length L, m: a magnitude s means a force s N and a couple s L N m.
+        /// Default: the grasp's reach from the centroid of the contacts.
+        #[arg(long, value_name = "M")]
+        length: Option<f64>,
+        /// Relative width of the final bracket of each margin.
+        #[arg(long, default_value_t = 1e-3, value_name = "REL")]
+        tolerance: f64,
+        /// Write the report as JSON.
+        #[arg(long, value_name = "OUT.json")]
+        json: Option<PathBuf>,
+        /// Write a bar chart of the margins (SVG).
+        #[arg(long, value_name = "F.svg")]
+        plot: Option<PathBuf>,
+        /// Write a Rerun recording of the grasp with its wrench surface.
+        #[arg(long, value_name = "F.rrd")]
+        rrd: Option<PathBuf>,
+        /// Overwrite output files that already exist.
+        #[arg(long)]
+        force: bool,
+        /// Solver: `auto`, `native` or `clarabel`.
         #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
         solver: SolverChoice,
         #[command(flatten)]
@@ -110,6 +154,11 @@ enum Command {
         /// at which the releasing fingers can let go without any finger sliding as a whole.
         #[arg(long)]
         min_squeeze: bool,
+        /// At every solved step, find the smallest disturbance margin over the axis directions
+        /// of force and couple (logged to MCAP and Rerun; the summary names the least safe
+        /// step).
+        #[arg(long)]
+        margins: bool,
         /// Overwrite output files that already exist.
         #[arg(long)]
         force: bool,
@@ -222,6 +271,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             keep_going,
             cold,
             min_squeeze,
+            margins,
             force,
             solver,
             memory,
@@ -237,6 +287,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 keep_going,
                 cold,
                 min_squeeze,
+                margins,
                 solver,
                 max_memory: memory.max_memory,
             };
@@ -263,6 +314,35 @@ fn run(cli: Cli) -> Result<ExitCode> {
             memory.max_memory,
             solver,
         ),
+        Command::Margin {
+            scene,
+            directions,
+            model,
+            length,
+            tolerance,
+            json,
+            plot,
+            rrd,
+            force,
+            solver,
+            memory,
+        } => margin::run(
+            &scene,
+            margin::Flags {
+                directions,
+                model,
+                length_m: length,
+                tolerance,
+                solver,
+                max_memory: memory.max_memory,
+            },
+            &margin::Outputs {
+                json,
+                plot,
+                rrd,
+                force,
+            },
+        ),
         Command::Solve {
             scene,
             json,
@@ -271,6 +351,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             error_estimate,
             auto_patch,
             solver,
+            sensitivities,
             memory,
         } => {
             if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1e-2) {
@@ -287,20 +368,33 @@ fn run(cli: Cli) -> Result<ExitCode> {
                 ..SolveOptions::default()
             };
             let t0 = Instant::now();
-            let (scene_obj, model, solution, build_s) = if auto_patch {
+            let (scene_obj, model, solution, build_s, sens) = if auto_patch {
                 let a = grasp_model::patch_sizing::auto_patch(&scene_obj, options, 6)?;
                 for line in &a.log {
                     println!("auto-patch: {line}");
                 }
-                (a.scene, a.model, a.solution, 0.0)
+                // The derivative is taken at a solver's own answer: solve the final patch again.
+                let mut solver = GraspSolver::new(&a.model, options);
+                let sens = match sensitivities {
+                    true => {
+                        let again = solver.solve(&a.model, &a.model.scene_loads_n())?;
+                        sensitivities_of(&mut solver, &a.model, &again)?
+                    }
+                    false => None,
+                };
+                (a.scene, a.model, a.solution, 0.0, sens)
             } else {
                 let model = GraspModel::from_scene(&scene_obj)
                     .with_context(|| format!("{} is not a usable scene", scene.display()))?;
                 let build_s = t0.elapsed().as_secs_f64();
                 // The solve's time covers the program assembly (GraspSolver::new) too.
-                let solution =
-                    GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
-                (scene_obj, model, solution, build_s)
+                let mut solver = GraspSolver::new(&model, options);
+                let solution = solver.solve(&model, &model.scene_loads_n())?;
+                let sens = match sensitivities {
+                    true => sensitivities_of(&mut solver, &model, &solution)?,
+                    false => None,
+                };
+                (scene_obj, model, solution, build_s, sens)
             };
             print!(
                 "{}",
@@ -312,9 +406,16 @@ fn run(cli: Cli) -> Result<ExitCode> {
                     report::error_estimate_line(&scene_obj, &solution, options)?
                 );
             }
+            if let Some((sens, time_s)) = &sens {
+                print!("{}", report::sensitivity_table(sens, *time_s));
+            }
             if let Some(out) = &json {
                 // Every outcome is written, "no equilibrium" (exit 2) included: it is the result.
-                let text = serde_json::to_string_pretty(&solution)?;
+                let mut value = serde_json::to_value(&solution)?;
+                if let Some((sens, _)) = &sens {
+                    value["sensitivities"] = serde_json::to_value(sens)?;
+                }
+                let text = serde_json::to_string_pretty(&value)?;
                 output::write_new(out, text.as_bytes(), force)?;
                 println!("wrote {}", out.display());
             }
@@ -331,4 +432,19 @@ fn run(cli: Cli) -> Result<ExitCode> {
 pub(crate) fn load_scene(path: &Path) -> Result<Scene> {
     let text = limits::read_input(path, "scene file")?;
     Scene::from_json_str(&text).with_context(|| format!("{} is not a usable scene", path.display()))
+}
+
+/// The sensitivities of `solution` (this solver's last answer) with their time, s; `None`
+/// without forces.
+fn sensitivities_of(
+    solver: &mut GraspSolver,
+    model: &GraspModel,
+    solution: &grasp_model::Solution,
+) -> Result<Option<(grasp_model::Sensitivities, f64)>> {
+    if !solution.status.has_forces() {
+        return Ok(None);
+    }
+    let t = Instant::now();
+    let sens = solver.sensitivities(model, solution)?;
+    Ok(Some((sens, t.elapsed().as_secs_f64())))
 }

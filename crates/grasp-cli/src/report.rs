@@ -162,3 +162,63 @@ pub fn error_estimate_line(
         }
     })
 }
+
+/// The finger-force part of the sensitivities: per finger, `dP` and the world components of
+/// `dQ` for each parameter; undefined parameters show as `-`.
+pub fn sensitivity_table(sens: &grasp_model::Sensitivities, time_s: f64) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "\nsensitivities at the active set (N per N for forces and loads, N per N m for couples; \
+         force at the centre of mass), {:.1} ms:",
+        time_s * 1e3
+    );
+    let _ = write!(s, "{:<16}", "");
+    for p in &sens.parameters {
+        let _ = write!(s, "{:>14}", p.name);
+    }
+    let _ = writeln!(s);
+    for f in &sens.fingers {
+        // Per row: its label and the value of column c.
+        let value = |k: usize, c: usize| match k {
+            0 => f.normal_force[c],
+            _ => f.tangential_force[c][k - 1],
+        };
+        let rows = ["dP", "dQx", "dQy", "dQz"];
+        for (k, label) in rows.iter().enumerate() {
+            let name = if k == 0 { f.name.as_str() } else { "" };
+            let _ = write!(s, "{name:<10}{label:<6}");
+            for (c, p) in sens.parameters.iter().enumerate() {
+                if p.defined {
+                    let _ = write!(s, "{:>14.5e}", value(k, c));
+                } else {
+                    let _ = write!(s, "{:>14}", "-");
+                }
+            }
+            let _ = writeln!(s);
+        }
+    }
+    for p in sens.parameters.iter().filter(|p| !p.defined) {
+        let _ = writeln!(
+            s,
+            "{}: no derivative ({})",
+            p.name,
+            p.reason.as_deref().unwrap_or("")
+        );
+    }
+    if !sens.near_changes.is_empty() {
+        let _ = writeln!(
+            s,
+            "{} element(s) at a state boundary (derivatives one-sided there), first: {} {:?} \
+             ({})",
+            sens.near_changes.len(),
+            sens.near_changes[0].finger,
+            sens.near_changes[0].index,
+            sens.near_changes[0].transition
+        );
+    }
+    for n in &sens.notes {
+        let _ = writeln!(s, "note: {n}");
+    }
+    s
+}

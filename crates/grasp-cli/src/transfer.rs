@@ -56,6 +56,7 @@ pub struct Flags {
     pub keep_going: bool,
     pub cold: bool,
     pub min_squeeze: bool,
+    pub margins: bool,
     pub solver: grasp_model::SolverChoice,
     pub max_memory: Option<u64>,
 }
@@ -128,6 +129,7 @@ pub fn run(
             solver: flags.solver,
             ..grasp_model::SolveOptions::default()
         },
+        margins: flags.margins,
     };
     let mut history = out.plot.as_ref().map(|_| ForceHistory::new(&names));
     let (summary, last) =
@@ -238,6 +240,21 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
         None => {
             let _ = writeln!(o, "smallest slip margin: no loaded frictional finger");
         }
+    }
+    if let Some(l) = &s.least_safe_step {
+        let _ = writeln!(
+            o,
+            "least safe step: {} (t = {:.3} s), smallest disturbance margin {}{:.4e} N along {} \
+             (first to fail: {}); margins cost {} solves, {:.3} s",
+            l.step,
+            l.time_s,
+            if l.bounded { "" } else { ">" },
+            l.margin_n,
+            crate::margin::label(&l.direction),
+            l.failing_finger.as_deref().unwrap_or("-"),
+            s.margin_cost.0,
+            s.margin_cost.1
+        );
     }
     if s.failed_step_count == 0 {
         let _ = writeln!(o, "failed steps: none");

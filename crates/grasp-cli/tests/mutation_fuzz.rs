@@ -312,6 +312,8 @@ fn csv_is_sound(text: &str) -> Result<(), String> {
                 Some("status") => !cell.is_empty(),
                 Some("solver") => cell == "native" || cell == "clarabel",
                 Some("warm_start") => cell == "true" || cell == "false",
+                // Empty unless the run computed margins (--margins).
+                Some("smallest_margin_n") if cell.is_empty() => true,
                 _ => cell.parse::<f64>().is_ok_and(f64::is_finite),
             };
             if !sound {

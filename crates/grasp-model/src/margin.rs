@@ -12,7 +12,9 @@
 //!   model's minimum-energy grasp may slide as a whole at no disturbance at all: its held
 //!   fingers squeeze no more than friction needs, so sliding is not its failure criterion.)
 //! - coulomb model: an equilibrium exists and every loaded frictional finger keeps at least
-//!   one sticking element (a finger whose every element slips slides as a whole).
+//!   one sticking element (a finger whose every element slips slides as a whole). A finger
+//!   that already slides as a whole without disturbance (a receiving finger settling in a
+//!   hand-off) is listed apart and not judged by sliding.
 //!
 //! Search: the disturbance grows monotonically along the direction, each trial one
 //! quasi-static step from the state at the last magnitude that held (so the coulomb model's
@@ -39,6 +41,10 @@ use crate::solve_options::SolveOptions;
 /// that holds is cheap (a warm-started step) and one that fails is not (the solver must certify
 /// that no equilibrium exists), so the search should fail as few times as it can.
 const INITIAL_STEP: f64 = 1e-2;
+
+/// Below this fraction of the load scale a margin counts as zero: the bisection stops (the
+/// solves themselves balance the load only to about 1e-10 of it).
+const ZERO_MARGIN: f64 = 1e-6;
 
 /// A direction of disturbance: a unit vector of the scaled wrench space.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -142,6 +148,10 @@ pub struct MarginReport {
     pub length_m: f64,
     /// Load scale, N (the unit of the growth step; the cap is `max_factor` times it).
     pub load_scale_n: f64,
+    /// Loaded fingers that already slide as a whole without disturbance (coulomb model; a
+    /// receiving finger settling, a releasing one letting go): not judged by sliding, since the
+    /// disturbance is not what makes them slide.
+    pub sliding_undisturbed: Vec<String>,
     /// Per direction, in the order given.
     pub directions: Vec<DirectionMargin>,
     /// Index of the direction with the smallest margin.
@@ -245,8 +255,20 @@ pub fn spread_directions(model: &GraspModel, n: usize) -> Vec<WrenchDirection> {
     out
 }
 
-/// Whether `sol` holds in `model`'s criterion (see the module).
-pub fn holds(model: &GraspModel, sol: &Solution) -> Result<(), Failure> {
+/// The loaded frictional fingers of `sol` that slide as a whole (no sticking element).
+fn sliding_fingers(model: &GraspModel, sol: &Solution) -> Vec<String> {
+    let loaded = LOADED_FRACTION * sol.load_scale_n;
+    sol.fingers
+        .iter()
+        .zip(&model.fingers)
+        .filter(|(f, fm)| fm.n_tangential > 0 && f.normal_force_n > loaded && f.stick_count == 0)
+        .map(|(f, _)| f.name.clone())
+        .collect()
+}
+
+/// Whether `sol` holds in `model`'s criterion (see the module); fingers in `exempt` (those
+/// already sliding without disturbance) are not judged by sliding.
+pub fn holds(model: &GraspModel, sol: &Solution, exempt: &[String]) -> Result<(), Failure> {
     match sol.status {
         SolveStatus::NoEquilibrium => {
             return Err(Failure::NoEquilibrium {
@@ -261,13 +283,11 @@ pub fn holds(model: &GraspModel, sol: &Solution) -> Result<(), Failure> {
         _ => {}
     }
     if model.kind == ModelKind::Coulomb {
-        let loaded = LOADED_FRACTION * sol.load_scale_n;
-        for (f, fm) in sol.fingers.iter().zip(&model.fingers) {
-            if fm.n_tangential > 0 && f.normal_force_n > loaded && f.stick_count == 0 {
-                return Err(Failure::Slides {
-                    finger: f.name.clone(),
-                });
-            }
+        if let Some(finger) = sliding_fingers(model, sol)
+            .into_iter()
+            .find(|f| !exempt.contains(f))
+        {
+            return Err(Failure::Slides { finger });
         }
     }
     Ok(())
@@ -295,6 +315,7 @@ struct Search<'a> {
     direction: WrenchDirection,
     length_m: f64,
     solves: u32,
+    exempt: &'a [String],
 }
 
 impl Search<'_> {
@@ -317,16 +338,17 @@ impl Search<'_> {
         let mut next = state.clone();
         let sol = self.solver.solve_step(&m, &self.loads, &mut next)?;
         self.solves += 1;
-        Ok(holds(&m, &sol).map(|()| (next, sol)))
+        Ok(holds(&m, &sol, self.exempt).map(|()| (next, sol)))
     }
 }
 
-/// The margin along `direction` from the undisturbed `state` and solution `base`.
+/// The margin along `direction` from the undisturbed `state` and solution `base`; fingers in
+/// `exempt` already slide undisturbed.
 fn along(
     model: &GraspModel,
     solve_options: SolveOptions,
     options: &MarginOptions,
-    length_m: f64,
+    (length_m, exempt): (f64, &[String]),
     direction: WrenchDirection,
     base: (&ContactState, &Solution),
 ) -> Result<DirectionMargin, ModelError> {
@@ -338,6 +360,7 @@ fn along(
         direction,
         length_m,
         solves: 0,
+        exempt,
     };
     let scale = model.scales.load_n;
     let cap = options.max_factor * scale;
@@ -352,7 +375,16 @@ fn along(
         }
     }
     if let Some((h, f)) = &mut hi {
-        while *h - lo > options.relative_tolerance * *h {
+        // Failed at the first step: is the direction resisted at all? (One solve, not a
+        // bisection down to zero: commanded loads leave some directions unresisted.)
+        if lo == 0.0 {
+            let tiny = ZERO_MARGIN * scale;
+            match search.trial(tiny, &lo_state)? {
+                Ok((state, sol)) => (lo, lo_state, lo_sol) = (tiny, state, sol),
+                Err(g) => (*h, *f) = (tiny, g),
+            }
+        }
+        while *h - lo > options.relative_tolerance * *h && *h > ZERO_MARGIN * scale {
             // Geometric while the bracket spans more than a factor 2, then arithmetic.
             let mid = if lo > 0.0 && *h > 2.0 * lo {
                 (lo * *h).sqrt()
@@ -403,7 +435,11 @@ pub fn disturbance_margins(
         &model.scene_loads_n(),
         &mut base_state,
     )?;
-    let margins: Vec<DirectionMargin> = match holds(model, &base) {
+    let sliding_undisturbed = match model.kind {
+        ModelKind::Coulomb if base.status.has_forces() => sliding_fingers(model, &base),
+        _ => Vec::new(),
+    };
+    let margins: Vec<DirectionMargin> = match holds(model, &base, &sliding_undisturbed) {
         Err(f) => directions
             .iter()
             .map(|&d| DirectionMargin {
@@ -425,11 +461,12 @@ pub fn disturbance_margins(
         Ok(()) => directions
             .par_iter()
             .map(|&d| {
+                let geometry = (length_m, sliding_undisturbed.as_slice());
                 along(
                     model,
                     solve_options,
                     options,
-                    length_m,
+                    geometry,
                     d,
                     (&base_state, &base),
                 )
@@ -444,6 +481,7 @@ pub fn disturbance_margins(
         length_m,
         load_scale_n: model.scales.load_n,
         solves: 1 + margins.iter().map(|m| m.solves).sum::<u32>(),
+        sliding_undisturbed,
         directions: margins,
         smallest,
         time_s: clock.elapsed().as_secs_f64(),

@@ -7,7 +7,10 @@
 //! - a force at the centre of mass along a world axis (3-D: `x`, `y`, `z`; planar: the plane's
 //!   in-plane axes `e1`, `e2`), derivatives in N per N;
 //! - a couple about a world axis (3-D: `x`, `y`, `z`; planar: the plane normal), in N per N m;
-//! - the commanded normal load of each force-controlled finger, in N per N.
+//! - the commanded normal load of each force-controlled finger, in N per N;
+//! - `squeeze`: every commanded load scaled by a common factor `lambda` (a gripper squeezing
+//!   harder), derivative at `lambda = 1` in N per unit of `lambda`. It often exists where the
+//!   single loads' do not (raising one pad of a pinch alone leaves no equilibrium).
 //!
 //! The derivative holds while no element changes state. Elements whose projection input lies
 //! within [`NEAR_CHANGE`] of a boundary between stick, slip and separation are listed: there
@@ -37,9 +40,10 @@ const UNDEFINED: f64 = 1e-6;
 /// What a column differentiates with respect to.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Parameter {
-    /// Short name: `force_x`, `torque_z`, `force_e1`, `load:<finger>`.
+    /// Short name: `force_x`, `torque_z`, `force_e1`, `load:<finger>`, `squeeze`.
     pub name: String,
-    /// `force` (N at the centre of mass), `torque` (N m) or `load` (N).
+    /// `force` (N at the centre of mass), `torque` (N m), `load` (N) or `squeeze` (the factor
+    /// of all commanded loads, dimensionless).
     pub kind: String,
     /// World direction of the force or torque axis (absent for loads).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -134,7 +138,8 @@ fn wrench_parameters(model: &GraspModel) -> Vec<(Parameter, Option<nalgebra::Vec
         })
         .collect();
     out.sort_by_key(|(p, _)| p.kind != "force");
-    for i in model.force_controlled() {
+    let commanded = model.force_controlled();
+    for &i in &commanded {
         let p = Parameter {
             name: format!("load:{}", model.fingers[i].name),
             kind: "load".into(),
@@ -143,6 +148,18 @@ fn wrench_parameters(model: &GraspModel) -> Vec<(Parameter, Option<nalgebra::Vec
             reason: None,
         };
         out.push((p, None));
+    }
+    if !commanded.is_empty() {
+        out.push((
+            Parameter {
+                name: "squeeze".into(),
+                kind: "squeeze".into(),
+                direction: None,
+                defined: true,
+                reason: None,
+            },
+            None,
+        ));
     }
     out
 }
@@ -179,6 +196,11 @@ fn rhs_columns(
                 if off > 1e-9 * norm {
                     p.defined = false;
                     p.reason = Some("no contact force can resist this direction".into());
+                }
+            }
+            None if p.kind == "squeeze" => {
+                for &(_, row) in &program.load_rows {
+                    rhs[(row, c)] = program.equality_rhs[row];
                 }
             }
             None => {

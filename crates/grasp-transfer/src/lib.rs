@@ -17,6 +17,7 @@ pub mod load_profile;
 pub mod minimum_squeeze;
 pub mod schedule;
 pub mod sinks;
+pub mod step_margin;
 pub mod stepper;
 pub mod summary;
 
@@ -24,6 +25,7 @@ pub use error::{ScheduleError, TransferError};
 pub use minimum_squeeze::{minimum_squeeze, MinimumSqueeze, SqueezeOutcome};
 pub use schedule::{Command, Schedule, ScheduleSpec};
 pub use sinks::{CsvSink, McapSink, RerunSink, RunInfo, Sink};
+pub use step_margin::StepMargin;
 pub use stepper::{StepRecord, Stepper, TransferOptions};
 pub use summary::TransferSummary;
 

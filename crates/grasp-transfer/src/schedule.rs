@@ -51,6 +51,62 @@ pub struct ScheduleSpec {
     /// Per finger (by name, each name once), its phases in order.
     #[serde(deserialize_with = "json_input::unique_keys")]
     pub fingers: BTreeMap<String, Vec<PhaseSpec>>,
+    /// A task-induced load ramped on the object (thesis 5.3: a pull by the receiving gripper,
+    /// a bump against a fixture): a force at the centre of mass and a couple, added to the
+    /// scene's weight and external forces. Absent: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub external: Option<ExternalSpec>,
+}
+
+/// A wrench on the object through time: keyframes, or a CSV file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+pub enum ExternalSpec {
+    /// Keyframes `[time s, {"force": [N], "torque": [N m]}]` with an easing.
+    Ramp(WrenchRamp),
+    /// Rows of a CSV file.
+    Csv(WrenchCsv),
+}
+
+/// An external wrench at one keyframe: force (N, world, at the centre of mass) and couple
+/// (N m, world); either may be omitted (zero).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct WrenchValue {
+    /// Force, N, each component of magnitude at most 1e7.
+    #[serde(default)]
+    pub force: [f64; 3],
+    /// Couple, N m, each component of magnitude at most 1e7.
+    #[serde(default)]
+    pub torque: [f64; 3],
+}
+
+/// A wrench ramp: constant before the first and after the last keyframe, eased in between.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct WrenchRamp {
+    /// Keyframes `[time s, wrench]`, times strictly increasing (`|t| <= 1e9`).
+    pub keyframes: Vec<(f64, WrenchValue)>,
+    /// Interpolation between keyframes (default `linear`).
+    #[serde(default)]
+    pub easing: Easing,
+}
+
+/// A wrench profile from a CSV file (same rules as a load profile), interpolated linearly:
+/// the named columns give the force (N) and couple (N m) components; unnamed ones are zero.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct WrenchCsv {
+    /// File path, relative to the schedule file.
+    pub path: String,
+    /// Name of the time column (s).
+    pub time_column: String,
+    /// Columns of the force components `[x, y, z]` (N); `null` for a zero component.
+    #[serde(default)]
+    pub force_columns: [Option<String>; 3],
+    /// Columns of the couple components `[x, y, z]` (N m); `null` for a zero component.
+    #[serde(default)]
+    pub torque_columns: [Option<String>; 3],
 }
 
 /// Step times: a span with a step, or explicit times (s, in `[0, 1e9]`, strictly increasing),
@@ -227,7 +283,12 @@ pub struct Schedule {
     pub times: Vec<f64>,
     /// Per scene finger (scene order): its phases, or `None` to keep the scene's control.
     pub phases: Vec<Option<Vec<Phase>>>,
+    /// The ramped external wrench, if any.
+    pub external: Option<ExternalRamp>,
 }
+
+/// A validated external wrench ramp: keyframes `(time s, [force N; couple N m])` and easing.
+pub type ExternalRamp = (Vec<(f64, [f64; 6])>, Easing);
 
 impl Schedule {
     /// Parses, validates and resolves a schedule against the scene's finger names (one JSON
@@ -269,8 +330,38 @@ impl Schedule {
             };
             phases[idx] = Some(finger_phases(&path, list, base_dir, &mut v));
         }
+        let external = spec
+            .external
+            .as_ref()
+            .map(|e| external_ramp(e, base_dir, &mut v));
         v.finish()?;
-        Ok(Schedule { times, phases })
+        Ok(Schedule {
+            times,
+            phases,
+            external,
+        })
+    }
+
+    /// The scheduled external wrench at time `t`: force (N, at the centre of mass) and couple
+    /// (N m); `None` when the schedule has none.
+    pub fn external_at(&self, t: f64) -> Option<([f64; 3], [f64; 3])> {
+        let (keys, easing) = self.external.as_ref()?;
+        let mut w = [0.0; 6];
+        for (c, wc) in w.iter_mut().enumerate() {
+            let comp: Vec<(f64, Option<f64>)> = keys.iter().map(|k| (k.0, Some(k.1[c]))).collect();
+            *wc = ramp_load(&comp, *easing, t, 0.0);
+        }
+        Some(([w[0], w[1], w[2]], [w[3], w[4], w[5]]))
+    }
+
+    /// The largest force or couple component of the scheduled external wrench (N or N m; 0
+    /// without one).
+    pub fn external_scale(&self) -> f64 {
+        self.external.as_ref().map_or(0.0, |(keys, _)| {
+            keys.iter()
+                .flat_map(|k| k.1.iter())
+                .fold(0.0_f64, |a, v| a.max(v.abs()))
+        })
     }
 
     /// Index of the phase of finger `i` active at time `t` (the first whose end is >= t;
@@ -574,4 +665,101 @@ fn csv_phase(cp: &str, c: &CsvPhase, base_dir: &Path, v: &mut Problems) -> Phase
         keyframes: rows.into_iter().map(|(t, l)| (t, Some(l))).collect(),
         easing: c.easing,
     }
+}
+
+/// The external wrench's keyframes, checked: times in range and increasing, components finite
+/// and at most 1e7; CSV rows become linear keyframes.
+fn external_ramp(
+    e: &ExternalSpec,
+    base_dir: &Path,
+    v: &mut Problems,
+) -> (Vec<(f64, [f64; 6])>, Easing) {
+    let (keys, easing, path): (Vec<(f64, [f64; 6])>, Easing, String) = match e {
+        ExternalSpec::Ramp(r) => (
+            r.keyframes
+                .iter()
+                .map(|(t, w)| {
+                    let f = w.force;
+                    let m = w.torque;
+                    (*t, [f[0], f[1], f[2], m[0], m[1], m[2]])
+                })
+                .collect(),
+            r.easing,
+            "external.ramp.keyframes".into(),
+        ),
+        ExternalSpec::Csv(c) => (
+            wrench_rows(c, base_dir, v),
+            Easing::Linear,
+            "external.csv.path".into(),
+        ),
+    };
+    if keys.is_empty() {
+        v.push(
+            path.clone(),
+            "has no keyframe".into(),
+            "give at least one [time, {\"force\": [..]}]",
+        );
+    }
+    for (k, (t, w)) in keys.iter().enumerate() {
+        let kp = format!("{path}[{k}]");
+        v.time(kp.clone(), *t, false);
+        if k > 0 && !(*t > keys[k - 1].0) {
+            v.push(
+                kp.clone(),
+                format!("time {t} s is not after {} s", keys[k - 1].0),
+                "list keyframes in strictly increasing time",
+            );
+        }
+        if !w.iter().all(|c| c.is_finite() && c.abs() <= MAX_FORCE_N) {
+            v.push(
+                kp,
+                format!("wrench {w:?} has a component that is not finite or above {MAX_FORCE_N:e}"),
+                "give force components in N and couple components in N m, each at most 1e7",
+            );
+        }
+    }
+    (keys, easing)
+}
+
+/// The rows of a wrench CSV: each named column read like a load profile's, rows matched by
+/// position (the same file).
+fn wrench_rows(c: &WrenchCsv, base_dir: &Path, v: &mut Problems) -> Vec<(f64, [f64; 6])> {
+    let names: Vec<(usize, &String)> = c
+        .force_columns
+        .iter()
+        .chain(&c.torque_columns)
+        .enumerate()
+        .filter_map(|(i, n)| n.as_ref().map(|n| (i, n)))
+        .collect();
+    if names.is_empty() {
+        v.push(
+            "external.csv".into(),
+            "names no force or torque column".into(),
+            "give force_columns and/or torque_columns, e.g. [null, null, \"fz_n\"]",
+        );
+        return Vec::new();
+    }
+    let mut rows: Vec<(f64, [f64; 6])> = Vec::new();
+    for (i, name) in names {
+        match read_profile_csv(&base_dir.join(&c.path), &c.time_column, name) {
+            Ok(col) => {
+                if rows.is_empty() {
+                    rows = col.iter().map(|(t, _)| (*t, [0.0; 6])).collect();
+                }
+                for (r, (_, x)) in rows.iter_mut().zip(col) {
+                    r.1[i] = x;
+                }
+            }
+            Err((field, message, fix)) => {
+                let field = if field == "load_column" {
+                    "columns"
+                } else {
+                    field
+                };
+                v.push(format!("external.csv.{field}"), message, &fix);
+                return Vec::new();
+            }
+        }
+    }
+    rows
 }

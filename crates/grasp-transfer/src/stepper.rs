@@ -31,6 +31,7 @@ use serde::Serialize;
 
 use crate::error::TransferError;
 use crate::schedule::{Command, Schedule};
+use crate::step_margin::{step_margin, StepMargin};
 
 /// Options of a run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -42,6 +43,9 @@ pub struct TransferOptions {
     pub warm_start: bool,
     /// Options of each solve.
     pub solve: SolveOptions,
+    /// Compute each solved step's smallest disturbance margin ([`crate::step_margin`]; about
+    /// 10 to 20 extra solves per axis direction and step).
+    pub margins: bool,
 }
 
 impl Default for TransferOptions {
@@ -50,6 +54,7 @@ impl Default for TransferOptions {
             keep_going: false,
             warm_start: true,
             solve: SolveOptions::default(),
+            margins: false,
         }
     }
 }
@@ -78,6 +83,12 @@ pub struct StepRecord {
     pub wall_time_s: f64,
     /// True when the step reused an assembled program (warm).
     pub reused_program: bool,
+    /// The scheduled external force at the centre of mass, N (zero without one).
+    pub external_force_n: [f64; 3],
+    /// The scheduled external couple, N m (zero without one).
+    pub external_torque_nm: [f64; 3],
+    /// The step's smallest disturbance margin, when asked for and the step solved.
+    pub margin: Option<StepMargin>,
 }
 
 impl StepRecord {
@@ -129,7 +140,8 @@ impl<'a> Stepper<'a> {
                 .external_forces
                 .iter()
                 .map(|r| r.force.iter().map(|c| c * c).sum::<f64>().sqrt())
-                .fold(scene.object.weight, f64::max),
+                .fold(scene.object.weight, f64::max)
+                .max(schedule.external_scale()),
         }
     }
 
@@ -246,7 +258,7 @@ impl<'a> Stepper<'a> {
                 // Nothing holds the object: a reported outcome, not an error.
                 self.states.clear();
                 let sol = empty_grasp_solution(self.scene);
-                return Ok(self.record(k, t, commands, sol, start, false));
+                return Ok(self.record(k, t, commands, (sol, None), start, false));
             }
             let mut load = loads.iter();
             let active: Vec<(usize, Control)> = key
@@ -275,6 +287,8 @@ impl<'a> Stepper<'a> {
             }
             self.cache.insert(key.clone(), (model, solver));
         }
+        let external = self.schedule.external_at(t);
+        let options = self.options;
         let Some((model, solver)) = self.cache.get_mut(&key) else {
             return Err(TransferError::Internal("the step's program is not cached"));
         };
@@ -295,11 +309,26 @@ impl<'a> Stepper<'a> {
                 })
                 .collect(),
         };
-        let sol = solver.solve_step(model, &loads, &mut state)?;
+        // The scheduled external wrench rides on the step's model (the program reads it).
+        let loaded;
+        let step_model = match external {
+            Some((f, m)) => {
+                let w = model.wrench_at_center_of_mass(&f.into(), &m.into());
+                loaded = model.with_extra_wrench(&w);
+                &loaded
+            }
+            None => &*model,
+        };
+        let before = options.margins.then(|| state.clone());
+        let sol = solver.solve_step(step_model, &loads, &mut state)?;
+        let margin = match before {
+            Some(b) if sol.status.has_forces() => Some(step_margin(step_model, &b, options.solve)?),
+            _ => None,
+        };
         for f in state.fingers {
             self.states.insert(f.name.clone(), f);
         }
-        Ok(self.record(k, t, commands, sol, start, reused))
+        Ok(self.record(k, t, commands, (sol, margin), start, reused))
     }
 
     fn record(
@@ -307,10 +336,12 @@ impl<'a> Stepper<'a> {
         k: usize,
         t: f64,
         commands: Vec<Command>,
-        solution: Solution,
+        (solution, margin): (Solution, Option<StepMargin>),
         start: Instant,
         reused: bool,
     ) -> StepRecord {
+        let (external_force_n, external_torque_nm) =
+            self.schedule.external_at(t).unwrap_or(([0.0; 3], [0.0; 3]));
         if solution.status.has_forces() {
             for (i, f) in self.scene.fingers.iter().enumerate() {
                 self.previous_normal_n[i] =
@@ -331,8 +362,12 @@ impl<'a> Stepper<'a> {
                 })
                 .collect(),
             solution,
-            wall_time_s: start.elapsed().as_secs_f64(),
+            // The margins' search is reported on its own (`margin.time_s`).
+            wall_time_s: start.elapsed().as_secs_f64() - margin.as_ref().map_or(0.0, |m| m.time_s),
             reused_program: reused,
+            external_force_n,
+            external_torque_nm,
+            margin,
         }
     }
 }

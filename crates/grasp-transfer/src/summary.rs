@@ -53,6 +53,28 @@ pub struct TransferSummary {
     pub warm_steps: usize,
     /// Sequential solves (coulomb model, load-dependent mu): totals over the steps.
     pub sequential: Option<SequentialTotals>,
+    /// The least safe step, when margins were computed: `(step, time s, smallest disturbance
+    /// margin N, its direction's label, finger that fails first)`.
+    pub least_safe_step: Option<LeastSafeStep>,
+    /// Solves and wall time spent on the margins, s.
+    pub margin_cost: (u64, f64),
+}
+
+/// The step with the smallest disturbance margin.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LeastSafeStep {
+    /// Step index.
+    pub step: usize,
+    /// Schedule time, s.
+    pub time_s: f64,
+    /// The margin, N (see [`crate::StepMargin`]).
+    pub margin_n: f64,
+    /// Its direction: force part and couple part (unit vector of the scaled wrench space).
+    pub direction: grasp_model::margin::WrenchDirection,
+    /// The finger that fails first.
+    pub failing_finger: Option<String>,
+    /// False when the margin reached the search's cap (the grasp held up to it).
+    pub bounded: bool,
 }
 
 /// Totals of the sequential (fixed-point) solves of a run.
@@ -115,6 +137,8 @@ pub struct SummaryAccumulator {
     fallbacks: (usize, Option<String>),
     warm_steps: usize,
     sequential: Option<SequentialTotals>,
+    least_safe: Option<LeastSafeStep>,
+    margin_cost: (u64, f64),
 }
 
 impl SummaryAccumulator {
@@ -150,12 +174,15 @@ impl SummaryAccumulator {
             fallbacks: (0, None),
             warm_steps: 0,
             sequential: None,
+            least_safe: None,
+            margin_cost: (0, 0.0),
         }
     }
 
     /// Adds the next step.
     pub fn add(&mut self, r: &StepRecord) {
         self.steps += 1;
+        self.add_margin(r);
         self.total_wall_time_s += r.wall_time_s;
         self.total_iterations += r.solution.solver.iterations as u64;
         self.add_solver(r);
@@ -180,6 +207,27 @@ impl SummaryAccumulator {
             return;
         }
         self.add_solved(r);
+    }
+
+    /// The step's disturbance margin, if computed.
+    fn add_margin(&mut self, r: &StepRecord) {
+        let Some(m) = &r.margin else { return };
+        self.margin_cost.0 += m.solves as u64;
+        self.margin_cost.1 += m.time_s;
+        if self
+            .least_safe
+            .as_ref()
+            .is_none_or(|l| m.smallest_n < l.margin_n)
+        {
+            self.least_safe = Some(LeastSafeStep {
+                step: r.index,
+                time_s: r.time_s,
+                margin_n: m.smallest_n,
+                direction: m.direction,
+                failing_finger: m.failing_finger.clone(),
+                bounded: m.bounded,
+            });
+        }
     }
 
     /// Who answered the step, at what cost, and from where it started.
@@ -271,6 +319,8 @@ impl SummaryAccumulator {
             fallbacks: self.fallbacks.clone(),
             warm_steps: self.warm_steps,
             sequential: self.sequential,
+            least_safe_step: self.least_safe,
+            margin_cost: self.margin_cost,
         }
     }
 }

@@ -3,7 +3,8 @@
 //! Columns: `time_s, step, status`, then per finger `<name>_normal_force_n`,
 //! `<name>_friction_n`, `<name>_slip_fraction`, then `solver, warm_start, iterations,
 //! factorizations, wall_time_s` (which solver answered, whether the step started from the
-//! previous one, its Newton or interior-point iterations and factorisations).
+//! previous one, its Newton or interior-point iterations and factorisations), then
+//! `smallest_margin_n` (the step's smallest disturbance margin, N; empty without `--margins`).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -55,7 +56,7 @@ impl Sink for CsvSink {
                 h.push_str(&csv_field(&format!("{}_{col}", f.name)));
             }
         }
-        h.push_str(",solver,warm_start,iterations,factorizations,wall_time_s\n");
+        h.push_str(",solver,warm_start,iterations,factorizations,wall_time_s,smallest_margin_n\n");
         self.write(&h)
     }
 
@@ -69,12 +70,13 @@ impl Sink for CsvSink {
             ));
         }
         line.push_str(&format!(
-            ",{},{},{},{},{}\n",
+            ",{},{},{},{},{},{}\n",
             csv_field(&m.solver),
             m.warm_start,
             m.iterations,
             m.factorizations,
-            r.wall_time_s
+            r.wall_time_s,
+            m.smallest_margin_n.map_or(String::new(), |v| v.to_string())
         ));
         self.write(&line)
     }

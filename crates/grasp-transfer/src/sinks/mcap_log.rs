@@ -73,6 +73,15 @@ pub struct FingersMessage {
     pub factorizations: u32,
     /// Relative equilibrium residual (absent without forces).
     pub equilibrium_residual: Option<f64>,
+    /// Scheduled external force at the centre of mass, N.
+    pub external_force_n: [f64; 3],
+    /// Scheduled external couple, N m.
+    pub external_torque_nm: [f64; 3],
+    /// Smallest disturbance margin of the step, N (absent unless margins were asked for and
+    /// the step solved).
+    pub smallest_margin_n: Option<f64>,
+    /// The finger that fails first along the smallest margin's direction.
+    pub margin_failing_finger: Option<String>,
     /// Every scene finger, scene order.
     pub fingers: Vec<FingerMessage>,
 }
@@ -98,6 +107,10 @@ impl FingersMessage {
             iterations: r.solution.solver.iterations,
             factorizations: r.solution.solver.factorizations,
             equilibrium_residual: r.solution.residuals.map(|x| x.equilibrium_relative),
+            external_force_n: r.external_force_n,
+            external_torque_nm: r.external_torque_nm,
+            smallest_margin_n: r.margin.as_ref().map(|m| m.smallest_n),
+            margin_failing_finger: r.margin.as_ref().and_then(|m| m.failing_finger.clone()),
             fingers: r
                 .commands
                 .iter()
@@ -145,6 +158,10 @@ fn fingers_schema() -> serde_json::Value {
             "fallback": {"type": ["string", "null"]}, "warm_start": {"type": "boolean"},
             "iterations": {"type": "integer"}, "factorizations": {"type": "integer"},
             "equilibrium_residual": {"type": ["number", "null"]},
+            "external_force_n": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},
+            "external_torque_nm": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},
+            "smallest_margin_n": {"type": ["number", "null"]},
+            "margin_failing_finger": {"type": ["string", "null"]},
             "fingers": {"type": "array", "items": {"type": "object", "properties": {
                 "name": {"type": "string"}, "control": {"type": "string", "enum": ["held", "load", "released"]},
                 "commanded_load_n": num, "normal_force_n": num,

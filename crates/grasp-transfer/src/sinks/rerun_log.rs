@@ -9,7 +9,10 @@
 //!   relative to the step's largest pressure);
 //! - `world/patches/<name>/state`: elements coloured by state (stick green, slip orange,
 //!   separated grey);
-//! - `plots/normal_force/<name>`, `plots/friction/<name>`: time series in newtons.
+//! - `plots/normal_force/<name>`, `plots/friction/<name>`: time series in newtons;
+//! - `plots/margin/smallest`: the step's smallest disturbance margin, N (with `--margins`);
+//! - `world/margin/...` (static, `grasp margin --rrd`): the wrench surface
+//!   ([`RerunSink::log_wrench_surface`]).
 //!
 //! Timelines: `schedule_time` (s) and `step`. Rows are gathered per entity and sent as
 //! pre-built chunks every [`FLUSH_EVERY_STEPS`] steps (so memory does not grow with the number
@@ -151,6 +154,67 @@ impl RerunSink {
     }
 }
 
+impl RerunSink {
+    /// Logs a margin report as static entities around the object (call after `begin`):
+    /// `world/margin/force` (the wrench surface's force part: from the centre of mass, each
+    /// direction's force part times its margin, at the force-arrow scale) and
+    /// `world/margin/torque` (the couple part, at the same scale per N m / L), the smallest
+    /// margin in red, unbounded ones (drawn at the cap) pale; `world/margin/smallest` labels
+    /// it.
+    pub fn log_wrench_surface(
+        &mut self,
+        run: &RunInfo,
+        report: &grasp_model::margin::MarginReport,
+    ) -> Result<(), TransferError> {
+        let com = run.geometry.center_of_mass_m;
+        let k = self.arrow_m_per_n as f64;
+        let colour = |i: usize, bounded: bool| match (i == report.smallest, bounded) {
+            (true, _) => Color::from_rgb(214, 39, 40),
+            (false, true) => Color::from_rgb(31, 119, 180),
+            (false, false) => Color::from_rgb(174, 199, 232),
+        };
+        for (part, pick) in [("force", 0usize), ("torque", 1)] {
+            let mut vectors = Vec::new();
+            let mut colours = Vec::new();
+            for (i, d) in report.directions.iter().enumerate() {
+                let v = if pick == 0 {
+                    d.direction.force
+                } else {
+                    d.direction.torque
+                };
+                let v = nalgebra::Vector3::from(v) * (d.margin_n * k);
+                if v.norm() > 0.0 {
+                    vectors.push(v3(&v));
+                    colours.push(colour(i, d.bounded));
+                }
+            }
+            let origins = vec![v3(&com); vectors.len()];
+            self.send(
+                format!("world/margin/{part}"),
+                &Arrows3D::from_vectors(vectors)
+                    .with_origins(origins)
+                    .with_colors(colours),
+            )?;
+        }
+        if let Some(d) = report.directions.get(report.smallest) {
+            let v = nalgebra::Vector3::from(d.direction.force)
+                + nalgebra::Vector3::from(d.direction.torque);
+            let tip = com + v * (d.margin_n * k);
+            let who = d.failing_finger.as_deref().unwrap_or("-");
+            self.send(
+                "world/margin/smallest",
+                &Points3D::new([v3(&tip)])
+                    .with_colors([colour(report.smallest, d.bounded)])
+                    .with_labels([format!(
+                        "smallest margin {:.3e} N (first: {who})",
+                        d.margin_n
+                    )]),
+            )?;
+        }
+        Ok(())
+    }
+}
+
 impl Sink for RerunSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
         let g = run.geometry;
@@ -283,6 +347,9 @@ impl Sink for RerunSink {
                 format!("plots/friction/{name}"),
                 &Scalars::new([f.tangential_magnitude_n]),
             )?;
+        }
+        if let Some(m) = &r.margin {
+            self.send("plots/margin/smallest", &Scalars::new([m.smallest_n]))?;
         }
         self.steps_since_flush += 1;
         if self.steps_since_flush >= FLUSH_EVERY_STEPS {

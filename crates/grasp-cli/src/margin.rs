@@ -1,0 +1,300 @@
+//! `grasp margin`: disturbance margins of one grasp ([`grasp_model::margin`]) as a table, JSON,
+//! a bar chart and a Rerun recording of the wrench surface.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{bail, Context, Result};
+use grasp_model::margin::{
+    axis_directions, disturbance_margins, spread_directions, DirectionMargin, Failure,
+    MarginOptions, MarginReport, WrenchDirection,
+};
+use grasp_model::scene::ModelKind;
+use grasp_model::{ContactState, GraspModel, SolveOptions, SolverChoice};
+use grasp_transfer::{RerunSink, RunInfo, Sink};
+use serde::Deserialize;
+
+use crate::{limits, load_scene, output};
+
+/// What to compute.
+pub struct Flags {
+    /// `N` or a JSON file of directions.
+    pub directions: Option<String>,
+    /// Contact law override.
+    pub model: Option<String>,
+    /// Characteristic length, m.
+    pub length_m: Option<f64>,
+    /// Relative bracket width.
+    pub tolerance: f64,
+    /// Solver.
+    pub solver: SolverChoice,
+    /// Memory limit, bytes.
+    pub max_memory: Option<u64>,
+}
+
+/// Where to write.
+pub struct Outputs {
+    pub json: Option<PathBuf>,
+    pub plot: Option<PathBuf>,
+    pub rrd: Option<PathBuf>,
+    pub force: bool,
+}
+
+/// One direction as written in a directions file: a force (N) and a couple (N m), either
+/// may be omitted.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DirectionSpec {
+    #[serde(default)]
+    force: [f64; 3],
+    #[serde(default)]
+    torque: [f64; 3],
+}
+
+/// The directions the user asked for.
+fn directions(
+    model: &GraspModel,
+    arg: Option<&str>,
+    length_m: f64,
+) -> Result<Vec<WrenchDirection>> {
+    let Some(arg) = arg else {
+        return Ok(axis_directions(model));
+    };
+    if let Ok(n) = arg.parse::<usize>() {
+        if !(1..=10_000).contains(&n) {
+            bail!("--directions {n}: give between 1 and 10000 directions, or a JSON file");
+        }
+        return Ok(spread_directions(model, n));
+    }
+    let path = Path::new(arg);
+    let text = limits::read_input(path, "directions file")?;
+    let specs: Vec<DirectionSpec> = serde_json::from_str(&text).with_context(|| {
+        format!(
+            "{arg} is not a list of directions; write [{{\"force\": [0, 0, -1]}}, {{\"torque\": \
+             [1, 0, 0]}}] (force in N, couple in N m)"
+        )
+    })?;
+    if specs.is_empty() {
+        bail!("{arg} lists no direction; give at least one");
+    }
+    specs
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            WrenchDirection::of_wrench(d.force, d.torque, length_m).with_context(|| {
+                format!("{arg}: directions[{i}] has no finite nonzero force or torque; give one")
+            })
+        })
+        .collect()
+}
+
+/// Runs the command.
+pub fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
+    if !(flags.tolerance.is_finite() && flags.tolerance > 0.0 && flags.tolerance < 0.5) {
+        bail!(
+            "--tolerance {}: give a relative width in (0, 0.5), e.g. 1e-3",
+            flags.tolerance
+        );
+    }
+    if let Some(l) = flags.length_m {
+        if !(l.is_finite() && l > 0.0) {
+            bail!("--length {l}: give a length in metres > 0, e.g. 0.05");
+        }
+    }
+    let targets: Vec<&Path> = [&outputs.json, &outputs.plot, &outputs.rrd]
+        .into_iter()
+        .flatten()
+        .map(PathBuf::as_path)
+        .collect();
+    output::check_targets(&targets, &[scene_path], outputs.force)?;
+    let mut scene = load_scene(scene_path)?;
+    match flags.model.as_deref() {
+        Some("coulomb") => scene.model = ModelKind::Coulomb,
+        Some("energy") => scene.model = ModelKind::Energy,
+        _ => {}
+    }
+    let (limit, what) = limits::memory_limit(flags.max_memory);
+    limits::check_memory(&scene, scene_path, (limit, &what))?;
+    let model = GraspModel::from_scene(&scene)
+        .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
+    let length_m = flags.length_m.unwrap_or(model.scales.length_m);
+    let dirs = directions(&model, flags.directions.as_deref(), length_m)?;
+    let options = MarginOptions {
+        length_m: Some(length_m),
+        relative_tolerance: flags.tolerance,
+        ..MarginOptions::default()
+    };
+    let solve = SolveOptions {
+        solver: flags.solver,
+        ..SolveOptions::default()
+    };
+    let report = disturbance_margins(&model, &ContactState::new(&model), solve, &dirs, &options)?;
+    print!("{}", table(scene_path, &report));
+    if let Some(out) = &outputs.json {
+        let text = serde_json::to_string_pretty(&report)?;
+        output::write_new(out, text.as_bytes(), outputs.force)?;
+        println!("wrote {}", out.display());
+    }
+    if let Some(out) = &outputs.plot {
+        output::write_new(out, bar_chart(&report).as_bytes(), outputs.force)?;
+        println!("wrote {}", out.display());
+    }
+    if let Some(out) = &outputs.rrd {
+        let run = RunInfo {
+            scene: &scene,
+            geometry: &model,
+        };
+        let mut sink = RerunSink::create(out)?;
+        sink.begin(&run)?;
+        sink.log_wrench_surface(&run, &report)?;
+        sink.finish()?;
+        println!("wrote {}", out.display());
+    }
+    let holds = report
+        .directions
+        .iter()
+        .all(|d| d.failure.is_none() || d.margin_n > 0.0);
+    Ok(if holds {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
+    })
+}
+
+/// A short label of a direction: its nonzero components.
+pub fn label(d: &WrenchDirection) -> String {
+    let part = |v: &[f64; 3], unit: &str| -> Option<String> {
+        (v.iter().any(|c| c.abs() > 1e-12))
+            .then(|| format!("{unit}[{:+.2},{:+.2},{:+.2}]", v[0], v[1], v[2]))
+    };
+    [part(&d.force, "F"), part(&d.torque, "T")]
+        .into_iter()
+        .flatten()
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+fn failure_words(m: &DirectionMargin) -> String {
+    match &m.failure {
+        None => "holds up to the cap".into(),
+        Some(Failure::Slides { finger }) => format!("{finger} slides"),
+        Some(Failure::NoEquilibrium { .. }) => "no equilibrium".into(),
+        Some(Failure::NoConvergence { .. }) => "no convergence".into(),
+    }
+}
+
+/// The report as a table.
+fn table(scene: &Path, r: &MarginReport) -> String {
+    let mut s = String::new();
+    let crit = match r.model {
+        ModelKind::Energy => "energy: an equilibrium within the friction cones",
+        ModelKind::Coulomb => {
+            "coulomb: equilibrium and every loaded finger keeps a sticking element"
+        }
+    };
+    let _ = writeln!(
+        s,
+        "{}: disturbance margins ({crit}); magnitude s = force s N at the centre of mass plus \
+         couple s L N m, L = {:.4} m",
+        scene.display(),
+        r.length_m
+    );
+    let _ = writeln!(
+        s,
+        "{:<4}{:<44}{:>14}{:>14}{:>12}  {:<22}{:>8}",
+        "#", "direction", "margin [N]", "torque [N m]", "first", "failure", "solves"
+    );
+    for (i, m) in r.directions.iter().enumerate() {
+        let torque = m.torque_nm.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let margin = if m.bounded {
+            format!("{:.5e}", m.margin_n)
+        } else {
+            format!(">{:.3e}", m.margin_n)
+        };
+        let _ = writeln!(
+            s,
+            "{:<4}{:<44}{:>14}{:>14.4e}{:>12}  {:<22}{:>8}",
+            i,
+            label(&m.direction),
+            margin,
+            torque,
+            m.failing_finger.as_deref().unwrap_or("-"),
+            failure_words(m),
+            m.solves
+        );
+    }
+    if !r.sliding_undisturbed.is_empty() {
+        let _ = writeln!(
+            s,
+            "already sliding without disturbance (not judged by sliding): {}",
+            r.sliding_undisturbed.join(", ")
+        );
+    }
+    let w = &r.directions[r.smallest];
+    let _ = writeln!(
+        s,
+        "smallest margin: {:.5e} N along #{} {} ({}, first to fail: {})",
+        w.margin_n,
+        r.smallest,
+        label(&w.direction),
+        failure_words(w),
+        w.failing_finger.as_deref().unwrap_or("-")
+    );
+    let _ = writeln!(
+        s,
+        "cost: {} solves in {:.1} ms (directions in parallel; each a warm-started step from the \
+         last magnitude that held)",
+        r.solves,
+        r.time_s * 1e3
+    );
+    s
+}
+
+/// A horizontal bar chart of the margins (SVG), the smallest in red, unbounded ones hatched
+/// to the cap.
+fn bar_chart(r: &MarginReport) -> String {
+    let n = r.directions.len();
+    let (left, width, row) = (260.0, 420.0, 18.0);
+    let height = 60.0 + row * n as f64;
+    let max = r
+        .directions
+        .iter()
+        .map(|d| d.margin_n)
+        .fold(0.0_f64, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{height}\" \
+         font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" \
+         fill=\"white\"/>\n<text x=\"10\" y=\"18\" font-size=\"13\">Disturbance margin per \
+         direction (N; couple = margin x L, L = {:.4} m)</text>\n",
+        r.length_m,
+        w = left + width + 120.0
+    );
+    for (i, d) in r.directions.iter().enumerate() {
+        let y = 36.0 + row * i as f64;
+        let len = width * d.margin_n / max;
+        let fill = if i == r.smallest {
+            "#d62728"
+        } else if d.bounded {
+            "#1f77b4"
+        } else {
+            "#aec7e8"
+        };
+        let _ = writeln!(
+            s,
+            "<text x=\"{x}\" y=\"{ty}\" text-anchor=\"end\">{}</text>\
+             <rect x=\"{left}\" y=\"{y}\" width=\"{len:.1}\" height=\"{h}\" fill=\"{fill}\"/>\
+             <text x=\"{tx:.1}\" y=\"{ty}\">{}{:.3e}</text>",
+            label(&d.direction),
+            if d.bounded { "" } else { ">" },
+            d.margin_n,
+            x = left - 6.0,
+            ty = y + 12.0,
+            h = row - 4.0,
+            tx = left + len + 4.0
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}

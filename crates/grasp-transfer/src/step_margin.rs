@@ -1,0 +1,63 @@
+//! The disturbance margin of one hand-off step (issue 13): the smallest, over the axis
+//! directions of force and couple, of the margins of [`grasp_model::margin`], continued from
+//! the contact state at the start of the step.
+
+use grasp_model::margin::{axis_directions, disturbance_margins, MarginOptions, WrenchDirection};
+use grasp_model::{ContactState, GraspModel, ModelError, SolveOptions};
+use serde::Serialize;
+
+/// The smallest margin of a step.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StepMargin {
+    /// Smallest margin over the axis directions that the grasp resists at all, N (force N at
+    /// the centre of mass, or couple N times `length_m` in N m); 0 when it resists none.
+    pub smallest_n: f64,
+    /// Axis directions the grasp does not resist at all (margin 0 whatever the step: with
+    /// commanded loads, a push along the squeeze axis, say, has no equilibrium). Listed
+    /// apart so that the smallest margin tracks how safe the step is.
+    pub unresisted: Vec<WrenchDirection>,
+    /// Its direction.
+    pub direction: WrenchDirection,
+    /// False when even the smallest margin reached the search's cap.
+    pub bounded: bool,
+    /// The finger that fails first along it.
+    pub failing_finger: Option<String>,
+    /// Characteristic length of the couples, m.
+    pub length_m: f64,
+    /// Solves spent on the margins of this step.
+    pub solves: u32,
+    /// Wall time of the margins of this step, s.
+    pub time_s: f64,
+}
+
+/// The margin of the step grasp `model` (its loads, its external wrench) from `state`, the
+/// contact state at the start of the step.
+pub fn step_margin(
+    model: &GraspModel,
+    state: &ContactState,
+    solve: SolveOptions,
+) -> Result<StepMargin, ModelError> {
+    let dirs = axis_directions(model);
+    let r = disturbance_margins(model, state, solve, &dirs, &MarginOptions::default())?;
+    // Without a search (solves 0) the step itself does not hold: every margin is 0.
+    let searched = r.directions.iter().any(|d| d.solves > 0);
+    let (zero, resisted): (Vec<_>, Vec<_>) = r
+        .directions
+        .iter()
+        .partition(|d| searched && d.margin_n == 0.0 && d.failure.is_some());
+    let d = resisted
+        .iter()
+        .min_by(|a, b| a.margin_n.total_cmp(&b.margin_n))
+        .copied()
+        .unwrap_or(&r.directions[r.smallest]);
+    Ok(StepMargin {
+        unresisted: zero.iter().map(|d| d.direction).collect(),
+        smallest_n: d.margin_n,
+        direction: d.direction,
+        bounded: d.bounded,
+        failing_finger: d.failing_finger.clone(),
+        length_m: r.length_m,
+        solves: r.solves,
+        time_s: r.time_s,
+    })
+}
