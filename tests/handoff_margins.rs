@@ -200,3 +200,70 @@ fn more_squeeze_gives_more_margin_and_the_sensitivity_says_so() {
         "d utilisation / d load: KKT {du:e}, differences {fd:e}"
     );
 }
+
+#[test]
+fn the_bundled_task_load_schedules_run_and_log_their_wrench() {
+    for (name, t, force_z, torque_y) in [
+        ("plate_pull", 8.0, -1.5, 0.0),
+        ("plate_bump", 6.1, 2.0, 0.05),
+    ] {
+        let dir = std::path::PathBuf::from(support::example_path(""));
+        let scene = Scene::from_json_str(
+            &std::fs::read_to_string(dir.join("plate_handoff_coulomb.json")).unwrap(),
+        )
+        .unwrap();
+        let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+        let text = std::fs::read_to_string(dir.join(format!("{name}.schedule.json"))).unwrap();
+        let schedule = Schedule::from_json_str(&text, &names, &dir).unwrap();
+        let records: Vec<_> = Stepper::new(&scene, &schedule, TransferOptions::default())
+            .map(|r| r.unwrap())
+            .collect();
+        assert!(
+            records.iter().all(|r| r.solution.status.has_forces()),
+            "{name}"
+        );
+        let at = records
+            .iter()
+            .find(|r| (r.time_s - t).abs() < 1e-9)
+            .unwrap();
+        assert!((at.external_force_n[2] - force_z).abs() < 1e-12, "{name}");
+        assert!(
+            (at.external_torque_nm[1] - torque_y).abs() < 1e-12,
+            "{name}"
+        );
+        // The logged wrench is the one the step balanced: the equilibrium residual stays tiny.
+        let r = at.solution.residuals.unwrap();
+        assert!(r.equilibrium_relative < 1e-9, "{name}: {r:?}");
+        let msg = grasp_transfer::sinks::FingersMessage::from_record(at);
+        assert_eq!(msg.external_force_n, at.external_force_n);
+    }
+}
+
+#[test]
+fn bad_external_loads_are_named() {
+    let names = vec!["left".to_string(), "right".to_string()];
+    let dir = std::path::PathBuf::from(support::example_path(""));
+    for (external, path) in [
+        (
+            json!({"ramp": {"keyframes": [[1.0, {"force": [0, 0, 1]}], [0.5, {}]]}}),
+            "external.ramp.keyframes[1]",
+        ),
+        (
+            json!({"ramp": {"keyframes": [[0.0, {"force": [0, 0, 1e9]}]]}}),
+            "external.ramp.keyframes[0]",
+        ),
+        (
+            json!({"csv": {"path": "plate_bump.csv", "time_column": "t_s",
+                           "force_columns": ["nope", null, null]}}),
+            "external.csv.columns",
+        ),
+        (
+            json!({"csv": {"path": "plate_bump.csv", "time_column": "t_s"}}),
+            "external.csv",
+        ),
+    ] {
+        let text = json!({"time": {"times": [0.0]}, "fingers": {}, "external": external});
+        let err = Schedule::from_json_str(&text.to_string(), &names, &dir).unwrap_err();
+        assert!(err.to_string().contains(path), "{path}: {err}");
+    }
+}

@@ -151,10 +151,16 @@ pub fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCod
         sink.finish()?;
         println!("wrote {}", out.display());
     }
-    let holds = report
-        .directions
-        .iter()
-        .all(|d| d.failure.is_none() || d.margin_n > 0.0);
+    // Exit 2 when the grasp does not hold undisturbed (no direction was searched); a direction
+    // the grasp does not resist at all (margin 0) is a result like any other.
+    let holds = report.directions.iter().any(|d| d.solves > 0);
+    if !holds {
+        let why = report.directions[0].failure.as_ref().map(failure_words_of);
+        println!(
+            "the grasp does not hold without disturbance: {}",
+            why.unwrap_or_default()
+        );
+    }
     Ok(if holds {
         ExitCode::SUCCESS
     } else {
@@ -173,6 +179,14 @@ pub fn label(d: &WrenchDirection) -> String {
         .flatten()
         .collect::<Vec<_>>()
         .join(" ")
+}
+
+/// A failure with its reason.
+fn failure_words_of(f: &Failure) -> String {
+    match f {
+        Failure::Slides { finger } => format!("{finger} slides as a whole"),
+        Failure::NoEquilibrium { reason } | Failure::NoConvergence { reason } => reason.clone(),
+    }
 }
 
 fn failure_words(m: &DirectionMargin) -> String {
