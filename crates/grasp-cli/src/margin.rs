@@ -245,6 +245,17 @@ fn table(scene: &Path, r: &MarginReport) -> String {
             r.sliding_undisturbed.join(", ")
         );
     }
+    if !r.unresisted.is_empty() && r.unresisted.len() < r.directions.len() {
+        let _ = writeln!(
+            s,
+            "not resisted at all (margin 0; the commanded loads cannot react): {}",
+            r.unresisted
+                .iter()
+                .map(|&i| format!("#{i}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     let w = &r.directions[r.smallest];
     let _ = writeln!(
         s,

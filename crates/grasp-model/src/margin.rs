@@ -154,8 +154,12 @@ pub struct MarginReport {
     pub sliding_undisturbed: Vec<String>,
     /// Per direction, in the order given.
     pub directions: Vec<DirectionMargin>,
-    /// Index of the direction with the smallest margin.
+    /// Index of the direction with the smallest margin among those the grasp resists at all
+    /// (among all when it resists none).
     pub smallest: usize,
+    /// Directions the grasp does not resist at all (margin 0 although it holds undisturbed:
+    /// with commanded loads, a push along the squeeze axis has no equilibrium).
+    pub unresisted: Vec<usize>,
     /// Solves over all directions (the undisturbed solve included).
     pub solves: u32,
     /// Wall time of the whole search, s.
@@ -473,7 +477,13 @@ pub fn disturbance_margins(
             })
             .collect::<Result<_, _>>()?,
     };
+    // Directions not resisted at all: searched, and failing at the smallest magnitude.
+    let searched = margins.iter().any(|m| m.solves > 0);
+    let unresisted: Vec<usize> = (0..margins.len())
+        .filter(|&i| searched && margins[i].margin_n == 0.0 && margins[i].failure.is_some())
+        .collect();
     let smallest = (0..margins.len())
+        .filter(|i| !unresisted.contains(i) || unresisted.len() == margins.len())
         .min_by(|&a, &b| margins[a].margin_n.total_cmp(&margins[b].margin_n))
         .unwrap_or(0);
     Ok(MarginReport {
@@ -484,6 +494,7 @@ pub fn disturbance_margins(
         sliding_undisturbed,
         directions: margins,
         smallest,
+        unresisted,
         time_s: clock.elapsed().as_secs_f64(),
     })
 }

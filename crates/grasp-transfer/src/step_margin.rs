@@ -39,19 +39,13 @@ pub fn step_margin(
 ) -> Result<StepMargin, ModelError> {
     let dirs = axis_directions(model);
     let r = disturbance_margins(model, state, solve, &dirs, &MarginOptions::default())?;
-    // Without a search (solves 0) the step itself does not hold: every margin is 0.
-    let searched = r.directions.iter().any(|d| d.solves > 0);
-    let (zero, resisted): (Vec<_>, Vec<_>) = r
-        .directions
-        .iter()
-        .partition(|d| searched && d.margin_n == 0.0 && d.failure.is_some());
-    let d = resisted
-        .iter()
-        .min_by(|a, b| a.margin_n.total_cmp(&b.margin_n))
-        .copied()
-        .unwrap_or(&r.directions[r.smallest]);
+    let d = &r.directions[r.smallest];
     Ok(StepMargin {
-        unresisted: zero.iter().map(|d| d.direction).collect(),
+        unresisted: r
+            .unresisted
+            .iter()
+            .map(|&i| r.directions[i].direction)
+            .collect(),
         smallest_n: d.margin_n,
         direction: d.direction,
         bounded: d.bounded,
