@@ -67,8 +67,10 @@ enum Command {
         /// Scene file (JSON).
         scene: PathBuf,
         /// Directions: a number N (the axis directions, then combined ones spread over the
-        /// sphere) or a JSON file with a list of {"force": [N], "torque": [N m]}.
-        #[arg(long, value_name = "N|FILE")]
+        /// sphere), `planes:K` (K force directions around each coordinate plane, for the polar
+        /// plot, and the couple axes) or a JSON file with a list of {"force": [N], "torque":
+        /// [N m]}. Default: the axis directions.
+        #[arg(long, value_name = "N|planes:K|FILE")]
         directions: Option<String>,
         /// Contact law to judge the grasp with (default: the scene's).
         #[arg(long, value_parser = ["energy", "coulomb"])]
@@ -83,7 +85,8 @@ enum Command {
         /// Write the report as JSON.
         #[arg(long, value_name = "OUT.json")]
         json: Option<PathBuf>,
-        /// Write a bar chart of the margins (SVG).
+        /// Write a picture of the margins (SVG): polar plots of the force directions in each
+        /// coordinate plane and a bar per direction.
         #[arg(long, value_name = "F.svg")]
         plot: Option<PathBuf>,
         /// Write a Rerun recording of the grasp with its wrench surface.

@@ -198,6 +198,46 @@ pub fn axis_directions(model: &GraspModel) -> Vec<WrenchDirection> {
     out
 }
 
+/// Force directions spread evenly around each coordinate plane, `per_plane` per plane (3-D: the
+/// `xy`, `yz` and `zx` planes, the axes listed once; planar: the plane of motion), then the
+/// couple axes (both signs): the directions a polar plot of the margins draws.
+pub fn plane_directions(model: &GraspModel, per_plane: usize) -> Vec<WrenchDirection> {
+    let planes: Vec<(Vector3<f64>, Vector3<f64>)> = match model.plane {
+        None => vec![
+            (Vector3::x(), Vector3::y()),
+            (Vector3::y(), Vector3::z()),
+            (Vector3::z(), Vector3::x()),
+        ],
+        Some((e1, e2, _)) => vec![(e1, e2)],
+    };
+    let mut out: Vec<WrenchDirection> = Vec::new();
+    for (a, b) in planes {
+        for k in 0..per_plane {
+            let angle = std::f64::consts::TAU * k as f64 / per_plane as f64;
+            let mut f = a * angle.cos() + b * angle.sin();
+            f.iter_mut().for_each(|c| {
+                if c.abs() < 1e-15 {
+                    *c = 0.0;
+                }
+            });
+            let d = WrenchDirection {
+                force: [f.x, f.y, f.z],
+                torque: [0.0; 3],
+            };
+            let same =
+                |o: &WrenchDirection| (0..3).all(|c| (o.force[c] - d.force[c]).abs() < 1e-12);
+            if !out.iter().any(same) {
+                out.push(d);
+            }
+        }
+    }
+    let torques = axis_directions(model)
+        .into_iter()
+        .filter(|d| d.torque.iter().any(|c| *c != 0.0));
+    out.extend(torques);
+    out
+}
+
 /// `n` directions: the axis directions first, then combined ones spread quasi-uniformly over
 /// the unit sphere of the scaled wrench space (3 dimensions planar, 6 in 3-D): the additive
 /// recurrence of the generalised golden ratio (Roberts' `R_d` sequence) mapped to Gaussians by
