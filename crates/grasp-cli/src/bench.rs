@@ -2,8 +2,9 @@
 //! once to read its peak memory, then again until `--min-time` has passed (at least twice, at
 //! most 50 times); the table gives the median and the range of those timing runs, against the
 //! case's target. Derived rows: warm/cold iteration ratios of both hand-offs, the growth
-//! exponent of solve time against unknowns over the cube A series, and the whole `grasp
-//! transfer` command with MCAP, Rerun and CSV outputs (a child process, timed from outside).
+//! exponent of solve time against unknowns over the cube A series, the whole `grasp
+//! transfer` command with MCAP, Rerun and CSV outputs (a child process, timed from outside),
+//! and the batch runner's throughput on one thread and on every core (issue 12).
 
 use std::fmt::Write as _;
 use std::process::ExitCode;
@@ -247,6 +248,73 @@ fn whole_command(solver: SolverChoice, quick: bool) -> Result<Row> {
     Ok(row)
 }
 
+/// Batch throughput (issue 12): 1,000 variants of cube A (mu x weight grid; 200 when quick)
+/// solved by `grasp batch`'s runner in-process, on one thread and on every core, output
+/// discarded; rows: scenes per second of each, and the speed-up against its >= 1.8x target.
+fn batch_throughput(solver: SolverChoice, quick: bool) -> Result<Vec<Row>> {
+    use grasp_batch::sweep::{expand, Axis};
+    let (scene, _) = grasp_bench::case::bundled("cube_a").context("bundled cube_a")?;
+    let scene: serde_json::Value = serde_json::from_str(scene)?;
+    let weights = if quick { 20 } else { 100 };
+    let axes = [
+        Axis::parse("fingers[*].friction.mu=0.4:1.0:10")?,
+        Axis::parse(&format!("object.weight=1:10:{weights}"))?,
+    ];
+    let lines: Vec<String> = expand(&scene, "cube_a", &axes)?
+        .into_iter()
+        .map(|(id, vary, scene)| {
+            serde_json::json!({"id": id, "vary": vary, "scene": scene}).to_string()
+        })
+        .collect();
+    let n = lines.len();
+    let input = grasp_batch::BatchInput::Lines(lines);
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+    let mut rates = Vec::new();
+    let mut rows = Vec::new();
+    for threads in [1, cores] {
+        let options = grasp_batch::BatchOptions {
+            solve: grasp_model::SolveOptions {
+                solver,
+                ..grasp_model::SolveOptions::default()
+            },
+            threads,
+            ..grasp_batch::BatchOptions::default()
+        };
+        let t = Instant::now();
+        let s = grasp_batch::run_batch(
+            &input,
+            &Default::default(),
+            &options,
+            (&mut std::io::sink(), std::path::Path::new("(discarded)")),
+            &mut |_| {},
+        )?;
+        let wall = t.elapsed().as_secs_f64();
+        if s.solved != n {
+            bail!("batch bench: {} of {n} variants solved", s.solved);
+        }
+        rates.push(n as f64 / wall);
+        let mut row = vec![String::new(); HEADER.len()];
+        row[0] = format!("batch cube A x{n}");
+        row[1] = format!("{threads} thread(s)");
+        row[2] = solver.to_string();
+        row[3] = format!("{:.0} scenes/s", n as f64 / wall);
+        row[5] = "1".into();
+        rows.push(row);
+    }
+    let mut row = vec![String::new(); HEADER.len()];
+    row[0] = "batch speed-up".into();
+    row[1] = format!("{cores} cores / 1");
+    row[2] = solver.to_string();
+    let speedup = rates[1] / rates[0];
+    row[3] = format!("{speedup:.2}x");
+    row[11] = format!(
+        ">= 1.8x ({})",
+        if speedup >= 1.8 { "met" } else { "MISSED" }
+    );
+    rows.push(row);
+    Ok(rows)
+}
+
 fn render(rows: &[Row], markdown: bool) -> String {
     let mut out = String::new();
     if markdown {
@@ -314,6 +382,8 @@ pub fn run(flags: Flags) -> Result<ExitCode> {
                 format!("bench: whole transfer command ({solver})")
             );
             rows.push(whole_command(solver, flags.quick)?);
+            eprint!("\r{:<60}", format!("bench: batch throughput ({solver})"));
+            rows.extend(batch_throughput(solver, flags.quick)?);
         }
     }
     eprint!("\r{:<60}\r", "");

@@ -1,6 +1,7 @@
 //! `grasp`: the command-line front end. Flags become a validated configuration before any work
 //! starts; the physics lives in `grasp-model`, the hand-off in `grasp-transfer`.
 
+mod batch_run;
 mod bench;
 mod limits;
 mod margin;
@@ -93,6 +94,64 @@ enum Command {
         #[arg(long, value_name = "F.rrd")]
         rrd: Option<PathBuf>,
         /// Overwrite output files that already exist.
+        #[arg(long)]
+        force: bool,
+        /// Solver: `auto`, `native` or `clarabel`.
+        #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+        solver: SolverChoice,
+        #[command(flatten)]
+        memory: MemoryArg,
+    },
+    /// Solve many scenes: one per line of a JSONL file (`{"id": ..., "scene": {...}}` or a bare
+    /// scene) or one per file of a folder; one result line each, in input order, on all cores.
+    Batch {
+        /// JSONL file or folder of scene files (omit with --merge).
+        input: Option<PathBuf>,
+        /// Result lines (JSONL).
+        #[arg(long, value_name = "RESULTS.jsonl")]
+        out: PathBuf,
+        /// Append to OUT, skipping the scenes whose id is already in it.
+        #[arg(long)]
+        resume: bool,
+        /// Take every N-th scene from the I-th (0-based). Default: Slurm's
+        /// SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT, or Kubernetes' JOB_COMPLETION_INDEX with
+        /// GRASP_SHARD_COUNT, else everything.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+        /// Worker threads (default: one per core).
+        #[arg(long, value_name = "J")]
+        jobs: Option<usize>,
+        /// Join these shard outputs into OUT (checked complete) instead of solving.
+        #[arg(long, num_args = 1.., value_name = "SHARD.jsonl", conflicts_with_all = ["input", "resume", "shard"])]
+        merge: Vec<PathBuf>,
+        /// Overwrite OUT if it exists.
+        #[arg(long)]
+        force: bool,
+        /// Solver: `auto`, `native` or `clarabel`.
+        #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+        solver: SolverChoice,
+        #[command(flatten)]
+        memory: MemoryArg,
+    },
+    /// Expand a grid of variants of one scene (`--vary PATH=START:END:COUNT` or
+    /// `PATH=V1,V2,...`, e.g. `fingers[*].friction.mu=0.2:1.0:9`) into JSONL for `batch`, or
+    /// run them (`--run`).
+    Sweep {
+        /// Scene file (JSON).
+        scene: PathBuf,
+        /// One axis of the grid (repeat; the last varies fastest).
+        #[arg(long = "vary", value_name = "PATH=RANGE", required = true)]
+        vary: Vec<String>,
+        /// The variants (JSONL), or with --run their results.
+        #[arg(long, value_name = "OUT.jsonl")]
+        out: PathBuf,
+        /// Solve the variants now (as `grasp batch` would) and write their results.
+        #[arg(long)]
+        run: bool,
+        /// Worker threads for --run (default: one per core).
+        #[arg(long, value_name = "J")]
+        jobs: Option<usize>,
+        /// Overwrite OUT if it exists.
         #[arg(long)]
         force: bool,
         /// Solver: `auto`, `native` or `clarabel`.
@@ -317,6 +376,56 @@ fn run(cli: Cli) -> Result<ExitCode> {
             memory.max_memory,
             solver,
         ),
+        Command::Batch {
+            input,
+            out,
+            resume,
+            shard,
+            jobs,
+            merge,
+            force,
+            solver,
+            memory,
+        } => {
+            if !merge.is_empty() {
+                return batch_run::merge(&merge, &out, force);
+            }
+            let Some(input) = input else {
+                anyhow::bail!("give a JSONL file or a folder of scenes (or --merge SHARDS...)");
+            };
+            let flags = batch_run::Flags {
+                out,
+                resume,
+                force,
+                shard,
+                jobs,
+                solver,
+                max_memory: memory.max_memory,
+            };
+            let source = grasp_batch::BatchInput::open(&input)?;
+            batch_run::run(&source, Some(&input), &flags)
+        }
+        Command::Sweep {
+            scene,
+            vary,
+            out,
+            run,
+            jobs,
+            force,
+            solver,
+            memory,
+        } => {
+            let flags = batch_run::Flags {
+                out,
+                resume: false,
+                force,
+                shard: None,
+                jobs,
+                solver,
+                max_memory: memory.max_memory,
+            };
+            batch_run::sweep(&scene, &vary, run, &flags)
+        }
         Command::Margin {
             scene,
             directions,

@@ -1,0 +1,44 @@
+//! Errors of a batch that stop it (unreadable inputs, an output that cannot be written, shards
+//! that do not fit together). A bad scene is not one of them: it becomes an `invalid` line.
+
+use std::path::PathBuf;
+
+/// An error that stops a batch.
+#[derive(Debug, thiserror::Error)]
+pub enum BatchError {
+    /// An input or output file could not be read or written.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong, with the fix where there is one.
+        message: String,
+    },
+    /// A flag or environment value is unusable.
+    #[error("{what}: {message}")]
+    Usage {
+        /// The flag or variable (e.g. `--shard`, `SLURM_ARRAY_TASK_ID`).
+        what: String,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
+    /// Shard outputs that do not make one complete run.
+    #[error("cannot merge: {0}")]
+    Merge(String),
+    /// A sweep specification that cannot be expanded.
+    #[error("--vary `{spec}`: {message}")]
+    Sweep {
+        /// The `--vary` argument.
+        spec: String,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
+}
+
+/// An I/O error naming the file.
+pub(crate) fn io(path: &std::path::Path, e: impl std::fmt::Display) -> BatchError {
+    BatchError::Io {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    }
+}

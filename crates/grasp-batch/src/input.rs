@@ -1,0 +1,187 @@
+//! Reading the scenes of a batch: a JSONL file (one scene per line, `{"id": ..., "scene":
+//! {...}}` with an optional `"vary"` note, or a bare scene whose id is `line-<n>`) or a folder
+//! of `*.json` scene files (id: the file name without `.json`, in name order). Blank lines are
+//! skipped (they have no position). A line that is not a usable scene is kept as the problems
+//! found in it.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+
+use grasp_model::json_input::{from_str_strict, StrictValue};
+use grasp_model::{Scene, SceneProblem};
+use serde_json::Value;
+
+use crate::error::{io, BatchError};
+
+/// Where the scenes are.
+#[derive(Debug, Clone)]
+pub enum BatchInput {
+    /// A JSONL file.
+    Jsonl(PathBuf),
+    /// The scene files of a folder, sorted by name.
+    Folder(Vec<PathBuf>),
+    /// JSONL lines in memory (a sweep run directly).
+    Lines(Vec<String>),
+}
+
+/// One scene of the input.
+#[derive(Debug, Clone)]
+pub struct SceneLine {
+    /// Position in the input (0-based, blank lines not counted).
+    pub index: usize,
+    /// The scene's id.
+    pub id: String,
+    /// The `"vary"` note of a sweep variant (carried into the result).
+    pub vary: Option<Value>,
+    /// The scene, or every problem found in it.
+    pub scene: Result<Scene, Vec<SceneProblem>>,
+}
+
+impl BatchInput {
+    /// A JSONL file or a folder.
+    pub fn open(path: &Path) -> Result<BatchInput, BatchError> {
+        let meta = std::fs::metadata(path).map_err(|e| io(path, e))?;
+        if meta.is_dir() {
+            let mut files: Vec<PathBuf> = std::fs::read_dir(path)
+                .map_err(|e| io(path, e))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "json") && p.is_file())
+                .collect();
+            files.sort();
+            Ok(BatchInput::Folder(files))
+        } else if meta.is_file() {
+            Ok(BatchInput::Jsonl(path.to_path_buf()))
+        } else {
+            Err(io(
+                path,
+                "is neither a JSONL file nor a folder of scene files",
+            ))
+        }
+    }
+
+    /// Visits every scene in order; `wanted(index, id)` decides which are parsed (the others
+    /// are passed over cheaply: a shard, a resumed run). Returns the number of scenes.
+    pub fn for_each(
+        &self,
+        wanted: &dyn Fn(usize) -> bool,
+        visit: &mut dyn FnMut(SceneLine) -> Result<(), BatchError>,
+    ) -> Result<usize, BatchError> {
+        match self {
+            BatchInput::Jsonl(path) => {
+                let file = std::fs::File::open(path).map_err(|e| io(path, e))?;
+                let mut index = 0;
+                for (n, line) in BufReader::new(file).lines().enumerate() {
+                    let line = line.map_err(|e| io(path, format!("line {}: {e}", n + 1)))?;
+                    if line.trim().is_empty() {
+                        continue;
+                    }
+                    if wanted(index) {
+                        visit(parse_line(index, n + 1, &line))?;
+                    }
+                    index += 1;
+                }
+                Ok(index)
+            }
+            BatchInput::Lines(lines) => {
+                let mut index = 0;
+                for (n, line) in lines.iter().enumerate() {
+                    if line.trim().is_empty() {
+                        continue;
+                    }
+                    if wanted(index) {
+                        visit(parse_line(index, n + 1, line))?;
+                    }
+                    index += 1;
+                }
+                Ok(index)
+            }
+            BatchInput::Folder(files) => {
+                for (index, f) in files.iter().enumerate() {
+                    if wanted(index) {
+                        let id = f
+                            .file_stem()
+                            .map(|s| s.to_string_lossy().into_owned())
+                            .unwrap_or_default();
+                        let scene = std::fs::read_to_string(f)
+                            .map_err(|e| {
+                                vec![problem(".", &format!("cannot read {}: {e}", f.display()))]
+                            })
+                            .and_then(|t| Scene::from_json_str(&t).map_err(|e| e.problems()));
+                        visit(SceneLine {
+                            index,
+                            id,
+                            vary: None,
+                            scene,
+                        })?;
+                    }
+                }
+                Ok(files.len())
+            }
+        }
+    }
+}
+
+fn problem(path: &str, message: &str) -> SceneProblem {
+    SceneProblem {
+        path: path.into(),
+        message: message.into(),
+        fix: "write one scene per line: {\"id\": \"...\", \"scene\": {...}} or a bare scene".into(),
+    }
+}
+
+/// One JSONL line (`number` 1-based, for the default id).
+fn parse_line(index: usize, number: usize, line: &str) -> SceneLine {
+    let default_id = format!("line-{number}");
+    let value = match from_str_strict::<StrictValue>(line) {
+        Ok(StrictValue(v)) => v,
+        Err(e) => {
+            return SceneLine {
+                index,
+                id: default_id,
+                vary: None,
+                scene: Err(vec![problem(&e.path, &e.message)]),
+            }
+        }
+    };
+    let Some(obj) = value.as_object().filter(|o| o.contains_key("scene")) else {
+        // A bare scene.
+        let scene = Scene::from_json_str(line).map_err(|e| e.problems());
+        return SceneLine {
+            index,
+            id: default_id,
+            vary: None,
+            scene,
+        };
+    };
+    let id = match obj.get("id") {
+        Some(Value::String(s)) => s.clone(),
+        Some(Value::Number(n)) => n.to_string(),
+        _ => default_id,
+    };
+    let unknown: Vec<&String> = obj
+        .keys()
+        .filter(|k| !["id", "scene", "vary"].contains(&k.as_str()))
+        .collect();
+    let scene = if let Some(k) = unknown.first() {
+        Err(vec![problem(
+            k,
+            "unknown key of a batch line (id, scene, vary)",
+        )])
+    } else {
+        Scene::from_json_str(&obj["scene"].to_string()).map_err(|e| {
+            e.problems()
+                .into_iter()
+                .map(|p| SceneProblem {
+                    path: format!("scene.{}", p.path),
+                    ..p
+                })
+                .collect()
+        })
+    };
+    SceneLine {
+        index,
+        id,
+        vary: obj.get("vary").cloned(),
+        scene,
+    }
+}

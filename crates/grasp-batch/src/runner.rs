@@ -1,0 +1,202 @@
+//! Running a batch: the scenes of one shard, a chunk at a time, each chunk solved in parallel
+//! on a pool of `threads` workers and written in input order (so the output is the same for any
+//! number of threads, times apart), flushed after every chunk (a crashed run keeps what it
+//! wrote and resumes from there).
+
+use std::collections::HashSet;
+use std::io::Write;
+use std::time::Instant;
+
+use grasp_model::work_bounds::estimate_memory_bytes;
+use grasp_model::{GraspModel, GraspSolver, SceneProblem, SolveOptions};
+use rayon::prelude::*;
+
+use crate::error::{io, BatchError};
+use crate::input::{BatchInput, SceneLine};
+use crate::result_line::{Problem, ResultLine, ResultStatus};
+use crate::shard::Shard;
+
+/// Options of a batch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BatchOptions {
+    /// Options of each solve.
+    pub solve: SolveOptions,
+    /// Worker threads; 0: one per core.
+    pub threads: usize,
+    /// The part of the input this run takes.
+    pub shard: Shard,
+    /// Scenes whose memory estimate exceeds this many bytes are refused (an `invalid` line).
+    pub max_memory_bytes: u64,
+    /// Scenes solved between two writes of the output.
+    pub chunk: usize,
+}
+
+impl Default for BatchOptions {
+    fn default() -> Self {
+        BatchOptions {
+            solve: SolveOptions::default(),
+            threads: 0,
+            shard: Shard::ALL,
+            max_memory_bytes: u64::MAX,
+            chunk: 256,
+        }
+    }
+}
+
+/// What a batch did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BatchSummary {
+    /// Scenes in the whole input.
+    pub scenes: usize,
+    /// Scenes of this shard.
+    pub in_shard: usize,
+    /// Scenes of this shard skipped because their id was already in the output.
+    pub resumed: usize,
+    /// Lines written, by outcome.
+    pub solved: usize,
+    /// See [`ResultStatus::NoEquilibrium`].
+    pub no_equilibrium: usize,
+    /// See [`ResultStatus::NoConvergence`].
+    pub no_convergence: usize,
+    /// See [`ResultStatus::Invalid`].
+    pub invalid: usize,
+    /// Sum of the scenes' solve times, s.
+    pub solve_time_s: f64,
+    /// Wall time of the run, s.
+    pub wall_time_s: f64,
+}
+
+impl BatchSummary {
+    fn count(&mut self, line: &ResultLine) {
+        match line.status {
+            ResultStatus::Solved | ResultStatus::ReducedAccuracy => self.solved += 1,
+            ResultStatus::NoEquilibrium => self.no_equilibrium += 1,
+            ResultStatus::NoConvergence => self.no_convergence += 1,
+            ResultStatus::Invalid => self.invalid += 1,
+        }
+        self.solve_time_s += line.time_s;
+    }
+}
+
+fn problems(p: Vec<SceneProblem>) -> Vec<Problem> {
+    p.into_iter()
+        .map(|p| Problem {
+            path: p.path,
+            message: p.message,
+            fix: p.fix,
+        })
+        .collect()
+}
+
+/// Solves one scene into its line.
+pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultLine {
+    let SceneLine {
+        index,
+        id,
+        vary,
+        scene,
+    } = line;
+    let mut out = match scene {
+        Err(p) => ResultLine::invalid(id, index, of, problems(p)),
+        Ok(scene) => {
+            let bytes = estimate_memory_bytes(&scene);
+            if bytes > options.max_memory_bytes {
+                let p = Problem {
+                    path: "fingers".into(),
+                    message: format!(
+                        "the patch grids need about {} MiB, over the limit of {} MiB",
+                        bytes >> 20,
+                        options.max_memory_bytes >> 20
+                    ),
+                    fix: "use coarser patch grids or raise --max-memory".into(),
+                };
+                ResultLine::invalid(id, index, of, vec![p])
+            } else {
+                let clock = Instant::now();
+                match GraspModel::from_validated_scene(&scene) {
+                    Err(e) => ResultLine::invalid(id, index, of, problems(e.problems())),
+                    Ok(model) => {
+                        let mut solver = GraspSolver::new(&model, options.solve);
+                        match solver.solve(&model, &model.scene_loads_n()) {
+                            Ok(sol) => {
+                                let t = clock.elapsed().as_secs_f64();
+                                ResultLine::of_solution(id, index, of, &sol, t)
+                            }
+                            Err(e) => {
+                                let mut l = ResultLine::invalid(id, index, of, Vec::new());
+                                l.status = ResultStatus::NoConvergence;
+                                l.reason = Some(e.to_string());
+                                l.time_s = clock.elapsed().as_secs_f64();
+                                l
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    };
+    out.vary = vary;
+    out
+}
+
+/// Runs the shard of `input` given in `options`, skipping the ids in `done` (a resumed run),
+/// writing one line per scene to `out` (named `out_name` in errors) in input order;
+/// `progress(n)` is called with the number of lines written so far.
+pub fn run_batch(
+    input: &BatchInput,
+    done: &HashSet<String>,
+    options: &BatchOptions,
+    (out, out_name): (&mut dyn Write, &std::path::Path),
+    progress: &mut dyn FnMut(usize),
+) -> Result<BatchSummary, BatchError> {
+    let clock = Instant::now();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.threads)
+        .build()
+        .map_err(|e| BatchError::Usage {
+            what: "--jobs".into(),
+            message: format!("cannot start the worker threads: {e}"),
+        })?;
+    let mut summary = BatchSummary {
+        scenes: input.for_each(&|_| false, &mut |_| Ok(()))?,
+        ..BatchSummary::default()
+    };
+    let of = summary.scenes;
+    let chunk = options.chunk.max(1);
+    let mut pending: Vec<SceneLine> = Vec::with_capacity(chunk);
+    let mut written = 0;
+    let mut flush = |pending: &mut Vec<SceneLine>, summary: &mut BatchSummary| {
+        let lines: Vec<ResultLine> = pool.install(|| {
+            std::mem::take(pending)
+                .into_par_iter()
+                .map(|l| solve_line(l, of, options))
+                .collect()
+        });
+        for line in &lines {
+            summary.count(line);
+            let text = serde_json::to_string(line).map_err(|e| io(out_name, e))?;
+            writeln!(out, "{text}").map_err(|e| io(out_name, e))?;
+        }
+        out.flush().map_err(|e| io(out_name, e))?;
+        written += lines.len();
+        progress(written);
+        Ok::<(), BatchError>(())
+    };
+    input.for_each(&|i| options.shard.takes(i), &mut |line| {
+        summary.in_shard += 1;
+        if done.contains(&line.id) {
+            summary.resumed += 1;
+            return Ok(());
+        }
+        pending.push(line);
+        if pending.len() >= chunk {
+            flush(&mut pending, &mut summary)?;
+        }
+        Ok(())
+    })?;
+    if !pending.is_empty() {
+        flush(&mut pending, &mut summary)?;
+    }
+    summary.wall_time_s = clock.elapsed().as_secs_f64();
+    Ok(summary)
+}
