@@ -25,7 +25,7 @@ use crate::backend::ProgramSolver;
 use crate::cone_program::BlockCone;
 use crate::error::ModelError;
 use crate::grasp_model::GraspModel;
-use crate::native::kkt_derivative::{kkt_derivative, state_margins};
+use crate::native::kkt_derivative::kkt_derivative;
 use crate::sequential::mu_at;
 use crate::solution::Solution;
 
@@ -245,7 +245,6 @@ pub(crate) fn sensitivities(
     let (native, program) = ps.native_workspace(model);
     let deriv = kkt_derivative(native.blocks(), program, &iterate, &mu, &rhs, near)
         .map_err(ModelError::Derivative)?;
-    let margins = state_margins(native.blocks(), program, &iterate, &mu);
     for ((p, _), &u) in params.iter_mut().zip(&deriv.unreachable) {
         if p.defined && deriv.ambiguous {
             p.defined = false;
@@ -278,7 +277,7 @@ pub(crate) fn sensitivities(
         .iter()
         .map(|f| finger_sensitivity(f, params.len(), &dx))
         .collect();
-    let near_changes = near_changes(model, &margins, scale);
+    let near_changes = near_changes(model, &deriv.margins, scale);
     Ok(Sensitivities {
         parameters: params.into_iter().map(|(p, _)| p).collect(),
         fingers,

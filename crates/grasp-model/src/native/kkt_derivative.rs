@@ -51,6 +51,8 @@ pub(crate) struct KktDerivative {
     /// (slide as a whole) with no change of equilibrium, and the linearisation cannot tell the
     /// forces' derivative.
     pub ambiguous: bool,
+    /// Per finger, per element: how close the element is to a change of state.
+    pub margins: Vec<Vec<StateMargin>>,
 }
 
 /// Relative size of the force change along an undetermined multiplier direction above which
@@ -201,19 +203,24 @@ pub(crate) fn kkt_derivative(
     let y = dual_of(blocks, program, &iterate.x, &iterate.lambda);
     let m = rhs.nrows();
     let mut systems = Vec::with_capacity(blocks.len());
+    let mut margins = Vec::with_capacity(blocks.len());
     let mut s = DMatrix::<f64>::zeros(m, m);
     for ((block, pb), &mu_i) in blocks.iter().zip(&program.blocks).zip(mu) {
         let range = block.offset..block.offset + block.len();
         let (x, yl) = (&iterate.x[range.clone()], &y[range]);
         let cone = differentiation_cone(block, &pb.cone, x, mu_i);
         let lin = linearise(block, &cone, x, yl);
-        let pinned: Vec<bool> = (0..block.elements)
-            .map(|k| {
-                let v = projection_input(block, x, yl, k);
-                let margin = element_margin(&cone, v, block.dim, k);
+        let finger_margins: Vec<StateMargin> = (0..block.elements)
+            .map(|k| element_margin(&cone, projection_input(block, x, yl, k), block.dim, k))
+            .collect();
+        let pinned: Vec<bool> = finger_margins
+            .iter()
+            .enumerate()
+            .map(|(k, margin)| {
                 block.gather(x, k)[0] <= near && margin.distance <= near && !margin.stick_slip
             })
             .collect();
+        margins.push(finger_margins);
         let sys = finger_system(block, free_columns(block, &cone, &lin, mu_i, &pinned));
         for r in 0..m {
             for c in 0..m {
@@ -263,6 +270,7 @@ pub(crate) fn kkt_derivative(
         dx,
         unreachable,
         ambiguous,
+        margins,
     })
 }
 
@@ -304,29 +312,6 @@ fn solve_schur(s: DMatrix<f64>, rhs: &DMatrix<f64>) -> SchurSolution {
         .map(|j| (0..m).map(|r| vt[(j, r)]).collect())
         .collect();
     (out, unreachable, null)
-}
-
-/// How close each element of each finger is to a change of state, at `iterate`.
-pub(crate) fn state_margins(
-    blocks: &[FingerBlockData],
-    program: &ConeProgram,
-    iterate: &Iterate,
-    mu: &[f64],
-) -> Vec<Vec<StateMargin>> {
-    let y = dual_of(blocks, program, &iterate.x, &iterate.lambda);
-    blocks
-        .iter()
-        .zip(&program.blocks)
-        .zip(mu)
-        .map(|((block, pb), &mu_i)| {
-            let range = block.offset..block.offset + block.len();
-            let (x, yl) = (&iterate.x[range.clone()], &y[range]);
-            let cone = differentiation_cone(block, &pb.cone, x, mu_i);
-            (0..block.elements)
-                .map(|k| element_margin(&cone, projection_input(block, x, yl, k), block.dim, k))
-                .collect()
-        })
-        .collect()
 }
 
 /// Distance of the projection input `v` of element `k` from the boundaries between the pieces
