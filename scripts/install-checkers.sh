@@ -1,12 +1,22 @@
 #!/usr/bin/env bash
-# Installs the independent checkers the tests call: the `rerun` CLI from the Python package
-# rerun-sdk==0.36.3 (same version as the Rust SDK we write with), in $HOME/.cache/grasp-venv.
+# Installs what the tests call besides Rust, in the virtualenv $HOME/.cache/grasp-venv:
+# - the `rerun` CLI from rerun-sdk==0.36.3 (same version as the Rust SDK we write with), the
+#   independent checker of our recordings and MCAP files;
+# - pytest (the Python package's tests) and Ray (the distributed example, run on a local
+#   runtime). NumPy comes with rerun-sdk.
 set -euo pipefail
 venv="$HOME/.cache/grasp-venv"
-want="0.36.3"
-if [ -x "$venv/bin/rerun" ] && CI=1 "$venv/bin/python" -c "import rerun, sys; sys.exit(0 if rerun.__version__ == '$want' else 1)" 2>/dev/null; then
+want_rerun="0.36.3" want_pytest="9.2.0" want_ray="2.40.0"
+if [ -x "$venv/bin/rerun" ] && CI=1 "$venv/bin/python" - "$want_rerun" "$want_pytest" "$want_ray" 2>/dev/null <<'PY'
+import sys
+from importlib.metadata import version
+want = dict(zip(["rerun-sdk", "pytest", "ray"], sys.argv[1:]))
+sys.exit(0 if all(version(k) == v for k, v in want.items()) else 1)
+PY
+then
   exit 0
 fi
-python3 -m venv "$venv"
-"$venv/bin/pip" install --quiet --disable-pip-version-check "rerun-sdk==$want"
+[ -x "$venv/bin/pip" ] || python3 -m venv "$venv"
+"$venv/bin/pip" install --quiet --disable-pip-version-check \
+  "rerun-sdk==$want_rerun" "pytest==$want_pytest" "ray==$want_ray"
 CI=1 "$venv/bin/rerun" --version

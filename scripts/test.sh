@@ -3,7 +3,10 @@
 # 1. installs the independent checker (Python package rerun-sdk==0.36.3, for `rerun rrd verify`
 #    and `rerun mcap check`) into a cached virtualenv;
 # 2. checks formatting and lints (clippy), builds and tests the workspace in the release profile (the only profile
-#    built, shared with `cargo run --release`; CARGO_TARGET_DIR is honoured).
+#    built, shared with `cargo run --release`; CARGO_TARGET_DIR is honoured);
+# 3. installs the Python package from this checkout with the README's command (`pip install .`, in the
+#    virtualenv; maturin builds in the same target folder and profile) and runs its pytest tests, the Ray
+#    example on a local runtime and the Slurm scripts included.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-checkers.sh
@@ -14,8 +17,16 @@ cargo clippy --release --workspace --all-targets -- -D warnings
 log="$(mktemp)"
 trap 'rm -f "$log"' EXIT
 status=0
-cargo test --release --workspace --lib --bins --tests --no-fail-fast -- --show-output 2>&1 | tee "$log" || status=$?
-# One closing line with the totals over every test binary.
+# grasp-py is an extension module (it links against the interpreter that loads it), so it has no Rust test
+# binary: its tests are the pytest suite below.
+cargo test --release --workspace --exclude grasp-py --lib --bins --tests --no-fail-fast -- --show-output 2>&1 | tee "$log" || status=$?
+venv="$HOME/.cache/grasp-venv"
+target="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)"
+export GRASP_BIN="$target/release/grasp"
+"$venv/bin/pip" install --quiet --disable-pip-version-check . || status=$?
+"$venv/bin/python" -m pytest tests/python -p no:cacheprovider -rs 2>&1 | tee -a "$log" || status=$?
+# One closing line with the totals over every Rust test binary and the Python tests.
 awk '/^test result:/ { for (i = 1; i <= NF; i++) { if ($i ~ /^passed/) p += $(i-1); if ($i ~ /^failed/) f += $(i-1) } }
+     /^=+ .* in [0-9.]+s/ { for (i = 1; i <= NF; i++) { if ($i ~ /^passed/) p += $(i-1); if ($i ~ /^(failed|errors?)/) f += $(i-1) } }
      END { printf "%d passed, %d failed\n", p, f }' "$log"
 exit "$status"

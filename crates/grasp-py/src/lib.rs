@@ -1,0 +1,35 @@
+//! # grasp-py: the Python module `grasp._native`
+//!
+//! The Python package `grasp` (in `python/grasp`, built by maturin from the repository root)
+//! re-exports this module: [`scene::Scene`] (a validated scene from a file, a dict or JSON
+//! text), [`solve::solve`] (one grasp, returning [`solution::Solution`] with NumPy element
+//! arrays) and [`transfer::transfer`] (a hand-off writing the CLI's MCAP, Rerun and CSV
+//! files, returning [`transfer::Transfer`] with force histories, time x finger). The GIL is
+//! released while the library computes. SI units throughout; names carry their unit.
+
+use pyo3::prelude::*;
+
+mod arrays;
+mod errors;
+mod json_value;
+mod outputs;
+mod scene;
+mod solution;
+mod solve;
+mod transfer;
+
+/// The native part of the `grasp` package.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("SceneError", py.get_type::<errors::SceneError>())?;
+    m.add("ScheduleError", py.get_type::<errors::ScheduleError>())?;
+    m.add("GraspError", py.get_type::<errors::GraspError>())?;
+    m.add_class::<scene::Scene>()?;
+    m.add_class::<solution::Solution>()?;
+    m.add_class::<transfer::Transfer>()?;
+    m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
+    m.add_function(wrap_pyfunction!(transfer::transfer, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,142 @@
+//! `grasp.Scene`: a validated scene (the JSON scene format of `grasp schema`), read from a
+//! file, a dict or JSON text. Validation runs once, here; a bad scene raises
+//! `grasp.SceneError` with every problem found.
+
+use std::path::PathBuf;
+
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+
+use crate::errors::{grasp_error, scene_error};
+
+/// A validated grasp scene (SI units: m, N, Pa).
+///
+/// `Scene(source)` takes a path (str or os.PathLike) to a scene file, a dict of the scene
+/// format, or the JSON text of one (a str whose first non-blank character is `{`).
+#[pyclass(module = "grasp", frozen)]
+pub struct Scene {
+    pub(crate) scene: grasp_model::Scene,
+    /// Where the scene came from (a path, `<dict>` or `<json>`), for messages.
+    pub(crate) origin: String,
+}
+
+#[pymethods]
+impl Scene {
+    #[new]
+    fn new(py: Python<'_>, source: &Bound<'_, PyAny>) -> PyResult<Scene> {
+        if let Ok(d) = source.downcast::<PyDict>() {
+            return Scene::from_dict(py, d);
+        }
+        if source.is_instance_of::<PyString>() {
+            let text: String = source.extract()?;
+            if text.trim_start().starts_with('{') {
+                return Scene::from_json(py, &text);
+            }
+        }
+        match source.extract::<PathBuf>() {
+            Ok(path) => Scene::from_file(py, path),
+            Err(_) => Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                "Scene(source): expected a path, a dict or JSON text, got {}",
+                source.get_type().name()?
+            ))),
+        }
+    }
+
+    /// The scene in the file at `path` (JSON).
+    #[staticmethod]
+    fn from_file(py: Python<'_>, path: PathBuf) -> PyResult<Scene> {
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            pyo3::exceptions::PyOSError::new_err(format!(
+                "cannot read scene file {}: {e}",
+                path.display()
+            ))
+        })?;
+        Scene::parse(py, &text, path.display().to_string())
+    }
+
+    /// The scene given as JSON text.
+    #[staticmethod]
+    fn from_json(py: Python<'_>, text: &str) -> PyResult<Scene> {
+        Scene::parse(py, text, "<json>".into())
+    }
+
+    /// The scene given as a dict (as `json.load` returns it).
+    #[staticmethod]
+    fn from_dict(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<Scene> {
+        let json = py.import("json")?;
+        let text: String = json.call_method1("dumps", (d,))?.extract()?;
+        Scene::parse(py, &text, "<dict>".into())
+    }
+
+    /// Finger names, scene order.
+    #[getter]
+    fn finger_names(&self) -> Vec<String> {
+        self.scene.fingers.iter().map(|f| f.name.clone()).collect()
+    }
+
+    /// The contact model the scene asks for: `"energy"` or `"coulomb"`.
+    #[getter]
+    fn model(&self) -> &'static str {
+        model_name(self.scene.model)
+    }
+
+    /// True for a planar scene.
+    #[getter]
+    fn planar(&self) -> bool {
+        self.scene.planar.is_some()
+    }
+
+    /// Where the scene came from: its path, `<dict>` or `<json>`.
+    #[getter]
+    fn origin(&self) -> &str {
+        &self.origin
+    }
+
+    /// The scene as a dict (directions normalised, as validated).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::json_value::serialize_to_py(py, &self.scene)
+    }
+
+    /// The scene as JSON text (directions normalised, as validated).
+    fn to_json(&self) -> PyResult<String> {
+        serde_json::to_string_pretty(&self.scene).map_err(grasp_error)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scene({:?}: {} fingers {}, model {})",
+            self.origin,
+            self.scene.fingers.len(),
+            self.finger_names().join(", "),
+            self.model()
+        )
+    }
+}
+
+impl Scene {
+    fn parse(py: Python<'_>, text: &str, origin: String) -> PyResult<Scene> {
+        match grasp_model::Scene::from_json_str(text) {
+            Ok(scene) => Ok(Scene { scene, origin }),
+            Err(e) => Err(scene_error(py, &origin, &e)),
+        }
+    }
+}
+
+/// The scene format's name of a model.
+pub fn model_name(m: grasp_model::scene::ModelKind) -> &'static str {
+    match m {
+        grasp_model::scene::ModelKind::Energy => "energy",
+        grasp_model::scene::ModelKind::Coulomb => "coulomb",
+    }
+}
+
+/// The model named `name` (`"energy"` or `"coulomb"`).
+pub fn parse_model(name: &str) -> PyResult<grasp_model::scene::ModelKind> {
+    match name {
+        "energy" => Ok(grasp_model::scene::ModelKind::Energy),
+        "coulomb" => Ok(grasp_model::scene::ModelKind::Coulomb),
+        other => Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "model={other:?}: choose \"energy\" or \"coulomb\""
+        ))),
+    }
+}

@@ -1,0 +1,262 @@
+//! `grasp.Solution`: the answer of one solve. Scalars and per-finger resultants as Python
+//! values (the CLI's JSON field names), element fields as NumPy arrays over all elements of
+//! all fingers, scene order then row-major within a patch. Arrays are made when asked for.
+
+use grasp_model::{ElementState, FingerSolution};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::{float_array, int_array, str_array};
+use crate::json_value::serialize_to_py;
+
+/// The answer of one solve (SI units). Solver outcomes are its `status`, never exceptions:
+/// `"solved"`, `"reduced_accuracy"`, `"no_equilibrium"` (the fingers cannot hold the object;
+/// `reason` says why) or `"no_convergence"`.
+#[pyclass(module = "grasp", frozen)]
+pub struct Solution {
+    pub(crate) solution: grasp_model::Solution,
+    /// Unit tangents `(t1, t2)` of each finger of `solution.fingers`, world frame.
+    pub(crate) tangents: Vec<([f64; 3], [f64; 3])>,
+    /// Time to build the model from the scene (influence matrices), s.
+    pub(crate) build_time_s: f64,
+}
+
+#[pymethods]
+impl Solution {
+    /// `"solved"`, `"reduced_accuracy"`, `"no_equilibrium"` or `"no_convergence"`.
+    #[getter]
+    fn status(&self) -> String {
+        serde_json::to_value(self.solution.status)
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_string))
+            .unwrap_or_default()
+    }
+
+    /// True when the solution carries forces (solved, or solved to reduced accuracy).
+    #[getter]
+    fn has_forces(&self) -> bool {
+        self.solution.status.has_forces()
+    }
+
+    /// Why, when the status is not `"solved"` (else None).
+    #[getter]
+    fn reason(&self) -> Option<String> {
+        self.solution.reason.clone()
+    }
+
+    /// Things to know about an otherwise valid answer (undersized patches, ...).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.solution.warnings.clone()
+    }
+
+    /// Finger names of the element arrays' `finger` index, scene order.
+    #[getter]
+    fn finger_names(&self) -> Vec<String> {
+        self.solution
+            .fingers
+            .iter()
+            .map(|f| f.name.clone())
+            .collect()
+    }
+
+    /// Per-finger resultants, scene order: dicts with `name`, `normal_force_n`,
+    /// `tangential_force_n` (world, N), `torsional_moment_nm`, `center_of_pressure_m`,
+    /// `contact_area_m2`, `friction_utilization`, `stick_count`, ... (the CLI's JSON fields,
+    /// without the element list; see the element arrays).
+    #[getter]
+    fn fingers<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyAny>>> {
+        self.solution
+            .fingers
+            .iter()
+            .map(|f| {
+                let d = serialize_to_py(py, f)?;
+                d.downcast::<PyDict>()?.del_item("elements")?;
+                Ok(d)
+            })
+            .collect()
+    }
+
+    /// Each finger's total normal force `P_i`, N, shape `(F,)`, in `finger_names` order.
+    #[getter]
+    fn finger_normal_forces_n<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let v: Vec<f64> = self
+            .solution
+            .fingers
+            .iter()
+            .map(|f| f.normal_force_n)
+            .collect();
+        float_array(py, &v, &[v.len()])
+    }
+
+    /// Residuals computed from the solution (dict of relative and absolute residuals), or
+    /// None without forces.
+    #[getter]
+    fn residuals<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        serialize_to_py(py, &self.solution.residuals)
+    }
+
+    /// Solver statistics: `solver` (`"native"` or `"clarabel"`), `fallback`, `iterations`,
+    /// `factorizations`, `solver_time_s`, `unknowns`, `equality_rows`, `cone_rows`.
+    #[getter]
+    fn solver<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        serialize_to_py(py, &self.solution.solver)
+    }
+
+    /// The sequential (fixed-point) solve's report, or None for one convex program.
+    #[getter]
+    fn sequential<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        serialize_to_py(py, &self.solution.sequential)
+    }
+
+    /// Load scale that normalises the residuals, N.
+    #[getter]
+    fn load_scale_n(&self) -> f64 {
+        self.solution.load_scale_n
+    }
+
+    /// Wall time of the solve (program assembly, solver, readout), s.
+    #[getter]
+    fn solve_time_s(&self) -> f64 {
+        self.solution.solve_time_s
+    }
+
+    /// Time to build the model from the scene (influence matrices), s.
+    #[getter]
+    fn build_time_s(&self) -> f64 {
+        self.build_time_s
+    }
+
+    /// Index into `finger_names` of each element, shape `(N,)`.
+    #[getter]
+    fn finger<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let v: Vec<i64> = self.per_finger(|i, _| i as i64);
+        int_array(py, &v, &[v.len()])
+    }
+
+    /// Element centres, world frame, m, shape `(N, 3)`.
+    #[getter]
+    fn positions_m<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.vectors(py, |_, e| e.position_m)
+    }
+
+    /// Element normal forces `F_k` along the finger's inward normal, N, shape `(N,)`.
+    #[getter]
+    fn normal_forces_n<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.scalars(py, |e| e.normal_force_n)
+    }
+
+    /// Element friction forces `G_k`, world frame, N, shape `(N, 3)`.
+    #[getter]
+    fn tangential_forces_n<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.vectors(py, |(t1, t2), e| {
+            let g = e.tangential_force_n;
+            std::array::from_fn(|a| g[0] * t1[a] + g[1] * t2[a])
+        })
+    }
+
+    /// Element friction forces along the finger's `[t1, t2]`, N, shape `(N, 2)`.
+    #[getter]
+    fn tangential_forces_local_n<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let v: Vec<f64> = self.flat(|e| e.tangential_force_n.to_vec());
+        float_array(py, &v, &[v.len() / 2, 2])
+    }
+
+    /// Element mean pressures `F_k / A`, Pa, shape `(N,)`.
+    #[getter]
+    fn pressures_pa<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.scalars(py, |e| e.pressure_pa)
+    }
+
+    /// Element gaps after loading, m, shape `(N,)`.
+    #[getter]
+    fn gaps_m<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.scalars(py, |e| e.gap_m)
+    }
+
+    /// Element slips along `[t1, t2]`, m, shape `(N, 2)` (coulomb: accumulated).
+    #[getter]
+    fn slips_m<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let v: Vec<f64> = self.flat(|e| e.slip_m.to_vec());
+        float_array(py, &v, &[v.len() / 2, 2])
+    }
+
+    /// Element states `"stick"`, `"slip"` or `"separated"`, shape `(N,)`.
+    #[getter]
+    fn states<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let v: Vec<&str> = self.per_finger(|_, e| match e.state {
+            ElementState::Stick => "stick",
+            ElementState::Slip => "slip",
+            ElementState::Separated => "separated",
+        });
+        str_array(py, &v)
+    }
+
+    /// The whole solution as a dict, field for field the JSON of `grasp solve --json`.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        serialize_to_py(py, &self.solution)
+    }
+
+    /// The whole solution as JSON text, the same as `grasp solve --json` writes.
+    fn to_json(&self) -> PyResult<String> {
+        serde_json::to_string_pretty(&self.solution).map_err(crate::errors::grasp_error)
+    }
+
+    fn __repr__(&self) -> String {
+        let forces: Vec<String> = self
+            .solution
+            .fingers
+            .iter()
+            .map(|f| format!("{} {:.6} N", f.name, f.normal_force_n))
+            .collect();
+        format!("Solution({}: {})", self.status(), forces.join(", "))
+    }
+}
+
+type Element = grasp_model::solution::ElementSolution;
+type Tangents = ([f64; 3], [f64; 3]);
+
+impl Solution {
+    fn fingers_with_tangents(&self) -> impl Iterator<Item = (usize, &FingerSolution, &Tangents)> {
+        self.solution
+            .fingers
+            .iter()
+            .zip(&self.tangents)
+            .enumerate()
+            .map(|(i, (f, t))| (i, f, t))
+    }
+
+    /// `f(finger index, element)` over every element, scene order.
+    fn per_finger<T>(&self, f: impl Fn(usize, &Element) -> T) -> Vec<T> {
+        self.fingers_with_tangents()
+            .flat_map(|(i, fs, _)| fs.elements.iter().map(move |e| (i, e)))
+            .map(|(i, e)| f(i, e))
+            .collect()
+    }
+
+    fn flat(&self, f: impl Fn(&Element) -> Vec<f64>) -> Vec<f64> {
+        self.per_finger(|_, e| f(e)).concat()
+    }
+
+    fn scalars<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&Element) -> f64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let v = self.per_finger(|_, e| f(e));
+        float_array(py, &v, &[v.len()])
+    }
+
+    fn vectors<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&Tangents, &Element) -> [f64; 3],
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let f = &f;
+        let v: Vec<f64> = self
+            .fingers_with_tangents()
+            .flat_map(|(_, fs, t)| fs.elements.iter().flat_map(move |e| f(t, e)))
+            .collect();
+        float_array(py, &v, &[v.len() / 3, 3])
+    }
+}

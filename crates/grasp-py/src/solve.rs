@@ -1,0 +1,104 @@
+//! `grasp.solve`: one grasp, solved by the library exactly as `grasp solve` does (model
+//! from the scene, a fresh solver, the scene's loads), with the GIL released meanwhile.
+
+use std::str::FromStr;
+use std::time::Instant;
+
+use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice};
+use pyo3::prelude::*;
+
+use crate::errors::{grasp_error, scene_error};
+use crate::scene::{parse_model, Scene};
+use crate::solution::Solution;
+
+/// Solves `scene` and returns its `Solution` (thesis chapter 3: minimum complementary energy
+/// over the friction cones; `model="coulomb"`: the sequential Tresca fixed point of
+/// model.md).
+///
+/// - `model`: `"energy"` or `"coulomb"`; default: the scene's own `model`.
+/// - `solver`: `"auto"` (native, falling back to Clarabel), `"native"` or `"clarabel"`.
+/// - `tolerance`: relative tolerance of the scaled program, in (0, 1e-2).
+///
+/// A grasp without equilibrium is a solution with status `"no_equilibrium"`, not an
+/// exception. The GIL is released while the model is built and solved.
+#[pyfunction]
+#[pyo3(signature = (scene, *, model=None, solver="auto", tolerance=1e-10))]
+pub fn solve(
+    py: Python<'_>,
+    scene: &Scene,
+    model: Option<&str>,
+    solver: &str,
+    tolerance: f64,
+) -> PyResult<Solution> {
+    let options = solve_options(solver, tolerance)?;
+    let scene_used = match model {
+        Some(m) => {
+            let mut s = scene.scene.clone();
+            s.model = parse_model(m)?;
+            s.validate()
+                .map_err(|e| scene_error(py, &scene.origin, &e))?;
+            s
+        }
+        None => scene.scene.clone(),
+    };
+    let outcome = py.allow_threads(|| solve_scene(&scene_used, options));
+    match outcome {
+        Ok(s) => Ok(s),
+        Err(Failure::Scene(e)) => Err(scene_error(py, &scene.origin, &e)),
+        Err(Failure::Model(e)) => Err(grasp_error(e)),
+    }
+}
+
+/// The options of `solver` and `tolerance`, or a ValueError naming the argument.
+pub fn solve_options(solver: &str, tolerance: f64) -> PyResult<SolveOptions> {
+    let choice = SolverChoice::from_str(solver)
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(format!("solver={solver:?}: {e}")))?;
+    if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1e-2) {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "tolerance={tolerance}: give a value in (0, 1e-2), e.g. 1e-10"
+        )));
+    }
+    Ok(SolveOptions {
+        solver: choice,
+        tolerance,
+        ..SolveOptions::default()
+    })
+}
+
+enum Failure {
+    Scene(grasp_model::SceneError),
+    Model(grasp_model::ModelError),
+}
+
+/// Model, solver, solve: the path of `grasp solve` (no Python objects touched).
+fn solve_scene(scene: &grasp_model::Scene, options: SolveOptions) -> Result<Solution, Failure> {
+    let t0 = Instant::now();
+    let model = GraspModel::from_scene(scene).map_err(Failure::Scene)?;
+    let build_time_s = t0.elapsed().as_secs_f64();
+    let mut solver = GraspSolver::new(&model, options);
+    let solution = solver
+        .solve(&model, &model.scene_loads_n())
+        .map_err(Failure::Model)?;
+    let tangents = solution
+        .fingers
+        .iter()
+        .map(|f| tangents_of(&model, &f.name))
+        .collect();
+    Ok(Solution {
+        solution,
+        tangents,
+        build_time_s,
+    })
+}
+
+/// The unit tangents `(t1, t2)` of finger `name`, world frame.
+fn tangents_of(model: &GraspModel, name: &str) -> ([f64; 3], [f64; 3]) {
+    let arr = |v: &nalgebra::Vector3<f64>| [v.x, v.y, v.z];
+    model
+        .fingers
+        .iter()
+        .find(|f| f.name == name)
+        .map_or(([0.0; 3], [0.0; 3]), |f| {
+            (arr(&f.frame.t1), arr(&f.frame.t2))
+        })
+}

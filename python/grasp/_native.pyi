@@ -1,0 +1,163 @@
+"""Type stubs of the native module (``grasp._native``); see the package docstring."""
+
+import os
+from typing import Any, Literal, Optional, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+Model = Literal["energy", "coulomb"]
+SolverName = Literal["auto", "native", "clarabel"]
+Source = Union[str, "os.PathLike[str]", dict]
+
+class SceneError(ValueError):
+    """A scene that cannot be used; ``problems``: list of {path, message, fix}."""
+
+    problems: list[dict[str, str]]
+
+class ScheduleError(ValueError):
+    """A load schedule that cannot be used; ``problems``: list of {path, message, fix}."""
+
+    problems: list[dict[str, str]]
+
+class GraspError(RuntimeError):
+    """A refused request that is not a scene or schedule problem."""
+
+class Scene:
+    """A validated grasp scene (SI units). ``Scene(source)``: a path, a dict, or JSON text."""
+
+    def __init__(self, source: Source) -> None: ...
+    @staticmethod
+    def from_file(path: Union[str, "os.PathLike[str]"]) -> "Scene": ...
+    @staticmethod
+    def from_json(text: str) -> "Scene": ...
+    @staticmethod
+    def from_dict(d: dict) -> "Scene": ...
+    @property
+    def finger_names(self) -> list[str]: ...
+    @property
+    def model(self) -> Model: ...
+    @property
+    def planar(self) -> bool: ...
+    @property
+    def origin(self) -> str: ...
+    def to_dict(self) -> dict[str, Any]: ...
+    def to_json(self) -> str: ...
+
+class Solution:
+    """The answer of one solve; element arrays over all fingers, scene order."""
+
+    @property
+    def status(self) -> Literal["solved", "reduced_accuracy", "no_equilibrium", "no_convergence"]: ...
+    @property
+    def has_forces(self) -> bool: ...
+    @property
+    def reason(self) -> Optional[str]: ...
+    @property
+    def warnings(self) -> list[str]: ...
+    @property
+    def finger_names(self) -> list[str]: ...
+    @property
+    def fingers(self) -> list[dict[str, Any]]:
+        """Per-finger resultants (N, N m, m, m^2), the CLI's JSON fields without elements."""
+    @property
+    def finger_normal_forces_n(self) -> npt.NDArray[np.float64]:
+        """Finger normal forces P_i, N, shape (F,)."""
+    @property
+    def residuals(self) -> Optional[dict[str, float]]: ...
+    @property
+    def solver(self) -> dict[str, Any]: ...
+    @property
+    def sequential(self) -> Optional[dict[str, Any]]: ...
+    @property
+    def load_scale_n(self) -> float: ...
+    @property
+    def solve_time_s(self) -> float: ...
+    @property
+    def build_time_s(self) -> float: ...
+    @property
+    def finger(self) -> npt.NDArray[np.int64]:
+        """Index into finger_names of each element, shape (N,)."""
+    @property
+    def positions_m(self) -> npt.NDArray[np.float64]:
+        """Element centres, world frame, m, shape (N, 3)."""
+    @property
+    def normal_forces_n(self) -> npt.NDArray[np.float64]:
+        """Element normal forces F_k, N, shape (N,)."""
+    @property
+    def tangential_forces_n(self) -> npt.NDArray[np.float64]:
+        """Element friction forces G_k, world frame, N, shape (N, 3)."""
+    @property
+    def tangential_forces_local_n(self) -> npt.NDArray[np.float64]:
+        """Element friction forces along [t1, t2], N, shape (N, 2)."""
+    @property
+    def pressures_pa(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def gaps_m(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def slips_m(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def states(self) -> npt.NDArray[np.str_]:
+        """"stick", "slip" or "separated", shape (N,)."""
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON of ``grasp solve --json``, as a dict."""
+    def to_json(self) -> str: ...
+
+class Transfer:
+    """A hand-off's force histories, time x finger (SI units)."""
+
+    @property
+    def finger_names(self) -> list[str]: ...
+    @property
+    def times_s(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def normal_forces_n(self) -> npt.NDArray[np.float64]:
+        """Finger normal forces P_i, N, shape (T, F)."""
+    @property
+    def tangential_forces_n(self) -> npt.NDArray[np.float64]:
+        """Finger friction forces Q_i, world frame, N, shape (T, F, 3)."""
+    @property
+    def commanded_loads_n(self) -> npt.NDArray[np.float64]:
+        """Commanded normal loads, N, (T, F): NaN held, 0 released."""
+    @property
+    def external_forces_n(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def statuses(self) -> npt.NDArray[np.str_]: ...
+    @property
+    def wall_times_s(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def iterations(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def smallest_margins_n(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def summary(self) -> dict[str, Any]: ...
+    @property
+    def written(self) -> list[str]: ...
+    def step(self, index: int) -> Solution: ...
+    def __len__(self) -> int: ...
+
+def solve(
+    scene: Scene,
+    *,
+    model: Optional[Model] = None,
+    solver: SolverName = "auto",
+    tolerance: float = 1e-10,
+) -> Solution:
+    """Solves one grasp (GIL released); see the package docstring."""
+
+def transfer(
+    scene: Scene,
+    schedule: Source,
+    *,
+    mcap: Optional[Union[str, "os.PathLike[str]"]] = None,
+    rrd: Optional[Union[str, "os.PathLike[str]"]] = None,
+    csv: Optional[Union[str, "os.PathLike[str]"]] = None,
+    solver: SolverName = "auto",
+    cold: bool = False,
+    keep_going: bool = False,
+    margins: bool = False,
+    overwrite: bool = False,
+) -> Transfer:
+    """Runs a hand-off schedule (GIL released), writing the CLI's files; see the package docstring."""

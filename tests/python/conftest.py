@@ -1,0 +1,51 @@
+"""Shared fixtures of the Python tests: the repository, its example scenes, the CLI binary."""
+
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "examples"
+
+
+def scene_examples():
+    """Every example scene file (schedules excluded)."""
+    return sorted(p for p in EXAMPLES.glob("*.json") if not p.name.endswith(".schedule.json"))
+
+
+@pytest.fixture(scope="session")
+def grasp_bin():
+    """The `grasp` CLI: $GRASP_BIN (set by scripts/test.sh), else the release build."""
+    path = os.environ.get("GRASP_BIN")
+    if not path:
+        target = os.environ.get("CARGO_TARGET_DIR", str(ROOT / "target"))
+        path = os.path.join(target, "release", "grasp")
+    if not os.path.exists(path):
+        pytest.fail(f"the grasp CLI is not at {path}: run `cargo build --release` or set GRASP_BIN")
+    return path
+
+
+@pytest.fixture(scope="session")
+def run_cli(grasp_bin):
+    """Runs the CLI with arguments; returns the completed process (exit code not checked)."""
+
+    def run(*args, env=None):
+        full_env = dict(os.environ, **(env or {}))
+        return subprocess.run([grasp_bin, *map(str, args)], capture_output=True, text=True, env=full_env, cwd=ROOT)
+
+    return run
+
+
+@pytest.fixture
+def cube_a_dict():
+    return json.loads((EXAMPLES / "cube_a.json").read_text())
+
+
+def rerun_cli():
+    """The `rerun` CLI of rerun-sdk (installed by scripts/install-checkers.sh), or None."""
+    path = os.environ.get("GRASP_RERUN_CLI") or shutil.which("rerun")
+    return path if path and os.path.exists(path) else None

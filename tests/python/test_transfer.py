@@ -1,0 +1,96 @@
+"""grasp.transfer: force histories against the CLI's own run of the same hand-off, the files
+it writes (checked by the independent `rerun` CLI), and the no-overwrite rule."""
+
+import csv
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import grasp
+from conftest import EXAMPLES, rerun_cli
+
+SCENE = EXAMPLES / "plate_transfer.json"
+SCHEDULE = EXAMPLES / "plate_transfer.schedule.json"
+
+
+def cli_csv(run_cli, tmp_path):
+    out = tmp_path / "cli.csv"
+    proc = run_cli("transfer", SCENE, "--schedule", SCHEDULE, "--csv", out)
+    assert proc.returncode == 0, proc.stderr
+    with open(out, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_histories_equal_the_cli_run_and_the_files_are_written(run_cli, tmp_path):
+    scene = grasp.Scene(SCENE)
+    files = {k: tmp_path / f"py.{k}" for k in ("mcap", "rrd", "csv")}
+    run = grasp.transfer(scene, SCHEDULE, **files)
+    t, f = len(run), len(scene.finger_names)
+    assert t == 200 and run.times_s.shape == (t,)
+    assert run.normal_forces_n.shape == (t, f) and run.tangential_forces_n.shape == (t, f, 3)
+    assert run.commanded_loads_n.shape == (t, f) and run.statuses.shape == (t,)
+    assert set(run.statuses) == {"solved"}
+    assert run.written == [str(files[k]) for k in ("mcap", "rrd", "csv")]
+    # The CLI's CSV of the same run: the same forces to the digits it prints.
+    rows = cli_csv(run_cli, tmp_path)
+    assert len(rows) == t
+    ours = list(csv.DictReader(open(files["csv"], newline="")))
+    for name_i, name in enumerate(scene.finger_names):
+        col = f"{name}_normal_force_n"
+        assert [r[col] for r in ours] == [r[col] for r in rows]
+        assert np.allclose([float(r[col]) for r in rows], run.normal_forces_n[:, name_i], rtol=1e-9, atol=1e-12)
+    # The releasing pair's commands ramp to zero; the receiving pair ends with all the load.
+    assert run.commanded_loads_n[-1, 0] == 0.0 and run.normal_forces_n[-1, :2].max() == 0.0
+    s = run.summary
+    assert s["steps"] == t and s["failed_step_count"] == 0 and s["releasing"] == ["f1", "f2"]
+    full = run.step(-1)
+    assert full.status == "solved" and full.positions_m.shape[1] == 3
+
+
+@pytest.mark.skipif(rerun_cli() is None, reason="the rerun CLI (scripts/install-checkers.sh) is not installed")
+def test_the_recording_and_the_mcap_pass_the_rerun_checks(tmp_path):
+    rrd, mcap = tmp_path / "h.rrd", tmp_path / "h.mcap"
+    grasp.transfer(grasp.Scene(SCENE), SCHEDULE, rrd=rrd, mcap=mcap)
+    env = {"CI": "1", "PATH": "/usr/bin:/bin"}
+    for args in (["rrd", "verify", str(rrd)], ["mcap", "check", str(mcap)]):
+        proc = subprocess.run([rerun_cli(), *args], capture_output=True, text=True, env=env)
+        assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_existing_files_are_kept_unless_overwrite(tmp_path):
+    scene = grasp.Scene(SCENE)
+    target = tmp_path / "h.csv"
+    target.write_text("mine\n")
+    with pytest.raises(FileExistsError, match="overwrite=True"):
+        grasp.transfer(scene, SCHEDULE, csv=target)
+    assert target.read_text() == "mine\n"
+    grasp.transfer(scene, SCHEDULE, csv=target, overwrite=True)
+    assert target.read_text().startswith("time_s,")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["h.csv"]  # no temporary left
+    with pytest.raises(ValueError, match="same file"):
+        grasp.transfer(scene, SCHEDULE, csv=tmp_path / "a", mcap=tmp_path / "a")
+    with pytest.raises(FileNotFoundError, match="folder does not exist"):
+        grasp.transfer(scene, SCHEDULE, csv=tmp_path / "no" / "h.csv")
+
+
+def test_schedule_from_dict_and_errors():
+    scene = grasp.Scene(SCENE)
+    spec = json.loads(SCHEDULE.read_text())
+    a = grasp.transfer(scene, spec)
+    b = grasp.transfer(scene, json.dumps(spec))
+    assert np.array_equal(a.normal_forces_n, b.normal_forces_n)
+    spec["fingers"]["nope"] = spec["fingers"].pop("f1")
+    with pytest.raises(grasp.ScheduleError) as e:
+        grasp.transfer(scene, spec)
+    assert [p["path"] for p in e.value.problems] == ["fingers.nope"]
+    assert "f1" in e.value.problems[0]["fix"]
+
+
+def test_cold_runs_reach_the_same_forces_with_more_iterations():
+    scene = grasp.Scene(SCENE)
+    warm = grasp.transfer(scene, SCHEDULE)
+    cold = grasp.transfer(scene, SCHEDULE, cold=True)
+    assert np.abs(warm.normal_forces_n - cold.normal_forces_n).max() <= 1e-8 * warm.normal_forces_n.max()
+    assert warm.iterations.sum() < cold.iterations.sum()
