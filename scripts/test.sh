@@ -23,6 +23,9 @@ cargo test --release --workspace --exclude grasp-py --lib --bins --tests --no-fa
 venv="$HOME/.cache/grasp-venv"
 target="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)"
 export GRASP_BIN="$target/release/grasp"
+# The Python module must resolve the same crate features alone as in the workspace, or `pip install .`
+# compiles Rerun's crates a second time (see crates/grasp-py/Cargo.toml).
+python3 scripts/feature-parity.py || status=$?
 "$venv/bin/pip" install --quiet --disable-pip-version-check . || status=$?
 "$venv/bin/python" -m pytest tests/python -p no:cacheprovider -rs 2>&1 | tee -a "$log" || status=$?
 # One closing line with the totals over every Rust test binary and the Python tests.

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command as Process;
 
 use grasp_transfer::sinks::FingersMessage;
-use grasp_transfer::sinks::{FINGERS_TOPIC, PATCHES_TOPIC};
+use grasp_transfer::sinks::{FINGERS_TOPIC, PATCHES_TOPIC, SCENE_TOPIC};
 use grasp_transfer::summary::{TransferSummary, LOADED_FRACTION};
 use grasp_transfer::{CsvSink, McapSink, RerunSink, Sink, StepRecord, TransferOptions};
 
@@ -41,7 +41,8 @@ fn mcap_reads_back_as_written() {
         .unwrap()
         .expect("summary written");
     let stats = summary.stats.as_ref().expect("statistics written");
-    assert_eq!(stats.message_count, 2 * records.len() as u64);
+    // Fingers and patches per step; the scene: the object once, then the forces per step.
+    assert_eq!(stats.message_count, 3 * records.len() as u64 + 1);
     let mut topics: Vec<(String, String, String, String)> = summary
         .channels
         .values()
@@ -71,18 +72,29 @@ fn mcap_reads_back_as_written() {
                 "grasp.PatchFields".into(),
                 "jsonschema".into()
             ),
+            (
+                SCENE_TOPIC.into(),
+                "json".into(),
+                "foxglove.SceneUpdate".into(),
+                "jsonschema".into()
+            ),
         ]
     );
     for c in summary.channels.values() {
         let schema: serde_json::Value =
             serde_json::from_slice(&c.schema.as_ref().unwrap().data).unwrap();
         assert_eq!(schema["type"], "object");
-        assert_eq!(stats.channel_message_counts[&c.id], records.len() as u64);
+        let extra = u64::from(c.topic == SCENE_TOPIC);
+        assert_eq!(
+            stats.channel_message_counts[&c.id],
+            records.len() as u64 + extra
+        );
     }
     assert!(!summary.chunk_indexes.is_empty(), "chunk index written");
 
     let mut fingers = Vec::new();
     let mut patches = 0;
+    let mut scene_ids = Vec::new();
     for msg in mcap::MessageStream::new(&bytes).unwrap() {
         let msg = msg.unwrap();
         match msg.channel.topic.as_str() {
@@ -106,11 +118,26 @@ fn mcap_reads_back_as_written() {
                 );
                 patches += 1;
             }
+            SCENE_TOPIC => {
+                let v: serde_json::Value = serde_json::from_slice(&msg.data).unwrap();
+                let ids: Vec<&str> = v["entities"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|e| e["id"].as_str().unwrap())
+                    .collect();
+                scene_ids.push(ids.join(","));
+            }
             t => panic!("unexpected topic {t}"),
         }
     }
     assert_eq!(patches, records.len());
     assert_eq!(fingers.len(), records.len());
+    // The object and contact points first, then one set of force arrows per step.
+    assert_eq!(scene_ids[0], "object,contacts");
+    assert!(
+        scene_ids[1..].iter().all(|ids| ids == "forces") && scene_ids.len() == records.len() + 1
+    );
     for ((log_time, m), r) in fingers.iter().zip(&records) {
         assert_eq!(
             *log_time,

@@ -7,6 +7,7 @@
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 
+use grasp_mesh_io::{base_dir_of, scene_from_json_str};
 use grasp_model::json_input::{from_str_strict, StrictValue};
 use grasp_model::{Scene, SceneProblem};
 use serde_json::Value;
@@ -76,7 +77,7 @@ impl BatchInput {
                         continue;
                     }
                     if wanted(index) {
-                        visit(parse_line(index, n + 1, &line))?;
+                        visit(parse_line(index, n + 1, &line, &base_dir_of(path)))?;
                     }
                     index += 1;
                 }
@@ -89,7 +90,7 @@ impl BatchInput {
                         continue;
                     }
                     if wanted(index) {
-                        visit(parse_line(index, n + 1, line))?;
+                        visit(parse_line(index, n + 1, line, Path::new("")))?;
                     }
                     index += 1;
                 }
@@ -106,7 +107,9 @@ impl BatchInput {
                             .map_err(|e| {
                                 vec![problem(".", &format!("cannot read {}: {e}", f.display()))]
                             })
-                            .and_then(|t| Scene::from_json_str(&t).map_err(|e| e.problems()));
+                            .and_then(|t| {
+                                scene_from_json_str(&t, &base_dir_of(f)).map_err(|e| e.problems())
+                            });
                         visit(SceneLine {
                             index,
                             id,
@@ -130,7 +133,8 @@ fn problem(path: &str, message: &str) -> SceneProblem {
 }
 
 /// One JSONL line (`number` 1-based, for the default id).
-fn parse_line(index: usize, number: usize, line: &str) -> SceneLine {
+/// One line of a JSONL input; mesh files are read relative to `base` (the file's folder).
+fn parse_line(index: usize, number: usize, line: &str, base: &Path) -> SceneLine {
     let default_id = format!("line-{number}");
     let value = match from_str_strict::<StrictValue>(line) {
         Ok(StrictValue(v)) => v,
@@ -145,7 +149,7 @@ fn parse_line(index: usize, number: usize, line: &str) -> SceneLine {
     };
     let Some(obj) = value.as_object().filter(|o| o.contains_key("scene")) else {
         // A bare scene.
-        let scene = Scene::from_json_str(line).map_err(|e| e.problems());
+        let scene = scene_from_json_str(line, base).map_err(|e| e.problems());
         return SceneLine {
             index,
             id: default_id,
@@ -168,7 +172,7 @@ fn parse_line(index: usize, number: usize, line: &str) -> SceneLine {
             "unknown key of a batch line (id, scene, vary)",
         )])
     } else {
-        Scene::from_json_str(&obj["scene"].to_string()).map_err(|e| {
+        scene_from_json_str(&obj["scene"].to_string(), base).map_err(|e| {
             e.problems()
                 .into_iter()
                 .map(|p| SceneProblem {

@@ -58,6 +58,11 @@ enum Command {
         /// system at the active set); printed per finger and written into the JSON.
         #[arg(long)]
         sensitivities: bool,
+        /// Print what the object's shape gave each finger (contact point, inward normal,
+        /// tangent, principal curvatures and the radii written into the scene), the shape's
+        /// volume and mass, and the shape checks' warnings.
+        #[arg(long)]
+        explain_frames: bool,
         #[command(flatten)]
         memory: MemoryArg,
     },
@@ -464,6 +469,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
             auto_patch,
             solver,
             sensitivities,
+            explain_frames,
             memory,
         } => {
             if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1e-2) {
@@ -474,6 +480,16 @@ fn run(cli: Cli) -> Result<ExitCode> {
             let scene_obj = load_scene(&scene)?;
             let (limit, what) = limits::memory_limit(memory.max_memory);
             limits::check_memory(&scene_obj, &scene, (limit, &what))?;
+            if let Some(r) = &scene_obj.shape_report {
+                if explain_frames {
+                    print!("{}", report::frames_table(r));
+                }
+                for w in &r.warnings {
+                    println!("warning: {w}");
+                }
+            } else if explain_frames {
+                println!("frames: the scene has no object.shape; every frame is as written");
+            }
             let options = SolveOptions {
                 tolerance,
                 solver,
@@ -540,10 +556,12 @@ fn run(cli: Cli) -> Result<ExitCode> {
     }
 }
 
-/// Reads and validates a scene file; the error names the file and lists every problem.
+/// Reads and validates a scene file (its mesh files relative to its folder); the error
+/// names the file and lists every problem.
 pub(crate) fn load_scene(path: &Path) -> Result<Scene> {
     let text = limits::read_input(path, "scene file")?;
-    Scene::from_json_str(&text).with_context(|| format!("{} is not a usable scene", path.display()))
+    grasp_mesh_io::scene_from_json_str(&text, &grasp_mesh_io::base_dir_of(path))
+        .with_context(|| format!("{} is not a usable scene", path.display()))
 }
 
 /// The sensitivities of `solution` (this solver's last answer) with their time, s; `None`

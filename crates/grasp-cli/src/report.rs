@@ -222,3 +222,47 @@ pub fn sensitivity_table(sens: &grasp_model::Sensitivities, time_s: f64) -> Stri
     }
     s
 }
+
+/// What the object's shape gave each finger (`grasp solve --explain-frames`).
+pub fn frames_table(r: &grasp_model::finger_placement::ShapeReport) -> String {
+    let mut o = String::new();
+    let mass = r.mass_kg.map_or(String::new(), |m| {
+        format!(
+            ", mass {m:.6} kg (weight {:.6} N)",
+            m * grasp_model::finger_placement::STANDARD_GRAVITY
+        )
+    });
+    let c = r.centroid_m;
+    let _ = writeln!(
+        o,
+        "shape: volume {:.6e} m^3, centroid [{:.6}, {:.6}, {:.6}] m{mass}",
+        r.volume_m3, c[0], c[1], c[2]
+    );
+    let v = |a: [f64; 3]| format!("[{:+.6}, {:+.6}, {:+.6}]", a[0], a[1], a[2]);
+    let radius = |x: Option<f64>| x.map_or("flat".to_string(), |r| format!("{r:.6} m"));
+    for f in &r.fingers {
+        let _ = writeln!(o, "finger {} ({}):", f.finger, f.source);
+        let _ = writeln!(
+            o,
+            "  contact point {} m, {:.3e} m from the surface",
+            v(f.contact_point_m),
+            f.distance_m
+        );
+        let _ = writeln!(o, "  inward normal {}", v(f.normal));
+        if let Some(t) = f.tangent {
+            let _ = writeln!(o, "  tangent t1    {}", v(t));
+            let _ = writeln!(
+                o,
+                "  curvature along t1, t2: {:.6}, {:.6} 1/m; object_radius: {}, {}",
+                f.curvature_per_m[0],
+                f.curvature_per_m[1],
+                radius(f.object_radius_m[0]),
+                radius(f.object_radius_m[1])
+            );
+        }
+        for n in &f.notes {
+            let _ = writeln!(o, "  note: {n}");
+        }
+    }
+    o
+}

@@ -39,6 +39,11 @@ pub struct Scene {
     /// Which contact law resolves the grasp.
     #[serde(default)]
     pub model: ModelKind,
+    /// What the object's shape gave: derived finger frames, volume, mass, warnings (`None`
+    /// without `object.shape`). Not part of the file.
+    #[serde(skip)]
+    #[schemars(skip)]
+    pub shape_report: Option<crate::shape_report::ShapeReport>,
 }
 
 /// The plane of a planar scene.
@@ -54,10 +59,20 @@ pub struct PlanarSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectSpec {
-    /// Weight `W` in newtons: 0 or in `[1e-15, 1e7]`.
+    /// Weight `W` in newtons: 0 or in `[1e-15, 1e7]`. Required unless `density` is given.
     pub weight: f64,
-    /// Centre of mass `r` in metres (world frame), each coordinate in `[-1e3, 1e3]`.
+    /// Centre of mass `r` in metres (world frame), each coordinate in `[-1e3, 1e3]`. Required
+    /// unless `density` is given.
     pub center_of_mass: Vec3,
+    /// The object's shape and pose (optional): fingers can then be placed on it (`place`),
+    /// and explicit frames are checked against it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shape: Option<crate::shape_format::ShapeSpec>,
+    /// Density, kg/m^3, in `[1e-3, 1e5]`: with a shape, the weight (`rho V g0`, g0 = 9.80665
+    /// m/s^2) and centre of mass (the centroid) follow; give it instead of `weight` and
+    /// `center_of_mass`.
+    #[serde(default, skip_serializing)]
+    pub density: Option<f64>,
     /// Direction of gravity (any finite nonzero length; normalised on load, scaled by its
     /// largest component first). Default `[0, 0, -1]`.
     #[serde(default = "default_gravity")]
@@ -117,11 +132,16 @@ pub struct ElasticSpec {
 pub struct FingerSpec {
     /// Unique name, used in every report.
     pub name: String,
+    /// Where the finger touches the object's shape (`object.shape` required): a point on or
+    /// near the surface, or an approach ray. The contact point, normal, tangent and object
+    /// radii are then derived; give none of them.
+    #[serde(default, skip_serializing)]
+    pub place: Option<crate::shape_format::PlaceSpec>,
     /// Initial contact point `v_i` on the object surface, metres (world frame), each
-    /// coordinate in `[-1e3, 1e3]`.
+    /// coordinate in `[-1e3, 1e3]`. Required unless `place` is given.
     pub contact_point: Vec3,
     /// Contact normal `n_i`, pointing INTO the object (any finite nonzero length; normalised
-    /// on load, scaled by its largest component first).
+    /// on load, scaled by its largest component first). Required unless `place` is given.
     pub normal: Vec3,
     /// Optional first tangent axis `t1` (projected onto the plane normal to `n`). In a planar
     /// scene it must be omitted or lie in the plane.
@@ -360,7 +380,23 @@ impl<'de> Deserialize<'de> for ControlSpec {
     }
 }
 
-/// The JSON Schema of the scene format, generated from these types.
+/// The JSON Schema of the scene format, generated from these types (a finger's frame is
+/// not required when it has `place`, nor the object's weight and centre of mass with a
+/// `density`: the schema lists them as optional, the loader checks which applies).
 pub fn scene_json_schema() -> schemars::Schema {
-    schemars::schema_for!(Scene)
+    let mut schema = schemars::schema_for!(Scene);
+    for (def, keys) in [
+        ("FingerSpec", ["contact_point", "normal"]),
+        ("ObjectSpec", ["weight", "center_of_mass"]),
+    ] {
+        let required = schema
+            .get_mut("$defs")
+            .and_then(|d| d.get_mut(def))
+            .and_then(|d| d.get_mut("required"))
+            .and_then(Value::as_array_mut);
+        if let Some(r) = required {
+            r.retain(|k| !keys.iter().any(|key| k == key));
+        }
+    }
+    schema
 }

@@ -7,9 +7,12 @@
 //! zero or not finite is refused.
 
 use crate::error::{SceneError, SceneProblem};
+use crate::json_input::StrictValue;
+use crate::mesh_surface::TriangleMesh;
 use crate::scene::{
     ControlSpec, ElasticLawParams, FingerSpec, FrictionSpec, MaterialSpec, RadiusSpec, Scene, Vec3,
 };
+use crate::shape_format::MeshSpec;
 
 /// Largest number of elements allowed in one patch. The compliance block of a patch is dense
 /// (`(3 nx ny)^2` entries, see [`work_bounds`]), so 64 x 64 elements already means a 12288 x
@@ -83,12 +86,41 @@ impl Scene {
     /// Parses a scene from JSON text (one document, nothing after it; duplicate keys refused),
     /// normalises its directions (see [`Scene::normalize_directions`]) and validates it (see
     /// [`Scene::validate`]).
+    ///
+    /// A scene with `object.shape` is resolved first (fingers placed on it, the weight from a
+    /// density, explicit frames checked: [`crate::finger_placement`]); this entry point reads
+    /// no files, so a mesh shape needs [`Scene::from_json_str_with_meshes`].
     pub fn from_json_str(text: &str) -> Result<Scene, SceneError> {
-        let mut scene: Scene =
-            crate::json_input::from_str_strict(text).map_err(|e| SceneError::Parse {
-                path: e.path,
-                message: e.message,
-            })?;
+        Scene::from_json_str_with_meshes(text, &|m: &MeshSpec| {
+            Err(format!(
+                "{}: this loader reads no files; load the scene with the grasp CLI, grasp.Scene \
+                 or grasp_mesh_io",
+                m.file
+            ))
+        })
+    }
+
+    /// As [`Scene::from_json_str`], reading a mesh shape's file with `load_mesh`.
+    pub fn from_json_str_with_meshes(
+        text: &str,
+        load_mesh: &dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>,
+    ) -> Result<Scene, SceneError> {
+        let parse_error = |e: crate::json_input::JsonError| SceneError::Parse {
+            path: e.path,
+            message: e.message,
+        };
+        let StrictValue(mut value) =
+            crate::json_input::from_str_strict::<StrictValue>(text).map_err(parse_error)?;
+        let report = crate::finger_placement::resolve_shapes(&mut value, load_mesh)?;
+        let mut scene: Scene = match report {
+            // Without a shape the text is read as written (positions in messages are its own).
+            None => crate::json_input::from_str_strict(text).map_err(parse_error)?,
+            Some(_) => {
+                let resolved = serde_json::to_string_pretty(&value).unwrap_or_default();
+                crate::json_input::from_str_strict(&resolved).map_err(parse_error)?
+            }
+        };
+        scene.shape_report = report;
         scene.normalize_directions();
         scene.validate()?;
         Ok(scene)

@@ -51,13 +51,14 @@ impl Scene {
                 path.display()
             ))
         })?;
-        Scene::parse(py, &text, path.display().to_string())
+        let base = grasp_mesh_io::base_dir_of(&path);
+        Scene::parse(py, &text, path.display().to_string(), &base)
     }
 
     /// The scene given as JSON text.
     #[staticmethod]
     fn from_json(py: Python<'_>, text: &str) -> PyResult<Scene> {
-        Scene::parse(py, text, "<json>".into())
+        Scene::parse(py, text, "<json>".into(), std::path::Path::new(""))
     }
 
     /// The scene given as a dict (as `json.load` returns it).
@@ -65,7 +66,7 @@ impl Scene {
     fn from_dict(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<Scene> {
         let json = py.import("json")?;
         let text: String = json.call_method1("dumps", (d,))?.extract()?;
-        Scene::parse(py, &text, "<dict>".into())
+        Scene::parse(py, &text, "<dict>".into(), std::path::Path::new(""))
     }
 
     /// Finger names, scene order.
@@ -92,6 +93,23 @@ impl Scene {
         &self.origin
     }
 
+    /// What the object's shape gave each finger (contact point, inward normal, tangent,
+    /// curvatures, radii), its volume and mass, and the shape checks' warnings; None without
+    /// `object.shape`.
+    #[getter]
+    fn shape_report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::json_value::serialize_to_py(py, &self.scene.shape_report)
+    }
+
+    /// Warnings of the shape checks (a patch over an edge, overlapping patches).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.scene
+            .shape_report
+            .as_ref()
+            .map_or_else(Vec::new, |r| r.warnings.clone())
+    }
+
     /// The scene as a dict (directions normalised, as validated).
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         crate::json_value::serialize_to_py(py, &self.scene)
@@ -114,8 +132,15 @@ impl Scene {
 }
 
 impl Scene {
-    fn parse(py: Python<'_>, text: &str, origin: String) -> PyResult<Scene> {
-        match grasp_model::Scene::from_json_str(text) {
+    /// The scene of `text`, its mesh files read relative to `base` (the scene file's folder;
+    /// the working folder for a dict or JSON text).
+    fn parse(
+        py: Python<'_>,
+        text: &str,
+        origin: String,
+        base: &std::path::Path,
+    ) -> PyResult<Scene> {
+        match grasp_mesh_io::scene_from_json_str(text, base) {
             Ok(scene) => Ok(Scene { scene, origin }),
             Err(e) => Err(scene_error(py, &origin, &e)),
         }

@@ -3,7 +3,9 @@
 //! Channels:
 //! - `/grasp/fingers` (`grasp.FingerResultants`): per step, every finger's command and
 //!   resultants;
-//! - `/grasp/patches` (`grasp.PatchFields`): per step, every active patch's element fields.
+//! - `/grasp/patches` (`grasp.PatchFields`): per step, every active patch's element fields;
+//! - `/grasp/scene` (`foxglove.SceneUpdate`): the object and contact points once, then per
+//!   step the finger forces as arrows, for Foxglove's 3-D panel ([`super::foxglove_scene`]).
 //!
 //! Log and publish time are the schedule time in nanoseconds. Nothing nondeterministic (wall
 //! times) is written, so the same inputs give the same file.
@@ -16,6 +18,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use serde_json::json;
 
+use super::foxglove_scene::{forces_update, object_update, scene_update_schema, SCENE_TOPIC};
 use super::{io_err, io_err_chain, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::schedule::Command;
@@ -219,6 +222,11 @@ pub struct McapSink {
     writer: Option<mcap::Writer<BufWriter<File>>>,
     fingers_channel: u16,
     patches_channel: u16,
+    scene_channel: u16,
+    /// Size of the scene (diagonal of the contacts and centre of mass), m, and the force
+    /// arrows' scale, m per N.
+    drawing: (f64, f64),
+    object_sent: bool,
     sequence: u32,
 }
 
@@ -241,6 +249,9 @@ impl McapSink {
             writer: Some(writer),
             fingers_channel: 0,
             patches_channel: 0,
+            scene_channel: 0,
+            drawing: (1.0, 1.0),
+            object_sent: false,
             sequence: 0,
         })
     }
@@ -271,7 +282,8 @@ impl McapSink {
 }
 
 impl Sink for McapSink {
-    fn begin(&mut self, _run: &RunInfo) -> Result<(), TransferError> {
+    fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
+        self.drawing = drawing_scale(run);
         let path = self.path.clone();
         let e = |e: mcap::McapError| io_err_chain("mcap", &path, &e);
         let w = self.writer()?;
@@ -292,16 +304,33 @@ impl Sink for McapSink {
             .map_err(e)?;
         let fc = w.add_channel(fs, FINGERS_TOPIC, "json", &meta).map_err(e)?;
         let pc = w.add_channel(ps, PATCHES_TOPIC, "json", &meta).map_err(e)?;
+        let ss = w
+            .add_schema(
+                "foxglove.SceneUpdate",
+                "jsonschema",
+                scene_update_schema().to_string().as_bytes(),
+            )
+            .map_err(e)?;
+        let sc = w.add_channel(ss, SCENE_TOPIC, "json", &meta).map_err(e)?;
         self.fingers_channel = fc;
         self.patches_channel = pc;
+        self.scene_channel = sc;
         Ok(())
     }
 
-    fn step(&mut self, _run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
+    fn step(&mut self, run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
         let f = serde_json::to_vec(&FingersMessage::from_record(r)).map_err(|e| self.err(e))?;
         self.write(self.fingers_channel, r.time_s, &f)?;
         let p = serde_json::to_vec(&patches_message(r)).map_err(|e| self.err(e))?;
-        self.write(self.patches_channel, r.time_s, &p)
+        self.write(self.patches_channel, r.time_s, &p)?;
+        let (size_m, m_per_n) = self.drawing;
+        if !self.object_sent {
+            let o = object_update(run, r.time_s, size_m).to_string();
+            self.write(self.scene_channel, r.time_s, o.as_bytes())?;
+            self.object_sent = true;
+        }
+        let a = forces_update(run, r, m_per_n, size_m).to_string();
+        self.write(self.scene_channel, r.time_s, a.as_bytes())
     }
 
     fn finish(&mut self) -> Result<(), TransferError> {
@@ -319,4 +348,18 @@ impl Sink for McapSink {
     fn abort(&mut self) {
         self.writer.take();
     }
+}
+
+/// The scene's size (diagonal over the contact points and centre of mass, m) and the force
+/// arrows' scale (m per N: the load scale drawn as 0.3 of the size), as the Rerun sink draws.
+fn drawing_scale(run: &RunInfo) -> (f64, f64) {
+    let g = run.geometry;
+    let (lo, hi) = g
+        .fingers
+        .iter()
+        .fold((g.center_of_mass_m, g.center_of_mass_m), |(lo, hi), f| {
+            (lo.inf(&f.frame.origin_m), hi.sup(&f.frame.origin_m))
+        });
+    let size = (hi - lo).norm().max(1e-3);
+    (size, 0.3 * size / g.scales.load_n)
 }

@@ -1,10 +1,12 @@
 //! Log sinks of a hand-off, each optional and independent: MCAP, Rerun, CSV.
 
 mod csv_history;
+mod foxglove_scene;
 mod mcap_log;
 mod rerun_log;
 
 pub use csv_history::CsvSink;
+pub use foxglove_scene::SCENE_TOPIC;
 pub use mcap_log::{FingerMessage, FingersMessage, McapSink, FINGERS_TOPIC, PATCHES_TOPIC};
 pub use rerun_log::{RerunSink, FLUSH_EVERY_STEPS};
 

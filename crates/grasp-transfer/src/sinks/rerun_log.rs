@@ -27,7 +27,7 @@ use grasp_model::ElementState;
 use rerun::external::re_tuid::Tuid;
 use rerun::log::{Chunk, ChunkId, RowId};
 use rerun::{
-    Arrows3D, AsComponents, Boxes3D, Color, Points3D, RecordingStream, Scalars,
+    Arrows3D, AsComponents, Boxes3D, Color, Mesh3D, Points3D, RecordingStream, Scalars,
     SerializedComponentBatch, SeriesLines, TimeCell, TimePoint,
 };
 
@@ -226,12 +226,19 @@ impl Sink for RerunSink {
         }
         let size = (hi - lo).norm().max(1e-3);
         self.arrow_m_per_n = (0.3 * size / g.scales.load_n) as f32;
-        let centre = (lo + hi) * 0.5;
-        let half = ((hi - lo) * 0.5).map(|x| x.max(0.02 * size));
-        self.send(
-            "world/object",
-            &Boxes3D::from_centers_and_half_sizes([v3(&centre)], [v3(&half)]),
-        )?;
+        match run.scene.shape_report.as_ref().map(|r| &r.surface) {
+            // The object as its shape (posed), half transparent so the patches show.
+            Some(surface) => self.send("world/object", &object_mesh(surface))?,
+            // Without a shape: the box around the contacts and the centre of mass.
+            None => {
+                let centre = (lo + hi) * 0.5;
+                let half = ((hi - lo) * 0.5).map(|x| x.max(0.02 * size));
+                self.send(
+                    "world/object",
+                    &Boxes3D::from_centers_and_half_sizes([v3(&centre)], [v3(&half)]),
+                )?;
+            }
+        }
         self.send(
             "world/object/center_of_mass",
             &Points3D::new([v3(&g.center_of_mass_m)])
@@ -375,4 +382,14 @@ impl Sink for RerunSink {
             let _ = rec.flush_blocking();
         }
     }
+}
+
+/// The object's surface as a Rerun mesh (light grey, half transparent).
+fn object_mesh(surface: &grasp_model::mesh_surface::TriangleMesh) -> Mesh3D {
+    let f = |v: &[f64; 3]| [v[0] as f32, v[1] as f32, v[2] as f32];
+    Mesh3D::new(surface.vertices_m.iter().map(f))
+        .with_triangle_indices(surface.triangles.iter().copied())
+        .with_albedo_factor(rerun::datatypes::Rgba32::from_unmultiplied_rgba(
+            200, 200, 210, 110,
+        ))
 }

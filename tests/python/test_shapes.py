@@ -1,0 +1,49 @@
+"""Shapes from Python: the derived frames, warnings and errors, and the object drawn as its
+mesh in the Rerun recording (checked with the independent `rerun` CLI)."""
+
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import grasp
+from conftest import EXAMPLES, rerun_cli
+
+
+def test_the_shape_report_gives_the_derived_frames_and_mass():
+    scene = grasp.Scene(EXAMPLES / "box_pinch.json")
+    report = scene.shape_report
+    assert report["volume_m3"] == pytest.approx(0.06 * 0.04 * 0.1, rel=1e-12)
+    assert report["mass_kg"] == pytest.approx(700 * 0.06 * 0.04 * 0.1, rel=1e-12)
+    left = report["fingers"][0]
+    assert left["source"] == "ray" and left["normal"] == [0.0, -1.0, 0.0]
+    assert left["contact_point_m"] == pytest.approx([0.0, 0.02, 0.055], abs=1e-15)
+    assert scene.warnings == []
+    assert grasp.Scene(EXAMPLES / "cube_a.json").shape_report is None
+    # The derived frame is the scene's: the solve sees the written-out contact points.
+    sol = grasp.solve(scene)
+    assert sol.status == "solved"
+    assert np.allclose(sol.positions_m[:, 1][sol.finger == 0], 0.02, atol=1e-15)
+
+
+def test_a_ray_that_misses_is_a_scene_error_naming_the_finger():
+    d = json.loads((EXAMPLES / "box_pinch.json").read_text())
+    d["fingers"][0]["place"]["ray"]["direction"] = [1, 0, 0]
+    with pytest.raises(grasp.SceneError) as e:
+        grasp.Scene(d)
+    assert [p["path"] for p in e.value.problems] == ["fingers[0].place.ray"]
+    assert "misses" in e.value.problems[0]["message"]
+
+
+@pytest.mark.skipif(rerun_cli() is None, reason="the rerun CLI (scripts/install-checkers.sh) is not installed")
+def test_the_recording_draws_the_object_as_its_mesh(tmp_path):
+    schedule = {"time": {"start": 0, "end": 1, "step": 0.25},
+                "fingers": {"right": [{"ramp": {"keyframes": [[0, 10], [1, 20]]}}]}}
+    rrd = tmp_path / "pinch.rrd"
+    grasp.transfer(grasp.Scene(EXAMPLES / "box_pinch.json"), schedule, rrd=rrd)
+    env = {"CI": "1", "PATH": "/usr/bin:/bin"}
+    out = subprocess.run([rerun_cli(), "rrd", "print", str(rrd)], capture_output=True, text=True, env=env)
+    assert out.returncode == 0, out.stderr
+    lines = [l for l in out.stdout.splitlines() if " - /world/object - " in l]
+    assert lines and "Mesh3D:triangle_indices" in lines[0] and "Mesh3D:vertex_positions" in lines[0], out.stdout[:2000]

@@ -1,0 +1,466 @@
+//! Object shapes (issue 11): fingers placed on boxes, spheres, cylinders, capsules and meshes
+//! get the frames and radii computed here by hand; a refined sphere mesh converges to the
+//! sphere; mass properties match closed forms; every shape check is an error or warning that
+//! names the finger; and a scene written with a shape solves exactly like the same grasp
+//! written with explicit frames.
+
+mod support;
+
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+use grasp_model::finger_placement::{DerivedFrame, STANDARD_GRAVITY};
+use grasp_model::{GraspModel, Scene, SceneError};
+use serde_json::{json, Value};
+use support::*;
+
+/// A one-finger scene on `shape` with the finger placed by `place` (flat rubber pad,
+/// 2 mm patch; the object's weight is irrelevant to the frame).
+fn placed(shape: Value, place: Value) -> Value {
+    json!({
+        "object": {"weight": 1.0, "center_of_mass": [0, 0, 0], "material": "rigid", "shape": shape},
+        "fingers": [{
+            "name": "f", "place": place,
+            "material": {"youngs_modulus": 2e6, "poisson_ratio": 0.45},
+            "patch": {"size": [0.002, 0.002], "grid": [3, 3]}, "friction": {"mu": 0.5}
+        }]
+    })
+}
+
+fn load(v: &Value) -> Result<Scene, SceneError> {
+    Scene::from_json_str(&v.to_string())
+}
+
+fn frame(v: &Value) -> (Scene, DerivedFrame) {
+    let s = load(v).unwrap_or_else(|e| panic!("{e}"));
+    let d = s.shape_report.as_ref().expect("shape report").fingers[0].clone();
+    (s, d)
+}
+
+fn close(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
+    (0..3).all(|i| (a[i] - b[i]).abs() <= tol)
+}
+
+fn problem_paths(e: SceneError) -> Vec<String> {
+    e.problems().into_iter().map(|p| p.path).collect()
+}
+
+// Exact to round-off: the primitives' geometry is closed-form (1e-12 m on 0.1 m shapes).
+const EXACT: f64 = 1e-12;
+
+#[test]
+fn a_point_near_a_box_face_lands_on_the_face_with_its_inward_normal() {
+    let shape = json!({"box": {"size": [0.1, 0.2, 0.3]}, "position": [1, 2, 3]});
+    let (s, d) = frame(&placed(shape, json!({"point": [1.01, 2.1004, 3.02]})));
+    assert!(
+        close(d.contact_point_m, [1.01, 2.1, 3.02], EXACT),
+        "{:?}",
+        d.contact_point_m
+    );
+    assert!(close(d.normal, [0.0, -1.0, 0.0], EXACT));
+    assert!((d.distance_m - 4e-4).abs() < EXACT);
+    assert_eq!(d.object_radius_m, [None, None]);
+    assert_eq!(s.fingers[0].normal, [0.0, -1.0, 0.0]);
+    assert_eq!(s.fingers[0].object_radius, None);
+}
+
+#[test]
+fn a_sphere_gives_its_radius_in_every_direction() {
+    let r = 0.04;
+    let shape = json!({"sphere": {"radius": r}, "position": [0.1, 0, 0]});
+    let p = [0.1 + 0.02, 0.03, -0.01];
+    let (s, d) = frame(&placed(shape, json!({"point": p, "tolerance": 0.01})));
+    let dir = nalgebra::Vector3::new(0.02, 0.03, -0.01).normalize();
+    let want = [0.1 + r * dir.x, r * dir.y, r * dir.z];
+    assert!(close(d.contact_point_m, want, EXACT));
+    assert!(close(d.normal, [-dir.x, -dir.y, -dir.z], EXACT));
+    assert_eq!(d.object_radius_m, [Some(r), Some(r)]);
+    assert!(
+        matches!(s.fingers[0].object_radius, Some(grasp_model::scene::RadiusSpec::Isotropic(x)) if (x - r).abs() < EXACT)
+    );
+}
+
+#[test]
+fn a_cylinder_side_is_curved_around_and_straight_along_its_axis() {
+    // Axis along world x (z rotated onto x: 90 degrees about y).
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let shape = json!({"cylinder": {"radius": 0.02, "length": 0.2}, "quaternion": [h, 0, h, 0]});
+    let (_, d) = frame(&placed(
+        shape.clone(),
+        json!({"ray": {"origin": [0.05, 0, -1], "direction": [0, 0, 1]}}),
+    ));
+    assert!(close(d.contact_point_m, [0.05, 0.0, -0.02], EXACT));
+    assert!(close(d.normal, [0.0, 0.0, 1.0], EXACT));
+    // t1 is the principal direction around the axis (curvature 1/R), t2 along it (flat).
+    let t1 = d.tangent.unwrap();
+    assert!(
+        t1[0].abs() < EXACT && (t1[1].abs() - 1.0).abs() < EXACT,
+        "{t1:?}"
+    );
+    assert_eq!(d.object_radius_m[1], None);
+    assert!((d.object_radius_m[0].unwrap() - 0.02).abs() < EXACT);
+    // The flat end cap (world +x face).
+    let (_, d) = frame(&placed(shape, json!({"point": [0.1005, 0.003, 0.004]})));
+    assert!(close(d.contact_point_m, [0.1, 0.003, 0.004], EXACT));
+    assert!(close(d.normal, [-1.0, 0.0, 0.0], EXACT));
+    assert_eq!(d.object_radius_m, [None, None]);
+}
+
+#[test]
+fn a_capsule_is_cylindrical_between_its_caps_and_spherical_on_them() {
+    let shape = json!({"capsule": {"radius": 0.01, "length": 0.05}});
+    let (_, d) = frame(&placed(shape.clone(), json!({"point": [0.0105, 0, 0.01]})));
+    assert!(close(d.contact_point_m, [0.01, 0.0, 0.01], EXACT));
+    assert!(close(d.normal, [-1.0, 0.0, 0.0], EXACT));
+    assert_eq!(d.object_radius_m[1], None);
+    let (_, d) = frame(&placed(
+        shape,
+        json!({"ray": {"origin": [0, 0, 1], "direction": [0, 0, -1]}}),
+    ));
+    assert!(close(d.contact_point_m, [0.0, 0.0, 0.035], EXACT));
+    assert_eq!(d.object_radius_m, [Some(0.01), Some(0.01)]);
+}
+
+#[test]
+fn shape_checks_name_the_finger_and_the_fix() {
+    let cube = json!({"box": {"size": [0.1, 0.1, 0.1]}});
+    let off = load(&placed(cube.clone(), json!({"point": [0.0, 0.0, 0.052]}))).unwrap_err();
+    assert_eq!(problem_paths(off), ["fingers[0].place.point"]);
+    let edge = load(&placed(cube.clone(), json!({"point": [0.05, 0.05, 0.0]}))).unwrap_err();
+    assert!(edge.to_string().contains("edge"), "{edge}");
+    let miss = load(&placed(
+        cube.clone(),
+        json!({"ray": {"origin": [1, 1, 1], "direction": [1, 0, 0]}}),
+    ))
+    .unwrap_err();
+    assert_eq!(problem_paths(miss), ["fingers[0].place.ray"]);
+    let inside = load(&placed(
+        cube.clone(),
+        json!({"ray": {"origin": [0, 0, 0], "direction": [1, 0, 0]}}),
+    ))
+    .unwrap_err();
+    assert!(inside.to_string().contains("inside"));
+    // An explicit frame on a shaped object: the normal pointing out, the point off the face.
+    let mut v = placed(cube.clone(), json!(null));
+    let f = v["fingers"][0].as_object_mut().unwrap();
+    f.remove("place");
+    f.insert("contact_point".into(), json!([0.0, 0.0, 0.05]));
+    f.insert("normal".into(), json!([0, 0, 1]));
+    assert_eq!(problem_paths(load(&v).unwrap_err()), ["fingers[0].normal"]);
+    v["fingers"][0]["normal"] = json!([0, 0, -1]);
+    v["fingers"][0]["contact_point"] = json!([0.0, 0.0, 0.053]);
+    assert_eq!(
+        problem_paths(load(&v).unwrap_err()),
+        ["fingers[0].contact_point"]
+    );
+    v["fingers"][0]["contact_point"] = json!([0.0, 0.0, 0.05]);
+    assert!(load(&v).is_ok());
+    // place and an explicit frame together; place or density without a shape.
+    let mut both = placed(cube, json!({"point": [0, 0, 0.05]}));
+    both["fingers"][0]["normal"] = json!([0, 0, -1]);
+    assert_eq!(
+        problem_paths(load(&both).unwrap_err()),
+        ["fingers[0].normal"]
+    );
+    let mut no_shape = placed(json!(null), json!({"point": [0, 0, 0.05]}));
+    no_shape["object"].as_object_mut().unwrap().remove("shape");
+    assert_eq!(
+        problem_paths(load(&no_shape).unwrap_err()),
+        ["fingers[0].place"]
+    );
+}
+
+#[test]
+fn a_patch_over_a_box_edge_and_overlapping_patches_are_warnings() {
+    let mut v = placed(
+        json!({"box": {"size": [0.1, 0.1, 0.1]}}),
+        json!({"point": [0.0495, 0.0, 0.05]}),
+    );
+    let s = load(&v).unwrap();
+    let w = &s.shape_report.as_ref().unwrap().warnings;
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("finger f") && w[0].contains("0.500 mm over the edge"),
+        "{w:?}"
+    );
+    v["fingers"][0]["place"] = json!({"point": [0.0, 0.0, 0.05]});
+    let mut g = v["fingers"][0].clone();
+    g["name"] = json!("g");
+    g["place"] = json!({"point": [0.0015, 0.0, 0.05]});
+    v["fingers"].as_array_mut().unwrap().push(g);
+    let s = load(&v).unwrap();
+    let w = &s.shape_report.as_ref().unwrap().warnings;
+    assert!(w.len() == 1 && w[0].contains("fingers f and g"), "{w:?}");
+    v["fingers"][1]["place"] = json!({"point": [0.0025, 0.0, 0.05]});
+    assert!(load(&v).unwrap().shape_report.unwrap().warnings.is_empty());
+}
+
+#[test]
+fn density_gives_the_closed_form_weight_and_centroid() {
+    let rho = 2700.0;
+    let cases = [
+        (json!({"box": {"size": [0.1, 0.2, 0.3]}}), 0.1 * 0.2 * 0.3),
+        (
+            json!({"sphere": {"radius": 0.05}}),
+            4.0 / 3.0 * PI * 0.05f64.powi(3),
+        ),
+        (
+            json!({"cylinder": {"radius": 0.02, "length": 0.1}}),
+            PI * 0.02f64.powi(2) * 0.1,
+        ),
+        (
+            json!({"capsule": {"radius": 0.02, "length": 0.1}}),
+            PI * 0.0004 * 0.1 + 4.0 / 3.0 * PI * 0.02f64.powi(3),
+        ),
+    ];
+    for (mut shape, volume) in cases {
+        shape["position"] = json!([0.3, -0.2, 0.1]);
+        let mut v = placed(
+            shape,
+            json!({"ray": {"origin": [0.3, -0.2, 2.0], "direction": [0, 0, -1]}}),
+        );
+        let o = v["object"].as_object_mut().unwrap();
+        o.remove("weight");
+        o.remove("center_of_mass");
+        o.insert("density".into(), json!(rho));
+        let s = load(&v).unwrap();
+        let w = rho * volume * STANDARD_GRAVITY;
+        assert!(
+            (s.object.weight - w).abs() <= 1e-12 * w,
+            "{} vs {w}",
+            s.object.weight
+        );
+        assert!(close(s.object.center_of_mass, [0.3, -0.2, 0.1], EXACT));
+    }
+    let mut both = placed(
+        json!({"sphere": {"radius": 0.05}}),
+        json!({"point": [0, 0, 0.05]}),
+    );
+    both["object"]["density"] = json!(1000.0);
+    assert_eq!(problem_paths(load(&both).unwrap_err()), ["object.weight"]);
+}
+
+/// An icosphere of radius `r` subdivided `k` times (vertices on the sphere).
+fn icosphere(r: f64, k: usize) -> (Vec<[f64; 3]>, Vec<[usize; 3]>) {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut v: Vec<[f64; 3]> = vec![
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ];
+    let mut f: Vec<[usize; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..k {
+        let mut cache = std::collections::HashMap::new();
+        let mut mid = |a: usize, b: usize, v: &mut Vec<[f64; 3]>| {
+            *cache.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                v.push([0, 1, 2].map(|i| (v[a][i] + v[b][i]) / 2.0));
+                v.len() - 1
+            })
+        };
+        f = f
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let (ab, bc, ca) = (mid(a, b, &mut v), mid(b, c, &mut v), mid(c, a, &mut v));
+                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    let v = v
+        .iter()
+        .map(|p| {
+            let n = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            p.map(|x| x * r / n)
+        })
+        .collect();
+    (v, f)
+}
+
+fn write_obj(dir: &Path, name: &str, (v, f): &(Vec<[f64; 3]>, Vec<[usize; 3]>)) -> PathBuf {
+    let mut text = String::new();
+    for p in v {
+        text += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+    }
+    for t in f {
+        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn temp_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("grasp-shapes-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn a_refined_sphere_mesh_converges_to_the_sphere() {
+    let (r, dir) = (0.05, temp_dir("sphere"));
+    // A ray that hits inside a facet, off every vertex.
+    let ray = json!({"ray": {"origin": [0.31, 0.17, 1.0], "direction": [-0.3, -0.15, -1.0]}});
+    let mut errors = Vec::new();
+    for k in 1..=3 {
+        let file = write_obj(&dir, &format!("sphere{k}.obj"), &icosphere(r * 1000.0, k));
+        let shape =
+            json!({"mesh": {"file": file.file_name().unwrap().to_str().unwrap(), "unit": "mm"}});
+        let v = placed(shape, ray.clone());
+        let s = grasp_mesh_io::scene_from_json_str(&v.to_string(), &dir)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let d = &s.shape_report.as_ref().unwrap().fingers[0];
+        let p = nalgebra::Vector3::from(d.contact_point_m);
+        let exact_normal = -p.normalize();
+        let normal_error = (nalgebra::Vector3::from(d.normal) - exact_normal).norm();
+        let radius_error = d
+            .object_radius_m
+            .map(|x| (x.expect("curved") - r).abs() / r)
+            .iter()
+            .fold(0.0_f64, |m, x| m.max(*x));
+        let (vol, _) = s.shape_report.as_ref().map(|r| (r.volume_m3, ())).unwrap();
+        let volume_error = (vol - 4.0 / 3.0 * PI * r.powi(3)).abs() / (4.0 / 3.0 * PI * r.powi(3));
+        println!("refinement {k}: radius error {radius_error:.2e}, normal error {normal_error:.2e}, volume error {volume_error:.2e}");
+        errors.push((radius_error, normal_error, volume_error));
+    }
+    for w in errors.windows(2) {
+        assert!(
+            w[1].0 < w[0].0 && w[1].1 < w[0].1 && w[1].2 < w[0].2,
+            "{errors:?}"
+        );
+    }
+    // Finest mesh (1,280 triangles): radius within 2 %, normal within 0.01 rad (facets of
+    // about 0.08 R; the quadric fit's error falls with the mesh size).
+    assert!(errors[2].0 < 0.02 && errors[2].1 < 0.01, "{errors:?}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_cube_mesh_has_the_exact_volume_and_centroid_and_an_stl_reads_the_same() {
+    let dir = temp_dir("cube");
+    let v: Vec<[f64; 3]> = (0..8)
+        .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+        .collect();
+    let f = vec![
+        [0, 2, 1],
+        [1, 2, 3],
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
+    ];
+    let obj = write_obj(&dir, "cube.obj", &(v.clone(), f.clone()));
+    let spec = grasp_model::shape::MeshSpec {
+        file: "cube.obj".into(),
+        scale: 0.1,
+        unit: Default::default(),
+    };
+    let mesh = grasp_mesh_io::read_mesh(&obj, &spec).unwrap();
+    let (vol, c) = mesh.volume_and_centroid();
+    assert!(
+        (vol - 1e-3).abs() < 1e-15 && (c - nalgebra::Vector3::repeat(0.05)).norm() < 1e-15,
+        "{vol} {c}"
+    );
+    // The same cube as binary STL (stl_io writes it; our reader reads it back).
+    let tris: Vec<stl_io::Triangle> = f
+        .iter()
+        .map(|t| stl_io::Triangle {
+            normal: stl_io::Normal::new([0.0; 3]),
+            vertices: t.map(|i| stl_io::Vertex::new(v[i].map(|x| x as f32))),
+        })
+        .collect();
+    let stl = dir.join("cube.stl");
+    stl_io::write_stl(&mut std::fs::File::create(&stl).unwrap(), tris.iter()).unwrap();
+    let from_stl = grasp_mesh_io::read_mesh(&stl, &spec).unwrap();
+    assert!((from_stl.volume_and_centroid().0 - 1e-3).abs() < 1e-15);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `example` rewritten with `shape` and each finger placed at its own contact point (nudged
+/// 0.3 mm into the object, to be projected back) with its explicit frame's tangent as hint.
+fn with_shape(example: &str, shape: Value) -> (Value, Value) {
+    let explicit = example_json(example);
+    let mut v = explicit.clone();
+    v["object"]["shape"] = shape;
+    let planar = v.get("planar").is_some_and(|p| !p.is_null());
+    for f in v["fingers"].as_array_mut().unwrap() {
+        let f = f.as_object_mut().unwrap();
+        let p: [f64; 3] = serde_json::from_value(f.remove("contact_point").unwrap()).unwrap();
+        let n: [f64; 3] = serde_json::from_value(f.remove("normal").unwrap()).unwrap();
+        f.remove("object_radius");
+        let scene = grasp_model::patch::ContactFrame::new(p.into(), n.into(), None, None);
+        let nudged = [0, 1, 2].map(|i| p[i] + 3e-4 * n[i]);
+        let mut place = json!({"point": nudged});
+        if !planar {
+            place["tangent"] = json!([scene.t1.x, scene.t1.y, scene.t1.z]);
+        }
+        f.insert("place".into(), place);
+    }
+    (explicit, v)
+}
+
+fn same_forces(explicit: &Value, shaped: &Value) {
+    let a = solved(explicit);
+    let model = GraspModel::from_scene(&load(shaped).unwrap()).unwrap();
+    let b = grasp_model::solve(&model).unwrap();
+    assert_eq!(a.status, b.status);
+    let d = element_force_difference_n(&a, &b);
+    // The derived frames equal the written ones to round-off: forces to 1e-9 of the load.
+    assert!(d <= 1e-9 * a.load_scale_n, "{d:e}");
+}
+
+#[test]
+fn a_scene_written_with_a_shape_solves_like_its_explicit_frames() {
+    // Cube A on a box; the pipe (planar, curved across its axis) on a cylinder along x.
+    let (explicit, shaped) = with_shape(
+        "cube_a.json",
+        json!({"box": {"size": [0.1, 0.1, 0.1]}, "position": [0.05, 0.05, 0.05]}),
+    );
+    same_forces(&explicit, &shaped);
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let pipe = json!({"cylinder": {"radius": 0.01, "length": 0.4}, "position": [0.1, 0, 0], "quaternion": [h, 0, h, 0]});
+    let (explicit, shaped) = with_shape("pipe_three_fingers.json", pipe);
+    let s = load(&shaped).unwrap();
+    for f in &s.shape_report.as_ref().unwrap().fingers {
+        assert_eq!(f.object_radius_m[0], None, "{f:?}");
+        assert!(
+            (f.object_radius_m[1].unwrap() - 0.01).abs() < EXACT,
+            "{f:?}"
+        );
+    }
+    same_forces(&explicit, &shaped);
+}
