@@ -204,6 +204,13 @@ enum Command {
         /// Write a Rerun recording (.rrd) to replay in the Rerun viewer.
         #[arg(long, value_name = "F.rrd")]
         rrd: Option<PathBuf>,
+        /// Stream every step, as it is computed, to a running Rerun viewer or server (`rerun`,
+        /// or headless `rerun --save F.rrd`); default address rerun+http://127.0.0.1:9876/proxy.
+        #[arg(long, value_name = "URL", num_args = 0..=1, default_missing_value = "rerun+http://127.0.0.1:9876/proxy")]
+        rerun_connect: Option<String>,
+        /// Start a Rerun viewer (`rerun` on the PATH) and stream every step to it.
+        #[arg(long, conflicts_with = "rerun_connect")]
+        rerun_spawn: bool,
         /// Write the force histories as CSV.
         #[arg(long, value_name = "F.csv")]
         csv: Option<PathBuf>,
@@ -333,6 +340,8 @@ fn run(cli: Cli) -> Result<ExitCode> {
             schedule,
             mcap,
             rrd,
+            rerun_connect,
+            rerun_spawn,
             csv,
             plot,
             keep_going,
@@ -343,12 +352,18 @@ fn run(cli: Cli) -> Result<ExitCode> {
             solver,
             memory,
         } => {
+            let live = match (rerun_connect, rerun_spawn) {
+                (Some(url), _) => Some(transfer::Live::Connect(url)),
+                (None, true) => Some(transfer::Live::Spawn),
+                (None, false) => None,
+            };
             let outputs = transfer::Outputs {
                 mcap,
                 rrd,
                 csv,
                 plot,
                 force,
+                live,
             };
             let flags = transfer::Flags {
                 keep_going,

@@ -23,6 +23,16 @@ pub struct Outputs {
     pub csv: Option<PathBuf>,
     pub plot: Option<PathBuf>,
     pub force: bool,
+    /// A live Rerun stream besides the files.
+    pub live: Option<Live>,
+}
+
+/// Where a live Rerun stream goes.
+pub enum Live {
+    /// A running viewer or server at this gRPC proxy address.
+    Connect(String),
+    /// A viewer started for the run.
+    Spawn,
 }
 
 impl Outputs {
@@ -38,6 +48,15 @@ impl Outputs {
             if let Some(p) = p {
                 let _ = writeln!(o, "wrote {what}: {}", p.display());
             }
+        }
+        match &self.live {
+            Some(Live::Connect(url)) => {
+                let _ = writeln!(o, "streamed every step to the Rerun viewer at {url}");
+            }
+            Some(Live::Spawn) => {
+                let _ = writeln!(o, "streamed every step to a Rerun viewer");
+            }
+            None => {}
         }
         o
     }
@@ -65,6 +84,7 @@ pub struct Flags {
 struct OpenSinks {
     mcap: Option<McapSink>,
     rrd: Option<RerunSink>,
+    live: Option<RerunSink>,
     csv: Option<CsvSink>,
     pending: Vec<PendingOutput>,
 }
@@ -87,9 +107,15 @@ impl OpenSinks {
             .map(|(_, tmp, target)| RerunSink::create_as(&tmp, &target))
             .transpose()?;
         let csv = open(&out.csv)?.map(|(f, _, target)| CsvSink::from_file(f, &target));
+        let live = match &out.live {
+            Some(Live::Connect(url)) => Some(RerunSink::connect(url)?),
+            Some(Live::Spawn) => Some(RerunSink::spawn()?),
+            None => None,
+        };
         Ok(OpenSinks {
             mcap,
             rrd,
+            live,
             csv,
             pending,
         })
@@ -101,6 +127,9 @@ impl OpenSinks {
             v.push(s);
         }
         if let Some(s) = self.rrd.as_mut() {
+            v.push(s);
+        }
+        if let Some(s) = self.live.as_mut() {
             v.push(s);
         }
         if let Some(s) = self.csv.as_mut() {

@@ -49,7 +49,14 @@ pub struct RerunSink {
     pending: BTreeMap<(String, bool), PendingChunk>,
     /// Steps logged since the last flush.
     steps_since_flush: usize,
+    /// Steps between two sends: [`FLUSH_EVERY_STEPS`] to a file, 1 live.
+    flush_every: usize,
+    /// A live stream (viewer or server): the closing flush waits at most [`LIVE_FLUSH_TIMEOUT`].
+    live: bool,
 }
+
+/// Longest wait for a live viewer or server to take the last rows when a run ends.
+pub const LIVE_FLUSH_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(10);
 
 /// Steps whose rows are gathered before they are sent as chunks.
 pub const FLUSH_EVERY_STEPS: usize = 128;
@@ -97,8 +104,48 @@ impl RerunSink {
             .recording_id("grasp-transfer")
             .save(path)
             .map_err(|e| io_err("rerun", name, e))?;
+        Ok(Self::on_stream(rec, name, FLUSH_EVERY_STEPS, false))
+    }
+
+    /// Streams every step, as it is computed, to the Rerun viewer or server at `url` (a gRPC
+    /// proxy address such as `rerun+http://127.0.0.1:9876/proxy`).
+    pub fn connect(url: &str) -> Result<Self, TransferError> {
+        let name = Path::new(url);
+        // Without a listener the stream would wait for one at the end of the run: ask first.
+        reachable(url).map_err(|e| io_err("rerun", name, e))?;
+        let rec = rerun::RecordingStreamBuilder::new("grasp")
+            .recording_id("grasp-transfer")
+            .connect_grpc_opts(url)
+            .map_err(|e| {
+                io_err(
+                    "rerun",
+                    name,
+                    format!("{e} (give a proxy address such as rerun+http://127.0.0.1:9876/proxy)"),
+                )
+            })?;
+        Ok(Self::on_stream(rec, name, 1, true))
+    }
+
+    /// Starts a Rerun viewer (the `rerun` program on the PATH) and streams every step to it.
+    pub fn spawn() -> Result<Self, TransferError> {
+        let name = Path::new("rerun viewer");
+        let rec = rerun::RecordingStreamBuilder::new("grasp")
+            .recording_id("grasp-transfer")
+            .spawn()
+            .map_err(|e| {
+                io_err(
+                    "rerun",
+                    name,
+                    format!("{e} (install the viewer: pip install rerun-sdk==0.36.3)"),
+                )
+            })?;
+        Ok(Self::on_stream(rec, name, 1, true))
+    }
+
+    /// A sink on `rec`, sending its rows every `flush_every` steps.
+    fn on_stream(rec: RecordingStream, name: &Path, flush_every: usize, live: bool) -> Self {
         rec.set_log_time_enabled(false);
-        Ok(RerunSink {
+        RerunSink {
             rec: Some(rec),
             path: name.to_path_buf(),
             arrow_m_per_n: 1.0,
@@ -106,7 +153,9 @@ impl RerunSink {
             time: TimePoint::default(),
             pending: BTreeMap::new(),
             steps_since_flush: 0,
-        })
+            flush_every,
+            live,
+        }
     }
 
     /// Sends the gathered rows as one chunk per entity, in path order.
@@ -359,7 +408,7 @@ impl Sink for RerunSink {
             self.send("plots/margin/smallest", &Scalars::new([m.smallest_n]))?;
         }
         self.steps_since_flush += 1;
-        if self.steps_since_flush >= FLUSH_EVERY_STEPS {
+        if self.steps_since_flush >= self.flush_every {
             self.send_pending()?;
         }
         Ok(())
@@ -370,8 +419,11 @@ impl Sink for RerunSink {
             self.send_pending()?;
         }
         if let Some(rec) = self.rec.take() {
-            rec.flush_blocking()
-                .map_err(|e| io_err("rerun", &self.path, e))?;
+            let flushed = match self.live {
+                true => rec.flush_with_timeout(LIVE_FLUSH_TIMEOUT),
+                false => rec.flush_blocking(),
+            };
+            flushed.map_err(|e| io_err("rerun", &self.path, e))?;
         }
         Ok(())
     }
@@ -379,7 +431,7 @@ impl Sink for RerunSink {
     fn abort(&mut self) {
         self.pending.clear();
         if let Some(rec) = self.rec.take() {
-            let _ = rec.flush_blocking();
+            let _ = rec.flush_with_timeout(LIVE_FLUSH_TIMEOUT);
         }
     }
 }
@@ -392,4 +444,27 @@ fn object_mesh(surface: &grasp_model::mesh_surface::TriangleMesh) -> Mesh3D {
         .with_albedo_factor(rerun::datatypes::Rgba32::from_unmultiplied_rgba(
             200, 200, 210, 110,
         ))
+}
+
+/// Whether something listens at the host and port of the gRPC address `url`
+/// (`rerun+http://HOST:PORT/proxy`), within two seconds.
+fn reachable(url: &str) -> Result<(), String> {
+    use std::net::{TcpStream, ToSocketAddrs};
+    let rest = url.split_once("://").map_or(url, |(_, r)| r);
+    let host_port = rest.split('/').next().unwrap_or(rest);
+    let hint = "start a viewer with `rerun` (or a headless server with `rerun --save F.rrd`), or check the address";
+    let addrs: Vec<_> = host_port
+        .to_socket_addrs()
+        .map_err(|e| format!("cannot resolve `{host_port}`: {e}; {hint}"))?
+        .collect();
+    let timeout = std::time::Duration::from_secs(2);
+    match addrs
+        .iter()
+        .any(|a| TcpStream::connect_timeout(a, timeout).is_ok())
+    {
+        true => Ok(()),
+        false => Err(format!(
+            "no Rerun viewer or server listens at {host_port}; {hint}"
+        )),
+    }
 }

@@ -1,0 +1,74 @@
+"""`grasp transfer --rerun-connect`: every step streamed to a running Rerun server (the
+rerun CLI's headless `rerun --port P --save F.rrd`) carries the same rows, entity by entity,
+as the recording file the same run writes; an address where nothing listens is a clear error."""
+
+import collections
+import os
+import re
+import signal
+import socket
+import subprocess
+import time
+
+import pytest
+
+from conftest import EXAMPLES, rerun_cli
+
+pytestmark = pytest.mark.skipif(rerun_cli() is None, reason="the rerun CLI (scripts/install-checkers.sh) is not installed")
+ENV = {"CI": "1", "PATH": "/usr/bin:/bin"}
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def wait_listening(port, seconds=20.0):
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        with socket.socket() as s:
+            if s.connect_ex(("127.0.0.1", port)) == 0:
+                return
+        time.sleep(0.1)
+    pytest.fail(f"the rerun server did not listen on port {port}")
+
+
+def rows_by_entity(path):
+    out = subprocess.run([rerun_cli(), "rrd", "print", str(path)], capture_output=True, text=True, env=ENV)
+    assert out.returncode == 0, out.stderr
+    rows = collections.Counter()
+    for m in re.finditer(r"with (\d+) rows .*? - (/\S+) - ", out.stdout):
+        rows[m.group(2)] += int(m.group(1))
+    return rows
+
+
+def test_a_live_stream_carries_what_the_file_holds(run_cli, tmp_path):
+    port, live = free_port(), tmp_path / "live.rrd"
+    server = subprocess.Popen([rerun_cli(), "--port", str(port), "--save", str(live)],
+                              env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        wait_listening(port)
+        url = f"rerun+http://127.0.0.1:{port}/proxy"
+        proc = run_cli("transfer", EXAMPLES / "plate_transfer.json", "--schedule", EXAMPLES / "plate_transfer.schedule.json",
+                       "--rrd", tmp_path / "file.rrd", "--rerun-connect", url)
+        assert proc.returncode == 0, proc.stderr
+        assert f"streamed every step to the Rerun viewer at {url}" in proc.stdout
+        time.sleep(1.0)
+    finally:
+        server.send_signal(signal.SIGINT)
+        try:
+            server.wait(10)
+        except subprocess.TimeoutExpired:
+            server.kill()
+    file_rows = rows_by_entity(tmp_path / "file.rrd")
+    assert file_rows["/plots/normal_force/f1"] == 201  # the series name, then one row per step
+    assert rows_by_entity(live) == file_rows
+
+
+def test_nothing_listening_is_a_clear_error(run_cli):
+    port = free_port()
+    proc = run_cli("transfer", EXAMPLES / "plate_transfer.json", "--schedule", EXAMPLES / "plate_transfer.schedule.json",
+                   "--rerun-connect", f"rerun+http://127.0.0.1:{port}/proxy")
+    assert proc.returncode == 1
+    assert f"no Rerun viewer or server listens at 127.0.0.1:{port}" in proc.stderr
