@@ -3,6 +3,7 @@
 
 mod batch_run;
 mod bench;
+mod force_diagram;
 mod limits;
 mod margin;
 mod output;
@@ -63,6 +64,23 @@ enum Command {
         /// volume and mass, and the shape checks' warnings.
         #[arg(long)]
         explain_frames: bool,
+        #[command(flatten)]
+        memory: MemoryArg,
+    },
+    /// Force diagram of one solve (SVG): two orthographic views with the object's outline,
+    /// each finger's normal and friction force, its friction cone, and the weight.
+    Plot {
+        /// Scene file (JSON).
+        scene: PathBuf,
+        /// The picture to write (.svg).
+        #[arg(long, value_name = "F.svg")]
+        out: PathBuf,
+        /// Overwrite OUT if it exists.
+        #[arg(long)]
+        force: bool,
+        /// Solver: `auto`, `native` or `clarabel`.
+        #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+        solver: SolverChoice,
         #[command(flatten)]
         memory: MemoryArg,
     },
@@ -446,6 +464,13 @@ fn run(cli: Cli) -> Result<ExitCode> {
             };
             batch_run::sweep(&scene, &vary, run, &flags)
         }
+        Command::Plot {
+            scene,
+            out,
+            force,
+            solver,
+            memory,
+        } => plot_command(&scene, &out, force, solver, memory.max_memory),
         Command::Margin {
             scene,
             directions,
@@ -569,6 +594,48 @@ fn run(cli: Cli) -> Result<ExitCode> {
             })
         }
     }
+}
+
+/// `grasp plot`: solves the scene and writes its force diagram.
+fn plot_command(
+    scene_path: &Path,
+    out: &Path,
+    force: bool,
+    solver: SolverChoice,
+    max_memory: Option<u64>,
+) -> Result<ExitCode> {
+    if out.extension().is_none_or(|e| e != "svg") {
+        anyhow::bail!("--out {}: give a file ending in .svg", out.display());
+    }
+    output::check_targets(&[out], &[scene_path], force)?;
+    let scene = load_scene(scene_path)?;
+    let (limit, what) = limits::memory_limit(max_memory);
+    limits::check_memory(&scene, scene_path, (limit, &what))?;
+    let model = GraspModel::from_scene(&scene)
+        .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
+    let options = SolveOptions {
+        solver,
+        ..SolveOptions::default()
+    };
+    let solution = GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
+    let title = scene_path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let svg = force_diagram::svg(&scene, &model, &solution, &title)?;
+    output::write_new(out, svg.as_bytes(), force)?;
+    println!(
+        "{}: {}; wrote {}",
+        title,
+        serde_json::to_value(solution.status)?
+            .as_str()
+            .unwrap_or(""),
+        out.display()
+    );
+    Ok(if solution.status.has_forces() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
+    })
 }
 
 /// Reads and validates a scene file (its mesh files relative to its folder); the error

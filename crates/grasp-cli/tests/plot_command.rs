@@ -1,0 +1,100 @@
+//! `grasp plot`: the force diagram's content (both views, every finger named, one blue
+//! normal-force arrow and one orange friction arrow per loaded finger and view, the weight),
+//! and the output rules (no overwrite without --force, .svg only).
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn grasp() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_grasp"))
+}
+
+fn example(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+}
+
+fn out_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("grasp-plot-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Polylines drawn in `color` (plotters writes `stroke="#RRGGBB"`).
+fn strokes(svg: &str, color: &str) -> usize {
+    svg.matches(&format!("stroke=\"{color}\"")).count()
+}
+
+#[test]
+fn the_diagram_shows_every_finger_force_in_both_views() {
+    // (scene, fingers, normal arrows, friction arrows) over both views; a force along a
+    // view's line of sight is not drawn there. Cube A: views y-z and y-x; f1, f2 push along
+    // y (both views), f3 along z (y-z only); every friction force has components in both.
+    // Box pinch: views y-x and y-z; both jaws push along y, their friction is vertical (y-z).
+    let cases = [
+        ("cube_a.json", ["f1", "f2", "f3"].as_slice(), 5, 6),
+        ("box_pinch.json", ["left", "right"].as_slice(), 4, 2),
+    ];
+    let dir = out_dir("content");
+    for (scene, fingers, normal, friction) in cases {
+        let out = dir.join(scene.replace(".json", ".svg"));
+        let st = grasp()
+            .arg("plot")
+            .arg(example(scene))
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(
+            st.status.success(),
+            "{}",
+            String::from_utf8_lossy(&st.stderr)
+        );
+        let svg = std::fs::read_to_string(&out).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains(&format!("{scene}: solved")));
+        assert_eq!(svg.matches("view onto").count(), 2);
+        for f in fingers {
+            // In the header's resultants and beside the contact in each view.
+            assert!(svg.matches(f).count() >= 3, "{f}");
+        }
+        // Each arrow is a shaft and two head strokes.
+        assert_eq!(
+            strokes(&svg, "#1F64C8"),
+            3 * normal,
+            "normal arrows of {scene}"
+        );
+        assert_eq!(
+            strokes(&svg, "#F08C14"),
+            3 * friction,
+            "friction arrows of {scene}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn existing_pictures_are_kept_and_only_svg_is_written() {
+    let dir = out_dir("rules");
+    let out = dir.join("mine.svg");
+    std::fs::write(&out, "mine").unwrap();
+    let st = grasp()
+        .arg("plot")
+        .arg(example("cube_a.json"))
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(st.status.code(), Some(1));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "mine");
+    let st = grasp()
+        .arg("plot")
+        .arg(example("cube_a.json"))
+        .arg("--out")
+        .arg(dir.join("x.png"))
+        .output()
+        .unwrap();
+    assert_eq!(st.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&st.stderr).contains(".svg"));
+    std::fs::remove_dir_all(&dir).ok();
+}
