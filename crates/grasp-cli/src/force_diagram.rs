@@ -190,7 +190,7 @@ fn view(
         .configure_mesh()
         .x_desc(AXES[u])
         .y_desc(AXES[v])
-        .light_line_style(WHITE)
+        .max_light_lines(0)
         .draw()
         .map_err(plot_err)?;
     let p2 = |p: &Vector3<f64>| (p[u], p[v]);

@@ -44,13 +44,16 @@ impl TriangleMesh {
     }
 }
 
+/// Fewest vertices of the curvature fit around a point.
+pub const FIT_VERTICES: usize = 12;
+
 /// A mesh object ready for queries.
 #[derive(Debug, Clone)]
 pub struct MeshSurface {
     mesh: TriangleMesh,
     trimesh: TriMesh,
-    /// Mean edge length, m: the scale of the curvature fit's neighbourhood.
-    mean_edge_m: f64,
+    /// Mean length of the edges at each vertex, m: the local mesh size.
+    vertex_edge_m: Vec<f64>,
 }
 
 fn pv(v: &Vector3<f64>) -> PVec {
@@ -82,22 +85,11 @@ impl MeshSurface {
             | TriMeshFlags::ORIENTED;
         let trimesh = TriMesh::with_flags(vertices, mesh.triangles.clone(), flags)
             .map_err(|e| format!("is not a usable triangle mesh: {e}"))?;
-        let mut total = 0.0;
-        let mut count = 0usize;
-        for t in trimesh.indices() {
-            for k in 0..3 {
-                let (a, b) = (
-                    trimesh.vertices()[t[k] as usize],
-                    trimesh.vertices()[t[(k + 1) % 3] as usize],
-                );
-                total += (a - b).length();
-                count += 1;
-            }
-        }
+        let vertex_edge_m = vertex_edge_lengths(&trimesh);
         Ok(MeshSurface {
             mesh,
             trimesh,
-            mean_edge_m: total / count.max(1) as f64,
+            vertex_edge_m,
         })
     }
 
@@ -122,32 +114,37 @@ impl MeshSurface {
             .cast_local_ray(&Ray::new(pv(o), pv(d)), f64::MAX, true)
     }
 
-    /// The vertices used for the fit at `q`: those within 1.5 mean edge lengths, and at least
-    /// the 12 nearest (a wider neighbourhood feels the surface's higher-order terms: on a
-    /// sphere the quadric's error grows like (radius / R)^2).
+    /// The vertices used for the fit at `q`: those within 1.5 local edge lengths (the mean
+    /// edge at the nearest vertex), and at least the [`FIT_VERTICES`] nearest. A wider
+    /// neighbourhood feels the surface's higher-order terms: on a sphere the quadric's error
+    /// grows like (radius / R)^2.
     fn neighbourhood(&self, q: &Vector3<f64>) -> Vec<Vector3<f64>> {
-        let mut by_distance: Vec<(f64, Vector3<f64>)> = self
+        let mut by_distance: Vec<(f64, usize)> = self
             .trimesh
             .vertices()
             .iter()
-            .map(|v| {
-                let v = nv(*v);
-                ((v - q).norm(), v)
-            })
+            .enumerate()
+            .map(|(i, v)| ((nv(*v) - q).norm(), i))
             .collect();
         by_distance.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let radius = 1.5 * self.mean_edge_m;
+        let radius = 1.5
+            * by_distance
+                .first()
+                .map_or(0.0, |&(_, i)| self.vertex_edge_m[i]);
         let n = by_distance
             .iter()
             .take_while(|(d, _)| *d <= radius)
             .count()
-            .max(12);
-        by_distance.into_iter().take(n).map(|(_, v)| v).collect()
+            .max(FIT_VERTICES);
+        by_distance
+            .into_iter()
+            .take(n)
+            .map(|(_, i)| nv(self.trimesh.vertices()[i]))
+            .collect()
     }
 
     /// Area-weighted normal of the triangles with a vertex among `near` (outward).
-    fn reference_normal(&self, q: &Vector3<f64>) -> Vector3<f64> {
-        let radius = 2.5 * self.mean_edge_m;
+    fn reference_normal(&self, q: &Vector3<f64>, radius: f64) -> Vector3<f64> {
         let mut n = Vector3::zeros();
         for t in self.trimesh.indices() {
             let [a, b, c] = t.map(|i| nv(self.trimesh.vertices()[i as usize]));
@@ -162,13 +159,14 @@ impl MeshSurface {
     /// `w = c0 + c1 u + c2 v + c3 u^2 + c4 uv + c5 v^2` fitted to the nearby vertices in a
     /// frame `(u, v, w)` with `w` along the reference normal.
     fn fit_at(&self, q: &Vector3<f64>) -> Result<SurfacePoint, String> {
-        let w = self.reference_normal(q);
+        let near = self.neighbourhood(q);
+        let radius = near.iter().map(|p| (p - q).norm()).fold(0.0, f64::max);
+        let w = self.reference_normal(q, radius);
         if !w.iter().all(|x| x.is_finite()) {
             return Err("lies where the mesh has no usable normal".into());
         }
         let u = perpendicular(&w);
         let v = w.cross(&u);
-        let near = self.neighbourhood(q);
         let mut a = DMatrix::zeros(near.len(), 6);
         let mut b = DVector::zeros(near.len());
         for (r, p) in near.iter().enumerate() {
@@ -241,4 +239,25 @@ fn principal_direction(shape: &Matrix2<f64>, lambda: f64) -> (f64, f64) {
         return (1.0, 0.0); // umbilic: every direction is principal
     }
     (-row[1], row[0])
+}
+
+/// Mean length of the edges meeting at each vertex of `m`, m.
+fn vertex_edge_lengths(m: &TriMesh) -> Vec<f64> {
+    let mut total = vec![0.0; m.vertices().len()];
+    let mut count = vec![0usize; m.vertices().len()];
+    for t in m.indices() {
+        for k in 0..3 {
+            let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+            let len = (m.vertices()[a] - m.vertices()[b]).length();
+            for v in [a, b] {
+                total[v] += len;
+                count[v] += 1;
+            }
+        }
+    }
+    total
+        .iter()
+        .zip(&count)
+        .map(|(t, c)| t / (*c).max(1) as f64)
+        .collect()
 }

@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Regenerates the gallery's pictures (docs/gallery/<scene>.svg, one `grasp plot` per scene of
+# examples/README.md). crates/grasp-cli/tests/gallery.rs regenerates each and compares it with
+# the committed file, so run this after a change that moves a picture, and commit the result.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scenes="plate_four_fingers disc_three_fingers pipe_three_fingers cube_a cube_b hertz_sphere_on_flat
+        plate_transfer disc_transfer plate_handoff_coulomb
+        box_pinch sphere_three_fingers mug_power_grasp cylinder_handoff"
+for s in $scenes; do
+  cargo run --release --quiet -- plot "examples/$s.json" --out "docs/gallery/$s.svg" --force
+done
