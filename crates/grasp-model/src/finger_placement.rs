@@ -190,6 +190,8 @@ fn place_finger(
         return check_explicit(f, i, &name, shape);
     };
     let path = format!("fingers[{i}].place");
+    // A cylindrical tip's axis is the preferred t1 (the curvatures must share directions).
+    let tip_axis = f.pointer("/tip/cylinder/axis").and_then(vec3_at);
     let spec: PlaceSpec = serde_json::from_value(place).map_err(|e| {
         problem(
             &path,
@@ -223,7 +225,8 @@ fn place_finger(
             "move the finger onto a face",
         ));
     }
-    let frame = tangent_frame(&s, spec.tangent.map(Vector3::from), plane).map_err(|m| {
+    let hint = spec.tangent.map(Vector3::from).or(tip_axis);
+    let frame = tangent_frame(&s, hint, plane).map_err(|m| {
         problem(
             &path,
             m,

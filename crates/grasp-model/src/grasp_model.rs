@@ -383,7 +383,7 @@ fn finger_model(f: &crate::scene::FingerSpec, object: &ObjectModel) -> FingerMod
         f.tangent.as_ref().map(v3),
         object.plane.map(|(_, _, p)| p),
     );
-    let tip = f.tip_radius.map_or(0.0, |r| 1.0 / r);
+    let tip = tip_curvatures_per_m(f, &frame);
     let obj = match f.object_radius {
         None => [0.0, 0.0],
         Some(RadiusSpec::Isotropic(r)) => [1.0 / r, 1.0 / r],
@@ -391,7 +391,11 @@ fn finger_model(f: &crate::scene::FingerSpec, object: &ObjectModel) -> FingerMod
             [a.map_or(0.0, |r| 1.0 / r), b.map_or(0.0, |r| 1.0 / r)]
         }
     };
-    let patch = Patch::new(f.patch.size, f.patch.grid, [tip + obj[0], tip + obj[1]]);
+    let patch = Patch::new(
+        f.patch.size,
+        f.patch.grid,
+        [tip[0] + obj[0], tip[1] + obj[1]],
+    );
     let material = Material::from(&f.material);
     let pair = PairConstants::new(&material, &object.material);
     let friction = FrictionLaw::from_spec(&f.friction, &material, &object.material);
@@ -449,5 +453,31 @@ fn scales_of(fingers: &[FingerModel], load_n: f64, reference_point_m: &Vector3<f
         element_force_n: load_n / max_elems as f64,
         compliance_m_per_n: compliance,
         length_m,
+    }
+}
+
+/// The fingertip's curvatures along `t1`, `t2`, 1/m: a sphere `1/R` both ways; a cylinder
+/// `1/R` across its axis and 0 along it (the axis lies along `t1` or `t2`, checked by
+/// validation); flat 0 (the gap of two curved bodies: Johnson 4.1, curvatures added along
+/// common principal directions).
+pub fn tip_curvatures_per_m(f: &crate::scene::FingerSpec, frame: &ContactFrame) -> [f64; 2] {
+    if let Some(r) = f.tip_radius {
+        return [1.0 / r, 1.0 / r];
+    }
+    let Some(tip) = &f.tip else {
+        return [0.0, 0.0];
+    };
+    if let Some(s) = &tip.sphere {
+        return [1.0 / s.radius, 1.0 / s.radius];
+    }
+    match &tip.cylinder {
+        Some(c) => {
+            let a = v3(&c.axis).normalize();
+            match a.dot(&frame.t1).abs() >= a.dot(&frame.t2).abs() {
+                true => [0.0, 1.0 / c.radius],
+                false => [1.0 / c.radius, 0.0],
+            }
+        }
+        None => [0.0, 0.0],
     }
 }

@@ -153,6 +153,11 @@ pub struct FingerSpec {
     /// patch side; `null` for a flat tip.
     #[serde(default)]
     pub tip_radius: Option<f64>,
+    /// The fingertip's shape near the contact: `{"sphere": {"radius": R}}`, `{"cylinder":
+    /// {"radius": R, "axis": [x, y, z]}}` or `{"flat": {"size": [a, b]}}` (instead of
+    /// `tip_radius`; omitted: flat).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tip: Option<crate::shape_format::TipSpec>,
     /// Local radius of curvature of the object at the contact in metres: `null` (flat), one
     /// number (sphere-like), or `[R1, R2]` principal radii along `t1` and `t2` (either may be
     /// `null`; a cylinder whose axis runs along `t2` is `[R, null]`). Each radius in

@@ -147,3 +147,46 @@ pub struct RaySpec {
     /// Direction (any nonzero length).
     pub direction: Vec3,
 }
+
+/// `fingers[i].tip`: the fingertip's shape near the contact (exactly one member; the older
+/// `tip_radius` is a sphere).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TipSpec {
+    /// A spherical tip: `{"radius": R}`, m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sphere: Option<TipSphereSpec>,
+    /// A cylindrical tip: `{"radius": R, "axis": [x, y, z]}` (m; the axis in the world frame,
+    /// tangent to the contact and along `t1` or `t2`): curved across the axis, straight along it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cylinder: Option<TipCylinderSpec>,
+    /// A flat pad: `{"size": [a, b]}`, m along `t1`, `t2`; the patch must lie on the pad.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub flat: Option<TipFlatSpec>,
+}
+
+/// A spherical fingertip.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TipSphereSpec {
+    /// Radius, m, in `[1e-9, 1e3]` and at least half the larger patch side.
+    pub radius: f64,
+}
+
+/// A cylindrical fingertip.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TipCylinderSpec {
+    /// Radius, m, in `[1e-9, 1e3]` and at least half the patch side across the axis.
+    pub radius: f64,
+    /// Axis direction (any nonzero length), world frame.
+    pub axis: Vec3,
+}
+
+/// A flat fingertip pad.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TipFlatSpec {
+    /// Pad sides along `t1`, `t2`, m.
+    pub size: [f64; 2],
+}

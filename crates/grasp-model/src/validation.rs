@@ -242,6 +242,7 @@ impl Scene {
             );
         }
         validate_radii(&p, f, v);
+        validate_tip(&p, f, self.planar.as_ref().map(|pl| pl.normal), v);
         validate_patch(&p, f, v);
         v.friction(&format!("{p}.friction"), &f.friction, object_rigid);
         if let ControlSpec::Load(l) = f.control {
@@ -390,6 +391,88 @@ fn validate_radii(p: &str, f: &FingerSpec, v: &mut Problems) {
             }
         }
         None => {}
+    }
+}
+
+/// The fingertip's shape: one kind, not with `tip_radius`; a cylinder's axis tangent and
+/// along `t1` or `t2`; a flat pad at least as large as the patch.
+fn validate_tip(p: &str, f: &FingerSpec, planar: Option<Vec3>, v: &mut Problems) {
+    let Some(tip) = &f.tip else { return };
+    let kinds = [
+        tip.sphere.is_some(),
+        tip.cylinder.is_some(),
+        tip.flat.is_some(),
+    ];
+    if kinds.iter().filter(|k| **k).count() != 1 {
+        let fix = "give one of {\"sphere\": {...}}, {\"cylinder\": {...}}, {\"flat\": {...}}";
+        return v.push(
+            &format!("{p}.tip"),
+            "needs exactly one of sphere, cylinder, flat".into(),
+            fix,
+        );
+    }
+    if f.tip_radius.is_some() {
+        let fix = "remove tip_radius (a spherical tip is {\"sphere\": {\"radius\": R}})";
+        v.push(
+            &format!("{p}.tip"),
+            "is given together with tip_radius".into(),
+            fix,
+        );
+    }
+    let half = 0.5 * f.patch.size[0].max(f.patch.size[1]);
+    if let Some(s) = &tip.sphere {
+        v.radius(&format!("{p}.tip.sphere.radius"), s.radius, half);
+    }
+    if let Some(c) = &tip.cylinder {
+        v.radius(&format!("{p}.tip.cylinder.radius"), c.radius, half);
+        let axis_ok = v.direction(
+            &format!("{p}.tip.cylinder.axis"),
+            &c.axis,
+            "give the tip's axis, e.g. [1, 0, 0]",
+        );
+        if axis_ok && unit_vector(&f.normal).is_some() {
+            check_tip_axis(p, f, &unit(&c.axis), planar, v);
+        }
+    }
+    if let Some(flat) = &tip.flat {
+        for k in 0..2 {
+            // False for a NaN pad side too.
+            let fits = f.patch.size[k] <= flat.size[k] * (1.0 + 1e-12);
+            if !fits {
+                v.push(
+                    &format!("{p}.patch.size[{k}]"),
+                    format!(
+                        "{} m is larger than the flat pad's {} m",
+                        f.patch.size[k], flat.size[k]
+                    ),
+                    "make the patch no larger than the pad (the pad is all that can touch)",
+                );
+            }
+        }
+    }
+}
+
+/// A cylindrical tip's axis must be tangent to the contact and along `t1` or `t2`, so that
+/// the tip's and the object's curvatures add along common directions.
+fn check_tip_axis(p: &str, f: &FingerSpec, axis: &Vec3, planar: Option<Vec3>, v: &mut Problems) {
+    let v3 = |a: &Vec3| nalgebra::Vector3::new(a[0], a[1], a[2]);
+    let frame = crate::patch::ContactFrame::new(
+        v3(&f.contact_point),
+        v3(&f.normal),
+        f.tangent.as_ref().map(v3),
+        planar.as_ref().map(v3),
+    );
+    let a = v3(axis);
+    let along = a.dot(&frame.t1).abs().max(a.dot(&frame.t2).abs());
+    if along < 1.0 - 1e-6 {
+        v.push(
+            &format!("{p}.tip.cylinder.axis"),
+            format!(
+                "is not along the patch's t1 [{:.4}, {:.4}, {:.4}] or t2 [{:.4}, {:.4}, {:.4}]",
+                frame.t1.x, frame.t1.y, frame.t1.z, frame.t2.x, frame.t2.y, frame.t2.z
+            ),
+            "give the finger's tangent along the tip's axis (or across it), or turn the axis into the contact's tangent plane",
+        );
     }
 }
 
