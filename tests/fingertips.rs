@@ -134,3 +134,28 @@ fn a_placed_finger_takes_its_cylindrical_tips_axis_as_t1() {
     assert!((t1[1].abs() - 1.0).abs() < 1e-12, "{t1:?}");
     assert!((d.object_radius_m[0].unwrap() - 0.02).abs() < 1e-12 && d.object_radius_m[1].is_none());
 }
+
+#[test]
+fn the_hertz_suggestion_is_hertz_and_its_patch_holds_the_contact() {
+    use grasp_model::closed_form::HertzSphere;
+    use grasp_model::patch_sizing::hertz_suggestion;
+    let v = hertz();
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = grasp_model::GraspModel::from_scene(&scene).unwrap();
+    let h = hertz_suggestion(&scene.fingers[0], &model.fingers[0], 10.0).unwrap();
+    // Steel on steel: E* = E / (2 (1 - nu^2)).
+    let exact = HertzSphere::new(10.0, 0.01, 2.1e11 / (2.0 * (1.0 - 0.09)));
+    for a in h.semi_axes_m {
+        assert!((a.unwrap() - exact.contact_radius_m).abs() <= 1e-12 * exact.contact_radius_m);
+    }
+    // Solved on the suggested patch, the contact leaves the patch's boundary ring unloaded
+    // (thesis 2.2.1): the patch holds the contact.
+    let mut w = v.clone();
+    w["fingers"][0]["patch"]["size"] = json!(h.suggested_size_m);
+    let s = solved(&w);
+    assert!(
+        s.fingers[0].boundary_load_fraction < 1e-9,
+        "{}",
+        s.fingers[0].boundary_load_fraction
+    );
+}

@@ -520,6 +520,9 @@ fn run(cli: Cli) -> Result<ExitCode> {
             let scene_obj = load_scene(&scene)?;
             let (limit, what) = limits::memory_limit(memory.max_memory);
             limits::check_memory(&scene_obj, &scene, (limit, &what))?;
+            if explain_frames {
+                print!("{}", report::hertz_table(&scene_obj)?);
+            }
             if let Some(r) = &scene_obj.shape_report {
                 if explain_frames {
                     print!("{}", report::frames_table(r));

@@ -266,3 +266,34 @@ pub fn frames_table(r: &grasp_model::finger_placement::ShapeReport) -> String {
     }
     o
 }
+
+/// Per curved contact, the Hertz estimate and the patch it suggests (`--explain-frames`), at
+/// the finger's commanded load, or the object's weight for a held finger.
+pub fn hertz_table(scene: &grasp_model::Scene) -> anyhow::Result<String> {
+    let model = grasp_model::GraspModel::from_scene(scene)?;
+    let mut o = String::new();
+    let mm = |x: f64| format!("{:.3}", 1e3 * x);
+    for (f, m) in scene.fingers.iter().zip(&model.fingers) {
+        let (load, which) = match f.control.normal_load_n() {
+            Some(p) => (p, "its commanded load"),
+            None => (scene.object.weight, "the object's weight"),
+        };
+        let Some(h) = grasp_model::patch_sizing::hertz_suggestion(f, m, load) else {
+            continue;
+        };
+        let axis = |a: Option<f64>| a.map_or("line".to_string(), |a| format!("{} mm", mm(a)));
+        let _ = writeln!(
+            o,
+            "finger {}: Hertz contact at {:.4} N ({which}): semi-axes {} x {}; suggested patch [{}, {}] mm (now [{}, {}] mm)",
+            f.name,
+            h.load_n,
+            axis(h.semi_axes_m[0]),
+            axis(h.semi_axes_m[1]),
+            mm(h.suggested_size_m[0]),
+            mm(h.suggested_size_m[1]),
+            mm(f.patch.size[0]),
+            mm(f.patch.size[1])
+        );
+    }
+    Ok(o)
+}

@@ -384,13 +384,7 @@ fn finger_model(f: &crate::scene::FingerSpec, object: &ObjectModel) -> FingerMod
         object.plane.map(|(_, _, p)| p),
     );
     let tip = tip_curvatures_per_m(f, &frame);
-    let obj = match f.object_radius {
-        None => [0.0, 0.0],
-        Some(RadiusSpec::Isotropic(r)) => [1.0 / r, 1.0 / r],
-        Some(RadiusSpec::Principal([a, b])) => {
-            [a.map_or(0.0, |r| 1.0 / r), b.map_or(0.0, |r| 1.0 / r)]
-        }
-    };
+    let obj = object_curvatures_per_m(f);
     let patch = Patch::new(
         f.patch.size,
         f.patch.grid,
@@ -479,5 +473,16 @@ pub fn tip_curvatures_per_m(f: &crate::scene::FingerSpec, frame: &ContactFrame) 
             }
         }
         None => [0.0, 0.0],
+    }
+}
+
+/// The object's curvatures along `t1`, `t2` at finger `f`'s contact, 1/m (0: flat).
+pub fn object_curvatures_per_m(f: &crate::scene::FingerSpec) -> [f64; 2] {
+    match f.object_radius {
+        None => [0.0, 0.0],
+        Some(RadiusSpec::Isotropic(r)) => [1.0 / r, 1.0 / r],
+        Some(RadiusSpec::Principal([a, b])) => {
+            [a.map_or(0.0, |r| 1.0 / r), b.map_or(0.0, |r| 1.0 / r)]
+        }
     }
 }

@@ -5,9 +5,9 @@
 //! edge is a real edge of the contact.
 
 use crate::error::ModelError;
-use crate::grasp_model::GraspModel;
+use crate::grasp_model::{FingerModel, GraspModel};
 pub use crate::patch_check::{patch_warnings, undersized_patches, BOUNDARY_LOAD_TOLERANCE};
-use crate::scene::Scene;
+use crate::scene::{FingerSpec, Scene};
 use crate::solution::Solution;
 use crate::solve::GraspSolver;
 use crate::solve_options::SolveOptions;
@@ -103,4 +103,59 @@ fn grown_scene(scene: &Scene, under: &[(usize, f64)], log: &mut Vec<String>) -> 
         f.patch.grid = grid;
     }
     grown
+}
+
+/// The Hertz estimate of a finger's contact at a given load, and the patch it suggests.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HertzSuggestion {
+    /// Load of the estimate, N.
+    pub load_n: f64,
+    /// Contact semi-axes along `t1`, `t2`, m (`None`: straight that way, a line contact along
+    /// the whole patch).
+    pub semi_axes_m: [Option<f64>; 2],
+    /// Suggested patch sides along `t1`, `t2`, m: 2.4 semi-axes (the contact and a ring of free
+    /// elements around it), the present side where the contact is a line.
+    pub suggested_size_m: [f64; 2],
+}
+
+/// Hertz estimate (Johnson 4.2) of finger `f`'s contact at `load_n` from the summed tip and
+/// object curvatures along `t1`, `t2` and `E*` of the pair: an ellipse of semi-axes
+/// `c (R1/R2)^(1/3)`, `c (R2/R1)^(1/3)` with `c = (3 P sqrt(R1 R2) / 4 E*)^(1/3)` (the
+/// equivalent-radius approximation, a few percent for moderate eccentricity), or, curved one
+/// way only, a line contact of half-width `sqrt(4 P R / (pi L E*))` over the patch length `L`.
+/// `None` for two flat faces or two rigid bodies.
+pub fn hertz_suggestion(
+    f: &FingerSpec,
+    model: &FingerModel,
+    load_n: f64,
+) -> Option<HertzSuggestion> {
+    let tip = crate::grasp_model::tip_curvatures_per_m(f, &model.frame);
+    let obj = crate::grasp_model::object_curvatures_per_m(f);
+    let k = [tip[0] + obj[0], tip[1] + obj[1]];
+    let inv_e = model.pair.normal;
+    if !(inv_e > 0.0 && load_n > 0.0) {
+        return None;
+    }
+    let size = f.patch.size;
+    let axes = match (k[0] > 0.0, k[1] > 0.0) {
+        (true, true) => {
+            let (r1, r2) = (1.0 / k[0], 1.0 / k[1]);
+            let c = (3.0 * load_n * (r1 * r2).sqrt() * inv_e / 4.0).cbrt();
+            [Some(c * (r1 / r2).cbrt()), Some(c * (r2 / r1).cbrt())]
+        }
+        (false, true) => [
+            None,
+            Some((4.0 * load_n * inv_e / (std::f64::consts::PI * k[1] * size[0])).sqrt()),
+        ],
+        (true, false) => [
+            Some((4.0 * load_n * inv_e / (std::f64::consts::PI * k[0] * size[1])).sqrt()),
+            None,
+        ],
+        (false, false) => return None,
+    };
+    Some(HertzSuggestion {
+        load_n,
+        semi_axes_m: axes,
+        suggested_size_m: [0, 1].map(|d| axes[d].map_or(size[d], |a| 2.4 * a)),
+    })
 }
