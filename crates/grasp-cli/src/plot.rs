@@ -1,13 +1,18 @@
-//! A self-contained SVG plot of force histories (normal force solid, friction dashed per
-//! finger), like thesis figures 15 and 17. Written by hand: a few lines of SVG need no
-//! plotting library or system fonts.
-
-use std::fmt::Write as _;
+//! An SVG plot of force histories (normal force solid, friction dashed per finger), like
+//! thesis figures 15 and 17, drawn with plotters (its SVG backend needs no system fonts).
 
 use grasp_transfer::StepRecord;
+use plotters::prelude::*;
 
-const COLORS: [&str; 8] = [
-    "#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf",
+const COLORS: [RGBColor; 8] = [
+    RGBColor(214, 39, 40),
+    RGBColor(31, 119, 180),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
 ];
 
 /// What the plot needs of a run, gathered step by step: the first and last step times and,
@@ -55,10 +60,19 @@ impl ForceHistory {
     }
 }
 
-/// Returns an SVG document plotting every finger's normal and friction force against time.
+/// Returns an SVG document plotting every finger's normal force (solid) and friction force
+/// (dashed) against time, drawn with plotters.
 fn force_history_svg(hist: &ForceHistory, title: &str) -> String {
-    let names = &hist.names;
-    let (w, h, ml, mr, mt, mb) = (900.0, 500.0, 70.0, 190.0, 40.0, 50.0);
+    let mut out = String::new();
+    if let Err(e) = draw_history(hist, title, &mut out) {
+        // plotters writes into a String: a failure here is a bug, reported in the picture.
+        out = format!("<svg xmlns=\"http://www.w3.org/2000/svg\"><text y=\"20\">plot failed: {e}</text></svg>\n");
+    }
+    out
+}
+
+fn draw_history(hist: &ForceHistory, title: &str, out: &mut String) -> Result<(), String> {
+    let e = |e: &dyn std::fmt::Display| e.to_string();
     let t0 = hist.span.map_or(0.0, |s| s.0);
     let t1 = hist.span.map_or(1.0, |s| s.1).max(t0 + 1e-9);
     let fmax = hist
@@ -67,124 +81,46 @@ fn force_history_svg(hist: &ForceHistory, title: &str) -> String {
         .flat_map(|p| p.1.iter().flatten())
         .fold(0.0_f64, |m, x| m.max(*x))
         .max(1e-9);
-    let ytop = nice_ceiling(fmax);
-    let x = |t: f64| ml + (t - t0) / (t1 - t0) * (w - ml - mr);
-    let y = |f: f64| h - mb - f / ytop * (h - mt - mb);
-    let mut s = String::new();
-    let _ = write!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12">
-<rect width="{w}" height="{h}" fill="white"/>
-<text x="{}" y="22" text-anchor="middle" font-size="14">Forces during the hand-off: {}</text>
-"#,
-        (ml + w - mr) / 2.0,
-        escape(title)
-    );
-    // Axes and ticks.
-    let _ = writeln!(
-        s,
-        r##"<line x1="{ml}" y1="{}" x2="{}" y2="{}" stroke="#000"/>"##,
-        h - mb,
-        w - mr,
-        h - mb
-    );
-    let _ = writeln!(
-        s,
-        r##"<line x1="{ml}" y1="{mt}" x2="{ml}" y2="{}" stroke="#000"/>"##,
-        h - mb
-    );
-    for i in 0..=5 {
-        let f = ytop * i as f64 / 5.0;
-        let _ = writeln!(
-            s,
-            r##"<line x1="{ml}" y1="{0}" x2="{1}" y2="{0}" stroke="#ddd"/><text x="{2}" y="{3}" text-anchor="end">{4}</text>"##,
-            y(f),
-            w - mr,
-            ml - 6.0,
-            y(f) + 4.0,
-            fmt(f)
-        );
+    let root = SVGBackend::with_string(out, (900, 500)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(&x))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!("Forces during the hand-off: {title}"),
+            ("sans-serif", 16),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(t0..t1, 0.0..fmax * 1.05)
+        .map_err(|x| e(&x))?;
+    chart
+        .configure_mesh()
+        .x_desc("time [s]")
+        .y_desc("force [N]")
+        .max_light_lines(0)
+        .draw()
+        .map_err(|x| e(&x))?;
+    for (i, name) in hist.names.iter().enumerate() {
+        let color = COLORS[i % COLORS.len()];
+        let style = ShapeStyle::from(&color).stroke_width(2);
+        let series = |pick: usize| hist.points.iter().map(move |(t, f)| (*t, f[i][pick]));
+        chart
+            .draw_series(LineSeries::new(series(0), style))
+            .map_err(|x| e(&x))?
+            .label(format!("{name} normal P"))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+        chart
+            .draw_series(DashedLineSeries::new(series(1), 6, 4, style))
+            .map_err(|x| e(&x))?
+            .label(format!("{name} friction |Q|"))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 8, y)], style));
     }
-    // At most a dozen ticks, counted by integers (adding dt to a large t may not change it).
-    let dt = nice_ceiling((t1 - t0) / 6.0);
-    let first = (t0 / dt).ceil();
-    for i in 0..12 {
-        let t = (first + i as f64) * dt;
-        if t > t1 + 1e-9 * dt {
-            break;
-        }
-        let _ = writeln!(
-            s,
-            r#"<text x="{}" y="{}" text-anchor="middle">{}</text>"#,
-            x(t),
-            h - mb + 18.0,
-            fmt(t)
-        );
-    }
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="{}" text-anchor="middle">time [s]</text>"#,
-        (ml + w - mr) / 2.0,
-        h - 10.0
-    );
-    let _ = writeln!(
-        s,
-        r#"<text x="18" y="{}" text-anchor="middle" transform="rotate(-90 18 {})">force [N]</text>"#,
-        (mt + h - mb) / 2.0,
-        (mt + h - mb) / 2.0
-    );
-    for (i, name) in names.iter().enumerate() {
-        let c = COLORS[i % COLORS.len()];
-        for (dash, pick) in [("", 0usize), (r#" stroke-dasharray="6 4""#, 1usize)] {
-            let pts: Vec<String> = hist
-                .points
-                .iter()
-                .map(|(t, f)| format!("{:.2},{:.2}", x(*t), y(f[i][pick])))
-                .collect();
-            let _ = writeln!(
-                s,
-                r#"<polyline fill="none" stroke="{c}" stroke-width="1.8"{dash} points="{}"/>"#,
-                pts.join(" ")
-            );
-        }
-        let ly = mt + 20.0 + 36.0 * i as f64;
-        let lx = w - mr + 15.0;
-        let _ = writeln!(
-            s,
-            r#"<line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{c}" stroke-width="2"/><text x="{}" y="{}">{} normal P</text><line x1="{lx}" y1="{}" x2="{}" y2="{}" stroke="{c}" stroke-width="2" stroke-dasharray="6 4"/><text x="{}" y="{}">{} friction |Q|</text>"#,
-            lx + 25.0,
-            lx + 30.0,
-            ly + 4.0,
-            escape(name),
-            ly + 16.0,
-            lx + 25.0,
-            ly + 16.0,
-            lx + 30.0,
-            ly + 20.0,
-            escape(name)
-        );
-    }
-    s.push_str("</svg>\n");
-    s
-}
-
-fn nice_ceiling(v: f64) -> f64 {
-    let e = 10f64.powf(v.log10().floor());
-    for m in [1.0, 2.0, 2.5, 5.0, 10.0] {
-        if m * e >= v {
-            return m * e;
-        }
-    }
-    10.0 * e
-}
-
-fn fmt(v: f64) -> String {
-    let s = format!("{v:.3}");
-    s.trim_end_matches('0').trim_end_matches('.').to_string()
-}
-
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|x| e(&x))?;
+    root.present().map_err(|x| e(&x))?;
+    Ok(())
 }
