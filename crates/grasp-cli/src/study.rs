@@ -164,97 +164,109 @@ fn csv_text(rows: &[StudyRow]) -> String {
     c
 }
 
-/// Log-log plot of error against wall time, one point per grid.
+/// Log-log plot of error against wall time, one point per grid (drawn with plotters).
 fn study_svg(rows: &[StudyRow], e1: &str, e2: &str, title: &str) -> String {
-    let (w, h, ml, mr, mt, mb) = (700.0, 460.0, 80.0, 30.0, 40.0, 55.0);
+    let mut out = String::new();
+    if let Err(e) = draw_study(rows, (e1, e2), title, &mut out) {
+        out = format!("<svg xmlns=\"http://www.w3.org/2000/svg\"><text y=\"20\">plot failed: {e}</text></svg>\n");
+    }
+    out
+}
+
+fn draw_study(
+    rows: &[StudyRow],
+    (e1, e2): (&str, &str),
+    title: &str,
+    out: &mut String,
+) -> Result<(), String> {
+    use plotters::prelude::*;
+    let err = |x: &dyn std::fmt::Display| x.to_string();
     // Points of a log-log plot need positive errors; each keeps its row for the label.
     let pts: Vec<(f64, f64, Option<f64>, &StudyRow)> = rows
         .iter()
-        .filter(|r| r.error > 0.0)
+        .filter(|r| r.error > 0.0 && r.wall_time_s > 0.0)
         .map(|r| (r.wall_time_s, r.error, r.error_2.filter(|e| *e > 0.0), r))
         .collect();
-    let xs: Vec<f64> = pts.iter().map(|p| p.0.log10()).collect();
-    let ys: Vec<f64> = pts
-        .iter()
-        .flat_map(|p| std::iter::once(p.1.log10()).chain(p.2.map(f64::log10)))
-        .collect();
+    let decade = |v: f64, up: bool| {
+        10f64.powf(if up {
+            v.log10().ceil()
+        } else {
+            v.log10().floor()
+        })
+    };
+    let xs = pts.iter().map(|p| p.0);
+    let ys = pts.iter().flat_map(|p| std::iter::once(p.1).chain(p.2));
     let (x0, x1) = (
-        xs.iter().cloned().fold(f64::INFINITY, f64::min).floor(),
-        xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil(),
+        decade(xs.clone().fold(f64::INFINITY, f64::min), false),
+        decade(xs.fold(0.0, f64::max), true),
     );
     let (y0, y1) = (
-        ys.iter().cloned().fold(f64::INFINITY, f64::min).floor(),
-        ys.iter().cloned().fold(f64::NEG_INFINITY, f64::max).ceil(),
+        decade(ys.clone().fold(f64::INFINITY, f64::min), false),
+        decade(ys.fold(0.0, f64::max), true),
     );
-    let (x1, y1) = (x1.max(x0 + 1.0), y1.max(y0 + 1.0));
-    let x = |v: f64| ml + (v.log10() - x0) / (x1 - x0) * (w - ml - mr);
-    let y = |v: f64| h - mb - (v.log10() - y0) / (y1 - y0) * (h - mt - mb);
-    let mut s = format!(
-        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="12">
-<rect width="{w}" height="{h}" fill="white"/>
-<text x="{}" y="22" text-anchor="middle" font-size="14">Error against run time: {}</text>
-<line x1="{ml}" y1="{}" x2="{}" y2="{}" stroke="#000"/><line x1="{ml}" y1="{mt}" x2="{ml}" y2="{}" stroke="#000"/>
-"##,
-        w / 2.0,
-        title.replace('&', "&amp;").replace('<', "&lt;"),
-        h - mb,
-        w - mr,
-        h - mb,
-        h - mb
+    let (x0, y0) = (
+        if x0.is_finite() { x0 } else { 1e-3 },
+        if y0.is_finite() { y0 } else { 1e-6 },
     );
-    for e in (x0 as i32)..=(x1 as i32) {
-        let v = 10f64.powi(e);
-        let _ = writeln!(
-            s,
-            r#"<text x="{}" y="{}" text-anchor="middle">1e{e}</text>"#,
-            x(v),
-            h - mb + 18.0
-        );
-    }
-    for e in (y0 as i32)..=(y1 as i32) {
-        let v = 10f64.powi(e);
-        let _ = writeln!(
-            s,
-            r##"<line x1="{ml}" y1="{0}" x2="{1}" y2="{0}" stroke="#ddd"/><text x="{2}" y="{3}" text-anchor="end">1e{e}</text>"##,
-            y(v),
-            w - mr,
-            ml - 6.0,
-            y(v) + 4.0
-        );
-    }
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="{}" text-anchor="middle">wall time [s]</text><text x="16" y="{}" transform="rotate(-90 16 {})" text-anchor="middle">relative error</text>"#,
-        w / 2.0,
-        h - 12.0,
-        h / 2.0,
-        h / 2.0
-    );
-    for (k, (label, color)) in [(e1, "#d62728"), (e2, "#1f77b4")].iter().enumerate() {
+    let (x1, y1) = (x1.max(x0 * 10.0), y1.max(y0 * 10.0));
+    let root = SVGBackend::with_string(out, (700, 460)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| err(&x))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!("Error against run time: {title}"),
+            ("sans-serif", 15),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(64)
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .map_err(|x| err(&x))?;
+    chart
+        .configure_mesh()
+        .x_desc("wall time [s]")
+        .y_desc("relative error")
+        .x_label_formatter(&|v| format!("{v:.0e}"))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .draw()
+        .map_err(|x| err(&x))?;
+    for (k, (label, color)) in [(e1, RGBColor(214, 39, 40)), (e2, RGBColor(31, 119, 180))]
+        .into_iter()
+        .enumerate()
+    {
         if label.is_empty() {
             continue;
         }
-        let line: Vec<String> = pts
+        let series: Vec<(f64, f64, &StudyRow)> = pts
             .iter()
-            .filter_map(|p| {
-                let r = p.3;
-                let v = if k == 0 { Some(p.1) } else { p.2 };
-                v.map(|v| {
-                    let _ = writeln!(s, r#"<circle cx="{:.1}" cy="{:.1}" r="3.5" fill="{color}"/><text x="{:.1}" y="{:.1}" font-size="10">{}x{}</text>"#, x(p.0), y(v), x(p.0) + 5.0, y(v) - 5.0, r.grid[0], r.grid[1]);
-                    format!("{:.1},{:.1}", x(p.0), y(v))
-                })
-            })
+            .filter_map(|p| if k == 0 { Some(p.1) } else { p.2 }.map(|v| (p.0, v, p.3)))
             .collect();
-        let _ = writeln!(
-            s,
-            r#"<polyline fill="none" stroke="{color}" stroke-width="1.5" points="{}"/><text x="{}" y="{}" fill="{color}">{label}</text>"#,
-            line.join(" "),
-            w - mr - 120.0,
-            mt + 15.0 + 16.0 * k as f64
-        );
+        chart
+            .draw_series(LineSeries::new(series.iter().map(|p| (p.0, p.1)), &color))
+            .map_err(|x| err(&x))?
+            .label(label)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+        for (t, v, r) in &series {
+            let grid = format!("{}x{}", r.grid[0], r.grid[1]);
+            chart
+                .draw_series(std::iter::once(Circle::new((*t, *v), 3, color.filled())))
+                .map_err(|x| err(&x))?;
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    grid,
+                    (*t, *v),
+                    ("sans-serif", 10),
+                )))
+                .map_err(|x| err(&x))?;
+        }
     }
-    s.push_str("</svg>\n");
-    s
+    chart
+        .configure_series_labels()
+        .background_style(WHITE)
+        .border_style(BLACK)
+        .draw()
+        .map_err(|x| err(&x))?;
+    root.present().map_err(|x| err(&x))?;
+    Ok(())
 }
 
 #[cfg(test)]
@@ -279,10 +291,11 @@ mod tests {
     fn plot_labels_stay_with_their_points_when_an_error_is_zero() {
         let rows = [row(3, 1e-2), row(5, 0.0), row(9, 1e-3)];
         let svg = study_svg(&rows, "force error", "", "t");
-        assert!(!svg.contains(">5x5<"), "{svg}");
+        assert!(!svg.contains("5x5"), "{svg}");
+        // The x of the text element holding a grid's label.
         let label = |g: &str| {
-            let i = svg.find(&format!(">{g}<")).unwrap();
-            let c = svg[..i].rfind("<circle cx=\"").unwrap() + 12;
+            let i = svg.find(g).unwrap();
+            let c = svg[..i].rfind("<text x=\"").unwrap() + 9;
             svg[c..].split('"').next().unwrap().parse::<f64>().unwrap()
         };
         // The 9x9 label sits at the 9x9 point, right of the 3x3 one (larger wall time).
