@@ -209,6 +209,13 @@ fn place_finger(
             ));
         }
     }
+    if spec.tangent.is_some_and(|t| Vector3::from(t).norm() == 0.0) {
+        return Err(problem(
+            &format!("{path}.tangent"),
+            "has zero length".into(),
+            "give the preferred first tangent, or omit it",
+        ));
+    }
     let (s, source) = surface_point(&spec, &path, shape)?;
     if s.feature != SurfaceFeature::Face {
         return Err(problem(
