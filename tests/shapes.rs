@@ -10,6 +10,8 @@ use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
 use grasp_model::finger_placement::{DerivedFrame, STANDARD_GRAVITY};
+use grasp_model::mesh_surface::TriangleMesh;
+use grasp_model::tessellation::icosphere;
 use grasp_model::{GraspModel, Scene, SceneError};
 use serde_json::{json, Value};
 use support::*;
@@ -134,6 +136,12 @@ fn shape_checks_name_the_finger_and_the_fix() {
     ))
     .unwrap_err();
     assert_eq!(problem_paths(miss), ["fingers[0].place.ray"]);
+    let zero_hint = load(&placed(
+        cube.clone(),
+        json!({"point": [0, 0, 0.05], "tangent": [0, 0, 0]}),
+    ))
+    .unwrap_err();
+    assert_eq!(problem_paths(zero_hint), ["fingers[0].place.tangent"]);
     let inside = load(&placed(
         cube.clone(),
         json!({"ray": {"origin": [0, 0, 0], "direction": [1, 0, 0]}}),
@@ -240,77 +248,12 @@ fn density_gives_the_closed_form_weight_and_centroid() {
     assert_eq!(problem_paths(load(&both).unwrap_err()), ["object.weight"]);
 }
 
-/// An icosphere of radius `r` subdivided `k` times (vertices on the sphere).
-fn icosphere(r: f64, k: usize) -> (Vec<[f64; 3]>, Vec<[usize; 3]>) {
-    let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut v: Vec<[f64; 3]> = vec![
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ];
-    let mut f: Vec<[usize; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..k {
-        let mut cache = std::collections::HashMap::new();
-        let mut mid = |a: usize, b: usize, v: &mut Vec<[f64; 3]>| {
-            *cache.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                v.push([0, 1, 2].map(|i| (v[a][i] + v[b][i]) / 2.0));
-                v.len() - 1
-            })
-        };
-        f = f
-            .iter()
-            .flat_map(|&[a, b, c]| {
-                let (ab, bc, ca) = (mid(a, b, &mut v), mid(b, c, &mut v), mid(c, a, &mut v));
-                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
-            })
-            .collect();
-    }
-    let v = v
-        .iter()
-        .map(|p| {
-            let n = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-            p.map(|x| x * r / n)
-        })
-        .collect();
-    (v, f)
-}
-
-fn write_obj(dir: &Path, name: &str, (v, f): &(Vec<[f64; 3]>, Vec<[usize; 3]>)) -> PathBuf {
+fn write_obj(dir: &Path, name: &str, mesh: &TriangleMesh) -> PathBuf {
     let mut text = String::new();
-    for p in v {
+    for p in &mesh.vertices_m {
         text += &format!("v {} {} {}\n", p[0], p[1], p[2]);
     }
-    for t in f {
+    for t in &mesh.triangles {
         text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
     }
     let path = dir.join(name);
@@ -383,7 +326,11 @@ fn a_cube_mesh_has_the_exact_volume_and_centroid_and_an_stl_reads_the_same() {
         [1, 3, 5],
         [3, 7, 5],
     ];
-    let obj = write_obj(&dir, "cube.obj", &(v.clone(), f.clone()));
+    let cube = TriangleMesh {
+        vertices_m: v.clone(),
+        triangles: f.iter().map(|t: &[usize; 3]| t.map(|i| i as u32)).collect(),
+    };
+    let obj = write_obj(&dir, "cube.obj", &cube);
     let spec = grasp_model::shape::MeshSpec {
         file: "cube.obj".into(),
         scale: 0.1,

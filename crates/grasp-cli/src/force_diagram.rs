@@ -135,7 +135,7 @@ fn header(
 ) -> Result<()> {
     let style = ("sans-serif", 18).into_font();
     area.draw(&Text::new(
-        format!("{title}: {}", status(s)),
+        format!("{title}: {}", s.status.as_str()),
         (20, 10),
         style,
     ))
@@ -157,13 +157,6 @@ fn header(
     area.draw(&Text::new(line.join(";  "), (20, 40), small))
         .map_err(plot_err)?;
     Ok(())
-}
-
-fn status(s: &Solution) -> String {
-    serde_json::to_value(s.status)
-        .ok()
-        .and_then(|v| v.as_str().map(str::to_string))
-        .unwrap_or_default()
 }
 
 /// One orthographic view onto the axes `(u, v)`.

@@ -629,9 +629,7 @@ fn plot_command(
     println!(
         "{}: {}; wrote {}",
         title,
-        serde_json::to_value(solution.status)?
-            .as_str()
-            .unwrap_or(""),
+        solution.status.as_str(),
         out.display()
     );
     Ok(if solution.status.has_forces() {

@@ -24,6 +24,17 @@ pub enum SolveStatus {
 }
 
 impl SolveStatus {
+    /// The status as the JSON output writes it (`"solved"`, `"reduced_accuracy"`,
+    /// `"no_equilibrium"`, `"no_convergence"`).
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            SolveStatus::Solved => "solved",
+            SolveStatus::ReducedAccuracy => "reduced_accuracy",
+            SolveStatus::NoEquilibrium => "no_equilibrium",
+            SolveStatus::NoConvergence => "no_convergence",
+        }
+    }
+
     /// True when the solution carries forces.
     pub fn has_forces(&self) -> bool {
         matches!(self, SolveStatus::Solved | SolveStatus::ReducedAccuracy)
@@ -331,5 +342,20 @@ impl Solution {
             ])
         });
         fingers && rigid && residuals
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `as_str` is the serde name of each status (the JSON output and the Python package
+    /// must say the same).
+    #[test]
+    fn status_names_are_the_serde_names() {
+        use SolveStatus::*;
+        for s in [Solved, ReducedAccuracy, NoEquilibrium, NoConvergence] {
+            assert_eq!(serde_json::to_value(s).unwrap(), s.as_str());
+        }
     }
 }

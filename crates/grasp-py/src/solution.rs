@@ -25,11 +25,8 @@ pub struct Solution {
 impl Solution {
     /// `"solved"`, `"reduced_accuracy"`, `"no_equilibrium"` or `"no_convergence"`.
     #[getter]
-    fn status(&self) -> String {
-        serde_json::to_value(self.solution.status)
-            .ok()
-            .and_then(|v| v.as_str().map(str::to_string))
-            .unwrap_or_default()
+    fn status(&self) -> &'static str {
+        self.solution.status.as_str()
     }
 
     /// True when the solution carries forces (solved, or solved to reduced accuracy).
@@ -214,7 +211,8 @@ impl Solution {
 }
 
 type Element = grasp_model::solution::ElementSolution;
-type Tangents = ([f64; 3], [f64; 3]);
+/// Unit tangents `(t1, t2)` of a finger, world frame.
+pub type Tangents = ([f64; 3], [f64; 3]);
 
 impl Solution {
     fn fingers_with_tangents(&self) -> impl Iterator<Item = (usize, &FingerSolution, &Tangents)> {
@@ -259,4 +257,28 @@ impl Solution {
             .collect();
         float_array(py, &v, &[v.len() / 3, 3])
     }
+}
+
+/// The unit tangents `(t1, t2)` of every finger of `scene`, world frame, by name: the frames
+/// the model builds (`ContactFrame::new` on the scene's point, normal, tangent and plane),
+/// without building the model.
+pub fn tangents_by_name(
+    scene: &grasp_model::Scene,
+) -> std::collections::BTreeMap<String, Tangents> {
+    let v3 = |a: &[f64; 3]| nalgebra::Vector3::new(a[0], a[1], a[2]);
+    let arr = |v: &nalgebra::Vector3<f64>| [v.x, v.y, v.z];
+    let plane = scene.planar.as_ref().map(|p| v3(&p.normal));
+    scene
+        .fingers
+        .iter()
+        .map(|f| {
+            let frame = grasp_model::patch::ContactFrame::new(
+                v3(&f.contact_point),
+                v3(&f.normal),
+                f.tangent.as_ref().map(v3),
+                plane,
+            );
+            (f.name.clone(), (arr(&frame.t1), arr(&frame.t2)))
+        })
+        .collect()
 }

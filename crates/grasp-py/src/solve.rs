@@ -79,26 +79,15 @@ fn solve_scene(scene: &grasp_model::Scene, options: SolveOptions) -> Result<Solu
     let solution = solver
         .solve(&model, &model.scene_loads_n())
         .map_err(Failure::Model)?;
+    let frames = crate::solution::tangents_by_name(scene);
     let tangents = solution
         .fingers
         .iter()
-        .map(|f| tangents_of(&model, &f.name))
+        .map(|f| frames.get(&f.name).copied().unwrap_or(([0.0; 3], [0.0; 3])))
         .collect();
     Ok(Solution {
         solution,
         tangents,
         build_time_s,
     })
-}
-
-/// The unit tangents `(t1, t2)` of finger `name`, world frame.
-fn tangents_of(model: &GraspModel, name: &str) -> ([f64; 3], [f64; 3]) {
-    let arr = |v: &nalgebra::Vector3<f64>| [v.x, v.y, v.z];
-    model
-        .fingers
-        .iter()
-        .find(|f| f.name == name)
-        .map_or(([0.0; 3], [0.0; 3]), |f| {
-            (arr(&f.frame.t1), arr(&f.frame.t2))
-        })
 }

@@ -6,7 +6,6 @@ use std::collections::BTreeMap;
 use std::fs::File;
 use std::path::{Path, PathBuf};
 
-use grasp_model::GraspModel;
 use grasp_transfer::{
     Command, CsvSink, McapSink, RerunSink, Schedule, Sink, StepRecord, TransferOptions,
     TransferSummary,
@@ -19,9 +18,7 @@ use crate::errors::{grasp_error, schedule_error};
 use crate::json_value::serialize_to_py;
 use crate::outputs::{check_targets, Pending};
 use crate::scene::Scene;
-use crate::solution::Solution;
-
-type Tangents = ([f64; 3], [f64; 3]);
+use crate::solution::{tangents_by_name, Solution, Tangents};
 
 /// Runs the load schedule `schedule` (a path, a dict or JSON text of the schedule format of
 /// `grasp schema --schedule`) over `scene`, step by step, each step warm-started from the
@@ -178,19 +175,6 @@ fn run_transfer(
     Ok((records, summary, written))
 }
 
-/// Unit tangents of every finger of the scene as written, by name.
-fn tangents_by_name(scene: &grasp_model::Scene) -> BTreeMap<String, Tangents> {
-    let arr = |v: &nalgebra::Vector3<f64>| [v.x, v.y, v.z];
-    match GraspModel::from_scene(scene) {
-        Ok(m) => m
-            .fingers
-            .iter()
-            .map(|f| (f.name.clone(), (arr(&f.frame.t1), arr(&f.frame.t2))))
-            .collect(),
-        Err(_) => BTreeMap::new(),
-    }
-}
-
 /// A hand-off's result: per step (time) and finger, the forces the driver computed.
 /// Released fingers carry 0 N; failed steps carry 0 N for every finger (see `statuses`).
 #[pyclass(module = "grasp", frozen)]
@@ -267,13 +251,12 @@ impl Transfer {
     /// Each step's status (`"solved"`, `"no_equilibrium"`, ...), shape `(T,)`.
     #[getter]
     fn statuses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<String> = self
+        let v: Vec<&str> = self
             .records
             .iter()
-            .map(|r| status_name(&r.solution))
+            .map(|r| r.solution.status.as_str())
             .collect();
-        let refs: Vec<&str> = v.iter().map(String::as_str).collect();
-        str_array(py, &refs)
+        str_array(py, &v)
     }
 
     /// Wall time of each step (model building when the structure changed, solve), s, `(T,)`.
@@ -376,11 +359,4 @@ fn tangential(r: &StepRecord, name: &str) -> [f64; 3] {
     r.solution
         .finger(name)
         .map_or([0.0; 3], |f| f.tangential_force_n)
-}
-
-fn status_name(s: &grasp_model::Solution) -> String {
-    serde_json::to_value(s.status)
-        .ok()
-        .and_then(|v| v.as_str().map(str::to_string))
-        .unwrap_or_default()
 }

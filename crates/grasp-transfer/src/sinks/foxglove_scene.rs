@@ -63,12 +63,7 @@ pub fn object_update(run: &RunInfo, t_s: f64, size_m: f64) -> Value {
             "indices": s.triangles.iter().flatten().collect::<Vec<_>>()
         }]}),
         None => {
-            let (lo, hi) = g
-                .fingers
-                .iter()
-                .fold((g.center_of_mass_m, g.center_of_mass_m), |(lo, hi), f| {
-                    (lo.inf(&f.frame.origin_m), hi.sup(&f.frame.origin_m))
-                });
+            let (lo, hi) = super::contact_bounds(g);
             let extent = (hi - lo).map(|x| x.max(0.04 * size_m));
             json!({"cubes": [{"pose": identity_pose(&((lo + hi) * 0.5)), "size": vec3(&extent), "color": color(0.78, 0.78, 0.82, 0.3)}]})
         }

@@ -283,7 +283,7 @@ impl McapSink {
 
 impl Sink for McapSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
-        self.drawing = drawing_scale(run);
+        self.drawing = super::drawing_scale(run.geometry);
         let path = self.path.clone();
         let e = |e: mcap::McapError| io_err_chain("mcap", &path, &e);
         let w = self.writer()?;
@@ -348,18 +348,4 @@ impl Sink for McapSink {
     fn abort(&mut self) {
         self.writer.take();
     }
-}
-
-/// The scene's size (diagonal over the contact points and centre of mass, m) and the force
-/// arrows' scale (m per N: the load scale drawn as 0.3 of the size), as the Rerun sink draws.
-fn drawing_scale(run: &RunInfo) -> (f64, f64) {
-    let g = run.geometry;
-    let (lo, hi) = g
-        .fingers
-        .iter()
-        .fold((g.center_of_mass_m, g.center_of_mass_m), |(lo, hi), f| {
-            (lo.inf(&f.frame.origin_m), hi.sup(&f.frame.origin_m))
-        });
-    let size = (hi - lo).norm().max(1e-3);
-    (size, 0.3 * size / g.scales.load_n)
 }

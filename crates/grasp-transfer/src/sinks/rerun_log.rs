@@ -267,14 +267,9 @@ impl RerunSink {
 impl Sink for RerunSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
         let g = run.geometry;
-        let mut lo = g.center_of_mass_m;
-        let mut hi = g.center_of_mass_m;
-        for f in &g.fingers {
-            lo = lo.inf(&f.frame.origin_m);
-            hi = hi.sup(&f.frame.origin_m);
-        }
-        let size = (hi - lo).norm().max(1e-3);
-        self.arrow_m_per_n = (0.3 * size / g.scales.load_n) as f32;
+        let (lo, hi) = super::contact_bounds(g);
+        let (size, m_per_n) = super::drawing_scale(g);
+        self.arrow_m_per_n = m_per_n as f32;
         match run.scene.shape_report.as_ref().map(|r| &r.surface) {
             // The object as its shape (posed), half transparent so the patches show.
             Some(surface) => self.send("world/object", &object_mesh(surface))?,
