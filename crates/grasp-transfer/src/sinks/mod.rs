@@ -3,11 +3,13 @@
 mod csv_history;
 mod foxglove_scene;
 mod mcap_log;
+mod rerun_layout;
 mod rerun_log;
 
 pub use csv_history::CsvSink;
 pub use foxglove_scene::SCENE_TOPIC;
 pub use mcap_log::{FingerMessage, FingersMessage, McapSink, FINGERS_TOPIC, PATCHES_TOPIC};
+pub use rerun_layout::layout_messages;
 pub use rerun_log::{RerunSink, FLUSH_EVERY_STEPS};
 
 use grasp_model::{GraspModel, Scene};

@@ -14,6 +14,9 @@
 //! - `world/margin/...` (static, `grasp margin --rrd`): the wrench surface
 //!   ([`RerunSink::log_wrench_surface`]).
 //!
+//! The recording opens on a fixed layout (3-D view beside the force plots, see
+//! `rerun_layout`).
+//!
 //! Timelines: `schedule_time` (s) and `step`. Rows are gathered per entity and sent as
 //! pre-built chunks every [`FLUSH_EVERY_STEPS`] steps (so memory does not grow with the number
 //! of steps) and at the end; chunk and row ids count up from a fixed origin (Rerun's default
@@ -31,6 +34,7 @@ use rerun::{
     SerializedComponentBatch, SeriesLines, TimeCell, TimePoint,
 };
 
+use super::rerun_layout::{layout_messages, APPLICATION_ID};
 use super::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::stepper::StepRecord;
@@ -53,6 +57,9 @@ pub struct RerunSink {
     flush_every: usize,
     /// A live stream (viewer or server): the closing flush waits at most [`LIVE_FLUSH_TIMEOUT`].
     live: bool,
+    /// The default layout has been sent (at the first step, when it is known whether margins
+    /// are plotted, or at the end of a run without steps).
+    layout_sent: bool,
 }
 
 /// Longest wait for a live viewer or server to take the last rows when a run ends.
@@ -100,7 +107,7 @@ impl RerunSink {
     /// Creates (or truncates) the recording file at `path`; `name` names it in error messages
     /// (the file the user asked for, when `path` is its temporary file).
     pub fn create_as(path: &Path, name: &Path) -> Result<Self, TransferError> {
-        let rec = rerun::RecordingStreamBuilder::new("grasp")
+        let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
             .recording_id("grasp-transfer")
             .save(path)
             .map_err(|e| io_err("rerun", name, e))?;
@@ -113,7 +120,7 @@ impl RerunSink {
         let name = Path::new(url);
         // Without a listener the stream would wait for one at the end of the run: ask first.
         reachable(url).map_err(|e| io_err("rerun", name, e))?;
-        let rec = rerun::RecordingStreamBuilder::new("grasp")
+        let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
             .recording_id("grasp-transfer")
             .connect_grpc_opts(url)
             .map_err(|e| {
@@ -129,7 +136,7 @@ impl RerunSink {
     /// Starts a Rerun viewer (the `rerun` program on the PATH) and streams every step to it.
     pub fn spawn() -> Result<Self, TransferError> {
         let name = Path::new("rerun viewer");
-        let rec = rerun::RecordingStreamBuilder::new("grasp")
+        let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
             .recording_id("grasp-transfer")
             .spawn()
             .map_err(|e| {
@@ -155,6 +162,7 @@ impl RerunSink {
             steps_since_flush: 0,
             flush_every,
             live,
+            layout_sent: false,
         }
     }
 
@@ -171,6 +179,20 @@ impl RerunSink {
             rec.send_chunk(b.build().map_err(|e| io_err("rerun", &self.path, e))?);
         }
         self.steps_since_flush = 0;
+        Ok(())
+    }
+
+    /// Sends the default layout ([`layout_messages`]) once; `margins` adds the margin plot.
+    fn send_layout(&mut self, margins: bool) -> Result<(), TransferError> {
+        let Some(rec) = &self.rec else {
+            return Err(io_err("rerun", &self.path, "already finished"));
+        };
+        if !self.layout_sent {
+            let (msgs, activation) =
+                layout_messages(margins).map_err(|e| io_err("rerun", &self.path, e))?;
+            rec.send_blueprint(msgs, activation);
+            self.layout_sent = true;
+        }
         Ok(())
     }
 
@@ -312,6 +334,7 @@ impl Sink for RerunSink {
     }
 
     fn step(&mut self, run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
+        self.send_layout(r.margin.is_some())?;
         let scale = self.arrow_m_per_n as f64;
         self.time = [
             (
@@ -411,6 +434,7 @@ impl Sink for RerunSink {
 
     fn finish(&mut self) -> Result<(), TransferError> {
         if self.rec.is_some() {
+            self.send_layout(false)?;
             self.send_pending()?;
         }
         if let Some(rec) = self.rec.take() {

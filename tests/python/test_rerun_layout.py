@@ -1,0 +1,99 @@
+"""The default layout a `grasp transfer --rrd` recording opens on equals the one Rerun's own
+Python blueprint API writes for the same description (3-D view of `/world` beside the force
+plots): the two blueprint stores, printed by the rerun CLI and with their random ids replaced
+by what they name, hold the same rows. The layout is built by hand in Rust (fixed ids, so the
+file stays deterministic); this is the independent check that it is what the SDK would send.
+"""
+
+import os
+import re
+import subprocess
+
+import pytest
+
+from conftest import EXAMPLES, rerun_cli
+
+pytestmark = pytest.mark.skipif(rerun_cli() is None, reason="the rerun CLI (scripts/install-checkers.sh) is not installed")
+
+ENV = dict(os.environ, CI="1")
+UUID = r"[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}"
+
+
+def blueprint_rows(path):
+    """{entity path: {component: value}} of every blueprint chunk in the file."""
+    out = subprocess.run([rerun_cli(), "rrd", "print", "-vvv", str(path)], capture_output=True, text=True, env=ENV)
+    assert out.returncode == 0, out.stderr
+    rows, entity, header = {}, None, None
+    for line in out.stdout.splitlines():
+        m = re.match(r"Chunk\(\S+\) with \d+ rows \(.*?\) - (\S+) - ", line)
+        if m:
+            entity, header = m.group(1), None
+            continue
+        cells = [c.strip() for c in line.strip("│ ").split("┆")]
+        if cells and cells[0] == "RowId":
+            header = cells
+        elif header and cells and cells[0].startswith("row_") and re.match(r"/(view|container|viewport)", entity):
+            rows[entity] = {k: v for k, v in zip(header, cells) if ":" in k}
+    return rows
+
+
+def uuid_bytes_text(u):
+    return "[[" + ", ".join(str(b) for b in bytes.fromhex(u.replace("-", ""))) + "]]"
+
+
+def normalised(rows):
+    """Rows with each view's id replaced by its origin and each container's by its contents."""
+    names = {}
+    for entity, comps in rows.items():
+        m = re.fullmatch(rf"/view/({UUID})", entity)
+        if m:
+            names[m.group(1)] = "view" + comps["ViewBlueprint:space_origin"]
+    for _ in range(3):  # containers hold views, then containers
+        for entity, comps in rows.items():
+            m = re.fullmatch(rf"/container/({UUID})", entity)
+            if m:
+                names[m.group(1)] = "container" + rename(comps["ContainerBlueprint:contents"], names)
+    out = {}
+    for entity, comps in rows.items():
+        comps = dict(comps)
+        if "ViewportBlueprint:root_container" in comps:
+            for u, name in names.items():
+                comps["ViewportBlueprint:root_container"] = comps["ViewportBlueprint:root_container"].replace(
+                    uuid_bytes_text(u), name)
+        out[rename(entity, names)] = {k: rename(v, names) for k, v in comps.items()}
+    return out
+
+
+def rename(text, names):
+    """Ids replaced by names; an id the printer cut short (cells end with "…" past about 100
+    characters) becomes "…" on both sides."""
+    text = re.sub(r"[0-9a-f-]*…", "…", text)
+    return re.sub(UUID, lambda m: names.get(m.group(0), "?"), text)
+
+
+def python_layout(path, margins):
+    import rerun.blueprint as rrb
+
+    plots = [rrb.TimeSeriesView(origin="/plots/normal_force", name="normal force [N]"),
+             rrb.TimeSeriesView(origin="/plots/friction", name="friction force [N]")]
+    if margins:
+        plots.append(rrb.TimeSeriesView(origin="/plots/margin", name="smallest margin [N]"))
+    rrb.Blueprint(
+        rrb.Horizontal(rrb.Spatial3DView(origin="/world", name="hand-off"), rrb.Vertical(*plots, name="forces"),
+                       column_shares=[3, 2]),
+        auto_layout=False, auto_views=False,
+    ).save("grasp", str(path))
+
+
+@pytest.mark.parametrize("margins", [False, True])
+def test_the_recording_opens_on_the_layout_rerun_would_write(run_cli, tmp_path, margins):
+    rrd = tmp_path / "h.rrd"
+    args = ["transfer", EXAMPLES / "cylinder_handoff.json", "--schedule", EXAMPLES / "cylinder_handoff.schedule.json",
+            "--rrd", rrd] + (["--margins"] if margins else [])
+    done = run_cli(*args)
+    assert done.returncode == 0, done.stderr
+    python_layout(tmp_path / "ref.rbl", margins)
+    ours, ref = normalised(blueprint_rows(rrd)), normalised(blueprint_rows(tmp_path / "ref.rbl"))
+    assert len(ref) == 2 * (3 + margins) + 3, ref.keys()
+    assert ours == ref
+    assert "?" not in repr(ours)
