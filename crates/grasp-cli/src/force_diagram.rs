@@ -1,17 +1,20 @@
-//! `grasp plot`: the force diagram of one solve (SVG, drawn with plotters). Two orthographic
+//! `grasp plot`: the force diagram of one solve (SVG or PNG, drawn with plotters). Two orthographic
 //! views (the coordinate planes that show the contacts best): the object's outline (its shape's
 //! silhouette, or the box around the contacts), each finger's contact point and name, its
 //! normal force (blue) and friction force (orange) as arrows pushing on the object at the
 //! centre of pressure, its friction cone (grey, half-angle `atan(mu)` about the normal), and
 //! the weight at the centre of mass (black). Arrows: the load scale drawn as 0.3 of the scene.
 
-use anyhow::{anyhow, Result};
+use anyhow::Result;
 use grasp_model::{GraspModel, Scene, Solution};
 use nalgebra::Vector3;
 use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
-type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+use crate::picture::{draw_err as plot_err, Picture};
+
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 const AXES: [&str; 3] = ["x", "y", "z"];
 const NORMAL: RGBColor = RGBColor(31, 100, 200);
@@ -28,40 +31,45 @@ struct Drawing<'a> {
     cone_m: f64,
 }
 
-/// The SVG of the force diagram of `solution` (of `model`, built from `scene`).
-pub fn svg(scene: &Scene, model: &GraspModel, solution: &Solution, title: &str) -> Result<String> {
-    let points = outline_points(scene, model);
-    let (lo, hi) = bounds(&points);
-    let size = (hi - lo).norm().max(1e-3);
-    let d = Drawing {
-        scene,
-        model,
-        solution,
-        m_per_n: 0.3 * size / model.scales.load_n,
-        cone_m: 0.15 * size,
-    };
-    // The views show the object and every arrow's far end.
-    let mut reach = points.clone();
-    reach.extend(arrow_ends(&d));
-    let (lo, hi) = bounds(&reach);
-    let [a, b, c] = view_axes(model);
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (1100, 620)).into_drawing_area();
+/// The force diagram of `solution` (of `model`, built from `scene`), titled `title`.
+pub struct ForceDiagram<'a> {
+    pub scene: &'a Scene,
+    pub model: &'a GraspModel,
+    pub solution: &'a Solution,
+    pub title: &'a str,
+}
+
+impl Picture for ForceDiagram<'_> {
+    fn size(&self) -> (u32, u32) {
+        (1100, 620)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        let (scene, model, solution) = (self.scene, self.model, self.solution);
+        let points = outline_points(scene, model);
+        let (lo, hi) = bounds(&points);
+        let size = (hi - lo).norm().max(1e-3);
+        let d = Drawing {
+            scene,
+            model,
+            solution,
+            m_per_n: 0.3 * size / model.scales.load_n,
+            cone_m: 0.15 * size,
+        };
+        // The views show the object and every arrow's far end.
+        let mut reach = points.clone();
+        reach.extend(arrow_ends(&d));
+        let (lo, hi) = bounds(&reach);
+        let [a, b, c] = view_axes(model);
         root.fill(&WHITE).map_err(plot_err)?;
         let (head, body) = root.split_vertically(80);
-        header(&head, title, solution)?;
+        header(&head, self.title, solution)?;
         let (left, right) = body.split_horizontally(550);
         for (area, (u, v)) in [(&left, (a, b)), (&right, (a, c))] {
             view(area, &d, &points, (u, v), (lo, hi))?;
         }
-        root.present().map_err(plot_err)?;
+        Ok(())
     }
-    Ok(out)
-}
-
-fn plot_err(e: impl std::fmt::Display) -> anyhow::Error {
-    anyhow!("drawing the force diagram: {e}")
 }
 
 /// Points whose silhouette is the object: its shape's surface, or the corners of the box
@@ -128,8 +136,8 @@ fn view_axes(model: &GraspModel) -> [usize; 3] {
     order
 }
 
-fn header(
-    area: &DrawingArea<SVGBackend, plotters::coord::Shift>,
+fn header<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
     title: &str,
     s: &Solution,
 ) -> Result<()> {
@@ -160,8 +168,8 @@ fn header(
 }
 
 /// One orthographic view onto the axes `(u, v)`.
-fn view(
-    area: &DrawingArea<SVGBackend, plotters::coord::Shift>,
+fn view<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
     d: &Drawing,
     outline: &[Vector3<f64>],
     (u, v): (usize, usize),
@@ -201,8 +209,8 @@ fn view(
     Ok(())
 }
 
-fn draw_weight(
-    chart: &mut Chart,
+fn draw_weight<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
     d: &Drawing,
     p2: &dyn Fn(&Vector3<f64>) -> (f64, f64),
 ) -> Result<()> {
@@ -215,8 +223,8 @@ fn draw_weight(
     arrow(chart, p2(&com), p2(&(com + w * d.m_per_n)), &BLACK)
 }
 
-fn draw_finger(
-    chart: &mut Chart,
+fn draw_finger<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
     d: &Drawing,
     f: &grasp_model::FingerSolution,
     p2: &dyn Fn(&Vector3<f64>) -> (f64, f64),
@@ -251,8 +259,8 @@ fn draw_finger(
 /// The friction cone's two edges in the view: lines from the contact outward (against the
 /// push) at `atan(mu)` either side of the normal, in the plane of the normal and the view's
 /// in-plane direction across it. Skipped when the normal points along the view.
-fn cone(
-    chart: &mut Chart,
+fn cone<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
     d: &Drawing,
     n: &Vector3<f64>,
     mu: f64,
@@ -283,7 +291,12 @@ fn cone(
 }
 
 /// An arrow from `tail` to `head` with a two-stroke head.
-fn arrow(chart: &mut Chart, tail: (f64, f64), head: (f64, f64), color: &RGBColor) -> Result<()> {
+fn arrow<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
+    tail: (f64, f64),
+    head: (f64, f64),
+    color: &RGBColor,
+) -> Result<()> {
     let (du, dv) = (head.0 - tail.0, head.1 - tail.1);
     let len = (du * du + dv * dv).sqrt();
     if len < 1e-12 {

@@ -6,7 +6,9 @@ mod bench;
 mod force_diagram;
 mod limits;
 mod margin;
+mod margin_plot;
 mod output;
+mod picture;
 mod plot;
 mod report;
 mod study;
@@ -67,13 +69,13 @@ enum Command {
         #[command(flatten)]
         memory: MemoryArg,
     },
-    /// Force diagram of one solve (SVG): two orthographic views with the object's outline,
-    /// each finger's normal and friction force, its friction cone, and the weight.
+    /// Force diagram of one solve (SVG or PNG): two orthographic views with the object's
+    /// outline, each finger's normal and friction force, its friction cone, and the weight.
     Plot {
         /// Scene file (JSON).
         scene: PathBuf,
-        /// The picture to write (.svg).
-        #[arg(long, value_name = "F.svg")]
+        /// The picture to write: .svg or .png (by the extension).
+        #[arg(long, value_name = "F.svg|F.png")]
         out: PathBuf,
         /// Overwrite OUT if it exists.
         #[arg(long)]
@@ -109,9 +111,9 @@ enum Command {
         /// Write the report as JSON.
         #[arg(long, value_name = "OUT.json")]
         json: Option<PathBuf>,
-        /// Write a picture of the margins (SVG): polar plots of the force directions in each
-        /// coordinate plane and a bar per direction.
-        #[arg(long, value_name = "F.svg")]
+        /// Write a picture of the margins (.svg or .png): polar plots of the force directions
+        /// in each coordinate plane and a bar per direction.
+        #[arg(long, value_name = "F.svg|F.png")]
         plot: Option<PathBuf>,
         /// Write a Rerun recording of the grasp with its wrench surface.
         #[arg(long, value_name = "F.rrd")]
@@ -197,8 +199,8 @@ enum Command {
         /// Write the table as CSV.
         #[arg(long, value_name = "F.csv")]
         csv: Option<PathBuf>,
-        /// Write an error-versus-time plot (SVG).
-        #[arg(long, value_name = "F.svg")]
+        /// Write an error-versus-time plot (.svg or .png).
+        #[arg(long, value_name = "F.svg|F.png")]
         plot: Option<PathBuf>,
         /// Overwrite output files that already exist.
         #[arg(long)]
@@ -232,8 +234,8 @@ enum Command {
         /// Write the force histories as CSV.
         #[arg(long, value_name = "F.csv")]
         csv: Option<PathBuf>,
-        /// Write a force-history plot (SVG), like thesis figures 15 and 17.
-        #[arg(long, value_name = "F.svg")]
+        /// Write a force-history plot (.svg or .png), like thesis figures 15 and 17.
+        #[arg(long, value_name = "F.svg|F.png")]
         plot: Option<PathBuf>,
         /// Continue past a step without equilibrium (default: stop there).
         #[arg(long)]
@@ -607,9 +609,7 @@ fn plot_command(
     solver: SolverChoice,
     max_memory: Option<u64>,
 ) -> Result<ExitCode> {
-    if out.extension().is_none_or(|e| e != "svg") {
-        anyhow::bail!("--out {}: give a file ending in .svg", out.display());
-    }
+    let format = picture::Format::of(out, "--out")?;
     output::check_targets(&[out], &[scene_path], force)?;
     let scene = load_scene(scene_path)?;
     let (limit, what) = limits::memory_limit(max_memory);
@@ -624,8 +624,13 @@ fn plot_command(
     let title = scene_path
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-    let svg = force_diagram::svg(&scene, &model, &solution, &title)?;
-    output::write_new(out, svg.as_bytes(), force)?;
+    let diagram = force_diagram::ForceDiagram {
+        scene: &scene,
+        model: &model,
+        solution: &solution,
+        title: &title,
+    };
+    output::write_new(out, &picture::render(&diagram, format)?, force)?;
     println!(
         "{}: {}; wrote {}",
         title,

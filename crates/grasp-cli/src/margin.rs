@@ -1,5 +1,5 @@
 //! `grasp margin`: disturbance margins of one grasp ([`grasp_model::margin`]) as a table, JSON,
-//! a bar chart and a Rerun recording of the wrench surface.
+//! a picture ([`crate::margin_plot`]) and a Rerun recording of the wrench surface.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -15,7 +15,9 @@ use grasp_model::{ContactState, GraspModel, SolveOptions, SolverChoice};
 use grasp_transfer::{RerunSink, RunInfo, Sink};
 use serde::Deserialize;
 
-use crate::{limits, load_scene, output};
+pub use crate::margin_plot::label;
+use crate::margin_plot::MarginPlot;
+use crate::{limits, load_scene, output, picture};
 
 /// What to compute.
 pub struct Flags {
@@ -108,6 +110,11 @@ pub fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCod
             bail!("--length {l}: give a length in metres > 0, e.g. 0.05");
         }
     }
+    let plot_format = outputs
+        .plot
+        .as_deref()
+        .map(|p| picture::Format::of(p, "--plot"))
+        .transpose()?;
     let targets: Vec<&Path> = [&outputs.json, &outputs.plot, &outputs.rrd]
         .into_iter()
         .flatten()
@@ -142,8 +149,12 @@ pub fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCod
         output::write_new(out, text.as_bytes(), outputs.force)?;
         println!("wrote {}", out.display());
     }
-    if let Some(out) = &outputs.plot {
-        output::write_new(out, bar_chart(&model, &report).as_bytes(), outputs.force)?;
+    if let (Some(out), Some(format)) = (&outputs.plot, plot_format) {
+        let plot = MarginPlot {
+            model: &model,
+            report: &report,
+        };
+        output::write_new(out, &picture::render(&plot, format)?, outputs.force)?;
         println!("wrote {}", out.display());
     }
     if let Some(out) = &outputs.rrd {
@@ -172,19 +183,6 @@ pub fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCod
     } else {
         ExitCode::from(2)
     })
-}
-
-/// A short label of a direction: its nonzero components.
-pub fn label(d: &WrenchDirection) -> String {
-    let part = |v: &[f64; 3], unit: &str| -> Option<String> {
-        (v.iter().any(|c| c.abs() > 1e-12))
-            .then(|| format!("{unit}[{:+.2},{:+.2},{:+.2}]", v[0], v[1], v[2]))
-    };
-    [part(&d.force, "F"), part(&d.torque, "T")]
-        .into_iter()
-        .flatten()
-        .collect::<Vec<_>>()
-        .join(" ")
 }
 
 /// A failure with its reason.
@@ -279,174 +277,5 @@ fn table(scene: &Path, r: &MarginReport) -> String {
         r.solves,
         r.time_s * 1e3
     );
-    s
-}
-
-/// The coordinate planes of the polar panels: name and in-plane axes `(a, b)` (3-D: `xy`,
-/// `yz`, `zx`; planar: the plane of motion).
-fn panel_planes(model: &GraspModel) -> Vec<(&'static str, [f64; 3], [f64; 3])> {
-    match model.plane {
-        None => vec![
-            ("force in the x-y plane", [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
-            ("force in the y-z plane", [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
-            ("force in the z-x plane", [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]),
-        ],
-        Some((e1, e2, _)) => vec![(
-            "force in the plane (e1, e2)",
-            [e1.x, e1.y, e1.z],
-            [e2.x, e2.y, e2.z],
-        )],
-    }
-}
-
-/// One polar panel (SVG fragment at `x0`, size `size`): the margins of the pure-force
-/// directions lying in the plane `(a, b)`, at their angle, radius proportional to the margin
-/// (`r_max` at the rim; unbounded ones on the rim, hollow).
-fn polar_panel(r: &MarginReport, plane: (&str, [f64; 3], [f64; 3]), x0: f64, r_max: f64) -> String {
-    let (title, a, b) = plane;
-    let dot = |u: &[f64; 3], v: &[f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
-    let size = 200.0;
-    let (cx, cy, rad) = (x0 + size / 2.0, 40.0 + size / 2.0, size / 2.0 - 14.0);
-    let mut s = format!("<text x=\"{cx}\" y=\"34\" text-anchor=\"middle\">{title}</text>\n");
-    for k in 1..=4 {
-        let rr = rad * k as f64 / 4.0;
-        let _ = writeln!(
-            s,
-            "<circle cx=\"{cx}\" cy=\"{cy}\" r=\"{rr:.1}\" fill=\"none\" stroke=\"#ddd\"/>"
-        );
-    }
-    let _ = writeln!(
-        s,
-        "<text x=\"{:.1}\" y=\"{:.1}\" fill=\"#888\">{:.3e} N</text>",
-        cx + 2.0,
-        cy - rad - 2.0,
-        r_max
-    );
-    let mut pts: Vec<(f64, f64, f64, bool, usize)> = Vec::new();
-    for (i, d) in r.directions.iter().enumerate() {
-        let f = d.direction.force;
-        let (fa, fb) = (dot(&f, &a), dot(&f, &b));
-        let in_plane =
-            d.direction.torque.iter().all(|t| *t == 0.0) && (fa * fa + fb * fb - 1.0).abs() < 1e-9;
-        if in_plane {
-            let m = if d.bounded {
-                d.margin_n.min(r_max)
-            } else {
-                r_max
-            };
-            pts.push((fb.atan2(fa), m / r_max * rad, d.margin_n, d.bounded, i));
-        }
-    }
-    pts.sort_by(|p, q| p.0.total_cmp(&q.0));
-    let xy = |p: &(f64, f64, f64, bool, usize)| (cx + p.1 * p.0.cos(), cy - p.1 * p.0.sin());
-    if pts.len() >= 3 {
-        let poly: Vec<String> = pts
-            .iter()
-            .map(|p| {
-                let (x, y) = xy(p);
-                format!("{x:.1},{y:.1}")
-            })
-            .collect();
-        let _ = writeln!(
-            s,
-            "<polygon points=\"{}\" fill=\"#1f77b4\" fill-opacity=\"0.15\" stroke=\"#1f77b4\"/>",
-            poly.join(" ")
-        );
-    }
-    for p in &pts {
-        let (x, y) = xy(p);
-        let colour = if p.4 == r.smallest {
-            "#d62728"
-        } else {
-            "#1f77b4"
-        };
-        let fill = if p.3 { colour } else { "white" };
-        let _ = writeln!(
-            s,
-            "<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"3.5\" fill=\"{fill}\" stroke=\"{colour}\"/>"
-        );
-    }
-    s
-}
-
-/// The picture of the margins (SVG): polar panels of the force directions in each coordinate
-/// plane (`--directions planes:K` fills them), then one bar per direction; the smallest in
-/// red, unbounded ones pale (hollow in the panels, drawn at the cap).
-fn bar_chart(model: &GraspModel, r: &MarginReport) -> String {
-    let planes = panel_planes(model);
-    let bounded_max = r
-        .directions
-        .iter()
-        .filter(|d| d.bounded)
-        .map(|d| d.margin_n)
-        .fold(0.0_f64, f64::max);
-    let r_max = if bounded_max > 0.0 {
-        bounded_max
-    } else {
-        r.directions
-            .iter()
-            .map(|d| d.margin_n)
-            .fold(f64::MIN_POSITIVE, f64::max)
-    };
-    let panels: String = planes
-        .iter()
-        .enumerate()
-        .map(|(k, p)| polar_panel(r, *p, 10.0 + 220.0 * k as f64, r_max))
-        .collect();
-    let bars = bars(r, 270.0);
-    let n = r.directions.len();
-    let height = 270.0 + 40.0 + 18.0 * n as f64;
-    format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"800\" height=\"{height}\" \
-         font-family=\"sans-serif\" font-size=\"11\">\n<rect width=\"100%\" height=\"100%\" \
-         fill=\"white\"/>\n<text x=\"10\" y=\"16\" font-size=\"13\">Disturbance margins \
-         (N; a couple is the margin times L = {:.4} m)</text>\n{panels}{bars}</svg>\n",
-        r.length_m
-    )
-}
-
-/// One bar per direction (SVG fragment starting at `top`).
-fn bars(r: &MarginReport, top: f64) -> String {
-    let (left, width, row) = (260.0, 420.0, 18.0);
-    // Scaled to the largest bounded margin; unbounded ones fill the row.
-    let max = r
-        .directions
-        .iter()
-        .filter(|d| d.bounded)
-        .map(|d| d.margin_n)
-        .fold(0.0_f64, f64::max)
-        .max(f64::MIN_POSITIVE);
-    let mut s = format!(
-        "<text x=\"10\" y=\"{:.0}\">margin per direction</text>\n",
-        top + 16.0
-    );
-    for (i, d) in r.directions.iter().enumerate() {
-        let y = top + 26.0 + row * i as f64;
-        let len = if d.bounded {
-            width * d.margin_n / max
-        } else {
-            width
-        };
-        let fill = if i == r.smallest {
-            "#d62728"
-        } else if d.bounded {
-            "#1f77b4"
-        } else {
-            "#aec7e8"
-        };
-        let _ = writeln!(
-            s,
-            "<text x=\"{x}\" y=\"{ty}\" text-anchor=\"end\">{}</text>\
-             <rect x=\"{left}\" y=\"{y}\" width=\"{len:.1}\" height=\"{h}\" fill=\"{fill}\"/>\
-             <text x=\"{tx:.1}\" y=\"{ty}\">{}{:.3e}</text>",
-            label(&d.direction),
-            if d.bounded { "" } else { ">" },
-            d.margin_n,
-            x = left - 6.0,
-            ty = y + 12.0,
-            h = row - 4.0,
-            tx = left + len + 4.0
-        );
-    }
     s
 }

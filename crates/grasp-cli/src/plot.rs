@@ -1,8 +1,12 @@
-//! An SVG plot of force histories (normal force solid, friction dashed per finger), like
-//! thesis figures 15 and 17, drawn with plotters (its SVG backend needs no system fonts).
+//! A plot of force histories (normal force solid, friction dashed per finger), like thesis
+//! figures 15 and 17, drawn with plotters (SVG or PNG, see [`crate::picture`]).
 
+use anyhow::Result;
 use grasp_transfer::StepRecord;
+use plotters::coord::Shift;
 use plotters::prelude::*;
+
+use crate::picture::{draw_err, Picture};
 
 const COLORS: [RGBColor; 8] = [
     RGBColor(214, 39, 40),
@@ -54,25 +58,33 @@ impl ForceHistory {
         self.points.push((r.time_s, forces));
     }
 
-    /// The SVG document (see [`force_history_svg`]).
-    pub fn svg(&self, title: &str) -> String {
-        force_history_svg(self, title)
+    /// The plot of this history, titled after `title` (the scene).
+    pub fn picture<'a>(&'a self, title: &'a str) -> HistoryPlot<'a> {
+        HistoryPlot { hist: self, title }
     }
 }
 
-/// Returns an SVG document plotting every finger's normal force (solid) and friction force
-/// (dashed) against time, drawn with plotters.
-fn force_history_svg(hist: &ForceHistory, title: &str) -> String {
-    let mut out = String::new();
-    if let Err(e) = draw_history(hist, title, &mut out) {
-        // plotters writes into a String: a failure here is a bug, reported in the picture.
-        out = format!("<svg xmlns=\"http://www.w3.org/2000/svg\"><text y=\"20\">plot failed: {e}</text></svg>\n");
-    }
-    out
+/// Every finger's normal force (solid) and friction force (dashed) against time.
+pub struct HistoryPlot<'a> {
+    hist: &'a ForceHistory,
+    title: &'a str,
 }
 
-fn draw_history(hist: &ForceHistory, title: &str, out: &mut String) -> Result<(), String> {
-    let e = |e: &dyn std::fmt::Display| e.to_string();
+impl Picture for HistoryPlot<'_> {
+    fn size(&self) -> (u32, u32) {
+        (900, 500)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        draw_history(self.hist, self.title, root)
+    }
+}
+
+fn draw_history<DB: DrawingBackend>(
+    hist: &ForceHistory,
+    title: &str,
+    root: &DrawingArea<DB, Shift>,
+) -> Result<()> {
     let t0 = hist.span.map_or(0.0, |s| s.0);
     let t1 = hist.span.map_or(1.0, |s| s.1).max(t0 + 1e-9);
     let fmax = hist
@@ -81,9 +93,8 @@ fn draw_history(hist: &ForceHistory, title: &str, out: &mut String) -> Result<()
         .flat_map(|p| p.1.iter().flatten())
         .fold(0.0_f64, |m, x| m.max(*x))
         .max(1e-9);
-    let root = SVGBackend::with_string(out, (900, 500)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| e(&x))?;
-    let mut chart = ChartBuilder::on(&root)
+    root.fill(&WHITE).map_err(draw_err)?;
+    let mut chart = ChartBuilder::on(root)
         .caption(
             format!("Forces during the hand-off: {title}"),
             ("sans-serif", 16),
@@ -92,26 +103,26 @@ fn draw_history(hist: &ForceHistory, title: &str, out: &mut String) -> Result<()
         .x_label_area_size(40)
         .y_label_area_size(60)
         .build_cartesian_2d(t0..t1, 0.0..fmax * 1.05)
-        .map_err(|x| e(&x))?;
+        .map_err(draw_err)?;
     chart
         .configure_mesh()
         .x_desc("time [s]")
         .y_desc("force [N]")
         .max_light_lines(0)
         .draw()
-        .map_err(|x| e(&x))?;
+        .map_err(draw_err)?;
     for (i, name) in hist.names.iter().enumerate() {
         let color = COLORS[i % COLORS.len()];
         let style = ShapeStyle::from(&color).stroke_width(2);
         let series = |pick: usize| hist.points.iter().map(move |(t, f)| (*t, f[i][pick]));
         chart
             .draw_series(LineSeries::new(series(0), style))
-            .map_err(|x| e(&x))?
+            .map_err(draw_err)?
             .label(format!("{name} normal P"))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
         chart
             .draw_series(DashedLineSeries::new(series(1), 6, 4, style))
-            .map_err(|x| e(&x))?
+            .map_err(draw_err)?
             .label(format!("{name} friction |Q|"))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 8, y)], style));
     }
@@ -120,7 +131,6 @@ fn draw_history(hist: &ForceHistory, title: &str, out: &mut String) -> Result<()
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .draw()
-        .map_err(|x| e(&x))?;
-    root.present().map_err(|x| e(&x))?;
+        .map_err(draw_err)?;
     Ok(())
 }

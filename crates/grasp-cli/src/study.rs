@@ -8,8 +8,11 @@ use std::process::ExitCode;
 use anyhow::{bail, Context, Result};
 use grasp_model::refinement::{self, refinement_study, StudyReference, StudyRow};
 use grasp_model::SolveOptions;
+use plotters::coord::Shift;
+use plotters::prelude::*;
 
 use crate::output::{check_targets, commit_all, write_all, PendingOutput};
+use crate::picture::{self, draw_err, Picture};
 
 /// Peak resident memory of this process (Linux `VmHWM`), bytes. Grids run in ascending order,
 /// so after each solve it is that grid's peak.
@@ -39,6 +42,7 @@ pub fn run(
         bail!("--grids has a 0; give element counts >= 1, e.g. --grids 5,9,17");
     }
     let (csv, plot) = (out.csv, out.plot);
+    let plot_format = plot.map(|p| picture::Format::of(p, "--plot")).transpose()?;
     let targets: Vec<&Path> = [csv, plot].into_iter().flatten().collect();
     check_targets(&targets, &[scene], out.force)?;
     let scene_obj = crate::load_scene(scene)?;
@@ -79,10 +83,15 @@ pub fn run(
         write_all(&o, f, csv_text(&rows).as_bytes())?;
         pending.push(o);
     }
-    if let Some(p) = plot {
-        let svg = study_svg(&rows, e1, e2, &scene.display().to_string());
+    if let (Some(p), Some(format)) = (plot, plot_format) {
+        let title = scene.display().to_string();
+        let chart = StudyPlot {
+            rows: &rows,
+            errors: (e1, e2),
+            title: &title,
+        };
         let (o, f) = PendingOutput::create(p)?;
-        write_all(&o, f, svg.as_bytes())?;
+        write_all(&o, f, &picture::render(&chart, format)?)?;
         pending.push(o);
     }
     commit_all(pending)?;
@@ -164,23 +173,30 @@ fn csv_text(rows: &[StudyRow]) -> String {
     c
 }
 
-/// Log-log plot of error against wall time, one point per grid (drawn with plotters).
-fn study_svg(rows: &[StudyRow], e1: &str, e2: &str, title: &str) -> String {
-    let mut out = String::new();
-    if let Err(e) = draw_study(rows, (e1, e2), title, &mut out) {
-        out = format!("<svg xmlns=\"http://www.w3.org/2000/svg\"><text y=\"20\">plot failed: {e}</text></svg>\n");
-    }
-    out
+/// Log-log plot of error against wall time, one point per grid labelled with it; `errors`
+/// names the first and (if not empty) second error column.
+struct StudyPlot<'a> {
+    rows: &'a [StudyRow],
+    errors: (&'a str, &'a str),
+    title: &'a str,
 }
 
-fn draw_study(
+impl Picture for StudyPlot<'_> {
+    fn size(&self) -> (u32, u32) {
+        (700, 460)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        draw_study(self.rows, self.errors, self.title, root)
+    }
+}
+
+fn draw_study<DB: DrawingBackend>(
     rows: &[StudyRow],
     (e1, e2): (&str, &str),
     title: &str,
-    out: &mut String,
-) -> Result<(), String> {
-    use plotters::prelude::*;
-    let err = |x: &dyn std::fmt::Display| x.to_string();
+    root: &DrawingArea<DB, Shift>,
+) -> Result<()> {
     // Points of a log-log plot need positive errors; each keeps its row for the label.
     let pts: Vec<(f64, f64, Option<f64>, &StudyRow)> = rows
         .iter()
@@ -209,9 +225,8 @@ fn draw_study(
         if y0.is_finite() { y0 } else { 1e-6 },
     );
     let (x1, y1) = (x1.max(x0 * 10.0), y1.max(y0 * 10.0));
-    let root = SVGBackend::with_string(out, (700, 460)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| err(&x))?;
-    let mut chart = ChartBuilder::on(&root)
+    root.fill(&WHITE).map_err(draw_err)?;
+    let mut chart = ChartBuilder::on(root)
         .caption(
             format!("Error against run time: {title}"),
             ("sans-serif", 15),
@@ -220,7 +235,7 @@ fn draw_study(
         .x_label_area_size(40)
         .y_label_area_size(64)
         .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-        .map_err(|x| err(&x))?;
+        .map_err(draw_err)?;
     chart
         .configure_mesh()
         .x_desc("wall time [s]")
@@ -228,7 +243,7 @@ fn draw_study(
         .x_label_formatter(&|v| format!("{v:.0e}"))
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()
-        .map_err(|x| err(&x))?;
+        .map_err(draw_err)?;
     for (k, (label, color)) in [(e1, RGBColor(214, 39, 40)), (e2, RGBColor(31, 119, 180))]
         .into_iter()
         .enumerate()
@@ -242,21 +257,21 @@ fn draw_study(
             .collect();
         chart
             .draw_series(LineSeries::new(series.iter().map(|p| (p.0, p.1)), &color))
-            .map_err(|x| err(&x))?
+            .map_err(draw_err)?
             .label(label)
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
         for (t, v, r) in &series {
             let grid = format!("{}x{}", r.grid[0], r.grid[1]);
             chart
                 .draw_series(std::iter::once(Circle::new((*t, *v), 3, color.filled())))
-                .map_err(|x| err(&x))?;
+                .map_err(draw_err)?;
             chart
                 .draw_series(std::iter::once(Text::new(
                     grid,
                     (*t, *v),
                     ("sans-serif", 10),
                 )))
-                .map_err(|x| err(&x))?;
+                .map_err(draw_err)?;
         }
     }
     chart
@@ -264,8 +279,7 @@ fn draw_study(
         .background_style(WHITE)
         .border_style(BLACK)
         .draw()
-        .map_err(|x| err(&x))?;
-    root.present().map_err(|x| err(&x))?;
+        .map_err(draw_err)?;
     Ok(())
 }
 
@@ -290,7 +304,13 @@ mod tests {
     #[test]
     fn plot_labels_stay_with_their_points_when_an_error_is_zero() {
         let rows = [row(3, 1e-2), row(5, 0.0), row(9, 1e-3)];
-        let svg = study_svg(&rows, "force error", "", "t");
+        let chart = StudyPlot {
+            rows: &rows,
+            errors: ("force error", ""),
+            title: "t",
+        };
+        let svg =
+            String::from_utf8(picture::render(&chart, picture::Format::Svg).unwrap()).unwrap();
         assert!(!svg.contains("5x5"), "{svg}");
         // The x of the text element holding a grid's label.
         let label = |g: &str| {

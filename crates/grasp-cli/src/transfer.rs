@@ -14,6 +14,7 @@ use grasp_transfer::{
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::output::{check_targets, commit_all, write_all, PendingOutput};
+use crate::picture;
 use crate::plot::ForceHistory;
 
 /// Output files of a transfer.
@@ -146,6 +147,11 @@ pub fn run(
     flags: Flags,
 ) -> Result<ExitCode> {
     // Validate everything before any work: outputs, scene, memory, schedule.
+    let plot_format = out
+        .plot
+        .as_deref()
+        .map(|p| picture::Format::of(p, "--plot"))
+        .transpose()?;
     check_targets(&out.targets(), &[scene_path, schedule_path], out.force)?;
     let (scene, schedule) = load_inputs(scene_path, schedule_path, flags.max_memory)?;
     let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
@@ -183,10 +189,11 @@ pub fn run(
         }
         return Ok(ExitCode::from(2));
     }
-    if let (Some(p), Some(h)) = (&out.plot, &history) {
-        let svg = h.svg(&scene_path.display().to_string());
+    if let (Some(p), Some(h), Some(format)) = (&out.plot, &history, plot_format) {
+        let title = scene_path.display().to_string();
+        let bytes = picture::render(&h.picture(&title), format)?;
         let (o, f) = PendingOutput::create(p)?;
-        write_all(&o, f, svg.as_bytes())?;
+        write_all(&o, f, &bytes)?;
         open.pending.push(o);
     }
     if flags.min_squeeze {

@@ -44,7 +44,11 @@ fn margin_writes_json_plot_and_recording_and_names_the_smallest() {
     assert!(min > 0.0);
     assert_eq!(dirs[smallest]["margin_n"].as_f64().unwrap(), min);
     assert!(out.contains("smallest margin"), "{out}");
-    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+    let picture = std::fs::read_to_string(&svg).unwrap();
+    assert!(picture.starts_with("<svg"));
+    // A bar per direction (plus the background), the smallest in red.
+    assert!(picture.matches("<rect").count() > dirs.len(), "{picture}");
+    assert!(picture.contains("#D62728"), "{picture}");
     // Rerun's own CLI (installed by scripts/test.sh) verifies the recording.
     match std::env::var("GRASP_RERUN_CLI") {
         Ok(cli) => {

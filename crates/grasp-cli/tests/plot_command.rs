@@ -1,6 +1,7 @@
 //! `grasp plot`: the force diagram's content (both views, every finger named, one blue
 //! normal-force arrow and one orange friction arrow per loaded finger and view, the weight),
-//! and the output rules (no overwrite without --force, .svg only).
+//! the PNG form of the same picture, and the output rules (no overwrite without --force,
+//! .svg or .png only).
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -74,7 +75,7 @@ fn the_diagram_shows_every_finger_force_in_both_views() {
 }
 
 #[test]
-fn existing_pictures_are_kept_and_only_svg_is_written() {
+fn existing_pictures_are_kept_and_only_svg_or_png_is_written() {
     let dir = out_dir("rules");
     let out = dir.join("mine.svg");
     std::fs::write(&out, "mine").unwrap();
@@ -91,10 +92,51 @@ fn existing_pictures_are_kept_and_only_svg_is_written() {
         .arg("plot")
         .arg(example("cube_a.json"))
         .arg("--out")
-        .arg(dir.join("x.png"))
+        .arg(dir.join("x.pdf"))
         .output()
         .unwrap();
     assert_eq!(st.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&st.stderr).contains(".svg"));
+    let err = String::from_utf8_lossy(&st.stderr);
+    assert!(
+        err.contains("--out") && err.contains(".svg or .png"),
+        "{err}"
+    );
+    assert!(!dir.join("x.pdf").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Pixels of exactly this colour in an RGB image.
+fn pixels_of(rgb: &[u8], c: [u8; 3]) -> usize {
+    rgb.chunks_exact(3).filter(|p| *p == c).count()
+}
+
+#[test]
+fn a_png_diagram_is_the_same_picture_rasterised() {
+    let dir = out_dir("png");
+    let out = dir.join("cube_a.png");
+    let st = grasp()
+        .arg("plot")
+        .arg(example("cube_a.json"))
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(st.status.success(), "{st:?}");
+    let bytes = std::fs::read(&out).unwrap();
+    let mut reader = png::Decoder::new(std::io::Cursor::new(bytes))
+        .read_info()
+        .unwrap();
+    let mut rgb = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut rgb).unwrap();
+    // The SVG's canvas size, 8-bit RGB.
+    assert_eq!((info.width, info.height), (1100, 620));
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    // The arrows are drawn in the diagram's blue (normal) and orange (friction), 2 px wide:
+    // cube A's three fingers each carry both in both views, so each colour covers many
+    // pixels; the background is white.
+    let blue = pixels_of(&rgb, [31, 100, 200]);
+    let orange = pixels_of(&rgb, [240, 140, 20]);
+    assert!(blue > 200 && orange > 50, "blue {blue}, orange {orange}");
+    assert!(pixels_of(&rgb, [255, 255, 255]) > rgb.len() / 3 / 2);
     std::fs::remove_dir_all(&dir).ok();
 }
