@@ -159,3 +159,70 @@ fn the_hertz_suggestion_is_hertz_and_its_patch_holds_the_contact() {
         s.fingers[0].boundary_load_fraction
     );
 }
+
+/// The tip drawn by the Rerun and Foxglove sinks, for `v`'s only finger.
+fn tip_drawing(v: &Value) -> (grasp_transfer::sinks::TipDrawing, grasp_model::FingerModel) {
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let model = grasp_model::GraspModel::from_scene(&scene).unwrap();
+    let run = grasp_transfer::sinks::RunInfo {
+        scene: &scene,
+        geometry: &model,
+    };
+    let mut tips = grasp_transfer::sinks::tip_drawings(&run, 0.05);
+    assert_eq!(tips.len(), 1);
+    (tips.remove(0).1, model.fingers[0].clone())
+}
+
+/// Each tip shape is drawn touching the contact point from the finger's side (outside the
+/// object, against the inward normal), with the tip's own size: the sphere and the cylinder
+/// of radius R have their centre at `origin - R n` (and the cylinder's axis along the
+/// tangent it is straight along), the flat pad's face lies in the contact plane; a curved tip
+/// far larger than the scene is drawn as a pad. Tolerance: round-off of unit frames (1e-12 m).
+#[test]
+fn every_tip_shape_is_drawn_touching_its_contact_from_outside() {
+    use grasp_transfer::sinks::TipDrawing;
+    let (sphere, f) = tip_drawing(&hertz());
+    let (o, n) = (f.frame.origin_m, f.frame.normal);
+    match sphere {
+        TipDrawing::Sphere { centre, radius_m } => {
+            assert!((radius_m - 0.01).abs() < 1e-15);
+            assert!((centre - (o - n * 0.01)).norm() < 1e-12);
+        }
+        other => panic!("a sphere tip drawn as {other:?}"),
+    }
+    let cyl = json!({"cylinder": {"radius": 0.004, "axis": [0, -1, 0]}});
+    match tip_drawing(&without_tip_radius(hertz(), cyl)).0 {
+        TipDrawing::Cylinder {
+            centre,
+            axis,
+            radius_m,
+            length_m,
+        } => {
+            assert!((radius_m - 0.004).abs() < 1e-15);
+            assert!((centre - (o - n * 0.004)).norm() < 1e-12);
+            assert!(axis.cross(&f.frame.t2).norm() < 1e-12, "along t2: {axis:?}");
+            assert!(length_m >= 2.0 * radius_m);
+        }
+        other => panic!("a cylinder tip drawn as {other:?}"),
+    }
+    let pad = json!({"flat": {"size": [0.003, 0.002]}});
+    match tip_drawing(&without_tip_radius(hertz(), pad)).0 {
+        TipDrawing::Pad {
+            centre,
+            rotation,
+            half_sizes_m,
+        } => {
+            assert!(
+                (half_sizes_m.x - 0.0015).abs() < 1e-15 && (half_sizes_m.y - 0.001).abs() < 1e-15
+            );
+            assert!((rotation * nalgebra::Vector3::z() - n).norm() < 1e-12);
+            assert!((rotation * nalgebra::Vector3::x() - f.frame.t1).norm() < 1e-12);
+            // The face towards the object lies in the contact plane, through the contact.
+            assert!((centre + n * half_sizes_m.z - o).norm() < 1e-12);
+        }
+        other => panic!("a flat tip drawn as {other:?}"),
+    }
+    let huge = json!({"sphere": {"radius": 100.0}});
+    let (drawn, _) = tip_drawing(&without_tip_radius(hertz(), huge));
+    assert!(matches!(drawn, TipDrawing::Pad { .. }), "{drawn:?}");
+}

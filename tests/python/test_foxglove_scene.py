@@ -61,6 +61,8 @@ def test_scene_updates_are_foxglove_messages(tmp_path):
         assert len(update.encode()) > 0
     obj = found[0][3]["entities"][0]
     assert obj["id"] == "object" and len(obj["triangles"][0]["indices"]) == 36  # a box: 12 triangles
+    tips = found[0][3]["entities"][2]
+    assert tips["id"] == "fingertips" and len(tips["cubes"]) == 2  # the jaws' flat pads
     forces = [e for _, _, _, d in found[1:] for e in d["entities"]]
     assert all(len(e["arrows"]) == 4 for e in forces)  # normal and friction, two fingers
 
@@ -72,3 +74,27 @@ def test_a_scene_without_a_shape_draws_the_box_around_its_contacts(tmp_path):
     assert found[0][3]["entities"][0]["cubes"] and not found[0][3]["entities"][0]["triangles"]
     for _, _, _, data in found[:3]:
         build(messages.SceneUpdate, data).encode()
+
+
+@pytest.mark.parametrize("tip,kind", [({"cylinder": {"radius": 0.01, "axis": [0, 1, 0]}}, "cylinders"),
+                                      ({"sphere": {"radius": 0.01}}, "spheres")])
+def test_curved_fingertips_are_foxglove_primitives_touching_the_contact(tmp_path, tip, kind):
+    with open(EXAMPLES / "hertz_sphere_on_flat.json") as f:
+        scene = json.load(f)
+    finger = scene["fingers"][0]
+    del finger["tip_radius"]
+    finger["tip"] = tip
+    path = tmp_path / "tip.mcap"
+    grasp.transfer(grasp.Scene(scene), {"time": {"start": 0, "end": 1, "step": 0.5}, "fingers": {}}, mcap=path)
+    first = scene_messages(path)[0][3]
+    build(messages.SceneUpdate, first)
+    (tips,) = [e for e in first["entities"] if e["id"] == "fingertips"]
+    (shape,) = tips[kind]
+    # Diameter 20 mm; the centre 10 mm below the contact (normal +z, the finger below).
+    assert shape["size"]["x"] == pytest.approx(0.02, abs=1e-15)
+    centre = shape["pose"]["position"]
+    assert (centre["x"], centre["y"], centre["z"]) == pytest.approx((0.0, 0.0, -0.01), abs=1e-15)
+    if kind == "cylinders":
+        # The pose turns the cylinder's z axis onto the tip's axis (y): q = rotation about x.
+        q = shape["pose"]["orientation"]
+        assert abs(q["x"]) == pytest.approx(2 ** -0.5, abs=1e-12) and q["y"] == pytest.approx(0, abs=1e-12)

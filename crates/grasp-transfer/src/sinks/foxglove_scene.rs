@@ -1,6 +1,7 @@
 //! `foxglove.SceneUpdate` messages (JSON encoding) for the MCAP's `/grasp/scene` topic, so
 //! Foxglove's 3-D panel replays a hand-off: the object (its shape's triangles, or the box
-//! around the contacts), a sphere at each contact point, and per step each finger's normal
+//! around the contacts), a dot at each contact point, each fingertip as its shape
+//! ([`super::fingertip_drawing`]: sphere, cylinder or pad), and per step each finger's normal
 //! and friction forces as arrows pushing on the object (blue: normal, orange: friction;
 //! length `arrow_m_per_n` m per N). Field names and required fields follow Foxglove's
 //! published message definitions (foxglove-sdk `schemas/`).
@@ -8,6 +9,7 @@
 use nalgebra::{UnitQuaternion, Vector3};
 use serde_json::{json, Value};
 
+use super::fingertip_drawing::{tip_drawings, z_to, TipDrawing};
 use super::RunInfo;
 use crate::stepper::StepRecord;
 
@@ -28,6 +30,32 @@ fn color(r: f64, g: f64, b: f64, a: f64) -> Value {
 
 fn identity_pose(at: &Vector3<f64>) -> Value {
     json!({"position": vec3(at), "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}})
+}
+
+fn pose(at: &Vector3<f64>, q: &UnitQuaternion<f64>) -> Value {
+    json!({"position": vec3(at), "orientation": {"x": q.i, "y": q.j, "z": q.k, "w": q.w}})
+}
+
+/// The fingertips' primitives (`spheres`, `cylinders`, `cubes`), light grey.
+fn fingertips(run: &RunInfo, size_m: f64) -> Value {
+    let (mut spheres, mut cylinders, mut cubes) = (Vec::new(), Vec::new(), Vec::new());
+    let grey = color(0.55, 0.55, 0.6, 0.5);
+    for (_, tip) in tip_drawings(run, size_m) {
+        match tip {
+            TipDrawing::Sphere { centre, radius_m } => spheres.push(json!({
+                "pose": identity_pose(&centre), "size": vec3(&Vector3::repeat(2.0 * radius_m)), "color": grey
+            })),
+            TipDrawing::Cylinder { centre, axis, radius_m, length_m } => cylinders.push(json!({
+                "pose": pose(&centre, &z_to(&axis)),
+                "size": vec3(&Vector3::new(2.0 * radius_m, 2.0 * radius_m, length_m)),
+                "bottom_scale": 1.0, "top_scale": 1.0, "color": grey
+            })),
+            TipDrawing::Pad { centre, rotation, half_sizes_m } => cubes.push(json!({
+                "pose": pose(&centre, &rotation), "size": vec3(&(half_sizes_m * 2.0)), "color": grey
+            })),
+        }
+    }
+    json!({"spheres": spheres, "cylinders": cylinders, "cubes": cubes})
 }
 
 /// Foxglove time from seconds (`sec`, `nsec`), clamped at 0.
@@ -74,7 +102,12 @@ pub fn object_update(run: &RunInfo, t_s: f64, size_m: f64) -> Value {
         .iter()
         .map(|f| json!({"pose": identity_pose(&f.frame.origin_m), "size": vec3(&Vector3::repeat(d)), "color": color(0.35, 0.35, 0.4, 1.0)}))
         .collect();
-    json!({"deletions": [], "entities": [entity("object", t_s, object), entity("contacts", t_s, json!({"spheres": tips}))]})
+    let entities = [
+        entity("object", t_s, object),
+        entity("contacts", t_s, json!({"spheres": tips})),
+        entity("fingertips", t_s, fingertips(run, size_m)),
+    ];
+    json!({"deletions": [], "entities": entities})
 }
 
 /// An arrow of `force` (N) whose head is at `head` (m), pushing along the force.
@@ -148,7 +181,8 @@ pub fn scene_update_schema() -> Value {
                     "cubes": list(json!({"type": "object", "properties": {"pose": pose, "size": xyz, "color": rgba}})),
                     "spheres": list(json!({"type": "object", "properties": {"pose": pose, "size": xyz, "color": rgba}})),
                     "triangles": list(json!({"type": "object", "properties": {"pose": pose, "points": list(xyz.clone()), "color": rgba, "colors": list(rgba.clone()), "indices": list(json!({"type": "integer", "minimum": 0}))}})),
-                    "cylinders": list(json!({"type": "object"})), "lines": list(json!({"type": "object"})),
+                    "cylinders": list(json!({"type": "object", "properties": {"pose": pose, "size": xyz, "bottom_scale": num, "top_scale": num, "color": rgba}})),
+                    "lines": list(json!({"type": "object"})),
                     "texts": list(json!({"type": "object"})), "models": list(json!({"type": "object"}))
                 }
             }))

@@ -1,12 +1,14 @@
 //! Log sinks of a hand-off, each optional and independent: MCAP, Rerun, CSV.
 
 mod csv_history;
+mod fingertip_drawing;
 mod foxglove_scene;
 mod mcap_log;
 mod rerun_layout;
 mod rerun_log;
 
 pub use csv_history::CsvSink;
+pub use fingertip_drawing::{tip_drawings, TipDrawing, LARGEST_DRAWN};
 pub use foxglove_scene::SCENE_TOPIC;
 pub use mcap_log::{FingerMessage, FingersMessage, McapSink, FINGERS_TOPIC, PATCHES_TOPIC};
 pub use rerun_layout::layout_messages;

@@ -2,7 +2,8 @@
 //!
 //! Entities (world frame, metres):
 //! - `world/object` (static): a wireframe box around the contacts and the centre of mass;
-//! - `world/fingers/<name>` (static): each finger as an arrow pointing at its contact;
+//! - `world/fingers/<name>` (static): each finger as an arrow pointing at its contact, and
+//!   `world/fingers/<name>/tip` its tip's shape ([`super::fingertip_drawing`]);
 //! - `world/forces/<name>/normal`, `.../friction`: force arrows on the object at the centre
 //!   of pressure, scaled by `arrow_m_per_n`;
 //! - `world/patches/<name>/pressure`: elements coloured by pressure (dark blue to yellow,
@@ -30,10 +31,11 @@ use grasp_model::ElementState;
 use rerun::external::re_tuid::Tuid;
 use rerun::log::{Chunk, ChunkId, RowId};
 use rerun::{
-    Arrows3D, AsComponents, Boxes3D, Color, Mesh3D, Points3D, RecordingStream, Scalars,
-    SerializedComponentBatch, SeriesLines, TimeCell, TimePoint,
+    Arrows3D, AsComponents, Boxes3D, Color, Cylinders3D, Ellipsoids3D, FillMode, Mesh3D, Points3D,
+    RecordingStream, Scalars, SerializedComponentBatch, SeriesLines, TimeCell, TimePoint,
 };
 
+use super::fingertip_drawing::{tip_drawings, z_to, TipDrawing};
 use super::rerun_layout::{layout_messages, APPLICATION_ID};
 use super::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
@@ -311,6 +313,12 @@ impl Sink for RerunSink {
                 .with_radii([0.01 * size as f32])
                 .with_labels(["centre of mass"]),
         )?;
+        for (name, tip) in tip_drawings(run, size) {
+            self.send(
+                format!("world/fingers/{name}/tip"),
+                tip_archetype(&tip).as_ref(),
+            )?;
+        }
         for f in &g.fingers {
             let len = 0.25 * size;
             let base = f.frame.origin_m - f.frame.normal * len;
@@ -452,6 +460,43 @@ impl Sink for RerunSink {
         if let Some(rec) = self.rec.take() {
             let _ = rec.flush_with_timeout(LIVE_FLUSH_TIMEOUT);
         }
+    }
+}
+
+/// A fingertip as a solid, half transparent grey shape.
+fn tip_archetype(tip: &TipDrawing) -> Box<dyn AsComponents> {
+    let grey = Color::from_unmultiplied_rgba(140, 140, 150, 128);
+    let quat = |q: &nalgebra::UnitQuaternion<f64>| {
+        rerun::Quaternion::from_xyzw([q.i as f32, q.j as f32, q.k as f32, q.w as f32])
+    };
+    match tip {
+        TipDrawing::Sphere { centre, radius_m } => Box::new(
+            Ellipsoids3D::from_centers_and_radii([v3(centre)], [*radius_m as f32])
+                .with_colors([grey])
+                .with_fill_mode(FillMode::Solid),
+        ),
+        TipDrawing::Cylinder {
+            centre,
+            axis,
+            radius_m,
+            length_m,
+        } => Box::new(
+            Cylinders3D::from_lengths_and_radii([*length_m as f32], [*radius_m as f32])
+                .with_centers([v3(centre)])
+                .with_quaternions([quat(&z_to(axis))])
+                .with_colors([grey])
+                .with_fill_mode(FillMode::Solid),
+        ),
+        TipDrawing::Pad {
+            centre,
+            rotation,
+            half_sizes_m,
+        } => Box::new(
+            Boxes3D::from_centers_and_half_sizes([v3(centre)], [v3(half_sizes_m)])
+                .with_quaternions([quat(rotation)])
+                .with_colors([grey])
+                .with_fill_mode(FillMode::Solid),
+        ),
     }
 }
 
