@@ -199,8 +199,9 @@ pub fn patch_compliance(
     let mut c = DMatrix::<f64>::zeros(dim, dim);
     let s = 1.0 / (PI * area);
     let coupled = !pair.uncoupled() && n_tangential > 0;
-    for k in 0..n {
-        for j in 0..n {
+    // Column by column (j outer): the writes of each block run down contiguous memory.
+    for j in 0..n {
+        for k in 0..n {
             let r = at(k, j);
             c[(k, j)] = s * pair.normal * r.inv_rho;
             if n_tangential >= 1 {
@@ -233,8 +234,25 @@ pub fn patch_compliance(
             }
         }
     }
-    let ct = c.transpose();
-    (c + ct) * 0.5
+    symmetrise(&mut c);
+    c
+}
+
+/// `C <- (C + C')/2` in place, in square tiles so both the tile and its mirror stay in cache.
+fn symmetrise(c: &mut DMatrix<f64>) {
+    const TILE: usize = 32;
+    let dim = c.nrows();
+    for j0 in (0..dim).step_by(TILE) {
+        for k0 in (j0..dim).step_by(TILE) {
+            for j in j0..(j0 + TILE).min(dim) {
+                for k in k0.max(j + 1)..(k0 + TILE).min(dim) {
+                    let v = 0.5 * (c[(k, j)] + c[(j, k)]);
+                    c[(k, j)] = v;
+                    c[(j, k)] = v;
+                }
+            }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -8,6 +8,8 @@
 //! [`FingerBlockData::apply_columns`], so a matrix-free operator (FFT products on the uniform
 //! grid) can replace the stored matrix here without touching the solver's strategy.
 
+use std::sync::Arc;
+
 use faer::Mat;
 
 use crate::cone_program::{BlockCone, FingerBlock};
@@ -23,8 +25,10 @@ pub(crate) struct FingerBlockData {
     pub elements: usize,
     /// Unknowns per element, `1 + n_tangential`.
     pub dim: usize,
-    /// `P_i = C_i / Cu`, column-major `n_i x n_i`.
-    p: Vec<f64>,
+    /// `C_i`, m/N, column-major `n_i x n_i`: shared with the model, not copied.
+    c: Arc<nalgebra::DMatrix<f64>>,
+    /// `1 / Cu`: `P_i = scale C_i`.
+    pub scale: f64,
     /// `E_i`, the finger's columns of the equality matrix.
     e: Mat<f64>,
     /// Step of the natural residual `x - Proj(x - gamma y)`: `1 / ||P_i||_inf` (the largest
@@ -37,29 +41,30 @@ pub(crate) struct FingerBlockData {
 }
 
 impl FingerBlockData {
-    /// Copies the finger's block: `compliance` (m/N, column-major `n_i x n_i`) times `scale`,
-    /// and the columns `offset..offset + n_i` of `equality` (`m x n`).
+    /// The finger's block: `compliance` (m/N, column-major `n_i x n_i`, shared) with its
+    /// `scale`, and a copy of the columns `offset..offset + n_i` of `equality` (`m x n`).
     pub fn new(
         block: &FingerBlock,
-        compliance: &nalgebra::DMatrix<f64>,
+        compliance: &Arc<nalgebra::DMatrix<f64>>,
         scale: f64,
         equality: &nalgebra::DMatrix<f64>,
         cold_contact: Vec<bool>,
     ) -> Self {
         let n = block.len();
-        // nalgebra stores column-major too: the same layout.
-        let p: Vec<f64> = compliance.as_slice().iter().map(|v| v * scale).collect();
         let e = Mat::from_fn(equality.nrows(), n, |r, c| equality[(r, block.offset + c)]);
         // P is symmetric: column sums are row sums.
-        let row_sum = p
-            .chunks_exact(n.max(1))
-            .map(|col| col.iter().map(|v| v.abs()).sum::<f64>())
-            .fold(0.0_f64, f64::max);
+        let row_sum = scale
+            * compliance
+                .as_slice()
+                .chunks_exact(n.max(1))
+                .map(|col| col.iter().map(|v| v.abs()).sum::<f64>())
+                .fold(0.0_f64, f64::max);
         FingerBlockData {
             offset: block.offset,
             elements: block.elements,
             dim: 1 + block.n_tangential,
-            p,
+            c: Arc::clone(compliance),
+            scale,
             e,
             gamma: if row_sum > 0.0 { 1.0 / row_sum } else { 1.0 },
             cold_contact,
@@ -84,13 +89,13 @@ impl FingerBlockData {
     /// A copy of `P_i`.
     pub fn matrix(&self) -> Mat<f64> {
         let n = self.len();
-        faer::MatRef::from_column_major_slice(&self.p, n, n).to_owned()
+        Mat::from_fn(n, n, |r, c| self.scale * self.c[(r, c)])
     }
 
-    /// Column `c` of `P_i`.
-    pub fn column(&self, c: usize) -> &[f64] {
+    /// Column `c` of `C_i` (m/N): `scale` times it is column `c` of `P_i`.
+    pub fn compliance_column(&self, c: usize) -> &[f64] {
         let n = self.len();
-        &self.p[c * n..(c + 1) * n]
+        &self.c.as_slice()[c * n..(c + 1) * n]
     }
 
     /// `E_i` (`m x n_i`).
@@ -113,9 +118,9 @@ impl FingerBlockData {
     /// `out += P_i v` for a `v` that is zero outside the local indices `support`.
     pub fn apply_columns(&self, v: &[f64], support: &[usize], out: &mut [f64]) {
         for &c in support {
-            let vc = v[c];
+            let vc = v[c] * self.scale;
             if vc != 0.0 {
-                for (o, r) in out.iter_mut().zip(self.column(c)) {
+                for (o, r) in out.iter_mut().zip(self.compliance_column(c)) {
                     *o += r * vc;
                 }
             }

@@ -153,8 +153,9 @@ fn finger_system(block: &FingerBlockData, columns: Vec<FreeColumn>) -> FingerSys
     let mut g = Mat::<f64>::zeros(m, nf);
     for (b, col) in columns.iter().enumerate() {
         for &(idx, val) in &col.column {
-            for (r, p) in block.column(idx).iter().enumerate() {
-                pc[(r, b)] += val * p;
+            let val_p = val * block.scale;
+            for (r, c) in block.compliance_column(idx).iter().enumerate() {
+                pc[(r, b)] += val_p * c;
             }
             for r in 0..m {
                 g[(r, b)] += val * block.equality(r, idx);

@@ -81,10 +81,14 @@ pub(crate) fn factor_for<'c>(
         let f = cache.remove(pos);
         cache.insert(0, f);
     } else {
-        let f = ReducedFactor::new(block, &lin.free, &lin.fixed, key)?;
+        // The factor this one evicts lends it its storage.
+        let spare = match cache.len() >= CACHE_SLOTS {
+            true => cache.pop(),
+            false => None,
+        };
+        let f = ReducedFactor::new(block, &lin.free, &lin.fixed, key, spare)?;
         *factorisations += 1;
         cache.insert(0, f);
-        cache.truncate(CACHE_SLOTS);
     }
     cache.first()
 }

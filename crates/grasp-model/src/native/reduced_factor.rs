@@ -54,28 +54,33 @@ impl ReducedFactor {
         self.key == key
     }
 
-    /// Assembles `M` and `Et'` for the free directions and factorises `M`. A pivot that is not
-    /// positive (round-off on a nearly singular block) is retried once with a diagonal shift of
-    /// `1e-12` of the largest diagonal entry; `None` if that fails too.
+    /// Assembles `M` and `Et'` for the free directions and factorises `M`, in the storage of
+    /// `spare` (an evicted factor's, so that a run does not keep faulting in fresh pages) when
+    /// given. A pivot that is not positive (round-off on a nearly singular block) is retried
+    /// once with a diagonal shift of `1e-12` of the largest diagonal entry; `None` if that
+    /// fails too.
     pub fn new(
         block: &FingerBlockData,
         free: &[Direction],
         fixed: &[Direction],
         key: Vec<u64>,
+        spare: Option<Self>,
     ) -> Option<Self> {
-        let mut l = reduced_matrix(block, free);
-        let n = l.nrows();
-        let shift = 1e-12 * (0..n).map(|a| l[(a, a)]).fold(0.0_f64, f64::max);
-        let mut work = l.clone();
-        if !cholesky(work.as_mut()) {
+        let mut l = reduced_matrix(block, free, spare.map(|f| f.l));
+        if !cholesky(l.as_mut()) {
+            // Rebuilt rather than kept: a copy for this rare retry would cost as much as the
+            // assembly on every factorisation.
+            l = reduced_matrix(block, free, Some(l));
+            let n = l.nrows();
+            let shift = 1e-12 * (0..n).map(|a| l[(a, a)]).fold(0.0_f64, f64::max);
             for a in 0..n {
                 l[(a, a)] += shift;
             }
-            work = l;
-            if !cholesky(work.as_mut()) {
+            if !cholesky(l.as_mut()) {
                 return None;
             }
         }
+        let work = l;
         let mut w = reduced_equality_transpose(block, free);
         solve_lower_triangular_in_place(work.as_ref(), w.as_mut(), Par::Seq);
         Some(ReducedFactor {
@@ -138,22 +143,34 @@ fn components(block: &FingerBlockData, d: &Direction) -> ([(usize, f64); 3], usi
     (out, n)
 }
 
-/// `M = D_F' P_i D_F + diag(beta)` (lower triangle filled; the factorisation reads only it).
-/// Column `b` of `M` is `D_F'` applied to `P_i d_b`, a combination of at most three columns
-/// of `P_i` read as slices.
-fn reduced_matrix(block: &FingerBlockData, free: &[Direction]) -> Mat<f64> {
+/// `M = D_F' P_i D_F + diag(beta)` (lower triangle written; the factorisation and the
+/// triangular solves read only it), in `storage` when given (its upper triangle keeps stale
+/// values). Column `b` of `M` is `D_F'` applied to `P_i d_b`, a combination of at most three
+/// columns of `P_i` read as slices.
+fn reduced_matrix(
+    block: &FingerBlockData,
+    free: &[Direction],
+    storage: Option<Mat<f64>>,
+) -> Mat<f64> {
     let n = free.len();
     let comps: Vec<_> = free.iter().map(|d| components(block, d)).collect();
-    let mut m = Mat::<f64>::zeros(n, n);
+    let mut m = match storage {
+        Some(mut m) => {
+            m.resize_with(n, n, |_, _| 0.0);
+            m
+        }
+        None => Mat::<f64>::zeros(n, n),
+    };
     let mut pd = vec![0.0; block.len()];
     for b in 0..n {
         let (cb, nb) = comps[b];
+        // Column b of C D (m/N), scaled to P below.
         let col: &[f64] = if nb == 1 && cb[0].1 == 1.0 {
-            block.column(cb[0].0)
+            block.compliance_column(cb[0].0)
         } else {
             pd.fill(0.0);
             for &(ib, vb) in &cb[..nb] {
-                for (o, p) in pd.iter_mut().zip(block.column(ib)) {
+                for (o, p) in pd.iter_mut().zip(block.compliance_column(ib)) {
                     *o += vb * p;
                 }
             }
@@ -164,9 +181,10 @@ fn reduced_matrix(block: &FingerBlockData, free: &[Direction]) -> Mat<f64> {
             .try_as_col_major_mut()
             .map(|c| c.as_slice_mut());
         let Some(out) = out else { continue };
+        let scale = block.scale;
         for a in b..n {
             let (ca, na) = comps[a];
-            out[a] = ca[..na].iter().map(|&(ia, va)| va * col[ia]).sum();
+            out[a] = scale * ca[..na].iter().map(|&(ia, va)| va * col[ia]).sum::<f64>();
         }
         let t = free[b].theta;
         out[b] += (1.0 - t) / (block.gamma * t);
