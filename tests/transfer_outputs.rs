@@ -133,8 +133,8 @@ fn mcap_reads_back_as_written() {
     }
     assert_eq!(patches, records.len());
     assert_eq!(fingers.len(), records.len());
-    // The object and contact points first, then one set of force arrows per step.
-    assert_eq!(scene_ids[0], "object,contacts");
+    // The object, contact points and fingertips first, then one set of force arrows per step.
+    assert_eq!(scene_ids[0], "object,contacts,fingertips");
     assert!(
         scene_ids[1..].iter().all(|ids| ids == "forces") && scene_ids.len() == records.len() + 1
     );
