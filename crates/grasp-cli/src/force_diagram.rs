@@ -156,8 +156,10 @@ fn header<DB: DrawingBackend>(
         .iter()
         .map(|f| {
             format!(
-                "{} P {:.3} N, |Q| {:.3} N",
-                f.name, f.normal_force_n, f.tangential_magnitude_n
+                "{} P {} N, |Q| {} N",
+                f.name,
+                fixed3(f.normal_force_n),
+                fixed3(f.tangential_magnitude_n)
             )
         })
         .collect();
@@ -165,6 +167,15 @@ fn header<DB: DrawingBackend>(
     area.draw(&Text::new(line.join(";  "), (20, 40), small))
         .map_err(plot_err)?;
     Ok(())
+}
+
+/// `v` with three decimals, without the sign of a value that rounds to zero (solver noise).
+fn fixed3(v: f64) -> String {
+    let s = format!("{v:.3}");
+    match s.as_str() {
+        "-0.000" => "0.000".to_owned(),
+        _ => s,
+    }
 }
 
 /// One orthographic view onto the axes `(u, v)`.

@@ -7,6 +7,10 @@
 use crate::grasp_model::GraspModel;
 use crate::solution::Solution;
 
+/// Converged solves remembered before the last (two: with the last, they span two directions
+/// of load change).
+pub const EARLIER_KEPT: usize = 2;
+
 /// State of one finger's contact patch.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FingerState {
@@ -22,6 +26,10 @@ pub struct FingerState {
     /// Total normal load of the last converged solve, N (warm start of a load-dependent
     /// `mu`).
     pub normal_load_n: Option<f64>,
+    /// `normal_forces_n` and `normal_load_n` of the converged solves before the last (at
+    /// most [`EARLIER_KEPT`], oldest first): from them the sequential solve's warm start
+    /// continues the loads' ramp.
+    pub earlier: Vec<(Vec<f64>, f64)>,
 }
 
 impl FingerState {
@@ -32,6 +40,7 @@ impl FingerState {
             slip_memory_m: vec![[0.0; 2]; elements],
             normal_forces_n: None,
             normal_load_n: None,
+            earlier: Vec::new(),
         }
     }
 }
@@ -65,6 +74,7 @@ impl ContactState {
                     && s.normal_forces_n
                         .as_ref()
                         .is_none_or(|v| v.len() == f.patch.len())
+                    && s.earlier.iter().all(|(v, _)| v.len() == f.patch.len())
             })
     }
 
@@ -73,6 +83,7 @@ impl ContactState {
         for f in &mut self.fingers {
             f.normal_forces_n = None;
             f.normal_load_n = None;
+            f.earlier.clear();
         }
     }
 
@@ -95,6 +106,12 @@ impl ContactState {
             .zip(&sol.fingers)
             .zip(&model.fingers)
         {
+            if let Some(last) = fs.normal_forces_n.take().zip(fs.normal_load_n) {
+                if fs.earlier.len() == EARLIER_KEPT {
+                    fs.earlier.remove(0);
+                }
+                fs.earlier.push(last);
+            }
             fs.normal_forces_n = Some(f.elements.iter().map(|e| e.normal_force_n).collect());
             fs.normal_load_n = Some(f.normal_force_n);
             if memory && fm.n_tangential > 0 {

@@ -263,7 +263,9 @@ fn finger_solution(
             state: states[k],
         });
     }
-    let cop = if p > 0.0 {
+    // An unloaded finger (solver noise only) has no centre of pressure: its contact point.
+    let loaded = p > LOADED_FRACTION * model.scales.load_n;
+    let cop = if loaded {
         f.frame.point(cx / p, cy / p)
     } else {
         f.frame.origin_m
@@ -280,12 +282,12 @@ fn finger_solution(
         peak_pressure_pa: peak,
         friction_coefficient: mu,
         // An unloaded finger (solver noise only) has no meaningful ratio.
-        friction_utilization: if mu > 0.0 && p > LOADED_FRACTION * model.scales.load_n {
+        friction_utilization: if mu > 0.0 && loaded {
             qn / (mu * p)
         } else {
             0.0
         },
-        boundary_load_fraction: if p > 0.0 { boundary / p } else { 0.0 },
+        boundary_load_fraction: if loaded { boundary / p } else { 0.0 },
         approach_m,
         stick_count: counts[ElementState::Stick as usize],
         slip_count: counts[ElementState::Slip as usize],

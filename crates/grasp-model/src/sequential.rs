@@ -21,6 +21,7 @@
 
 use std::time::Instant;
 
+use crate::backend::predictor::{affine_coefficients, combine};
 use crate::backend::{ConvexOutcome, ProgramSolver, Start};
 use crate::cone_program::{ConeLaw, ConeProgram};
 use crate::contact_state::ContactState;
@@ -124,10 +125,14 @@ fn radii_of(forces: &[Vec<f64>], mu: &[f64]) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// The previous step's forces as a first input, rescaled to the new loads of force-controlled
-/// fingers; `None` when the state has none or a force-controlled finger goes from no load to
-/// some (its distribution is then unknown).
+/// The previous steps' forces as a first input: extrapolated along a steady ramp
+/// ([`extrapolated_forces`]), else the last step's rescaled to the new loads of
+/// force-controlled fingers; `None` when the state has none or a force-controlled finger goes
+/// from no load to some (its distribution is then unknown).
 fn warm_forces(model: &GraspModel, loads_n: &[f64], state: &ContactState) -> Option<Vec<Vec<f64>>> {
+    if let Some(f) = extrapolated_forces(model, loads_n, state) {
+        return Some(f);
+    }
     let loaded = LOADED_FRACTION * model.scales.load_n;
     let mut out = Vec::with_capacity(model.fingers.len());
     let mut j = 0;
@@ -148,6 +153,46 @@ fn warm_forces(model: &GraspModel, loads_n: &[f64], state: &ContactState) -> Opt
                 }
             }
         }
+    }
+    Some(out)
+}
+
+/// When the commanded loads are an affine combination of the last steps' (`L_now = L_k +
+/// sum_j c_j (L_j - L_k)`: a ramp, or two ramps on different curves), the forces combined the
+/// same way, clipped at zero: the fixed point itself while no element changes between stick,
+/// slip and separation (the solution is then affine in the loads), so the sequence ends after
+/// one convex solve.
+fn extrapolated_forces(
+    model: &GraspModel,
+    loads_n: &[f64],
+    state: &ContactState,
+) -> Option<Vec<Vec<f64>>> {
+    let depth = state.fingers.iter().map(|s| s.earlier.len()).min()?;
+    // Loads of the force-controlled fingers: the last solve's, then the earlier ones, newest
+    // first.
+    let mut last = Vec::new();
+    let mut earlier = vec![Vec::new(); depth];
+    for (f, s) in model.fingers.iter().zip(&state.fingers) {
+        if let Control::NormalLoad { .. } = f.control {
+            last.push(s.normal_load_n?);
+            for (j, e) in earlier.iter_mut().enumerate() {
+                e.push(s.earlier[s.earlier.len() - 1 - j].1);
+            }
+        }
+    }
+    // The fewest, newest points first (the likeliest to share the new contact pattern).
+    let (c, used) = (1..=depth).find_map(|k| {
+        let others: Vec<&[f64]> = earlier[..k].iter().map(Vec::as_slice).collect();
+        affine_coefficients(&last, &others, loads_n).map(|c| (c, k))
+    })?;
+    let mut out = Vec::with_capacity(model.fingers.len());
+    for s in &state.fingers {
+        let f_last = s.normal_forces_n.as_ref()?;
+        let others: Vec<&[f64]> = (0..used)
+            .map(|j| s.earlier[s.earlier.len() - 1 - j].0.as_slice())
+            .collect();
+        let f = combine(f_last, &others, &c);
+        out.push(f.into_iter().map(|v| v.max(0.0)).collect());
     }
     Some(out)
 }

@@ -99,7 +99,8 @@ pub struct FingerSolution {
     /// Torsional moment about the normal through the contact point, N m (right-handed about
     /// the inward normal).
     pub torsional_moment_nm: f64,
-    /// Centre of pressure, world frame, m (the contact point if the finger carries no load).
+    /// Centre of pressure, world frame, m (the contact point if the finger carries no load:
+    /// at most `LOADED_FRACTION` of the load scale, solver noise).
     pub center_of_pressure_m: [f64; 3],
     /// Area of the elements in contact, m^2.
     pub contact_area_m2: f64,

@@ -13,6 +13,7 @@
 use std::time::Instant;
 
 pub(crate) mod clarabel;
+pub(crate) mod predictor;
 
 use crate::cone_program::ConeProgram;
 use crate::error::ModelError;
@@ -22,6 +23,7 @@ use crate::solution::SolverKind;
 use crate::solve_options::{SolveOptions, SolverChoice};
 
 use self::clarabel::ClarabelWorkspace;
+use self::predictor::{data_of, Trail};
 
 /// Largest number of Newton steps of one native solve.
 pub const MAX_NEWTON_ITERATIONS: u32 = 60;
@@ -79,7 +81,9 @@ pub(crate) struct ConvexRun {
 pub(crate) enum Start<'a> {
     /// From the all-stick point.
     Cold,
-    /// From the workspace's last solution (cold if there is none).
+    /// From the workspace's last solution (cold if there is none), or from the secant
+    /// prediction through the last two ([`predictor`]) when the program's data continue
+    /// their line and the prediction has the smaller residual.
     Last,
     /// From this iterate (same program layout).
     At(&'a Iterate),
@@ -93,6 +97,8 @@ pub(crate) struct ProgramSolver {
     clarabel: Option<ClarabelWorkspace>,
     /// The last solution, whichever backend gave it (the default warm start).
     last: Option<Iterate>,
+    /// The last two solutions with their data, for the secant prediction.
+    trail: Trail,
 }
 
 impl ProgramSolver {
@@ -102,6 +108,7 @@ impl ProgramSolver {
             native: None,
             clarabel: None,
             last: None,
+            trail: Trail::default(),
         }
     }
 
@@ -122,6 +129,7 @@ impl ProgramSolver {
     /// Forgets the last solution (the next `Start::Last` is cold).
     pub(crate) fn forget(&mut self) {
         self.last = None;
+        self.trail.clear();
     }
 
     /// Solves the program as it stands with the backend of `options.solver`.
@@ -136,10 +144,12 @@ impl ProgramSolver {
             SolverChoice::Native | SolverChoice::Auto => self.solve_native(model, options, start),
         }?;
         if let ConvexOutcome::Solved { x, multipliers, .. } = &run.outcome {
-            self.last = Some(Iterate {
+            let solution = Iterate {
                 x: x.clone(),
                 lambda: multipliers.clone(),
-            });
+            };
+            self.trail.push(data_of(&self.program), solution.clone());
+            self.last = Some(solution);
         }
         Ok(run)
     }
@@ -184,12 +194,16 @@ impl ProgramSolver {
             tolerance: options.tolerance,
             max_iterations: options.max_iterations.min(MAX_NEWTON_ITERATIONS),
         };
-        let from = match start {
-            Start::Cold => None,
-            Start::Last => self.last.as_ref(),
-            Start::At(it) => Some(it),
+        let predicted = match start {
+            Start::Last => self.trail.predict(&data_of(program)),
+            _ => None,
         };
-        let result = native.solve(program, from, limits);
+        let starts: Vec<&Iterate> = match start {
+            Start::Cold => Vec::new(),
+            Start::Last => predicted.iter().chain(self.last.as_ref()).collect(),
+            Start::At(it) => vec![it],
+        };
+        let result = native.solve(program, &starts, limits);
         let native_time = clock.elapsed().as_secs_f64();
         let why = match result.status {
             NativeStatus::Converged => {

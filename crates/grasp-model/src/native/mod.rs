@@ -100,13 +100,13 @@ impl NativeSolver {
         &self.blocks
     }
 
-    /// Solves `program` from `start` (`None`: cold).
+    /// Solves `program` from the candidate start with the smallest residual (none: cold).
     pub(crate) fn solve(
         &mut self,
         program: &ConeProgram,
-        start: Option<&Iterate>,
+        starts: &[&Iterate],
         limits: Limits,
     ) -> NativeResult {
-        semismooth_newton::run(&self.blocks, &mut self.caches, program, start, limits)
+        semismooth_newton::run(&self.blocks, &mut self.caches, program, starts, limits)
     }
 }

@@ -135,16 +135,41 @@ fn apply(s: &mut State, step: &Step, t: f64) {
     }
 }
 
-/// Runs the iteration from `start` (`None`: cold); when it stalls, the interior-point method
-/// takes over and its answer is polished by this iteration.
+/// Runs the iteration from the candidate in `starts` with the smallest merit (none: cold);
+/// when it stalls, the interior-point method takes over and its answer is polished by this
+/// iteration.
 pub(crate) fn run(
     blocks: &[FingerBlockData],
     caches: &mut [FactorCache],
     program: &ConeProgram,
-    start: Option<&Iterate>,
+    starts: &[&Iterate],
     limits: Limits,
 ) -> NativeResult {
+    let start = match starts {
+        [] => None,
+        [only] => Some(*only),
+        _ => starts
+            .iter()
+            .map(|it| (merit(blocks, program, it), *it))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, it)| it),
+    };
     joint(blocks, caches, program, start, limits, (0, 0), true)
+}
+
+/// The merit `psi = ||Phi||^2 + ||E x - e||^2` of an iterate (infinite for another layout).
+fn merit(blocks: &[FingerBlockData], program: &ConeProgram, it: &Iterate) -> f64 {
+    if it.x.len() != program.n_unknowns || it.lambda.len() != program.equality_rows() {
+        return f64::INFINITY;
+    }
+    let s = State {
+        y: dual_of(blocks, program, &it.x, &it.lambda),
+        x: it.x.clone(),
+        lambda: it.lambda.clone(),
+    };
+    let lins = linearise_all(blocks, program, &s);
+    let e_res = equality_residual(blocks, program, &s.x);
+    lins.iter().map(|l| l.residual_sq).sum::<f64>() + e_res.iter().map(|v| v * v).sum::<f64>()
 }
 
 /// The joint iteration; `counters` are `(Newton steps, factorisations)` so far; `fallback`
