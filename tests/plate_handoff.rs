@@ -148,3 +148,27 @@ fn cold_stepping_matches_warm_stepping() {
         }
     }
 }
+
+/// Between the ramps' corners the loads move along a line and the contact pattern holds, so
+/// the program's KKT point moves along a line too: the warm start's affine prediction
+/// (`backend/predictor.rs`) is then the solution itself and the step takes no Newton step.
+/// Counted, not timed: most warm steps need none, while every cold step needs at least one
+/// (its forces equal the warm ones: `cold_stepping_matches_warm_stepping`).
+#[test]
+fn steady_ramp_steps_are_predicted_without_a_newton_step() {
+    let warm = run(TransferOptions::default());
+    let cold = run(TransferOptions {
+        warm_start: false,
+        ..TransferOptions::default()
+    });
+    let free = warm
+        .iter()
+        .filter(|r| r.solution.solver.iterations == 0)
+        .count();
+    assert!(
+        free * 4 >= warm.len() * 3,
+        "{free} of {} steps predicted",
+        warm.len()
+    );
+    assert!(cold.iter().all(|r| r.solution.solver.iterations >= 1));
+}
