@@ -60,16 +60,27 @@ impl BatchInput {
         }
     }
 
-    /// Visits every scene in order; `wanted(index, id)` decides which are parsed (the others
+    /// Visits every scene in order; `wanted(index)` decides which are parsed (the others
     /// are passed over cheaply: a shard, a resumed run). Returns the number of scenes.
     pub fn for_each(
         &self,
         wanted: &dyn Fn(usize) -> bool,
         visit: &mut dyn FnMut(SceneLine) -> Result<(), BatchError>,
     ) -> Result<usize, BatchError> {
+        self.for_each_unparsed(wanted, &mut |u| visit(u.parse()))
+    }
+
+    /// Like [`BatchInput::for_each`], but hands over each wanted scene as read, not yet
+    /// parsed ([`UnparsedScene::parse`] may then run on a worker thread).
+    pub fn for_each_unparsed(
+        &self,
+        wanted: &dyn Fn(usize) -> bool,
+        visit: &mut dyn FnMut(UnparsedScene) -> Result<(), BatchError>,
+    ) -> Result<usize, BatchError> {
         match self {
             BatchInput::Jsonl(path) => {
                 let file = std::fs::File::open(path).map_err(|e| io(path, e))?;
+                let base = base_dir_of(path);
                 let mut index = 0;
                 for (n, line) in BufReader::new(file).lines().enumerate() {
                     let line = line.map_err(|e| io(path, format!("line {}: {e}", n + 1)))?;
@@ -77,7 +88,12 @@ impl BatchInput {
                         continue;
                     }
                     if wanted(index) {
-                        visit(parse_line(index, n + 1, &line, &base_dir_of(path)))?;
+                        visit(UnparsedScene::Line {
+                            index,
+                            number: n + 1,
+                            text: line,
+                            base: base.clone(),
+                        })?;
                     }
                     index += 1;
                 }
@@ -90,7 +106,12 @@ impl BatchInput {
                         continue;
                     }
                     if wanted(index) {
-                        visit(parse_line(index, n + 1, line, Path::new("")))?;
+                        visit(UnparsedScene::Line {
+                            index,
+                            number: n + 1,
+                            text: line.clone(),
+                            base: PathBuf::new(),
+                        })?;
                     }
                     index += 1;
                 }
@@ -99,26 +120,64 @@ impl BatchInput {
             BatchInput::Folder(files) => {
                 for (index, f) in files.iter().enumerate() {
                     if wanted(index) {
-                        let id = f
-                            .file_stem()
-                            .map(|s| s.to_string_lossy().into_owned())
-                            .unwrap_or_default();
-                        let scene = std::fs::read_to_string(f)
-                            .map_err(|e| {
-                                vec![problem(".", &format!("cannot read {}: {e}", f.display()))]
-                            })
-                            .and_then(|t| {
-                                scene_from_json_str(&t, &base_dir_of(f)).map_err(|e| e.problems())
-                            });
-                        visit(SceneLine {
+                        visit(UnparsedScene::File {
                             index,
-                            id,
-                            vary: None,
-                            scene,
+                            path: f.clone(),
                         })?;
                     }
                 }
                 Ok(files.len())
+            }
+        }
+    }
+}
+
+/// One scene of the input as read, before parsing.
+#[derive(Debug, Clone)]
+pub enum UnparsedScene {
+    /// A JSONL line: position, 1-based line number (for the default id), text, and the
+    /// folder mesh files are read relative to.
+    Line {
+        index: usize,
+        number: usize,
+        text: String,
+        base: PathBuf,
+    },
+    /// A scene file of a folder (read when parsed).
+    File { index: usize, path: PathBuf },
+}
+
+impl UnparsedScene {
+    /// The scene's id and scene (or the problems found in it).
+    pub fn parse(self) -> SceneLine {
+        match self {
+            UnparsedScene::Line {
+                index,
+                number,
+                text,
+                base,
+            } => parse_line(index, number, &text, &base),
+            UnparsedScene::File { index, path } => {
+                let id = path
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                let scene = std::fs::read_to_string(&path)
+                    .map_err(|e| {
+                        vec![problem(
+                            ".",
+                            &format!("cannot read {}: {e}", path.display()),
+                        )]
+                    })
+                    .and_then(|t| {
+                        scene_from_json_str(&t, &base_dir_of(&path)).map_err(|e| e.problems())
+                    });
+                SceneLine {
+                    index,
+                    id,
+                    vary: None,
+                    scene,
+                }
             }
         }
     }

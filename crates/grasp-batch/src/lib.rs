@@ -23,7 +23,7 @@ pub mod shard;
 pub mod sweep;
 
 pub use error::BatchError;
-pub use input::{BatchInput, SceneLine};
+pub use input::{BatchInput, SceneLine, UnparsedScene};
 pub use result_line::{FingerForces, ResultLine, ResultStatus};
 pub use runner::{run_batch, BatchOptions, BatchSummary};
 pub use shard::Shard;

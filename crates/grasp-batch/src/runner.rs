@@ -12,7 +12,7 @@ use grasp_model::{GraspModel, GraspSolver, SceneProblem, SolveOptions};
 use rayon::prelude::*;
 
 use crate::error::{io, BatchError};
-use crate::input::{BatchInput, SceneLine};
+use crate::input::{BatchInput, SceneLine, UnparsedScene};
 use crate::result_line::{Problem, ResultLine, ResultStatus};
 use crate::shard::Shard;
 
@@ -163,32 +163,42 @@ pub fn run_batch(
     };
     let of = summary.scenes;
     let chunk = options.chunk.max(1);
-    let mut pending: Vec<SceneLine> = Vec::with_capacity(chunk);
+    let mut pending: Vec<UnparsedScene> = Vec::with_capacity(chunk);
     let mut written = 0;
-    let mut flush = |pending: &mut Vec<SceneLine>, summary: &mut BatchSummary| {
-        let lines: Vec<ResultLine> = pool.install(|| {
+    // Parsing, solving and writing each line's text run on the workers; only the ordered
+    // writes stay on this thread.
+    let mut flush = |pending: &mut Vec<UnparsedScene>, summary: &mut BatchSummary| {
+        let lines: Vec<Option<(ResultLine, String)>> = pool.install(|| {
             std::mem::take(pending)
                 .into_par_iter()
-                .map(|l| solve_line(l, of, options))
-                .collect()
-        });
-        for line in &lines {
-            summary.count(line);
-            let text = serde_json::to_string(line).map_err(|e| io(out_name, e))?;
-            writeln!(out, "{text}").map_err(|e| io(out_name, e))?;
+                .map(|u| {
+                    let line = u.parse();
+                    if done.contains(&line.id) {
+                        return Ok(None);
+                    }
+                    let r = solve_line(line, of, options);
+                    let text = serde_json::to_string(&r).map_err(|e| io(out_name, e))?;
+                    Ok(Some((r, text)))
+                })
+                .collect::<Result<_, BatchError>>()
+        })?;
+        for item in &lines {
+            match item {
+                None => summary.resumed += 1,
+                Some((line, text)) => {
+                    summary.count(line);
+                    writeln!(out, "{text}").map_err(|e| io(out_name, e))?;
+                    written += 1;
+                }
+            }
         }
         out.flush().map_err(|e| io(out_name, e))?;
-        written += lines.len();
         progress(written);
         Ok::<(), BatchError>(())
     };
-    input.for_each(&|i| options.shard.takes(i), &mut |line| {
+    input.for_each_unparsed(&|i| options.shard.takes(i), &mut |u| {
         summary.in_shard += 1;
-        if done.contains(&line.id) {
-            summary.resumed += 1;
-            return Ok(());
-        }
-        pending.push(line);
+        pending.push(u);
         if pending.len() >= chunk {
             flush(&mut pending, &mut summary)?;
         }
