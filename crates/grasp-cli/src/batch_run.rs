@@ -174,7 +174,7 @@ pub fn merge(shards: &[PathBuf], out: &Path, force: bool) -> Result<ExitCode> {
 /// `grasp sweep SCENE --vary ... --out F`: the variants as JSONL, or (`run`) their results.
 pub fn sweep(scene_path: &Path, vary: &[String], run_it: bool, flags: &Flags) -> Result<ExitCode> {
     // The base scene must be valid itself; its variants are checked line by line.
-    crate::load_scene(scene_path)?;
+    crate::load_scene::load_scene(scene_path)?;
     let text = limits::read_input(scene_path, "scene file")?;
     let scene: serde_json::Value = serde_json::from_str(&text)?;
     let axes: Vec<Axis> = vary

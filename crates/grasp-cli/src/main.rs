@@ -5,6 +5,7 @@ mod batch_run;
 mod bench;
 mod force_diagram;
 mod limits;
+mod load_scene;
 mod margin;
 mod margin_plot;
 mod output;
@@ -20,7 +21,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
-use grasp_model::{GraspModel, GraspSolver, Scene, SolveOptions, SolverChoice};
+use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice};
+use load_scene::load_scene;
 
 /// Elastic grasp contact forces and object hand-offs (Sinha 1989 contact-stress model).
 #[derive(Parser, Debug)]
@@ -642,14 +644,6 @@ fn plot_command(
     } else {
         ExitCode::from(2)
     })
-}
-
-/// Reads and validates a scene file (its mesh files relative to its folder); the error
-/// names the file and lists every problem.
-pub(crate) fn load_scene(path: &Path) -> Result<Scene> {
-    let text = limits::read_input(path, "scene file")?;
-    grasp_mesh_io::scene_from_json_str(&text, &grasp_mesh_io::base_dir_of(path))
-        .with_context(|| format!("{} is not a usable scene", path.display()))
 }
 
 /// The sensitivities of `solution` (this solver's last answer) with their time, s; `None`

@@ -15,9 +15,9 @@ use grasp_model::{ContactState, GraspModel, SolveOptions, SolverChoice};
 use grasp_transfer::{RerunSink, RunInfo, Sink};
 use serde::Deserialize;
 
-pub use crate::margin_plot::label;
-use crate::margin_plot::MarginPlot;
-use crate::{limits, load_scene, output, picture};
+use crate::load_scene::load_scene;
+use crate::margin_plot::{label, MarginPlot};
+use crate::{limits, output, picture};
 
 /// What to compute.
 pub struct Flags {

@@ -45,7 +45,7 @@ pub fn run(
     let plot_format = plot.map(|p| picture::Format::of(p, "--plot")).transpose()?;
     let targets: Vec<&Path> = [csv, plot].into_iter().flatten().collect();
     check_targets(&targets, &[scene], out.force)?;
-    let scene_obj = crate::load_scene(scene)?;
+    let scene_obj = crate::load_scene::load_scene(scene)?;
     let limit = crate::limits::memory_limit(max_memory);
     let finest = grids.iter().copied().max().unwrap_or(1);
     let finest_scene = refinement::with_grids(&scene_obj, |_, g| {

@@ -219,7 +219,7 @@ fn load_inputs(
     schedule_path: &Path,
     max_memory: Option<u64>,
 ) -> Result<(Scene, Schedule)> {
-    let scene = crate::load_scene(scene_path)?;
+    let scene = crate::load_scene::load_scene(scene_path)?;
     let (limit, what) = crate::limits::memory_limit(max_memory);
     crate::limits::check_memory(&scene, scene_path, (limit, &what))?;
     let text = crate::limits::read_input(schedule_path, "schedule file")?;
@@ -286,7 +286,7 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
             l.time_s,
             if l.bounded { "" } else { ">" },
             l.margin_n,
-            crate::margin::label(&l.direction),
+            crate::margin_plot::label(&l.direction),
             l.failing_finger.as_deref().unwrap_or("-"),
             s.margin_cost.0,
             s.margin_cost.1
