@@ -5,7 +5,7 @@
 //! same font.
 
 use std::path::Path;
-use std::sync::Once;
+use std::sync::OnceLock;
 
 use anyhow::{anyhow, bail, Result};
 use plotters::coord::Shift;
@@ -79,12 +79,12 @@ pub fn draw_err(e: impl std::fmt::Display) -> anyhow::Error {
     anyhow!("drawing the picture: {e}")
 }
 
-/// Registers the shipped font as `sans-serif` (once per process).
+/// Registers the shipped font as `sans-serif` (once per process; every call reports how that
+/// went).
 fn use_shipped_font() -> Result<()> {
-    static REGISTER: Once = Once::new();
-    let mut ok = true;
-    REGISTER.call_once(|| {
-        ok = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok();
+    static REGISTERED: OnceLock<bool> = OnceLock::new();
+    let ok = *REGISTERED.get_or_init(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()
     });
     match ok {
         true => Ok(()),
