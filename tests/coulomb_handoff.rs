@@ -150,3 +150,32 @@ fn minimum_squeeze_is_the_rigid_body_bound() {
     assert!((m.margin - 8.0 / bound).abs() < 2e-3);
     assert!(m.limiting.starts_with("cannot hold") || m.limiting.contains("slides as a whole"));
 }
+
+/// While the loads ramp and the stick / slip pattern holds, the warm start continues the
+/// ramp from the last steps' forces (`sequential.rs`, `extrapolated_forces`): the first
+/// convex solve already reproduces its input, so the step ends after one solve. Counted, not
+/// timed: warm stepping ends three steps in four after one solve, more than twice as often as
+/// cold stepping (whose first solve starts from the energy model's forces: one solve suffices
+/// only where those already give the fixed point).
+#[test]
+fn steady_ramp_steps_end_after_one_convex_solve() {
+    let solves = |v: &[StepRecord]| -> Vec<u32> {
+        v.iter()
+            .map(|r| r.solution.sequential.unwrap().iterations)
+            .collect()
+    };
+    let warm = solves(&run(TransferOptions::default()));
+    let cold = solves(&run(TransferOptions {
+        warm_start: false,
+        ..TransferOptions::default()
+    }));
+    let one = |v: &[u32]| v.iter().filter(|&&n| n == 1).count();
+    eprintln!(
+        "steps ending after one solve: warm {} cold {} of {}",
+        one(&warm),
+        one(&cold),
+        warm.len()
+    );
+    assert!(one(&warm) * 4 >= warm.len() * 3);
+    assert!(one(&warm) >= 2 * one(&cold));
+}

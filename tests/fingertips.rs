@@ -167,6 +167,7 @@ fn tip_drawing(v: &Value) -> (grasp_transfer::sinks::TipDrawing, grasp_model::Fi
     let run = grasp_transfer::sinks::RunInfo {
         scene: &scene,
         geometry: &model,
+        margins: false,
     };
     let mut tips = grasp_transfer::sinks::tip_drawings(&run, 0.05);
     assert_eq!(tips.len(), 1);

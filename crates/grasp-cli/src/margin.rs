@@ -161,6 +161,7 @@ pub fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCod
         let run = RunInfo {
             scene: &scene,
             geometry: &model,
+            margins: false,
         };
         let mut sink = RerunSink::create(out)?;
         sink.begin(&run)?;

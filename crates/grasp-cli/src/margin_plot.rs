@@ -135,8 +135,13 @@ fn polar_panel<DB: DrawingBackend>(
     (title, a, b): (&str, [f64; 3], [f64; 3]),
     r_max: f64,
 ) -> Result<()> {
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 11))
+    // Under the title, a square plotting area: rings stay circles.
+    let rest = area.titled(title, ("sans-serif", 11)).map_err(draw_err)?;
+    let (w, h) = rest.dim_in_pixel();
+    let side = w.min(h);
+    let offset = (((w - side) / 2) as i32, ((h - side) / 2) as i32);
+    let square = rest.shrink(offset, (side, side));
+    let mut chart = ChartBuilder::on(&square)
         .build_cartesian_2d(-1.1..1.1, -1.1..1.1)
         .map_err(draw_err)?;
     let ring = |k: f64| {

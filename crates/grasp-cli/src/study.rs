@@ -90,12 +90,20 @@ pub fn run(
             errors: (e1, e2),
             title: &title,
         };
-        let (o, f) = PendingOutput::create(p)?;
-        write_all(&o, f, &picture::render(&chart, format)?)?;
-        pending.push(o);
+        // A picture that cannot be drawn costs the study no other output.
+        match picture::render(&chart, format) {
+            Ok(bytes) => {
+                let (o, f) = PendingOutput::create(p)?;
+                write_all(&o, f, &bytes)?;
+                pending.push(o);
+            }
+            Err(e) => eprintln!("warning: the plot {} was not written: {e:#}", p.display()),
+        }
     }
+    let written: Vec<std::path::PathBuf> =
+        pending.iter().map(|o| o.target().to_path_buf()).collect();
     commit_all(pending)?;
-    for p in targets {
+    for p in written {
         println!("wrote {}", p.display());
     }
     Ok(ExitCode::SUCCESS)

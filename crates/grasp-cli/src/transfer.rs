@@ -18,6 +18,7 @@ use crate::picture;
 use crate::plot::ForceHistory;
 
 /// Output files of a transfer.
+#[derive(Clone)]
 pub struct Outputs {
     pub mcap: Option<PathBuf>,
     pub rrd: Option<PathBuf>,
@@ -29,6 +30,7 @@ pub struct Outputs {
 }
 
 /// Where a live Rerun stream goes.
+#[derive(Clone)]
 pub enum Live {
     /// A running viewer or server at this gRPC proxy address.
     Connect(String),
@@ -189,12 +191,18 @@ pub fn run(
         }
         return Ok(ExitCode::from(2));
     }
+    let mut unplotted = None;
     if let (Some(p), Some(h), Some(format)) = (&out.plot, &history, plot_format) {
         let title = scene_path.display().to_string();
-        let bytes = picture::render(&h.picture(&title), format)?;
-        let (o, f) = PendingOutput::create(p)?;
-        write_all(&o, f, &bytes)?;
-        open.pending.push(o);
+        // A picture that cannot be drawn costs the run no other output.
+        match picture::render(&h.picture(&title), format) {
+            Ok(bytes) => {
+                let (o, f) = PendingOutput::create(p)?;
+                write_all(&o, f, &bytes)?;
+                open.pending.push(o);
+            }
+            Err(e) => unplotted = Some(format!("{e:#}")),
+        }
     }
     if flags.min_squeeze {
         match &last {
@@ -206,7 +214,15 @@ pub fn run(
         }
     }
     commit_all(std::mem::take(&mut open.pending))?;
-    print!("{}", out.wrote());
+    match unplotted {
+        None => print!("{}", out.wrote()),
+        Some(why) => {
+            let mut written = out.clone();
+            written.plot = None;
+            print!("{}", written.wrote());
+            eprintln!("warning: the plot was not written: {why}");
+        }
+    }
     Ok(match summary.failed_step_count {
         0 => ExitCode::SUCCESS,
         _ => ExitCode::from(2),

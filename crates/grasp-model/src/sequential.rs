@@ -159,9 +159,11 @@ fn warm_forces(model: &GraspModel, loads_n: &[f64], state: &ContactState) -> Opt
 
 /// When the commanded loads are an affine combination of the last steps' (`L_now = L_k +
 /// sum_j c_j (L_j - L_k)`: a ramp, or two ramps on different curves), the forces combined the
-/// same way, clipped at zero: the fixed point itself while no element changes between stick,
-/// slip and separation (the solution is then affine in the loads), so the sequence ends after
-/// one convex solve.
+/// same way, clipped at zero. While no element changes between stick, slip and separation and
+/// only the loads change (the external wrench and the slip memory moving as in the last
+/// steps), that is the fixed point itself (the solution is then affine in the loads) and the
+/// sequence ends after one convex solve; otherwise it is a guess the sequence corrects. Loads
+/// that did not change (to round-off: the last loads are the solved totals) give `None`.
 fn extrapolated_forces(
     model: &GraspModel,
     loads_n: &[f64],
@@ -179,6 +181,14 @@ fn extrapolated_forces(
                 e.push(s.earlier[s.earlier.len() - 1 - j].1);
             }
         }
+    }
+    let noise = LOADED_FRACTION * model.scales.load_n;
+    if loads_n
+        .iter()
+        .zip(&last)
+        .all(|(a, b)| (a - b).abs() <= noise)
+    {
+        return None;
     }
     // The fewest, newest points first (the likeliest to share the new contact pattern).
     let (c, used) = (1..=depth).find_map(|k| {

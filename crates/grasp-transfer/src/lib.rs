@@ -50,6 +50,7 @@ pub fn run(
     let info = RunInfo {
         scene,
         geometry: &geometry,
+        margins: options.margins,
     };
     let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
     let mut summary = SummaryAccumulator::new(&names);

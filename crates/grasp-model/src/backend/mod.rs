@@ -81,9 +81,9 @@ pub(crate) struct ConvexRun {
 pub(crate) enum Start<'a> {
     /// From the all-stick point.
     Cold,
-    /// From the workspace's last solution (cold if there is none), or from the secant
-    /// prediction through the last two ([`predictor`]) when the program's data continue
-    /// their line and the prediction has the smaller residual.
+    /// From the workspace's last solution (cold if there is none), or from the affine
+    /// combination of its last few solutions ([`predictor`]) when the program's new data lie
+    /// in the affine hull of theirs and the prediction has the smaller residual.
     Last,
     /// From this iterate (same program layout).
     At(&'a Iterate),
@@ -97,7 +97,7 @@ pub(crate) struct ProgramSolver {
     clarabel: Option<ClarabelWorkspace>,
     /// The last solution, whichever backend gave it (the default warm start).
     last: Option<Iterate>,
-    /// The last two solutions with their data, for the secant prediction.
+    /// The last few solutions with their data, for the prediction.
     trail: Trail,
 }
 

@@ -4,13 +4,15 @@
 //! Between hand-off steps only the program's data change (`q`, the equality right-hand side,
 //! the cones' `mu` or Tresca radii). While the contact pattern (which elements stick, slip and
 //! separate, and their slip directions) stays the same, the KKT point of the program is an
-//! affine function of its data. So when the new data are an affine combination of remembered
+//! affine function of `q`, the right-hand side and the Tresca radii (not of `mu`, which
+//! multiplies the normal forces). So when the new data are an affine combination of remembered
 //! data, `now = d_K + sum_j c_j (d_j - d_K)` (a ramp: one direction of change; two fingers
 //! ramping on different curves: two), the same combination of the remembered solutions is the
-//! new solution itself and the solve needs no Newton step. Every remembered point is an exact
-//! solution of its own program (a coulomb iterate's too), so any of them may enter the
-//! combination. Where the pattern changes the prediction is only a guess: the native solver
-//! starts from whichever of it and the last solution has the smaller residual.
+//! new solution itself and the solve needs no Newton step. Any remembered point may enter the
+//! combination (a coulomb iterate is an exact solution of its own program too; a Clarabel
+//! answer only to its tolerance). Where the pattern changes, or `mu` moves, the prediction is
+//! only a guess: the native solver starts from whichever of it and the last solution has the
+//! smaller residual, so a prediction never changes an answer, only where the search begins.
 
 use nalgebra::{DMatrix, DVector};
 

@@ -81,7 +81,8 @@ pub(crate) fn factor_for<'c>(
         let f = cache.remove(pos);
         cache.insert(0, f);
     } else {
-        // The factor this one evicts lends it its storage.
+        // The factor this one evicts lends it its storage (if the new one cannot be made, the
+        // solve stalls and the evicted factor is simply refactorised when next needed).
         let spare = match cache.len() >= CACHE_SLOTS {
             true => cache.pop(),
             false => None,

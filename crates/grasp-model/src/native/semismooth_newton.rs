@@ -162,14 +162,17 @@ fn merit(blocks: &[FingerBlockData], program: &ConeProgram, it: &Iterate) -> f64
     if it.x.len() != program.n_unknowns || it.lambda.len() != program.equality_rows() {
         return f64::INFINITY;
     }
-    let s = State {
-        y: dual_of(blocks, program, &it.x, &it.lambda),
-        x: it.x.clone(),
-        lambda: it.lambda.clone(),
-    };
-    let lins = linearise_all(blocks, program, &s);
-    let e_res = equality_residual(blocks, program, &s.x);
-    lins.iter().map(|l| l.residual_sq).sum::<f64>() + e_res.iter().map(|v| v * v).sum::<f64>()
+    let y = dual_of(blocks, program, &it.x, &it.lambda);
+    let phi: f64 = blocks
+        .iter()
+        .zip(&program.blocks)
+        .map(|(b, pb)| {
+            let r = b.offset..b.offset + b.len();
+            residual_norms(b, &pb.cone, &it.x[r.clone()], &y[r]).0
+        })
+        .sum();
+    let e_res = equality_residual(blocks, program, &it.x);
+    phi + e_res.iter().map(|v| v * v).sum::<f64>()
 }
 
 /// The joint iteration; `counters` are `(Newton steps, factorisations)` so far; `fallback`

@@ -25,6 +25,9 @@ pub struct RunInfo<'a> {
     pub scene: &'a Scene,
     /// The model of the full scene (every finger): frames and patches for drawing.
     pub geometry: &'a GraspModel,
+    /// Every step carries a disturbance margin (`TransferOptions::margins`): the recording's
+    /// layout shows their plot.
+    pub margins: bool,
 }
 
 /// A destination for step records.

@@ -59,8 +59,7 @@ pub struct RerunSink {
     flush_every: usize,
     /// A live stream (viewer or server): the closing flush waits at most [`LIVE_FLUSH_TIMEOUT`].
     live: bool,
-    /// The default layout has been sent (at the first step, when it is known whether margins
-    /// are plotted, or at the end of a run without steps).
+    /// The default layout has been sent (at `begin`).
     layout_sent: bool,
 }
 
@@ -290,6 +289,7 @@ impl RerunSink {
 
 impl Sink for RerunSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
+        self.send_layout(run.margins)?;
         let g = run.geometry;
         let (lo, hi) = super::contact_bounds(g);
         let (size, m_per_n) = super::drawing_scale(g);
@@ -342,7 +342,6 @@ impl Sink for RerunSink {
     }
 
     fn step(&mut self, run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
-        self.send_layout(r.margin.is_some())?;
         let scale = self.arrow_m_per_n as f64;
         self.time = [
             (
@@ -442,7 +441,6 @@ impl Sink for RerunSink {
 
     fn finish(&mut self) -> Result<(), TransferError> {
         if self.rec.is_some() {
-            self.send_layout(false)?;
             self.send_pending()?;
         }
         if let Some(rec) = self.rec.take() {
