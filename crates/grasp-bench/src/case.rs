@@ -7,7 +7,7 @@ use std::path::Path;
 use grasp_model::{GraspModel, Scene, SolveOptions, SolverChoice};
 use grasp_transfer::{Schedule, TransferOptions};
 
-use crate::BenchError;
+use crate::error::BenchError;
 
 /// What one sample of a case times.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

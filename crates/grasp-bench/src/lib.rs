@@ -6,20 +6,11 @@
 //! reads the process's resident memory (Linux `/proc`).
 
 pub mod case;
+pub mod error;
 pub mod peak_memory;
 pub mod sample;
 pub mod statistics;
 
 pub use case::{Case, CaseKind, Prepared, CASES};
+pub use error::BenchError;
 pub use sample::Sample;
-
-/// Why a benchmark case could not run.
-#[derive(Debug, thiserror::Error)]
-pub enum BenchError {
-    /// A bundled scene or schedule did not load (a bug in the bundled inputs).
-    #[error("bench case {case}: {message}")]
-    Input { case: String, message: String },
-    /// The solve or the hand-off failed.
-    #[error("bench case {case}: {message}")]
-    Run { case: String, message: String },
-}

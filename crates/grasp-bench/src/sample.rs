@@ -9,7 +9,8 @@ use grasp_model::{GraspModel, GraspSolver, Solution, SolverKind};
 use grasp_transfer::Stepper;
 
 use crate::case::{CaseKind, Prepared};
-use crate::{peak_memory, BenchError};
+use crate::error::BenchError;
+use crate::peak_memory;
 
 /// What one run of a case cost.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,0 +1,12 @@
+//! Why a benchmark case could not run.
+
+/// Why a benchmark case could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// A bundled scene or schedule did not load (a bug in the bundled inputs).
+    #[error("bench case {case}: {message}")]
+    Input { case: String, message: String },
+    /// The solve or the hand-off failed.
+    #[error("bench case {case}: {message}")]
+    Run { case: String, message: String },
+}
