@@ -155,9 +155,14 @@ impl MeshSurface {
         n.normalize()
     }
 
-    /// Normal, principal directions and curvatures at the surface point `q` from a quadric
-    /// `w = c0 + c1 u + c2 v + c3 u^2 + c4 uv + c5 v^2` fitted to the nearby vertices in a
-    /// frame `(u, v, w)` with `w` along the reference normal.
+    /// Normal, principal directions and curvatures at the surface point `q` from a height
+    /// function `w = f(u, v)` fitted to the nearby vertices in a frame `(u, v, w)` with `w`
+    /// along the reference normal ([`height_fit`]). When the neighbourhood is wide against the
+    /// curvature it finds (long thin CAD facets force that: the nearest vertices may be far
+    /// along a facet), the fit is repeated on the vertices within about 30 degrees of arc of
+    /// `q` by that first estimate (`|h| k_max <= 1/8`, `h` its quadratic height), if at least
+    /// [`FIT_VERTICES`] remain: further round, the surface turns away and a polynomial over
+    /// the tangent plane no longer follows it.
     fn fit_at(&self, q: &Vector3<f64>) -> Result<SurfacePoint, String> {
         let near = self.neighbourhood(q);
         let radius = near.iter().map(|p| (p - q).norm()).fold(0.0, f64::max);
@@ -165,30 +170,163 @@ impl MeshSurface {
         if !w.iter().all(|x| x.is_finite()) {
             return Err("lies where the mesh has no usable normal".into());
         }
-        let u = perpendicular(&w);
-        let v = w.cross(&u);
-        let mut a = DMatrix::zeros(near.len(), 6);
-        let mut b = DVector::zeros(near.len());
-        for (r, p) in near.iter().enumerate() {
-            let d = p - q;
-            let (x, y) = (d.dot(&u), d.dot(&v));
-            let row = [1.0, x, y, x * x, x * y, y * y];
-            for (c, val) in row.iter().enumerate() {
-                a[(r, c)] = *val;
-            }
-            b[r] = d.dot(&w);
-        }
-        let c = a
-            .svd(true, true)
-            .solve(&b, 1e-12)
-            .map_err(|e| format!("curvature fit failed: {e}"))?;
+        let offsets: Vec<Vector3<f64>> = near.iter().map(|p| p - q).collect();
+        let first = height_fit(&offsets, &w)?;
+        let k_max = first.hessian_norm();
+        // Within the window (widened while it holds too few vertices: the first estimate
+        // errs high on a wide neighbourhood), and on the surface the first fit describes (not,
+        // say, the centre of a cylinder's end cap, level with the side's vertices but far
+        // below them).
+        let window = |scale: f64| -> Vec<Vector3<f64>> {
+            offsets
+                .iter()
+                .filter(|d| {
+                    let inside = (first.quadratic_part(d) * k_max).abs() <= scale * ARC_WINDOW;
+                    inside && (d.dot(&w) - first.value(d)).abs() * k_max <= scale * ARC_WINDOW
+                })
+                .copied()
+                .collect()
+        };
+        let local = [1.0, 2.0, 4.0]
+            .into_iter()
+            .map(window)
+            .find(|l| l.len() >= FIT_VERTICES);
+        let fit = match local {
+            Some(l) if k_max > 0.0 && l.len() < offsets.len() => height_fit(&l, &w)?,
+            _ => first,
+        };
         Ok(graph_geometry(
             q,
-            [u, v, w],
-            [c[1], c[2]],
-            [2.0 * c[3], c[4], 2.0 * c[5]],
+            [fit.u, fit.v, w],
+            [fit.c[1], fit.c[2]],
+            [2.0 * fit.c[3], fit.c[4], 2.0 * fit.c[5]],
         ))
     }
+}
+
+/// Largest `|h| k_max` of a vertex in the second pass of the curvature fit (`h` the first
+/// fit's quadratic height there; on a circle of curvature `k`, `h k = 1/8` at 30 degrees of
+/// arc), and largest `|h - f| k_max` (`f` the first fit's height: a vertex off the surface it
+/// describes is left out).
+const ARC_WINDOW: f64 = 0.125;
+
+/// Singular values below this fraction of the largest count as zero in [`fit_terms`].
+const RANK_TOLERANCE: f64 = 1e-8;
+
+/// A quadric height function over the tangent plane: axes and the coefficients of
+/// `1, u, v, u^2, uv, v^2` (zero where the term was not fitted).
+struct HeightFit {
+    u: Vector3<f64>,
+    v: Vector3<f64>,
+    c: [f64; 6],
+}
+
+impl HeightFit {
+    /// The fitted height at offset `d`.
+    fn value(&self, d: &Vector3<f64>) -> f64 {
+        let (x, y) = (d.dot(&self.u), d.dot(&self.v));
+        self.c[0] + self.c[1] * x + self.c[2] * y + self.quadratic_part(d)
+    }
+
+    /// The quadratic part `c3 u^2 + c4 uv + c5 v^2` at offset `d`.
+    fn quadratic_part(&self, d: &Vector3<f64>) -> f64 {
+        let (x, y) = (d.dot(&self.u), d.dot(&self.v));
+        self.c[3] * x * x + self.c[4] * x * y + self.c[5] * y * y
+    }
+
+    /// The largest absolute eigenvalue of the Hessian at the origin, 1/m (about the largest
+    /// principal curvature).
+    fn hessian_norm(&self) -> f64 {
+        let h = Matrix2::new(2.0 * self.c[3], self.c[4], self.c[4], 2.0 * self.c[5]);
+        let e = h.symmetric_eigen().eigenvalues;
+        e[0].abs().max(e[1].abs())
+    }
+}
+
+/// Least-squares quadric height function through `offsets` (vertex minus surface point; `w`
+/// the normal) in the axes of their spread ([`spread_axes`]), each term kept only if the
+/// vertices can tell it from the terms before it ([`fit_terms`]).
+fn height_fit(offsets: &[Vector3<f64>], w: &Vector3<f64>) -> Result<HeightFit, String> {
+    let (u, v) = spread_axes(offsets, w);
+    let mut a = DMatrix::zeros(offsets.len(), 6);
+    let mut b = DVector::zeros(offsets.len());
+    for (r, d) in offsets.iter().enumerate() {
+        let (x, y) = (d.dot(&u), d.dot(&v));
+        for (c, val) in [1.0, x, y, x * x, x * y, y * y].iter().enumerate() {
+            a[(r, c)] = *val;
+        }
+        b[r] = d.dot(w);
+    }
+    // Columns scaled to unit size so the rank test and the SVD's cut-off treat every order
+    // alike.
+    let scales: Vec<f64> = (0..6)
+        .map(|c| a.column(c).norm().max(f64::MIN_POSITIVE))
+        .collect();
+    for (c, s) in scales.iter().enumerate() {
+        a.column_mut(c).scale_mut(1.0 / s);
+    }
+    let terms = fit_terms(&a);
+    let design = DMatrix::from_fn(offsets.len(), terms.len(), |r, j| a[(r, terms[j])]);
+    let solved = design
+        .svd(true, true)
+        .solve(&b, 1e-12)
+        .map_err(|e| format!("curvature fit failed: {e}"))?;
+    let mut c = [0.0; 6];
+    for (j, &t) in terms.iter().enumerate() {
+        c[t] = solved[j] / scales[t];
+    }
+    Ok(HeightFit { u, v, c })
+}
+
+/// The columns of the (scaled) design `a` the fit uses, in order: each term is kept only if
+/// it adds rank to the terms before it. A term that adds no rank is an alias the vertices
+/// cannot tell apart: on two rows of vertices (the rims of long facets) at `u = +-a`, `u^2`
+/// is a multiple of the constant, and fitting both would put an arbitrary curvature across
+/// the rows (it stays zero: nothing there says otherwise).
+fn fit_terms(a: &DMatrix<f64>) -> Vec<usize> {
+    let rank = |cols: &[usize]| -> usize {
+        let m = DMatrix::from_fn(a.nrows(), cols.len(), |r, j| a[(r, cols[j])]);
+        let sv = m.singular_values();
+        let top = sv.max();
+        sv.iter().filter(|s| **s > RANK_TOLERANCE * top).count()
+    };
+    let mut terms = Vec::with_capacity(a.ncols());
+    let mut have = 0;
+    for t in 0..a.ncols() {
+        terms.push(t);
+        let r = rank(&terms);
+        if r > have {
+            have = r;
+        } else {
+            terms.pop();
+        }
+    }
+    terms
+}
+
+/// Tangent axes `(u, v)` (with `w` right-handed) along the principal directions of the
+/// offsets' spread in the tangent plane, `u` the wider: the fit's frame follows the sampling,
+/// so that on two rows of vertices the aliased terms are whole terms ([`fit_terms`]).
+fn spread_axes(offsets: &[Vector3<f64>], w: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    let u0 = perpendicular(w);
+    let v0 = w.cross(&u0);
+    let mut cov = Matrix2::zeros();
+    for d in offsets {
+        let (x, y) = (d.dot(&u0), d.dot(&v0));
+        cov += Matrix2::new(x * x, x * y, x * y, y * y);
+    }
+    let eig = cov.symmetric_eigen();
+    let i = if eig.eigenvalues[0] >= eig.eigenvalues[1] {
+        0
+    } else {
+        1
+    };
+    let e = eig.eigenvectors.column(i);
+    let u = (u0 * e[0] + v0 * e[1]).normalize();
+    if !u.iter().all(|c| c.is_finite()) {
+        return (u0, v0);
+    }
+    (u, w.cross(&u))
 }
 
 /// Geometry of the graph `w = f(u, v)` at the origin from its gradient `[fu, fv]` and
