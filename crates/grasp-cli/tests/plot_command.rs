@@ -22,6 +22,17 @@ fn out_dir(tag: &str) -> PathBuf {
     d
 }
 
+/// `grasp plot` of cube A into `out`.
+fn plot_cube_a(out: impl AsRef<std::path::Path>) -> std::process::Output {
+    grasp()
+        .arg("plot")
+        .arg(example("cube_a.json"))
+        .arg("--out")
+        .arg(out.as_ref())
+        .output()
+        .unwrap()
+}
+
 /// Polylines drawn in `color` (plotters writes `stroke="#RRGGBB"`).
 fn strokes(svg: &str, color: &str) -> usize {
     svg.matches(&format!("stroke=\"{color}\"")).count()
@@ -79,22 +90,10 @@ fn existing_pictures_are_kept_and_only_svg_or_png_is_written() {
     let dir = out_dir("rules");
     let out = dir.join("mine.svg");
     std::fs::write(&out, "mine").unwrap();
-    let st = grasp()
-        .arg("plot")
-        .arg(example("cube_a.json"))
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let st = plot_cube_a(&out);
     assert_eq!(st.status.code(), Some(1));
     assert_eq!(std::fs::read_to_string(&out).unwrap(), "mine");
-    let st = grasp()
-        .arg("plot")
-        .arg(example("cube_a.json"))
-        .arg("--out")
-        .arg(dir.join("x.pdf"))
-        .output()
-        .unwrap();
+    let st = plot_cube_a(dir.join("x.pdf"));
     assert_eq!(st.status.code(), Some(1));
     let err = String::from_utf8_lossy(&st.stderr);
     assert!(
@@ -114,13 +113,7 @@ fn pixels_of(rgb: &[u8], c: [u8; 3]) -> usize {
 fn a_png_diagram_is_the_same_picture_rasterised() {
     let dir = out_dir("png");
     let out = dir.join("cube_a.png");
-    let st = grasp()
-        .arg("plot")
-        .arg(example("cube_a.json"))
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
+    let st = plot_cube_a(&out);
     assert!(st.status.success(), "{st:?}");
     let bytes = std::fs::read(&out).unwrap();
     let mut reader = png::Decoder::new(std::io::Cursor::new(bytes))

@@ -139,16 +139,20 @@ impl ProgramSolver {
         options: &SolveOptions,
         start: Start<'_>,
     ) -> Result<ConvexRun, ModelError> {
+        // The program's data: the prediction's input, and recorded with the solution.
+        let data = data_of(&self.program);
         let run = match options.solver {
             SolverChoice::Clarabel => self.solve_clarabel(model, options),
-            SolverChoice::Native | SolverChoice::Auto => self.solve_native(model, options, start),
+            SolverChoice::Native | SolverChoice::Auto => {
+                self.solve_native(model, options, start, &data)
+            }
         }?;
         if let ConvexOutcome::Solved { x, multipliers, .. } = &run.outcome {
             let solution = Iterate {
                 x: x.clone(),
                 lambda: multipliers.clone(),
             };
-            self.trail.push(data_of(&self.program), solution.clone());
+            self.trail.push(data, solution.clone());
             self.last = Some(solution);
         }
         Ok(run)
@@ -184,6 +188,7 @@ impl ProgramSolver {
         model: &GraspModel,
         options: &SolveOptions,
         start: Start<'_>,
+        data: &[f64],
     ) -> Result<ConvexRun, ModelError> {
         let clock = Instant::now();
         let program = &self.program;
@@ -195,7 +200,7 @@ impl ProgramSolver {
             max_iterations: options.max_iterations.min(MAX_NEWTON_ITERATIONS),
         };
         let predicted = match start {
-            Start::Last => self.trail.predict(&data_of(program)),
+            Start::Last => self.trail.predict(data),
             _ => None,
         };
         let starts: Vec<&Iterate> = match start {

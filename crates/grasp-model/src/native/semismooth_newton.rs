@@ -145,43 +145,48 @@ pub(crate) fn run(
     starts: &[&Iterate],
     limits: Limits,
 ) -> NativeResult {
-    let start = match starts {
-        [] => None,
-        [only] => Some(*only),
-        _ => starts
-            .iter()
-            .map(|it| (merit(blocks, program, it), *it))
+    let mut states = starts.iter().filter_map(|it| state_of(blocks, program, it));
+    let start = match starts.len() {
+        0 | 1 => states.next(),
+        _ => states
+            .map(|s| (merit(blocks, program, &s), s))
             .min_by(|a, b| a.0.total_cmp(&b.0))
-            .map(|(_, it)| it),
+            .map(|(_, s)| s),
     };
     joint(blocks, caches, program, start, limits, (0, 0), true)
 }
 
-/// The merit `psi = ||Phi||^2 + ||E x - e||^2` of an iterate (infinite for another layout).
-fn merit(blocks: &[FingerBlockData], program: &ConeProgram, it: &Iterate) -> f64 {
-    if it.x.len() != program.n_unknowns || it.lambda.len() != program.equality_rows() {
-        return f64::INFINITY;
-    }
-    let y = dual_of(blocks, program, &it.x, &it.lambda);
+/// The iteration's state at `it` (`None` for another layout).
+fn state_of(blocks: &[FingerBlockData], program: &ConeProgram, it: &Iterate) -> Option<State> {
+    let fits = it.x.len() == program.n_unknowns && it.lambda.len() == program.equality_rows();
+    fits.then(|| State {
+        y: dual_of(blocks, program, &it.x, &it.lambda),
+        x: it.x.clone(),
+        lambda: it.lambda.clone(),
+    })
+}
+
+/// The merit `psi = ||Phi||^2 + ||E x - e||^2` of a state.
+fn merit(blocks: &[FingerBlockData], program: &ConeProgram, s: &State) -> f64 {
     let phi: f64 = blocks
         .iter()
         .zip(&program.blocks)
         .map(|(b, pb)| {
             let r = b.offset..b.offset + b.len();
-            residual_norms(b, &pb.cone, &it.x[r.clone()], &y[r]).0
+            residual_norms(b, &pb.cone, &s.x[r.clone()], &s.y[r]).0
         })
         .sum();
-    let e_res = equality_residual(blocks, program, &it.x);
+    let e_res = equality_residual(blocks, program, &s.x);
     phi + e_res.iter().map(|v| v * v).sum::<f64>()
 }
 
-/// The joint iteration; `counters` are `(Newton steps, factorisations)` so far; `fallback`
+/// The joint iteration from `start` (`None`: cold); `counters` are `(Newton steps, factorisations)` so far; `fallback`
 /// hands a stall to the interior-point method.
 fn joint(
     blocks: &[FingerBlockData],
     caches: &mut [FactorCache],
     program: &ConeProgram,
-    start: Option<&Iterate>,
+    start: Option<State>,
     limits: Limits,
     counters: (u32, u32),
     fallback: bool,
@@ -191,12 +196,8 @@ fn joint(
     let (mut iterations, mut factorisations) = counters;
     let first = iterations;
     let mut s = match start {
-        Some(it) if it.x.len() == n && it.lambda.len() == m => State {
-            y: dual_of(blocks, program, &it.x, &it.lambda),
-            x: it.x.clone(),
-            lambda: it.lambda.clone(),
-        },
-        _ => {
+        Some(s) => s,
+        None => {
             let mut s = State {
                 x: vec![0.0; n],
                 lambda: vec![0.0; m],
@@ -341,7 +342,7 @@ fn robust(
         blocks,
         caches,
         program,
-        Some(&ipm.iterate),
+        state_of(blocks, program, &ipm.iterate),
         limits,
         (ipm.iterations, ipm.factorisations),
         false,
