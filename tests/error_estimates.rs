@@ -5,13 +5,13 @@
 mod support;
 use support::*;
 
-use grasp_model::closed_form::HertzSphere;
-use grasp_model::patch_sizing::auto_patch;
-use grasp_model::refinement::{estimate_error, refinement_study, StudyReference};
+use grasp_model::analysis::patch_sizing::auto_patch;
+use grasp_model::analysis::refinement::{estimate_error, refinement_study, StudyReference};
+use grasp_model::model::closed_form::HertzSphere;
 use grasp_model::{solve, GraspModel, SolveOptions};
 
 fn hertz_reference() -> HertzSphere {
-    let m = grasp_model::material::Material::Elastic {
+    let m = grasp_model::model::material::Material::Elastic {
         youngs_modulus_pa: 210e9,
         poisson_ratio: 0.3,
     };

@@ -2,8 +2,8 @@
 //! section 4.2). The model must reproduce the peak pressure and the approach within 1 % at a
 //! stated grid, and the error must shrink as the grid is refined.
 
-use grasp_model::closed_form::HertzSphere;
-use grasp_model::material::Material;
+use grasp_model::model::closed_form::HertzSphere;
+use grasp_model::model::material::Material;
 use grasp_model::{solve, GraspModel, Scene, SolveStatus};
 
 const E: f64 = 210e9; // steel, Pa

@@ -288,7 +288,7 @@ pub fn native_agrees_with_clarabel(v: &Value) -> Result<(Solution, Agreement, f6
             s.status
         }
     };
-    let coulomb = model.kind == grasp_model::scene::ModelKind::Coulomb;
+    let coulomb = model.kind == grasp_model::scene::scene_format::ModelKind::Coulomb;
     let confirmed = |native: &Solution| coulomb && fixed_point_confirmed(&model, native).is_some();
     let residuals_hold = |native: &Solution| {
         let cones = if coulomb {

@@ -3,6 +3,8 @@
 
 use std::path::PathBuf;
 
+use crate::option_names;
+
 /// An error that stops a batch.
 #[derive(Debug, thiserror::Error)]
 pub enum BatchError {
@@ -26,7 +28,7 @@ pub enum BatchError {
     #[error("cannot merge: {0}")]
     Merge(String),
     /// A sweep specification that cannot be expanded.
-    #[error("--vary `{spec}`: {message}")]
+    #[error("`{}` `{spec}`: {message}", option_names::SWEEP_AXIS)]
     Sweep {
         /// The `--vary` argument.
         spec: String,

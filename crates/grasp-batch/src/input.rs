@@ -8,8 +8,8 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 
 use grasp_mesh_io::{base_dir_of, scene_from_json_str};
-use grasp_model::json_input::{from_str_strict, StrictValue};
-use grasp_model::{Scene, SceneProblem};
+use grasp_model::scene::strict_json::{from_str_strict, StrictValue};
+use grasp_model::{InputProblem, Scene};
 use serde_json::Value;
 
 use crate::error::{io, BatchError};
@@ -35,7 +35,7 @@ pub struct SceneLine {
     /// The `"vary"` note of a sweep variant (carried into the result).
     pub vary: Option<Value>,
     /// The scene, or every problem found in it.
-    pub scene: Result<Scene, Vec<SceneProblem>>,
+    pub scene: Result<Scene, Vec<InputProblem>>,
 }
 
 impl BatchInput {
@@ -183,8 +183,8 @@ impl UnparsedScene {
     }
 }
 
-fn problem(path: &str, message: &str) -> SceneProblem {
-    SceneProblem {
+fn problem(path: &str, message: &str) -> InputProblem {
+    InputProblem {
         path: path.into(),
         message: message.into(),
         fix: "write one scene per line: {\"id\": \"...\", \"scene\": {...}} or a bare scene".into(),
@@ -234,7 +234,7 @@ fn parse_line(index: usize, number: usize, line: &str, base: &Path) -> SceneLine
         scene_from_json_str(&obj["scene"].to_string(), base).map_err(|e| {
             e.problems()
                 .into_iter()
-                .map(|p| SceneProblem {
+                .map(|p| InputProblem {
                     path: format!("scene.{}", p.path),
                     ..p
                 })

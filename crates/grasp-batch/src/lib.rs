@@ -17,6 +17,7 @@
 pub mod error;
 pub mod input;
 pub mod merge;
+pub mod option_names;
 pub mod result_line;
 pub mod runner;
 pub mod shard;

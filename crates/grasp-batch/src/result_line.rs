@@ -1,7 +1,7 @@
 //! One line of a batch's output (JSON): the scene's id and position, its status, per-finger
 //! forces, residuals and time; an invalid scene's problems instead of forces.
 
-use grasp_model::{Solution, SolveStatus};
+use grasp_model::{InputProblem, Solution, SolveStatus};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -19,17 +19,6 @@ pub enum ResultStatus {
     NoConvergence,
     /// The scene is not usable: see `problems`.
     Invalid,
-}
-
-/// A scene problem, as written in the output.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Problem {
-    /// JSON path (within the scene; `scene.` prefixed for wrapped lines).
-    pub path: String,
-    /// What is wrong.
-    pub message: String,
-    /// How to fix it.
-    pub fix: String,
 }
 
 /// One finger's resultants.
@@ -65,7 +54,7 @@ pub struct ResultLine {
     pub reason: Option<String>,
     /// The problems of an invalid scene.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub problems: Vec<Problem>,
+    pub problems: Vec<InputProblem>,
     /// The sweep variant's parameters, when the line came from `grasp sweep`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vary: Option<Value>,
@@ -122,7 +111,7 @@ impl ResultLine {
     }
 
     /// The line of an invalid scene.
-    pub fn invalid(id: String, index: usize, of: usize, problems: Vec<Problem>) -> Self {
+    pub fn invalid(id: String, index: usize, of: usize, problems: Vec<InputProblem>) -> Self {
         ResultLine {
             id,
             index,

@@ -7,13 +7,14 @@ use std::collections::HashSet;
 use std::io::Write;
 use std::time::Instant;
 
-use grasp_model::work_bounds::estimate_memory_bytes;
-use grasp_model::{GraspModel, GraspSolver, SceneProblem, SolveOptions};
+use grasp_model::scene::work_bounds::estimate_memory_bytes;
+use grasp_model::{GraspModel, GraspSolver, InputProblem, SolveOptions};
 use rayon::prelude::*;
 
 use crate::error::{io, BatchError};
 use crate::input::{BatchInput, SceneLine, UnparsedScene};
-use crate::result_line::{Problem, ResultLine, ResultStatus};
+use crate::option_names;
+use crate::result_line::{ResultLine, ResultStatus};
 use crate::shard::Shard;
 
 /// Options of a batch.
@@ -78,16 +79,6 @@ impl BatchSummary {
     }
 }
 
-fn problems(p: Vec<SceneProblem>) -> Vec<Problem> {
-    p.into_iter()
-        .map(|p| Problem {
-            path: p.path,
-            message: p.message,
-            fix: p.fix,
-        })
-        .collect()
-}
-
 /// Solves one scene into its line.
 pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultLine {
     let SceneLine {
@@ -97,24 +88,27 @@ pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultL
         scene,
     } = line;
     let mut out = match scene {
-        Err(p) => ResultLine::invalid(id, index, of, problems(p)),
+        Err(p) => ResultLine::invalid(id, index, of, p),
         Ok(scene) => {
             let bytes = estimate_memory_bytes(&scene);
             if bytes > options.max_memory_bytes {
-                let p = Problem {
+                let p = InputProblem {
                     path: "fingers".into(),
                     message: format!(
                         "the patch grids need about {} MiB, over the limit of {} MiB",
                         bytes >> 20,
                         options.max_memory_bytes >> 20
                     ),
-                    fix: "use coarser patch grids or raise --max-memory".into(),
+                    fix: format!(
+                        "use coarser patch grids or raise `{}`",
+                        option_names::MAX_MEMORY
+                    ),
                 };
                 ResultLine::invalid(id, index, of, vec![p])
             } else {
                 let clock = Instant::now();
                 match GraspModel::from_validated_scene(&scene) {
-                    Err(e) => ResultLine::invalid(id, index, of, problems(e.problems())),
+                    Err(e) => ResultLine::invalid(id, index, of, e.problems()),
                     Ok(model) => {
                         let mut solver = GraspSolver::new(&model, options.solve);
                         match solver.solve(&model, &model.scene_loads_n()) {
@@ -154,7 +148,7 @@ pub fn run_batch(
         .num_threads(options.threads)
         .build()
         .map_err(|e| BatchError::Usage {
-            what: "--jobs".into(),
+            what: format!("`{}`", option_names::THREADS),
             message: format!("cannot start the worker threads: {e}"),
         })?;
     let mut summary = BatchSummary {

@@ -3,6 +3,7 @@
 //! command unchanged and `grasp batch --merge` joins the outputs.
 
 use crate::error::BatchError;
+use crate::option_names;
 
 /// Task `index` of `count` (0-based).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,7 +26,7 @@ impl Shard {
     /// Parses `I/N` (0 <= I < N).
     pub fn parse(text: &str) -> Result<Shard, BatchError> {
         let usage = |message: String| BatchError::Usage {
-            what: "--shard".into(),
+            what: format!("`{}`", option_names::SHARD),
             message,
         };
         let (i, n) = text
@@ -73,7 +74,7 @@ impl Shard {
             let count = num("SLURM_ARRAY_TASK_COUNT")?.ok_or_else(|| BatchError::Usage {
                 what: "SLURM_ARRAY_TASK_COUNT".into(),
                 message: "is not set although SLURM_ARRAY_TASK_ID is; run inside a job array \
-                          (sbatch --array=0-N) or pass --shard I/N"
+                          (sbatch --array=0-N) or give the shard (`Shard::parse`)"
                     .into(),
             })?;
             let min = num("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
@@ -87,7 +88,7 @@ impl Shard {
             let count = num("GRASP_SHARD_COUNT")?.ok_or_else(|| BatchError::Usage {
                 what: "GRASP_SHARD_COUNT".into(),
                 message: "is not set although JOB_COMPLETION_INDEX is; set it to the Indexed \
-                          Job's completions, or pass --shard I/N"
+                          Job's completions, or give the shard (`Shard::parse`)"
                     .into(),
             })?;
             return check(index, count, "JOB_COMPLETION_INDEX");

@@ -3,8 +3,8 @@
 
 use std::time::Instant;
 
-use grasp_model::closed_form::HertzSphere;
-use grasp_model::refinement::hertz_parameters;
+use grasp_model::analysis::refinement::hertz_parameters;
+use grasp_model::model::closed_form::HertzSphere;
 use grasp_model::{GraspModel, GraspSolver, Solution, SolverKind};
 use grasp_transfer::Stepper;
 

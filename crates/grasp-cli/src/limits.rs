@@ -1,12 +1,12 @@
 //! Work bounds of a command, checked before any allocation: the memory a scene's solve needs
-//! (estimated by `grasp_model::work_bounds`) against `--max-memory`, and the size
+//! (estimated by `grasp_model::scene::work_bounds`) against `--max-memory`, and the size
 //! and kind of the input files.
 
 use std::io::Read;
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use grasp_model::work_bounds;
+use grasp_model::scene::work_bounds;
 use grasp_model::Scene;
 
 /// Largest scene or schedule file read, bytes.
@@ -19,6 +19,15 @@ pub const DEFAULT_MEMORY_SHARE: f64 = 0.25;
 
 /// The limit when /proc/meminfo cannot be read, bytes.
 pub const FALLBACK_MEMORY_LIMIT: u64 = 4 << 30;
+
+/// The memory limit of a command.
+#[derive(clap::Args, Debug)]
+pub struct MemoryArg {
+    /// Refuse scenes whose estimated memory exceeds this many bytes (suffixes K, M, G, T:
+    /// 512M, 4G); default: a quarter of the machine's memory (MemTotal in /proc/meminfo).
+    #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
+    pub max_memory: Option<u64>,
+}
 
 /// Parses a byte count: a number with an optional binary suffix K, M, G or T (`512M`, `4G`,
 /// `1.5G`, `1073741824`); a trailing `B` or `iB` is allowed.

@@ -7,8 +7,8 @@
 
 use std::path::{Path, PathBuf};
 
-use grasp_model::mesh_surface::TriangleMesh;
-use grasp_model::shape::MeshSpec;
+use grasp_model::geometry::mesh_surface::TriangleMesh;
+use grasp_model::geometry::shape::MeshSpec;
 use grasp_model::{Scene, SceneError};
 
 /// Largest mesh file read, bytes.

@@ -6,9 +6,13 @@
 
 use std::fmt;
 
-/// One problem found in a scene: where, what, and how to fix it.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct SceneProblem {
+use serde::{Deserialize, Serialize};
+
+/// One problem found in an input (a scene, a schedule, a batch line): where, what, and how to
+/// fix it. The one problem type of every input the project reads; the CLI prints it, batch
+/// lines and the Python exceptions carry it as is.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct InputProblem {
     /// JSON path of the offending field, e.g. `fingers[2].normal`.
     pub path: String,
     /// What is wrong.
@@ -17,10 +21,35 @@ pub struct SceneProblem {
     pub fix: String,
 }
 
-impl fmt::Display for SceneProblem {
+impl InputProblem {
+    /// A problem at `path`.
+    pub fn new(
+        path: impl Into<String>,
+        message: impl Into<String>,
+        fix: impl Into<String>,
+    ) -> Self {
+        InputProblem {
+            path: path.into(),
+            message: message.into(),
+            fix: fix.into(),
+        }
+    }
+}
+
+impl fmt::Display for InputProblem {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}: {}; fix: {}", self.path, self.message, self.fix)
     }
+}
+
+/// `the {what} has N problem(s):` followed by one problem per line.
+pub fn format_problems(what: &str, p: &[InputProblem]) -> String {
+    let mut s = format!("the {what} has {} problem(s):", p.len());
+    for q in p {
+        s.push_str("\n  - ");
+        s.push_str(&q.to_string());
+    }
+    s
 }
 
 /// A scene that cannot be used.
@@ -35,15 +64,15 @@ pub enum SceneError {
         message: String,
     },
     /// The scene parsed but some values are unusable; every problem found is listed.
-    #[error("{}", format_problems(.0))]
-    Invalid(Vec<SceneProblem>),
+    #[error("{}", format_problems("scene", .0))]
+    Invalid(Vec<InputProblem>),
 }
 
 impl SceneError {
     /// Every problem as (path, message, fix); a parse error is a single problem.
-    pub fn problems(&self) -> Vec<SceneProblem> {
+    pub fn problems(&self) -> Vec<InputProblem> {
         match self {
-            SceneError::Parse { path, message } => vec![SceneProblem {
+            SceneError::Parse { path, message } => vec![InputProblem {
                 path: path.clone(),
                 message: message.clone(),
                 fix: "correct the JSON (see `grasp schema`)".into(),
@@ -51,15 +80,6 @@ impl SceneError {
             SceneError::Invalid(p) => p.clone(),
         }
     }
-}
-
-fn format_problems(p: &[SceneProblem]) -> String {
-    let mut s = format!("the scene has {} problem(s):", p.len());
-    for q in p {
-        s.push_str("\n  - ");
-        s.push_str(&q.to_string());
-    }
-    s
 }
 
 /// Errors raised while assembling or running the cone program that are not solver outcomes:
@@ -94,4 +114,13 @@ pub enum ModelError {
     /// Clarabel refused the problem data.
     #[error("the cone solver rejected the problem: {0}")]
     Solver(String),
+    /// A scene derived from the caller's (a coarser grid, a grown patch) is not usable.
+    #[error("{context}: {source}")]
+    DerivedScene {
+        /// Which derived scene (e.g. `the grid half as fine`).
+        context: String,
+        /// Its problems.
+        #[source]
+        source: SceneError,
+    },
 }

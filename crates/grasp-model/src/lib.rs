@@ -28,53 +28,25 @@
 
 #![warn(missing_docs)]
 
-pub mod backend;
-pub mod closed_form;
-pub mod cone_program;
-pub mod contact_state;
-pub mod convex_solve;
-pub mod equilibrium;
+pub mod analysis;
 pub mod error;
-pub mod finger_placement;
-pub mod friction;
-pub mod grasp_model;
-pub mod influence;
-pub mod json_input;
-pub mod margin;
-pub mod material;
-pub mod mesh_surface;
-pub mod native;
-pub mod patch;
-pub mod patch_check;
-pub mod patch_on_shape;
-pub mod patch_sizing;
-pub mod primitive_surface;
-pub mod readout;
-pub mod refinement;
-pub mod residuals;
+pub mod geometry;
+pub mod model;
+pub mod option_names;
+pub mod program;
 pub mod scene;
-pub mod sensitivity;
-pub mod sequential;
-pub mod shape;
-pub mod shape_format;
-pub mod shape_report;
-pub mod shape_spec_check;
-pub mod solution;
 pub mod solve;
-pub mod solve_options;
-pub mod surface_point;
-pub mod tessellation;
-pub mod validation;
-pub mod work_bounds;
+pub mod solver;
 
-pub use cone_program::ConeProgram;
-pub use contact_state::{ContactState, FingerState};
-pub use error::{ModelError, SceneError, SceneProblem};
-pub use grasp_model::{Control, FingerModel, GraspModel, Scales};
+pub use error::{InputProblem, ModelError, SceneError};
+pub use model::grasp_model::{Control, FingerModel, GraspModel, Scales};
+pub use program::cone_program::ConeProgram;
 pub use scene::{scene_json_schema, Scene};
-pub use sensitivity::Sensitivities;
-pub use solution::{
-    ElementState, FingerSolution, Residuals, SequentialReport, Solution, SolveStatus, SolverKind,
+pub use solve::contact_state::{ContactState, FingerState};
+pub use solve::grasp_solver::{solve, GraspSolver};
+pub use solve::sensitivity::Sensitivities;
+pub use solve::solution::{
+    ElementState, FingerSolution, Residuals, SequentialReport, Solution, SolveStatus,
 };
-pub use solve::{solve, GraspSolver};
-pub use solve_options::{SolveOptions, SolverChoice};
+pub use solver::options::{SolveOptions, SolverChoice};
+pub use solver::outcome::SolverKind;

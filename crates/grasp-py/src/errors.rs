@@ -2,6 +2,7 @@
 //! (JSON path, message, fix); everything else the library refuses is a `GraspError`. Solver
 //! outcomes (no equilibrium, no convergence) are not exceptions: they are a solution's status.
 
+use grasp_model::InputProblem;
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -30,22 +31,19 @@ create_exception!(
      scene)."
 );
 
-/// One problem: (JSON path, message, fix).
-pub type Problem = (String, String, String);
-
 /// The exception `E` with message `message` and attribute `problems` (list of dicts).
 fn with_problems<E: pyo3::PyTypeInfo>(
     py: Python<'_>,
     message: String,
-    problems: &[Problem],
+    problems: &[InputProblem],
 ) -> PyErr {
     let err = PyErr::from_type(py.get_type::<E>(), message);
     let list = PyList::empty(py);
-    for (path, message, fix) in problems {
+    for p in problems {
         let d = PyDict::new(py);
-        let _ = d.set_item("path", path);
-        let _ = d.set_item("message", message);
-        let _ = d.set_item("fix", fix);
+        let _ = d.set_item("path", &p.path);
+        let _ = d.set_item("message", &p.message);
+        let _ = d.set_item("fix", &p.fix);
         let _ = list.append(d);
     }
     let _ = err.value(py).setattr("problems", list);
@@ -54,29 +52,19 @@ fn with_problems<E: pyo3::PyTypeInfo>(
 
 /// A `grasp.SceneError` from the model's error.
 pub fn scene_error(py: Python<'_>, origin: &str, e: &grasp_model::SceneError) -> PyErr {
-    let problems: Vec<Problem> = e
-        .problems()
-        .into_iter()
-        .map(|p| (p.path, p.message, p.fix))
-        .collect();
     with_problems::<SceneError>(
         py,
         format!("{origin} is not a usable scene: {e}"),
-        &problems,
+        &e.problems(),
     )
 }
 
 /// A `grasp.ScheduleError` from the driver's error.
 pub fn schedule_error(py: Python<'_>, origin: &str, e: &grasp_transfer::ScheduleError) -> PyErr {
-    let problems: Vec<Problem> = e
-        .problems()
-        .into_iter()
-        .map(|p| (p.path, p.message, p.fix))
-        .collect();
     with_problems::<ScheduleError>(
         py,
         format!("{origin} is not a usable schedule: {e}"),
-        &problems,
+        &e.problems(),
     )
 }
 

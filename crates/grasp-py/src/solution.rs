@@ -210,7 +210,7 @@ impl Solution {
     }
 }
 
-type Element = grasp_model::solution::ElementSolution;
+type Element = grasp_model::solve::solution::ElementSolution;
 /// Unit tangents `(t1, t2)` of a finger, world frame.
 pub type Tangents = ([f64; 3], [f64; 3]);
 
@@ -272,7 +272,7 @@ pub fn tangents_by_name(
         .fingers
         .iter()
         .map(|f| {
-            let frame = grasp_model::patch::ContactFrame::new(
+            let frame = grasp_model::geometry::contact_frame::ContactFrame::new(
                 v3(&f.contact_point),
                 v3(&f.normal),
                 f.tangent.as_ref().map(v3),

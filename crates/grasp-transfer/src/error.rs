@@ -1,23 +1,6 @@
 //! Errors of the transfer driver.
 
-use std::fmt;
-
-/// One problem found in a schedule: where, what, and how to fix it.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct ScheduleProblem {
-    /// JSON path, e.g. `fingers.f1[1].ramp.keyframes[2]`.
-    pub path: String,
-    /// What is wrong.
-    pub message: String,
-    /// What to do.
-    pub fix: String,
-}
-
-impl fmt::Display for ScheduleProblem {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: {}; fix: {}", self.path, self.message, self.fix)
-    }
-}
+use grasp_model::error::{format_problems, InputProblem};
 
 /// A schedule that cannot be used.
 #[derive(Debug, Clone, thiserror::Error)]
@@ -31,15 +14,15 @@ pub enum ScheduleError {
         message: String,
     },
     /// Every problem found.
-    #[error("{}", format_problems(.0))]
-    Invalid(Vec<ScheduleProblem>),
+    #[error("{}", format_problems("schedule", .0))]
+    Invalid(Vec<InputProblem>),
 }
 
 impl ScheduleError {
     /// Every problem as one list.
-    pub fn problems(&self) -> Vec<ScheduleProblem> {
+    pub fn problems(&self) -> Vec<InputProblem> {
         match self {
-            ScheduleError::Parse { path, message } => vec![ScheduleProblem {
+            ScheduleError::Parse { path, message } => vec![InputProblem {
                 path: path.clone(),
                 message: message.clone(),
                 fix: "correct the JSON (see `grasp schema --schedule`)".into(),
@@ -47,15 +30,6 @@ impl ScheduleError {
             ScheduleError::Invalid(p) => p.clone(),
         }
     }
-}
-
-fn format_problems(p: &[ScheduleProblem]) -> String {
-    let mut s = format!("the schedule has {} problem(s):", p.len());
-    for q in p {
-        s.push_str("\n  - ");
-        s.push_str(&q.to_string());
-    }
-    s
 }
 
 /// Errors of a transfer run that are not solver outcomes.

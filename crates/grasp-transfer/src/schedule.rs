@@ -22,15 +22,16 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use grasp_model::json_input::{self, describe, variant, StrictValue};
-use grasp_model::validation::{force_in_range, MAX_FORCE_N, MIN_NONZERO_FORCE_N};
+use grasp_model::scene::strict_json::{self, describe, variant, StrictValue};
+use grasp_model::scene::validation::{force_in_range, MAX_FORCE_N, MIN_NONZERO_FORCE_N};
 use schemars::JsonSchema;
 use serde::{Deserialize, Deserializer, Serialize};
 use serde_json::Value;
 
 use crate::easing::Easing;
-use crate::error::{ScheduleError, ScheduleProblem};
+use crate::error::ScheduleError;
 use crate::load_profile::read_profile_csv;
+use grasp_model::InputProblem;
 
 /// Most steps a schedule may have.
 pub const MAX_STEPS: usize = 1_000_000;
@@ -49,7 +50,7 @@ pub struct ScheduleSpec {
     /// The step times.
     pub time: TimeSpec,
     /// Per finger (by name, each name once), its phases in order.
-    #[serde(deserialize_with = "json_input::unique_keys")]
+    #[serde(deserialize_with = "strict_json::unique_keys")]
     pub fingers: BTreeMap<String, Vec<PhaseSpec>>,
     /// A task-induced load ramped on the object (thesis 5.3: a pull by the receiving gripper,
     /// a bump against a fixture): a force at the centre of mass and a couple, added to the
@@ -299,7 +300,7 @@ impl Schedule {
         base_dir: &Path,
     ) -> Result<Schedule, ScheduleError> {
         let spec: ScheduleSpec =
-            json_input::from_str_strict(text).map_err(|e| ScheduleError::Parse {
+            strict_json::from_str_strict(text).map_err(|e| ScheduleError::Parse {
                 path: e.path,
                 message: e.message,
             })?;
@@ -420,7 +421,7 @@ fn ramp_load(keyframes: &[(f64, Option<f64>)], easing: Easing, t: f64, current_n
 
 /// Collects schedule problems; at most [`MAX_LISTED_PROBLEMS`] are listed.
 #[derive(Default)]
-struct Problems(Vec<ScheduleProblem>, usize);
+struct Problems(Vec<InputProblem>, usize);
 
 /// Most problems listed in one error (the rest are counted).
 const MAX_LISTED_PROBLEMS: usize = 50;
@@ -428,7 +429,7 @@ const MAX_LISTED_PROBLEMS: usize = 50;
 impl Problems {
     fn push(&mut self, path: String, message: String, fix: &str) {
         if self.0.len() < MAX_LISTED_PROBLEMS {
-            self.0.push(ScheduleProblem {
+            self.0.push(InputProblem {
                 path,
                 message,
                 fix: fix.to_string(),
@@ -468,7 +469,7 @@ impl Problems {
     fn finish(mut self) -> Result<(), ScheduleError> {
         if self.1 > 0 {
             let more = self.1;
-            self.0.push(ScheduleProblem {
+            self.0.push(InputProblem {
                 path: "(more)".into(),
                 message: format!("{more} more problem(s) not listed"),
                 fix: "correct the ones above and run again".into(),

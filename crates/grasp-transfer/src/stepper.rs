@@ -22,7 +22,7 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use grasp_model::solution::SolverStats;
+use grasp_model::solve::solution::SolverStats;
 use grasp_model::{
     ContactState, Control, FingerState, GraspModel, GraspSolver, Scene, SceneError, Solution,
     SolveOptions, SolverKind,

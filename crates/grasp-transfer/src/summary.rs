@@ -7,7 +7,7 @@ use crate::stepper::StepRecord;
 
 /// A finger carries load when its normal force exceeds this fraction of the load scale (the
 /// model's one meaning of "loaded").
-pub use grasp_model::solution::LOADED_FRACTION;
+pub use grasp_model::solve::solution::LOADED_FRACTION;
 
 /// The summary of a run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -70,7 +70,7 @@ pub struct LeastSafeStep {
     /// The margin, N (see [`crate::StepMargin`]).
     pub margin_n: f64,
     /// Its direction: force part and couple part (unit vector of the scaled wrench space).
-    pub direction: grasp_model::margin::WrenchDirection,
+    pub direction: grasp_model::analysis::margin::WrenchDirection,
     /// The finger that fails first.
     pub failing_finger: Option<String>,
     /// False when the margin reached the search's cap (the grasp held up to it).

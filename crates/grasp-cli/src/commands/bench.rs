@@ -1,0 +1,472 @@
+//! `grasp bench`: the benchmark table of issue 9, both solvers side by side. Each case runs
+//! once to read its peak memory, then again until `--min-time` has passed (at least twice, at
+//! most 50 times); the table gives the median and the range of those timing runs, against the
+//! case's target. Derived rows: warm/cold iteration ratios of both hand-offs, the growth
+//! exponent of solve time against unknowns over the cube A series, the whole `grasp
+//! transfer` command with MCAP, Rerun and CSV outputs (a child process, timed from outside),
+//! and the batch runner's throughput on one thread and on every core (issue 12).
+
+use std::fmt::Write as _;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use grasp_bench::statistics::{growth_exponent, median_and_range};
+use grasp_bench::{Case, CaseKind, Sample, CASES};
+use grasp_model::SolverChoice;
+
+/// Benchmark table: the cases of issue 9 (cube A grids, Hertz 41x41, both hand-offs warm
+/// and cold, the whole transfer command) with each solver, medians against targets.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Only the cases that take well under a second, one timing run each.
+    #[arg(long)]
+    pub quick: bool,
+    /// Print the table as Markdown.
+    #[arg(long)]
+    pub markdown: bool,
+    /// Solvers to compare (comma-separated).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "native,clarabel",
+        value_name = "auto|native|clarabel"
+    )]
+    pub solver: Vec<SolverChoice>,
+    /// Run only these cases (comma-separated names from the table).
+    #[arg(long = "case", value_delimiter = ',', value_name = "NAME")]
+    pub cases: Vec<String>,
+    /// Keep timing a case until this many seconds have passed (at least 2 runs, at most
+    /// 50).
+    #[arg(long, default_value_t = 1.0, value_name = "SECONDS")]
+    pub min_time: f64,
+}
+
+/// `grasp bench`.
+pub fn execute(args: Args) -> Result<ExitCode> {
+    if !(args.min_time.is_finite() && args.min_time >= 0.0) {
+        bail!(
+            "--min-time {}: give a number of seconds >= 0, e.g. 1",
+            args.min_time
+        );
+    }
+    run(Flags {
+        quick: args.quick,
+        markdown: args.markdown,
+        solvers: args.solver,
+        cases: args.cases,
+        min_time_s: args.min_time,
+    })
+}
+
+/// What to run and how to print it.
+pub struct Flags {
+    /// Only the quick cases, one timing run each (the CI smoke run).
+    pub quick: bool,
+    /// Print a Markdown table (for the README) instead of aligned text.
+    pub markdown: bool,
+    /// Solvers, one column group each.
+    pub solvers: Vec<SolverChoice>,
+    /// Case names to run (all when empty).
+    pub cases: Vec<String>,
+    /// Timing runs of a case continue until this much time has passed, s.
+    pub min_time_s: f64,
+}
+
+/// Median, range and the first (memory) sample of one case with one solver.
+struct Measured {
+    case: Case,
+    solver: SolverChoice,
+    median_s: f64,
+    min_s: f64,
+    max_s: f64,
+    median_solve_s: f64,
+    runs: usize,
+    first: Sample,
+}
+
+fn measure(case: &Case, solver: SolverChoice, flags: &Flags) -> Result<Measured> {
+    let prepared = case.prepare(solver)?;
+    let first = prepared.run(true)?;
+    let (min_runs, max_runs) = if flags.quick { (1, 3) } else { (2, 50) };
+    let start = Instant::now();
+    let mut runs: Vec<Sample> = Vec::new();
+    while runs.len() < min_runs
+        || (runs.len() < max_runs && start.elapsed().as_secs_f64() < flags.min_time_s)
+    {
+        runs.push(prepared.run(false)?);
+    }
+    let times: Vec<f64> = runs.iter().map(|s| s.time_s).collect();
+    let solves: Vec<f64> = runs.iter().map(|s| s.solve_s).collect();
+    let (median_s, min_s, max_s) = median_and_range(&times).context("no finite timing")?;
+    let (median_solve_s, _, _) = median_and_range(&solves).context("no finite timing")?;
+    Ok(Measured {
+        case: *case,
+        solver,
+        median_s,
+        min_s,
+        max_s,
+        median_solve_s,
+        runs: runs.len(),
+        first,
+    })
+}
+
+/// A time in the unit that reads best.
+fn time(s: f64) -> String {
+    match s {
+        s if s < 1e-3 => format!("{:.1} us", s * 1e6),
+        s if s < 1.0 => format!("{:.3} ms", s * 1e3),
+        s => format!("{s:.2} s"),
+    }
+}
+
+fn per(case: &Case) -> &'static str {
+    match case.kind {
+        CaseKind::Solve => "per solve",
+        CaseKind::OneShot => "build + solve",
+        CaseKind::HandOff { .. } => "per step",
+    }
+}
+
+/// One printed row: cells in column order.
+type Row = Vec<String>;
+
+const HEADER: [&str; 12] = [
+    "case",
+    "timed",
+    "solver",
+    "median",
+    "range",
+    "runs",
+    "unknowns",
+    "iterations",
+    "factorizations",
+    "peak MiB",
+    "error",
+    "target",
+];
+
+fn verdict(value: f64, limit: f64, show: impl Fn(f64) -> String) -> String {
+    let mark = if value <= limit { "met" } else { "MISSED" };
+    format!("<= {} ({mark})", show(limit))
+}
+
+fn case_row(m: &Measured) -> Row {
+    let s = &m.first;
+    let mib = s
+        .peak_memory_bytes
+        .map_or("-".into(), |b| format!("{:.2}", b as f64 / 1048576.0));
+    let solver = match s.fallbacks {
+        0 => m.solver.to_string(),
+        n => format!("{} ({n} fallbacks)", m.solver),
+    };
+    vec![
+        m.case.name.to_string(),
+        per(&m.case).to_string(),
+        solver,
+        time(m.median_s),
+        format!("{}-{}", time(m.min_s), time(m.max_s)),
+        m.runs.to_string(),
+        s.unknowns.to_string(),
+        format!("{:.2}", s.iterations),
+        format!("{:.2}", s.factorizations),
+        mib,
+        format!("{:.1e}", s.error),
+        m.case
+            .target
+            .map_or("-".into(), |t| verdict(m.median_s, t.limit_s, time)),
+    ]
+}
+
+fn find<'a>(all: &'a [Measured], name: &str, solver: SolverChoice) -> Option<&'a Measured> {
+    all.iter()
+        .find(|m| m.case.name == name && m.solver == solver)
+}
+
+/// Warm/cold iteration ratios (target 1/5) and growth exponents, per solver.
+fn derived_rows(all: &[Measured], solvers: &[SolverChoice]) -> Vec<Row> {
+    let mut rows = Vec::new();
+    for &solver in solvers {
+        for (label, warm, cold) in [
+            (
+                "plate hand-off warm/cold",
+                "plate_handoff_warm",
+                "plate_handoff_cold",
+            ),
+            (
+                "coulomb hand-off warm/cold",
+                "coulomb_handoff_warm",
+                "coulomb_handoff_cold",
+            ),
+        ] {
+            let (Some(w), Some(c)) = (find(all, warm, solver), find(all, cold, solver)) else {
+                continue;
+            };
+            let ratio = w.first.iterations / c.first.iterations;
+            let fact = w.first.factorizations / c.first.factorizations;
+            let mut row = vec![String::new(); HEADER.len()];
+            row[0] = label.into();
+            row[1] = "iterations ratio".into();
+            row[2] = solver.to_string();
+            row[3] = format!("{ratio:.3}");
+            row[7] = format!("{:.2} / {:.2}", w.first.iterations, c.first.iterations);
+            row[8] = if fact.is_finite() {
+                format!("ratio {fact:.3}")
+            } else {
+                "-".into()
+            };
+            row[11] = verdict(ratio, 0.2, |x| format!("{x:.1}"));
+            rows.push(row);
+        }
+        let series: Vec<(f64, f64)> = all
+            .iter()
+            .filter(|m| m.solver == solver && m.case.name.starts_with("cube_a_"))
+            .map(|m| (m.first.unknowns as f64, m.median_solve_s))
+            .collect();
+        if let Some(k) = growth_exponent(&series).filter(|_| series.len() >= 3) {
+            let mut row = vec![String::new(); HEADER.len()];
+            row[0] = "cube A series growth".into();
+            row[1] = "solve ~ unknowns^k".into();
+            row[2] = solver.to_string();
+            row[3] = format!("k = {k:.2}");
+            row[6] = series
+                .iter()
+                .map(|p| format!("{}", p.0))
+                .collect::<Vec<_>>()
+                .join(", ");
+            rows.push(row);
+        }
+    }
+    rows
+}
+
+/// Runs `grasp transfer` on the bundled plate hand-off with MCAP, Rerun and CSV outputs in a
+/// temporary folder, timed from outside (process start to exit), median of 3 (1 when quick).
+fn whole_command(solver: SolverChoice, quick: bool) -> Result<Row> {
+    let dir = std::env::temp_dir().join(format!("grasp-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let (scene, schedule) =
+        grasp_bench::case::bundled("plate_transfer").context("bundled plate_transfer")?;
+    let schedule = schedule.context("bundled plate_transfer schedule")?;
+    let (scene_path, schedule_path) = (dir.join("scene.json"), dir.join("schedule.json"));
+    std::fs::write(&scene_path, scene)?;
+    std::fs::write(&schedule_path, schedule)?;
+    let exe = std::env::current_exe().context("locating the grasp executable")?;
+    let mut times = Vec::new();
+    for _ in 0..if quick { 1 } else { 3 } {
+        let t = Instant::now();
+        let out = std::process::Command::new(&exe)
+            .arg("transfer")
+            .arg(&scene_path)
+            .arg("--schedule")
+            .arg(&schedule_path)
+            .args(["--solver", &solver.to_string(), "--force"])
+            .arg("--mcap")
+            .arg(dir.join("run.mcap"))
+            .arg("--rrd")
+            .arg(dir.join("run.rrd"))
+            .arg("--csv")
+            .arg(dir.join("run.csv"))
+            .output()
+            .context("running grasp transfer")?;
+        times.push(t.elapsed().as_secs_f64());
+        if !out.status.success() {
+            let _ = std::fs::remove_dir_all(&dir);
+            bail!(
+                "grasp transfer failed in the bench: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    let (median, lo, hi) = median_and_range(&times).context("no timing")?;
+    let mut row = vec![String::new(); HEADER.len()];
+    row[0] = "plate hand-off command".into();
+    row[1] = "whole process".into();
+    row[2] = solver.to_string();
+    row[3] = time(median);
+    row[4] = format!("{}-{}", time(lo), time(hi));
+    row[5] = times.len().to_string();
+    row[11] = verdict(median, 0.5, time);
+    Ok(row)
+}
+
+/// Timed runs of each batch configuration (after one untimed run).
+const BATCH_ROUNDS: usize = 5;
+
+/// Scenes per second of one in-process batch run on `threads` threads (output discarded).
+fn batch_rate(
+    input: &grasp_batch::BatchInput,
+    n: usize,
+    solver: SolverChoice,
+    threads: usize,
+) -> Result<f64> {
+    let options = grasp_batch::BatchOptions {
+        solve: grasp_model::SolveOptions {
+            solver,
+            ..grasp_model::SolveOptions::default()
+        },
+        threads,
+        ..grasp_batch::BatchOptions::default()
+    };
+    let t = Instant::now();
+    let s = grasp_batch::run_batch(
+        input,
+        &Default::default(),
+        &options,
+        (&mut std::io::sink(), std::path::Path::new("(discarded)")),
+        &mut |_| {},
+    )?;
+    let wall = t.elapsed().as_secs_f64();
+    if s.solved != n {
+        bail!("batch bench: {} of {n} variants solved", s.solved);
+    }
+    Ok(n as f64 / wall)
+}
+
+/// Batch throughput (issue 12): 1,000 variants of cube A (mu x weight grid; 200 when quick)
+/// solved by `grasp batch`'s runner in-process, on one thread and on every core, output
+/// discarded; rows: the median scenes per second of each over [`BATCH_ROUNDS`] alternating
+/// runs, and the ratio of the medians against its >= 1.8x target.
+fn batch_throughput(solver: SolverChoice, quick: bool) -> Result<Vec<Row>> {
+    use grasp_batch::sweep::{expand, Axis};
+    let (scene, _) = grasp_bench::case::bundled("cube_a").context("bundled cube_a")?;
+    let scene: serde_json::Value = serde_json::from_str(scene)?;
+    let weights = if quick { 20 } else { 100 };
+    let axes = [
+        Axis::parse("fingers[*].friction.mu=0.4:1.0:10")?,
+        Axis::parse(&format!("object.weight=1:10:{weights}"))?,
+    ];
+    let lines: Vec<String> = expand(&scene, "cube_a", &axes)?
+        .into_iter()
+        .map(|(id, vary, scene)| {
+            serde_json::json!({"id": id, "vary": vary, "scene": scene}).to_string()
+        })
+        .collect();
+    let n = lines.len();
+    let input = grasp_batch::BatchInput::Lines(lines);
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+    // One untimed run of each (thread pool, first-touch memory), then alternating timed runs:
+    // a slow moment of the machine falls on both, and the median of each is reported.
+    let configs = [1, cores];
+    let mut samples: Vec<Vec<f64>> = vec![Vec::new(); configs.len()];
+    for round in 0..=BATCH_ROUNDS {
+        for (c, &threads) in configs.iter().enumerate() {
+            let rate = batch_rate(&input, n, solver, threads)?;
+            if round > 0 {
+                samples[c].push(rate);
+            }
+        }
+    }
+    let mut rates = Vec::new();
+    let mut rows = Vec::new();
+    for (c, threads) in configs.into_iter().enumerate() {
+        let mut v = samples[c].clone();
+        v.sort_by(f64::total_cmp);
+        let median = v[v.len() / 2];
+        rates.push(median);
+        let mut row = vec![String::new(); HEADER.len()];
+        row[0] = format!("batch cube A x{n}");
+        row[1] = format!("{threads} thread(s)");
+        row[2] = solver.to_string();
+        row[3] = format!("{median:.0} scenes/s");
+        row[4] = format!("{:.0}-{:.0}", v[0], v[v.len() - 1]);
+        row[5] = v.len().to_string();
+        rows.push(row);
+    }
+    let mut row = vec![String::new(); HEADER.len()];
+    row[0] = "batch speed-up".into();
+    row[1] = format!("{cores} cores / 1");
+    row[2] = solver.to_string();
+    let speedup = rates[1] / rates[0];
+    row[3] = format!("{speedup:.2}x");
+    row[11] = format!(
+        ">= 1.8x ({})",
+        if speedup >= 1.8 { "met" } else { "MISSED" }
+    );
+    rows.push(row);
+    Ok(rows)
+}
+
+fn render(rows: &[Row], markdown: bool) -> String {
+    let mut out = String::new();
+    if markdown {
+        let line = |cells: &[String]| format!("| {} |\n", cells.join(" | "));
+        out.push_str(&line(&HEADER.map(String::from)));
+        out.push_str(&line(&HEADER.map(|_| "---".to_string())));
+        for r in rows {
+            out.push_str(&line(r));
+        }
+        return out;
+    }
+    let widths: Vec<usize> = (0..HEADER.len())
+        .map(|j| {
+            rows.iter()
+                .map(|r| r[j].chars().count())
+                .chain([HEADER[j].len()])
+                .max()
+                .unwrap_or(0)
+        })
+        .collect();
+    let mut line = |cells: Vec<&str>| {
+        for (j, c) in cells.iter().enumerate() {
+            let _ = write!(out, "{c:<w$}  ", w = widths[j]);
+        }
+        out.push('\n');
+    };
+    line(HEADER.to_vec());
+    for r in rows {
+        line(r.iter().map(String::as_str).collect());
+    }
+    out
+}
+
+/// Runs the bench and prints the table.
+fn run(flags: Flags) -> Result<ExitCode> {
+    for name in &flags.cases {
+        if !CASES.iter().any(|c| c.name == name) {
+            let names: Vec<&str> = CASES.iter().map(|c| c.name).collect();
+            bail!(
+                "--case {name}: no such case; choose from {}",
+                names.join(", ")
+            );
+        }
+    }
+    let chosen: Vec<&Case> = CASES
+        .iter()
+        .filter(|c| flags.cases.is_empty() || flags.cases.iter().any(|n| n == c.name))
+        .filter(|c| !flags.quick || c.quick || !flags.cases.is_empty())
+        .collect();
+    let mut measured = Vec::new();
+    let mut rows = Vec::new();
+    for case in &chosen {
+        for &solver in &flags.solvers {
+            eprint!("\r{:<60}", format!("bench: {} ({solver})", case.name));
+            let m = measure(case, solver, &flags)?;
+            rows.push(case_row(&m));
+            measured.push(m);
+        }
+    }
+    rows.extend(derived_rows(&measured, &flags.solvers));
+    if flags.cases.is_empty() {
+        for &solver in &flags.solvers {
+            eprint!(
+                "\r{:<60}",
+                format!("bench: whole transfer command ({solver})")
+            );
+            rows.push(whole_command(solver, flags.quick)?);
+            eprint!("\r{:<60}", format!("bench: batch throughput ({solver})"));
+            rows.extend(batch_throughput(solver, flags.quick)?);
+        }
+    }
+    eprint!("\r{:<60}\r", "");
+    print!("{}", render(&rows, flags.markdown));
+    println!(
+        "\n(release build, this machine; times are medians of the timing runs; iterations: \
+         Newton steps (native) or interior-point iterations (Clarabel) per solve or step; \
+         peak MiB: resident memory above the start of the case's first run; error: Hertz \
+         peak-pressure error for hertz_*, else the worst relative residual)"
+    );
+    Ok(ExitCode::SUCCESS)
+}

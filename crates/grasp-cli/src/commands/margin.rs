@@ -1,0 +1,346 @@
+//! `grasp margin`: disturbance margins of one grasp ([`grasp_model::analysis::margin`]) as a table, JSON,
+//! a picture ([`crate::margin_plot`]) and a Rerun recording of the wrench surface.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{bail, Context, Result};
+use grasp_model::analysis::margin::{
+    axis_directions, disturbance_margins, plane_directions, spread_directions, DirectionMargin,
+    Failure, MarginOptions, MarginReport, WrenchDirection,
+};
+use grasp_model::scene::scene_format::ModelKind;
+use grasp_model::{ContactState, GraspModel, SolveOptions, SolverChoice};
+use grasp_transfer::{RerunSink, RunInfo, Sink};
+use serde::Deserialize;
+
+use crate::limits::MemoryArg;
+use crate::load_scene::load_scene;
+use crate::pictures::margin_plot::{label, MarginPlot};
+use crate::pictures::picture;
+use crate::{limits, output};
+
+/// Disturbance margins: per direction of an extra wrench on the object, the largest
+/// magnitude the grasp takes before it fails (no equilibrium, or coulomb: a finger slides as
+/// a whole), with the finger that fails first.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (JSON).
+    pub scene: PathBuf,
+    /// Directions: a number N (the axis directions, then combined ones spread over the
+    /// sphere), `planes:K` (K force directions around each coordinate plane, for the polar
+    /// plot, and the couple axes) or a JSON file with a list of {"force": [N], "torque":
+    /// [N m]}. Default: the axis directions.
+    #[arg(long, value_name = "N|planes:K|FILE")]
+    pub directions: Option<String>,
+    /// Contact law to judge the grasp with (default: the scene's).
+    #[arg(long, value_parser = ["energy", "coulomb"])]
+    pub model: Option<String>,
+    /// Characteristic length L, m: a magnitude s means a force s N and a couple s L N m.
+    /// Default: the grasp's reach from the centroid of the contacts.
+    #[arg(long, value_name = "M")]
+    pub length: Option<f64>,
+    /// Relative width of the final bracket of each margin.
+    #[arg(long, default_value_t = 1e-3, value_name = "REL")]
+    pub tolerance: f64,
+    /// Write the report as JSON.
+    #[arg(long, value_name = "OUT.json")]
+    pub json: Option<PathBuf>,
+    /// Write a picture of the margins (.svg or .png): polar plots of the force directions
+    /// in each coordinate plane and a bar per direction.
+    #[arg(long, value_name = "F.svg|F.png")]
+    pub plot: Option<PathBuf>,
+    /// Write a Rerun recording of the grasp with its wrench surface.
+    #[arg(long, value_name = "F.rrd")]
+    pub rrd: Option<PathBuf>,
+    /// Overwrite output files that already exist.
+    #[arg(long)]
+    pub force: bool,
+    /// Solver: `auto`, `native` or `clarabel`.
+    #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+    pub solver: SolverChoice,
+    #[command(flatten)]
+    pub memory: MemoryArg,
+}
+
+/// `grasp margin`.
+pub fn execute(args: Args) -> Result<ExitCode> {
+    let flags = Flags {
+        directions: args.directions,
+        model: args.model,
+        length_m: args.length,
+        tolerance: args.tolerance,
+        solver: args.solver,
+        max_memory: args.memory.max_memory,
+    };
+    let outputs = Outputs {
+        json: args.json,
+        plot: args.plot,
+        rrd: args.rrd,
+        force: args.force,
+    };
+    run(&args.scene, flags, &outputs)
+}
+
+/// What to compute.
+pub struct Flags {
+    /// `N` or a JSON file of directions.
+    pub directions: Option<String>,
+    /// Contact law override.
+    pub model: Option<String>,
+    /// Characteristic length, m.
+    pub length_m: Option<f64>,
+    /// Relative bracket width.
+    pub tolerance: f64,
+    /// Solver.
+    pub solver: SolverChoice,
+    /// Memory limit, bytes.
+    pub max_memory: Option<u64>,
+}
+
+/// Where to write.
+pub struct Outputs {
+    pub json: Option<PathBuf>,
+    pub plot: Option<PathBuf>,
+    pub rrd: Option<PathBuf>,
+    pub force: bool,
+}
+
+/// One direction as written in a directions file: a force (N) and a couple (N m), either
+/// may be omitted.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DirectionSpec {
+    #[serde(default)]
+    force: [f64; 3],
+    #[serde(default)]
+    torque: [f64; 3],
+}
+
+/// The directions the user asked for.
+fn directions(
+    model: &GraspModel,
+    arg: Option<&str>,
+    length_m: f64,
+) -> Result<Vec<WrenchDirection>> {
+    let Some(arg) = arg else {
+        return Ok(axis_directions(model));
+    };
+    if let Some(k) = arg.strip_prefix("planes:") {
+        return match k.parse::<usize>() {
+            Ok(k) if (4..=360).contains(&k) => Ok(plane_directions(model, k)),
+            _ => bail!("--directions planes:{k}: give between 4 and 360 directions per plane, e.g. planes:24"),
+        };
+    }
+    if let Ok(n) = arg.parse::<usize>() {
+        if !(1..=10_000).contains(&n) {
+            bail!("--directions {n}: give between 1 and 10000 directions, or a JSON file");
+        }
+        return Ok(spread_directions(model, n));
+    }
+    let path = Path::new(arg);
+    let text = limits::read_input(path, "directions file")?;
+    let specs: Vec<DirectionSpec> = serde_json::from_str(&text).with_context(|| {
+        format!(
+            "{arg} is not a list of directions; write [{{\"force\": [0, 0, -1]}}, {{\"torque\": \
+             [1, 0, 0]}}] (force in N, couple in N m)"
+        )
+    })?;
+    if specs.is_empty() {
+        bail!("{arg} lists no direction; give at least one");
+    }
+    specs
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            WrenchDirection::of_wrench(d.force, d.torque, length_m).with_context(|| {
+                format!("{arg}: directions[{i}] has no finite nonzero force or torque; give one")
+            })
+        })
+        .collect()
+}
+
+/// Runs the command.
+fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
+    if !(flags.tolerance.is_finite() && flags.tolerance > 0.0 && flags.tolerance < 0.5) {
+        bail!(
+            "--tolerance {}: give a relative width in (0, 0.5), e.g. 1e-3",
+            flags.tolerance
+        );
+    }
+    if let Some(l) = flags.length_m {
+        if !(l.is_finite() && l > 0.0) {
+            bail!("--length {l}: give a length in metres > 0, e.g. 0.05");
+        }
+    }
+    let plot_format = outputs
+        .plot
+        .as_deref()
+        .map(|p| picture::Format::of(p, "--plot"))
+        .transpose()?;
+    let targets: Vec<&Path> = [&outputs.json, &outputs.plot, &outputs.rrd]
+        .into_iter()
+        .flatten()
+        .map(PathBuf::as_path)
+        .collect();
+    output::check_targets(&targets, &[scene_path], outputs.force)?;
+    let mut scene = load_scene(scene_path)?;
+    match flags.model.as_deref() {
+        Some("coulomb") => scene.model = ModelKind::Coulomb,
+        Some("energy") => scene.model = ModelKind::Energy,
+        _ => {}
+    }
+    let (limit, what) = limits::memory_limit(flags.max_memory);
+    limits::check_memory(&scene, scene_path, (limit, &what))?;
+    let model = GraspModel::from_scene(&scene)
+        .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
+    let length_m = flags.length_m.unwrap_or(model.scales.length_m);
+    let dirs = directions(&model, flags.directions.as_deref(), length_m)?;
+    let options = MarginOptions {
+        length_m: Some(length_m),
+        relative_tolerance: flags.tolerance,
+        ..MarginOptions::default()
+    };
+    let solve = SolveOptions {
+        solver: flags.solver,
+        ..SolveOptions::default()
+    };
+    let report = disturbance_margins(&model, &ContactState::new(&model), solve, &dirs, &options)?;
+    print!("{}", table(scene_path, &report));
+    if let Some(out) = &outputs.json {
+        let text = serde_json::to_string_pretty(&report)?;
+        output::write_new(out, text.as_bytes(), outputs.force)?;
+        println!("wrote {}", out.display());
+    }
+    if let (Some(out), Some(format)) = (&outputs.plot, plot_format) {
+        let plot = MarginPlot {
+            model: &model,
+            report: &report,
+        };
+        output::write_new(out, &picture::render(&plot, format)?, outputs.force)?;
+        println!("wrote {}", out.display());
+    }
+    if let Some(out) = &outputs.rrd {
+        let run = RunInfo {
+            scene: &scene,
+            geometry: &model,
+            margins: false,
+        };
+        let mut sink = RerunSink::create(out)?;
+        sink.begin(&run)?;
+        sink.log_wrench_surface(&run, &report)?;
+        sink.finish()?;
+        println!("wrote {}", out.display());
+    }
+    // Exit 2 when the grasp does not hold undisturbed (no direction was searched); a direction
+    // the grasp does not resist at all (margin 0) is a result like any other.
+    let holds = report.directions.iter().any(|d| d.solves > 0);
+    if !holds {
+        let why = report.directions[0].failure.as_ref().map(failure_words_of);
+        println!(
+            "the grasp does not hold without disturbance: {}",
+            why.unwrap_or_default()
+        );
+    }
+    Ok(if holds {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
+    })
+}
+
+/// A failure with its reason.
+fn failure_words_of(f: &Failure) -> String {
+    match f {
+        Failure::Slides { finger } => format!("{finger} slides as a whole"),
+        Failure::NoEquilibrium { reason } | Failure::NoConvergence { reason } => reason.clone(),
+    }
+}
+
+fn failure_words(m: &DirectionMargin) -> String {
+    match &m.failure {
+        None => "holds up to the cap".into(),
+        Some(Failure::Slides { finger }) => format!("{finger} slides"),
+        Some(Failure::NoEquilibrium { .. }) => "no equilibrium".into(),
+        Some(Failure::NoConvergence { .. }) => "no convergence".into(),
+    }
+}
+
+/// The report as a table.
+fn table(scene: &Path, r: &MarginReport) -> String {
+    let mut s = String::new();
+    let crit = match r.model {
+        ModelKind::Energy => "energy: an equilibrium within the friction cones",
+        ModelKind::Coulomb => {
+            "coulomb: equilibrium and every loaded finger keeps a sticking element"
+        }
+    };
+    let _ = writeln!(
+        s,
+        "{}: disturbance margins ({crit}); magnitude s = force s N at the centre of mass plus \
+         couple s L N m, L = {:.4} m",
+        scene.display(),
+        r.length_m
+    );
+    let _ = writeln!(
+        s,
+        "{:<4}{:<44}{:>14}{:>14}{:>12}  {:<22}{:>8}",
+        "#", "direction", "margin [N]", "torque [N m]", "first", "failure", "solves"
+    );
+    for (i, m) in r.directions.iter().enumerate() {
+        let torque = m.torque_nm.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let margin = if m.bounded {
+            format!("{:.5e}", m.margin_n)
+        } else {
+            format!(">{:.3e}", m.margin_n)
+        };
+        let _ = writeln!(
+            s,
+            "{:<4}{:<44}{:>14}{:>14.4e}{:>12}  {:<22}{:>8}",
+            i,
+            label(&m.direction),
+            margin,
+            torque,
+            m.failing_finger.as_deref().unwrap_or("-"),
+            failure_words(m),
+            m.solves
+        );
+    }
+    if !r.sliding_undisturbed.is_empty() {
+        let _ = writeln!(
+            s,
+            "already sliding without disturbance (not judged by sliding): {}",
+            r.sliding_undisturbed.join(", ")
+        );
+    }
+    if !r.unresisted.is_empty() && r.unresisted.len() < r.directions.len() {
+        let _ = writeln!(
+            s,
+            "not resisted at all (margin 0; the commanded loads cannot react): {}",
+            r.unresisted
+                .iter()
+                .map(|&i| format!("#{i}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    let w = &r.directions[r.smallest];
+    let _ = writeln!(
+        s,
+        "smallest margin: {:.5e} N along #{} {} ({}, first to fail: {})",
+        w.margin_n,
+        r.smallest,
+        label(&w.direction),
+        failure_words(w),
+        w.failing_finger.as_deref().unwrap_or("-")
+    );
+    let _ = writeln!(
+        s,
+        "cost: {} solves in {:.1} ms (directions in parallel; each a warm-started step from the \
+         last magnitude that held)",
+        r.solves,
+        r.time_s * 1e3
+    );
+    s
+}

@@ -1,0 +1,85 @@
+//! `grasp plot`: the force diagram of one solve, as SVG or PNG.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice};
+
+use crate::limits::{self, MemoryArg};
+use crate::load_scene::load_scene;
+use crate::output;
+use crate::pictures::{force_diagram, picture};
+
+/// Force diagram of one solve (SVG or PNG): two orthographic views with the object's
+/// outline, each finger's normal and friction force, its friction cone, and the weight.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (JSON).
+    pub scene: PathBuf,
+    /// The picture to write: .svg or .png (by the extension).
+    #[arg(long, value_name = "F.svg|F.png")]
+    pub out: PathBuf,
+    /// Overwrite OUT if it exists.
+    #[arg(long)]
+    pub force: bool,
+    /// Solver: `auto`, `native` or `clarabel`.
+    #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+    pub solver: SolverChoice,
+    #[command(flatten)]
+    pub memory: MemoryArg,
+}
+
+/// `grasp plot`.
+pub fn execute(args: Args) -> Result<ExitCode> {
+    plot_command(
+        &args.scene,
+        &args.out,
+        args.force,
+        args.solver,
+        args.memory.max_memory,
+    )
+}
+
+/// `grasp plot`: solves the scene and writes its force diagram.
+fn plot_command(
+    scene_path: &Path,
+    out: &Path,
+    force: bool,
+    solver: SolverChoice,
+    max_memory: Option<u64>,
+) -> Result<ExitCode> {
+    let format = picture::Format::of(out, "--out")?;
+    output::check_targets(&[out], &[scene_path], force)?;
+    let scene = load_scene(scene_path)?;
+    let (limit, what) = limits::memory_limit(max_memory);
+    limits::check_memory(&scene, scene_path, (limit, &what))?;
+    let model = GraspModel::from_scene(&scene)
+        .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
+    let options = SolveOptions {
+        solver,
+        ..SolveOptions::default()
+    };
+    let solution = GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
+    let title = scene_path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let diagram = force_diagram::ForceDiagram {
+        scene: &scene,
+        model: &model,
+        solution: &solution,
+        title: &title,
+    };
+    output::write_new(out, &picture::render(&diagram, format)?, force)?;
+    println!(
+        "{}: {}; wrote {}",
+        title,
+        solution.status.as_str(),
+        out.display()
+    );
+    Ok(if solution.status.has_forces() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
+    })
+}

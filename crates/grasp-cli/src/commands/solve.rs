@@ -1,0 +1,165 @@
+//! `grasp solve`: one grasp solved and reported (table, JSON, sensitivities, frames).
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice};
+
+use crate::limits::{self, MemoryArg};
+use crate::load_scene::load_scene;
+use crate::{output, report};
+
+/// Solve one grasp: normal and friction forces of every finger, element by element.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (JSON; see `grasp schema`).
+    pub scene: PathBuf,
+    /// Write the whole solution (elements, residuals, timing) as JSON to this file.
+    #[arg(long, value_name = "OUT.json")]
+    pub json: Option<PathBuf>,
+    /// Overwrite output files that already exist.
+    #[arg(long)]
+    pub force: bool,
+    /// Solver tolerance on the scaled program (feasibility and gap).
+    #[arg(long, default_value_t = 1e-10, value_name = "TOL")]
+    pub tolerance: f64,
+    /// Also estimate the discretisation error from a solve on grids half as fine
+    /// (Richardson, order 1) and report its extra cost.
+    #[arg(long)]
+    pub error_estimate: bool,
+    /// Grow curved patches whose boundary carries load until it does not (thesis 2.2.1).
+    #[arg(long)]
+    pub auto_patch: bool,
+    /// Solver: `auto` (native, falling back to Clarabel when it does not converge),
+    /// `native` or `clarabel`.
+    #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+    pub solver: SolverChoice,
+    /// Also compute the derivatives of every finger's and element's forces with respect to
+    /// an extra force and couple on the object and to each commanded load (from the KKT
+    /// system at the active set); printed per finger and written into the JSON.
+    #[arg(long)]
+    pub sensitivities: bool,
+    /// Print what the object's shape gave each finger (contact point, inward normal,
+    /// tangent, principal curvatures and the radii written into the scene), the shape's
+    /// volume and mass, and the shape checks' warnings.
+    #[arg(long)]
+    pub explain_frames: bool,
+    #[command(flatten)]
+    pub memory: MemoryArg,
+}
+
+/// `grasp solve`.
+pub fn execute(args: Args) -> Result<ExitCode> {
+    let Args {
+        scene,
+        json,
+        force,
+        tolerance,
+        error_estimate,
+        auto_patch,
+        solver,
+        sensitivities,
+        explain_frames,
+        memory,
+    } = args;
+    if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1e-2) {
+        anyhow::bail!("--tolerance is {tolerance}; give a value in (0, 1e-2), e.g. 1e-10");
+    }
+    let outputs: Vec<&Path> = json.iter().map(PathBuf::as_path).collect();
+    output::check_targets(&outputs, &[&scene], force)?;
+    let scene_obj = load_scene(&scene)?;
+    let (limit, what) = limits::memory_limit(memory.max_memory);
+    limits::check_memory(&scene_obj, &scene, (limit, &what))?;
+    if explain_frames {
+        print!("{}", report::hertz_table(&scene_obj)?);
+    }
+    if let Some(r) = &scene_obj.shape_report {
+        if explain_frames {
+            print!("{}", report::frames_table(r));
+        }
+        for w in &r.warnings {
+            println!("warning: {w}");
+        }
+    } else if explain_frames {
+        println!("frames: the scene has no object.shape; every frame is as written");
+    }
+    let options = SolveOptions {
+        tolerance,
+        solver,
+        ..SolveOptions::default()
+    };
+    let t0 = Instant::now();
+    let (scene_obj, model, solution, build_s, sens) = if auto_patch {
+        let a = grasp_model::analysis::patch_sizing::auto_patch(&scene_obj, options, 6)?;
+        for line in &a.log {
+            println!("auto-patch: {line}");
+        }
+        // The derivative is taken at a solver's own answer: solve the final patch again.
+        let mut solver = GraspSolver::new(&a.model, options);
+        let sens = match sensitivities {
+            true => {
+                let again = solver.solve(&a.model, &a.model.scene_loads_n())?;
+                sensitivities_of(&mut solver, &a.model, &again)?
+            }
+            false => None,
+        };
+        (a.scene, a.model, a.solution, 0.0, sens)
+    } else {
+        let model = GraspModel::from_scene(&scene_obj)
+            .with_context(|| format!("{} is not a usable scene", scene.display()))?;
+        let build_s = t0.elapsed().as_secs_f64();
+        // The solve's time covers the program assembly (GraspSolver::new) too.
+        let mut solver = GraspSolver::new(&model, options);
+        let solution = solver.solve(&model, &model.scene_loads_n())?;
+        let sens = match sensitivities {
+            true => sensitivities_of(&mut solver, &model, &solution)?,
+            false => None,
+        };
+        (scene_obj, model, solution, build_s, sens)
+    };
+    print!(
+        "{}",
+        report::solution_table(&scene, &model, &solution, build_s)
+    );
+    if error_estimate && solution.status.has_forces() {
+        println!(
+            "{}",
+            report::error_estimate_line(&scene_obj, &solution, options)?
+        );
+    }
+    if let Some((sens, time_s)) = &sens {
+        print!("{}", report::sensitivity_table(sens, *time_s));
+    }
+    if let Some(out) = &json {
+        // Every outcome is written, "no equilibrium" (exit 2) included: it is the result.
+        let mut value = serde_json::to_value(&solution)?;
+        if let Some((sens, _)) = &sens {
+            value["sensitivities"] = serde_json::to_value(sens)?;
+        }
+        let text = serde_json::to_string_pretty(&value)?;
+        output::write_new(out, text.as_bytes(), force)?;
+        println!("wrote {}", out.display());
+    }
+    Ok(if solution.status.has_forces() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
+    })
+}
+
+/// The sensitivities of `solution` (this solver's last answer) with their time, s; `None`
+/// without forces.
+fn sensitivities_of(
+    solver: &mut GraspSolver,
+    model: &GraspModel,
+    solution: &grasp_model::Solution,
+) -> Result<Option<(grasp_model::Sensitivities, f64)>> {
+    if !solution.status.has_forces() {
+        return Ok(None);
+    }
+    let t = Instant::now();
+    let sens = solver.sensitivities(model, solution)?;
+    Ok(Some((sens, t.elapsed().as_secs_f64())))
+}

@@ -1,0 +1,378 @@
+//! `grasp study`: a grid-refinement table (and CSV, plot) so a user can pick a grid for the
+//! accuracy they need.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{bail, Context, Result};
+use grasp_model::analysis::refinement::{self, refinement_study, StudyReference, StudyRow};
+use grasp_model::SolveOptions;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::limits::MemoryArg;
+use crate::output::{check_targets, commit_all, write_all, PendingOutput};
+use crate::pictures::picture::{self, draw_err, Picture};
+
+/// Peak resident memory of this process (Linux `VmHWM`), bytes. Grids run in ascending order,
+/// so after each solve it is that grid's peak.
+fn peak_memory_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// Grid-refinement study: error, unknowns, wall time and peak memory per grid.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (JSON).
+    pub scene: PathBuf,
+    /// Elements along the first side of every patch, one solve each (aspect ratio kept).
+    #[arg(long, value_delimiter = ',', default_value = "5,9,17")]
+    pub grids: Vec<usize>,
+    /// Error reference: `hertz` (closed form; one spherical tip on a flat) or `finest`
+    /// (the finest grid of the study).
+    #[arg(long, default_value = "finest", value_parser = ["hertz", "finest"])]
+    pub reference: String,
+    /// Write the table as CSV.
+    #[arg(long, value_name = "F.csv")]
+    pub csv: Option<PathBuf>,
+    /// Write an error-versus-time plot (.svg or .png).
+    #[arg(long, value_name = "F.svg|F.png")]
+    pub plot: Option<PathBuf>,
+    /// Overwrite output files that already exist.
+    #[arg(long)]
+    pub force: bool,
+    /// Solver: `auto`, `native` or `clarabel`.
+    #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+    pub solver: grasp_model::SolverChoice,
+    #[command(flatten)]
+    pub memory: MemoryArg,
+}
+
+/// `grasp study`.
+pub fn execute(args: Args) -> Result<ExitCode> {
+    let outputs = Outputs {
+        csv: args.csv.as_deref(),
+        plot: args.plot.as_deref(),
+        force: args.force,
+    };
+    run(
+        &args.scene,
+        &args.grids,
+        &args.reference,
+        outputs,
+        args.memory.max_memory,
+        args.solver,
+    )
+}
+
+/// Output files of a study.
+pub struct Outputs<'a> {
+    pub csv: Option<&'a Path>,
+    pub plot: Option<&'a Path>,
+    pub force: bool,
+}
+
+fn run(
+    scene: &Path,
+    grids: &[usize],
+    reference: &str,
+    out: Outputs,
+    max_memory: Option<u64>,
+    solver: grasp_model::SolverChoice,
+) -> Result<ExitCode> {
+    if grids.contains(&0) {
+        bail!("--grids has a 0; give element counts >= 1, e.g. --grids 5,9,17");
+    }
+    let (csv, plot) = (out.csv, out.plot);
+    let plot_format = plot.map(|p| picture::Format::of(p, "--plot")).transpose()?;
+    let targets: Vec<&Path> = [csv, plot].into_iter().flatten().collect();
+    check_targets(&targets, &[scene], out.force)?;
+    let scene_obj = crate::load_scene::load_scene(scene)?;
+    let limit = crate::limits::memory_limit(max_memory);
+    let finest = grids.iter().copied().max().unwrap_or(1);
+    let finest_scene = refinement::with_grids(&scene_obj, |_, g| {
+        refinement::grid_with_first_side(g, finest)
+    });
+    crate::limits::check_memory(&finest_scene, scene, (limit.0, &limit.1)).with_context(|| {
+        format!("the finest grid of the study ({finest} elements along the first side)")
+    })?;
+    let reference = if reference == "hertz" {
+        StudyReference::Hertz
+    } else {
+        StudyReference::FinestGrid
+    };
+    let rows = match refinement_study(
+        &scene_obj,
+        grids,
+        reference,
+        SolveOptions {
+            solver,
+            ..SolveOptions::default()
+        },
+        peak_memory_bytes,
+    ) {
+        Ok(r) => r,
+        Err(e) => bail!("study of {} failed: {e}", scene.display()),
+    };
+    let (e1, e2) = match reference {
+        StudyReference::Hertz => ("p0 error", "approach error"),
+        StudyReference::FinestGrid => ("force error", ""),
+    };
+    print!("{}", table_text(scene, reference, &rows, e1, e2));
+    let mut pending = Vec::new();
+    if let Some(p) = csv {
+        let (o, f) = PendingOutput::create(p)?;
+        write_all(&o, f, csv_text(&rows).as_bytes())?;
+        pending.push(o);
+    }
+    if let (Some(p), Some(format)) = (plot, plot_format) {
+        let title = scene.display().to_string();
+        let chart = StudyPlot {
+            rows: &rows,
+            errors: (e1, e2),
+            title: &title,
+        };
+        // A picture that cannot be drawn costs the study no other output.
+        match picture::render(&chart, format) {
+            Ok(bytes) => {
+                let (o, f) = PendingOutput::create(p)?;
+                write_all(&o, f, &bytes)?;
+                pending.push(o);
+            }
+            Err(e) => eprintln!("warning: the plot {} was not written: {e:#}", p.display()),
+        }
+    }
+    let written: Vec<std::path::PathBuf> =
+        pending.iter().map(|o| o.target().to_path_buf()).collect();
+    commit_all(pending)?;
+    for p in written {
+        println!("wrote {}", p.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The Markdown table of the study.
+fn table_text(
+    scene: &Path,
+    reference: StudyReference,
+    rows: &[StudyRow],
+    e1: &str,
+    e2: &str,
+) -> String {
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "{}: error against {}",
+        scene.display(),
+        if reference == StudyReference::Hertz {
+            "the Hertz closed form"
+        } else {
+            "the finest grid (force error over the load)"
+        }
+    );
+    let _ = writeln!(
+        t,
+        "| grid | unknowns | {e1} | {} wall time [s] | peak memory [MiB] |",
+        if e2.is_empty() {
+            String::new()
+        } else {
+            format!("{e2} |")
+        }
+    );
+    let _ = writeln!(
+        t,
+        "|---|---|---|{}---|---|",
+        if e2.is_empty() { "" } else { "---|" }
+    );
+    for r in rows {
+        let _ = writeln!(
+            t,
+            "| {}x{} | {} | {:.2e} | {}{:.3} | {} |",
+            r.grid[0],
+            r.grid[1],
+            r.unknowns,
+            r.error,
+            r.error_2.map_or(String::new(), |e| format!("{e:.2e} | ")),
+            r.wall_time_s,
+            r.peak_memory_bytes
+                .map_or("-".into(), |b| format!("{:.0}", b as f64 / 1048576.0))
+        );
+    }
+    t
+}
+
+/// The study as CSV (numbers only: no field needs quoting).
+fn csv_text(rows: &[StudyRow]) -> String {
+    let mut c = String::from(
+        "nx,ny,unknowns,error,error_2,wall_time_s,peak_memory_bytes,equilibrium_residual\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            c,
+            "{},{},{},{},{},{},{},{}",
+            r.grid[0],
+            r.grid[1],
+            r.unknowns,
+            r.error,
+            r.error_2.map_or(String::new(), |e| e.to_string()),
+            r.wall_time_s,
+            r.peak_memory_bytes.map_or(String::new(), |b| b.to_string()),
+            r.equilibrium_residual
+        );
+    }
+    c
+}
+
+/// Log-log plot of error against wall time, one point per grid labelled with it; `errors`
+/// names the first and (if not empty) second error column.
+struct StudyPlot<'a> {
+    rows: &'a [StudyRow],
+    errors: (&'a str, &'a str),
+    title: &'a str,
+}
+
+impl Picture for StudyPlot<'_> {
+    fn size(&self) -> (u32, u32) {
+        (700, 460)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        draw_study(self.rows, self.errors, self.title, root)
+    }
+}
+
+fn draw_study<DB: DrawingBackend>(
+    rows: &[StudyRow],
+    (e1, e2): (&str, &str),
+    title: &str,
+    root: &DrawingArea<DB, Shift>,
+) -> Result<()> {
+    // Points of a log-log plot need positive errors; each keeps its row for the label.
+    let pts: Vec<(f64, f64, Option<f64>, &StudyRow)> = rows
+        .iter()
+        .filter(|r| r.error > 0.0 && r.wall_time_s > 0.0)
+        .map(|r| (r.wall_time_s, r.error, r.error_2.filter(|e| *e > 0.0), r))
+        .collect();
+    let decade = |v: f64, up: bool| {
+        10f64.powf(if up {
+            v.log10().ceil()
+        } else {
+            v.log10().floor()
+        })
+    };
+    let xs = pts.iter().map(|p| p.0);
+    let ys = pts.iter().flat_map(|p| std::iter::once(p.1).chain(p.2));
+    let (x0, x1) = (
+        decade(xs.clone().fold(f64::INFINITY, f64::min), false),
+        decade(xs.fold(0.0, f64::max), true),
+    );
+    let (y0, y1) = (
+        decade(ys.clone().fold(f64::INFINITY, f64::min), false),
+        decade(ys.fold(0.0, f64::max), true),
+    );
+    let (x0, y0) = (
+        if x0.is_finite() { x0 } else { 1e-3 },
+        if y0.is_finite() { y0 } else { 1e-6 },
+    );
+    let (x1, y1) = (x1.max(x0 * 10.0), y1.max(y0 * 10.0));
+    root.fill(&WHITE).map_err(draw_err)?;
+    let mut chart = ChartBuilder::on(root)
+        .caption(
+            format!("Error against run time: {title}"),
+            ("sans-serif", 15),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(64)
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .map_err(draw_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("wall time [s]")
+        .y_desc("relative error")
+        .x_label_formatter(&|v| format!("{v:.0e}"))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .draw()
+        .map_err(draw_err)?;
+    for (k, (label, color)) in [(e1, RGBColor(214, 39, 40)), (e2, RGBColor(31, 119, 180))]
+        .into_iter()
+        .enumerate()
+    {
+        if label.is_empty() {
+            continue;
+        }
+        let series: Vec<(f64, f64, &StudyRow)> = pts
+            .iter()
+            .filter_map(|p| if k == 0 { Some(p.1) } else { p.2 }.map(|v| (p.0, v, p.3)))
+            .collect();
+        chart
+            .draw_series(LineSeries::new(series.iter().map(|p| (p.0, p.1)), &color))
+            .map_err(draw_err)?
+            .label(label)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+        for (t, v, r) in &series {
+            let grid = format!("{}x{}", r.grid[0], r.grid[1]);
+            chart
+                .draw_series(std::iter::once(Circle::new((*t, *v), 3, color.filled())))
+                .map_err(draw_err)?;
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    grid,
+                    (*t, *v),
+                    ("sans-serif", 10),
+                )))
+                .map_err(draw_err)?;
+        }
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE)
+        .border_style(BLACK)
+        .draw()
+        .map_err(draw_err)?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(n: usize, error: f64) -> StudyRow {
+        StudyRow {
+            grid: [n, n],
+            unknowns: 3 * n * n,
+            error,
+            error_2: None,
+            wall_time_s: 0.01 * n as f64,
+            peak_memory_bytes: None,
+            equilibrium_residual: 0.0,
+        }
+    }
+
+    /// A zero error (the reference grid itself) has no point on a log plot; the labels of the
+    /// other points stay with their own grids.
+    #[test]
+    fn plot_labels_stay_with_their_points_when_an_error_is_zero() {
+        let rows = [row(3, 1e-2), row(5, 0.0), row(9, 1e-3)];
+        let chart = StudyPlot {
+            rows: &rows,
+            errors: ("force error", ""),
+            title: "t",
+        };
+        let svg =
+            String::from_utf8(picture::render(&chart, picture::Format::Svg).unwrap()).unwrap();
+        assert!(!svg.contains("5x5"), "{svg}");
+        // The x of the text element holding a grid's label.
+        let label = |g: &str| {
+            let i = svg.find(g).unwrap();
+            let c = svg[..i].rfind("<text x=\"").unwrap() + 9;
+            svg[c..].split('"').next().unwrap().parse::<f64>().unwrap()
+        };
+        // The 9x9 label sits at the 9x9 point, right of the 3x3 one (larger wall time).
+        assert!(label("9x9") > label("3x3"), "{svg}");
+    }
+}

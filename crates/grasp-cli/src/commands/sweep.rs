@@ -1,0 +1,90 @@
+//! `grasp sweep`: a grid of variants of one scene, written as JSONL for `grasp batch` or run
+//! at once.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{bail, Result};
+use grasp_batch::sweep::{expand, Axis};
+use grasp_batch::BatchInput;
+use grasp_model::SolverChoice;
+
+use crate::commands::batch::{run, Flags};
+use crate::limits::MemoryArg;
+use crate::{limits, output};
+
+/// Expand a grid of variants of one scene (`--vary PATH=START:END:COUNT` or
+/// `PATH=V1,V2,...`, e.g. `fingers[*].friction.mu=0.2:1.0:9`) into JSONL for `batch`, or
+/// run them (`--run`).
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (JSON).
+    pub scene: PathBuf,
+    /// One axis of the grid (repeat; the last varies fastest).
+    #[arg(long = "vary", value_name = "PATH=RANGE", required = true)]
+    pub vary: Vec<String>,
+    /// The variants (JSONL), or with --run their results.
+    #[arg(long, value_name = "OUT.jsonl")]
+    pub out: PathBuf,
+    /// Solve the variants now (as `grasp batch` would) and write their results.
+    #[arg(long)]
+    pub run: bool,
+    /// Worker threads for --run (default: one per core).
+    #[arg(long, value_name = "J")]
+    pub jobs: Option<usize>,
+    /// Overwrite OUT if it exists.
+    #[arg(long)]
+    pub force: bool,
+    /// Solver: `auto`, `native` or `clarabel`.
+    #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+    pub solver: SolverChoice,
+    #[command(flatten)]
+    pub memory: MemoryArg,
+}
+
+/// `grasp sweep`.
+pub fn execute(args: Args) -> Result<ExitCode> {
+    let flags = Flags {
+        out: args.out,
+        resume: false,
+        force: args.force,
+        shard: None,
+        jobs: args.jobs,
+        solver: args.solver,
+        max_memory: args.memory.max_memory,
+    };
+    sweep(&args.scene, &args.vary, args.run, &flags)
+}
+
+/// `grasp sweep SCENE --vary ... --out F`: the variants as JSONL, or (`run`) their results.
+fn sweep(scene_path: &Path, vary: &[String], run_it: bool, flags: &Flags) -> Result<ExitCode> {
+    // The base scene must be valid itself; its variants are checked line by line.
+    crate::load_scene::load_scene(scene_path)?;
+    let text = limits::read_input(scene_path, "scene file")?;
+    let scene: serde_json::Value = serde_json::from_str(&text)?;
+    let axes: Vec<Axis> = vary
+        .iter()
+        .map(|v| Axis::parse(v))
+        .collect::<Result<_, _>>()?;
+    if axes.is_empty() {
+        bail!("--vary: give at least one, e.g. --vary 'fingers[*].friction.mu=0.2:1.0:9'");
+    }
+    let stem = scene_path
+        .file_stem()
+        .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
+    let lines: Vec<String> = expand(&scene, &stem, &axes)?
+        .into_iter()
+        .map(|(id, vary, scene)| {
+            serde_json::json!({"id": id, "vary": vary, "scene": scene}).to_string()
+        })
+        .collect();
+    if run_it {
+        return run(&BatchInput::Lines(lines), Some(scene_path), flags);
+    }
+    output::check_targets(&[&flags.out], &[scene_path], flags.force)?;
+    let mut body = lines.join("\n");
+    body.push('\n');
+    output::write_new(&flags.out, body.as_bytes(), flags.force)?;
+    println!("{} variants; wrote {}", lines.len(), flags.out.display());
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,460 @@
+//! `grasp transfer`: validated inputs, sinks writing temporary files, a progress bar, and the
+//! closing summary. Outputs are moved into place only when the run completes (see `output`).
+
+use std::fmt::Write as _;
+use std::fs::File;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use grasp_model::Scene;
+use grasp_transfer::{
+    CsvSink, McapSink, RerunSink, Schedule, Sink, SqueezeOutcome, TransferOptions, TransferSummary,
+};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::limits::MemoryArg;
+use crate::output::{check_targets, commit_all, write_all, PendingOutput};
+use crate::pictures::force_history::ForceHistory;
+use crate::pictures::picture;
+
+/// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (JSON).
+    pub scene: PathBuf,
+    /// Schedule file (JSON; see `grasp schema --schedule`).
+    #[arg(long, value_name = "SCHEDULE.json")]
+    pub schedule: PathBuf,
+    /// Write an MCAP log (per-finger resultants and per-element fields, JSON with schemas).
+    #[arg(long, value_name = "F.mcap")]
+    pub mcap: Option<PathBuf>,
+    /// Write a Rerun recording (.rrd) to replay in the Rerun viewer.
+    #[arg(long, value_name = "F.rrd")]
+    pub rrd: Option<PathBuf>,
+    /// Stream every step, as it is computed, to a running Rerun viewer or server (`rerun`,
+    /// or headless `rerun --save F.rrd`); default address rerun+http://127.0.0.1:9876/proxy.
+    #[arg(long, value_name = "URL", num_args = 0..=1, default_missing_value = "rerun+http://127.0.0.1:9876/proxy")]
+    pub rerun_connect: Option<String>,
+    /// Start a Rerun viewer (`rerun` on the PATH) and stream every step to it.
+    #[arg(long, conflicts_with = "rerun_connect")]
+    pub rerun_spawn: bool,
+    /// Write the force histories as CSV.
+    #[arg(long, value_name = "F.csv")]
+    pub csv: Option<PathBuf>,
+    /// Write a force-history plot (.svg or .png), like thesis figures 15 and 17.
+    #[arg(long, value_name = "F.svg|F.png")]
+    pub plot: Option<PathBuf>,
+    /// Continue past a step without equilibrium (default: stop there).
+    #[arg(long)]
+    pub keep_going: bool,
+    /// Rebuild the program at every step and start every sequential solve from an
+    /// energy-model solve instead of the previous step (for comparison).
+    #[arg(long)]
+    pub cold: bool,
+    /// After the run, find the smallest load of the receiving (force-controlled) fingers
+    /// at which the releasing fingers can let go without any finger sliding as a whole.
+    #[arg(long)]
+    pub min_squeeze: bool,
+    /// At every solved step, find the smallest disturbance margin over the axis directions
+    /// of force and couple (logged to MCAP and Rerun; the summary names the least safe
+    /// step).
+    #[arg(long)]
+    pub margins: bool,
+    /// Overwrite output files that already exist.
+    #[arg(long)]
+    pub force: bool,
+    /// Solver: `auto`, `native` or `clarabel`.
+    #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
+    pub solver: grasp_model::SolverChoice,
+    #[command(flatten)]
+    pub memory: MemoryArg,
+}
+
+/// `grasp transfer`: the flags as given, turned into outputs and switches.
+pub fn execute(args: Args) -> Result<ExitCode> {
+    let live = match (args.rerun_connect, args.rerun_spawn) {
+        (Some(url), _) => Some(Live::Connect(url)),
+        (None, true) => Some(Live::Spawn),
+        (None, false) => None,
+    };
+    let outputs = Outputs {
+        mcap: args.mcap,
+        rrd: args.rrd,
+        csv: args.csv,
+        plot: args.plot,
+        force: args.force,
+        live,
+    };
+    let flags = Flags {
+        keep_going: args.keep_going,
+        cold: args.cold,
+        min_squeeze: args.min_squeeze,
+        margins: args.margins,
+        solver: args.solver,
+        max_memory: args.memory.max_memory,
+    };
+    run(&args.scene, &args.schedule, &outputs, flags)
+}
+
+/// Output files of a transfer.
+#[derive(Clone)]
+pub struct Outputs {
+    pub mcap: Option<PathBuf>,
+    pub rrd: Option<PathBuf>,
+    pub csv: Option<PathBuf>,
+    pub plot: Option<PathBuf>,
+    pub force: bool,
+    /// A live Rerun stream besides the files.
+    pub live: Option<Live>,
+}
+
+/// Where a live Rerun stream goes.
+#[derive(Clone)]
+pub enum Live {
+    /// A running viewer or server at this gRPC proxy address.
+    Connect(String),
+    /// A viewer started for the run.
+    Spawn,
+}
+
+impl Outputs {
+    /// "wrote ..." lines of the outputs given.
+    fn wrote(&self) -> String {
+        let mut o = String::new();
+        for (p, what) in [
+            (&self.mcap, "MCAP"),
+            (&self.rrd, "Rerun recording"),
+            (&self.csv, "CSV"),
+            (&self.plot, "plot"),
+        ] {
+            if let Some(p) = p {
+                let _ = writeln!(o, "wrote {what}: {}", p.display());
+            }
+        }
+        match &self.live {
+            Some(Live::Connect(url)) => {
+                let _ = writeln!(o, "streamed every step to the Rerun viewer at {url}");
+            }
+            Some(Live::Spawn) => {
+                let _ = writeln!(o, "streamed every step to a Rerun viewer");
+            }
+            None => {}
+        }
+        o
+    }
+
+    fn targets(&self) -> Vec<&Path> {
+        [&self.mcap, &self.rrd, &self.csv, &self.plot]
+            .into_iter()
+            .flatten()
+            .map(PathBuf::as_path)
+            .collect()
+    }
+}
+
+/// Switches of a transfer.
+pub struct Flags {
+    pub keep_going: bool,
+    pub cold: bool,
+    pub min_squeeze: bool,
+    pub margins: bool,
+    pub solver: grasp_model::SolverChoice,
+    pub max_memory: Option<u64>,
+}
+
+/// The sinks of a run, each writing its temporary file.
+struct OpenSinks {
+    mcap: Option<McapSink>,
+    rrd: Option<RerunSink>,
+    live: Option<RerunSink>,
+    csv: Option<CsvSink>,
+    pending: Vec<PendingOutput>,
+}
+
+impl OpenSinks {
+    fn create(out: &Outputs) -> Result<OpenSinks> {
+        let mut pending = Vec::new();
+        // (open temporary file, its path, the target) of an output given.
+        let mut open = |p: &Option<PathBuf>| -> Result<Option<(File, PathBuf, PathBuf)>> {
+            let Some(p) = p else { return Ok(None) };
+            let (o, f) = PendingOutput::create(p)?;
+            let tmp = o.tmp().to_path_buf();
+            pending.push(o);
+            Ok(Some((f, tmp, p.clone())))
+        };
+        let mcap = open(&out.mcap)?
+            .map(|(f, _, target)| McapSink::from_file(f, &target))
+            .transpose()?;
+        let rrd = open(&out.rrd)?
+            .map(|(_, tmp, target)| RerunSink::create_as(&tmp, &target))
+            .transpose()?;
+        let csv = open(&out.csv)?.map(|(f, _, target)| CsvSink::from_file(f, &target));
+        let live = match &out.live {
+            Some(Live::Connect(url)) => Some(RerunSink::connect(url)?),
+            Some(Live::Spawn) => Some(RerunSink::spawn()?),
+            None => None,
+        };
+        Ok(OpenSinks {
+            mcap,
+            rrd,
+            live,
+            csv,
+            pending,
+        })
+    }
+
+    fn sinks(&mut self) -> Vec<&mut dyn Sink> {
+        let mut v: Vec<&mut dyn Sink> = Vec::new();
+        if let Some(s) = self.mcap.as_mut() {
+            v.push(s);
+        }
+        if let Some(s) = self.rrd.as_mut() {
+            v.push(s);
+        }
+        if let Some(s) = self.live.as_mut() {
+            v.push(s);
+        }
+        if let Some(s) = self.csv.as_mut() {
+            v.push(s);
+        }
+        v
+    }
+}
+
+fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> Result<ExitCode> {
+    // Validate everything before any work: outputs, scene, memory, schedule.
+    let plot_format = out
+        .plot
+        .as_deref()
+        .map(|p| picture::Format::of(p, "--plot"))
+        .transpose()?;
+    check_targets(&out.targets(), &[scene_path, schedule_path], out.force)?;
+    let (scene, schedule) = load_inputs(scene_path, schedule_path, flags.max_memory)?;
+    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let mut open = OpenSinks::create(out)?;
+    let bar = progress_bar(schedule.times.len());
+    let options = TransferOptions {
+        keep_going: flags.keep_going,
+        warm_start: !flags.cold,
+        solve: grasp_model::SolveOptions {
+            solver: flags.solver,
+            ..grasp_model::SolveOptions::default()
+        },
+        margins: flags.margins,
+    };
+    let mut history = out.plot.as_ref().map(|_| ForceHistory::new(&names));
+    let (summary, last) =
+        grasp_transfer::run(&scene, &schedule, options, &mut open.sinks(), |r| {
+            bar.set_message(format!("{:.3} s", r.time_s));
+            bar.inc(1);
+            if let Some(h) = history.as_mut() {
+                h.push(r);
+            }
+        })?;
+    bar.finish_and_clear();
+    let planned = schedule.times.len();
+    print!("{}", summary_text(&summary, summary.steps, planned));
+    if summary.failed_step_count > 0 && !flags.keep_going {
+        drop(open); // removes the temporary files
+        if !out.targets().is_empty() {
+            println!(
+                "no output written: the run stopped at a failed step, so its logs are incomplete; \
+                 existing files are untouched (even with --force); pass --keep-going to log past \
+                 failed steps"
+            );
+        }
+        return Ok(ExitCode::from(2));
+    }
+    let mut unplotted = None;
+    if let (Some(p), Some(h), Some(format)) = (&out.plot, &history, plot_format) {
+        let title = scene_path.display().to_string();
+        // A picture that cannot be drawn costs the run no other output.
+        match picture::render(&h.picture(&title), format) {
+            Ok(bytes) => {
+                let (o, f) = PendingOutput::create(p)?;
+                write_all(&o, f, &bytes)?;
+                open.pending.push(o);
+            }
+            Err(e) => unplotted = Some(format!("{e:#}")),
+        }
+    }
+    if flags.min_squeeze {
+        match &last {
+            Some(last) => {
+                let outcome = grasp_transfer::minimum_squeeze(&scene, last, options.solve)?;
+                print!("{}", squeeze_text(&outcome));
+            }
+            None => println!("minimum squeeze: no step was solved"),
+        }
+    }
+    commit_all(std::mem::take(&mut open.pending))?;
+    match unplotted {
+        None => print!("{}", out.wrote()),
+        Some(why) => {
+            let mut written = out.clone();
+            written.plot = None;
+            print!("{}", written.wrote());
+            eprintln!("warning: the plot was not written: {why}");
+        }
+    }
+    Ok(match summary.failed_step_count {
+        0 => ExitCode::SUCCESS,
+        _ => ExitCode::from(2),
+    })
+}
+
+/// The scene (within the memory limit) and the schedule resolved against it.
+fn load_inputs(
+    scene_path: &Path,
+    schedule_path: &Path,
+    max_memory: Option<u64>,
+) -> Result<(Scene, Schedule)> {
+    let scene = crate::load_scene::load_scene(scene_path)?;
+    let (limit, what) = crate::limits::memory_limit(max_memory);
+    crate::limits::check_memory(&scene, scene_path, (limit, &what))?;
+    let text = crate::limits::read_input(schedule_path, "schedule file")?;
+    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let base = schedule_path
+        .parent()
+        .map(PathBuf::from)
+        .unwrap_or_default();
+    let schedule = Schedule::from_json_str(&text, &names, &base)
+        .with_context(|| format!("{} is not a usable schedule", schedule_path.display()))?;
+    Ok((scene, schedule))
+}
+
+/// A progress bar of the steps (indicatif draws only on a terminal; piped output stays quiet).
+fn progress_bar(steps: usize) -> ProgressBar {
+    let bar = ProgressBar::new(steps as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} steps  t = {msg}  ({elapsed}, eta {eta})",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
+    let mut o = String::new();
+    let _ = writeln!(o, "steps: {done} of {planned}");
+    let _ = writeln!(o, "releasing fingers: {}", list(&s.releasing));
+    let _ = writeln!(o, "receiving fingers: {}", list(&s.receiving));
+    let t = |x: Option<f64>| x.map_or("never".to_string(), |v| format!("t = {v:.3} s"));
+    let _ = writeln!(
+        o,
+        "receiving fingers carry half the load: {}",
+        t(s.half_transfer_time_s)
+    );
+    let _ = writeln!(
+        o,
+        "receiving fingers carry all the load:  {}",
+        t(s.full_transfer_time_s)
+    );
+    let _ = writeln!(
+        o,
+        "peak squeeze (sum of normal forces): {:.4} N at t = {:.3} s",
+        s.peak_squeeze_n, s.peak_squeeze_time_s
+    );
+    match &s.smallest_slip_margin {
+        Some((m, time, f)) => {
+            let _ = writeln!(
+                o,
+                "smallest slip margin 1 - |Q|/(mu P): {m:.2e} ({f} at t = {time:.3} s)"
+            );
+        }
+        None => {
+            let _ = writeln!(o, "smallest slip margin: no loaded frictional finger");
+        }
+    }
+    if let Some(l) = &s.least_safe_step {
+        let _ = writeln!(
+            o,
+            "least safe step: {} (t = {:.3} s), smallest disturbance margin {}{:.4e} N along {} \
+             (first to fail: {}); margins cost {} solves, {:.3} s",
+            l.step,
+            l.time_s,
+            if l.bounded { "" } else { ">" },
+            l.margin_n,
+            crate::pictures::margin_plot::label(&l.direction),
+            l.failing_finger.as_deref().unwrap_or("-"),
+            s.margin_cost.0,
+            s.margin_cost.1
+        );
+    }
+    if s.failed_step_count == 0 {
+        let _ = writeln!(o, "failed steps: none");
+    } else {
+        let _ = writeln!(o, "failed steps: {}", s.failed_step_count);
+        for (i, time, why) in s.failed_steps.iter().take(5) {
+            let _ = writeln!(o, "  step {i} (t = {time:.3} s): {why}");
+        }
+    }
+    if let Some(q) = &s.sequential {
+        let _ = writeln!(
+            o,
+            "sequential solves: {} convex solves, at most {} in a step, {} of {done} steps \
+             warm-started, {} cold restarts",
+            q.convex_solves, q.most_in_a_step, q.warm_started_steps, q.cold_restarts
+        );
+    }
+    let steps = done.max(1) as f64;
+    let _ = writeln!(
+        o,
+        "solver: native answered {} steps, Clarabel {}; {} warm steps (started from the \
+         previous one); {:.2} iterations and {:.2} factorizations per step",
+        s.answered_by_native,
+        s.answered_by_clarabel,
+        s.warm_steps,
+        s.total_iterations as f64 / steps,
+        s.total_factorizations as f64 / steps
+    );
+    if let (n, Some(why)) = &s.fallbacks {
+        let _ = writeln!(
+            o,
+            "solver fallbacks: {n} steps handed to Clarabel; first: {why}"
+        );
+    }
+    let _ = writeln!(
+        o,
+        "error: worst equilibrium residual {:.1e} of the load; time: {:.3} s in all, {:.2} ms per step, {} iterations",
+        s.worst_equilibrium_residual,
+        s.total_wall_time_s,
+        1e3 * s.total_wall_time_s / done.max(1) as f64,
+        s.total_iterations
+    );
+    o
+}
+
+fn squeeze_text(o: &SqueezeOutcome) -> String {
+    match o {
+        SqueezeOutcome::NotFound(why) => format!("minimum squeeze: not found: {why}\n"),
+        SqueezeOutcome::Found(m) => {
+            let fingers: Vec<String> = m
+                .fingers
+                .iter()
+                .map(|f| {
+                    format!(
+                        "{} {:.4} N (scheduled {:.4} N)",
+                        f.name, f.minimum_n, f.scheduled_n
+                    )
+                })
+                .collect();
+            format!(
+                "minimum squeeze to let go: {}; margin {:.3}x; just below it: {}\n",
+                fingers.join(", "),
+                m.margin,
+                m.limiting
+            )
+        }
+    }
+}
+
+fn list(v: &[String]) -> String {
+    if v.is_empty() {
+        "none".into()
+    } else {
+        v.join(", ")
+    }
+}

@@ -1,0 +1,359 @@
+//! `grasp plot`: the force diagram of one solve (SVG or PNG, drawn with plotters). Two orthographic
+//! views (the coordinate planes that show the contacts best): the object's outline (its shape's
+//! silhouette, or the box around the contacts), each finger's contact point and name, its
+//! normal force (blue) and friction force (orange) as arrows pushing on the object at the
+//! centre of pressure, its friction cone (grey, half-angle `atan(mu)` about the normal), and
+//! the weight at the centre of mass (black). Arrows: the load scale drawn as 0.3 of the scene.
+
+use anyhow::Result;
+use grasp_model::{GraspModel, Scene, Solution};
+use nalgebra::Vector3;
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::pictures::picture::{draw_err as plot_err, Picture};
+
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+const NORMAL: RGBColor = RGBColor(31, 100, 200);
+const FRICTION: RGBColor = RGBColor(240, 140, 20);
+
+/// What a view draws, in world coordinates.
+struct Drawing<'a> {
+    scene: &'a Scene,
+    model: &'a GraspModel,
+    solution: &'a Solution,
+    /// Metres per newton of the arrows.
+    m_per_n: f64,
+    /// Length of the cone edges, m.
+    cone_m: f64,
+}
+
+/// The force diagram of `solution` (of `model`, built from `scene`), titled `title`.
+pub struct ForceDiagram<'a> {
+    pub scene: &'a Scene,
+    pub model: &'a GraspModel,
+    pub solution: &'a Solution,
+    pub title: &'a str,
+}
+
+impl Picture for ForceDiagram<'_> {
+    fn size(&self) -> (u32, u32) {
+        (1100, 620)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        let (scene, model, solution) = (self.scene, self.model, self.solution);
+        let points = outline_points(scene, model);
+        let (lo, hi) = bounds(&points);
+        let size = (hi - lo).norm().max(1e-3);
+        let d = Drawing {
+            scene,
+            model,
+            solution,
+            m_per_n: 0.3 * size / model.scales.load_n,
+            cone_m: 0.15 * size,
+        };
+        // The views show the object and every arrow's far end.
+        let mut reach = points.clone();
+        reach.extend(arrow_ends(&d));
+        let (lo, hi) = bounds(&reach);
+        let [a, b, c] = view_axes(model);
+        root.fill(&WHITE).map_err(plot_err)?;
+        let (head, body) = root.split_vertically(80);
+        header(&head, self.title, solution)?;
+        let (left, right) = body.split_horizontally(550);
+        for (area, (u, v)) in [(&left, (a, b)), (&right, (a, c))] {
+            view(area, &d, &points, (u, v), (lo, hi))?;
+        }
+        Ok(())
+    }
+}
+
+/// Points whose silhouette is the object: its shape's surface, or the corners of the box
+/// around the contact points and centre of mass.
+fn outline_points(scene: &Scene, model: &GraspModel) -> Vec<Vector3<f64>> {
+    if let Some(r) = &scene.shape_report {
+        return r
+            .surface
+            .vertices_m
+            .iter()
+            .map(|v| Vector3::from(*v))
+            .collect();
+    }
+    let mut pts: Vec<Vector3<f64>> = model.fingers.iter().map(|f| f.frame.origin_m).collect();
+    pts.push(model.center_of_mass_m);
+    let (lo, hi) = bounds(&pts);
+    let pad = (hi - lo).norm().max(1e-3) * 0.02;
+    (0..8)
+        .map(|i| {
+            Vector3::from_fn(|k, _| {
+                if (i >> k) & 1 == 1 {
+                    hi[k] + pad
+                } else {
+                    lo[k] - pad
+                }
+            })
+        })
+        .collect()
+}
+
+/// The far ends of the force arrows (tails) and of the weight (head), world.
+fn arrow_ends(d: &Drawing) -> Vec<Vector3<f64>> {
+    let mut ends = Vec::new();
+    for f in &d.solution.fingers {
+        if let Some(m) = d.model.fingers.iter().find(|m| m.name == f.name) {
+            let cop = Vector3::from(f.center_of_pressure_m);
+            ends.push(cop - m.frame.normal * (f.normal_force_n * d.m_per_n));
+            ends.push(cop - Vector3::from(f.tangential_force_n) * d.m_per_n);
+            ends.push(m.frame.origin_m - m.frame.normal * d.cone_m);
+        }
+    }
+    let o = &d.scene.object;
+    ends.push(
+        d.model.center_of_mass_m + Vector3::from(o.gravity).normalize() * (o.weight * d.m_per_n),
+    );
+    ends
+}
+
+fn bounds(points: &[Vector3<f64>]) -> (Vector3<f64>, Vector3<f64>) {
+    let first = points.first().copied().unwrap_or_else(Vector3::zeros);
+    points
+        .iter()
+        .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)))
+}
+
+/// The axes of the two views: `[a, b, c]` draws (a, b) and (a, c), `a` the axis along which
+/// the contacts spread most, `b` the next.
+fn view_axes(model: &GraspModel) -> [usize; 3] {
+    let pts: Vec<Vector3<f64>> = model.fingers.iter().map(|f| f.frame.origin_m).collect();
+    let (lo, hi) = bounds(&pts);
+    let spread = hi - lo;
+    let mut order = [0, 1, 2];
+    order.sort_by(|&i, &j| spread[j].total_cmp(&spread[i]).then(i.cmp(&j)));
+    order
+}
+
+fn header<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    s: &Solution,
+) -> Result<()> {
+    let style = ("sans-serif", 18).into_font();
+    area.draw(&Text::new(
+        format!("{title}: {}", s.status.as_str()),
+        (20, 10),
+        style,
+    ))
+    .map_err(plot_err)?;
+    let key = "blue: normal force, orange: friction force (pushing on the object at the centre of pressure); grey: friction cone; black: weight at the centre of mass";
+    area.draw(&Text::new(key, (20, 58), ("sans-serif", 12).into_font()))
+        .map_err(plot_err)?;
+    let line: Vec<String> = s
+        .fingers
+        .iter()
+        .map(|f| {
+            format!(
+                "{} P {} N, |Q| {} N",
+                f.name,
+                fixed3(f.normal_force_n),
+                fixed3(f.tangential_magnitude_n)
+            )
+        })
+        .collect();
+    let small = ("sans-serif", 13).into_font();
+    area.draw(&Text::new(line.join(";  "), (20, 40), small))
+        .map_err(plot_err)?;
+    Ok(())
+}
+
+/// `v` with three decimals, without the sign of a value that rounds to zero (solver noise).
+fn fixed3(v: f64) -> String {
+    let s = format!("{v:.3}");
+    match s.as_str() {
+        "-0.000" => "0.000".to_owned(),
+        _ => s,
+    }
+}
+
+/// One orthographic view onto the axes `(u, v)`.
+fn view<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    d: &Drawing,
+    outline: &[Vector3<f64>],
+    (u, v): (usize, usize),
+    (lo, hi): (Vector3<f64>, Vector3<f64>),
+) -> Result<()> {
+    let (cu, cv) = ((lo[u] + hi[u]) / 2.0, (lo[v] + hi[v]) / 2.0);
+    let half = 0.5 * (hi[u] - lo[u]).max(hi[v] - lo[v]).max(1e-3) * 1.1;
+    let mut chart = ChartBuilder::on(area)
+        .caption(
+            format!("view onto {}-{} [m]", AXES[u], AXES[v]),
+            ("sans-serif", 15),
+        )
+        .margin(12)
+        .x_label_area_size(32)
+        .y_label_area_size(56)
+        .build_cartesian_2d(cu - half..cu + half, cv - half..cv + half)
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc(AXES[u])
+        .y_desc(AXES[v])
+        .max_light_lines(0)
+        .draw()
+        .map_err(plot_err)?;
+    let p2 = |p: &Vector3<f64>| (p[u], p[v]);
+    let hull = convex_hull(outline.iter().map(p2).collect());
+    chart
+        .draw_series(std::iter::once(Polygon::new(
+            hull,
+            RGBColor(200, 200, 210).mix(0.5),
+        )))
+        .map_err(plot_err)?;
+    draw_weight(&mut chart, d, &p2)?;
+    for f in &d.solution.fingers {
+        draw_finger(&mut chart, d, f, &p2)?;
+    }
+    Ok(())
+}
+
+fn draw_weight<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
+    d: &Drawing,
+    p2: &dyn Fn(&Vector3<f64>) -> (f64, f64),
+) -> Result<()> {
+    let com = d.model.center_of_mass_m;
+    let o = &d.scene.object;
+    let w = Vector3::from(o.gravity).normalize() * o.weight;
+    chart
+        .draw_series(std::iter::once(Circle::new(p2(&com), 4, BLACK.filled())))
+        .map_err(plot_err)?;
+    arrow(chart, p2(&com), p2(&(com + w * d.m_per_n)), &BLACK)
+}
+
+fn draw_finger<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
+    d: &Drawing,
+    f: &grasp_model::FingerSolution,
+    p2: &dyn Fn(&Vector3<f64>) -> (f64, f64),
+) -> Result<()> {
+    let Some(m) = d.model.fingers.iter().find(|m| m.name == f.name) else {
+        return Ok(());
+    };
+    let (n, cop) = (m.frame.normal, Vector3::from(f.center_of_pressure_m));
+    cone(chart, d, &n, f.friction_coefficient, &cop, p2)?;
+    let normal = n * f.normal_force_n * d.m_per_n;
+    let friction = Vector3::from(f.tangential_force_n) * d.m_per_n;
+    arrow(chart, p2(&(cop - normal)), p2(&cop), &NORMAL)?;
+    arrow(chart, p2(&(cop - friction)), p2(&cop), &FRICTION)?;
+    let at = p2(&(m.frame.origin_m - n * (0.35 * d.cone_m)));
+    chart
+        .draw_series(std::iter::once(Text::new(
+            f.name.clone(),
+            at,
+            ("sans-serif", 13).into_font(),
+        )))
+        .map_err(plot_err)?;
+    chart
+        .draw_series(std::iter::once(Circle::new(
+            p2(&m.frame.origin_m),
+            3,
+            BLACK.filled(),
+        )))
+        .map_err(plot_err)?;
+    Ok(())
+}
+
+/// The friction cone's two edges in the view: lines from the contact outward (against the
+/// push) at `atan(mu)` either side of the normal, in the plane of the normal and the view's
+/// in-plane direction across it. Skipped when the normal points along the view.
+fn cone<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
+    d: &Drawing,
+    n: &Vector3<f64>,
+    mu: f64,
+    at: &Vector3<f64>,
+    p2: &dyn Fn(&Vector3<f64>) -> (f64, f64),
+) -> Result<()> {
+    let (nu, nv) = {
+        let (a, b) = p2(n);
+        (a, b)
+    };
+    let len = (nu * nu + nv * nv).sqrt();
+    if mu <= 0.0 || len < 0.3 {
+        return Ok(());
+    }
+    let (cu, cv) = p2(at);
+    let alpha = mu.atan();
+    let edge = |s: f64| {
+        let (c, si) = (alpha.cos(), s * alpha.sin());
+        let (du, dv) = ((nu * c - nv * si) / len, (nv * c + nu * si) / len);
+        vec![(cu, cv), (cu - du * d.cone_m, cv - dv * d.cone_m)]
+    };
+    for s in [-1.0, 1.0] {
+        chart
+            .draw_series(LineSeries::new(edge(s), RGBColor(120, 120, 120)))
+            .map_err(plot_err)?;
+    }
+    Ok(())
+}
+
+/// An arrow from `tail` to `head` with a two-stroke head.
+fn arrow<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
+    tail: (f64, f64),
+    head: (f64, f64),
+    color: &RGBColor,
+) -> Result<()> {
+    let (du, dv) = (head.0 - tail.0, head.1 - tail.1);
+    let len = (du * du + dv * dv).sqrt();
+    if len < 1e-12 {
+        return Ok(());
+    }
+    let style = ShapeStyle::from(color).stroke_width(2);
+    chart
+        .draw_series(LineSeries::new(vec![tail, head], style))
+        .map_err(plot_err)?;
+    let (bu, bv) = (-du / len * 0.25 * len, -dv / len * 0.25 * len);
+    for s in [-0.4, 0.4] {
+        let wing = (head.0 + bu - s * bv, head.1 + bv + s * bu);
+        chart
+            .draw_series(LineSeries::new(vec![head, wing], style))
+            .map_err(plot_err)?;
+    }
+    Ok(())
+}
+
+/// The convex hull of `points` (Andrew's monotone chain), counter-clockwise.
+fn convex_hull(mut points: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    points.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    points.dedup();
+    if points.len() < 3 {
+        return points;
+    }
+    let cross = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| {
+        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+    };
+    let mut hull: Vec<(f64, f64)> = Vec::new();
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &(f64, f64)>> = if pass == 0 {
+            Box::new(points.iter())
+        } else {
+            Box::new(points.iter().rev())
+        };
+        for &p in iter {
+            while hull.len() >= start + 2
+                && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
+}

@@ -1,0 +1,136 @@
+//! A plot of force histories (normal force solid, friction dashed per finger), like thesis
+//! figures 15 and 17, drawn with plotters (SVG or PNG, see [`crate::picture`]).
+
+use anyhow::Result;
+use grasp_transfer::StepRecord;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::pictures::picture::{draw_err, Picture};
+
+const COLORS: [RGBColor; 8] = [
+    RGBColor(214, 39, 40),
+    RGBColor(31, 119, 180),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+];
+
+/// What the plot needs of a run, gathered step by step: the first and last step times and,
+/// per step with forces, every finger's normal and friction force (2 numbers per finger and
+/// step).
+pub struct ForceHistory {
+    names: Vec<String>,
+    span: Option<(f64, f64)>,
+    /// `(time s, [P, |Q|] per finger in scene order)` of every step with forces.
+    points: Vec<(f64, Vec<[f64; 2]>)>,
+}
+
+impl ForceHistory {
+    /// An empty history of these fingers.
+    pub fn new(names: &[String]) -> Self {
+        ForceHistory {
+            names: names.to_vec(),
+            span: None,
+            points: Vec::new(),
+        }
+    }
+
+    /// Adds a step.
+    pub fn push(&mut self, r: &StepRecord) {
+        let t0 = self.span.map_or(r.time_s, |s| s.0);
+        self.span = Some((t0, r.time_s));
+        if !r.solution.status.has_forces() {
+            return;
+        }
+        let forces = self
+            .names
+            .iter()
+            .map(|n| {
+                r.solution
+                    .finger(n)
+                    .map_or([0.0, 0.0], |f| [f.normal_force_n, f.tangential_magnitude_n])
+            })
+            .collect();
+        self.points.push((r.time_s, forces));
+    }
+
+    /// The plot of this history, titled after `title` (the scene).
+    pub fn picture<'a>(&'a self, title: &'a str) -> HistoryPlot<'a> {
+        HistoryPlot { hist: self, title }
+    }
+}
+
+/// Every finger's normal force (solid) and friction force (dashed) against time.
+pub struct HistoryPlot<'a> {
+    hist: &'a ForceHistory,
+    title: &'a str,
+}
+
+impl Picture for HistoryPlot<'_> {
+    fn size(&self) -> (u32, u32) {
+        (900, 500)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        draw_history(self.hist, self.title, root)
+    }
+}
+
+fn draw_history<DB: DrawingBackend>(
+    hist: &ForceHistory,
+    title: &str,
+    root: &DrawingArea<DB, Shift>,
+) -> Result<()> {
+    let t0 = hist.span.map_or(0.0, |s| s.0);
+    let t1 = hist.span.map_or(1.0, |s| s.1).max(t0 + 1e-9);
+    let fmax = hist
+        .points
+        .iter()
+        .flat_map(|p| p.1.iter().flatten())
+        .fold(0.0_f64, |m, x| m.max(*x))
+        .max(1e-9);
+    root.fill(&WHITE).map_err(draw_err)?;
+    let mut chart = ChartBuilder::on(root)
+        .caption(
+            format!("Forces during the hand-off: {title}"),
+            ("sans-serif", 16),
+        )
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(t0..t1, 0.0..fmax * 1.05)
+        .map_err(draw_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("time [s]")
+        .y_desc("force [N]")
+        .max_light_lines(0)
+        .draw()
+        .map_err(draw_err)?;
+    for (i, name) in hist.names.iter().enumerate() {
+        let color = COLORS[i % COLORS.len()];
+        let style = ShapeStyle::from(&color).stroke_width(2);
+        let series = |pick: usize| hist.points.iter().map(move |(t, f)| (*t, f[i][pick]));
+        chart
+            .draw_series(LineSeries::new(series(0), style))
+            .map_err(draw_err)?
+            .label(format!("{name} normal P"))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+        chart
+            .draw_series(DashedLineSeries::new(series(1), 6, 4, style))
+            .map_err(draw_err)?
+            .label(format!("{name} friction |Q|"))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 8, y)], style));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(draw_err)?;
+    Ok(())
+}

@@ -1,0 +1,6 @@
+//! Pictures drawn with plotters, written as SVG or PNG by the file's extension.
+
+pub mod force_diagram;
+pub mod force_history;
+pub mod margin_plot;
+pub mod picture;

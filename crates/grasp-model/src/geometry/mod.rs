@@ -1,0 +1,11 @@
+//! Geometry of surfaces, independent of the scene format: contact frames, points on a surface
+//! with their normal and principal curvatures, the exact primitives, triangle meshes, the posed
+//! shape that answers closest-point and ray queries, and its tessellation for drawing.
+
+pub mod contact_frame;
+pub mod mesh_surface;
+pub mod primitive_surface;
+pub mod shape;
+pub mod shape_spec;
+pub mod surface_point;
+pub mod tessellation;

@@ -1,0 +1,123 @@
+//! The object's shape (scene format `object.shape`) and its surface queries in the world
+//! frame: the closest surface point to a point, the first hit of a ray, each with the outward
+//! normal, the principal directions and the principal curvatures there
+//! ([`SurfacePoint`]). Primitives are exact ([`crate::geometry::primitive_surface`]); triangle meshes
+//! are queried with parry and their curvature estimated from the neighbourhood
+//! ([`crate::geometry::mesh_surface`]).
+//!
+//! The shape's local frame is placed by `position` (m) and `quaternion` `[w, x, y, z]`
+//! (MuJoCo's order, normalised on load): `world = position + R(q) local`.
+
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+
+use crate::geometry::mesh_surface::{MeshSurface, TriangleMesh};
+use crate::geometry::primitive_surface::Primitive;
+pub use crate::geometry::shape_spec::{
+    BoxSpec, CylinderSpec, LengthUnit, MeshSpec, ShapeSpec, SphereSpec,
+};
+pub use crate::geometry::surface_point::{SurfaceFeature, SurfacePoint};
+
+/// The shape in its local frame.
+#[derive(Debug, Clone)]
+pub enum LocalShape {
+    /// A primitive, exact.
+    Primitive(Primitive),
+    /// A triangle mesh.
+    Mesh(Box<MeshSurface>),
+}
+
+/// A posed shape.
+#[derive(Debug, Clone)]
+pub struct Shape {
+    /// The shape in its local frame.
+    pub local: LocalShape,
+    /// Rotation local -> world.
+    pub rotation: UnitQuaternion<f64>,
+    /// Origin of the local frame, m (world).
+    pub position_m: Vector3<f64>,
+}
+
+impl Shape {
+    /// The posed shape of `spec` (validated), with the mesh `mesh` when the spec is one.
+    pub fn new(spec: &ShapeSpec, mesh: Option<TriangleMesh>) -> Result<Shape, String> {
+        let local = match (Primitive::from_spec(spec), mesh) {
+            (Some(p), _) => LocalShape::Primitive(p),
+            (None, Some(m)) => LocalShape::Mesh(Box::new(MeshSurface::new(m)?)),
+            (None, None) => return Err("no geometry".into()),
+        };
+        let [w, x, y, z] = spec.quaternion;
+        Ok(Shape {
+            local,
+            rotation: UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z)),
+            position_m: Vector3::from(spec.position),
+        })
+    }
+
+    fn to_local(&self, p: &Vector3<f64>) -> Vector3<f64> {
+        self.rotation
+            .inverse_transform_vector(&(p - self.position_m))
+    }
+
+    fn to_world(&self, s: SurfacePoint) -> SurfacePoint {
+        let r = |v: Vector3<f64>| self.rotation.transform_vector(&v);
+        SurfacePoint {
+            point_m: self.position_m + r(s.point_m),
+            outward_normal: r(s.outward_normal),
+            directions: [r(s.directions[0]), r(s.directions[1])],
+            ..s
+        }
+    }
+
+    /// The surface point closest to `p` (world), or why there is none (the centre of a
+    /// sphere, say).
+    pub fn closest(&self, p: &Vector3<f64>) -> Result<SurfacePoint, String> {
+        let q = self.to_local(p);
+        let s = match &self.local {
+            LocalShape::Primitive(prim) => prim.closest(&q)?,
+            LocalShape::Mesh(m) => m.closest(&q)?,
+        };
+        Ok(self.to_world(s))
+    }
+
+    /// The first surface point hit by the ray from `origin` along `direction` (world; the
+    /// direction need not be unit), or `None` when it misses. A ray starting inside the
+    /// object is refused.
+    pub fn ray_hit(
+        &self,
+        origin: &Vector3<f64>,
+        direction: &Vector3<f64>,
+    ) -> Result<Option<SurfacePoint>, String> {
+        let o = self.to_local(origin);
+        let d = self
+            .rotation
+            .inverse_transform_vector(direction)
+            .normalize();
+        if self.closest(origin)?.distance_m < 0.0 {
+            return Err("starts inside the object".into());
+        }
+        let hit = match &self.local {
+            LocalShape::Primitive(prim) => prim.ray_hit(&o, &d),
+            LocalShape::Mesh(m) => m.ray_hit(&o, &d),
+        };
+        match hit {
+            None => Ok(None),
+            Some(t) => {
+                let mut s = match &self.local {
+                    LocalShape::Primitive(prim) => prim.closest(&(o + d * t))?,
+                    LocalShape::Mesh(m) => m.closest(&(o + d * t))?,
+                };
+                s.distance_m = 0.0;
+                Ok(Some(self.to_world(s)))
+            }
+        }
+    }
+
+    /// Volume, m^3, and centroid, m (world).
+    pub fn volume_and_centroid(&self) -> (f64, Vector3<f64>) {
+        let (v, c) = match &self.local {
+            LocalShape::Primitive(p) => (p.volume_m3(), Vector3::zeros()),
+            LocalShape::Mesh(m) => m.mesh().volume_and_centroid(),
+        };
+        (v, self.position_m + self.rotation.transform_vector(&c))
+    }
+}

@@ -1,0 +1,552 @@
+//! The grasp model: everything derived once from a validated scene and never mutated while
+//! solving (frames, patches, compliance blocks, the equilibrium map, scales).
+//!
+//! Unknown layout: fingers in scene order; within finger `i`, `[F_1..F_N, G1_1..G1_N,
+//! G2_1..G2_N]` truncated to `1 + n_tangential` blocks, where `n_tangential` is 0 for a
+//! frictionless finger, 1 in a planar scene and 2 otherwise. Forces in newtons.
+
+use std::sync::Arc;
+
+use nalgebra::{DMatrix, Vector3};
+
+use crate::error::{ModelError, SceneError};
+use crate::geometry::contact_frame::ContactFrame;
+use crate::model::equilibrium::{unit_wrench, EquilibriumMap, Wrench};
+use crate::model::friction::FrictionLaw;
+use crate::model::influence::{patch_compliance, PairConstants};
+use crate::model::material::Material;
+use crate::model::patch::Patch;
+use crate::scene::scene_format::{ModelKind, RadiusSpec, Scene};
+
+/// Compliance entries (summed over fingers) from which the blocks are built in parallel:
+/// about 2 ms of work, well above a thread hand-off.
+const PARALLEL_BUILD_ENTRIES: usize = 200_000;
+
+/// How a finger is driven.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Control {
+    /// Position-held: its normal load is an unknown of the program.
+    Held,
+    /// Force-controlled: `sum_k F_k = P` with `P` in newtons.
+    NormalLoad {
+        /// Prescribed total normal force `P_i`, N.
+        newtons: f64,
+    },
+}
+
+/// One finger, fully prepared.
+#[derive(Debug, Clone)]
+pub struct FingerModel {
+    /// Name from the scene.
+    pub name: String,
+    /// Contact frame (`normal` into the object).
+    pub frame: ContactFrame,
+    /// Patch geometry and initial gaps.
+    pub patch: Patch,
+    /// Fingertip material.
+    pub material: Material,
+    /// Kernel constants of the pair (finger, object).
+    pub pair: PairConstants,
+    /// Friction law.
+    pub friction: FrictionLaw,
+    /// Tangential unknowns per element: 0 (frictionless), 1 (planar) or 2.
+    pub n_tangential: usize,
+    /// Patch compliance `C`, m/N, `(1 + n_tangential) N` square (see
+    /// [`crate::model::influence::patch_compliance`]); shared by the models restricted to some
+    /// fingers ([`GraspModel::restricted`]).
+    pub compliance_m_per_n: Arc<DMatrix<f64>>,
+    /// How the finger is driven (as in the scene; loads may be overridden per solve).
+    pub control: Control,
+    /// Index of this finger's first unknown in the program's `x`.
+    pub offset: usize,
+}
+
+impl FingerModel {
+    /// Number of unknowns of this finger.
+    pub fn n_unknowns(&self) -> usize {
+        self.patch.len() * (1 + self.n_tangential)
+    }
+
+    /// Unit direction (world) of component `c` (0 normal, 1 `t1`, 2 `t2`).
+    pub fn direction(&self, c: usize) -> Vector3<f64> {
+        match c {
+            0 => self.frame.normal,
+            1 => self.frame.t1,
+            _ => self.frame.t2,
+        }
+    }
+
+    /// World position of element `k`'s centre, m.
+    pub fn element_point(&self, k: usize) -> Vector3<f64> {
+        let [x, y] = self.patch.centres_m[k];
+        self.frame.point(x, y)
+    }
+}
+
+/// Non-dimensionalisation of the program (model.md, "Scale before solving").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scales {
+    /// Load scale, N: the largest of the weight, external forces and prescribed loads (1 N if
+    /// all vanish).
+    pub load_n: f64,
+    /// Element force unit `Fu = load / (largest element count of a patch)`, N.
+    pub element_force_n: f64,
+    /// Compliance unit `Cu`, m/N: the largest diagonal entry of any patch compliance.
+    pub compliance_m_per_n: f64,
+    /// Length unit `Lu`, m, for moment rows: the largest distance of a contact point or patch
+    /// corner from the reference point.
+    pub length_m: f64,
+}
+
+impl Scales {
+    /// Displacement unit `Fu Cu`, m: the size of a typical elastic approach.
+    pub fn displacement_m(&self) -> f64 {
+        self.element_force_n * self.compliance_m_per_n
+    }
+}
+
+/// A force on the object (weight or external force): world vector, N, at a world point, m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExternalLoad {
+    /// Force, N.
+    pub force_n: Vector3<f64>,
+    /// Point of application, m.
+    pub point_m: Vector3<f64>,
+}
+
+/// What a model keeps of the scene besides its fingers (to restrict it to some fingers).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObjectModel {
+    /// Object centre of mass, m.
+    pub center_of_mass_m: Vector3<f64>,
+    /// Weight (first, when nonzero) and external forces.
+    pub loads: Vec<ExternalLoad>,
+    /// Object material.
+    pub material: Material,
+    /// Plane `(e1, e2, p)` of a planar scene (`e1 x e2 = p`).
+    pub plane: Option<(Vector3<f64>, Vector3<f64>, Vector3<f64>)>,
+    /// Contact law.
+    pub kind: ModelKind,
+}
+
+/// The immutable grasp model.
+#[derive(Debug, Clone)]
+pub struct GraspModel {
+    /// Fingers in scene order.
+    pub fingers: Vec<FingerModel>,
+    /// Plane `(e1, e2, p)` of a planar scene (`e1 x e2 = p`).
+    pub plane: Option<(Vector3<f64>, Vector3<f64>, Vector3<f64>)>,
+    /// Reference point `O` of moments and of the rigid displacement: centroid of the contact
+    /// points, m.
+    pub reference_point_m: Vector3<f64>,
+    /// Object centre of mass, m.
+    pub center_of_mass_m: Vector3<f64>,
+    /// External wrench on the object (weight and external forces), moments about `O`.
+    pub external_wrench: Wrench,
+    /// Scales of the program.
+    pub scales: Scales,
+    /// Scaled equilibrium map.
+    pub equilibrium: EquilibriumMap,
+    /// Total number of unknowns.
+    pub n_unknowns: usize,
+    /// Contact law.
+    pub kind: ModelKind,
+    /// Object material.
+    pub object_material: Material,
+    /// The scene's object and loads, for [`GraspModel::restricted`].
+    pub object: ObjectModel,
+}
+
+/// Smallest frozen friction coefficient of a frictional finger. The energy model's cone
+/// `(mu F, G)` implies `F >= 0` only while `mu > 0`, and a very thin cone stalls an
+/// interior-point method: with a floor of 1e-6, the unloaded finger f4 of the plate example
+/// under the law of thesis eq. (40) (`mu(0) = 0`) came back "almost solved" with a negative
+/// load. A finger frozen at this floor carries at most `1e-3` of its normal force as friction.
+pub const MU_FLOOR: f64 = 1e-3;
+
+impl GraspModel {
+    /// A first guess of each finger's total normal load, N: the prescribed load of a
+    /// force-controlled finger, an equal share of the load scale for a held one.
+    pub fn guess_loads(&self, loads_n: &[f64]) -> Vec<f64> {
+        let share = self.scales.load_n / self.fingers.len().max(1) as f64;
+        let mut j = 0;
+        self.fingers
+            .iter()
+            .map(|f| match f.control {
+                Control::NormalLoad { .. } => {
+                    j += 1;
+                    loads_n.get(j - 1).copied().unwrap_or(share)
+                }
+                Control::Held => share,
+            })
+            .collect()
+    }
+
+    /// Each finger's friction coefficient to freeze at finger loads `p_n` (N): its law at that
+    /// load, at least [`MU_FLOOR`]; 0 for frictionless fingers.
+    pub fn mu_at(&self, p_n: &[f64]) -> Vec<f64> {
+        self.fingers
+            .iter()
+            .zip(p_n)
+            .map(|(f, &p)| {
+                if f.n_tangential == 0 {
+                    0.0
+                } else {
+                    f.friction.mu_at(p).max(MU_FLOOR)
+                }
+            })
+            .collect()
+    }
+
+    /// Builds the model from a scene, validating it first.
+    pub fn from_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
+        scene.validate()?;
+        Self::from_validated_scene(scene)
+    }
+
+    /// Builds the model of a scene the caller has validated, or of a subset of the fingers of
+    /// a validated scene (whose per-finger checks hold; the reach heuristic, which compares
+    /// fingers, is not re-run).
+    pub fn from_validated_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
+        if scene.fingers.is_empty() {
+            return Err(SceneError::Invalid(vec![crate::error::InputProblem {
+                path: "fingers".into(),
+                message: "is empty".into(),
+                fix: "list at least one finger".into(),
+            }]));
+        }
+        let object = object_model(scene);
+        // The fingers' compliance blocks are independent: build them in parallel when they
+        // are large enough to pay for the threads (the same numbers either way).
+        let entries: usize = scene
+            .fingers
+            .iter()
+            .map(|f| (3 * f.patch.grid[0] * f.patch.grid[1]).pow(2))
+            .sum();
+        let fingers = if entries >= PARALLEL_BUILD_ENTRIES && scene.fingers.len() > 1 {
+            use rayon::prelude::*;
+            scene
+                .fingers
+                .par_iter()
+                .map(|f| finger_model(f, &object))
+                .collect()
+        } else {
+            scene
+                .fingers
+                .iter()
+                .map(|f| finger_model(f, &object))
+                .collect()
+        };
+        Ok(Self::from_parts(fingers, object))
+    }
+
+    /// The model of the fingers `active` (index into this model's fingers, with the control
+    /// each has), in that order, sharing their compliance blocks: the grasp of one hand-off
+    /// step. `None` when `active` is empty or names a finger this model does not have.
+    pub fn restricted(&self, active: &[(usize, Control)]) -> Option<GraspModel> {
+        if active.is_empty() {
+            return None;
+        }
+        let fingers = active
+            .iter()
+            .map(|&(i, control)| {
+                let mut f = self.fingers.get(i)?.clone();
+                f.control = control;
+                Some(f)
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(Self::from_parts(fingers, self.object.clone()))
+    }
+
+    /// Offsets, reference point, external wrench, scales and equilibrium map of `fingers` (at
+    /// least one) holding `object`.
+    fn from_parts(mut fingers: Vec<FingerModel>, object: ObjectModel) -> GraspModel {
+        let mut offset = 0;
+        for f in &mut fingers {
+            f.offset = offset;
+            offset += f.n_unknowns();
+        }
+        let reference_point_m = fingers
+            .iter()
+            .map(|f| f.frame.origin_m)
+            .sum::<Vector3<f64>>()
+            / fingers.len() as f64;
+        let mut external_wrench = Wrench::zeros();
+        let mut load_n: f64 = 0.0;
+        for l in &object.loads {
+            let mag = l.force_n.norm();
+            if mag > 0.0 {
+                external_wrench +=
+                    unit_wrench(&(l.force_n / mag), &l.point_m, &reference_point_m) * mag;
+            }
+            load_n = load_n.max(mag);
+        }
+        for f in &fingers {
+            if let Control::NormalLoad { newtons } = f.control {
+                load_n = load_n.max(newtons);
+            }
+        }
+        if load_n <= 0.0 {
+            load_n = 1.0;
+        }
+        let scales = scales_of(&fingers, load_n, &reference_point_m);
+        let equilibrium = EquilibriumMap::new(scales.length_m, object.plane);
+        GraspModel {
+            fingers,
+            plane: object.plane,
+            reference_point_m,
+            center_of_mass_m: object.center_of_mass_m,
+            external_wrench,
+            scales,
+            equilibrium,
+            n_unknowns: offset,
+            kind: object.kind,
+            object_material: object.material,
+            object,
+        }
+    }
+
+    /// Indices of the force-controlled fingers, in scene order.
+    pub fn force_controlled(&self) -> Vec<usize> {
+        (0..self.fingers.len())
+            .filter(|&i| matches!(self.fingers[i].control, Control::NormalLoad { .. }))
+            .collect()
+    }
+
+    /// The prescribed loads of the scene (N), one per force-controlled finger.
+    pub fn scene_loads_n(&self) -> Vec<f64> {
+        self.force_controlled()
+            .iter()
+            .map(|&i| match self.fingers[i].control {
+                Control::NormalLoad { newtons } => newtons,
+                Control::Held => 0.0,
+            })
+            .collect()
+    }
+
+    /// Checks a vector of prescribed loads (one per force-controlled finger, N).
+    pub fn check_loads(&self, loads_n: &[f64]) -> Result<(), ModelError> {
+        let fc = self.force_controlled();
+        if fc.len() != loads_n.len() {
+            return Err(ModelError::LoadCount {
+                expected: fc.len(),
+                got: loads_n.len(),
+            });
+        }
+        for (&i, &p) in fc.iter().zip(loads_n) {
+            if !(p.is_finite() && p >= 0.0) {
+                return Err(ModelError::BadLoad {
+                    finger: self.fingers[i].name.clone(),
+                    value: p,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// World wrench (moments about `O`) of a unit force in component `c` of element `k` of
+    /// finger `i`: the column of the equilibrium matrix (thesis eqs. 48-49).
+    pub fn unit_wrench(&self, i: usize, k: usize, c: usize) -> Wrench {
+        let f = &self.fingers[i];
+        unit_wrench(
+            &f.direction(c),
+            &f.element_point(k),
+            &self.reference_point_m,
+        )
+    }
+
+    /// The same model with `extra` (N, N m about `O`) added to its external wrench. The scales
+    /// stay this model's, so a solver built for this model solves it too (every solve reads the
+    /// external wrench of the model it is given).
+    pub fn with_extra_wrench(&self, extra: &Wrench) -> GraspModel {
+        let mut m = self.clone();
+        m.external_wrench += extra;
+        m
+    }
+
+    /// Wrench about `O` (N, N m) of a force `force_n` (N, world) applied at the centre of mass
+    /// plus a couple `torque_nm` (N m, world): `(f, t + (r - O) x f)` (thesis eq. 49's moment
+    /// of an external force).
+    pub fn wrench_at_center_of_mass(
+        &self,
+        force_n: &Vector3<f64>,
+        torque_nm: &Vector3<f64>,
+    ) -> Wrench {
+        let m = torque_nm + (self.center_of_mass_m - self.reference_point_m).cross(force_n);
+        Wrench::new(force_n.x, force_n.y, force_n.z, m.x, m.y, m.z)
+    }
+
+    /// Net wrench (N, N m about `O`) of contact forces `x` (N, program layout) plus the external
+    /// wrench: zero at equilibrium.
+    pub fn net_wrench(&self, x_n: &[f64]) -> Wrench {
+        let mut w = self.external_wrench;
+        for (i, f) in self.fingers.iter().enumerate() {
+            let n = f.patch.len();
+            for c in 0..=f.n_tangential {
+                for k in 0..n {
+                    let v = x_n[f.offset + c * n + k];
+                    if v != 0.0 {
+                        w += self.unit_wrench(i, k, c) * v;
+                    }
+                }
+            }
+        }
+        w
+    }
+}
+
+fn v3(a: &[f64; 3]) -> Vector3<f64> {
+    Vector3::new(a[0], a[1], a[2])
+}
+
+/// The object, its loads and the plane of a scene.
+fn object_model(scene: &Scene) -> ObjectModel {
+    let plane = scene.planar.as_ref().map(|p| {
+        let p = v3(&p.normal).normalize();
+        let hint = if p.x.abs() < 0.9 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        };
+        let e1 = (hint - p * p.dot(&hint)).normalize();
+        let e2 = p.cross(&e1);
+        (e1, e2, p)
+    });
+    let o = &scene.object;
+    let center_of_mass_m = v3(&o.center_of_mass);
+    let mut loads = Vec::new();
+    if o.weight > 0.0 {
+        loads.push(ExternalLoad {
+            force_n: v3(&o.gravity).normalize() * o.weight,
+            point_m: center_of_mass_m,
+        });
+    }
+    for r in &o.external_forces {
+        loads.push(ExternalLoad {
+            force_n: v3(&r.force),
+            point_m: v3(&r.at),
+        });
+    }
+    ObjectModel {
+        center_of_mass_m,
+        loads,
+        material: Material::from(&o.material),
+        plane,
+        kind: scene.model,
+    }
+}
+
+/// One finger of a scene, prepared (offset 0 until the model places it).
+fn finger_model(f: &crate::scene::scene_format::FingerSpec, object: &ObjectModel) -> FingerModel {
+    let frame = ContactFrame::new(
+        v3(&f.contact_point),
+        v3(&f.normal),
+        f.tangent.as_ref().map(v3),
+        object.plane.map(|(_, _, p)| p),
+    );
+    let tip = tip_curvatures_per_m(f, &frame);
+    let obj = object_curvatures_per_m(f);
+    let patch = Patch::new(
+        f.patch.size,
+        f.patch.grid,
+        [tip[0] + obj[0], tip[1] + obj[1]],
+    );
+    let material = Material::from(&f.material);
+    let pair = PairConstants::new(&material, &object.material);
+    let friction = FrictionLaw::from_spec(&f.friction, &material, &object.material);
+    let n_tangential = if friction.is_frictionless() {
+        0
+    } else if object.plane.is_some() {
+        1
+    } else {
+        2
+    };
+    let compliance_m_per_n = Arc::new(patch_compliance(&patch.grid, &pair, n_tangential));
+    let control = match f.control.normal_load_n() {
+        Some(p) => Control::NormalLoad { newtons: p },
+        None => Control::Held,
+    };
+    FingerModel {
+        name: f.name.clone(),
+        frame,
+        patch,
+        material,
+        pair,
+        friction,
+        n_tangential,
+        compliance_m_per_n,
+        control,
+        offset: 0,
+    }
+}
+
+/// Scales of a model (model.md, "Scale before solving"): `load_n` over the largest element
+/// count, the largest compliance diagonal, the largest reach from the reference point.
+fn scales_of(fingers: &[FingerModel], load_n: f64, reference_point_m: &Vector3<f64>) -> Scales {
+    let max_elems = fingers.iter().map(|f| f.patch.len()).max().unwrap_or(1);
+    let compliance = fingers
+        .iter()
+        .flat_map(|f| {
+            f.compliance_m_per_n
+                .diagonal()
+                .iter()
+                .copied()
+                .collect::<Vec<_>>()
+        })
+        .fold(0.0_f64, f64::max);
+    let length_m = fingers
+        .iter()
+        .map(|f| {
+            let half = 0.5
+                * (f.patch.grid.hx * f.patch.grid.nx as f64)
+                    .hypot(f.patch.grid.hy * f.patch.grid.ny as f64);
+            (f.frame.origin_m - reference_point_m).norm() + half
+        })
+        .fold(0.0_f64, f64::max);
+    Scales {
+        load_n,
+        element_force_n: load_n / max_elems as f64,
+        compliance_m_per_n: compliance,
+        length_m,
+    }
+}
+
+/// The fingertip's curvatures along `t1`, `t2`, 1/m: a sphere `1/R` both ways; a cylinder
+/// `1/R` across its axis and 0 along it (the axis lies along `t1` or `t2`, checked by
+/// validation); flat 0 (the gap of two curved bodies: Johnson 4.1, curvatures added along
+/// common principal directions).
+pub fn tip_curvatures_per_m(
+    f: &crate::scene::scene_format::FingerSpec,
+    frame: &ContactFrame,
+) -> [f64; 2] {
+    if let Some(r) = f.tip_radius {
+        return [1.0 / r, 1.0 / r];
+    }
+    let Some(tip) = &f.tip else {
+        return [0.0, 0.0];
+    };
+    if let Some(s) = &tip.sphere {
+        return [1.0 / s.radius, 1.0 / s.radius];
+    }
+    match &tip.cylinder {
+        Some(c) => {
+            let a = v3(&c.axis).normalize();
+            match a.dot(&frame.t1).abs() >= a.dot(&frame.t2).abs() {
+                true => [0.0, 1.0 / c.radius],
+                false => [1.0 / c.radius, 0.0],
+            }
+        }
+        None => [0.0, 0.0],
+    }
+}
+
+/// The object's curvatures along `t1`, `t2` at finger `f`'s contact, 1/m (0: flat).
+pub fn object_curvatures_per_m(f: &crate::scene::scene_format::FingerSpec) -> [f64; 2] {
+    match f.object_radius {
+        None => [0.0, 0.0],
+        Some(RadiusSpec::Isotropic(r)) => [1.0 / r, 1.0 / r],
+        Some(RadiusSpec::Principal([a, b])) => {
+            [a.map_or(0.0, |r| 1.0 / r), b.map_or(0.0, |r| 1.0 / r)]
+        }
+    }
+}

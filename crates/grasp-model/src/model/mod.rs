@@ -1,0 +1,11 @@
+//! The immutable contact model built from a scene: materials, patches, influence coefficients
+//! (patch compliance), friction laws, the equilibrium map, and the closed forms the model is
+//! checked against.
+
+pub mod closed_form;
+pub mod equilibrium;
+pub mod friction;
+pub mod grasp_model;
+pub mod influence;
+pub mod material;
+pub mod patch;

@@ -1,0 +1,333 @@
+//! The grasp program (model.md, "The grasp program" and "coulomb"), scaled and stated once for
+//! every solver backend:
+//!
+//! ```text
+//!   minimise   1/2 x'Px + q'x     subject to   E x = e,   x_k in K_k for every element k
+//! ```
+//!
+//! - `x = forces / Fu` (N over the element force unit), program layout: fingers in scene order,
+//!   within finger `i` the blocks `[F_1..F_N, G1_1..G1_N, G2_1..G2_N]` truncated to
+//!   `1 + n_tangential` (see [`crate::model::grasp_model`]); `x_k = (F_k, G1_k[, G2_k])` gathers element
+//!   `k`'s components.
+//! - `P = C / Cu`: block-diagonal over fingers; block `i` is the finger's patch compliance
+//!   (m/N) over the compliance unit. It is not copied here: backends read
+//!   [`crate::FingerModel::compliance_m_per_n`] and multiply by [`ConeProgram::compliance_scale`].
+//! - `q = c / (Fu Cu)` on normal unknowns (initial gaps `c`, m) and `q = -m / (Fu Cu)` on
+//!   tangential ones (slip memory `m`, m, coulomb model).
+//! - `E x = e`: the equilibrium rows reduced to their range (thesis eqs. 48-49; 6 in 3-D, 3
+//!   planar, fewer when contacts cannot resist some direction), then one row
+//!   `sum_k F_k = P_i / Fu` per force-controlled finger. Dense, `m x n` with `m <= 6 + fingers`.
+//!   Their multipliers are the object's rigid displacement and the approaches (see
+//!   [`crate::solve::readout`]).
+//! - `K_k`, per finger ([`BlockCone`]): `F_k >= 0` (frictionless); the associated Coulomb cone
+//!   `||G_k|| <= mu F_k` (energy model; planar: `|G_k| <= mu F_k`, thesis eqs. 21-24); or
+//!   `F_k >= 0` with the Tresca disc `||G_k|| <= r_k`, radius fixed at the previous iterate
+//!   (coulomb model).
+//!
+//! Loads live in `e`, Tresca radii and frozen friction coefficients in the cones, slip memory in
+//! `q`: the sequential solve changes them in place through the `set_*` methods, and each backend
+//! notices by itself what changed since its last solve.
+
+use nalgebra::DMatrix;
+
+use crate::model::equilibrium::RowReduction;
+use crate::model::grasp_model::GraspModel;
+
+/// Largest floor on the Tresca radii Clarabel is given, in element force units `Fu` (the
+/// floor is this or Clarabel's tolerance, whichever is smaller). A disc of radius 0
+/// has no interior (it stalled Clarabel's interior-point method on the Cattaneo case of
+/// `tests/cattaneo_mindlin.rs` at `Q = 0.5 mu P`); with the floor an unloaded element can
+/// carry at most the floor of friction in Clarabel's answers, which shows as a cone violation
+/// of that size. The program itself keeps the exact radii, which the native solver uses
+/// (its projection onto a disc of radius 0 is exact).
+pub const RADIUS_FLOOR: f64 = 1e-8;
+
+/// Which cones bound the friction forces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ConeLaw {
+    /// `||G_k|| <= mu F_k`: the energy model's associated cones.
+    Associated,
+    /// `||G_k|| <= r_k` with `r_k` fixed (Tresca): one iterate of the coulomb model.
+    Tresca,
+}
+
+/// The constraint set of every element of one finger.
+#[derive(Debug, Clone, PartialEq)]
+pub enum BlockCone {
+    /// `F_k >= 0`: a frictionless finger (no tangential unknowns).
+    Nonnegative,
+    /// `||G_k|| <= mu F_k` (associated friction), `mu` dimensionless and > 0.
+    Friction {
+        /// Friction coefficient frozen for this solve.
+        mu: f64,
+    },
+    /// `F_k >= 0` and `||G_k|| <= r_k` (Tresca), radii in element force units `Fu`, >= 0.
+    Tresca {
+        /// `r_k / Fu`, one per element.
+        radii: Vec<f64>,
+    },
+}
+
+/// One finger's part of the program.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FingerBlock {
+    /// Index of the finger's first unknown in `x`.
+    pub offset: usize,
+    /// Elements of the patch.
+    pub elements: usize,
+    /// Tangential unknowns per element: 0, 1 (planar) or 2.
+    pub n_tangential: usize,
+    /// The element constraint set.
+    pub cone: BlockCone,
+}
+
+impl FingerBlock {
+    /// Unknowns of the block, `elements * (1 + n_tangential)`.
+    pub fn len(&self) -> usize {
+        self.elements * (1 + self.n_tangential)
+    }
+
+    /// True for a block without unknowns.
+    pub fn is_empty(&self) -> bool {
+        self.elements == 0
+    }
+
+    /// Index within the block of component `c` (0 normal, 1 `t1`, 2 `t2`) of element `k`.
+    pub fn local_index(&self, k: usize, c: usize) -> usize {
+        c * self.elements + k
+    }
+}
+
+/// The assembled, scaled program.
+#[derive(Debug, Clone)]
+pub struct ConeProgram {
+    /// Which cones bound the friction forces.
+    pub law: ConeLaw,
+    /// Per finger, scene order.
+    pub blocks: Vec<FingerBlock>,
+    /// Total number of unknowns.
+    pub n_unknowns: usize,
+    /// `P = compliance_scale * C` (C in m/N): `1 / Cu`.
+    pub compliance_scale: f64,
+    /// Linear cost `q`.
+    pub q: Vec<f64>,
+    /// Equality matrix `E` (`m x n`): reduced equilibrium rows, then load rows.
+    pub equality: DMatrix<f64>,
+    /// Right-hand side `e` (for the loads last set).
+    pub equality_rhs: Vec<f64>,
+    /// Reduction of the equilibrium rows.
+    pub reduction: RowReduction,
+    /// Row of each force-controlled finger's load equation, as `(finger index, row)`.
+    pub load_rows: Vec<(usize, usize)>,
+    /// Scaled external wrench in equilibrium coordinates (`S w_ext / Fu`).
+    pub external_scaled: Vec<f64>,
+    /// Set when the external load has a component no contact force can resist: the reason.
+    pub unbalanced: Option<String>,
+}
+
+impl ConeProgram {
+    /// Assembles the program for `model` with prescribed loads `loads_n` (one per
+    /// force-controlled finger, N; checked by the caller), cones of kind `law` and, for the
+    /// associated law, friction coefficients `mu` (one per finger). Tresca radii start at 0.
+    pub fn assemble(model: &GraspModel, loads_n: &[f64], law: ConeLaw, mu: &[f64]) -> ConeProgram {
+        let s = model.scales;
+        let blocks: Vec<FingerBlock> = model
+            .fingers
+            .iter()
+            .zip(mu)
+            .map(|(f, &m)| FingerBlock {
+                offset: f.offset,
+                elements: f.patch.len(),
+                n_tangential: f.n_tangential,
+                cone: match (f.n_tangential, law) {
+                    (0, _) => BlockCone::Nonnegative,
+                    (_, ConeLaw::Associated) => BlockCone::Friction { mu: m },
+                    (_, ConeLaw::Tresca) => BlockCone::Tresca {
+                        radii: vec![0.0; f.patch.len()],
+                    },
+                },
+            })
+            .collect();
+        let mut q = vec![0.0; model.n_unknowns];
+        for f in &model.fingers {
+            for (k, gap) in f.patch.gap_m.iter().enumerate() {
+                q[f.offset + k] = gap / s.displacement_m();
+            }
+        }
+        let e_hat = equilibrium_matrix(model);
+        let reduction = RowReduction::new(&e_hat);
+        let (equality, load_rows) = equality_matrix(model, &reduction, &e_hat);
+        let mut program = ConeProgram {
+            law,
+            blocks,
+            n_unknowns: model.n_unknowns,
+            compliance_scale: 1.0 / s.compliance_m_per_n,
+            q,
+            equality_rhs: vec![0.0; equality.nrows()],
+            equality,
+            reduction,
+            load_rows,
+            external_scaled: Vec::new(),
+            unbalanced: None,
+        };
+        program.set_external_wrench(model);
+        program.set_loads(model, loads_n);
+        program
+    }
+
+    /// Overwrites the equilibrium rows of `e` with `model.external_wrench` (thesis eqs.
+    /// 48-49: `U' E_hat x = -U' S w_ext / Fu`) and re-checks that no component of it lies in a
+    /// direction no contact resists. The model must be this program's model up to its
+    /// external wrench (the same fingers, reference point and scales), as
+    /// [`GraspModel::with_extra_wrench`] makes it.
+    pub fn set_external_wrench(&mut self, model: &GraspModel) {
+        let fu = model.scales.element_force_n;
+        self.external_scaled = model
+            .equilibrium
+            .apply(&model.external_wrench)
+            .iter()
+            .map(|v| v / fu)
+            .collect();
+        self.unbalanced = unbalanced_reason(model, &self.reduction, &self.external_scaled);
+        let basis = &self.reduction.basis;
+        for r in 0..basis.ncols() {
+            self.equality_rhs[r] = -(0..self.external_scaled.len())
+                .map(|k| basis[(k, r)] * self.external_scaled[k])
+                .sum::<f64>();
+        }
+    }
+
+    /// Number of equilibrium rows kept after the reduction.
+    pub fn equilibrium_rows(&self) -> usize {
+        self.reduction.basis.ncols()
+    }
+
+    /// Number of equality rows (equilibrium, then loads).
+    pub fn equality_rows(&self) -> usize {
+        self.equality.nrows()
+    }
+
+    /// Energy model: the friction coefficients `mu` (one per finger) of the cones.
+    pub fn set_mu(&mut self, mu: &[f64]) {
+        for (b, &m) in self.blocks.iter_mut().zip(mu) {
+            if let BlockCone::Friction { mu } = &mut b.cone {
+                *mu = m;
+            }
+        }
+    }
+
+    /// The friction coefficient of each finger's cones (0 for other cones).
+    pub fn mu(&self) -> Vec<f64> {
+        self.blocks
+            .iter()
+            .map(|b| match b.cone {
+                BlockCone::Friction { mu } => mu,
+                _ => 0.0,
+            })
+            .collect()
+    }
+
+    /// Coulomb model: the Tresca radii `r_k` (N; per finger, per element).
+    pub fn set_radii(&mut self, model: &GraspModel, radii_n: &[Vec<f64>]) {
+        let fu = model.scales.element_force_n;
+        for (b, r) in self.blocks.iter_mut().zip(radii_n) {
+            if let BlockCone::Tresca { radii } = &mut b.cone {
+                for (dst, rk) in radii.iter_mut().zip(r) {
+                    *dst = rk / fu;
+                }
+            }
+        }
+    }
+
+    /// Writes the slip memory `m` (m; per finger, per element `[t1, t2]`) into `q`:
+    /// `q_G = -m / (Fu Cu)`, so that a sticking element keeps its relative tangential
+    /// displacement `w_k = m_k` (model.md, "coulomb").
+    pub fn set_slip_memory(&mut self, model: &GraspModel, memory_m: &[Vec<[f64; 2]>]) {
+        let du = model.scales.displacement_m();
+        for (i, f) in model.fingers.iter().enumerate() {
+            let ne = f.patch.len();
+            for c in 0..f.n_tangential {
+                for (k, m) in memory_m[i].iter().enumerate().take(ne) {
+                    self.q[f.offset + (c + 1) * ne + k] = -m[c] / du;
+                }
+            }
+        }
+    }
+
+    /// Overwrites the load rows of `e` (N, one per force-controlled finger).
+    pub fn set_loads(&mut self, model: &GraspModel, loads_n: &[f64]) {
+        for (j, &(_, row)) in self.load_rows.iter().enumerate() {
+            self.equality_rhs[row] = loads_n[j] / model.scales.element_force_n;
+        }
+    }
+}
+
+/// The scaled equilibrium matrix `E_hat = S W` (rows x n): column `j` is the scaled wrench of a
+/// unit force in unknown `j` (thesis eqs. 48-49).
+fn equilibrium_matrix(model: &GraspModel) -> DMatrix<f64> {
+    let rows = model.equilibrium.rows();
+    let mut e_hat = DMatrix::<f64>::zeros(rows, model.n_unknowns);
+    for (i, f) in model.fingers.iter().enumerate() {
+        let ne = f.patch.len();
+        for c in 0..=f.n_tangential {
+            for k in 0..ne {
+                let col = model.equilibrium.apply(&model.unit_wrench(i, k, c));
+                for (r, v) in col.iter().enumerate() {
+                    e_hat[(r, f.offset + c * ne + k)] = *v;
+                }
+            }
+        }
+    }
+    e_hat
+}
+
+/// `E`: the reduced equilibrium rows `U' E_hat`, then one load row per force-controlled
+/// finger; returns it with the `(finger, row)` of each load row.
+fn equality_matrix(
+    model: &GraspModel,
+    reduction: &RowReduction,
+    e_hat: &DMatrix<f64>,
+) -> (DMatrix<f64>, Vec<(usize, usize)>) {
+    let e_red = reduction.basis.transpose() * e_hat;
+    let r_eq = e_red.nrows();
+    let fc = model.force_controlled();
+    let mut e = DMatrix::<f64>::zeros(r_eq + fc.len(), model.n_unknowns);
+    e.rows_mut(0, r_eq).copy_from(&e_red);
+    let mut load_rows = Vec::with_capacity(fc.len());
+    for (j, &i) in fc.iter().enumerate() {
+        let f = &model.fingers[i];
+        for k in 0..f.patch.len() {
+            e[(r_eq + j, f.offset + k)] = 1.0;
+        }
+        load_rows.push((i, r_eq + j));
+    }
+    (e, load_rows)
+}
+
+/// If the scaled external wrench has a component no contact force can produce, says which.
+fn unbalanced_reason(model: &GraspModel, red: &RowReduction, w: &[f64]) -> Option<String> {
+    let norm_w = w.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let rows = w.len();
+    for c in 0..red.null.ncols() {
+        let u: Vec<f64> = (0..rows).map(|r| red.null[(r, c)]).collect();
+        let comp: f64 = u.iter().zip(w).map(|(a, b)| a * b).sum();
+        if comp.abs() > 1e-9 * norm_w.max(1e-300) {
+            // Express the unresisted direction in the world frame.
+            let (force, moment) = match model.plane {
+                None => ([u[0], u[1], u[2]], [u[3], u[4], u[5]]),
+                Some((e1, e2, p)) => {
+                    let f = e1 * u[0] + e2 * u[1];
+                    let m = p * u[2];
+                    ([f.x, f.y, f.z], [m.x, m.y, m.z])
+                }
+            };
+            return Some(format!(
+                "no equilibrium: the load has a component that no contact force can resist \
+                 (force direction [{:.3}, {:.3}, {:.3}], moment axis [{:.3}, {:.3}, {:.3}]); \
+                 add friction or a finger whose normal or moment arm covers that direction",
+                force[0], force[1], force[2], moment[0], moment[1], moment[2]
+            ));
+        }
+    }
+    None
+}

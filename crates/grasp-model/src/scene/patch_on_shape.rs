@@ -1,0 +1,134 @@
+//! Checks of the patches against the shape: a patch hanging over the edge of a flat face
+//! (box faces, cylinder caps) or past the end of a cylinder's side, and patches of two
+//! fingers that overlap. Warnings, not errors: the solve still runs, the elements beyond an
+//! edge are simply not on the object.
+
+use nalgebra::Vector3;
+use serde_json::Value;
+
+use crate::geometry::contact_frame::ContactFrame;
+use crate::geometry::primitive_surface::Primitive;
+use crate::geometry::shape::{LocalShape, Shape};
+
+/// A finger's patch from its JSON: frame (world), half sides along `t1`, `t2` (m), name.
+fn patch_of(f: &Value) -> Option<(ContactFrame, [f64; 2], String)> {
+    let v = |key: &str| -> Option<Vector3<f64>> {
+        let a: [f64; 3] = serde_json::from_value(f.get(key)?.clone()).ok()?;
+        a.iter().all(|x| x.is_finite()).then(|| Vector3::from(a))
+    };
+    let (c, n) = (v("contact_point")?, v("normal")?);
+    if n.norm() == 0.0 {
+        return None;
+    }
+    let size: [f64; 2] = serde_json::from_value(f.pointer("/patch/size")?.clone()).ok()?;
+    let name = f.get("name")?.as_str()?.to_string();
+    Some((
+        ContactFrame::new(c, n, v("tangent"), None),
+        [size[0] / 2.0, size[1] / 2.0],
+        name,
+    ))
+}
+
+/// The four corners of a patch, world.
+fn corners(frame: &ContactFrame, half: [f64; 2]) -> [Vector3<f64>; 4] {
+    [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .map(|(a, b)| frame.point(a * half[0], b * half[1]))
+}
+
+/// How far the patch of finger `f` reaches past the face it lies on, m (0 when inside), for
+/// box faces, cylinder caps and cylinder sides; `None` for other shapes.
+fn overhang_m(frame: &ContactFrame, half: [f64; 2], shape: &Shape) -> Option<f64> {
+    let LocalShape::Primitive(prim) = &shape.local else {
+        return None;
+    };
+    let local = |p: &Vector3<f64>| {
+        shape
+            .rotation
+            .inverse_transform_vector(&(p - shape.position_m))
+    };
+    let n = shape.rotation.inverse_transform_vector(&frame.normal);
+    let cs = corners(frame, half).map(|c| local(&c));
+    let worst = |f: &dyn Fn(&Vector3<f64>) -> f64| cs.iter().map(f).fold(0.0_f64, f64::max);
+    match *prim {
+        Primitive::Box { half_m } => {
+            let k = (0..3).max_by(|&i, &j| n[i].abs().total_cmp(&n[j].abs()))?;
+            Some(worst(&|c| {
+                (0..3)
+                    .filter(|&i| i != k)
+                    .map(|i| c[i].abs() - half_m[i])
+                    .fold(0.0, f64::max)
+            }))
+        }
+        Primitive::Cylinder {
+            radius_m,
+            half_length_m,
+        } => Some(if n.z.abs() > 0.9 {
+            worst(&|c| c.xy().norm() - radius_m)
+        } else {
+            worst(&|c| c.z.abs() - half_length_m)
+        }),
+        _ => None,
+    }
+}
+
+/// The warning for a patch that hangs over an edge of the shape, if it does.
+pub fn overhang_warning(f: &Value, shape: &Shape) -> Option<String> {
+    let (frame, half, name) = patch_of(f)?;
+    let over = overhang_m(&frame, half, shape)?;
+    let tol = 1e-9 * half[0].max(half[1]);
+    (over > tol).then(|| {
+        format!(
+            "finger {name}: the patch hangs {:.3} mm over the edge of the face it lies on; elements beyond the edge are not on the object (make the patch smaller or move the finger)",
+            1e3 * over
+        )
+    })
+}
+
+/// Warnings for every pair of fingers whose patches overlap (same side of the object,
+/// rectangles intersecting in the first finger's tangent plane: separating axis test).
+pub fn overlap_warnings(fingers: &Value) -> Vec<String> {
+    let patches: Vec<_> = fingers
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(patch_of)
+        .collect();
+    let mut out = Vec::new();
+    for (i, a) in patches.iter().enumerate() {
+        for b in &patches[i + 1..] {
+            if overlap(a, b) {
+                out.push(format!(
+                    "fingers {} and {}: their patches overlap; each is modelled as if the other were not there (move them apart or make the patches smaller)",
+                    a.2, b.2
+                ));
+            }
+        }
+    }
+    out
+}
+
+fn overlap(a: &(ContactFrame, [f64; 2], String), b: &(ContactFrame, [f64; 2], String)) -> bool {
+    let (fa, ha) = (&a.0, a.1);
+    let (fb, hb) = (&b.0, b.1);
+    if fa.normal.dot(&fb.normal) < 0.5 {
+        return false;
+    }
+    let reach = ha[0].max(ha[1]) + hb[0].max(hb[1]);
+    if fa.normal.dot(&(fb.origin_m - fa.origin_m)).abs() > reach {
+        return false;
+    }
+    let (ca, cb) = (corners(fa, ha), corners(fb, hb));
+    let axes = [fa.t1, fa.t2, fb.t1, fb.t2];
+    axes.iter().all(|ax| {
+        let span = |cs: &[Vector3<f64>; 4]| {
+            cs.iter()
+                .map(|c| c.dot(ax))
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                    (lo.min(x), hi.max(x))
+                })
+        };
+        let ((a0, a1), (b0, b1)) = (span(&ca), span(&cb));
+        let tol = 1e-9 * reach;
+        a0 < b1 - tol && b0 < a1 - tol
+    })
+}

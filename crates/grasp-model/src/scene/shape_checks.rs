@@ -1,0 +1,92 @@
+//! Checks of `object.shape` as written: exactly one geometry, sizes in range, a usable pose.
+
+use crate::error::{InputProblem, SceneError};
+use crate::geometry::shape_spec::ShapeSpec;
+
+/// Smallest and largest size of a shape dimension, m.
+pub const SHAPE_SIZE_RANGE_M: (f64, f64) = (1e-6, 1e3);
+
+/// Every problem of `spec`.
+pub fn check_shape_spec(spec: &ShapeSpec) -> Result<(), SceneError> {
+    let mut p = Vec::new();
+    let kinds = [
+        spec.box_shape.is_some(),
+        spec.sphere.is_some(),
+        spec.cylinder.is_some(),
+        spec.capsule.is_some(),
+        spec.mesh.is_some(),
+    ];
+    if kinds.iter().filter(|k| **k).count() != 1 {
+        p.push(problem(
+            "object.shape",
+            "needs exactly one of box, sphere, cylinder, capsule, mesh".into(),
+            "give one geometry, e.g. {\"box\": {\"size\": [0.1, 0.1, 0.1]}}",
+        ));
+    }
+    let mut size = |path: &str, v: f64, zero_ok: bool| {
+        let (lo, hi) = SHAPE_SIZE_RANGE_M;
+        if !(v.is_finite() && ((lo..=hi).contains(&v) || (zero_ok && v == 0.0))) {
+            p.push(problem(
+                path,
+                format!("is {v}"),
+                &format!("give a length in metres in [{lo:e}, {hi:e}]"),
+            ));
+        }
+    };
+    if let Some(b) = &spec.box_shape {
+        for (k, v) in b.size.iter().enumerate() {
+            size(&format!("object.shape.box.size[{k}]"), *v, false);
+        }
+    }
+    if let Some(s) = &spec.sphere {
+        size("object.shape.sphere.radius", s.radius, false);
+    }
+    for (name, c, zero_ok) in [
+        ("cylinder", &spec.cylinder, false),
+        ("capsule", &spec.capsule, true),
+    ] {
+        if let Some(c) = c {
+            size(&format!("object.shape.{name}.radius"), c.radius, false);
+            size(&format!("object.shape.{name}.length"), c.length, zero_ok);
+        }
+    }
+    if let Some(m) = &spec.mesh {
+        if !(m.scale.is_finite() && m.scale > 0.0) {
+            p.push(problem(
+                "object.shape.mesh.scale",
+                format!("is {}", m.scale),
+                "give a positive factor, e.g. 1",
+            ));
+        }
+    }
+    for (k, v) in spec.position.iter().enumerate() {
+        if !(v.is_finite() && v.abs() <= 1e3) {
+            p.push(problem(
+                &format!("object.shape.position[{k}]"),
+                format!("is {v}"),
+                "give a coordinate in metres in [-1e3, 1e3]",
+            ));
+        }
+    }
+    let q = spec.quaternion;
+    let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if !(len.is_finite() && len > 1e-9) {
+        p.push(problem(
+            "object.shape.quaternion",
+            format!("is {q:?}"),
+            "give a rotation [w, x, y, z], e.g. [1, 0, 0, 0]",
+        ));
+    }
+    match p.is_empty() {
+        true => Ok(()),
+        false => Err(SceneError::Invalid(p)),
+    }
+}
+
+fn problem(path: &str, message: String, fix: &str) -> InputProblem {
+    InputProblem {
+        path: path.into(),
+        message,
+        fix: fix.into(),
+    }
+}

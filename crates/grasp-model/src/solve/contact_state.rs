@@ -1,0 +1,124 @@
+//! The mutable state carried from one solve to the next: slip memory (the coulomb model's
+//! path dependence) and the previous forces (the sequential solve's warm start).
+//!
+//! The [`crate::GraspModel`] is constant; a [`ContactState`] is what changes as a hand-off
+//! steps (the split MuJoCo makes between `mjModel` and `mjData`).
+
+use crate::model::grasp_model::GraspModel;
+use crate::solve::solution::Solution;
+
+/// Converged solves remembered before the last (two: with the last, they span two directions
+/// of load change).
+pub const EARLIER_KEPT: usize = 2;
+
+/// State of one finger's contact patch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FingerState {
+    /// Finger name (the state follows a finger when the set of fingers in contact changes).
+    pub name: String,
+    /// Slip memory `m_k`, m, per element along `[t1, t2]`: the relative tangential
+    /// displacement (object minus finger) at the end of the last converged step. A sticking
+    /// element keeps it; a slipping one adds its slip to it. Zero for a fresh contact.
+    pub slip_memory_m: Vec<[f64; 2]>,
+    /// Element normal forces `F_k` of the last converged solve, N (warm start of the Tresca
+    /// radii); `None` before the first solve.
+    pub normal_forces_n: Option<Vec<f64>>,
+    /// Total normal load of the last converged solve, N (warm start of a load-dependent
+    /// `mu`).
+    pub normal_load_n: Option<f64>,
+    /// `normal_forces_n` and `normal_load_n` of the converged solves before the last (at
+    /// most [`EARLIER_KEPT`], oldest first): from them the sequential solve's warm start
+    /// continues the loads' ramp.
+    pub earlier: Vec<(Vec<f64>, f64)>,
+}
+
+impl FingerState {
+    /// A fresh contact of `elements` elements: no slip memory, no warm start.
+    pub fn fresh(name: &str, elements: usize) -> Self {
+        FingerState {
+            name: name.to_string(),
+            slip_memory_m: vec![[0.0; 2]; elements],
+            normal_forces_n: None,
+            normal_load_n: None,
+            earlier: Vec::new(),
+        }
+    }
+}
+
+/// State of every finger of a model, in the model's finger order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactState {
+    /// Per finger, scene order.
+    pub fingers: Vec<FingerState>,
+}
+
+impl ContactState {
+    /// A fresh state for `model`: zero slip memory, no warm start.
+    pub fn new(model: &GraspModel) -> Self {
+        ContactState {
+            fingers: model
+                .fingers
+                .iter()
+                .map(|f| FingerState::fresh(&f.name, f.patch.len()))
+                .collect(),
+        }
+    }
+
+    /// True when the state belongs to `model` (same finger names and element counts, in
+    /// order).
+    pub fn matches(&self, model: &GraspModel) -> bool {
+        self.fingers.len() == model.fingers.len()
+            && self.fingers.iter().zip(&model.fingers).all(|(s, f)| {
+                s.name == f.name
+                    && s.slip_memory_m.len() == f.patch.len()
+                    && s.normal_forces_n
+                        .as_ref()
+                        .is_none_or(|v| v.len() == f.patch.len())
+                    && s.earlier.iter().all(|(v, _)| v.len() == f.patch.len())
+            })
+    }
+
+    /// Forgets the warm start (keeps the slip memory, which is physics, not a guess).
+    pub fn clear_warm_start(&mut self) {
+        for f in &mut self.fingers {
+            f.normal_forces_n = None;
+            f.normal_load_n = None;
+            f.earlier.clear();
+        }
+    }
+
+    /// Slip memory of every finger, m.
+    pub fn slip_memory_m(&self) -> Vec<Vec<[f64; 2]>> {
+        self.fingers
+            .iter()
+            .map(|f| f.slip_memory_m.clone())
+            .collect()
+    }
+}
+
+impl ContactState {
+    /// Writes a successful solution into the state: forces and loads (warm start) and, for the
+    /// coulomb model (`memory`), the accumulated slip as the new slip memory.
+    pub fn record(&mut self, model: &GraspModel, sol: &Solution, memory: bool) {
+        for ((fs, f), fm) in self
+            .fingers
+            .iter_mut()
+            .zip(&sol.fingers)
+            .zip(&model.fingers)
+        {
+            if let Some(last) = fs.normal_forces_n.take().zip(fs.normal_load_n) {
+                if fs.earlier.len() == EARLIER_KEPT {
+                    fs.earlier.remove(0);
+                }
+                fs.earlier.push(last);
+            }
+            fs.normal_forces_n = Some(f.elements.iter().map(|e| e.normal_force_n).collect());
+            fs.normal_load_n = Some(f.normal_force_n);
+            if memory && fm.n_tangential > 0 {
+                for (m, e) in fs.slip_memory_m.iter_mut().zip(&f.elements) {
+                    *m = e.slip_m;
+                }
+            }
+        }
+    }
+}

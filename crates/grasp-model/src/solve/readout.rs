@@ -1,0 +1,396 @@
+//! Reading a solved program: the SI [`Solution`] from scaled forces and equality multipliers,
+//! the explanations of programs without solution, and the checks every answer must pass before
+//! it is reported as solved. Written once for every backend.
+//!
+//! Multipliers (KKT of `min 1/2 x'Px + q'x, E x = e, x in K`: `P x + q + E' lambda = y`):
+//! - equilibrium rows: the object's rigid displacement, `delta = Fu Cu S' U lambda_eq`
+//!   (translation of `O` in m, rotation in rad);
+//! - load rows: minus the approach of the force-controlled finger, `a_i = -Fu Cu lambda_i`.
+
+use std::time::Instant;
+
+use nalgebra::{DVector, Vector3};
+
+use crate::model::grasp_model::GraspModel;
+use crate::option_names;
+use crate::program::cone_program::ConeProgram;
+use crate::solve::patch_check::patch_warnings;
+use crate::solve::residuals::{
+    contact_kinematics, evaluate, tangential, ContactKinematics, FrictionRule,
+};
+use crate::solve::solution::{
+    ElementSolution, ElementState, FingerSolution, RigidDisplacement, Solution, SolveStatus,
+    SolverStats, LOADED_FRACTION,
+};
+use crate::solver::outcome::Certificate;
+
+/// Largest equilibrium and cone residual (relative to the load and the element force unit) of
+/// an answer reported as solved; a larger one means the solver's answer is not trusted.
+pub const ACCEPTED_FORCE_RESIDUAL: f64 = 1e-6;
+
+/// Largest compatibility, penetration, complementarity and stick-motion residual (relative to
+/// the displacement and work units) of an answer reported as solved.
+pub const ACCEPTED_KINEMATIC_RESIDUAL: f64 = 1e-3;
+
+/// How to read a solved program.
+pub(crate) struct Build<'a> {
+    /// The friction rule (energy: associated; coulomb: with the step's starting memory).
+    pub rule: FrictionRule<'a>,
+    /// Friction coefficient per finger the program was solved with.
+    pub mu: &'a [f64],
+    /// Tresca radii per finger, per element (N), coulomb model only.
+    pub radii_n: Option<&'a [Vec<f64>]>,
+}
+
+/// A solution without forces: `status` with its `reason`.
+pub(crate) fn failed(
+    model: &GraspModel,
+    status: SolveStatus,
+    reason: String,
+    start: Instant,
+    solver: SolverStats,
+) -> Solution {
+    Solution {
+        status,
+        reason: Some(reason),
+        warnings: Vec::new(),
+        fingers: Vec::new(),
+        rigid_displacement: None,
+        residuals: None,
+        load_scale_n: model.scales.load_n,
+        solve_time_s: start.elapsed().as_secs_f64(),
+        solver,
+        sequential: None,
+    }
+}
+
+/// Rigid displacement `(translation of O, rotation)` from the scaled equality multipliers.
+pub(crate) fn rigid_from_multipliers(
+    model: &GraspModel,
+    program: &ConeProgram,
+    multipliers: &[f64],
+) -> (Vector3<f64>, Vector3<f64>) {
+    let r = program.equilibrium_rows();
+    let zr = DVector::from_column_slice(&multipliers[..r]);
+    // Scaled equilibrium coordinates, then delta = Fu Cu S' (U z); S has 1/L on moment rows.
+    let full = &program.reduction.basis * zr;
+    let d = model.equilibrium.select.transpose() * full * model.scales.displacement_m();
+    (
+        Vector3::new(d[0], d[1], d[2]),
+        Vector3::new(d[3], d[4], d[5]),
+    )
+}
+
+fn fmt3(v: &Vector3<f64>) -> String {
+    format!("[{:.3}, {:.3}, {:.3}]", v.x, v.y, v.z)
+}
+
+/// The motion of the centre of mass in a certificate, as words (`None` if negligible).
+fn motion_words(model: &GraspModel, program: &ConeProgram, cert: &Certificate) -> Option<String> {
+    let (t_o, theta) = rigid_from_multipliers(model, program, &cert.equality);
+    let t = t_o + theta.cross(&(model.center_of_mass_m - model.reference_point_m));
+    let scale = t.norm().max(theta.norm() * model.scales.length_m);
+    if !(scale > 0.0 && scale.is_finite()) {
+        return None;
+    }
+    let mut s = String::new();
+    if t.norm() > 1e-6 * scale {
+        s.push_str(&format!(" moving along {}", fmt3(&t.normalize())));
+    }
+    if theta.norm() * model.scales.length_m > 1e-6 * scale {
+        s.push_str(&format!(" turning about {}", fmt3(&theta.normalize())));
+    }
+    Some(s)
+}
+
+/// Reads an infeasibility certificate of the energy model as the rigid motion by which the
+/// object escapes.
+pub(crate) fn escape_reason(
+    model: &GraspModel,
+    program: &ConeProgram,
+    cert: &Certificate,
+) -> String {
+    let mut s = String::from(
+        "no equilibrium: the friction cones cannot balance the load (friction too low, or the \
+         contacts cannot resist it)",
+    );
+    if let Some(m) = motion_words(model, program, cert) {
+        s.push_str("; the object would escape");
+        s.push_str(&m);
+    }
+    s.push_str("; raise mu or move the fingers");
+    s
+}
+
+/// Which fingers slide in a certificate of a Tresca program, with their share of the slip.
+fn sliding_fingers(model: &GraspModel, cert: &Certificate) -> Vec<(String, f64)> {
+    let total: f64 = cert.finger_slip.iter().sum();
+    if !(total > 0.0 && total.is_finite()) {
+        return Vec::new();
+    }
+    let mut v: Vec<(String, f64)> = model
+        .fingers
+        .iter()
+        .zip(&cert.finger_slip)
+        .filter(|(_, &s)| s > 0.02 * total)
+        .map(|(f, &s)| (f.name.clone(), s / total))
+        .collect();
+    v.sort_by(|a, b| b.1.total_cmp(&a.1));
+    v
+}
+
+/// The reason of an infeasible Tresca program: too little normal force, which fingers slide,
+/// and how the object would move.
+pub(crate) fn cannot_hold_reason(
+    model: &GraspModel,
+    program: &ConeProgram,
+    cert: &Certificate,
+) -> String {
+    let mut s = String::from(
+        "cannot hold: the commanded loads give too little normal force for Coulomb friction",
+    );
+    let sliding = sliding_fingers(model, cert);
+    if !sliding.is_empty() {
+        let list: Vec<String> = sliding
+            .iter()
+            .map(|(n, share)| format!("{n} ({:.0} % of the slip)", share * 100.0))
+            .collect();
+        s.push_str(&format!("; lacking grip: {}", list.join(", ")));
+    }
+    let (t_o, theta) = rigid_from_multipliers(model, program, &cert.equality);
+    let t = t_o + theta.cross(&(model.center_of_mass_m - model.reference_point_m));
+    let scale = t.norm().max(theta.norm() * model.scales.length_m);
+    if scale > 0.0 && scale.is_finite() && t.norm() > 1e-6 * scale {
+        let d = t.normalize();
+        s.push_str(&format!(
+            "; the object would slide along [{:.3}, {:.3}, {:.3}]",
+            d.x, d.y, d.z
+        ));
+    }
+    s.push_str("; raise the normal load of the fingers lacking grip (or mu)");
+    s
+}
+
+/// Contact state of every element: primal slack against dual slack, the larger one says which
+/// side of each complementarity is active.
+fn element_states(
+    model: &GraspModel,
+    x_n: &[f64],
+    kin: &ContactKinematics,
+    how: &Build<'_>,
+) -> Vec<Vec<ElementState>> {
+    let (fu, du) = (model.scales.element_force_n, model.scales.displacement_m());
+    model
+        .fingers
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let ne = f.patch.len();
+            let mu = how.mu[i];
+            let dilatancy = if how.rule.is_associated() { mu } else { 0.0 };
+            (0..ne)
+                .map(|k| {
+                    let fk = x_n[f.offset + k] / fu;
+                    let g = tangential(x_n, f.offset, ne, f.n_tangential, k);
+                    let gn = g[0].hypot(g[1]) / fu;
+                    let w = how.rule.step_slip(i, k, kin.tangential_m[i][k]);
+                    let wn = w[0].hypot(w[1]) / du;
+                    let gap = kin.gap_m[i][k] / du;
+                    let opening = if f.n_tangential == 0 {
+                        gap
+                    } else {
+                        gap - dilatancy * wn
+                    };
+                    let radius = match how.radii_n {
+                        Some(r) => r[i][k] / fu,
+                        None => mu * fk,
+                    };
+                    if fk < opening.max(1e-7) {
+                        ElementState::Separated
+                    } else if f.n_tangential == 0 || wn > radius - gn {
+                        ElementState::Slip
+                    } else {
+                        ElementState::Stick
+                    }
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Resultants and element fields of finger `i`.
+#[allow(clippy::too_many_arguments)] // the finger's inputs, each read once; a struct would only rename them
+fn finger_solution(
+    model: &GraspModel,
+    i: usize,
+    x_n: &[f64],
+    kin: &ContactKinematics,
+    states: &[ElementState],
+    mu_at_load: f64,
+    approach_m: f64,
+    how: &Build<'_>,
+) -> FingerSolution {
+    let f = &model.fingers[i];
+    let ne = f.patch.len();
+    let area = f.patch.element_area_m2();
+    let mu = if f.n_tangential == 0 { 0.0 } else { mu_at_load };
+    let mut elements = Vec::with_capacity(ne);
+    let (mut p, mut q, mut torsion, mut cx, mut cy) = (0.0, Vector3::zeros(), 0.0, 0.0, 0.0);
+    let (mut counts, mut peak, mut boundary) = ([0usize; 3], 0.0_f64, 0.0);
+    for k in 0..ne {
+        let fk = x_n[f.offset + k];
+        let g = tangential(x_n, f.offset, ne, f.n_tangential, k);
+        let [x, y] = f.patch.centres_m[k];
+        p += fk;
+        if f.patch.on_boundary(k) {
+            boundary += fk;
+        }
+        q += f.frame.t1 * g[0] + f.frame.t2 * g[1];
+        torsion += x * g[1] - y * g[0];
+        cx += fk * x;
+        cy += fk * y;
+        peak = peak.max(fk / area);
+        counts[states[k] as usize] += 1;
+        let pos = f.element_point(k);
+        elements.push(ElementSolution {
+            index: [k / f.patch.grid.ny, k % f.patch.grid.ny],
+            local_m: [x, y],
+            position_m: [pos.x, pos.y, pos.z],
+            normal_force_n: fk,
+            tangential_force_n: g,
+            pressure_pa: fk / area,
+            traction_pa: [g[0] / area, g[1] / area],
+            gap_m: kin.gap_m[i][k],
+            slip_m: kin.tangential_m[i][k],
+            step_slip_m: how.rule.step_slip(i, k, kin.tangential_m[i][k]),
+            state: states[k],
+        });
+    }
+    // An unloaded finger (solver noise only) has no centre of pressure: its contact point.
+    let loaded = p > LOADED_FRACTION * model.scales.load_n;
+    let cop = if loaded {
+        f.frame.point(cx / p, cy / p)
+    } else {
+        f.frame.origin_m
+    };
+    let qn = q.norm();
+    FingerSolution {
+        name: f.name.clone(),
+        normal_force_n: p,
+        tangential_force_n: [q.x, q.y, q.z],
+        tangential_magnitude_n: qn,
+        torsional_moment_nm: torsion,
+        center_of_pressure_m: [cop.x, cop.y, cop.z],
+        contact_area_m2: (ne - counts[ElementState::Separated as usize]) as f64 * area,
+        peak_pressure_pa: peak,
+        friction_coefficient: mu,
+        // An unloaded finger (solver noise only) has no meaningful ratio.
+        friction_utilization: if mu > 0.0 && loaded {
+            qn / (mu * p)
+        } else {
+            0.0
+        },
+        boundary_load_fraction: if loaded { boundary / p } else { 0.0 },
+        approach_m,
+        stick_count: counts[ElementState::Stick as usize],
+        slip_count: counts[ElementState::Slip as usize],
+        separated_count: counts[ElementState::Separated as usize],
+        elements,
+    }
+}
+
+/// Builds the SI solution from the scaled forces `x` and equality multipliers.
+pub(crate) fn build_solution(
+    model: &GraspModel,
+    program: &ConeProgram,
+    x_scaled: &[f64],
+    multipliers: &[f64],
+    stats: SolverStats,
+    how: &Build<'_>,
+) -> Solution {
+    let s = model.scales;
+    let x_n: Vec<f64> = x_scaled.iter().map(|v| v * s.element_force_n).collect();
+    let (t_o, theta) = rigid_from_multipliers(model, program, multipliers);
+    let mut approach = vec![0.0; model.fingers.len()];
+    for &(i, row) in &program.load_rows {
+        approach[i] = -multipliers[row] * s.displacement_m();
+    }
+    let kin = contact_kinematics(model, &x_n, &t_o, &theta, &approach);
+    let states = element_states(model, &x_n, &kin, how);
+    // The law's coefficient at each finger's load (equal to the frozen one at a fixed point).
+    let mu_at_load: Vec<f64> = model
+        .fingers
+        .iter()
+        .map(|f| {
+            let p: f64 = x_n[f.offset..f.offset + f.patch.len()].iter().sum();
+            f.friction.mu_at(p)
+        })
+        .collect();
+    let residuals = evaluate(model, &x_n, &kin, &states, &mu_at_load, how.rule);
+    let fingers = (0..model.fingers.len())
+        .map(|i| {
+            finger_solution(
+                model,
+                i,
+                &x_n,
+                &kin,
+                &states[i],
+                mu_at_load[i],
+                approach[i],
+                how,
+            )
+        })
+        .collect();
+    let t_com = t_o + theta.cross(&(model.center_of_mass_m - model.reference_point_m));
+    let mut sol = Solution {
+        status: SolveStatus::Solved,
+        reason: None,
+        warnings: Vec::new(),
+        fingers,
+        // With no contact force at all the multipliers are any interior point: the object's
+        // position is not determined by the grasp, so none is reported.
+        rigid_displacement: x_n
+            .iter()
+            .any(|&v| v.abs() > 1e-12 * s.element_force_n)
+            .then_some(RigidDisplacement {
+                translation_m: [t_com.x, t_com.y, t_com.z],
+                rotation_rad: [theta.x, theta.y, theta.z],
+            }),
+        residuals: Some(residuals),
+        load_scale_n: s.load_n,
+        solve_time_s: 0.0,
+        solver: stats,
+        sequential: None,
+    };
+    sol.warnings = patch_warnings(model, &sol);
+    sol
+}
+
+/// The end-of-solve invariant: a solution with forces is reported as solved only if every
+/// number in it is finite and its residuals are within [`ACCEPTED_FORCE_RESIDUAL`] and
+/// [`ACCEPTED_KINEMATIC_RESIDUAL`]; otherwise it becomes `no_convergence` with the reason and
+/// loses its forces.
+pub(crate) fn enforce_invariant(sol: &mut Solution) {
+    if !sol.status.has_forces() {
+        return;
+    }
+    let problem = match &sol.residuals {
+        None => Some("it has no residuals".to_string()),
+        Some(r) if !sol.all_finite() => Some(format!(
+            "it contains numbers that are not finite (worst residual {:.1e})",
+            r.worst()
+        )),
+        Some(r) => r.unacceptable(ACCEPTED_FORCE_RESIDUAL, ACCEPTED_KINEMATIC_RESIDUAL),
+    };
+    if let Some(p) = problem {
+        sol.status = SolveStatus::NoConvergence;
+        sol.reason = Some(format!(
+            "no convergence: the solver's answer fails its own checks: {p}; try `{}` = \
+             clarabel, a coarser grid, or report the scene",
+            option_names::SOLVER
+        ));
+        sol.fingers.clear();
+        sol.rigid_displacement = None;
+        sol.warnings.clear();
+    }
+}

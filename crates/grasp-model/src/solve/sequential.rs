@@ -1,0 +1,505 @@
+//! The sequential (SQP-style) strategy: a sequence of convex cone programs iterated to a fixed
+//! point (model.md, "coulomb" and "Load-dependent friction"; thesis section 2.6).
+//!
+//! - **coulomb**: each iterate solves the program with Tresca cones `||G_k|| <= r_k`,
+//!   `r_k = mu_i(P_i) F_k` from the iterate's input forces `F_k` (finger loads `P_i`), and the
+//!   slip memory `m` in the linear cost. The first input comes from the previous step's forces
+//!   (warm start; a force-controlled finger's forces are rescaled to its new load) or, without
+//!   them, from an energy-model solve (cold start, whose solution also starts the first Tresca
+//!   solve). A warm start that proves infeasible is retried cold once.
+//! - **energy** with a load-dependent `mu`: each iterate solves the energy program with `mu_i`
+//!   frozen at the input's finger loads.
+//!
+//! Each convex solve starts from the previous iterate's solution. The fixed-point map `T`
+//! (input forces to output normal forces) is iterated as `F <- F + omega (T(F) - F)`, with
+//! `omega = 1` until an iterate's program has no solution: the iteration then does not give up
+//! but backs off halfway towards the last input whose program was feasible, halving `omega`
+//! (down to [`SolveOptions::min_relaxation`]) and letting it grow back after each feasible iterate (a
+//! Krasnoselskii-Mann iteration). Converged when `max |T(F) - F| <= sequential_tolerance Fu`.
+//! Outcomes: converged; no equilibrium (for coulomb, with the fingers that lack grip, read from
+//! the infeasibility certificate); no convergence within the iteration limit.
+
+use std::time::Instant;
+
+use crate::error::ModelError;
+use crate::model::grasp_model::{Control, GraspModel};
+use crate::program::cone_program::{ConeLaw, ConeProgram};
+use crate::scene::scene_format::ModelKind;
+use crate::solve::contact_state::ContactState;
+use crate::solve::convex_solve::{add_run, start_of};
+use crate::solve::readout::{build_solution, cannot_hold_reason, escape_reason, failed, Build};
+use crate::solve::residuals::FrictionRule;
+use crate::solve::solution::{
+    SequentialReport, Solution, SolveStatus, SolverStats, LOADED_FRACTION,
+};
+use crate::solver::native::Iterate;
+use crate::solver::options::SolveOptions;
+use crate::solver::outcome::{ConvexOutcome, Start};
+use crate::solver::predictor::{affine_coefficients, combine};
+use crate::solver::program_solver::ProgramSolver;
+
+/// Element normal forces per finger (N) from a scaled primal.
+fn normal_forces(model: &GraspModel, x_scaled: &[f64]) -> Vec<Vec<f64>> {
+    let fu = model.scales.element_force_n;
+    model
+        .fingers
+        .iter()
+        .map(|f| {
+            x_scaled[f.offset..f.offset + f.patch.len()]
+                .iter()
+                .map(|v| v * fu)
+                .collect()
+        })
+        .collect()
+}
+
+fn totals(forces: &[Vec<f64>]) -> Vec<f64> {
+    forces.iter().map(|f| f.iter().sum()).collect()
+}
+
+fn largest_change(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
+    a.iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// `a + w (b - a)`, element by element.
+fn relax(a: &[Vec<f64>], b: &[Vec<f64>], w: f64) -> Vec<Vec<f64>> {
+    a.iter()
+        .zip(b)
+        .map(|(ra, rb)| ra.iter().zip(rb).map(|(x, y)| x + w * (y - x)).collect())
+        .collect()
+}
+
+/// Tresca radii `mu_i max(F_k, 0)` (N) of input forces `forces` (N).
+fn radii_of(forces: &[Vec<f64>], mu: &[f64]) -> Vec<Vec<f64>> {
+    forces
+        .iter()
+        .zip(mu)
+        .map(|(fi, &m)| fi.iter().map(|v| m * v.max(0.0)).collect())
+        .collect()
+}
+
+/// The previous steps' forces as a first input: extrapolated along a steady ramp
+/// ([`extrapolated_forces`]), else the last step's rescaled to the new loads of
+/// force-controlled fingers; `None` when the state has none or a force-controlled finger goes
+/// from no load to some (its distribution is then unknown).
+fn warm_forces(model: &GraspModel, loads_n: &[f64], state: &ContactState) -> Option<Vec<Vec<f64>>> {
+    if let Some(f) = extrapolated_forces(model, loads_n, state) {
+        return Some(f);
+    }
+    let loaded = LOADED_FRACTION * model.scales.load_n;
+    let mut out = Vec::with_capacity(model.fingers.len());
+    let mut j = 0;
+    for (f, s) in model.fingers.iter().zip(&state.fingers) {
+        let prev = s.normal_forces_n.as_ref()?;
+        match f.control {
+            Control::Held => out.push(prev.clone()),
+            Control::NormalLoad { .. } => {
+                let p_new = loads_n[j];
+                j += 1;
+                let p_old: f64 = prev.iter().sum();
+                if p_old > loaded {
+                    out.push(prev.iter().map(|v| v * p_new / p_old).collect());
+                } else if p_new <= loaded {
+                    out.push(vec![0.0; prev.len()]);
+                } else {
+                    return None;
+                }
+            }
+        }
+    }
+    Some(out)
+}
+
+/// When the commanded loads are an affine combination of the last steps' (`L_now = L_k +
+/// sum_j c_j (L_j - L_k)`: a ramp, or two ramps on different curves), the forces combined the
+/// same way, clipped at zero. While no element changes between stick, slip and separation and
+/// only the loads change (the external wrench and the slip memory moving as in the last
+/// steps), that is the fixed point itself (the solution is then affine in the loads) and the
+/// sequence ends after one convex solve; otherwise it is a guess the sequence corrects. Loads
+/// that did not change (to round-off: the last loads are the solved totals) give `None`.
+fn extrapolated_forces(
+    model: &GraspModel,
+    loads_n: &[f64],
+    state: &ContactState,
+) -> Option<Vec<Vec<f64>>> {
+    let depth = state.fingers.iter().map(|s| s.earlier.len()).min()?;
+    // Loads of the force-controlled fingers: the last solve's, then the earlier ones, newest
+    // first.
+    let mut last = Vec::new();
+    let mut earlier = vec![Vec::new(); depth];
+    for (f, s) in model.fingers.iter().zip(&state.fingers) {
+        if let Control::NormalLoad { .. } = f.control {
+            last.push(s.normal_load_n?);
+            for (j, e) in earlier.iter_mut().enumerate() {
+                e.push(s.earlier[s.earlier.len() - 1 - j].1);
+            }
+        }
+    }
+    let noise = LOADED_FRACTION * model.scales.load_n;
+    if loads_n
+        .iter()
+        .zip(&last)
+        .all(|(a, b)| (a - b).abs() <= noise)
+    {
+        return None;
+    }
+    // The fewest, newest points first (the likeliest to share the new contact pattern).
+    let (c, used) = (1..=depth).find_map(|k| {
+        let others: Vec<&[f64]> = earlier[..k].iter().map(Vec::as_slice).collect();
+        affine_coefficients(&last, &others, loads_n).map(|c| (c, k))
+    })?;
+    let mut out = Vec::with_capacity(model.fingers.len());
+    for s in &state.fingers {
+        let f_last = s.normal_forces_n.as_ref()?;
+        let others: Vec<&[f64]> = (0..used)
+            .map(|j| s.earlier[s.earlier.len() - 1 - j].0.as_slice())
+            .collect();
+        let f = combine(f_last, &others, &c);
+        out.push(f.into_iter().map(|v| v.max(0.0)).collect());
+    }
+    Some(out)
+}
+
+/// A finished or failed sequence, or the cold start's forces and solution.
+type ColdStart = Result<(Vec<Vec<f64>>, Iterate), (SolveStatus, String)>;
+
+/// Cold start of the coulomb model: the energy model's forces (same loads and memory) and its
+/// solution, which starts the first Tresca solve.
+fn cold_start(
+    energy: &mut Option<ProgramSolver>,
+    model: &GraspModel,
+    loads_n: &[f64],
+    memory: &[Vec<[f64; 2]>],
+    options: &SolveOptions,
+    stats: &mut SolverStats,
+) -> Result<ColdStart, ModelError> {
+    let guess_mu = model.mu_at(&model.guess_loads(loads_n));
+    let ps = energy.get_or_insert_with(|| {
+        ProgramSolver::new(ConeProgram::assemble(
+            model,
+            loads_n,
+            ConeLaw::Associated,
+            &guess_mu,
+        ))
+    });
+    ps.program.set_loads(model, loads_n);
+    ps.program.set_external_wrench(model);
+    ps.program.set_mu(&guess_mu);
+    ps.program.set_slip_memory(model, memory);
+    let run = ps.solve(model, options, start_of(options))?;
+    add_run(stats, &run);
+    Ok(match run.outcome {
+        ConvexOutcome::Solved { x, multipliers, .. } => Ok((
+            normal_forces(model, &x),
+            Iterate {
+                x,
+                lambda: multipliers,
+            },
+        )),
+        // Not even the energy model's friction holds the object: Coulomb friction cannot.
+        ConvexOutcome::Infeasible(cert) => Err((
+            SolveStatus::NoEquilibrium,
+            cannot_hold_reason(model, &ps.program, &cert),
+        )),
+        ConvexOutcome::Failed { reason } => Err((SolveStatus::NoConvergence, reason)),
+    })
+}
+
+/// The input of an iterate: forces (N; `None` before the first energy iterate of a
+/// load-dependent `mu`) and finger loads (N).
+#[derive(Debug, Clone)]
+struct Input {
+    forces: Option<Vec<Vec<f64>>>,
+    loads: Vec<f64>,
+}
+
+impl Input {
+    fn of_forces(forces: Vec<Vec<f64>>) -> Self {
+        Input {
+            loads: totals(&forces),
+            forces: Some(forces),
+        }
+    }
+
+    /// Halfway (weight `w`) from `self` towards `other`.
+    fn towards(&self, other: &Input, w: f64) -> Input {
+        Input {
+            forces: match (&self.forces, &other.forces) {
+                (Some(a), Some(b)) => Some(relax(a, b, w)),
+                _ => other.forces.clone(),
+            },
+            loads: self
+                .loads
+                .iter()
+                .zip(&other.loads)
+                .map(|(a, b)| a + w * (b - a))
+                .collect(),
+        }
+    }
+}
+
+/// The sequence's bookkeeping.
+struct Sequence<'a> {
+    model: &'a GraspModel,
+    options: &'a SolveOptions,
+    coulomb: bool,
+    memory: Vec<Vec<[f64; 2]>>,
+    stats: SolverStats,
+    report: SequentialReport,
+    clock: Instant,
+}
+
+impl Sequence<'_> {
+    fn fail(&self, status: SolveStatus, reason: String) -> Solution {
+        let mut s = failed(self.model, status, reason, self.clock, self.stats.clone());
+        s.sequential = Some(self.report);
+        s
+    }
+
+    fn infeasible_reason(
+        &self,
+        program: &ConeProgram,
+        cert: &crate::solver::outcome::Certificate,
+        mu: &[f64],
+    ) -> String {
+        if self.coulomb {
+            cannot_hold_reason(self.model, program, cert)
+        } else {
+            format!(
+                "{} (mu frozen at iterate {}: {})",
+                escape_reason(self.model, program, cert),
+                self.report.iterations,
+                fmt_mu(self.model, mu)
+            )
+        }
+    }
+}
+
+/// Runs the sequential solve of one step (see the module docs). `main` holds the step's
+/// program (Tresca cones for coulomb); `energy` the coulomb model's cold-start program.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn solve_sequential(
+    main: &mut ProgramSolver,
+    energy: &mut Option<ProgramSolver>,
+    model: &GraspModel,
+    loads_n: &[f64],
+    state: &mut ContactState,
+    options: &SolveOptions,
+    stats: SolverStats,
+    clock: Instant,
+) -> Result<Solution, ModelError> {
+    let coulomb = model.kind == ModelKind::Coulomb;
+    let mut seq = Sequence {
+        model,
+        options,
+        coulomb,
+        memory: state.slip_memory_m(),
+        stats,
+        report: SequentialReport {
+            iterations: 0,
+            last_change_n: f64::INFINITY,
+            tolerance_n: options.sequential_tolerance * model.scales.element_force_n,
+            converged: false,
+            warm_started: false,
+            cold_restarts: 0,
+            damped_iterations: 0,
+        },
+        clock,
+    };
+    if coulomb {
+        main.program.set_slip_memory(model, &seq.memory);
+    }
+    let warm = options
+        .warm_start
+        .then(|| warm_forces(model, loads_n, state))
+        .flatten();
+    seq.report.warm_started = warm.is_some();
+    let mut start_at: Option<Iterate> = None;
+    let mut input = match warm {
+        Some(f) => Input::of_forces(f),
+        None if coulomb => {
+            match cold_start(energy, model, loads_n, &seq.memory, options, &mut seq.stats)? {
+                Ok((f, it)) => {
+                    start_at = Some(it);
+                    Input::of_forces(f)
+                }
+                Err((status, reason)) => return Ok(seq.fail(status, reason)),
+            }
+        }
+        None => Input {
+            forces: None,
+            loads: model.guess_loads(loads_n),
+        },
+    };
+    iterate(main, energy, loads_n, state, &mut seq, &mut input, start_at)
+}
+
+/// The fixed-point loop from `input` (see the module docs).
+fn iterate(
+    main: &mut ProgramSolver,
+    energy: &mut Option<ProgramSolver>,
+    loads_n: &[f64],
+    state: &mut ContactState,
+    seq: &mut Sequence<'_>,
+    input: &mut Input,
+    mut start_at: Option<Iterate>,
+) -> Result<Solution, ModelError> {
+    let model = seq.model;
+    let mut omega = 1.0_f64;
+    let mut last_feasible: Option<Input> = None;
+    loop {
+        seq.report.iterations += 1;
+        let mu = model.mu_at(&input.loads);
+        let radii = seq
+            .coulomb
+            .then(|| radii_of(input.forces.as_deref().unwrap_or(&[]), &mu));
+        match &radii {
+            Some(r) => main.program.set_radii(model, r),
+            None => main.program.set_mu(&mu),
+        }
+        let start = match &start_at {
+            Some(it) => Start::At(it),
+            None => start_of(seq.options),
+        };
+        let run = main.solve(model, seq.options, start)?;
+        start_at = None;
+        add_run(&mut seq.stats, &run);
+        match run.outcome {
+            ConvexOutcome::Solved {
+                reduced_accuracy,
+                x,
+                multipliers,
+            } => {
+                let out = normal_forces(model, &x);
+                let change = input
+                    .forces
+                    .as_ref()
+                    .map_or(f64::INFINITY, |f| largest_change(f, &out));
+                seq.report.last_change_n = change;
+                if change <= seq.report.tolerance_n {
+                    let how = (&mu, radii.as_deref(), reduced_accuracy);
+                    return Ok(converged(main, seq, state, &x, &multipliers, how));
+                }
+                if seq.report.iterations >= seq.options.max_sequential_iterations {
+                    return Ok(seq.fail(SolveStatus::NoConvergence, no_convergence(seq)));
+                }
+                last_feasible = Some(input.clone());
+                let target = Input::of_forces(out);
+                *input = if omega < 1.0 {
+                    seq.report.damped_iterations += 1;
+                    input.towards(&target, omega)
+                } else {
+                    target
+                };
+                omega = (2.0 * omega).min(1.0);
+            }
+            ConvexOutcome::Infeasible(cert) => {
+                let restart = seq.coulomb
+                    && seq.report.warm_started
+                    && seq.report.iterations == 1
+                    && seq.report.cold_restarts == 0;
+                if restart {
+                    // The previous step's forces were a poor guess: restart from the energy model.
+                    seq.report.cold_restarts += 1;
+                    let cold = cold_start(
+                        energy,
+                        model,
+                        loads_n,
+                        &seq.memory,
+                        seq.options,
+                        &mut seq.stats,
+                    )?;
+                    match cold {
+                        Ok((f, it)) => {
+                            start_at = Some(it);
+                            *input = Input::of_forces(f);
+                            seq.report.iterations = 0;
+                            continue;
+                        }
+                        Err((status, reason)) => return Ok(seq.fail(status, reason)),
+                    }
+                }
+                match &last_feasible {
+                    Some(prev) if omega > seq.options.min_relaxation => {
+                        // Back off halfway towards the last input whose program was feasible.
+                        omega *= 0.5;
+                        seq.report.damped_iterations += 1;
+                        *input = prev.towards(input, 0.5);
+                    }
+                    _ => {
+                        let reason = seq.infeasible_reason(&main.program, &cert, &mu);
+                        return Ok(seq.fail(SolveStatus::NoEquilibrium, reason));
+                    }
+                }
+                if seq.report.iterations >= seq.options.max_sequential_iterations {
+                    return Ok(seq.fail(SolveStatus::NoConvergence, no_convergence(seq)));
+                }
+            }
+            ConvexOutcome::Failed { reason } => {
+                return Ok(seq.fail(SolveStatus::NoConvergence, reason))
+            }
+        }
+    }
+}
+
+/// The converged solution of the last iterate; records the contact state.
+fn converged(
+    main: &ProgramSolver,
+    seq: &mut Sequence<'_>,
+    state: &mut ContactState,
+    x: &[f64],
+    multipliers: &[f64],
+    (mu, radii, reduced_accuracy): (&Vec<f64>, Option<&[Vec<f64>]>, bool),
+) -> Solution {
+    seq.report.converged = true;
+    let rule = if seq.coulomb {
+        FrictionRule::Coulomb {
+            memory_m: &seq.memory,
+        }
+    } else {
+        FrictionRule::Associated
+    };
+    let how = Build {
+        rule,
+        mu,
+        radii_n: radii,
+    };
+    let mut out = build_solution(
+        seq.model,
+        &main.program,
+        x,
+        multipliers,
+        seq.stats.clone(),
+        &how,
+    );
+    if reduced_accuracy {
+        out.status = SolveStatus::ReducedAccuracy;
+        out.reason = Some("solved to reduced accuracy; check the residuals".into());
+    }
+    out.sequential = Some(seq.report);
+    state.record(seq.model, &out, seq.coulomb);
+    out
+}
+
+fn no_convergence(seq: &Sequence<'_>) -> String {
+    format!(
+        "no convergence: the sequential solve did not reach a fixed point in {} iterations; the \
+         element normal forces still changed by {:.3e} N (tolerance {:.3e} N); raise the \
+         iteration limit, refine the load steps, or check that mu(P) is not too steep",
+        seq.report.iterations, seq.report.last_change_n, seq.report.tolerance_n
+    )
+}
+
+fn fmt_mu(model: &GraspModel, mu: &[f64]) -> String {
+    model
+        .fingers
+        .iter()
+        .zip(mu)
+        .map(|(f, m)| format!("{} mu = {m:.4}", f.name))
+        .collect::<Vec<_>>()
+        .join(", ")
+}

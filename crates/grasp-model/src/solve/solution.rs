@@ -1,0 +1,345 @@
+//! The solution of a grasp, in SI units: element forces, finger resultants, the object's
+//! rigid displacement, residuals and solver statistics.
+
+use serde::{Deserialize, Serialize};
+
+pub use crate::solver::outcome::SolverKind;
+
+/// A finger or element counts as loaded when its normal force exceeds this fraction of the
+/// load scale (below it, a force is solver round-off: friction utilisation, stick counts and
+/// warm starts ignore it).
+pub const LOADED_FRACTION: f64 = 1e-9;
+
+/// What the solve concluded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolveStatus {
+    /// Solved to the requested tolerance.
+    Solved,
+    /// Solved to reduced accuracy (Clarabel's "almost solved"); check the residuals.
+    ReducedAccuracy,
+    /// The fingers cannot hold the object in equilibrium (friction too low, or a direction no
+    /// contact resists).
+    NoEquilibrium,
+    /// The solver stopped without an answer (iteration or time limit, numerical trouble).
+    NoConvergence,
+}
+
+impl SolveStatus {
+    /// The status as the JSON output writes it (`"solved"`, `"reduced_accuracy"`,
+    /// `"no_equilibrium"`, `"no_convergence"`).
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            SolveStatus::Solved => "solved",
+            SolveStatus::ReducedAccuracy => "reduced_accuracy",
+            SolveStatus::NoEquilibrium => "no_equilibrium",
+            SolveStatus::NoConvergence => "no_convergence",
+        }
+    }
+
+    /// True when the solution carries forces.
+    pub fn has_forces(&self) -> bool {
+        matches!(self, SolveStatus::Solved | SolveStatus::ReducedAccuracy)
+    }
+}
+
+/// Contact state of one element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ElementState {
+    /// In contact, friction force inside the cone, no relative tangential motion.
+    Stick,
+    /// In contact, friction force on the cone, sliding opposite to it. Contact elements of a
+    /// frictionless finger are counted here (nothing resists their sliding).
+    Slip,
+    /// Not carrying load.
+    Separated,
+}
+
+/// One patch element.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ElementSolution {
+    /// Grid index `[i, j]` (`i` along `t1`), row-major `k = i ny + j`.
+    pub index: [usize; 2],
+    /// Centre in patch coordinates `[x, y]` along `t1`, `t2`, m.
+    pub local_m: [f64; 2],
+    /// Centre in the world frame, m.
+    pub position_m: [f64; 3],
+    /// Normal force `F_k` along the finger's inward normal, N.
+    pub normal_force_n: f64,
+    /// Tangential force `G_k` along `[t1, t2]`, N.
+    pub tangential_force_n: [f64; 2],
+    /// Mean pressure `F_k / A`, Pa.
+    pub pressure_pa: f64,
+    /// Mean traction `G_k / A` along `[t1, t2]`, Pa.
+    pub traction_pa: [f64; 2],
+    /// Gap after loading, m (`c_k + u_k - approach`; 0 in stick, `mu |slip|` in slip).
+    pub gap_m: f64,
+    /// Relative tangential displacement of the object with respect to the finger, along
+    /// `[t1, t2]`, m. Energy model: 0 in stick, the slip (opposite the friction force) in slip.
+    /// Coulomb model: the accumulated slip, which is the slip memory carried to the next step.
+    pub slip_m: [f64; 2],
+    /// Slip of this step along `[t1, t2]`, m: `slip_m` minus the memory at the start of the
+    /// step (equal to `slip_m` in the energy model). Zero in stick, opposite the friction force
+    /// in slip.
+    pub step_slip_m: [f64; 2],
+    /// Contact state.
+    pub state: ElementState,
+}
+
+/// Resultants of one finger.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FingerSolution {
+    /// Finger name.
+    pub name: String,
+    /// Total normal force `P_i = sum_k F_k` along the inward normal, N.
+    pub normal_force_n: f64,
+    /// Total tangential (friction) force `Q_i` in the world frame, N.
+    pub tangential_force_n: [f64; 3],
+    /// `|Q_i|`, N.
+    pub tangential_magnitude_n: f64,
+    /// Torsional moment about the normal through the contact point, N m (right-handed about
+    /// the inward normal).
+    pub torsional_moment_nm: f64,
+    /// Centre of pressure, world frame, m (the contact point if the finger carries no load:
+    /// at most `LOADED_FRACTION` of the load scale, solver noise).
+    pub center_of_pressure_m: [f64; 3],
+    /// Area of the elements in contact, m^2.
+    pub contact_area_m2: f64,
+    /// Largest element pressure, Pa.
+    pub peak_pressure_pa: f64,
+    /// Friction coefficient `mu(P_i)` of the finger's law at its load (dimensionless).
+    pub friction_coefficient: f64,
+    /// `|Q_i| / (mu P_i)`: 1 when the whole finger slides (0 if frictionless or unloaded).
+    pub friction_utilization: f64,
+    /// Fraction of `P` carried by the patch's boundary ring of elements (thesis 2.2.1: above
+    /// zero for a curved contact means the patch is too small).
+    pub boundary_load_fraction: f64,
+    /// Approach of the finger along its inward normal, m: the prescribed-load multiplier for
+    /// a force-controlled finger, 0 for a held finger (the reference).
+    pub approach_m: f64,
+    /// Elements in stick.
+    pub stick_count: usize,
+    /// Elements in slip.
+    pub slip_count: usize,
+    /// Elements separated.
+    pub separated_count: usize,
+    /// Element fields, row-major.
+    pub elements: Vec<ElementSolution>,
+}
+
+/// Small rigid displacement of the object (from the equilibrium multipliers).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RigidDisplacement {
+    /// Translation of the centre of mass, m (world frame).
+    pub translation_m: [f64; 3],
+    /// Small rotation vector, rad (world frame).
+    pub rotation_rad: [f64; 3],
+}
+
+/// Solver statistics.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SolverStats {
+    /// The solver whose answer this is (of the last convex solve).
+    pub solver: SolverKind,
+    /// Why the native solver's answer was not used, when it was not (the fallback to
+    /// Clarabel); absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fallback: Option<String>,
+    /// Iterations over all convex solves: Newton steps of the native solver plus
+    /// interior-point iterations of Clarabel.
+    pub iterations: u32,
+    /// Reduced matrices factorised by the native solver (all convex solves).
+    pub factorizations: u32,
+    /// Time inside the convex solvers, s.
+    pub solver_time_s: f64,
+    /// Unknowns of the program.
+    pub unknowns: usize,
+    /// Equality rows (equilibrium after reduction, plus load rows).
+    pub equality_rows: usize,
+    /// Conic rows (nonnegative and second-order).
+    pub cone_rows: usize,
+}
+
+/// Residuals of a solution; all relative ones are dimensionless.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Residuals {
+    /// `|sum of forces on the object|`, N.
+    pub force_n: f64,
+    /// `|sum of moments on the object|`, N m.
+    pub moment_nm: f64,
+    /// `max(force / load, moment / (load L))`: equilibrium error over the load scale.
+    pub equilibrium_relative: f64,
+    /// Largest cone violation `max(0, |G_k| - mu F_k, -F_k)` over the element force unit.
+    pub cone_violation_relative: f64,
+    /// Largest penetration `max(0, -gap)` (frictional elements of the energy model:
+    /// `max(0, mu |w| - gap)`, the dual cone) over the displacement unit `Fu Cu`.
+    pub penetration_relative: f64,
+    /// Largest `|gap - mu |w||` over loaded elements, over the displacement unit.
+    pub compatibility_relative: f64,
+    /// Largest of `F_k (gap_k - mu |w_k|)` (normal; `F_k gap_k` for Coulomb) and
+    /// `(mu F_k - |G_k|) |w_k|` (tangential; `w_k` this step's slip) over `Fu * (Fu Cu)`: both
+    /// vanish at an exact solution (model.md: under the associated law a slipping element
+    /// opens by `mu |slip|`).
+    pub complementarity_relative: f64,
+    /// Largest `|w_k|` (this step's slip) over stick elements, over the displacement unit.
+    pub stick_motion_relative: f64,
+    /// Largest `1 + cos(angle(w_k, G_k))` over slip elements (0: slip exactly opposes the
+    /// friction force; 2: along it).
+    pub slip_direction_error: f64,
+}
+
+impl Residuals {
+    /// The largest of the relative residuals.
+    pub fn worst(&self) -> f64 {
+        [
+            self.equilibrium_relative,
+            self.cone_violation_relative,
+            self.penetration_relative,
+            self.compatibility_relative,
+            self.complementarity_relative,
+            self.stick_motion_relative,
+            self.slip_direction_error,
+        ]
+        .into_iter()
+        .fold(0.0, f64::max)
+    }
+
+    /// Why these residuals are too large for an answer to be trusted, if they are: equilibrium
+    /// and cone residuals above `force`, or penetration, compatibility, complementarity and
+    /// stick-motion residuals above `kinematic` (all relative, see the fields).
+    pub fn unacceptable(&self, force: f64, kinematic: f64) -> Option<String> {
+        let checks = [
+            ("equilibrium", self.equilibrium_relative, force),
+            ("cone violation", self.cone_violation_relative, force),
+            ("penetration", self.penetration_relative, kinematic),
+            ("compatibility", self.compatibility_relative, kinematic),
+            ("complementarity", self.complementarity_relative, kinematic),
+            ("stick motion", self.stick_motion_relative, kinematic),
+        ];
+        // Negated on purpose: a NaN residual fails the check.
+        #[allow(clippy::neg_cmp_op_on_partial_ord)]
+        checks
+            .iter()
+            .find(|(_, v, limit)| !(*v <= *limit))
+            .map(|(name, v, limit)| format!("{name} residual {v:.1e} above {limit:.0e}"))
+    }
+}
+
+/// How the sequential (fixed-point) solve went: the coulomb model, and the energy model with a
+/// load-dependent `mu`, solve a sequence of convex programs with the Tresca radii or `mu`
+/// frozen at the previous iterate (model.md, "coulomb", "Load-dependent friction").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SequentialReport {
+    /// Convex solves of the last (successful or failed) sequence.
+    pub iterations: u32,
+    /// Largest change of an element normal force between the last two iterates, N.
+    pub last_change_n: f64,
+    /// Convergence tolerance on that change, N.
+    pub tolerance_n: f64,
+    /// True when the change fell below the tolerance.
+    pub converged: bool,
+    /// True when the first iterate started from the previous step's forces (warm start);
+    /// false when it started from an energy-model solve (cold start).
+    pub warm_started: bool,
+    /// Times a warm start proved infeasible and the sequence restarted cold.
+    pub cold_restarts: u32,
+    /// Iterates taken with a relaxation below 1: after an iterate's program had no solution,
+    /// the input was moved back towards the last feasible one instead of giving up.
+    #[serde(default)]
+    pub damped_iterations: u32,
+}
+
+/// The full answer of one solve.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Solution {
+    /// Outcome.
+    pub status: SolveStatus,
+    /// Why, when the status is not `solved`.
+    pub reason: Option<String>,
+    /// Things the user should know about an otherwise valid answer (undersized patches).
+    pub warnings: Vec<String>,
+    /// Per finger, scene order (empty without forces).
+    pub fingers: Vec<FingerSolution>,
+    /// Rigid displacement of the object (absent without forces, or when no contact carries
+    /// load and the grasp does not determine it).
+    pub rigid_displacement: Option<RigidDisplacement>,
+    /// Residuals computed from the solution (absent without forces).
+    pub residuals: Option<Residuals>,
+    /// Load scale used to normalise residuals, N.
+    pub load_scale_n: f64,
+    /// Wall time of the solve: program assembly (when this solve built it), solver,
+    /// post-processing, s.
+    pub solve_time_s: f64,
+    /// Solver statistics (summed over the convex solves of a sequential solve).
+    pub solver: SolverStats,
+    /// The sequential solve, when the model needs one (`None`: a single convex program).
+    pub sequential: Option<SequentialReport>,
+}
+
+impl Solution {
+    /// The finger named `name`.
+    pub fn finger(&self, name: &str) -> Option<&FingerSolution> {
+        self.fingers.iter().find(|f| f.name == name)
+    }
+
+    /// True when every number of the answer (forces, fields, displacement, residuals) is
+    /// finite.
+    pub fn all_finite(&self) -> bool {
+        let fin = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let fingers = self.fingers.iter().all(|f| {
+            fin(&[
+                f.normal_force_n,
+                f.tangential_magnitude_n,
+                f.torsional_moment_nm,
+                f.contact_area_m2,
+                f.peak_pressure_pa,
+                f.friction_coefficient,
+                f.friction_utilization,
+                f.boundary_load_fraction,
+                f.approach_m,
+            ]) && fin(&f.tangential_force_n)
+                && fin(&f.center_of_pressure_m)
+                && f.elements.iter().all(|e| {
+                    fin(&[e.normal_force_n, e.pressure_pa, e.gap_m])
+                        && fin(&e.tangential_force_n)
+                        && fin(&e.traction_pa)
+                        && fin(&e.slip_m)
+                        && fin(&e.step_slip_m)
+                        && fin(&e.position_m)
+                })
+        });
+        let rigid = self
+            .rigid_displacement
+            .is_none_or(|r| fin(&r.translation_m) && fin(&r.rotation_rad));
+        let residuals = self.residuals.is_none_or(|r| {
+            fin(&[
+                r.force_n,
+                r.moment_nm,
+                r.equilibrium_relative,
+                r.cone_violation_relative,
+                r.penetration_relative,
+                r.compatibility_relative,
+                r.complementarity_relative,
+                r.stick_motion_relative,
+                r.slip_direction_error,
+            ])
+        });
+        fingers && rigid && residuals
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `as_str` is the serde name of each status (the JSON output and the Python package
+    /// must say the same).
+    #[test]
+    fn status_names_are_the_serde_names() {
+        use SolveStatus::*;
+        for s in [Solved, ReducedAccuracy, NoEquilibrium, NoConvergence] {
+            assert_eq!(serde_json::to_value(s).unwrap(), s.as_str());
+        }
+    }
+}

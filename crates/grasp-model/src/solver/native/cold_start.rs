@@ -1,0 +1,61 @@
+//! Which elements a cold start puts in contact. A flat pad starts with every element in
+//! contact and sticking (the all-stick step of [`super::semismooth_newton`]). A curved contact
+//! starts with the elements whose initial gap lies within [`APPROACH_FACTOR`] Hertz approaches
+//! of the smallest gap: Johnson's eq. 4.23, `delta = (9 P^2 / (16 E*^2 R))^(1/3)` with `1/R`
+//! the largest curvature of the gap, `E*` the pair's effective modulus and `P` the finger's
+//! expected load (its prescribed load, or the load scale for a held finger). With the factor
+//! 1/2 this is Hertz's contact circle itself: inside it the surfaces close by `delta - r^2/2R`
+//! and its edge `a^2 = R delta` is where the initial gap `r^2/2R` equals `delta/2` (Johnson
+//! 4.2). Elements outside then start separated instead of in deep tension, and the first
+//! Newton step already lands near the answer: on the Hertz case at 41x41 two Newton steps
+//! instead of six with a factor of 4 (each step factorises a matrix over the contact
+//! elements, so this cut the solve from about 390 ms to 100 ms). When the expected load is
+//! off (a held finger) the iteration adds or drops elements as usual.
+
+use crate::model::grasp_model::{Control, FingerModel, GraspModel};
+
+/// Candidate elements lie within this many Hertz approaches of the smallest gap (1/2: the
+/// Hertz contact circle).
+pub const APPROACH_FACTOR: f64 = 0.5;
+
+/// Per element of `finger`: true when a cold start puts it in contact.
+pub(crate) fn initial_contact(model: &GraspModel, finger: &FingerModel) -> Vec<bool> {
+    let gaps = &finger.patch.gap_m;
+    let c_min = gaps.iter().cloned().fold(f64::INFINITY, f64::min);
+    let c_max = gaps.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    // Negated on purpose: NaN gaps count as flat.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    let flat = !(c_max > c_min);
+    let curvature = curvature_per_m(finger);
+    let e_star = finger.material.effective_modulus_pa(&model.object_material);
+    let load = match finger.control {
+        Control::NormalLoad { newtons } if newtons > 0.0 => newtons,
+        _ => model.scales.load_n,
+    };
+    if flat || !(curvature > 0.0 && e_star.is_finite() && e_star > 0.0) {
+        return vec![true; gaps.len()];
+    }
+    let delta = (9.0 * load * load * curvature / (16.0 * e_star * e_star)).cbrt();
+    gaps.iter()
+        .map(|&c| c <= c_min + APPROACH_FACTOR * delta)
+        .collect()
+}
+
+/// The largest curvature of the finger's gap function, 1/m (from `c = x^2/2 k1 + y^2/2 k2`
+/// at the element centres).
+fn curvature_per_m(finger: &FingerModel) -> f64 {
+    finger
+        .patch
+        .centres_m
+        .iter()
+        .zip(&finger.patch.gap_m)
+        .map(|(&[x, y], &c)| {
+            let r2 = x * x + y * y;
+            if r2 > 0.0 {
+                2.0 * c / r2
+            } else {
+                0.0
+            }
+        })
+        .fold(0.0_f64, f64::max)
+}

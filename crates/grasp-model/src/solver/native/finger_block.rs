@@ -1,0 +1,166 @@
+//! The fixed data of one finger in the native solver: its scaled compliance block `P_i`
+//! (dense, symmetric positive definite, `n_i x n_i`) and its columns `E_i` of the equality
+//! matrix (`m x n_i`). Both stay constant for the life of a program; only the cones, `q` and
+//! the right-hand side change between solves.
+//!
+//! The block is the one place that stores `P_i`: the Newton system reads it through
+//! [`FingerBlockData::entry`], [`FingerBlockData::apply`] and
+//! [`FingerBlockData::apply_columns`], so a matrix-free operator (FFT products on the uniform
+//! grid) can replace the stored matrix here without touching the solver's strategy.
+
+use std::sync::Arc;
+
+use faer::Mat;
+
+use crate::program::cone_program::{BlockCone, FingerBlock};
+
+use super::element_cone::ElementCone;
+
+/// One finger's constant data.
+#[derive(Debug, Clone)]
+pub(crate) struct FingerBlockData {
+    /// Index of the finger's first unknown in the program's `x`.
+    pub offset: usize,
+    /// Elements of the patch.
+    pub elements: usize,
+    /// Unknowns per element, `1 + n_tangential`.
+    pub dim: usize,
+    /// `C_i`, m/N, column-major `n_i x n_i`: shared with the model, not copied.
+    c: Arc<nalgebra::DMatrix<f64>>,
+    /// `1 / Cu`: `P_i = scale C_i`.
+    pub scale: f64,
+    /// `E_i`, the finger's columns of the equality matrix.
+    e: Mat<f64>,
+    /// Step of the natural residual `x - Proj(x - gamma y)`: `1 / ||P_i||_inf` (the largest
+    /// absolute row sum, Gershgorin's bound on the largest eigenvalue `L` of `P_i`), so that
+    /// `gamma y` is a force like `x` and `gamma <= 1 / L`, which makes the forward-backward
+    /// envelope of the finger's problem convex and smooth ([`super::inner_problem`]).
+    pub gamma: f64,
+    /// Per element: in contact at a cold start ([`super::cold_start`]).
+    pub cold_contact: Vec<bool>,
+}
+
+impl FingerBlockData {
+    /// The finger's block: `compliance` (m/N, column-major `n_i x n_i`, shared) with its
+    /// `scale`, and a copy of the columns `offset..offset + n_i` of `equality` (`m x n`).
+    pub fn new(
+        block: &FingerBlock,
+        compliance: &Arc<nalgebra::DMatrix<f64>>,
+        scale: f64,
+        equality: &nalgebra::DMatrix<f64>,
+        cold_contact: Vec<bool>,
+    ) -> Self {
+        let n = block.len();
+        let e = Mat::from_fn(equality.nrows(), n, |r, c| equality[(r, block.offset + c)]);
+        // P is symmetric: column sums are row sums.
+        let row_sum = scale
+            * compliance
+                .as_slice()
+                .chunks_exact(n.max(1))
+                .map(|col| col.iter().map(|v| v.abs()).sum::<f64>())
+                .fold(0.0_f64, f64::max);
+        FingerBlockData {
+            offset: block.offset,
+            elements: block.elements,
+            dim: 1 + block.n_tangential,
+            c: Arc::clone(compliance),
+            scale,
+            e,
+            gamma: if row_sum > 0.0 { 1.0 / row_sum } else { 1.0 },
+            cold_contact,
+        }
+    }
+
+    /// Unknowns of the block.
+    pub fn len(&self) -> usize {
+        self.elements * self.dim
+    }
+
+    /// Local index of component `c` of element `k`.
+    pub fn index(&self, k: usize, c: usize) -> usize {
+        c * self.elements + k
+    }
+
+    /// Rows `m` of the equality matrix.
+    pub fn equality_rows(&self) -> usize {
+        self.e.nrows()
+    }
+
+    /// A copy of `P_i`.
+    pub fn matrix(&self) -> Mat<f64> {
+        let n = self.len();
+        Mat::from_fn(n, n, |r, c| self.scale * self.c[(r, c)])
+    }
+
+    /// Column `c` of `C_i` (m/N): `scale` times it is column `c` of `P_i`.
+    pub fn compliance_column(&self, c: usize) -> &[f64] {
+        let n = self.len();
+        &self.c.as_slice()[c * n..(c + 1) * n]
+    }
+
+    /// `E_i` (`m x n_i`).
+    pub fn equality_matrix(&self) -> faer::MatRef<'_, f64> {
+        self.e.as_ref()
+    }
+
+    /// `E_i[r, c]`.
+    pub fn equality(&self, r: usize, c: usize) -> f64 {
+        self.e[(r, c)]
+    }
+
+    /// `out = P_i v` (local vectors): a sum of columns, which vectorises at every size.
+    pub fn apply(&self, v: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
+        let support: Vec<usize> = (0..v.len()).collect();
+        self.apply_columns(v, &support, out);
+    }
+
+    /// `out += P_i v` for a `v` that is zero outside the local indices `support`.
+    pub fn apply_columns(&self, v: &[f64], support: &[usize], out: &mut [f64]) {
+        for &c in support {
+            let vc = v[c] * self.scale;
+            if vc != 0.0 {
+                for (o, r) in out.iter_mut().zip(self.compliance_column(c)) {
+                    *o += r * vc;
+                }
+            }
+        }
+    }
+
+    /// `out += E_i' lambda` (local vector).
+    pub fn add_equality_transpose(&self, lambda: &[f64], out: &mut [f64]) {
+        for (c, o) in out.iter_mut().enumerate() {
+            let col = self.e.col(c);
+            *o += col.iter().zip(lambda).map(|(a, b)| a * b).sum::<f64>();
+        }
+    }
+
+    /// `out += E_i v` (`out` of length `m`).
+    pub fn add_equality(&self, v: &[f64], out: &mut [f64]) {
+        for (c, &vc) in v.iter().enumerate() {
+            if vc != 0.0 {
+                for (o, a) in out.iter_mut().zip(self.e.col(c).iter()) {
+                    *o += a * vc;
+                }
+            }
+        }
+    }
+
+    /// The constraint set of element `k` under `cone`.
+    pub fn element_cone(&self, cone: &BlockCone, k: usize) -> ElementCone {
+        match cone {
+            BlockCone::Nonnegative => ElementCone::Nonnegative,
+            BlockCone::Friction { mu } => ElementCone::Friction { mu: *mu },
+            BlockCone::Tresca { radii } => ElementCone::Tresca { radius: radii[k] },
+        }
+    }
+
+    /// Element `k`'s components of a local vector.
+    pub fn gather(&self, v: &[f64], k: usize) -> [f64; 3] {
+        let mut out = [0.0; 3];
+        for (c, o) in out.iter_mut().enumerate().take(self.dim) {
+            *o = v[self.index(k, c)];
+        }
+        out
+    }
+}

@@ -1,0 +1,358 @@
+//! The derivative of the program's solution with respect to its equality right-hand side `e`
+//! (loads and external wrench), by the implicit function theorem on the KKT conditions at the
+//! solution's active set (issue 13; Dontchev & Rockafellar, *Implicit Functions and Solution
+//! Mappings*, 2.E, for the semismooth case).
+//!
+//! At a KKT point the natural residual `Phi_k = x_k - Proj_{K_k}(x_k - gamma y_k)` vanishes
+//! ([`super::linearisation`]). Differentiating it with the projection's Jacobian
+//! `sum_j theta_j d_j d_j'` ([`super::element_cone`]) gives, per direction `d_j` of element `k`
+//! and with `dy = P dx + E' dlambda` (`q` does not change):
+//!
+//! - `theta_j = 0` (separated, or the cone normal of a sliding element): `d_j . dx_k = dr_j`,
+//!   where `dr_j` is the change of the set itself: 0, except the radial direction of a sliding
+//!   Tresca element, whose radius `r_k = mu F_k` (the coulomb fixed point) follows the normal
+//!   force: `dr = mu dF_k`;
+//! - `theta_j > 0`: `d_j . dy_k + beta_j xi_j = 0`, `beta_j = (1 - theta_j) / (gamma theta_j)`,
+//!   `xi_j = d_j . dx_k` (stick: the element moves with the object; slip: along the cone);
+//!
+//! and `E dx = de`. Writing `dx_i = C_i xi_i` over the free directions (`C_i` is `D_F` plus the
+//! radial coupling) the system is, per finger, `A_i xi_i + B_i dlambda = 0` with
+//! `A_i = D_F' P_i C_i + diag(beta)`, `B_i = D_F' E_i'`, and it couples the fingers only through
+//! `sum_i E_i C_i xi_i = de`: each `A_i` is factorised (LU, faer; it is not symmetric where the
+//! radial coupling enters) and the `m x m` Schur complement `S = sum_i E_i C_i A_i^-1 B_i` gives
+//! `S dlambda = -de`. Directions `de` that `S` cannot produce (the active set has no free
+//! direction along them: the grasp is at a limit) are reported, not inverted.
+
+use faer::linalg::solvers::Solve;
+use faer::Mat;
+use nalgebra::DMatrix;
+
+use crate::program::cone_program::{BlockCone, ConeProgram};
+
+use super::finger_block::FingerBlockData;
+use super::linearisation::{linearise, projection_input, Direction, FingerLinearisation};
+use super::semismooth_newton::dual_of;
+use super::Iterate;
+
+/// Relative singular value below which a direction of the Schur complement counts as not
+/// producible by the active set.
+const SCHUR_CUTOFF: f64 = 1e-10;
+
+/// The derivative of the solution at a KKT point.
+#[derive(Debug, Clone)]
+pub(crate) struct KktDerivative {
+    /// `dx / de` applied to each column of the right-hand side (`n x p`, scaled forces).
+    pub dx: DMatrix<f64>,
+    /// Per column: the fraction (0 to 1) of `de` that the active set cannot produce (0 when the
+    /// derivative exists).
+    pub unreachable: Vec<f64>,
+    /// True when the multipliers are not determined (the Schur complement is singular) and
+    /// the forces move along that freedom: the grasp is at a limit where the object can move
+    /// (slide as a whole) with no change of equilibrium, and the linearisation cannot tell the
+    /// forces' derivative.
+    pub ambiguous: bool,
+    /// Per finger, per element: how close the element is to a change of state.
+    pub margins: Vec<Vec<StateMargin>>,
+}
+
+/// Relative size of the force change along an undetermined multiplier direction above which
+/// the derivative is ambiguous.
+const AMBIGUOUS: f64 = 1e-6;
+
+/// How close an element is to a change of its state, and which change.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct StateMargin {
+    /// Distance of the projection input `x_k - gamma y_k` from the nearest boundary between
+    /// the pieces of the projection (scaled forces).
+    pub distance: f64,
+    /// True when that boundary is between stick and slip; false for contact / separation.
+    pub stick_slip: bool,
+}
+
+/// One free direction of the derivative: its row direction `d_j`, weight, and column `c_j`
+/// (local index, value) in `dx`.
+struct FreeColumn {
+    row: Direction,
+    column: Vec<(usize, f64)>,
+}
+
+/// The cones at which to differentiate: the program's, with Tresca radii set to
+/// `mu_i max(F_k, 0)` of the solution itself (the fixed point).
+fn differentiation_cone(
+    block: &FingerBlockData,
+    cone: &BlockCone,
+    x: &[f64],
+    mu: f64,
+) -> BlockCone {
+    match cone {
+        BlockCone::Tresca { .. } => BlockCone::Tresca {
+            radii: (0..block.elements)
+                .map(|k| mu * block.gather(x, k)[0].max(0.0))
+                .collect(),
+        },
+        other => other.clone(),
+    }
+}
+
+/// The free directions of one finger with their columns (radial coupling of sliding Tresca
+/// elements included; a Tresca element without radius has no free tangential direction).
+fn free_columns(
+    block: &FingerBlockData,
+    cone: &BlockCone,
+    lin: &FingerLinearisation,
+    mu: f64,
+    pinned: &[bool],
+) -> Vec<FreeColumn> {
+    let radius = |k: usize| match cone {
+        BlockCone::Tresca { radii } => Some(radii[k]),
+        _ => None,
+    };
+    let radial = |k: usize| {
+        lin.fixed
+            .iter()
+            .find(|d| d.element == k && d.dir[0] == 0.0)
+            .map(|d| d.dir)
+    };
+    let mut out = Vec::new();
+    for d in &lin.free {
+        let k = d.element;
+        let normal_dir = d.dir[0] == 1.0;
+        if pinned[k] || (radius(k) == Some(0.0) && !normal_dir) {
+            continue;
+        }
+        let mut column: Vec<(usize, f64)> = (0..block.dim)
+            .filter(|&c| d.dir[c] != 0.0)
+            .map(|c| (block.index(k, c), d.dir[c]))
+            .collect();
+        if let (Some(r), true, Some(rad)) = (radius(k), normal_dir, radial(k)) {
+            if r > 0.0 {
+                for (c, &rc) in rad.iter().enumerate().take(block.dim).skip(1) {
+                    if rc != 0.0 {
+                        column.push((block.index(k, c), mu * rc));
+                    }
+                }
+            }
+        }
+        out.push(FreeColumn { row: *d, column });
+    }
+    out
+}
+
+/// One finger's part of the system: `X_i = A_i^-1 B_i` and `G_i = E_i C_i`.
+struct FingerSystem {
+    columns: Vec<FreeColumn>,
+    /// `A_i^-1 B_i` (`n_free x m`).
+    x: Mat<f64>,
+    /// `E_i C_i` (`m x n_free`).
+    g: Mat<f64>,
+}
+
+fn finger_system(block: &FingerBlockData, columns: Vec<FreeColumn>) -> FingerSystem {
+    let (n, nf, m) = (block.len(), columns.len(), block.equality_rows());
+    let mut pc = Mat::<f64>::zeros(n, nf);
+    let mut g = Mat::<f64>::zeros(m, nf);
+    for (b, col) in columns.iter().enumerate() {
+        for &(idx, val) in &col.column {
+            let val_p = val * block.scale;
+            for (r, c) in block.compliance_column(idx).iter().enumerate() {
+                pc[(r, b)] += val_p * c;
+            }
+            for r in 0..m {
+                g[(r, b)] += val * block.equality(r, idx);
+            }
+        }
+    }
+    let row_dot = |d: &Direction, f: &dyn Fn(usize) -> f64| -> f64 {
+        (0..block.dim)
+            .map(|c| d.dir[c] * f(block.index(d.element, c)))
+            .sum()
+    };
+    let a = Mat::<f64>::from_fn(nf, nf, |i, j| {
+        let d = &columns[i].row;
+        let beta = if i == j {
+            (1.0 - d.theta) / (block.gamma * d.theta)
+        } else {
+            0.0
+        };
+        row_dot(d, &|idx| pc[(idx, j)]) + beta
+    });
+    let b = Mat::<f64>::from_fn(nf, m, |i, r| {
+        row_dot(&columns[i].row, &|idx| block.equality(r, idx))
+    });
+    let x = if nf == 0 {
+        Mat::zeros(0, m)
+    } else {
+        a.partial_piv_lu().solve(&b)
+    };
+    FingerSystem { columns, x, g }
+}
+
+/// `dx / de` at the KKT point `iterate` of `program`, for each column of `rhs` (`m x p`, scaled
+/// like `e`); `mu` per finger is the coefficient of the Tresca radii `r_k = mu F_k` (unused for
+/// other cones). An element that carries no load and whose projection input is within `near`
+/// (scaled force) of the boundary of the separated piece is held separated: it is just
+/// touching (or, energy model, sliding along at zero load), and a free direction there would let
+/// the linearisation pull on it (an unloaded force-controlled finger's elements are such). `Err` when a block cannot be factorised.
+pub(crate) fn kkt_derivative(
+    blocks: &[FingerBlockData],
+    program: &ConeProgram,
+    iterate: &Iterate,
+    mu: &[f64],
+    rhs: &DMatrix<f64>,
+    near: f64,
+) -> Result<KktDerivative, String> {
+    let y = dual_of(blocks, program, &iterate.x, &iterate.lambda);
+    let m = rhs.nrows();
+    let mut systems = Vec::with_capacity(blocks.len());
+    let mut margins = Vec::with_capacity(blocks.len());
+    let mut s = DMatrix::<f64>::zeros(m, m);
+    for ((block, pb), &mu_i) in blocks.iter().zip(&program.blocks).zip(mu) {
+        let range = block.offset..block.offset + block.len();
+        let (x, yl) = (&iterate.x[range.clone()], &y[range]);
+        let cone = differentiation_cone(block, &pb.cone, x, mu_i);
+        let lin = linearise(block, &cone, x, yl);
+        let finger_margins: Vec<StateMargin> = (0..block.elements)
+            .map(|k| element_margin(&cone, projection_input(block, x, yl, k), block.dim, k))
+            .collect();
+        let pinned: Vec<bool> = finger_margins
+            .iter()
+            .enumerate()
+            .map(|(k, margin)| {
+                block.gather(x, k)[0] <= near && margin.distance <= near && !margin.stick_slip
+            })
+            .collect();
+        margins.push(finger_margins);
+        let sys = finger_system(block, free_columns(block, &cone, &lin, mu_i, &pinned));
+        for r in 0..m {
+            for c in 0..m {
+                s[(r, c)] += (0..sys.columns.len())
+                    .map(|a| sys.g[(r, a)] * sys.x[(a, c)])
+                    .sum::<f64>();
+            }
+        }
+        systems.push(sys);
+    }
+    if !s.iter().all(|v| v.is_finite()) {
+        return Err("a block of the active set could not be factorised".into());
+    }
+    let (dlambda, unreachable, null) = solve_schur(s, rhs);
+    let response = |z: &[f64]| -> f64 {
+        let mut worst = 0.0_f64;
+        for sys in &systems {
+            for (a, col) in sys.columns.iter().enumerate() {
+                let xi: f64 = (0..m).map(|r| sys.x[(a, r)] * z[r]).sum();
+                for &(_, val) in &col.column {
+                    worst = worst.max((val * xi).abs());
+                }
+            }
+        }
+        worst
+    };
+    let typical = (0..m)
+        .map(|r| {
+            let mut e = vec![0.0; m];
+            e[r] = 1.0;
+            response(&e)
+        })
+        .fold(0.0_f64, f64::max);
+    let ambiguous = null.iter().any(|z| response(z) > AMBIGUOUS * typical);
+    let mut dx = DMatrix::<f64>::zeros(program.n_unknowns, rhs.ncols());
+    for (block, sys) in blocks.iter().zip(&systems) {
+        for (a, col) in sys.columns.iter().enumerate() {
+            for p in 0..rhs.ncols() {
+                let xi: f64 = -(0..m).map(|r| sys.x[(a, r)] * dlambda[(r, p)]).sum::<f64>();
+                for &(idx, val) in &col.column {
+                    dx[(block.offset + idx, p)] += val * xi;
+                }
+            }
+        }
+    }
+    Ok(KktDerivative {
+        dx,
+        unreachable,
+        ambiguous,
+        margins,
+    })
+}
+
+/// `dlambda`, the fraction of each column outside the range of `S`, and the null vectors of
+/// `S`.
+type SchurSolution = (DMatrix<f64>, Vec<f64>, Vec<Vec<f64>>);
+
+/// Solves `S dlambda = -rhs` over the singular directions of `S` above the cutoff.
+fn solve_schur(s: DMatrix<f64>, rhs: &DMatrix<f64>) -> SchurSolution {
+    let (m, p) = (rhs.nrows(), rhs.ncols());
+    if m == 0 {
+        return (DMatrix::zeros(0, p), vec![0.0; p], Vec::new());
+    }
+    let svd = nalgebra::SVD::new(s, true, true);
+    let (u, vt) = (svd.u.expect("u requested"), svd.v_t.expect("v_t requested"));
+    let smax = svd.singular_values.max();
+    let mut out = DMatrix::<f64>::zeros(m, p);
+    let mut unreachable = vec![0.0; p];
+    for c in 0..p {
+        let b = rhs.column(c);
+        let norm = b.norm();
+        let mut reached_sq = 0.0;
+        for j in 0..m {
+            let sigma = svd.singular_values[j];
+            let uj = u.column(j).dot(&b);
+            if smax > 0.0 && sigma > SCHUR_CUTOFF * smax {
+                reached_sq += uj * uj;
+                for r in 0..m {
+                    out[(r, c)] -= vt[(j, r)] * uj / sigma;
+                }
+            }
+        }
+        if norm > 0.0 {
+            unreachable[c] = ((norm * norm - reached_sq).max(0.0)).sqrt() / norm;
+        }
+    }
+    let null = (0..m)
+        .filter(|&j| !(smax > 0.0 && svd.singular_values[j] > SCHUR_CUTOFF * smax))
+        .map(|j| (0..m).map(|r| vt[(j, r)]).collect())
+        .collect();
+    (out, unreachable, null)
+}
+
+/// Distance of the projection input `v` of element `k` from the boundaries between the pieces
+/// of its projection (see the cone files).
+fn element_margin(cone: &BlockCone, v: [f64; 3], dim: usize, k: usize) -> StateMargin {
+    let beta = v[1].hypot(if dim == 3 { v[2] } else { 0.0 });
+    let contact = StateMargin {
+        distance: v[0].abs(),
+        stick_slip: false,
+    };
+    match cone {
+        BlockCone::Nonnegative => contact,
+        BlockCone::Tresca { radii } => {
+            let slip = StateMargin {
+                distance: (beta - radii[k]).abs(),
+                stick_slip: true,
+            };
+            if dim == 1 || slip.distance >= contact.distance || v[0] <= 0.0 {
+                contact
+            } else {
+                slip
+            }
+        }
+        BlockCone::Friction { mu } => {
+            let norm = (1.0 + mu * mu).sqrt();
+            let to_cone = StateMargin {
+                distance: (mu * v[0] - beta).abs() / norm,
+                stick_slip: true,
+            };
+            let to_polar = StateMargin {
+                distance: (v[0] + mu * beta).abs() / norm,
+                stick_slip: false,
+            };
+            if beta <= mu * v[0] {
+                to_cone
+            } else if mu * beta <= -v[0] || to_polar.distance < to_cone.distance {
+                to_polar
+            } else {
+                to_cone
+            }
+        }
+    }
+}

@@ -1,0 +1,202 @@
+//! The natural residual of one finger and its linearisation (semismooth Newton, Qi & Sun).
+//!
+//! The KKT conditions of the program (model.md) are `y = P x + q + E' lambda`, `x_k in K_k`,
+//! `y_k in K_k*`, `x_k . y_k = 0` for every element `k`, and `E x = e`. By Moreau's
+//! decomposition they hold exactly when the natural residual
+//!
+//! ```text
+//!   Phi_k = x_k - Proj_{K_k}(x_k - gamma y_k)
+//! ```
+//!
+//! vanishes for every element (and `E x = e`), for any `gamma > 0`. With the Jacobian of the
+//! projection written `sum_j theta_j d_j d_j'` ([`super::element_cone`]), each direction `d_j`
+//! of element `k` contributes one Newton row, in the rotated unknown `xi_j = d_j . dx_k`:
+//!
+//! - `theta_j = 0` (fixed: separation, or the cone normal of a sliding element): `xi_j = -phi_j`;
+//! - `theta_j > 0` (free): `d_j . (P dx + E' dlambda)_k + beta_j xi_j = -phi_j / (gamma theta_j)`,
+//!   `beta_j = (1 - theta_j) / (gamma theta_j)`,
+//!
+//! with `phi_j = d_j . Phi_k`. The free rows form a symmetric positive definite system
+//! ([`super::reduced_factor`]).
+
+use crate::program::cone_program::BlockCone;
+
+use super::finger_block::FingerBlockData;
+
+/// One Jacobian direction of one element.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Direction {
+    /// Element index in the patch.
+    pub element: usize,
+    /// Unit direction in the element's components `(F, G1, G2)` (first `dim` used).
+    pub dir: [f64; 3],
+    /// Jacobian weight `theta` in `[0, 1]`.
+    pub theta: f64,
+    /// Rotated residual `phi = d . Phi_k`.
+    pub phi: f64,
+}
+
+/// One finger's residual and Jacobian pattern at an iterate.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct FingerLinearisation {
+    /// Directions with `theta > 0`.
+    pub free: Vec<Direction>,
+    /// Directions with `theta = 0`.
+    pub fixed: Vec<Direction>,
+    /// Sum of squares of the natural residual over the finger.
+    pub residual_sq: f64,
+    /// Largest absolute component of the natural residual.
+    pub residual_max: f64,
+    /// The natural residual `Phi_k` of every element (first `dim` components used).
+    pub residuals: Vec<[f64; 3]>,
+}
+
+impl FingerLinearisation {
+    /// The same residual with the Newton directions of `old` (the directions of a cached
+    /// factor): a chord step's linearisation. `None` unless both have the same elements in
+    /// the same roles (free, fixed, partly free) and every direction moved by at most
+    /// `tolerance`.
+    pub fn with_directions_of(
+        &self,
+        old_free: &[Direction],
+        old_fixed: &[Direction],
+        tolerance: f64,
+    ) -> Option<Self> {
+        let close = |a: &[Direction], b: &[Direction]| {
+            a.len() == b.len()
+                && a.iter().zip(b).all(|(x, y)| {
+                    x.element == y.element
+                        && (x.theta == 1.0) == (y.theta == 1.0)
+                        && (0..3).all(|c| (x.dir[c] - y.dir[c]).abs() <= tolerance)
+                })
+        };
+        if !close(&self.free, old_free) || !close(&self.fixed, old_fixed) {
+            return None;
+        }
+        let rotate = |dirs: &[Direction]| -> Vec<Direction> {
+            dirs.iter()
+                .map(|d| {
+                    let r = self.residuals[d.element];
+                    Direction {
+                        phi: (0..3).map(|c| d.dir[c] * r[c]).sum(),
+                        ..*d
+                    }
+                })
+                .collect()
+        };
+        Some(FingerLinearisation {
+            free: rotate(old_free),
+            fixed: rotate(old_fixed),
+            residuals: self.residuals.clone(),
+            ..*self
+        })
+    }
+}
+
+/// The projection input `v_k = x_k - gamma y_k` of element `k` (local vectors).
+pub(crate) fn projection_input(
+    block: &FingerBlockData,
+    x: &[f64],
+    y: &[f64],
+    k: usize,
+) -> [f64; 3] {
+    let (xk, yk) = (block.gather(x, k), block.gather(y, k));
+    [
+        xk[0] - block.gamma * yk[0],
+        xk[1] - block.gamma * yk[1],
+        xk[2] - block.gamma * yk[2],
+    ]
+}
+
+/// Evaluates the natural residual of one finger and the Newton directions of its elements
+/// (`x`, `y`: the finger's local parts of the iterate and of `P x + q + E' lambda`).
+pub(crate) fn linearise(
+    block: &FingerBlockData,
+    cone: &BlockCone,
+    x: &[f64],
+    y: &[f64],
+) -> FingerLinearisation {
+    let d = block.dim;
+    let mut lin = FingerLinearisation::default();
+    for k in 0..block.elements {
+        let xk = block.gather(x, k);
+        let v = projection_input(block, x, y, k);
+        let p = block.element_cone(cone, k).project(v, d);
+        let mut phi = [xk[0] - p.point[0], xk[1] - p.point[1], xk[2] - p.point[2]];
+        phi[d..].fill(0.0);
+        lin.residuals.push(phi);
+        for &f in phi.iter().take(d) {
+            lin.residual_sq += f * f;
+            lin.residual_max = lin.residual_max.max(f.abs());
+        }
+        for j in 0..d {
+            let dir = p.dirs[j];
+            let dj = Direction {
+                element: k,
+                dir,
+                theta: p.theta[j],
+                phi: (0..d).map(|c| dir[c] * phi[c]).sum(),
+            };
+            if dj.theta > 0.0 {
+                lin.free.push(dj);
+            } else {
+                lin.fixed.push(dj);
+            }
+        }
+    }
+    lin
+}
+
+/// The residual norms of one finger at a trial point (no Jacobian): `(sum of squares, max)`.
+pub(crate) fn residual_norms(
+    block: &FingerBlockData,
+    cone: &BlockCone,
+    x: &[f64],
+    y: &[f64],
+) -> (f64, f64) {
+    let d = block.dim;
+    let (mut sq, mut max) = (0.0, 0.0_f64);
+    for k in 0..block.elements {
+        let xk = block.gather(x, k);
+        let p = block
+            .element_cone(cone, k)
+            .project(projection_input(block, x, y, k), d);
+        for (c, &xc) in xk.iter().enumerate().take(d) {
+            let f = xc - p.point[c];
+            sq += f * f;
+            max = max.max(f.abs());
+        }
+    }
+    (sq, max)
+}
+
+/// The linearisation used by a cold start from `x = 0`: every direction of the elements in
+/// `contact` free with `theta = 1` and `phi = gamma y`, the others fixed at zero, so that the
+/// Newton step solves `P dx + E' dlambda = -y` over the contact elements with `E dx = e`
+/// (every contact element sticking; [`super::cold_start`]).
+pub(crate) fn cold_pattern(
+    block: &FingerBlockData,
+    y: &[f64],
+    contact: &[bool],
+) -> FingerLinearisation {
+    let mut lin = FingerLinearisation::default();
+    for (k, &inside) in contact.iter().enumerate() {
+        let yk = block.gather(y, k);
+        for c in 0..block.dim {
+            let mut dir = [0.0; 3];
+            dir[c] = 1.0;
+            let d = Direction {
+                element: k,
+                dir,
+                theta: if inside { 1.0 } else { 0.0 },
+                phi: if inside { block.gamma * yk[c] } else { 0.0 },
+            };
+            if inside {
+                lin.free.push(d);
+            } else {
+                lin.fixed.push(d);
+            }
+        }
+    }
+    lin
+}

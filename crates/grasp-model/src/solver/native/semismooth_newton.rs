@@ -1,0 +1,390 @@
+//! The semismooth Newton iteration on the natural residual of the program's KKT conditions
+//! ([`super::linearisation`]), globalised by a non-monotone backtracking line search on the
+//! merit `psi = ||Phi||^2 + ||E x - e||^2` (Grippo, Lampariello and Lucidi).
+//!
+//! A cold start first takes the all-stick step (every element in contact and sticking: an
+//! equality-constrained least-energy solve); a warm start begins at a given iterate. Each
+//! iteration then linearises at the iterate, repairs force-controlled fingers that have lost
+//! every contact (their load row cannot be met by any free direction: the approach is moved
+//! until the nearest element touches), takes the Newton step and searches along it.
+//! Converged when `max |Phi| <= tol max(1, max |x|)` and `max |E x - e| <= tol max(1, max |e|)`.
+
+use crate::program::cone_program::ConeProgram;
+
+use super::finger_block::FingerBlockData;
+use super::linearisation::{cold_pattern, linearise, residual_norms, FingerLinearisation};
+use super::newton_step::{chord_linearisations, newton_step, FactorCache, Step};
+use super::{Iterate, NativeResult, NativeStatus};
+
+/// Armijo constant of the line search.
+const ARMIJO: f64 = 1e-4;
+/// Merit values remembered by the non-monotone line search.
+const WINDOW: usize = 5;
+/// Smallest step length tried.
+const MIN_STEP: f64 = 1e-10;
+/// Natural residual (relative to `max(1, max |x|)`) below which chord steps are taken.
+const CHORD_RESIDUAL: f64 = 1e-3;
+/// The joint iteration aims at this fraction of the tolerance.
+const TARGET: f64 = 1e-2;
+/// Joint Newton steps before the robust dual method takes over.
+const JOINT_ITERATIONS: u32 = 25;
+
+/// The iteration's mutable state.
+struct State {
+    x: Vec<f64>,
+    lambda: Vec<f64>,
+    y: Vec<f64>,
+}
+
+/// Limits of one solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Limits {
+    /// Relative tolerance of the natural residual and of the equality rows.
+    pub tolerance: f64,
+    /// Newton iterations (the cold start's all-stick step included).
+    pub max_iterations: u32,
+}
+
+/// `y = P x + q + E' lambda`.
+pub(crate) fn dual_of(
+    blocks: &[FingerBlockData],
+    program: &ConeProgram,
+    x: &[f64],
+    lambda: &[f64],
+) -> Vec<f64> {
+    let mut y = program.q.clone();
+    for b in blocks {
+        let r = b.offset..b.offset + b.len();
+        let mut py = vec![0.0; b.len()];
+        b.apply(&x[r.clone()], &mut py);
+        b.add_equality_transpose(lambda, &mut py);
+        for (t, v) in y[r].iter_mut().zip(py) {
+            *t += v;
+        }
+    }
+    y
+}
+
+/// `E x - e`.
+fn equality_residual(blocks: &[FingerBlockData], program: &ConeProgram, x: &[f64]) -> Vec<f64> {
+    let mut r: Vec<f64> = program.equality_rhs.iter().map(|v| -v).collect();
+    for b in blocks {
+        b.add_equality(&x[b.offset..b.offset + b.len()], &mut r);
+    }
+    r
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0_f64, |a, b| a.max(b.abs()))
+}
+
+fn linearise_all(
+    blocks: &[FingerBlockData],
+    program: &ConeProgram,
+    s: &State,
+) -> Vec<FingerLinearisation> {
+    blocks
+        .iter()
+        .zip(&program.blocks)
+        .map(|(b, pb)| {
+            let r = b.offset..b.offset + b.len();
+            linearise(b, &pb.cone, &s.x[r.clone()], &s.y[r])
+        })
+        .collect()
+}
+
+/// Merit and residual maxima at `x + t dx`, `y + t dy`.
+fn trial(
+    blocks: &[FingerBlockData],
+    program: &ConeProgram,
+    s: &State,
+    step: &Step,
+    e_res: &[f64],
+    t: f64,
+) -> (f64, f64, f64) {
+    let xt: Vec<f64> = s.x.iter().zip(&step.dx).map(|(a, b)| a + t * b).collect();
+    let yt: Vec<f64> = s.y.iter().zip(&step.dy).map(|(a, b)| a + t * b).collect();
+    let (mut sq, mut max) = (0.0, 0.0_f64);
+    for (b, pb) in blocks.iter().zip(&program.blocks) {
+        let r = b.offset..b.offset + b.len();
+        let (q, m) = residual_norms(b, &pb.cone, &xt[r.clone()], &yt[r]);
+        sq += q;
+        max = max.max(m);
+    }
+    let et: Vec<f64> = e_res
+        .iter()
+        .zip(&step.e_dx)
+        .map(|(a, b)| a + t * b)
+        .collect();
+    (
+        sq + et.iter().map(|v| v * v).sum::<f64>(),
+        max,
+        max_abs(&et),
+    )
+}
+
+fn apply(s: &mut State, step: &Step, t: f64) {
+    for (a, b) in s.x.iter_mut().zip(&step.dx) {
+        *a += t * b;
+    }
+    for (a, b) in s.y.iter_mut().zip(&step.dy) {
+        *a += t * b;
+    }
+    for (a, b) in s.lambda.iter_mut().zip(&step.dlambda) {
+        *a += t * b;
+    }
+}
+
+/// Runs the iteration from the candidate in `starts` with the smallest merit (none: cold);
+/// when it stalls, the interior-point method takes over and its answer is polished by this
+/// iteration.
+pub(crate) fn run(
+    blocks: &[FingerBlockData],
+    caches: &mut [FactorCache],
+    program: &ConeProgram,
+    starts: &[&Iterate],
+    limits: Limits,
+) -> NativeResult {
+    let mut states = starts.iter().filter_map(|it| state_of(blocks, program, it));
+    let start = match starts.len() {
+        0 | 1 => states.next(),
+        _ => states
+            .map(|s| (merit(blocks, program, &s), s))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, s)| s),
+    };
+    joint(blocks, caches, program, start, limits, (0, 0), true)
+}
+
+/// The iteration's state at `it` (`None` for another layout).
+fn state_of(blocks: &[FingerBlockData], program: &ConeProgram, it: &Iterate) -> Option<State> {
+    let fits = it.x.len() == program.n_unknowns && it.lambda.len() == program.equality_rows();
+    fits.then(|| State {
+        y: dual_of(blocks, program, &it.x, &it.lambda),
+        x: it.x.clone(),
+        lambda: it.lambda.clone(),
+    })
+}
+
+/// The merit `psi = ||Phi||^2 + ||E x - e||^2` of a state.
+fn merit(blocks: &[FingerBlockData], program: &ConeProgram, s: &State) -> f64 {
+    let phi: f64 = blocks
+        .iter()
+        .zip(&program.blocks)
+        .map(|(b, pb)| {
+            let r = b.offset..b.offset + b.len();
+            residual_norms(b, &pb.cone, &s.x[r.clone()], &s.y[r]).0
+        })
+        .sum();
+    let e_res = equality_residual(blocks, program, &s.x);
+    phi + e_res.iter().map(|v| v * v).sum::<f64>()
+}
+
+/// The joint iteration from `start` (`None`: cold); `counters` are `(Newton steps, factorisations)` so far; `fallback`
+/// hands a stall to the interior-point method.
+fn joint(
+    blocks: &[FingerBlockData],
+    caches: &mut [FactorCache],
+    program: &ConeProgram,
+    start: Option<State>,
+    limits: Limits,
+    counters: (u32, u32),
+    fallback: bool,
+) -> NativeResult {
+    let n = program.n_unknowns;
+    let m = program.equality_rows();
+    let (mut iterations, mut factorisations) = counters;
+    let first = iterations;
+    let mut s = match start {
+        Some(s) => s,
+        None => {
+            let mut s = State {
+                x: vec![0.0; n],
+                lambda: vec![0.0; m],
+                y: program.q.clone(),
+            };
+            let lins: Vec<_> = blocks
+                .iter()
+                .map(|b| cold_pattern(b, &s.y[b.offset..b.offset + b.len()], &b.cold_contact))
+                .collect();
+            let e_res = equality_residual(blocks, program, &s.x);
+            iterations += 1;
+            match newton_step(blocks, &lins, caches, &e_res, n, &mut factorisations) {
+                Some(step) => apply(&mut s, &step, 1.0),
+                None => {
+                    return stalled(
+                        s,
+                        iterations,
+                        factorisations,
+                        "a reduced matrix is not positive definite",
+                    )
+                }
+            }
+            s.y = dual_of(blocks, program, &s.x, &s.lambda);
+            s
+        }
+    };
+    let mut history: Vec<f64> = Vec::with_capacity(WINDOW);
+    loop {
+        let lins = linearise_all(blocks, program, &s);
+        let e_res = equality_residual(blocks, program, &s.x);
+        let res_max = lins.iter().fold(0.0_f64, |a, l| a.max(l.residual_max));
+        let tol_x = limits.tolerance * max_abs(&s.x).max(1.0);
+        let tol_e = limits.tolerance * max_abs(&program.equality_rhs).max(1.0);
+        let psi_now = lins.iter().map(|l| l.residual_sq).sum::<f64>()
+            + e_res.iter().map(|v| v * v).sum::<f64>();
+        // Aim at TARGET of the tolerance (one more quadratic step, usually without a new
+        // factorisation); accept the tolerance itself once progress stalls at round-off.
+        let within = |f: f64| res_max <= f * tol_x && max_abs(&e_res) <= f * tol_e;
+        let stagnant = history.last().is_some_and(|&prev| psi_now > 1e-4 * prev);
+        if within(TARGET) || (within(1.0) && stagnant) {
+            return NativeResult {
+                status: NativeStatus::Converged,
+                iterate: Iterate {
+                    x: s.x,
+                    lambda: s.lambda,
+                },
+                iterations,
+                factorisations,
+            };
+        }
+        if iterations - first >= limits.max_iterations.min(JOINT_ITERATIONS) {
+            return robust(
+                blocks,
+                caches,
+                program,
+                s,
+                limits,
+                (iterations, factorisations),
+                fallback,
+            );
+        }
+        let psi = lins.iter().map(|l| l.residual_sq).sum::<f64>()
+            + e_res.iter().map(|v| v * v).sum::<f64>();
+        if history.len() == WINDOW {
+            history.remove(0);
+        }
+        history.push(psi);
+        let reference = history.iter().cloned().fold(0.0_f64, f64::max);
+        iterations += 1;
+        // Near the solution the directions barely turn: reuse the cached factors (chord step).
+        let near = res_max <= CHORD_RESIDUAL * max_abs(&s.x).max(1.0);
+        let step_lins = if near {
+            chord_linearisations(&lins, caches)
+        } else {
+            lins.clone()
+        };
+        let Some(step) = newton_step(blocks, &step_lins, caches, &e_res, n, &mut factorisations)
+        else {
+            return stalled(
+                s,
+                iterations,
+                factorisations,
+                "a reduced matrix is not positive definite",
+            );
+        };
+        if max_abs(&step.unreachable) > tol_e {
+            // No free direction can meet the equality rows: the contacts must change in a way
+            // the joint step cannot see.
+            return robust(
+                blocks,
+                caches,
+                program,
+                s,
+                limits,
+                (iterations, factorisations),
+                fallback,
+            );
+        }
+        let mut t = 1.0;
+        loop {
+            let (psi_t, _, _) = trial(blocks, program, &s, &step, &e_res, t);
+            if psi_t <= reference - 2.0 * ARMIJO * t * psi {
+                break;
+            }
+            t *= 0.5;
+            if t < MIN_STEP {
+                return robust(
+                    blocks,
+                    caches,
+                    program,
+                    s,
+                    limits,
+                    (iterations, factorisations),
+                    fallback,
+                );
+            }
+        }
+        apply(&mut s, &step, t);
+        if t < 1.0 {
+            // Keep y exact: the update accumulates round-off over many damped steps.
+            s.y = dual_of(blocks, program, &s.x, &s.lambda);
+        }
+    }
+}
+
+/// After a stall at `s`: with `fallback`, the interior-point method, then a polish of its
+/// answer by the joint iteration (which may not fall back again); without, the stall.
+fn robust(
+    blocks: &[FingerBlockData],
+    caches: &mut [FactorCache],
+    program: &ConeProgram,
+    s: State,
+    limits: Limits,
+    counters: (u32, u32),
+    fallback: bool,
+) -> NativeResult {
+    if !fallback {
+        return stalled(s, counters.0, counters.1, "the Newton iteration stalled");
+    }
+    let ipm = super::interior_point::run(blocks, program, limits.tolerance, counters);
+    let polish = joint(
+        blocks,
+        caches,
+        program,
+        state_of(blocks, program, &ipm.iterate),
+        limits,
+        (ipm.iterations, ipm.factorisations),
+        false,
+    );
+    if polish.status == NativeStatus::Converged || ipm.status != NativeStatus::Converged {
+        polish_or(polish, ipm)
+    } else {
+        NativeResult {
+            iterations: polish.iterations,
+            factorisations: polish.factorisations,
+            ..ipm
+        }
+    }
+}
+
+/// The polished answer when it converged, else the interior-point one (counting all work).
+fn polish_or(polish: NativeResult, ipm: NativeResult) -> NativeResult {
+    if polish.status == NativeStatus::Converged {
+        return polish;
+    }
+    let status = match &ipm.status {
+        NativeStatus::Stalled(why) => NativeStatus::Stalled(format!(
+            "the Newton iteration stalled and so did the interior-point method ({why})"
+        )),
+        other => other.clone(),
+    };
+    NativeResult {
+        status,
+        iterations: polish.iterations,
+        factorisations: polish.factorisations,
+        ..ipm
+    }
+}
+
+fn stalled(s: State, iterations: u32, factorisations: u32, why: &str) -> NativeResult {
+    NativeResult {
+        status: NativeStatus::Stalled(why.to_string()),
+        iterate: Iterate {
+            x: s.x,
+            lambda: s.lambda,
+        },
+        iterations,
+        factorisations,
+    }
+}

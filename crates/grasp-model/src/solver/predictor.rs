@@ -1,0 +1,206 @@
+//! The predictor of a warm start: the last few solutions of a program, with the data they
+//! answer, combined affinely to the new data.
+//!
+//! Between hand-off steps only the program's data change (`q`, the equality right-hand side,
+//! the cones' `mu` or Tresca radii). While the contact pattern (which elements stick, slip and
+//! separate, and their slip directions) stays the same, the KKT point of the program is an
+//! affine function of `q`, the right-hand side and the Tresca radii (not of `mu`, which
+//! multiplies the normal forces). So when the new data are an affine combination of remembered
+//! data, `now = d_K + sum_j c_j (d_j - d_K)` (a ramp: one direction of change; two fingers
+//! ramping on different curves: two), the same combination of the remembered solutions is the
+//! new solution itself and the solve needs no Newton step. Any remembered point may enter the
+//! combination (a coulomb iterate is an exact solution of its own program too; a Clarabel
+//! answer only to its tolerance). Where the pattern changes, or `mu` moves, the prediction is
+//! only a guess: the native solver starts from whichever of it and the last solution has the
+//! smaller residual, so a prediction never changes an answer, only where the search begins.
+
+use nalgebra::{DMatrix, DVector};
+
+use crate::program::cone_program::{BlockCone, ConeProgram};
+use crate::solver::native::Iterate;
+
+/// Largest departure of the new data from the remembered points' affine hull (relative to the
+/// data's change) for which a prediction is made: round-off of the schedule's arithmetic.
+const ON_LINE: f64 = 1e-9;
+
+/// Singular values of the remembered changes below this fraction of the largest count as
+/// zero.
+const RANK_CUTOFF: f64 = 1e-8;
+
+/// Largest combination coefficient used: beyond it the remembered points are nearly
+/// dependent and the prediction would amplify their round-off.
+const LARGEST_COEFFICIENT: f64 = 1e3;
+
+/// The program's data that change between solves: `q`, the equality right-hand side, and
+/// each block's `mu` or Tresca radii, in that order.
+pub(crate) fn data_of(program: &ConeProgram) -> Vec<f64> {
+    let mut d = program.q.clone();
+    d.extend_from_slice(&program.equality_rhs);
+    for b in &program.blocks {
+        match &b.cone {
+            BlockCone::Nonnegative => {}
+            BlockCone::Friction { mu } => d.push(*mu),
+            BlockCone::Tresca { radii } => d.extend_from_slice(radii),
+        }
+    }
+    d
+}
+
+/// Solutions remembered (the affine hull of `KEPT` points has `KEPT - 1` directions of
+/// change).
+const KEPT: usize = 4;
+
+/// The last [`KEPT`] solutions and the data each answers, oldest first.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Trail {
+    points: Vec<(Vec<f64>, Iterate)>,
+}
+
+impl Trail {
+    /// Records a solution of the program with data `data`.
+    pub fn push(&mut self, data: Vec<f64>, solution: Iterate) {
+        if self.points.len() == KEPT {
+            self.points.remove(0);
+        }
+        self.points.push((data, solution));
+    }
+
+    /// Forgets every solution.
+    pub fn clear(&mut self) {
+        self.points.clear();
+    }
+
+    /// The affine combination of the remembered solutions for data `now`, when `now` lies in
+    /// the affine hull of their data (and differs from the newest). The newest two points are
+    /// tried first, then the newest three, and so on: the fewer and more recent the points,
+    /// the likelier they share the new solution's contact pattern.
+    pub fn predict(&self, now: &[f64]) -> Option<Iterate> {
+        (2..=self.points.len())
+            .find_map(|k| combination(&self.points[self.points.len() - k..], now))
+    }
+}
+
+/// The combination of `points` (newest last) whose data give `now`, if there is one.
+fn combination(points: &[(Vec<f64>, Iterate)], now: &[f64]) -> Option<Iterate> {
+    let ((dk, sk), rest) = points.split_last()?;
+    if !rest.iter().all(|(_, s)| same_layout(s, sk)) {
+        return None;
+    }
+    let others: Vec<&[f64]> = rest.iter().map(|(d, _)| d.as_slice()).collect();
+    let c = affine_coefficients(dk, &others, now)?;
+    let combine = |pick: fn(&Iterate) -> &Vec<f64>| -> Vec<f64> {
+        let others: Vec<&[f64]> = rest.iter().map(|(_, s)| pick(s).as_slice()).collect();
+        combine(pick(sk), &others, &c)
+    };
+    Some(Iterate {
+        x: combine(|s| &s.x),
+        lambda: combine(|s| &s.lambda),
+    })
+}
+
+/// Coefficients `c` with `now = base + sum_j c_j (others_j - base)` to [`ON_LINE`] of the
+/// change `now - base` (least squares over the directions the points span, dropping those
+/// below [`RANK_CUTOFF`]); `None` when `now` is off their affine hull, equals `base`, the
+/// lengths differ, or a coefficient exceeds [`LARGEST_COEFFICIENT`].
+pub(crate) fn affine_coefficients(
+    base: &[f64],
+    others: &[&[f64]],
+    now: &[f64],
+) -> Option<Vec<f64>> {
+    let n = base.len();
+    if others.is_empty() || now.len() != n || others.iter().any(|d| d.len() != n) {
+        return None;
+    }
+    let g = DMatrix::from_fn(n, others.len(), |r, j| others[j][r] - base[r]);
+    let rhs = DVector::from_iterator(n, now.iter().zip(base).map(|(a, b)| a - b));
+    let norm = rhs.norm();
+    if norm == 0.0 {
+        return None;
+    }
+    let svd = g.clone().svd(true, true);
+    let largest = svd.singular_values.max();
+    let c = svd.solve(&rhs, RANK_CUTOFF * largest).ok()?;
+    let off = (&g * &c - &rhs).norm();
+    let wild = c
+        .iter()
+        .any(|v| !v.is_finite() || v.abs() > LARGEST_COEFFICIENT);
+    (off <= ON_LINE * norm && !wild).then(|| c.iter().copied().collect())
+}
+
+/// `base + sum_j c_j (others_j - base)`.
+pub(crate) fn combine(base: &[f64], others: &[&[f64]], c: &[f64]) -> Vec<f64> {
+    let mut out = base.to_vec();
+    for (o, cj) in others.iter().zip(c) {
+        for ((v, x), b) in out.iter_mut().zip(o.iter()).zip(base) {
+            *v += cj * (x - b);
+        }
+    }
+    out
+}
+
+fn same_layout(a: &Iterate, b: &Iterate) -> bool {
+    a.x.len() == b.x.len() && a.lambda.len() == b.lambda.len()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn it(x: &[f64], l: &[f64]) -> Iterate {
+        Iterate {
+            x: x.to_vec(),
+            lambda: l.to_vec(),
+        }
+    }
+
+    #[test]
+    fn data_moving_along_a_line_extrapolate_the_solution_by_the_same_fraction() {
+        let mut t = Trail::default();
+        t.push(vec![1.0, 2.0], it(&[10.0, 0.0], &[1.0]));
+        t.push(vec![1.0, 3.0], it(&[12.0, 1.0], &[2.0]));
+        // Half the last change: half the last change of the solution.
+        let p = t.predict(&[1.0, 3.5]).unwrap();
+        assert!((p.x[0] - 13.0).abs() < 1e-12 && (p.x[1] - 1.5).abs() < 1e-12);
+        assert!((p.lambda[0] - 2.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn two_directions_of_change_are_followed_when_three_points_span_them() {
+        // The solution is affine in the data: x = A d + b, here x = (d0 + 2 d1, d0 - d1).
+        let sol = |d: &[f64]| it(&[d[0] + 2.0 * d[1], d[0] - d[1]], &[d[0]]);
+        let mut t = Trail::default();
+        for d in [[0.0, 0.0], [1.0, 0.5], [1.5, 2.0]] {
+            t.push(d.to_vec(), sol(&d));
+        }
+        let now = [3.0, 2.5];
+        let p = t.predict(&now).unwrap();
+        let exact = sol(&now);
+        for (a, b) in
+            p.x.iter()
+                .zip(&exact.x)
+                .chain(p.lambda.iter().zip(&exact.lambda))
+        {
+            assert!((a - b).abs() < 1e-12, "{p:?} vs {exact:?}");
+        }
+    }
+
+    #[test]
+    fn no_prediction_off_the_hull_without_a_change_or_without_history() {
+        let mut t = Trail::default();
+        assert!(t.predict(&[1.0]).is_none());
+        t.push(vec![1.0, 2.0, 0.0], it(&[1.0], &[]));
+        assert!(
+            t.predict(&[1.0, 3.0, 0.0]).is_none(),
+            "one point spans nothing"
+        );
+        t.push(vec![1.0, 3.0, 0.0], it(&[2.0], &[]));
+        assert!(t.predict(&[1.5, 4.0, 0.0]).is_none(), "off the line");
+        assert!(
+            t.predict(&[1.0, 3.0, 0.0]).is_none(),
+            "no change: the last solution is the start"
+        );
+        assert!(t.predict(&[1.0]).is_none(), "another layout");
+        t.clear();
+        assert!(t.predict(&[1.0, 4.0, 0.0]).is_none());
+    }
+}
