@@ -2,6 +2,7 @@
 //! starts; the physics lives in `grasp-model`, the hand-off in `grasp-transfer`.
 
 mod commands;
+mod flag_names;
 mod limits;
 mod load_scene;
 mod output;
@@ -66,7 +67,7 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", flag_names::in_flags(&format!("{e:#}")));
             ExitCode::from(1)
         }
     }

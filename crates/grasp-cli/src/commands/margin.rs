@@ -207,7 +207,10 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
         ..SolveOptions::default()
     };
     let report = disturbance_margins(&model, &ContactState::new(&model), solve, &dirs, &options)?;
-    print!("{}", table(scene_path, &report));
+    print!(
+        "{}",
+        crate::flag_names::in_flags(&table(scene_path, &report))
+    );
     if let Some(out) = &outputs.json {
         let text = serde_json::to_string_pretty(&report)?;
         output::write_new(out, text.as_bytes(), outputs.force)?;

@@ -60,7 +60,8 @@ fn plot_command(
         solver,
         ..SolveOptions::default()
     };
-    let solution = GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
+    let mut solution = GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
+    crate::flag_names::respell_solution(&mut solution);
     let title = scene_path
         .file_name()
         .map_or_else(String::new, |n| n.to_string_lossy().into_owned());

@@ -119,6 +119,8 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         };
         (scene_obj, model, solution, build_s, sens)
     };
+    let mut solution = solution;
+    crate::flag_names::respell_solution(&mut solution);
     print!(
         "{}",
         report::solution_table(&scene, &model, &solution, build_s)

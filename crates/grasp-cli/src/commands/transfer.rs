@@ -254,7 +254,10 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
         })?;
     bar.finish_and_clear();
     let planned = schedule.times.len();
-    print!("{}", summary_text(&summary, summary.steps, planned));
+    print!(
+        "{}",
+        crate::flag_names::in_flags(&summary_text(&summary, summary.steps, planned))
+    );
     if summary.failed_step_count > 0 && !flags.keep_going {
         drop(open); // removes the temporary files
         if !out.targets().is_empty() {

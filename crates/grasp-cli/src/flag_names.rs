@@ -1,0 +1,47 @@
+//! The libraries name the options a user can change as their Rust API spells them
+//! (`grasp_model::option_names`, `grasp_batch::option_names`); the CLI says the flag instead.
+
+use grasp_model::option_names::{respell, AUTO_PATCH, SOLVER};
+use grasp_model::Solution;
+
+/// Library option name -> command-line flag.
+const FLAGS: &[(&str, &str)] = &[
+    (SOLVER, "--solver"),
+    (AUTO_PATCH, "--auto-patch"),
+    (grasp_batch::option_names::THREADS, "--jobs"),
+    (grasp_batch::option_names::MAX_MEMORY, "--max-memory"),
+    (grasp_batch::option_names::SHARD, "--shard"),
+    (grasp_batch::option_names::SWEEP_AXIS, "--vary"),
+];
+
+/// `text` with every library option name replaced by its flag.
+pub fn in_flags(text: &str) -> String {
+    respell(text, FLAGS)
+}
+
+/// The solution's texts (reason, warnings, solver fallback) with flags for option names.
+pub fn respell_solution(solution: &mut Solution) {
+    if let Some(r) = solution.reason.as_mut() {
+        *r = in_flags(r);
+    }
+    for w in &mut solution.warnings {
+        *w = in_flags(w);
+    }
+    if let Some(f) = solution.solver.fallback.as_mut() {
+        *f = in_flags(f);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_library_option_has_a_flag() {
+        let text = format!("set `{SOLVER}` to clarabel, or `{AUTO_PATCH}`");
+        assert_eq!(
+            in_flags(&text),
+            "set `--solver` to clarabel, or `--auto-patch`"
+        );
+    }
+}
