@@ -167,7 +167,7 @@ fn tip_drawing(v: &Value) -> (grasp_transfer::sinks::TipDrawing, grasp_model::Fi
     let model = grasp_model::GraspModel::from_scene(&scene).unwrap();
     let run = grasp_transfer::sinks::RunInfo {
         scene: &scene,
-        geometry: &model,
+        model: &model,
         margins: false,
     };
     let mut tips = grasp_transfer::sinks::tip_drawings(&run, 0.05);

@@ -43,13 +43,15 @@ pub fn run(
     sinks: &mut [&mut dyn Sink],
     mut on_step: impl FnMut(&StepRecord),
 ) -> Result<(TransferSummary, Option<StepRecord>), TransferError> {
-    let geometry = GraspModel::from_scene(scene).map_err(|source| TransferError::Scene {
+    // The scene's model, built once: the sinks draw it, the stepper restricts it to each
+    // step's active fingers.
+    let model = GraspModel::from_scene(scene).map_err(|source| TransferError::Scene {
         time_s: 0.0,
         source,
     })?;
     let info = RunInfo {
         scene,
-        geometry: &geometry,
+        model: &model,
         margins: options.margins,
     };
     let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
@@ -59,7 +61,7 @@ pub fn run(
         for s in sinks.iter_mut() {
             s.begin(&info)?;
         }
-        for r in Stepper::new(scene, schedule, options) {
+        for r in Stepper::with_model(scene, &model, schedule, options) {
             let r = r?;
             for s in sinks.iter_mut() {
                 s.step(&info, &r)?;

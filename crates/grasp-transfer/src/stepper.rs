@@ -19,6 +19,7 @@
 //!   step to step, in warm and cold stepping alike: it is physics, not a guess. A released
 //!   finger's memory is cleared (a new contact starts without slip).
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::time::Instant;
 
@@ -98,13 +99,40 @@ impl StepRecord {
     }
 }
 
+/// The structure of a step: each active finger's scene index and whether it is
+/// force-controlled (a program is assembled once per structure).
 type StructureKey = Vec<(usize, bool)>;
+
+/// A cached program is reused while the step's load scale is within this factor range of the
+/// scale the program was built with (the scaled problem stays well conditioned).
+const PROGRAM_REUSE_SCALE_RANGE: std::ops::RangeInclusive<f64> = 1e-3..=1e3;
+
+/// The structure of a step and the loads of its force-controlled fingers (N), in order.
+fn structure_of(commands: &[Command]) -> (StructureKey, Vec<f64>) {
+    let key = commands
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| match c {
+            Command::Held => Some((i, false)),
+            Command::Load(_) => Some((i, true)),
+            Command::Released => None,
+        })
+        .collect();
+    let loads = commands
+        .iter()
+        .filter_map(|c| match c {
+            Command::Load(p) => Some(*p),
+            _ => None,
+        })
+        .collect();
+    (key, loads)
+}
 
 /// Steps a schedule over a scene.
 pub struct Stepper<'a> {
     scene: &'a Scene,
     /// The model of the whole scene (every finger as written), or why there is none.
-    base: Result<GraspModel, SceneError>,
+    base: Result<Cow<'a, GraspModel>, SceneError>,
     schedule: &'a Schedule,
     options: TransferOptions,
     cache: BTreeMap<StructureKey, (GraspModel, GraspSolver)>,
@@ -123,10 +151,30 @@ pub struct Stepper<'a> {
 impl<'a> Stepper<'a> {
     /// A stepper at the first step. The schedule must have been resolved against this scene.
     pub fn new(scene: &'a Scene, schedule: &'a Schedule, options: TransferOptions) -> Self {
+        Self::build(scene, GraspModel::from_scene(scene).map(Cow::Owned), schedule, options)
+    }
+
+    /// A stepper on `model`, the model of `scene` as written (built by the caller, who also
+    /// hands it to the sinks: the scene's model is built once per run).
+    pub fn with_model(
+        scene: &'a Scene,
+        model: &'a GraspModel,
+        schedule: &'a Schedule,
+        options: TransferOptions,
+    ) -> Self {
+        Self::build(scene, Ok(Cow::Borrowed(model)), schedule, options)
+    }
+
+    fn build(
+        scene: &'a Scene,
+        base: Result<Cow<'a, GraspModel>, SceneError>,
+        schedule: &'a Schedule,
+        options: TransferOptions,
+    ) -> Self {
         let n = scene.fingers.len();
         Stepper {
             scene,
-            base: GraspModel::from_scene(scene),
+            base,
             schedule,
             options,
             cache: BTreeMap::new(),
@@ -166,10 +214,22 @@ impl<'a> Stepper<'a> {
     /// Loads the fingers carry in the scene as written (the `"current"` of a first step). If
     /// that grasp has no equilibrium, force-controlled fingers keep their commanded loads and a
     /// held finger's `"current"` cannot be resolved: a named error.
-    fn initial_loads(&self) -> Result<Vec<Option<f64>>, TransferError> {
+    /// With warm starts, the program (and its solution) is kept for the steps of the same
+    /// structure: step 0 usually is one, and starts from it.
+    fn initial_loads(&mut self) -> Result<Vec<Option<f64>>, TransferError> {
         let model = self.base_model(self.schedule.times[0])?;
-        let sol =
-            GraspSolver::new(model, self.options.solve).solve(model, &model.scene_loads_n())?;
+        let mut solver = GraspSolver::new(model, self.options.solve);
+        let sol = solver.solve(model, &model.scene_loads_n())?;
+        if self.options.warm_start {
+            let key = model
+                .fingers
+                .iter()
+                .enumerate()
+                .map(|(i, f)| (i, matches!(f.control, Control::NormalLoad { .. })))
+                .collect();
+            let model = model.clone();
+            self.cache.insert(key, (model, solver));
+        }
         Ok(self
             .scene
             .fingers
@@ -186,10 +246,20 @@ impl<'a> Stepper<'a> {
 
     /// The model of the whole scene, or the scene's error (at schedule time `time_s`).
     fn base_model(&self, time_s: f64) -> Result<&GraspModel, TransferError> {
-        self.base.as_ref().map_err(|e| TransferError::Scene {
-            time_s,
-            source: e.clone(),
-        })
+        match &self.base {
+            Ok(model) => Ok(model),
+            Err(e) => Err(TransferError::Scene {
+                time_s,
+                source: e.clone(),
+            }),
+        }
+    }
+
+    /// The options of a step's solves: warm starts only when the run starts warm.
+    fn step_solve_options(&self) -> SolveOptions {
+        let mut options = self.options.solve;
+        options.warm_start &= self.options.warm_start;
+        options
     }
 
     /// The commands of every finger at step `k`, resolving `"current"` on phase entry.
@@ -225,78 +295,74 @@ impl<'a> Stepper<'a> {
     fn solve_step(&mut self, k: usize) -> Result<StepRecord, TransferError> {
         let start = Instant::now();
         let t = self.schedule.times[k];
+        let external = self.schedule.external_at(t);
         let commands = self.commands(k)?;
-        let key: StructureKey = commands
-            .iter()
-            .enumerate()
-            .filter_map(|(i, c)| match c {
-                Command::Held => Some((i, false)),
-                Command::Load(_) => Some((i, true)),
-                Command::Released => None,
-            })
-            .collect();
-        let loads: Vec<f64> = commands
-            .iter()
-            .filter_map(|c| {
-                if let Command::Load(p) = c {
-                    Some(*p)
-                } else {
-                    None
-                }
-            })
-            .collect();
-        // The program is scaled by the loads it was built with; reuse it while the step's load
-        // scale stays within a factor 1e3 of that (the scaled problem stays well conditioned).
-        let step_scale = loads.iter().copied().fold(self.external_scale_n, f64::max);
-        let reused = self.options.warm_start
-            && self.cache.get(&key).is_some_and(|(m, _)| {
-                let r = step_scale / m.scales.load_n;
-                step_scale <= 0.0 || (1e-3..=1e3).contains(&r)
-            });
+        let (key, loads) = structure_of(&commands);
+        let reused = self.reusable(&key, &loads);
         if !reused {
             if key.is_empty() {
                 // Nothing holds the object: a reported outcome, not an error.
                 self.states.clear();
                 let sol = empty_grasp_solution(self.scene);
-                return Ok(self.record(k, t, commands, (sol, None), start, false));
+                return Ok(self.record(k, (t, external), commands, (sol, None), start, false));
             }
-            let mut load = loads.iter();
-            let active: Vec<(usize, Control)> = key
-                .iter()
-                .map(|&(i, fc)| {
-                    // Only a force-controlled finger takes the next load.
-                    match fc.then(|| load.next()).flatten() {
-                        Some(&p) => (i, Control::NormalLoad { newtons: p }),
-                        None => (i, Control::Held),
-                    }
-                })
-                .collect();
-            // The full scene was validated; a subset of its fingers needs no new validation
-            // (the reach heuristic, say, would judge the subset differently).
-            let model = self
-                .base_model(t)?
-                .restricted(&active)
-                .ok_or(TransferError::Internal(
-                    "a step's active fingers are not in the scene",
-                ))?;
-            let mut solve_options = self.options.solve;
-            solve_options.warm_start &= self.options.warm_start;
-            let solver = GraspSolver::new(&model, solve_options);
-            if !self.options.warm_start {
-                self.cache.clear();
-            }
-            self.cache.insert(key.clone(), (model, solver));
+            self.build_program(t, &key, &loads)?;
         }
-        let external = self.schedule.external_at(t);
-        let options = self.options;
-        let Some((model, solver)) = self.cache.get_mut(&key) else {
-            return Err(TransferError::Internal("the step's program is not cached"));
-        };
-        // Released fingers lose their contact state; active ones carry theirs over.
+        let solved = self.solve_cached(&key, &loads, external)?;
+        Ok(self.record(k, (t, external), commands, solved, start, reused))
+    }
+
+    /// True when the cached program of structure `key` can answer a step with `loads` (N):
+    /// warm stepping, and the step's load scale within a factor 1e3 of the one the program was
+    /// scaled with (the scaled problem stays well conditioned).
+    fn reusable(&self, key: &StructureKey, loads: &[f64]) -> bool {
+        let step_scale = loads.iter().copied().fold(self.external_scale_n, f64::max);
+        self.options.warm_start
+            && self.cache.get(key).is_some_and(|(m, _)| {
+                let r = step_scale / m.scales.load_n;
+                step_scale <= 0.0 || PROGRAM_REUSE_SCALE_RANGE.contains(&r)
+            })
+    }
+
+    /// Builds and caches the model and program of structure `key` (the scene's model
+    /// restricted to the active fingers; a force-controlled finger takes the next of `loads`).
+    fn build_program(
+        &mut self,
+        t: f64,
+        key: &StructureKey,
+        loads: &[f64],
+    ) -> Result<(), TransferError> {
+        let mut load = loads.iter();
+        let active: Vec<(usize, Control)> = key
+            .iter()
+            .map(|&(i, fc)| match fc.then(|| load.next()).flatten() {
+                Some(&p) => (i, Control::NormalLoad { newtons: p }),
+                None => (i, Control::Held),
+            })
+            .collect();
+        // The full scene was validated; a subset of its fingers needs no new validation
+        // (the reach heuristic, say, would judge the subset differently).
+        let model = self
+            .base_model(t)?
+            .restricted(&active)
+            .ok_or(TransferError::Internal(
+                "a step's active fingers are not in the scene",
+            ))?;
+        let solver = GraspSolver::new(&model, self.step_solve_options());
+        if !self.options.warm_start {
+            self.cache.clear();
+        }
+        self.cache.insert(key.clone(), (model, solver));
+        Ok(())
+    }
+
+    /// The contact state of the active fingers of `model`: each carries its own over by name;
+    /// released fingers lose theirs.
+    fn contact_state_of(&mut self, model: &GraspModel) -> ContactState {
         let active: Vec<&str> = model.fingers.iter().map(|f| f.name.as_str()).collect();
         self.states
             .retain(|name, _| active.contains(&name.as_str()));
-        let mut state = ContactState {
+        ContactState {
             fingers: model
                 .fingers
                 .iter()
@@ -308,40 +374,56 @@ impl<'a> Stepper<'a> {
                         .unwrap_or_else(|| FingerState::fresh(&f.name, f.patch.len()))
                 })
                 .collect(),
+        }
+    }
+
+    /// Solves the cached program of structure `key` with `loads` (N) and the scheduled
+    /// external wrench, and the step's margin when asked for.
+    fn solve_cached(
+        &mut self,
+        key: &StructureKey,
+        loads: &[f64],
+        external: Option<([f64; 3], [f64; 3])>,
+    ) -> Result<(Solution, Option<StepMargin>), TransferError> {
+        let options = self.options;
+        let Some((model, mut solver)) = self.cache.remove(key) else {
+            return Err(TransferError::Internal("the step's program is not cached"));
         };
+        let mut state = self.contact_state_of(&model);
         // The scheduled external wrench rides on the step's model (the program reads it).
-        let loaded;
-        let step_model = match external {
-            Some((f, m)) => {
-                let w = model.wrench_at_center_of_mass(&f.into(), &m.into());
-                loaded = model.with_extra_wrench(&w);
-                &loaded
-            }
-            None => &*model,
-        };
+        let loaded = external.map(|(f, m)| {
+            let w = model.wrench_at_center_of_mass(&f.into(), &m.into());
+            model.with_extra_wrench(&w)
+        });
+        let step_model = loaded.as_ref().unwrap_or(&model);
         let before = options.margins.then(|| state.clone());
-        let sol = solver.solve_step(step_model, &loads, &mut state)?;
-        let margin = match before {
-            Some(b) if sol.status.has_forces() => Some(step_margin(step_model, &b, options.solve)?),
+        let solved = solver.solve_step(step_model, loads, &mut state);
+        let margin = match (&solved, before) {
+            (Ok(sol), Some(b)) if sol.status.has_forces() => {
+                Some(step_margin(step_model, &b, options.solve))
+            }
             _ => None,
         };
+        self.cache.insert(key.clone(), (model, solver));
+        let sol = solved?;
+        let margin = margin.transpose()?;
         for f in state.fingers {
             self.states.insert(f.name.clone(), f);
         }
-        Ok(self.record(k, t, commands, (sol, margin), start, reused))
+        Ok((sol, margin))
     }
 
+    /// The record of step `k` at time `t` (s) with the scheduled external wrench.
     fn record(
         &mut self,
         k: usize,
-        t: f64,
+        (t, external): (f64, Option<([f64; 3], [f64; 3])>),
         commands: Vec<Command>,
         (solution, margin): (Solution, Option<StepMargin>),
         start: Instant,
         reused: bool,
     ) -> StepRecord {
-        let (external_force_n, external_torque_nm) =
-            self.schedule.external_at(t).unwrap_or(([0.0; 3], [0.0; 3]));
+        let (external_force_n, external_torque_nm) = external.unwrap_or(([0.0; 3], [0.0; 3]));
         if solution.status.has_forces() {
             for (i, f) in self.scene.fingers.iter().enumerate() {
                 self.previous_normal_n[i] =

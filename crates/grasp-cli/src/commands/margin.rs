@@ -227,7 +227,7 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
     if let Some(out) = &outputs.rrd {
         let run = RunInfo {
             scene: &scene,
-            geometry: &model,
+            model: &model,
             margins: false,
         };
         let mut sink = RerunSink::create(out)?;

@@ -57,7 +57,7 @@ pub enum TipDrawing {
 pub fn tip_drawings(run: &RunInfo, size_m: f64) -> Vec<(String, TipDrawing)> {
     let mut out = Vec::new();
     for spec in &run.scene.fingers {
-        if let Some(m) = run.geometry.fingers.iter().find(|m| m.name == spec.name) {
+        if let Some(m) = run.model.fingers.iter().find(|m| m.name == spec.name) {
             let k = tip_curvatures_per_m(spec, &m.frame);
             let flat_size = spec.tip.as_ref().and_then(|t| t.flat).map(|f| f.size);
             out.push((spec.name.clone(), drawing(m, k, flat_size, size_m)));

@@ -82,7 +82,7 @@ fn entity(id: &str, t_s: f64, primitives: Value) -> Value {
 
 /// The object and the contact points (sent once, at the first step's time).
 pub fn object_update(run: &RunInfo, t_s: f64, size_m: f64) -> Value {
-    let g = run.geometry;
+    let g = run.model;
     let object = match run.scene.shape_report.as_ref().map(|r| &r.surface) {
         Some(s) => json!({"triangles": [{
             "pose": identity_pose(&Vector3::zeros()),
@@ -140,7 +140,7 @@ fn arrow(
 pub fn forces_update(run: &RunInfo, r: &StepRecord, m_per_n: f64, size_m: f64) -> Value {
     let mut arrows = Vec::new();
     for f in &r.solution.fingers {
-        let Some(model) = run.geometry.fingers.iter().find(|m| m.name == f.name) else {
+        let Some(model) = run.model.fingers.iter().find(|m| m.name == f.name) else {
             continue;
         };
         let cop = Vector3::from(f.center_of_pressure_m);

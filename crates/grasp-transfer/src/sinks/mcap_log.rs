@@ -283,7 +283,7 @@ impl McapSink {
 
 impl Sink for McapSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
-        self.drawing = super::drawing_scale(run.geometry);
+        self.drawing = super::drawing_scale(run.model);
         let path = self.path.clone();
         let e = |e: mcap::McapError| io_err_chain("mcap", &path, &e);
         let w = self.writer()?;

@@ -24,7 +24,7 @@ pub struct RunInfo<'a> {
     /// The scene.
     pub scene: &'a Scene,
     /// The model of the full scene (every finger): frames and patches for drawing.
-    pub geometry: &'a GraspModel,
+    pub model: &'a GraspModel,
     /// Every step carries a disturbance margin (`TransferOptions::margins`): the recording's
     /// layout shows their plot.
     pub margins: bool,

@@ -238,7 +238,7 @@ impl RerunSink {
         run: &RunInfo,
         report: &grasp_model::analysis::margin::MarginReport,
     ) -> Result<(), TransferError> {
-        let com = run.geometry.center_of_mass_m;
+        let com = run.model.center_of_mass_m;
         let k = self.arrow_m_per_n as f64;
         let colour = |i: usize, bounded: bool| match (i == report.smallest, bounded) {
             (true, _) => Color::from_rgb(214, 39, 40),
@@ -290,7 +290,7 @@ impl RerunSink {
 impl Sink for RerunSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
         self.send_layout(run.margins)?;
-        let g = run.geometry;
+        let g = run.model;
         let (lo, hi) = super::contact_bounds(g);
         let (size, m_per_n) = super::drawing_scale(g);
         self.arrow_m_per_n = m_per_n as f32;
@@ -359,7 +359,7 @@ impl Sink for RerunSink {
             .map(|f| f.peak_pressure_pa)
             .fold(0.0_f64, f64::max)
             .max(f64::MIN_POSITIVE);
-        for fm in &run.geometry.fingers {
+        for fm in &run.model.fingers {
             let name = &fm.name;
             let Some(f) = r.solution.finger(name) else {
                 // Released (or failed step): clear its arrows and patch, plot zero.
