@@ -12,7 +12,6 @@
 //! receiving gripper must command; under the energy model it is the load above which the
 //! model's own squeeze suffices.
 
-use grasp_model::solve::solution::LOADED_FRACTION;
 use grasp_model::{Control, GraspModel, GraspSolver, Scene, Solution, SolveOptions};
 use serde::Serialize;
 
@@ -65,13 +64,10 @@ fn holds(sol: &Solution) -> Result<(), String> {
     if !sol.status.has_forces() {
         return Err(sol.reason.clone().unwrap_or_else(|| "no solution".into()));
     }
-    for f in &sol.fingers {
-        let loaded = f.normal_force_n > LOADED_FRACTION * sol.load_scale_n;
-        if loaded && f.friction_coefficient > 0.0 && f.stick_count == 0 {
-            return Err(format!("{} slides as a whole", f.name));
-        }
+    match sol.fingers_sliding_as_a_whole().next() {
+        Some(f) => Err(format!("{} slides as a whole", f.name)),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// Finds the minimum squeeze of the grasp given by the commands of `last`, the final step of a

@@ -300,13 +300,9 @@ pub fn spread_directions(model: &GraspModel, n: usize) -> Vec<WrenchDirection> {
 }
 
 /// The loaded frictional fingers of `sol` that slide as a whole (no sticking element).
-fn sliding_fingers(model: &GraspModel, sol: &Solution) -> Vec<String> {
-    let loaded = LOADED_FRACTION * sol.load_scale_n;
-    sol.fingers
-        .iter()
-        .zip(&model.fingers)
-        .filter(|(f, fm)| fm.n_tangential > 0 && f.normal_force_n > loaded && f.stick_count == 0)
-        .map(|(f, _)| f.name.clone())
+fn sliding_fingers(sol: &Solution) -> Vec<String> {
+    sol.fingers_sliding_as_a_whole()
+        .map(|f| f.name.clone())
         .collect()
 }
 
@@ -327,7 +323,7 @@ pub fn holds(model: &GraspModel, sol: &Solution, exempt: &[String]) -> Result<()
         _ => {}
     }
     if model.kind == ModelKind::Coulomb {
-        if let Some(finger) = sliding_fingers(model, sol)
+        if let Some(finger) = sliding_fingers(sol)
             .into_iter()
             .find(|f| !exempt.contains(f))
         {
@@ -480,7 +476,7 @@ pub fn disturbance_margins(
         &mut base_state,
     )?;
     let sliding_undisturbed = match model.kind {
-        ModelKind::Coulomb if base.status.has_forces() => sliding_fingers(model, &base),
+        ModelKind::Coulomb if base.status.has_forces() => sliding_fingers(&base),
         _ => Vec::new(),
     };
     let margins: Vec<DirectionMargin> = match holds(model, &base, &sliding_undisturbed) {

@@ -4,6 +4,7 @@
 //! their boundary is unloaded. Flat pads are not checked: their patch is the pad itself, whose
 //! edge is a real edge of the contact.
 
+use crate::model::closed_form::{elliptical_semi_axes_m, line_contact_half_width_m};
 use crate::error::ModelError;
 use crate::model::grasp_model::{FingerModel, GraspModel};
 use crate::scene::scene_format::{FingerSpec, Scene};
@@ -140,18 +141,17 @@ pub fn hertz_suggestion(
         return None;
     }
     let size = f.patch.size;
+    let e_star = 1.0 / inv_e;
     let axes = match (k[0] > 0.0, k[1] > 0.0) {
         (true, true) => {
-            let (r1, r2) = (1.0 / k[0], 1.0 / k[1]);
-            let c = (3.0 * load_n * (r1 * r2).sqrt() * inv_e / 4.0).cbrt();
-            [Some(c * (r1 / r2).cbrt()), Some(c * (r2 / r1).cbrt())]
+            elliptical_semi_axes_m(load_n, [1.0 / k[0], 1.0 / k[1]], e_star).map(Some)
         }
         (false, true) => [
             None,
-            Some((4.0 * load_n * inv_e / (std::f64::consts::PI * k[1] * size[0])).sqrt()),
+            Some(line_contact_half_width_m(load_n, 1.0 / k[1], size[0], e_star)),
         ],
         (true, false) => [
-            Some((4.0 * load_n * inv_e / (std::f64::consts::PI * k[0] * size[1])).sqrt()),
+            Some(line_contact_half_width_m(load_n, 1.0 / k[0], size[1], e_star)),
             None,
         ],
         (false, false) => return None,

@@ -37,6 +37,29 @@ impl HertzSphere {
     }
 }
 
+/// Semi-axes of the elliptical Hertz contact of two bodies whose gap has principal radii
+/// `R1`, `R2` (m) under normal force `P` (N), by the equivalent-radius approximation (Johnson
+/// section 4.2, eq. 4.36 with `Re = sqrt(R1 R2)`, a few percent for moderate eccentricity):
+/// `a1 = c (R1/R2)^(1/3)`, `a2 = c (R2/R1)^(1/3)` with `c` the Hertz radius
+/// ([`HertzSphere`]) at `Re`, m. Equal radii give the sphere's circle.
+pub fn elliptical_semi_axes_m(load_n: f64, radii_m: [f64; 2], effective_modulus_pa: f64) -> [f64; 2] {
+    let [r1, r2] = radii_m;
+    let c = HertzSphere::new(load_n, (r1 * r2).sqrt(), effective_modulus_pa).contact_radius_m;
+    [c * (r1 / r2).cbrt(), c * (r2 / r1).cbrt()]
+}
+
+/// Half-width of the line contact of a body curved one way (radius `R`, m) on a flat, pressed
+/// with `P` (N) over a length `L` (m): `b = sqrt(4 P R / (pi L E*))` (Johnson section 4.3,
+/// eq. 4.43, with `P/L` the load per unit length), m.
+pub fn line_contact_half_width_m(
+    load_n: f64,
+    radius_m: f64,
+    length_m: f64,
+    effective_modulus_pa: f64,
+) -> f64 {
+    (4.0 * load_n * radius_m / (PI * length_m * effective_modulus_pa)).sqrt()
+}
+
 /// Cattaneo-Mindlin stick radius `c = a (1 - Q/(mu P))^(1/3)`, m (Johnson section 7.1,
 /// eq. 7.39), for `Q < mu P`.
 pub fn cattaneo_stick_radius_m(contact_radius_m: f64, q_n: f64, mu: f64, p_n: f64) -> f64 {
@@ -93,6 +116,19 @@ pub fn full_slip_torque_nm(mu: f64, load_n: f64, contact_radius_m: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Equal radii give the sphere's circle; the semi-axes' product is `c^2` at any ratio
+    /// (area of the equivalent circle), both to round-off.
+    #[test]
+    fn elliptical_contact_reduces_to_the_sphere() {
+        let (p, e) = (2.0, 1e6);
+        let sphere = HertzSphere::new(p, 0.01, e).contact_radius_m;
+        let [a1, a2] = elliptical_semi_axes_m(p, [0.01, 0.01], e);
+        assert!((a1 / sphere - 1.0).abs() < 1e-14 && (a2 / sphere - 1.0).abs() < 1e-14);
+        let [b1, b2] = elliptical_semi_axes_m(p, [0.04, 0.01], e);
+        let c = HertzSphere::new(p, 0.02, e).contact_radius_m;
+        assert!((b1 * b2 / (c * c) - 1.0).abs() < 1e-14 && b1 > b2);
+    }
 
     /// The closed-form loop area equals a numerical integration of the Masing loop built from
     /// Mindlin's monotonic curve (trapezoid rule, 2e5 intervals: error ~1e-9 relative).

@@ -92,10 +92,6 @@ impl FingerBlock {
         self.elements == 0
     }
 
-    /// Index within the block of component `c` (0 normal, 1 `t1`, 2 `t2`) of element `k`.
-    pub fn local_index(&self, k: usize, c: usize) -> usize {
-        c * self.elements + k
-    }
 }
 
 /// The assembled, scaled program.

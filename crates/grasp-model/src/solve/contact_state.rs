@@ -78,15 +78,6 @@ impl ContactState {
             })
     }
 
-    /// Forgets the warm start (keeps the slip memory, which is physics, not a guess).
-    pub fn clear_warm_start(&mut self) {
-        for f in &mut self.fingers {
-            f.normal_forces_n = None;
-            f.normal_load_n = None;
-            f.earlier.clear();
-        }
-    }
-
     /// Slip memory of every finger, m.
     pub fn slip_memory_m(&self) -> Vec<Vec<[f64; 2]>> {
         self.fingers

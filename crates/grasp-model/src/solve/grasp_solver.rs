@@ -78,14 +78,6 @@ impl GraspSolver {
         crate::solve::sensitivity::sensitivities(&mut self.main, model, solution)
     }
 
-    /// Forgets the last solution: the next solve starts cold (the factorisations are kept).
-    pub fn forget_warm_start(&mut self) {
-        self.main.forget();
-        if let Some(e) = &mut self.energy {
-            e.forget();
-        }
-    }
-
     /// Solves with prescribed loads `loads_n` (N, one per force-controlled finger, scene
     /// order) and the external wrench of `model` (which may be this solver's model with another
     /// external wrench, [`GraspModel::with_extra_wrench`]) from a fresh contact state (no slip memory). Infeasible grasps and solver

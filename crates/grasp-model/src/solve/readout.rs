@@ -85,20 +85,47 @@ fn fmt3(v: &Vector3<f64>) -> String {
     format!("[{:.3}, {:.3}, {:.3}]", v.x, v.y, v.z)
 }
 
-/// The motion of the centre of mass in a certificate, as words (`None` if negligible).
-fn motion_words(model: &GraspModel, program: &ConeProgram, cert: &Certificate) -> Option<String> {
+/// A part of the escape motion (translation or rotation) is named when it is at least this
+/// fraction of the larger part (the rotation measured as its displacement over the length
+/// unit): smaller parts are round-off of the certificate.
+const MOTION_PART_FRACTION: f64 = 1e-6;
+
+/// The escape motion of a certificate: the centre of mass's translation direction and the
+/// rotation axis, each only when it is a visible part of the motion.
+struct EscapeMotion {
+    along: Option<Vector3<f64>>,
+    about: Option<Vector3<f64>>,
+}
+
+fn escape_motion(model: &GraspModel, program: &ConeProgram, cert: &Certificate) -> EscapeMotion {
     let (t_o, theta) = rigid_from_multipliers(model, program, &cert.equality);
     let t = t_o + theta.cross(&(model.center_of_mass_m - model.reference_point_m));
-    let scale = t.norm().max(theta.norm() * model.scales.length_m);
+    let turn = theta.norm() * model.scales.length_m;
+    let scale = t.norm().max(turn);
     if !(scale > 0.0 && scale.is_finite()) {
+        return EscapeMotion {
+            along: None,
+            about: None,
+        };
+    }
+    EscapeMotion {
+        along: (t.norm() > MOTION_PART_FRACTION * scale).then(|| t.normalize()),
+        about: (turn > MOTION_PART_FRACTION * scale).then(|| theta.normalize()),
+    }
+}
+
+/// The motion of the centre of mass in a certificate, as words (`None` if negligible).
+fn motion_words(model: &GraspModel, program: &ConeProgram, cert: &Certificate) -> Option<String> {
+    let m = escape_motion(model, program, cert);
+    if m.along.is_none() && m.about.is_none() {
         return None;
     }
     let mut s = String::new();
-    if t.norm() > 1e-6 * scale {
-        s.push_str(&format!(" moving along {}", fmt3(&t.normalize())));
+    if let Some(d) = m.along {
+        s.push_str(&format!(" moving along {}", fmt3(&d)));
     }
-    if theta.norm() * model.scales.length_m > 1e-6 * scale {
-        s.push_str(&format!(" turning about {}", fmt3(&theta.normalize())));
+    if let Some(d) = m.about {
+        s.push_str(&format!(" turning about {}", fmt3(&d)));
     }
     Some(s)
 }
@@ -157,15 +184,8 @@ pub(crate) fn cannot_hold_reason(
             .collect();
         s.push_str(&format!("; lacking grip: {}", list.join(", ")));
     }
-    let (t_o, theta) = rigid_from_multipliers(model, program, &cert.equality);
-    let t = t_o + theta.cross(&(model.center_of_mass_m - model.reference_point_m));
-    let scale = t.norm().max(theta.norm() * model.scales.length_m);
-    if scale > 0.0 && scale.is_finite() && t.norm() > 1e-6 * scale {
-        let d = t.normalize();
-        s.push_str(&format!(
-            "; the object would slide along [{:.3}, {:.3}, {:.3}]",
-            d.x, d.y, d.z
-        ));
+    if let Some(d) = escape_motion(model, program, cert).along {
+        s.push_str(&format!("; the object would slide along {}", fmt3(&d)));
     }
     s.push_str("; raise the normal load of the fingers lacking grip (or mu)");
     s

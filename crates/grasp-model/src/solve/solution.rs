@@ -283,6 +283,16 @@ impl Solution {
         self.fingers.iter().find(|f| f.name == name)
     }
 
+    /// The loaded frictional fingers that slide as a whole (no element sticks): loaded means a
+    /// normal force above [`LOADED_FRACTION`] of the load scale; frictional, a friction
+    /// coefficient above 0 at the finger's load.
+    pub fn fingers_sliding_as_a_whole(&self) -> impl Iterator<Item = &FingerSolution> {
+        let loaded = LOADED_FRACTION * self.load_scale_n;
+        self.fingers.iter().filter(move |f| {
+            f.normal_force_n > loaded && f.friction_coefficient > 0.0 && f.stick_count == 0
+        })
+    }
+
     /// True when every number of the answer (forces, fields, displacement, residuals) is
     /// finite.
     pub fn all_finite(&self) -> bool {

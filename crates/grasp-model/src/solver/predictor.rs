@@ -65,11 +65,6 @@ impl Trail {
         self.points.push((data, solution));
     }
 
-    /// Forgets every solution.
-    pub fn clear(&mut self) {
-        self.points.clear();
-    }
-
     /// The affine combination of the remembered solutions for data `now`, when `now` lies in
     /// the affine hull of their data (and differs from the newest). The newest two points are
     /// tried first, then the newest three, and so on: the fewer and more recent the points,

@@ -60,12 +60,6 @@ impl ProgramSolver {
         (native, program)
     }
 
-    /// Forgets the last solution (the next `Start::Last` is cold).
-    pub(crate) fn forget(&mut self) {
-        self.last = None;
-        self.trail.clear();
-    }
-
     /// Solves the program as it stands with the backend of `options.solver`.
     pub(crate) fn solve(
         &mut self,

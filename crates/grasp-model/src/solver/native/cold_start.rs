@@ -12,6 +12,7 @@
 //! elements, so this cut the solve from about 390 ms to 100 ms). When the expected load is
 //! off (a held finger) the iteration adds or drops elements as usual.
 
+use crate::model::closed_form::HertzSphere;
 use crate::model::grasp_model::{Control, FingerModel, GraspModel};
 
 /// Candidate elements lie within this many Hertz approaches of the smallest gap (1/2: the
@@ -35,7 +36,7 @@ pub(crate) fn initial_contact(model: &GraspModel, finger: &FingerModel) -> Vec<b
     if flat || !(curvature > 0.0 && e_star.is_finite() && e_star > 0.0) {
         return vec![true; gaps.len()];
     }
-    let delta = (9.0 * load * load * curvature / (16.0 * e_star * e_star)).cbrt();
+    let delta = HertzSphere::new(load, 1.0 / curvature, e_star).approach_m;
     gaps.iter()
         .map(|&c| c <= c_min + APPROACH_FACTOR * delta)
         .collect()
