@@ -151,7 +151,12 @@ pub struct Stepper<'a> {
 impl<'a> Stepper<'a> {
     /// A stepper at the first step. The schedule must have been resolved against this scene.
     pub fn new(scene: &'a Scene, schedule: &'a Schedule, options: TransferOptions) -> Self {
-        Self::build(scene, GraspModel::from_scene(scene).map(Cow::Owned), schedule, options)
+        Self::build(
+            scene,
+            GraspModel::from_scene(scene).map(Cow::Owned),
+            schedule,
+            options,
+        )
     }
 
     /// A stepper on `model`, the model of `scene` as written (built by the caller, who also

@@ -4,8 +4,8 @@
 //! their boundary is unloaded. Flat pads are not checked: their patch is the pad itself, whose
 //! edge is a real edge of the contact.
 
-use crate::model::closed_form::{elliptical_semi_axes_m, line_contact_half_width_m};
 use crate::error::ModelError;
+use crate::model::closed_form::{elliptical_semi_axes_m, line_contact_half_width_m};
 use crate::model::grasp_model::{FingerModel, GraspModel};
 use crate::scene::scene_format::{FingerSpec, Scene};
 use crate::solve::grasp_solver::GraspSolver;
@@ -143,15 +143,23 @@ pub fn hertz_suggestion(
     let size = f.patch.size;
     let e_star = 1.0 / inv_e;
     let axes = match (k[0] > 0.0, k[1] > 0.0) {
-        (true, true) => {
-            elliptical_semi_axes_m(load_n, [1.0 / k[0], 1.0 / k[1]], e_star).map(Some)
-        }
+        (true, true) => elliptical_semi_axes_m(load_n, [1.0 / k[0], 1.0 / k[1]], e_star).map(Some),
         (false, true) => [
             None,
-            Some(line_contact_half_width_m(load_n, 1.0 / k[1], size[0], e_star)),
+            Some(line_contact_half_width_m(
+                load_n,
+                1.0 / k[1],
+                size[0],
+                e_star,
+            )),
         ],
         (true, false) => [
-            Some(line_contact_half_width_m(load_n, 1.0 / k[0], size[1], e_star)),
+            Some(line_contact_half_width_m(
+                load_n,
+                1.0 / k[0],
+                size[1],
+                e_star,
+            )),
             None,
         ],
         (false, false) => return None,

@@ -42,7 +42,11 @@ impl HertzSphere {
 /// section 4.2, eq. 4.36 with `Re = sqrt(R1 R2)`, a few percent for moderate eccentricity):
 /// `a1 = c (R1/R2)^(1/3)`, `a2 = c (R2/R1)^(1/3)` with `c` the Hertz radius
 /// ([`HertzSphere`]) at `Re`, m. Equal radii give the sphere's circle.
-pub fn elliptical_semi_axes_m(load_n: f64, radii_m: [f64; 2], effective_modulus_pa: f64) -> [f64; 2] {
+pub fn elliptical_semi_axes_m(
+    load_n: f64,
+    radii_m: [f64; 2],
+    effective_modulus_pa: f64,
+) -> [f64; 2] {
     let [r1, r2] = radii_m;
     let c = HertzSphere::new(load_n, (r1 * r2).sqrt(), effective_modulus_pa).contact_radius_m;
     [c * (r1 / r2).cbrt(), c * (r2 / r1).cbrt()]

@@ -91,7 +91,6 @@ impl FingerBlock {
     pub fn is_empty(&self) -> bool {
         self.elements == 0
     }
-
 }
 
 /// The assembled, scaled program.

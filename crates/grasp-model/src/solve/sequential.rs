@@ -34,7 +34,7 @@ use crate::solve::solution::{
 };
 use crate::solver::native::Iterate;
 use crate::solver::options::SolveOptions;
-use crate::solver::outcome::{ConvexOutcome, Start};
+use crate::solver::outcome::{Certificate, ConvexOutcome, Start};
 use crate::solver::predictor::{affine_coefficients, combine};
 use crate::solver::program_solver::ProgramSolver;
 
@@ -260,12 +260,7 @@ impl Sequence<'_> {
         s
     }
 
-    fn infeasible_reason(
-        &self,
-        program: &ConeProgram,
-        cert: &crate::solver::outcome::Certificate,
-        mu: &[f64],
-    ) -> String {
+    fn infeasible_reason(&self, program: &ConeProgram, cert: &Certificate, mu: &[f64]) -> String {
         if self.coulomb {
             cannot_hold_reason(self.model, program, cert)
         } else {
@@ -338,6 +333,23 @@ pub(crate) fn solve_sequential(
     iterate(main, energy, loads_n, state, &mut seq, &mut input, start_at)
 }
 
+/// The damping of the fixed-point iteration: the relaxation `omega` and the last input
+/// whose program was feasible (where an infeasible iterate backs off to).
+struct Relaxation {
+    omega: f64,
+    last_feasible: Option<Input>,
+}
+
+/// What an iterate's outcome asks of the loop.
+enum Next {
+    /// Iterate again from the new input.
+    Again,
+    /// Iterate again, the next convex solve starting at this point (a cold restart).
+    From(Iterate),
+    /// The sequence ended with this solution (boxed: it is large and rare).
+    Done(Box<Solution>),
+}
+
 /// The fixed-point loop from `input` (see the module docs).
 fn iterate(
     main: &mut ProgramSolver,
@@ -349,8 +361,10 @@ fn iterate(
     mut start_at: Option<Iterate>,
 ) -> Result<Solution, ModelError> {
     let model = seq.model;
-    let mut omega = 1.0_f64;
-    let mut last_feasible: Option<Input> = None;
+    let mut relax = Relaxation {
+        omega: 1.0,
+        last_feasible: None,
+    };
     loop {
         seq.report.iterations += 1;
         let mu = model.mu_at(&input.loads);
@@ -368,82 +382,120 @@ fn iterate(
         let run = main.solve(model, seq.options, start)?;
         start_at = None;
         add_run(&mut seq.stats, &run);
-        match run.outcome {
+        let next = match run.outcome {
             ConvexOutcome::Solved {
                 reduced_accuracy,
                 x,
                 multipliers,
             } => {
-                let out = normal_forces(model, &x);
-                let change = input
-                    .forces
-                    .as_ref()
-                    .map_or(f64::INFINITY, |f| largest_change(f, &out));
-                seq.report.last_change_n = change;
-                if change <= seq.report.tolerance_n {
-                    let how = (&mu, radii.as_deref(), reduced_accuracy);
-                    return Ok(converged(main, seq, state, &x, &multipliers, how));
-                }
-                if seq.report.iterations >= seq.options.max_sequential_iterations {
-                    return Ok(seq.fail(SolveStatus::NoConvergence, no_convergence(seq)));
-                }
-                last_feasible = Some(input.clone());
-                let target = Input::of_forces(out);
-                *input = if omega < 1.0 {
-                    seq.report.damped_iterations += 1;
-                    input.towards(&target, omega)
-                } else {
-                    target
-                };
-                omega = (2.0 * omega).min(1.0);
+                let how = (&mu, radii.as_deref(), reduced_accuracy);
+                after_solved(main, seq, state, input, &mut relax, (&x, &multipliers), how)
             }
             ConvexOutcome::Infeasible(cert) => {
-                let restart = seq.coulomb
-                    && seq.report.warm_started
-                    && seq.report.iterations == 1
-                    && seq.report.cold_restarts == 0;
-                if restart {
-                    // The previous step's forces were a poor guess: restart from the energy model.
-                    seq.report.cold_restarts += 1;
-                    let cold = cold_start(
-                        energy,
-                        model,
-                        loads_n,
-                        &seq.memory,
-                        seq.options,
-                        &mut seq.stats,
-                    )?;
-                    match cold {
-                        Ok((f, it)) => {
-                            start_at = Some(it);
-                            *input = Input::of_forces(f);
-                            seq.report.iterations = 0;
-                            continue;
-                        }
-                        Err((status, reason)) => return Ok(seq.fail(status, reason)),
-                    }
-                }
-                match &last_feasible {
-                    Some(prev) if omega > seq.options.min_relaxation => {
-                        // Back off halfway towards the last input whose program was feasible.
-                        omega *= 0.5;
-                        seq.report.damped_iterations += 1;
-                        *input = prev.towards(input, 0.5);
-                    }
-                    _ => {
-                        let reason = seq.infeasible_reason(&main.program, &cert, &mu);
-                        return Ok(seq.fail(SolveStatus::NoEquilibrium, reason));
-                    }
-                }
-                if seq.report.iterations >= seq.options.max_sequential_iterations {
-                    return Ok(seq.fail(SolveStatus::NoConvergence, no_convergence(seq)));
-                }
+                let cert_mu = (&cert, mu.as_slice());
+                after_infeasible(main, energy, loads_n, seq, input, &mut relax, cert_mu)?
             }
             ConvexOutcome::Failed { reason } => {
-                return Ok(seq.fail(SolveStatus::NoConvergence, reason))
+                Next::Done(Box::new(seq.fail(SolveStatus::NoConvergence, reason)))
             }
+        };
+        match next {
+            Next::Again => {}
+            Next::From(it) => start_at = Some(it),
+            Next::Done(sol) => return Ok(*sol),
         }
     }
+}
+
+/// After a feasible iterate: converged when no normal force changed by more than the
+/// tolerance; else the next input is the output, damped while `omega < 1` (which then grows
+/// back).
+#[allow(clippy::too_many_arguments)] // the loop's state, each borrowed once
+fn after_solved(
+    main: &ProgramSolver,
+    seq: &mut Sequence<'_>,
+    state: &mut ContactState,
+    input: &mut Input,
+    relax: &mut Relaxation,
+    (x, multipliers): (&[f64], &[f64]),
+    how: (&Vec<f64>, Option<&[Vec<f64>]>, bool),
+) -> Next {
+    let out = normal_forces(seq.model, x);
+    let change = input
+        .forces
+        .as_ref()
+        .map_or(f64::INFINITY, |f| largest_change(f, &out));
+    seq.report.last_change_n = change;
+    if change <= seq.report.tolerance_n {
+        return Next::Done(Box::new(converged(main, seq, state, x, multipliers, how)));
+    }
+    if seq.report.iterations >= seq.options.max_sequential_iterations {
+        return Next::Done(Box::new(
+            seq.fail(SolveStatus::NoConvergence, no_convergence(seq)),
+        ));
+    }
+    relax.last_feasible = Some(input.clone());
+    let target = Input::of_forces(out);
+    *input = if relax.omega < 1.0 {
+        seq.report.damped_iterations += 1;
+        input.towards(&target, relax.omega)
+    } else {
+        target
+    };
+    relax.omega = (2.0 * relax.omega).min(1.0);
+    Next::Again
+}
+
+/// After an infeasible iterate: a warm coulomb start that fails at once is retried cold from
+/// the energy model (once); otherwise the input backs off halfway towards the last feasible
+/// one, halving `omega` down to its minimum, after which the certificate is the outcome.
+fn after_infeasible(
+    main: &ProgramSolver,
+    energy: &mut Option<ProgramSolver>,
+    loads_n: &[f64],
+    seq: &mut Sequence<'_>,
+    input: &mut Input,
+    relax: &mut Relaxation,
+    (cert, mu): (&Certificate, &[f64]),
+) -> Result<Next, ModelError> {
+    let restart = seq.coulomb
+        && seq.report.warm_started
+        && seq.report.iterations == 1
+        && seq.report.cold_restarts == 0;
+    if restart {
+        // The previous step's forces were a poor guess: restart from the energy model.
+        seq.report.cold_restarts += 1;
+        let (model, options) = (seq.model, seq.options);
+        let cold = cold_start(energy, model, loads_n, &seq.memory, options, &mut seq.stats)?;
+        return Ok(match cold {
+            Ok((f, it)) => {
+                *input = Input::of_forces(f);
+                seq.report.iterations = 0;
+                Next::From(it)
+            }
+            Err((status, reason)) => Next::Done(Box::new(seq.fail(status, reason))),
+        });
+    }
+    match &relax.last_feasible {
+        Some(prev) if relax.omega > seq.options.min_relaxation => {
+            // Back off halfway towards the last input whose program was feasible.
+            relax.omega *= 0.5;
+            seq.report.damped_iterations += 1;
+            *input = prev.towards(input, 0.5);
+        }
+        _ => {
+            let reason = seq.infeasible_reason(&main.program, cert, mu);
+            return Ok(Next::Done(Box::new(
+                seq.fail(SolveStatus::NoEquilibrium, reason),
+            )));
+        }
+    }
+    if seq.report.iterations >= seq.options.max_sequential_iterations {
+        return Ok(Next::Done(Box::new(
+            seq.fail(SolveStatus::NoConvergence, no_convergence(seq)),
+        )));
+    }
+    Ok(Next::Again)
 }
 
 /// The converged solution of the last iterate; records the contact state.

@@ -195,6 +195,9 @@ mod tests {
             "no change: the last solution is the start"
         );
         assert!(t.predict(&[1.0]).is_none(), "another layout");
-        assert!(Trail::default().predict(&[1.0, 4.0, 0.0]).is_none(), "no history");
+        assert!(
+            Trail::default().predict(&[1.0, 4.0, 0.0]).is_none(),
+            "no history"
+        );
     }
 }
