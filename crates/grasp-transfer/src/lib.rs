@@ -8,6 +8,27 @@
 //! sliding.
 //!
 //! Depends on `grasp-model`, never the reverse.
+//!
+//! ```
+//! use grasp_model::Scene;
+//! use grasp_transfer::{Schedule, TransferOptions};
+//!
+//! // Thesis section 4.2.1: the pair f1, f2 lets go of a plate while f3, f4 take it over.
+//! let scene = Scene::from_json_str(include_str!("../../../examples/plate_transfer.json"))?;
+//! let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+//! let text = include_str!("../../../examples/plate_transfer.schedule.json");
+//! let schedule = Schedule::from_json_str(text, &names, std::path::Path::new("."))?;
+//! let (summary, last) =
+//!     grasp_transfer::run(&scene, &schedule, TransferOptions::default(), &mut [], |_| {})?;
+//! assert_eq!(summary.steps, 200);
+//! assert_eq!(summary.releasing, ["f1", "f2"]);
+//! assert_eq!(summary.receiving, ["f3", "f4"]);
+//! // At the last step the receiving pair carries the plate alone.
+//! let last = last.expect("the run has steps");
+//! assert_eq!(last.normal_force_n("f1"), 0.0);
+//! assert!(last.normal_force_n("f3") > 0.0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 #![warn(missing_docs)]
 

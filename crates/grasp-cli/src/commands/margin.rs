@@ -1,5 +1,5 @@
 //! `grasp margin`: disturbance margins of one grasp ([`grasp_model::analysis::margin`]) as a table, JSON,
-//! a picture ([`crate::margin_plot`]) and a Rerun recording of the wrench surface.
+//! a picture ([`crate::pictures::margin_plot`]) and a Rerun recording of the wrench surface.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -30,8 +30,8 @@ pub struct Args {
     pub scene: PathBuf,
     /// Directions: a number N (the axis directions, then combined ones spread over the
     /// sphere), `planes:K` (K force directions around each coordinate plane, for the polar
-    /// plot, and the couple axes) or a JSON file with a list of {"force": [N], "torque":
-    /// [N m]}. Default: the axis directions.
+    /// plot, and the couple axes) or a JSON file with a list of `{"force": [N], "torque":
+    /// [N m]}`. Default: the axis directions.
     #[arg(long, value_name = "N|planes:K|FILE")]
     pub directions: Option<String>,
     /// Contact law to judge the grasp with (default: the scene's).

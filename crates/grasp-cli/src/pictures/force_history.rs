@@ -1,5 +1,5 @@
 //! A plot of force histories (normal force solid, friction dashed per finger), like thesis
-//! figures 15 and 17, drawn with plotters (SVG or PNG, see [`crate::picture`]).
+//! figures 15 and 17, drawn with plotters (SVG or PNG, see [`crate::pictures::picture`]).
 
 use anyhow::Result;
 use grasp_transfer::StepRecord;

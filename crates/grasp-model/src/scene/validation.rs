@@ -15,7 +15,7 @@ use crate::scene::scene_format::{
 use crate::scene::strict_json::StrictValue;
 
 /// Largest number of elements allowed in one patch. The compliance block of a patch is dense
-/// (`(3 nx ny)^2` entries, see [`work_bounds`]), so 64 x 64 elements already means a 12288 x
+/// (`(3 nx ny)^2` entries, see [`super::work_bounds`]), so 64 x 64 elements already means a 12288 x
 /// 12288 block (1.2 GB, about 10 GB with the solver's copies): the memory estimate, checked by
 /// the caller against the machine, refuses such grids before this limit does.
 pub const MAX_ELEMENTS_PER_PATCH: usize = 64 * 64;
@@ -59,7 +59,7 @@ pub const LENGTH_RANGE_M: (f64, f64) = (1e-9, 1e3);
 pub const MAX_FRICTION_COEFFICIENT: f64 = 1e3;
 
 /// Largest memory the dense patch compliance blocks may take, bytes (the cone solver needs a
-/// few times more: see [`work_bounds::estimate_memory_bytes`], which callers check against the
+/// few times more: see [`super::work_bounds::estimate_memory_bytes`], which callers check against the
 /// machine's memory).
 pub const MAX_COMPLIANCE_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
 

@@ -1,7 +1,7 @@
 //! The public entry point: a [`GraspSolver`] for one model, which assembles the program once
 //! and answers solves (one grasp) and steps (one step of a loading path) with the strategy the
 //! model needs: one convex solve ([`crate::solve::convex_solve`]) or the sequential fixed point
-//! ([`crate::solve::sequential`]), each calling down into the backend layer ([`crate::solver::program_solver`]) and
+//! ([`crate::solve::sequential`]), each calling down into the backend layer (`solver::program_solver`) and
 //! the readout ([`crate::solve::readout`]).
 
 use std::time::Instant;

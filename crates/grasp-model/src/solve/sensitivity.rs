@@ -1,7 +1,7 @@
 //! Sensitivities of a solved grasp (issue 13): the derivatives of every finger's normal and
 //! friction force, and of every element's force, with respect to an extra wrench on the
 //! object and to each force-controlled finger's commanded load, from the KKT system at the
-//! solution's active set ([`crate::solver::native::kkt_derivative`]), not from finite differences.
+//! solution's active set (`solver::native::kkt_derivative`), not from finite differences.
 //!
 //! Parameters (the columns), all in SI:
 //! - a force at the centre of mass along a world axis (3-D: `x`, `y`, `z`; planar: the plane's
