@@ -6,6 +6,11 @@
 
 use nalgebra::{DMatrix, Vector3, Vector6};
 
+/// An equilibrium row is independent when its eigenvalue of `E E'` exceeds this fraction of
+/// the largest (about 1e-6 in singular values: well above round-off of `E`'s entries, which
+/// are O(1) after scaling, and well below any real lever arm).
+const RANK_CUTOFF: f64 = 1e-12;
+
 /// A wrench `(force, moment about O)`.
 pub type Wrench = Vector6<f64>;
 
@@ -90,7 +95,7 @@ impl RowReduction {
         let mut drop = Vec::new();
         for c in 0..rows {
             let col: Vec<f64> = eig.eigenvectors.column(c).iter().copied().collect();
-            if lmax > 0.0 && eig.eigenvalues[c] > 1e-12 * lmax {
+            if lmax > 0.0 && eig.eigenvalues[c] > RANK_CUTOFF * lmax {
                 keep.push((eig.eigenvalues[c], col));
             } else {
                 drop.push(col);

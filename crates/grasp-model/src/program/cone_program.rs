@@ -299,6 +299,10 @@ fn equality_matrix(
     (e, load_rows)
 }
 
+/// A component of the scaled external wrench that no contact force can produce is reported
+/// when it exceeds this fraction of the wrench (smaller ones are round-off of the row reduction).
+const UNBALANCED_FRACTION: f64 = 1e-9;
+
 /// If the scaled external wrench has a component no contact force can produce, says which.
 fn unbalanced_reason(model: &GraspModel, red: &RowReduction, w: &[f64]) -> Option<String> {
     let norm_w = w.iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -306,7 +310,7 @@ fn unbalanced_reason(model: &GraspModel, red: &RowReduction, w: &[f64]) -> Optio
     for c in 0..red.null.ncols() {
         let u: Vec<f64> = (0..rows).map(|r| red.null[(r, c)]).collect();
         let comp: f64 = u.iter().zip(w).map(|(a, b)| a * b).sum();
-        if comp.abs() > 1e-9 * norm_w.max(1e-300) {
+        if comp.abs() > UNBALANCED_FRACTION * norm_w.max(f64::MIN_POSITIVE) {
             // Express the unresisted direction in the world frame.
             let (force, moment) = match model.plane {
                 None => ([u[0], u[1], u[2]], [u[3], u[4], u[5]]),

@@ -85,6 +85,17 @@ fn fmt3(v: &Vector3<f64>) -> String {
     format!("[{:.3}, {:.3}, {:.3}]", v.x, v.y, v.z)
 }
 
+/// An element is in contact when its normal force, in element force units `Fu`, exceeds both
+/// its opening (gap, in displacement units) and this floor: a smaller force is the solver's
+/// round-off on a separated element (the tolerance 1e-10 of the scaled program, with margin).
+/// It judges elements; a finger is loaded by [`LOADED_FRACTION`] of the load scale.
+pub const CONTACT_FORCE_FLOOR_FU: f64 = 1e-7;
+
+/// The object's rigid displacement is reported only when some element force exceeds this many
+/// `Fu`: with no contact force at all the equality multipliers are any interior point, and
+/// the displacement is not determined by the grasp.
+pub const RIGID_DISPLACEMENT_FORCE_FU: f64 = 1e-12;
+
 /// A part of the escape motion (translation or rotation) is named when it is at least this
 /// fraction of the larger part (the rotation measured as its displacement over the length
 /// unit): smaller parts are round-off of the certificate.
@@ -225,7 +236,7 @@ fn element_states(
                         Some(r) => r[i][k] / fu,
                         None => mu * fk,
                     };
-                    if fk < opening.max(1e-7) {
+                    if fk < opening.max(CONTACT_FORCE_FLOOR_FU) {
                         ElementState::Separated
                     } else if f.n_tangential == 0 || wn > radius - gn {
                         ElementState::Slip
@@ -371,7 +382,7 @@ pub(crate) fn build_solution(
         // position is not determined by the grasp, so none is reported.
         rigid_displacement: x_n
             .iter()
-            .any(|&v| v.abs() > 1e-12 * s.element_force_n)
+            .any(|&v| v.abs() > RIGID_DISPLACEMENT_FORCE_FU * s.element_force_n)
             .then_some(RigidDisplacement {
                 translation_m: [t_com.x, t_com.y, t_com.z],
                 rotation_rad: [theta.x, theta.y, theta.z],

@@ -15,6 +15,11 @@ use nalgebra::{DVector, Vector3};
 use crate::model::grasp_model::GraspModel;
 use crate::solve::solution::{ElementState, Residuals};
 
+/// The slip direction of an element is checked against its friction force only when the slip
+/// exceeds this many displacement units `Fu Cu` (a shorter slip has no direction worth the
+/// name: it is the round-off of a sticking element's relative motion).
+const SLIP_DIRECTION_FLOOR: f64 = 1e-9;
+
 /// Kinematics of every element: gaps and relative tangential displacements (m).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactKinematics {
@@ -165,7 +170,7 @@ pub fn evaluate(
                     let slip_gap = dilatancy * wn;
                     r.compatibility_relative =
                         r.compatibility_relative.max((gap - slip_gap).abs() / du);
-                    if f.n_tangential > 0 && gn > 0.0 && wn > 1e-9 * du {
+                    if f.n_tangential > 0 && gn > 0.0 && wn > SLIP_DIRECTION_FLOOR * du {
                         let cos = (wk[0] * g[0] + wk[1] * g[1]) / (wn * gn);
                         r.slip_direction_error = r.slip_direction_error.max(1.0 + cos);
                     }

@@ -28,6 +28,10 @@ use crate::solve::solution::Solution;
 use crate::solver::native::kkt_derivative::kkt_derivative;
 use crate::solver::program_solver::ProgramSolver;
 
+/// A parameter's wrench direction is unresisted when its part outside the span of the contact
+/// wrenches exceeds this fraction of it (smaller parts are round-off of the row reduction).
+const UNRESISTED_FRACTION: f64 = 1e-9;
+
 /// Distance (relative to the largest scaled force) of an element's projection input from a
 /// state boundary below which the element is reported as about to change state.
 pub const NEAR_CHANGE: f64 = 1e-6;
@@ -192,7 +196,7 @@ fn rhs_columns(
                     })
                     .sum::<f64>()
                     .sqrt();
-                if off > 1e-9 * norm {
+                if off > UNRESISTED_FRACTION * norm {
                     p.defined = false;
                     p.reason = Some("no contact force can resist this direction".into());
                 }
