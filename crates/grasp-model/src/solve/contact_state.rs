@@ -29,7 +29,16 @@ pub struct FingerState {
     /// `normal_forces_n` and `normal_load_n` of the converged solves before the last (at
     /// most [`EARLIER_KEPT`], oldest first): from them the sequential solve's warm start
     /// continues the loads' ramp.
-    pub earlier: Vec<(Vec<f64>, f64)>,
+    pub earlier: Vec<EarlierSolve>,
+}
+
+/// A finger's forces at one earlier converged solve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EarlierSolve {
+    /// Element normal forces `F_k`, N.
+    pub normal_forces_n: Vec<f64>,
+    /// Total normal load, N.
+    pub normal_load_n: f64,
 }
 
 impl FingerState {
@@ -74,7 +83,10 @@ impl ContactState {
                     && s.normal_forces_n
                         .as_ref()
                         .is_none_or(|v| v.len() == f.patch.len())
-                    && s.earlier.iter().all(|(v, _)| v.len() == f.patch.len())
+                    && s
+                        .earlier
+                        .iter()
+                        .all(|e| e.normal_forces_n.len() == f.patch.len())
             })
     }
 
@@ -97,11 +109,16 @@ impl ContactState {
             .zip(&sol.fingers)
             .zip(&model.fingers)
         {
-            if let Some(last) = fs.normal_forces_n.take().zip(fs.normal_load_n) {
+            if let Some((normal_forces_n, normal_load_n)) =
+                fs.normal_forces_n.take().zip(fs.normal_load_n)
+            {
                 if fs.earlier.len() == EARLIER_KEPT {
                     fs.earlier.remove(0);
                 }
-                fs.earlier.push(last);
+                fs.earlier.push(EarlierSolve {
+                    normal_forces_n,
+                    normal_load_n,
+                });
             }
             fs.normal_forces_n = Some(f.elements.iter().map(|e| e.normal_force_n).collect());
             fs.normal_load_n = Some(f.normal_force_n);
