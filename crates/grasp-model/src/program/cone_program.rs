@@ -93,6 +93,15 @@ impl FingerBlock {
     }
 }
 
+/// The equality row that fixes a force-controlled finger's total normal load.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LoadRow {
+    /// The finger's index in the model.
+    pub finger: usize,
+    /// Its row in the equality matrix (after the equilibrium rows).
+    pub row: usize,
+}
+
 /// The assembled, scaled program.
 #[derive(Debug, Clone)]
 pub struct ConeProgram {
@@ -112,8 +121,8 @@ pub struct ConeProgram {
     pub equality_rhs: Vec<f64>,
     /// Reduction of the equilibrium rows.
     pub reduction: RowReduction,
-    /// Row of each force-controlled finger's load equation, as `(finger index, row)`.
-    pub load_rows: Vec<(usize, usize)>,
+    /// The load equation of each force-controlled finger, in finger order.
+    pub load_rows: Vec<LoadRow>,
     /// Scaled external wrench in equilibrium coordinates (`S w_ext / Fu`).
     pub external_scaled: Vec<f64>,
     /// Set when the external load has a component no contact force can resist: the reason.
@@ -251,7 +260,7 @@ impl ConeProgram {
 
     /// Overwrites the load rows of `e` (N, one per force-controlled finger).
     pub fn set_loads(&mut self, model: &GraspModel, loads_n: &[f64]) {
-        for (j, &(_, row)) in self.load_rows.iter().enumerate() {
+        for (j, &LoadRow { row, .. }) in self.load_rows.iter().enumerate() {
             self.equality_rhs[row] = loads_n[j] / model.scales.element_force_n;
         }
     }
@@ -282,7 +291,7 @@ fn equality_matrix(
     model: &GraspModel,
     reduction: &RowReduction,
     e_hat: &DMatrix<f64>,
-) -> (DMatrix<f64>, Vec<(usize, usize)>) {
+) -> (DMatrix<f64>, Vec<LoadRow>) {
     let e_red = reduction.basis.transpose() * e_hat;
     let r_eq = e_red.nrows();
     let fc = model.force_controlled();
@@ -294,7 +303,10 @@ fn equality_matrix(
         for k in 0..f.patch.len() {
             e[(r_eq + j, f.offset + k)] = 1.0;
         }
-        load_rows.push((i, r_eq + j));
+        load_rows.push(LoadRow {
+            finger: i,
+            row: r_eq + j,
+        });
     }
     (e, load_rows)
 }

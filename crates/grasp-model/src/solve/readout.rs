@@ -13,7 +13,7 @@ use nalgebra::{DVector, Vector3};
 
 use crate::model::grasp_model::GraspModel;
 use crate::option_names;
-use crate::program::cone_program::ConeProgram;
+use crate::program::cone_program::{ConeProgram, LoadRow};
 use crate::solve::patch_check::patch_warnings;
 use crate::solve::residuals::{
     contact_kinematics, evaluate, tangential, ContactKinematics, FrictionRule,
@@ -343,7 +343,7 @@ pub(crate) fn build_solution(
     let x_n: Vec<f64> = x_scaled.iter().map(|v| v * s.element_force_n).collect();
     let (t_o, theta) = rigid_from_multipliers(model, program, multipliers);
     let mut approach = vec![0.0; model.fingers.len()];
-    for &(i, row) in &program.load_rows {
+    for &LoadRow { finger: i, row } in &program.load_rows {
         approach[i] = -multipliers[row] * s.displacement_m();
     }
     let kin = contact_kinematics(model, &x_n, &t_o, &theta, &approach);

@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
-use crate::program::cone_program::BlockCone;
+use crate::program::cone_program::{BlockCone, LoadRow};
 use crate::solve::solution::Solution;
 use crate::solver::native::kkt_derivative::kkt_derivative;
 use crate::solver::program_solver::ProgramSolver;
@@ -202,12 +202,12 @@ fn rhs_columns(
                 }
             }
             None if p.kind == "squeeze" => {
-                for &(_, row) in &program.load_rows {
+                for &LoadRow { row, .. } in &program.load_rows {
                     rhs[(row, c)] = program.equality_rhs[row];
                 }
             }
             None => {
-                rhs[(program.load_rows[load].1, c)] = 1.0 / fu;
+                rhs[(program.load_rows[load].row, c)] = 1.0 / fu;
                 load += 1;
             }
         }
