@@ -288,6 +288,15 @@ pub struct Schedule {
     pub external: Option<ExternalRamp>,
 }
 
+/// The scheduled external wrench at one time (world frame).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExternalWrench {
+    /// Force at the centre of mass, N.
+    pub force_n: [f64; 3],
+    /// Couple, N m.
+    pub torque_nm: [f64; 3],
+}
+
 /// A validated external wrench ramp: keyframes `(time s, [force N; couple N m])` and easing.
 pub type ExternalRamp = (Vec<(f64, [f64; 6])>, Easing);
 
@@ -343,16 +352,18 @@ impl Schedule {
         })
     }
 
-    /// The scheduled external wrench at time `t`: force (N, at the centre of mass) and couple
-    /// (N m); `None` when the schedule has none.
-    pub fn external_at(&self, t: f64) -> Option<([f64; 3], [f64; 3])> {
+    /// The scheduled external wrench at time `t`; `None` when the schedule has none.
+    pub fn external_at(&self, t: f64) -> Option<ExternalWrench> {
         let (keys, easing) = self.external.as_ref()?;
         let mut w = [0.0; 6];
         for (c, wc) in w.iter_mut().enumerate() {
             let comp: Vec<(f64, Option<f64>)> = keys.iter().map(|k| (k.0, Some(k.1[c]))).collect();
             *wc = ramp_load(&comp, *easing, t, 0.0);
         }
-        Some(([w[0], w[1], w[2]], [w[3], w[4], w[5]]))
+        Some(ExternalWrench {
+            force_n: [w[0], w[1], w[2]],
+            torque_nm: [w[3], w[4], w[5]],
+        })
     }
 
     /// The largest force or couple component of the scheduled external wrench (N or N m; 0

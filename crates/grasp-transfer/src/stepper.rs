@@ -31,7 +31,7 @@ use grasp_model::{
 use serde::Serialize;
 
 use crate::error::TransferError;
-use crate::schedule::{Command, Schedule};
+use crate::schedule::{Command, ExternalWrench, Schedule};
 use crate::step_margin::{step_margin, StepMargin};
 
 /// Options of a run.
@@ -388,7 +388,7 @@ impl<'a> Stepper<'a> {
         &mut self,
         key: &StructureKey,
         loads: &[f64],
-        external: Option<([f64; 3], [f64; 3])>,
+        external: Option<ExternalWrench>,
     ) -> Result<(Solution, Option<StepMargin>), TransferError> {
         let options = self.options;
         let Some((model, mut solver)) = self.cache.remove(key) else {
@@ -396,8 +396,8 @@ impl<'a> Stepper<'a> {
         };
         let mut state = self.contact_state_of(&model);
         // The scheduled external wrench rides on the step's model (the program reads it).
-        let loaded = external.map(|(f, m)| {
-            let w = model.wrench_at_center_of_mass(&f.into(), &m.into());
+        let loaded = external.map(|e| {
+            let w = model.wrench_at_center_of_mass(&e.force_n.into(), &e.torque_nm.into());
             model.with_extra_wrench(&w)
         });
         let step_model = loaded.as_ref().unwrap_or(&model);
@@ -422,13 +422,14 @@ impl<'a> Stepper<'a> {
     fn record(
         &mut self,
         k: usize,
-        (t, external): (f64, Option<([f64; 3], [f64; 3])>),
+        (t, external): (f64, Option<ExternalWrench>),
         commands: Vec<Command>,
         (solution, margin): (Solution, Option<StepMargin>),
         start: Instant,
         reused: bool,
     ) -> StepRecord {
-        let (external_force_n, external_torque_nm) = external.unwrap_or(([0.0; 3], [0.0; 3]));
+        let (external_force_n, external_torque_nm) =
+            external.map_or(([0.0; 3], [0.0; 3]), |w| (w.force_n, w.torque_nm));
         if solution.status.has_forces() {
             for (i, f) in self.scene.fingers.iter().enumerate() {
                 self.previous_normal_n[i] =

@@ -5,6 +5,7 @@
 
 use anyhow::Result;
 use grasp_model::analysis::margin::{MarginReport, WrenchDirection};
+use grasp_model::model::equilibrium::MotionPlane;
 use grasp_model::GraspModel;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -95,7 +96,7 @@ fn panel_planes(model: &GraspModel) -> Vec<(&'static str, [f64; 3], [f64; 3])> {
             ("force in the y-z plane", [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
             ("force in the z-x plane", [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]),
         ],
-        Some((e1, e2, _)) => vec![(
+        Some(MotionPlane { e1, e2, .. }) => vec![(
             "force in the plane (e1, e2)",
             [e1.x, e1.y, e1.z],
             [e2.x, e2.y, e2.z],

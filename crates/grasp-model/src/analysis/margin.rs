@@ -30,6 +30,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
+use crate::model::equilibrium::MotionPlane;
 use crate::model::grasp_model::GraspModel;
 use crate::scene::scene_format::ModelKind;
 use crate::solve::contact_state::ContactState;
@@ -171,11 +172,11 @@ pub struct MarginReport {
 pub fn axis_directions(model: &GraspModel) -> Vec<WrenchDirection> {
     let axes: Vec<Vector3<f64>> = match model.plane {
         None => vec![Vector3::x(), Vector3::y(), Vector3::z()],
-        Some((e1, e2, _)) => vec![e1, e2],
+        Some(p) => vec![p.e1, p.e2],
     };
     let torques: Vec<Vector3<f64>> = match model.plane {
         None => vec![Vector3::x(), Vector3::y(), Vector3::z()],
-        Some((_, _, p)) => vec![p],
+        Some(p) => vec![p.normal],
     };
     let arr = |v: Vector3<f64>| [v.x, v.y, v.z];
     let mut out = Vec::new();
@@ -208,7 +209,7 @@ pub fn plane_directions(model: &GraspModel, per_plane: usize) -> Vec<WrenchDirec
             (Vector3::y(), Vector3::z()),
             (Vector3::z(), Vector3::x()),
         ],
-        Some((e1, e2, _)) => vec![(e1, e2)],
+        Some(p) => vec![(p.e1, p.e2)],
     };
     let mut out: Vec<WrenchDirection> = Vec::new();
     for (a, b) in planes {
@@ -256,7 +257,7 @@ pub fn spread_directions(model: &GraspModel, n: usize) -> Vec<WrenchDirection> {
                 b
             })
             .collect(),
-        Some((e1, e2, p)) => vec![
+        Some(MotionPlane { e1, e2, normal: p }) => vec![
             [e1.x, e1.y, e1.z, 0.0, 0.0, 0.0],
             [e2.x, e2.y, e2.z, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, p.x, p.y, p.z],

@@ -11,6 +11,18 @@ use nalgebra::{DMatrix, Vector3, Vector6};
 /// are O(1) after scaling, and well below any real lever arm).
 const RANK_CUTOFF: f64 = 1e-12;
 
+/// The plane of motion of a planar scene: an orthonormal in-plane basis `e1, e2` and the
+/// plane's normal `normal = e1 x e2` (world frame, unit vectors).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MotionPlane {
+    /// First in-plane axis.
+    pub e1: Vector3<f64>,
+    /// Second in-plane axis.
+    pub e2: Vector3<f64>,
+    /// Normal of the plane, `e1 x e2`: the axis of the one moment row.
+    pub normal: Vector3<f64>,
+}
+
 /// A wrench `(force, moment about O)`.
 pub type Wrench = Vector6<f64>;
 
@@ -30,11 +42,8 @@ pub struct EquilibriumMap {
 }
 
 impl EquilibriumMap {
-    /// Builds the map for a 3-D scene (`planar = None`) or a planar one (`Some((e1, e2, p))`).
-    pub fn new(
-        length_scale_m: f64,
-        planar: Option<(Vector3<f64>, Vector3<f64>, Vector3<f64>)>,
-    ) -> Self {
+    /// Builds the map for a 3-D scene (`planar = None`) or a planar one.
+    pub fn new(length_scale_m: f64, planar: Option<MotionPlane>) -> Self {
         let inv_l = 1.0 / length_scale_m;
         let select = match planar {
             None => {
@@ -44,7 +53,7 @@ impl EquilibriumMap {
                 }
                 s
             }
-            Some((e1, e2, p)) => {
+            Some(MotionPlane { e1, e2, normal: p }) => {
                 let mut s = DMatrix::<f64>::zeros(3, 6);
                 for c in 0..3 {
                     s[(0, c)] = e1[c];

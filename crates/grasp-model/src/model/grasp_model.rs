@@ -11,7 +11,7 @@ use nalgebra::{DMatrix, Vector3};
 
 use crate::error::{ModelError, SceneError};
 use crate::geometry::contact_frame::ContactFrame;
-use crate::model::equilibrium::{unit_wrench, EquilibriumMap, Wrench};
+use crate::model::equilibrium::{unit_wrench, EquilibriumMap, MotionPlane, Wrench};
 use crate::model::friction::FrictionLaw;
 use crate::model::influence::{patch_compliance, PairConstants};
 use crate::model::material::Material;
@@ -123,8 +123,8 @@ pub struct ObjectModel {
     pub loads: Vec<ExternalLoad>,
     /// Object material.
     pub material: Material,
-    /// Plane `(e1, e2, p)` of a planar scene (`e1 x e2 = p`).
-    pub plane: Option<(Vector3<f64>, Vector3<f64>, Vector3<f64>)>,
+    /// Plane of motion of a planar scene.
+    pub plane: Option<MotionPlane>,
     /// Contact law.
     pub kind: ModelKind,
 }
@@ -134,8 +134,8 @@ pub struct ObjectModel {
 pub struct GraspModel {
     /// Fingers in scene order.
     pub fingers: Vec<FingerModel>,
-    /// Plane `(e1, e2, p)` of a planar scene (`e1 x e2 = p`).
-    pub plane: Option<(Vector3<f64>, Vector3<f64>, Vector3<f64>)>,
+    /// Plane of motion of a planar scene.
+    pub plane: Option<MotionPlane>,
     /// Reference point `O` of moments and of the rigid displacement: centroid of the contact
     /// points, m.
     pub reference_point_m: Vector3<f64>,
@@ -410,7 +410,7 @@ fn object_model(scene: &Scene) -> ObjectModel {
         };
         let e1 = (hint - p * p.dot(&hint)).normalize();
         let e2 = p.cross(&e1);
-        (e1, e2, p)
+        MotionPlane { e1, e2, normal: p }
     });
     let o = &scene.object;
     let center_of_mass_m = v3(&o.center_of_mass);
@@ -442,7 +442,7 @@ fn finger_model(f: &crate::scene::scene_format::FingerSpec, object: &ObjectModel
         v3(&f.contact_point),
         v3(&f.normal),
         f.tangent.as_ref().map(v3),
-        object.plane.map(|(_, _, p)| p),
+        object.plane.map(|p| p.normal),
     );
     let tip = tip_curvatures_per_m(f, &frame);
     let obj = object_curvatures_per_m(f);

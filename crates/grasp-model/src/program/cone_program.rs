@@ -30,7 +30,7 @@
 
 use nalgebra::DMatrix;
 
-use crate::model::equilibrium::RowReduction;
+use crate::model::equilibrium::{MotionPlane, RowReduction};
 use crate::model::grasp_model::GraspModel;
 
 /// Largest floor on the Tresca radii Clarabel is given, in element force units `Fu` (the
@@ -326,7 +326,7 @@ fn unbalanced_reason(model: &GraspModel, red: &RowReduction, w: &[f64]) -> Optio
             // Express the unresisted direction in the world frame.
             let (force, moment) = match model.plane {
                 None => ([u[0], u[1], u[2]], [u[3], u[4], u[5]]),
-                Some((e1, e2, p)) => {
+                Some(MotionPlane { e1, e2, normal: p }) => {
                     let f = e1 * u[0] + e2 * u[1];
                     let m = p * u[2];
                     ([f.x, f.y, f.z], [m.x, m.y, m.z])

@@ -83,8 +83,7 @@ impl ContactState {
                     && s.normal_forces_n
                         .as_ref()
                         .is_none_or(|v| v.len() == f.patch.len())
-                    && s
-                        .earlier
+                    && s.earlier
                         .iter()
                         .all(|e| e.normal_forces_n.len() == f.patch.len())
             })

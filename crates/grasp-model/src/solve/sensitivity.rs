@@ -22,6 +22,7 @@ use nalgebra::{DMatrix, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
+use crate::model::equilibrium::MotionPlane;
 use crate::model::grasp_model::GraspModel;
 use crate::program::cone_program::{BlockCone, LoadRow};
 use crate::solve::solution::Solution;
@@ -115,7 +116,7 @@ fn wrench_parameters(model: &GraspModel) -> Vec<(Parameter, Option<nalgebra::Vec
                 ]
             })
             .collect(),
-        Some((e1, e2, p)) => vec![
+        Some(MotionPlane { e1, e2, normal: p }) => vec![
             ("force_e1".into(), "force", e1),
             ("force_e2".into(), "force", e2),
             ("torque_normal".into(), "torque", p),

@@ -156,7 +156,11 @@ fn extrapolated_forces(
     for s in &state.fingers {
         let f_last = s.normal_forces_n.as_ref()?;
         let others: Vec<&[f64]> = (0..used)
-            .map(|j| s.earlier[s.earlier.len() - 1 - j].normal_forces_n.as_slice())
+            .map(|j| {
+                s.earlier[s.earlier.len() - 1 - j]
+                    .normal_forces_n
+                    .as_slice()
+            })
             .collect();
         let f = combine(f_last, &others, &c);
         out.push(f.into_iter().map(|v| v.max(0.0)).collect());
