@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
-use crate::solve::readout::{build_solution, escape_reason, failed, Build};
+use crate::solve::readout::{build_solution, escape_reason, failed, SolvedWith};
 use crate::solve::residuals::FrictionRule;
 use crate::solve::solution::{Solution, SolveStatus, SolverStats};
 use crate::solver::options::SolveOptions;
@@ -49,12 +49,12 @@ pub(crate) fn solve_once(
             x,
             multipliers,
         } => {
-            let how = Build {
+            let solved_with = SolvedWith {
                 rule: FrictionRule::Associated,
                 mu: &mu,
                 radii_n: None,
             };
-            let mut out = build_solution(model, &ps.program, &x, &multipliers, stats, &how);
+            let mut out = build_solution(model, &ps.program, &x, &multipliers, stats, &solved_with);
             if reduced_accuracy {
                 out.status = SolveStatus::ReducedAccuracy;
                 out.reason = Some("solved to reduced accuracy; check the residuals".into());

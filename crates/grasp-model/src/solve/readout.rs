@@ -32,8 +32,9 @@ pub const ACCEPTED_FORCE_RESIDUAL: f64 = 1e-6;
 /// the displacement and work units) of an answer reported as solved.
 pub const ACCEPTED_KINEMATIC_RESIDUAL: f64 = 1e-3;
 
-/// How to read a solved program.
-pub(crate) struct Build<'a> {
+/// What a solved program was solved with (its friction rule, coefficients and radii): how to
+/// read its answer.
+pub(crate) struct SolvedWith<'a> {
     /// The friction rule (energy: associated; coulomb: with the step's starting memory).
     pub rule: FrictionRule<'a>,
     /// Friction coefficient per finger the program was solved with.
@@ -178,7 +179,7 @@ fn sliding_fingers(model: &GraspModel, cert: &Certificate) -> Vec<(String, f64)>
 }
 
 /// The reason of an infeasible Tresca program: too little normal force, which fingers slide,
-/// and how the object would move.
+/// and solved_with the object would move.
 pub(crate) fn cannot_hold_reason(
     model: &GraspModel,
     program: &ConeProgram,
@@ -208,7 +209,7 @@ fn element_states(
     model: &GraspModel,
     x_n: &[f64],
     kin: &ContactKinematics,
-    how: &Build<'_>,
+    solved_with: &SolvedWith<'_>,
 ) -> Vec<Vec<ElementState>> {
     let (fu, du) = (model.scales.element_force_n, model.scales.displacement_m());
     model
@@ -217,14 +218,18 @@ fn element_states(
         .enumerate()
         .map(|(i, f)| {
             let ne = f.patch.len();
-            let mu = how.mu[i];
-            let dilatancy = if how.rule.is_associated() { mu } else { 0.0 };
+            let mu = solved_with.mu[i];
+            let dilatancy = if solved_with.rule.is_associated() {
+                mu
+            } else {
+                0.0
+            };
             (0..ne)
                 .map(|k| {
                     let fk = x_n[f.offset + k] / fu;
                     let g = tangential(x_n, f.offset, ne, f.n_tangential, k);
                     let gn = g[0].hypot(g[1]) / fu;
-                    let w = how.rule.step_slip(i, k, kin.tangential_m[i][k]);
+                    let w = solved_with.rule.step_slip(i, k, kin.tangential_m[i][k]);
                     let wn = w[0].hypot(w[1]) / du;
                     let gap = kin.gap_m[i][k] / du;
                     let opening = if f.n_tangential == 0 {
@@ -232,7 +237,7 @@ fn element_states(
                     } else {
                         gap - dilatancy * wn
                     };
-                    let radius = match how.radii_n {
+                    let radius = match solved_with.radii_n {
                         Some(r) => r[i][k] / fu,
                         None => mu * fk,
                     };
@@ -259,7 +264,7 @@ fn finger_solution(
     states: &[ElementState],
     mu_at_load: f64,
     approach_m: f64,
-    how: &Build<'_>,
+    solved_with: &SolvedWith<'_>,
 ) -> FingerSolution {
     let f = &model.fingers[i];
     let ne = f.patch.len();
@@ -293,7 +298,7 @@ fn finger_solution(
             traction_pa: [g[0] / area, g[1] / area],
             gap_m: kin.gap_m[i][k],
             slip_m: kin.tangential_m[i][k],
-            step_slip_m: how.rule.step_slip(i, k, kin.tangential_m[i][k]),
+            step_slip_m: solved_with.rule.step_slip(i, k, kin.tangential_m[i][k]),
             state: states[k],
         });
     }
@@ -337,7 +342,7 @@ pub(crate) fn build_solution(
     x_scaled: &[f64],
     multipliers: &[f64],
     stats: SolverStats,
-    how: &Build<'_>,
+    solved_with: &SolvedWith<'_>,
 ) -> Solution {
     let s = model.scales;
     let x_n: Vec<f64> = x_scaled.iter().map(|v| v * s.element_force_n).collect();
@@ -347,7 +352,7 @@ pub(crate) fn build_solution(
         approach[i] = -multipliers[row] * s.displacement_m();
     }
     let kin = contact_kinematics(model, &x_n, &t_o, &theta, &approach);
-    let states = element_states(model, &x_n, &kin, how);
+    let states = element_states(model, &x_n, &kin, solved_with);
     // The law's coefficient at each finger's load (equal to the frozen one at a fixed point).
     let mu_at_load: Vec<f64> = model
         .fingers
@@ -357,7 +362,7 @@ pub(crate) fn build_solution(
             f.friction.mu_at(p)
         })
         .collect();
-    let residuals = evaluate(model, &x_n, &kin, &states, &mu_at_load, how.rule);
+    let residuals = evaluate(model, &x_n, &kin, &states, &mu_at_load, solved_with.rule);
     let fingers = (0..model.fingers.len())
         .map(|i| {
             finger_solution(
@@ -368,7 +373,7 @@ pub(crate) fn build_solution(
                 &states[i],
                 mu_at_load[i],
                 approach[i],
-                how,
+                solved_with,
             )
         })
         .collect();

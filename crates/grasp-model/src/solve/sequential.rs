@@ -27,7 +27,9 @@ use crate::program::cone_program::{ConeLaw, ConeProgram};
 use crate::scene::scene_format::ModelKind;
 use crate::solve::contact_state::ContactState;
 use crate::solve::convex_solve::{add_run, start_of};
-use crate::solve::readout::{build_solution, cannot_hold_reason, escape_reason, failed, Build};
+use crate::solve::readout::{
+    build_solution, cannot_hold_reason, escape_reason, failed, SolvedWith,
+};
 use crate::solve::residuals::FrictionRule;
 use crate::solve::solution::{
     SequentialReport, Solution, SolveStatus, SolverStats, LOADED_FRACTION,
@@ -344,6 +346,16 @@ struct Relaxation {
     last_feasible: Option<Input>,
 }
 
+/// The cones an iterate's program was solved with, and how well.
+struct IterateCones<'a> {
+    /// Friction coefficient per finger.
+    mu: &'a [f64],
+    /// Tresca radii per finger and element (N), coulomb model only.
+    radii_n: Option<&'a [Vec<f64>]>,
+    /// The solver's answer is "almost solved".
+    reduced_accuracy: bool,
+}
+
 /// What an iterate's outcome asks of the loop.
 enum Next {
     /// Iterate again from the new input.
@@ -392,8 +404,20 @@ fn iterate(
                 x,
                 multipliers,
             } => {
-                let how = (&mu, radii.as_deref(), reduced_accuracy);
-                after_solved(main, seq, state, input, &mut relax, (&x, &multipliers), how)
+                let cones = IterateCones {
+                    mu: &mu,
+                    radii_n: radii.as_deref(),
+                    reduced_accuracy,
+                };
+                after_solved(
+                    main,
+                    seq,
+                    state,
+                    input,
+                    &mut relax,
+                    (&x, &multipliers),
+                    cones,
+                )
             }
             ConvexOutcome::Infeasible(cert) => {
                 let cert_mu = (&cert, mu.as_slice());
@@ -422,7 +446,7 @@ fn after_solved(
     input: &mut Input,
     relax: &mut Relaxation,
     (x, multipliers): (&[f64], &[f64]),
-    how: (&Vec<f64>, Option<&[Vec<f64>]>, bool),
+    cones: IterateCones<'_>,
 ) -> Next {
     let out = normal_forces(seq.model, x);
     let change = input
@@ -431,7 +455,7 @@ fn after_solved(
         .map_or(f64::INFINITY, |f| largest_change(f, &out));
     seq.report.last_change_n = change;
     if change <= seq.report.tolerance_n {
-        return Next::Done(Box::new(converged(main, seq, state, x, multipliers, how)));
+        return Next::Done(Box::new(converged(main, seq, state, x, multipliers, cones)));
     }
     if seq.report.iterations >= seq.options.max_sequential_iterations {
         return Next::Done(Box::new(
@@ -509,7 +533,7 @@ fn converged(
     state: &mut ContactState,
     x: &[f64],
     multipliers: &[f64],
-    (mu, radii, reduced_accuracy): (&Vec<f64>, Option<&[Vec<f64>]>, bool),
+    cones: IterateCones<'_>,
 ) -> Solution {
     seq.report.converged = true;
     let rule = if seq.coulomb {
@@ -519,10 +543,10 @@ fn converged(
     } else {
         FrictionRule::Associated
     };
-    let how = Build {
+    let solved_with = SolvedWith {
         rule,
-        mu,
-        radii_n: radii,
+        mu: cones.mu,
+        radii_n: cones.radii_n,
     };
     let mut out = build_solution(
         seq.model,
@@ -530,9 +554,9 @@ fn converged(
         x,
         multipliers,
         seq.stats.clone(),
-        &how,
+        &solved_with,
     );
-    if reduced_accuracy {
+    if cones.reduced_accuracy {
         out.status = SolveStatus::ReducedAccuracy;
         out.reason = Some("solved to reduced accuracy; check the residuals".into());
     }
