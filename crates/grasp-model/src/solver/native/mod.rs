@@ -28,6 +28,9 @@ pub(crate) mod projection;
 pub(crate) mod reduced_factor;
 pub(crate) mod semismooth_newton;
 
+#[cfg(test)]
+mod newton_tests;
+
 use crate::model::grasp_model::GraspModel;
 use crate::program::cone_program::ConeProgram;
 
