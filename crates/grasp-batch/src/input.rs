@@ -7,7 +7,7 @@
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 
-use grasp_mesh_io::{base_dir_of, scene_from_json_str};
+use grasp_io::{base_dir_of, scene_from_json_str};
 use grasp_model::scene::strict_json::{from_str_strict, StrictValue};
 use grasp_model::{InputProblem, Scene};
 use serde_json::Value;

@@ -12,6 +12,6 @@ use crate::limits;
 /// names the file and lists every problem.
 pub(crate) fn load_scene(path: &Path) -> Result<Scene> {
     let text = limits::read_input(path, "scene file")?;
-    grasp_mesh_io::scene_from_json_str(&text, &grasp_mesh_io::base_dir_of(path))
+    grasp_io::scene_from_json_str(&text, &grasp_io::base_dir_of(path))
         .with_context(|| format!("{} is not a usable scene", path.display()))
 }

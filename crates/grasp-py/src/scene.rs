@@ -51,7 +51,7 @@ impl Scene {
                 path.display()
             ))
         })?;
-        let base = grasp_mesh_io::base_dir_of(&path);
+        let base = grasp_io::base_dir_of(&path);
         Scene::parse(py, &text, path.display().to_string(), &base)
     }
 
@@ -140,7 +140,7 @@ impl Scene {
         origin: String,
         base: &std::path::Path,
     ) -> PyResult<Scene> {
-        match grasp_mesh_io::scene_from_json_str(text, base) {
+        match grasp_io::scene_from_json_str(text, base) {
             Ok(scene) => Ok(Scene { scene, origin }),
             Err(e) => Err(scene_error(py, &origin, &e)),
         }
