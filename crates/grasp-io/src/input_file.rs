@@ -225,6 +225,13 @@ impl InputFile {
     /// The file line by line, reading at most the size it had when opened.
     pub fn lines(self) -> LineReader {
         let len = self.len;
+        self.lines_upto(len)
+    }
+
+    /// The file line by line, reading at most `len` bytes (the size it had at an earlier
+    /// pass: what was appended since is not read).
+    pub fn lines_upto(self, len: u64) -> LineReader {
+        let len = len.min(self.len);
         LineReader {
             reader: BufReader::with_capacity(1 << 16, self.file.take(len)),
             path: self.path,
@@ -292,6 +299,8 @@ pub enum LineText {
     NotUtf8 {
         /// Bytes of valid UTF-8 before the first invalid one.
         valid_up_to: usize,
+        /// The line's bytes, without its line ending.
+        bytes: Vec<u8>,
     },
     /// A line longer than [`MAX_LINE_BYTES`] (skipped unread).
     TooLong {
@@ -318,7 +327,7 @@ impl FileLine {
     pub fn problem(&self) -> Option<String> {
         match &self.text {
             LineText::Text(_) => None,
-            LineText::NotUtf8 { valid_up_to } => Some(format!(
+            LineText::NotUtf8 { valid_up_to, .. } => Some(format!(
                 "line {} is not UTF-8 text (invalid byte after {valid_up_to} bytes)",
                 self.number
             )),
@@ -374,6 +383,7 @@ impl LineReader {
                     Ok(s) => LineText::Text(s),
                     Err(e) => LineText::NotUtf8 {
                         valid_up_to: e.utf8_error().valid_up_to(),
+                        bytes: e.into_bytes(),
                     },
                 }
             }
@@ -549,7 +559,7 @@ mod tests {
         }
         assert_eq!(got.len(), 5);
         assert_eq!(got[0].text, LineText::Text("first".into()));
-        assert_eq!(got[1].text, LineText::NotUtf8 { valid_up_to: 0 });
+        assert!(matches!(&got[1].text, LineText::NotUtf8 { valid_up_to: 0, bytes } if bytes[..] == b"\xff\xfe bad"[..]));
         assert!(got[1].problem().unwrap().contains("line 2 is not UTF-8"));
         assert_eq!(got[2].text, LineText::Text("third".into()));
         // "first\r\n" then the 7 bytes of the second line.

@@ -13,11 +13,13 @@
 //!   replacing without `force`, exclusive unguessable temporary files moved into place on
 //!   success); [`output_lock`]: every output locked for the run; [`temporary_files`]: the
 //!   live hidden files a signal handler removes.
+//! - [`machine_memory`]: the machine's memory, for default memory limits.
 //!
 //! Unix only (device and inode numbers, `O_NOFOLLOW`, `/proc/self/fd`, `flock`).
 
 pub mod error;
 pub mod input_file;
+pub mod machine_memory;
 pub mod mesh_file;
 pub mod output_file;
 pub mod output_lock;

@@ -15,8 +15,10 @@ pub struct RunInputs {
 
 impl RunInputs {
     /// No inputs.
-    pub fn new() -> RunInputs {
-        RunInputs::default()
+    pub const fn new() -> RunInputs {
+        RunInputs {
+            files: BTreeMap::new(),
+        }
     }
 
     /// The files at `paths` that exist now (the ones that do not are refused when read).
