@@ -68,9 +68,15 @@ impl Outputs {
         Ok(self.0.create(target)?)
     }
 
+    /// Refuses an output that is one of the files read so far (call it once the inputs are
+    /// read, before a long run; [`Outputs::commit`] checks again).
+    pub fn refuse_inputs_read(&self) -> Result<()> {
+        Ok(self.0.refuse_inputs(&limits::inputs_read())?)
+    }
+
     /// Moves the outputs into place, none of them being an input read meanwhile.
     pub fn commit(&self, pending: Vec<PendingOutput>) -> Result<()> {
-        self.0.refuse_inputs(&limits::inputs_read())?;
+        self.refuse_inputs_read()?;
         Ok(self.0.commit(pending)?)
     }
 
@@ -83,7 +89,7 @@ impl Outputs {
 
     /// `target` opened for appending in place (a resumed batch), under its lock.
     pub fn open_append(&self, target: &Path) -> Result<File> {
-        self.0.refuse_inputs(&limits::inputs_read())?;
+        self.refuse_inputs_read()?;
         Ok(self.0.open_append(target)?)
     }
 }

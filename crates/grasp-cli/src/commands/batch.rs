@@ -34,8 +34,8 @@ pub struct Args {
     /// GRASP_SHARD_COUNT, else everything.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
-    /// Worker threads, 1 to 256 (default: one per core). More threads than cores only add
-    /// switching, and each holds one solve's memory.
+    /// Worker threads, at most 256 (default, or 0: one per core). More threads than cores
+    /// only add switching, and each holds one solve's memory.
     #[arg(long, value_name = "J", value_parser = jobs_in_range)]
     pub jobs: Option<usize>,
     /// Join these shard outputs into OUT (checked complete) instead of solving.
@@ -72,14 +72,15 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     run(&source, Some(&input), &flags)
 }
 
-/// `--jobs`: a whole number from 1 to [`grasp_batch::MAX_THREADS`] (clap names the flag).
+/// `--jobs`: a whole number from 0 (one per core) to [`grasp_batch::MAX_THREADS`] (clap
+/// names the flag in its error).
 pub fn jobs_in_range(text: &str) -> Result<usize, String> {
     let max = grasp_batch::MAX_THREADS;
     match text.trim().parse::<usize>() {
-        Ok(j) if (1..=max).contains(&j) => Ok(j),
+        Ok(j) if j <= max => Ok(j),
         _ => Err(format!(
-            "`{text}` is not a thread count from 1 to {max} (more threads than cores only add \
-             switching, and each holds one solve's memory)"
+            "`{text}` is not a thread count from 0 (one per core) to {max}; more threads than \
+             cores only add switching, and each holds one solve's memory"
         )),
     }
 }

@@ -31,7 +31,7 @@ pub struct Args {
     /// Solve the variants now (as `grasp batch` would) and write their results.
     #[arg(long)]
     pub run: bool,
-    /// Worker threads for --run, 1 to 256 (default: one per core).
+    /// Worker threads for --run, at most 256 (default, or 0: one per core).
     #[arg(long, value_name = "J", value_parser = crate::commands::batch::jobs_in_range)]
     pub jobs: Option<usize>,
     /// Overwrite OUT if it exists.

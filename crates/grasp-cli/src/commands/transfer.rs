@@ -232,6 +232,7 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
         .transpose()?;
     let outs = output::claim(&out.targets(), &[scene_path, schedule_path], out.force)?;
     let (scene, schedule) = load_inputs(scene_path, schedule_path, flags.max_memory)?;
+    outs.refuse_inputs_read()?;
     let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
     let mut open = OpenSinks::create(out, &outs)?;
     let bar = progress_bar(schedule.times.len());
