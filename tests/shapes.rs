@@ -278,8 +278,8 @@ fn a_refined_sphere_mesh_converges_to_the_sphere() {
         let shape =
             json!({"mesh": {"file": file.file_name().unwrap().to_str().unwrap(), "unit": "mm"}});
         let v = placed(shape, ray.clone());
-        let s = grasp_io::scene_from_json_str(&v.to_string(), &dir)
-            .unwrap_or_else(|e| panic!("{e}"));
+        let s =
+            grasp_io::scene_from_json_str(&v.to_string(), &dir).unwrap_or_else(|e| panic!("{e}"));
         let d = &s.shape_report.as_ref().unwrap().fingers[0];
         let p = nalgebra::Vector3::from(d.contact_point_m);
         let exact_normal = -p.normalize();

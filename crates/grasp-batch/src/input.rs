@@ -70,7 +70,9 @@ impl BatchInput {
     pub fn open(path: &Path) -> Result<BatchInput, BatchError> {
         let meta = std::fs::metadata(path).map_err(|e| io(path, e))?;
         if meta.is_dir() {
-            return Ok(BatchInput::Folder(folder_entries(path, "json", MAX_SCENES)?));
+            return Ok(BatchInput::Folder(folder_entries(
+                path, "json", MAX_SCENES,
+            )?));
         }
         let file = InputFile::open(path, BATCH_INPUT)?;
         Ok(BatchInput::Jsonl {
@@ -288,8 +290,7 @@ impl UnparsedScene {
                 base,
             } => {
                 let mut files = RunInputs::new();
-                let scene =
-                    scene_from_value(scene, &base, &mut files).map_err(|e| e.problems());
+                let scene = scene_from_value(scene, &base, &mut files).map_err(|e| e.problems());
                 SceneLine {
                     index,
                     id,
@@ -325,8 +326,7 @@ fn parse_file(index: usize, path: &Path) -> SceneLine {
         })
         .and_then(|(t, identity)| {
             files.add(path, identity);
-            scene_from_json_str_noting(&t, &base_dir_of(path), &mut files)
-                .map_err(|e| e.problems())
+            scene_from_json_str_noting(&t, &base_dir_of(path), &mut files).map_err(|e| e.problems())
         });
     SceneLine {
         index,
@@ -383,7 +383,10 @@ fn parse_line(index: usize, line: FileLine, base: &Path) -> SceneLine {
         .keys()
         .find(|k| !["id", "scene", "vary"].contains(&k.as_str()))
     {
-        return invalid(id, problem(k, "unknown key of a batch line (id, scene, vary)"));
+        return invalid(
+            id,
+            problem(k, "unknown key of a batch line (id, scene, vary)"),
+        );
     }
     let scene_value = obj.remove("scene").unwrap_or(Value::Null);
     let scene = scene_from_value(scene_value, base, &mut files).map_err(|e| {

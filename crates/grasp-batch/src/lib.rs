@@ -31,7 +31,7 @@ pub mod sweep;
 pub use error::BatchError;
 pub use input::{BatchInput, SceneLine, UnparsedScene};
 pub use input_index::InputIndex;
-pub use resume::{read_batch_output, ResumePoint};
 pub use result_line::{FingerForces, ResultLine, ResultStatus};
+pub use resume::{read_batch_output, ResumePoint};
 pub use runner::{run_batch, BatchOptions, BatchSummary, MAX_THREADS};
 pub use shard::Shard;

@@ -36,17 +36,16 @@ impl ShardReader<'_> {
     fn advance(&mut self) -> Result<(), BatchError> {
         self.head = None;
         while let Some(line) = self.lines.next_line()? {
-            let text = match line.text {
-                LineText::Text(t) if t.trim().is_empty() => continue,
-                LineText::Text(t) if line.terminated => t,
-                LineText::Text(_) => {
-                    return Err(self.bad(
+            let text =
+                match line.text {
+                    LineText::Text(t) if t.trim().is_empty() => continue,
+                    LineText::Text(t) if line.terminated => t,
+                    LineText::Text(_) => return Err(self.bad(
                         line.number,
                         "is unfinished (its run was interrupted): resume that shard, then merge",
-                    ))
-                }
-                _ => return Err(self.bad(line.number, "is not UTF-8 text or is too long")),
-            };
+                    )),
+                    _ => return Err(self.bad(line.number, "is not UTF-8 text or is too long")),
+                };
             let r: ResultLine = serde_json::from_str(&text).map_err(|e| {
                 self.bad(
                     line.number,
@@ -76,7 +75,11 @@ impl ShardReader<'_> {
 }
 
 /// Writes the lines of the shard outputs `files` to `out` in input order, checked complete.
-pub fn merge(files: &[PathBuf], out: &mut dyn Write, out_name: &Path) -> Result<MergeSummary, BatchError> {
+pub fn merge(
+    files: &[PathBuf],
+    out: &mut dyn Write,
+    out_name: &Path,
+) -> Result<MergeSummary, BatchError> {
     let mut shards = Vec::with_capacity(files.len());
     for f in files {
         let mut s = ShardReader {
@@ -131,7 +134,11 @@ pub fn merge(files: &[PathBuf], out: &mut dyn Write, out_name: &Path) -> Result<
             "{missing_count} of {total} scenes have no result (positions {}{}); run the missing \
              shards (or resume them) and merge again",
             listed.join(", "),
-            if missing_count > missing.len() { ", ..." } else { "" }
+            if missing_count > missing.len() {
+                ", ..."
+            } else {
+                ""
+            }
         )));
     }
     out.flush().map_err(|e| io(out_name, e))?;

@@ -48,7 +48,11 @@ pub fn read_batch_output(
     while let Some(line) = lines.next_line()? {
         if !line.terminated {
             if !starts_a_result_line(&line) {
-                return Err(not_ours(path, line.number, "is not the start of a result line"));
+                return Err(not_ours(
+                    path,
+                    line.number,
+                    "is not the start of a result line",
+                ));
             }
             point.cut_at = Some(line.start);
             break;
@@ -56,7 +60,13 @@ pub fn read_batch_output(
         let text = match &line.text {
             LineText::Text(t) if t.trim().is_empty() => continue,
             LineText::Text(t) => t,
-            _ => return Err(not_ours(path, line.number, "is not UTF-8 text or is too long")),
+            _ => {
+                return Err(not_ours(
+                    path,
+                    line.number,
+                    "is not UTF-8 text or is too long",
+                ))
+            }
         };
         let r: ResultLine = serde_json::from_str(text)
             .map_err(|_| not_ours(path, line.number, "is not a result line of grasp batch"))?;

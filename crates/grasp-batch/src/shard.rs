@@ -54,12 +54,14 @@ impl Shard {
             return slurm_shard(&env).map(Some);
         }
         if let Some(index) = env.num("JOB_COMPLETION_INDEX")? {
-            let count = env.num("GRASP_SHARD_COUNT")?.ok_or_else(|| BatchError::Usage {
-                what: "GRASP_SHARD_COUNT".into(),
-                message: "is not set although JOB_COMPLETION_INDEX is; set it to the Indexed \
+            let count = env
+                .num("GRASP_SHARD_COUNT")?
+                .ok_or_else(|| BatchError::Usage {
+                    what: "GRASP_SHARD_COUNT".into(),
+                    message: "is not set although JOB_COMPLETION_INDEX is; set it to the Indexed \
                           Job's completions, or give the shard (`Shard::parse`)"
-                    .into(),
-            })?;
+                        .into(),
+                })?;
             return check(index, count, "JOB_COMPLETION_INDEX").map(Some);
         }
         Ok(None)
@@ -134,12 +136,15 @@ fn slurm_shard(env: &EnvNumbers<'_>) -> Result<Shard, BatchError> {
             ),
         ));
     }
-    let offset = id.checked_sub(min).filter(|o| o % step == 0).ok_or_else(|| {
-        usage(
-            "SLURM_ARRAY_TASK_ID",
-            format!("{id} is not one of the array's ids {min}, {min} + {step}, ..."),
-        )
-    })?;
+    let offset = id
+        .checked_sub(min)
+        .filter(|o| o % step == 0)
+        .ok_or_else(|| {
+            usage(
+                "SLURM_ARRAY_TASK_ID",
+                format!("{id} is not one of the array's ids {min}, {min} + {step}, ..."),
+            )
+        })?;
     check(offset / step, count, "SLURM_ARRAY_TASK_ID")
 }
 
@@ -188,7 +193,10 @@ mod tests {
         for (id, want) in [("0", 0), ("2", 1), ("4", 2), ("6", 3), ("8", 4)] {
             assert_eq!(
                 stepped(id, "0", "8", "2", "5").unwrap(),
-                Some(Shard { index: want, count: 5 })
+                Some(Shard {
+                    index: want,
+                    count: 5
+                })
             );
         }
         assert_eq!(

@@ -250,7 +250,11 @@ mod tests {
         assert_eq!(last["object"]["weight"], json!(1000.0));
         assert_eq!(vary["fingers[0].friction.mu"], json!(1.0));
         assert_eq!(sweep.variant(0).unwrap().0, "big-000000");
-        let more = [axes[0].clone(), axes[1].clone(), Axis::parse("object.weight=1,2").unwrap()];
+        let more = [
+            axes[0].clone(),
+            axes[1].clone(),
+            Axis::parse("object.weight=1,2").unwrap(),
+        ];
         let e = Sweep::new(scene, "big", &more).unwrap_err().to_string();
         assert!(e.contains("2000000 variants; at most 1000000"), "{e}");
     }

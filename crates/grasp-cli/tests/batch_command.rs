@@ -301,29 +301,62 @@ fn resume_checks_the_whole_output_first_and_changes_nothing_otherwise() {
     let input = variants(&d, "cube", 6);
     let other = variants(&d, "other", 4);
     let other_out = d.join("other-results.jsonl");
-    batch(&["batch", other.to_str().unwrap(), "--out", other_out.to_str().unwrap()]);
+    batch(&[
+        "batch",
+        other.to_str().unwrap(),
+        "--out",
+        other_out.to_str().unwrap(),
+    ]);
     let ours = d.join("ours.jsonl");
-    batch(&["batch", input.to_str().unwrap(), "--out", ours.to_str().unwrap(), "--shard", "1/2"]);
+    batch(&[
+        "batch",
+        input.to_str().unwrap(),
+        "--out",
+        ours.to_str().unwrap(),
+        "--shard",
+        "1/2",
+    ]);
     let scene = std::fs::read_to_string(example("cube_a.json")).unwrap();
     let ours_text = std::fs::read_to_string(&ours).unwrap();
     let cases: Vec<(&str, Vec<u8>, Vec<&str>)> = vec![
         ("a scene file", scene.clone().into_bytes(), vec![]),
-        ("a scene without a newline", scene.trim_end().as_bytes().to_vec(), vec![]),
+        (
+            "a scene without a newline",
+            scene.trim_end().as_bytes().to_vec(),
+            vec![],
+        ),
         ("one line of JSON", b"{\"object\": {}}\n".to_vec(), vec![]),
         ("another input's results", bytes(&other_out), vec![]),
-        ("results of another shard", ours_text.clone().into_bytes(), vec!["--shard", "0/2"]),
-        ("results then garbage", format!("{ours_text}garbage").into_bytes(), vec!["--shard", "1/2"]),
+        (
+            "results of another shard",
+            ours_text.clone().into_bytes(),
+            vec!["--shard", "0/2"],
+        ),
+        (
+            "results then garbage",
+            format!("{ours_text}garbage").into_bytes(),
+            vec!["--shard", "1/2"],
+        ),
         ("a line that is not UTF-8", b"\xff\xfe\n".to_vec(), vec![]),
     ];
     for (what, content, extra) in cases {
         let out = d.join("out.jsonl");
         std::fs::write(&out, &content).unwrap();
-        let mut args = vec!["batch", input.to_str().unwrap(), "--out", out.to_str().unwrap()];
+        let mut args = vec![
+            "batch",
+            input.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
         args.push("--resume");
         args.extend(extra);
         let o = grasp(&args);
         assert_eq!(o.status.code(), Some(1), "{what}: {}", text(&o));
-        assert!(text(&o).contains("nothing was changed"), "{what}: {}", text(&o));
+        assert!(
+            text(&o).contains("nothing was changed"),
+            "{what}: {}",
+            text(&o)
+        );
         assert_eq!(bytes(&out), content, "{what}: the output changed");
     }
     assert!(hidden(&d).is_empty(), "{:?}", hidden(&d));
@@ -334,11 +367,21 @@ fn a_run_cut_inside_a_character_resumes_to_the_whole_run() {
     let d = tmp("batch", "resume-utf8");
     let input = variants(&d, "würfel", 6);
     let (full, part) = (d.join("full.jsonl"), d.join("part.jsonl"));
-    batch(&["batch", input.to_str().unwrap(), "--out", full.to_str().unwrap()]);
+    batch(&[
+        "batch",
+        input.to_str().unwrap(),
+        "--out",
+        full.to_str().unwrap(),
+    ]);
     let b = bytes(&full);
     // Three lines, then the fourth cut between the two bytes of its "ü".
     let starts: Vec<usize> = std::iter::once(0)
-        .chain(b.iter().enumerate().filter(|(_, c)| **c == b'\n').map(|(i, _)| i + 1))
+        .chain(
+            b.iter()
+                .enumerate()
+                .filter(|(_, c)| **c == b'\n')
+                .map(|(i, _)| i + 1),
+        )
         .collect();
     let u = starts[3] + b[starts[3]..].iter().position(|c| *c == 0xc3).unwrap();
     std::fs::write(&part, &b[..u + 1]).unwrap();
@@ -361,13 +404,26 @@ fn duplicate_ids_are_refused_before_anything_is_written() {
     let line = |id: &str| serde_json::json!({"id": id, "scene": scene}).to_string();
     let bare = scene.to_string();
     // Lines 1..6: a, b, a, a bare scene (line-4), b, and an explicit "line-4".
-    let body = [line("a"), line("b"), line("a"), bare, line("b"), line("line-4")].join("\n");
+    let body = [
+        line("a"),
+        line("b"),
+        line("a"),
+        bare,
+        line("b"),
+        line("line-4"),
+    ]
+    .join("\n");
     let input = d.join("dup.jsonl");
     std::fs::write(&input, body).unwrap();
     let out = d.join("out.jsonl");
     std::fs::write(&out, "precious").unwrap();
     for extra in [vec!["--force"], vec!["--resume"]] {
-        let mut args = vec!["batch", input.to_str().unwrap(), "--out", out.to_str().unwrap()];
+        let mut args = vec![
+            "batch",
+            input.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
         args.extend(extra);
         let o = grasp(&args);
         assert_eq!(o.status.code(), Some(1), "{}", text(&o));
@@ -394,15 +450,36 @@ fn a_line_that_is_not_utf8_is_an_invalid_line_like_any_other() {
     let input = d.join("mixed.jsonl");
     std::fs::write(&input, body).unwrap();
     let out = d.join("out.jsonl");
-    let log = batch(&["batch", input.to_str().unwrap(), "--out", out.to_str().unwrap()]);
-    assert!(log.contains("solved 2") && log.contains("invalid 2"), "{log}");
+    let log = batch(&[
+        "batch",
+        input.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        log.contains("solved 2") && log.contains("invalid 2"),
+        "{log}"
+    );
     let r = results(&out);
     assert_eq!(r.len(), 4);
-    assert_eq!((r[1]["id"].as_str(), r[2]["id"].as_str()), (Some("line-2"), Some("line-3")));
+    assert_eq!(
+        (r[1]["id"].as_str(), r[2]["id"].as_str()),
+        (Some("line-2"), Some("line-3"))
+    );
     for k in [1, 2] {
-        assert!(r[k]["reason"].as_str().unwrap().contains("is not UTF-8 text"), "{}", r[k]);
+        assert!(
+            r[k]["reason"]
+                .as_str()
+                .unwrap()
+                .contains("is not UTF-8 text"),
+            "{}",
+            r[k]
+        );
     }
-    assert_eq!((r[0]["status"].as_str(), r[3]["status"].as_str()), (Some("solved"), Some("solved")));
+    assert_eq!(
+        (r[0]["status"].as_str(), r[3]["status"].as_str()),
+        (Some("solved"), Some("solved"))
+    );
 }
 
 #[test]
@@ -422,7 +499,10 @@ fn merge_checks_that_the_shards_cover_the_input_exactly_once() {
         ]);
         s
     };
-    let (s0, s1) = (shard(0, 2, &input, "s0.jsonl"), shard(1, 2, &input, "s1.jsonl"));
+    let (s0, s1) = (
+        shard(0, 2, &input, "s0.jsonl"),
+        shard(1, 2, &input, "s1.jsonl"),
+    );
     let foreign = shard(1, 2, &other, "foreign.jsonl");
     let (e1, e2) = (d.join("e1.jsonl"), d.join("e2.jsonl"));
     std::fs::write(&e1, "").unwrap();
@@ -460,7 +540,12 @@ fn merge_checks_that_the_shards_cover_the_input_exactly_once() {
         s0.to_str().unwrap(),
     ]);
     let whole = d.join("whole.jsonl");
-    batch(&["batch", input.to_str().unwrap(), "--out", whole.to_str().unwrap()]);
+    batch(&[
+        "batch",
+        input.to_str().unwrap(),
+        "--out",
+        whole.to_str().unwrap(),
+    ]);
     assert_eq!(results(&out), results(&whole));
     assert!(hidden(&d).is_empty(), "{:?}", hidden(&d));
 }
@@ -471,7 +556,12 @@ fn stepped_slurm_arrays_map_to_shards_and_sparse_ones_are_refused() {
     let input = variants(&d, "s", 7);
     let run = |id: usize, vars: &[(&str, &str)], out: &Path| {
         let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_grasp"));
-        c.args(["batch", input.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        c.args([
+            "batch",
+            input.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
         c.env("SLURM_ARRAY_TASK_ID", id.to_string());
         for (k, v) in vars {
             c.env(k, v);
@@ -497,7 +587,12 @@ fn stepped_slurm_arrays_map_to_shards_and_sparse_ones_are_refused() {
     args.extend(shards.iter().map(|s| s.to_str().unwrap()));
     batch(&args);
     let whole = d.join("whole.jsonl");
-    batch(&["batch", input.to_str().unwrap(), "--out", whole.to_str().unwrap()]);
+    batch(&[
+        "batch",
+        input.to_str().unwrap(),
+        "--out",
+        whole.to_str().unwrap(),
+    ]);
     assert_eq!(results(&merged), results(&whole));
     // --array=1,3,8 (3 ids from 1 to 8, no step): cannot be mapped; nor an id off the step.
     let sparse = [
@@ -526,7 +621,13 @@ fn jobs_is_bounded_at_the_command_line() {
     for bad in ["257", "20000", "100000", "-1", "many"] {
         let jobs = format!("--jobs={bad}");
         for args in [
-            vec!["batch", input.to_str().unwrap(), "--out", out.to_str().unwrap(), &jobs],
+            vec![
+                "batch",
+                input.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                &jobs,
+            ],
             vec![
                 "sweep",
                 &scene,
@@ -548,6 +649,13 @@ fn jobs_is_bounded_at_the_command_line() {
             assert!(!out.exists());
         }
     }
-    batch(&["batch", input.to_str().unwrap(), "--out", out.to_str().unwrap(), "--jobs", "256"]);
+    batch(&[
+        "batch",
+        input.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--jobs",
+        "256",
+    ]);
     assert_eq!(results(&out).len(), 2);
 }

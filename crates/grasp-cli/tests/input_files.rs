@@ -71,7 +71,11 @@ fn oversized(dir: &Path, name: &str) -> PathBuf {
 fn refused(args: &[&str], words: &str) {
     let o = grasp_within(args);
     assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
-    assert!(text(&o).contains(words), "{args:?}: want `{words}` in {}", text(&o));
+    assert!(
+        text(&o).contains(words),
+        "{args:?}: want `{words}` in {}",
+        text(&o)
+    );
 }
 
 #[test]
@@ -88,7 +92,10 @@ fn scene_schedule_and_directions_files_are_regular_and_bounded() {
         refused(&["solve", p], words);
         refused(&["transfer", &plate, "--schedule", p], words);
         refused(&["margin", &cube, "--directions", p], words);
-        refused(&["sweep", p, "--vary", "object.weight=1,2", "--out", out], words);
+        refused(
+            &["sweep", p, "--vary", "object.weight=1,2", "--out", out],
+            words,
+        );
     }
 }
 
@@ -169,7 +176,10 @@ fn batch_inputs_folder_entries_and_shards_are_regular_files() {
             continue; // a folder is a folder of scenes: see below
         }
         refused(&["batch", p, "--out", out.to_str().unwrap()], words);
-        refused(&["batch", "--merge", p, "--out", out.to_str().unwrap()], words);
+        refused(
+            &["batch", "--merge", p, "--out", out.to_str().unwrap()],
+            words,
+        );
         assert!(!out.exists());
     }
     // A folder whose *.json entries include a device link and a FIFO: each is an invalid line
@@ -183,7 +193,12 @@ fn batch_inputs_folder_entries_and_shards_are_regular_files() {
         .status()
         .is_ok_and(|s| s.success());
     let out = d.join("from-folder.jsonl");
-    let o = grasp_within(&["batch", folder.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let o = grasp_within(&[
+        "batch",
+        folder.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     let lines: Vec<serde_json::Value> = std::fs::read_to_string(&out)
         .unwrap()
@@ -192,8 +207,16 @@ fn batch_inputs_folder_entries_and_shards_are_regular_files() {
         .collect();
     assert_eq!(lines[0]["status"], "solved");
     assert_eq!(lines[1]["status"], "invalid");
-    assert!(lines[1]["reason"].as_str().unwrap().contains("a device"), "{}", lines[1]);
+    assert!(
+        lines[1]["reason"].as_str().unwrap().contains("a device"),
+        "{}",
+        lines[1]
+    );
     if fifo_made {
-        assert!(lines[2]["reason"].as_str().unwrap().contains("a FIFO"), "{}", lines[2]);
+        assert!(
+            lines[2]["reason"].as_str().unwrap().contains("a FIFO"),
+            "{}",
+            lines[2]
+        );
     }
 }

@@ -238,7 +238,11 @@ fn interrupt(signal: i32) {
         "{out:?}"
     );
     assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
-    assert!(hidden(&dir).is_empty(), "lock files left: {:?}", hidden(&dir));
+    assert!(
+        hidden(&dir).is_empty(),
+        "lock files left: {:?}",
+        hidden(&dir)
+    );
     for f in &files {
         assert_eq!(
             std::fs::read_to_string(f).unwrap(),
@@ -360,14 +364,28 @@ fn no_input_of_a_run_is_ever_an_output_even_with_force() {
     std::fs::copy(example("meshes/mug.obj"), dir.join("meshes/mug.obj")).unwrap();
     let mug = copy("mug_power_grasp.json");
     let mesh = dir.join("meshes/mug.obj");
-    refused_as_input(&["solve", mug.to_str().unwrap(), "--json", mesh.to_str().unwrap(), "--force"]);
+    refused_as_input(&[
+        "solve",
+        mug.to_str().unwrap(),
+        "--json",
+        mesh.to_str().unwrap(),
+        "--force",
+    ]);
     // A schedule's CSV profile, and the schedule itself.
     let sched = copy("plate_bump.schedule.json");
     let csv = copy("plate_bump.csv");
     let plate = example("plate_handoff_coulomb.json");
     let (sc, cs) = (sched.to_str().unwrap(), csv.to_str().unwrap());
     refused_as_input(&["transfer", &plate, "--schedule", sc, "--csv", cs, "--force"]);
-    refused_as_input(&["transfer", &plate, "--schedule", sc, "--mcap", sc, "--force"]);
+    refused_as_input(&[
+        "transfer",
+        &plate,
+        "--schedule",
+        sc,
+        "--mcap",
+        sc,
+        "--force",
+    ]);
     // A directions file.
     let dirs = dir.join("dirs.json");
     std::fs::write(&dirs, r#"[{"force": [0, 0, -1]}]"#).unwrap();
@@ -389,7 +407,13 @@ fn no_input_of_a_run_is_ever_an_output_even_with_force() {
     std::fs::create_dir_all(&folder).unwrap();
     std::fs::copy(example("cube_a.json"), folder.join("a.json")).unwrap();
     let a = folder.join("a.json");
-    refused_as_input(&["batch", folder.to_str().unwrap(), "--out", a.to_str().unwrap(), "--force"]);
+    refused_as_input(&[
+        "batch",
+        folder.to_str().unwrap(),
+        "--out",
+        a.to_str().unwrap(),
+        "--force",
+    ]);
     let shard = dir.join("shard.jsonl");
     let o = grasp(&["batch", ln, "--out", shard.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
@@ -403,10 +427,20 @@ fn no_input_of_a_run_is_ever_an_output_even_with_force() {
         (&sched, example("plate_bump.schedule.json")),
         (&a, example("cube_a.json")),
     ] {
-        assert_eq!(std::fs::read(f).unwrap(), std::fs::read(original).unwrap(), "{f:?}");
+        assert_eq!(
+            std::fs::read(f).unwrap(),
+            std::fs::read(original).unwrap(),
+            "{f:?}"
+        );
     }
-    assert_eq!(std::fs::read_to_string(&dirs).unwrap(), r#"[{"force": [0, 0, -1]}]"#);
-    assert_eq!(std::fs::read_to_string(&lines).unwrap(), format!("{mug_line}\n"));
+    assert_eq!(
+        std::fs::read_to_string(&dirs).unwrap(),
+        r#"[{"force": [0, 0, -1]}]"#
+    );
+    assert_eq!(
+        std::fs::read_to_string(&lines).unwrap(),
+        format!("{mug_line}\n")
+    );
     for d in [&dir, &folder, &dir.join("meshes")] {
         assert!(hidden(d).is_empty(), "{:?}", hidden(d));
     }
@@ -443,12 +477,23 @@ fn a_second_run_on_the_same_output_is_refused_naming_the_first() {
         }
         std::thread::sleep(Duration::from_millis(20));
     }
-    let holder = format!("is being written by another run of grasp (process {})", first.id());
+    let holder = format!(
+        "is being written by another run of grasp (process {})",
+        first.id()
+    );
     let o_csv = out.to_str().unwrap();
     for args in [
         vec!["solve", &example("cube_a.json"), "--json", o_csv, "--force"],
         vec!["batch", &example("cube_a.json"), "--out", o_csv, "--resume"],
-        vec!["sweep", &example("cube_a.json"), "--vary", "object.weight=1,2", "--out", o_csv, "--force"],
+        vec![
+            "sweep",
+            &example("cube_a.json"),
+            "--vary",
+            "object.weight=1,2",
+            "--out",
+            o_csv,
+            "--force",
+        ],
     ] {
         let o = grasp(&args);
         assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
@@ -464,7 +509,12 @@ fn a_second_run_on_the_same_output_is_refused_naming_the_first() {
 fn a_missing_output_folder_is_created_and_said() {
     let dir = tmp("mkdir-said");
     let out = dir.join("new/deeper/x.json");
-    let o = grasp(&["solve", &example("cube_a.json"), "--json", out.to_str().unwrap()]);
+    let o = grasp(&[
+        "solve",
+        &example("cube_a.json"),
+        "--json",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     let said = format!("created folder {}/", dir.join("new/deeper").display());
     assert!(text(&o).contains(&said), "{}", text(&o));

@@ -13,7 +13,10 @@ use common::{example, grasp, text, tmp};
 /// Peak resident memory of the largest finished child of this process, bytes.
 fn children_peak_bytes() -> u64 {
     let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    assert_eq!(unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut usage) }, 0);
+    assert_eq!(
+        unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut usage) },
+        0
+    );
     usage.ru_maxrss as u64 * 1024
 }
 
@@ -41,9 +44,15 @@ fn a_large_sweep_is_written_in_bounded_memory() {
         n += 1;
     }
     assert_eq!(n, 100_000);
-    assert!(last.starts_with(r#"{"id":"hertz_sphere_on_flat-99999""#), "{last}");
+    assert!(
+        last.starts_with(r#"{"id":"hertz_sphere_on_flat-99999""#),
+        "{last}"
+    );
     let size = std::fs::metadata(&out).unwrap().len();
     println!("100000 variants, {size} bytes written, peak memory {peak} bytes");
-    assert!(peak < 100 << 20, "peak {peak} bytes for a file of {size} bytes");
+    assert!(
+        peak < 100 << 20,
+        "peak {peak} bytes for a file of {size} bytes"
+    );
     std::fs::remove_file(&out).unwrap();
 }

@@ -559,7 +559,9 @@ mod tests {
         }
         assert_eq!(got.len(), 5);
         assert_eq!(got[0].text, LineText::Text("first".into()));
-        assert!(matches!(&got[1].text, LineText::NotUtf8 { valid_up_to: 0, bytes } if bytes[..] == b"\xff\xfe bad"[..]));
+        assert!(
+            matches!(&got[1].text, LineText::NotUtf8 { valid_up_to: 0, bytes } if bytes[..] == b"\xff\xfe bad"[..])
+        );
         assert!(got[1].problem().unwrap().contains("line 2 is not UTF-8"));
         assert_eq!(got[2].text, LineText::Text("third".into()));
         // "first\r\n" then the 7 bytes of the second line.

@@ -33,4 +33,6 @@ pub use input_file::{FileIdentity, InputFile, InputKind};
 pub use mesh_file::read_mesh;
 pub use output_file::{OutputRules, OutputSet, PendingOutput};
 pub use run_inputs::RunInputs;
-pub use scene_file::{base_dir_of, read_scene_file, scene_from_json_str, SceneFile, SceneFileError};
+pub use scene_file::{
+    base_dir_of, read_scene_file, scene_from_json_str, SceneFile, SceneFileError,
+};

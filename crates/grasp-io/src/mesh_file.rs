@@ -37,7 +37,8 @@ pub fn read_mesh_file(
     let mut mesh = if ext == "obj" {
         parse_obj(&bytes).map_err(|e| format!("{}: {e}", path.display()))?
     } else {
-        parse_stl(&bytes).map_err(|e| format!("{}: not a readable STL file: {e}", path.display()))?
+        parse_stl(&bytes)
+            .map_err(|e| format!("{}: not a readable STL file: {e}", path.display()))?
     };
     let factor = spec.unit.metres() * spec.scale;
     for v in &mut mesh.vertices_m {

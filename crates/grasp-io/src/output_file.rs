@@ -128,11 +128,7 @@ impl OutputSet {
                 return Err(OutputError::new(
                     OutputErrorKind::Refused,
                     target,
-                    format!(
-                        "{}: {} is not a folder",
-                        target.display(),
-                        folder.display()
-                    ),
+                    format!("{}: {} is not a folder", target.display(), folder.display()),
                     "give a path inside a folder",
                 ))
             }
@@ -156,7 +152,11 @@ impl OutputSet {
             .map(Path::to_path_buf)
             .collect();
         std::fs::create_dir_all(&folder).map_err(|e| {
-            OutputError::io(&folder, &format!("create folder for {}", target.display()), &e)
+            OutputError::io(
+                &folder,
+                &format!("create folder for {}", target.display()),
+                &e,
+            )
         })?;
         self.created_folders.extend(missing.into_iter().rev());
         Ok(())
@@ -217,10 +217,7 @@ impl OutputSet {
         Err(OutputError::new(
             OutputErrorKind::Io,
             target,
-            format!(
-                "cannot create a temporary file beside {}",
-                target.display()
-            ),
+            format!("cannot create a temporary file beside {}", target.display()),
             "check the folder",
         ))
     }
@@ -395,9 +392,7 @@ fn check_target(
     inputs: &RunInputs,
     force: bool,
 ) -> Result<Option<FileIdentity>, OutputError> {
-    let named = path
-        .file_name()
-        .is_some_and(|n| n != "." && n != "..");
+    let named = path.file_name().is_some_and(|n| n != "." && n != "..");
     if !named {
         return Err(OutputError::new(
             OutputErrorKind::Refused,

@@ -118,7 +118,11 @@ fn open_lock_file(target: &Path, path: &Path) -> Result<File, OutputError> {
         })?;
     match file.metadata() {
         Ok(m) if m.file_type().is_file() => Ok(file),
-        Ok(m) => Err(lock_file_refused(target, path, describe_type(m.file_type()))),
+        Ok(m) => Err(lock_file_refused(
+            target,
+            path,
+            describe_type(m.file_type()),
+        )),
         Err(e) => Err(OutputError::io(path, "read", &e)),
     }
 }

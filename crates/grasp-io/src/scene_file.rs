@@ -104,11 +104,12 @@ pub fn read_scene_file(path: &Path) -> Result<SceneFile, SceneFileError> {
     let (text, identity) = read_text(path, SCENE_FILE)?;
     let mut inputs = RunInputs::new();
     inputs.add(path, identity);
-    let scene = scene_from_json_str_noting(&text, &base_dir_of(path), &mut inputs).map_err(
-        |source| SceneFileError::Scene {
-            path: path.to_path_buf(),
-            source,
-        },
-    )?;
+    let scene =
+        scene_from_json_str_noting(&text, &base_dir_of(path), &mut inputs).map_err(|source| {
+            SceneFileError::Scene {
+                path: path.to_path_buf(),
+                source,
+            }
+        })?;
     Ok(SceneFile { scene, inputs })
 }

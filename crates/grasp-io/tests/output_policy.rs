@@ -36,7 +36,11 @@ fn hidden(dir: &Path) -> Vec<String> {
         .collect()
 }
 
-fn claim(target: &Path, inputs: &RunInputs, rules: OutputRules) -> Result<OutputSet, grasp_io::OutputError> {
+fn claim(
+    target: &Path,
+    inputs: &RunInputs,
+    rules: OutputRules,
+) -> Result<OutputSet, grasp_io::OutputError> {
     OutputSet::claim(&[target], inputs, rules)
 }
 
@@ -83,7 +87,10 @@ fn targets_that_are_not_regular_files_are_refused_even_with_force() {
         .unwrap()
         .file_type()
         .is_symlink());
-    assert!(!d.join("nowhere.csv").exists(), "a dangling link was followed");
+    assert!(
+        !d.join("nowhere.csv").exists(),
+        "a dangling link was followed"
+    );
     assert!(hidden(&d).is_empty(), "{:?}", hidden(&d));
 }
 
@@ -211,7 +218,10 @@ fn temporary_files_are_fresh_hidden_regular_files_beside_the_target() {
         let name = p.tmp().file_name().unwrap().to_string_lossy().into_owned();
         assert!(name.starts_with(".m.mcap.grasp-tmp-"), "{name}");
         assert_eq!(p.tmp().parent(), Some(d.as_path()));
-        assert!(std::fs::symlink_metadata(p.tmp()).unwrap().file_type().is_file());
+        assert!(std::fs::symlink_metadata(p.tmp())
+            .unwrap()
+            .file_type()
+            .is_file());
         assert!(names.insert(name), "a temporary name repeated");
     }
     // A writer that opens a path itself reaches the temporary file through write_path.
@@ -246,7 +256,8 @@ fn every_output_is_locked_and_the_refusal_names_the_holder() {
     let e = claim(&target, &RunInputs::new(), FORCE).unwrap_err();
     assert_eq!(e.kind, OutputErrorKind::Locked);
     assert!(
-        e.to_string().contains("another run of grasp in this process"),
+        e.to_string()
+            .contains("another run of grasp in this process"),
         "{e}"
     );
     drop(first);
@@ -320,7 +331,8 @@ fn threads_writing_one_output_never_mix_their_bytes() {
             .map(|k| {
                 let target = target.clone();
                 s.spawn(move || {
-                    let set = claim(&target, &RunInputs::new(), FORCE).map_err(|e| e.to_string())?;
+                    let set =
+                        claim(&target, &RunInputs::new(), FORCE).map_err(|e| e.to_string())?;
                     let mut p = set.create(&target).map_err(|e| e.to_string())?;
                     for _ in 0..2000 {
                         p.write_all(format!("{k},{k},{k}\n").as_bytes())
@@ -335,7 +347,10 @@ fn threads_writing_one_output_never_mix_their_bytes() {
     assert!(outcomes.iter().any(Result::is_ok), "{outcomes:?}");
     for o in &outcomes {
         if let Err(e) = o {
-            assert!(e.contains("is being written by another run of grasp"), "{e}");
+            assert!(
+                e.contains("is being written by another run of grasp"),
+                "{e}"
+            );
         }
     }
     let text = std::fs::read_to_string(&target).unwrap();

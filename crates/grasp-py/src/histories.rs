@@ -54,12 +54,11 @@ impl Histories {
             self.tangential_n
                 .extend(f.map_or([0.0; 3], |f| f.tangential_force_n));
             let command = r.commands.iter().find(|c| c.name == *name);
-            self.commanded_n
-                .push(match command.map(|c| &c.command) {
-                    Some(Command::Load(l)) => *l,
-                    Some(Command::Released) => 0.0,
-                    _ => f64::NAN,
-                });
+            self.commanded_n.push(match command.map(|c| &c.command) {
+                Some(Command::Load(l)) => *l,
+                Some(Command::Released) => 0.0,
+                _ => f64::NAN,
+            });
         }
         self.external_n.extend(r.external_force_n);
         self.statuses.push(r.solution.status.as_str());

@@ -82,7 +82,14 @@ pub fn transfer(
         csv: csv.as_deref(),
     };
     let run = py.allow_threads(|| {
-        run_transfer(&scene.scene, &schedule, options, &outputs, files, keep_solutions)
+        run_transfer(
+            &scene.scene,
+            &schedule,
+            options,
+            &outputs,
+            files,
+            keep_solutions,
+        )
     });
     let kept = run.map_err(|e| match e {
         RunError::Output(e) => output_error(&targets, &e),

@@ -126,13 +126,22 @@ pub(crate) fn run(
     let (done, sink) = if flags.resume {
         let point = read_batch_output(&flags.out, &index, shard)?;
         let file = outs.open_append(&flags.out)?;
-        if point.identity.is_some_and(|id| Some(id) != identity_of(&file)) {
-            bail!("{} changed while it was checked; run again", flags.out.display());
+        if point
+            .identity
+            .is_some_and(|id| Some(id) != identity_of(&file))
+        {
+            bail!(
+                "{} changed while it was checked; run again",
+                flags.out.display()
+            );
         }
         if let Some(cut) = point.cut_at {
             // The unfinished last line of an interrupted run (checked to be one).
             file.set_len(cut).with_context(|| {
-                format!("cannot cut the unfinished last line of {}", flags.out.display())
+                format!(
+                    "cannot cut the unfinished last line of {}",
+                    flags.out.display()
+                )
             })?;
         }
         (point.done, Sink::Append(file))
@@ -161,9 +170,14 @@ pub(crate) fn run(
         Sink::Append(f) => f.try_clone()?,
     };
     let mut w = BufWriter::new(file);
-    let summary = run_batch(input, &index, &done, &options, (&mut w, &flags.out), &mut |n| {
-        bar.set_position(n as u64)
-    })?;
+    let summary = run_batch(
+        input,
+        &index,
+        &done,
+        &options,
+        (&mut w, &flags.out),
+        &mut |n| bar.set_position(n as u64),
+    )?;
     w.flush()?;
     drop(w);
     bar.finish_and_clear();

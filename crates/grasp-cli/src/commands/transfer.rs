@@ -15,9 +15,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::limits::MemoryArg;
 use crate::output::{self, Outputs as Claimed};
-use grasp_io::PendingOutput;
 use crate::pictures::force_history::ForceHistory;
 use crate::pictures::picture;
+use grasp_io::PendingOutput;
 
 /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
 #[derive(clap::Args, Debug)]

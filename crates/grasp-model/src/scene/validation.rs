@@ -147,11 +147,9 @@ impl Scene {
     ) -> Result<Scene, SceneError> {
         let report = crate::scene::finger_placement::resolve_shapes(&mut value, load_mesh)?;
         let mut scene: Scene =
-            crate::scene::strict_json::from_value_strict(value).map_err(|e| {
-                SceneError::Parse {
-                    path: e.path,
-                    message: e.message,
-                }
+            crate::scene::strict_json::from_value_strict(value).map_err(|e| SceneError::Parse {
+                path: e.path,
+                message: e.message,
             })?;
         scene.shape_report = report;
         scene.normalize_directions();
