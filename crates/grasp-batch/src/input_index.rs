@@ -6,6 +6,7 @@
 //! A line's id is found by a light scan that builds no scene ([`line_id`]); the full parse of
 //! the line (on a worker) gives the same id by the same rule.
 
+use std::collections::hash_map::Entry;
 use std::collections::HashMap;
 
 use serde::de::IgnoredAny;
@@ -41,10 +42,11 @@ impl InputIndex {
             });
         }
         self.scenes += 1;
-        if self.ids.contains_key(&id) {
-            self.repeats.push((id, line));
-        } else {
-            self.ids.insert(id, (index, line));
+        match self.ids.entry(id) {
+            Entry::Occupied(e) => self.repeats.push((e.key().clone(), line)),
+            Entry::Vacant(e) => {
+                e.insert((index, line));
+            }
         }
         Ok(())
     }
