@@ -9,7 +9,7 @@
 use std::collections::hash_map::Entry;
 use std::collections::HashMap;
 
-use serde::de::IgnoredAny;
+use serde::de::{Error as _, IgnoredAny, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer};
 use serde_json::Value;
 
@@ -124,21 +124,51 @@ fn id_value(v: Value) -> Option<String> {
     }
 }
 
-/// The keys of a line that decide its id; the rest is skipped unbuilt.
-#[derive(Deserialize)]
+/// The keys of a line that decide its id (a JSON object only); the rest is skipped unbuilt.
 struct IdScan {
-    #[serde(default, deserialize_with = "scan_id")]
     id: Option<String>,
-    #[serde(default, deserialize_with = "scan_present")]
     scene: bool,
 }
 
-fn scan_id<'de, D: Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
-    Value::deserialize(d).map(id_value)
+impl<'de> Deserialize<'de> for IdScan {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_map(IdScanVisitor)
+    }
 }
 
-fn scan_present<'de, D: Deserializer<'de>>(d: D) -> Result<bool, D::Error> {
-    IgnoredAny::deserialize(d).map(|_| true)
+struct IdScanVisitor;
+
+impl<'de> Visitor<'de> for IdScanVisitor {
+    type Value = IdScan;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a JSON object")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<IdScan, A::Error> {
+        let mut scan = IdScan {
+            id: None,
+            scene: false,
+        };
+        let mut seen_id = false;
+        while let Some(key) = map.next_key::<String>()? {
+            match key.as_str() {
+                "id" if !seen_id => {
+                    seen_id = true;
+                    scan.id = id_value(map.next_value::<Value>()?);
+                }
+                "scene" if !scan.scene => {
+                    scan.scene = true;
+                    map.next_value::<IgnoredAny>()?;
+                }
+                "id" | "scene" => return Err(A::Error::custom(format!("`{key}` twice"))),
+                _ => {
+                    map.next_value::<IgnoredAny>()?;
+                }
+            }
+        }
+        Ok(scan)
+    }
 }
 
 #[cfg(test)]
