@@ -52,16 +52,39 @@ fn a_resumed_output_is_checked_whole_against_its_input() {
     let cases = [
         (lines(5, &[("a", 0)]), Shard::ALL, "counts 5 scenes"),
         (lines(4, &[("b", 0)]), Shard::ALL, "holds `b` at position 0"),
-        (lines(4, &[("zz", 3)]), Shard::ALL, "holds `zz` at position 3"),
-        (lines(4, &[("b", 1)]), Shard { index: 0, count: 2 }, "not in shard 0/2"),
-        (lines(4, &[("a", 0), ("a", 0)]), Shard::ALL, "repeats position 0"),
-        (format!("{good}not a result"), Shard::ALL, "is not the start of a result line"),
-        ("{\"object\": {}}\n".into(), Shard::ALL, "is not a result line"),
+        (
+            lines(4, &[("zz", 3)]),
+            Shard::ALL,
+            "holds `zz` at position 3",
+        ),
+        (
+            lines(4, &[("b", 1)]),
+            Shard { index: 0, count: 2 },
+            "not in shard 0/2",
+        ),
+        (
+            lines(4, &[("a", 0), ("a", 0)]),
+            Shard::ALL,
+            "repeats position 0",
+        ),
+        (
+            format!("{good}not a result"),
+            Shard::ALL,
+            "is not the start of a result line",
+        ),
+        (
+            "{\"object\": {}}\n".into(),
+            Shard::ALL,
+            "is not a result line",
+        ),
     ];
     for (text, shard, words) in cases {
         std::fs::write(&out, &text).unwrap();
         let e = read_batch_output(&out, &ix, shard).unwrap_err().to_string();
-        assert!(e.contains(words) && e.contains("nothing was changed"), "{words}: {e}");
+        assert!(
+            e.contains(words) && e.contains("nothing was changed"),
+            "{words}: {e}"
+        );
         assert_eq!(std::fs::read_to_string(&out).unwrap(), text);
     }
     // No output yet: nothing done.
@@ -81,7 +104,12 @@ fn a_merge_covers_every_position_exactly_once() {
     let s1 = write("s1", &lines(5, &[("b", 1), ("d", 3)]));
     let empty = write("empty", "");
     let mut out = Vec::new();
-    let m = merge(&[s1.clone(), empty.clone(), s0.clone()], &mut out, Path::new("o")).unwrap();
+    let m = merge(
+        &[s1.clone(), empty.clone(), s0.clone()],
+        &mut out,
+        Path::new("o"),
+    )
+    .unwrap();
     assert_eq!(m.lines, 5);
     let ids: Vec<String> = String::from_utf8(out)
         .unwrap()
