@@ -278,8 +278,8 @@ fn a_refined_sphere_mesh_converges_to_the_sphere() {
         let shape =
             json!({"mesh": {"file": file.file_name().unwrap().to_str().unwrap(), "unit": "mm"}});
         let v = placed(shape, ray.clone());
-        let s = grasp_mesh_io::scene_from_json_str(&v.to_string(), &dir)
-            .unwrap_or_else(|e| panic!("{e}"));
+        let s =
+            grasp_io::scene_from_json_str(&v.to_string(), &dir).unwrap_or_else(|e| panic!("{e}"));
         let d = &s.shape_report.as_ref().unwrap().fingers[0];
         let p = nalgebra::Vector3::from(d.contact_point_m);
         let exact_normal = -p.normalize();
@@ -343,7 +343,7 @@ fn a_cad_cylinder_of_long_strips_gives_its_radius() {
         let shape =
             json!({"mesh": {"file": file.file_name().unwrap().to_str().unwrap(), "unit": "m"}});
         let ray = json!({"ray": {"origin": [0.2, y, 0.0], "direction": [-1, 0, 0]}});
-        let s = grasp_mesh_io::scene_from_json_str(&placed(shape, ray).to_string(), &dir)
+        let s = grasp_io::scene_from_json_str(&placed(shape, ray).to_string(), &dir)
             .unwrap_or_else(|e| panic!("{e}"));
         let d = &s.shape_report.as_ref().unwrap().fingers[0];
         let radii = d.object_radius_m;
@@ -388,7 +388,7 @@ fn a_cube_mesh_has_the_exact_volume_and_centroid_and_an_stl_reads_the_same() {
         scale: 0.1,
         unit: Default::default(),
     };
-    let mesh = grasp_mesh_io::read_mesh(&obj, &spec).unwrap();
+    let mesh = grasp_io::read_mesh(&obj, &spec).unwrap();
     let (vol, c) = mesh.volume_and_centroid();
     assert!(
         (vol - 1e-3).abs() < 1e-15 && (c - nalgebra::Vector3::repeat(0.05)).norm() < 1e-15,
@@ -404,7 +404,7 @@ fn a_cube_mesh_has_the_exact_volume_and_centroid_and_an_stl_reads_the_same() {
         .collect();
     let stl = dir.join("cube.stl");
     stl_io::write_stl(&mut std::fs::File::create(&stl).unwrap(), tris.iter()).unwrap();
-    let from_stl = grasp_mesh_io::read_mesh(&stl, &spec).unwrap();
+    let from_stl = grasp_io::read_mesh(&stl, &spec).unwrap();
     assert!((from_stl.volume_and_centroid().0 - 1e-3).abs() < 1e-15);
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -140,7 +140,8 @@ class Transfer:
     def summary(self) -> dict[str, Any]: ...
     @property
     def written(self) -> list[str]: ...
-    def step(self, index: int) -> Solution: ...
+    def step(self, index: int) -> Solution:
+        """The full solution of a step (only the last one with keep_solutions=False)."""
     def __len__(self) -> int: ...
 
 def solve(
@@ -164,5 +165,7 @@ def transfer(
     keep_going: bool = False,
     margins: bool = False,
     overwrite: bool = False,
+    keep_solutions: bool = True,
+    max_memory: Optional[int] = None,
 ) -> Transfer:
     """Runs a hand-off schedule (GIL released), writing the CLI's files; see the package docstring."""

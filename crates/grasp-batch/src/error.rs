@@ -24,6 +24,20 @@ pub enum BatchError {
         /// What is wrong and how to fix it.
         message: String,
     },
+    /// An input file that cannot be read (not a regular file, too large, ...).
+    #[error(transparent)]
+    Input(#[from] grasp_io::InputFileError),
+    /// Scenes of the input share an id (every id is listed with its lines).
+    #[error("{0}")]
+    DuplicateIds(String),
+    /// An output given to resume that is not this batch's own output (nothing was changed).
+    #[error("{}: {message}", path.display())]
+    NotBatchOutput {
+        /// The output.
+        path: PathBuf,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
     /// Shard outputs that do not make one complete run.
     #[error("cannot merge: {0}")]
     Merge(String),

@@ -1,28 +1,53 @@
 //! Reading the scenes of a batch: a JSONL file (one scene per line, `{"id": ..., "scene":
-//! {...}}` with an optional `"vary"` note, or a bare scene whose id is `line-<n>`) or a folder
-//! of `*.json` scene files (id: the file name without `.json`, in name order). Blank lines are
-//! skipped (they have no position). A line that is not a usable scene is kept as the problems
-//! found in it.
+//! {...}}` with an optional `"vary"` note, or a bare scene whose id is `line-<n>`), a folder
+//! of `*.json` scene files (id: the file name without `.json`, in name order), or the variants
+//! of a sweep (made one at a time). Blank lines are skipped (they have no position). A line
+//! that is not a usable scene (not JSON, not UTF-8, too long) is kept as the problems found
+//! in it. Every file is read through `grasp_io::input_file` (regular files, bounded).
+//!
+//! The input is read twice: once to count the scenes and check their ids
+//! ([`BatchInput::index`]), once to solve them ([`BatchInput::for_each_unparsed`]); a file
+//! that changes between the two is refused.
 
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-use grasp_mesh_io::{base_dir_of, scene_from_json_str};
+use grasp_io::input_file::{
+    folder_entries, FileLine, InputFile, LineText, BATCH_INPUT, SCENE_FILE,
+};
+use grasp_io::scene_file::{base_dir_of, scene_from_json_str_noting, scene_from_value};
+use grasp_io::{FileIdentity, RunInputs};
 use grasp_model::scene::strict_json::{from_str_strict, StrictValue};
 use grasp_model::{InputProblem, Scene};
 use serde_json::Value;
 
 use crate::error::{io, BatchError};
+use crate::input_index::{default_id, id_of, line_id, InputIndex, MAX_SCENES};
+use crate::sweep::Sweep;
 
 /// Where the scenes are.
 #[derive(Debug, Clone)]
 pub enum BatchInput {
-    /// A JSONL file.
-    Jsonl(PathBuf),
+    /// A JSONL file (its identity and size when first opened).
+    Jsonl {
+        /// The file.
+        path: PathBuf,
+        /// Its device and inode.
+        identity: FileIdentity,
+        /// Its size, bytes: later passes read no further.
+        len: u64,
+    },
     /// The scene files of a folder, sorted by name.
     Folder(Vec<PathBuf>),
-    /// JSONL lines in memory (a sweep run directly).
+    /// JSONL lines in memory (a library caller's; mesh paths relative to the working folder).
     Lines(Vec<String>),
+    /// The variants of a sweep; mesh files relative to `base` (the swept scene's folder).
+    Sweep {
+        /// The grid.
+        sweep: Arc<Sweep>,
+        /// The folder mesh paths start from.
+        base: PathBuf,
+    },
 }
 
 /// One scene of the input.
@@ -36,6 +61,8 @@ pub struct SceneLine {
     pub vary: Option<Value>,
     /// The scene, or every problem found in it.
     pub scene: Result<Scene, Vec<InputProblem>>,
+    /// The files read for it (a folder's scene file, mesh files).
+    pub files: RunInputs,
 }
 
 impl BatchInput {
@@ -43,79 +70,80 @@ impl BatchInput {
     pub fn open(path: &Path) -> Result<BatchInput, BatchError> {
         let meta = std::fs::metadata(path).map_err(|e| io(path, e))?;
         if meta.is_dir() {
-            let mut files: Vec<PathBuf> = std::fs::read_dir(path)
-                .map_err(|e| io(path, e))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|x| x == "json") && p.is_file())
-                .collect();
-            files.sort();
-            Ok(BatchInput::Folder(files))
-        } else if meta.is_file() {
-            Ok(BatchInput::Jsonl(path.to_path_buf()))
-        } else {
-            Err(io(
-                path,
-                "is neither a JSONL file nor a folder of scene files",
-            ))
+            return Ok(BatchInput::Folder(folder_entries(
+                path, "json", MAX_SCENES,
+            )?));
         }
+        let file = InputFile::open(path, BATCH_INPUT)?;
+        Ok(BatchInput::Jsonl {
+            path: path.to_path_buf(),
+            identity: file.identity(),
+            len: file.len(),
+        })
     }
 
-    /// Visits every scene in order; `wanted(index)` decides which are parsed (the others
-    /// are passed over cheaply: a shard, a resumed run). Returns the number of scenes.
-    pub fn for_each(
-        &self,
-        wanted: &dyn Fn(usize) -> bool,
-        visit: &mut dyn FnMut(SceneLine) -> Result<(), BatchError>,
-    ) -> Result<usize, BatchError> {
-        self.for_each_unparsed(wanted, &mut |u| visit(u.parse()))
+    /// The files this input is made of (the JSONL file, or the folder's scene files).
+    pub fn files(&self) -> RunInputs {
+        let mut inputs = RunInputs::new();
+        match self {
+            BatchInput::Jsonl { path, identity, .. } => inputs.add(path, *identity),
+            BatchInput::Folder(files) => files.iter().for_each(|f| inputs.add_existing(f)),
+            BatchInput::Lines(_) | BatchInput::Sweep { .. } => {}
+        }
+        inputs
     }
 
-    /// Like [`BatchInput::for_each`], but hands over each wanted scene as read, not yet
-    /// parsed ([`UnparsedScene::parse`] may then run on a worker thread).
+    /// The first pass: the number of scenes and their ids; duplicate ids refused.
+    pub fn index(&self) -> Result<InputIndex, BatchError> {
+        let mut index = InputIndex::default();
+        match self {
+            BatchInput::Jsonl { .. } | BatchInput::Lines(_) => {
+                self.for_each_line(&mut |i, line| {
+                    let id = match &line.text {
+                        LineText::Text(t) => line_id(t, line.number),
+                        _ => default_id(line.number),
+                    };
+                    index.add(id, i, line.number)
+                })?;
+            }
+            BatchInput::Folder(files) => {
+                for (i, f) in files.iter().enumerate() {
+                    index.add(file_id(f), i, i + 1)?;
+                }
+            }
+            BatchInput::Sweep { sweep, .. } => {
+                // Ids made unique by construction: only the count is needed.
+                index.scenes = sweep.len();
+            }
+        }
+        index.refuse_duplicates()?;
+        Ok(index)
+    }
+
+    /// Visits every scene in order; `wanted(index)` decides which are handed over, as read
+    /// and not yet parsed ([`UnparsedScene::parse`] may then run on a worker thread).
+    /// Returns the number of scenes.
     pub fn for_each_unparsed(
         &self,
         wanted: &dyn Fn(usize) -> bool,
         visit: &mut dyn FnMut(UnparsedScene) -> Result<(), BatchError>,
     ) -> Result<usize, BatchError> {
         match self {
-            BatchInput::Jsonl(path) => {
-                let file = std::fs::File::open(path).map_err(|e| io(path, e))?;
-                let base = base_dir_of(path);
-                let mut index = 0;
-                for (n, line) in BufReader::new(file).lines().enumerate() {
-                    let line = line.map_err(|e| io(path, format!("line {}: {e}", n + 1)))?;
-                    if line.trim().is_empty() {
-                        continue;
+            BatchInput::Jsonl { .. } | BatchInput::Lines(_) => {
+                let base = match self {
+                    BatchInput::Jsonl { path, .. } => base_dir_of(path),
+                    _ => PathBuf::new(),
+                };
+                self.for_each_line(&mut |index, line| {
+                    if !wanted(index) {
+                        return Ok(());
                     }
-                    if wanted(index) {
-                        visit(UnparsedScene::Line {
-                            index,
-                            number: n + 1,
-                            text: line,
-                            base: base.clone(),
-                        })?;
-                    }
-                    index += 1;
-                }
-                Ok(index)
-            }
-            BatchInput::Lines(lines) => {
-                let mut index = 0;
-                for (n, line) in lines.iter().enumerate() {
-                    if line.trim().is_empty() {
-                        continue;
-                    }
-                    if wanted(index) {
-                        visit(UnparsedScene::Line {
-                            index,
-                            number: n + 1,
-                            text: line.clone(),
-                            base: PathBuf::new(),
-                        })?;
-                    }
-                    index += 1;
-                }
-                Ok(index)
+                    visit(UnparsedScene::Line {
+                        index,
+                        line,
+                        base: base.clone(),
+                    })
+                })
             }
             BatchInput::Folder(files) => {
                 for (index, f) in files.iter().enumerate() {
@@ -128,55 +156,147 @@ impl BatchInput {
                 }
                 Ok(files.len())
             }
+            BatchInput::Sweep { sweep, base } => {
+                for index in (0..sweep.len()).filter(|i| wanted(*i)) {
+                    let (id, vary, scene) = sweep.variant(index)?;
+                    visit(UnparsedScene::Variant {
+                        index,
+                        id,
+                        vary,
+                        scene,
+                        base: base.clone(),
+                    })?;
+                }
+                Ok(sweep.len())
+            }
         }
     }
+
+    /// Visits every scene, parsed (see [`BatchInput::for_each_unparsed`]).
+    pub fn for_each(
+        &self,
+        wanted: &dyn Fn(usize) -> bool,
+        visit: &mut dyn FnMut(SceneLine) -> Result<(), BatchError>,
+    ) -> Result<usize, BatchError> {
+        self.for_each_unparsed(wanted, &mut |u| visit(u.parse()))
+    }
+
+    /// The non-blank lines of a JSONL input with their positions; a file must still be the
+    /// one first opened, read no further than its size then.
+    fn for_each_line(
+        &self,
+        visit: &mut dyn FnMut(usize, FileLine) -> Result<(), BatchError>,
+    ) -> Result<usize, BatchError> {
+        let (path, identity, len) = match self {
+            BatchInput::Jsonl {
+                path,
+                identity,
+                len,
+            } => (path, identity, len),
+            BatchInput::Lines(lines) => return for_each_memory_line(lines, visit),
+            _ => return Ok(0),
+        };
+        let file = InputFile::open(path, BATCH_INPUT)?;
+        if file.identity() != *identity || file.len() < *len {
+            return Err(io(
+                path,
+                "changed while the batch read it (replaced or cut); run again on a file that \
+                 is not being written",
+            ));
+        }
+        let mut lines = file.lines_upto(*len);
+        let mut index = 0;
+        while let Some(line) = lines.next_line()? {
+            if matches!(&line.text, LineText::Text(t) if t.trim().is_empty()) {
+                continue;
+            }
+            visit(index, line)?;
+            index += 1;
+        }
+        Ok(index)
+    }
+}
+
+/// The non-blank lines held in memory, as lines of a file.
+fn for_each_memory_line(
+    lines: &[String],
+    visit: &mut dyn FnMut(usize, FileLine) -> Result<(), BatchError>,
+) -> Result<usize, BatchError> {
+    let mut index = 0;
+    for (n, text) in lines.iter().enumerate() {
+        if text.trim().is_empty() {
+            continue;
+        }
+        let line = FileLine {
+            number: n + 1,
+            start: 0,
+            terminated: true,
+            text: LineText::Text(text.clone()),
+        };
+        visit(index, line)?;
+        index += 1;
+    }
+    Ok(index)
+}
+
+/// A folder entry's id: its file name without `.json`.
+fn file_id(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
 }
 
 /// One scene of the input as read, before parsing.
 #[derive(Debug, Clone)]
 pub enum UnparsedScene {
-    /// A JSONL line: position, 1-based line number (for the default id), text, and the
-    /// folder mesh files are read relative to.
+    /// A JSONL line: position, the line, and the folder mesh files are read relative to.
     Line {
         index: usize,
-        number: usize,
-        text: String,
+        line: FileLine,
         base: PathBuf,
     },
     /// A scene file of a folder (read when parsed).
     File { index: usize, path: PathBuf },
+    /// A sweep variant, already a JSON value.
+    Variant {
+        index: usize,
+        id: String,
+        vary: Value,
+        scene: Value,
+        base: PathBuf,
+    },
 }
 
 impl UnparsedScene {
-    /// The scene's id and scene (or the problems found in it).
+    /// The position in the input.
+    pub fn index(&self) -> usize {
+        match self {
+            UnparsedScene::Line { index, .. }
+            | UnparsedScene::File { index, .. }
+            | UnparsedScene::Variant { index, .. } => *index,
+        }
+    }
+
+    /// The scene's id and scene (or the problems found in it), and the files read.
     pub fn parse(self) -> SceneLine {
         match self {
-            UnparsedScene::Line {
+            UnparsedScene::Line { index, line, base } => parse_line(index, line, &base),
+            UnparsedScene::File { index, path } => parse_file(index, &path),
+            UnparsedScene::Variant {
                 index,
-                number,
-                text,
+                id,
+                vary,
+                scene,
                 base,
-            } => parse_line(index, number, &text, &base),
-            UnparsedScene::File { index, path } => {
-                let id = path
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                let scene = std::fs::read_to_string(&path)
-                    .map_err(|e| {
-                        vec![problem(
-                            ".",
-                            &format!("cannot read {}: {e}", path.display()),
-                        )]
-                    })
-                    .and_then(|t| {
-                        scene_from_json_str(&t, &base_dir_of(&path)).map_err(|e| e.problems())
-                    });
+            } => {
+                let mut files = RunInputs::new();
+                let scene = scene_from_value(scene, &base, &mut files).map_err(|e| e.problems());
                 SceneLine {
                     index,
                     id,
-                    vary: None,
+                    vary: Some(vary),
                     scene,
+                    files,
                 }
             }
         }
@@ -187,64 +307,102 @@ fn problem(path: &str, message: &str) -> InputProblem {
     InputProblem {
         path: path.into(),
         message: message.into(),
-        fix: "write one scene per line: {\"id\": \"...\", \"scene\": {...}} or a bare scene".into(),
+        fix: "write one scene per line (UTF-8 JSON): {\"id\": \"...\", \"scene\": {...}} or a \
+              bare scene"
+            .into(),
     }
 }
 
-/// One JSONL line (`number` 1-based, for the default id).
-/// One line of a JSONL input; mesh files are read relative to `base` (the file's folder).
-fn parse_line(index: usize, number: usize, line: &str, base: &Path) -> SceneLine {
-    let default_id = format!("line-{number}");
-    let value = match from_str_strict::<StrictValue>(line) {
-        Ok(StrictValue(v)) => v,
-        Err(e) => {
-            return SceneLine {
-                index,
-                id: default_id,
-                vary: None,
-                scene: Err(vec![problem(&e.path, &e.message)]),
+/// A scene file of a folder.
+fn parse_file(index: usize, path: &Path) -> SceneLine {
+    let mut files = RunInputs::new();
+    let scene = grasp_io::input_file::read_text(path, SCENE_FILE)
+        .map_err(|e| {
+            vec![InputProblem {
+                path: ".".into(),
+                message: e.message,
+                fix: e.fix,
+            }]
+        })
+        .and_then(|(t, identity)| {
+            files.add(path, identity);
+            scene_from_json_str_noting(&t, &base_dir_of(path), &mut files).map_err(|e| e.problems())
+        });
+    SceneLine {
+        index,
+        id: file_id(path),
+        vary: None,
+        scene,
+        files,
+    }
+}
+
+/// One line of a JSONL input, parsed once; mesh files are read relative to `base` (the
+/// file's folder).
+fn parse_line(index: usize, line: FileLine, base: &Path) -> SceneLine {
+    let number = line.number;
+    let invalid = |id: String, p: InputProblem| SceneLine {
+        index,
+        id,
+        vary: None,
+        scene: Err(vec![p]),
+        files: RunInputs::new(),
+    };
+    let text = match line.text {
+        LineText::Text(t) => t,
+        other => {
+            let why = FileLine {
+                text: other,
+                ..line
             }
+            .problem()
+            .unwrap_or_default();
+            return invalid(default_id(number), problem(".", &why));
         }
     };
-    let Some(obj) = value.as_object().filter(|o| o.contains_key("scene")) else {
-        // A bare scene.
-        let scene = scene_from_json_str(line, base).map_err(|e| e.problems());
-        return SceneLine {
-            index,
-            id: default_id,
-            vary: None,
-            scene,
-        };
+    let value = match from_str_strict::<StrictValue>(&text) {
+        Ok(StrictValue(v)) => v,
+        Err(e) => return invalid(line_id(&text, number), problem(&e.path, &e.message)),
     };
-    let id = match obj.get("id") {
-        Some(Value::String(s)) => s.clone(),
-        Some(Value::Number(n)) => n.to_string(),
-        _ => default_id,
+    let mut files = RunInputs::new();
+    let mut obj = match value {
+        Value::Object(o) if o.contains_key("scene") => o,
+        bare => {
+            let scene = scene_from_value(bare, base, &mut files).map_err(|e| e.problems());
+            return SceneLine {
+                index,
+                id: default_id(number),
+                vary: None,
+                scene,
+                files,
+            };
+        }
     };
-    let unknown: Vec<&String> = obj
+    let id = id_of(&obj, number);
+    if let Some(k) = obj
         .keys()
-        .filter(|k| !["id", "scene", "vary"].contains(&k.as_str()))
-        .collect();
-    let scene = if let Some(k) = unknown.first() {
-        Err(vec![problem(
-            k,
-            "unknown key of a batch line (id, scene, vary)",
-        )])
-    } else {
-        scene_from_json_str(&obj["scene"].to_string(), base).map_err(|e| {
-            e.problems()
-                .into_iter()
-                .map(|p| InputProblem {
-                    path: format!("scene.{}", p.path),
-                    ..p
-                })
-                .collect()
-        })
-    };
+        .find(|k| !["id", "scene", "vary"].contains(&k.as_str()))
+    {
+        return invalid(
+            id,
+            problem(k, "unknown key of a batch line (id, scene, vary)"),
+        );
+    }
+    let scene_value = obj.remove("scene").unwrap_or(Value::Null);
+    let scene = scene_from_value(scene_value, base, &mut files).map_err(|e| {
+        e.problems()
+            .into_iter()
+            .map(|p| InputProblem {
+                path: format!("scene.{}", p.path),
+                ..p
+            })
+            .collect()
+    });
     SceneLine {
         index,
         id,
-        vary: obj.get("vary").cloned(),
+        vary: obj.remove("vary"),
         scene,
+        files,
     }
 }

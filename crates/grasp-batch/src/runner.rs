@@ -5,7 +5,10 @@
 
 use std::collections::HashSet;
 use std::io::Write;
+use std::path::Path;
 use std::time::Instant;
+
+use grasp_io::RunInputs;
 
 use grasp_model::scene::work_bounds::estimate_memory_bytes;
 use grasp_model::{GraspModel, GraspSolver, InputProblem, SolveOptions};
@@ -13,6 +16,7 @@ use rayon::prelude::*;
 
 use crate::error::{io, BatchError};
 use crate::input::{BatchInput, SceneLine, UnparsedScene};
+use crate::input_index::InputIndex;
 use crate::option_names;
 use crate::result_line::{ResultLine, ResultStatus};
 use crate::shard::Shard;
@@ -51,7 +55,7 @@ pub struct BatchSummary {
     pub scenes: usize,
     /// Scenes of this shard.
     pub in_shard: usize,
-    /// Scenes of this shard skipped because their id was already in the output.
+    /// Scenes of this shard skipped because they were already in the output.
     pub resumed: usize,
     /// Lines written, by outcome.
     pub solved: usize,
@@ -65,6 +69,8 @@ pub struct BatchSummary {
     pub solve_time_s: f64,
     /// Wall time of the run, s.
     pub wall_time_s: f64,
+    /// The files the scenes read (a folder's scene files, mesh files).
+    pub inputs: RunInputs,
 }
 
 impl BatchSummary {
@@ -86,6 +92,7 @@ pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultL
         id,
         vary,
         scene,
+        files: _,
     } = line;
     let mut out = match scene {
         Err(p) => ResultLine::invalid(id, index, of, p),
@@ -133,65 +140,93 @@ pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultL
     out
 }
 
-/// Runs the shard of `input` given in `options`, skipping the ids in `done` (a resumed run),
-/// writing one line per scene to `out` (named `out_name` in errors) in input order;
-/// `progress(n)` is called with the number of lines written so far.
+/// Most worker threads a batch may have: more threads than cores only add switching, and each
+/// worker holds one solve's memory (up to [`BatchOptions::max_memory_bytes`]), so a large
+/// count multiplies the memory a batch can take; 256 covers the largest common machines.
+pub const MAX_THREADS: usize = 256;
+
+/// The pool of `threads` workers (0: one per core), at most [`MAX_THREADS`].
+fn worker_pool(threads: usize) -> Result<rayon::ThreadPool, BatchError> {
+    let usage = |message: String| BatchError::Usage {
+        what: format!("`{}`", option_names::THREADS),
+        message,
+    };
+    if threads > MAX_THREADS {
+        return Err(usage(format!(
+            "{threads} worker threads: give at most {MAX_THREADS} (more threads than cores \
+             only add switching, and each holds a solve's memory)"
+        )));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| usage(format!("cannot start the worker threads: {e}")))
+}
+
+/// A chunk of scenes parsed, solved and serialised on the workers: each line with its text
+/// and the files read for it.
+fn solve_chunk(
+    pool: &rayon::ThreadPool,
+    chunk: Vec<UnparsedScene>,
+    of: usize,
+    options: &BatchOptions,
+    out_name: &Path,
+) -> Result<Vec<(ResultLine, String, RunInputs)>, BatchError> {
+    pool.install(|| {
+        chunk
+            .into_par_iter()
+            .map(|u| {
+                let mut line = u.parse();
+                let files = std::mem::take(&mut line.files);
+                let r = solve_line(line, of, options);
+                let text = serde_json::to_string(&r).map_err(|e| io(out_name, e))?;
+                Ok((r, text, files))
+            })
+            .collect()
+    })
+}
+
+/// Runs the shard of `input` given in `options` (its first pass `index`), skipping the
+/// positions in `done` (a resumed run), writing one line per scene to `out` (named `out_name`
+/// in errors) in input order; `progress(n)` is called with the number of lines written so far.
 pub fn run_batch(
     input: &BatchInput,
-    done: &HashSet<String>,
+    index: &InputIndex,
+    done: &HashSet<usize>,
     options: &BatchOptions,
-    (out, out_name): (&mut dyn Write, &std::path::Path),
+    (out, out_name): (&mut dyn Write, &Path),
     progress: &mut dyn FnMut(usize),
 ) -> Result<BatchSummary, BatchError> {
     let clock = Instant::now();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.threads)
-        .build()
-        .map_err(|e| BatchError::Usage {
-            what: format!("`{}`", option_names::THREADS),
-            message: format!("cannot start the worker threads: {e}"),
-        })?;
+    let pool = worker_pool(options.threads)?;
+    let of = index.scenes;
     let mut summary = BatchSummary {
-        scenes: input.for_each(&|_| false, &mut |_| Ok(()))?,
+        scenes: of,
         ..BatchSummary::default()
     };
-    let of = summary.scenes;
     let chunk = options.chunk.max(1);
     let mut pending: Vec<UnparsedScene> = Vec::with_capacity(chunk);
     let mut written = 0;
     // Parsing, solving and writing each line's text run on the workers; only the ordered
     // writes stay on this thread.
     let mut flush = |pending: &mut Vec<UnparsedScene>, summary: &mut BatchSummary| {
-        let lines: Vec<Option<(ResultLine, String)>> = pool.install(|| {
-            std::mem::take(pending)
-                .into_par_iter()
-                .map(|u| {
-                    let line = u.parse();
-                    if done.contains(&line.id) {
-                        return Ok(None);
-                    }
-                    let r = solve_line(line, of, options);
-                    let text = serde_json::to_string(&r).map_err(|e| io(out_name, e))?;
-                    Ok(Some((r, text)))
-                })
-                .collect::<Result<_, BatchError>>()
-        })?;
-        for item in &lines {
-            match item {
-                None => summary.resumed += 1,
-                Some((line, text)) => {
-                    summary.count(line);
-                    writeln!(out, "{text}").map_err(|e| io(out_name, e))?;
-                    written += 1;
-                }
-            }
+        let lines = solve_chunk(&pool, std::mem::take(pending), of, options, out_name)?;
+        for (line, text, files) in &lines {
+            summary.count(line);
+            summary.inputs.extend(files);
+            writeln!(out, "{text}").map_err(|e| io(out_name, e))?;
+            written += 1;
         }
         out.flush().map_err(|e| io(out_name, e))?;
         progress(written);
         Ok::<(), BatchError>(())
     };
-    input.for_each_unparsed(&|i| options.shard.takes(i), &mut |u| {
+    let seen = input.for_each_unparsed(&|i| options.shard.takes(i), &mut |u| {
         summary.in_shard += 1;
+        if done.contains(&u.index()) {
+            summary.resumed += 1;
+            return Ok(());
+        }
         pending.push(u);
         if pending.len() >= chunk {
             flush(&mut pending, &mut summary)?;
@@ -200,6 +235,15 @@ pub fn run_batch(
     })?;
     if !pending.is_empty() {
         flush(&mut pending, &mut summary)?;
+    }
+    if seen != of {
+        return Err(BatchError::Usage {
+            what: "input".into(),
+            message: format!(
+                "changed while the batch read it ({of} scenes at first, {seen} now); run again \
+                 on an input that is not being written"
+            ),
+        });
     }
     summary.wall_time_s = clock.elapsed().as_secs_f64();
     Ok(summary)

@@ -12,6 +12,7 @@ const FLAGS: &[(&str, &str)] = &[
     (grasp_batch::option_names::MAX_MEMORY, "--max-memory"),
     (grasp_batch::option_names::SHARD, "--shard"),
     (grasp_batch::option_names::SWEEP_AXIS, "--vary"),
+    (grasp_io::output_file::FORCE, "--force"),
 ];
 
 /// `text` with every library option name replaced by its flag.

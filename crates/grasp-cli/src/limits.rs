@@ -1,24 +1,22 @@
 //! Work bounds of a command, checked before any allocation: the memory a scene's solve needs
-//! (estimated by `grasp_model::scene::work_bounds`) against `--max-memory`, and the size
-//! and kind of the input files.
+//! (estimated by `grasp_model::scene::work_bounds`) against `--max-memory`; and the input
+//! files, read through `grasp_io::input_file` (regular files within a size limit) and noted,
+//! so no output of the command replaces one of them.
 
-use std::io::Read;
 use std::path::Path;
+use std::sync::Mutex;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
+use grasp_io::input_file::{self, InputKind};
+use grasp_io::RunInputs;
 use grasp_model::scene::work_bounds;
 use grasp_model::Scene;
 
-/// Largest scene or schedule file read, bytes.
-pub const MAX_INPUT_BYTES: u64 = 64 * 1024 * 1024;
+/// Largest scene, schedule or directions file read, bytes.
+pub const MAX_INPUT_BYTES: u64 = input_file::SCENE_FILE.max_bytes;
 
-/// Share of the machine's memory (`MemTotal` of /proc/meminfo) a run may plan to use when no
-/// `--max-memory` is given: a quarter, since the machine is often shared (and the estimate is
-/// an estimate).
-pub const DEFAULT_MEMORY_SHARE: f64 = 0.25;
-
-/// The limit when /proc/meminfo cannot be read, bytes.
-pub const FALLBACK_MEMORY_LIMIT: u64 = 4 << 30;
+// The share of the machine's memory a run may plan to use without `--max-memory`.
+pub use grasp_io::machine_memory::{DEFAULT_MEMORY_SHARE, FALLBACK_MEMORY_LIMIT};
 
 /// The memory limit of a command.
 #[derive(clap::Args, Debug)]
@@ -61,7 +59,7 @@ pub fn memory_limit(flag: Option<u64>) -> (u64, String) {
     if let Some(b) = flag {
         return (b, format!("--max-memory {}", human(b)));
     }
-    match mem_total_bytes() {
+    match grasp_io::machine_memory::mem_total_bytes() {
         Some(total) => {
             let b = (total as f64 * DEFAULT_MEMORY_SHARE) as u64;
             (
@@ -80,13 +78,6 @@ pub fn memory_limit(flag: Option<u64>) -> (u64, String) {
             ),
         ),
     }
-}
-
-fn mem_total_bytes() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    kb.checked_mul(1024)
 }
 
 /// Refuses a scene whose estimated memory exceeds the limit, naming the largest patch.
@@ -128,29 +119,38 @@ pub fn human(b: u64) -> String {
     }
 }
 
-/// Reads an input file: a regular file (checked before opening, so a pipe never blocks) of at
-/// most [`MAX_INPUT_BYTES`], as UTF-8 text.
-pub fn read_input(path: &Path, what: &str) -> Result<String> {
-    let meta = std::fs::metadata(path)
-        .with_context(|| format!("cannot read {what} {}", path.display()))?;
-    if !meta.is_file() {
-        bail!(
-            "{what} {} is not a regular file (a folder, a pipe or a device); give a JSON file",
-            path.display()
-        );
-    }
-    if meta.len() > MAX_INPUT_BYTES {
-        bail!(
-            "{what} {} has {} bytes, more than {}; give a smaller file",
-            path.display(),
-            meta.len(),
-            human(MAX_INPUT_BYTES)
-        );
-    }
-    let mut text = String::new();
-    std::fs::File::open(path)
-        .and_then(|f| f.take(MAX_INPUT_BYTES).read_to_string(&mut text))
-        .with_context(|| format!("cannot read {what} {}", path.display()))?;
+/// The files this command has read (one run per process): outputs never replace one of them
+/// ([`crate::output`]).
+static INPUTS_READ: Mutex<RunInputs> = Mutex::new(RunInputs::new());
+
+/// Notes files the command read.
+pub fn note_inputs(files: &RunInputs) {
+    INPUTS_READ
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .extend(files);
+}
+
+/// The files the command has read so far.
+pub fn inputs_read() -> RunInputs {
+    INPUTS_READ
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .clone()
+}
+
+/// Reads an input file through `grasp_io::input_file` (a regular file, checked before and
+/// after opening, so a pipe never blocks; at most [`MAX_INPUT_BYTES`], bounded while reading)
+/// as UTF-8 text, and notes it.
+pub fn read_input(path: &Path, what: &'static str) -> Result<String> {
+    let kind = InputKind {
+        what,
+        max_bytes: MAX_INPUT_BYTES,
+    };
+    let (text, identity) = input_file::read_text(path, kind)?;
+    let mut read = RunInputs::new();
+    read.add(path, identity);
+    note_inputs(&read);
     Ok(text)
 }
 

@@ -14,6 +14,15 @@ fn tmp(tag: &str) -> PathBuf {
     common::tmp("outputs", tag)
 }
 
+/// Hidden files of grasp (temporary or lock files) left in `dir`.
+fn hidden(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .filter(|n| n.contains(".grasp-"))
+        .collect()
+}
+
 /// Temporary output files left in `dir`.
 fn leftovers(dir: &Path) -> Vec<String> {
     std::fs::read_dir(dir)
@@ -229,6 +238,11 @@ fn interrupt(signal: i32) {
         "{out:?}"
     );
     assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
+    assert!(
+        hidden(&dir).is_empty(),
+        "lock files left: {:?}",
+        hidden(&dir)
+    );
     for f in &files {
         assert_eq!(
             std::fs::read_to_string(f).unwrap(),
@@ -247,6 +261,11 @@ fn sigint_removes_temporary_files_and_keeps_old_files() {
 #[test]
 fn sigterm_removes_temporary_files_and_keeps_old_files() {
     interrupt(libc::SIGTERM);
+}
+
+#[test]
+fn sighup_removes_temporary_files_and_keeps_old_files() {
+    interrupt(libc::SIGHUP);
 }
 
 /// A 256 KiB tmpfs (needs root and a kernel that allows the mount; skipped with the reason
@@ -303,4 +322,202 @@ fn trailing_data_in_a_scene_file_is_refused_with_its_position() {
         "{}",
         self::text(&o)
     );
+}
+
+/// Runs grasp and expects the refusal of an output that is an input of the run.
+fn refused_as_input(args: &[&str]) {
+    let o = grasp(args);
+    assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+    assert!(
+        text(&o).contains("is also an input of this command"),
+        "{args:?}: {}",
+        text(&o)
+    );
+}
+
+#[test]
+fn no_input_of_a_run_is_ever_an_output_even_with_force() {
+    let dir = tmp("inputs-as-outputs");
+    let copy = |name: &str| {
+        let to = dir.join(Path::new(name).file_name().unwrap());
+        std::fs::copy(example(name), &to).unwrap();
+        to
+    };
+    // A scene reached through a link, written to by its real name (and by a hard link).
+    let scene = copy("cube_a.json");
+    let link = dir.join("cube-link.json");
+    std::os::unix::fs::symlink(&scene, &link).unwrap();
+    let hard = dir.join("cube-hard.json");
+    std::fs::hard_link(&scene, &hard).unwrap();
+    let (s, l, h) = (
+        scene.to_str().unwrap(),
+        link.to_str().unwrap(),
+        hard.to_str().unwrap(),
+    );
+    refused_as_input(&["solve", l, "--json", s, "--force"]);
+    refused_as_input(&["solve", s, "--json", h, "--force"]);
+    let svg = dir.join("cube-hard.svg");
+    std::fs::hard_link(&scene, &svg).unwrap();
+    refused_as_input(&["plot", l, "--out", svg.to_str().unwrap(), "--force"]);
+    // A mesh of the scene.
+    std::fs::create_dir_all(dir.join("meshes")).unwrap();
+    std::fs::copy(example("meshes/mug.obj"), dir.join("meshes/mug.obj")).unwrap();
+    let mug = copy("mug_power_grasp.json");
+    let mesh = dir.join("meshes/mug.obj");
+    refused_as_input(&[
+        "solve",
+        mug.to_str().unwrap(),
+        "--json",
+        mesh.to_str().unwrap(),
+        "--force",
+    ]);
+    // A schedule's CSV profile, and the schedule itself.
+    let sched = copy("plate_bump.schedule.json");
+    let csv = copy("plate_bump.csv");
+    let plate = example("plate_handoff_coulomb.json");
+    let (sc, cs) = (sched.to_str().unwrap(), csv.to_str().unwrap());
+    refused_as_input(&["transfer", &plate, "--schedule", sc, "--csv", cs, "--force"]);
+    refused_as_input(&[
+        "transfer",
+        &plate,
+        "--schedule",
+        sc,
+        "--mcap",
+        sc,
+        "--force",
+    ]);
+    // A directions file.
+    let dirs = dir.join("dirs.json");
+    std::fs::write(&dirs, r#"[{"force": [0, 0, -1]}]"#).unwrap();
+    let d = dirs.to_str().unwrap();
+    refused_as_input(&["margin", s, "--directions", d, "--json", d, "--force"]);
+    // A batch's input, a scene file of its input folder, a mesh one of its lines reads, a
+    // shard to merge.
+    let lines = dir.join("lines.jsonl");
+    let mug_line = serde_json::json!({
+        "id": "mug",
+        "scene": serde_json::from_str::<serde_json::Value>(
+            &std::fs::read_to_string(&mug).unwrap()).unwrap()
+    });
+    std::fs::write(&lines, format!("{mug_line}\n")).unwrap();
+    let ln = lines.to_str().unwrap();
+    refused_as_input(&["batch", ln, "--out", ln, "--force"]);
+    refused_as_input(&["batch", ln, "--out", mesh.to_str().unwrap(), "--force"]);
+    let folder = dir.join("scenes");
+    std::fs::create_dir_all(&folder).unwrap();
+    std::fs::copy(example("cube_a.json"), folder.join("a.json")).unwrap();
+    let a = folder.join("a.json");
+    refused_as_input(&[
+        "batch",
+        folder.to_str().unwrap(),
+        "--out",
+        a.to_str().unwrap(),
+        "--force",
+    ]);
+    let shard = dir.join("shard.jsonl");
+    let o = grasp(&["batch", ln, "--out", shard.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let sh = shard.to_str().unwrap();
+    refused_as_input(&["batch", "--merge", sh, "--out", sh, "--force"]);
+    // Every input as it was.
+    for (f, original) in [
+        (&scene, example("cube_a.json")),
+        (&mesh, example("meshes/mug.obj")),
+        (&csv, example("plate_bump.csv")),
+        (&sched, example("plate_bump.schedule.json")),
+        (&a, example("cube_a.json")),
+    ] {
+        assert_eq!(
+            std::fs::read(f).unwrap(),
+            std::fs::read(original).unwrap(),
+            "{f:?}"
+        );
+    }
+    assert_eq!(
+        std::fs::read_to_string(&dirs).unwrap(),
+        r#"[{"force": [0, 0, -1]}]"#
+    );
+    assert_eq!(
+        std::fs::read_to_string(&lines).unwrap(),
+        format!("{mug_line}\n")
+    );
+    for d in [&dir, &folder, &dir.join("meshes")] {
+        assert!(hidden(d).is_empty(), "{:?}", hidden(d));
+    }
+}
+
+/// A run holds the lock of each output: a second run naming the same file, with any command,
+/// is refused and told which process holds it; the first run is unaffected.
+#[test]
+fn a_second_run_on_the_same_output_is_refused_naming_the_first() {
+    let dir = tmp("lock");
+    let sched = dir.join("long.schedule.json");
+    let text0 = std::fs::read_to_string(example("plate_transfer.schedule.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text0).unwrap();
+    v["time"]["step"] = serde_json::json!(0.001);
+    std::fs::write(&sched, v.to_string()).unwrap();
+    let out = dir.join("o.csv");
+    std::fs::write(&out, "precious").unwrap();
+    let mut first = Command::new(env!("CARGO_BIN_EXE_grasp"))
+        .args(["transfer", &example("plate_transfer.json"), "--schedule"])
+        .arg(&sched)
+        .arg("--csv")
+        .arg(&out)
+        .arg("--force")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let lock = dir.join(".o.csv.grasp-lock");
+    let start = Instant::now();
+    while !std::fs::read_to_string(&lock).is_ok_and(|t| t.trim() == first.id().to_string()) {
+        if start.elapsed() > Duration::from_secs(60) || first.try_wait().unwrap().is_some() {
+            let _ = first.kill();
+            panic!("the first run never held the lock");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let holder = format!(
+        "is being written by another run of grasp (process {})",
+        first.id()
+    );
+    let o_csv = out.to_str().unwrap();
+    for args in [
+        vec!["solve", &example("cube_a.json"), "--json", o_csv, "--force"],
+        vec!["batch", &example("cube_a.json"), "--out", o_csv, "--resume"],
+        vec![
+            "sweep",
+            &example("cube_a.json"),
+            "--vary",
+            "object.weight=1,2",
+            "--out",
+            o_csv,
+            "--force",
+        ],
+    ] {
+        let o = grasp(&args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", text(&o));
+        assert!(text(&o).contains(&holder), "{args:?}: {}", text(&o));
+    }
+    assert_eq!(unsafe { libc::kill(first.id() as i32, libc::SIGTERM) }, 0);
+    assert_eq!(first.wait().unwrap().code(), Some(128 + libc::SIGTERM));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "precious");
+    assert!(hidden(&dir).is_empty(), "{:?}", hidden(&dir));
+}
+
+#[test]
+fn a_missing_output_folder_is_created_and_said() {
+    let dir = tmp("mkdir-said");
+    let out = dir.join("new/deeper/x.json");
+    let o = grasp(&[
+        "solve",
+        &example("cube_a.json"),
+        "--json",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let said = format!("created folder {}/", dir.join("new/deeper").display());
+    assert!(text(&o).contains(&said), "{}", text(&o));
+    assert!(!text(&o).contains(&format!("created folder {}/\n", dir.join("new").display())));
+    assert!(out.is_file());
 }

@@ -11,6 +11,7 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod errors;
+mod histories;
 mod json_value;
 mod outputs;
 mod scene;

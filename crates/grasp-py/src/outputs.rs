@@ -1,87 +1,53 @@
-//! Output files of a Python-driven run, with the CLI's rules: nothing the user wrote is
-//! replaced unless `overwrite=True`; each file is written under a temporary name beside its
-//! target and moved into place only when the run completes (an interrupted or failed run
-//! leaves existing files untouched).
+//! Output files of a Python-driven run: the project's one output policy
+//! (`grasp_io::output_file`, the same code as the CLI's), so the same refusals (a folder, a
+//! symbolic link, a dangling one too, a device, an input of the run, the same file twice), the
+//! same lock (a second run, in another process or another thread, is refused and told who
+//! writes the file), and exclusive, unguessable temporary files moved into place only when the
+//! run completes. Two differences, both of the front end: `overwrite=True` is the CLI's
+//! `--force`, and a missing folder is refused (the CLI creates it and says so).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use pyo3::exceptions::{PyFileExistsError, PyFileNotFoundError, PyValueError};
+use grasp_io::{OutputError, OutputErrorKind, OutputRules, OutputSet, RunInputs};
+use pyo3::exceptions::{PyFileExistsError, PyFileNotFoundError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 
-/// Refuses targets that repeat, overwrite an input, exist (unless `overwrite`), or lie in a
-/// folder that does not exist; `names` says which argument each target came from.
-pub fn check_targets(targets: &[(&str, &Path)], inputs: &[&Path], overwrite: bool) -> PyResult<()> {
-    for (i, (name, t)) in targets.iter().enumerate() {
-        if let Some((other, _)) = targets[..i].iter().find(|(_, u)| u == t) {
-            return Err(PyValueError::new_err(format!(
-                "{name} and {other} are the same file {}; give each output its own path",
-                t.display()
-            )));
-        }
-        if inputs.iter().any(|p| same_file(p, t)) {
-            return Err(PyValueError::new_err(format!(
-                "{name}={} is an input of this run; choose another output path",
-                t.display()
-            )));
-        }
-        if t.exists() && !overwrite {
-            return Err(PyFileExistsError::new_err(format!(
-                "{name}={} exists; pass overwrite=True to replace it",
-                t.display()
-            )));
-        }
-        let parent = t.parent().filter(|p| !p.as_os_str().is_empty());
-        if parent.is_some_and(|p| !p.is_dir()) {
-            return Err(PyFileNotFoundError::new_err(format!(
-                "{name}={}: the folder does not exist; create it first",
-                t.display()
-            )));
-        }
-    }
-    Ok(())
+use crate::errors::GraspError;
+
+/// Checks and locks the `targets` (each with the keyword it came from) of a run that reads
+/// `inputs`; the lock is held until the returned set is dropped.
+pub fn claim(
+    targets: &[(&str, &Path)],
+    inputs: &RunInputs,
+    overwrite: bool,
+) -> PyResult<OutputSet> {
+    let paths: Vec<&Path> = targets.iter().map(|(_, p)| *p).collect();
+    let rules = OutputRules {
+        force: overwrite,
+        create_folders: false,
+    };
+    OutputSet::claim(&paths, inputs, rules).map_err(|e| output_error(targets, &e))
 }
 
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
-    }
-}
-
-/// A file being written under a temporary name; removed on drop unless committed.
-pub struct Pending {
-    pub tmp: PathBuf,
-    pub target: PathBuf,
-    committed: bool,
-}
-
-impl Pending {
-    /// The temporary name of `target`: a hidden file in the same folder (so the final
-    /// rename stays on one file system).
-    pub fn new(target: &Path) -> Pending {
-        let name = target
-            .file_name()
-            .map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
-        let tmp = target.with_file_name(format!(".{name}.partial-{}", std::process::id()));
-        Pending {
-            tmp,
-            target: target.to_path_buf(),
-            committed: false,
-        }
-    }
-
-    /// Moves the finished file into place.
-    pub fn commit(mut self) -> std::io::Result<()> {
-        std::fs::rename(&self.tmp, &self.target)?;
-        self.committed = true;
-        Ok(())
-    }
-}
-
-impl Drop for Pending {
-    fn drop(&mut self) {
-        if !self.committed {
-            let _ = std::fs::remove_file(&self.tmp);
-        }
+/// A Python exception for an output refused: `FileExistsError` (exists without
+/// `overwrite=True`, or appeared during the run), `FileNotFoundError` (no such folder),
+/// `ValueError` (not a file one may write: a folder, a link, a device, an input, twice),
+/// `grasp.GraspError` (another run holds it), `OSError` (the file system refused). The
+/// message starts with the keyword the target came from.
+pub fn output_error(targets: &[(&str, &Path)], e: &OutputError) -> PyErr {
+    let text = grasp_model::option_names::respell(
+        &e.to_string(),
+        &[(grasp_io::output_file::FORCE, "overwrite=True")],
+    );
+    let text = match targets.iter().find(|(_, p)| *p == e.path) {
+        Some((name, _)) => format!("{name}: {text}"),
+        None => text,
+    };
+    match e.kind {
+        OutputErrorKind::Exists => PyFileExistsError::new_err(text),
+        OutputErrorKind::MissingFolder => PyFileNotFoundError::new_err(text),
+        OutputErrorKind::Refused => PyValueError::new_err(text),
+        OutputErrorKind::Locked => GraspError::new_err(text),
+        OutputErrorKind::Io => PyOSError::new_err(text),
     }
 }

@@ -18,6 +18,8 @@ pub struct Scene {
     pub(crate) scene: grasp_model::Scene,
     /// Where the scene came from (a path, `<dict>` or `<json>`), for messages.
     pub(crate) origin: String,
+    /// The files read for it (the scene file, mesh files): no output may replace them.
+    pub(crate) inputs: grasp_io::RunInputs,
 }
 
 #[pymethods]
@@ -42,17 +44,24 @@ impl Scene {
         }
     }
 
-    /// The scene in the file at `path` (JSON).
+    /// The scene in the file at `path` (JSON; a regular file of at most 64 MiB, its mesh
+    /// files relative to its folder).
     #[staticmethod]
     fn from_file(py: Python<'_>, path: PathBuf) -> PyResult<Scene> {
-        let text = std::fs::read_to_string(&path).map_err(|e| {
-            pyo3::exceptions::PyOSError::new_err(format!(
-                "cannot read scene file {}: {e}",
-                path.display()
-            ))
-        })?;
-        let base = grasp_mesh_io::base_dir_of(&path);
-        Scene::parse(py, &text, path.display().to_string(), &base)
+        let origin = path.display().to_string();
+        match py.allow_threads(|| grasp_io::read_scene_file(&path)) {
+            Ok(file) => Ok(Scene {
+                scene: file.scene,
+                origin,
+                inputs: file.inputs,
+            }),
+            Err(grasp_io::SceneFileError::Read(e)) => {
+                Err(pyo3::exceptions::PyOSError::new_err(e.to_string()))
+            }
+            Err(grasp_io::SceneFileError::Scene { source, .. }) => {
+                Err(scene_error(py, &origin, &source))
+            }
+        }
     }
 
     /// The scene given as JSON text.
@@ -140,8 +149,13 @@ impl Scene {
         origin: String,
         base: &std::path::Path,
     ) -> PyResult<Scene> {
-        match grasp_mesh_io::scene_from_json_str(text, base) {
-            Ok(scene) => Ok(Scene { scene, origin }),
+        let mut inputs = grasp_io::RunInputs::new();
+        match grasp_io::scene_file::scene_from_json_str_noting(text, base, &mut inputs) {
+            Ok(scene) => Ok(Scene {
+                scene,
+                origin,
+                inputs,
+            }),
             Err(e) => Err(scene_error(py, &origin, &e)),
         }
     }

@@ -1,22 +1,26 @@
 //! `grasp.transfer`: a hand-off run by the library's driver exactly as `grasp transfer`
-//! runs it (same schedule format, same MCAP, Rerun and CSV files), returning the force
-//! histories as NumPy arrays (time x finger). The GIL is released while the driver runs.
+//! runs it (same schedule format, same MCAP, Rerun and CSV files, written through the same
+//! output policy), returning the force histories as NumPy arrays (time x finger). The GIL is
+//! released while the driver runs. Steps stream as in the CLI: the histories are kept
+//! compactly, every step's full solution only while it fits `max_memory` (checked before
+//! the run; `keep_solutions=False` keeps the last step's only).
 
 use std::collections::BTreeMap;
-use std::fs::File;
 use std::path::{Path, PathBuf};
 
+use grasp_io::input_file::SCHEDULE_FILE;
+use grasp_io::{OutputError, OutputSet, PendingOutput, RunInputs};
 use grasp_transfer::{
-    Command, CsvSink, McapSink, RerunSink, Schedule, Sink, StepRecord, TransferOptions,
-    TransferSummary,
+    CsvSink, McapSink, RerunSink, Schedule, Sink, StepRecord, TransferOptions, TransferSummary,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
 use crate::arrays::{float_array, int_array, str_array};
-use crate::errors::{grasp_error, schedule_error};
+use crate::errors::{grasp_error, schedule_error, GraspError};
+use crate::histories::{solution_bytes_per_step, Histories};
 use crate::json_value::serialize_to_py;
-use crate::outputs::{check_targets, Pending};
+use crate::outputs::{claim, output_error};
 use crate::scene::Scene;
 use crate::solution::{tangents_by_name, Solution, Tangents};
 
@@ -24,18 +28,24 @@ use crate::solution::{tangents_by_name, Solution, Tangents};
 /// `grasp schema --schedule`) over `scene`, step by step, each step warm-started from the
 /// previous one (thesis section 4.2.2: the releasing fingers' normal forces ramped down).
 ///
-/// - `mcap`, `rrd`, `csv`: paths of the files to write, the same as `grasp transfer`'s.
-///   Existing files are replaced only with `overwrite=True`; files appear only when the run
-///   completes (with a failed step: only with `keep_going=True`).
+/// - `mcap`, `rrd`, `csv`: paths of the files to write, the same as `grasp transfer`'s, with
+///   the CLI's rules: existing files are replaced only with `overwrite=True` (never a folder,
+///   a link, a device or an input of the run); files appear only when the run completes (with
+///   a failed step: only with `keep_going=True`); a second run writing the same file is
+///   refused while this one runs.
 /// - `solver`: `"auto"`, `"native"` or `"clarabel"`; `cold=True` starts every step cold.
 /// - `keep_going`: continue past a step without equilibrium (default: stop there).
 /// - `margins`: compute each step's smallest disturbance margin (costly).
+/// - `keep_solutions`: keep every step's full solution for `step(i)` (default); refused
+///   before the run when that needs more than `max_memory` bytes (default: a quarter of the
+///   machine's memory). With `False` only the histories and the last step are kept.
 ///
 /// CSV paths inside a schedule file are read relative to its folder (to the working folder
 /// for a dict or JSON text).
 #[pyfunction]
 #[pyo3(signature = (scene, schedule, *, mcap=None, rrd=None, csv=None, solver="auto",
-                    cold=false, keep_going=false, margins=false, overwrite=false))]
+                    cold=false, keep_going=false, margins=false, overwrite=false,
+                    keep_solutions=true, max_memory=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn transfer(
     py: Python<'_>,
@@ -49,6 +59,8 @@ pub fn transfer(
     keep_going: bool,
     margins: bool,
     overwrite: bool,
+    keep_solutions: bool,
+    max_memory: Option<u64>,
 ) -> PyResult<Transfer> {
     let options = TransferOptions {
         keep_going,
@@ -56,58 +68,120 @@ pub fn transfer(
         solve: crate::solve::solve_options(solver, 1e-10)?,
         margins,
     };
-    let (schedule, schedule_path) = load_schedule(py, scene, schedule)?;
+    let (schedule, mut inputs) = load_schedule(py, scene, schedule)?;
+    inputs.extend(&scene.inputs);
+    check_memory(&scene.scene, &schedule, keep_solutions, max_memory)?;
     let targets: Vec<(&str, &Path)> = [("mcap", &mcap), ("rrd", &rrd), ("csv", &csv)]
         .into_iter()
         .filter_map(|(n, p)| p.as_deref().map(|p| (n, p)))
         .collect();
-    let inputs: Vec<&Path> = schedule_path.iter().map(PathBuf::as_path).collect();
-    check_targets(&targets, &inputs, overwrite)?;
+    let outputs = claim(&targets, &inputs, overwrite)?;
     let files = Files {
-        mcap: mcap.as_deref().map(Pending::new),
-        rrd: rrd.as_deref().map(Pending::new),
-        csv: csv.as_deref().map(Pending::new),
+        mcap: mcap.as_deref(),
+        rrd: rrd.as_deref(),
+        csv: csv.as_deref(),
     };
-    let run = py.allow_threads(|| run_transfer(&scene.scene, &schedule, options, files));
-    let (records, summary, written) = run.map_err(grasp_error)?;
-    let tangents = tangents_by_name(&scene.scene);
+    let run = py.allow_threads(|| {
+        run_transfer(
+            &scene.scene,
+            &schedule,
+            options,
+            &outputs,
+            files,
+            keep_solutions,
+        )
+    });
+    let kept = run.map_err(|e| match e {
+        RunError::Output(e) => output_error(&targets, &e),
+        RunError::Driver(e) => grasp_error(e),
+    })?;
     Ok(Transfer {
-        names: scene.scene.fingers.iter().map(|f| f.name.clone()).collect(),
-        records,
-        summary,
-        tangents,
-        written,
+        histories: kept.histories,
+        records: kept.records,
+        last: kept.last,
+        summary: kept.summary,
+        tangents: tangents_by_name(&scene.scene),
+        written: kept.written,
     })
 }
 
-/// The schedule resolved against the scene, and its file when it came from one.
+/// Refuses a run whose kept steps would need more than `max_memory` (default: a quarter of
+/// the machine's memory), naming the way out.
+fn check_memory(
+    scene: &grasp_model::Scene,
+    schedule: &Schedule,
+    keep_solutions: bool,
+    max_memory: Option<u64>,
+) -> PyResult<()> {
+    let limit = max_memory.unwrap_or_else(grasp_io::machine_memory::default_memory_limit);
+    let steps = schedule.times.len() as u64;
+    let history = Histories::bytes_per_step(scene.fingers.len()).saturating_mul(steps);
+    let solution = solution_bytes_per_step(scene);
+    let need = if keep_solutions {
+        solution.saturating_mul(steps).saturating_add(history)
+    } else {
+        solution.saturating_add(history)
+    };
+    if need <= limit {
+        return Ok(());
+    }
+    let mib = |b: u64| b as f64 / 1048576.0;
+    let way_out = if keep_solutions {
+        format!(
+            "pass keep_solutions=False to keep the force histories ({:.1} MiB) and the last \
+             step's solution only, shorten the schedule, or raise max_memory",
+            mib(history + solution)
+        )
+    } else {
+        "shorten the schedule (or split it into several runs), or raise max_memory".into()
+    };
+    Err(GraspError::new_err(format!(
+        "this run would keep about {:.1} MiB for its {steps} steps ({:.1} kB per step{}), more \
+         than max_memory ({:.1} MiB{}); {way_out}",
+        mib(need),
+        need as f64 / steps.max(1) as f64 / 1000.0,
+        if keep_solutions {
+            " with every step's full solution"
+        } else {
+            ""
+        },
+        mib(limit),
+        if max_memory.is_none() {
+            ", a quarter of this machine's memory"
+        } else {
+            ""
+        }
+    )))
+}
+
+/// The schedule resolved against the scene, and the files read for it (the schedule file,
+/// its CSV profiles).
 fn load_schedule(
     py: Python<'_>,
     scene: &Scene,
     source: &Bound<'_, PyAny>,
-) -> PyResult<(Schedule, Option<PathBuf>)> {
-    let (text, origin, base, path) = if let Ok(d) = source.downcast::<PyDict>() {
+) -> PyResult<(Schedule, RunInputs)> {
+    let mut inputs = RunInputs::new();
+    let (text, origin, base) = if let Ok(d) = source.downcast::<PyDict>() {
         let text: String = py.import("json")?.call_method1("dumps", (d,))?.extract()?;
-        (text, "<dict>".to_string(), PathBuf::new(), None)
+        (text, "<dict>".to_string(), PathBuf::new())
     } else if let Some(t) = json_text(source)? {
-        (t, "<json>".to_string(), PathBuf::new(), None)
+        (t, "<json>".to_string(), PathBuf::new())
     } else {
         let path: PathBuf = source.extract().map_err(|_| {
             pyo3::exceptions::PyTypeError::new_err("schedule: expected a path, a dict or JSON text")
         })?;
-        let text = std::fs::read_to_string(&path).map_err(|e| {
-            pyo3::exceptions::PyOSError::new_err(format!(
-                "cannot read schedule file {}: {e}",
-                path.display()
-            ))
-        })?;
+        let (text, identity) = grasp_io::input_file::read_text(&path, SCHEDULE_FILE)
+            .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))?;
+        inputs.add(&path, identity);
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        (text, path.display().to_string(), base, Some(path))
+        (text, path.display().to_string(), base)
     };
     let names: Vec<String> = scene.scene.fingers.iter().map(|f| f.name.clone()).collect();
-    Schedule::from_json_str(&text, &names, &base)
-        .map(|s| (s, path))
-        .map_err(|e| schedule_error(py, &origin, &e))
+    let schedule = Schedule::from_json_str(&text, &names, &base)
+        .map_err(|e| schedule_error(py, &origin, &e))?;
+    inputs.extend(&schedule.input_files);
+    Ok((schedule, inputs))
 }
 
 /// The text of `source` when it is a str holding JSON (first non-blank character `{`).
@@ -119,68 +193,137 @@ fn json_text(source: &Bound<'_, PyAny>) -> PyResult<Option<String>> {
     Ok(text.trim_start().starts_with('{').then_some(text))
 }
 
-/// The output files of a run, each under its temporary name.
-struct Files {
-    mcap: Option<Pending>,
-    rrd: Option<Pending>,
-    csv: Option<Pending>,
+/// The output files asked for.
+#[derive(Clone, Copy)]
+struct Files<'a> {
+    mcap: Option<&'a Path>,
+    rrd: Option<&'a Path>,
+    csv: Option<&'a Path>,
 }
 
-type RunResult = (Vec<StepRecord>, TransferSummary, Vec<String>);
+/// Why a run gave no result.
+enum RunError {
+    /// An output refused or not written.
+    Output(OutputError),
+    /// The driver or a sink failed.
+    Driver(String),
+}
 
-/// The driver with the sinks asked for; commits the files when the run is complete.
+impl From<OutputError> for RunError {
+    fn from(e: OutputError) -> Self {
+        RunError::Output(e)
+    }
+}
+
+/// What a run keeps.
+struct Kept {
+    histories: Histories,
+    records: Option<Vec<StepRecord>>,
+    last: Option<StepRecord>,
+    summary: TransferSummary,
+    written: Vec<String>,
+}
+
+/// The sinks of the files asked for, each writing its temporary file.
+struct OpenSinks {
+    mcap: Option<McapSink>,
+    rrd: Option<RerunSink>,
+    csv: Option<CsvSink>,
+    pending: Vec<PendingOutput>,
+}
+
+impl OpenSinks {
+    fn create(outputs: &OutputSet, files: Files<'_>) -> Result<OpenSinks, RunError> {
+        let driver = |e: grasp_transfer::TransferError| RunError::Driver(e.to_string());
+        let mut sinks = OpenSinks {
+            mcap: None,
+            rrd: None,
+            csv: None,
+            pending: Vec::new(),
+        };
+        if let Some(t) = files.mcap {
+            let p = outputs.create(t)?;
+            sinks.mcap = Some(McapSink::from_file(p.file_handle()?, t).map_err(driver)?);
+            sinks.pending.push(p);
+        }
+        if let Some(t) = files.rrd {
+            let p = outputs.create(t)?;
+            sinks.rrd = Some(RerunSink::create_as(&p.write_path(), t).map_err(driver)?);
+            sinks.pending.push(p);
+        }
+        if let Some(t) = files.csv {
+            let p = outputs.create(t)?;
+            sinks.csv = Some(CsvSink::from_file(p.file_handle()?, t));
+            sinks.pending.push(p);
+        }
+        Ok(sinks)
+    }
+
+    fn sinks(&mut self) -> Vec<&mut dyn Sink> {
+        let mut v: Vec<&mut dyn Sink> = Vec::new();
+        if let Some(s) = self.mcap.as_mut() {
+            v.push(s);
+        }
+        if let Some(s) = self.rrd.as_mut() {
+            v.push(s);
+        }
+        if let Some(s) = self.csv.as_mut() {
+            v.push(s);
+        }
+        v
+    }
+}
+
+/// The driver with the sinks asked for, keeping the histories (and the solutions when asked);
+/// commits the files when the run is complete.
 fn run_transfer(
     scene: &grasp_model::Scene,
     schedule: &Schedule,
     options: TransferOptions,
-    files: Files,
-) -> Result<RunResult, String> {
-    let create =
-        |p: &Pending| File::create(&p.tmp).map_err(|e| format!("{}: {e}", p.target.display()));
-    let mut mcap = match &files.mcap {
-        Some(p) => Some(McapSink::from_file(create(p)?, &p.target).map_err(|e| e.to_string())?),
-        None => None,
-    };
-    let mut rrd = match &files.rrd {
-        Some(p) => Some(RerunSink::create_as(&p.tmp, &p.target).map_err(|e| e.to_string())?),
-        None => None,
-    };
-    let mut csv = match &files.csv {
-        Some(p) => Some(CsvSink::from_file(create(p)?, &p.target)),
-        None => None,
-    };
-    let mut sinks: Vec<&mut dyn Sink> = Vec::new();
-    if let Some(s) = mcap.as_mut() {
-        sinks.push(s);
-    }
-    if let Some(s) = rrd.as_mut() {
-        sinks.push(s);
-    }
-    if let Some(s) = csv.as_mut() {
-        sinks.push(s);
-    }
-    let (records, summary) = grasp_transfer::run_collect(scene, schedule, options, &mut sinks)
-        .map_err(|e| e.to_string())?;
-    drop(sinks);
-    drop((mcap, rrd, csv));
+    outputs: &OutputSet,
+    files: Files<'_>,
+    keep_solutions: bool,
+) -> Result<Kept, RunError> {
+    let mut open = OpenSinks::create(outputs, files)?;
+    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let mut histories = Histories::new(names);
+    let mut records = keep_solutions.then(Vec::new);
+    let (summary, last) = grasp_transfer::run(scene, schedule, options, &mut open.sinks(), |r| {
+        histories.push(r);
+        if let Some(all) = records.as_mut() {
+            all.push(r.clone());
+        }
+    })
+    .map_err(|e| RunError::Driver(e.to_string()))?;
+    let pending = std::mem::take(&mut open.pending);
+    drop(open); // sinks closed: their files complete
     let complete = summary.failed_step_count == 0 || options.keep_going;
     let mut written = Vec::new();
-    for p in [files.mcap, files.rrd, files.csv].into_iter().flatten() {
-        if complete {
-            let target = p.target.display().to_string();
-            p.commit().map_err(|e| format!("{target}: {e}"))?;
-            written.push(target);
-        }
+    if complete {
+        written = pending
+            .iter()
+            .map(|p| p.target().display().to_string())
+            .collect();
+        outputs.commit(pending)?;
     }
-    Ok((records, summary, written))
+    Ok(Kept {
+        histories,
+        records,
+        last,
+        summary,
+        written,
+    })
 }
 
 /// A hand-off's result: per step (time) and finger, the forces the driver computed.
 /// Released fingers carry 0 N; failed steps carry 0 N for every finger (see `statuses`).
 #[pyclass(module = "grasp", frozen)]
 pub struct Transfer {
-    names: Vec<String>,
-    records: Vec<StepRecord>,
+    histories: Histories,
+    /// Every step's record (`keep_solutions=True`).
+    records: Option<Vec<StepRecord>>,
+    /// The last step's record.
+    last: Option<StepRecord>,
     summary: TransferSummary,
     tangents: BTreeMap<String, Tangents>,
     written: Vec<String>,
@@ -191,102 +334,70 @@ impl Transfer {
     /// Scene finger names: the columns of the `(T, F)` arrays.
     #[getter]
     fn finger_names(&self) -> Vec<String> {
-        self.names.clone()
+        self.histories.names.clone()
     }
 
     /// Step times, s, shape `(T,)`.
     #[getter]
     fn times_s<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<f64> = self.records.iter().map(|r| r.time_s).collect();
-        float_array(py, &v, &[v.len()])
+        let h = &self.histories;
+        float_array(py, &h.times_s, &[h.len()])
     }
 
     /// Finger normal forces `P_i`, N, shape `(T, F)`.
     #[getter]
     fn normal_forces_n<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v = self.per_finger(|r, name| r.normal_force_n(name));
-        float_array(py, &v, &[self.records.len(), self.names.len()])
+        let h = &self.histories;
+        float_array(py, &h.normal_n, &[h.len(), h.names.len()])
     }
 
     /// Finger friction forces `Q_i`, world frame, N, shape `(T, F, 3)`.
     #[getter]
     fn tangential_forces_n<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<f64> = self
-            .records
-            .iter()
-            .flat_map(|r| self.names.iter().flat_map(move |n| tangential(r, n)))
-            .collect();
-        float_array(py, &v, &[self.records.len(), self.names.len(), 3])
+        let h = &self.histories;
+        float_array(py, &h.tangential_n, &[h.len(), h.names.len(), 3])
     }
 
     /// Commanded normal loads, N, shape `(T, F)`: NaN for a held finger, 0 when released.
     #[getter]
     fn commanded_loads_n<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v = self.per_finger(|r, name| {
-            match r
-                .commands
-                .iter()
-                .find(|c| c.name == name)
-                .map(|c| &c.command)
-            {
-                Some(Command::Load(l)) => *l,
-                Some(Command::Released) => 0.0,
-                _ => f64::NAN,
-            }
-        });
-        float_array(py, &v, &[self.records.len(), self.names.len()])
+        let h = &self.histories;
+        float_array(py, &h.commanded_n, &[h.len(), h.names.len()])
     }
 
     /// Scheduled external force at the centre of mass, N, shape `(T, 3)`.
     #[getter]
     fn external_forces_n<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<f64> = self
-            .records
-            .iter()
-            .flat_map(|r| r.external_force_n)
-            .collect();
-        float_array(py, &v, &[self.records.len(), 3])
+        let h = &self.histories;
+        float_array(py, &h.external_n, &[h.len(), 3])
     }
 
     /// Each step's status (`"solved"`, `"no_equilibrium"`, ...), shape `(T,)`.
     #[getter]
     fn statuses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<&str> = self
-            .records
-            .iter()
-            .map(|r| r.solution.status.as_str())
-            .collect();
-        str_array(py, &v)
+        str_array(py, &self.histories.statuses)
     }
 
     /// Wall time of each step (model building when the structure changed, solve), s, `(T,)`.
     #[getter]
     fn wall_times_s<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<f64> = self.records.iter().map(|r| r.wall_time_s).collect();
-        float_array(py, &v, &[v.len()])
+        let h = &self.histories;
+        float_array(py, &h.wall_times_s, &[h.len()])
     }
 
     /// Solver iterations of each step, shape `(T,)`.
     #[getter]
     fn iterations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<i64> = self
-            .records
-            .iter()
-            .map(|r| i64::from(r.solution.solver.iterations))
-            .collect();
-        int_array(py, &v, &[v.len()])
+        let h = &self.histories;
+        int_array(py, &h.iterations, &[h.len()])
     }
 
     /// Each step's smallest disturbance margin, N, shape `(T,)` (NaN where not computed:
     /// without `margins=True`, or at a failed step).
     #[getter]
     fn smallest_margins_n<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<f64> = self
-            .records
-            .iter()
-            .map(|r| r.margin.as_ref().map_or(f64::NAN, |m| m.smallest_n))
-            .collect();
-        float_array(py, &v, &[v.len()])
+        let h = &self.histories;
+        float_array(py, &h.margins_n, &[h.len()])
     }
 
     /// The closing summary (the fields `grasp transfer` prints), as a dict.
@@ -302,16 +413,27 @@ impl Transfer {
         self.written.clone()
     }
 
-    /// The full solution of step `index` (element arrays included).
+    /// The full solution of step `index` (element arrays included); with
+    /// `keep_solutions=False` only the last step's (`step(-1)`).
     fn step(&self, index: isize) -> PyResult<Solution> {
-        let n = self.records.len() as isize;
+        let n = self.histories.len() as isize;
         let i = if index < 0 { index + n } else { index };
-        let r = usize::try_from(i)
+        let out_of_range =
+            || pyo3::exceptions::PyIndexError::new_err(format!("step {index} of {n}"));
+        let i = usize::try_from(i)
             .ok()
-            .and_then(|i| self.records.get(i))
-            .ok_or_else(|| {
-                pyo3::exceptions::PyIndexError::new_err(format!("step {index} of {n}"))
-            })?;
+            .filter(|&i| i < self.histories.len())
+            .ok_or_else(out_of_range)?;
+        let r = match (&self.records, &self.last) {
+            (Some(all), _) => all.get(i).ok_or_else(out_of_range)?,
+            (None, Some(last)) if last.index == i => last,
+            (None, _) => {
+                return Err(pyo3::exceptions::PyIndexError::new_err(format!(
+                    "step {index}: the run kept only the last step's solution \
+                     (keep_solutions=False); its histories cover every step"
+                )))
+            }
+        };
         let tangents = r
             .solution
             .fingers
@@ -331,32 +453,15 @@ impl Transfer {
     }
 
     fn __len__(&self) -> usize {
-        self.records.len()
+        self.histories.len()
     }
 
     fn __repr__(&self) -> String {
         format!(
             "Transfer({} steps, {} fingers, {} failed)",
-            self.records.len(),
-            self.names.len(),
+            self.histories.len(),
+            self.histories.names.len(),
             self.summary.failed_step_count
         )
     }
-}
-
-impl Transfer {
-    /// `f(step, finger name)` over steps then fingers.
-    fn per_finger(&self, f: impl Fn(&StepRecord, &str) -> f64) -> Vec<f64> {
-        self.records
-            .iter()
-            .flat_map(|r| self.names.iter().map(move |n| (r, n)))
-            .map(|(r, n)| f(r, n))
-            .collect()
-    }
-}
-
-fn tangential(r: &StepRecord, name: &str) -> [f64; 3] {
-    r.solution
-        .finger(name)
-        .map_or([0.0; 3], |f| f.tangential_force_n)
 }

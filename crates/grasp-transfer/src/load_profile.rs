@@ -1,77 +1,21 @@
 //! Load profiles from CSV files: a header row, then comma-separated numbers.
 //!
-//! Only a regular file is read (checked before opening, so a FIFO never blocks and a device
-//! such as `/dev/zero` is refused), of at most [`MAX_PROFILE_BYTES`].
+//! The file is read through `grasp_io::input_file` (a regular file, checked before opening,
+//! so a FIFO never blocks and a device such as `/dev/zero` is refused; at most
+//! [`MAX_PROFILE_BYTES`], bounded while reading).
 
-use std::io::Read;
 use std::path::Path;
 
+use grasp_io::input_file::{read_text, FileIdentity, LOAD_PROFILE};
+
 /// Largest CSV profile read, bytes.
-pub const MAX_PROFILE_BYTES: u64 = 64 * 1024 * 1024;
+pub const MAX_PROFILE_BYTES: u64 = LOAD_PROFILE.max_bytes;
 
 type ProfileError = (&'static str, String, String);
 
-/// The text of a profile: a regular file (symlinks followed) of at most
-/// [`MAX_PROFILE_BYTES`], read without blocking on pipes or growing on devices.
-fn read_regular_file(path: &Path) -> Result<String, ProfileError> {
-    let err = |message: String, fix: &str| ("path", message, fix.to_string());
-    let meta = std::fs::metadata(path).map_err(|e| {
-        err(
-            format!("cannot read {}: {e}", path.display()),
-            "give an existing CSV file",
-        )
-    })?;
-    if !meta.is_file() {
-        return Err(err(
-            format!(
-                "{} is not a regular file (a folder, a pipe or a device)",
-                path.display()
-            ),
-            "give a CSV file",
-        ));
-    }
-    if meta.len() > MAX_PROFILE_BYTES {
-        return Err(err(
-            format!(
-                "{} has {} bytes, more than the {} MiB a profile may have",
-                path.display(),
-                meta.len(),
-                MAX_PROFILE_BYTES / 1048576
-            ),
-            "thin out the profile (the schedule interpolates between rows)",
-        ));
-    }
-    let file = std::fs::File::open(path).map_err(|e| {
-        err(
-            format!("cannot read {}: {e}", path.display()),
-            "give a readable CSV file",
-        )
-    })?;
-    let mut bytes = Vec::new();
-    file.take(MAX_PROFILE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| {
-            err(
-                format!("cannot read {}: {e}", path.display()),
-                "give a readable CSV file",
-            )
-        })?;
-    if bytes.len() as u64 > MAX_PROFILE_BYTES {
-        return Err(err(
-            format!(
-                "{} grew beyond {} MiB while being read",
-                path.display(),
-                MAX_PROFILE_BYTES / 1048576
-            ),
-            "give a CSV file that is not being written",
-        ));
-    }
-    String::from_utf8(bytes).map_err(|e| {
-        err(
-            format!("{} is not UTF-8 text: {e}", path.display()),
-            "save the profile as plain (UTF-8) text",
-        )
-    })
+/// The text of a profile and the identity of the file read.
+fn read_profile_file(path: &Path) -> Result<(String, FileIdentity), ProfileError> {
+    read_text(path, LOAD_PROFILE).map_err(|e| ("path", e.message, e.fix))
 }
 
 /// Reads `(time s, load N)` rows from the named columns. On failure returns
@@ -82,7 +26,16 @@ pub fn read_profile_csv(
     time_column: &str,
     load_column: &str,
 ) -> Result<Vec<(f64, f64)>, ProfileError> {
-    let text = read_regular_file(path)?;
+    read_profile_csv_noting(path, time_column, load_column).map(|(rows, _)| rows)
+}
+
+/// As [`read_profile_csv`], with the identity of the file read.
+pub fn read_profile_csv_noting(
+    path: &Path,
+    time_column: &str,
+    load_column: &str,
+) -> Result<(Vec<(f64, f64)>, FileIdentity), ProfileError> {
+    let (text, identity) = read_profile_file(path)?;
     let mut lines = text
         .lines()
         .enumerate()
@@ -141,5 +94,5 @@ pub fn read_profile_csv(
             "add rows".into(),
         ));
     }
-    Ok(rows)
+    Ok((rows, identity))
 }

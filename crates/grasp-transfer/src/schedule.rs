@@ -30,7 +30,8 @@ use serde_json::Value;
 
 use crate::easing::Easing;
 use crate::error::ScheduleError;
-use crate::load_profile::read_profile_csv;
+use crate::load_profile::read_profile_csv_noting;
+use grasp_io::RunInputs;
 use grasp_model::InputProblem;
 
 /// Most steps a schedule may have.
@@ -286,6 +287,8 @@ pub struct Schedule {
     pub phases: Vec<Option<Vec<Phase>>>,
     /// The ramped external wrench, if any.
     pub external: Option<ExternalRamp>,
+    /// The CSV files read (no output of a run may replace one of them).
+    pub input_files: RunInputs,
 }
 
 /// The scheduled external wrench at one time (world frame).
@@ -344,11 +347,13 @@ impl Schedule {
             .external
             .as_ref()
             .map(|e| external_ramp(e, base_dir, &mut v));
+        let input_files = std::mem::take(&mut v.2);
         v.finish()?;
         Ok(Schedule {
             times,
             phases,
             external,
+            input_files,
         })
     }
 
@@ -430,9 +435,10 @@ fn ramp_load(keyframes: &[(f64, Option<f64>)], easing: Easing, t: f64, current_n
     val(a) + (val(b) - val(a)) * s
 }
 
-/// Collects schedule problems; at most [`MAX_LISTED_PROBLEMS`] are listed.
+/// Collects schedule problems; at most [`MAX_LISTED_PROBLEMS`] are listed. Also notes the
+/// CSV files read.
 #[derive(Default)]
-struct Problems(Vec<InputProblem>, usize);
+struct Problems(Vec<InputProblem>, usize, RunInputs);
 
 /// Most problems listed in one error (the rest are counted).
 const MAX_LISTED_PROBLEMS: usize = 50;
@@ -651,8 +657,12 @@ fn ramp_phase(pp: &str, r: &RampPhase, v: &mut Problems) -> Phase {
 
 /// A CSV profile: read (a regular file, bounded size), rows in range and increasing in time.
 fn csv_phase(cp: &str, c: &CsvPhase, base_dir: &Path, v: &mut Problems) -> Phase {
-    let rows = match read_profile_csv(&base_dir.join(&c.path), &c.time_column, &c.load_column) {
-        Ok(rows) => rows,
+    let file = base_dir.join(&c.path);
+    let rows = match read_profile_csv_noting(&file, &c.time_column, &c.load_column) {
+        Ok((rows, identity)) => {
+            v.2.add(&file, identity);
+            rows
+        }
         Err((field, message, fix)) => {
             v.push(format!("{cp}.{field}"), message, &fix);
             Vec::new()
@@ -753,8 +763,10 @@ fn wrench_rows(c: &WrenchCsv, base_dir: &Path, v: &mut Problems) -> Vec<(f64, [f
     }
     let mut rows: Vec<(f64, [f64; 6])> = Vec::new();
     for (i, name) in names {
-        match read_profile_csv(&base_dir.join(&c.path), &c.time_column, name) {
-            Ok(col) => {
+        let file = base_dir.join(&c.path);
+        match read_profile_csv_noting(&file, &c.time_column, name) {
+            Ok((col, identity)) => {
+                v.2.add(&file, identity);
                 if rows.is_empty() {
                     rows = col.iter().map(|(t, _)| (*t, [0.0; 6])).collect();
                 }

@@ -2,13 +2,14 @@
 //! progress bar, resume, shards and merge.
 
 use std::collections::HashSet;
-use std::fs::OpenOptions;
+use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
-use grasp_batch::{run_batch, BatchInput, BatchOptions, BatchSummary, ResultLine, Shard};
+use grasp_batch::{read_batch_output, run_batch, BatchInput, BatchOptions, BatchSummary, Shard};
+use grasp_io::{FileIdentity, PendingOutput, RunInputs};
 use grasp_model::{SolveOptions, SolverChoice};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -24,7 +25,8 @@ pub struct Args {
     /// Result lines (JSONL).
     #[arg(long, value_name = "RESULTS.jsonl")]
     pub out: PathBuf,
-    /// Append to OUT, skipping the scenes whose id is already in it.
+    /// Append to OUT, skipping the scenes already in it (OUT is checked whole first: it must
+    /// be this input's batch output; nothing is changed otherwise).
     #[arg(long)]
     pub resume: bool,
     /// Take every N-th scene from the I-th (0-based). Default: Slurm's
@@ -32,8 +34,9 @@ pub struct Args {
     /// GRASP_SHARD_COUNT, else everything.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
-    /// Worker threads (default: one per core).
-    #[arg(long, value_name = "J")]
+    /// Worker threads, at most 256 (default, or 0: one per core). More threads than cores
+    /// only add switching, and each holds one solve's memory.
+    #[arg(long, value_name = "J", value_parser = jobs_in_range)]
     pub jobs: Option<usize>,
     /// Join these shard outputs into OUT (checked complete) instead of solving.
     #[arg(long, num_args = 1.., value_name = "SHARD.jsonl", conflicts_with_all = ["input", "resume", "shard"])]
@@ -69,6 +72,19 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     run(&source, Some(&input), &flags)
 }
 
+/// `--jobs`: a whole number from 0 (one per core) to [`grasp_batch::MAX_THREADS`] (clap
+/// names the flag in its error).
+pub fn jobs_in_range(text: &str) -> Result<usize, String> {
+    let max = grasp_batch::MAX_THREADS;
+    match text.trim().parse::<usize>() {
+        Ok(j) if j <= max => Ok(j),
+        _ => Err(format!(
+            "`{text}` is not a thread count from 0 (one per core) to {max}; more threads than \
+             cores only add switching, and each holds one solve's memory"
+        )),
+    }
+}
+
 /// Flags of `grasp batch` (and of a sweep's run).
 pub struct Flags {
     pub out: PathBuf,
@@ -88,36 +104,11 @@ fn shard(flag: Option<&str>) -> Result<Shard> {
     })
 }
 
-/// The ids already in `out` (a resumed run), after cutting a last line left unfinished by an
-/// interrupted run (the run's own partial write).
-fn done_ids(out: &Path) -> Result<HashSet<String>> {
-    let text = match std::fs::read_to_string(out) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(HashSet::new()),
-        Err(e) => return Err(e).with_context(|| format!("cannot read {}", out.display())),
-    };
-    let complete = text.rfind('\n').map_or(0, |i| i + 1);
-    if complete < text.len() {
-        let f = OpenOptions::new().write(true).open(out)?;
-        f.set_len(complete as u64)
-            .with_context(|| format!("cannot cut the unfinished last line of {}", out.display()))?;
-    }
-    let mut ids = HashSet::new();
-    for (n, line) in text[..complete].lines().enumerate() {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let r: ResultLine = serde_json::from_str(line).with_context(|| {
-            format!(
-                "{} line {} is not a result of grasp batch: --resume appends only to a batch's \
-                 own output",
-                out.display(),
-                n + 1
-            )
-        })?;
-        ids.insert(r.id);
-    }
-    Ok(ids)
+/// Where the result lines go: a temporary file moved into place on success, or (`--resume`)
+/// the output itself, appended to after the check of what it holds.
+enum Sink {
+    Fresh(PendingOutput),
+    Append(File),
 }
 
 /// Runs a batch of `input` into `flags.out`.
@@ -126,28 +117,37 @@ pub(crate) fn run(
     input_path: Option<&Path>,
     flags: &Flags,
 ) -> Result<ExitCode> {
-    let inputs: Vec<&Path> = input_path.into_iter().collect();
+    let named: Vec<&Path> = input_path.into_iter().collect();
+    limits::note_inputs(&input.files());
     // --resume appends to the output: it may exist (but may not be a folder, a link, an input).
-    output::check_targets(&[&flags.out], &inputs, flags.force || flags.resume)?;
+    let outs = output::claim(&[&flags.out], &named, flags.force || flags.resume)?;
     let shard = shard(flags.shard.as_deref())?;
-    let done = if flags.resume {
-        done_ids(&flags.out)?
+    let index = input.index()?;
+    let (done, sink) = if flags.resume {
+        let point = read_batch_output(&flags.out, &index, shard)?;
+        let file = outs.open_append(&flags.out)?;
+        if point
+            .identity
+            .is_some_and(|id| Some(id) != identity_of(&file))
+        {
+            bail!(
+                "{} changed while it was checked; run again",
+                flags.out.display()
+            );
+        }
+        if let Some(cut) = point.cut_at {
+            // The unfinished last line of an interrupted run (checked to be one).
+            file.set_len(cut).with_context(|| {
+                format!(
+                    "cannot cut the unfinished last line of {}",
+                    flags.out.display()
+                )
+            })?;
+        }
+        (point.done, Sink::Append(file))
     } else {
-        HashSet::new()
+        (HashSet::new(), Sink::Fresh(outs.create(&flags.out)?))
     };
-    let file = if flags.resume {
-        OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(&flags.out)
-    } else {
-        OpenOptions::new()
-            .create(true)
-            .write(true)
-            .truncate(true)
-            .open(&flags.out)
-    }
-    .with_context(|| format!("cannot write {}", flags.out.display()))?;
     let (limit, _) = limits::memory_limit(flags.max_memory);
     let options = BatchOptions {
         solve: SolveOptions {
@@ -159,25 +159,44 @@ pub(crate) fn run(
         max_memory_bytes: limit,
         ..BatchOptions::default()
     };
-    let scenes = input.for_each(&|_| false, &mut |_| Ok(()))?;
-    let in_shard = (0..scenes).filter(|&i| shard.takes(i)).count();
+    let in_shard = (0..index.scenes).filter(|&i| shard.takes(i)).count();
     let bar = ProgressBar::new(in_shard.saturating_sub(done.len()) as u64);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} scenes ({elapsed}, eta {eta})")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
+    let file = match &sink {
+        Sink::Fresh(p) => p.file_handle()?,
+        Sink::Append(f) => f.try_clone()?,
+    };
     let mut w = BufWriter::new(file);
-    let summary = run_batch(input, &done, &options, (&mut w, &flags.out), &mut |n| {
-        bar.set_position(n as u64)
-    })?;
+    let summary = run_batch(
+        input,
+        &index,
+        &done,
+        &options,
+        (&mut w, &flags.out),
+        &mut |n| bar.set_position(n as u64),
+    )?;
     w.flush()?;
+    drop(w);
     bar.finish_and_clear();
+    limits::note_inputs(&summary.inputs);
+    match sink {
+        Sink::Fresh(p) => outs.commit(vec![p])?,
+        Sink::Append(f) => f.sync_all()?,
+    }
     print!(
         "{}",
         summary_text(&summary, shard, pool_threads(flags.jobs))
     );
     println!("wrote {}", flags.out.display());
     Ok(ExitCode::SUCCESS)
+}
+
+/// The identity of an open file.
+fn identity_of(file: &File) -> Option<FileIdentity> {
+    file.metadata().ok().map(|m| FileIdentity::of(&m))
 }
 
 fn pool_threads(jobs: Option<usize>) -> usize {
@@ -212,18 +231,20 @@ fn summary_text(s: &BatchSummary, shard: Shard, threads: usize) -> String {
 /// `grasp batch --merge SHARDS --out OUT`.
 fn merge(shards: &[PathBuf], out: &Path, force: bool) -> Result<ExitCode> {
     let inputs: Vec<&Path> = shards.iter().map(PathBuf::as_path).collect();
-    output::check_targets(&[out], &inputs, force)?;
-    let lines = grasp_batch::merge::merge(shards)?;
-    let mut text = String::new();
-    for l in &lines {
-        text.push_str(&serde_json::to_string(l)?);
-        text.push('\n');
-    }
-    output::write_new(out, text.as_bytes(), force)?;
+    let outs = output::claim(&[out], &inputs, force)?;
+    let pending = outs.create(out)?;
+    let mut w = BufWriter::new(pending.file_handle()?);
+    let summary = grasp_batch::merge::merge(shards, &mut w, out)?;
+    w.flush()?;
+    drop(w);
+    let mut read = RunInputs::new();
+    shards.iter().for_each(|s| read.add_existing(s));
+    limits::note_inputs(&read);
+    outs.commit(vec![pending])?;
     println!(
-        "merged {} shards: {} results, none missing; wrote {}",
+        "merged {} shards: {} results, every scene exactly once; wrote {}",
         shards.len(),
-        lines.len(),
+        summary.lines,
         out.display()
     );
     Ok(ExitCode::SUCCESS)

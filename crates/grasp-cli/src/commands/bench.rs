@@ -311,8 +311,10 @@ fn batch_rate(
         ..grasp_batch::BatchOptions::default()
     };
     let t = Instant::now();
+    let index = input.index()?;
     let s = grasp_batch::run_batch(
         input,
+        &index,
         &Default::default(),
         &options,
         (&mut std::io::sink(), std::path::Path::new("(discarded)")),
@@ -330,7 +332,7 @@ fn batch_rate(
 /// discarded; rows: the median scenes per second of each over [`BATCH_ROUNDS`] alternating
 /// runs, and the ratio of the medians against its >= 1.8x target.
 fn batch_throughput(solver: SolverChoice, quick: bool) -> Result<Vec<Row>> {
-    use grasp_batch::sweep::{expand, Axis};
+    use grasp_batch::sweep::{Axis, Sweep};
     let (scene, _) = grasp_bench::case::bundled("cube_a").context("bundled cube_a")?;
     let scene: serde_json::Value = serde_json::from_str(scene)?;
     let weights = if quick { 20 } else { 100 };
@@ -338,12 +340,10 @@ fn batch_throughput(solver: SolverChoice, quick: bool) -> Result<Vec<Row>> {
         Axis::parse("fingers[*].friction.mu=0.4:1.0:10")?,
         Axis::parse(&format!("object.weight=1:10:{weights}"))?,
     ];
-    let lines: Vec<String> = expand(&scene, "cube_a", &axes)?
-        .into_iter()
-        .map(|(id, vary, scene)| {
-            serde_json::json!({"id": id, "vary": vary, "scene": scene}).to_string()
-        })
-        .collect();
+    let sweep = Sweep::new(scene, "cube_a", &axes)?;
+    let lines: Vec<String> = (0..sweep.len())
+        .map(|k| sweep.line(k))
+        .collect::<Result<_, _>>()?;
     let n = lines.len();
     let input = grasp_batch::BatchInput::Lines(lines);
     let cores = std::thread::available_parallelism().map_or(1, |c| c.get());

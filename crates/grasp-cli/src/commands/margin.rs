@@ -184,7 +184,7 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
         .flatten()
         .map(PathBuf::as_path)
         .collect();
-    output::check_targets(&targets, &[scene_path], outputs.force)?;
+    let outs = output::claim(&targets, &[scene_path], outputs.force)?;
     let mut scene = load_scene(scene_path)?;
     match flags.model.as_deref() {
         Some("coulomb") => scene.model = ModelKind::Coulomb,
@@ -213,7 +213,7 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
     );
     if let Some(out) = &outputs.json {
         let text = serde_json::to_string_pretty(&report)?;
-        output::write_new(out, text.as_bytes(), outputs.force)?;
+        outs.write(out, text.as_bytes())?;
         println!("wrote {}", out.display());
     }
     if let (Some(out), Some(format)) = (&outputs.plot, plot_format) {
@@ -221,7 +221,7 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
             model: &model,
             report: &report,
         };
-        output::write_new(out, &picture::render(&plot, format)?, outputs.force)?;
+        outs.write(out, &picture::render(&plot, format)?)?;
         println!("wrote {}", out.display());
     }
     if let Some(out) = &outputs.rrd {
@@ -230,10 +230,12 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
             model: &model,
             margins: false,
         };
-        let mut sink = RerunSink::create(out)?;
+        let pending = outs.create(out)?;
+        let mut sink = RerunSink::create_as(&pending.write_path(), out)?;
         sink.begin(&run)?;
         sink.log_wrench_surface(&run, &report)?;
         sink.finish()?;
+        outs.commit(vec![pending])?;
         println!("wrote {}", out.display());
     }
     // Exit 2 when the grasp does not hold undisturbed (no direction was searched); a direction

@@ -50,7 +50,7 @@ fn plot_command(
     max_memory: Option<u64>,
 ) -> Result<ExitCode> {
     let format = picture::Format::of(out, "--out")?;
-    output::check_targets(&[out], &[scene_path], force)?;
+    let outs = output::claim(&[out], &[scene_path], force)?;
     let scene = load_scene(scene_path)?;
     let (limit, what) = limits::memory_limit(max_memory);
     limits::check_memory(&scene, scene_path, (limit, &what))?;
@@ -71,7 +71,7 @@ fn plot_command(
         solution: &solution,
         title: &title,
     };
-    output::write_new(out, &picture::render(&diagram, format)?, force)?;
+    outs.write(out, &picture::render(&diagram, format)?)?;
     println!(
         "{}: {}; wrote {}",
         title,

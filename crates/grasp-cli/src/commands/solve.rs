@@ -68,7 +68,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         anyhow::bail!("--tolerance is {tolerance}; give a value in (0, 1e-2), e.g. 1e-10");
     }
     let outputs: Vec<&Path> = json.iter().map(PathBuf::as_path).collect();
-    output::check_targets(&outputs, &[&scene], force)?;
+    let outs = output::claim(&outputs, &[&scene], force)?;
     let scene_obj = load_scene(&scene)?;
     let (limit, what) = limits::memory_limit(memory.max_memory);
     limits::check_memory(&scene_obj, &scene, (limit, &what))?;
@@ -141,7 +141,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
             value["sensitivities"] = serde_json::to_value(sens)?;
         }
         let text = serde_json::to_string_pretty(&value)?;
-        output::write_new(out, text.as_bytes(), force)?;
+        outs.write(out, text.as_bytes())?;
         println!("wrote {}", out.display());
     }
     Ok(if solution.status.has_forces() {

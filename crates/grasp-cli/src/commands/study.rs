@@ -12,7 +12,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::limits::MemoryArg;
-use crate::output::{check_targets, commit_all, write_all, PendingOutput};
+use crate::output;
 use crate::pictures::picture::{self, draw_err, Picture};
 
 /// Peak resident memory of this process (Linux `VmHWM`), bytes. Grids run in ascending order,
@@ -90,7 +90,7 @@ fn run(
     let (csv, plot) = (out.csv, out.plot);
     let plot_format = plot.map(|p| picture::Format::of(p, "--plot")).transpose()?;
     let targets: Vec<&Path> = [csv, plot].into_iter().flatten().collect();
-    check_targets(&targets, &[scene], out.force)?;
+    let outs = output::claim(&targets, &[scene], out.force)?;
     let scene_obj = crate::load_scene::load_scene(scene)?;
     let limit = crate::limits::memory_limit(max_memory);
     let finest = grids.iter().copied().max().unwrap_or(1);
@@ -125,8 +125,8 @@ fn run(
     print!("{}", table_text(scene, reference, &rows, e1, e2));
     let mut pending = Vec::new();
     if let Some(p) = csv {
-        let (o, f) = PendingOutput::create(p)?;
-        write_all(&o, f, csv_text(&rows).as_bytes())?;
+        let mut o = outs.create(p)?;
+        o.write_all(csv_text(&rows).as_bytes())?;
         pending.push(o);
     }
     if let (Some(p), Some(format)) = (plot, plot_format) {
@@ -139,8 +139,8 @@ fn run(
         // A picture that cannot be drawn costs the study no other output.
         match picture::render(&chart, format) {
             Ok(bytes) => {
-                let (o, f) = PendingOutput::create(p)?;
-                write_all(&o, f, &bytes)?;
+                let mut o = outs.create(p)?;
+                o.write_all(&bytes)?;
                 pending.push(o);
             }
             Err(e) => eprintln!("warning: the plot {} was not written: {e:#}", p.display()),
@@ -148,7 +148,7 @@ fn run(
     }
     let written: Vec<std::path::PathBuf> =
         pending.iter().map(|o| o.target().to_path_buf()).collect();
-    commit_all(pending)?;
+    outs.commit(pending)?;
     for p in written {
         println!("wrote {}", p.display());
     }

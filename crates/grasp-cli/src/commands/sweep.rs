@@ -1,11 +1,13 @@
 //! `grasp sweep`: a grid of variants of one scene, written as JSONL for `grasp batch` or run
 //! at once.
 
+use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
 
 use anyhow::{bail, Result};
-use grasp_batch::sweep::{expand, Axis};
+use grasp_batch::sweep::{Axis, Sweep};
 use grasp_batch::BatchInput;
 use grasp_model::SolverChoice;
 
@@ -29,8 +31,8 @@ pub struct Args {
     /// Solve the variants now (as `grasp batch` would) and write their results.
     #[arg(long)]
     pub run: bool,
-    /// Worker threads for --run (default: one per core).
-    #[arg(long, value_name = "J")]
+    /// Worker threads for --run, at most 256 (default, or 0: one per core).
+    #[arg(long, value_name = "J", value_parser = crate::commands::batch::jobs_in_range)]
     pub jobs: Option<usize>,
     /// Overwrite OUT if it exists.
     #[arg(long)]
@@ -56,7 +58,8 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     sweep(&args.scene, &args.vary, args.run, &flags)
 }
 
-/// `grasp sweep SCENE --vary ... --out F`: the variants as JSONL, or (`run`) their results.
+/// `grasp sweep SCENE --vary ... --out F`: the variants as JSONL, or (`run`) their results;
+/// the variants are made one at a time (a million need no more memory than one).
 fn sweep(scene_path: &Path, vary: &[String], run_it: bool, flags: &Flags) -> Result<ExitCode> {
     // The base scene must be valid itself; its variants are checked line by line.
     crate::load_scene::load_scene(scene_path)?;
@@ -72,19 +75,23 @@ fn sweep(scene_path: &Path, vary: &[String], run_it: bool, flags: &Flags) -> Res
     let stem = scene_path
         .file_stem()
         .map_or("scene".into(), |s| s.to_string_lossy().into_owned());
-    let lines: Vec<String> = expand(&scene, &stem, &axes)?
-        .into_iter()
-        .map(|(id, vary, scene)| {
-            serde_json::json!({"id": id, "vary": vary, "scene": scene}).to_string()
-        })
-        .collect();
+    let sweep = Arc::new(Sweep::new(scene, &stem, &axes)?);
     if run_it {
-        return run(&BatchInput::Lines(lines), Some(scene_path), flags);
+        let input = BatchInput::Sweep {
+            sweep,
+            base: grasp_io::base_dir_of(scene_path),
+        };
+        return run(&input, Some(scene_path), flags);
     }
-    output::check_targets(&[&flags.out], &[scene_path], flags.force)?;
-    let mut body = lines.join("\n");
-    body.push('\n');
-    output::write_new(&flags.out, body.as_bytes(), flags.force)?;
-    println!("{} variants; wrote {}", lines.len(), flags.out.display());
+    let outs = output::claim(&[&flags.out], &[scene_path], flags.force)?;
+    let pending = outs.create(&flags.out)?;
+    let mut w = BufWriter::new(pending.file_handle()?);
+    for k in 0..sweep.len() {
+        writeln!(w, "{}", sweep.line(k)?)?;
+    }
+    w.flush()?;
+    drop(w);
+    outs.commit(vec![pending])?;
+    println!("{} variants; wrote {}", sweep.len(), flags.out.display());
     Ok(ExitCode::SUCCESS)
 }

@@ -14,9 +14,10 @@ use grasp_transfer::{
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::limits::MemoryArg;
-use crate::output::{check_targets, commit_all, write_all, PendingOutput};
+use crate::output::{self, Outputs as Claimed};
 use crate::pictures::force_history::ForceHistory;
 use crate::pictures::picture;
+use grasp_io::PendingOutput;
 
 /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
 #[derive(clap::Args, Debug)]
@@ -173,15 +174,15 @@ struct OpenSinks {
 }
 
 impl OpenSinks {
-    fn create(out: &Outputs) -> Result<OpenSinks> {
+    fn create(out: &Outputs, outs: &Claimed) -> Result<OpenSinks> {
         let mut pending = Vec::new();
-        // (open temporary file, its path, the target) of an output given.
+        // (open temporary file, a path that opens it, the target) of an output given.
         let mut open = |p: &Option<PathBuf>| -> Result<Option<(File, PathBuf, PathBuf)>> {
             let Some(p) = p else { return Ok(None) };
-            let (o, f) = PendingOutput::create(p)?;
-            let tmp = o.tmp().to_path_buf();
+            let o = outs.create(p)?;
+            let (f, path) = (o.file_handle()?, o.write_path());
             pending.push(o);
-            Ok(Some((f, tmp, p.clone())))
+            Ok(Some((f, path, p.clone())))
         };
         let mcap = open(&out.mcap)?
             .map(|(f, _, target)| McapSink::from_file(f, &target))
@@ -229,10 +230,11 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
         .as_deref()
         .map(|p| picture::Format::of(p, "--plot"))
         .transpose()?;
-    check_targets(&out.targets(), &[scene_path, schedule_path], out.force)?;
+    let outs = output::claim(&out.targets(), &[scene_path, schedule_path], out.force)?;
     let (scene, schedule) = load_inputs(scene_path, schedule_path, flags.max_memory)?;
+    outs.refuse_inputs_read()?;
     let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
-    let mut open = OpenSinks::create(out)?;
+    let mut open = OpenSinks::create(out, &outs)?;
     let bar = progress_bar(schedule.times.len());
     let options = TransferOptions {
         keep_going: flags.keep_going,
@@ -275,8 +277,8 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
         // A picture that cannot be drawn costs the run no other output.
         match picture::render(&h.picture(&title), format) {
             Ok(bytes) => {
-                let (o, f) = PendingOutput::create(p)?;
-                write_all(&o, f, &bytes)?;
+                let mut o = outs.create(p)?;
+                o.write_all(&bytes)?;
                 open.pending.push(o);
             }
             Err(e) => unplotted = Some(format!("{e:#}")),
@@ -291,7 +293,7 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
             None => println!("minimum squeeze: no step was solved"),
         }
     }
-    commit_all(std::mem::take(&mut open.pending))?;
+    outs.commit(std::mem::take(&mut open.pending))?;
     match unplotted {
         None => print!("{}", out.wrote()),
         Some(why) => {
@@ -324,6 +326,7 @@ fn load_inputs(
         .unwrap_or_default();
     let schedule = Schedule::from_json_str(&text, &names, &base)
         .with_context(|| format!("{} is not a usable schedule", schedule_path.display()))?;
+    crate::limits::note_inputs(&schedule.input_files);
     Ok((scene, schedule))
 }
 

@@ -43,6 +43,16 @@ pub fn from_str_strict<T: DeserializeOwned>(text: &str) -> Result<T, JsonError> 
     Ok(value)
 }
 
+/// Deserializes `T` from a value already parsed (strictly, with [`StrictValue`]), so a document
+/// inside a larger one (a batch line's scene) is not parsed again; field errors carry their
+/// full path, as with [`from_str_strict`].
+pub fn from_value_strict<T: DeserializeOwned>(value: Value) -> Result<T, JsonError> {
+    serde_path_to_error::deserialize(value).map_err(|e| {
+        let (path, message) = join_path(&e.path().to_string(), &e.inner().to_string());
+        JsonError { path, message }
+    })
+}
+
 /// Joins an outer path and a message that may carry an inner path (from [`variant`]).
 fn join_path(outer: &str, message: &str) -> (String, String) {
     let Some(rest) = message.strip_prefix(INNER) else {

@@ -94,7 +94,7 @@ impl Scene {
         Scene::from_json_str_with_meshes(text, &|m: &MeshSpec| {
             Err(format!(
                 "{}: this loader reads no files; load the scene with the grasp CLI, grasp.Scene \
-                 or grasp_mesh_io",
+                 or grasp_io",
                 m.file
             ))
         })
@@ -132,6 +132,25 @@ impl Scene {
                 crate::scene::strict_json::from_str_strict(&resolved).map_err(parse_error)?
             }
         };
+        scene.shape_report = report;
+        scene.normalize_directions();
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// As [`Scene::from_json_str_with_meshes`], from a JSON value already parsed strictly (no
+    /// key twice: [`StrictValue`]), so a scene inside a larger document (a batch line) is
+    /// parsed once: its shape resolved on the value, then the typed scene read from it.
+    pub fn from_value_with_meshes(
+        mut value: serde_json::Value,
+        load_mesh: &dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>,
+    ) -> Result<Scene, SceneError> {
+        let report = crate::scene::finger_placement::resolve_shapes(&mut value, load_mesh)?;
+        let mut scene: Scene =
+            crate::scene::strict_json::from_value_strict(value).map_err(|e| SceneError::Parse {
+                path: e.path,
+                message: e.message,
+            })?;
         scene.shape_report = report;
         scene.normalize_directions();
         scene.validate()?;

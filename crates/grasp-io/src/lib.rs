@@ -1,0 +1,38 @@
+//! # grasp-io: the files the project reads and writes
+//!
+//! The contact model does no I/O; every file the project touches goes through this crate, used
+//! by the CLI, `grasp-batch`, `grasp-transfer` (CSV profiles) and the Python module alike:
+//!
+//! - [`input_file`]: every read is of a regular file (never a FIFO, a device or a folder),
+//!   within a size limit of its kind, read with a bound even if the file grows; line files
+//!   (JSONL) line by line, each line bounded, a line that is not UTF-8 reported as such.
+//! - [`mesh_file`]: OBJ and STL meshes (an OBJ's materials are never read).
+//! - [`scene_file`]: scenes with their mesh files resolved against the scene's folder, and
+//!   every file read noted ([`run_inputs`]).
+//! - [`output_file`]: the one output policy (checked targets, inputs never overwritten, no
+//!   replacing without `force`, exclusive unguessable temporary files moved into place on
+//!   success); [`output_lock`]: every output locked for the run; [`temporary_files`]: the
+//!   live hidden files a signal handler removes.
+//! - [`machine_memory`]: the machine's memory, for default memory limits.
+//!
+//! Unix only (device and inode numbers, `O_NOFOLLOW`, `/proc/self/fd`, `flock`).
+
+pub mod error;
+pub mod input_file;
+pub mod machine_memory;
+pub mod mesh_file;
+pub mod output_file;
+pub mod output_lock;
+pub mod run_inputs;
+pub mod scene_file;
+pub mod sibling_names;
+pub mod temporary_files;
+
+pub use error::{InputFileError, OutputError, OutputErrorKind};
+pub use input_file::{FileIdentity, InputFile, InputKind};
+pub use mesh_file::read_mesh;
+pub use output_file::{OutputRules, OutputSet, PendingOutput};
+pub use run_inputs::RunInputs;
+pub use scene_file::{
+    base_dir_of, read_scene_file, scene_from_json_str, SceneFile, SceneFileError,
+};
