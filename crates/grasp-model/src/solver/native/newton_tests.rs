@@ -138,9 +138,9 @@ fn reduced_factor_reproduces_the_block_and_the_equality_rows() {
         out
     };
     let p = [column(0), column(1)];
-    for c in 0..2 {
+    for (c, column_c) in p.iter().enumerate() {
         // (L L')^-1 P e_c = e_c: a forward and a backward triangular solve.
-        let mut v = p[c].to_vec();
+        let mut v = column_c.to_vec();
         factor.forward(&mut v);
         factor.backward(&mut v);
         for (r, &vr) in v.iter().enumerate() {
