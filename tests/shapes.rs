@@ -464,3 +464,26 @@ fn a_scene_written_with_a_shape_solves_like_its_explicit_frames() {
     }
     same_forces(&explicit, &shaped);
 }
+
+/// The scene's warnings reach the solution (`Solution.warnings`, the CLI's JSON, Python,
+/// batch lines): a patch over a box's edge and two overlapping patches, first, whatever the
+/// outcome; the solve's own follow.
+#[test]
+fn a_solution_carries_the_scenes_warnings() {
+    let mut v = placed(
+        json!({"box": {"size": [0.1, 0.1, 0.1]}}),
+        json!({"point": [0.0495, 0.0, 0.05]}),
+    );
+    let mut g = v["fingers"][0].clone();
+    g["name"] = json!("g");
+    g["place"] = json!({"point": [0.0492, 0.0005, 0.05]});
+    v["fingers"].as_array_mut().unwrap().push(g);
+    let scene = load(&v).unwrap();
+    let expected = scene.shape_report.as_ref().unwrap().warnings.clone();
+    assert_eq!(expected.len(), 3, "{expected:?}");
+    // One side only: the fingers cannot hold the 1 N weight (no equilibrium), and the
+    // warnings are still there.
+    let sol = grasp_model::solve(&GraspModel::from_scene(&scene).unwrap()).unwrap();
+    assert!(!sol.status.has_forces(), "{:?}", sol.status);
+    assert_eq!(sol.warnings[..3], expected[..], "{:?}", sol.warnings);
+}

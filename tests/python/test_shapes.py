@@ -47,3 +47,29 @@ def test_the_recording_draws_the_object_as_its_mesh(tmp_path):
     assert out.returncode == 0, out.stderr
     lines = [l for l in out.stdout.splitlines() if " - /world/object - " in l]
     assert lines and "Mesh3D:triangle_indices" in lines[0] and "Mesh3D:vertex_positions" in lines[0], out.stdout[:2000]
+
+
+def _pinch_over_the_edge():
+    """The box pinch with both 10 mm pads 3 mm below the box's top edge: each hangs 2 mm over."""
+    d = json.loads((EXAMPLES / "box_pinch.json").read_text())
+    for f in d["fingers"]:
+        f["place"]["ray"]["origin"][2] = 0.097
+    return d
+
+
+def test_the_shape_warnings_reach_the_solution_and_the_cli_json(tmp_path, run_cli):
+    d = _pinch_over_the_edge()
+    scene = grasp.Scene(d)
+    assert len(scene.warnings) == 2, scene.warnings
+    for w, name in zip(scene.warnings, ["left", "right"]):
+        assert w.startswith(f"finger {name}: the patch hangs 2.000 mm over the edge"), w
+    sol = grasp.solve(scene)
+    assert sol.status == "solved"
+    assert sol.warnings[:2] == scene.warnings
+    # The CLI writes the same warnings into its JSON.
+    path, out = tmp_path / "pinch.json", tmp_path / "pinch.solution.json"
+    path.write_text(json.dumps(d))
+    p = run_cli("solve", path, "--json", out)
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert json.loads(out.read_text())["warnings"] == sol.warnings
+
