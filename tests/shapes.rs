@@ -348,6 +348,7 @@ fn a_cad_cylinder_of_long_strips_gives_its_radius() {
         let d = &s.shape_report.as_ref().unwrap().fingers[0];
         let radii = d.object_radius_m;
         let curved: Vec<f64> = radii.iter().flatten().copied().collect();
+        println!("CAD cylinder at y = {y}: radii {radii:?}");
         assert_eq!(curved.len(), 1, "one curved direction: {radii:?}");
         assert!(
             (curved[0] - r).abs() < 0.03 * r,
