@@ -685,7 +685,8 @@ fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
 /// within a twentieth of the facet angle of the cylinder's (the radial direction through the
 /// point; the facet's own normal errs by up to half the facet angle), the radius around
 /// within the facet angle (relative) and flat along the axis: the fit takes no vertex of the
-/// caps. On the rim, or beyond it, the contact is refused as on the primitive cylinder.
+/// caps; a patch reaching over the rim is warned of. On the rim, or beyond it, the contact is
+/// refused as on the primitive cylinder.
 #[test]
 fn tessellated_cylinders_have_flat_caps_and_a_side_fitted_apart_from_its_rims() {
     let (r, h) = (0.02, 0.03);
@@ -753,6 +754,12 @@ fn tessellated_cylinders_have_flat_caps_and_a_side_fitted_apart_from_its_rims() 
             assert!(
                 err <= facet / 20.0,
                 "{name} at a = {a}, z = {z}: {err:.2e} rad"
+            );
+            // The 2 mm patch 0.3 mm from a rim hangs over it; at mid-height it does not.
+            let over = report.warnings.iter().any(|w| w.contains("over the edge"));
+            assert!(
+                over == (h - z.abs() < 5e-4) || z.abs() == h - 1e-3,
+                "{name} at z = {z}"
             );
             let curved: Vec<f64> = d.object_radius_m.iter().flatten().copied().collect();
             assert_eq!(
@@ -973,4 +980,36 @@ fn a_solution_carries_the_scenes_warnings() {
     let sol = grasp_model::solve(&GraspModel::from_scene(&scene).unwrap()).unwrap();
     assert!(!sol.status.has_forces(), "{:?}", sol.status);
     assert_eq!(sol.warnings[..3], expected[..], "{:?}", sol.warnings);
+}
+
+/// A box as an STL file stores it: turned about a skew axis, then every coordinate rounded
+/// to single precision (6e-8 relative). Its faces are still flat regions (within 1e-6 of
+/// their size of a plane): each contact gets the face's normal to within 1e-6 rad of the
+/// turned box's exact one (the file's own precision), no curvature, and no edge in a face.
+#[test]
+fn a_box_stored_in_single_precision_still_has_flat_faces() {
+    let exact = uniform_box(HALF, 4, BoxCut::Grid);
+    let rounded = TriangleMesh {
+        vertices_m: exact
+            .vertices_m
+            .iter()
+            .map(|&p| world(p).map(|x| f64::from(x as f32)))
+            .collect(),
+        triangles: exact.triangles.clone(),
+    };
+    for k in 0..3 {
+        for s in [-1.0, 1.0] {
+            let mut n = [0.0; 3];
+            n[k] = s;
+            let inward = world_dir(n).map(|x| -x);
+            for p in face_points(k, s) {
+                let off = world([0, 1, 2].map(|c| p[c] + 2e-4 * n[c]));
+                let v = placed(json!({"mesh": {"file": "box.stl"}}), json!({"point": off}));
+                let scene = load_with_mesh(&v, &rounded).unwrap_or_else(|e| panic!("{p:?}: {e}"));
+                let d = &scene.shape_report.as_ref().unwrap().fingers[0];
+                assert!(angle(d.normal, inward) <= 1e-6, "{p:?}: {:?}", d.normal);
+                assert_eq!(d.curvature_per_m, [0.0, 0.0], "{p:?}");
+            }
+        }
+    }
 }
