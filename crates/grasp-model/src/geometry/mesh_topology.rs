@@ -229,10 +229,13 @@ fn orient(vertices: &[Vector3<f64>], triangles: &mut [[u32; 3]]) -> Vec<bool> {
             t.swap(1, 2);
         }
     }
-    for p in 0..parts {
-        let members: Vec<usize> = (0..triangles.len()).filter(|&k| part[k] == p).collect();
-        if signed_volume_about_centre(vertices, triangles, &members) < 0.0 {
-            for &k in &members {
+    let mut members = vec![Vec::new(); parts];
+    for (k, &p) in part.iter().enumerate() {
+        members[p].push(k);
+    }
+    for members in &members {
+        if signed_volume_about_centre(vertices, triangles, members) < 0.0 {
+            for &k in members {
                 triangles[k].swap(1, 2);
                 turned[k] = !turned[k];
             }
