@@ -55,6 +55,10 @@ pub struct ResultLine {
     /// The problems of an invalid scene.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub problems: Vec<InputProblem>,
+    /// What the user should know about the answer: the scene's warnings (its shape checks)
+    /// and the solve's (as the solution's `warnings`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// The sweep variant's parameters, when the line came from `grasp sweep`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vary: Option<Value>,
@@ -90,6 +94,7 @@ impl ResultLine {
             status,
             reason: sol.reason.clone(),
             problems: Vec::new(),
+            warnings: sol.warnings.clone(),
             vary: None,
             fingers: sol
                 .fingers
@@ -121,6 +126,7 @@ impl ResultLine {
                 .first()
                 .map(|p| format!("{}: {}", p.path, p.message)),
             problems,
+            warnings: Vec::new(),
             vary: None,
             fingers: Vec::new(),
             equilibrium_residual: None,
@@ -128,5 +134,86 @@ impl ResultLine {
             solver: None,
             time_s: 0.0,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashSet;
+
+    use serde_json::{json, Value};
+
+    use crate::{run_batch, BatchInput, BatchOptions};
+
+    /// The box pinch with both pads 3 mm below the box's top edge: each 10 mm pad hangs 2 mm
+    /// over it (a shape warning), and the grasp still holds.
+    fn pinch_over_the_edge(z_m: f64) -> Value {
+        let finger = |name: &str, y: f64, load: Option<f64>| {
+            let mut f = json!({
+                "name": name,
+                "place": {"ray": {"origin": [0.0, y, z_m], "direction": [0.0, -y.signum(), 0.0]}},
+                "material": {"youngs_modulus": 2e6, "poisson_ratio": 0.45},
+                "patch": {"size": [0.01, 0.01], "grid": [5, 5]},
+                "friction": {"mu": 0.8}
+            });
+            if let Some(p) = load {
+                f["control"] = json!({"normal_load": p});
+            }
+            f
+        };
+        json!({
+            "object": {
+                "density": 700,
+                "material": {"youngs_modulus": 1.1e10, "poisson_ratio": 0.3},
+                "shape": {"box": {"size": [0.06, 0.04, 0.1]}, "position": [0, 0, 0.05]}
+            },
+            "fingers": [finger("left", 0.2, None), finger("right", -0.2, Some(10.0))]
+        })
+    }
+
+    /// A batch line carries the scene's warnings (a pad over the box's edge, 2.000 mm for
+    /// each finger, the text the shape check writes) whatever else it holds; a scene without
+    /// warnings writes no `warnings` key.
+    #[test]
+    fn a_batch_line_carries_the_scenes_warnings() {
+        let dir = std::env::temp_dir().join(format!("grasp-batch-warnings-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let input = dir.join("in.jsonl");
+        let lines = [pinch_over_the_edge(0.097), pinch_over_the_edge(0.055)]
+            .map(|v| v.to_string())
+            .join("\n");
+        std::fs::write(&input, lines + "\n").unwrap();
+        let mut out = Vec::new();
+        run_batch(
+            &BatchInput::open(&input).unwrap(),
+            &HashSet::new(),
+            &BatchOptions::default(),
+            (&mut out, &dir.join("out.jsonl")),
+            &mut |_| {},
+        )
+        .unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<Value> = text
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        assert_eq!(lines.len(), 2, "{text}");
+        assert_eq!(lines[0]["status"], "solved", "{text}");
+        let warnings: Vec<&str> = lines[0]["warnings"]
+            .as_array()
+            .unwrap_or_else(|| panic!("no warnings: {text}"))
+            .iter()
+            .map(|w| w.as_str().unwrap())
+            .collect();
+        for name in ["left", "right"] {
+            assert!(
+                warnings.iter().any(|w| w.starts_with(&format!(
+                    "finger {name}: the patch hangs 2.000 mm over the edge"
+                ))),
+                "{warnings:?}"
+            );
+        }
+        assert!(lines[1].get("warnings").is_none(), "{text}");
+        std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -260,3 +260,93 @@ fn missing_output_folders_are_created() {
     assert!(o.status.success(), "{}", text(&o));
     assert!(out.is_file());
 }
+
+/// The shape's warnings reach `solve --json` and are printed once: a box pinch on an OBJ
+/// box without its bottom face (open: a warning), with both 10 mm pads 3 mm below the top
+/// edge (each hangs 2 mm over it: a warning per finger).
+#[test]
+fn solve_json_carries_the_shape_warnings() {
+    let dir = tmp("warnings");
+    let corners: Vec<[f64; 3]> = (0..8)
+        .map(|i| {
+            [
+                (i & 1) as f64 * 60.0 - 30.0,
+                ((i >> 1) & 1) as f64 * 40.0 - 20.0,
+                ((i >> 2) & 1) as f64 * 100.0,
+            ]
+        })
+        .collect();
+    // The box's faces but its bottom (z = 0), counter-clockwise seen from outside.
+    let faces = [
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
+    ];
+    let mut obj = String::new();
+    for c in &corners {
+        obj += &format!("v {} {} {}\n", c[0], c[1], c[2]);
+    }
+    for f in faces {
+        obj += &format!("f {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1);
+    }
+    std::fs::write(dir.join("open_box.obj"), obj).unwrap();
+    let mut scene: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(example("box_pinch.json")).unwrap()).unwrap();
+    let object = scene["object"].as_object_mut().unwrap();
+    object.remove("density");
+    object.insert("weight".into(), serde_json::json!(1.6));
+    object.insert("center_of_mass".into(), serde_json::json!([0, 0, 0.05]));
+    object.insert(
+        "shape".into(),
+        serde_json::json!({"mesh": {"file": "open_box.obj", "unit": "mm"}}),
+    );
+    for f in scene["fingers"].as_array_mut().unwrap() {
+        f["place"]["ray"]["origin"][2] = serde_json::json!(0.097);
+    }
+    let path = dir.join("scene.json");
+    std::fs::write(&path, scene.to_string()).unwrap();
+    let out = dir.join("solution.json");
+    let o = grasp(&[
+        "solve",
+        path.to_str().unwrap(),
+        "--json",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let warnings: Vec<&str> = v["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w.as_str().unwrap())
+        .collect();
+    assert_eq!(warnings.len(), 3, "{warnings:?}");
+    assert!(
+        warnings[0].contains("the mesh is not closed (4 edges with one triangle only)"),
+        "{warnings:?}"
+    );
+    for (w, name) in warnings[1..].iter().zip(["left", "right"]) {
+        assert!(
+            w.starts_with(&format!(
+                "finger {name}: the patch hangs 2.000 mm over the edge"
+            )),
+            "{w}"
+        );
+    }
+    let printed = String::from_utf8_lossy(&o.stdout);
+    for w in &warnings {
+        assert_eq!(
+            printed.matches(&format!("warning: {w}")).count(),
+            1,
+            "{printed}"
+        );
+    }
+}

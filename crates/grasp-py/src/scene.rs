@@ -110,7 +110,8 @@ impl Scene {
         crate::json_value::serialize_to_py(py, &self.scene.shape_report)
     }
 
-    /// Warnings of the shape checks (a patch over an edge, overlapping patches).
+    /// Warnings of the shape checks (a patch over an edge, overlapping patches, a mesh that
+    /// is not closed); every `Solution` of the scene begins with them.
     #[getter]
     fn warnings(&self) -> Vec<String> {
         self.scene

@@ -41,7 +41,9 @@ impl Solution {
         self.solution.reason.clone()
     }
 
-    /// Things to know about an otherwise valid answer (undersized patches, ...).
+    /// Things to know about the answer: first the scene's (`Scene.warnings`: a patch over
+    /// an edge, overlapping patches, an open mesh; whatever the status), then the solve's
+    /// own (undersized patches, ...). The CLI's JSON and batch lines carry the same list.
     #[getter]
     fn warnings(&self) -> Vec<String> {
         self.solution.warnings.clone()

@@ -76,11 +76,9 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         print!("{}", report::hertz_table(&scene_obj)?);
     }
     if let Some(r) = &scene_obj.shape_report {
+        // Its warnings are the solution's (printed with it, written with `--json`).
         if explain_frames {
             print!("{}", report::frames_table(r));
-        }
-        for w in &r.warnings {
-            println!("warning: {w}");
         }
     } else if explain_frames {
         println!("frames: the scene has no object.shape; every frame is as written");

@@ -1,15 +1,19 @@
 //! Triangle meshes: the data a mesh file gives ([`TriangleMesh`], read by the I/O layer),
 //! its volume integrals, and the surface queries of a mesh object ([`MeshSurface`]): closest
-//! point and ray hits through parry's bounding-volume tree, and the normal, principal
-//! directions and curvatures estimated by a least-squares quadric fit to the vertices around
-//! the point (the osculating paraboloid; do Carmo 3-3, the shape operator of a graph
-//! `z = f(x, y)` from its first and second fundamental forms).
+//! point and ray hits through parry's bounding-volume tree; on a flat region (a face bounded
+//! by sharp edges, [`crate::geometry::mesh_topology`]) the region's exact normal; elsewhere the
+//! normal, principal directions and curvatures estimated by a least-squares quadric fit to the
+//! vertices of the point's smooth region around it (the osculating paraboloid; do Carmo 3-3,
+//! the shape operator of a graph `z = f(x, y)` from its first and second fundamental forms),
+//! so that no fit reaches across a sharp edge; and points on sharp edges and corners marked as
+//! such, as on the primitives.
 
 use nalgebra::{DMatrix, DVector, Matrix2, Vector3};
 use parry3d_f64::math::Vector as PVec;
-use parry3d_f64::query::{PointQuery, Ray, RayCast};
+use parry3d_f64::query::{PointQueryWithLocation, Ray, RayCast};
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
+use crate::geometry::mesh_topology::{MeshDefects, MeshTopology};
 use crate::geometry::surface_point::{perpendicular, SurfaceFeature, SurfacePoint};
 
 /// A triangle mesh in metres (local frame of the shape), triangles counter-clockwise seen
@@ -47,13 +51,19 @@ impl TriangleMesh {
 /// Fewest vertices of the curvature fit around a point.
 pub const FIT_VERTICES: usize = 12;
 
+/// A point within this fraction of the mesh's size (its largest half extent) of a sharp
+/// edge is on the edge, as on a primitive box (`1e-9` of its largest half side).
+pub const EDGE_TOLERANCE: f64 = 1e-9;
+
 /// A mesh object ready for queries.
 #[derive(Debug, Clone)]
 pub struct MeshSurface {
     mesh: TriangleMesh,
     trimesh: TriMesh,
-    /// Mean length of the edges at each vertex, m: the local mesh size.
-    vertex_edge_m: Vec<f64>,
+    topology: MeshTopology,
+    vertices: Vec<Vector3<f64>>,
+    /// Distance within which a point is on a sharp edge, m ([`EDGE_TOLERANCE`]).
+    edge_tolerance_m: f64,
 }
 
 fn pv(v: &Vector3<f64>) -> PVec {
@@ -65,45 +75,74 @@ fn nv(v: PVec) -> Vector3<f64> {
 }
 
 impl MeshSurface {
-    /// Prepares `mesh` (turned over if wound clockwise; duplicate vertices merged).
+    /// Prepares `mesh`: vertices at the same place merged, each connected part wound alike
+    /// and outward (triangles turned over where needed, [`MeshTopology`]), the sharp edges
+    /// and smooth regions found.
     pub fn new(mut mesh: TriangleMesh) -> Result<MeshSurface, String> {
-        if mesh.triangles.is_empty() {
-            return Err("has no triangles".into());
+        check_indices_and_numbers(&mesh)?;
+        let vertices: Vec<Vector3<f64>> =
+            mesh.vertices_m.iter().map(|v| Vector3::from(*v)).collect();
+        let topology = MeshTopology::new(&vertices, &mesh.triangles);
+        if topology.triangles.is_empty() {
+            return Err("has no triangle with three distinct vertices".into());
         }
-        if mesh.volume_and_centroid().0 < 0.0 {
-            for t in &mut mesh.triangles {
-                t.swap(1, 2);
+        for (&k, &turned) in topology.source.iter().zip(&topology.turned) {
+            if turned {
+                mesh.triangles[k].swap(1, 2);
             }
         }
-        let vertices: Vec<PVec> = mesh
-            .vertices_m
-            .iter()
-            .map(|v| pv(&Vector3::from(*v)))
-            .collect();
-        let flags = TriMeshFlags::MERGE_DUPLICATE_VERTICES
-            | TriMeshFlags::DELETE_DEGENERATE_TRIANGLES
-            | TriMeshFlags::ORIENTED;
-        let trimesh = TriMesh::with_flags(vertices, mesh.triangles.clone(), flags)
-            .map_err(|e| format!("is not a usable triangle mesh: {e}"))?;
-        let vertex_edge_m = vertex_edge_lengths(&trimesh);
+        let trimesh = TriMesh::with_flags(
+            vertices.iter().map(pv).collect(),
+            topology.triangles.clone(),
+            TriMeshFlags::ORIENTED,
+        )
+        .map_err(|e| format!("is not a usable triangle mesh: {e}"))?;
+        let size_m = (0..3)
+            .map(|c| {
+                let (lo, hi) = vertices.iter().fold((f64::MAX, f64::MIN), |(lo, hi), v| {
+                    (lo.min(v[c]), hi.max(v[c]))
+                });
+                (hi - lo) / 2.0
+            })
+            .fold(0.0, f64::max);
         Ok(MeshSurface {
             mesh,
             trimesh,
-            vertex_edge_m,
+            topology,
+            vertices,
+            edge_tolerance_m: EDGE_TOLERANCE * size_m,
         })
     }
 
-    /// The mesh as read (outward winding).
+    /// The mesh as read, each triangle wound outward.
     pub fn mesh(&self) -> &TriangleMesh {
         &self.mesh
     }
 
-    /// The surface point closest to `p` (local frame) with its fitted geometry.
+    /// Why the mesh does not bound a solid, if it does not.
+    pub fn defects(&self) -> MeshDefects {
+        self.topology.defects
+    }
+
+    /// The surface point closest to `p` (local frame): on a flat region (a face bounded by
+    /// sharp edges) its exact normal and no curvature; elsewhere the geometry fitted to the
+    /// vertices of its smooth region (a quadric fit). Within [`EDGE_TOLERANCE`] of
+    /// a sharp edge the point is on an edge (three sharp edges at a vertex: a corner).
     pub fn closest(&self, p: &Vector3<f64>) -> Result<SurfacePoint, String> {
-        let proj = self.trimesh.project_local_point(pv(p), false);
+        if !p.iter().all(|x| x.is_finite()) {
+            return Err("is not a finite point".into());
+        }
+        let (proj, (triangle, _)) = self
+            .trimesh
+            .project_local_point_and_get_location(pv(p), false);
         let q = nv(proj.point);
+        let region = self.topology.region_of[triangle as usize] as usize;
+        let mut s = match self.topology.regions[region].flat_normal {
+            Some(n) => flat_point(&q, &n),
+            None => self.fit_at(&q, triangle as usize)?,
+        };
+        s.feature = self.feature_at(&q, region);
         let sign = if proj.is_inside { -1.0 } else { 1.0 };
-        let mut s = self.fit_at(&q)?;
         s.distance_m = sign * (p - q).norm();
         Ok(s)
     }
@@ -114,23 +153,68 @@ impl MeshSurface {
             .cast_local_ray(&Ray::new(pv(o), pv(d)), f64::MAX, true)
     }
 
-    /// The vertices used for the fit at `q`: those within 1.5 local edge lengths (the mean
-    /// edge at the nearest vertex), and at least the [`FIT_VERTICES`] nearest. A wider
-    /// neighbourhood feels the surface's higher-order terms: on a sphere the quadric's error
-    /// grows like (radius / R)^2.
-    fn neighbourhood(&self, q: &Vector3<f64>) -> Vec<Vector3<f64>> {
-        let mut by_distance: Vec<(f64, usize)> = self
+    /// The sharp edges bounding the smooth region of the surface point closest to `p`
+    /// (local) that pass within `radius_m` of it, as segments (local, m).
+    pub fn region_edges_near(&self, p: &Vector3<f64>, radius_m: f64) -> Vec<[Vector3<f64>; 2]> {
+        let (proj, (triangle, _)) = self
             .trimesh
-            .vertices()
+            .project_local_point_and_get_location(pv(p), false);
+        let q = nv(proj.point);
+        let region = self.topology.region_of[triangle as usize] as usize;
+        self.topology.regions[region]
+            .boundary
             .iter()
-            .enumerate()
-            .map(|(i, v)| ((nv(*v) - q).norm(), i))
+            .map(|e| e.map(|v| self.vertices[v as usize]))
+            .filter(|[a, b]| segment_distance(&q, a, b) <= radius_m)
+            .collect()
+    }
+
+    /// Face, edge or corner: the point `q` of `region` is on an edge within the edge
+    /// tolerance of a sharp edge bounding the region, on a corner within it of a vertex of
+    /// that edge where three or more sharp edges meet.
+    fn feature_at(&self, q: &Vector3<f64>, region: usize) -> SurfaceFeature {
+        let tol = self.edge_tolerance_m;
+        let mut feature = SurfaceFeature::Face;
+        for e in &self.topology.regions[region].boundary {
+            let [a, b] = e.map(|v| self.vertices[v as usize]);
+            if segment_distance(q, &a, &b) > tol {
+                continue;
+            }
+            feature = SurfaceFeature::Edge;
+            let corner = e.iter().any(|&v| {
+                self.topology.sharp_at_vertex[v as usize] >= 3
+                    && (self.vertices[v as usize] - q).norm() <= tol
+            });
+            if corner {
+                return SurfaceFeature::Vertex;
+            }
+        }
+        feature
+    }
+
+    /// The vertices of the smooth `region` used for the fit at `q`: those on the same side
+    /// of the surface as the triangle `q` lies on (`facing` its normal; not the far side of
+    /// a tube or a thin shell, which may be as near), within 1.5 local edge lengths (the mean
+    /// length of the region's edges at its vertex nearest `q`), and at least the
+    /// [`FIT_VERTICES`] nearest. A wider neighbourhood feels the surface's higher-order terms:
+    /// on a sphere the quadric's error grows like (radius / R)^2.
+    fn neighbourhood(
+        &self,
+        q: &Vector3<f64>,
+        region: usize,
+        facing: &Vector3<f64>,
+    ) -> Vec<Vector3<f64>> {
+        let mut by_distance: Vec<(f64, u32)> = self.topology.regions[region]
+            .vertices
+            .iter()
+            .filter(|&&i| self.region_vertex_normal(i, region).dot(facing) > 0.0)
+            .map(|&i| ((self.vertices[i as usize] - q).norm(), i))
             .collect();
-        by_distance.sort_by(|a, b| a.0.total_cmp(&b.0));
+        by_distance.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let radius = 1.5
             * by_distance
                 .first()
-                .map_or(0.0, |&(_, i)| self.vertex_edge_m[i]);
+                .map_or(0.0, |&(_, i)| self.region_edge_m(i, region));
         let n = by_distance
             .iter()
             .take_while(|(d, _)| *d <= radius)
@@ -139,15 +223,42 @@ impl MeshSurface {
         by_distance
             .into_iter()
             .take(n)
-            .map(|(_, i)| nv(self.trimesh.vertices()[i]))
+            .map(|(_, i)| self.vertices[i as usize])
             .collect()
     }
 
-    /// Area-weighted normal of the triangles with a vertex among `near` (outward).
-    fn reference_normal(&self, q: &Vector3<f64>, radius: f64) -> Vector3<f64> {
+    /// Sum of the unit normals of `region`'s triangles at vertex `v`.
+    fn region_vertex_normal(&self, v: u32, region: usize) -> Vector3<f64> {
+        self.topology.vertex_triangles[v as usize]
+            .iter()
+            .filter(|&&t| self.topology.region_of[t as usize] as usize == region)
+            .map(|&t| self.topology.normals[t as usize])
+            .sum()
+    }
+
+    /// Mean length of the edges of `region`'s triangles at vertex `v`, m.
+    fn region_edge_m(&self, v: u32, region: usize) -> f64 {
+        let (mut total, mut count) = (0.0, 0usize);
+        for &t in &self.topology.vertex_triangles[v as usize] {
+            if self.topology.region_of[t as usize] as usize != region {
+                continue;
+            }
+            for &w in &self.topology.triangles[t as usize] {
+                if w != v {
+                    total += (self.vertices[w as usize] - self.vertices[v as usize]).norm();
+                    count += 1;
+                }
+            }
+        }
+        total / count.max(1) as f64
+    }
+
+    /// Area-weighted normal of the triangles of `region` around `q` (outward): weights
+    /// falling off beyond `radius`, none beyond twice it.
+    fn reference_normal(&self, q: &Vector3<f64>, radius: f64, region: usize) -> Vector3<f64> {
         let mut n = Vector3::zeros();
-        for t in self.trimesh.indices() {
-            let [a, b, c] = t.map(|i| nv(self.trimesh.vertices()[i as usize]));
+        for &t in &self.topology.regions[region].triangles {
+            let [a, b, c] = self.topology.triangles[t as usize].map(|i| self.vertices[i as usize]);
             let centre = (a + b + c) / 3.0;
             let w = 1.0 / (1.0 + ((centre - q).norm() / radius).powi(2));
             n += (b - a).cross(&(c - a)) * w * f64::from((centre - q).norm() <= 2.0 * radius);
@@ -155,18 +266,20 @@ impl MeshSurface {
         n.normalize()
     }
 
-    /// Normal, principal directions and curvatures at the surface point `q` from a height
-    /// function `w = f(u, v)` fitted to the nearby vertices in a frame `(u, v, w)` with `w`
-    /// along the reference normal ([`height_fit`]). When the neighbourhood is wide against the
-    /// curvature it finds (long thin CAD facets force that: the nearest vertices may be far
-    /// along a facet), the fit is repeated on the vertices within about 30 degrees of arc of
-    /// `q` by that first estimate (`|h| k_max <= 1/8`, `h` its quadratic height), if at least
-    /// [`FIT_VERTICES`] remain: further round, the surface turns away and a polynomial over
-    /// the tangent plane no longer follows it.
-    fn fit_at(&self, q: &Vector3<f64>) -> Result<SurfacePoint, String> {
-        let near = self.neighbourhood(q);
+    /// Normal, principal directions and curvatures at the surface point `q` of `triangle`
+    /// (in a smooth region) from a height function `w = f(u, v)` fitted to the region's vertices nearby,
+    /// in a frame `(u, v, w)` with `w` along the reference normal ([`height_fit`]): vertices
+    /// beyond a sharp edge are not on this surface and are not used. When the neighbourhood
+    /// is wide against the curvature it finds (long thin CAD facets force that: the nearest
+    /// vertices may be far along a facet), the fit is repeated on the vertices within about
+    /// 30 degrees of arc of `q` by that first estimate (`|h| k_max <= 1/8`, `h` its quadratic
+    /// height), if at least [`FIT_VERTICES`] remain: further round, the surface turns away
+    /// and a polynomial over the tangent plane no longer follows it.
+    fn fit_at(&self, q: &Vector3<f64>, triangle: usize) -> Result<SurfacePoint, String> {
+        let region = self.topology.region_of[triangle] as usize;
+        let near = self.neighbourhood(q, region, &self.topology.normals[triangle]);
         let radius = near.iter().map(|p| (p - q).norm()).fold(0.0, f64::max);
-        let w = self.reference_normal(q, radius);
+        let w = self.reference_normal(q, radius, region);
         if !w.iter().all(|x| x.is_finite()) {
             return Err("lies where the mesh has no usable normal".into());
         }
@@ -210,8 +323,14 @@ impl MeshSurface {
 /// describes is left out).
 const ARC_WINDOW: f64 = 0.125;
 
-/// Singular values below this fraction of the largest count as zero in [`fit_terms`].
-const RANK_TOLERANCE: f64 = 1e-8;
+/// Singular values below this fraction of the largest count as zero in [`fit_terms`]
+/// (columns scaled to unit length). The vertices lie on the true surface, which departs
+/// from the fitted quadric by a few per cent of its quadratic height within the fit's
+/// window (the quartic term: `(arc)^2 / 12`, 2 % at 30 degrees); a term the vertices set
+/// apart from the others by less than 1e-3 would carry that departure magnified a
+/// thousandfold. At 1e-8 (round-off only), two rows of vertices seen slightly askew (the
+/// rims of long facets, 1 mm below one rim) kept `u^2` and tilted the normal by 90 degrees.
+const RANK_TOLERANCE: f64 = 1e-3;
 
 /// A quadric height function over the tangent plane: axes and the coefficients of
 /// `1, u, v, u^2, uv, v^2` (zero where the term was not fitted).
@@ -305,14 +424,21 @@ fn fit_terms(a: &DMatrix<f64>) -> Vec<usize> {
 }
 
 /// Tangent axes `(u, v)` (with `w` right-handed) along the principal directions of the
-/// offsets' spread in the tangent plane, `u` the wider: the fit's frame follows the sampling,
-/// so that on two rows of vertices the aliased terms are whole terms ([`fit_terms`]).
+/// offsets' spread in the tangent plane (their covariance about their mean), `u` the wider:
+/// the fit's frame follows the sampling, so that on two rows of vertices the aliased terms
+/// are whole terms ([`fit_terms`]). About the mean, not the surface point: two rows holding
+/// the same positions along them (the rims of long facets) have no covariance across, so
+/// the axes lie along the rows wherever the point is between them.
 fn spread_axes(offsets: &[Vector3<f64>], w: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
     let u0 = perpendicular(w);
     let v0 = w.cross(&u0);
+    let plane: Vec<(f64, f64)> = offsets.iter().map(|d| (d.dot(&u0), d.dot(&v0))).collect();
+    let count = plane.len().max(1) as f64;
+    let mean_x = plane.iter().map(|p| p.0).sum::<f64>() / count;
+    let mean_y = plane.iter().map(|p| p.1).sum::<f64>() / count;
     let mut cov = Matrix2::zeros();
-    for d in offsets {
-        let (x, y) = (d.dot(&u0), d.dot(&v0));
+    for (x, y) in plane {
+        let (x, y) = (x - mean_x, y - mean_y);
         cov += Matrix2::new(x * x, x * y, x * y, y * y);
     }
     let eig = cov.symmetric_eigen();
@@ -379,23 +505,57 @@ fn principal_direction(shape: &Matrix2<f64>, lambda: f64) -> (f64, f64) {
     (-row[1], row[0])
 }
 
-/// Mean length of the edges meeting at each vertex of `m`, m.
-fn vertex_edge_lengths(m: &TriMesh) -> Vec<f64> {
-    let mut total = vec![0.0; m.vertices().len()];
-    let mut count = vec![0usize; m.vertices().len()];
-    for t in m.indices() {
-        for k in 0..3 {
-            let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
-            let len = (m.vertices()[a] - m.vertices()[b]).length();
-            for v in [a, b] {
-                total[v] += len;
-                count[v] += 1;
-            }
-        }
+/// Refuses a mesh without triangles, with a vertex that is not a finite number, or with a
+/// triangle naming a vertex it does not have.
+fn check_indices_and_numbers(mesh: &TriangleMesh) -> Result<(), String> {
+    if mesh.triangles.is_empty() {
+        return Err("has no triangles".into());
     }
-    total
+    if let Some(i) = mesh
+        .vertices_m
         .iter()
-        .zip(&count)
-        .map(|(t, c)| t / (*c).max(1) as f64)
-        .collect()
+        .position(|v| !v.iter().all(|x| x.is_finite()))
+    {
+        return Err(format!(
+            "has a vertex that is not a finite number (vertex {})",
+            i + 1
+        ));
+    }
+    let count = mesh.vertices_m.len();
+    match mesh
+        .triangles
+        .iter()
+        .position(|t| t.iter().any(|&i| i as usize >= count))
+    {
+        Some(t) => Err(format!(
+            "triangle {} names a vertex the mesh does not have",
+            t + 1
+        )),
+        None => Ok(()),
+    }
+}
+
+/// A point of a flat region: the region's normal, no curvature.
+fn flat_point(q: &Vector3<f64>, n: &Vector3<f64>) -> SurfacePoint {
+    let d1 = perpendicular(n);
+    SurfacePoint {
+        point_m: *q,
+        outward_normal: *n,
+        directions: [d1, n.cross(&d1)],
+        curvatures_per_m: [0.0, 0.0],
+        feature: SurfaceFeature::Face,
+        distance_m: 0.0,
+    }
+}
+
+/// Distance of `q` from the segment `a b`, m.
+fn segment_distance(q: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    let t = if len2 > 0.0 {
+        ((q - a).dot(&ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (q - (a + ab * t)).norm()
 }

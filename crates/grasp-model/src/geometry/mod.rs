@@ -4,6 +4,7 @@
 
 pub mod contact_frame;
 pub mod mesh_surface;
+pub mod mesh_topology;
 pub mod primitive_surface;
 pub mod shape;
 pub mod shape_spec;

@@ -11,6 +11,7 @@
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::geometry::mesh_surface::{MeshSurface, TriangleMesh};
+use crate::geometry::mesh_topology::MeshDefects;
 use crate::geometry::primitive_surface::Primitive;
 pub use crate::geometry::shape_spec::{
     BoxSpec, CylinderSpec, LengthUnit, MeshSpec, ShapeSpec, SphereSpec,
@@ -81,7 +82,8 @@ impl Shape {
 
     /// The first surface point hit by the ray from `origin` along `direction` (world; the
     /// direction need not be unit), or `None` when it misses. A ray starting inside the
-    /// object is refused.
+    /// object is refused (not on a mesh that is not closed: it has no inside; a ray may then
+    /// hit the back of a triangle, which the caller checks).
     pub fn ray_hit(
         &self,
         origin: &Vector3<f64>,
@@ -92,7 +94,7 @@ impl Shape {
             .rotation
             .inverse_transform_vector(direction)
             .normalize();
-        if self.closest(origin)?.distance_m < 0.0 {
+        if self.open_mesh().is_none() && self.closest(origin)?.distance_m < 0.0 {
             return Err("starts inside the object".into());
         }
         let hit = match &self.local {
@@ -112,7 +114,17 @@ impl Shape {
         }
     }
 
-    /// Volume, m^3, and centroid, m (world).
+    /// Why the shape does not bound a solid: the defects of a mesh that is not closed
+    /// (`None` for a closed mesh and for the primitives, which always are).
+    pub fn open_mesh(&self) -> Option<MeshDefects> {
+        match &self.local {
+            LocalShape::Mesh(m) if !m.defects().is_closed() => Some(m.defects()),
+            _ => None,
+        }
+    }
+
+    /// Volume, m^3, and centroid, m (world): for a mesh, of the closed surface its triangles
+    /// form (meaningless when it is not closed, [`Shape::open_mesh`]).
     pub fn volume_and_centroid(&self) -> (f64, Vector3<f64>) {
         let (v, c) = match &self.local {
             LocalShape::Primitive(p) => (p.volume_m3(), Vector3::zeros()),

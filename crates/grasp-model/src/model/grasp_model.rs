@@ -127,6 +127,9 @@ pub struct ObjectModel {
     pub plane: Option<MotionPlane>,
     /// Contact law.
     pub kind: ModelKind,
+    /// The scene's warnings (its shape checks: a patch over an edge, overlapping patches, an
+    /// open mesh), carried by every solution of the model.
+    pub scene_warnings: Vec<String>,
 }
 
 /// The immutable grasp model.
@@ -433,6 +436,10 @@ fn object_model(scene: &Scene) -> ObjectModel {
         material: Material::from(&o.material),
         plane,
         kind: scene.model,
+        scene_warnings: scene
+            .shape_report
+            .as_ref()
+            .map_or_else(Vec::new, |r| r.warnings.clone()),
     }
 }
 

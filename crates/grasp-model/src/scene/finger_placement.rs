@@ -10,6 +10,7 @@ use serde_json::{json, Map, Value};
 
 use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
+use crate::geometry::mesh_topology::MeshDefects;
 use crate::geometry::shape::{MeshSpec, Shape, ShapeSpec, SurfaceFeature, SurfacePoint};
 pub use crate::geometry::shape_spec::{PlaceSpec, RaySpec};
 use crate::scene::patch_on_shape::{overhang_warning, overlap_warnings};
@@ -75,7 +76,8 @@ pub fn resolve_shapes(
     let shape = Shape::new(&spec, mesh)
         .map_err(|e| SceneError::Invalid(vec![problem("object.shape", e, "give a closed mesh")]))?;
     let (volume_m3, centroid) = shape.volume_and_centroid();
-    let mass_kg = apply_density(scene, volume_m3, &centroid)?;
+    let open = shape.open_mesh();
+    let mass_kg = apply_density(scene, volume_m3, &centroid, open)?;
     let plane = scene
         .pointer("/planar/normal")
         .and_then(vec3_at)
@@ -93,9 +95,11 @@ pub fn resolve_shapes(
     if !problems.is_empty() {
         return Err(SceneError::Invalid(problems));
     }
-    let mut warnings: Vec<String> = (0..count)
-        .filter_map(|i| overhang_warning(&scene["fingers"][i], &shape))
+    let mut warnings: Vec<String> = open
+        .iter()
+        .map(|d| open_mesh_warning(d, volume_m3))
         .collect();
+    warnings.extend((0..count).filter_map(|i| overhang_warning(&scene["fingers"][i], &shape)));
     warnings.extend(overlap_warnings(&scene["fingers"]));
     Ok(Some(ShapeReport {
         volume_m3,
@@ -137,15 +141,39 @@ fn no_shape(scene: &Value) -> Result<(), SceneError> {
     }
 }
 
+/// The warning for a mesh that is not closed: its volume is not the object's.
+fn open_mesh_warning(d: &MeshDefects, volume_m3: f64) -> String {
+    format!(
+        "object.shape.mesh: the mesh is not closed ({}): the volume its triangles give \
+         ({volume_m3:.6e} m^3) and its centroid are not the object's, and whether a point is \
+         inside or outside is uncertain near the gaps (close the mesh: every edge shared by \
+         two triangles)",
+        d.describe()
+    )
+}
+
 /// Weight and centre of mass from `object.density` (kg/m^3): `W = rho V g0`, at the centroid.
+/// Refused on a mesh that is not closed (`open`): the volume its triangles give then depends
+/// on where the origin is, and is not the object's.
 fn apply_density(
     scene: &mut Value,
     volume_m3: f64,
     centroid: &Vector3<f64>,
+    open: Option<MeshDefects>,
 ) -> Result<Option<f64>, SceneError> {
     let Some(rho) = scene.pointer("/object/density").cloned() else {
         return Ok(None);
     };
+    if let Some(d) = open {
+        return Err(SceneError::Invalid(vec![problem(
+            "object.density",
+            format!(
+                "needs a closed mesh, and object.shape.mesh is not closed ({}): its volume is not the object's",
+                d.describe()
+            ),
+            "give object.weight (N) and object.center_of_mass (m) instead, or close the mesh (every edge shared by two triangles)",
+        )]));
+    }
     let fix = "give the density in kg/m^3, in [1e-3, 1e5] (aluminium: 2700)";
     let rho = match rho.as_f64() {
         Some(r) if (1e-3..=1e5).contains(&r) => r,
@@ -157,9 +185,13 @@ fn apply_density(
             )]))
         }
     };
-    let object = scene["object"]
-        .as_object_mut()
-        .expect("object is an object");
+    let Some(object) = scene["object"].as_object_mut() else {
+        return Err(SceneError::Invalid(vec![problem(
+            "object",
+            "is not an object".into(),
+            "give the object as {\"density\": ..., \"shape\": ...}",
+        )]));
+    };
     for key in ["weight", "center_of_mass"] {
         if object.contains_key(key) {
             return Err(SceneError::Invalid(vec![problem(
@@ -201,7 +233,13 @@ fn place_finger(
             "give {\"point\": [x, y, z]} or {\"ray\": {\"origin\": [...], \"direction\": [...]}}",
         )
     })?;
-    let obj = f.as_object_mut().expect("a finger is an object");
+    let Some(obj) = f.as_object_mut() else {
+        return Err(problem(
+            &format!("fingers[{i}]"),
+            "is not an object".into(),
+            "give each finger as {\"name\": ..., ...}",
+        ));
+    };
     for key in ["contact_point", "normal", "tangent", "object_radius"] {
         if obj.get(key).is_some_and(|v| !v.is_null()) {
             return Err(problem(
@@ -223,11 +261,11 @@ fn place_finger(
         return Err(problem(
             &path,
             format!(
-                "lands on an {} of the shape at {:?}, where the normal is not defined",
+                "lands on {} of the shape at {:?}, where the normal is not defined",
                 if s.feature == SurfaceFeature::Edge {
-                    "edge"
+                    "an edge"
                 } else {
-                    "corner"
+                    "a corner"
                 },
                 arr(&s.point_m)
             ),
@@ -309,6 +347,18 @@ fn surface_point(
                     ),
                     "aim the ray at the object",
                 )),
+                // Only a mesh that is not closed lets a ray from outside meet the back of
+                // a triangle; the finger would push the surface from the wrong side.
+                Ok(Some(s)) if shape.open_mesh().is_some() && s.outward_normal.dot(&d) > 0.0 => {
+                    Err(problem(
+                        &format!("{path}.ray"),
+                        format!(
+                            "from {:?} along {:?} meets the back of the mesh at {:?} (the mesh is not closed, and its triangles face away from the ray there)",
+                            r.origin, r.direction, arr(&s.point_m)
+                        ),
+                        "approach from the side the triangles face (counter-clockwise seen from outside), or close the mesh",
+                    ))
+                }
                 Ok(Some(s)) => Ok((s, "ray")),
             }
         }

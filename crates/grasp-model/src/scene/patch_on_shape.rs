@@ -1,5 +1,6 @@
 //! Checks of the patches against the shape: a patch hanging over the edge of a flat face
-//! (box faces, cylinder caps) or past the end of a cylinder's side, and patches of two
+//! (box faces, cylinder caps), past the end of a cylinder's side or over a sharp edge of a
+//! mesh, and patches of two
 //! fingers that overlap. Warnings, not errors: the solve still runs, the elements beyond an
 //! edge are simply not on the object.
 
@@ -7,6 +8,7 @@ use nalgebra::Vector3;
 use serde_json::Value;
 
 use crate::geometry::contact_frame::ContactFrame;
+use crate::geometry::mesh_surface::MeshSurface;
 use crate::geometry::primitive_surface::Primitive;
 use crate::geometry::shape::{LocalShape, Shape};
 
@@ -36,15 +38,20 @@ fn corners(frame: &ContactFrame, half: [f64; 2]) -> [Vector3<f64>; 4] {
 }
 
 /// How far the patch of finger `f` reaches past the face it lies on, m (0 when inside), for
-/// box faces, cylinder caps and cylinder sides; `None` for other shapes.
+/// box faces, cylinder caps and cylinder sides, and the smooth regions of a mesh (bounded by
+/// its sharp edges, [`mesh_overhang_m`]); `None` for other shapes.
 fn overhang_m(frame: &ContactFrame, half: [f64; 2], shape: &Shape) -> Option<f64> {
-    let LocalShape::Primitive(prim) = &shape.local else {
-        return None;
-    };
     let local = |p: &Vector3<f64>| {
         shape
             .rotation
             .inverse_transform_vector(&(p - shape.position_m))
+    };
+    let prim = match &shape.local {
+        LocalShape::Primitive(prim) => prim,
+        LocalShape::Mesh(m) => {
+            let axes = [frame.t1, frame.t2].map(|t| shape.rotation.inverse_transform_vector(&t));
+            return Some(mesh_overhang_m(m, &local(&frame.origin_m), axes, half));
+        }
     };
     let n = shape.rotation.inverse_transform_vector(&frame.normal);
     let cs = corners(frame, half).map(|c| local(&c));
@@ -69,6 +76,68 @@ fn overhang_m(frame: &ContactFrame, half: [f64; 2], shape: &Shape) -> Option<f64
         }),
         _ => None,
     }
+}
+
+/// How far a patch centred on `c` (local frame of the mesh) with axes `[t1, t2]` and half
+/// sides `half` reaches past the sharp edges bounding the smooth region it lies on, m: in the
+/// patch's plane, each such edge that crosses the rectangle is a line, and the patch's
+/// overhang is the largest distance of a corner beyond it (away from the centre). For a face
+/// of a box this is the primitive box's overhang.
+fn mesh_overhang_m(
+    m: &MeshSurface,
+    c: &Vector3<f64>,
+    [t1, t2]: [Vector3<f64>; 2],
+    half: [f64; 2],
+) -> f64 {
+    let reach = half[0].hypot(half[1]);
+    let in_plane = |p: &Vector3<f64>| [(p - c).dot(&t1), (p - c).dot(&t2)];
+    let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .map(|(a, b)| [a * half[0], b * half[1]]);
+    let mut over: f64 = 0.0;
+    for [a, b] in m.region_edges_near(c, reach) {
+        let (a, b) = (in_plane(&a), in_plane(&b));
+        if !segment_meets_rectangle(a, b, half) {
+            continue;
+        }
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len = d[0].hypot(d[1]);
+        if len == 0.0 {
+            continue;
+        }
+        // Unit normal of the edge's line pointing away from the patch centre.
+        let mut out = [d[1] / len, -d[0] / len];
+        if out[0] * a[0] + out[1] * a[1] < 0.0 {
+            out = [-out[0], -out[1]];
+        }
+        for k in &corners {
+            over = over.max((k[0] - a[0]) * out[0] + (k[1] - a[1]) * out[1]);
+        }
+    }
+    over
+}
+
+/// True when the segment `a b` (plane coordinates) meets the rectangle `|x| <= half[0]`,
+/// `|y| <= half[1]` (Liang-Barsky clipping).
+fn segment_meets_rectangle(a: [f64; 2], b: [f64; 2], half: [f64; 2]) -> bool {
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    for i in 0..2 {
+        let d = b[i] - a[i];
+        for (p, q) in [(-d, a[i] + half[i]), (d, half[i] - a[i])] {
+            if p == 0.0 {
+                if q < 0.0 {
+                    return false;
+                }
+            } else {
+                let t = q / p;
+                if p < 0.0 {
+                    lo = lo.max(t);
+                } else {
+                    hi = hi.min(t);
+                }
+            }
+        }
+    }
+    lo <= hi
 }
 
 /// The warning for a patch that hangs over an edge of the shape, if it does.

@@ -105,6 +105,9 @@ impl GraspSolver {
         let clock = Instant::now();
         let mut sol = self.dispatch(model, loads_n, state, clock)?;
         enforce_invariant(&mut sol);
+        // The scene's warnings hold whatever the outcome; the solve's own follow them.
+        let scene_warnings = model.object.scene_warnings.iter().cloned();
+        sol.warnings.splice(0..0, scene_warnings);
         sol.solve_time_s = clock.elapsed().as_secs_f64() + self.pending_assembly_s;
         self.pending_assembly_s = 0.0;
         Ok(sol)

@@ -257,7 +257,9 @@ pub struct Solution {
     pub status: SolveStatus,
     /// Why, when the status is not `solved`.
     pub reason: Option<String>,
-    /// Things the user should know about an otherwise valid answer (undersized patches).
+    /// Things the user should know about the answer: first the scene's (its shape checks: a
+    /// patch over an edge, overlapping patches, an open mesh; kept whatever the status), then
+    /// the solve's own (undersized patches).
     pub warnings: Vec<String>,
     /// Per finger, scene order (empty without forces).
     pub fingers: Vec<FingerSolution>,
