@@ -184,8 +184,10 @@ mod tests {
             .join("\n");
         std::fs::write(&input, lines + "\n").unwrap();
         let mut out = Vec::new();
+        let source = BatchInput::open(&input).unwrap();
         run_batch(
-            &BatchInput::open(&input).unwrap(),
+            &source,
+            &source.index().unwrap(),
             &HashSet::new(),
             &BatchOptions::default(),
             (&mut out, &dir.join("out.jsonl")),
