@@ -64,7 +64,7 @@ def parser():
     h.add_argument("--rrd", help="replay's Rerun recording, with MuJoCo's forces beside this project's")
     h.add_argument("--csv", help="replay's CSV history")
     h.add_argument("--margins", action="store_true", help="every step's smallest disturbance margin (slow)")
-    h.add_argument("--threshold", type=float, metavar="N", help="flag steps whose smallest margin is below N newtons")
+    h.add_argument("--threshold", type=float, metavar="N", help="flag steps whose smallest margin is below N newtons (implies --margins)")
     return top
 
 
@@ -161,7 +161,8 @@ def run_handoff(args):
         print(f"{len(h.times_s)} steps, fingers {', '.join(h.finger_names)}")
         print("wrote " + ", ".join(outs))
         return 0
-    replay = h.replay(mcap=args.mcap, rrd=args.rrd, csv=args.csv, margins=args.margins, threshold_n=args.threshold,
+    replay = h.replay(mcap=args.mcap, rrd=args.rrd, csv=args.csv, margins=args.margins or args.threshold is not None,
+                      threshold_n=args.threshold,
                       overwrite=args.force, inputs=inputs_of(args), also=outs)
     print(replay.summary_text())
     print("wrote " + ", ".join(list(outs) + replay_outs))

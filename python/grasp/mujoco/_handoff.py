@@ -229,17 +229,39 @@ class HandoffReplay:
             "largest_normal_load_difference_n": float(np.nanmax(np.abs(
                 np.where(np.isnan(run.commanded_loads_n), 0.0, run.commanded_loads_n) - h.normal_forces_n))),
             "contact_drift_m": h.contact_drift_m,
+            "friction_difference_n": self.friction_differences(),
             "largest_slip_speed_m_per_s": float(np.max(h.slip_speeds_m_per_s)),
             "summary": run.summary,
         }
 
+    def friction_differences(self):
+        """Per finger, the largest difference between the elastic model's friction force and
+        MuJoCo's (N, vector difference) over the steps the elastic model solved, and its step."""
+        q = np.nan_to_num(self.run.tangential_forces_n)
+        ok = np.array([s in ("solved", "reduced_accuracy") for s in self.run.statuses])
+        diff = np.linalg.norm(q - self.handoff.friction_forces_n, axis=2)
+        diff[~ok] = 0.0
+        out = {}
+        for j, name in enumerate(self.handoff.finger_names):
+            i = int(np.argmax(diff[:, j]))
+            out[name] = {"largest_n": float(diff[i, j]), "step": i, "time_s": float(self.handoff.times_s[i])}
+        return out
+
     def summary_text(self):
         d = self.to_dict()
+        s = d["summary"]
         lines = [f"{d['steps']} steps: MuJoCo held the object in {d['mujoco_held_steps']} (contacts sliding slower than "
                  f"{1e3 * self.handoff.hold_speed_m_per_s:g} mm/s; fastest {1e3 * d['largest_slip_speed_m_per_s']:.3g} mm/s), "
                  f"the elastic model found an equilibrium in {d['elastic_solved_steps']}"]
         drift = ", ".join(f"{k} {1e3 * v:.3g} mm" for k, v in d["contact_drift_m"].items())
         lines.append(f"contact drift on the object over the rollout (kept fixed in the replay): {drift}")
+        fd = ", ".join(f"{k} {v['largest_n']:.3g} N (t = {v['time_s']:.3g} s)" for k, v in d["friction_difference_n"].items())
+        lines.append(f"friction force, elastic model against MuJoCo, largest difference: {fd}")
+        if s.get("receiving"):
+            half, full = s.get("half_transfer_time_s"), s.get("full_transfer_time_s")
+            lines.append(f"elastic replay: {', '.join(s['receiving'])} receive from {', '.join(s['releasing'])}; "
+                         f"half the load at t = {'-' if half is None else f'{half:.4g} s'}, all at "
+                         f"t = {'-' if full is None else f'{full:.4g} s'}")
         flagged = d["flagged_steps"]
         what = "no equilibrium" + ("" if self.threshold_n is None else f" or a margin below {self.threshold_n:g} N")
         if flagged:
@@ -283,10 +305,24 @@ def schedule_from_rollout(model, rollout, object_body, materials=None, patch=Non
         poses.append(pose(data, b) + (np.array(data.xipos[b], dtype=float),))
         wrenches.append(contact_wrench(contacts, np.array(data.xipos[b], dtype=float)))
         speeds.append(max(sp) if sp else 0.0)
-    keys = sorted({k for s in per_step for k in s}, key=lambda k: (k[1], k[0]))
-    if not keys:
-        raise NoContactError(f"body '{model.body(b).name}' touches no other body in any of the {len(rollout)} states",
+    loaded = [i for i, s in enumerate(per_step) if any(fl.normal_force_n > 0 for fl, _ in s.values())]
+    if not loaded:
+        raise NoContactError(f"body '{model.body(b).name}' is held by no contact in any of the {len(rollout)} states",
                              "give the rollout of a grasp, or the grasped object's body")
+    warnings = []
+    first, last = loaded[0], loaded[-1]
+    if first > 0 or last < len(rollout) - 1:
+        # Before the first and after the last loaded contact nothing holds the object (it falls
+        # into the grasp, or flies off): the elastic model has nothing to solve there.
+        warnings.append(f"states {'0' if first else ''}{f'..{first - 1}' if first > 1 else ''}"
+                        f"{', ' if first and last < len(rollout) - 1 else ''}"
+                        f"{f'{last + 1}..{len(rollout) - 1}' if last < len(rollout) - 1 else ''} left out: "
+                        "no contact carries load there (t = "
+                        f"{rollout.time[first]:.6g} to {rollout.time[last]:.6g} s kept)")
+        keep = slice(first, last + 1)
+        rollout = rollout.rows(keep)
+        per_step, poses, wrenches, speeds = per_step[keep], poses[keep], wrenches[keep], speeds[keep]
+    keys = sorted({k for s in per_step for k in s}, key=lambda k: (k[1], k[0]))
     names = finger_names(model, keys)
     x0, r0, _ = poses[0]
 
@@ -296,7 +332,6 @@ def schedule_from_rollout(model, rollout, object_body, materials=None, patch=Non
         return (lambda p: a @ (np.asarray(p) - x) + x0), (lambda v: a @ np.asarray(v))
 
     # The scene's object: its weight, centre of mass and shape at the first state.
-    warnings = []
     rollout.apply(data, 0)
     mujoco.mj_forward(model, data)
     weight, com, gravity, shape, files = object_part(

@@ -47,6 +47,8 @@ def write_mujoco_layer(path, steps, m_per_n):
     of (index, time_s, [(name, normal_force_n, normal, friction_force_n, cop, points)])."""
     rr = require_rerun()
     rec = rr.RecordingStream(APPLICATION_ID, recording_id=RECORDING_ID, make_default=False, make_thread_default=False)
+    rec.set_log_time_enabled(False)  # the step and schedule time only, as the project's recordings
+    rec.set_log_tick_enabled(False)
     rec.save(path)
     for index, time_s, fingers in steps:
         rec.set_time("step", sequence=int(index))

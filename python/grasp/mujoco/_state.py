@@ -171,6 +171,10 @@ class Rollout:
             out[k] = a
         return Rollout(**out)
 
+    def rows(self, index):
+        """The rollout's rows ``index`` (a slice or index array)."""
+        return Rollout(**{k: np.asarray(getattr(self, k))[index] for k in ROLLOUT_KEYS})
+
     def apply(self, data, i):
         """Puts row ``i`` into ``data`` (``mj_forward`` left to the caller)."""
         data.time = float(self.time[i])
