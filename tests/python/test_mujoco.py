@@ -453,3 +453,31 @@ def test_mujoco_existing_outputs_are_kept_without_force(tmp_path):
     assert python_m(*args, "--force").returncode == 0
     assert json.loads(target.read_text())["fingers"][0]["name"] == "jaw_left"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.json"]  # no temporary left
+
+
+def test_mujoco_a_state_file_gives_the_keyframes_scene(pinch, tmp_path):
+    model, data, g = pinch
+    np.savez(tmp_path / "state.npz", qpos=data.qpos, qvel=data.qvel, ctrl=data.ctrl, time=[data.time])
+    again = gm.scene_from(model, gm.load_state(model, qpos=tmp_path / "state.npz"), "box",
+                          materials=MJ / "pinch.materials.json")
+    assert again.scene_dict == g.scene_dict
+    proc = python_m("scene", PINCH, "--object", "box", "--qpos", tmp_path / "state.npz", "--materials",
+                    MJ / "pinch.materials.json", "--out", tmp_path / "s.json", "--no-margin")
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads((tmp_path / "s.json").read_text())["fingers"] == g.scene_dict["fingers"]
+
+
+def test_mujoco_readme_section_shows_the_commands_and_the_pinch_table(pinch):
+    text = (ROOT / "README.md").read_text()
+    if "## From MuJoCo" not in text:
+        pytest.skip("README.md has no 'From MuJoCo' section yet")
+    section = text[text.index("## From MuJoCo"):]
+    section = section[:section.index("\n## ", 3)] if "\n## " in section[3:] else section
+    assert "python -m grasp.mujoco scene examples/mujoco/pinch.xml" in section
+    assert "python -m grasp.mujoco handoff examples/mujoco/handoff.xml" in section
+    _, _, g = pinch
+    table = [line for line in gm.compare(g, margins=False).table(markdown=True).splitlines() if line.startswith("|")]
+    shown = [line for line in section.splitlines() if line.startswith("| finger |")]
+    assert shown, "the section has no side-by-side table"
+    start = section.splitlines().index(shown[0])
+    assert section.splitlines()[start:start + len(table)] == table

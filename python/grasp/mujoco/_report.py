@@ -94,8 +94,9 @@ class Report:
 
     def table(self, markdown=False):
         """The side-by-side table (text, or Markdown for a README)."""
-        head = ["finger", "contacts", "MuJoCo P [N]", "MuJoCo |Q| [N]", "MuJoCo |Q|/(mu P)",
-                "grasp P [N]", "grasp |Q| [N]", "grasp |Q|/(mu P)", "stick/slip/sep"]
+        # Friction |Q| and utilisation |Q| / (mu P) are spelled out: a '|' would split a Markdown cell.
+        head = ["finger", "contacts", "MuJoCo P [N]", "MuJoCo friction [N]", "MuJoCo utilisation",
+                "grasp P [N]", "grasp friction [N]", "grasp utilisation", "stick/slip/sep"]
         body = []
         for r in self.rows():
             m, g = r["mujoco"], r["grasp"]
