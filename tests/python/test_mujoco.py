@@ -453,6 +453,8 @@ def test_mujoco_existing_outputs_are_kept_without_force(tmp_path):
     assert python_m(*args, "--force").returncode == 0
     assert json.loads(target.read_text())["fingers"][0]["name"] == "jaw_left"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.json"]  # no temporary left
+    proc = python_m("scene", PINCH, "--object", "box", "--out", tmp_path / "t.json", "--colour", "red")
+    assert proc.returncode == 1 and "unrecognized arguments: --colour red" in proc.stderr  # usage errors exit 1
 
 
 def test_mujoco_a_state_file_gives_the_keyframes_scene(pinch, tmp_path):

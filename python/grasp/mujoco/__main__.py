@@ -20,6 +20,14 @@ from ._errors import MujocoError
 PROG = "python -m grasp.mujoco"
 
 
+class Parser(argparse.ArgumentParser):
+    """Usage errors exit 1, as every bad input of the project's commands."""
+
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        self.exit(1, f"{self.prog}: error: {message}\n")
+
+
 def common(p):
     p.add_argument("model", help="MuJoCo model: MJCF .xml or .mjb")
     p.add_argument("--object", required=True, help="the grasped object's body (name)")
@@ -31,8 +39,8 @@ def common(p):
 
 
 def parser():
-    top = argparse.ArgumentParser(prog=PROG, description="A grasp or a hand-off from MuJoCo, solved by the elastic contact model.")
-    sub = top.add_subparsers(dest="command", required=True)
+    top = Parser(prog=PROG, description="A grasp or a hand-off from MuJoCo, solved by the elastic contact model.")
+    sub = top.add_subparsers(dest="command", required=True, parser_class=Parser)
     s = sub.add_parser("scene", help="a grasp scene from one MuJoCo state, and MuJoCo's forces beside this project's")
     common(s)
     state = s.add_mutually_exclusive_group()

@@ -19,6 +19,7 @@ import os
 import re
 import tempfile
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Callable, Optional, Union
 
 import numpy as np
 
@@ -39,6 +40,9 @@ from ._scene import (
     warning_counts,
 )
 from ._state import Rollout
+
+if TYPE_CHECKING:
+    import mujoco
 
 PLAIN_NAME = re.compile(r"^[A-Za-z0-9_.:-]+$")
 
@@ -68,7 +72,8 @@ def load_controller(spec):
     return f
 
 
-def simulate(model, data, controller, steps, every=1):
+def simulate(model: "mujoco.MjModel", data: "mujoco.MjData", controller: Union[str, Callable], steps: int,
+             every: int = 1) -> Rollout:
     """Runs ``steps`` MuJoCo steps from the state of ``data``; before each step
     ``controller(model, data)`` sets the controls. Records the state (with its controls and
     the solver's warm start, so ``mj_forward`` there gives the forces ``mj_step`` used) every
@@ -277,8 +282,11 @@ def pose(data, b):
     return np.array(data.xpos[b], dtype=float), np.array(data.xmat[b], dtype=float).reshape(3, 3)
 
 
-def schedule_from_rollout(model, rollout, object_body, materials=None, patch=None, contact_model="coulomb",
-                          hold_speed_m_per_s=HOLD_SPEED_M_PER_S, description=None, mesh_name=None):
+def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict, str, "os.PathLike[str]"],
+                          object_body: Union[str, int], materials: Union[None, dict, str, "os.PathLike[str]"] = None,
+                          patch: Optional[dict] = None, contact_model: str = "coulomb",
+                          hold_speed_m_per_s: float = HOLD_SPEED_M_PER_S, description: Optional[str] = None,
+                          mesh_name: Optional[str] = None) -> "Handoff":
     """A scene plus a load schedule from a MuJoCo rollout (a :class:`Rollout`, an .npz path, or
     a dict of arrays: time, qpos, qvel, and optionally ctrl, act, qacc_warmstart, mocap_pos,
     mocap_quat). ``mj_forward`` runs at every row. Returns a :class:`Handoff`: ``write(PREFIX)``
@@ -314,11 +322,12 @@ def schedule_from_rollout(model, rollout, object_body, materials=None, patch=Non
     if first > 0 or last < len(rollout) - 1:
         # Before the first and after the last loaded contact nothing holds the object (it falls
         # into the grasp, or flies off): the elastic model has nothing to solve there.
-        warnings.append(f"states {'0' if first else ''}{f'..{first - 1}' if first > 1 else ''}"
-                        f"{', ' if first and last < len(rollout) - 1 else ''}"
-                        f"{f'{last + 1}..{len(rollout) - 1}' if last < len(rollout) - 1 else ''} left out: "
-                        "no contact carries load there (t = "
-                        f"{rollout.time[first]:.6g} to {rollout.time[last]:.6g} s kept)")
+        n = len(rollout)
+        spans = [(0, first - 1)] if first > 0 else []
+        spans += [(last + 1, n - 1)] if last < n - 1 else []
+        spans = ", ".join(str(a) if a == b else f"{a}..{b}" for a, b in spans)
+        warnings.append(f"states {spans} left out: no contact carries load there "
+                        f"(t = {rollout.time[first]:.6g} to {rollout.time[last]:.6g} s kept)")
         keep = slice(first, last + 1)
         rollout = rollout.rows(keep)
         per_step, poses, wrenches, speeds = per_step[keep], poses[keep], wrenches[keep], speeds[keep]

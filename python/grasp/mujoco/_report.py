@@ -8,9 +8,14 @@ import math
 import os
 import tempfile
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ._files import check_targets, write_all
+
+if TYPE_CHECKING:
+    from ._scene import MujocoGrasp
 
 # MuJoCo "holds" the object while its contacts slide slower than this (m/s): MuJoCo's soft
 # friction lets a pinched object creep at a steady rate, which is reported, not called a drop.
@@ -183,7 +188,8 @@ def recording(grasp_state, out_path, tmp):
     return out_path
 
 
-def compare(grasp_state, margins=True, solver="auto", hold_speed_m_per_s=HOLD_SPEED_M_PER_S):
+def compare(grasp_state: "MujocoGrasp", margins: bool = True, solver: str = "auto",
+            hold_speed_m_per_s: float = HOLD_SPEED_M_PER_S) -> Report:
     """Solves the scene of a :class:`MujocoGrasp` and puts it beside MuJoCo's forces.
 
     ``margins``: also find the smallest disturbance margin over the axis directions (one

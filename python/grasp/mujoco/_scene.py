@@ -6,6 +6,7 @@ import math
 import os
 import tempfile
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Optional, Union
 
 import numpy as np
 
@@ -24,6 +25,9 @@ from ._geometry import (
     surface_at,
 )
 from ._materials import MaterialMap, compliance
+
+if TYPE_CHECKING:
+    import mujoco
 
 CONTROLS = ("held", "mujoco-force")
 MODELS = ("energy", "coulomb")
@@ -374,8 +378,10 @@ def mujoco_finger(model, fl, name, slip_speed):
         slip_speed_m_per_s=slip_speed, points_m=np.array([c.point_m for c in fl.contacts]))
 
 
-def scene_from(model, data, object_body, materials=None, patch=None, control="mujoco-force", contact_model="energy",
-               description=None, mesh_name=None):
+def scene_from(model: "mujoco.MjModel", data: "mujoco.MjData", object_body: Union[str, int],
+               materials: Union[None, dict, str, "os.PathLike[str]"] = None, patch: Optional[dict] = None,
+               control: str = "mujoco-force", contact_model: str = "energy", description: Optional[str] = None,
+               mesh_name: Optional[str] = None) -> "MujocoGrasp":
     """A grasp scene from a MuJoCo state.
 
     Runs ``mj_forward`` at the state of ``data``, takes every active contact between
