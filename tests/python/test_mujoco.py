@@ -174,6 +174,10 @@ def test_mujoco_report_recording_shows_both_force_sets_as_arrows(pinch, tmp_path
     gm.compare(g, margins=False).write(json_path=js, rrd=rrd)
     assert rerun("rrd", "verify", rrd).returncode == 0
     out = rerun("rrd", "print", "-vvv", rrd).stdout
+    # One recording (MuJoCo's layer took the project's recording id, grasp-transfer's
+    # rerun_log.rs), opened on the project's layout.
+    assert re.findall(r"StoreId\(\s*Recording,\s*\"grasp\",\s*\"([^\"]+)\"", out) == ["grasp-transfer"]
+    assert "BlueprintActivationCommand" in out
     for name in g.finger_names:
         for part in ("normal", "friction"):
             assert f"/world/forces/{name}/{part} " in out  # this project's
