@@ -5,14 +5,15 @@
 # - pytest (the Python package's tests) and Ray (the distributed example, run on a local
 #   runtime). NumPy comes with rerun-sdk;
 # - foxglove-sdk (Foxglove's own message types, to check our foxglove.SceneUpdate messages) and
-#   mcap (an independent MCAP reader).
+#   mcap (an independent MCAP reader);
+# - mujoco (grasp.mujoco's optional dependency, pinned: its tests compare with MuJoCo's own numbers).
 set -euo pipefail
 venv="$HOME/.cache/grasp-venv"
-want_rerun="0.36.3" want_pytest="9.2.0" want_ray="2.40.0" want_foxglove="0.30.3" want_mcap="1.6.0"
-if [ -x "$venv/bin/rerun" ] && CI=1 "$venv/bin/python" - "$want_rerun" "$want_pytest" "$want_ray" "$want_foxglove" "$want_mcap" 2>/dev/null <<'PY'
+want_rerun="0.36.3" want_pytest="9.2.0" want_ray="2.40.0" want_foxglove="0.30.3" want_mcap="1.6.0" want_mujoco="4.0.0"
+if [ -x "$venv/bin/rerun" ] && CI=1 "$venv/bin/python" - "$want_rerun" "$want_pytest" "$want_ray" "$want_foxglove" "$want_mcap" "$want_mujoco" 2>/dev/null <<'PY'
 import sys
 from importlib.metadata import version
-want = dict(zip(["rerun-sdk", "pytest", "ray", "foxglove-sdk", "mcap"], sys.argv[1:]))
+want = dict(zip(["rerun-sdk", "pytest", "ray", "foxglove-sdk", "mcap", "mujoco"], sys.argv[1:]))
 sys.exit(0 if all(version(k) == v for k, v in want.items()) else 1)
 PY
 then
@@ -21,5 +22,5 @@ fi
 [ -x "$venv/bin/pip" ] || python3 -m venv "$venv"
 "$venv/bin/pip" install --quiet --disable-pip-version-check \
   "rerun-sdk==$want_rerun" "pytest==$want_pytest" "ray==$want_ray" \
-  "foxglove-sdk==$want_foxglove" "mcap==$want_mcap"
+  "foxglove-sdk==$want_foxglove" "mcap==$want_mcap" "mujoco==$want_mujoco"
 CI=1 "$venv/bin/rerun" --version

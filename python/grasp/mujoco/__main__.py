@@ -1,0 +1,197 @@
+"""``python -m grasp.mujoco``: a grasp or a hand-off from MuJoCo, from the shell.
+
+    python -m grasp.mujoco scene MODEL.xml --object BODY [--keyframe K | --qpos FILE]
+        --materials MAP.json --out SCENE.json [--report R.json] [--rrd R.rrd]
+    python -m grasp.mujoco handoff MODEL.xml --object BODY
+        (--rollout ROLLOUT.npz | --controller MODULE:FN --steps N) --materials MAP.json
+        --out PREFIX [--mcap F] [--rrd F] [--csv F] [--margins]
+
+Exit codes: 0 done; 1 bad input (a named error, nothing written); 2 the elastic model found no
+equilibrium for the scene, or at a step of the hand-off where MuJoCo held the object (the files
+are written).
+"""
+
+import argparse
+import os
+import sys
+
+from ._errors import MujocoError
+
+PROG = "python -m grasp.mujoco"
+
+
+class Parser(argparse.ArgumentParser):
+    """Usage errors exit 1, as every bad input of the project's commands."""
+
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        self.exit(1, f"{self.prog}: error: {message}\n")
+
+
+def common(p):
+    p.add_argument("model", help="MuJoCo model: MJCF .xml or .mjb")
+    p.add_argument("--object", required=True, help="the grasped object's body (name)")
+    p.add_argument("--materials", help="JSON map {geom or body name: material}; unnamed geoms get rubber (warned)")
+    p.add_argument("--grid", nargs=2, type=int, metavar=("NX", "NY"), help="patch elements per finger (default 9 9)")
+    p.add_argument("--margin", type=float, metavar="M", help="flat pairs: patch margin around MuJoCo's points, m (default 0)")
+    p.add_argument("--patch-size", nargs=2, type=float, metavar=("A", "B"), help="every patch's sides, m (overrides)")
+    p.add_argument("--force", action="store_true", help="replace existing output files")
+
+
+def parser():
+    top = Parser(prog=PROG, description="A grasp or a hand-off from MuJoCo, solved by the elastic contact model.")
+    sub = top.add_subparsers(dest="command", required=True, parser_class=Parser)
+    s = sub.add_parser("scene", help="a grasp scene from one MuJoCo state, and MuJoCo's forces beside this project's")
+    common(s)
+    state = s.add_mutually_exclusive_group()
+    state.add_argument("--keyframe", help="keyframe name or index")
+    state.add_argument("--qpos", help="state file: qpos numbers (.txt, .npy) or .npz/.json with qpos, qvel, ctrl, act")
+    s.add_argument("--out", required=True, help="scene file to write (JSON)")
+    s.add_argument("--control", choices=["held", "mujoco-force"], default="mujoco-force",
+                   help="fingers position-held, or force-controlled at MuJoCo's normal force (default)")
+    s.add_argument("--model", dest="contact_model", choices=["energy", "coulomb"], default="energy")
+    s.add_argument("--report", help="side-by-side report to write (JSON)")
+    s.add_argument("--rrd", help="Rerun recording of the scene with both force sets as arrows")
+    s.add_argument("--no-margin", action="store_true", help="skip the disturbance margin (seconds on fine grids)")
+    s.add_argument("--markdown", action="store_true", help="print the table as Markdown")
+    h = sub.add_parser("handoff", help="a scene plus a load schedule from a MuJoCo rollout, replayed by grasp.transfer")
+    common(h)
+    src = h.add_mutually_exclusive_group(required=True)
+    src.add_argument("--rollout", help=".npz of time, qpos, qvel (and ctrl, act, qacc_warmstart, mocap_*) per step")
+    src.add_argument("--controller", help="MODULE:FN (a module or a .py file): FN(model, data) sets data.ctrl")
+    h.add_argument("--steps", type=int, help="MuJoCo steps to run the controller for")
+    h.add_argument("--every", type=int, default=1, help="record every K-th step (default 1; first and last kept)")
+    start = h.add_mutually_exclusive_group()
+    start.add_argument("--keyframe", help="the controller's start state: keyframe name or index")
+    start.add_argument("--qpos", help="the controller's start state: a state file")
+    h.add_argument("--out", required=True, metavar="PREFIX", help="writes PREFIX.json, PREFIX.schedule.json, PREFIX.csv")
+    h.add_argument("--model", dest="contact_model", choices=["energy", "coulomb"], default="coulomb")
+    h.add_argument("--save-rollout", help="also write the rollout (.npz, readable by --rollout)")
+    h.add_argument("--no-replay", action="store_true", help="write the scene and schedule only")
+    h.add_argument("--mcap", help="replay's MCAP log")
+    h.add_argument("--rrd", help="replay's Rerun recording, with MuJoCo's forces beside this project's")
+    h.add_argument("--csv", help="replay's CSV history")
+    h.add_argument("--margins", action="store_true", help="every step's smallest disturbance margin (slow)")
+    h.add_argument("--threshold", type=float, metavar="N", help="flag steps whose smallest margin is below N newtons (implies --margins)")
+    return top
+
+
+def patch_of(args):
+    p = {}
+    if args.grid:
+        p["grid"] = list(args.grid)
+    if args.margin is not None:
+        p["margin_m"] = args.margin
+    if args.patch_size:
+        p["size"] = list(args.patch_size)
+    return p
+
+
+def inputs_of(args):
+    return [x for x in (args.model, args.materials, getattr(args, "qpos", None), getattr(args, "rollout", None)) if x]
+
+
+def run_scene(args):
+    from ._files import check_targets
+    from ._report import compare
+    from ._scene import scene_from
+    from ._state import load_model, load_state
+
+    outs = [args.out] + [p for p in (args.report, args.rrd) if p]
+    check_targets(outs, args.force, inputs_of(args))
+    if args.rrd:
+        from ._rerun import require_rerun
+
+        require_rerun()
+    model = load_model(args.model)
+    data = load_state(model, keyframe=args.keyframe, qpos=args.qpos)
+    state = f"keyframe {args.keyframe}" if args.keyframe else (f"state {args.qpos}" if args.qpos else "the initial state")
+    g = scene_from(model, data, args.object, materials=args.materials, patch=patch_of(args), control=args.control,
+                   contact_model=args.contact_model,
+                   description=(f"From MuJoCo: body '{args.object}' of {os.path.basename(args.model)} at {state} "
+                                f"(python -m grasp.mujoco scene); fingers {args.control}."),
+                   mesh_name=f"{os.path.splitext(os.path.basename(args.out))[0]}.{args.object}.obj")
+    for w in g.warnings:
+        print(f"warning: {w}", file=sys.stderr)
+    report = compare(g, margins=not args.no_margin)
+    report.write(json_path=args.report, rrd=args.rrd, overwrite=args.force, inputs=inputs_of(args),
+                 also=g.outputs(args.out))
+    print(report.table(markdown=args.markdown))
+    print("wrote " + ", ".join(outs))
+    return 0 if report.grasp_holds else 2
+
+
+def run_handoff(args):
+    from ._files import check_targets
+    from ._handoff import schedule_from_rollout, simulate
+    from ._state import Rollout, load_model, load_state
+
+    if args.controller and not args.steps:
+        raise MujocoError("--controller needs --steps", "give the number of MuJoCo steps to run, e.g. --steps 1600")
+    if args.rollout and (args.steps or args.keyframe or args.qpos):
+        raise MujocoError("--steps, --keyframe and --qpos go with --controller", "leave them out with --rollout")
+    prefix = args.out
+    replay_outs = [p for p in (args.mcap, args.rrd, args.csv) if p]
+    if args.no_replay and (replay_outs or args.margins):
+        raise MujocoError("--no-replay with replay outputs", "leave out --no-replay, or --mcap/--rrd/--csv/--margins")
+    if args.rrd:
+        from ._rerun import require_rerun
+
+        require_rerun()
+    model = load_model(args.model)
+    if args.rollout:
+        rollout = Rollout.load(args.rollout, model)
+    else:
+        data = load_state(model, keyframe=args.keyframe, qpos=args.qpos)
+        # The targets are checked before the (long) simulation.
+        check_targets(replay_outs + [f"{prefix}.json", f"{prefix}.schedule.json", f"{prefix}.csv"]
+                      + ([args.save_rollout] if args.save_rollout else []), args.force, inputs_of(args))
+        rollout = simulate(model, data, args.controller, args.steps, args.every)
+    h = schedule_from_rollout(model, rollout, args.object, materials=args.materials, patch=patch_of(args),
+                              contact_model=args.contact_model)
+    for w in h.warnings:
+        print(f"warning: {w}", file=sys.stderr)
+    outs = h.outputs(prefix)
+    if args.save_rollout:
+        import io
+
+        buf = io.BytesIO()
+        import numpy as np
+
+        np.savez(buf, **{k: getattr(rollout, k) for k in ("time", "qpos", "qvel", "ctrl", "act", "qacc_warmstart",
+                                                          "mocap_pos", "mocap_quat")})
+        outs[args.save_rollout] = buf.getvalue()
+    if args.no_replay:
+        from ._files import write_all
+
+        h.scene  # validated before anything is written
+        write_all(outs, args.force, inputs_of(args))
+        print(f"{len(h.times_s)} steps, fingers {', '.join(h.finger_names)}")
+        print("wrote " + ", ".join(outs))
+        return 0
+    replay = h.replay(mcap=args.mcap, rrd=args.rrd, csv=args.csv, margins=args.margins or args.threshold is not None,
+                      threshold_n=args.threshold,
+                      overwrite=args.force, inputs=inputs_of(args), also=outs)
+    print(replay.summary_text())
+    print("wrote " + ", ".join(list(outs) + replay_outs))
+    # A discrepancy is a step where MuJoCo held the object and the elastic model found no
+    # equilibrium (steps where MuJoCo did not hold either are reported, not failures).
+    return 2 if any(why in ("no_equilibrium", "no_convergence") for _, _, why in replay.flagged_steps) else 0
+
+
+def main(argv=None):
+    args = parser().parse_args(argv)
+    import grasp
+
+    try:
+        return run_scene(args) if args.command == "scene" else run_handoff(args)
+    except (MujocoError, grasp.SceneError, grasp.ScheduleError, grasp.GraspError, OSError, ValueError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        problems = getattr(e, "problems", None)
+        for p in problems or []:
+            print(f"  {p['path']}: {p['message']}; fix: {p['fix']}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

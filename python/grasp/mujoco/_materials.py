@@ -1,0 +1,91 @@
+"""Materials of MuJoCo geoms: MuJoCo has no Young's moduli, so they come from a map of geom
+(or body) names to materials, with one default for every geom the map does not name."""
+
+import difflib
+import json
+import os
+
+from ._errors import MaterialMapError
+
+# The default: a rubber fingertip pad (the project's examples use it for every finger).
+DEFAULT_MATERIAL = {"youngs_modulus": 2e6, "poisson_ratio": 0.45}
+DEFAULT_TEXT = "rubber, E 2 MPa, nu 0.45"
+
+
+def load_map(source):
+    """A material map from a dict, a JSON file path, or None (empty)."""
+    if source is None:
+        return {}
+    if isinstance(source, (str, os.PathLike)):
+        try:
+            with open(source, encoding="utf-8") as f:
+                data = json.load(f)
+        except OSError as e:
+            raise MaterialMapError(f"cannot read the material map {os.fspath(source)}: {e.strerror}",
+                                   "give a JSON file {\"geom or body name\": material}") from None
+        except json.JSONDecodeError as e:
+            raise MaterialMapError(f"the material map {os.fspath(source)} is not JSON: {e}",
+                                   "give a JSON object {\"geom or body name\": material}") from None
+    else:
+        data = source
+    if not isinstance(data, dict):
+        raise MaterialMapError(f"the material map is a {type(data).__name__}, not an object",
+                               "give {\"geom or body name\": {\"youngs_modulus\": Pa, \"poisson_ratio\": -}}")
+    for name, m in data.items():
+        if m == "rigid":
+            continue
+        if not (isinstance(m, dict) and set(m) == {"youngs_modulus", "poisson_ratio"}
+                and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in m.values())):
+            raise MaterialMapError(
+                f"material of '{name}' is {json.dumps(m)}",
+                "give \"rigid\" or {\"youngs_modulus\": Pa, \"poisson_ratio\": -}")
+    return dict(data)
+
+
+class MaterialMap:
+    """Looks materials up by geom name, then by the geom's body name; remembers defaults."""
+
+    def __init__(self, mujoco, model, source):
+        self._map = load_map(source)
+        self._model = model
+        geoms = {model.geom(i).name for i in range(model.ngeom)} - {""}
+        bodies = {model.body(i).name for i in range(model.nbody)} - {""}
+        unknown = sorted(set(self._map) - geoms - bodies)
+        if unknown:
+            known = sorted(geoms | bodies)
+            hints = []
+            for u in unknown:
+                close = difflib.get_close_matches(u, known, n=1)
+                hints.append(f"'{u}'" + (f" (did you mean '{close[0]}'?)" if close else ""))
+            raise MaterialMapError(
+                f"the material map names {', '.join(hints)}, not a geom or body of the model",
+                f"use names of the model's geoms or bodies: {', '.join(known)}")
+        self.defaulted = []
+
+    def of_geom(self, geom_id):
+        """The material of a geom (scene format); the default when the map has neither its name
+        nor its body's (the geom is then listed in ``defaulted``)."""
+        g = self._model.geom(geom_id)
+        body = self._model.body(int(self._model.geom_bodyid[geom_id])).name
+        for key in (g.name, body):
+            if key and key in self._map:
+                m = self._map[key]
+                return "rigid" if m == "rigid" else {k: float(v) for k, v in m.items()}
+        label = g.name or f"geom {geom_id} (of body '{body}')"
+        if label not in self.defaulted:
+            self.defaulted.append(label)
+        return dict(DEFAULT_MATERIAL)
+
+    def warning(self):
+        """The warning naming every geom that used the default, or None."""
+        if not self.defaulted:
+            return None
+        return (f"no material in the map for {', '.join(repr(n) for n in self.defaulted)}: "
+                f"using the default ({DEFAULT_TEXT}); name them in the material map")
+
+
+def compliance(material):
+    """(1 - nu^2) / E of a material, 0 for rigid."""
+    if material == "rigid":
+        return 0.0
+    return (1.0 - material["poisson_ratio"] ** 2) / material["youngs_modulus"]

@@ -1,0 +1,184 @@
+"""Loading a MuJoCo model and a state into it (a keyframe, a qpos file, a rollout's rows)."""
+
+import json
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._errors import ModelLoadError, StateError, require_mujoco
+
+
+def load_model(path):
+    """An MjModel from an MJCF (.xml) or binary (.mjb) file; ModelLoadError otherwise."""
+    mujoco = require_mujoco()
+    p = os.fspath(path)
+    if not os.path.isfile(p):
+        raise ModelLoadError(f"cannot read the MuJoCo model {p}: no such file", "give the path of an MJCF .xml or .mjb file")
+    try:
+        if p.endswith(".mjb"):
+            return mujoco.MjModel.from_binary_path(p)
+        return mujoco.MjModel.from_xml_path(p)
+    except Exception as e:  # MuJoCo raises ValueError with the compiler's message
+        raise ModelLoadError(f"MuJoCo cannot load {p}: {str(e).strip()}", "fix the model file") from None
+
+
+def keyframe_id(mujoco, model, key):
+    if isinstance(key, int) or (isinstance(key, str) and key.isdigit()):
+        k = int(key)
+        if 0 <= k < model.nkey:
+            return k
+        raise StateError(f"keyframe {k} is out of range: the model has {model.nkey} keyframes",
+                         "give a keyframe name or an index in range")
+    k = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, str(key))
+    if k < 0:
+        names = [model.key(i).name for i in range(model.nkey) if model.key(i).name]
+        raise StateError(f"the model has no keyframe '{key}'",
+                         f"give one of its keyframes: {', '.join(names) or '(none named)'}")
+    return k
+
+
+def vector(values, length, what, source):
+    a = np.asarray(values, dtype=float).reshape(-1) if values is not None else None
+    if a is None or a.shape != (length,):
+        got = "nothing" if a is None else f"{a.size} numbers"
+        raise StateError(f"{source}: {what} has {got}, the model needs {length}",
+                         f"give {length} numbers ({what} of this model)")
+    if not np.all(np.isfinite(a)):
+        raise StateError(f"{source}: {what} has a NaN or an infinity", "give finite numbers")
+    return a
+
+
+def read_state_file(path):
+    """{"qpos": ..., optional "qvel", "ctrl", "act"} from .npy/.txt (qpos only), .npz or .json."""
+    p = os.fspath(path)
+    try:
+        if p.endswith(".npz"):
+            with np.load(p) as z:
+                return {k: np.array(z[k]) for k in z.files}
+        if p.endswith(".npy"):
+            return {"qpos": np.load(p)}
+        if p.endswith(".json"):
+            with open(p, encoding="utf-8") as f:
+                d = json.load(f)
+            return d if isinstance(d, dict) else {"qpos": d}
+        return {"qpos": np.loadtxt(p, ndmin=1)}
+    except (OSError, ValueError) as e:
+        raise StateError(f"cannot read the state file {p}: {e}",
+                         "give qpos as whitespace-separated numbers, .npy, .npz or JSON") from None
+
+
+def load_state(model, keyframe=None, qpos=None):
+    """An MjData at a keyframe (name or index), at a state file (qpos, optionally qvel, ctrl,
+    act), or at the model's initial state; ``mj_forward`` is left to the caller."""
+    mujoco = require_mujoco()
+    if keyframe is not None and qpos is not None:
+        raise StateError("both a keyframe and a qpos file are given", "give one of them")
+    data = mujoco.MjData(model)
+    if keyframe is not None:
+        mujoco.mj_resetDataKeyframe(model, data, keyframe_id(mujoco, model, keyframe))
+    elif qpos is not None:
+        state = read_state_file(qpos) if isinstance(qpos, (str, os.PathLike)) else {"qpos": qpos}
+        src = os.fspath(qpos) if isinstance(qpos, (str, os.PathLike)) else "qpos"
+        unknown = set(state) - {"qpos", "qvel", "ctrl", "act", "time"}
+        if unknown:
+            raise StateError(f"{src}: unknown entries {sorted(unknown)}", "give qpos and optionally qvel, ctrl, act, time")
+        data.qpos[:] = vector(state.get("qpos"), model.nq, "qpos", src)
+        for key, n in (("qvel", model.nv), ("ctrl", model.nu), ("act", model.na)):
+            if key in state:
+                getattr(data, key)[:] = vector(state[key], n, key, src)
+        if "time" in state:
+            t = float(np.asarray(state["time"]).reshape(-1)[0])
+            if not math.isfinite(t):
+                raise StateError(f"{src}: time is not finite", "give a finite time")
+            data.time = t
+    return data
+
+
+ROLLOUT_KEYS = ("time", "qpos", "qvel", "ctrl", "act", "qacc_warmstart", "mocap_pos", "mocap_quat")
+
+
+@dataclass
+class Rollout:
+    """States of a MuJoCo run, one row per recorded step (SI units, MuJoCo's layouts)."""
+
+    time: np.ndarray
+    qpos: np.ndarray
+    qvel: np.ndarray
+    ctrl: np.ndarray
+    act: np.ndarray
+    qacc_warmstart: np.ndarray
+    mocap_pos: np.ndarray
+    mocap_quat: np.ndarray
+
+    def __len__(self):
+        return len(self.time)
+
+    def save(self, path):
+        """Writes the rollout as .npz (the format ``--rollout`` reads)."""
+        np.savez(path, **{k: getattr(self, k) for k in ROLLOUT_KEYS})
+
+    @staticmethod
+    def record(model, data):
+        return {k: np.array(getattr(data, k), dtype=float).copy() if k != "time" else float(data.time)
+                for k in ROLLOUT_KEYS}
+
+    @staticmethod
+    def from_rows(rows):
+        return Rollout(**{k: np.array([r[k] for r in rows], dtype=float) for k in ROLLOUT_KEYS})
+
+    @staticmethod
+    def load(source, model):
+        """A rollout from an .npz path or a dict of arrays: ``time`` (T,) strictly increasing,
+        ``qpos`` (T, nq) and ``qvel`` (T, nv) required; ``ctrl``, ``act``, ``qacc_warmstart``,
+        ``mocap_pos``, ``mocap_quat`` optional (the model's defaults)."""
+        src = os.fspath(source) if isinstance(source, (str, os.PathLike)) else "rollout"
+        if isinstance(source, (str, os.PathLike)):
+            try:
+                with np.load(source) as z:
+                    arrays = {k: np.array(z[k]) for k in z.files}
+            except (OSError, ValueError) as e:
+                raise StateError(f"cannot read the rollout {src}: {e}", "give an .npz with time, qpos, qvel") from None
+        else:
+            arrays = dict(source)
+        unknown = set(arrays) - set(ROLLOUT_KEYS)
+        if unknown:
+            raise StateError(f"{src}: unknown arrays {sorted(unknown)}", f"give only {', '.join(ROLLOUT_KEYS)}")
+        for k in ("time", "qpos", "qvel"):
+            if k not in arrays:
+                raise StateError(f"{src}: no '{k}' array", "give time (T,), qpos (T, nq) and qvel (T, nv)")
+        time = np.asarray(arrays["time"], dtype=float).reshape(-1)
+        t = len(time)
+        if t == 0 or not np.all(np.isfinite(time)) or np.any(np.diff(time) <= 0) or time[0] < 0:
+            raise StateError(f"{src}: time must be finite, >= 0 and strictly increasing, with at least one row",
+                             "give the times of the recorded steps")
+        data = require_mujoco().MjData(model)
+        shapes = {"qpos": model.nq, "qvel": model.nv, "ctrl": model.nu, "act": model.na,
+                  "qacc_warmstart": model.nv, "mocap_pos": (model.nmocap, 3), "mocap_quat": (model.nmocap, 4)}
+        out = {"time": time}
+        for k, shape in shapes.items():
+            want = (t, *shape) if isinstance(shape, tuple) else (t, shape)
+            if k in arrays:
+                a = np.asarray(arrays[k], dtype=float)
+                if a.shape != want:
+                    raise StateError(f"{src}: '{k}' has shape {a.shape}, the model needs {want}",
+                                     f"record {k} of this model at every step")
+                if not np.all(np.isfinite(a)):
+                    raise StateError(f"{src}: '{k}' has a NaN or an infinity", "give finite numbers")
+            else:
+                a = np.broadcast_to(np.array(getattr(data, k), dtype=float), want).copy()
+            out[k] = a
+        return Rollout(**out)
+
+    def rows(self, index):
+        """The rollout's rows ``index`` (a slice or index array)."""
+        return Rollout(**{k: np.asarray(getattr(self, k))[index] for k in ROLLOUT_KEYS})
+
+    def apply(self, data, i):
+        """Puts row ``i`` into ``data`` (``mj_forward`` left to the caller)."""
+        data.time = float(self.time[i])
+        for k in ROLLOUT_KEYS[1:]:
+            target = getattr(data, k)
+            if target.size:
+                target[...] = getattr(self, k)[i].reshape(target.shape)

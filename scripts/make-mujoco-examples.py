@@ -1,0 +1,78 @@
+"""Regenerates the MuJoCo examples (examples/mujoco/) and their gallery pictures.
+
+1. the pinch: simulates examples/mujoco/pinch.xml from its keyframe "start" for 1 s (the motor
+   squeezing 10 N) and writes the state reached into its keyframe "grasped";
+2. `python -m grasp.mujoco scene` of the pinch at "grasped": examples/mujoco/pinch.json and the
+   side-by-side report pinch.report.json (its table is printed, as the README shows it);
+3. `python -m grasp.mujoco handoff` of examples/mujoco/handoff.xml driven by
+   handoff_controller.py:control (1600 steps of 1 ms, every 10th recorded):
+   examples/mujoco/handoff.json, handoff.schedule.json, handoff.csv;
+4. `grasp plot` of both scenes: docs/gallery/mujoco/pinch.svg, handoff.svg.
+
+Needs the Python package installed with MuJoCo (`pip install '.[mujoco]'`) and the grasp CLI
+(GRASP_BIN, else target/release/grasp). tests/python/test_mujoco_examples.py regenerates
+steps 1 to 4 and compares them with the committed files.
+Usage: python scripts/make-mujoco-examples.py
+"""
+
+import os
+import re
+import subprocess
+import sys
+
+import mujoco
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EX = os.path.join(ROOT, "examples", "mujoco")
+GALLERY = os.path.join(ROOT, "docs", "gallery", "mujoco")
+SETTLE_STEPS = 1000
+
+
+def grasped_key(xml_text):
+    """The keyframe "grasped" line for the state 1 s after "start"."""
+    model = mujoco.MjModel.from_xml_string(xml_text)
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key("start").id)
+    for _ in range(SETTLE_STEPS):
+        mujoco.mj_step(model, data)
+
+    def nums(a):
+        return " ".join(repr(float(x)) for x in a)
+
+    return (f'<key name="grasped" time="{data.time!r}" qpos="{nums(data.qpos)}" qvel="{nums(data.qvel)}" '
+            f'ctrl="{nums(data.ctrl)}"/>')
+
+
+def with_grasped_key(xml_text):
+    return re.sub(r'<key name="grasped"[^>]*/>', grasped_key(xml_text), xml_text)
+
+
+def run(*args):
+    print("+", " ".join(args))
+    subprocess.run(args, check=True, cwd=ROOT)
+
+
+def main():
+    pinch_xml = os.path.join(EX, "pinch.xml")
+    with open(pinch_xml, encoding="utf-8") as f:
+        text = f.read()
+    new = with_grasped_key(text)
+    if new != text:
+        with open(pinch_xml, "w", encoding="utf-8") as f:
+            f.write(new)
+    py = sys.executable
+    run(py, "-m", "grasp.mujoco", "scene", "examples/mujoco/pinch.xml", "--object", "box", "--keyframe", "grasped",
+        "--materials", "examples/mujoco/pinch.materials.json", "--out", "examples/mujoco/pinch.json",
+        "--report", "examples/mujoco/pinch.report.json", "--markdown", "--force")
+    run(py, "-m", "grasp.mujoco", "handoff", "examples/mujoco/handoff.xml", "--object", "cylinder",
+        "--controller", "examples/mujoco/handoff_controller.py:control", "--steps", "1600", "--every", "10",
+        "--materials", "examples/mujoco/handoff.materials.json", "--out", "examples/mujoco/handoff", "--force")
+    grasp_bin = os.environ.get("GRASP_BIN") or os.path.join(
+        os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target")), "release", "grasp")
+    os.makedirs(GALLERY, exist_ok=True)
+    for name in ("pinch", "handoff"):
+        run(grasp_bin, "plot", f"examples/mujoco/{name}.json", "--out", f"docs/gallery/mujoco/{name}.svg", "--force")
+
+
+if __name__ == "__main__":
+    main()

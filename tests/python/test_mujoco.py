@@ -1,0 +1,489 @@
+"""grasp.mujoco (issue 23): a grasp and a hand-off from MuJoCo, checked against MuJoCo's own
+numbers.
+
+Tolerances, and why:
+- 1e-12 (relative) where this module copies MuJoCo's numbers (the weight ``body_mass |g|``,
+  the centre of mass ``xipos``, a contact normal, ``mj_contactForce``'s normal force): only
+  round-off separates them;
+- 1e-8 of the weight for MuJoCo's unbalanced contact force against ``m a`` from MuJoCo's own
+  accelerations (the sign and frame conventions of ``mj_contactForce``; they agree to MuJoCo's
+  constraint solver tolerance, 1e-8: 1.5e-9 of the weight on the resting box);
+- 1 % for the pinch's normal forces against the motor's commanded squeeze: MuJoCo's soft
+  contact settles with the box tilted by a tenth of a degree and creeping, so its normal forces
+  are 9.997 and 10.003 N for 10 N commanded (the issue's tolerance);
+- float32 (1e-6 relative) for arrows read back from a Rerun recording.
+"""
+
+import csv
+import io
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import grasp
+from conftest import EXAMPLES, ROOT, rerun_cli
+
+mujoco = pytest.importorskip("mujoco", reason="MuJoCo is not installed (scripts/install-checkers.sh installs mujoco==4.0.0)")
+import grasp.mujoco as gm  # noqa: E402
+
+MJ = EXAMPLES / "mujoco"
+PINCH = MJ / "pinch.xml"
+HANDOFF = MJ / "handoff.xml"
+CONTROLLER = f"{MJ / 'handoff_controller.py'}:control"
+ENV = {"CI": "1", "PATH": "/usr/bin:/bin"}
+
+
+def python_m(*args, cwd=ROOT):
+    return subprocess.run([sys.executable, "-m", "grasp.mujoco", *map(str, args)], capture_output=True, text=True, cwd=cwd)
+
+
+def rerun(*args):
+    return subprocess.run([rerun_cli(), *map(str, args)], capture_output=True, text=True, env=ENV)
+
+
+needs_rerun = pytest.mark.skipif(rerun_cli() is None, reason="the rerun CLI (scripts/install-checkers.sh) is not installed")
+
+
+@pytest.fixture(scope="module")
+def pinch():
+    model = gm.load_model(PINCH)
+    data = gm.load_state(model, keyframe="grasped")
+    return model, data, gm.scene_from(model, data, "box", materials=MJ / "pinch.materials.json")
+
+
+@pytest.fixture(scope="module")
+def rollout():
+    model = gm.load_model(HANDOFF)
+    return model, gm.simulate(model, gm.load_state(model), CONTROLLER, steps=1600, every=10)
+
+
+@pytest.fixture(scope="module")
+def handoff(rollout):
+    model, r = rollout
+    return gm.schedule_from_rollout(model, r, "cylinder", materials=MJ / "handoff.materials.json")
+
+
+def test_mujoco_contact_conventions_on_a_box_resting_on_the_floor():
+    xml = """<mujoco><option cone="elliptic"/><worldbody><geom name="floor" type="plane" size="1 1 .1"/>
+      <body name="box" pos="0 0 .05"><freejoint/><geom name="box" type="box" size=".05 .04 .05" density="500"/></body>
+      </worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    for _ in range(500):
+        mujoco.mj_step(model, data)
+    g = gm.scene_from(model, data, "box", materials={"floor": "rigid", "box": {"youngs_modulus": 3e9, "poisson_ratio": 0.35}})
+    assert g.finger_names == ["world"] and g.fingers[0].contact_count == 4
+    f = g.scene_dict["fingers"][0]
+    assert np.allclose(f["normal"], [0, 0, 1], atol=1e-12)  # from the floor into the box
+    # MuJoCo's contact forces and weight leave exactly the box's m a unbalanced.
+    assert np.abs(g.unbalanced_force_n - g.inertial_force_n).max() < 1e-8 * g.weight_n
+    assert g.fingers[0].normal_force_n == pytest.approx(g.weight_n, rel=1e-6)
+    # The contact point lies on the box's bottom face; the patch is the face (the four corners).
+    bottom = data.geom_xpos[1][2] - 0.05
+    assert f["contact_point"][2] == pytest.approx(bottom, abs=1e-9)
+    assert sorted(f["patch"]["size"]) == pytest.approx([0.08, 0.1], abs=1e-12)
+    assert "tip" not in f  # the floor is a plane: flat, no pad drawn
+    assert grasp.solve(g.scene).status == "solved"
+
+
+def test_mujoco_pinch_scene_has_two_fingers_at_the_pads_with_the_models_weight(pinch):
+    model, data, g = pinch
+    assert g.finger_names == ["jaw_left", "jaw_right"]
+    assert [f.contact_count for f in g.fingers] == [4, 4]
+    box = model.body("box").id
+    obj = g.scene_dict["object"]
+    assert obj["weight"] == pytest.approx(model.body_mass[box] * np.linalg.norm(model.opt.gravity), rel=1e-12)
+    assert np.allclose(obj["center_of_mass"], data.xipos[box], rtol=0, atol=1e-12)
+    assert obj["gravity"] == [0.0, 0.0, -1.0]
+    assert obj["shape"]["box"]["size"] == pytest.approx((2 * model.geom("box").size).tolist(), rel=1e-15)
+    for f, side in zip(g.scene_dict["fingers"], (1, -1)):
+        pad = model.geom(f"pad_{f['name'].split('_')[1]}").id
+        # The normal is MuJoCo's contact normal, turned into the object (the box is geom1).
+        c = [data.contact[i] for i in range(data.ncon) if pad in (data.contact[i].geom1, data.contact[i].geom2)][0]
+        frame_n = np.array(c.frame[:3]) * (-1 if c.geom1 == model.geom("box").id else 1)
+        assert np.allclose(f["normal"], frame_n, rtol=0, atol=1e-12)
+        # ... the pads' face normal (-y for the left pad, +y for the right) but for the box's tilt.
+        tilt = math.degrees(math.acos(np.dot(f["normal"], [0, -side, 0])))
+        assert tilt < 1.0
+        # The contact point is the pad's face centre on the box's surface.
+        rel = np.array(f["contact_point"]) - data.geom_xpos[pad]
+        rot = data.geom_xmat[pad].reshape(3, 3)
+        local = rot.T @ rel
+        assert abs(local[0]) < 1e-9 and abs(local[2]) < 1e-4
+        # ... inside the pad's face by at most MuJoCo's overlap (soft contacts overlap: 0.5 mm at
+        # the fixed jaw, 1.3 mm at the light moving one, whose constraint is softer).
+        overlap = max(-data.contact[i].dist for i in range(data.ncon) if pad in (data.contact[i].geom1, data.contact[i].geom2))
+        assert 0 <= model.geom_size[pad][1] - abs(local[1]) <= overlap + 1e-12
+        assert f["patch"]["size"] == pytest.approx([0.01, 0.01], abs=1e-5)
+        assert f["tip"]["flat"]["size"][0] == pytest.approx(0.01, abs=1e-12)
+        assert f["material"] == {"youngs_modulus": 2e6, "poisson_ratio": 0.45}
+        assert f["friction"] == {"mu": 0.8}
+    assert g.warnings == []
+
+
+def test_mujoco_pinch_force_controlled_normals_equal_the_commanded_squeeze_and_both_hold(pinch):
+    model, data, g = pinch
+    squeeze = float(data.actuator_force[0])
+    assert squeeze == 10.0
+    report = gm.compare(g, margins=False)
+    sol = report.solution
+    assert sol.status == "solved" and report.grasp_holds and report.mujoco_holds
+    mj = np.array([f.normal_force_n for f in g.fingers])
+    assert np.allclose(sol.finger_normal_forces_n, mj, rtol=1e-12)
+    assert np.all(np.abs(sol.finger_normal_forces_n / squeeze - 1) < 0.01)
+    # Both carry the same load along the same normals: the friction totals agree.
+    ours = np.sum([f["tangential_force_n"] for f in sol.fingers], axis=0)
+    theirs = np.sum([f.friction_force_n for f in g.fingers], axis=0)
+    assert np.abs(ours - theirs).max() < 1e-8
+    assert report.mujoco_slip_speed_m_per_s < 1e-3  # MuJoCo creeps (0.2 mm/s at impratio 10)
+    # Position-held, the energy model squeezes less than MuJoCo's motor: still a grasp.
+    held = gm.compare(gm.scene_from(model, data, "box", materials=MJ / "pinch.materials.json", control="held"),
+                      margins=False)
+    assert held.solution.status == "solved"
+    assert np.all(held.solution.finger_normal_forces_n < 0.5 * squeeze)
+    assert held.grasp.scene_dict["fingers"][0]["control"] == "held"
+
+
+def test_mujoco_pinch_report_matches_the_committed_one(pinch):
+    _, _, g = pinch
+    report = gm.compare(g)
+    d = report.to_dict()
+    committed = json.loads((MJ / "pinch.report.json").read_text())
+    assert d["smallest_margin_n"] > 1.0
+    for ours, theirs in zip(d["fingers"], committed["fingers"]):
+        for side in ("mujoco", "grasp"):
+            for k in ("normal_force_n", "friction_magnitude_n", "tangential_magnitude_n", "stick_count"):
+                if k in theirs[side]:
+                    assert ours[side][k] == pytest.approx(theirs[side][k], rel=1e-6, abs=1e-12), (side, k)
+    assert d["smallest_margin_n"] == pytest.approx(committed["smallest_margin_n"], rel=1e-6)
+    table = report.table()
+    assert "jaw_left" in table and "jaw_right" in table and "MuJoCo holds" in table
+    assert report.table(markdown=True).startswith("| finger |")
+
+
+@needs_rerun
+def test_mujoco_report_recording_shows_both_force_sets_as_arrows(pinch, tmp_path):
+    _, _, g = pinch
+    rrd, js = tmp_path / "pinch.rrd", tmp_path / "pinch.json"
+    gm.compare(g, margins=False).write(json_path=js, rrd=rrd)
+    assert rerun("rrd", "verify", rrd).returncode == 0
+    out = rerun("rrd", "print", "-vvv", rrd).stdout
+    # One recording (MuJoCo's layer took the project's recording id, grasp-transfer's
+    # rerun_log.rs), opened on the project's layout.
+    assert re.findall(r"StoreId\(\s*Recording,\s*\"grasp\",\s*\"([^\"]+)\"", out) == ["grasp-transfer"]
+    assert "BlueprintActivationCommand" in out
+    for name in g.finger_names:
+        for part in ("normal", "friction"):
+            assert f"/world/forces/{name}/{part} " in out  # this project's
+            assert f"/world/mujoco/forces/{name}/{part} " in out  # MuJoCo's
+    # MuJoCo's normal arrow: its normal force along its normal, at the project's scale.
+    scale = gm._rerun.arrow_scale_m_per_n(g.scene_dict, grasp.solve(g.scene).load_scale_n)
+    block = out[out.index("/world/mujoco/forces/jaw_left/normal -"):]
+    vec = [float(x) for x in re.search(r"\[\[([-0-9.e, ]+)\]\]\s*│\s*│", block).group(1).split(",")]
+    f = g.fingers[0]
+    assert np.allclose(vec, f.normal * f.normal_force_n * scale, rtol=1e-6, atol=1e-9)
+    assert json.loads(js.read_text())["holds"]["mujoco"] is True
+
+
+def mujoco_normal_forces(model, r, body="cylinder"):
+    """Per step and finger body, the sum of mj_contactForce's normal components (N), computed
+    here independently of grasp.mujoco."""
+    data = mujoco.MjData(model)
+    b = model.body(body).id
+    out = []
+    f6 = np.zeros(6)
+    for i in range(len(r)):
+        r.apply(data, i)
+        mujoco.mj_forward(model, data)
+        row = {}
+        for k in range(data.ncon):
+            c = data.contact[k]
+            if c.efc_address < 0:
+                continue
+            b1, b2 = model.geom_bodyid[c.geom1], model.geom_bodyid[c.geom2]
+            if b not in (b1, b2):
+                continue
+            other = model.body(b2 if b1 == b else b1).name
+            mujoco.mj_contactForce(model, data, k, f6)
+            row[other] = row.get(other, 0.0) + f6[0]
+        out.append(row)
+    return out
+
+
+def read_profile(text):
+    rows = list(csv.DictReader(io.StringIO(text)))
+    return np.array([float(r["t_s"]) for r in rows]), rows
+
+
+def test_mujoco_handoff_schedule_rows_equal_mujocos_normal_forces(rollout, handoff):
+    model, r = rollout
+    times, rows = read_profile(handoff.profile_csv)
+    forces = mujoco_normal_forces(model, r)
+    assert sum(1 for f in forces if any(v > 0 for v in f.values())) == len(rows)  # unloaded first state left out
+    first = next(i for i, f in enumerate(forces) if any(v > 0 for v in f.values()))
+    assert handoff.finger_names == ["a1", "a2", "b1", "b2"]
+    for j, row in enumerate(rows):
+        assert float(row["t_s"]) == r.time[first + j]
+        for name in handoff.finger_names:
+            want = max(forces[first + j].get(name, 0.0), 0.0)
+            assert float(row[f"{name}_n"]) == pytest.approx(want, rel=1e-12, abs=1e-12), (j, name)
+    loads = handoff.normal_forces_n
+    assert loads[0, 2:].max() == 0.0 and loads[0, :2].min() > 10  # A holds, B open
+    assert loads[-1, :2].max() == 0.0 and loads[-1, 2:].min() > 14  # B holds, A open
+    sched = handoff.schedule_dict
+    assert sched["time"]["times"] == [float(t) for t in times]
+    assert set(sched["fingers"]) == set(handoff.finger_names)
+
+
+@needs_rerun
+def test_mujoco_handoff_replays_end_to_end_and_its_files_pass_the_rerun_checks(handoff, tmp_path):
+    files = {k: tmp_path / f"replay.{k}" for k in ("mcap", "rrd", "csv")}
+    replay = handoff.replay(**files)
+    run = replay.run
+    assert len(run) == len(handoff.times_s)
+    assert set(run.statuses) == {"solved"} and replay.flagged_steps == []
+    # The replay commands exactly MuJoCo's normal forces (NaN: never; 0: released).
+    commanded = np.nan_to_num(run.commanded_loads_n, nan=-1.0)
+    assert np.allclose(commanded, handoff.normal_forces_n, rtol=1e-12, atol=1e-12)
+    assert run.summary["receiving"] == ["b1", "b2"] and run.summary["releasing"] == ["a1", "a2"]
+    assert rerun("rrd", "verify", files["rrd"]).returncode == 0
+    proc = rerun("mcap", "check", files["mcap"])
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "/world/mujoco/forces/b1/normal" in rerun("rrd", "print", files["rrd"]).stdout
+    text = replay.summary_text()
+    assert "no step where MuJoCo held but the elastic model found no equilibrium" in text
+
+
+def test_mujoco_rollout_file_gives_the_same_schedule(rollout, handoff, tmp_path):
+    model, r = rollout
+    path = tmp_path / "rollout.npz"
+    r.save(path)
+    again = gm.schedule_from_rollout(model, path, "cylinder", materials=MJ / "handoff.materials.json")
+    assert again.profile_csv == handoff.profile_csv
+    assert again.scene_dict == handoff.scene_dict
+
+
+@needs_rerun
+def test_mujoco_commands_write_what_grasp_solve_and_grasp_transfer_run(run_cli, rollout, tmp_path):
+    proc = python_m("scene", PINCH, "--object", "box", "--keyframe", "grasped", "--materials", MJ / "pinch.materials.json",
+                    "--out", tmp_path / "pinch.json", "--report", tmp_path / "pinch.report.json", "--no-margin")
+    assert proc.returncode == 0, proc.stderr
+    assert "jaw_left" in proc.stdout and "MuJoCo holds" in proc.stdout
+    assert run_cli("solve", tmp_path / "pinch.json").returncode == 0
+    model, r = rollout
+    r.save(tmp_path / "rollout.npz")
+    proc = python_m("handoff", HANDOFF, "--object", "cylinder", "--rollout", tmp_path / "rollout.npz",
+                    "--materials", MJ / "handoff.materials.json", "--out", tmp_path / "h", "--no-replay")
+    assert proc.returncode == 0, proc.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "h.csv", "h.json", "h.schedule.json", "pinch.json", "pinch.report.json", "rollout.npz"]
+    mcap, rrd = tmp_path / "h.mcap", tmp_path / "h.rrd"
+    proc = run_cli("transfer", tmp_path / "h.json", "--schedule", tmp_path / "h.schedule.json", "--mcap", mcap, "--rrd", rrd)
+    assert proc.returncode == 0, proc.stderr
+    assert rerun("rrd", "verify", rrd).returncode == 0 and rerun("mcap", "check", mcap).returncode == 0
+
+
+def numbers_close(a, b, path=""):
+    """JSON values equal, numbers to 1e-9 relative (MuJoCo's last bits may differ by machine)."""
+    if isinstance(a, dict):
+        assert set(a) == set(b), path
+        for k in a:
+            numbers_close(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, list):
+        assert len(a) == len(b), path
+        for i, (x, y) in enumerate(zip(a, b)):
+            numbers_close(x, y, f"{path}[{i}]")
+    elif isinstance(a, float) or isinstance(b, float):
+        assert a == pytest.approx(b, rel=1e-9, abs=1e-12), path
+    else:
+        assert a == b, path
+
+
+def test_mujoco_committed_examples_are_what_the_commands_make(pinch, handoff):
+    _, _, g = pinch
+    committed = json.loads((MJ / "pinch.json").read_text())
+    ours = dict(g.scene_dict, description=committed["description"])
+    numbers_close(ours, committed)
+    committed = json.loads((MJ / "handoff.json").read_text())
+    numbers_close(handoff.scene_dict, committed)
+    outs = handoff.outputs(str(MJ / "handoff"))
+    numbers_close(json.loads(outs[str(MJ / "handoff.schedule.json")]),
+                  json.loads((MJ / "handoff.schedule.json").read_text()))
+    _, ours_rows = read_profile(handoff.profile_csv)
+    _, their_rows = read_profile((MJ / "handoff.csv").read_text())
+    numbers_close([{k: float(v) for k, v in r.items()} for r in ours_rows],
+                  [{k: float(v) for k, v in r.items()} for r in their_rows])
+
+
+def test_mujoco_gallery_pictures_are_regenerated_identically(run_cli, tmp_path):
+    gallery = (EXAMPLES / "README.md").read_text()
+    for name in ("pinch", "handoff"):
+        assert f"docs/gallery/mujoco/{name}.svg" in gallery
+        out = tmp_path / f"{name}.svg"
+        proc = run_cli("plot", MJ / f"{name}.json", "--out", out)
+        assert proc.returncode == 0 and ": solved;" in proc.stdout, proc.stderr
+        assert out.read_bytes() == (ROOT / "docs" / "gallery" / "mujoco" / f"{name}.svg").read_bytes(), (
+            f"{name}: the picture changed; run scripts/make-mujoco-examples.py and review it")
+
+
+def test_mujoco_unnamed_geoms_get_the_default_material_with_a_warning(pinch):
+    model, data, _ = pinch
+    g = gm.scene_from(model, data, "box", materials={"box": "rigid"})
+    assert g.warnings[0].startswith("no material in the map for 'pad_left', 'pad_right': using the default")
+    assert g.scene_dict["fingers"][0]["material"] == gm.DEFAULT_MATERIAL
+    assert g.scene_dict["object"]["material"] == "rigid"
+
+
+def test_mujoco_a_sphere_tip_on_a_cylinder_gets_hertz_patch_and_radii(rollout):
+    model, r = rollout
+    data = mujoco.MjData(model)
+    r.apply(data, 20)
+    g = gm.scene_from(model, data, "cylinder", materials=MJ / "handoff.materials.json", control="held")
+    f = g.scene_dict["fingers"][0]
+    p = g.fingers[0].normal_force_n
+    assert f["name"] == "a1" and f["tip"] == {"sphere": {"radius": 0.015}}
+    assert f["object_radius"] == [0.025, None]  # across the axis, straight along it (t2)
+    assert abs(np.dot(f["tangent"], [0, 0, 1])) < 1e-9  # t1 around the cylinder, t2 along its axis
+    # 2.4 semi-axes of the Hertz ellipse (Johnson 4.2, equivalent radius) at MuJoCo's force.
+    e_star = 1 / ((1 - 0.45**2) / 2e6 + (1 - 0.35**2) / 3e9)
+    r1, r2 = 1 / (1 / 0.015 + 1 / 0.025), 0.015
+    c = (3 * p * math.sqrt(r1 * r2) / (4 * e_star)) ** (1 / 3)
+    assert f["patch"]["size"] == pytest.approx([2.4 * c * (r1 / r2) ** (1 / 3), 2.4 * c * (r2 / r1) ** (1 / 3)], rel=1e-12)
+    assert grasp.solve(g.scene).status == "solved"
+
+
+def test_mujoco_a_mesh_object_is_written_beside_the_scene(tmp_path):
+    verts = " ".join(f"{x} {y} {z}" for x in (-0.03, 0.03) for y in (-0.02, 0.02) for z in (-0.05, 0.05))
+    xml = f"""<mujoco><option cone="elliptic"/><asset><mesh name="m" vertex="{verts}"/></asset><worldbody>
+      <geom name="floor" type="plane" size="1 1 .1"/>
+      <body name="block" pos="0 0 .05"><freejoint/><geom name="block" type="mesh" mesh="m" density="700"/></body>
+      </worldbody></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    for _ in range(300):
+        mujoco.mj_step(model, data)
+    g = gm.scene_from(model, data, "block", materials={"floor": "rigid"}, mesh_name="block.obj")
+    assert g.scene_dict["object"]["shape"]["mesh"] == {"file": "block.obj"}
+    written = g.write(tmp_path / "block.json")
+    assert sorted(os.path.basename(p) for p in written) == ["block.json", "block.obj"]
+    scene = grasp.Scene(tmp_path / "block.json")
+    assert scene.shape_report["volume_m3"] == pytest.approx(0.06 * 0.04 * 0.1, rel=1e-6)  # MuJoCo keeps float32 vertices
+    assert any("mesh" in w for w in g.warnings)
+
+
+# Bad input: a named error, nothing written.
+
+
+def no_files(folder):
+    return sorted(p.name for p in folder.iterdir()) == []
+
+
+def test_mujoco_an_object_with_no_contacts_is_a_named_error(tmp_path):
+    xml = """<mujoco><worldbody><geom type="plane" size="1 1 .1"/>
+      <body name="ball" pos="0 0 1"><freejoint/><geom type="sphere" size=".1"/></body></worldbody></mujoco>"""
+    (tmp_path / "m.xml").write_text(xml)
+    model = gm.load_model(tmp_path / "m.xml")
+    with pytest.raises(gm.NoContactError, match="body 'ball' has no active contact"):
+        gm.scene_from(model, gm.load_state(model), "ball")
+    out = tmp_path / "out"
+    out.mkdir()
+    proc = python_m("scene", tmp_path / "m.xml", "--object", "ball", "--out", out / "s.json", "--report", out / "r.json")
+    assert proc.returncode == 1 and "has no active contact" in proc.stderr and no_files(out)
+    (tmp_path / "idle.py").write_text("def idle(model, data):\n    pass\n")
+    proc = python_m("handoff", tmp_path / "m.xml", "--object", "ball", "--controller", f"{tmp_path / 'idle.py'}:idle",
+                    "--steps", "3", "--out", out / "h")
+    assert proc.returncode == 1 and "held by no contact" in proc.stderr and no_files(out), proc.stderr
+
+
+def test_mujoco_unknown_body_and_unknown_names_in_the_material_map_are_named_errors(pinch, tmp_path):
+    model, data, _ = pinch
+    with pytest.raises(gm.UnknownBodyError, match="no body 'bx'.*box, jaw_left, jaw_right"):
+        gm.scene_from(model, data, "bx")
+    with pytest.raises(gm.MaterialMapError, match="'pad_lft' \\(did you mean 'pad_left'\\?\\)"):
+        gm.scene_from(model, data, "box", materials={"pad_lft": "rigid"})
+    with pytest.raises(gm.MaterialMapError, match="material of 'box'"):
+        gm.scene_from(model, data, "box", materials={"box": {"youngs_modulus": "hard"}})
+    (tmp_path / "map.json").write_text('{"pad_lft": "rigid"}')
+    proc = python_m("scene", PINCH, "--object", "box", "--keyframe", "grasped", "--materials", tmp_path / "map.json",
+                    "--out", tmp_path / "s.json")
+    assert proc.returncode == 1 and "did you mean 'pad_left'" in proc.stderr
+    proc = python_m("scene", PINCH, "--object", "bx", "--keyframe", "grasped", "--out", tmp_path / "s.json")
+    assert proc.returncode == 1 and "no body 'bx'" in proc.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["map.json"]
+
+
+def test_mujoco_states_that_do_not_load_are_named_errors(rollout, tmp_path):
+    model = gm.load_model(PINCH)
+    with pytest.raises(gm.StateError, match="no keyframe 'nope'.*start, grasped"):
+        gm.load_state(model, keyframe="nope")
+    (tmp_path / "q.txt").write_text("0 0 0.05 1 0 0 0")
+    with pytest.raises(gm.StateError, match="qpos has 7 numbers, the model needs 8"):
+        gm.load_state(model, qpos=tmp_path / "q.txt")
+    (tmp_path / "q.txt").write_text("0 0 nan 1 0 0 0 0")
+    with pytest.raises(gm.StateError, match="NaN"):
+        gm.load_state(model, qpos=tmp_path / "q.txt")
+    (tmp_path / "bad.xml").write_text("<mujoco><worldbody><body><geom type='box'/></body></worldbody></mujoco>")
+    with pytest.raises(gm.ModelLoadError, match="MuJoCo cannot load"):
+        gm.load_model(tmp_path / "bad.xml")
+    hmodel, r = rollout
+    with pytest.raises(gm.StateError, match="'qpos' has shape"):
+        gm.schedule_from_rollout(hmodel, {"time": r.time, "qpos": r.qpos[:, :5], "qvel": r.qvel}, "cylinder")
+    with pytest.raises(gm.StateError, match="strictly increasing"):
+        gm.schedule_from_rollout(hmodel, {"time": r.time[::-1], "qpos": r.qpos, "qvel": r.qvel}, "cylinder")
+    with pytest.raises(gm.ControllerError, match="cannot import"):
+        gm.simulate(hmodel, gm.load_state(hmodel), str(tmp_path / "nope.py") + ":control", steps=2)
+    out = tmp_path / "out"
+    out.mkdir()
+    for args in (["--keyframe", "nope"], ["--qpos", tmp_path / "q.txt"]):
+        proc = python_m("scene", PINCH, "--object", "box", *args, "--out", out / "s.json")
+        assert proc.returncode == 1 and proc.stderr.startswith("error: "), proc.stderr
+    proc = python_m("scene", tmp_path / "bad.xml", "--object", "box", "--out", out / "s.json")
+    assert proc.returncode == 1 and "MuJoCo cannot load" in proc.stderr
+    assert no_files(out)
+
+
+def test_mujoco_existing_outputs_are_kept_without_force(tmp_path):
+    target = tmp_path / "s.json"
+    target.write_text("mine\n")
+    args = ["scene", PINCH, "--object", "box", "--keyframe", "grasped", "--out", target, "--no-margin"]
+    proc = python_m(*args)
+    assert proc.returncode == 1 and "--force" in proc.stderr and target.read_text() == "mine\n"
+    assert python_m(*args, "--force").returncode == 0
+    assert json.loads(target.read_text())["fingers"][0]["name"] == "jaw_left"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.json"]  # no temporary left
+    proc = python_m("scene", PINCH, "--object", "box", "--out", tmp_path / "t.json", "--colour", "red")
+    assert proc.returncode == 1 and "unrecognized arguments: --colour red" in proc.stderr  # usage errors exit 1
+
+
+def test_mujoco_a_state_file_gives_the_keyframes_scene(pinch, tmp_path):
+    model, data, g = pinch
+    np.savez(tmp_path / "state.npz", qpos=data.qpos, qvel=data.qvel, ctrl=data.ctrl, time=[data.time])
+    again = gm.scene_from(model, gm.load_state(model, qpos=tmp_path / "state.npz"), "box",
+                          materials=MJ / "pinch.materials.json")
+    assert again.scene_dict == g.scene_dict
+    proc = python_m("scene", PINCH, "--object", "box", "--qpos", tmp_path / "state.npz", "--materials",
+                    MJ / "pinch.materials.json", "--out", tmp_path / "s.json", "--no-margin")
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads((tmp_path / "s.json").read_text())["fingers"] == g.scene_dict["fingers"]
+
+
+def test_mujoco_readme_section_shows_the_commands_and_the_pinch_table(pinch):
+    text = (ROOT / "README.md").read_text()
+    if "## From MuJoCo" not in text:
+        pytest.skip("README.md has no 'From MuJoCo' section yet")
+    section = text[text.index("## From MuJoCo"):]
+    section = section[:section.index("\n## ", 3)] if "\n## " in section[3:] else section
+    assert "python -m grasp.mujoco scene examples/mujoco/pinch.xml" in section
+    assert "python -m grasp.mujoco handoff examples/mujoco/handoff.xml" in section
+    _, _, g = pinch
+    table = [line for line in gm.compare(g, margins=False).table(markdown=True).splitlines() if line.startswith("|")]
+    shown = [line for line in section.splitlines() if line.startswith("| finger |")]
+    assert shown, "the section has no side-by-side table"
+    start = section.splitlines().index(shown[0])
+    assert section.splitlines()[start:start + len(table)] == table
