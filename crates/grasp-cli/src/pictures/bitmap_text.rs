@@ -147,9 +147,10 @@ impl<DB: DrawingBackend> DrawingBackend for BaselineText<DB> {
 mod tests {
     use super::*;
 
-    /// Lowest inked row of each run of inked columns of a `w x h` grey buffer.
+    /// Lowest row with any ink of each run of inked columns of a `w x h` grey buffer (a glyph
+    /// standing on the baseline touches the row the baseline crosses, whatever its shape).
     fn bottoms(grey: &[u8], (w, h): (usize, usize)) -> Vec<usize> {
-        let inked = |x: usize, y: usize| grey[y * w + x] < 128;
+        let inked = |x: usize, y: usize| grey[y * w + x] < 255;
         let column_bottom = |x: usize| (0..h).rev().find(|&y| inked(x, y));
         let mut out = Vec::new();
         let mut run: Option<usize> = None;
@@ -168,7 +169,8 @@ mod tests {
         out
     }
 
-    /// "1.7" in black at `size` px on white, as grey levels.
+    /// "1 . 7" (spaced, so each glyph is its own run of inked columns) in black at `size` px
+    /// on white, as grey levels.
     fn render(size: u32) -> (Vec<u8>, (usize, usize)) {
         crate::pictures::picture::use_shipped_font().unwrap();
         let (w, h) = (80_usize, 40_usize);
@@ -178,7 +180,7 @@ mod tests {
             let root = backend.into_drawing_area();
             root.fill(&WHITE).unwrap();
             let font = ("sans-serif", size).into_font().color(&BLACK);
-            root.draw(&Text::new("1.7", (4, 8), font)).unwrap();
+            root.draw(&Text::new("1 . 7", (4, 8), font)).unwrap();
             root.present().unwrap();
         }
         (rgb.chunks(3).map(|p| p[0]).collect(), (w, h))
