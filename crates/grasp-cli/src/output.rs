@@ -28,19 +28,29 @@ pub fn install_signal_cleanup() -> Result<()> {
         .context("cannot install the SIGINT/SIGTERM handler")?;
     std::thread::spawn(move || {
         if let Some(sig) = signals.forever().next() {
-            // Holding the lock until exit: no temporary file is created or moved after this.
-            let pending = PENDING.lock().unwrap_or_else(|e| e.into_inner());
-            for p in pending.iter() {
-                let _ = std::fs::remove_file(p);
-            }
-            eprintln!(
-                "interrupted: {} temporary output file(s) removed; existing files are untouched",
-                pending.len()
-            );
-            std::process::exit(128 + sig);
+            remove_pending_and_exit(128 + sig, |n| {
+                Some(format!(
+                    "interrupted: {n} temporary output file(s) removed; existing files are \
+                     untouched"
+                ))
+            });
         }
     });
     Ok(())
+}
+
+/// Removes the pending temporary files, prints `note(how many)` (if any) on standard error and
+/// ends the process with `code`, holding the lock until then: no temporary file is created or
+/// moved after this.
+pub fn remove_pending_and_exit(code: i32, note: impl FnOnce(usize) -> Option<String>) -> ! {
+    let pending = PENDING.lock().unwrap_or_else(|e| e.into_inner());
+    for p in pending.iter() {
+        let _ = std::fs::remove_file(p);
+    }
+    if let Some(text) = note(pending.len()) {
+        eprintln!("{text}");
+    }
+    std::process::exit(code);
 }
 
 /// Refuses targets that cannot be written safely (see the module documentation). `inputs`

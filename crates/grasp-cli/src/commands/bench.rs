@@ -7,6 +7,7 @@
 //! and the batch runner's throughput on one thread and on every core (issue 12).
 
 use std::fmt::Write as _;
+use std::io::IsTerminal;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -422,6 +423,16 @@ fn render(rows: &[Row], markdown: bool) -> String {
     out
 }
 
+/// Says which case runs now on standard error: on a terminal one line rewritten in place
+/// (carriage returns), elsewhere (a file, a pipe, CI logs) one plain line per case.
+fn progress(what: &str) {
+    if std::io::stderr().is_terminal() {
+        eprint!("\r{what:<60}");
+    } else {
+        eprintln!("{what}");
+    }
+}
+
 /// Runs the bench and prints the table.
 fn run(flags: Flags) -> Result<ExitCode> {
     for name in &flags.cases {
@@ -442,7 +453,7 @@ fn run(flags: Flags) -> Result<ExitCode> {
     let mut rows = Vec::new();
     for case in &chosen {
         for &solver in &flags.solvers {
-            eprint!("\r{:<60}", format!("bench: {} ({solver})", case.name));
+            progress(&format!("bench: {} ({solver})", case.name));
             let m = measure(case, solver, &flags)?;
             rows.push(case_row(&m));
             measured.push(m);
@@ -451,16 +462,15 @@ fn run(flags: Flags) -> Result<ExitCode> {
     rows.extend(derived_rows(&measured, &flags.solvers));
     if flags.cases.is_empty() {
         for &solver in &flags.solvers {
-            eprint!(
-                "\r{:<60}",
-                format!("bench: whole transfer command ({solver})")
-            );
+            progress(&format!("bench: whole transfer command ({solver})"));
             rows.push(whole_command(solver, flags.quick)?);
-            eprint!("\r{:<60}", format!("bench: batch throughput ({solver})"));
+            progress(&format!("bench: batch throughput ({solver})"));
             rows.extend(batch_throughput(solver, flags.quick)?);
         }
     }
-    eprint!("\r{:<60}\r", "");
+    if std::io::stderr().is_terminal() {
+        eprint!("\r{:<60}\r", "");
+    }
     print!("{}", render(&rows, flags.markdown));
     println!(
         "\n(release build, this machine; times are medians of the timing runs; iterations: \
