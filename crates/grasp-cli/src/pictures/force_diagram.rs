@@ -227,8 +227,9 @@ fn view<DB: DrawingBackend>(
 const NAME_PX: u32 = 13;
 
 /// Each finger's name near its contact, outside the object along the normal where that spot
-/// is free, else at the nearest free spot ([`place_labels`]: no two names overlap), with a
-/// thin line back to the contact when it had to move.
+/// is free, else at the nearest free spot ([`place_labels`]: no two names overlap, and none
+/// covers a contact point or the centre of mass), with a thin line back to the contact when it
+/// had to move.
 fn draw_names<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     chart: &Chart<DB>,
@@ -262,7 +263,16 @@ fn draw_names<DB: DrawingBackend>(
         .iter()
         .map(|n| (f64::from(n.3 .0), f64::from(n.3 .1)))
         .collect();
-    let boxes = place_labels(&anchors, &sizes, bounds, 3.0);
+    // The contact points and the centre of mass stay uncovered.
+    let dot = |p: (f64, f64)| LabelBox {
+        x: p.0 - 4.0,
+        y: p.1 - 4.0,
+        w: 8.0,
+        h: 8.0,
+    };
+    let mut dots: Vec<LabelBox> = names.iter().map(|n| dot(n.1)).collect();
+    dots.push(dot(px(p2(&d.model.center_of_mass_m))));
+    let boxes = place_labels(&anchors, &sizes, bounds, 3.0, &dots);
     for ((name, contact, anchor, _), b) in names.iter().zip(&boxes) {
         let centre = (b.x + b.w / 2.0, b.y + b.h / 2.0);
         if (centre.0 - anchor.0).hypot(centre.1 - anchor.1) > b.h {

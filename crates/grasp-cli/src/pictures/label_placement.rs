@@ -1,6 +1,6 @@
 //! Labels placed without overlap: each label goes as close to its anchor as it can without
-//! covering a label placed before it, searched on rings of growing radius around the anchor
-//! (pixels, y down).
+//! covering a label placed before it or a given obstacle (the marks it labels), searched on
+//! rings of growing radius around the anchor (pixels, y down).
 
 /// An axis-aligned box in pixels: top-left corner and size.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,13 +30,14 @@ const DIRECTIONS: [f64; 8] = [0.0, 0.125, -0.125, 0.25, -0.25, 0.375, -0.375, 0.
 
 /// Boxes of `sizes` (width, height), in order, each centred on its anchor where that is free,
 /// else at the nearest free spot found on rings spaced `gap` pixels apart (and `gap` from every
-/// placed box), inside `area` where possible. A box that finds no free spot within the area's
-/// reach keeps its anchor.
+/// placed box and every obstacle), inside `area` where possible. A box that finds no free spot
+/// within the area's reach keeps its anchor.
 pub fn place_labels(
     anchors: &[(f64, f64)],
     sizes: &[(f64, f64)],
     area: LabelBox,
     gap: f64,
+    obstacles: &[LabelBox],
 ) -> Vec<LabelBox> {
     let mut placed: Vec<LabelBox> = Vec::with_capacity(anchors.len());
     let reach = area.w.max(area.h);
@@ -49,7 +50,7 @@ pub fn place_labels(
         };
         // A placed box grown by `gap` on every side: what a new box must stay out of.
         let free = |b: &LabelBox| {
-            placed.iter().all(|p| {
+            placed.iter().chain(obstacles).all(|p| {
                 let grown = LabelBox {
                     x: p.x - gap,
                     y: p.y - gap,
@@ -99,9 +100,27 @@ mod tests {
     fn labels_on_one_anchor_spread_without_overlap() {
         let anchors = vec![(250.0, 200.0); 12];
         let sizes: Vec<(f64, f64)> = (0..12).map(|i| (30.0 + 4.0 * i as f64, 13.0)).collect();
-        let b = place_labels(&anchors, &sizes, AREA, 2.0);
+        let b = place_labels(&anchors, &sizes, AREA, 2.0, &[]);
         no_two_overlap(&b);
         assert!(b.iter().all(|x| x.inside(&AREA)), "{b:?}");
+    }
+
+    #[test]
+    fn labels_keep_off_the_obstacles() {
+        let dots: Vec<LabelBox> = (0..5)
+            .map(|i| LabelBox {
+                x: 240.0 + 4.0 * i as f64,
+                y: 196.0,
+                w: 8.0,
+                h: 8.0,
+            })
+            .collect();
+        let b = place_labels(&[(250.0, 200.0); 5], &[(30.0, 13.0); 5], AREA, 2.0, &dots);
+        no_two_overlap(&b);
+        assert!(
+            b.iter().all(|x| dots.iter().all(|d| !x.overlaps(d))),
+            "{b:?}"
+        );
     }
 
     #[test]
@@ -111,6 +130,7 @@ mod tests {
             &[(40.0, 12.0); 2],
             AREA,
             2.0,
+            &[],
         );
         assert_eq!(
             b[0],
@@ -135,7 +155,7 @@ mod tests {
     #[test]
     fn labels_near_an_edge_stay_inside_the_area() {
         let anchors = vec![(2.0, 2.0), (4.0, 3.0), (498.0, 398.0)];
-        let b = place_labels(&anchors, &[(50.0, 14.0); 3], AREA, 2.0);
+        let b = place_labels(&anchors, &[(50.0, 14.0); 3], AREA, 2.0, &[]);
         no_two_overlap(&b);
         assert!(b.iter().all(|x| x.inside(&AREA)), "{b:?}");
     }
