@@ -11,7 +11,7 @@
 //!
 //! subject to force and moment equilibrium of the object, prescribed loads of force-controlled
 //! fingers and a Coulomb cone `||G_k|| <= mu F_k` per element: a second-order cone program
-//! (Sinha 1989, as corrected in `shared/docs/model.md`), solved by a native semismooth Newton
+//! (Sinha 1989, as corrected in `docs/model.md`), solved by a native semismooth Newton
 //! method that factorises each finger's block and warm-starts from the previous solution
 //! ([`native`]), with Clarabel as the reference and fallback ([`backend`]).
 //!
