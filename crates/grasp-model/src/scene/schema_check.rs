@@ -14,6 +14,9 @@ use serde_json::{Map, Value};
 use crate::error::InputProblem;
 use crate::scene::strict_json::describe;
 
+/// The message's end for a value that fits none of a field's forms.
+pub const NO_FORM_FITS: &str = "which is none of the forms this field takes";
+
 /// The structural problems of `value` against `schema` (a root schema with `$defs`): depth
 /// first, the keys of each object in alphabetical order (missing ones among them); empty when
 /// it fits.
@@ -127,10 +130,7 @@ impl<'a> Walk<'a> {
             [best, next, ..] if best.len() < next.len() => out.extend(best.iter().cloned()),
             _ => out.push(problem(
                 path,
-                format!(
-                    "is {}, which is none of the forms this field takes",
-                    describe(v)
-                ),
+                format!("is {}, {NO_FORM_FITS}", describe(v)),
                 "write one of its forms",
                 hint,
             )),
@@ -272,7 +272,11 @@ fn hint_of(node: &Map<String, Value>) -> String {
         .and_then(Value::as_str)
         .unwrap_or("")
         .replace('\n', " ");
-    let end = text.find(". ").map_or(text.len(), |i| i + 1);
+    // A sentence ends at ". " before a capital ("eq. 40" does not end one).
+    let end = text
+        .match_indices(". ")
+        .find(|(i, _)| text[i + 2..].starts_with(|c: char| c.is_uppercase()))
+        .map_or(text.len(), |(i, _)| i + 1);
     let first = text[..end].trim().trim_end_matches('.');
     let mut chars = first.chars();
     match chars.next() {
@@ -441,6 +445,8 @@ mod tests {
             p[0].message
         );
         assert!(p[0].fix.contains("{\"mu\": c}"), "{}", p[0].fix);
+        assert!(p[0].fix.ends_with("(thesis eq. 40)"), "{}", p[0].fix);
+        assert!(p[0].fix.ends_with("(thesis eq. 40)"), "{}", p[0].fix);
     }
 
     #[test]

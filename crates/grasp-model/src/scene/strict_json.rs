@@ -55,8 +55,9 @@ fn syntax_error(text: &str, e: &serde_json::Error) -> JsonError {
         Some((line, column, mark)) if (line, column) <= at => JsonError {
             path: format!("line {line}, column {column}"),
             message: format!(
-                "JSON has no comments, and `{mark}` starts one here; remove every comment (the \
-                 README's commented example shows alternatives: keep one, delete the rest)"
+                "JSON has no comments, and `{mark}` at line {line} column {column} starts one; \
+                 remove every comment (the README's commented example shows alternatives: keep \
+                 one, delete the rest)"
             ),
         },
         _ => JsonError {

@@ -541,6 +541,12 @@ fn structure_error(text: &str, e: crate::scene::strict_json::JsonError) -> Scene
         return single(e);
     }
     let mut problems = Problems(found);
+    // Where the walk only knows that no form fits, the reader's message says which it expected.
+    for p in problems.0.iter_mut() {
+        if p.path == e.path && p.message.contains(NO_FORM_FITS) {
+            p.message = e.message.clone();
+        }
+    }
     // The walk knows the format's structure, the reader its details: keep the reader's error
     // when no problem found lies on its path.
     let related = |p: &InputProblem| p.path.starts_with(&e.path) || e.path.starts_with(&p.path);
@@ -566,6 +572,9 @@ fn structure_error(text: &str, e: crate::scene::strict_json::JsonError) -> Scene
     }
     problems.finish().err().unwrap_or_else(|| single(e))
 }
+
+/// What [`crate::scene::schema_check`] says of a value that fits none of a field's forms.
+const NO_FORM_FITS: &str = crate::scene::schema_check::NO_FORM_FITS;
 
 /// The field named by serde's "missing field `name` at line ..." message.
 fn missing_field(message: &str) -> Option<&str> {
