@@ -281,3 +281,21 @@ fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &MarginReport) -> 
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A panel axis along a world axis is named by it (with its sign); any other by its
+    /// vector.
+    #[test]
+    fn panel_axes_are_named_by_the_world_axis_they_lie_along() {
+        assert_eq!(axis_name(&[1.0, 0.0, 0.0], "e1"), "+x");
+        assert_eq!(axis_name(&[0.0, 0.0, -1.0], "e2"), "-z");
+        assert_eq!(axis_name(&[0.6, 0.8, 0.0], "e1"), "e1 [0.60, 0.80, 0.00]");
+        assert_eq!(
+            axis_name(&[0.0, 1.0 + 1e-9, 0.0], "e2"),
+            "e2 [0.00, 1.00, 0.00]"
+        );
+    }
+}
