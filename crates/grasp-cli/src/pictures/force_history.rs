@@ -6,6 +6,7 @@
 
 use anyhow::Result;
 use grasp_transfer::StepRecord;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -35,6 +36,29 @@ fn marker_steps(points: usize, i: usize, n: usize) -> Vec<usize> {
     let spacing = (points / MARKERS_PER_CURVE).max(n).max(1);
     let offset = spacing * i / n.max(1);
     (offset..points).step_by(spacing).collect()
+}
+
+/// Every finger's markers: filled on its normal force, hollow on its friction force, at the
+/// steps [`marker_steps`] gives it.
+fn draw_markers<DB: DrawingBackend>(
+    chart: &mut ChartContext<DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    hist: &ForceHistory,
+) -> Result<()> {
+    let n = hist.names.len();
+    for i in 0..n {
+        let color = COLORS[i % COLORS.len()];
+        let at = marker_steps(hist.points.len(), i, n);
+        let point = |k: usize, pick: usize| (hist.points[k].0, hist.points[k].1[i][pick]);
+        let filled = at
+            .iter()
+            .map(|&k| Circle::new(point(k, 0), MARKER_PX, color.filled()));
+        chart.draw_series(filled).map_err(draw_err)?;
+        let hollow = at
+            .iter()
+            .map(|&k| Circle::new(point(k, 1), MARKER_PX, color.stroke_width(2)));
+        chart.draw_series(hollow).map_err(draw_err)?;
+    }
+    Ok(())
 }
 
 /// "f1 = f2, f3 = f4: identical curves" for fingers whose normal and friction forces agree at
@@ -186,24 +210,7 @@ fn draw_history<DB: DrawingBackend>(
                     + Circle::new((10, 0), MARKER_PX, color.stroke_width(2))
             });
     }
-    let n = hist.names.len();
-    for i in 0..n {
-        let color = COLORS[i % COLORS.len()];
-        let at = marker_steps(hist.points.len(), i, n);
-        let point = |k: usize, pick: usize| (hist.points[k].0, hist.points[k].1[i][pick]);
-        chart
-            .draw_series(
-                at.iter()
-                    .map(|&k| Circle::new(point(k, 0), MARKER_PX, color.filled())),
-            )
-            .map_err(draw_err)?;
-        chart
-            .draw_series(
-                at.iter()
-                    .map(|&k| Circle::new(point(k, 1), MARKER_PX, color.stroke_width(2))),
-            )
-            .map_err(draw_err)?;
-    }
+    draw_markers(&mut chart, hist)?;
     if let Some(note) = same_curves_note(hist, fmax) {
         let (x, y) = chart.backend_coord(&(t0, fmax * 1.05));
         root.draw(&Text::new(note, (x + 8, y + 6), ("sans-serif", 13)))
