@@ -1,7 +1,8 @@
 //! Hand-off outputs: the MCAP log read back with the `mcap` crate (channels, schemas, counts,
-//! values equal to the in-memory results, deterministic bytes), the CSV history, and the
-//! independent `rerun` CLI (Python package rerun-sdk==0.36.3, installed by
-//! scripts/install-checkers.sh) accepting the `.mcap` and the `.rrd`.
+//! values equal to the in-memory results, deterministic bytes), the `.rrd`'s deterministic
+//! bytes before Rerun's footer, the CSV history, and the independent `rerun` CLI (Python
+//! package rerun-sdk==0.36.3, installed by scripts/install-checkers.sh) accepting the `.mcap`
+//! and the `.rrd`.
 
 mod support;
 
@@ -161,6 +162,95 @@ fn mcap_is_deterministic() {
         std::fs::read(a.join("plate.mcap")).unwrap(),
         std::fs::read(b.join("plate.mcap")).unwrap()
     );
+}
+
+/// The recording is byte-identical from run to run up to its footer, and the footer holds the
+/// same manifests (Rerun 0.36 lists them, and each one's schema fields, in hash-map order: see
+/// `grasp_transfer::sinks::rerun_log`). Two runs in one process: every random id the SDK would
+/// draw differs between them, so a run-dependent id anywhere before the footer fails this.
+#[test]
+fn rrd_is_deterministic_up_to_rerun_s_footer() {
+    let (a, b) = (out_dir("det-rrd-a"), out_dir("det-rrd-b"));
+    run_plate(&a);
+    run_plate(&b);
+    let a = std::fs::read(a.join("plate.rrd")).unwrap();
+    let b = std::fs::read(b.join("plate.rrd")).unwrap();
+    let (data_a, manifests_a) = rrd_parts(&a);
+    let (data_b, manifests_b) = rrd_parts(&b);
+    assert!(
+        data_a.len() > a.len() / 2,
+        "{} of {} bytes",
+        data_a.len(),
+        a.len()
+    );
+    let first_difference = data_a.iter().zip(data_b).position(|(x, y)| x != y);
+    assert!(
+        data_a.len() == data_b.len() && first_difference.is_none(),
+        "{} and {} bytes before the footer, first difference at {first_difference:?}",
+        data_a.len(),
+        data_b.len()
+    );
+    assert_eq!(manifests_a.len(), 2, "the recording's and the layout's");
+    assert!(manifests_a == manifests_b, "the footers' manifests differ");
+}
+
+/// One store's manifest in an `.rrd` footer: store id, schema hash, chunk table (protobuf
+/// fields 1, 3 and 4 of `RrdManifest`; field 2, the schema itself, lists its fields in
+/// hash-map order and is left out: its hash stands for it).
+type Manifest = (Vec<u8>, Vec<u8>, Vec<u8>);
+
+/// An `.rrd` file split into everything before its footer frame and the footer's manifests,
+/// sorted. The file ends with a 32-byte stream footer whose first 16 bytes are the footer
+/// payload's offset and length (little-endian); a 16-byte frame header precedes the payload.
+fn rrd_parts(file: &[u8]) -> (&[u8], Vec<Manifest>) {
+    let word = |at: usize| u64::from_le_bytes(file[at..at + 8].try_into().unwrap()) as usize;
+    let tail = file.len() - 32;
+    assert_eq!(&file[tail + 20..tail + 28], b"RRF2FOOT", "a stream footer");
+    let (start, len) = (word(tail), word(tail + 8));
+    let mut manifests: Vec<Manifest> = protobuf_fields(&file[start..start + len])
+        .into_iter()
+        .filter(|(field, _)| *field == 1)
+        .map(|(_, manifest)| {
+            let parts = protobuf_fields(manifest);
+            let get = |f: u64| parts.iter().find(|p| p.0 == f).unwrap().1.to_vec();
+            (get(1), get(3), get(4))
+        })
+        .collect();
+    manifests.sort();
+    (&file[..start - 16], manifests)
+}
+
+/// The length-delimited fields of a protobuf message as (field number, bytes); varint fields
+/// are skipped (the footer has none at these levels).
+fn protobuf_fields(mut b: &[u8]) -> Vec<(u64, &[u8])> {
+    let varint = |b: &mut &[u8]| {
+        let (mut value, mut shift) = (0u64, 0);
+        loop {
+            let byte = b[0];
+            *b = &b[1..];
+            value |= u64::from(byte & 0x7f) << shift;
+            shift += 7;
+            if byte < 0x80 {
+                return value;
+            }
+        }
+    };
+    let mut out = Vec::new();
+    while !b.is_empty() {
+        let key = varint(&mut b);
+        match key & 7 {
+            2 => {
+                let n = varint(&mut b) as usize;
+                out.push((key >> 3, &b[..n]));
+                b = &b[n..];
+            }
+            0 => {
+                varint(&mut b);
+            }
+            wire => panic!("protobuf wire type {wire} in an rrd footer"),
+        }
+    }
+    out
 }
 
 #[test]

@@ -1,7 +1,7 @@
 """grasp: elastic grasp contact forces and object hand-offs, from Python.
 
 The same library as the ``grasp`` command (Sinha's 1989 contact-stress grasp model as
-corrected in ``shared/docs/model.md``), called in-process:
+corrected in ``docs/model.md``), called in-process:
 
 >>> import grasp
 >>> scene = grasp.Scene("examples/cube_a.json")          # a path, a dict or JSON text

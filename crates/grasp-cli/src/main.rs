@@ -1,6 +1,24 @@
 //! `grasp`: the command-line front end. Flags become a validated configuration before any work
 //! starts; the physics lives in `grasp-model`, the hand-off in `grasp-transfer`.
 
+// Every module prints through these (declared before the modules, so they replace the
+// standard macros there): a closed standard output (`grasp schema | head`) ends the run quietly
+// with exit 141 instead of a panic, and a closed standard error is ignored (see `stdout`).
+macro_rules! print {
+    ($($arg:tt)*) => { $crate::stdout::write(format_args!($($arg)*)) };
+}
+macro_rules! println {
+    () => { $crate::stdout::write(format_args!("\n")) };
+    ($($arg:tt)*) => { $crate::stdout::write(format_args!("{}\n", format_args!($($arg)*))) };
+}
+macro_rules! eprint {
+    ($($arg:tt)*) => { $crate::stdout::write_err(format_args!($($arg)*)) };
+}
+macro_rules! eprintln {
+    () => { $crate::stdout::write_err(format_args!("\n")) };
+    ($($arg:tt)*) => { $crate::stdout::write_err(format_args!("{}\n", format_args!($($arg)*))) };
+}
+
 mod commands;
 mod flag_names;
 mod limits;
@@ -8,6 +26,7 @@ mod load_scene;
 mod output;
 mod pictures;
 mod report;
+mod stdout;
 
 use std::process::ExitCode;
 
@@ -64,13 +83,16 @@ fn main() -> ExitCode {
         eprintln!("error: {e:#}");
         return ExitCode::from(1);
     }
-    match run(cli) {
+    let code = match run(cli) {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {}", flag_names::in_flags(&format!("{e:#}")));
             ExitCode::from(1)
         }
-    }
+    };
+    // A last line without its newline is still buffered: a closed pipe shows here.
+    stdout::flush();
+    code
 }
 
 /// Runs the command given.

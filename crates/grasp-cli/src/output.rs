@@ -27,16 +27,26 @@ pub fn install_signal_cleanup() -> Result<()> {
         .context("cannot install the SIGINT/SIGTERM/SIGHUP handler")?;
     std::thread::spawn(move || {
         if let Some(sig) = signals.forever().next() {
-            // The registry stays locked: no temporary file is created or moved after this.
-            let removed = grasp_io::temporary_files::remove_all_for_exit();
-            eprintln!(
-                "interrupted: {removed} temporary output file(s) removed; existing files are \
-                 untouched"
-            );
-            std::process::exit(128 + sig);
+            remove_pending_and_exit(128 + sig, |n| {
+                Some(format!(
+                    "interrupted: {n} temporary output file(s) removed; existing files are \
+                     untouched"
+                ))
+            });
         }
     });
     Ok(())
+}
+
+/// Removes this process's temporary and lock files, prints `note(how many temporary outputs)`
+/// (if any) on standard error and ends the process with `code`; the registry stays locked, so
+/// no temporary file is created or moved into place after this.
+pub fn remove_pending_and_exit(code: i32, note: impl FnOnce(usize) -> Option<String>) -> ! {
+    let removed = grasp_io::temporary_files::remove_all_for_exit();
+    if let Some(text) = note(removed) {
+        eprintln!("{text}");
+    }
+    std::process::exit(code);
 }
 
 /// The outputs of a command, checked and locked until dropped.

@@ -5,7 +5,8 @@ use std::path::Path;
 
 use grasp_model::{GraspModel, Solution};
 
-/// The per-finger table, the rigid displacement, and the error beside the run time.
+/// The per-finger table, the rigid displacement, and the residuals beside the run time (a
+/// successful run prints no line starting with `error:`: that word is kept for errors).
 pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s: f64) -> String {
     let mut s = String::new();
     let planar = if model.plane.is_some() {
@@ -90,7 +91,7 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
         if let Some(r) = &sol.residuals {
             let _ = writeln!(
                 s,
-                "error: equilibrium {:.1e} of the load ({:.3e} N, {:.3e} N m), cones {:.1e}, \
+                "residuals: equilibrium {:.1e} of the load ({:.3e} N, {:.3e} N m), cones {:.1e}, \
                  penetration {:.1e}, compatibility {:.1e}, complementarity {:.1e}, stick motion \
                  {:.1e}, slip direction {:.1e}",
                 r.equilibrium_relative,

@@ -66,6 +66,17 @@ fn quick_native_bench_prints_a_markdown_table() {
     assert!(iterations("plate_handoff_warm") <= iterations("plate_handoff_cold"));
     let ratio = row("plate hand-off warm/cold");
     assert!(ratio[11].starts_with("<= 0.2 ("), "{ratio:?}");
+    // Standard error is a pipe here, not a terminal: one plain progress line per case, no
+    // carriage returns (they garble a log file).
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains('\r'), "{stderr:?}");
+    for name in ["cube_a_5x5", "plate_handoff_warm", "plate_handoff_cold"] {
+        let line = format!("bench: {name} (native)");
+        assert!(
+            stderr.lines().any(|l| l == line),
+            "no `{line}` in {stderr:?}"
+        );
+    }
 }
 
 #[test]

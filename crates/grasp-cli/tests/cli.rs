@@ -23,9 +23,11 @@ fn solve_prints_a_table_and_writes_json() {
     assert!(o.status.success(), "{}", text(&o));
     let t = text(&o);
     assert!(
-        t.contains("P [N]") && t.contains("status: solved") && t.contains("error: equilibrium"),
+        t.contains("P [N]") && t.contains("status: solved") && t.contains("residuals: equilibrium"),
         "{t}"
     );
+    // `error:` is kept for errors: a successful run prints none.
+    assert!(!t.lines().any(|l| l.starts_with("error")), "{t}");
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     assert_eq!(v["status"], "solved");
@@ -166,9 +168,20 @@ fn transfer_writes_every_output_and_summarises() {
         "peak squeeze",
         "smallest slip margin",
         "failed steps: none",
+        "residuals: worst equilibrium residual",
+        "time: stepping ",
     ] {
         assert!(t.contains(want), "missing `{want}` in\n{t}");
     }
+    assert!(!t.lines().any(|l| l.starts_with("error")), "{t}");
+    // Each output says how to open it.
+    let opens: Vec<&str> = t.lines().filter(|l| l.starts_with("  open: ")).collect();
+    assert_eq!(opens.len(), 4, "{t}");
+    assert!(
+        t.contains(&format!("  open: rerun {}", r.display())),
+        "the recording's line names the command: {t}"
+    );
+    assert!(t.contains("  open: Foxglove"), "{t}");
     for f in [&m, &r, &c, &p] {
         assert!(
             std::fs::metadata(f).unwrap().len() > 0,
@@ -349,4 +362,373 @@ fn solve_json_carries_the_shape_warnings() {
             "{printed}"
         );
     }
+}
+/// A slip margin within round-off of 0 (the plate's releasing fingers start at the friction
+/// limit: `1 - |Q|/(mu P)` came out -6.66e-16) is printed as 0 and explained.
+#[test]
+fn a_round_off_slip_margin_reads_zero() {
+    let o = grasp(&[
+        "transfer",
+        &example("plate_transfer.json"),
+        "--schedule",
+        &example("plate_transfer.schedule.json"),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    let line = t
+        .lines()
+        .find(|l| l.starts_with("smallest slip margin"))
+        .unwrap_or_else(|| panic!("no slip margin line in\n{t}"));
+    assert!(
+        line.starts_with("smallest slip margin 1 - |Q|/(mu P): 0 (")
+            && line.contains("friction limit"),
+        "{line}"
+    );
+}
+
+/// With `--margins` the summary's time line gives the stepping and the margins apart.
+#[test]
+fn transfer_with_margins_reports_both_times() {
+    let dir = tmp("margins-time");
+    let sched = dir.join("three.schedule.json");
+    std::fs::write(
+        &sched,
+        r#"{"time": {"times": [0, 10, 19.9]},
+            "fingers": {"f1": [{"held": {"until": 0}}, {"ramp": {"keyframes": [[0, "current"], [19.9, 0]]}}],
+                        "f2": [{"held": {"until": 0}}, {"ramp": {"keyframes": [[0, "current"], [19.9, 0]]}}],
+                        "f3": [{"held": {}}], "f4": [{"held": {}}]}}"#,
+    )
+    .unwrap();
+    let o = grasp(&[
+        "transfer",
+        &example("plate_transfer.json"),
+        "--schedule",
+        sched.to_str().unwrap(),
+        "--margins",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    let line = t.lines().find(|l| l.starts_with("time: ")).unwrap_or("");
+    assert!(
+        line.starts_with("time: stepping ")
+            && line.contains("; margins ")
+            && line.contains(" solves)")
+            && line.contains("the whole run "),
+        "{t}"
+    );
+}
+
+/// The same run writes the same `.rrd` bytes up to Rerun's footer (two processes, so nothing
+/// is shared but the inputs). The footer, an index Rerun 0.36 appends, lists its entries in
+/// hash-map order; `tests/transfer_outputs.rs` checks that its content is the same.
+#[test]
+fn recordings_are_byte_identical_from_run_to_run_up_to_the_footer() {
+    let dir = tmp("rrd-twice");
+    let run = |name: &str| {
+        let out = dir.join(name);
+        let o = grasp(&[
+            "transfer",
+            &example("plate_transfer.json"),
+            "--schedule",
+            &example("plate_transfer.schedule.json"),
+            "--rrd",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", text(&o));
+        let bytes = std::fs::read(out).unwrap();
+        // The stream footer (the last 32 bytes) starts with the footer payload's offset; a
+        // 16-byte frame header precedes the payload.
+        let tail = bytes.len() - 32;
+        assert_eq!(&bytes[tail + 20..tail + 28], b"RRF2FOOT");
+        let start = u64::from_le_bytes(bytes[tail..tail + 8].try_into().unwrap()) as usize;
+        bytes[..start - 16].to_vec()
+    };
+    let (a, b) = (run("a.rrd"), run("b.rrd"));
+    assert!(a.len() > 100_000, "{} bytes before the footer", a.len());
+    let first_difference = a.iter().zip(&b).position(|(x, y)| x != y);
+    assert!(
+        a.len() == b.len() && first_difference.is_none(),
+        "{} and {} bytes, first difference at byte {first_difference:?}",
+        a.len(),
+        b.len()
+    );
+}
+
+/// Runs `grasp args` with its standard output a pipe whose reader is already closed: every
+/// write fails with a broken pipe.
+fn with_closed_stdout(args: &[&str]) -> std::process::Output {
+    use std::os::fd::FromRawFd;
+    let mut fds = [0 as libc::c_int; 2];
+    // SAFETY: `fds` has room for the two descriptors pipe(2) writes.
+    assert_eq!(unsafe { libc::pipe(fds.as_mut_ptr()) }, 0);
+    // SAFETY: fds[0] is the read end just made and owned here; closing it leaves no reader.
+    unsafe { libc::close(fds[0]) };
+    // SAFETY: fds[1] is the write end just made, owned by nothing else.
+    let write_end = unsafe { std::os::fd::OwnedFd::from_raw_fd(fds[1]) };
+    std::process::Command::new(env!("CARGO_BIN_EXE_grasp"))
+        .args(args)
+        .stdout(std::process::Stdio::from(write_end))
+        .output()
+        .expect("run grasp")
+}
+
+/// Every command meets a closed standard output quietly: exit 0 or 141 (what a shell reports
+/// for a program stopped by a closed pipe), never a panic (101), and an interrupted run leaves
+/// no temporary file behind.
+#[test]
+fn a_closed_stdout_ends_every_command_quietly() {
+    let dir = tmp("closed-stdout");
+    let file = |name: &str| dir.join(name).display().to_string();
+    let scenes = dir.join("scenes.jsonl");
+    let cube = std::fs::read_to_string(example("cube_a.json")).unwrap();
+    let cube: serde_json::Value = serde_json::from_str(&cube).unwrap();
+    std::fs::write(
+        &scenes,
+        format!("{}\n", serde_json::json!({"id": "a", "scene": cube})),
+    )
+    .unwrap();
+    let (cube_a, hertz) = (example("cube_a.json"), example("hertz_sphere_on_flat.json"));
+    let (plate, plate_schedule) = (
+        example("plate_transfer.json"),
+        example("plate_transfer.schedule.json"),
+    );
+    let coulomb = example("plate_handoff_coulomb.json");
+    let runs: Vec<Vec<String>> = vec![
+        vec!["schema".into()],
+        vec!["schema".into(), "--schedule".into()],
+        vec!["--help".into()],
+        vec!["solve".into(), cube_a.clone()],
+        vec![
+            "solve".into(),
+            cube_a.clone(),
+            "--json".into(),
+            file("cube.json"),
+        ],
+        vec![
+            "transfer".into(),
+            plate.clone(),
+            "--schedule".into(),
+            plate_schedule.clone(),
+            "--csv".into(),
+            file("plate.csv"),
+        ],
+        vec![
+            "plot".into(),
+            cube_a.clone(),
+            "--out".into(),
+            file("cube.svg"),
+        ],
+        vec!["study".into(), hertz, "--grids".into(), "3,5".into()],
+        vec!["margin".into(), coulomb],
+        vec![
+            "sweep".into(),
+            cube_a.clone(),
+            "--vary".into(),
+            "object.weight=1,2".into(),
+            "--out".into(),
+            file("variants.jsonl"),
+        ],
+        vec![
+            "batch".into(),
+            scenes.display().to_string(),
+            "--out".into(),
+            file("results.jsonl"),
+        ],
+        vec![
+            "bench".into(),
+            "--quick".into(),
+            "--case".into(),
+            "cube_a_5x5".into(),
+            "--solver".into(),
+            "native".into(),
+            "--min-time".into(),
+            "0".into(),
+        ],
+    ];
+    for args in &runs {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = with_closed_stdout(&args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            matches!(o.status.code(), Some(0) | Some(141)) && !stderr.contains("panicked"),
+            "grasp {}: {:?}\n{stderr}",
+            args.join(" "),
+            o.status
+        );
+    }
+    let left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains(".grasp-tmp-"))
+        .collect();
+    assert!(left.is_empty(), "temporary files left: {left:?}");
+    // The transfer stopped at its first line: its CSV was never moved into place.
+    assert!(!dir.join("plate.csv").exists());
+}
+
+/// `grasp study` takes the closed form as its reference where the scene has one, and says
+/// why the reference matters where it has none.
+#[test]
+fn study_picks_the_closed_form_where_the_scene_has_one() {
+    let o = grasp(&[
+        "study",
+        &example("hertz_sphere_on_flat.json"),
+        "--grids",
+        "5,9",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("reference: the Hertz closed form") && t.contains("chosen automatically"),
+        "{t}"
+    );
+    assert!(t.contains("| p0 error |"), "{t}");
+    let o = grasp(&["study", &example("cube_a.json"), "--grids", "3,5"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("reference: the finest grid")
+            && t.contains("understated")
+            && t.contains("no closed form applies"),
+        "{t}"
+    );
+}
+
+/// A scene with several structural mistakes lists them all, each with a fix.
+#[test]
+fn a_scene_lists_every_structural_problem_with_a_fix() {
+    let dir = tmp("structure");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(example("cube_a.json")).unwrap()).unwrap();
+    v["fingers"][0].as_object_mut().unwrap().remove("normal");
+    v["fingers"][1].as_object_mut().unwrap().remove("material");
+    v["fingers"][2]["nromal"] = serde_json::json!([0, 1, 0]);
+    v["object"]["weight"] = serde_json::json!("heavy");
+    let scene = dir.join("bad.json");
+    std::fs::write(&scene, v.to_string()).unwrap();
+    let o = grasp(&["solve", scene.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let t = text(&o);
+    for path in [
+        "fingers[0].normal: is missing; fix: add `normal`",
+        "fingers[1].material: is missing; fix: add `material`",
+        "fingers[2].nromal: is not a field here; fix: did you mean `normal`?",
+        "object.weight: is the string \"heavy\", expected a number; fix: write a number",
+    ] {
+        assert!(t.contains(path), "missing `{path}` in\n{t}");
+    }
+    let problems = t.lines().filter(|l| l.starts_with("  - ")).count();
+    assert_eq!(problems, 4, "{t}");
+    assert!(
+        t.lines()
+            .filter(|l| l.starts_with("  - "))
+            .all(|l| l.contains("; fix: ")),
+        "{t}"
+    );
+}
+
+/// The README's commented scene pasted as is: the error says JSON has no comments.
+#[test]
+fn a_commented_scene_is_told_json_has_no_comments() {
+    let dir = tmp("comments");
+    let readme =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../README.md"))
+            .unwrap();
+    let start = readme.find("## Scenes (SI units)").unwrap();
+    let block = &readme[start..];
+    let body = &block[block.find("```json\n").unwrap() + 8..];
+    let body = &body[..body.find("```").unwrap()];
+    assert!(body.contains("//"), "the README's example has comments");
+    let scene = dir.join("pasted.json");
+    std::fs::write(&scene, body).unwrap();
+    let o = grasp(&["solve", scene.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(
+        text(&o).contains("line 1, column 52: JSON has no comments"),
+        "{}",
+        text(&o)
+    );
+}
+
+/// Hand-off plots show every finger: the plate's pairs have identical curves (f1 = f2,
+/// f3 = f4), so each finger needs markers that no other finger's marker covers, and the note
+/// names the pairs. Read from the SVG: markers are circles of radius 4 in the finger's colour
+/// (the plot's palette: f1 red, f2 blue, f3 green, f4 orange), drawn after every line.
+#[test]
+fn hand_off_plots_show_every_finger() {
+    let dir = tmp("hand-off-plot");
+    for (scene, pairs) in [
+        ("plate_transfer", ["f1 = f2", "f3 = f4"]),
+        ("disc_transfer", ["", ""]),
+    ] {
+        let svg = dir.join(format!("{scene}.svg"));
+        let o = grasp(&[
+            "transfer",
+            &example(&format!("{scene}.json")),
+            "--schedule",
+            &example(&format!("{scene}.schedule.json")),
+            "--plot",
+            svg.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", text(&o));
+        let text = std::fs::read_to_string(&svg).unwrap();
+        for p in pairs.iter().filter(|p| !p.is_empty()) {
+            assert!(text.contains(p), "{scene}: no note `{p}`");
+        }
+        let circles = svg_circles(&text);
+        for (i, colour) in ["#D62728", "#1F77B4", "#2CA02C", "#FF7F0E"]
+            .iter()
+            .enumerate()
+        {
+            for filled in [true, false] {
+                let visible = circles
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, c)| c.colour == *colour && c.filled == filled && c.r == 4.0)
+                    .filter(|(k, c)| {
+                        circles[k + 1..].iter().all(|d| {
+                            d.colour == c.colour || (d.x - c.x).hypot(d.y - c.y) >= c.r + d.r
+                        })
+                    })
+                    .count();
+                assert!(
+                    visible >= 3,
+                    "{scene}: f{} has {visible} uncovered {} markers",
+                    i + 1,
+                    if filled { "filled (P)" } else { "hollow (|Q|)" }
+                );
+            }
+        }
+    }
+}
+
+struct SvgCircle {
+    x: f64,
+    y: f64,
+    r: f64,
+    colour: String,
+    filled: bool,
+}
+
+/// The circles of an SVG written by plotters, in drawing order.
+fn svg_circles(svg: &str) -> Vec<SvgCircle> {
+    let attr = |line: &str, name: &str| -> String {
+        let key = format!(" {name}=\"");
+        let start = line.find(&key).map(|i| i + key.len()).unwrap_or(line.len());
+        line[start..].split('"').next().unwrap_or("").to_string()
+    };
+    svg.lines()
+        .filter(|l| l.trim_start().starts_with("<circle"))
+        .map(|l| {
+            let fill = attr(l, "fill");
+            let filled = fill != "none";
+            SvgCircle {
+                x: attr(l, "cx").parse().unwrap(),
+                y: attr(l, "cy").parse().unwrap(),
+                r: attr(l, "r").parse().unwrap(),
+                colour: if filled { fill } else { attr(l, "stroke") },
+                filled,
+            }
+        })
+        .collect()
 }

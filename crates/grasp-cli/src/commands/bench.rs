@@ -7,6 +7,7 @@
 //! and the batch runner's throughput on one thread and on every core (issue 12).
 
 use std::fmt::Write as _;
+use std::io::IsTerminal;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -19,7 +20,9 @@ use grasp_model::SolverChoice;
 /// and cold, the whole transfer command) with each solver, medians against targets.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Only the cases that take well under a second, one timing run each.
+    /// The smoke run: only the cases that take well under a second (1 to 3 timing runs each,
+    /// until --min-time has passed), the whole transfer command once, and the batch
+    /// throughput on 200 variants instead of 1,000.
     #[arg(long)]
     pub quick: bool,
     /// Print the table as Markdown.
@@ -61,7 +64,8 @@ pub fn execute(args: Args) -> Result<ExitCode> {
 
 /// What to run and how to print it.
 pub struct Flags {
-    /// Only the quick cases, one timing run each (the CI smoke run).
+    /// Only the quick cases, 1 to 3 timing runs each, the whole command once, 200 batch
+    /// variants (the CI smoke run).
     pub quick: bool,
     /// Print a Markdown table (for the README) instead of aligned text.
     pub markdown: bool,
@@ -422,6 +426,16 @@ fn render(rows: &[Row], markdown: bool) -> String {
     out
 }
 
+/// Says which case runs now on standard error: on a terminal one line rewritten in place
+/// (carriage returns), elsewhere (a file, a pipe, CI logs) one plain line per case.
+fn progress(what: &str) {
+    if std::io::stderr().is_terminal() {
+        eprint!("\r{what:<60}");
+    } else {
+        eprintln!("{what}");
+    }
+}
+
 /// Runs the bench and prints the table.
 fn run(flags: Flags) -> Result<ExitCode> {
     for name in &flags.cases {
@@ -442,7 +456,7 @@ fn run(flags: Flags) -> Result<ExitCode> {
     let mut rows = Vec::new();
     for case in &chosen {
         for &solver in &flags.solvers {
-            eprint!("\r{:<60}", format!("bench: {} ({solver})", case.name));
+            progress(&format!("bench: {} ({solver})", case.name));
             let m = measure(case, solver, &flags)?;
             rows.push(case_row(&m));
             measured.push(m);
@@ -451,16 +465,15 @@ fn run(flags: Flags) -> Result<ExitCode> {
     rows.extend(derived_rows(&measured, &flags.solvers));
     if flags.cases.is_empty() {
         for &solver in &flags.solvers {
-            eprint!(
-                "\r{:<60}",
-                format!("bench: whole transfer command ({solver})")
-            );
+            progress(&format!("bench: whole transfer command ({solver})"));
             rows.push(whole_command(solver, flags.quick)?);
-            eprint!("\r{:<60}", format!("bench: batch throughput ({solver})"));
+            progress(&format!("bench: batch throughput ({solver})"));
             rows.extend(batch_throughput(solver, flags.quick)?);
         }
     }
-    eprint!("\r{:<60}\r", "");
+    if std::io::stderr().is_terminal() {
+        eprint!("\r{:<60}\r", "");
+    }
     print!("{}", render(&rows, flags.markdown));
     println!(
         "\n(release build, this machine; times are medians of the timing runs; iterations: \

@@ -32,9 +32,10 @@ pub struct Args {
     /// Elements along the first side of every patch, one solve each (aspect ratio kept).
     #[arg(long, value_delimiter = ',', default_value = "5,9,17")]
     pub grids: Vec<usize>,
-    /// Error reference: `hertz` (closed form; one spherical tip on a flat) or `finest`
-    /// (the finest grid of the study).
-    #[arg(long, default_value = "finest", value_parser = ["hertz", "finest"])]
+    /// Error reference: `hertz` (the closed form: one spherical tip on a flat), `finest` (the
+    /// finest grid of the study: differences from it, which underestimate the error), or
+    /// `auto`: the closed form where the scene has one, else the finest grid.
+    #[arg(long, default_value = "auto", value_parser = ["auto", "hertz", "finest"])]
     pub reference: String,
     /// Write the table as CSV.
     #[arg(long, value_name = "F.csv")]
@@ -100,11 +101,7 @@ fn run(
     crate::limits::check_memory(&finest_scene, scene, (limit.0, &limit.1)).with_context(|| {
         format!("the finest grid of the study ({finest} elements along the first side)")
     })?;
-    let reference = if reference == "hertz" {
-        StudyReference::Hertz
-    } else {
-        StudyReference::FinestGrid
-    };
+    let (reference, why) = choose_reference(&scene_obj, reference, finest);
     let rows = match refinement_study(
         &scene_obj,
         grids,
@@ -122,6 +119,7 @@ fn run(
         StudyReference::Hertz => ("p0 error", "approach error"),
         StudyReference::FinestGrid => ("force error", ""),
     };
+    println!("reference: {why}");
     print!("{}", table_text(scene, reference, &rows, e1, e2));
     let mut pending = Vec::new();
     if let Some(p) = csv {
@@ -153,6 +151,47 @@ fn run(
         println!("wrote {}", p.display());
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The error reference `asked` for (`auto`, `hertz` or `finest`) and a sentence saying what
+/// it is and why it matters: against the finest grid the errors are differences between
+/// grids (the finest row shows 0, and every error is understated), against a closed form
+/// they are true errors. `auto` takes the closed form where the scene has one.
+fn choose_reference(
+    scene: &grasp_model::Scene,
+    asked: &str,
+    finest: usize,
+) -> (StudyReference, String) {
+    let closed_form = refinement::hertz_parameters(scene);
+    let finest_words = format!(
+        "the finest grid ({finest} elements along the first side): each error is the \
+         difference from it, so the finest row shows 0 and the errors are understated"
+    );
+    match (asked, closed_form) {
+        ("hertz", _) => (
+            StudyReference::Hertz,
+            "the Hertz closed form (Johnson 4.2): true errors".into(),
+        ),
+        ("auto", Ok(_)) => (
+            StudyReference::Hertz,
+            "the Hertz closed form (Johnson 4.2), chosen automatically: the scene is one \
+             spherical tip on a flat, so the errors are true errors (--reference finest \
+             compares grids instead)"
+                .into(),
+        ),
+        ("auto", Err(why)) => (
+            StudyReference::FinestGrid,
+            format!("{finest_words}; no closed form applies ({why})"),
+        ),
+        (_, Ok(_)) => (
+            StudyReference::FinestGrid,
+            format!(
+                "{finest_words}; this scene has a closed form: --reference hertz (or auto) \
+                 measures the true error"
+            ),
+        ),
+        (_, Err(_)) => (StudyReference::FinestGrid, finest_words),
+    }
 }
 
 /// The Markdown table of the study.

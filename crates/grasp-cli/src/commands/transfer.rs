@@ -110,6 +110,24 @@ pub struct Outputs {
     pub live: Option<Live>,
 }
 
+/// How to open each output (`{}` stands for its path, quoted for the shell when needed).
+const OPEN_RRD: &str = "rerun {}   (the Rerun viewer: pip install rerun-sdk==0.36.3)";
+const OPEN_MCAP: &str = "Foxglove (https://app.foxglove.dev or the desktop app), Open local file; \
+                         topics /grasp/fingers, /grasp/patches, /grasp/scene";
+const OPEN_CSV: &str = "one row per step, a column per quantity: any spreadsheet, or Python's \
+                        pandas.read_csv";
+const OPEN_PLOT: &str = "any web browser or image viewer";
+
+/// `word` as one shell word: as it is when it holds only characters the shell leaves alone,
+/// else in single quotes.
+fn shell_word(word: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "_-./+,:@%=".contains(c);
+    if !word.is_empty() && word.chars().all(plain) {
+        return word.to_string();
+    }
+    format!("'{}'", word.replace('\'', "'\\''"))
+}
+
 /// Where a live Rerun stream goes.
 #[derive(Clone)]
 pub enum Live {
@@ -120,17 +138,19 @@ pub enum Live {
 }
 
 impl Outputs {
-    /// "wrote ..." lines of the outputs given.
+    /// "wrote ..." lines of the outputs given, each with how to open it.
     fn wrote(&self) -> String {
         let mut o = String::new();
-        for (p, what) in [
-            (&self.mcap, "MCAP"),
-            (&self.rrd, "Rerun recording"),
-            (&self.csv, "CSV"),
-            (&self.plot, "plot"),
+        for (p, what, open) in [
+            (&self.mcap, "MCAP", OPEN_MCAP),
+            (&self.rrd, "Rerun recording", OPEN_RRD),
+            (&self.csv, "CSV", OPEN_CSV),
+            (&self.plot, "plot", OPEN_PLOT),
         ] {
             if let Some(p) = p {
-                let _ = writeln!(o, "wrote {what}: {}", p.display());
+                let shown = p.display().to_string();
+                let open = open.replace("{}", &shell_word(&shown));
+                let _ = writeln!(o, "wrote {what}: {shown}\n  open: {open}");
             }
         }
         match &self.live {
@@ -246,6 +266,7 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
         margins: flags.margins,
     };
     let mut history = out.plot.as_ref().map(|_| ForceHistory::new(&names));
+    let started = std::time::Instant::now();
     let (summary, last) =
         grasp_transfer::run(&scene, &schedule, options, &mut open.sinks(), |r| {
             bar.set_message(format!("{:.3} s", r.time_s));
@@ -258,7 +279,12 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
     let planned = schedule.times.len();
     print!(
         "{}",
-        crate::flag_names::in_flags(&summary_text(&summary, summary.steps, planned))
+        crate::flag_names::in_flags(&summary_text(
+            &summary,
+            summary.steps,
+            planned,
+            started.elapsed().as_secs_f64()
+        ))
     );
     if summary.failed_step_count > 0 && !flags.keep_going {
         drop(open); // removes the temporary files
@@ -342,7 +368,14 @@ fn progress_bar(steps: usize) -> ProgressBar {
     bar
 }
 
-fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
+/// A slip margin `1 - |Q|/(mu P)` this close to 0 is a finger at the friction limit: the
+/// ratio is computed from two forces each known to about 1e-12 of the load (the solver's
+/// residuals), so a few 1e-16 either side of 0 is round-off.
+const SLIP_MARGIN_ROUND_OFF: f64 = 1e-9;
+
+/// The closing summary of a run of `done` of `planned` steps that took `run_s` seconds
+/// (stepping, margins and writing the outputs).
+fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) -> String {
     let mut o = String::new();
     let _ = writeln!(o, "steps: {done} of {planned}");
     let _ = writeln!(o, "releasing fingers: {}", list(&s.releasing));
@@ -364,6 +397,14 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
         s.peak_squeeze_n, s.peak_squeeze_time_s
     );
     match &s.smallest_slip_margin {
+        // Within round-off of 0: the finger is at the friction limit (|Q| = mu P).
+        Some((m, time, f)) if m.abs() <= SLIP_MARGIN_ROUND_OFF => {
+            let _ = writeln!(
+                o,
+                "smallest slip margin 1 - |Q|/(mu P): 0 ({f} at t = {time:.3} s: |Q| = mu P to \
+                 round-off, the finger is at the friction limit)"
+            );
+        }
         Some((m, time, f)) => {
             let _ = writeln!(
                 o,
@@ -378,15 +419,13 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
         let _ = writeln!(
             o,
             "least safe step: {} (t = {:.3} s), smallest disturbance margin {}{:.4e} N along {} \
-             (first to fail: {}); margins cost {} solves, {:.3} s",
+             (first to fail: {})",
             l.step,
             l.time_s,
             if l.bounded { "" } else { ">" },
             l.margin_n,
             crate::pictures::margin_plot::label(&l.direction),
             l.failing_finger.as_deref().unwrap_or("-"),
-            s.margin_cost.0,
-            s.margin_cost.1
         );
     }
     if s.failed_step_count == 0 {
@@ -424,11 +463,23 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize) -> String {
     }
     let _ = writeln!(
         o,
-        "error: worst equilibrium residual {:.1e} of the load; time: {:.3} s in all, {:.2} ms per step, {} iterations",
-        s.worst_equilibrium_residual,
+        "residuals: worst equilibrium residual {:.1e} of the load",
+        s.worst_equilibrium_residual
+    );
+    let margins = match s.least_safe_step {
+        Some(_) => format!(
+            "; margins {:.3} s ({} solves)",
+            s.margin_cost.1, s.margin_cost.0
+        ),
+        None => String::new(),
+    };
+    let _ = writeln!(
+        o,
+        "time: stepping {:.3} s ({:.2} ms per step, {} iterations){margins}; the whole run {:.3} s",
         s.total_wall_time_s,
         1e3 * s.total_wall_time_s / done.max(1) as f64,
-        s.total_iterations
+        s.total_iterations,
+        run_s
     );
     o
 }

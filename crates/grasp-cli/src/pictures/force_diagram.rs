@@ -4,6 +4,8 @@
 //! normal force (blue) and friction force (orange) as arrows pushing on the object at the
 //! centre of pressure, its friction cone (grey, half-angle `atan(mu)` about the normal), and
 //! the weight at the centre of mass (black). Arrows: the load scale drawn as 0.3 of the scene.
+//! The names are placed so that none covers another (a thin line leads back to a contact whose
+//! name had to move).
 
 use anyhow::Result;
 use grasp_model::{GraspModel, Scene, Solution};
@@ -12,6 +14,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use crate::pictures::label_placement::{place_labels, LabelBox};
 use crate::pictures::picture::{draw_err as plot_err, Picture};
 
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
@@ -217,6 +220,77 @@ fn view<DB: DrawingBackend>(
     for f in &d.solution.fingers {
         draw_finger(&mut chart, d, f, &p2)?;
     }
+    draw_names(area, &chart, d, &p2)
+}
+
+/// Size of the finger names, px.
+const NAME_PX: u32 = 13;
+
+/// Each finger's name near its contact, outside the object along the normal where that spot
+/// is free, else at the nearest free spot ([`place_labels`]: no two names overlap, and none
+/// covers a contact point or the centre of mass), with a thin line back to the contact when it
+/// had to move.
+fn draw_names<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    chart: &Chart<DB>,
+    d: &Drawing,
+    p2: &dyn Fn(&Vector3<f64>) -> (f64, f64),
+) -> Result<()> {
+    let font = TextStyle::from(("sans-serif", NAME_PX).into_font());
+    let base = area.get_base_pixel();
+    // Pixels of this area (the backend's, shifted to the area's corner).
+    let px = |p: (f64, f64)| {
+        let (x, y) = chart.backend_coord(&p);
+        (f64::from(x - base.0), f64::from(y - base.1))
+    };
+    let (xs, ys) = chart.plotting_area().get_pixel_range();
+    let bounds = LabelBox {
+        x: f64::from(xs.start - base.0),
+        y: f64::from(ys.start - base.1),
+        w: f64::from(xs.end - xs.start),
+        h: f64::from(ys.end - ys.start),
+    };
+    let mut names = Vec::new();
+    for f in &d.solution.fingers {
+        if let Some(m) = d.model.fingers.iter().find(|m| m.name == f.name) {
+            let anchor = px(p2(&(m.frame.origin_m - m.frame.normal * (0.35 * d.cone_m))));
+            let (w, h) = area.estimate_text_size(&f.name, &font).map_err(plot_err)?;
+            names.push((f.name.as_str(), px(p2(&m.frame.origin_m)), anchor, (w, h)));
+        }
+    }
+    let anchors: Vec<(f64, f64)> = names.iter().map(|n| n.2).collect();
+    let sizes: Vec<(f64, f64)> = names
+        .iter()
+        .map(|n| (f64::from(n.3 .0), f64::from(n.3 .1)))
+        .collect();
+    // The contact points and the centre of mass stay uncovered.
+    let dot = |p: (f64, f64)| LabelBox {
+        x: p.0 - 4.0,
+        y: p.1 - 4.0,
+        w: 8.0,
+        h: 8.0,
+    };
+    let mut dots: Vec<LabelBox> = names.iter().map(|n| dot(n.1)).collect();
+    dots.push(dot(px(p2(&d.model.center_of_mass_m))));
+    let boxes = place_labels(&anchors, &sizes, bounds, 3.0, &dots);
+    for ((name, contact, anchor, _), b) in names.iter().zip(&boxes) {
+        let centre = (b.x + b.w / 2.0, b.y + b.h / 2.0);
+        if (centre.0 - anchor.0).hypot(centre.1 - anchor.1) > b.h {
+            let edge = (
+                contact.0.clamp(b.x, b.x + b.w),
+                contact.1.clamp(b.y, b.y + b.h),
+            );
+            let at = |p: (f64, f64)| (p.0.round() as i32, p.1.round() as i32);
+            area.draw(&PathElement::new(
+                vec![at(*contact), at(edge)],
+                RGBColor(150, 150, 150),
+            ))
+            .map_err(plot_err)?;
+        }
+        let corner = (b.x.round() as i32, b.y.round() as i32);
+        area.draw(&Text::new(name.to_string(), corner, font.clone()))
+            .map_err(plot_err)?;
+    }
     Ok(())
 }
 
@@ -249,14 +323,6 @@ fn draw_finger<DB: DrawingBackend>(
     let friction = Vector3::from(f.tangential_force_n) * d.m_per_n;
     arrow(chart, p2(&(cop - normal)), p2(&cop), &NORMAL)?;
     arrow(chart, p2(&(cop - friction)), p2(&cop), &FRICTION)?;
-    let at = p2(&(m.frame.origin_m - n * (0.35 * d.cone_m)));
-    chart
-        .draw_series(std::iter::once(Text::new(
-            f.name.clone(),
-            at,
-            ("sans-serif", 13).into_font(),
-        )))
-        .map_err(plot_err)?;
     chart
         .draw_series(std::iter::once(Circle::new(
             p2(&m.frame.origin_m),
@@ -356,4 +422,99 @@ fn convex_hull(mut points: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
         hull.pop();
     }
     hull
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pictures::picture::{render, Format};
+    use grasp_model::{GraspSolver, SolveOptions};
+    use plotters_backend::BackendTextStyle;
+
+    /// The force diagram of a bundled example, as SVG text.
+    fn diagram_svg(name: &str) -> (String, Vec<String>) {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../examples")
+            .join(name);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let scene =
+            grasp_io::scene_from_json_str(&text, &grasp_io::base_dir_of(&path)).unwrap();
+        let model = GraspModel::from_scene(&scene).unwrap();
+        let solution = GraspSolver::new(&model, SolveOptions::default())
+            .solve(&model, &model.scene_loads_n())
+            .unwrap();
+        let diagram = ForceDiagram {
+            scene: &scene,
+            model: &model,
+            solution: &solution,
+            title: name,
+        };
+        let svg = String::from_utf8(render(&diagram, Format::Svg).unwrap()).unwrap();
+        let names = scene.fingers.iter().map(|f| f.name.clone()).collect();
+        (svg, names)
+    }
+
+    /// The finger names as the SVG sets them, with their boxes measured in the font the
+    /// pictures use: `(name, box)`, in drawing order.
+    fn name_boxes(svg: &str, names: &[String]) -> Vec<(String, LabelBox)> {
+        crate::pictures::picture::use_shipped_font().unwrap();
+        let font = TextStyle::from(("sans-serif", NAME_PX).into_font());
+        let attr = |tag: &str, key: &str| -> f64 {
+            let key = format!(" {key}=\"");
+            let start = tag.find(&key).unwrap() + key.len();
+            tag[start..].split('"').next().unwrap().parse().unwrap()
+        };
+        let lines: Vec<&str> = svg.lines().collect();
+        let mut out = Vec::new();
+        for (k, line) in lines.iter().enumerate() {
+            let content = lines.get(k + 1).map_or("", |l| l.trim());
+            if line.starts_with("<text") && names.iter().any(|n| n == content) {
+                let ((x0, y0), (x1, y1)) = font.layout_box(content).unwrap();
+                let b = LabelBox {
+                    x: attr(line, "x"),
+                    y: attr(line, "y"),
+                    w: f64::from(x1 - x0),
+                    h: f64::from(y1 - y0),
+                };
+                out.push((content.to_string(), b));
+            }
+        }
+        out
+    }
+
+    /// The mug's six fingers sit close together (before, "little" overprinted "ring" and
+    /// "middle" "index"): in each view every name is set once and no two names' boxes
+    /// share a pixel.
+    #[test]
+    fn finger_names_do_not_overlap() {
+        for example in [
+            "mug_power_grasp.json",
+            "cube_a.json",
+            "plate_four_fingers.json",
+        ] {
+            let (svg, names) = diagram_svg(example);
+            let boxes = name_boxes(&svg, &names);
+            assert_eq!(boxes.len(), 2 * names.len(), "{example}: {boxes:?}");
+            // The left view ends at x = 550 px (ForceDiagram::draw's split).
+            for left in [true, false] {
+                let view: Vec<&(String, LabelBox)> = boxes
+                    .iter()
+                    .filter(|(_, b)| (b.x < 550.0) == left)
+                    .collect();
+                assert_eq!(view.len(), names.len(), "{example}: {view:?}");
+                for i in 0..view.len() {
+                    for j in i + 1..view.len() {
+                        assert!(
+                            !view[i].1.overlaps(&view[j].1),
+                            "{example}: `{}` and `{}` overlap: {:?} {:?}",
+                            view[i].0,
+                            view[j].0,
+                            view[i].1,
+                            view[j].1
+                        );
+                    }
+                }
+            }
+        }
+    }
 }

@@ -1,8 +1,12 @@
-//! A plot of force histories (normal force solid, friction dashed per finger), like thesis
-//! figures 15 and 17, drawn with plotters (SVG or PNG, see [`crate::pictures::picture`]).
+//! A plot of force histories (normal force solid with filled markers, friction dashed with
+//! hollow ones, a colour per finger), like thesis figures 15 and 17, drawn with plotters (SVG
+//! or PNG, see [`crate::pictures::picture`]). Symmetric fingers have identical curves: the
+//! markers sit at different steps for different fingers and a note names the pairs, so every
+//! finger shows.
 
 use anyhow::Result;
 use grasp_transfer::StepRecord;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -18,6 +22,75 @@ const COLORS: [RGBColor; 8] = [
     RGBColor(227, 119, 194),
     RGBColor(23, 190, 207),
 ];
+
+/// Radius of the markers, px.
+const MARKER_PX: u32 = 4;
+
+/// Markers per curve (about).
+const MARKERS_PER_CURVE: usize = 12;
+
+/// The steps that carry finger `i`'s markers (of `n` fingers, over `points` steps): about
+/// [`MARKERS_PER_CURVE`] evenly spaced, each finger's shifted by its share of the spacing, so
+/// no two fingers mark the same step (while the spacing allows: at least `n` steps).
+fn marker_steps(points: usize, i: usize, n: usize) -> Vec<usize> {
+    let spacing = (points / MARKERS_PER_CURVE).max(n).max(1);
+    let offset = spacing * i / n.max(1);
+    (offset..points).step_by(spacing).collect()
+}
+
+/// Every finger's markers: filled on its normal force, hollow on its friction force, at the
+/// steps [`marker_steps`] gives it.
+fn draw_markers<DB: DrawingBackend>(
+    chart: &mut ChartContext<DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    hist: &ForceHistory,
+) -> Result<()> {
+    let n = hist.names.len();
+    for i in 0..n {
+        let color = COLORS[i % COLORS.len()];
+        let at = marker_steps(hist.points.len(), i, n);
+        let point = |k: usize, pick: usize| (hist.points[k].0, hist.points[k].1[i][pick]);
+        let filled = at
+            .iter()
+            .map(|&k| Circle::new(point(k, 0), MARKER_PX, color.filled()));
+        chart.draw_series(filled).map_err(draw_err)?;
+        let hollow = at
+            .iter()
+            .map(|&k| Circle::new(point(k, 1), MARKER_PX, color.stroke_width(2)));
+        chart.draw_series(hollow).map_err(draw_err)?;
+    }
+    Ok(())
+}
+
+/// "f1 = f2, f3 = f4: identical curves" for fingers whose normal and friction forces agree at
+/// every step to 1e-9 of the largest force `fmax` (a symmetric pair): each group drawn on top
+/// of the other's lines, which the note and the staggered markers make visible.
+fn same_curves_note(hist: &ForceHistory, fmax: f64) -> Option<String> {
+    let n = hist.names.len();
+    let same = |a: usize, b: usize| {
+        hist.points.iter().all(|(_, f)| {
+            (f[a][0] - f[b][0]).abs() <= 1e-9 * fmax && (f[a][1] - f[b][1]).abs() <= 1e-9 * fmax
+        })
+    };
+    let mut grouped = vec![false; n];
+    let mut groups = Vec::new();
+    for a in 0..n {
+        if grouped[a] {
+            continue;
+        }
+        let members: Vec<usize> = (a..n).filter(|&b| !grouped[b] && same(a, b)).collect();
+        if members.len() > 1 {
+            members.iter().for_each(|&b| grouped[b] = true);
+            let names: Vec<&str> = members.iter().map(|&b| hist.names[b].as_str()).collect();
+            groups.push(names.join(" = "));
+        }
+    }
+    (!groups.is_empty() && !hist.points.is_empty()).then(|| {
+        format!(
+            "{}: identical curves (markers staggered)",
+            groups.join(", ")
+        )
+    })
+}
 
 /// What the plot needs of a run, gathered step by step: the first and last step times and,
 /// per step with forces, every finger's normal and friction force (2 numbers per finger and
@@ -111,6 +184,8 @@ fn draw_history<DB: DrawingBackend>(
         .max_light_lines(0)
         .draw()
         .map_err(draw_err)?;
+    // Every line first, then every marker on top: a finger whose curves lie under another's
+    // still shows its markers, which sit at different times for different fingers.
     for (i, name) in hist.names.iter().enumerate() {
         let color = COLORS[i % COLORS.len()];
         let style = ShapeStyle::from(&color).stroke_width(2);
@@ -119,12 +194,27 @@ fn draw_history<DB: DrawingBackend>(
             .draw_series(LineSeries::new(series(0), style))
             .map_err(draw_err)?
             .label(format!("{name} normal P"))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+            .legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (20, 0)], style)
+                    + Circle::new((10, 0), MARKER_PX, style.filled())
+            });
         chart
             .draw_series(DashedLineSeries::new(series(1), 6, 4, style))
             .map_err(draw_err)?
             .label(format!("{name} friction |Q|"))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 8, y)], style));
+            .legend(move |(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(0, 0), (8, 0)], style)
+                    + PathElement::new(vec![(12, 0), (20, 0)], style)
+                    + Circle::new((10, 0), MARKER_PX, color.stroke_width(2))
+            });
+    }
+    draw_markers(&mut chart, hist)?;
+    if let Some(note) = same_curves_note(hist, fmax) {
+        let (x, y) = chart.backend_coord(&(t0, fmax * 1.05));
+        root.draw(&Text::new(note, (x + 8, y + 6), ("sans-serif", 13)))
+            .map_err(draw_err)?;
     }
     chart
         .configure_series_labels()

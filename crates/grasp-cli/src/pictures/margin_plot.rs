@@ -60,9 +60,9 @@ impl Picture for MarginPlot<'_> {
         let (top, bottom) = root.split_vertically(PANELS_PX);
         let r_max = rim_margin(r);
         let top = top.margin(24, 0, 10, 0);
-        for (k, plane) in panel_planes(self.model).into_iter().enumerate() {
-            let x0 = 220 * k as i32;
-            let area = top.clone().shrink((x0, 0), (200, 230));
+        for (k, plane) in panel_planes(self.model).iter().enumerate() {
+            let x0 = 260 * k as i32;
+            let area = top.clone().shrink((x0, 0), (240, 230));
             polar_panel(&area, r, plane, r_max)?;
         }
         bars(&bottom, r)
@@ -87,21 +87,50 @@ fn rim_margin(r: &MarginReport) -> f64 {
         .fold(f64::MIN_POSITIVE, f64::max)
 }
 
-/// The coordinate planes of the polar panels: title and in-plane axes `(a, b)` (3-D: `xy`,
-/// `yz`, `zx`; planar: the plane of motion).
-fn panel_planes(model: &GraspModel) -> Vec<(&'static str, [f64; 3], [f64; 3])> {
+/// A polar panel: its title, its in-plane axes `a` (to the right) and `b` (up) as world
+/// unit vectors, and their names as the panel labels them.
+struct PanelPlane {
+    title: String,
+    a: [f64; 3],
+    b: [f64; 3],
+    names: [String; 2],
+}
+
+/// The coordinate planes of the polar panels (3-D: `xy`, `yz`, `zx`; planar: the plane of
+/// motion, its axes `e1`, `e2` named by the world axis they lie along, or given as vectors),
+/// each titled with its axes: `+x right, +y up`.
+fn panel_planes(model: &GraspModel) -> Vec<PanelPlane> {
+    const X: [f64; 3] = [1.0, 0.0, 0.0];
+    const Y: [f64; 3] = [0.0, 1.0, 0.0];
+    const Z: [f64; 3] = [0.0, 0.0, 1.0];
+    let plane = |title: &str, a: [f64; 3], b: [f64; 3]| PanelPlane {
+        title: title.to_string(),
+        a,
+        b,
+        names: [axis_name(&a, "e1"), axis_name(&b, "e2")],
+    };
     match model.plane {
         None => vec![
-            ("force in the x-y plane", [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
-            ("force in the y-z plane", [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
-            ("force in the z-x plane", [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]),
+            plane("force in the x-y plane", X, Y),
+            plane("force in the y-z plane", Y, Z),
+            plane("force in the z-x plane", Z, X),
         ],
-        Some(MotionPlane { e1, e2, .. }) => vec![(
-            "force in the plane (e1, e2)",
-            [e1.x, e1.y, e1.z],
-            [e2.x, e2.y, e2.z],
-        )],
+        Some(MotionPlane { e1, e2, .. }) => {
+            let (a, b) = ([e1.x, e1.y, e1.z], [e2.x, e2.y, e2.z]);
+            vec![plane("force in the plane of motion", a, b)]
+        }
     }
+}
+
+/// `+x`, `-z`, ... for a world axis direction; `name [a, b, c]` otherwise.
+fn axis_name(v: &[f64; 3], name: &str) -> String {
+    for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+        let others = (0..3).filter(|&j| j != k).all(|j| v[j].abs() < 1e-12);
+        if others && (v[k].abs() - 1.0).abs() < 1e-12 {
+            return format!("{}{axis}", if v[k] > 0.0 { "+" } else { "-" });
+        }
+    }
+    format!("{name} [{:.2}, {:.2}, {:.2}]", v[0], v[1], v[2])
 }
 
 /// A point of a polar panel: angle (rad), radius (fraction of the rim), bounded, index.
@@ -133,11 +162,22 @@ fn in_plane_points(r: &MarginReport, a: &[f64; 3], b: &[f64; 3], r_max: f64) -> 
 fn polar_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     r: &MarginReport,
-    (title, a, b): (&str, [f64; 3], [f64; 3]),
+    plane: &PanelPlane,
     r_max: f64,
 ) -> Result<()> {
-    // Under the title, a square plotting area: rings stay circles.
-    let rest = area.titled(title, ("sans-serif", 11)).map_err(draw_err)?;
+    let (a, b) = (plane.a, plane.b);
+    // The title and the axes' names on two lines, then a square plotting area: rings stay
+    // circles.
+    let (head, rest) = area.split_vertically(30);
+    let font = TextStyle::from(("sans-serif", 11).into_font());
+    let axes = format!("{} right, {} up", plane.names[0], plane.names[1]);
+    for (k, line) in [plane.title.as_str(), axes.as_str()]
+        .into_iter()
+        .enumerate()
+    {
+        head.draw(&Text::new(line, (0, 14 * k as i32), font.clone()))
+            .map_err(draw_err)?;
+    }
     let (w, h) = rest.dim_in_pixel();
     let side = w.min(h);
     let offset = (((w - side) / 2) as i32, ((h - side) / 2) as i32);
@@ -163,6 +203,12 @@ fn polar_panel<DB: DrawingBackend>(
             .color(&RGBColor(136, 136, 136)),
     );
     chart.draw_series(std::iter::once(rim)).map_err(draw_err)?;
+    // The panel's axes through the centre (named above).
+    for ends in [[(-1.0, 0.0), (1.0, 0.0)], [(0.0, -1.0), (0.0, 1.0)]] {
+        chart
+            .draw_series(LineSeries::new(ends, GRID))
+            .map_err(draw_err)?;
+    }
     let pts = in_plane_points(r, &a, &b, r_max);
     let xy = |p: &PolarPoint| (p.1 * p.0.cos(), p.1 * p.0.sin());
     if pts.len() >= 3 {
@@ -235,4 +281,22 @@ fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &MarginReport) -> 
             .map_err(draw_err)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A panel axis along a world axis is named by it (with its sign); any other by its
+    /// vector.
+    #[test]
+    fn panel_axes_are_named_by_the_world_axis_they_lie_along() {
+        assert_eq!(axis_name(&[1.0, 0.0, 0.0], "e1"), "+x");
+        assert_eq!(axis_name(&[0.0, 0.0, -1.0], "e2"), "-z");
+        assert_eq!(axis_name(&[0.6, 0.8, 0.0], "e1"), "e1 [0.60, 0.80, 0.00]");
+        assert_eq!(
+            axis_name(&[0.0, 1.0 + 1e-9, 0.0], "e2"),
+            "e2 [0.00, 1.00, 0.00]"
+        );
+    }
 }

@@ -1,6 +1,8 @@
 //! Pictures drawn with plotters, written as SVG or PNG by the file's extension.
 
+pub mod bitmap_text;
 pub mod force_diagram;
 pub mod force_history;
+pub mod label_placement;
 pub mod margin_plot;
 pub mod picture;

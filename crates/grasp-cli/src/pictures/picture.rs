@@ -11,8 +11,10 @@ use anyhow::{anyhow, bail, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use super::bitmap_text::BaselineText;
+
 /// The shipped font (DejaVu Sans: Latin, Greek, punctuation, arrows, mathematical operators).
-const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans-subset.ttf");
+pub(super) const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans-subset.ttf");
 
 /// A file format for pictures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,7 +50,8 @@ pub trait Picture {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>;
 }
 
-/// The picture encoded as `format` (SVG text, or an 8-bit RGB PNG).
+/// The picture encoded as `format` (SVG text, or an 8-bit RGB PNG whose text sits on one
+/// baseline: [`BaselineText`]).
 pub fn render(picture: &impl Picture, format: Format) -> Result<Vec<u8>> {
     use_shipped_font()?;
     let (w, h) = picture.size();
@@ -65,7 +68,8 @@ pub fn render(picture: &impl Picture, format: Format) -> Result<Vec<u8>> {
         Format::Png => {
             let mut rgb = vec![0u8; w as usize * h as usize * 3];
             {
-                let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+                let bitmap = BitMapBackend::with_buffer(&mut rgb, (w, h));
+                let root = BaselineText(bitmap).into_drawing_area();
                 picture.draw(&root)?;
                 root.present().map_err(draw_err)?;
             }
@@ -81,7 +85,7 @@ pub fn draw_err(e: impl std::fmt::Display) -> anyhow::Error {
 
 /// Registers the shipped font as `sans-serif` (once per process; every call reports how that
 /// went).
-fn use_shipped_font() -> Result<()> {
+pub(super) fn use_shipped_font() -> Result<()> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED.get_or_init(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()

@@ -31,7 +31,11 @@ const INNER: char = '\u{1f}';
 pub fn from_str_strict<T: DeserializeOwned>(text: &str) -> Result<T, JsonError> {
     let mut de = serde_json::Deserializer::from_str(text);
     let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
-        let (path, message) = join_path(&e.path().to_string(), &e.inner().to_string());
+        let inner = e.inner();
+        if inner.is_syntax() || inner.is_eof() {
+            return syntax_error(text, inner);
+        }
+        let (path, message) = join_path(&e.path().to_string(), &inner.to_string());
         JsonError { path, message }
     })?;
     de.end().map_err(|e| JsonError {
@@ -51,6 +55,49 @@ pub fn from_value_strict<T: DeserializeOwned>(value: Value) -> Result<T, JsonErr
         let (path, message) = join_path(&e.path().to_string(), &e.inner().to_string());
         JsonError { path, message }
     })
+}
+
+/// A syntax error, located by line and column; a `//` or `/* */` comment at or before it is
+/// named as the cause (JSON has none: a common paste from commented examples).
+fn syntax_error(text: &str, e: &serde_json::Error) -> JsonError {
+    let at = (e.line(), e.column());
+    match first_comment(text) {
+        Some((line, column, mark)) if (line, column) <= at => JsonError {
+            path: format!("line {line}, column {column}"),
+            message: format!(
+                "JSON has no comments, and `{mark}` at line {line} column {column} starts one; \
+                 remove every comment (the README's commented example shows alternatives: keep \
+                 one, delete the rest)"
+            ),
+        },
+        _ => JsonError {
+            path: format!("line {}, column {}", at.0, at.1),
+            message: e.to_string(),
+        },
+    }
+}
+
+/// Line and column (from 1) of the first `//` or `/*` outside a string, and which.
+fn first_comment(text: &str) -> Option<(usize, usize, &'static str)> {
+    let (mut line, mut column) = (1, 0);
+    let (mut in_string, mut escaped) = (false, false);
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        column += 1;
+        match c {
+            '\n' => (line, column) = (line + 1, 0),
+            _ if in_string && escaped => escaped = false,
+            '\\' if in_string => escaped = true,
+            '"' => in_string = !in_string,
+            '/' if !in_string => match chars.peek() {
+                Some('/') => return Some((line, column, "//")),
+                Some('*') => return Some((line, column, "/*")),
+                _ => {}
+            },
+            _ => {}
+        }
+    }
+    None
 }
 
 /// Joins an outer path and a message that may carry an inner path (from [`variant`]).
@@ -233,6 +280,20 @@ mod tests {
         let e = from_str_strict::<Outer>(r#"{"a": [{"x": 1}, {"x": "no"}]}"#).unwrap_err();
         assert_eq!(e.path, "a[1].x", "{e:?}");
         assert!(e.message.contains("invalid type"), "{e:?}");
+    }
+
+    #[test]
+    fn a_comment_is_named_as_the_cause_of_a_syntax_error() {
+        let text = "{ \"a\": [],          // a list\n  \"b\": 1 }";
+        let e = from_str_strict::<Value>(text).unwrap_err();
+        assert_eq!(e.path, "line 1, column 21", "{e:?}");
+        assert!(e.message.starts_with("JSON has no comments"), "{e:?}");
+        let e = from_str_strict::<Value>("{\"a\": 1 /* one */}").unwrap_err();
+        assert!(e.message.contains("`/*`"), "{e:?}");
+        // A `//` inside a string is text, and the error is the real one.
+        let e = from_str_strict::<Value>("{\"url\": \"http://x\", }").unwrap_err();
+        assert!(!e.message.contains("comment"), "{e:?}");
+        assert!(e.path.starts_with("line 1, column "), "{e:?}");
     }
 
     #[test]

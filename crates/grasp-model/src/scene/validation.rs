@@ -105,10 +105,7 @@ impl Scene {
         text: &str,
         load_mesh: &dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>,
     ) -> Result<Scene, SceneError> {
-        let parse_error = |e: crate::scene::strict_json::JsonError| SceneError::Parse {
-            path: e.path,
-            message: e.message,
-        };
+        let parse_error = |e: crate::scene::strict_json::JsonError| structure_error(text, e);
         // Most scenes name no shape: read them once, as written (a key inside a string only
         // sends a scene down the resolving path, which reads it the same way).
         if !["\"shape\"", "\"place\"", "\"density\""]
@@ -542,6 +539,65 @@ fn validate_patch(p: &str, f: &FingerSpec, v: &mut Problems) {
             "use a coarser grid (the patch compliance is a dense matrix)",
         );
     }
+}
+
+/// The error of a scene text the typed reader stopped on (`e`): every structural problem of
+/// the document (missing, unknown and mistyped fields, each with a fix;
+/// [`crate::scene::schema_check`]) when it is valid JSON, the reader's own error kept among
+/// them; else `e` alone (a syntax error).
+fn structure_error(text: &str, e: crate::scene::strict_json::JsonError) -> SceneError {
+    let single = |e: crate::scene::strict_json::JsonError| SceneError::Parse {
+        path: e.path,
+        message: e.message,
+    };
+    let Ok(StrictValue(value)) = crate::scene::strict_json::from_str_strict::<StrictValue>(text)
+    else {
+        return single(e);
+    };
+    let schema = crate::scene::scene_json_schema();
+    let found = crate::scene::schema_check::structural_problems(&value, schema.as_value());
+    if found.is_empty() {
+        return single(e);
+    }
+    let mut problems = Problems(found);
+    // Where the walk only knows that no form fits, the reader's message says which it expected.
+    for p in problems.0.iter_mut() {
+        if p.path == e.path && p.message.contains(NO_FORM_FITS) {
+            p.message = e.message.clone();
+        }
+    }
+    // The walk knows the format's structure, the reader its details: keep the reader's error
+    // when no problem found lies on its path.
+    let related = |p: &InputProblem| p.path.starts_with(&e.path) || e.path.starts_with(&p.path);
+    if !problems.0.iter().any(related) {
+        match missing_field(&e.message) {
+            // A field the schema leaves optional (a placed finger derives its frame) but this
+            // scene needs.
+            Some(name) => {
+                let path = if e.path == "." {
+                    name.to_string()
+                } else {
+                    format!("{}.{name}", e.path)
+                };
+                let fix = format!("add `{name}` (see `grasp schema`)");
+                problems.push(&path, "is missing".into(), &fix);
+            }
+            None => problems.push(
+                &e.path,
+                e.message.clone(),
+                "correct the JSON (see `grasp schema`)",
+            ),
+        }
+    }
+    problems.finish().err().unwrap_or_else(|| single(e))
+}
+
+/// What [`crate::scene::schema_check`] says of a value that fits none of a field's forms.
+const NO_FORM_FITS: &str = crate::scene::schema_check::NO_FORM_FITS;
+
+/// The field named by serde's "missing field `name` at line ..." message.
+fn missing_field(message: &str) -> Option<&str> {
+    message.strip_prefix("missing field `")?.split('`').next()
 }
 
 #[derive(Default)]

@@ -13,8 +13,9 @@
 //!
 //! Built as blueprint chunks by hand (the same archetypes the SDK's `rerun::blueprint` API
 //! logs), because that API draws random view and container ids and stamps wall-clock times:
-//! here every id is fixed, so a recording stays byte-identical from run to run. The user can
-//! still rearrange the views; the viewer keeps this layout as the application's default.
+//! here every id is fixed, so the layout's bytes are the same from run to run (up to Rerun's
+//! footer, see `rerun_log`). The user can still rearrange the views; the viewer keeps this
+//! layout as the application's default.
 
 use rerun::blueprint::components::{
     AutoLayout, AutoViews, ColumnShare, ContainerKind, IncludedContent, QueryExpression,

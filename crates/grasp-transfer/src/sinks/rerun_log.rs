@@ -20,16 +20,25 @@
 //!
 //! Timelines: `schedule_time` (s) and `step`. Rows are gathered per entity and sent as
 //! pre-built chunks every [`FLUSH_EVERY_STEPS`] steps (so memory does not grow with the number
-//! of steps) and at the end; chunk and row ids count up from a fixed origin (Rerun's default
-//! ids mix wall time and randomness), log time is disabled and the recording id is fixed, so
-//! the same inputs give a byte-identical file.
+//! of steps) and at the end.
+//!
+//! The same inputs give the same file, byte for byte, up to its footer: chunk and row ids
+//! count up from a fixed origin (Rerun's default ids mix wall time and randomness), log time is
+//! off, the recording id is fixed and no start time is sent, and the stream's announcement
+//! (`SetStoreInfo`) carries a fixed id instead of the SDK's random one ([`FixedIdFile`]). The
+//! footer Rerun 0.36 appends (an index of the chunks, one manifest per store, which `rerun rrd
+//! verify` requires) is built from hash maps inside Rerun: it lists the recording's and the
+//! layout's manifests, and each manifest's schema fields, in an order that changes from run to
+//! run, so its bytes (and by a few bytes its length) differ while its content does not. A live
+//! stream (`connect`, `spawn`) is not a file and has no footer.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use grasp_model::ElementState;
 use rerun::external::re_tuid::Tuid;
-use rerun::log::{Chunk, ChunkId, RowId};
+use rerun::log::{Chunk, ChunkBatcherConfig, ChunkId, LogMsg, RowId};
+use rerun::sink::{FileSink, LogSink, SinkFlushError};
 use rerun::{
     Arrows3D, AsComponents, Boxes3D, Color, Cylinders3D, Ellipsoids3D, FillMode, Mesh3D, Points3D,
     RecordingStream, Scalars, SerializedComponentBatch, SeriesLines, TimeCell, TimePoint,
@@ -108,9 +117,11 @@ impl RerunSink {
     /// Creates (or truncates) the recording file at `path`; `name` names it in error messages
     /// (the file the user asked for, when `path` is its temporary file).
     pub fn create_as(path: &Path, name: &Path) -> Result<Self, TransferError> {
+        let file = FileSink::new(path).map_err(|e| io_err("rerun", name, e))?;
+        let sinks: Vec<Box<dyn LogSink>> = vec![Box::new(FixedIdFile(file))];
         let rec = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
             .recording_id("grasp-transfer")
-            .save(path)
+            .set_sinks(sinks)
             .map_err(|e| io_err("rerun", name, e))?;
         Ok(Self::on_stream(rec, name, FLUSH_EVERY_STEPS, false))
     }
@@ -223,6 +234,39 @@ impl RerunSink {
             p.rows.push((row_id, time, arch.as_serialized_batches()));
         }
         Ok(())
+    }
+}
+
+/// A recording file whose announcement (`SetStoreInfo`) carries a fixed id: the SDK draws a
+/// random, time-based one, the only id of the file it chooses itself (see the module
+/// documentation). Everything else passes through to the file sink unchanged.
+struct FixedIdFile(FileSink);
+
+impl LogSink for FixedIdFile {
+    fn send(&self, msg: LogMsg) {
+        let msg = match msg {
+            LogMsg::SetStoreInfo(mut announce)
+                if announce.info.store_id.kind() == rerun::StoreKind::Recording =>
+            {
+                // Before every chunk and row id of the recording (those count up from 1).
+                announce.row_id = Tuid::from_nanos_and_inc(ID_ORIGIN_NS, 0);
+                LogMsg::SetStoreInfo(announce)
+            }
+            other => other,
+        };
+        LogSink::send(&self.0, msg);
+    }
+
+    fn flush_blocking(&self, timeout: std::time::Duration) -> Result<(), SinkFlushError> {
+        LogSink::flush_blocking(&self.0, timeout)
+    }
+
+    fn default_batcher_config(&self) -> ChunkBatcherConfig {
+        self.0.default_batcher_config()
+    }
+
+    fn defers_finalization_to_shutdown(&self) -> bool {
+        self.0.defers_finalization_to_shutdown()
     }
 }
 
