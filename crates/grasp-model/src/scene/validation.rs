@@ -800,11 +800,7 @@ impl Problems {
 
 /// A number as a reader wants it: plain when moderate, in exponent form otherwise.
 fn number(x: f64) -> String {
-    if x == 0.0 || (1e-4..1e6).contains(&x.abs()) || !x.is_finite() {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
+    crate::number_text::readable(x)
 }
 
 fn norm(x: &Vec3) -> f64 {
