@@ -109,7 +109,10 @@ pub enum ModelError {
         got: usize,
     },
     /// A prescribed load is negative or not finite.
-    #[error("prescribed load of finger `{finger}` is {value} N; it must be finite and >= 0")]
+    #[error(
+        "prescribed load of finger `{finger}` is {} N; it must be finite and >= 0",
+        crate::number_text::Readable(*value)
+    )]
     BadLoad {
         /// Finger name.
         finger: String,

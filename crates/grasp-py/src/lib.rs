@@ -12,6 +12,7 @@ use pyo3::prelude::*;
 mod arrays;
 mod errors;
 mod json_value;
+mod keywords;
 mod outputs;
 mod scene;
 mod solution;

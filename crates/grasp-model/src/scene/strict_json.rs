@@ -43,8 +43,9 @@ pub fn from_str_strict<T: DeserializeOwned>(text: &str) -> Result<T, JsonError> 
     Ok(value)
 }
 
-/// Joins an outer path and a message that may carry an inner path (from [`variant`]).
-fn join_path(outer: &str, message: &str) -> (String, String) {
+/// Joins an outer path and a message that may carry an inner path (from [`variant`]): the
+/// full path and the message without the marker.
+pub fn join_path(outer: &str, message: &str) -> (String, String) {
     let Some(rest) = message.strip_prefix(INNER) else {
         return (outer.to_string(), message.to_string());
     };

@@ -455,7 +455,8 @@ fn validate_tip(p: &str, f: &FingerSpec, planar: Option<Vec3>, v: &mut Problems)
                     &format!("{p}.patch.size[{k}]"),
                     format!(
                         "{} m is larger than the flat pad's {} m",
-                        f.patch.size[k], flat.size[k]
+                        number(f.patch.size[k]),
+                        number(flat.size[k])
                     ),
                     "make the patch no larger than the pad (the pad is all that can touch)",
                 );
@@ -495,7 +496,7 @@ fn validate_patch(p: &str, f: &FingerSpec, v: &mut Problems) {
         if !(s.is_finite() && s > 0.0) {
             v.push(
                 &format!("{p}.patch.size[{k}]"),
-                format!("is {s} m"),
+                format!("is {} m", number(s)),
                 "give the patch side length in metres, > 0",
             );
         } else {
@@ -628,7 +629,7 @@ impl Problems {
             if !(e.youngs_modulus.is_finite() && e.youngs_modulus > 0.0) {
                 self.push(
                     &format!("{path}.youngs_modulus"),
-                    format!("is {} Pa", e.youngs_modulus),
+                    format!("is {} Pa", number(e.youngs_modulus)),
                     "give Young's modulus in pascals, > 0 (or write \"rigid\" for the material)",
                 );
             } else if !(MODULUS_RANGE_PA.0..=MODULUS_RANGE_PA.1).contains(&e.youngs_modulus) {
@@ -644,7 +645,7 @@ impl Problems {
             if !(e.poisson_ratio.is_finite() && (0.0..0.5).contains(&e.poisson_ratio)) {
                 self.push(
                     &format!("{path}.poisson_ratio"),
-                    format!("is {}", e.poisson_ratio),
+                    format!("is {}", number(e.poisson_ratio)),
                     "give Poisson's ratio in [0, 0.5) (rubber is about 0.49)",
                 );
             }
@@ -655,7 +656,7 @@ impl Problems {
         if !(r.is_finite() && r > 0.0) {
             self.push(
                 path,
-                format!("is {r} m"),
+                format!("is {} m", number(r)),
                 "give the radius of curvature in metres, > 0, or null for flat",
             );
             return;
@@ -665,7 +666,11 @@ impl Problems {
         {
             self.push(
                 path,
-                format!("is {r} m, smaller than half the patch ({half_patch} m)"),
+                format!(
+                    "is {} m, smaller than half the patch ({} m)",
+                    number(r),
+                    number(half_patch)
+                ),
                 "shrink patch.size below the diameter, or check the radius (the gap is the \
                  parabolic approximation of the surface)",
             );
@@ -726,8 +731,8 @@ impl Problems {
                     &format!("{path}[{j}][0]"),
                     format!(
                         "is {} N, not above the previous load {} N",
-                        pt[0],
-                        table[j - 1][0]
+                        number(pt[0]),
+                        number(table[j - 1][0])
                     ),
                     "sort the points by strictly increasing load",
                 );
@@ -744,7 +749,7 @@ impl Problems {
             if !(val.is_finite() && val > 0.0) {
                 self.push(
                     &format!("{path}.{name}"),
-                    format!("is {val} m"),
+                    format!("is {} m", number(val)),
                     "give a length in metres, finite and > 0",
                 );
             } else {
@@ -765,7 +770,8 @@ impl Problems {
                 &format!("{path}.object_radius"),
                 format!(
                     "is {} m, not larger than finger_radius {} m",
-                    q.object_radius, q.finger_radius
+                    number(q.object_radius),
+                    number(q.finger_radius)
                 ),
                 "thesis eq. (40) needs R1 < R2 (finger radius below the object's); \
                  use a table or a constant mu otherwise",
