@@ -133,13 +133,15 @@ pub fn expand(
             })
         })
         .collect::<Result<_, _>>()?;
-    let total: usize = axes.iter().map(|a| a.values.len()).product();
-    if total > 1_000_000 {
+    // In f64: a product of counts that overflows usize must not wrap to a small grid.
+    let total = axes.iter().map(|a| a.values.len() as f64).product::<f64>();
+    if total > 1e6 {
         return Err(err(
             &axes[0].path,
-            format!("the grid has {total} variants; at most 1000000"),
+            format!("the grid has {total:.3e} variants; at most 1000000"),
         ));
     }
+    let total = total as usize;
     let width = total.saturating_sub(1).to_string().len();
     let mut out = Vec::with_capacity(total);
     for k in 0..total {

@@ -148,19 +148,22 @@ fn directions(
         return Ok(spread_directions(model, n));
     }
     let path = Path::new(arg);
-    let text = limits::read_input(path, "directions file")?;
+    let text = limits::read_input(path, "directions file").with_context(|| {
+        format!("--directions {arg}: not a count N, planes:K or a readable JSON file of directions")
+    })?;
     let specs: Vec<DirectionSpec> = serde_json::from_str(&text).with_context(|| {
         format!(
-            "{arg} is not a list of directions; write [{{\"force\": [0, 0, -1]}}, {{\"torque\": \
-             [1, 0, 0]}}] (force in N, couple in N m)"
+            "--directions {arg} is not a list of directions; write [{{\"force\": [0, 0, -1]}}, \
+             {{\"torque\": [1, 0, 0]}}] (force in N, couple in N m)"
         )
     })?;
     if specs.is_empty() {
-        bail!("{arg} lists no direction; give at least one");
+        bail!("--directions {arg} lists no direction; give at least one");
     }
     if specs.len() > MAX_DIRECTIONS {
         bail!(
-            "{arg} lists {} directions; give at most {MAX_DIRECTIONS} (each is a search of its own)",
+            "--directions {arg} lists {} directions; give at most {MAX_DIRECTIONS} (each is a \
+             search of its own)",
             specs.len()
         );
     }
