@@ -441,7 +441,7 @@ fn results_are_sound(text: &str, lines: usize) -> Result<(), String> {
                 }
             }
             Some("no_equilibrium" | "no_convergence") => {
-                if !v["reason"].as_str().is_some_and(|r| !r.is_empty()) {
+                if v["reason"].as_str().is_none_or(str::is_empty) {
                     return Err(format!("line {k}: no reason: {line}"));
                 }
             }

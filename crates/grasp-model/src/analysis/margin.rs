@@ -463,7 +463,7 @@ impl Search<'_> {
     ) -> Result<(Option<Fails>, Option<String>), ModelError> {
         let mut step = INITIAL_STEP * self.model.scales.load_n;
         for _ in 0..MAX_GROWTH_STEPS {
-            if !(held.s < cap) {
+            if held.s >= cap || cap.is_nan() {
                 return Ok((None, None));
             }
             let s = (held.s + step).min(cap);

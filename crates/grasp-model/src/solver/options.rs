@@ -176,7 +176,7 @@ impl SolveOptions {
             "a number of iterations per convex solve",
             "200",
         )?;
-        if !(self.time_limit_s > 0.0) {
+        if self.time_limit_s.is_nan() || self.time_limit_s <= 0.0 {
             return Err(OptionError {
                 option: option_names::TIME_LIMIT,
                 value: Readable(self.time_limit_s).to_string(),
