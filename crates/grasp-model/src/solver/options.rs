@@ -111,8 +111,9 @@ pub const SEQUENTIAL_TOLERANCE_RANGE: (f64, f64) = (1e-14, f64::INFINITY);
 /// at least one, and a bound on the work a solve may take.
 pub const ITERATION_RANGE: (u32, u32) = (1, 10_000);
 
-/// Range of [`SolveOptions::min_relaxation`]: below 1e-6 the damped iteration would halve its
-/// step some 20 times past any useful damping before it reports the outcome.
+/// Range of [`SolveOptions::min_relaxation`]: the damped iteration halves `omega` from 1 down
+/// to it before it reports an iterate without solution, so 1e-6 (20 halvings) already damps
+/// past any use; below it only solves are added.
 pub const MIN_RELAXATION_RANGE: (f64, f64) = (1e-6, 1.0);
 
 /// `Ok` when `x` lies in `[lo, hi]` (NaN never does), else the error naming `option`; `what`
