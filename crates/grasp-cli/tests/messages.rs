@@ -29,7 +29,8 @@ fn problems(all: &str) -> Vec<&str> {
 #[test]
 fn extreme_numbers_in_scenes_are_quoted_in_exponent_form() {
     let d = tmp("messages", "numbers");
-    let cases: [(&str, fn(&mut Value, f64)); 4] = [
+    type Set = fn(&mut Value, f64);
+    let cases: [(&str, Set); 4] = [
         ("weight", |s, x| s["object"]["weight"] = json!(x)),
         ("modulus", |s, x| {
             s["fingers"][0]["material"]["youngs_modulus"] = json!(x)
