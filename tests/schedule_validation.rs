@@ -83,7 +83,7 @@ fn csv_columns_missing() {
         p.iter()
             .any(|m| m.starts_with("fingers.f2[0].csv.time_column")
                 && m.contains("`time`")
-                && m.contains("t_s, load_n")),
+                && m.contains("`t_s`, `load_n`")),
         "{p:#?}"
     );
     let mut v = base();
@@ -267,4 +267,101 @@ fn csv_profiles_only_from_regular_files_of_bounded_size() {
             "{p:#?}"
         );
     }
+}
+
+/// The longest run of digits in `text` (a number written out in full has 309 for 1e308).
+fn longest_digit_run(text: &str) -> usize {
+    text.split(|c: char| !c.is_ascii_digit())
+        .map(str::len)
+        .max()
+        .unwrap_or(0)
+}
+
+/// Extreme values in every numeric field class of a schedule (span times and step, explicit
+/// times, keyframe times and loads, held until, external wrench keyframes) are quoted in
+/// exponent form: no message holds a run of more than 17 digits (the most a shortest
+/// round-trip `f64` needs). Every case with a huge value is refused.
+#[test]
+fn extreme_numbers_are_quoted_in_exponent_form() {
+    let huge = [1e308, -1e308, 1e300, 5e-324, -1e-300];
+    let mut refused = 0;
+    for x in huge {
+        let mut cases = Vec::new();
+        let mut v = base();
+        v["time"] = json!({"start": x, "end": x, "step": x});
+        cases.push(v);
+        let mut v = base();
+        v["time"] = json!({"times": [0, x, 1e308]});
+        cases.push(v);
+        let mut v = base();
+        v["fingers"]["f1"][0]["ramp"]["keyframes"] = json!([[x, x], [1e308, 2.0]]);
+        cases.push(v);
+        let mut v = base();
+        v["fingers"]["f2"] = json!([{"held": {"until": x}}, {"held": {"until": -x}}]);
+        cases.push(v);
+        let mut v = base();
+        v["external"] = json!({"ramp": {"keyframes": [[x, {"force": [x, 0, 0]}], [-x, {"torque": [0, x, 0]}]]}});
+        cases.push(v);
+        for v in cases {
+            // A tiny positive value can be a valid time (a span from 5e-324 s to itself).
+            if let Err(e) = Schedule::from_json_str(&v.to_string(), &names(), Path::new(".")) {
+                refused += 1;
+                for p in e.problems() {
+                    let p = p.to_string();
+                    assert!(longest_digit_run(&p) <= 17, "{x:e}: {p}");
+                }
+            }
+        }
+    }
+    assert!(refused >= 3 * 5, "{refused} refused");
+}
+
+/// A wrench CSV that names a missing column (or a file that is missing, or no column at all)
+/// is one problem at `external.csv`, not a second "has no keyframe" besides it.
+#[test]
+fn a_bad_external_csv_is_one_problem() {
+    let dir = tmpdir("wrench");
+    std::fs::write(dir.join("w.csv"), "t_s,fz_n\n0,0\n1,2\n").unwrap();
+    let csv = |path: &str, force: Value| {
+        let mut v = base();
+        v["external"] = json!({"csv": {"path": path, "time_column": "t_s",
+                                        "force_columns": force}});
+        v
+    };
+    for (v, at, words) in [
+        (
+            csv("w.csv", json!([null, null, "fy_n"])),
+            "external.csv.columns",
+            "`fy_n`",
+        ),
+        (
+            csv("gone.csv", json!([null, null, "fz_n"])),
+            "external.csv.path",
+            "gone.csv",
+        ),
+        (
+            csv("w.csv", json!([null, null, null])),
+            "external.csv",
+            "no force or torque",
+        ),
+    ] {
+        let p = problems(&v, &dir);
+        assert_eq!(p.len(), 1, "{p:#?}");
+        assert!(p[0].starts_with(at) && p[0].contains(words), "{p:#?}");
+    }
+    let mut v = csv("w.csv", json!([null, null, "fz_n"]));
+    std::fs::write(dir.join("w.csv"), "t_s,fz_n\n0,0\n1,abc\n").unwrap();
+    let p = problems(&v, &dir);
+    assert_eq!(p.len(), 1, "{p:#?}");
+    assert!(
+        p[0].contains("the load `abc` is not a finite number"),
+        "{p:#?}"
+    );
+    v["external"]["csv"]["time_column"] = json!("time");
+    let p = problems(&v, &dir);
+    assert!(
+        p.len() == 1 && p[0].contains("(columns: `t_s`, `fz_n`)"),
+        "{p:#?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,12 +1,17 @@
 //! The libraries name the options a user can change as their Rust API spells them
 //! (`grasp_model::option_names`, `grasp_batch::option_names`); the CLI says the flag instead.
 
-use grasp_model::option_names::{respell, AUTO_PATCH, SOLVER};
+use grasp_model::option_names::{
+    respell, AUTO_PATCH, MARGIN_LENGTH, MARGIN_TOLERANCE, SOLVER, TOLERANCE,
+};
 use grasp_model::Solution;
 
 /// Library option name -> command-line flag.
 const FLAGS: &[(&str, &str)] = &[
     (SOLVER, "--solver"),
+    (TOLERANCE, "--tolerance"),
+    (MARGIN_LENGTH, "--length"),
+    (MARGIN_TOLERANCE, "--tolerance"),
     (AUTO_PATCH, "--auto-patch"),
     (grasp_batch::option_names::THREADS, "--jobs"),
     (grasp_batch::option_names::MAX_MEMORY, "--max-memory"),
@@ -44,5 +49,7 @@ mod tests {
             in_flags(&text),
             "set `--solver` to clarabel, or `--auto-patch`"
         );
+        let text = format!("`{TOLERANCE}`, `{MARGIN_LENGTH}`, `{MARGIN_TOLERANCE}`");
+        assert_eq!(in_flags(&text), "`--tolerance`, `--length`, `--tolerance`");
     }
 }

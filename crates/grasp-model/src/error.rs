@@ -82,6 +82,20 @@ impl SceneError {
     }
 }
 
+/// An option of a solve or an analysis outside the range it can have (see
+/// [`crate::SolveOptions::validate`]). The option is named as the Rust API spells it, between
+/// backticks ([`crate::option_names`]), so that front ends can respell it.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("`{option}` is {value}; {expected}")]
+pub struct OptionError {
+    /// The option, e.g. `SolveOptions::tolerance`.
+    pub option: &'static str,
+    /// The value given, as text (numbers in [`crate::number_text::readable`] form).
+    pub value: String,
+    /// The range the option must lie in and why, with an example.
+    pub expected: String,
+}
+
 /// Errors raised while assembling or running the cone program that are not solver outcomes:
 /// they indicate a bug or an input that validation should have caught.
 #[derive(Debug, Clone, thiserror::Error)]
@@ -95,7 +109,10 @@ pub enum ModelError {
         got: usize,
     },
     /// A prescribed load is negative or not finite.
-    #[error("prescribed load of finger `{finger}` is {value} N; it must be finite and >= 0")]
+    #[error(
+        "prescribed load of finger `{finger}` is {} N; it must be finite and >= 0",
+        crate::number_text::Readable(*value)
+    )]
     BadLoad {
         /// Finger name.
         finger: String,
@@ -114,6 +131,9 @@ pub enum ModelError {
     /// Clarabel refused the problem data.
     #[error("the cone solver rejected the problem: {0}")]
     Solver(String),
+    /// An option outside its range.
+    #[error(transparent)]
+    Option(#[from] OptionError),
     /// A scene derived from the caller's (a coarser grid, a grown patch) is not usable.
     #[error("{context}: {source}")]
     DerivedScene {

@@ -64,13 +64,14 @@ pub mod analysis;
 pub mod error;
 pub mod geometry;
 pub mod model;
+pub mod number_text;
 pub mod option_names;
 pub mod program;
 pub mod scene;
 pub mod solve;
 pub mod solver;
 
-pub use error::{InputProblem, ModelError, SceneError};
+pub use error::{InputProblem, ModelError, OptionError, SceneError};
 pub use model::grasp_model::{Control, FingerModel, GraspModel, Scales};
 pub use program::cone_program::ConeProgram;
 pub use scene::{scene_json_schema, Scene};

@@ -5,6 +5,27 @@
 
 /// The solver choice, [`crate::SolveOptions::solver`].
 pub const SOLVER: &str = "SolveOptions::solver";
+/// The scaled program's tolerance, [`crate::SolveOptions::tolerance`].
+pub const TOLERANCE: &str = "SolveOptions::tolerance";
+/// Iterations of one convex solve, [`crate::SolveOptions::max_iterations`].
+pub const MAX_ITERATIONS: &str = "SolveOptions::max_iterations";
+/// Time limit of one Clarabel solve, [`crate::SolveOptions::time_limit_s`].
+pub const TIME_LIMIT: &str = "SolveOptions::time_limit_s";
+/// Convergence of the sequential solve, [`crate::SolveOptions::sequential_tolerance`].
+pub const SEQUENTIAL_TOLERANCE: &str = "SolveOptions::sequential_tolerance";
+/// Convex solves of one sequential solve, [`crate::SolveOptions::max_sequential_iterations`].
+pub const MAX_SEQUENTIAL_ITERATIONS: &str = "SolveOptions::max_sequential_iterations";
+/// Smallest relaxation of the sequential solve, [`crate::SolveOptions::min_relaxation`].
+pub const MIN_RELAXATION: &str = "SolveOptions::min_relaxation";
+/// The margins' characteristic length,
+/// [`crate::analysis::margin::MarginOptions::length_m`].
+pub const MARGIN_LENGTH: &str = "MarginOptions::length_m";
+/// The margins' final bracket width,
+/// [`crate::analysis::margin::MarginOptions::relative_tolerance`].
+pub const MARGIN_TOLERANCE: &str = "MarginOptions::relative_tolerance";
+/// The margins' cap over the load scale,
+/// [`crate::analysis::margin::MarginOptions::max_factor`].
+pub const MARGIN_MAX_FACTOR: &str = "MarginOptions::max_factor";
 /// Growing curved patches until their boundary is unloaded,
 /// [`crate::analysis::patch_sizing::auto_patch`].
 pub const AUTO_PATCH: &str = "patch_sizing::auto_patch";

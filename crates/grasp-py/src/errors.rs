@@ -68,7 +68,7 @@ pub fn schedule_error(py: Python<'_>, origin: &str, e: &grasp_transfer::Schedule
     )
 }
 
-/// A `grasp.GraspError` with the error's message.
+/// A `grasp.GraspError` with the error's message (library option names as keywords).
 pub fn grasp_error(e: impl std::fmt::Display) -> PyErr {
-    GraspError::new_err(e.to_string())
+    GraspError::new_err(crate::keywords::in_keywords(&e.to_string()))
 }

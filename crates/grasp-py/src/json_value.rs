@@ -16,7 +16,7 @@ pub fn to_py<'py>(py: Python<'py>, value: &Value) -> PyResult<Bound<'py, PyAny>>
             (None, Some(u)) => u.into_bound_py_any(py),
             _ => n.as_f64().unwrap_or(f64::NAN).into_bound_py_any(py),
         },
-        Value::String(s) => s.into_bound_py_any(py),
+        Value::String(s) => crate::keywords::in_keywords(s).into_bound_py_any(py),
         Value::Array(items) => {
             let list = PyList::empty(py);
             for v in items {

@@ -13,6 +13,7 @@ mod arrays;
 mod errors;
 mod histories;
 mod json_value;
+mod keywords;
 mod outputs;
 mod scene;
 mod solution;

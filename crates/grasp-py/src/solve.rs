@@ -17,7 +17,8 @@ use crate::solution::Solution;
 ///
 /// - `model`: `"energy"` or `"coulomb"`; default: the scene's own `model`.
 /// - `solver`: `"auto"` (native, falling back to Clarabel), `"native"` or `"clarabel"`.
-/// - `tolerance`: relative tolerance of the scaled program, in (0, 1e-2).
+/// - `tolerance`: relative tolerance of the scaled program, in [1e-14, 1e-2] (below, round-off
+///   exceeds it; above, an answer is no solution).
 ///
 /// A grasp without equilibrium is a solution with status `"no_equilibrium"`, not an
 /// exception. The GIL is released while the model is built and solved.
@@ -49,20 +50,20 @@ pub fn solve(
     }
 }
 
-/// The options of `solver` and `tolerance`, or a ValueError naming the argument.
+/// The options of `solver` and `tolerance`, checked by the library's
+/// [`SolveOptions::validate`] (as the CLI's are), or a ValueError naming the argument.
 pub fn solve_options(solver: &str, tolerance: f64) -> PyResult<SolveOptions> {
     let choice = SolverChoice::from_str(solver)
         .map_err(|e| pyo3::exceptions::PyValueError::new_err(format!("solver={solver:?}: {e}")))?;
-    if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1e-2) {
-        return Err(pyo3::exceptions::PyValueError::new_err(format!(
-            "tolerance={tolerance}: give a value in (0, 1e-2), e.g. 1e-10"
-        )));
-    }
-    Ok(SolveOptions {
+    let options = SolveOptions {
         solver: choice,
         tolerance,
         ..SolveOptions::default()
-    })
+    };
+    options.validate().map_err(|e| {
+        pyo3::exceptions::PyValueError::new_err(crate::keywords::in_keywords(&e.to_string()))
+    })?;
+    Ok(options)
 }
 
 enum Failure {
@@ -76,9 +77,10 @@ fn solve_scene(scene: &grasp_model::Scene, options: SolveOptions) -> Result<Solu
     let model = GraspModel::from_scene(scene).map_err(Failure::Scene)?;
     let build_time_s = t0.elapsed().as_secs_f64();
     let mut solver = GraspSolver::new(&model, options);
-    let solution = solver
+    let mut solution = solver
         .solve(&model, &model.scene_loads_n())
         .map_err(Failure::Model)?;
+    crate::keywords::respell_solution(&mut solution);
     let frames = crate::solution::tangents_by_name(scene);
     let tangents = solution
         .fingers

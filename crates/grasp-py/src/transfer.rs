@@ -445,8 +445,10 @@ impl Transfer {
                     .unwrap_or(([0.0; 3], [0.0; 3]))
             })
             .collect();
+        let mut solution = r.solution.clone();
+        crate::keywords::respell_solution(&mut solution);
         Ok(Solution {
-            solution: r.solution.clone(),
+            solution,
             tangents,
             build_time_s: 0.0,
         })

@@ -36,7 +36,10 @@ impl ScheduleError {
 #[derive(Debug, thiserror::Error)]
 pub enum TransferError {
     /// The scene restricted to the active fingers is not usable.
-    #[error("at t = {time_s} s the active fingers do not form a usable scene: {source}")]
+    #[error(
+        "at t = {} s the active fingers do not form a usable scene: {source}",
+        grasp_model::number_text::Readable(*time_s)
+    )]
     Scene {
         /// Step time, s.
         time_s: f64,

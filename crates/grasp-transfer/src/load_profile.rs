@@ -13,6 +13,20 @@ pub const MAX_PROFILE_BYTES: u64 = LOAD_PROFILE.max_bytes;
 
 type ProfileError = (&'static str, String, String);
 
+/// Columns a message lists when a named one is missing (the rest are counted).
+const LISTED_COLUMNS: usize = 20;
+
+/// Characters of a cell or column name a message quotes (a longer one is cut with `...`).
+const QUOTED_CHARS: usize = 40;
+
+/// `text` between backticks for a message, cut to [`QUOTED_CHARS`].
+fn quoted(text: &str) -> String {
+    match text.char_indices().nth(QUOTED_CHARS) {
+        Some((cut, _)) => format!("`{}...`", &text[..cut]),
+        None => format!("`{text}`"),
+    }
+}
+
 /// The text of a profile and the identity of the file read.
 fn read_profile_file(path: &Path) -> Result<(String, FileIdentity), ProfileError> {
     read_text(path, LOAD_PROFILE).map_err(|e| ("path", e.message, e.fix))
@@ -50,12 +64,21 @@ pub fn read_profile_csv_noting(
     let cols: Vec<&str> = header.split(',').map(|c| c.trim()).collect();
     let find = |name: &str, field: &'static str| {
         cols.iter().position(|c| *c == name).ok_or_else(|| {
+            let mut listed: Vec<String> = cols
+                .iter()
+                .take(LISTED_COLUMNS)
+                .map(|c| quoted(c))
+                .collect();
+            if cols.len() > LISTED_COLUMNS {
+                listed.push(format!("and {} more", cols.len() - LISTED_COLUMNS));
+            }
             (
                 field,
                 format!(
-                    "column `{name}` is not in {} (columns: {})",
+                    "column {} is not in {} (columns: {})",
+                    quoted(name),
                     path.display(),
-                    cols.join(", ")
+                    listed.join(", ")
                 ),
                 "name an existing column".to_string(),
             )
@@ -69,18 +92,17 @@ pub fn read_profile_csv_noting(
     for (n, line) in lines {
         let cells: Vec<&str> = line.split(',').map(|c| c.trim()).collect();
         let num = |i: usize, what: &str| -> Result<f64, ProfileError> {
-            cells
-                .get(i)
-                .and_then(|c| c.parse::<f64>().ok())
+            let cell = cells.get(i).copied();
+            cell.and_then(|c| c.parse::<f64>().ok())
                 .filter(|v| v.is_finite())
                 .ok_or_else(|| {
+                    let found = match cell {
+                        Some(c) => format!("{} is not a finite number", quoted(c)),
+                        None => "is missing (the row has too few cells)".to_string(),
+                    };
                     (
                         "path",
-                        format!(
-                            "line {} of {}: the {what} is not a number",
-                            n + 1,
-                            path.display()
-                        ),
+                        format!("line {} of {}: the {what} {found}", n + 1, path.display()),
                         "give finite numbers in every row".to_string(),
                     )
                 })

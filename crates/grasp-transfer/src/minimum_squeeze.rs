@@ -12,6 +12,7 @@
 //! receiving gripper must command; under the energy model it is the load above which the
 //! model's own squeeze suffices.
 
+use grasp_model::number_text::Readable;
 use grasp_model::{Control, GraspModel, GraspSolver, Scene, Solution, SolveOptions};
 use serde::Serialize;
 
@@ -24,6 +25,15 @@ pub const SQUEEZE_TOLERANCE: f64 = 1e-4;
 
 /// Largest factor over the scheduled loads that is tried.
 pub const MAX_SQUEEZE_FACTOR: f64 = 1e3;
+
+/// Smallest factor over the scheduled loads the bisection narrows to: below it the receiving
+/// loads are within the solves' accuracy (about 1e-10 of the load) of none, and the search
+/// stops there and says so.
+pub const MIN_SQUEEZE_FACTOR: f64 = 1e-6;
+
+/// Largest number of bisection steps: narrowing `[0, 1e3]` to [`SQUEEZE_TOLERANCE`] of an
+/// upper end as small as [`MIN_SQUEEZE_FACTOR`] takes about 44.
+const MAX_BISECTION_STEPS: u32 = 100;
 
 /// One receiving finger's minimum and scheduled loads.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -114,35 +124,10 @@ pub fn minimum_squeeze(
         ))?;
         Ok(GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?)
     };
-    // Bracket: the smallest power of two (from 1) at which the grasp holds.
-    let mut hi = 1.0;
-    while let Err(why) = holds(&trial(hi)?) {
-        hi *= 2.0;
-        if hi > MAX_SQUEEZE_FACTOR {
-            return Ok(SqueezeOutcome::NotFound(format!(
-                "the grasp does not hold even at {MAX_SQUEEZE_FACTOR} times the scheduled \
-                 loads ({why})"
-            )));
-        }
-    }
-    let mut lo = 0.0;
-    let mut limiting = match holds(&trial(0.0)?) {
-        Ok(()) => {
-            hi = 0.0;
-            "the grasp holds without any receiving load".to_string()
-        }
-        Err(why) => why,
+    let (hi, limiting) = match smallest_factor(|s| Ok(holds(&trial(s)?)))? {
+        Ok(found) => found,
+        Err(why) => return Ok(SqueezeOutcome::NotFound(why)),
     };
-    while hi - lo > SQUEEZE_TOLERANCE * hi {
-        let mid = 0.5 * (lo + hi);
-        match holds(&trial(mid)?) {
-            Ok(()) => hi = mid,
-            Err(why) => {
-                lo = mid;
-                limiting = why;
-            }
-        }
-    }
     Ok(SqueezeOutcome::Found(MinimumSqueeze {
         fingers: scheduled
             .iter()
@@ -155,4 +140,122 @@ pub fn minimum_squeeze(
         margin: if hi > 0.0 { 1.0 / hi } else { f64::INFINITY },
         limiting,
     }))
+}
+
+/// The smallest factor `s` of the scheduled loads at which the grasp holds (`holds_at(s)` is
+/// `Ok(Ok(()))`, or `Ok(Err(why))` where it does not), with what fails just below it; `Err` (why) when it does not hold up to [`MAX_SQUEEZE_FACTOR`]. Bracketed by
+/// the smallest power of two (from 1) that holds, then bisected to [`SQUEEZE_TOLERANCE`] (at
+/// most [`MAX_BISECTION_STEPS`] steps, down to [`MIN_SQUEEZE_FACTOR`]; stopping there is said
+/// in the second value).
+fn smallest_factor(
+    mut holds_at: impl FnMut(f64) -> Result<Result<(), String>, TransferError>,
+) -> Result<Result<(f64, String), String>, TransferError> {
+    let mut hi = 1.0;
+    while let Err(why) = holds_at(hi)? {
+        hi *= 2.0;
+        if hi > MAX_SQUEEZE_FACTOR {
+            return Ok(Err(format!(
+                "the grasp does not hold even at {MAX_SQUEEZE_FACTOR} times the scheduled \
+                 loads ({why})"
+            )));
+        }
+    }
+    let mut lo = 0.0;
+    let mut limiting = match holds_at(0.0)? {
+        Ok(()) => {
+            hi = 0.0;
+            "the grasp holds without any receiving load".to_string()
+        }
+        Err(why) => why,
+    };
+    let mut steps = 0;
+    while hi - lo > SQUEEZE_TOLERANCE * hi {
+        let stop = if hi <= MIN_SQUEEZE_FACTOR {
+            "the grasp holds with practically no receiving load"
+        } else if steps == MAX_BISECTION_STEPS {
+            "the bisection reached its step limit"
+        } else {
+            ""
+        };
+        if !stop.is_empty() {
+            limiting = format!(
+                "{limiting}; the search stopped at {} times the scheduled loads, before its \
+                 tolerance {SQUEEZE_TOLERANCE:e}: {stop}",
+                Readable(hi)
+            );
+            break;
+        }
+        steps += 1;
+        let mid = 0.5 * (lo + hi);
+        match holds_at(mid)? {
+            Ok(()) => hi = mid,
+            Err(why) => {
+                lo = mid;
+                limiting = why;
+            }
+        }
+    }
+    Ok(Ok((hi, limiting)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The search against predicates with known answers: a threshold is found within
+    /// [`SQUEEZE_TOLERANCE`] from above; a grasp that holds at every positive load but not at
+    /// none stops at [`MIN_SQUEEZE_FACTOR`] and says so; one that never holds is not found.
+    /// Each is bounded in trials.
+    #[test]
+    fn the_search_finds_thresholds_and_stops_where_it_cannot_narrow() {
+        // (The bracket doubles from 1 up to 512: a threshold above that is not found.)
+        for threshold in [0.3, 1.0, 7.5, 500.0] {
+            let mut trials = 0;
+            let (hi, why) = smallest_factor(|s| {
+                trials += 1;
+                Ok(if s >= threshold {
+                    Ok(())
+                } else {
+                    Err("slides".into())
+                })
+            })
+            .unwrap()
+            .unwrap();
+            assert!(
+                hi >= threshold && hi - threshold <= SQUEEZE_TOLERANCE * hi,
+                "{hi}"
+            );
+            assert_eq!(why, "slides");
+            assert!(trials < 40, "{trials}");
+        }
+        let mut trials = 0;
+        let (hi, why) = smallest_factor(|s| {
+            trials += 1;
+            Ok(if s > 0.0 {
+                Ok(())
+            } else {
+                Err("slides".into())
+            })
+        })
+        .unwrap()
+        .unwrap();
+        assert!(hi <= MIN_SQUEEZE_FACTOR && hi > 0.0, "{hi}");
+        assert!(why.contains("practically no receiving load"), "{why}");
+        assert!(why.contains("stopped at 9.5367431640625e-7 times"), "{why}");
+        assert!(trials <= 2 + 21, "{trials}");
+        let beyond: [fn(f64) -> bool; 2] = [|_| false, |s| s > 600.0];
+        for never in beyond {
+            let found = smallest_factor(|s| {
+                Ok(if never(s) {
+                    Ok(())
+                } else {
+                    Err("no equilibrium".into())
+                })
+            })
+            .unwrap();
+            assert!(found.unwrap_err().contains("even at 1000 times"));
+        }
+        let at_zero = smallest_factor(|_| Ok(Ok(()))).unwrap().unwrap();
+        assert_eq!(at_zero.0, 0.0);
+    }
 }

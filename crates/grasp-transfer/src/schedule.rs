@@ -22,6 +22,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use grasp_model::number_text::Readable as N;
 use grasp_model::scene::strict_json::{self, describe, variant, StrictValue};
 use grasp_model::scene::validation::{force_in_range, MAX_FORCE_N, MIN_NONZERO_FORCE_N};
 use schemars::JsonSchema;
@@ -464,7 +465,7 @@ impl Problems {
         }
         self.push(
             path,
-            format!("time is {t} s, outside [{lo:e}, {MAX_TIME_S:e}] s"),
+            format!("time is {} s, outside [{lo:e}, {MAX_TIME_S:e}] s", N(t)),
             "give a finite time in seconds within that range",
         );
         false
@@ -477,7 +478,10 @@ impl Problems {
         }
         self.push(
             path,
-            format!("load is {x} N, neither 0 nor in [{MIN_NONZERO_FORCE_N:e}, {MAX_FORCE_N:e}] N"),
+            format!(
+                "load is {} N, neither 0 nor in [{MIN_NONZERO_FORCE_N:e}, {MAX_FORCE_N:e}] N",
+                N(x)
+            ),
             "give 0 N (releases the finger) or a load between 1e-15 and 1e7 N",
         );
         false
@@ -508,14 +512,14 @@ fn span_times(s: &SpanSpec, v: &mut Problems) -> Vec<f64> {
     if !step_ok {
         v.push(
             "time.step".into(),
-            format!("is {}", s.step),
+            format!("is {}", N(s.step)),
             "give a step > 0 s",
         );
     }
     if !(s.end >= s.start) {
         v.push(
             "time.end".into(),
-            format!("is {} s, before the start {} s", s.end, s.start),
+            format!("is {} s, before the start {} s", N(s.end), N(s.start)),
             "give an end time >= start (times must increase)",
         );
     }
@@ -530,8 +534,8 @@ fn span_times(s: &SpanSpec, v: &mut Problems) -> Vec<f64> {
             format!(
                 "gives {:.3e} steps from {} s to {} s, more than {MAX_STEPS}",
                 intervals + 1.0,
-                s.start,
-                s.end
+                N(s.start),
+                N(s.end)
             ),
             "use a larger step or a shorter span",
         );
@@ -563,7 +567,7 @@ fn explicit_times(times: &[f64], v: &mut Problems) -> Vec<f64> {
         if i > 0 && !(*t > times[i - 1]) {
             v.push(
                 format!("time.times[{i}]"),
-                format!("is {t} s, not after {} s", times[i - 1]),
+                format!("is {} s, not after {} s", N(*t), N(times[i - 1])),
                 "list times in strictly increasing order",
             );
         }
@@ -599,7 +603,9 @@ fn finger_phases(path: &str, list: &[PhaseSpec], base_dir: &Path, v: &mut Proble
                 v.push(
                     pp.clone(),
                     format!(
-                        "ends at {end} s, before the previous phase ({prev_path}) ends at {prev} s"
+                        "ends at {} s, before the previous phase ({prev_path}) ends at {} s",
+                        N(end),
+                        N(*prev)
                     ),
                     "order phases so that their end times increase",
                 );
@@ -636,7 +642,11 @@ fn ramp_phase(pp: &str, r: &RampPhase, v: &mut Problems) -> Phase {
         if k > 0 && !(*t > r.keyframes[k - 1].0) {
             v.push(
                 kp.clone(),
-                format!("time {t} s is not after {} s", r.keyframes[k - 1].0),
+                format!(
+                    "time {} s is not after {} s",
+                    N(*t),
+                    N(r.keyframes[k - 1].0)
+                ),
                 "list keyframes in strictly increasing time",
             );
         }
@@ -677,7 +687,7 @@ fn csv_phase(cp: &str, c: &CsvPhase, base_dir: &Path, v: &mut Problems) -> Phase
         if k > 0 && !(*t > rows[k - 1].0) {
             v.push(
                 row,
-                format!("time {t} s is not after {} s", rows[k - 1].0),
+                format!("time {} s is not after {} s", N(*t), N(rows[k - 1].0)),
                 "sort the rows by strictly increasing time",
             );
             break;
@@ -709,11 +719,11 @@ fn external_ramp(
             r.easing,
             "external.ramp.keyframes".into(),
         ),
-        ExternalSpec::Csv(c) => (
-            wrench_rows(c, base_dir, v),
-            Easing::Linear,
-            "external.csv.path".into(),
-        ),
+        ExternalSpec::Csv(c) => match wrench_rows(c, base_dir, v) {
+            Some(rows) => (rows, Easing::Linear, "external.csv.path".into()),
+            // The file's problem is reported; no keyframe is no second problem.
+            None => return (Vec::new(), Easing::Linear),
+        },
     };
     if keys.is_empty() {
         v.push(
@@ -728,7 +738,7 @@ fn external_ramp(
         if k > 0 && !(*t > keys[k - 1].0) {
             v.push(
                 kp.clone(),
-                format!("time {t} s is not after {} s", keys[k - 1].0),
+                format!("time {} s is not after {} s", N(*t), N(keys[k - 1].0)),
                 "list keyframes in strictly increasing time",
             );
         }
@@ -744,8 +754,8 @@ fn external_ramp(
 }
 
 /// The rows of a wrench CSV: each named column read like a load profile's, rows matched by
-/// position (the same file).
-fn wrench_rows(c: &WrenchCsv, base_dir: &Path, v: &mut Problems) -> Vec<(f64, [f64; 6])> {
+/// position (the same file); `None` when a problem was reported.
+fn wrench_rows(c: &WrenchCsv, base_dir: &Path, v: &mut Problems) -> Option<Vec<(f64, [f64; 6])>> {
     let names: Vec<(usize, &String)> = c
         .force_columns
         .iter()
@@ -759,7 +769,7 @@ fn wrench_rows(c: &WrenchCsv, base_dir: &Path, v: &mut Problems) -> Vec<(f64, [f
             "names no force or torque column".into(),
             "give force_columns and/or torque_columns, e.g. [null, null, \"fz_n\"]",
         );
-        return Vec::new();
+        return None;
     }
     let mut rows: Vec<(f64, [f64; 6])> = Vec::new();
     for (i, name) in names {
@@ -781,9 +791,9 @@ fn wrench_rows(c: &WrenchCsv, base_dir: &Path, v: &mut Problems) -> Vec<(f64, [f
                     field
                 };
                 v.push(format!("external.csv.{field}"), message, &fix);
-                return Vec::new();
+                return None;
             }
         }
     }
-    rows
+    Some(rows)
 }

@@ -40,18 +40,31 @@ pub struct Args {
     #[arg(long = "case", value_delimiter = ',', value_name = "NAME")]
     pub cases: Vec<String>,
     /// Keep timing a case until this many seconds have passed (at least 2 runs, at most
-    /// 50).
+    /// 50), in [0, 3600].
     #[arg(long, default_value_t = 1.0, value_name = "SECONDS")]
     pub min_time: f64,
 }
 
+/// Largest `--min-time`, s (50 runs cap a case anyway).
+const MAX_MIN_TIME_S: f64 = 3600.0;
+
 /// `grasp bench`.
 pub fn execute(args: Args) -> Result<ExitCode> {
-    if !(args.min_time.is_finite() && args.min_time >= 0.0) {
+    if !(0.0..=MAX_MIN_TIME_S).contains(&args.min_time) {
         bail!(
-            "--min-time {}: give a number of seconds >= 0, e.g. 1",
-            args.min_time
+            "--min-time is {}; give a number of seconds in [0, {MAX_MIN_TIME_S}], e.g. 1",
+            grasp_model::number_text::readable(args.min_time)
         );
+    }
+    for (i, s) in args.solver.iter().enumerate() {
+        if args.solver[..i].contains(s) {
+            bail!("--solver lists {s} twice; name each solver once, e.g. --solver native,clarabel");
+        }
+    }
+    for (i, c) in args.cases.iter().enumerate() {
+        if args.cases[..i].contains(c) {
+            bail!("--case lists {c} twice; name each case once");
+        }
     }
     run(Flags {
         quick: args.quick,

@@ -37,11 +37,13 @@ pub struct Args {
     /// Contact law to judge the grasp with (default: the scene's).
     #[arg(long, value_parser = ["energy", "coulomb"])]
     pub model: Option<String>,
-    /// Characteristic length L, m: a magnitude s means a force s N and a couple s L N m.
-    /// Default: the grasp's reach from the centroid of the contacts.
+    /// Characteristic length L, m, in [1e-9, 1e3] (the scene's lengths): a magnitude s means
+    /// a force s N and a couple s L N m. Default: the grasp's reach from the centroid of the
+    /// contacts.
     #[arg(long, value_name = "M")]
     pub length: Option<f64>,
-    /// Relative width of the final bracket of each margin.
+    /// Relative width of the final bracket of each margin, in [1e-9, 0.5] (the solves balance
+    /// the load to about 1e-10 of it).
     #[arg(long, default_value_t = 1e-3, value_name = "REL")]
     pub tolerance: f64,
     /// Write the report as JSON.
@@ -107,6 +109,10 @@ pub struct Outputs {
     pub force: bool,
 }
 
+/// Most directions of one run, given as a count or listed in a file (each is a search of its
+/// own: about 30 solves).
+const MAX_DIRECTIONS: usize = 10_000;
+
 /// One direction as written in a directions file: a force (N) and a couple (N m), either
 /// may be omitted.
 #[derive(Deserialize)]
@@ -134,21 +140,32 @@ fn directions(
         };
     }
     if let Ok(n) = arg.parse::<usize>() {
-        if !(1..=10_000).contains(&n) {
-            bail!("--directions {n}: give between 1 and 10000 directions, or a JSON file");
+        if !(1..=MAX_DIRECTIONS).contains(&n) {
+            bail!(
+                "--directions {n}: give between 1 and {MAX_DIRECTIONS} directions, or a JSON file"
+            );
         }
         return Ok(spread_directions(model, n));
     }
     let path = Path::new(arg);
-    let text = limits::read_input(path, "directions file")?;
+    let text = limits::read_input(path, "directions file").with_context(|| {
+        format!("--directions {arg}: not a count N, planes:K or a readable JSON file of directions")
+    })?;
     let specs: Vec<DirectionSpec> = serde_json::from_str(&text).with_context(|| {
         format!(
-            "{arg} is not a list of directions; write [{{\"force\": [0, 0, -1]}}, {{\"torque\": \
-             [1, 0, 0]}}] (force in N, couple in N m)"
+            "--directions {arg} is not a list of directions; write [{{\"force\": [0, 0, -1]}}, \
+             {{\"torque\": [1, 0, 0]}}] (force in N, couple in N m)"
         )
     })?;
     if specs.is_empty() {
-        bail!("{arg} lists no direction; give at least one");
+        bail!("--directions {arg} lists no direction; give at least one");
+    }
+    if specs.len() > MAX_DIRECTIONS {
+        bail!(
+            "--directions {arg} lists {} directions; give at most {MAX_DIRECTIONS} (each is a \
+             search of its own)",
+            specs.len()
+        );
     }
     specs
         .iter()
@@ -163,17 +180,16 @@ fn directions(
 
 /// Runs the command.
 fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
-    if !(flags.tolerance.is_finite() && flags.tolerance > 0.0 && flags.tolerance < 0.5) {
-        bail!(
-            "--tolerance {}: give a relative width in (0, 0.5), e.g. 1e-3",
-            flags.tolerance
-        );
-    }
-    if let Some(l) = flags.length_m {
-        if !(l.is_finite() && l > 0.0) {
-            bail!("--length {l}: give a length in metres > 0, e.g. 0.05");
-        }
-    }
+    let options = MarginOptions {
+        length_m: flags.length_m,
+        relative_tolerance: flags.tolerance,
+        ..MarginOptions::default()
+    };
+    options.validate()?;
+    let solve = SolveOptions {
+        solver: flags.solver,
+        ..SolveOptions::default()
+    };
     let plot_format = outputs
         .plot
         .as_deref()
@@ -199,12 +215,7 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
     let dirs = directions(&model, flags.directions.as_deref(), length_m)?;
     let options = MarginOptions {
         length_m: Some(length_m),
-        relative_tolerance: flags.tolerance,
-        ..MarginOptions::default()
-    };
-    let solve = SolveOptions {
-        solver: flags.solver,
-        ..SolveOptions::default()
+        ..options
     };
     let report = disturbance_margins(&model, &ContactState::new(&model), solve, &dirs, &options)?;
     print!(
@@ -311,6 +322,11 @@ fn table(scene: &Path, r: &MarginReport) -> String {
             failure_words(m),
             m.solves
         );
+    }
+    for (i, m) in r.directions.iter().enumerate() {
+        if let Some(note) = &m.stopped_early {
+            let _ = writeln!(s, "#{i} stopped early: {note}");
+        }
     }
     if !r.sliding_undisturbed.is_empty() {
         let _ = writeln!(

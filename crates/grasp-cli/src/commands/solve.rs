@@ -22,7 +22,8 @@ pub struct Args {
     /// Overwrite output files that already exist.
     #[arg(long)]
     pub force: bool,
-    /// Solver tolerance on the scaled program (feasibility and gap).
+    /// Solver tolerance on the scaled program (feasibility and gap), in [1e-14, 1e-2]: below
+    /// 1e-14 round-off exceeds it, above 1e-2 an answer is no solution.
     #[arg(long, default_value_t = 1e-10, value_name = "TOL")]
     pub tolerance: f64,
     /// Also estimate the discretisation error from a solve on grids half as fine
@@ -64,9 +65,12 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         explain_frames,
         memory,
     } = args;
-    if !(tolerance.is_finite() && tolerance > 0.0 && tolerance < 1e-2) {
-        anyhow::bail!("--tolerance is {tolerance}; give a value in (0, 1e-2), e.g. 1e-10");
-    }
+    let options = SolveOptions {
+        tolerance,
+        solver,
+        ..SolveOptions::default()
+    };
+    options.validate()?;
     let outputs: Vec<&Path> = json.iter().map(PathBuf::as_path).collect();
     let outs = output::claim(&outputs, &[&scene], force)?;
     let scene_obj = load_scene(&scene)?;
@@ -83,11 +87,6 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     } else if explain_frames {
         println!("frames: the scene has no object.shape; every frame is as written");
     }
-    let options = SolveOptions {
-        tolerance,
-        solver,
-        ..SolveOptions::default()
-    };
     let t0 = Instant::now();
     let (scene_obj, model, solution, build_s, sens) = if auto_patch {
         let a = grasp_model::analysis::patch_sizing::auto_patch(&scene_obj, options, 6)?;

@@ -29,7 +29,8 @@ fn peak_memory_bytes() -> Option<u64> {
 pub struct Args {
     /// Scene file (JSON).
     pub scene: PathBuf,
-    /// Elements along the first side of every patch, one solve each (aspect ratio kept).
+    /// Elements along the first side of every patch, one solve each (aspect ratio kept):
+    /// at most 32 grids, each in [1, 4096] (a patch has at most 64 x 64 elements).
     #[arg(long, value_delimiter = ',', default_value = "5,9,17")]
     pub grids: Vec<usize>,
     /// Error reference: `hertz` (the closed form: one spherical tip on a flat), `finest` (the
@@ -85,9 +86,7 @@ fn run(
     max_memory: Option<u64>,
     solver: grasp_model::SolverChoice,
 ) -> Result<ExitCode> {
-    if grids.contains(&0) {
-        bail!("--grids has a 0; give element counts >= 1, e.g. --grids 5,9,17");
-    }
+    check_grids(grids)?;
     let (csv, plot) = (out.csv, out.plot);
     let plot_format = plot.map(|p| picture::Format::of(p, "--plot")).transpose()?;
     let targets: Vec<&Path> = [csv, plot].into_iter().flatten().collect();
@@ -192,6 +191,25 @@ fn choose_reference(
         ),
         (_, Err(_)) => (StudyReference::FinestGrid, finest_words),
     }
+}
+
+/// Most grids of one study (each is a solve).
+const MAX_GRIDS: usize = 32;
+
+/// `--grids`: between 1 and [`MAX_GRIDS`] counts, each in [1, 4096] (a patch has at most
+/// `MAX_ELEMENTS_PER_PATCH` elements, so no first side can exceed it).
+fn check_grids(grids: &[usize]) -> Result<()> {
+    let most = grasp_model::scene::validation::MAX_ELEMENTS_PER_PATCH;
+    if grids.is_empty() || grids.len() > MAX_GRIDS {
+        bail!(
+            "--grids lists {} grids; give between 1 and {MAX_GRIDS}, e.g. --grids 5,9,17",
+            grids.len()
+        );
+    }
+    if let Some(g) = grids.iter().find(|&&g| g == 0 || g > most) {
+        bail!("--grids has {g}; give element counts in [1, {most}], e.g. --grids 5,9,17");
+    }
+    Ok(())
 }
 
 /// The Markdown table of the study.

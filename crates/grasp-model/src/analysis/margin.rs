@@ -29,14 +29,17 @@ use std::time::Instant;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::error::ModelError;
+use crate::error::{ModelError, OptionError};
 use crate::model::equilibrium::MotionPlane;
 use crate::model::grasp_model::GraspModel;
+use crate::number_text::Readable;
+use crate::option_names;
 use crate::scene::scene_format::ModelKind;
+use crate::scene::validation::LENGTH_RANGE_M;
 use crate::solve::contact_state::ContactState;
 use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::solution::{Solution, SolveStatus, LOADED_FRACTION};
-use crate::solver::options::SolveOptions;
+use crate::solver::options::{check_range, SolveOptions};
 
 /// First growth step of the search, as a fraction of the load scale: small, because a trial
 /// that holds is cheap (a warm-started step) and one that fails is not (the solver must certify
@@ -46,6 +49,23 @@ const INITIAL_STEP: f64 = 1e-2;
 /// Below this fraction of the load scale a margin counts as zero: the bisection stops (the
 /// solves themselves balance the load only to about 1e-10 of it).
 const ZERO_MARGIN: f64 = 1e-6;
+
+/// Range of [`MarginOptions::relative_tolerance`]: the solves balance the load only to about
+/// 1e-10 of it, so a narrower bracket than 1e-9 would sort round-off; above 0.5 the bracket
+/// says little.
+pub const RELATIVE_TOLERANCE_RANGE: (f64, f64) = (1e-9, 0.5);
+
+/// Range of [`MarginOptions::max_factor`]: at least the load scale itself; beyond 1e6 times it
+/// a disturbance is no longer one a grasp meets.
+pub const MAX_FACTOR_RANGE: (f64, f64) = (1.0, 1e6);
+
+/// Largest number of growth steps along one direction (the step doubles from
+/// [`INITIAL_STEP`]: 27 reach the largest cap).
+const MAX_GROWTH_STEPS: u32 = 200;
+
+/// Largest number of bisection steps along one direction (geometric, then arithmetic: about
+/// 35 narrow the widest bracket to the finest tolerance).
+const MAX_BISECTION_STEPS: u32 = 200;
 
 /// A direction of disturbance: a unit vector of the scaled wrench space.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -73,12 +93,45 @@ impl WrenchDirection {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MarginOptions {
     /// Characteristic length `L`, m: torque `s L t` per magnitude `s`. `None`: the grasp's
-    /// reach (`Scales::length_m`).
+    /// reach (`Scales::length_m`). In the scene's length range [`LENGTH_RANGE_M`].
     pub length_m: Option<f64>,
-    /// Bisection stops when the bracket is below this fraction of its upper end.
+    /// Bisection stops when the bracket is below this fraction of its upper end (in
+    /// [`RELATIVE_TOLERANCE_RANGE`]).
     pub relative_tolerance: f64,
-    /// Magnitudes above this multiple of the load scale count as unbounded.
+    /// Magnitudes above this multiple of the load scale count as unbounded (in
+    /// [`MAX_FACTOR_RANGE`]).
     pub max_factor: f64,
+}
+
+impl MarginOptions {
+    /// Checks every option against its range and returns the first one outside it, named as
+    /// the API spells it ([`option_names`]). [`disturbance_margins`] checks its options; front
+    /// ends call this first so that a bad option is refused before any work.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        if let Some(l) = self.length_m {
+            check_range(
+                option_names::MARGIN_LENGTH,
+                l,
+                LENGTH_RANGE_M,
+                "a length in metres (the scene's range)",
+                "0.05",
+            )?;
+        }
+        check_range(
+            option_names::MARGIN_TOLERANCE,
+            self.relative_tolerance,
+            RELATIVE_TOLERANCE_RANGE,
+            "a relative width of the final bracket",
+            "1e-3",
+        )?;
+        check_range(
+            option_names::MARGIN_MAX_FACTOR,
+            self.max_factor,
+            MAX_FACTOR_RANGE,
+            "a multiple of the load scale",
+            "1000",
+        )
+    }
 }
 
 impl Default for MarginOptions {
@@ -138,6 +191,11 @@ pub struct DirectionMargin {
     pub solves: u32,
     /// Wall time of this direction, s.
     pub time_s: f64,
+    /// Why the search stopped before its tolerance, when it did: the bracket could not be
+    /// narrowed further in double precision, or a step limit was reached (the bracket
+    /// `[margin_n, fails_at_n]` is still a true one, only wider than asked).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stopped_early: Option<String>,
 }
 
 /// Margins of a grasp.
@@ -359,6 +417,16 @@ struct Search<'a> {
     exempt: &'a [String],
 }
 
+/// The largest magnitude known to hold, N, with the contact state and solution there.
+struct Held {
+    s: f64,
+    state: ContactState,
+    sol: Solution,
+}
+
+/// The smallest magnitude known to fail, N, and how.
+type Fails = (f64, Failure);
+
 impl Search<'_> {
     /// The wrench about `O` of magnitude `s` (N) along the direction.
     fn model_at(&self, s: f64) -> GraspModel {
@@ -380,6 +448,89 @@ impl Search<'_> {
         let sol = self.solver.solve_step(&m, &self.loads, &mut next)?;
         self.solves += 1;
         Ok(holds(&m, &sol, self.exempt).map(|()| (next, sol)))
+    }
+
+    /// Grows the magnitude from `held` (the step doubling from [`INITIAL_STEP`] of the load
+    /// scale) until the grasp fails (`Some`) or holds at `cap` (`None`); the note says why it
+    /// stopped below the cap when it did.
+    fn grow(
+        &mut self,
+        held: &mut Held,
+        cap: f64,
+    ) -> Result<(Option<Fails>, Option<String>), ModelError> {
+        let mut step = INITIAL_STEP * self.model.scales.load_n;
+        for _ in 0..MAX_GROWTH_STEPS {
+            if held.s >= cap || cap.is_nan() {
+                return Ok((None, None));
+            }
+            let s = (held.s + step).min(cap);
+            match self.trial(s, &held.state)? {
+                Ok((state, sol)) => (*held, step) = (Held { s, state, sol }, 2.0 * step),
+                Err(f) => return Ok((Some((s, f)), None)),
+            }
+        }
+        let note = format!(
+            "the growth stopped after {MAX_GROWTH_STEPS} steps at {} N, below the cap {} N",
+            Readable(held.s),
+            Readable(cap)
+        );
+        Ok((None, Some(note)))
+    }
+
+    /// Narrows the bracket `(held, fails)` by bisection to `tolerance` of its upper end (or
+    /// below [`ZERO_MARGIN`] of the load scale); the note says why it stopped wider, when it
+    /// did.
+    fn narrow(
+        &mut self,
+        held: &mut Held,
+        fails: &mut Fails,
+        tolerance: f64,
+    ) -> Result<Option<String>, ModelError> {
+        let zero = ZERO_MARGIN * self.model.scales.load_n;
+        // Failed at the first step: is the direction resisted at all? (One solve, not a
+        // bisection down to zero: commanded loads leave some directions unresisted.)
+        if held.s == 0.0 {
+            match self.trial(zero, &held.state)? {
+                Ok((state, sol)) => {
+                    *held = Held {
+                        s: zero,
+                        state,
+                        sol,
+                    }
+                }
+                Err(g) => *fails = (zero, g),
+            }
+        }
+        let mut steps = 0;
+        while fails.0 - held.s > tolerance * fails.0 && fails.0 > zero {
+            // Geometric while the bracket spans more than a factor 2, then arithmetic.
+            let mid = if held.s > 0.0 && fails.0 > 2.0 * held.s {
+                (held.s * fails.0).sqrt()
+            } else {
+                0.5 * (held.s + fails.0)
+            };
+            let why = if !(mid > held.s && mid < fails.0) {
+                "no number lies between its ends in double precision".to_string()
+            } else if steps == MAX_BISECTION_STEPS {
+                format!("the bisection stopped after {MAX_BISECTION_STEPS} steps")
+            } else {
+                steps += 1;
+                match self.trial(mid, &held.state)? {
+                    Ok((state, sol)) => *held = Held { s: mid, state, sol },
+                    Err(g) => *fails = (mid, g),
+                }
+                continue;
+            };
+            return Ok(Some(format!(
+                "the bracket [{}, {}] N (relative width {:.1e}) was not narrowed to the \
+                 tolerance {}: {why}",
+                Readable(held.s),
+                Readable(fails.0),
+                (fails.0 - held.s) / fails.0,
+                Readable(tolerance)
+            )));
+        }
+        Ok(None)
     }
 }
 
@@ -403,44 +554,20 @@ fn along(
         solves: 0,
         exempt,
     };
-    let scale = model.scales.load_n;
-    let cap = options.max_factor * scale;
-    let (mut lo, mut lo_state, mut lo_sol) = (0.0, base.0.clone(), base.1.clone());
-    let mut step = INITIAL_STEP * scale;
-    let mut hi: Option<(f64, Failure)> = None;
-    while hi.is_none() && lo < cap {
-        let s = (lo + step).min(cap);
-        match search.trial(s, &lo_state)? {
-            Ok((state, sol)) => (lo, lo_state, lo_sol, step) = (s, state, sol, 2.0 * step),
-            Err(f) => hi = Some((s, f)),
-        }
+    let cap = options.max_factor * model.scales.load_n;
+    let mut held = Held {
+        s: 0.0,
+        state: base.0.clone(),
+        sol: base.1.clone(),
+    };
+    let (mut hi, mut stopped_early) = search.grow(&mut held, cap)?;
+    if let Some(fails) = &mut hi {
+        stopped_early = search.narrow(&mut held, fails, options.relative_tolerance)?;
     }
-    if let Some((h, f)) = &mut hi {
-        // Failed at the first step: is the direction resisted at all? (One solve, not a
-        // bisection down to zero: commanded loads leave some directions unresisted.)
-        if lo == 0.0 {
-            let tiny = ZERO_MARGIN * scale;
-            match search.trial(tiny, &lo_state)? {
-                Ok((state, sol)) => (lo, lo_state, lo_sol) = (tiny, state, sol),
-                Err(g) => (*h, *f) = (tiny, g),
-            }
-        }
-        while *h - lo > options.relative_tolerance * *h && *h > ZERO_MARGIN * scale {
-            // Geometric while the bracket spans more than a factor 2, then arithmetic.
-            let mid = if lo > 0.0 && *h > 2.0 * lo {
-                (lo * *h).sqrt()
-            } else {
-                0.5 * (lo + *h)
-            };
-            match search.trial(mid, &lo_state)? {
-                Ok((state, sol)) => (lo, lo_state, lo_sol) = (mid, state, sol),
-                Err(g) => (*h, *f) = (mid, g),
-            }
-        }
-    }
+    let lo = held.s;
     let failing_finger = match &hi {
         Some((_, Failure::Slides { finger })) => Some(finger.clone()),
-        Some(_) => most_utilised(model, &lo_sol),
+        Some(_) => most_utilised(model, &held.sol),
         None => None,
     };
     Ok(DirectionMargin {
@@ -454,12 +581,15 @@ fn along(
         failure: hi.map(|(_, f)| f),
         solves: search.solves,
         time_s: clock.elapsed().as_secs_f64(),
+        stopped_early,
     })
 }
 
 /// The margins of `model` (with its scene loads) along `directions`, starting from `state`
 /// (a fresh [`ContactState`] for a single grasp; a hand-off step's state to continue its
-/// path). If the grasp does not hold undisturbed every margin is 0 with that failure.
+/// path). If the grasp does not hold undisturbed every margin is 0 with that failure. Options
+/// outside their ranges are an error ([`MarginOptions::validate`],
+/// [`SolveOptions::validate`]).
 pub fn disturbance_margins(
     model: &GraspModel,
     state: &ContactState,
@@ -468,6 +598,8 @@ pub fn disturbance_margins(
     options: &MarginOptions,
 ) -> Result<MarginReport, ModelError> {
     use rayon::prelude::*;
+    solve_options.validate()?;
+    options.validate()?;
     let clock = Instant::now();
     let length_m = options.length_m.unwrap_or(model.scales.length_m);
     let mut base_state = state.clone();
@@ -497,6 +629,7 @@ pub fn disturbance_margins(
                 failure: Some(f.clone()),
                 solves: 0,
                 time_s: 0.0,
+                stopped_early: None,
             })
             .collect(),
         Ok(()) => directions
@@ -534,4 +667,154 @@ pub fn disturbance_margins(
         unresisted,
         time_s: clock.elapsed().as_secs_f64(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A block pinched along x by two flat steel pads (commanded load 10 N each, mu 0.5),
+    /// weight 4 N: downwards it takes `2 mu P - W = 6 N` more (the pads' friction capacity).
+    fn pinch() -> GraspModel {
+        let finger = |name: &str, x: f64, nx: f64| {
+            serde_json::json!({
+                "name": name, "contact_point": [x, 0.0, 0.0], "normal": [nx, 0.0, 0.0],
+                "tangent": [0.0, 1.0, 0.0],
+                "material": {"youngs_modulus": 210e9, "poisson_ratio": 0.3},
+                "patch": {"size": [0.01, 0.01], "grid": [3, 3]},
+                "friction": {"mu": 0.5}, "control": {"normal_load": 10.0}
+            })
+        };
+        let scene = serde_json::json!({
+            "object": {"weight": 4.0, "center_of_mass": [0.0, 0.0, 0.0],
+                       "material": {"youngs_modulus": 210e9, "poisson_ratio": 0.3}},
+            "fingers": [finger("left", -0.02, 1.0), finger("right", 0.02, -1.0)],
+            "model": "energy"
+        });
+        let scene = crate::Scene::from_json_str(&scene.to_string()).unwrap();
+        GraspModel::from_scene(&scene).unwrap()
+    }
+
+    const DOWN: WrenchDirection = WrenchDirection {
+        force: [0.0, 0.0, -1.0],
+        torque: [0.0; 3],
+    };
+
+    /// A tolerance no double-precision bracket can meet (reachable only by bypassing
+    /// `validate`, as a library caller could): the bisection stops where no number lies
+    /// between the bracket's ends, says so, and the bracket still holds the closed form
+    /// 6 N (to 1e-9 relative: the solver tolerance). Bounded: at most the growth and
+    /// bisection limits in solves.
+    #[test]
+    fn a_bisection_that_cannot_reach_its_tolerance_stops_and_says_so() {
+        let model = pinch();
+        let mut base_state = ContactState::new(&model);
+        let solve = SolveOptions::default();
+        let base = GraspSolver::new(&model, solve)
+            .solve_step(&model, &model.scene_loads_n(), &mut base_state)
+            .unwrap();
+        for tolerance in [1e-300, 0.0, 1e-17] {
+            let options = MarginOptions {
+                relative_tolerance: tolerance,
+                ..MarginOptions::default()
+            };
+            let m = along(
+                &model,
+                solve,
+                &options,
+                (0.05, &[]),
+                DOWN,
+                (&base_state, &base),
+            )
+            .unwrap();
+            let note = m
+                .stopped_early
+                .as_deref()
+                .unwrap_or_else(|| panic!("no note at {tolerance:e}: {m:?}"));
+            assert!(note.contains("not narrowed to the tolerance"), "{note}");
+            let hi = m.fails_at_n.unwrap();
+            assert!(
+                m.margin_n <= 6.0 * (1.0 + 1e-9) && hi >= 6.0 * (1.0 - 1e-9),
+                "{m:?}"
+            );
+            assert!((hi - m.margin_n) <= 1e-9 * 6.0, "{m:?}");
+            assert!(
+                m.solves <= MAX_GROWTH_STEPS + MAX_BISECTION_STEPS + 1,
+                "{m:?}"
+            );
+        }
+    }
+
+    /// At a valid tolerance the search does not stop early and brackets the closed form.
+    #[test]
+    fn a_reachable_tolerance_leaves_no_note() {
+        let model = pinch();
+        let r = disturbance_margins(
+            &model,
+            &ContactState::new(&model),
+            SolveOptions::default(),
+            &[DOWN],
+            &MarginOptions::default(),
+        )
+        .unwrap();
+        let m = &r.directions[0];
+        assert_eq!(m.stopped_early, None);
+        assert!(m.margin_n <= 6.0 * (1.0 + 1e-9) && m.fails_at_n.unwrap() >= 6.0 * (1.0 - 1e-9));
+    }
+
+    /// Options outside their ranges are refused by name before any solve; a direction that
+    /// is not finite is an outcome of the search (no convergence), not a panic.
+    #[test]
+    fn bad_options_are_errors_and_bad_directions_are_outcomes() {
+        let model = pinch();
+        let state = ContactState::new(&model);
+        let cases = [
+            (
+                MarginOptions {
+                    length_m: Some(1e305),
+                    ..MarginOptions::default()
+                },
+                option_names::MARGIN_LENGTH,
+            ),
+            (
+                MarginOptions {
+                    relative_tolerance: 2e-16,
+                    ..MarginOptions::default()
+                },
+                option_names::MARGIN_TOLERANCE,
+            ),
+            (
+                MarginOptions {
+                    max_factor: f64::INFINITY,
+                    ..MarginOptions::default()
+                },
+                option_names::MARGIN_MAX_FACTOR,
+            ),
+        ];
+        for (options, name) in cases {
+            let e = disturbance_margins(&model, &state, SolveOptions::default(), &[DOWN], &options)
+                .unwrap_err();
+            match e {
+                ModelError::Option(o) => assert_eq!(o.option, name),
+                other => panic!("{other}"),
+            }
+        }
+        let nan = WrenchDirection {
+            force: [f64::NAN, 0.0, 0.0],
+            torque: [0.0; 3],
+        };
+        let r = disturbance_margins(
+            &model,
+            &state,
+            SolveOptions::default(),
+            &[nan],
+            &MarginOptions::default(),
+        )
+        .unwrap();
+        assert!(
+            matches!(r.directions[0].failure, Some(Failure::NoConvergence { .. })),
+            "{:?}",
+            r.directions[0]
+        );
+    }
 }

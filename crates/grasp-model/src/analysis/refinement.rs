@@ -29,9 +29,9 @@ pub fn with_grids(scene: &Scene, grid: impl Fn(usize, [usize; 2]) -> [usize; 2])
 }
 
 /// The grid refined so that its first side has `n` elements, the second keeping the aspect
-/// ratio of the scene's grid (at least 1).
+/// ratio of the scene's grid (at least 1; `usize::MAX` where the ratio overflows).
 pub fn grid_with_first_side(original: [usize; 2], n: usize) -> [usize; 2] {
-    let ny = ((n as f64) * original[1] as f64 / original[0] as f64)
+    let ny = ((n as f64) * original[1] as f64 / original[0].max(1) as f64)
         .round()
         .max(1.0) as usize;
     [n.max(1), ny]
@@ -214,11 +214,10 @@ pub fn refinement_study(
     let mut rows = Vec::with_capacity(sides.len());
     for &n in &sides {
         let s = with_grids(scene, |_, g| grid_with_first_side(g, n));
-        if let Some((i, f)) = s
-            .fingers
-            .iter()
-            .enumerate()
-            .find(|(_, f)| f.patch.grid[0] * f.patch.grid[1] > MAX_ELEMENTS_PER_PATCH)
+        if let Some((i, f)) =
+            s.fingers.iter().enumerate().find(|(_, f)| {
+                f.patch.grid[0].saturating_mul(f.patch.grid[1]) > MAX_ELEMENTS_PER_PATCH
+            })
         {
             return Err(format!(
                 "grid {n} gives fingers[{i}] ({}) more than {MAX_ELEMENTS_PER_PATCH} elements",

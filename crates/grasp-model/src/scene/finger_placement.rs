@@ -58,9 +58,9 @@ pub fn resolve_shapes(
     let spec: ShapeSpec = crate::scene::strict_json::variant::<ShapeSpec, serde_json::Error>(
         shape_value,
     )
-    .map_err(|e| SceneError::Parse {
-        path: "object.shape".into(),
-        message: e.to_string(),
+    .map_err(|e| {
+        let (path, message) = crate::scene::strict_json::join_path("object.shape", &e.to_string());
+        SceneError::Parse { path, message }
     })?;
     check_shape_spec(&spec)?;
     let mesh = match &spec.mesh {
@@ -73,6 +73,9 @@ pub fn resolve_shapes(
         })?),
         None => None,
     };
+    if let Some(m) = &mesh {
+        crate::scene::shape_checks::check_mesh(m).map_err(|p| SceneError::Invalid(vec![p]))?;
+    }
     let shape = Shape::new(&spec, mesh)
         .map_err(|e| SceneError::Invalid(vec![problem("object.shape", e, "give a closed mesh")]))?;
     let (volume_m3, centroid) = shape.volume_and_centroid();
@@ -310,7 +313,7 @@ fn surface_point(
             if !(spec.tolerance.is_finite() && spec.tolerance >= 0.0) {
                 return Err(problem(
                     &format!("{path}.tolerance"),
-                    format!("is {}", spec.tolerance),
+                    format!("is {}", crate::number_text::readable(spec.tolerance)),
                     "give a distance in metres >= 0",
                 ));
             }

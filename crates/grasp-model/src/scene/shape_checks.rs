@@ -1,10 +1,48 @@
 //! Checks of `object.shape` as written: exactly one geometry, sizes in range, a usable pose.
 
 use crate::error::{InputProblem, SceneError};
+use crate::geometry::mesh_surface::TriangleMesh;
 use crate::geometry::shape_spec::ShapeSpec;
+use crate::number_text::readable;
+use crate::scene::validation::MAX_COORDINATE_M;
 
 /// Smallest and largest size of a shape dimension, m.
 pub const SHAPE_SIZE_RANGE_M: (f64, f64) = (1e-6, 1e3);
+
+/// The first problem of a mesh as read (vertices in metres after `unit` and `scale`): a vertex
+/// that is not finite or lies beyond [`MAX_COORDINATE_M`] (a garbage file, or a unit or scale
+/// too large), or a triangle naming a vertex the mesh does not have.
+pub fn check_mesh(mesh: &TriangleMesh) -> Result<(), InputProblem> {
+    let bad = |v: &[f64; 3]| {
+        !v.iter()
+            .all(|x| x.is_finite() && x.abs() <= MAX_COORDINATE_M)
+    };
+    if let Some((i, v)) = mesh.vertices_m.iter().enumerate().find(|(_, v)| bad(v)) {
+        return Err(problem(
+            "object.shape.mesh.file",
+            format!(
+                "vertex {i} of the mesh is [{}, {}, {}] m (after unit and scale): not finite or \
+                 beyond {MAX_COORDINATE_M:e} m",
+                readable(v[0]),
+                readable(v[1]),
+                readable(v[2])
+            ),
+            "correct the file's vertices, or its unit or scale, so that every coordinate is a \
+             finite number of metres within 1e3",
+        ));
+    }
+    let n = mesh.vertices_m.len();
+    if let Some((t, tri)) =
+        (mesh.triangles.iter().enumerate()).find(|(_, tri)| tri.iter().any(|&k| k as usize >= n))
+    {
+        return Err(problem(
+            "object.shape.mesh.file",
+            format!("triangle {t} names vertex {tri:?}, but the mesh has {n} vertices"),
+            "correct the file's faces",
+        ));
+    }
+    Ok(())
+}
 
 /// Every problem of `spec`.
 pub fn check_shape_spec(spec: &ShapeSpec) -> Result<(), SceneError> {
@@ -28,7 +66,7 @@ pub fn check_shape_spec(spec: &ShapeSpec) -> Result<(), SceneError> {
         if !(v.is_finite() && ((lo..=hi).contains(&v) || (zero_ok && v == 0.0))) {
             p.push(problem(
                 path,
-                format!("is {v}"),
+                format!("is {}", readable(v)),
                 &format!("give a length in metres in [{lo:e}, {hi:e}]"),
             ));
         }
@@ -54,7 +92,7 @@ pub fn check_shape_spec(spec: &ShapeSpec) -> Result<(), SceneError> {
         if !(m.scale.is_finite() && m.scale > 0.0) {
             p.push(problem(
                 "object.shape.mesh.scale",
-                format!("is {}", m.scale),
+                format!("is {}", readable(m.scale)),
                 "give a positive factor, e.g. 1",
             ));
         }
@@ -63,7 +101,7 @@ pub fn check_shape_spec(spec: &ShapeSpec) -> Result<(), SceneError> {
         if !(v.is_finite() && v.abs() <= 1e3) {
             p.push(problem(
                 &format!("object.shape.position[{k}]"),
-                format!("is {v}"),
+                format!("is {}", readable(*v)),
                 "give a coordinate in metres in [-1e3, 1e3]",
             ));
         }

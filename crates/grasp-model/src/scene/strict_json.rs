@@ -100,8 +100,9 @@ fn first_comment(text: &str) -> Option<(usize, usize, &'static str)> {
     None
 }
 
-/// Joins an outer path and a message that may carry an inner path (from [`variant`]).
-fn join_path(outer: &str, message: &str) -> (String, String) {
+/// Joins an outer path and a message that may carry an inner path (from [`variant`]): the
+/// full path and the message without the marker.
+pub fn join_path(outer: &str, message: &str) -> (String, String) {
     let Some(rest) = message.strip_prefix(INNER) else {
         return (outer.to_string(), message.to_string());
     };

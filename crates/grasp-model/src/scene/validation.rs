@@ -471,7 +471,8 @@ fn validate_tip(p: &str, f: &FingerSpec, planar: Option<Vec3>, v: &mut Problems)
                     &format!("{p}.patch.size[{k}]"),
                     format!(
                         "{} m is larger than the flat pad's {} m",
-                        f.patch.size[k], flat.size[k]
+                        number(f.patch.size[k]),
+                        number(flat.size[k])
                     ),
                     "make the patch no larger than the pad (the pad is all that can touch)",
                 );
@@ -511,7 +512,7 @@ fn validate_patch(p: &str, f: &FingerSpec, v: &mut Problems) {
         if !(s.is_finite() && s > 0.0) {
             v.push(
                 &format!("{p}.patch.size[{k}]"),
-                format!("is {s} m"),
+                format!("is {} m", number(s)),
                 "give the patch side length in metres, > 0",
             );
         } else {
@@ -703,7 +704,7 @@ impl Problems {
             if !(e.youngs_modulus.is_finite() && e.youngs_modulus > 0.0) {
                 self.push(
                     &format!("{path}.youngs_modulus"),
-                    format!("is {} Pa", e.youngs_modulus),
+                    format!("is {} Pa", number(e.youngs_modulus)),
                     "give Young's modulus in pascals, > 0 (or write \"rigid\" for the material)",
                 );
             } else if !(MODULUS_RANGE_PA.0..=MODULUS_RANGE_PA.1).contains(&e.youngs_modulus) {
@@ -719,7 +720,7 @@ impl Problems {
             if !(e.poisson_ratio.is_finite() && (0.0..0.5).contains(&e.poisson_ratio)) {
                 self.push(
                     &format!("{path}.poisson_ratio"),
-                    format!("is {}", e.poisson_ratio),
+                    format!("is {}", number(e.poisson_ratio)),
                     "give Poisson's ratio in [0, 0.5) (rubber is about 0.49)",
                 );
             }
@@ -730,7 +731,7 @@ impl Problems {
         if !(r.is_finite() && r > 0.0) {
             self.push(
                 path,
-                format!("is {r} m"),
+                format!("is {} m", number(r)),
                 "give the radius of curvature in metres, > 0, or null for flat",
             );
             return;
@@ -740,7 +741,11 @@ impl Problems {
         {
             self.push(
                 path,
-                format!("is {r} m, smaller than half the patch ({half_patch} m)"),
+                format!(
+                    "is {} m, smaller than half the patch ({} m)",
+                    number(r),
+                    number(half_patch)
+                ),
                 "shrink patch.size below the diameter, or check the radius (the gap is the \
                  parabolic approximation of the surface)",
             );
@@ -801,8 +806,8 @@ impl Problems {
                     &format!("{path}[{j}][0]"),
                     format!(
                         "is {} N, not above the previous load {} N",
-                        pt[0],
-                        table[j - 1][0]
+                        number(pt[0]),
+                        number(table[j - 1][0])
                     ),
                     "sort the points by strictly increasing load",
                 );
@@ -819,7 +824,7 @@ impl Problems {
             if !(val.is_finite() && val > 0.0) {
                 self.push(
                     &format!("{path}.{name}"),
-                    format!("is {val} m"),
+                    format!("is {} m", number(val)),
                     "give a length in metres, finite and > 0",
                 );
             } else {
@@ -840,7 +845,8 @@ impl Problems {
                 &format!("{path}.object_radius"),
                 format!(
                     "is {} m, not larger than finger_radius {} m",
-                    q.object_radius, q.finger_radius
+                    number(q.object_radius),
+                    number(q.finger_radius)
                 ),
                 "thesis eq. (40) needs R1 < R2 (finger radius below the object's); \
                  use a table or a constant mu otherwise",
@@ -875,11 +881,7 @@ impl Problems {
 
 /// A number as a reader wants it: plain when moderate, in exponent form otherwise.
 fn number(x: f64) -> String {
-    if x == 0.0 || (1e-4..1e6).contains(&x.abs()) || !x.is_finite() {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
+    crate::number_text::readable(x)
 }
 
 fn norm(x: &Vec3) -> f64 {

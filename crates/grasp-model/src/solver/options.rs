@@ -1,6 +1,11 @@
-//! Options of a solve: which solver, tolerances, limits, warm starts.
+//! Options of a solve: which solver, tolerances, limits, warm starts, and their ranges
+//! ([`SolveOptions::validate`], the one check every front end calls).
 
 use serde::{Deserialize, Serialize};
+
+use crate::error::OptionError;
+use crate::number_text::Readable;
+use crate::option_names;
 
 /// Which solver answers the convex programs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -53,21 +58,24 @@ pub struct SolveOptions {
     pub solver: SolverChoice,
     /// Tolerance of the scaled program: Clarabel's `tol_feas`, `tol_gap_abs`, `tol_gap_rel`;
     /// the native solver's bound on the natural residual relative to `max(1, max |x|)` and on
-    /// the equality residual relative to `max(1, max |e|)` (dimensionless).
+    /// the equality residual relative to `max(1, max |e|)` (dimensionless, in
+    /// [`TOLERANCE_RANGE`]).
     pub tolerance: f64,
     /// Iteration limit of each convex solve: Clarabel's interior-point iterations; the native
-    /// solver's Newton steps (at most [`crate::solver::outcome::MAX_NEWTON_ITERATIONS`]).
+    /// solver's Newton steps (at most [`crate::solver::outcome::MAX_NEWTON_ITERATIONS`]); in
+    /// [`ITERATION_RANGE`].
     pub max_iterations: u32,
-    /// Time limit of each Clarabel solve, s.
+    /// Time limit of each Clarabel solve, s (> 0; `inf` for none).
     pub time_limit_s: f64,
     /// Sequential solve: converged when no element normal force changes by more than this
-    /// many element force units `Fu` between iterates (dimensionless).
+    /// many element force units `Fu` between iterates (dimensionless, in
+    /// [`SEQUENTIAL_TOLERANCE_RANGE`]; `inf` accepts the first iterate).
     pub sequential_tolerance: f64,
-    /// Sequential solve: largest number of convex solves per step.
+    /// Sequential solve: largest number of convex solves per step (in [`ITERATION_RANGE`]).
     pub max_sequential_iterations: u32,
     /// Sequential solve: smallest relaxation `omega` of the damped fixed-point iteration
     /// before an iterate without solution is reported as the outcome (dimensionless, in
-    /// `(0, 1]`; `1` gives the plain, undamped iteration).
+    /// [`MIN_RELAXATION_RANGE`]; `1` gives the plain, undamped iteration).
     pub min_relaxation: f64,
     /// Start each solve from the previous solution of the same program (the previous step or
     /// iterate), and a coulomb step from the previous step's forces; `false` starts every
@@ -87,5 +95,209 @@ impl Default for SolveOptions {
             min_relaxation: MIN_RELAXATION,
             warm_start: true,
         }
+    }
+}
+
+/// Range of [`SolveOptions::tolerance`] (dimensionless): below 1e-14 the round-off of the
+/// program's sums (about 1e-16 per term over up to 1e4 terms of unit size) exceeds it, so no
+/// solve could meet it; above 1e-2 an answer is no solution of the program.
+pub const TOLERANCE_RANGE: (f64, f64) = (1e-14, 1e-2);
+
+/// Range of [`SolveOptions::sequential_tolerance`] (element force units): below 1e-14 no
+/// fixed point can be told apart from round-off; `+inf` accepts the first iterate.
+pub const SEQUENTIAL_TOLERANCE_RANGE: (f64, f64) = (1e-14, f64::INFINITY);
+
+/// Range of [`SolveOptions::max_iterations`] and [`SolveOptions::max_sequential_iterations`]:
+/// at least one, and a bound on the work a solve may take.
+pub const ITERATION_RANGE: (u32, u32) = (1, 10_000);
+
+/// Range of [`SolveOptions::min_relaxation`]: the damped iteration halves `omega` from 1 down
+/// to it before it reports an iterate without solution, so 1e-6 (20 halvings) already damps
+/// past any use; below it only solves are added.
+pub const MIN_RELAXATION_RANGE: (f64, f64) = (1e-6, 1.0);
+
+/// `Ok` when `x` lies in `[lo, hi]` (NaN never does), else the error naming `option`; `what`
+/// says what the option means and `example` gives a usable value.
+pub(crate) fn check_range(
+    option: &'static str,
+    x: f64,
+    (lo, hi): (f64, f64),
+    what: &str,
+    example: &str,
+) -> Result<(), OptionError> {
+    if x >= lo && x <= hi {
+        return Ok(());
+    }
+    let upper = match hi {
+        h if h == f64::INFINITY => "inf".to_string(),
+        h => Readable(h).to_string(),
+    };
+    Err(OptionError {
+        option,
+        value: Readable(x).to_string(),
+        expected: format!("give {what} in [{}, {upper}], e.g. {example}", Readable(lo)),
+    })
+}
+
+/// [`check_range`] for a count.
+pub(crate) fn check_count(
+    option: &'static str,
+    n: u32,
+    (lo, hi): (u32, u32),
+    what: &str,
+    example: &str,
+) -> Result<(), OptionError> {
+    if (lo..=hi).contains(&n) {
+        return Ok(());
+    }
+    Err(OptionError {
+        option,
+        value: n.to_string(),
+        expected: format!("give {what} in [{lo}, {hi}], e.g. {example}"),
+    })
+}
+
+impl SolveOptions {
+    /// Checks every option against its range (the constants above; a time limit > 0 s, `inf`
+    /// for none) and returns the first one outside it, named as the API spells it
+    /// ([`option_names`]). Every solve checks its options; front ends call this first so that
+    /// a bad option is refused before any work.
+    pub fn validate(&self) -> Result<(), OptionError> {
+        check_range(
+            option_names::TOLERANCE,
+            self.tolerance,
+            TOLERANCE_RANGE,
+            "a relative tolerance of the scaled program",
+            "1e-10",
+        )?;
+        check_count(
+            option_names::MAX_ITERATIONS,
+            self.max_iterations,
+            ITERATION_RANGE,
+            "a number of iterations per convex solve",
+            "200",
+        )?;
+        if self.time_limit_s.is_nan() || self.time_limit_s <= 0.0 {
+            return Err(OptionError {
+                option: option_names::TIME_LIMIT,
+                value: Readable(self.time_limit_s).to_string(),
+                expected: "give a time limit > 0 s (inf for none), e.g. 10".into(),
+            });
+        }
+        check_range(
+            option_names::SEQUENTIAL_TOLERANCE,
+            self.sequential_tolerance,
+            SEQUENTIAL_TOLERANCE_RANGE,
+            "a change of the normal forces in element force units (inf: the first iterate)",
+            "1e-7",
+        )?;
+        check_count(
+            option_names::MAX_SEQUENTIAL_ITERATIONS,
+            self.max_sequential_iterations,
+            ITERATION_RANGE,
+            "a number of convex solves per sequential solve",
+            "50",
+        )?;
+        check_range(
+            option_names::MIN_RELAXATION,
+            self.min_relaxation,
+            MIN_RELAXATION_RANGE,
+            "a smallest relaxation factor",
+            "0.015625",
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_defaults_are_valid() {
+        assert_eq!(SolveOptions::default().validate(), Ok(()));
+    }
+
+    /// Each option outside its range (below, above, NaN) is refused by its own name, the
+    /// value in readable form, and the range; the ends of each range are accepted.
+    #[test]
+    fn every_option_outside_its_range_is_refused_by_name() {
+        type Set = fn(&mut SolveOptions, f64);
+        let cases: [(&str, Set, &[f64], &[f64]); 6] = [
+            (
+                option_names::TOLERANCE,
+                |o, x| o.tolerance = x,
+                &[
+                    2e-16,
+                    1e-300,
+                    0.0,
+                    -1e-10,
+                    0.5,
+                    1e308,
+                    f64::NAN,
+                    f64::INFINITY,
+                ],
+                &[1e-14, 1e-2],
+            ),
+            (
+                option_names::MAX_ITERATIONS,
+                |o, x| o.max_iterations = x as u32,
+                &[0.0, 10_001.0, 4e9],
+                &[1.0, 10_000.0],
+            ),
+            (
+                option_names::TIME_LIMIT,
+                |o, x| o.time_limit_s = x,
+                &[0.0, -1.0, f64::NAN, f64::NEG_INFINITY],
+                &[1e-3, f64::INFINITY],
+            ),
+            (
+                option_names::SEQUENTIAL_TOLERANCE,
+                |o, x| o.sequential_tolerance = x,
+                &[1e-15, 0.0, -1.0, f64::NAN],
+                &[1e-14, f64::INFINITY],
+            ),
+            (
+                option_names::MAX_SEQUENTIAL_ITERATIONS,
+                |o, x| o.max_sequential_iterations = x as u32,
+                &[0.0, 1e5],
+                &[1.0, 10_000.0],
+            ),
+            (
+                option_names::MIN_RELAXATION,
+                |o, x| o.min_relaxation = x,
+                &[0.0, 1e-7, 1.5, f64::NAN],
+                &[1e-6, 1.0],
+            ),
+        ];
+        for (name, set, bad, good) in cases {
+            for &x in bad {
+                let mut o = SolveOptions::default();
+                set(&mut o, x);
+                let e = o.validate().expect_err(name);
+                assert_eq!(e.option, name);
+                let text = e.to_string();
+                assert!(text.starts_with(&format!("`{name}` is ")), "{text}");
+                assert!(text.contains("e.g. "), "{text}");
+                assert!(text.len() < 200, "{text}");
+            }
+            for &x in good {
+                let mut o = SolveOptions::default();
+                set(&mut o, x);
+                assert_eq!(o.validate(), Ok(()), "{name} = {x}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_message_quotes_extreme_values_in_exponent_form() {
+        let o = SolveOptions {
+            tolerance: 1e308,
+            ..SolveOptions::default()
+        };
+        assert_eq!(
+            o.validate().unwrap_err().to_string(),
+            "`SolveOptions::tolerance` is 1e308; give a relative tolerance of the scaled \
+             program in [1e-14, 0.01], e.g. 1e-10"
+        );
     }
 }

@@ -31,6 +31,15 @@ const RANK_CUTOFF: f64 = 1e-8;
 /// dependent and the prediction would amplify their round-off.
 const LARGEST_COEFFICIENT: f64 = 1e3;
 
+/// Largest magnitude of the data (and of their changes) a prediction is made from: beyond it
+/// the squares in the singular value decomposition could overflow (the program's data are
+/// scaled to about 1, so only data that are garbage reach it).
+const LARGEST_DATUM: f64 = 1e100;
+
+/// Iterations of the singular value decomposition before it gives up (its matrix has at most
+/// `KEPT - 1` columns; it converges in a handful).
+const SVD_ITERATIONS: usize = 10_000;
+
 /// The program's data that change between solves: `q`, the equality right-hand side, and
 /// each block's `mu` or Tresca radii, in that order.
 pub(crate) fn data_of(program: &ConeProgram) -> Vec<f64> {
@@ -96,7 +105,8 @@ fn combination(points: &[(Vec<f64>, Iterate)], now: &[f64]) -> Option<Iterate> {
 /// Coefficients `c` with `now = base + sum_j c_j (others_j - base)` to [`ON_LINE`] of the
 /// change `now - base` (least squares over the directions the points span, dropping those
 /// below [`RANK_CUTOFF`]); `None` when `now` is off their affine hull, equals `base`, the
-/// lengths differ, or a coefficient exceeds [`LARGEST_COEFFICIENT`].
+/// lengths differ, a coefficient exceeds [`LARGEST_COEFFICIENT`], or the data are not finite
+/// or beyond [`LARGEST_DATUM`] (no prediction: the solve starts from the last solution).
 pub(crate) fn affine_coefficients(
     base: &[f64],
     others: &[&[f64]],
@@ -108,11 +118,17 @@ pub(crate) fn affine_coefficients(
     }
     let g = DMatrix::from_fn(n, others.len(), |r, j| others[j][r] - base[r]);
     let rhs = DVector::from_iterator(n, now.iter().zip(base).map(|(a, b)| a - b));
+    let usable = |v: &f64| v.abs() <= LARGEST_DATUM;
+    if !(g.iter().all(usable) && rhs.iter().all(usable)) {
+        return None;
+    }
     let norm = rhs.norm();
     if norm == 0.0 {
         return None;
     }
-    let svd = g.clone().svd(true, true);
+    let svd = g
+        .clone()
+        .try_svd(true, true, 5.0 * f64::EPSILON, SVD_ITERATIONS)?;
     let largest = svd.singular_values.max();
     let c = svd.solve(&rhs, RANK_CUTOFF * largest).ok()?;
     let off = (&g * &c - &rhs).norm();
@@ -176,6 +192,21 @@ mod tests {
                 .chain(p.lambda.iter().zip(&exact.lambda))
         {
             assert!((a - b).abs() < 1e-12, "{p:?} vs {exact:?}");
+        }
+    }
+
+    /// Data that are not finite or beyond any program's (an overflowed load, say) give no
+    /// prediction (and no panic of the decomposition), whichever point holds them.
+    #[test]
+    fn no_prediction_from_data_that_are_not_finite_or_huge() {
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 1e305, -1e200] {
+            let mut t = Trail::default();
+            t.push(vec![1.0, 2.0], it(&[10.0, 0.0], &[1.0]));
+            t.push(vec![1.0, 3.0], it(&[12.0, 1.0], &[2.0]));
+            assert!(t.predict(&[1.0, bad]).is_none(), "now = {bad}");
+            t.push(vec![bad, 4.0], it(&[12.0, 1.0], &[2.0]));
+            assert!(t.predict(&[1.0, 5.0]).is_none(), "remembered {bad}");
+            assert!(affine_coefficients(&[0.0, bad], &[&[1.0, 1.0]], &[0.5, 0.5]).is_none());
         }
     }
 

@@ -60,15 +60,21 @@ impl ProgramSolver {
         (native, program)
     }
 
-    /// Solves the program as it stands with the backend of `options.solver`.
+    /// Solves the program as it stands with the backend of `options.solver`; options outside
+    /// their ranges are an error ([`SolveOptions::validate`]); data that are not finite (a
+    /// load or wrench that overflowed) are no convergence, reported without a solve.
     pub(crate) fn solve(
         &mut self,
         model: &GraspModel,
         options: &SolveOptions,
         start: Start<'_>,
     ) -> Result<ConvexRun, ModelError> {
+        options.validate()?;
         // The program's data: the prediction's input, and recorded with the solution.
         let data = data_of(&self.program);
+        if let Some(run) = unsolvable(&data, options) {
+            return Ok(run);
+        }
         let run = match options.solver {
             SolverChoice::Clarabel => self.solve_clarabel(model, options),
             SolverChoice::Native | SolverChoice::Auto => {
@@ -181,5 +187,53 @@ impl ProgramSolver {
             }
         }
         Ok(run)
+    }
+}
+
+/// The outcome of a program whose data are not all finite (`None` when they are): no solver
+/// is run on them (the native iteration would carry NaN to its iteration limit, Clarabel
+/// might not return).
+fn unsolvable(data: &[f64], options: &SolveOptions) -> Option<ConvexRun> {
+    let bad = data.iter().filter(|v| !v.is_finite()).count();
+    (bad > 0).then(|| ConvexRun {
+        outcome: ConvexOutcome::Failed {
+            reason: format!(
+                "no convergence: {bad} of the program's {} data (gaps, loads, the wrench to \
+                 balance, friction coefficients) are not finite, so nothing was solved; an \
+                 extra wrench or load too large for double precision does this",
+                data.len()
+            ),
+        },
+        iterations: 0,
+        factorisations: 0,
+        solver_time_s: 0.0,
+        answered_by: match options.solver {
+            SolverChoice::Clarabel => SolverKind::Clarabel,
+            SolverChoice::Native | SolverChoice::Auto => SolverKind::Native,
+        },
+        fallback: None,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn data_that_are_not_finite_are_no_convergence_without_a_solve() {
+        assert!(unsolvable(&[1.0, -2.0, 1e300], &SolveOptions::default()).is_none());
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let run = unsolvable(&[1.0, bad, bad], &SolveOptions::default()).unwrap();
+            match run.outcome {
+                ConvexOutcome::Failed { reason } => {
+                    assert!(
+                        reason.starts_with("no convergence: 2 of the program's 3"),
+                        "{reason}"
+                    )
+                }
+                other => panic!("{other:?}"),
+            }
+            assert_eq!((run.iterations, run.factorisations), (0, 0));
+        }
     }
 }

@@ -1,0 +1,43 @@
+//! The libraries name the options a caller can change as their Rust API spells them
+//! (`grasp_model::option_names`); Python says the keyword argument instead (`solver=`,
+//! `tolerance=`). Every library text that reaches Python (exception messages, a solution's
+//! reason, warnings and fallback, serialised records) goes through [`in_keywords`].
+
+use grasp_model::option_names::{respell, SOLVER, TOLERANCE};
+use grasp_model::Solution;
+
+/// Library option name -> keyword argument of `grasp.solve` / `grasp.transfer`. Options
+/// without a keyword keep the library's name.
+const KEYWORDS: &[(&str, &str)] = &[(SOLVER, "solver="), (TOLERANCE, "tolerance=")];
+
+/// `text` with every library option name replaced by its keyword argument.
+pub fn in_keywords(text: &str) -> String {
+    respell(text, KEYWORDS)
+}
+
+/// The solution's texts (reason, warnings, solver fallback) with keywords for option names.
+pub fn respell_solution(solution: &mut Solution) {
+    if let Some(r) = solution.reason.as_mut() {
+        *r = in_keywords(r);
+    }
+    for w in &mut solution.warnings {
+        *w = in_keywords(w);
+    }
+    if let Some(f) = solution.solver.fallback.as_mut() {
+        *f = in_keywords(f);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn library_names_become_keywords() {
+        let text = format!("`{TOLERANCE}` is 2e-16; set `{SOLVER}` to clarabel");
+        assert_eq!(
+            in_keywords(&text),
+            "`tolerance=` is 2e-16; set `solver=` to clarabel"
+        );
+    }
+}
