@@ -437,8 +437,7 @@ mod tests {
             .join("../../examples")
             .join(name);
         let text = std::fs::read_to_string(&path).unwrap();
-        let scene =
-            grasp_io::scene_from_json_str(&text, &grasp_io::base_dir_of(&path)).unwrap();
+        let scene = grasp_io::scene_from_json_str(&text, &grasp_io::base_dir_of(&path)).unwrap();
         let model = GraspModel::from_scene(&scene).unwrap();
         let solution = GraspSolver::new(&model, SolveOptions::default())
             .solve(&model, &model.scene_loads_n())
