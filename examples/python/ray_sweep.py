@@ -55,8 +55,8 @@ def result_line(index, of, n, text):
     except ValueError as e:
         problem = {"path": ".", "message": str(e), "fix": "write one scene per line"}
         return invalid(f"line-{n}", index, of, None, [problem])
-    # A wrapped scene is parsed from compact JSON with sorted keys, the text `grasp batch`
-    # parses, so that even the column of a parse error is the same.
+    # A wrapped scene is already parsed (as `grasp batch` parses it once, as a value); its
+    # problems name JSON paths, with no position, whichever way it is read.
     wrapped = not isinstance(source, str)
     text = json.dumps(source, separators=(",", ":"), sort_keys=True) if wrapped else source
     try:

@@ -1,6 +1,6 @@
 //! Standard output whose reader may go away: `grasp schema | head` closes the pipe after ten
 //! lines, and the next write fails with a broken pipe. Rust ignores SIGPIPE, so the standard
-//! `print!` would panic there (exit 101); every command prints through [`write`] instead (the
+//! `print!` would panic there (exit 101); every command prints through [`write()`] instead (the
 //! crate's `print!` and `println!`, defined in `main.rs`, call it).
 //!
 //! A closed standard output ends the process quietly with 141, what a shell reports for a

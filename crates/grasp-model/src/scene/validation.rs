@@ -142,12 +142,11 @@ impl Scene {
         mut value: serde_json::Value,
         load_mesh: &dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>,
     ) -> Result<Scene, SceneError> {
+        // As written, for the structural problems of a scene that does not parse.
+        let written = value.clone();
         let report = crate::scene::finger_placement::resolve_shapes(&mut value, load_mesh)?;
-        let mut scene: Scene =
-            crate::scene::strict_json::from_value_strict(value).map_err(|e| SceneError::Parse {
-                path: e.path,
-                message: e.message,
-            })?;
+        let mut scene: Scene = crate::scene::strict_json::from_value_strict(value)
+            .map_err(|e| structure_error_of(&written, e))?;
         scene.shape_report = report;
         scene.normalize_directions();
         scene.validate()?;
@@ -547,16 +546,50 @@ fn validate_patch(p: &str, f: &FingerSpec, v: &mut Problems) {
 /// [`crate::scene::schema_check`]) when it is valid JSON, the reader's own error kept among
 /// them; else `e` alone (a syntax error).
 fn structure_error(text: &str, e: crate::scene::strict_json::JsonError) -> SceneError {
-    let single = |e: crate::scene::strict_json::JsonError| SceneError::Parse {
+    match crate::scene::strict_json::from_str_strict::<StrictValue>(text) {
+        Ok(StrictValue(value)) => structure_error_of(&value, e),
+        // Not even a JSON document: the reader's error, with its position.
+        Err(_) => single_problem(e),
+    }
+}
+
+/// A reader's error as the one problem of a scene.
+fn single_problem(e: crate::scene::strict_json::JsonError) -> SceneError {
+    SceneError::Parse {
         path: e.path,
         message: e.message,
+    }
+}
+
+/// serde_json's data error without its trailing ` at line L column C`.
+fn without_position(message: &str) -> &str {
+    match message.rfind(" at line ") {
+        Some(i)
+            if message[i + 9..]
+                .split(" column ")
+                .all(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())) =>
+        {
+            &message[..i]
+        }
+        _ => message,
+    }
+}
+
+/// [`structure_error`] of a scene already parsed into `value` (as written, before any shape
+/// was resolved). The reader's message loses its position (` at line L column C`): the JSON
+/// path locates a data error, and a scene parsed from text or from a value (a batch line)
+/// reports it alike.
+fn structure_error_of(
+    value: &serde_json::Value,
+    e: crate::scene::strict_json::JsonError,
+) -> SceneError {
+    let e = crate::scene::strict_json::JsonError {
+        message: without_position(&e.message).to_string(),
+        path: e.path,
     };
-    let Ok(StrictValue(value)) = crate::scene::strict_json::from_str_strict::<StrictValue>(text)
-    else {
-        return single(e);
-    };
+    let single = single_problem;
     let schema = crate::scene::scene_json_schema();
-    let found = crate::scene::schema_check::structural_problems(&value, schema.as_value());
+    let found = crate::scene::schema_check::structural_problems(value, schema.as_value());
     if found.is_empty() {
         return single(e);
     }
