@@ -11,7 +11,9 @@ use std::process::Command as Process;
 
 use grasp_transfer::sinks::FingersMessage;
 use grasp_transfer::sinks::{FINGERS_TOPIC, PATCHES_TOPIC, SCENE_TOPIC};
-use grasp_transfer::summary::{TransferSummary, LOADED_FRACTION};
+use grasp_transfer::summary::{
+    FailedStep, Fallbacks, MarginCost, SlipMargin, TransferSummary, LOADED_FRACTION,
+};
 use grasp_transfer::{CsvSink, McapSink, RerunSink, Sink, StepRecord, TransferOptions};
 
 fn out_dir(tag: &str) -> PathBuf {
@@ -403,7 +405,7 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
         .find(|r| !releasing.is_empty() && releasing.iter().all(|n| !loaded(r, n)))
         .map(|r| r.time_s);
     let (mut peak, mut peak_t) = (0.0_f64, 0.0);
-    let mut margin: Option<(f64, f64, String)> = None;
+    let mut margin: Option<SlipMargin> = None;
     let mut worst = 0.0_f64;
     for r in &ok {
         let total: f64 = r.solution.fingers.iter().map(|f| f.normal_force_n).sum();
@@ -415,8 +417,12 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
                 && f.friction_utilization > 0.0
             {
                 let m = 1.0 - f.friction_utilization;
-                if margin.as_ref().is_none_or(|x| m < x.0) {
-                    margin = Some((m, r.time_s, f.name.clone()));
+                if margin.as_ref().is_none_or(|x| m < x.margin) {
+                    margin = Some(SlipMargin {
+                        margin: m,
+                        time_s: r.time_s,
+                        finger: f.name.clone(),
+                    });
                 }
             }
         }
@@ -427,12 +433,10 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
     let failed: Vec<_> = records
         .iter()
         .filter(|r| !r.solution.status.has_forces())
-        .map(|r| {
-            (
-                r.index,
-                r.time_s,
-                r.solution.reason.clone().unwrap_or_default(),
-            )
+        .map(|r| FailedStep {
+            step: r.index,
+            time_s: r.time_s,
+            reason: r.solution.reason.clone().unwrap_or_default(),
         })
         .collect();
     let seq: Vec<_> = records
@@ -468,15 +472,15 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
             .iter()
             .filter(|r| r.solution.solver.solver == grasp_model::SolverKind::Clarabel)
             .count(),
-        fallbacks: (
-            records
+        fallbacks: Fallbacks {
+            steps: records
                 .iter()
                 .filter(|r| r.solution.solver.fallback.is_some())
                 .count(),
-            records
+            first_reason: records
                 .iter()
                 .find_map(|r| r.solution.solver.fallback.clone()),
-        ),
+        },
         warm_steps: records.iter().filter(|r| r.reused_program).count(),
         sequential: (!seq.is_empty()).then(|| grasp_transfer::summary::SequentialTotals {
             convex_solves: seq.iter().map(|s| s.iterations as u64).sum(),
@@ -503,10 +507,13 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
                 failing_finger: m.failing_finger.clone(),
                 bounded: m.bounded,
             }),
-        margin_cost: records
-            .iter()
-            .filter_map(|r| r.margin.as_ref())
-            .fold((0, 0.0), |(n, t), m| (n + m.solves as u64, t + m.time_s)),
+        margin_cost: records.iter().filter_map(|r| r.margin.as_ref()).fold(
+            MarginCost::default(),
+            |c, m| MarginCost {
+                solves: c.solves + m.solves as u64,
+                wall_time_s: c.wall_time_s + m.time_s,
+            },
+        ),
     }
 }
 

@@ -14,8 +14,8 @@ pub use grasp_model::solve::solution::LOADED_FRACTION;
 pub struct TransferSummary {
     /// Steps recorded.
     pub steps: usize,
-    /// Failed steps: `(index, time s, reason)`, the first [`MAX_LISTED_FAILED_STEPS`].
-    pub failed_steps: Vec<(usize, f64, String)>,
+    /// Failed steps, the first [`MAX_LISTED_FAILED_STEPS`].
+    pub failed_steps: Vec<FailedStep>,
     /// Number of failed steps.
     pub failed_step_count: usize,
     /// Fingers loaded at the first successful step and unloaded at the last.
@@ -31,9 +31,8 @@ pub struct TransferSummary {
     pub peak_squeeze_n: f64,
     /// Time of the peak squeeze, s.
     pub peak_squeeze_time_s: f64,
-    /// Smallest slip margin `1 - |Q|/(mu P)` of a loaded frictional finger: `(margin, time s,
-    /// finger)`.
-    pub smallest_slip_margin: Option<(f64, f64, String)>,
+    /// Smallest slip margin `1 - |Q|/(mu P)` of a loaded frictional finger.
+    pub smallest_slip_margin: Option<SlipMargin>,
     /// Largest relative equilibrium residual over the steps.
     pub worst_equilibrium_residual: f64,
     /// Sum of step wall times, s.
@@ -48,16 +47,55 @@ pub struct TransferSummary {
     /// Steps answered by Clarabel (`--solver clarabel`, or a fallback).
     pub answered_by_clarabel: usize,
     /// Steps where the native solver handed over to Clarabel, and the first reason.
-    pub fallbacks: (usize, Option<String>),
+    pub fallbacks: Fallbacks,
     /// Steps that started from the previous step's solution.
     pub warm_steps: usize,
     /// Sequential solves (coulomb model, load-dependent mu): totals over the steps.
     pub sequential: Option<SequentialTotals>,
-    /// The least safe step, when margins were computed: `(step, time s, smallest disturbance
-    /// margin N, its direction's label, finger that fails first)`.
+    /// The least safe step, when margins were computed.
     pub least_safe_step: Option<LeastSafeStep>,
-    /// Solves and wall time spent on the margins, s.
-    pub margin_cost: (u64, f64),
+    /// Solves and wall time spent on the margins.
+    pub margin_cost: MarginCost,
+}
+
+/// A step that found no forces.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FailedStep {
+    /// Step index.
+    pub step: usize,
+    /// Schedule time, s.
+    pub time_s: f64,
+    /// Why the step failed (the solution's reason).
+    pub reason: String,
+}
+
+/// Where a loaded frictional finger came closest to sliding.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SlipMargin {
+    /// `1 - |Q|/(mu P)`: 0 at the friction limit, 1 with no friction force.
+    pub margin: f64,
+    /// Schedule time, s.
+    pub time_s: f64,
+    /// The finger.
+    pub finger: String,
+}
+
+/// Steps that the native solver handed over to Clarabel.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Fallbacks {
+    /// How many steps.
+    pub steps: usize,
+    /// The first step's reason.
+    pub first_reason: Option<String>,
+}
+
+/// What the disturbance margins cost over a run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct MarginCost {
+    /// Solves spent on the margins.
+    pub solves: u64,
+    /// Wall time spent on them, s.
+    pub wall_time_s: f64,
 }
 
 /// The step with the smallest disturbance margin.
@@ -117,7 +155,7 @@ pub const MAX_FOLDED_FINGERS: usize = 12;
 pub struct SummaryAccumulator {
     names: Vec<String>,
     steps: usize,
-    failed_steps: Vec<(usize, f64, String)>,
+    failed_steps: Vec<FailedStep>,
     failed_step_count: usize,
     /// Loaded fingers at the first successful step.
     first_loaded: Option<Vec<bool>>,
@@ -128,17 +166,17 @@ pub struct SummaryAccumulator {
     /// Beyond [`MAX_FOLDED_FINGERS`]: (time, forces, loaded) of every successful step.
     history: Vec<(f64, Vec<f64>, Vec<bool>)>,
     peak: (f64, f64),
-    margin: Option<(f64, f64, String)>,
+    margin: Option<SlipMargin>,
     worst: f64,
     total_wall_time_s: f64,
     total_iterations: u64,
     total_factorizations: u64,
     answered: (usize, usize),
-    fallbacks: (usize, Option<String>),
+    fallbacks: Fallbacks,
     warm_steps: usize,
     sequential: Option<SequentialTotals>,
     least_safe: Option<LeastSafeStep>,
-    margin_cost: (u64, f64),
+    margin_cost: MarginCost,
 }
 
 impl SummaryAccumulator {
@@ -171,11 +209,11 @@ impl SummaryAccumulator {
             total_iterations: 0,
             total_factorizations: 0,
             answered: (0, 0),
-            fallbacks: (0, None),
+            fallbacks: Fallbacks::default(),
             warm_steps: 0,
             sequential: None,
             least_safe: None,
-            margin_cost: (0, 0.0),
+            margin_cost: MarginCost::default(),
         }
     }
 
@@ -202,7 +240,11 @@ impl SummaryAccumulator {
             self.failed_step_count += 1;
             if self.failed_steps.len() < MAX_LISTED_FAILED_STEPS {
                 let why = r.solution.reason.clone().unwrap_or_default();
-                self.failed_steps.push((r.index, r.time_s, why));
+                self.failed_steps.push(FailedStep {
+                    step: r.index,
+                    time_s: r.time_s,
+                    reason: why,
+                });
             }
             return;
         }
@@ -212,8 +254,8 @@ impl SummaryAccumulator {
     /// The step's disturbance margin, if computed.
     fn add_margin(&mut self, r: &StepRecord) {
         let Some(m) = &r.margin else { return };
-        self.margin_cost.0 += m.solves as u64;
-        self.margin_cost.1 += m.time_s;
+        self.margin_cost.solves += m.solves as u64;
+        self.margin_cost.wall_time_s += m.time_s;
         if self
             .least_safe
             .as_ref()
@@ -239,8 +281,10 @@ impl SummaryAccumulator {
             grasp_model::SolverKind::Clarabel => self.answered.1 += 1,
         }
         if let Some(why) = &st.fallback {
-            self.fallbacks.0 += 1;
-            self.fallbacks.1.get_or_insert_with(|| why.clone());
+            self.fallbacks.steps += 1;
+            self.fallbacks
+                .first_reason
+                .get_or_insert_with(|| why.clone());
         }
         self.warm_steps += usize::from(r.reused_program);
     }
@@ -272,8 +316,12 @@ impl SummaryAccumulator {
                 && f.friction_utilization > 0.0
             {
                 let m = 1.0 - f.friction_utilization;
-                if self.margin.as_ref().is_none_or(|x| m < x.0) {
-                    self.margin = Some((m, r.time_s, f.name.clone()));
+                if self.margin.as_ref().is_none_or(|x| m < x.margin) {
+                    self.margin = Some(SlipMargin {
+                        margin: m,
+                        time_s: r.time_s,
+                        finger: f.name.clone(),
+                    });
                 }
             }
         }

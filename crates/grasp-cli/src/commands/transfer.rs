@@ -398,17 +398,19 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
     );
     match &s.smallest_slip_margin {
         // Within round-off of 0: the finger is at the friction limit (|Q| = mu P).
-        Some((m, time, f)) if m.abs() <= SLIP_MARGIN_ROUND_OFF => {
+        Some(m) if m.margin.abs() <= SLIP_MARGIN_ROUND_OFF => {
             let _ = writeln!(
                 o,
-                "smallest slip margin 1 - |Q|/(mu P): 0 ({f} at t = {time:.3} s: |Q| = mu P to \
-                 round-off, the finger is at the friction limit)"
+                "smallest slip margin 1 - |Q|/(mu P): 0 ({} at t = {:.3} s: |Q| = mu P to \
+                 round-off, the finger is at the friction limit)",
+                m.finger, m.time_s
             );
         }
-        Some((m, time, f)) => {
+        Some(m) => {
             let _ = writeln!(
                 o,
-                "smallest slip margin 1 - |Q|/(mu P): {m:.2e} ({f} at t = {time:.3} s)"
+                "smallest slip margin 1 - |Q|/(mu P): {:.2e} ({} at t = {:.3} s)",
+                m.margin, m.finger, m.time_s
             );
         }
         None => {
@@ -432,8 +434,8 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
         let _ = writeln!(o, "failed steps: none");
     } else {
         let _ = writeln!(o, "failed steps: {}", s.failed_step_count);
-        for (i, time, why) in s.failed_steps.iter().take(5) {
-            let _ = writeln!(o, "  step {i} (t = {time:.3} s): {why}");
+        for f in s.failed_steps.iter().take(5) {
+            let _ = writeln!(o, "  step {} (t = {:.3} s): {}", f.step, f.time_s, f.reason);
         }
     }
     if let Some(q) = &s.sequential {
@@ -455,10 +457,11 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
         s.total_iterations as f64 / steps,
         s.total_factorizations as f64 / steps
     );
-    if let (n, Some(why)) = &s.fallbacks {
+    if let Some(why) = &s.fallbacks.first_reason {
         let _ = writeln!(
             o,
-            "solver fallbacks: {n} steps handed to Clarabel; first: {why}"
+            "solver fallbacks: {} steps handed to Clarabel; first: {why}",
+            s.fallbacks.steps
         );
     }
     let _ = writeln!(
@@ -469,7 +472,7 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
     let margins = match s.least_safe_step {
         Some(_) => format!(
             "; margins {:.3} s ({} solves)",
-            s.margin_cost.1, s.margin_cost.0
+            s.margin_cost.wall_time_s, s.margin_cost.solves
         ),
         None => String::new(),
     };
