@@ -41,6 +41,10 @@ use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::solution::{Solution, SolveStatus, LOADED_FRACTION};
 use crate::solver::options::{check_range, SolveOptions};
 
+/// A random direction sample shorter than this (a near-zero Gaussian vector) is drawn again
+/// rather than normalised.
+const MIN_SAMPLE_NORM: f64 = 1e-9;
+
 /// First growth step of the search, as a fraction of the load scale: small, because a trial
 /// that holds is cheap (a warm-started step) and one that fails is not (the solver must certify
 /// that no equilibrium exists), so the search should fail as few times as it can.
@@ -341,7 +345,7 @@ pub fn spread_directions(model: &GraspModel, n: usize) -> Vec<WrenchDirection> {
             })
             .collect();
         let norm = g.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if norm < 1e-9 {
+        if norm < MIN_SAMPLE_NORM {
             continue;
         }
         let mut w = [0.0; 6];

@@ -9,6 +9,9 @@ use crate::geometry::shape_spec::ShapeSpec;
 pub use crate::geometry::surface_point::perpendicular;
 use crate::geometry::surface_point::{SurfaceFeature, SurfacePoint};
 
+/// A point within this fraction of the primitive's size of a face (or edge) lies on it.
+const ON_FACE_FRACTION: f64 = 1e-9;
+
 /// A primitive in its local frame (centred on the origin, axis along z).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Primitive {
@@ -162,7 +165,7 @@ fn box_closest(a: &[f64; 3], p: &Vector3<f64>) -> SurfacePoint {
         }
         (p - q).norm()
     };
-    let tol = 1e-9 * a.iter().fold(0.0_f64, |m, x| m.max(*x));
+    let tol = ON_FACE_FRACTION * a.iter().fold(0.0_f64, |m, x| m.max(*x));
     let on: Vec<usize> = (0..3).filter(|&i| q[i].abs() >= a[i] - tol).collect();
     let feature = match on.len() {
         1 => SurfaceFeature::Face,
@@ -224,7 +227,7 @@ fn cylinder_closest(r: f64, h: f64, p: &Vector3<f64>) -> Result<SurfacePoint, St
         q.z = p.z.clamp(-h, h);
         distance_m = (p - q).norm();
     }
-    let tol = 1e-9 * r.max(h);
+    let tol = ON_FACE_FRACTION * r.max(h);
     let on_side = (q.xy().norm() - r).abs() <= tol;
     let on_cap = q.z.abs() >= h - tol;
     let feature = if on_side && on_cap {

@@ -15,6 +15,16 @@ use crate::geometry::shape::{MeshSpec, Shape, ShapeSpec, SurfaceFeature, Surface
 pub use crate::geometry::shape_spec::{PlaceSpec, RaySpec};
 use crate::scene::patch_on_shape::{overhang_warning, overlap_warnings};
 use crate::scene::shape_checks::check_shape_spec;
+
+/// Principal curvatures equal to this fraction of the larger are an umbilic point (a sphere's):
+/// every tangent is a principal direction.
+const UMBILIC_FRACTION: f64 = 1e-9;
+/// A principal direction within `acos(1 - this)` (about 0.08 degrees) of the plane of motion's
+/// normal counts as along it.
+const ALIGNED_COSINE_GAP: f64 = 1e-6;
+/// A tangent hint whose part in the tangent plane is below this fraction of it (it is along
+/// the normal) is ignored.
+const NORMAL_HINT_FRACTION: f64 = 1e-9;
 pub use crate::scene::shape_report::{DerivedFrame, ShapeReport};
 
 type Vec3 = [f64; 3];
@@ -390,7 +400,8 @@ fn tangent_frame(
     let [d1, d2] = s.directions;
     let [k1, k2] = s.curvatures_per_m;
     let n = -s.outward_normal;
-    let umbilic = (k1 - k2).abs() <= 1e-9 * k1.abs().max(k2.abs()).max(1e-300);
+    let umbilic =
+        (k1 - k2).abs() <= UMBILIC_FRACTION * k1.abs().max(k2.abs()).max(f64::MIN_POSITIVE);
     if let Some(p) = plane {
         let t1 = p.cross(&n).normalize();
         if umbilic {
@@ -399,8 +410,8 @@ fn tangent_frame(
                 curvatures: [k1, k2],
             });
         }
-        let along_d1 = d1.dot(p).abs() > 1.0 - 1e-6;
-        let along_d2 = d2.dot(p).abs() > 1.0 - 1e-6;
+        let along_d1 = d1.dot(p).abs() > 1.0 - ALIGNED_COSINE_GAP;
+        let along_d2 = d2.dot(p).abs() > 1.0 - ALIGNED_COSINE_GAP;
         return match (along_d1, along_d2) {
             (_, true) => Ok(TangentFrame {
                 t1,
@@ -417,7 +428,7 @@ fn tangent_frame(
     }
     let hint = hint
         .map(|h| h - n * n.dot(&h))
-        .filter(|h| h.norm() > 1e-9 * (1.0 + h.norm()));
+        .filter(|h| h.norm() > NORMAL_HINT_FRACTION * (1.0 + h.norm()));
     Ok(match (umbilic, hint) {
         (true, Some(h)) => TangentFrame {
             t1: h.normalize(),

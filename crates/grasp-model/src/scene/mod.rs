@@ -5,6 +5,7 @@
 //! anything is allocated.
 
 pub mod finger_placement;
+pub mod limits;
 pub mod patch_on_shape;
 pub mod scene_format;
 pub mod schema_check;

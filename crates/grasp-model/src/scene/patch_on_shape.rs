@@ -12,6 +12,10 @@ use crate::geometry::mesh_surface::MeshSurface;
 use crate::geometry::primitive_surface::Primitive;
 use crate::geometry::shape::{LocalShape, Shape};
 
+/// Overhangs and overlaps below this fraction of the patch's size are round-off of the
+/// placement, not geometry.
+const ROUND_OFF_FRACTION: f64 = 1e-9;
+
 /// A finger's patch from its JSON: frame (world), half sides along `t1`, `t2` (m), name.
 fn patch_of(f: &Value) -> Option<(ContactFrame, [f64; 2], String)> {
     let v = |key: &str| -> Option<Vector3<f64>> {
@@ -144,7 +148,7 @@ fn segment_meets_rectangle(a: [f64; 2], b: [f64; 2], half: [f64; 2]) -> bool {
 pub fn overhang_warning(f: &Value, shape: &Shape) -> Option<String> {
     let (frame, half, name) = patch_of(f)?;
     let over = overhang_m(&frame, half, shape)?;
-    let tol = 1e-9 * half[0].max(half[1]);
+    let tol = ROUND_OFF_FRACTION * half[0].max(half[1]);
     (over > tol).then(|| {
         format!(
             "finger {name}: the patch hangs {:.3} mm over the edge of the face it lies on; elements beyond the edge are not on the object (make the patch smaller or move the finger)",
@@ -197,7 +201,7 @@ fn overlap(a: &(ContactFrame, [f64; 2], String), b: &(ContactFrame, [f64; 2], St
                 })
         };
         let ((a0, a1), (b0, b1)) = (span(&ca), span(&cb));
-        let tol = 1e-9 * reach;
+        let tol = ROUND_OFF_FRACTION * reach;
         a0 < b1 - tol && b0 < a1 - tol
     })
 }

@@ -4,7 +4,10 @@ use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
 use crate::geometry::shape_spec::ShapeSpec;
 use crate::number_text::readable;
-use crate::scene::validation::MAX_COORDINATE_M;
+use crate::scene::limits::MAX_COORDINATE_M;
+
+/// A quaternion shorter than this has no direction to normalise to.
+const MIN_QUATERNION_NORM: f64 = 1e-9;
 
 /// Smallest and largest size of a shape dimension, m.
 pub const SHAPE_SIZE_RANGE_M: (f64, f64) = (1e-6, 1e3);
@@ -108,7 +111,7 @@ pub fn check_shape_spec(spec: &ShapeSpec) -> Result<(), SceneError> {
     }
     let q = spec.quaternion;
     let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
-    if !(len.is_finite() && len > 1e-9) {
+    if !(len.is_finite() && len > MIN_QUATERNION_NORM) {
         p.push(problem(
             "object.shape.quaternion",
             format!("is {q:?}"),

@@ -14,61 +14,11 @@ use crate::scene::scene_format::{
 };
 use crate::scene::strict_json::StrictValue;
 
-/// Largest number of elements allowed in one patch. The compliance block of a patch is dense
-/// (`(3 nx ny)^2` entries, see [`super::work_bounds`]), so 64 x 64 elements already means a 12288 x
-/// 12288 block (1.2 GB, about 10 GB with the solver's copies): the memory estimate, checked by
-/// the caller against the machine, refuses such grids before this limit does.
-pub const MAX_ELEMENTS_PER_PATCH: usize = 64 * 64;
+pub use crate::scene::limits::*;
 
-/// A contact point farther from the centre of mass than this multiple of the median distance of
-/// all contact points is taken as a unit mistake (millimetres written as metres, say).
-pub const PLAUSIBLE_REACH_FACTOR: f64 = 100.0;
-
-/// Physical range of Young's modulus, Pa (soft gels to beyond diamond); outside it the input is
-/// almost surely in the wrong unit.
-pub const MODULUS_RANGE_PA: (f64, f64) = (1.0, 1e15);
-
-/// Physical range of a patch side, m.
-pub const PATCH_SIDE_RANGE_M: (f64, f64) = (1e-9, 10.0);
-
-/// Largest force anywhere in a scene or schedule, N (weight, prescribed loads, each component
-/// of an external force, friction-table loads): about the weight of a 1000 t object.
-pub const MAX_FORCE_N: f64 = 1e7;
-
-/// Smallest nonzero force, N: below it a load is no physical grasp (and its scale would
-/// underflow the program's). Forces are 0 or in `[MIN_NONZERO_FORCE_N, MAX_FORCE_N]`.
-pub const MIN_NONZERO_FORCE_N: f64 = 1e-15;
-
-/// Smallest nonzero friction coefficient (0 is a frictionless finger).
-pub const MIN_NONZERO_FRICTION_COEFFICIENT: f64 = 1e-6;
-
-/// True for a force magnitude a grasp can have: 0, or in `[MIN_NONZERO_FORCE_N, MAX_FORCE_N]`.
-pub fn force_in_range(x: f64) -> bool {
-    x == 0.0 || (MIN_NONZERO_FORCE_N..=MAX_FORCE_N).contains(&x)
-}
-
-/// Largest absolute coordinate of a point (centre of mass, contact points, points of external
-/// forces), m.
-pub const MAX_COORDINATE_M: f64 = 1e3;
-
-/// Range of a radius of curvature or an eq. (40) length, m (a radius above it is flat for any
-/// patch: write `null`).
-pub const LENGTH_RANGE_M: (f64, f64) = (1e-9, 1e3);
-
-/// Largest friction coefficient (measured ones stay below about 5).
-pub const MAX_FRICTION_COEFFICIENT: f64 = 1e3;
-
-/// Largest memory the dense patch compliance blocks may take, bytes (the cone solver needs a
-/// few times more: see [`super::work_bounds::estimate_memory_bytes`], which callers check against the
-/// machine's memory).
-pub const MAX_COMPLIANCE_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
-
-/// Most problems listed in one error (the rest are counted).
-pub const MAX_LISTED_PROBLEMS: usize = 50;
-
-/// Relative tolerance of the planarity checks (normalised directions, distances over the
-/// scene's length scale).
-pub const PLANAR_TOLERANCE: f64 = 1e-6;
+/// A tangent whose angle with the normal has a sine below this (about 0.2 arc seconds) is
+/// parallel to it and cannot give a frame.
+const PARALLEL_SINE: f64 = 1e-6;
 
 /// `x / |x|` computed without overflow or underflow (scaled by the largest component first);
 /// `None` if `x` is zero or not finite.
@@ -249,7 +199,7 @@ impl Scene {
                 t,
                 "give a nonzero tangent or omit it",
             );
-            if t_ok && n_ok && norm(&cross(&unit(&f.normal), &unit(t))) < 1e-6 {
+            if t_ok && n_ok && norm(&cross(&unit(&f.normal), &unit(t))) < PARALLEL_SINE {
                 v.push(
                     &format!("{p}.tangent"),
                     "is parallel to the normal".into(),
@@ -492,7 +442,7 @@ fn check_tip_axis(p: &str, f: &FingerSpec, axis: &Vec3, planar: Option<Vec3>, v:
     );
     let a = v3(axis);
     let along = a.dot(&frame.t1).abs().max(a.dot(&frame.t2).abs());
-    if along < 1.0 - 1e-6 {
+    if along < 1.0 - PLANAR_TOLERANCE {
         v.push(
             &format!("{p}.tip.cylinder.axis"),
             format!(
