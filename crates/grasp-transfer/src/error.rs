@@ -25,7 +25,7 @@ impl ScheduleError {
             ScheduleError::Parse { path, message } => vec![InputProblem {
                 path: path.clone(),
                 message: message.clone(),
-                fix: "correct the JSON (see `grasp schema --schedule`)".into(),
+                fix: "correct the JSON (the schedule format: docs/schedule.schema.json)".into(),
             }],
             ScheduleError::Invalid(p) => p.clone(),
         }
