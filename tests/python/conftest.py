@@ -45,7 +45,26 @@ def cube_a_dict():
     return json.loads((EXAMPLES / "cube_a.json").read_text())
 
 
+def require_checkers():
+    """True where the independent checkers must be present (scripts/test.sh installs them and
+    sets GRASP_REQUIRE_CHECKERS=1): a missing one is then a failure, not a skip."""
+    return os.environ.get("GRASP_REQUIRE_CHECKERS") == "1"
+
+
+def checker(module, reason):
+    """`pytest.importorskip(module)`, except that under scripts/test.sh a missing checker fails
+    the run instead of skipping its tests quietly."""
+    if require_checkers():
+        import importlib
+
+        return importlib.import_module(module)
+    return pytest.importorskip(module, reason=reason)
+
+
 def rerun_cli():
     """The `rerun` CLI of rerun-sdk (installed by scripts/install-checkers.sh), or None."""
     path = os.environ.get("GRASP_RERUN_CLI") or shutil.which("rerun")
-    return path if path and os.path.exists(path) else None
+    found = path if path and os.path.exists(path) else None
+    if found is None and require_checkers():
+        raise RuntimeError(f"the rerun CLI is not at {path!r}: run scripts/install-checkers.sh")
+    return found

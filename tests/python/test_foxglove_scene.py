@@ -7,10 +7,10 @@ import json
 import pytest
 
 import grasp
-from conftest import EXAMPLES
+from conftest import EXAMPLES, checker
 
-messages = pytest.importorskip("foxglove.messages", reason="foxglove-sdk is installed by scripts/install-checkers.sh")
-mcap_reader = pytest.importorskip("mcap.reader", reason="mcap is installed by scripts/install-checkers.sh")
+messages = checker("foxglove.messages", reason="foxglove-sdk is installed by scripts/install-checkers.sh")
+mcap_reader = checker("mcap.reader", reason="mcap is installed by scripts/install-checkers.sh")
 
 # The Foxglove type of each JSON field that holds a message (or a list of them).
 TYPES = {

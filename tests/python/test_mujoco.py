@@ -27,9 +27,9 @@ import numpy as np
 import pytest
 
 import grasp
-from conftest import EXAMPLES, ROOT, rerun_cli
+from conftest import EXAMPLES, ROOT, checker, rerun_cli
 
-mujoco = pytest.importorskip("mujoco", reason="MuJoCo is not installed (scripts/install-checkers.sh installs mujoco==4.0.0)")
+mujoco = checker("mujoco", reason="MuJoCo is not installed (scripts/install-checkers.sh installs mujoco==4.0.0)")
 import grasp.mujoco as gm  # noqa: E402
 
 MJ = EXAMPLES / "mujoco"
@@ -475,8 +475,7 @@ def test_mujoco_a_state_file_gives_the_keyframes_scene(pinch, tmp_path):
 
 def test_mujoco_readme_section_shows_the_commands_and_the_pinch_table(pinch):
     text = (ROOT / "README.md").read_text()
-    if "## From MuJoCo" not in text:
-        pytest.skip("README.md has no 'From MuJoCo' section yet")
+    assert "## From MuJoCo" in text, "README.md has no 'From MuJoCo' section"
     section = text[text.index("## From MuJoCo"):]
     section = section[:section.index("\n## ", 3)] if "\n## " in section[3:] else section
     assert "python -m grasp.mujoco scene examples/mujoco/pinch.xml" in section
@@ -487,3 +486,30 @@ def test_mujoco_readme_section_shows_the_commands_and_the_pinch_table(pinch):
     assert shown, "the section has no side-by-side table"
     start = section.splitlines().index(shown[0])
     assert section.splitlines()[start:start + len(table)] == table
+
+
+def test_mujoco_handoff_flags_held_steps_the_elastic_model_cannot_hold(handoff):
+    # The flagging rule on a made-up replay of the real hand-off: every step MuJoCo held is
+    # flagged where the elastic model found no equilibrium or a margin below the threshold, and
+    # no step MuJoCo did not hold is (the full replay with margins takes over a minute: the
+    # README's run flags t = 1.4-1.6 s; here the rule itself is what is checked).
+    from types import SimpleNamespace
+
+    n = len(handoff.times_s)
+    held = [i for i in range(n) if handoff.mujoco_held[i]]
+    dropped = [i for i in range(n) if not handoff.mujoco_held[i]]
+    assert len(held) >= 3
+    statuses = ["solved"] * n
+    margins = [5.0] * n
+    statuses[held[0]] = "infeasible"
+    margins[held[1]] = 0.5
+    margins[held[2]] = float("nan")  # no margin computed at that step: never flagged
+    for i in dropped:
+        statuses[i], margins[i] = "infeasible", 0.0
+    run = SimpleNamespace(statuses=statuses, smallest_margins_n=margins)
+    flagged = gm.HandoffReplay(handoff, run, threshold_n=1.0).flagged_steps
+    assert [(i, why) for i, _, why in flagged] == [(held[0], "infeasible"), (held[1], "margin 0.5 N")]
+    assert flagged[0][1] == float(handoff.times_s[held[0]])
+    # Without a threshold only the step with no equilibrium is flagged.
+    unthresholded = gm.HandoffReplay(handoff, run, threshold_n=None).flagged_steps
+    assert [i for i, _, _ in unthresholded] == [held[0]]

@@ -8,9 +8,9 @@ import sys
 
 import pytest
 
-from conftest import EXAMPLES, ROOT
+from conftest import EXAMPLES, ROOT, checker
 
-ray = pytest.importorskip("ray", reason="Ray is installed by scripts/install-checkers.sh")
+ray = checker("ray", reason="Ray is installed by scripts/install-checkers.sh")
 
 
 def read_lines(path):
