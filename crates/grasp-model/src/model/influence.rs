@@ -175,19 +175,10 @@ pub fn patch_compliance(
     pair: &PairConstants,
     n_tangential: usize,
 ) -> DMatrix<f64> {
-    let (nx, ny, hx, hy) = (grid.nx, grid.ny, grid.hx, grid.hy);
+    let (nx, ny) = (grid.nx, grid.ny);
     let n = grid.len();
-    let area = hx * hy;
     let (wx, wy) = (2 * nx - 1, 2 * ny - 1);
-    // Table over offsets (di, dj) in (-(nx-1)..nx) x (-(ny-1)..ny).
-    let mut table = Vec::with_capacity(wx * wy);
-    for a in 0..wx {
-        let di = a as f64 - (nx as f64 - 1.0);
-        for b in 0..wy {
-            let dj = b as f64 - (ny as f64 - 1.0);
-            table.push(RectangleIntegrals::for_offset(di * hx, dj * hy, hx, hy));
-        }
-    }
+    let table = offset_table(grid);
     let at = |k: usize, j: usize| -> &RectangleIntegrals {
         let (ik, jk) = (k / ny, k % ny);
         let (ij, jj) = (j / ny, j % ny);
@@ -195,31 +186,29 @@ pub fn patch_compliance(
         let b = jk + ny - 1 - jj;
         &table[a * wy + b]
     };
+    debug_assert_eq!(table.len(), wx * wy);
     let dim = n * (1 + n_tangential);
     let mut c = DMatrix::<f64>::zeros(dim, dim);
-    let s = 1.0 / (PI * area);
+    let kernels = BlockKernels::new(grid, pair);
     let coupled = !pair.uncoupled() && n_tangential > 0;
     // Column by column (j outer): the writes of each block run down contiguous memory.
     for j in 0..n {
         for k in 0..n {
             let r = at(k, j);
-            c[(k, j)] = s * pair.normal * r.inv_rho;
+            c[(k, j)] = kernels.nn(r);
             if n_tangential >= 1 {
-                c[(n + k, n + j)] =
-                    s * (pair.tangential_a * r.inv_rho + pair.tangential_b * r.xx_rho3);
+                c[(n + k, n + j)] = kernels.t11(r);
                 if coupled {
-                    let v = pair.coupling / area * r.x_rho2;
+                    let v = kernels.n1(r);
                     c[(k, n + j)] = v;
                     c[(n + j, k)] = v;
                 }
             }
             if n_tangential >= 2 {
-                c[(2 * n + k, 2 * n + j)] =
-                    s * (pair.tangential_a * r.inv_rho + pair.tangential_b * r.yy_rho3);
-                let v12 = s * pair.tangential_b * r.xy_rho3;
-                c[(n + k, 2 * n + j)] = v12;
+                c[(2 * n + k, 2 * n + j)] = kernels.t22(r);
+                c[(n + k, 2 * n + j)] = kernels.t12(r);
                 if coupled {
-                    let v = pair.coupling / area * r.y_rho2;
+                    let v = kernels.n2(r);
                     c[(k, 2 * n + j)] = v;
                     c[(2 * n + j, k)] = v;
                 }
@@ -236,6 +225,71 @@ pub fn patch_compliance(
     }
     symmetrise(&mut c);
     c
+}
+
+/// The rectangle integrals of every index offset of a grid, `(di, dj)` in
+/// `(-(nx-1)..nx) x (-(ny-1)..ny)`, row-major over `di` then `dj` (`(2 nx - 1)(2 ny - 1)`
+/// entries): the compliance is block-Toeplitz, so these are all it depends on.
+pub fn offset_table(grid: &GridSpec) -> Vec<RectangleIntegrals> {
+    let (nx, ny, hx, hy) = (grid.nx, grid.ny, grid.hx, grid.hy);
+    let (wx, wy) = (2 * nx - 1, 2 * ny - 1);
+    let mut table = Vec::with_capacity(wx * wy);
+    for a in 0..wx {
+        let di = a as f64 - (nx as f64 - 1.0);
+        for b in 0..wy {
+            let dj = b as f64 - (ny as f64 - 1.0);
+            table.push(RectangleIntegrals::for_offset(di * hx, dj * hy, hx, hy));
+        }
+    }
+    table
+}
+
+/// The compliance entries of one index offset, m/N, block by block (the formulas of
+/// [`patch_compliance`]): the one place both the dense matrix and the FFT operator
+/// ([`super::compliance_operator`]) take them from, so the two discretise the same operator.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BlockKernels {
+    /// `1 / (pi A)`, 1/m^2.
+    s: f64,
+    /// `A`, m^2.
+    area: f64,
+    pair: PairConstants,
+}
+
+impl BlockKernels {
+    /// The kernels of a grid's elements for a pair of materials.
+    pub fn new(grid: &GridSpec, pair: &PairConstants) -> Self {
+        let area = grid.hx * grid.hy;
+        BlockKernels {
+            s: 1.0 / (PI * area),
+            area,
+            pair: *pair,
+        }
+    }
+    /// `Cnn` (Boussinesq, Johnson 3.22c).
+    pub fn nn(&self, r: &RectangleIntegrals) -> f64 {
+        self.s * self.pair.normal * r.inv_rho
+    }
+    /// `C11` (Cerruti, Johnson 3.86a).
+    pub fn t11(&self, r: &RectangleIntegrals) -> f64 {
+        self.s * (self.pair.tangential_a * r.inv_rho + self.pair.tangential_b * r.xx_rho3)
+    }
+    /// `C22` (Cerruti, Johnson 3.86a with `Y`).
+    pub fn t22(&self, r: &RectangleIntegrals) -> f64 {
+        self.s * (self.pair.tangential_a * r.inv_rho + self.pair.tangential_b * r.yy_rho3)
+    }
+    /// `C12` (Cerruti, Johnson 3.86b).
+    pub fn t12(&self, r: &RectangleIntegrals) -> f64 {
+        self.s * self.pair.tangential_b * r.xy_rho3
+    }
+    /// `Cn1`, normal displacement from a force along `t1` (Johnson 3.86c).
+    pub fn n1(&self, r: &RectangleIntegrals) -> f64 {
+        self.pair.coupling / self.area * r.x_rho2
+    }
+    /// `Cn2`, normal displacement from a force along `t2` (Johnson 3.86c).
+    pub fn n2(&self, r: &RectangleIntegrals) -> f64 {
+        self.pair.coupling / self.area * r.y_rho2
+    }
 }
 
 /// `C <- (C + C')/2` in place, in square tiles so both the tile and its mirror stay in cache.

@@ -1,8 +1,9 @@
 //! The immutable contact model built from a scene: materials, patches, influence coefficients
-//! (patch compliance), friction laws, the equilibrium map, and the closed forms the model is
-//! checked against.
+//! (patch compliance, as a dense matrix or an FFT operator), friction laws, the equilibrium
+//! map, and the closed forms the model is checked against.
 
 pub mod closed_form;
+pub mod compliance_operator;
 pub mod equilibrium;
 pub mod friction;
 pub mod grasp_model;
