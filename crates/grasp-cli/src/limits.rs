@@ -9,6 +9,7 @@ use std::sync::Mutex;
 use anyhow::{bail, Result};
 use grasp_io::input_file::{self, InputKind};
 use grasp_io::RunInputs;
+use grasp_model::model::patch_compliance::{uses_fft, ComplianceChoice};
 use grasp_model::scene::work_bounds;
 use grasp_model::Scene;
 
@@ -80,9 +81,24 @@ pub fn memory_limit(flag: Option<u64>) -> (u64, String) {
     }
 }
 
-/// Refuses a scene whose estimated memory exceeds the limit, naming the largest patch.
+/// Refuses a scene whose estimated memory exceeds the limit, naming the largest patch (every
+/// patch in the form the automatic choice gives it).
 pub fn check_memory(scene: &Scene, file: &Path, limit: (u64, &str)) -> Result<()> {
-    let need = work_bounds::estimate_memory_bytes(scene);
+    check_memory_with(scene, file, limit, ComplianceChoice::Auto)
+}
+
+/// [`check_memory`] with the patch compliances in the form `compliance` gives them: the
+/// estimate is that of the path that will run.
+pub fn check_memory_with(
+    scene: &Scene,
+    file: &Path,
+    limit: (u64, &str),
+    compliance: ComplianceChoice,
+) -> Result<()> {
+    let fft = |f: &grasp_model::scene::FingerSpec| {
+        uses_fft(compliance, f.patch.grid[0].saturating_mul(f.patch.grid[1]))
+    };
+    let need = work_bounds::estimate_memory_bytes_with(scene, fft);
     if need <= limit.0 {
         return Ok(());
     }
@@ -93,14 +109,22 @@ pub fn check_memory(scene: &Scene, file: &Path, limit: (u64, &str)) -> Result<()
         .max_by_key(|(_, f)| work_bounds::finger_unknowns(scene, f));
     let detail = biggest.map_or(String::new(), |(i, f)| {
         let n = work_bounds::finger_unknowns(scene, f);
+        let form = match fft(f) {
+            true => "the FFT operator".to_string(),
+            false => format!("a dense {n} x {n} block"),
+        };
         format!(
-            " (largest: fingers[{i}] `{}`, grid {}x{}, {n} unknowns, a dense {n} x {n} block)",
+            " (largest: fingers[{i}] `{}`, grid {}x{}, {n} unknowns, {form})",
             f.name, f.patch.grid[0], f.patch.grid[1]
         )
     });
+    let fix = match compliance {
+        ComplianceChoice::Dense => "use a coarser grid or --compliance fft",
+        _ => "use a coarser grid (`grasp study` shows the accuracy each grid gives)",
+    };
     bail!(
-        "{} needs an estimated {} of memory{detail}, more than {}; fix: use a coarser grid \
-         (`grasp study` shows the accuracy each grid gives), or raise --max-memory",
+        "{} needs an estimated {} of memory{detail}, more than {}; fix: {fix}, or raise \
+         --max-memory",
         file.display(),
         human(need),
         limit.1

@@ -5,6 +5,9 @@
 
 /// The solver choice, [`crate::SolveOptions::solver`].
 pub const SOLVER: &str = "SolveOptions::solver";
+/// The form of the patch compliances (dense matrix or FFT operator),
+/// [`crate::SolveOptions::compliance`].
+pub const COMPLIANCE: &str = "SolveOptions::compliance";
 /// The scaled program's tolerance, [`crate::SolveOptions::tolerance`].
 pub const TOLERANCE: &str = "SolveOptions::tolerance";
 /// Iterations of one convex solve, [`crate::SolveOptions::max_iterations`].

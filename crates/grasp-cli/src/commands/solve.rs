@@ -5,6 +5,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
+use grasp_model::model::patch_compliance::ComplianceChoice;
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice};
 
 use crate::limits::{self, MemoryArg};
@@ -37,6 +38,11 @@ pub struct Args {
     /// `native` or `clarabel`.
     #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
     pub solver: SolverChoice,
+    /// Patch compliance: `dense` (a stored matrix, factorised), `fft` (a matrix-free FFT
+    /// operator, solved by conjugate gradients: for fine grids, native solver only) or `auto`
+    /// (dense up to 64x64 elements a patch, FFT above).
+    #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
+    pub compliance: ComplianceChoice,
     /// Also compute the derivatives of every finger's and element's forces with respect to
     /// an extra force and couple on the object and to each commanded load (from the KKT
     /// system at the active set); printed per finger and written into the JSON.
@@ -61,6 +67,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         error_estimate,
         auto_patch,
         solver,
+        compliance,
         sensitivities,
         explain_frames,
         memory,
@@ -68,6 +75,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     let options = SolveOptions {
         tolerance,
         solver,
+        compliance,
         ..SolveOptions::default()
     };
     options.validate()?;
@@ -75,7 +83,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     let outs = output::claim(&outputs, &[&scene], force)?;
     let scene_obj = load_scene(&scene)?;
     let (limit, what) = limits::memory_limit(memory.max_memory);
-    limits::check_memory(&scene_obj, &scene, (limit, &what))?;
+    limits::check_memory_with(&scene_obj, &scene, (limit, &what), compliance)?;
     if explain_frames {
         print!("{}", report::hertz_table(&scene_obj)?);
     }
@@ -104,7 +112,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         };
         (a.scene, a.model, a.solution, 0.0, sens)
     } else {
-        let model = GraspModel::from_scene(&scene_obj)
+        let model = GraspModel::from_scene_with(&scene_obj, compliance)
             .with_context(|| format!("{} is not a usable scene", scene.display()))?;
         let build_s = t0.elapsed().as_secs_f64();
         // The solve's time covers the program assembly (GraspSolver::new) too.

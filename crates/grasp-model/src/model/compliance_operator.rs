@@ -53,6 +53,8 @@ pub struct ComplianceOperator {
     spectra: Vec<Vec<Complex<f64>>>,
     /// `K(0)` of the diagonal blocks (`nn`, `11`, `22`), m/N: the matrix's diagonal.
     diagonal: [f64; 3],
+    /// Per kernel (indexed by [`Block`]), the sum of its absolute values over all offsets, m/N.
+    abs_sums: [f64; 6],
     r2c: Arc<dyn RealToComplex<f64>>,
     c2r: Arc<dyn ComplexToReal<f64>>,
     forward: Arc<dyn Fft<f64>>,
@@ -87,6 +89,7 @@ impl ComplianceOperator {
             hy,
             spectra: vec![Vec::new(); 6],
             diagonal: [0.0; 3],
+            abs_sums: [0.0; 6],
             r2c: real.plan_fft_forward(py),
             c2r: real.plan_fft_inverse(py),
             forward: complex.plan_fft_forward(px),
@@ -115,6 +118,20 @@ impl ComplianceOperator {
     /// m/N.
     pub fn diagonal(&self, c: usize) -> f64 {
         self.diagonal[c]
+    }
+
+    /// An upper bound of the largest absolute row sum of the matrix, m/N: per output
+    /// component, the absolute sums of its blocks' kernels over every offset (a row sums over
+    /// a subset of them).
+    pub fn row_sum_bound(&self) -> f64 {
+        (0..=self.n_tangential)
+            .map(|r| {
+                self.terms(r)
+                    .iter()
+                    .map(|&(_, block, _)| self.abs_sums[block as usize])
+                    .sum::<f64>()
+            })
+            .fold(0.0, f64::max)
     }
 
     /// Bytes held by the operator (its kernel spectra), for memory estimates.
@@ -172,14 +189,18 @@ impl ComplianceOperator {
         let (nx, ny) = (self.grid.nx, self.grid.ny);
         let wy = 2 * ny - 1;
         let mut padded = vec![0.0; self.px * self.py];
+        let mut abs_sum = 0.0;
         for a in 0..2 * nx - 1 {
             let row = (a + self.px + 1 - nx) % self.px;
             for b in 0..wy {
                 let col = (b + self.py + 1 - ny) % self.py;
                 let mirror = &table[(2 * nx - 2 - a) * wy + (2 * ny - 2 - b)];
-                padded[row * self.py + col] = value(&table[a * wy + b], mirror);
+                let k = value(&table[a * wy + b], mirror);
+                abs_sum += k.abs();
+                padded[row * self.py + col] = k;
             }
         }
+        self.abs_sums[block as usize] = abs_sum;
         self.spectra[block as usize] = self.transform(&mut padded);
     }
 
@@ -373,6 +394,11 @@ mod tests {
                         let k = c * grid.len();
                         assert!((op.diagonal(c) - dense[(k, k)]).abs() <= 1e-15 * dense[(k, k)]);
                     }
+                    // The bound holds every row's absolute sum (to round-off).
+                    let rows = (0..op.len())
+                        .map(|r| dense.row(r).iter().map(|x| x.abs()).sum::<f64>())
+                        .fold(0.0, f64::max);
+                    assert!(rows <= op.row_sum_bound() * (1.0 + 1e-12));
                 }
             }
         }

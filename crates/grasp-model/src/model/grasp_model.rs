@@ -5,17 +5,16 @@
 //! G2_1..G2_N]` truncated to `1 + n_tangential` blocks, where `n_tangential` is 0 for a
 //! frictionless finger, 1 in a planar scene and 2 otherwise. Forces in newtons.
 
-use std::sync::Arc;
-
-use nalgebra::{DMatrix, Vector3};
+use nalgebra::Vector3;
 
 use crate::error::{ModelError, SceneError};
 use crate::geometry::contact_frame::ContactFrame;
 use crate::model::equilibrium::{unit_wrench, EquilibriumMap, MotionPlane, Wrench};
 use crate::model::friction::FrictionLaw;
-use crate::model::influence::{patch_compliance, PairConstants};
+use crate::model::influence::PairConstants;
 use crate::model::material::Material;
 use crate::model::patch::Patch;
+use crate::model::patch_compliance::{ComplianceChoice, PatchCompliance};
 use crate::scene::scene_format::{ModelKind, RadiusSpec, Scene};
 
 /// Compliance entries (summed over fingers) from which the blocks are built in parallel:
@@ -52,9 +51,10 @@ pub struct FingerModel {
     /// Tangential unknowns per element: 0 (frictionless), 1 (planar) or 2.
     pub n_tangential: usize,
     /// Patch compliance `C`, m/N, `(1 + n_tangential) N` square (see
-    /// [`crate::model::influence::patch_compliance`]); shared by the models restricted to some
-    /// fingers ([`GraspModel::restricted`]).
-    pub compliance_m_per_n: Arc<DMatrix<f64>>,
+    /// [`crate::model::influence::patch_compliance`]), dense or as the FFT operator
+    /// ([`PatchCompliance`]); shared by the models restricted to some fingers
+    /// ([`GraspModel::restricted`]).
+    pub compliance_m_per_n: PatchCompliance,
     /// How the finger is driven (as in the scene; loads may be overridden per solve).
     pub control: Control,
     /// Index of this finger's first unknown in the program's `x`.
@@ -201,16 +201,35 @@ impl GraspModel {
             .collect()
     }
 
-    /// Builds the model from a scene, validating it first.
+    /// Builds the model from a scene, validating it first (patch compliances dense up to
+    /// [`crate::model::patch_compliance::AUTO_FFT_ABOVE_ELEMENTS`] elements, FFT above).
     pub fn from_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
+        Self::from_scene_with(scene, ComplianceChoice::Auto)
+    }
+
+    /// Builds the model from a scene, validating it first, with the patch compliances in the
+    /// form `compliance` picks.
+    pub fn from_scene_with(
+        scene: &Scene,
+        compliance: ComplianceChoice,
+    ) -> Result<GraspModel, SceneError> {
         scene.validate()?;
-        Self::from_validated_scene(scene)
+        Self::from_validated_scene_with(scene, compliance)
     }
 
     /// Builds the model of a scene the caller has validated, or of a subset of the fingers of
     /// a validated scene (whose per-finger checks hold; the reach heuristic, which compares
     /// fingers, is not re-run).
     pub fn from_validated_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
+        Self::from_validated_scene_with(scene, ComplianceChoice::Auto)
+    }
+
+    /// [`GraspModel::from_validated_scene`] with the patch compliances in the form `compliance`
+    /// picks.
+    pub fn from_validated_scene_with(
+        scene: &Scene,
+        compliance: ComplianceChoice,
+    ) -> Result<GraspModel, SceneError> {
         if scene.fingers.is_empty() {
             return Err(SceneError::Invalid(vec![crate::error::InputProblem {
                 path: "fingers".into(),
@@ -231,13 +250,13 @@ impl GraspModel {
             scene
                 .fingers
                 .par_iter()
-                .map(|f| finger_model(f, &object))
+                .map(|f| finger_model(f, &object, compliance))
                 .collect()
         } else {
             scene
                 .fingers
                 .iter()
-                .map(|f| finger_model(f, &object))
+                .map(|f| finger_model(f, &object, compliance))
                 .collect()
         };
         Ok(Self::from_parts(fingers, object))
@@ -444,7 +463,11 @@ fn object_model(scene: &Scene) -> ObjectModel {
 }
 
 /// One finger of a scene, prepared (offset 0 until the model places it).
-fn finger_model(f: &crate::scene::scene_format::FingerSpec, object: &ObjectModel) -> FingerModel {
+fn finger_model(
+    f: &crate::scene::scene_format::FingerSpec,
+    object: &ObjectModel,
+    compliance: ComplianceChoice,
+) -> FingerModel {
     let frame = ContactFrame::new(
         v3(&f.contact_point),
         v3(&f.normal),
@@ -468,7 +491,7 @@ fn finger_model(f: &crate::scene::scene_format::FingerSpec, object: &ObjectModel
     } else {
         2
     };
-    let compliance_m_per_n = Arc::new(patch_compliance(&patch.grid, &pair, n_tangential));
+    let compliance_m_per_n = PatchCompliance::build(&patch.grid, &pair, n_tangential, compliance);
     let control = match f.control.normal_load_n() {
         Some(p) => Control::NormalLoad { newtons: p },
         None => Control::Held,
@@ -493,13 +516,7 @@ fn scales_of(fingers: &[FingerModel], load_n: f64, reference_point_m: &Vector3<f
     let max_elems = fingers.iter().map(|f| f.patch.len()).max().unwrap_or(1);
     let compliance = fingers
         .iter()
-        .flat_map(|f| {
-            f.compliance_m_per_n
-                .diagonal()
-                .iter()
-                .copied()
-                .collect::<Vec<_>>()
-        })
+        .map(|f| f.compliance_m_per_n.max_diagonal())
         .fold(0.0_f64, f64::max);
     let length_m = fingers
         .iter()

@@ -10,3 +10,4 @@ pub mod grasp_model;
 pub mod influence;
 pub mod material;
 pub mod patch;
+pub mod patch_compliance;

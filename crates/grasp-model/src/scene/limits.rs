@@ -3,11 +3,16 @@
 //! checks. Validation ([`super::validation`]) and the shape checks ([`super::shape_checks`])
 //! read them from here.
 
-/// Largest number of elements allowed in one patch. The compliance block of a patch is dense
-/// (`(3 nx ny)^2` entries, see [`super::work_bounds`]), so 64 x 64 elements already means a 12288 x
-/// 12288 block (1.2 GB, about 10 GB with the solver's copies): the memory estimate, checked by
-/// the caller against the machine, refuses such grids before this limit does.
-pub const MAX_ELEMENTS_PER_PATCH: usize = 64 * 64;
+/// Largest number of elements allowed in one patch (1024 x 1024). Patches above
+/// [`AUTO_FFT_ABOVE_ELEMENTS`] are solved with the FFT compliance operator unless the dense
+/// matrix is asked for; the memory estimate of the path that runs
+/// ([`super::work_bounds::estimate_memory_bytes_with`]), checked by the caller against the
+/// machine, refuses what does not fit before this limit does.
+pub const MAX_ELEMENTS_PER_PATCH: usize = 1024 * 1024;
+
+/// Patches with more elements than this (64 x 64) take the FFT compliance operator when the
+/// form is chosen automatically: up to it the dense factorisation is the faster path.
+pub const AUTO_FFT_ABOVE_ELEMENTS: usize = 64 * 64;
 
 /// A contact point farther from the centre of mass than this multiple of the median distance of
 /// all contact points is taken as a unit mistake (millimetres written as metres, say).

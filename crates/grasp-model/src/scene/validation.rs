@@ -231,11 +231,14 @@ impl Scene {
         }
     }
 
-    /// Refuses scenes whose dense compliance blocks could not fit in any machine's memory
-    /// (callers check the full estimate, [`work_bounds::estimate_memory_bytes`], against the
-    /// machine they run on).
+    /// Refuses scenes whose dense compliance blocks (the patches the automatic choice keeps
+    /// dense, up to [`AUTO_FFT_ABOVE_ELEMENTS`] elements) could not fit in any machine's
+    /// memory (callers check the full estimate of the path that runs,
+    /// [`work_bounds::estimate_memory_bytes_with`], against the machine they run on).
     fn check_memory(&self, v: &mut Problems) {
-        let bytes = crate::scene::work_bounds::compliance_bytes(self) as f64;
+        let bytes = crate::scene::work_bounds::compliance_bytes_of(self, |f| {
+            f.patch.grid[0].saturating_mul(f.patch.grid[1]) <= AUTO_FFT_ABOVE_ELEMENTS
+        }) as f64;
         if bytes > MAX_COMPLIANCE_BYTES {
             v.push(
                 "fingers",
@@ -486,7 +489,7 @@ fn validate_patch(p: &str, f: &FingerSpec, v: &mut Problems) {
         v.push(
             &format!("{p}.patch.grid"),
             format!("has {ne} elements, more than {MAX_ELEMENTS_PER_PATCH}"),
-            "use a coarser grid (the patch compliance is a dense matrix)",
+            "use a coarser grid",
         );
     }
 }

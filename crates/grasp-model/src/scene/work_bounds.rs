@@ -2,11 +2,19 @@
 //! allocated (pure arithmetic; the caller compares it with the machine's limit).
 //!
 //! Finger `i` with `N_i` elements and `c_i` tangential components (0 for a frictionless finger,
-//! 1 in a planar scene, 2 in 3-D) has `n_i = N_i (1 + c_i)` unknowns. Its patch compliance is a
-//! dense `n_i x n_i` block of `f64`, `B_i = 8 n_i^2` bytes. The estimate is
+//! 1 in a planar scene, 2 in 3-D) has `n_i = N_i (1 + c_i)` unknowns. A dense patch compliance
+//! is an `n_i x n_i` block of `f64`, `B_i = 8 n_i^2` bytes, and the estimate is
 //!
 //! ```text
-//!   estimate = sum_i (DENSE_COPIES + SPARSE_ALLOWANCE) * 8 n_i^2   bytes
+//!   dense:  (DENSE_COPIES + SPARSE_ALLOWANCE) * 8 n_i^2   bytes
+//! ```
+//!
+//! The FFT operator keeps one spectrum of `2 nx_i (ny_i + 1)` complex numbers (16 bytes) per
+//! kernel (`k_i` = 1, 3 or 6 for `c_i` = 0, 1, 2), an apply needs `c_i + 3` more, and the conjugate-gradient solves keep
+//! [`FFT_VECTORS`] vectors of `n_i` numbers (the columns `M^-1 Et'` and the iterates):
+//!
+//! ```text
+//!   fft:    FFT_SAFETY * (16 (k_i + c_i + 3) 2 nx_i (ny_i + 1) + 8 FFT_VECTORS n_i)   bytes
 //! ```
 //!
 //! with [`DENSE_COPIES`] for the model's block, the assembled program's copy and the
@@ -25,6 +33,13 @@ pub const SPARSE_ALLOWANCE: u64 = DENSE_COPIES;
 
 /// Bytes of one `f64`.
 const F64_BYTES: u64 = 8;
+
+/// Vectors of a finger's unknowns the FFT path keeps (equality columns and their solves, the
+/// conjugate-gradient iterates, the Newton step's vectors).
+pub const FFT_VECTORS: u64 = 48;
+
+/// Safety factor of the FFT path's estimate (allocator slack, the model's other vectors).
+pub const FFT_SAFETY: u64 = 2;
 
 /// Tangential unknowns per element of a finger: 0 frictionless, 1 planar, 2 in 3-D.
 pub fn tangential_components(scene: &Scene, finger: &FingerSpec) -> u64 {
@@ -45,9 +60,15 @@ pub fn finger_unknowns(scene: &Scene, finger: &FingerSpec) -> u64 {
 
 /// Bytes of the dense compliance blocks of every finger, `sum_i 8 n_i^2` (saturating).
 pub fn compliance_bytes(scene: &Scene) -> u64 {
+    compliance_bytes_of(scene, |_| true)
+}
+
+/// Bytes of the dense compliance blocks of the fingers for which `dense` is true (saturating).
+pub fn compliance_bytes_of(scene: &Scene, dense: impl Fn(&FingerSpec) -> bool) -> u64 {
     scene
         .fingers
         .iter()
+        .filter(|f| dense(f))
         .map(|f| {
             let n = finger_unknowns(scene, f);
             n.saturating_mul(n).saturating_mul(F64_BYTES)
@@ -55,9 +76,43 @@ pub fn compliance_bytes(scene: &Scene) -> u64 {
         .fold(0, u64::saturating_add)
 }
 
-/// Estimated peak memory of a solve of the scene, bytes (see the module documentation).
+/// Estimated peak memory of a solve of the scene with every patch dense, bytes (see the
+/// module documentation).
 pub fn estimate_memory_bytes(scene: &Scene) -> u64 {
-    compliance_bytes(scene).saturating_mul(DENSE_COPIES + SPARSE_ALLOWANCE)
+    estimate_memory_bytes_with(scene, |_| false)
+}
+
+/// Estimated peak memory of a solve of the scene, bytes, with the patches for which `fft`
+/// is true taking the FFT operator and the others the dense matrix (see the module
+/// documentation).
+pub fn estimate_memory_bytes_with(scene: &Scene, fft: impl Fn(&FingerSpec) -> bool) -> u64 {
+    scene
+        .fingers
+        .iter()
+        .map(|f| match fft(f) {
+            true => fft_bytes(scene, f),
+            false => {
+                let n = finger_unknowns(scene, f);
+                n.saturating_mul(n)
+                    .saturating_mul(F64_BYTES)
+                    .saturating_mul(DENSE_COPIES + SPARSE_ALLOWANCE)
+            }
+        })
+        .fold(0, u64::saturating_add)
+}
+
+/// The FFT path's estimate for one finger, bytes (saturating).
+fn fft_bytes(scene: &Scene, f: &FingerSpec) -> u64 {
+    let (nx, ny) = (f.patch.grid[0] as u64, f.patch.grid[1] as u64);
+    let spectrum = (2 * 16u64)
+        .saturating_mul(nx)
+        .saturating_mul(ny.saturating_add(1));
+    let c = tangential_components(scene, f);
+    // Kernels kept: nn; then 11 and n1; then 22, 12 and n2.
+    let kernels = [1, 3, 6][c as usize];
+    let spectra = spectrum.saturating_mul(kernels + c + 3);
+    let vectors = finger_unknowns(scene, f).saturating_mul(F64_BYTES * FFT_VECTORS);
+    spectra.saturating_add(vectors).saturating_mul(FFT_SAFETY)
 }
 
 #[cfg(test)]
@@ -89,6 +144,18 @@ mod tests {
         let e = estimate_memory_bytes(&scene([64, 64], 0.4));
         assert_eq!(e, 8 * 8 * 12288 * 12288);
         assert_eq!(e, estimate_memory_bytes(&scene([4096, 1], 0.4)));
+    }
+
+    #[test]
+    fn a_1024_by_1024_fft_patch_is_estimated_below_two_gigabytes() {
+        // Issue 21: a frictionless 1024 x 1024 patch within 2 GB; with friction (three
+        // unknowns an element) still far below the dense path's 8 (3 N)^2 8 bytes.
+        let e = estimate_memory_bytes_with(&scene([1024, 1024], 0.0), |_| true);
+        assert!(e < 2 << 30, "{e} bytes");
+        for mu in [0.0, 0.4] {
+            let e = estimate_memory_bytes_with(&scene([1024, 1024], mu), |_| true);
+            assert!(e < estimate_memory_bytes(&scene([1024, 1024], mu)) / 1000);
+        }
     }
 
     #[test]

@@ -25,6 +25,7 @@ use crate::solver::outcome::{Certificate, ConvexOutcome};
 
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
+use crate::option_names;
 
 /// Where a finger's conic rows are in Clarabel's form.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -252,6 +253,8 @@ pub(crate) fn settings(
 pub(crate) struct ClarabelWorkspace {
     form: ClarabelForm,
     solver: Option<DefaultSolver<f64>>,
+    /// Some finger's compliance is the FFT operator: `P` cannot be handed to Clarabel.
+    matrix_free: bool,
 }
 
 /// What one Clarabel solve gave: the outcome, interior-point iterations and solver time (s).
@@ -267,6 +270,7 @@ impl ClarabelWorkspace {
         ClarabelWorkspace {
             form: ClarabelForm::assemble(model, program, RADIUS_FLOOR),
             solver: None,
+            matrix_free: model.fingers.iter().any(|f| f.compliance_m_per_n.is_fft()),
         }
     }
 
@@ -278,6 +282,13 @@ impl ClarabelWorkspace {
         tolerance: f64,
         settings: &DefaultSettings<f64>,
     ) -> Result<ClarabelRun, ModelError> {
+        if self.matrix_free {
+            return Err(ModelError::Solver(format!(
+                "Clarabel needs every patch compliance as a dense matrix, and this model holds \
+                 the FFT operator: set `{}` to dense, or solve with the native solver",
+                option_names::COMPLIANCE
+            )));
+        }
         let mut fresh = ClarabelForm::constraints(program, radius_floor(tolerance));
         fresh.p = std::mem::replace(&mut self.form.p, CscMatrix::zeros((0, 0)));
         let err = |e: clarabel::solver::DataUpdateError| ModelError::Solver(e.to_string());
@@ -331,11 +342,14 @@ impl ClarabelWorkspace {
     }
 }
 
-/// The upper triangle of `P = C / Cu`, block-diagonal over fingers.
+/// The upper triangle of `P = C / Cu`, block-diagonal over fingers (fingers whose compliance
+/// is the FFT operator are left out: [`ClarabelWorkspace::solve`] refuses such a model).
 fn objective_matrix(model: &GraspModel, program: &ConeProgram) -> CscMatrix<f64> {
     let mut pcols = Columns::new(program.n_unknowns);
     for f in &model.fingers {
-        let c = &f.compliance_m_per_n;
+        let Some(c) = f.compliance_m_per_n.dense() else {
+            continue;
+        };
         for col in 0..c.ncols() {
             for row in 0..=col {
                 pcols.push(

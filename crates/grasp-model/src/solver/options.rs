@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::OptionError;
+use crate::model::patch_compliance::ComplianceChoice;
 use crate::number_text::Readable;
 use crate::option_names;
 
@@ -81,6 +82,10 @@ pub struct SolveOptions {
     /// iterate), and a coulomb step from the previous step's forces; `false` starts every
     /// convex solve cold (for comparison).
     pub warm_start: bool,
+    /// The form of the patch compliances: a dense matrix or the FFT operator
+    /// ([`crate::model::patch_compliance`]). Read where the model is built
+    /// ([`crate::GraspModel::from_scene_with`]): front ends build the model with it.
+    pub compliance: ComplianceChoice,
 }
 
 impl Default for SolveOptions {
@@ -94,6 +99,7 @@ impl Default for SolveOptions {
             max_sequential_iterations: 50,
             min_relaxation: MIN_RELAXATION,
             warm_start: true,
+            compliance: ComplianceChoice::Auto,
         }
     }
 }

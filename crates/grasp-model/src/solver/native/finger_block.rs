@@ -8,9 +8,11 @@
 //! [`FingerBlockData::apply_columns`], so a matrix-free operator (FFT products on the uniform
 //! grid) can replace the stored matrix here without touching the solver's strategy.
 
-use std::sync::Arc;
+use std::borrow::Cow;
 
 use faer::Mat;
+
+use crate::model::patch_compliance::PatchCompliance;
 
 use crate::program::cone_program::{BlockCone, FingerBlock};
 
@@ -25,8 +27,9 @@ pub(crate) struct FingerBlockData {
     pub elements: usize,
     /// Unknowns per element, `1 + n_tangential`.
     pub dim: usize,
-    /// `C_i`, m/N, column-major `n_i x n_i`: shared with the model, not copied.
-    c: Arc<nalgebra::DMatrix<f64>>,
+    /// `C_i`, m/N (dense, column-major `n_i x n_i`, or the FFT operator): shared with the
+    /// model, not copied.
+    c: PatchCompliance,
     /// `1 / Cu`: `P_i = scale C_i`.
     pub scale: f64,
     /// `E_i`, the finger's columns of the equality matrix.
@@ -41,29 +44,23 @@ pub(crate) struct FingerBlockData {
 }
 
 impl FingerBlockData {
-    /// The finger's block: `compliance` (m/N, column-major `n_i x n_i`, shared) with its
-    /// `scale`, and a copy of the columns `offset..offset + n_i` of `equality` (`m x n`).
+    /// The finger's block: `compliance` (m/N, shared) with its `scale`, and a copy of the
+    /// columns `offset..offset + n_i` of `equality` (`m x n`).
     pub fn new(
         block: &FingerBlock,
-        compliance: &Arc<nalgebra::DMatrix<f64>>,
+        compliance: &PatchCompliance,
         scale: f64,
         equality: &nalgebra::DMatrix<f64>,
         cold_contact: Vec<bool>,
     ) -> Self {
         let n = block.len();
         let e = Mat::from_fn(equality.nrows(), n, |r, c| equality[(r, block.offset + c)]);
-        // P is symmetric: column sums are row sums.
-        let row_sum = scale
-            * compliance
-                .as_slice()
-                .chunks_exact(n.max(1))
-                .map(|col| col.iter().map(|v| v.abs()).sum::<f64>())
-                .fold(0.0_f64, f64::max);
+        let row_sum = scale * compliance.row_sum_bound();
         FingerBlockData {
             offset: block.offset,
             elements: block.elements,
             dim: 1 + block.n_tangential,
-            c: Arc::clone(compliance),
+            c: compliance.clone(),
             scale,
             e,
             gamma: if row_sum > 0.0 { 1.0 / row_sum } else { 1.0 },
@@ -86,16 +83,41 @@ impl FingerBlockData {
         self.e.nrows()
     }
 
-    /// A copy of `P_i`.
-    pub fn matrix(&self) -> Mat<f64> {
-        let n = self.len();
-        Mat::from_fn(n, n, |r, c| self.scale * self.c[(r, c)])
+    /// True when `C_i` is the FFT operator (reduced systems are solved by conjugate
+    /// gradients, [`super::reduced_iterative`]).
+    pub fn is_fft(&self) -> bool {
+        self.c.is_fft()
     }
 
-    /// Column `c` of `C_i` (m/N): `scale` times it is column `c` of `P_i`.
-    pub fn compliance_column(&self, c: usize) -> &[f64] {
+    /// A copy of `P_i`, when `C_i` is stored dense.
+    pub fn matrix(&self) -> Option<Mat<f64>> {
+        let c = self.c.dense()?;
         let n = self.len();
-        &self.c.as_slice()[c * n..(c + 1) * n]
+        Some(Mat::from_fn(n, n, |r, col| self.scale * c[(r, col)]))
+    }
+
+    /// Column `c` of `C_i` (m/N): `scale` times it is column `c` of `P_i`. Borrowed from the
+    /// dense matrix; the operator's is its product with a unit vector.
+    pub fn compliance_column(&self, c: usize) -> Cow<'_, [f64]> {
+        let n = self.len();
+        match &self.c {
+            PatchCompliance::Dense(m) => Cow::Borrowed(&m.as_slice()[c * n..(c + 1) * n]),
+            PatchCompliance::Fft(op) => {
+                let mut unit = vec![0.0; n];
+                unit[c] = 1.0;
+                let mut out = vec![0.0; n];
+                op.apply(&unit, &mut out);
+                Cow::Owned(out)
+            }
+        }
+    }
+
+    /// The diagonal entry of `C_i` (m/N) at local index `i`.
+    pub fn compliance_diagonal(&self, i: usize) -> f64 {
+        match &self.c {
+            PatchCompliance::Dense(m) => m[(i, i)],
+            PatchCompliance::Fft(op) => op.diagonal(i / self.elements.max(1)),
+        }
     }
 
     /// `E_i` (`m x n_i`).
@@ -115,13 +137,29 @@ impl FingerBlockData {
         self.apply_columns(v, &support, out);
     }
 
-    /// `out += P_i v` for a `v` that is zero outside the local indices `support`.
+    /// `out += P_i v` for a `v` that is zero outside the local indices `support` (the
+    /// dense matrix sums those columns; the operator applies itself to `v` whole).
     pub fn apply_columns(&self, v: &[f64], support: &[usize], out: &mut [f64]) {
-        for &c in support {
-            let vc = v[c] * self.scale;
-            if vc != 0.0 {
-                for (o, r) in out.iter_mut().zip(self.compliance_column(c)) {
-                    *o += r * vc;
+        match &self.c {
+            PatchCompliance::Dense(m) => {
+                let n = self.len();
+                for &c in support {
+                    let vc = v[c] * self.scale;
+                    if vc != 0.0 {
+                        for (o, r) in out.iter_mut().zip(&m.as_slice()[c * n..(c + 1) * n]) {
+                            *o += r * vc;
+                        }
+                    }
+                }
+            }
+            PatchCompliance::Fft(op) => {
+                if support.iter().all(|&c| v[c] == 0.0) {
+                    return;
+                }
+                let mut cv = vec![0.0; v.len()];
+                op.apply(v, &mut cv);
+                for (o, x) in out.iter_mut().zip(cv) {
+                    *o += self.scale * x;
                 }
             }
         }

@@ -155,7 +155,7 @@ fn factorise(
     let (mut ls, mut ws) = (Vec::new(), Vec::new());
     let mut s = DMatrix::<f64>::zeros(m, m);
     for (i, b) in blocks.iter().enumerate() {
-        let mut h = b.matrix();
+        let mut h = b.matrix()?;
         for k in 0..b.elements {
             let er = &lay.rows[i][k];
             // Columns of W^-2 G over the element's rows.

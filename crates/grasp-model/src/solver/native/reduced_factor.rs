@@ -165,12 +165,14 @@ fn reduced_matrix(
     for b in 0..n {
         let (cb, nb) = comps[b];
         // Column b of C D (m/N), scaled to P below.
+        let single;
         let col: &[f64] = if nb == 1 && cb[0].1 == 1.0 {
-            block.compliance_column(cb[0].0)
+            single = block.compliance_column(cb[0].0);
+            &single
         } else {
             pd.fill(0.0);
             for &(ib, vb) in &cb[..nb] {
-                for (o, p) in pd.iter_mut().zip(block.compliance_column(ib)) {
+                for (o, p) in pd.iter_mut().zip(block.compliance_column(ib).iter()) {
                     *o += vb * p;
                 }
             }

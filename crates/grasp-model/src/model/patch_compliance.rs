@@ -1,0 +1,170 @@
+//! The compliance of one finger's patch, m/N, in the form a solve uses: a dense matrix (every
+//! entry stored, factorised directly) or the matrix-free FFT operator
+//! ([`super::compliance_operator`]), and the rule that picks one.
+//!
+//! Both discretise the same operator (the exact rectangle integrals of
+//! [`super::influence`]); they differ in cost. Dense: `(3N)^2` numbers per finger, products
+//! `O(N^2)`, one Cholesky factor per contact pattern. FFT: `O(N)` numbers, products
+//! `O(N log N)`, reduced systems solved by conjugate gradients.
+
+use std::sync::Arc;
+
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+
+use super::compliance_operator::ComplianceOperator;
+use super::influence::{patch_compliance, GridSpec, PairConstants};
+
+/// Which form of the patch compliance a model builds.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ComplianceChoice {
+    /// Dense up to [`AUTO_FFT_ABOVE_ELEMENTS`] elements per patch, FFT above.
+    #[default]
+    Auto,
+    /// The dense matrix (every solver, every analysis).
+    Dense,
+    /// The FFT operator (the native solver; no sensitivities).
+    Fft,
+}
+
+impl std::str::FromStr for ComplianceChoice {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "auto" => Ok(ComplianceChoice::Auto),
+            "dense" => Ok(ComplianceChoice::Dense),
+            "fft" => Ok(ComplianceChoice::Fft),
+            other => Err(format!(
+                "unknown compliance `{other}`; choose auto, dense or fft"
+            )),
+        }
+    }
+}
+
+impl std::fmt::Display for ComplianceChoice {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ComplianceChoice::Auto => "auto",
+            ComplianceChoice::Dense => "dense",
+            ComplianceChoice::Fft => "fft",
+        })
+    }
+}
+
+pub use crate::scene::limits::AUTO_FFT_ABOVE_ELEMENTS;
+
+/// True when a patch of `elements` elements takes the FFT operator under `choice` (up to
+/// [`AUTO_FFT_ABOVE_ELEMENTS`] the automatic choice is the dense matrix, so every scene that
+/// solved before this operator existed solves exactly as before).
+pub fn uses_fft(choice: ComplianceChoice, elements: usize) -> bool {
+    match choice {
+        ComplianceChoice::Auto => elements > AUTO_FFT_ABOVE_ELEMENTS,
+        ComplianceChoice::Dense => false,
+        ComplianceChoice::Fft => true,
+    }
+}
+
+/// One finger's patch compliance, shared (never copied) by the model, its restrictions and
+/// the solvers.
+#[derive(Debug, Clone)]
+pub enum PatchCompliance {
+    /// Column-major `n x n`, `n = (1 + n_tangential) N`.
+    Dense(Arc<DMatrix<f64>>),
+    /// The FFT operator.
+    Fft(Arc<ComplianceOperator>),
+}
+
+impl PatchCompliance {
+    /// The compliance of `grid` for `pair` with `n_tangential` tangential components, in the
+    /// form `choice` gives (model.md, patch compliance; Johnson 3.22c, 3.86a-c).
+    pub fn build(
+        grid: &GridSpec,
+        pair: &PairConstants,
+        n_tangential: usize,
+        choice: ComplianceChoice,
+    ) -> Self {
+        if uses_fft(choice, grid.len()) {
+            PatchCompliance::Fft(Arc::new(ComplianceOperator::new(grid, pair, n_tangential)))
+        } else {
+            PatchCompliance::Dense(Arc::new(patch_compliance(grid, pair, n_tangential)))
+        }
+    }
+
+    /// Unknowns (rows).
+    pub fn len(&self) -> usize {
+        match self {
+            PatchCompliance::Dense(c) => c.nrows(),
+            PatchCompliance::Fft(op) => op.len(),
+        }
+    }
+
+    /// True for an empty patch.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The dense matrix, if this is one.
+    pub fn dense(&self) -> Option<&Arc<DMatrix<f64>>> {
+        match self {
+            PatchCompliance::Dense(c) => Some(c),
+            PatchCompliance::Fft(_) => None,
+        }
+    }
+
+    /// True for the FFT operator.
+    pub fn is_fft(&self) -> bool {
+        matches!(self, PatchCompliance::Fft(_))
+    }
+
+    /// `out = C v` (m/N times N: metres).
+    pub fn apply(&self, v: &[f64], out: &mut [f64]) {
+        match self {
+            PatchCompliance::Dense(c) => {
+                let n = c.nrows();
+                out.fill(0.0);
+                for (col, &vc) in c.as_slice().chunks_exact(n.max(1)).zip(v) {
+                    if vc != 0.0 {
+                        for (o, r) in out.iter_mut().zip(col) {
+                            *o += r * vc;
+                        }
+                    }
+                }
+            }
+            PatchCompliance::Fft(op) => op.apply(v, out),
+        }
+    }
+
+    /// The largest diagonal entry, m/N.
+    pub fn max_diagonal(&self) -> f64 {
+        match self {
+            PatchCompliance::Dense(c) => c.diagonal().iter().copied().fold(0.0, f64::max),
+            PatchCompliance::Fft(op) => (0..op.len() / op.elements().max(1))
+                .map(|c| op.diagonal(c))
+                .fold(0.0, f64::max),
+        }
+    }
+
+    /// An upper bound of the largest absolute row sum `||C||_inf`, m/N (exact for the dense
+    /// matrix; for the operator the sum of every kernel's absolute values over all offsets,
+    /// which bounds every row's sum): Gershgorin's bound on the largest eigenvalue.
+    pub fn row_sum_bound(&self) -> f64 {
+        match self {
+            // C is symmetric: column sums are row sums.
+            PatchCompliance::Dense(c) => c
+                .as_slice()
+                .chunks_exact(c.nrows().max(1))
+                .map(|col| col.iter().map(|v| v.abs()).sum::<f64>())
+                .fold(0.0_f64, f64::max),
+            PatchCompliance::Fft(op) => op.row_sum_bound(),
+        }
+    }
+
+    /// Bytes held.
+    pub fn memory_bytes(&self) -> usize {
+        match self {
+            PatchCompliance::Dense(c) => c.len() * std::mem::size_of::<f64>(),
+            PatchCompliance::Fft(op) => op.memory_bytes(),
+        }
+    }
+}
