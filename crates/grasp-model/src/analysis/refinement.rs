@@ -214,16 +214,7 @@ pub fn refinement_study(
     let mut rows = Vec::with_capacity(sides.len());
     for &n in &sides {
         let s = with_grids(scene, |_, g| grid_with_first_side(g, n));
-        if let Some((i, f)) =
-            s.fingers.iter().enumerate().find(|(_, f)| {
-                f.patch.grid[0].saturating_mul(f.patch.grid[1]) > MAX_ELEMENTS_PER_PATCH
-            })
-        {
-            return Err(format!(
-                "grid {n} gives fingers[{i}] ({}) more than {MAX_ELEMENTS_PER_PATCH} elements",
-                f.name
-            ));
-        }
+        check_grid_size(&s, n)?;
         let t = Instant::now();
         let model = GraspModel::from_scene(&s).map_err(|e| e.to_string())?;
         let sol = GraspSolver::new(&model, options)
@@ -237,22 +228,7 @@ pub fn refinement_study(
             ));
         }
         let (error, error_2) = match hertz {
-            Some((r, e_star)) => {
-                let f = &sol.fingers[0];
-                let h = HertzSphere::new(f.normal_force_n, r, e_star);
-                let n_i = &model.fingers[0].frame.normal;
-                let d = sol
-                    .rigid_displacement
-                    .ok_or_else(|| format!("grid {n}: solved without a rigid displacement"))?;
-                let t_com = nalgebra::Vector3::from(d.translation_m);
-                let theta = nalgebra::Vector3::from(d.rotation_rad);
-                let at = model.fingers[0].frame.origin_m - model.center_of_mass_m;
-                let approach = f.approach_m - n_i.dot(&(t_com + theta.cross(&at)));
-                (
-                    (f.peak_pressure_pa - h.peak_pressure_pa).abs() / h.peak_pressure_pa,
-                    Some((approach - h.approach_m).abs() / h.approach_m),
-                )
-            }
+            Some((r, e_star)) => hertz_errors(&model, &sol, r, e_star, n)?,
             None => (f64::NAN, None),
         };
         rows.push(StudyRow {
@@ -274,4 +250,46 @@ pub fn refinement_study(
         }
     }
     Ok(rows)
+}
+
+/// Refuses the grid with first side `n` when it gives a patch of `s` more than
+/// [`MAX_ELEMENTS_PER_PATCH`] elements.
+fn check_grid_size(s: &Scene, n: usize) -> Result<(), String> {
+    if let Some((i, f)) = s
+        .fingers
+        .iter()
+        .enumerate()
+        .find(|(_, f)| f.patch.grid[0].saturating_mul(f.patch.grid[1]) > MAX_ELEMENTS_PER_PATCH)
+    {
+        return Err(format!(
+            "grid {n} gives fingers[{i}] ({}) more than {MAX_ELEMENTS_PER_PATCH} elements",
+            f.name
+        ));
+    }
+    Ok(())
+}
+
+/// The Hertz errors of the solution `sol` of `model` (tip radius `r`, `E*` `e_star`) on the
+/// grid with first side `n`: peak pressure and approach, each relative to Hertz's.
+fn hertz_errors(
+    model: &GraspModel,
+    sol: &Solution,
+    r: f64,
+    e_star: f64,
+    n: usize,
+) -> Result<(f64, Option<f64>), String> {
+    let f = &sol.fingers[0];
+    let h = HertzSphere::new(f.normal_force_n, r, e_star);
+    let n_i = &model.fingers[0].frame.normal;
+    let d = sol
+        .rigid_displacement
+        .ok_or_else(|| format!("grid {n}: solved without a rigid displacement"))?;
+    let t_com = nalgebra::Vector3::from(d.translation_m);
+    let theta = nalgebra::Vector3::from(d.rotation_rad);
+    let at = model.fingers[0].frame.origin_m - model.center_of_mass_m;
+    let approach = f.approach_m - n_i.dot(&(t_com + theta.cross(&at)));
+    Ok((
+        (f.peak_pressure_pa - h.peak_pressure_pa).abs() / h.peak_pressure_pa,
+        Some((approach - h.approach_m).abs() / h.approach_m),
+    ))
 }

@@ -246,22 +246,7 @@ fn place_finger(
             "give {\"point\": [x, y, z]} or {\"ray\": {\"origin\": [...], \"direction\": [...]}}",
         )
     })?;
-    let Some(obj) = f.as_object_mut() else {
-        return Err(problem(
-            &format!("fingers[{i}]"),
-            "is not an object".into(),
-            "give each finger as {\"name\": ..., ...}",
-        ));
-    };
-    for key in ["contact_point", "normal", "tangent", "object_radius"] {
-        if obj.get(key).is_some_and(|v| !v.is_null()) {
-            return Err(problem(
-                &format!("fingers[{i}].{key}"),
-                "is given together with place (which derives it from the shape)".into(),
-                "remove it, or remove place and give the frame by hand",
-            ));
-        }
-    }
+    let obj = without_frame(f, i)?;
     if spec.tangent.is_some_and(|t| Vector3::from(t).norm() == 0.0) {
         return Err(problem(
             &format!("{path}.tangent"),
@@ -269,22 +254,7 @@ fn place_finger(
             "give the preferred first tangent, or omit it",
         ));
     }
-    let (s, source) = surface_point(&spec, &path, shape)?;
-    if s.feature != SurfaceFeature::Face {
-        return Err(problem(
-            &path,
-            format!(
-                "lands on {} of the shape at {:?}, where the normal is not defined",
-                if s.feature == SurfaceFeature::Edge {
-                    "an edge"
-                } else {
-                    "a corner"
-                },
-                arr(&s.point_m)
-            ),
-            "move the finger onto a face",
-        ));
-    }
+    let (s, source) = face_point(&spec, &path, shape)?;
     let hint = spec.tangent.map(Vector3::from).or(tip_axis);
     let frame = tangent_frame(&s, hint, plane).map_err(|m| {
         problem(
@@ -306,6 +276,54 @@ fn place_finger(
         distance_m: s.distance_m,
         notes,
     }))
+}
+
+/// Finger `i`'s JSON object `f` as a map, refused when it is not an object or gives a part of
+/// the frame that `place` derives.
+fn without_frame(f: &mut Value, i: usize) -> Result<&mut Map<String, Value>, InputProblem> {
+    let Some(obj) = f.as_object_mut() else {
+        return Err(problem(
+            &format!("fingers[{i}]"),
+            "is not an object".into(),
+            "give each finger as {\"name\": ..., ...}",
+        ));
+    };
+    for key in ["contact_point", "normal", "tangent", "object_radius"] {
+        if obj.get(key).is_some_and(|v| !v.is_null()) {
+            return Err(problem(
+                &format!("fingers[{i}].{key}"),
+                "is given together with place (which derives it from the shape)".into(),
+                "remove it, or remove place and give the frame by hand",
+            ));
+        }
+    }
+    Ok(obj)
+}
+
+/// The surface point of a place spec and which kind it was, refused off the faces (on an
+/// edge or a corner the normal is not defined).
+fn face_point(
+    spec: &PlaceSpec,
+    path: &str,
+    shape: &Shape,
+) -> Result<(SurfacePoint, &'static str), InputProblem> {
+    let (s, source) = surface_point(spec, path, shape)?;
+    if s.feature != SurfaceFeature::Face {
+        return Err(problem(
+            path,
+            format!(
+                "lands on {} of the shape at {:?}, where the normal is not defined",
+                if s.feature == SurfaceFeature::Edge {
+                    "an edge"
+                } else {
+                    "a corner"
+                },
+                arr(&s.point_m)
+            ),
+            "move the finger onto a face",
+        ));
+    }
+    Ok((s, source))
 }
 
 /// The surface point of a place spec, and which kind it was.

@@ -20,7 +20,7 @@ use clarabel::solver::{
     DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
 
-use crate::program::cone_program::{BlockCone, ConeProgram, RADIUS_FLOOR};
+use crate::program::cone_program::{BlockCone, ConeProgram, FingerBlock, RADIUS_FLOOR};
 use crate::solver::outcome::{Certificate, ConvexOutcome};
 
 use crate::error::ModelError;
@@ -89,6 +89,124 @@ impl Columns {
     }
 }
 
+/// The constraint rows as they are assembled, in the order of the module docs.
+struct Rows {
+    /// Columns of `A`.
+    acols: Columns,
+    /// Right-hand side `b` (resized as rows with entries in it are added).
+    b: Vec<f64>,
+    /// The next row.
+    row: usize,
+    /// Where each finger's conic rows are.
+    friction_rows: Vec<ConeRows>,
+}
+
+impl Rows {
+    /// The zero-cone rows: the equality rows `E x = e`.
+    fn equality(program: &ConeProgram) -> Rows {
+        let n = program.n_unknowns;
+        let mut acols = Columns::new(n);
+        let e = &program.equality;
+        for r in 0..e.nrows() {
+            for col in 0..n {
+                acols.push(r, col, e[(r, col)]);
+            }
+        }
+        Rows {
+            acols,
+            b: program.equality_rhs.clone(),
+            row: e.nrows(),
+            friction_rows: vec![ConeRows::None; program.blocks.len()],
+        }
+    }
+
+    /// The nonnegative-cone rows: for the Tresca law `F_k >= 0` of every finger; then per
+    /// finger `F_k >= 0` (frictionless, associated law) or its planar pairs.
+    fn nonnegative(&mut self, program: &ConeProgram, floor: f64) {
+        let tresca = matches!(program.law, crate::program::cone_program::ConeLaw::Tresca);
+        if tresca {
+            for blk in &program.blocks {
+                self.normal_forces(blk);
+            }
+        }
+        for (i, blk) in program.blocks.iter().enumerate() {
+            match (&blk.cone, blk.n_tangential) {
+                (BlockCone::Nonnegative, _) if !tresca => self.normal_forces(blk),
+                (BlockCone::Friction { mu }, 1) => self.friction_pairs(i, blk, *mu),
+                (BlockCone::Tresca { radii }, 1) => self.tresca_pairs(i, blk, radii, floor),
+                _ => {}
+            }
+        }
+    }
+
+    /// `F_k >= 0` for every element of `blk`.
+    fn normal_forces(&mut self, blk: &FingerBlock) {
+        for k in 0..blk.elements {
+            self.acols.push(self.row + k, blk.offset + k, -1.0);
+        }
+        self.row += blk.elements;
+    }
+
+    /// The planar pairs `mu F_k + G_k >= 0`, `mu F_k - G_k >= 0` of finger `i` (associated law).
+    fn friction_pairs(&mut self, i: usize, blk: &FingerBlock, mu: f64) {
+        let (row, ne) = (self.row, blk.elements);
+        self.friction_rows[i] = ConeRows::PlanarPairs(row);
+        for k in 0..ne {
+            self.acols.push_structural(row + 2 * k, blk.offset + k, -mu);
+            self.acols
+                .push_structural(row + 2 * k + 1, blk.offset + k, -mu);
+            self.acols.push(row + 2 * k, blk.offset + ne + k, -1.0);
+            self.acols.push(row + 2 * k + 1, blk.offset + ne + k, 1.0);
+        }
+        self.b.resize(row + 2 * ne, 0.0);
+        self.row += 2 * ne;
+    }
+
+    /// The planar pairs `r_k + G_k >= 0`, `r_k - G_k >= 0` of finger `i` (Tresca law), radii at
+    /// least `floor`.
+    fn tresca_pairs(&mut self, i: usize, blk: &FingerBlock, radii: &[f64], floor: f64) {
+        let (row, ne) = (self.row, blk.elements);
+        self.friction_rows[i] = ConeRows::PlanarPairs(row);
+        self.b.resize(row + 2 * ne, 0.0);
+        for (k, r) in radii[..ne].iter().enumerate() {
+            self.acols.push(row + 2 * k, blk.offset + ne + k, -1.0);
+            self.acols.push(row + 2 * k + 1, blk.offset + ne + k, 1.0);
+            self.b[row + 2 * k] = r.max(floor);
+            self.b[row + 2 * k + 1] = r.max(floor);
+        }
+        self.row += 2 * ne;
+    }
+
+    /// The second-order cones of the fingers with two tangential directions, radii at least
+    /// `floor`; returns how many.
+    fn second_order(&mut self, program: &ConeProgram, floor: f64) -> usize {
+        let mut n_soc = 0;
+        for (i, blk) in program.blocks.iter().enumerate() {
+            if blk.n_tangential != 2 {
+                continue;
+            }
+            let (row, ne) = (self.row, blk.elements);
+            self.friction_rows[i] = ConeRows::SecondOrder(row);
+            self.b.resize(row + 3 * ne, 0.0);
+            for k in 0..ne {
+                match &blk.cone {
+                    BlockCone::Friction { mu } => {
+                        self.acols.push_structural(row + 3 * k, blk.offset + k, -mu)
+                    }
+                    BlockCone::Tresca { radii } => self.b[row + 3 * k] = radii[k].max(floor),
+                    BlockCone::Nonnegative => {}
+                }
+                self.acols.push(row + 3 * k + 1, blk.offset + ne + k, -1.0);
+                self.acols
+                    .push(row + 3 * k + 2, blk.offset + 2 * ne + k, -1.0);
+            }
+            self.row += 3 * ne;
+            n_soc += ne;
+        }
+        n_soc
+    }
+}
+
 impl ClarabelForm {
     /// Assembles Clarabel's form of `program` (see the module docs for the row order), Tresca
     /// radii raised to at least `floor` (element force units `Fu`, see [`radius_floor`]).
@@ -101,83 +219,17 @@ impl ClarabelForm {
     /// Everything but `P` (left empty), from the program alone, Tresca radii at least `floor`.
     fn constraints(program: &ConeProgram, floor: f64) -> ClarabelForm {
         let n = program.n_unknowns;
-        let mut acols = Columns::new(n);
-        let mut b = program.equality_rhs.clone();
-        let e = &program.equality;
-        for r in 0..e.nrows() {
-            for col in 0..n {
-                acols.push(r, col, e[(r, col)]);
-            }
-        }
-        let n_zero = e.nrows();
-        let mut row = n_zero;
-        let tresca = matches!(program.law, crate::program::cone_program::ConeLaw::Tresca);
-        if tresca {
-            for blk in &program.blocks {
-                for k in 0..blk.elements {
-                    acols.push(row + k, blk.offset + k, -1.0);
-                }
-                row += blk.elements;
-            }
-        }
-        let mut friction_rows = vec![ConeRows::None; program.blocks.len()];
-        for (i, blk) in program.blocks.iter().enumerate() {
-            let ne = blk.elements;
-            match (&blk.cone, blk.n_tangential) {
-                (BlockCone::Nonnegative, _) if !tresca => {
-                    for k in 0..ne {
-                        acols.push(row + k, blk.offset + k, -1.0);
-                    }
-                    row += ne;
-                }
-                (BlockCone::Friction { mu }, 1) => {
-                    friction_rows[i] = ConeRows::PlanarPairs(row);
-                    for k in 0..ne {
-                        acols.push_structural(row + 2 * k, blk.offset + k, -mu);
-                        acols.push_structural(row + 2 * k + 1, blk.offset + k, -mu);
-                        acols.push(row + 2 * k, blk.offset + ne + k, -1.0);
-                        acols.push(row + 2 * k + 1, blk.offset + ne + k, 1.0);
-                    }
-                    b.resize(row + 2 * ne, 0.0);
-                    row += 2 * ne;
-                }
-                (BlockCone::Tresca { radii }, 1) => {
-                    friction_rows[i] = ConeRows::PlanarPairs(row);
-                    b.resize(row + 2 * ne, 0.0);
-                    for k in 0..ne {
-                        acols.push(row + 2 * k, blk.offset + ne + k, -1.0);
-                        acols.push(row + 2 * k + 1, blk.offset + ne + k, 1.0);
-                        b[row + 2 * k] = radii[k].max(floor);
-                        b[row + 2 * k + 1] = radii[k].max(floor);
-                    }
-                    row += 2 * ne;
-                }
-                _ => {}
-            }
-        }
-        let n_nonneg = row - n_zero;
-        let mut n_soc = 0;
-        for (i, blk) in program.blocks.iter().enumerate() {
-            if blk.n_tangential != 2 {
-                continue;
-            }
-            let ne = blk.elements;
-            friction_rows[i] = ConeRows::SecondOrder(row);
-            b.resize(row + 3 * ne, 0.0);
-            for k in 0..ne {
-                match &blk.cone {
-                    BlockCone::Friction { mu } => {
-                        acols.push_structural(row + 3 * k, blk.offset + k, -mu)
-                    }
-                    BlockCone::Tresca { radii } => b[row + 3 * k] = radii[k].max(floor),
-                    BlockCone::Nonnegative => {}
-                }
-                acols.push(row + 3 * k + 1, blk.offset + ne + k, -1.0);
-                acols.push(row + 3 * k + 2, blk.offset + 2 * ne + k, -1.0);
-            }
-            row += 3 * ne;
-            n_soc += ne;
-        }
+        let mut rows = Rows::equality(program);
+        let n_zero = rows.row;
+        rows.nonnegative(program, floor);
+        let n_nonneg = rows.row - n_zero;
+        let n_soc = rows.second_order(program, floor);
+        let Rows {
+            acols,
+            mut b,
+            row,
+            friction_rows,
+        } = rows;
         b.resize(row, 0.0);
         let mut cones = vec![SupportedConeT::ZeroConeT(n_zero)];
         if n_nonneg > 0 {

@@ -35,7 +35,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use grasp_model::ElementState;
+use grasp_model::{ElementState, FingerModel, FingerSolution};
 use rerun::external::re_tuid::Tuid;
 use rerun::log::{Chunk, ChunkBatcherConfig, ChunkId, LogMsg, RowId};
 use rerun::sink::{FileSink, LogSink, SinkFlushError};
@@ -331,6 +331,112 @@ impl RerunSink {
     }
 }
 
+impl RerunSink {
+    /// Logs finger `fm`'s step: its force arrows (`scale` m/N), its patch (pressures relative
+    /// to `p_max`) and its plot points.
+    fn log_finger(
+        &mut self,
+        fm: &FingerModel,
+        f: &FingerSolution,
+        scale: f64,
+        p_max: f64,
+    ) -> Result<(), TransferError> {
+        let name = &fm.name;
+        self.log_forces(fm, f, scale)?;
+        self.log_patch(fm, f, p_max)?;
+        self.send(
+            format!("plots/normal_force/{name}"),
+            &Scalars::new([f.normal_force_n]),
+        )?;
+        self.send(
+            format!("plots/friction/{name}"),
+            &Scalars::new([f.tangential_magnitude_n]),
+        )
+    }
+
+    /// The normal and friction force arrows of finger `fm`, at the centre of pressure, `scale`
+    /// m/N.
+    fn log_forces(
+        &mut self,
+        fm: &FingerModel,
+        f: &FingerSolution,
+        scale: f64,
+    ) -> Result<(), TransferError> {
+        let name = &fm.name;
+        let cop = nalgebra::Vector3::from(f.center_of_pressure_m);
+        let pn = fm.frame.normal * (f.normal_force_n * scale);
+        self.send(
+            format!("world/forces/{name}/normal"),
+            &Arrows3D::from_vectors([v3(&pn)])
+                .with_origins([v3(&(cop - pn))])
+                .with_colors([Color::from_rgb(220, 60, 60)]),
+        )?;
+        let q = nalgebra::Vector3::from(f.tangential_force_n) * scale;
+        self.send(
+            format!("world/forces/{name}/friction"),
+            &Arrows3D::from_vectors([v3(&q)])
+                .with_origins([v3(&cop)])
+                .with_colors([Color::from_rgb(60, 120, 230)]),
+        )
+    }
+
+    /// Finger `fm`'s elements coloured by pressure (relative to `p_max`) and, set off behind
+    /// the patch, by state.
+    fn log_patch(
+        &mut self,
+        fm: &FingerModel,
+        f: &FingerSolution,
+        p_max: f64,
+    ) -> Result<(), TransferError> {
+        let name = &fm.name;
+        let h = 0.5 * fm.patch.grid.hx.min(fm.patch.grid.hy);
+        let pos: Vec<[f32; 3]> = f
+            .elements
+            .iter()
+            .map(|e| e.position_m.map(|x| x as f32))
+            .collect();
+        self.send(
+            format!("world/patches/{name}/pressure"),
+            &Points3D::new(pos.clone())
+                .with_colors(f.elements.iter().map(|e| ramp(e.pressure_pa / p_max)))
+                .with_radii(std::iter::repeat_n(0.9 * h as f32, pos.len())),
+        )?;
+        let off = fm.frame.normal * (-2.0 * h);
+        let pos_state: Vec<[f32; 3]> = f
+            .elements
+            .iter()
+            .map(|e| v3(&(nalgebra::Vector3::from(e.position_m) + off)))
+            .collect();
+        self.send(
+            format!("world/patches/{name}/state"),
+            &Points3D::new(pos_state)
+                .with_colors(f.elements.iter().map(|e| match e.state {
+                    ElementState::Stick => Color::from_rgb(60, 180, 75),
+                    ElementState::Slip => Color::from_rgb(245, 130, 48),
+                    ElementState::Separated => Color::from_rgb(128, 128, 128),
+                }))
+                .with_radii(std::iter::repeat_n(0.6 * h as f32, f.elements.len())),
+        )
+    }
+
+    /// Clears the arrows and patch of a finger without a solution (released, or a failed
+    /// step) and plots zero.
+    fn clear_finger(&mut self, name: &str) -> Result<(), TransferError> {
+        let none: [[f32; 3]; 0] = [];
+        for part in ["normal", "friction"] {
+            self.send(
+                format!("world/forces/{name}/{part}"),
+                &Arrows3D::from_vectors(none),
+            )?;
+        }
+        for part in ["pressure", "state"] {
+            self.send(format!("world/patches/{name}/{part}"), &Points3D::new(none))?;
+        }
+        self.send(format!("plots/normal_force/{name}"), &Scalars::new([0.0]))?;
+        self.send(format!("plots/friction/{name}"), &Scalars::new([0.0]))
+    }
+}
+
 impl Sink for RerunSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
         self.send_layout(run.margins)?;
@@ -404,74 +510,11 @@ impl Sink for RerunSink {
             .fold(0.0_f64, f64::max)
             .max(f64::MIN_POSITIVE);
         for fm in &run.model.fingers {
-            let name = &fm.name;
-            let Some(f) = r.solution.finger(name) else {
+            match r.solution.finger(&fm.name) {
+                Some(f) => self.log_finger(fm, f, scale, p_max)?,
                 // Released (or failed step): clear its arrows and patch, plot zero.
-                let none: [[f32; 3]; 0] = [];
-                for part in ["normal", "friction"] {
-                    self.send(
-                        format!("world/forces/{name}/{part}"),
-                        &Arrows3D::from_vectors(none),
-                    )?;
-                }
-                for part in ["pressure", "state"] {
-                    self.send(format!("world/patches/{name}/{part}"), &Points3D::new(none))?;
-                }
-                self.send(format!("plots/normal_force/{name}"), &Scalars::new([0.0]))?;
-                self.send(format!("plots/friction/{name}"), &Scalars::new([0.0]))?;
-                continue;
-            };
-            let cop = nalgebra::Vector3::from(f.center_of_pressure_m);
-            let pn = fm.frame.normal * (f.normal_force_n * scale);
-            self.send(
-                format!("world/forces/{name}/normal"),
-                &Arrows3D::from_vectors([v3(&pn)])
-                    .with_origins([v3(&(cop - pn))])
-                    .with_colors([Color::from_rgb(220, 60, 60)]),
-            )?;
-            let q = nalgebra::Vector3::from(f.tangential_force_n) * scale;
-            self.send(
-                format!("world/forces/{name}/friction"),
-                &Arrows3D::from_vectors([v3(&q)])
-                    .with_origins([v3(&cop)])
-                    .with_colors([Color::from_rgb(60, 120, 230)]),
-            )?;
-            let h = 0.5 * fm.patch.grid.hx.min(fm.patch.grid.hy);
-            let pos: Vec<[f32; 3]> = f
-                .elements
-                .iter()
-                .map(|e| e.position_m.map(|x| x as f32))
-                .collect();
-            self.send(
-                format!("world/patches/{name}/pressure"),
-                &Points3D::new(pos.clone())
-                    .with_colors(f.elements.iter().map(|e| ramp(e.pressure_pa / p_max)))
-                    .with_radii(std::iter::repeat_n(0.9 * h as f32, pos.len())),
-            )?;
-            let off = fm.frame.normal * (-2.0 * h);
-            let pos_state: Vec<[f32; 3]> = f
-                .elements
-                .iter()
-                .map(|e| v3(&(nalgebra::Vector3::from(e.position_m) + off)))
-                .collect();
-            self.send(
-                format!("world/patches/{name}/state"),
-                &Points3D::new(pos_state)
-                    .with_colors(f.elements.iter().map(|e| match e.state {
-                        ElementState::Stick => Color::from_rgb(60, 180, 75),
-                        ElementState::Slip => Color::from_rgb(245, 130, 48),
-                        ElementState::Separated => Color::from_rgb(128, 128, 128),
-                    }))
-                    .with_radii(std::iter::repeat_n(0.6 * h as f32, f.elements.len())),
-            )?;
-            self.send(
-                format!("plots/normal_force/{name}"),
-                &Scalars::new([f.normal_force_n]),
-            )?;
-            self.send(
-                format!("plots/friction/{name}"),
-                &Scalars::new([f.tangential_magnitude_n]),
-            )?;
+                None => self.clear_finger(&fm.name)?,
+            }
         }
         if let Some(m) = &r.margin {
             self.send("plots/margin/smallest", &Scalars::new([m.smallest_n]))?;

@@ -33,7 +33,7 @@ use super::conic_rows::ElementRows;
 use super::finger_block::FingerBlockData;
 use super::interior_cones::{Cone, Scaling};
 use super::reduced_factor::cholesky;
-use super::{Iterate, NativeResult, NativeStatus};
+use super::{Counts, Iterate, NativeResult, NativeStatus};
 
 /// Interior-point iterations before giving up.
 const MAX_ITERATIONS: u32 = 100;
@@ -210,7 +210,6 @@ fn factorise(
 }
 
 /// Solves the Newton system for the complementarity right-hand side `rc` (per cone rows).
-#[allow(clippy::too_many_arguments)]
 fn solve(
     blocks: &[FingerBlockData],
     lay: &Layout,
@@ -219,10 +218,37 @@ fn solve(
     lam: &[f64],
     res: &(Vec<f64>, Vec<f64>, Vec<f64>),
     rc: &[f64],
-    n: usize,
 ) -> Direction {
     let (rx, rl, rs) = res;
-    // t = W^-2 r_s + W^-1 (l \ rc), per cone; u = W^-1 (l \ rc) kept for dz.
+    let (t, u) = complementarity_terms(lay, scalings, lam, rs, rc);
+    let (dx, dlambda) = solve_reduced(blocks, lay, f, &t, rx, rl);
+    let ds = slack_direction(blocks, lay, &dx, rs);
+    let mut dz = vec![0.0; lay.total];
+    for ((c, row), sc) in lay.cones.iter().zip(scalings) {
+        let d = c.dim();
+        let mut a = [0.0; 3];
+        w_inv_sq(sc, &ds[*row..row + d], &mut a[..d]);
+        for j in 0..d {
+            dz[row + j] = -a[j] + u[row + j];
+        }
+    }
+    Direction {
+        dx,
+        dlambda,
+        ds,
+        dz,
+    }
+}
+
+/// Per cone, `u = W^-1 (l \ rc)` (kept for `dz`) and `t = W^-2 r_s + u`, the conic rows'
+/// share of the reduced right-hand side.
+fn complementarity_terms(
+    lay: &Layout,
+    scalings: &[Scaling],
+    lam: &[f64],
+    rs: &[f64],
+    rc: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
     let mut t = vec![0.0; lay.total];
     let mut u = vec![0.0; lay.total];
     for ((c, row), sc) in lay.cones.iter().zip(scalings) {
@@ -236,8 +262,22 @@ fn solve(
             t[row + j] = a[j] + u[row + j];
         }
     }
+    (t, u)
+}
+
+/// Solves `(P + G'W^-2 G) dx + E' dlambda = r_x + G't`, `E dx = r_l` with the factors: per
+/// finger `g_i = L_i^-1 (r_x + G't)_i`, the Schur complement for `dlambda`, then
+/// `dx_i = L_i^-T (g_i - W_i dlambda)`. Returns `(dx, dlambda)`.
+fn solve_reduced(
+    blocks: &[FingerBlockData],
+    lay: &Layout,
+    f: &Factors,
+    t: &[f64],
+    rx: &[f64],
+    rl: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
     let m = rl.len();
-    let mut dx = rx.clone();
+    let mut dx = rx.to_vec();
     let mut g = Vec::with_capacity(blocks.len());
     let mut rhs = DVector::from_iterator(m, rl.iter().map(|v| -v));
     for (i, b) in blocks.iter().enumerate() {
@@ -272,6 +312,11 @@ fn solve(
             dx[b.offset + r] = xi[(r, 0)];
         }
     }
+    (dx, dlambda.iter().copied().collect())
+}
+
+/// `ds = G dx - r_s`.
+fn slack_direction(blocks: &[FingerBlockData], lay: &Layout, dx: &[f64], rs: &[f64]) -> Vec<f64> {
     let mut ds = vec![0.0; lay.total];
     for (i, b) in blocks.iter().enumerate() {
         for k in 0..b.elements {
@@ -285,22 +330,7 @@ fn solve(
             }
         }
     }
-    let mut dz = vec![0.0; lay.total];
-    for ((c, row), sc) in lay.cones.iter().zip(scalings) {
-        let d = c.dim();
-        let mut a = [0.0; 3];
-        w_inv_sq(sc, &ds[*row..row + d], &mut a[..d]);
-        for j in 0..d {
-            dz[row + j] = -a[j] + u[row + j];
-        }
-    }
-    let _ = n;
-    Direction {
-        dx,
-        dlambda: dlambda.iter().copied().collect(),
-        ds,
-        dz,
-    }
+    ds
 }
 
 /// The largest step in `[0, limit]` keeping `s + a ds` and `z + a dz` in the cones.
@@ -347,16 +377,7 @@ fn start(blocks: &[FingerBlockData], program: &ConeProgram, lay: &Layout) -> Opt
             e[..c.dim()].to_vec()
         })
         .collect();
-    let d = solve(
-        blocks,
-        lay,
-        &f,
-        &unit,
-        &ones,
-        &res,
-        &vec![0.0; lay.total],
-        program.n_unknowns,
-    );
+    let d = solve(blocks, lay, &f, &unit, &ones, &res, &vec![0.0; lay.total]);
     // s = G x + h: ds = G dx - r_s = G x + h with r_s = -h, so s = ds.
     let mut s = d.ds.clone();
     let shift = lay
@@ -385,35 +406,25 @@ fn start(blocks: &[FingerBlockData], program: &ConeProgram, lay: &Layout) -> Opt
     })
 }
 
-/// Runs the interior-point method; `counters` are `(iterations, factorisations)` so far.
+/// Runs the interior-point method after the work `counts` done so far.
 pub(crate) fn run(
     blocks: &[FingerBlockData],
     program: &ConeProgram,
     tolerance: f64,
-    mut counters: (u32, u32),
+    mut counts: Counts,
 ) -> NativeResult {
     let lay = Layout::new(blocks, program);
-    let n = program.n_unknowns;
     let nu = lay.cones.len().max(1) as f64;
-    let stalled = |p: Point, why: &str, counters: (u32, u32)| NativeResult {
-        status: NativeStatus::Stalled(why.to_string()),
-        iterate: Iterate {
-            x: p.x,
-            lambda: p.lambda,
-        },
-        iterations: counters.0,
-        factorisations: counters.1,
-    };
     let Some(mut p) = start(blocks, program, &lay) else {
         let zero = Point {
-            x: vec![0.0; n],
+            x: vec![0.0; program.n_unknowns],
             lambda: vec![0.0; program.equality_rows()],
             s: vec![],
             z: vec![],
         };
-        return stalled(zero, "the interior-point start is singular", counters);
+        return stalled(zero, "the interior-point start is singular", counts);
     };
-    counters.1 += blocks.len() as u32;
+    counts.factorisations += blocks.len() as u32;
     let scale_x = max_abs(&program.q).max(1.0);
     let scale_l = max_abs(&program.equality_rhs).max(1.0);
     for _ in 0..MAX_ITERATIONS {
@@ -431,91 +442,140 @@ pub(crate) fn run(
                     x: p.x,
                     lambda: p.lambda,
                 },
-                iterations: counters.0,
-                factorisations: counters.1,
+                iterations: counts.newton_steps,
+                factorisations: counts.factorisations,
             };
         }
-        let mu = gap / nu;
-        let scalings: Vec<Scaling> = lay
-            .cones
-            .iter()
-            .map(|(c, row)| {
-                let r = *row..row + c.dim();
-                c.nt_scaling(&p.s[r.clone()], &p.z[r])
-            })
-            .collect();
-        let mut lam = vec![0.0; lay.total];
-        for ((c, row), sc) in lay.cones.iter().zip(&scalings) {
-            Scaling::apply(
-                &sc.w,
-                &p.z[*row..row + c.dim()],
-                &mut lam[*row..row + c.dim()],
-            );
-        }
-        let Some(f) = factorise(blocks, &lay, &scalings, program.equality_rows()) else {
-            // Near the end the scaling can swamp P (z/s of 1e20 when the gaps are large): the
-            // point reached is handed on to be polished.
-            return stalled(
-                p,
-                "the interior-point Newton matrix lost positive definiteness",
-                counters,
-            );
-        };
-        counters.0 += 1;
-        counters.1 += blocks.len() as u32;
-        // Predictor: rc = -l o l.
-        let mut rc = vec![0.0; lay.total];
-        for (c, row) in &lay.cones {
-            let r = *row..row + c.dim();
-            let mut o = [0.0; 3];
-            c.product(&lam[r.clone()], &lam[r.clone()], &mut o[..c.dim()]);
-            for j in 0..c.dim() {
-                rc[row + j] = -o[j];
-            }
-        }
-        let aff = solve(blocks, &lay, &f, &scalings, &lam, &res, &rc, n);
-        let a_aff = max_step(&lay, &p, &aff, 1.0);
-        let gap_aff: f64 =
-            p.s.iter()
-                .zip(&aff.ds)
-                .zip(p.z.iter().zip(&aff.dz))
-                .map(|((s, ds), (z, dz))| (s + a_aff * ds) * (z + a_aff * dz))
-                .sum();
-        let sigma = (gap_aff / gap).clamp(0.0, 1.0).powi(3);
-        // Corrector: rc = -l o l - (W^-1 ds_a) o (W dz_a) + sigma mu e.
-        for ((c, row), sc) in lay.cones.iter().zip(&scalings) {
-            let d = c.dim();
-            let r = *row..row + d;
-            let (mut a, mut b, mut o, mut e) = ([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]);
-            Scaling::apply(&sc.w_inv, &aff.ds[r.clone()], &mut a[..d]);
-            Scaling::apply(&sc.w, &aff.dz[r.clone()], &mut b[..d]);
-            c.product(&a[..d], &b[..d], &mut o[..d]);
-            c.identity(&mut e[..d]);
-            for j in 0..d {
-                rc[row + j] += -o[j] + sigma * mu * e[j];
-            }
-        }
-        let d = solve(blocks, &lay, &f, &scalings, &lam, &res, &rc, n);
-        let alpha = (STEP_FRACTION * max_step(&lay, &p, &d, 1.0 / STEP_FRACTION)).min(1.0);
-        if alpha < 1e-12 {
-            return stalled(p, "the interior-point step vanished", counters);
-        }
-        for (a, b) in p.x.iter_mut().zip(&d.dx) {
-            *a += alpha * b;
-        }
-        for (a, b) in p.lambda.iter_mut().zip(&d.dlambda) {
-            *a += alpha * b;
-        }
-        for (a, b) in p.s.iter_mut().zip(&d.ds) {
-            *a += alpha * b;
-        }
-        for (a, b) in p.z.iter_mut().zip(&d.dz) {
-            *a += alpha * b;
+        if let Err(why) = predictor_corrector(blocks, program, &lay, &mut p, &res, gap, &mut counts)
+        {
+            return stalled(p, why, counts);
         }
     }
-    stalled(
-        p,
-        "the interior-point iteration limit was reached",
-        counters,
-    )
+    stalled(p, "the interior-point iteration limit was reached", counts)
+}
+
+/// A stall at `p` after the work `counts`, for the reason `why`.
+fn stalled(p: Point, why: &str, counts: Counts) -> NativeResult {
+    NativeResult {
+        status: NativeStatus::Stalled(why.to_string()),
+        iterate: Iterate {
+            x: p.x,
+            lambda: p.lambda,
+        },
+        iterations: counts.newton_steps,
+        factorisations: counts.factorisations,
+    }
+}
+
+/// One iteration from `p` (residuals `res`, gap `s'z`), counted in `counts`: the NT scalings,
+/// the factorisation, the affine (predictor) direction, Mehrotra's centring and the corrector
+/// direction, along which `p` moves [`STEP_FRACTION`] of the way to the boundary (at most a
+/// full step). `Err` with the reason when the Newton matrix cannot be factorised or the step
+/// vanishes.
+fn predictor_corrector(
+    blocks: &[FingerBlockData],
+    program: &ConeProgram,
+    lay: &Layout,
+    p: &mut Point,
+    res: &(Vec<f64>, Vec<f64>, Vec<f64>),
+    gap: f64,
+    counts: &mut Counts,
+) -> Result<(), &'static str> {
+    let mu = gap / lay.cones.len().max(1) as f64;
+    let (scalings, lam) = scaled_point(lay, p);
+    let Some(f) = factorise(blocks, lay, &scalings, program.equality_rows()) else {
+        // Near the end the scaling can swamp P (z/s of 1e20 when the gaps are large): the
+        // point reached is handed on to be polished.
+        return Err("the interior-point Newton matrix lost positive definiteness");
+    };
+    counts.newton_steps += 1;
+    counts.factorisations += blocks.len() as u32;
+    let mut rc = predictor_rhs(lay, &lam);
+    let aff = solve(blocks, lay, &f, &scalings, &lam, res, &rc);
+    let a_aff = max_step(lay, p, &aff, 1.0);
+    let gap_aff: f64 =
+        p.s.iter()
+            .zip(&aff.ds)
+            .zip(p.z.iter().zip(&aff.dz))
+            .map(|((s, ds), (z, dz))| (s + a_aff * ds) * (z + a_aff * dz))
+            .sum();
+    let sigma = (gap_aff / gap).clamp(0.0, 1.0).powi(3);
+    add_corrector(lay, &scalings, &aff, sigma, mu, &mut rc);
+    let d = solve(blocks, lay, &f, &scalings, &lam, res, &rc);
+    let alpha = (STEP_FRACTION * max_step(lay, p, &d, 1.0 / STEP_FRACTION)).min(1.0);
+    if alpha < 1e-12 {
+        return Err("the interior-point step vanished");
+    }
+    for (a, b) in p.x.iter_mut().zip(&d.dx) {
+        *a += alpha * b;
+    }
+    for (a, b) in p.lambda.iter_mut().zip(&d.dlambda) {
+        *a += alpha * b;
+    }
+    for (a, b) in p.s.iter_mut().zip(&d.ds) {
+        *a += alpha * b;
+    }
+    for (a, b) in p.z.iter_mut().zip(&d.dz) {
+        *a += alpha * b;
+    }
+    Ok(())
+}
+
+/// The NT scalings at `p`, one per cone, and the scaled point `l = W z`.
+fn scaled_point(lay: &Layout, p: &Point) -> (Vec<Scaling>, Vec<f64>) {
+    let scalings: Vec<Scaling> = lay
+        .cones
+        .iter()
+        .map(|(c, row)| {
+            let r = *row..row + c.dim();
+            c.nt_scaling(&p.s[r.clone()], &p.z[r])
+        })
+        .collect();
+    let mut lam = vec![0.0; lay.total];
+    for ((c, row), sc) in lay.cones.iter().zip(&scalings) {
+        Scaling::apply(
+            &sc.w,
+            &p.z[*row..row + c.dim()],
+            &mut lam[*row..row + c.dim()],
+        );
+    }
+    (scalings, lam)
+}
+
+/// The predictor's complementarity right-hand side `rc = -l o l`.
+fn predictor_rhs(lay: &Layout, lam: &[f64]) -> Vec<f64> {
+    let mut rc = vec![0.0; lay.total];
+    for (c, row) in &lay.cones {
+        let r = *row..row + c.dim();
+        let mut o = [0.0; 3];
+        c.product(&lam[r.clone()], &lam[r.clone()], &mut o[..c.dim()]);
+        for j in 0..c.dim() {
+            rc[row + j] = -o[j];
+        }
+    }
+    rc
+}
+
+/// Turns the predictor's `rc` into the corrector's:
+/// `rc = -l o l - (W^-1 ds_a) o (W dz_a) + sigma mu e`, with `aff` the affine direction.
+fn add_corrector(
+    lay: &Layout,
+    scalings: &[Scaling],
+    aff: &Direction,
+    sigma: f64,
+    mu: f64,
+    rc: &mut [f64],
+) {
+    for ((c, row), sc) in lay.cones.iter().zip(scalings) {
+        let d = c.dim();
+        let r = *row..row + d;
+        let (mut a, mut b, mut o, mut e) = ([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]);
+        Scaling::apply(&sc.w_inv, &aff.ds[r.clone()], &mut a[..d]);
+        Scaling::apply(&sc.w, &aff.dz[r.clone()], &mut b[..d]);
+        c.product(&a[..d], &b[..d], &mut o[..d]);
+        c.identity(&mut e[..d]);
+        for j in 0..d {
+            rc[row + j] += -o[j] + sigma * mu * e[j];
+        }
+    }
 }

@@ -209,20 +209,8 @@ pub(crate) fn kkt_derivative(
     for ((block, pb), &mu_i) in blocks.iter().zip(&program.blocks).zip(mu) {
         let range = block.offset..block.offset + block.len();
         let (x, yl) = (&iterate.x[range.clone()], &y[range]);
-        let cone = differentiation_cone(block, &pb.cone, x, mu_i);
-        let lin = linearise(block, &cone, x, yl);
-        let finger_margins: Vec<StateMargin> = (0..block.elements)
-            .map(|k| element_margin(&cone, projection_input(block, x, yl, k), block.dim, k))
-            .collect();
-        let pinned: Vec<bool> = finger_margins
-            .iter()
-            .enumerate()
-            .map(|(k, margin)| {
-                block.gather(x, k)[0] <= near && margin.distance <= near && !margin.stick_slip
-            })
-            .collect();
+        let (sys, finger_margins) = finger_at(block, &pb.cone, x, yl, mu_i, near);
         margins.push(finger_margins);
-        let sys = finger_system(block, free_columns(block, &cone, &lin, mu_i, &pinned));
         for r in 0..m {
             for c in 0..m {
                 s[(r, c)] += (0..sys.columns.len())
@@ -236,26 +224,7 @@ pub(crate) fn kkt_derivative(
         return Err("a block of the active set could not be factorised".into());
     }
     let (dlambda, unreachable, null) = solve_schur(s, rhs);
-    let response = |z: &[f64]| -> f64 {
-        let mut worst = 0.0_f64;
-        for sys in &systems {
-            for (a, col) in sys.columns.iter().enumerate() {
-                let xi: f64 = (0..m).map(|r| sys.x[(a, r)] * z[r]).sum();
-                for &(_, val) in &col.column {
-                    worst = worst.max((val * xi).abs());
-                }
-            }
-        }
-        worst
-    };
-    let typical = (0..m)
-        .map(|r| {
-            let mut e = vec![0.0; m];
-            e[r] = 1.0;
-            response(&e)
-        })
-        .fold(0.0_f64, f64::max);
-    let ambiguous = null.iter().any(|z| response(z) > AMBIGUOUS * typical);
+    let ambiguous = is_ambiguous(&systems, &null, m);
     let mut dx = DMatrix::<f64>::zeros(program.n_unknowns, rhs.ncols());
     for (block, sys) in blocks.iter().zip(&systems) {
         for (a, col) in sys.columns.iter().enumerate() {
@@ -273,6 +242,58 @@ pub(crate) fn kkt_derivative(
         ambiguous,
         margins,
     })
+}
+
+/// One finger's system at its KKT point `x`, `yl` (cone `cone`, Tresca coefficient `mu`) and
+/// its elements' state margins; elements that carry no load and are within `near` of the
+/// boundary of the separated piece are held separated (see [`kkt_derivative`]).
+fn finger_at(
+    block: &FingerBlockData,
+    cone: &BlockCone,
+    x: &[f64],
+    yl: &[f64],
+    mu: f64,
+    near: f64,
+) -> (FingerSystem, Vec<StateMargin>) {
+    let cone = differentiation_cone(block, cone, x, mu);
+    let lin = linearise(block, &cone, x, yl);
+    let margins: Vec<StateMargin> = (0..block.elements)
+        .map(|k| element_margin(&cone, projection_input(block, x, yl, k), block.dim, k))
+        .collect();
+    let pinned: Vec<bool> = margins
+        .iter()
+        .enumerate()
+        .map(|(k, margin)| {
+            block.gather(x, k)[0] <= near && margin.distance <= near && !margin.stick_slip
+        })
+        .collect();
+    let sys = finger_system(block, free_columns(block, &cone, &lin, mu, &pinned));
+    (sys, margins)
+}
+
+/// True when the forces move along an undetermined multiplier direction (a null vector of
+/// `S` in `null`) by more than [`AMBIGUOUS`] of their typical response to a unit `de`.
+fn is_ambiguous(systems: &[FingerSystem], null: &[Vec<f64>], m: usize) -> bool {
+    let response = |z: &[f64]| -> f64 {
+        let mut worst = 0.0_f64;
+        for sys in systems {
+            for (a, col) in sys.columns.iter().enumerate() {
+                let xi: f64 = (0..m).map(|r| sys.x[(a, r)] * z[r]).sum();
+                for &(_, val) in &col.column {
+                    worst = worst.max((val * xi).abs());
+                }
+            }
+        }
+        worst
+    };
+    let typical = (0..m)
+        .map(|r| {
+            let mut e = vec![0.0; m];
+            e[r] = 1.0;
+            response(&e)
+        })
+        .fold(0.0_f64, f64::max);
+    null.iter().any(|z| response(z) > AMBIGUOUS * typical)
 }
 
 /// `dlambda`, the fraction of each column outside the range of `S`, and the null vectors of

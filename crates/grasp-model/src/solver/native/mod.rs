@@ -68,6 +68,16 @@ pub(crate) struct NativeResult {
     pub factorisations: u32,
 }
 
+/// The work of a solve so far, carried from the Newton iteration to the interior-point method
+/// and back.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(crate) struct Counts {
+    /// Newton steps taken (interior-point iterations included).
+    pub newton_steps: u32,
+    /// Reduced matrices factorised.
+    pub factorisations: u32,
+}
+
 /// The native solver's workspace for one program: the fingers' fixed blocks and their cached
 /// factors.
 pub(crate) struct NativeSolver {

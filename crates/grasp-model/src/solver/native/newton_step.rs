@@ -61,9 +61,7 @@ pub(crate) fn chord_linearisations(
         .map(|(lin, cache)| {
             cache
                 .first()
-                .and_then(|f| {
-                    lin.with_directions_of(&f.directions.0, &f.directions.1, CHORD_TOLERANCE)
-                })
+                .and_then(|f| lin.with_directions_of(&f.free, &f.fixed, CHORD_TOLERANCE))
                 .unwrap_or_else(|| lin.clone())
         })
         .collect()

@@ -33,8 +33,10 @@ pub(crate) struct ReducedFactor {
     l: Mat<f64>,
     /// `W = L^-1 Et'` (`n_free x m`).
     pub w: Mat<f64>,
-    /// The linearisation's directions it was built for (free, fixed), for chord steps.
-    pub directions: (Vec<Direction>, Vec<Direction>),
+    /// The linearisation's free directions it was built for, for chord steps.
+    pub free: Vec<Direction>,
+    /// The linearisation's fixed directions it was built with, for chord steps.
+    pub fixed: Vec<Direction>,
 }
 
 /// The cache key of a list of free directions.
@@ -87,7 +89,8 @@ impl ReducedFactor {
             key,
             l: work,
             w,
-            directions: (free.to_vec(), fixed.to_vec()),
+            free: free.to_vec(),
+            fixed: fixed.to_vec(),
         })
     }
 

@@ -14,7 +14,7 @@ use crate::program::cone_program::ConeProgram;
 use super::finger_block::FingerBlockData;
 use super::linearisation::{cold_pattern, linearise, residual_norms, FingerLinearisation};
 use super::newton_step::{chord_linearisations, newton_step, FactorCache, Step};
-use super::{Iterate, NativeResult, NativeStatus};
+use super::{Counts, Iterate, NativeResult, NativeStatus};
 
 /// Armijo constant of the line search.
 const ARMIJO: f64 = 1e-4;
@@ -24,9 +24,9 @@ const WINDOW: usize = 5;
 const MIN_STEP: f64 = 1e-10;
 /// Natural residual (relative to `max(1, max |x|)`) below which chord steps are taken.
 const CHORD_RESIDUAL: f64 = 1e-3;
-/// The joint iteration aims at this fraction of the tolerance.
+/// The Newton iteration aims at this fraction of the tolerance.
 const TARGET: f64 = 1e-2;
-/// Joint Newton steps before the robust dual method takes over.
+/// Newton steps before the interior-point method takes over.
 const JOINT_ITERATIONS: u32 = 25;
 
 /// The iteration's mutable state.
@@ -153,7 +153,15 @@ pub(crate) fn run(
             .min_by(|a, b| a.0.total_cmp(&b.0))
             .map(|(_, s)| s),
     };
-    joint(blocks, caches, program, start, limits, (0, 0), true)
+    newton_iteration(
+        blocks,
+        caches,
+        program,
+        start,
+        limits,
+        Counts::default(),
+        true,
+    )
 }
 
 /// The iteration's state at `it` (`None` for another layout).
@@ -180,141 +188,163 @@ fn merit(blocks: &[FingerBlockData], program: &ConeProgram, s: &State) -> f64 {
     phi + e_res.iter().map(|v| v * v).sum::<f64>()
 }
 
-/// The joint iteration from `start` (`None`: cold); `counters` are `(Newton steps, factorisations)` so far; `fallback`
-/// hands a stall to the interior-point method.
-fn joint(
+/// The Newton iteration from `start` (`None`: cold) with the work `counts` done so far;
+/// `fallback` hands a stall to the interior-point method.
+fn newton_iteration(
     blocks: &[FingerBlockData],
     caches: &mut [FactorCache],
     program: &ConeProgram,
     start: Option<State>,
     limits: Limits,
-    counters: (u32, u32),
+    mut counts: Counts,
     fallback: bool,
 ) -> NativeResult {
-    let n = program.n_unknowns;
-    let m = program.equality_rows();
-    let (mut iterations, mut factorisations) = counters;
-    let first = iterations;
-    let mut s = match start {
+    // The cold start's all-stick step counts against the iteration's steps.
+    let first = counts.newton_steps;
+    let s = match start {
         Some(s) => s,
-        None => {
-            let mut s = State {
-                x: vec![0.0; n],
-                lambda: vec![0.0; m],
-                y: program.q.clone(),
-            };
-            let lins: Vec<_> = blocks
-                .iter()
-                .map(|b| cold_pattern(b, &s.y[b.offset..b.offset + b.len()], &b.cold_contact))
-                .collect();
-            let e_res = equality_residual(blocks, program, &s.x);
-            iterations += 1;
-            match newton_step(blocks, &lins, caches, &e_res, n, &mut factorisations) {
-                Some(step) => apply(&mut s, &step, 1.0),
-                None => {
-                    return stalled(
-                        s,
-                        iterations,
-                        factorisations,
-                        "a reduced matrix is not positive definite",
-                    )
-                }
-            }
-            s.y = dual_of(blocks, program, &s.x, &s.lambda);
-            s
-        }
+        None => match all_stick_start(blocks, caches, program, &mut counts) {
+            Ok(s) => s,
+            Err(s) => return stalled(s, counts, NOT_POSITIVE_DEFINITE),
+        },
     };
+    match descend(blocks, caches, program, s, limits, &mut counts, first) {
+        Descent::Converged(s) => NativeResult {
+            status: NativeStatus::Converged,
+            iterate: Iterate {
+                x: s.x,
+                lambda: s.lambda,
+            },
+            iterations: counts.newton_steps,
+            factorisations: counts.factorisations,
+        },
+        Descent::Singular(s) => stalled(s, counts, NOT_POSITIVE_DEFINITE),
+        Descent::Stalled(s) => robust(blocks, caches, program, s, limits, counts, fallback),
+    }
+}
+
+/// Why a stall at a reduced matrix that cannot be factorised.
+const NOT_POSITIVE_DEFINITE: &str = "a reduced matrix is not positive definite";
+
+/// The cold start: from `x = 0`, `lambda = 0` the all-stick step (every element in contact
+/// and sticking, [`cold_pattern`]), counted in `counts`; `Err` with the zero state when a
+/// reduced matrix cannot be factorised.
+fn all_stick_start(
+    blocks: &[FingerBlockData],
+    caches: &mut [FactorCache],
+    program: &ConeProgram,
+    counts: &mut Counts,
+) -> Result<State, State> {
+    let n = program.n_unknowns;
+    let mut s = State {
+        x: vec![0.0; n],
+        lambda: vec![0.0; program.equality_rows()],
+        y: program.q.clone(),
+    };
+    let lins: Vec<_> = blocks
+        .iter()
+        .map(|b| cold_pattern(b, &s.y[b.offset..b.offset + b.len()], &b.cold_contact))
+        .collect();
+    let e_res = equality_residual(blocks, program, &s.x);
+    counts.newton_steps += 1;
+    match newton_step(blocks, &lins, caches, &e_res, n, &mut counts.factorisations) {
+        Some(step) => apply(&mut s, &step, 1.0),
+        None => return Err(s),
+    }
+    s.y = dual_of(blocks, program, &s.x, &s.lambda);
+    Ok(s)
+}
+
+/// How a descent ended, at which state.
+enum Descent {
+    /// The convergence test holds.
+    Converged(State),
+    /// A reduced matrix is not positive definite.
+    Singular(State),
+    /// The descent cannot go on: its steps are spent, no free direction can meet the equality
+    /// rows, or the line search found no decrease.
+    Stalled(State),
+}
+
+/// The tolerances of the convergence test at an iterate.
+struct Tolerances {
+    /// Of the natural residual: `tol max(1, max |x|)`.
+    x: f64,
+    /// Of the equality rows: `tol max(1, max |e|)`.
+    e: f64,
+}
+
+impl Tolerances {
+    fn at(limits: Limits, program: &ConeProgram, s: &State) -> Self {
+        Tolerances {
+            x: limits.tolerance * max_abs(&s.x).max(1.0),
+            e: limits.tolerance * max_abs(&program.equality_rhs).max(1.0),
+        }
+    }
+
+    /// True when both residual maxima are within `f` times the tolerances.
+    fn within(&self, f: f64, res_max: f64, e_max: f64) -> bool {
+        res_max <= f * self.x && e_max <= f * self.e
+    }
+}
+
+/// Damped Newton steps from `s` (counted in `counts`) until the convergence test holds or the
+/// descent stalls, at the latest when `limits.max_iterations` (at most [`JOINT_ITERATIONS`])
+/// steps have been taken since the count `first`.
+fn descend(
+    blocks: &[FingerBlockData],
+    caches: &mut [FactorCache],
+    program: &ConeProgram,
+    mut s: State,
+    limits: Limits,
+    counts: &mut Counts,
+    first: u32,
+) -> Descent {
     let mut history: Vec<f64> = Vec::with_capacity(WINDOW);
     loop {
         let lins = linearise_all(blocks, program, &s);
         let e_res = equality_residual(blocks, program, &s.x);
         let res_max = lins.iter().fold(0.0_f64, |a, l| a.max(l.residual_max));
-        let tol_x = limits.tolerance * max_abs(&s.x).max(1.0);
-        let tol_e = limits.tolerance * max_abs(&program.equality_rhs).max(1.0);
-        let psi_now = lins.iter().map(|l| l.residual_sq).sum::<f64>()
+        let tol = Tolerances::at(limits, program, &s);
+        let psi = lins.iter().map(|l| l.residual_sq).sum::<f64>()
             + e_res.iter().map(|v| v * v).sum::<f64>();
         // Aim at TARGET of the tolerance (one more quadratic step, usually without a new
         // factorisation); accept the tolerance itself once progress stalls at round-off.
-        let within = |f: f64| res_max <= f * tol_x && max_abs(&e_res) <= f * tol_e;
-        let stagnant = history.last().is_some_and(|&prev| psi_now > 1e-4 * prev);
-        if within(TARGET) || (within(1.0) && stagnant) {
-            return NativeResult {
-                status: NativeStatus::Converged,
-                iterate: Iterate {
-                    x: s.x,
-                    lambda: s.lambda,
-                },
-                iterations,
-                factorisations,
-            };
+        let e_max = max_abs(&e_res);
+        let stagnant = history.last().is_some_and(|&prev| psi > 1e-4 * prev);
+        if tol.within(TARGET, res_max, e_max) || (tol.within(1.0, res_max, e_max) && stagnant) {
+            return Descent::Converged(s);
         }
-        if iterations - first >= limits.max_iterations.min(JOINT_ITERATIONS) {
-            return robust(
-                blocks,
-                caches,
-                program,
-                s,
-                limits,
-                (iterations, factorisations),
-                fallback,
-            );
+        if counts.newton_steps - first >= limits.max_iterations.min(JOINT_ITERATIONS) {
+            return Descent::Stalled(s);
         }
-        let psi = lins.iter().map(|l| l.residual_sq).sum::<f64>()
-            + e_res.iter().map(|v| v * v).sum::<f64>();
-        if history.len() == WINDOW {
-            history.remove(0);
-        }
-        history.push(psi);
-        let reference = history.iter().cloned().fold(0.0_f64, f64::max);
-        iterations += 1;
+        let reference = remember(&mut history, psi);
+        counts.newton_steps += 1;
         // Near the solution the directions barely turn: reuse the cached factors (chord step).
         let near = res_max <= CHORD_RESIDUAL * max_abs(&s.x).max(1.0);
-        let step_lins = if near {
-            chord_linearisations(&lins, caches)
-        } else {
-            lins.clone()
+        let step_lins = match near {
+            true => chord_linearisations(&lins, caches),
+            false => lins,
         };
-        let Some(step) = newton_step(blocks, &step_lins, caches, &e_res, n, &mut factorisations)
-        else {
-            return stalled(
-                s,
-                iterations,
-                factorisations,
-                "a reduced matrix is not positive definite",
-            );
+        let n = program.n_unknowns;
+        let Some(step) = newton_step(
+            blocks,
+            &step_lins,
+            caches,
+            &e_res,
+            n,
+            &mut counts.factorisations,
+        ) else {
+            return Descent::Singular(s);
         };
-        if max_abs(&step.unreachable) > tol_e {
+        if max_abs(&step.unreachable) > tol.e {
             // No free direction can meet the equality rows: the contacts must change in a way
             // the joint step cannot see.
-            return robust(
-                blocks,
-                caches,
-                program,
-                s,
-                limits,
-                (iterations, factorisations),
-                fallback,
-            );
+            return Descent::Stalled(s);
         }
-        let mut t = 1.0;
-        loop {
-            let (psi_t, _, _) = trial(blocks, program, &s, &step, &e_res, t);
-            if psi_t <= reference - 2.0 * ARMIJO * t * psi {
-                break;
-            }
-            t *= 0.5;
-            if t < MIN_STEP {
-                return robust(
-                    blocks,
-                    caches,
-                    program,
-                    s,
-                    limits,
-                    (iterations, factorisations),
-                    fallback,
-                );
-            }
-        }
+        let Some(t) = line_search(blocks, program, &s, &step, &e_res, psi, reference) else {
+            return Descent::Stalled(s);
+        };
         apply(&mut s, &step, t);
         if t < 1.0 {
             // Keep y exact: the update accumulates round-off over many damped steps.
@@ -323,28 +353,67 @@ fn joint(
     }
 }
 
+/// Adds the merit `psi` to those the line search remembers (the last [`WINDOW`]) and returns
+/// the largest of them, the line search's reference value.
+fn remember(history: &mut Vec<f64>, psi: f64) -> f64 {
+    if history.len() == WINDOW {
+        history.remove(0);
+    }
+    history.push(psi);
+    history.iter().cloned().fold(0.0_f64, f64::max)
+}
+
+/// The non-monotone backtracking line search along `step` from `s` (merit `psi`): the first
+/// `t = 1, 1/2, 1/4, ...` with `psi(t) <= reference - 2 ARMIJO t psi`; `None` once `t` falls
+/// below [`MIN_STEP`].
+fn line_search(
+    blocks: &[FingerBlockData],
+    program: &ConeProgram,
+    s: &State,
+    step: &Step,
+    e_res: &[f64],
+    psi: f64,
+    reference: f64,
+) -> Option<f64> {
+    let mut t = 1.0;
+    loop {
+        let (psi_t, _, _) = trial(blocks, program, s, step, e_res, t);
+        if psi_t <= reference - 2.0 * ARMIJO * t * psi {
+            return Some(t);
+        }
+        t *= 0.5;
+        if t < MIN_STEP {
+            return None;
+        }
+    }
+}
+
 /// After a stall at `s`: with `fallback`, the interior-point method, then a polish of its
-/// answer by the joint iteration (which may not fall back again); without, the stall.
+/// answer by the Newton iteration (which may not fall back again); without, the stall.
 fn robust(
     blocks: &[FingerBlockData],
     caches: &mut [FactorCache],
     program: &ConeProgram,
     s: State,
     limits: Limits,
-    counters: (u32, u32),
+    counts: Counts,
     fallback: bool,
 ) -> NativeResult {
     if !fallback {
-        return stalled(s, counters.0, counters.1, "the Newton iteration stalled");
+        return stalled(s, counts, "the Newton iteration stalled");
     }
-    let ipm = super::interior_point::run(blocks, program, limits.tolerance, counters);
-    let polish = joint(
+    let ipm = super::interior_point::run(blocks, program, limits.tolerance, counts);
+    let ipm_counts = Counts {
+        newton_steps: ipm.iterations,
+        factorisations: ipm.factorisations,
+    };
+    let polish = newton_iteration(
         blocks,
         caches,
         program,
         state_of(blocks, program, &ipm.iterate),
         limits,
-        (ipm.iterations, ipm.factorisations),
+        ipm_counts,
         false,
     );
     if polish.status == NativeStatus::Converged || ipm.status != NativeStatus::Converged {
@@ -377,14 +446,15 @@ fn polish_or(polish: NativeResult, ipm: NativeResult) -> NativeResult {
     }
 }
 
-fn stalled(s: State, iterations: u32, factorisations: u32, why: &str) -> NativeResult {
+/// A stall at `s` after the work `counts`, for the reason `why`.
+fn stalled(s: State, counts: Counts, why: &str) -> NativeResult {
     NativeResult {
         status: NativeStatus::Stalled(why.to_string()),
         iterate: Iterate {
             x: s.x,
             lambda: s.lambda,
         },
-        iterations,
-        factorisations,
+        iterations: counts.newton_steps,
+        factorisations: counts.factorisations,
     }
 }
