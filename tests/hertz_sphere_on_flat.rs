@@ -68,3 +68,41 @@ fn error_shrinks_as_the_grid_is_refined() {
         assert!(w[1].1 < w[0].1, "approach error did not shrink: {e:?}");
     }
 }
+
+/// Fine grids on the FFT compliance operator (issue 21): at 128x128 and 256x256 over a patch
+/// of 2.4 a (the automatic choice takes the FFT path above 64x64), the peak pressure within
+/// 0.2 % of Hertz's p0 (the 31x31 dense grid is already within 1 %; the error falls roughly
+/// with the element size), the contact radius within one element of Hertz's a (from the loaded
+/// elements' area, which a one-element ring shifts by about h), and the total load exact to
+/// round-off (it is an equality row of the program).
+#[test]
+fn fine_grids_on_the_fft_operator_meet_hertz() {
+    use grasp_model::solve::solution::CompliancePath;
+    let h = hertz();
+    for grid in [128, 256] {
+        let model = GraspModel::from_scene(&scene(grid, 2.4)).unwrap();
+        let sol = solve(&model).unwrap();
+        assert_eq!(sol.status, SolveStatus::Solved, "{:?}", sol.reason);
+        assert_eq!(sol.solver.compliance, CompliancePath::Fft);
+        let f = &sol.fingers[0];
+        assert!(
+            (f.normal_force_n - P).abs() <= 1e-9 * P,
+            "{}",
+            f.normal_force_n
+        );
+        let e_p = (f.peak_pressure_pa - h.peak_pressure_pa).abs() / h.peak_pressure_pa;
+        let el = 2.4 * h.contact_radius_m / grid as f64;
+        let loaded = f.elements.iter().filter(|e| e.normal_force_n > 0.0).count();
+        let radius = (loaded as f64 * el * el / std::f64::consts::PI).sqrt();
+        eprintln!(
+            "{grid}x{grid} (FFT, {} conjugate-gradient iterations): peak pressure error \
+             {e_p:.2e}, contact radius {radius:.4e} m against a = {:.4e} m (element {el:.2e} m)",
+            sol.solver.inner_iterations, h.contact_radius_m
+        );
+        assert!(e_p < 2e-3, "peak pressure error {e_p}");
+        assert!(
+            (radius - h.contact_radius_m).abs() <= el,
+            "contact radius {radius}"
+        );
+    }
+}

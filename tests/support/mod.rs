@@ -91,7 +91,7 @@ pub fn solve_with(v: &Value, solver: grasp_model::SolverChoice) -> Solution {
 
 /// Builds and solves a JSON scene with the given options.
 pub fn solve_with_options(v: &Value, options: grasp_model::SolveOptions) -> Solution {
-    let model = GraspModel::from_scene(&scene(v)).expect("model");
+    let model = GraspModel::from_scene_with(&scene(v), options.compliance).expect("model");
     grasp_model::GraspSolver::new(&model, options)
         .solve(&model, &model.scene_loads_n())
         .expect("solve runs")
@@ -142,7 +142,7 @@ pub fn complementary_energy_j(model: &GraspModel, sol: &Solution) -> f64 {
                 x[(c + 1) * ne + k] = e.tangential_force_n[c];
             }
         }
-        let c = &*f.compliance_m_per_n;
+        let c = f.compliance_m_per_n.dense().expect("a dense compliance");
         for a in 0..x.len() {
             let row: f64 = (0..x.len()).map(|b| c[(a, b)] * x[b]).sum();
             j += 0.5 * x[a] * row;

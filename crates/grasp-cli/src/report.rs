@@ -121,14 +121,23 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
 
 /// Which solver answered, its time and iterations, in words.
 pub fn solver_words(st: &grasp_model::solve::solution::SolverStats) -> String {
-    match st.solver {
-        grasp_model::SolverKind::Native => format!(
+    use grasp_model::solve::solution::CompliancePath;
+    match (st.solver, st.compliance) {
+        (grasp_model::SolverKind::Native, CompliancePath::Dense) => format!(
             "native solver {:.1} ms, {} Newton steps, {} factorizations",
             st.solver_time_s * 1e3,
             st.iterations,
             st.factorizations
         ),
-        grasp_model::SolverKind::Clarabel => format!(
+        (grasp_model::SolverKind::Native, path) => format!(
+            "native solver, {path} compliance, {:.1} ms, {} Newton steps, {} reduced systems, \
+             {} conjugate-gradient iterations",
+            st.solver_time_s * 1e3,
+            st.iterations,
+            st.factorizations,
+            st.inner_iterations
+        ),
+        (grasp_model::SolverKind::Clarabel, _) => format!(
             "Clarabel {:.1} ms, {} iterations",
             st.solver_time_s * 1e3,
             st.iterations

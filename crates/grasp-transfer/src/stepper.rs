@@ -498,6 +498,8 @@ fn empty_grasp_solution(scene: &Scene) -> Solution {
             fallback: None,
             iterations: 0,
             factorizations: 0,
+            compliance: Default::default(),
+            inner_iterations: 0,
             solver_time_s: 0.0,
             unknowns: 0,
             equality_rows: 0,

@@ -65,6 +65,45 @@ pub fn uses_fft(choice: ComplianceChoice, elements: usize) -> bool {
     }
 }
 
+/// Which form the patch compliances of a solved model took.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CompliancePath {
+    /// Every patch dense.
+    #[default]
+    Dense,
+    /// Every patch the FFT operator.
+    Fft,
+    /// Some of each.
+    Mixed,
+}
+
+impl CompliancePath {
+    /// The path of a model whose patches are `fft` (true: the FFT operator).
+    pub fn of(mut fft: impl Iterator<Item = bool> + Clone) -> Self {
+        match (fft.clone().any(|f| f), fft.all(|f| f)) {
+            (false, _) => CompliancePath::Dense,
+            (true, true) => CompliancePath::Fft,
+            (true, false) => CompliancePath::Mixed,
+        }
+    }
+}
+
+impl std::fmt::Display for CompliancePath {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            CompliancePath::Dense => "dense",
+            CompliancePath::Fft => "FFT",
+            CompliancePath::Mixed => "dense and FFT",
+        })
+    }
+}
+
+/// Most unknowns of an FFT patch whose matrix is written out when a solver needs entries
+/// ([`PatchCompliance::matrix`]): 3,072 (75 MB, and as many operator products); larger FFT
+/// patches are solved by the native solver's Newton iteration alone.
+pub const MATERIALISED_UNKNOWNS: usize = 3 * 1024;
+
 /// One finger's patch compliance, shared (never copied) by the model, its restrictions and
 /// the solvers.
 #[derive(Debug, Clone)]
@@ -115,6 +154,27 @@ impl PatchCompliance {
     /// True for the FFT operator.
     pub fn is_fft(&self) -> bool {
         matches!(self, PatchCompliance::Fft(_))
+    }
+
+    /// The matrix: the stored one, or the operator's written out column by column (one
+    /// product each) when it has at most [`MATERIALISED_UNKNOWNS`] unknowns, for the solvers
+    /// that need entries (Clarabel, the interior-point method); `None` above.
+    pub fn matrix(&self) -> Option<Arc<DMatrix<f64>>> {
+        match self {
+            PatchCompliance::Dense(c) => Some(Arc::clone(c)),
+            PatchCompliance::Fft(op) if op.len() <= MATERIALISED_UNKNOWNS => {
+                let n = op.len();
+                let mut m = DMatrix::zeros(n, n);
+                let mut unit = vec![0.0; n];
+                for col in 0..n {
+                    unit[col] = 1.0;
+                    op.apply(&unit, m.column_mut(col).as_mut_slice());
+                    unit[col] = 0.0;
+                }
+                Some(Arc::new(m))
+            }
+            PatchCompliance::Fft(_) => None,
+        }
     }
 
     /// `out = C v` (m/N times N: metres).

@@ -16,6 +16,7 @@ use crate::solver::program_solver::ProgramSolver;
 pub(crate) fn add_run(stats: &mut SolverStats, run: &ConvexRun) {
     stats.iterations += run.iterations;
     stats.factorizations += run.factorisations;
+    stats.inner_iterations += run.inner_iterations;
     stats.solver_time_s += run.solver_time_s;
     stats.solver = run.answered_by;
     if run.fallback.is_some() {

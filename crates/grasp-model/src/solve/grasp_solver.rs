@@ -15,7 +15,7 @@ use crate::solve::convex_solve::solve_once;
 use crate::solve::readout::{enforce_invariant, failed};
 use crate::solve::sensitivity::Sensitivities;
 use crate::solve::sequential::solve_sequential;
-use crate::solve::solution::{Solution, SolveStatus, SolverKind, SolverStats};
+use crate::solve::solution::{CompliancePath, Solution, SolveStatus, SolverKind, SolverStats};
 use crate::solver::clarabel::ClarabelForm;
 pub use crate::solver::options::{SolveOptions, SolverChoice};
 use crate::solver::program_solver::ProgramSolver;
@@ -131,6 +131,10 @@ impl GraspSolver {
             fallback: None,
             iterations: 0,
             factorizations: 0,
+            compliance: CompliancePath::of(
+                model.fingers.iter().map(|f| f.compliance_m_per_n.is_fft()),
+            ),
+            inner_iterations: 0,
             solver_time_s: 0.0,
             unknowns: model.n_unknowns,
             equality_rows: p.equality_rows(),

@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::model::patch_compliance::CompliancePath;
 pub use crate::solver::outcome::SolverKind;
 
 /// A finger or element counts as loaded when its normal force exceeds this fraction of the
@@ -149,8 +150,15 @@ pub struct SolverStats {
     /// Iterations over all convex solves: Newton steps of the native solver plus
     /// interior-point iterations of Clarabel.
     pub iterations: u32,
-    /// Reduced matrices factorised by the native solver (all convex solves).
+    /// Reduced matrices factorised by the native solver (all convex solves); with the FFT
+    /// compliance, reduced systems prepared for conjugate gradients.
     pub factorizations: u32,
+    /// The form of the patch compliances: dense matrices or the FFT operator.
+    #[serde(default)]
+    pub compliance: CompliancePath,
+    /// Conjugate-gradient iterations of the FFT path's reduced systems (0 on the dense path).
+    #[serde(default)]
+    pub inner_iterations: u32,
     /// Time inside the convex solvers, s.
     pub solver_time_s: f64,
     /// Unknowns of the program.

@@ -25,6 +25,7 @@ use crate::solver::outcome::{Certificate, ConvexOutcome};
 
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
+use crate::model::patch_compliance::MATERIALISED_UNKNOWNS;
 use crate::option_names;
 
 /// Where a finger's conic rows are in Clarabel's form.
@@ -322,7 +323,10 @@ impl ClarabelWorkspace {
         ClarabelWorkspace {
             form: ClarabelForm::assemble(model, program, RADIUS_FLOOR),
             solver: None,
-            matrix_free: model.fingers.iter().any(|f| f.compliance_m_per_n.is_fft()),
+            matrix_free: model
+                .fingers
+                .iter()
+                .any(|f| f.compliance_m_per_n.is_fft() && f.n_unknowns() > MATERIALISED_UNKNOWNS),
         }
     }
 
@@ -336,8 +340,9 @@ impl ClarabelWorkspace {
     ) -> Result<ClarabelRun, ModelError> {
         if self.matrix_free {
             return Err(ModelError::Solver(format!(
-                "Clarabel needs every patch compliance as a dense matrix, and this model holds \
-                 the FFT operator: set `{}` to dense, or solve with the native solver",
+                "Clarabel needs every patch compliance as a matrix, and this model holds an FFT \
+                 operator too large to write out: set `{}` to dense, or solve with the native \
+                 solver",
                 option_names::COMPLIANCE
             )));
         }
@@ -394,12 +399,13 @@ impl ClarabelWorkspace {
     }
 }
 
-/// The upper triangle of `P = C / Cu`, block-diagonal over fingers (fingers whose compliance
-/// is the FFT operator are left out: [`ClarabelWorkspace::solve`] refuses such a model).
+/// The upper triangle of `P = C / Cu`, block-diagonal over fingers (a finger whose FFT
+/// operator is too large to write out is left out: [`ClarabelWorkspace::solve`] refuses such
+/// a model).
 fn objective_matrix(model: &GraspModel, program: &ConeProgram) -> CscMatrix<f64> {
     let mut pcols = Columns::new(program.n_unknowns);
     for f in &model.fingers {
-        let Some(c) = f.compliance_m_per_n.dense() else {
+        let Some(c) = f.compliance_m_per_n.matrix() else {
             continue;
         };
         for col in 0..c.ncols() {

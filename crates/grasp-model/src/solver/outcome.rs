@@ -49,6 +49,8 @@ pub(crate) struct ConvexRun {
     pub iterations: u32,
     /// Reduced matrices factorised by the native solver.
     pub factorisations: u32,
+    /// Conjugate-gradient iterations of the native solver's reduced systems (FFT path).
+    pub inner_iterations: u32,
     /// Time inside the solvers, s.
     pub solver_time_s: f64,
     /// The solver whose answer this is.

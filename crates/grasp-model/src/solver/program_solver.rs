@@ -111,6 +111,7 @@ impl ProgramSolver {
             outcome: run.outcome,
             iterations: run.iterations,
             factorisations: 0,
+            inner_iterations: 0,
             solver_time_s: run.solve_time_s,
             answered_by: SolverKind::Clarabel,
             fallback: None,
@@ -154,6 +155,7 @@ impl ProgramSolver {
                     },
                     iterations: result.iterations,
                     factorisations: result.factorisations,
+                    inner_iterations: result.inner_iterations,
                     solver_time_s: native_time,
                     answered_by: SolverKind::Native,
                     fallback: None,
@@ -164,9 +166,28 @@ impl ProgramSolver {
                 result.iterations
             ),
         };
+        if native.is_matrix_free() {
+            // Clarabel needs the dense matrices: the stall is the outcome.
+            return Ok(ConvexRun {
+                outcome: ConvexOutcome::Failed {
+                    reason: format!(
+                        "no convergence: {why}; Clarabel cannot take over a model with the FFT \
+                         compliance (set `{}` to dense for it)",
+                        option_names::COMPLIANCE
+                    ),
+                },
+                iterations: result.iterations,
+                factorisations: result.factorisations,
+                inner_iterations: result.inner_iterations,
+                solver_time_s: native_time,
+                answered_by: SolverKind::Native,
+                fallback: None,
+            });
+        }
         let mut run = self.solve_clarabel(model, options)?;
         run.iterations += result.iterations;
         run.factorisations += result.factorisations;
+        run.inner_iterations += result.inner_iterations;
         run.solver_time_s += native_time;
         run.fallback = Some(match (&run.outcome, options.solver) {
             (ConvexOutcome::Infeasible(_), _) => {
@@ -206,6 +227,7 @@ fn unsolvable(data: &[f64], options: &SolveOptions) -> Option<ConvexRun> {
         },
         iterations: 0,
         factorisations: 0,
+        inner_iterations: 0,
         solver_time_s: 0.0,
         answered_by: match options.solver {
             SolverChoice::Clarabel => SolverKind::Clarabel,

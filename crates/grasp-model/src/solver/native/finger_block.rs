@@ -12,7 +12,7 @@ use std::borrow::Cow;
 
 use faer::Mat;
 
-use crate::model::patch_compliance::PatchCompliance;
+use crate::model::patch_compliance::{PatchCompliance, MATERIALISED_UNKNOWNS};
 
 use crate::program::cone_program::{BlockCone, FingerBlock};
 
@@ -89,11 +89,17 @@ impl FingerBlockData {
         self.c.is_fft()
     }
 
-    /// A copy of `P_i`, when `C_i` is stored dense.
+    /// A copy of `P_i` (see [`PatchCompliance::matrix`]; `None` for an FFT patch too large to
+    /// write out).
     pub fn matrix(&self) -> Option<Mat<f64>> {
-        let c = self.c.dense()?;
+        let c = self.c.matrix()?;
         let n = self.len();
         Some(Mat::from_fn(n, n, |r, col| self.scale * c[(r, col)]))
+    }
+
+    /// True when [`FingerBlockData::matrix`] has no matrix to give.
+    pub fn is_matrix_free(&self) -> bool {
+        self.c.is_fft() && self.len() > MATERIALISED_UNKNOWNS
     }
 
     /// Column `c` of `C_i` (m/N): `scale` times it is column `c` of `P_i`. Borrowed from the

@@ -444,6 +444,7 @@ pub(crate) fn run(
                 },
                 iterations: counts.newton_steps,
                 factorisations: counts.factorisations,
+                inner_iterations: counts.inner_iterations,
             };
         }
         if let Err(why) = predictor_corrector(blocks, program, &lay, &mut p, &res, gap, &mut counts)
@@ -464,6 +465,7 @@ fn stalled(p: Point, why: &str, counts: Counts) -> NativeResult {
         },
         iterations: counts.newton_steps,
         factorisations: counts.factorisations,
+        inner_iterations: counts.inner_iterations,
     }
 }
 

@@ -26,6 +26,8 @@ pub(crate) mod linearisation;
 pub(crate) mod newton_step;
 pub(crate) mod projection;
 pub(crate) mod reduced_factor;
+pub(crate) mod reduced_iterative;
+pub(crate) mod reduced_system;
 pub(crate) mod semismooth_newton;
 
 #[cfg(test)]
@@ -64,8 +66,10 @@ pub(crate) struct NativeResult {
     pub iterate: Iterate,
     /// Newton steps taken.
     pub iterations: u32,
-    /// Reduced matrices factorised.
+    /// Reduced matrices factorised (or, for the FFT operator, reduced systems prepared).
     pub factorisations: u32,
+    /// Conjugate-gradient iterations of the reduced systems (the FFT operator's path).
+    pub inner_iterations: u32,
 }
 
 /// The work of a solve so far, carried from the Newton iteration to the interior-point method
@@ -74,8 +78,10 @@ pub(crate) struct NativeResult {
 pub(crate) struct Counts {
     /// Newton steps taken (interior-point iterations included).
     pub newton_steps: u32,
-    /// Reduced matrices factorised.
+    /// Reduced matrices factorised (or, for the FFT operator, reduced systems prepared).
     pub factorisations: u32,
+    /// Conjugate-gradient iterations of the reduced systems (the FFT operator's path).
+    pub inner_iterations: u32,
 }
 
 /// The native solver's workspace for one program: the fingers' fixed blocks and their cached
@@ -106,6 +112,12 @@ impl NativeSolver {
             caches: vec![Vec::new(); blocks.len()],
             blocks,
         }
+    }
+
+    /// True when some finger's compliance is an FFT operator too large to write out (no
+    /// matrix for Clarabel).
+    pub(crate) fn is_matrix_free(&self) -> bool {
+        self.blocks.iter().any(FingerBlockData::is_matrix_free)
     }
 
     /// The fingers' fixed blocks.

@@ -18,7 +18,9 @@ use nalgebra::{DMatrix, DVector};
 
 use super::finger_block::FingerBlockData;
 use super::linearisation::FingerLinearisation;
-use super::reduced_factor::{key_of, ReducedFactor};
+use super::reduced_factor::key_of;
+use super::reduced_system::ReducedSystem;
+use super::Counts;
 
 /// Relative eigenvalue threshold of the Schur complement.
 const SCHUR_CUTOFF: f64 = 1e-12;
@@ -35,8 +37,8 @@ pub(crate) struct Step {
     pub unreachable: Vec<f64>,
 }
 
-/// Per-finger cache of reduced factors (most recent first).
-pub(crate) type FactorCache = Vec<ReducedFactor>;
+/// Per-finger cache of reduced systems (most recent first).
+pub(crate) type FactorCache = Vec<ReducedSystem>;
 
 /// Sum over fingers of `n_free^3` above which the fingers are factorised in parallel.
 const PARALLEL_WORK: usize = 20_000_000;
@@ -61,19 +63,21 @@ pub(crate) fn chord_linearisations(
         .map(|(lin, cache)| {
             cache
                 .first()
-                .and_then(|f| lin.with_directions_of(&f.free, &f.fixed, CHORD_TOLERANCE))
+                .and_then(|f| lin.with_directions_of(f.free(), f.fixed(), CHORD_TOLERANCE))
                 .unwrap_or_else(|| lin.clone())
         })
         .collect()
 }
 
-/// The factor of `free` from the cache, or a new one (counted in `factorisations`).
+/// The reduced system of `free` from the cache, or a new one (counted in `factorisations`;
+/// the conjugate-gradient iterations of an iterative one in `inner`).
 pub(crate) fn factor_for<'c>(
     block: &FingerBlockData,
     lin: &FingerLinearisation,
     cache: &'c mut FactorCache,
     factorisations: &mut u32,
-) -> Option<&'c ReducedFactor> {
+    inner: &mut u32,
+) -> Option<&'c ReducedSystem> {
     let key = key_of(&lin.free);
     if let Some(pos) = cache.iter().position(|f| f.matches(&key)) {
         let f = cache.remove(pos);
@@ -85,14 +89,16 @@ pub(crate) fn factor_for<'c>(
             true => cache.pop(),
             false => None,
         };
-        let f = ReducedFactor::new(block, &lin.free, &lin.fixed, key, spare)?;
+        let (f, its) = ReducedSystem::new(block, &lin.free, &lin.fixed, key, spare)?;
         *factorisations += 1;
+        *inner += its;
         cache.insert(0, f);
     }
     cache.first()
 }
 
-/// The first half of a finger's step: `z_i`, `g_i = L^-1 r_i` and `E_i z_i`.
+/// The first half of a finger's step: `z_i`, `g_i` (`L^-1 r_i` factorised, `M^-1 r_i`
+/// iterative) and `E_i z_i`.
 pub(crate) struct FingerHalf {
     z: Vec<f64>,
     g: Vec<f64>,
@@ -102,8 +108,9 @@ pub(crate) struct FingerHalf {
 pub(crate) fn first_half(
     block: &FingerBlockData,
     lin: &FingerLinearisation,
-    factor: &ReducedFactor,
-) -> FingerHalf {
+    factor: &ReducedSystem,
+    inner: &mut u32,
+) -> Option<FingerHalf> {
     let n = block.len();
     let mut z = vec![0.0; n];
     let mut support = Vec::new();
@@ -132,10 +139,10 @@ pub(crate) fn first_half(
             -d.phi / (block.gamma * d.theta) - ppz
         })
         .collect();
-    factor.forward(&mut g);
+    *inner += factor.first_solve(block, &mut g)?;
     let mut e_z = vec![0.0; block.equality_rows()];
     block.add_equality(&z, &mut e_z);
-    FingerHalf { z, g, e_z }
+    Some(FingerHalf { z, g, e_z })
 }
 
 /// Solves `S v = rhs` in the least-squares sense over the well-conditioned eigendirections;
@@ -162,14 +169,14 @@ fn solve_schur(s: DMatrix<f64>, rhs: DVector<f64>) -> (DVector<f64>, DVector<f64
 }
 
 /// Computes the Newton step at the linearisations `lins` (one per finger) with equality
-/// residual `e_res = E x - e`. `None` when a reduced matrix cannot be factorised.
+/// residual `e_res = E x - e`. `None` when a reduced system cannot be factorised or solved.
 pub(crate) fn newton_step(
     blocks: &[FingerBlockData],
     lins: &[FingerLinearisation],
     caches: &mut [FactorCache],
     e_res: &[f64],
     n: usize,
-    factorisations: &mut u32,
+    counts: &mut Counts,
 ) -> Option<Step> {
     let m = e_res.len();
     let mut s = DMatrix::<f64>::zeros(m, m);
@@ -179,24 +186,25 @@ pub(crate) fn newton_step(
     let work: usize = lins.iter().map(|l| l.free.len().pow(3)).sum();
     let per_finger =
         |(block, lin, cache): (&FingerBlockData, &FingerLinearisation, &mut FactorCache)| {
-            let mut count = 0;
-            let ok = factor_for(block, lin, cache, &mut count).is_some();
-            (ok, count)
+            let (mut count, mut inner) = (0, 0);
+            let ok = factor_for(block, lin, cache, &mut count, &mut inner).is_some();
+            (ok, count, inner)
         };
     let triples = blocks
         .iter()
         .zip(lins)
         .zip(caches.iter_mut())
         .map(|((b, l), c)| (b, l, c));
-    let results: Vec<(bool, u32)> = if work >= PARALLEL_WORK && blocks.len() > 1 {
+    let results: Vec<(bool, u32, u32)> = if work >= PARALLEL_WORK && blocks.len() > 1 {
         use rayon::prelude::*;
         let v: Vec<_> = triples.collect();
         v.into_par_iter().map(per_finger).collect()
     } else {
         triples.map(per_finger).collect()
     };
-    for (ok, count) in results {
-        *factorisations += count;
+    for (ok, count, inner) in results {
+        counts.factorisations += count;
+        counts.inner_iterations += inner;
         if !ok {
             return None;
         }
@@ -204,20 +212,11 @@ pub(crate) fn newton_step(
     let mut halves = Vec::with_capacity(blocks.len());
     for ((block, lin), cache) in blocks.iter().zip(lins).zip(caches.iter()) {
         let factor = &cache[0];
-        let half = first_half(block, lin, factor);
-        let w = &factor.w;
+        let half = first_half(block, lin, factor, &mut counts.inner_iterations)?;
         for r in 0..m {
             rhs[r] += half.e_z[r];
-            let wr = w.col(r);
-            rhs[r] += wr.iter().zip(&half.g).map(|(a, b)| a * b).sum::<f64>();
-            for c in 0..=r {
-                let v: f64 = wr.iter().zip(w.col(c).iter()).map(|(a, b)| a * b).sum();
-                s[(r, c)] += v;
-                if c != r {
-                    s[(c, r)] += v;
-                }
-            }
         }
+        factor.add_schur(&half.g, &mut s, &mut rhs);
         halves.push(half);
     }
     let (dlambda, unreachable) = solve_schur(s, rhs);
@@ -238,21 +237,11 @@ pub(crate) fn newton_step(
 fn second_half(
     block: &FingerBlockData,
     lin: &FingerLinearisation,
-    factor: &ReducedFactor,
+    factor: &ReducedSystem,
     half: FingerHalf,
     step: &mut Step,
 ) {
-    let mut xi = half.g;
-    for (a, v) in xi.iter_mut().enumerate() {
-        *v -= factor
-            .w
-            .row(a)
-            .iter()
-            .zip(&step.dlambda)
-            .map(|(w, l)| w * l)
-            .sum::<f64>();
-    }
-    factor.backward(&mut xi);
+    let xi = factor.second_solve(half.g, &step.dlambda);
     let mut dx = half.z;
     for (d, v) in lin.free.iter().zip(&xi) {
         for c in 0..block.dim {

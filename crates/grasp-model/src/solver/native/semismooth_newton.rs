@@ -217,6 +217,7 @@ fn newton_iteration(
             },
             iterations: counts.newton_steps,
             factorisations: counts.factorisations,
+            inner_iterations: counts.inner_iterations,
         },
         Descent::Singular(s) => stalled(s, counts, NOT_POSITIVE_DEFINITE),
         Descent::Stalled(s) => robust(blocks, caches, program, s, limits, counts, fallback),
@@ -247,7 +248,7 @@ fn all_stick_start(
         .collect();
     let e_res = equality_residual(blocks, program, &s.x);
     counts.newton_steps += 1;
-    match newton_step(blocks, &lins, caches, &e_res, n, &mut counts.factorisations) {
+    match newton_step(blocks, &lins, caches, &e_res, n, counts) {
         Some(step) => apply(&mut s, &step, 1.0),
         None => return Err(s),
     }
@@ -327,14 +328,7 @@ fn descend(
             false => lins,
         };
         let n = program.n_unknowns;
-        let Some(step) = newton_step(
-            blocks,
-            &step_lins,
-            caches,
-            &e_res,
-            n,
-            &mut counts.factorisations,
-        ) else {
+        let Some(step) = newton_step(blocks, &step_lins, caches, &e_res, n, counts) else {
             return Descent::Singular(s);
         };
         if max_abs(&step.unreachable) > tol.e {
@@ -402,10 +396,20 @@ fn robust(
     if !fallback {
         return stalled(s, counts, "the Newton iteration stalled");
     }
+    if blocks.iter().any(FingerBlockData::is_matrix_free) {
+        return stalled(
+            s,
+            counts,
+            "the Newton iteration stalled (the interior-point method that would take over \
+             needs every patch compliance as a matrix, and an FFT patch has more than 3,072 \
+             unknowns)",
+        );
+    }
     let ipm = super::interior_point::run(blocks, program, limits.tolerance, counts);
     let ipm_counts = Counts {
         newton_steps: ipm.iterations,
         factorisations: ipm.factorisations,
+        inner_iterations: ipm.inner_iterations,
     };
     let polish = newton_iteration(
         blocks,
@@ -456,5 +460,6 @@ fn stalled(s: State, counts: Counts, why: &str) -> NativeResult {
         },
         iterations: counts.newton_steps,
         factorisations: counts.factorisations,
+        inner_iterations: counts.inner_iterations,
     }
 }
