@@ -23,6 +23,25 @@ use rustfft::{Fft, FftPlanner};
 
 use super::influence::{offset_table, BlockKernels, GridSpec, PairConstants, RectangleIntegrals};
 
+/// Padded grids of at least this many points (`2 nx x 2 ny`, 128 x 128) transform on all
+/// cores.
+const PARALLEL_POINTS: usize = 128 * 128;
+
+/// `out[q px + i] = rows[i hy + q]`: an `px x hy` array transposed, in tiles that stay in
+/// cache.
+fn transpose(rows: &[Complex<f64>], px: usize, hy: usize, out: &mut [Complex<f64>]) {
+    const TILE: usize = 32;
+    for i0 in (0..px).step_by(TILE) {
+        for q0 in (0..hy).step_by(TILE) {
+            for i in i0..(i0 + TILE).min(px) {
+                for q in q0..(q0 + TILE).min(hy) {
+                    out[q * px + i] = rows[i * hy + q];
+                }
+            }
+        }
+    }
+}
+
 /// The kernels kept as spectra, in this order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Block {
@@ -201,49 +220,87 @@ impl ComplianceOperator {
             }
         }
         self.abs_sums[block as usize] = abs_sum;
-        self.spectra[block as usize] = self.transform(&mut padded);
+        self.spectra[block as usize] = self.transform(&mut padded, self.px);
     }
 
-    /// The 2-D spectrum of a padded real array (`px x py`, row-major; overwritten), in the
-    /// transposed layout `hy x px`.
-    fn transform(&self, padded: &mut [f64]) -> Vec<Complex<f64>> {
+    /// The 2-D spectrum of a padded real array (`px x py`, row-major; overwritten) whose rows
+    /// from `nonzero_rows` on are zero, in the transposed layout `hy x px`. The row and column
+    /// transforms run on all cores for large grids (each transform is computed the same way
+    /// on any thread: the result does not depend on the number of threads).
+    fn transform(&self, padded: &mut [f64], nonzero_rows: usize) -> Vec<Complex<f64>> {
         let (px, py, hy) = (self.px, self.py, self.hy);
         let mut rows = vec![Complex::default(); px * hy];
-        for (input, output) in padded.chunks_exact_mut(py).zip(rows.chunks_exact_mut(hy)) {
+        let row_transform = |(input, output): (&mut [f64], &mut [Complex<f64>])| {
             // Lengths are the plan's: the transform cannot fail.
             let _ = self.r2c.process(input, output);
+        };
+        let (inputs, outputs) = (
+            &mut padded[..nonzero_rows * py],
+            &mut rows[..nonzero_rows * hy],
+        );
+        if self.parallel() {
+            use rayon::prelude::*;
+            inputs
+                .par_chunks_exact_mut(py)
+                .zip(outputs.par_chunks_exact_mut(hy))
+                .for_each(row_transform);
+        } else {
+            inputs
+                .chunks_exact_mut(py)
+                .zip(outputs.chunks_exact_mut(hy))
+                .for_each(row_transform);
         }
         let mut spectrum = vec![Complex::default(); hy * px];
-        for i in 0..px {
-            for q in 0..hy {
-                spectrum[q * px + i] = rows[i * hy + q];
-            }
-        }
-        self.forward.process(&mut spectrum);
+        transpose(&rows, px, hy, &mut spectrum);
+        self.columns(&mut spectrum, &self.forward);
         spectrum
+    }
+
+    /// The column transforms (length `px`) of a spectrum in the transposed layout.
+    fn columns(&self, spectrum: &mut [Complex<f64>], plan: &Arc<dyn Fft<f64>>) {
+        if self.parallel() {
+            use rayon::prelude::*;
+            let chunk = self.px * self.hy.div_ceil(rayon::current_num_threads().max(1));
+            spectrum
+                .par_chunks_mut(chunk)
+                .for_each(|c| plan.process(c));
+        } else {
+            plan.process(spectrum);
+        }
+    }
+
+    /// True when the grid is large enough for the transforms to pay for threads.
+    fn parallel(&self) -> bool {
+        self.px * self.py >= PARALLEL_POINTS
     }
 
     /// The real array (`nx x ny` of the grid, row-major) whose padded spectrum is `spectrum`
     /// (transposed layout; overwritten), scaled by `1 / (px py)`, added into `out`.
     fn add_inverse(&self, spectrum: &mut [Complex<f64>], out: &mut [f64]) {
         let (px, py, hy) = (self.px, self.py, self.hy);
-        let (nx, ny) = (self.grid.nx, self.grid.ny);
-        self.inverse.process(spectrum);
-        let mut row = vec![Complex::default(); hy];
-        let mut real = vec![0.0; py];
+        let ny = self.grid.ny;
+        self.columns(spectrum, &self.inverse);
+        let spectrum = &*spectrum;
         let scale = 1.0 / (px * py) as f64;
-        for i in 0..nx {
-            for q in 0..hy {
-                row[q] = spectrum[q * px + i];
-            }
+        let row_inverse = |(i, out_row): (usize, &mut [f64])| {
+            let mut row: Vec<Complex<f64>> = (0..hy).map(|q| spectrum[q * px + i]).collect();
             // The zero and Nyquist frequencies of a real signal are real; round-off in their
             // imaginary parts is dropped rather than refused.
             row[0].im = 0.0;
             row[hy - 1].im = 0.0;
+            let mut real = vec![0.0; py];
             let _ = self.c2r.process(&mut row, &mut real);
-            for j in 0..ny {
-                out[i * ny + j] += scale * real[j];
+            for (o, r) in out_row.iter_mut().zip(&real[..ny]) {
+                *o += scale * r;
             }
+        };
+        if self.parallel() {
+            use rayon::prelude::*;
+            out.par_chunks_exact_mut(ny)
+                .enumerate()
+                .for_each(row_inverse);
+        } else {
+            out.chunks_exact_mut(ny).enumerate().for_each(row_inverse);
         }
     }
 
@@ -326,7 +383,7 @@ impl ComplianceOperator {
         for (i, row) in values.chunks_exact(ny).enumerate() {
             padded[i * py..i * py + ny].copy_from_slice(row);
         }
-        self.transform(&mut padded)
+        self.transform(&mut padded, self.grid.nx)
     }
 }
 
