@@ -169,3 +169,29 @@ def transfer(
     max_memory: Optional[int] = None,
 ) -> Transfer:
     """Runs a hand-off schedule (GIL released), writing the CLI's files; see the package docstring."""
+
+# For the pure-Python readers and writers of the package (grasp.mujoco): the project's file
+# policy (grasp-io). `kind`: "mujoco_model", "mujoco_state", "mujoco_rollout", "material_map".
+def _read_input(path: Union[str, "os.PathLike[str]"], kind: str) -> bytes:
+    """The whole regular file within its kind's limit; OSError with `message` and `fix`."""
+
+def _check_input(path: Union[str, "os.PathLike[str]"], kind: str) -> None:
+    """Checks a regular file within its kind's limit without reading it."""
+
+def _check_outputs(
+    targets: list[Union[str, "os.PathLike[str]"]],
+    *,
+    overwrite: bool = False,
+    inputs: list[Union[str, "os.PathLike[str]"]] = ...,
+    force_name: str = "overwrite=True",
+) -> None:
+    """Checks the targets against the output policy and tries their locks."""
+
+def _write_outputs(
+    contents: list[tuple[Union[str, "os.PathLike[str]"], bytes]],
+    *,
+    overwrite: bool = False,
+    inputs: list[Union[str, "os.PathLike[str]"]] = ...,
+    force_name: str = "overwrite=True",
+) -> None:
+    """Writes every (path, bytes) through the output policy, all moved into place together."""

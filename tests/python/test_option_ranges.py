@@ -140,3 +140,17 @@ def test_a_bad_external_load_column_is_one_problem(tmp_path):
     (problem,) = e.value.problems
     assert problem["path"] == "external.csv.columns", problem
     assert "`no_such_column`" in problem["message"], problem
+
+
+@pytest.mark.parametrize("value, shown", [(0, "0"), (-1, "-1"), (-(2**70), str(-(2**70))),
+                                          (2**64, "more than 18446744073709551615")])
+def test_max_memory_outside_its_range_names_the_keyword_and_the_range(value, shown):
+    scene = grasp.Scene(EXAMPLES / "plate_transfer.json")
+    with pytest.raises(ValueError) as e:
+        grasp.transfer(scene, EXAMPLES / "plate_transfer.schedule.json", max_memory=value)
+    message = str(e.value)
+    assert message.startswith(f"`max_memory=` is {shown};"), message
+    assert "[1, 18446744073709551615]" in message and "e.g. 2**30" in message, message
+    with pytest.raises(TypeError, match="`max_memory=` is '1GiB'; give a number of bytes"):
+        grasp.transfer(scene, EXAMPLES / "plate_transfer.schedule.json", max_memory="1GiB")
+    assert len(grasp.transfer(scene, EXAMPLES / "plate_transfer.schedule.json", max_memory=2**64 - 1)) == 200

@@ -1,6 +1,7 @@
 //! Every file the project reads goes through here: scenes, schedules, CSV load profiles,
 //! meshes, direction files, batch inputs and their folder entries, shard outputs to merge, a
-//! batch output to resume.
+//! batch output to resume; and the files of `grasp.mujoco` (state files, rollouts, material
+//! maps; a MuJoCo model is checked here before MuJoCo reads it).
 //!
 //! A read is of a regular file only: the path is checked before opening (a FIFO is never
 //! opened, so it cannot block; a device such as `/dev/zero` is never read), and the opened
@@ -68,6 +69,27 @@ pub const SHARD_OUTPUT: InputKind = InputKind {
 pub const BATCH_OUTPUT: InputKind = InputKind {
     what: "batch output",
     max_bytes: 1 << 40,
+};
+/// A MuJoCo model (MJCF or binary `.mjb`) of `grasp.mujoco`, checked before MuJoCo reads it,
+/// 256 MiB.
+pub const MUJOCO_MODEL: InputKind = InputKind {
+    what: "MuJoCo model",
+    max_bytes: 256 * MIB,
+};
+/// A MuJoCo state file of `grasp.mujoco` (qpos text, `.npy`, `.npz`, JSON), 64 MiB.
+pub const MUJOCO_STATE: InputKind = InputKind {
+    what: "state file",
+    max_bytes: 64 * MIB,
+};
+/// A recorded MuJoCo rollout (`.npz`) of `grasp.mujoco`, 1 GiB.
+pub const MUJOCO_ROLLOUT: InputKind = InputKind {
+    what: "rollout",
+    max_bytes: 1024 * MIB,
+};
+/// The material map (JSON) of `grasp.mujoco`, 64 MiB.
+pub const MATERIAL_MAP: InputKind = InputKind {
+    what: "material map",
+    max_bytes: 64 * MIB,
 };
 /// A system file (`/proc/meminfo`), 1 MiB.
 pub const SYSTEM_FILE: InputKind = InputKind {

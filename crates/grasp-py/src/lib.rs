@@ -12,6 +12,7 @@ use pyo3::prelude::*;
 mod arrays;
 mod errors;
 mod histories;
+mod inputs;
 mod json_value;
 mod keywords;
 mod outputs;
@@ -33,5 +34,10 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<transfer::Transfer>()?;
     m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
     m.add_function(wrap_pyfunction!(transfer::transfer, m)?)?;
+    // For the pure-Python writers and readers of the package (`grasp.mujoco`).
+    m.add_function(wrap_pyfunction!(inputs::read_input, m)?)?;
+    m.add_function(wrap_pyfunction!(inputs::check_input, m)?)?;
+    m.add_function(wrap_pyfunction!(outputs::check_outputs, m)?)?;
+    m.add_function(wrap_pyfunction!(outputs::write_outputs, m)?)?;
     Ok(())
 }

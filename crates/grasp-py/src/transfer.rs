@@ -14,7 +14,7 @@ use grasp_transfer::{
     CsvSink, McapSink, RerunSink, Schedule, Sink, StepRecord, TransferOptions, TransferSummary,
 };
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyString};
+use pyo3::types::{PyBool, PyDict, PyInt, PyString};
 
 use crate::arrays::{float_array, int_array, str_array};
 use crate::errors::{grasp_error, schedule_error, GraspError};
@@ -60,8 +60,9 @@ pub fn transfer(
     margins: bool,
     overwrite: bool,
     keep_solutions: bool,
-    max_memory: Option<u64>,
+    max_memory: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Transfer> {
+    let max_memory = max_memory.map(memory_limit).transpose()?;
     let options = TransferOptions {
         keep_going,
         warm_start: !cold,
@@ -103,6 +104,32 @@ pub fn transfer(
         tangents: tangents_by_name(&scene.scene),
         written: kept.written,
     })
+}
+
+/// Largest `max_memory=`, bytes.
+const MAX_MEMORY_LIMIT: u64 = u64::MAX;
+
+/// `max_memory=` as bytes: an int in [1, 2**64 - 1] (0 or a negative number is a
+/// `ValueError` naming the keyword and its range, not an `OverflowError`).
+fn memory_limit(value: &Bound<'_, PyAny>) -> PyResult<u64> {
+    if !value.is_instance_of::<PyInt>() || value.is_instance_of::<PyBool>() {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "`max_memory=` is {}; give a number of bytes (an int)",
+            value.repr()?
+        )));
+    }
+    if let Ok(bytes @ 1..) = value.extract::<u64>() {
+        return Ok(bytes);
+    }
+    let shown = if value.gt(0)? {
+        format!("more than {MAX_MEMORY_LIMIT}")
+    } else {
+        value.repr()?.to_string()
+    };
+    Err(pyo3::exceptions::PyValueError::new_err(format!(
+        "`max_memory=` is {shown}; give the bytes a run may keep in memory, in [1, \
+         {MAX_MEMORY_LIMIT}], e.g. 2**30 (1 GiB)"
+    )))
 }
 
 /// Refuses a run whose kept steps would need more than `max_memory` (default: a quarter of

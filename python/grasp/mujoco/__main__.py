@@ -8,11 +8,15 @@
 
 Exit codes: 0 done; 1 bad input (a named error, nothing written); 2 the elastic model found no
 equilibrium for the scene, or at a step of the hand-off where MuJoCo held the object (the files
-are written).
+are written); 128 + the signal (130, 143, 129) after SIGINT, SIGTERM or SIGHUP, as the CLI: the
+run stops, its temporary files and folders and its output locks are removed, existing files are
+untouched (a signal that arrives while the native library computes takes effect when that call
+returns, before anything is moved into place).
 """
 
 import argparse
 import os
+import signal
 import sys
 
 from ._errors import MujocoError
@@ -179,12 +183,40 @@ def run_handoff(args):
     return 2 if any(why in ("no_equilibrium", "no_convergence") for _, _, why in replay.flagged_steps) else 0
 
 
+class Interrupted(BaseException):
+    """A SIGINT, SIGTERM or SIGHUP: unwinds the run, so every ``with`` and ``finally`` on the
+    way removes what it made (scratch folders; the native library's temporary and lock files
+    are removed when their owners are dropped)."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+
+
+CLEANUP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n))
+
+
+def on_signal(signum, frame):
+    for s in CLEANUP_SIGNALS:  # one unwinding: a second signal does not cut the cleanup short
+        signal.signal(s, signal.SIG_IGN)
+    raise Interrupted(signum)
+
+
+def install_signal_cleanup():
+    """SIGINT, SIGTERM and SIGHUP end the run cleanly (see the module documentation)."""
+    for s in CLEANUP_SIGNALS:
+        signal.signal(s, on_signal)
+
+
 def main(argv=None):
     args = parser().parse_args(argv)
     import grasp
 
     try:
         return run_scene(args) if args.command == "scene" else run_handoff(args)
+    except Interrupted as e:
+        print("interrupted: temporary files removed; existing files are untouched", file=sys.stderr)
+        return 128 + e.signum
     except (MujocoError, grasp.SceneError, grasp.ScheduleError, grasp.GraspError, OSError, ValueError) as e:
         print(f"error: {e}", file=sys.stderr)
         problems = getattr(e, "problems", None)
@@ -194,4 +226,5 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
+    install_signal_cleanup()
     sys.exit(main())

@@ -1,61 +1,58 @@
-"""Outputs written all or nothing, as the project's CLI writes them: every target checked
-first (no overwrite without ``overwrite``/``--force``, no folder, no name twice, the folder must
-exist), each written to a temporary file beside it, all moved into place at the end; a failure
-removes the temporaries and leaves existing files untouched."""
+"""The files of ``grasp.mujoco``, through the project's one file policy (``grasp-io``, the same
+Rust code as the CLI's and ``grasp.transfer``'s, reached through ``grasp._native``).
+
+Outputs are written all or nothing: every target checked before the work (a folder, a
+symbolic link, a dangling one too, a device, a FIFO or a socket refused even with
+``overwrite``/``--force``; an existing file kept without it; a target that is one of the run's
+inputs, by device and inode, or named twice refused; the folder must exist; a target another
+run is writing refused, naming its process), then locked, each written to an exclusive hidden
+temporary file beside it (``O_CREAT|O_EXCL|O_NOFOLLOW``), and all moved into place at the end
+without replacing anything that appeared meanwhile (with ``overwrite``, a regular file only).
+A failure removes the temporary files and leaves existing files untouched.
+
+Inputs are regular files (never a FIFO, a device such as ``/dev/zero`` or a folder) within
+their kind's size limit, checked before and after opening, read with a bound.
+"""
 
 import os
-import secrets
+
+from .. import _native
+
+# How messages of the output policy name its force option here (the API and the command).
+FORCE_NAME = "overwrite=True (--force)"
+
+
+def _paths(paths):
+    return [os.fspath(p) for p in paths]
 
 
 def check_targets(paths, overwrite=False, inputs=()):
-    """Refuses targets that cannot be written; returns their absolute paths."""
-    seen = set()
-    real_inputs = {os.path.realpath(p) for p in inputs}
-    out = []
-    for p in paths:
-        a = os.path.abspath(os.fspath(p))
-        if a in seen:
-            raise ValueError(f"the same file is named twice as an output: {p}")
-        seen.add(a)
-        if os.path.realpath(a) in real_inputs:
-            raise ValueError(f"{p} is an input; refusing to write over it")
-        folder = os.path.dirname(a)
-        if not os.path.isdir(folder):
-            raise FileNotFoundError(f"cannot write {p}: the folder does not exist")
-        if os.path.isdir(a) or os.path.islink(a):
-            raise IsADirectoryError(f"cannot write {p}: it is a folder or a symbolic link")
-        if os.path.exists(a) and not overwrite:
-            raise FileExistsError(f"{p} exists; give overwrite=True (--force) to replace it")
-        out.append(a)
-    return out
+    """Refuses targets that cannot be written (their locks tried too); returns their paths."""
+    paths = _paths(paths)
+    _native._check_outputs(paths, overwrite=overwrite, inputs=_paths(inputs), force_name=FORCE_NAME)
+    return paths
 
 
 def write_all(outputs, overwrite=False, inputs=()):
     """Writes {path: text or bytes} all or nothing; returns the paths written."""
-    paths = check_targets(list(outputs), overwrite, inputs)
-    temps = []
+    contents = [(os.fspath(p), c if isinstance(c, bytes) else c.encode("utf-8")) for p, c in outputs.items()]
+    _native._write_outputs(contents, overwrite=overwrite, inputs=_paths(inputs), force_name=FORCE_NAME)
+    return [p for p, _ in contents]
+
+
+def read_input(path, kind, error):
+    """The bytes of the input file ``path`` of ``kind`` (``"mujoco_state"``,
+    ``"mujoco_rollout"``, ``"material_map"``); a refusal is raised as ``error(message, fix)``."""
     try:
-        for a, content in zip(paths, outputs.values()):
-            tmp = os.path.join(os.path.dirname(a),
-                               f".{os.path.basename(a)}.grasp-tmp-{os.getpid()}-{secrets.token_hex(4)}")
-            temps.append(tmp)
-            mode = "wb" if isinstance(content, bytes) else "w"
-            with open(tmp, mode, **({} if mode == "wb" else {"encoding": "utf-8", "newline": ""})) as f:
-                f.write(content)
-        for tmp, a in zip(temps, paths):
-            os.replace(tmp, a)
-        temps = []
-    finally:
-        for tmp in temps:
-            try:
-                os.remove(tmp)
-            except OSError:
-                pass
-    return [os.fspath(p) for p in outputs]
+        return _native._read_input(os.fspath(path), kind)
+    except OSError as e:
+        raise error(getattr(e, "message", str(e)), getattr(e, "fix", "")) from None
 
 
-def temp_path_beside(target, suffix):
-    """A fresh temporary path beside ``target`` (not created)."""
-    a = os.path.abspath(os.fspath(target))
-    return os.path.join(os.path.dirname(a),
-                        f".{os.path.basename(a)}.grasp-tmp-{os.getpid()}-{secrets.token_hex(4)}{suffix}")
+def check_input(path, kind, error):
+    """Checks the input file ``path`` of ``kind`` (regular, within its limit) without reading
+    it, for a file another library reads by path; a refusal is raised as ``error(message, fix)``."""
+    try:
+        _native._check_input(os.fspath(path), kind)
+    except OSError as e:
+        raise error(getattr(e, "message", str(e)), getattr(e, "fix", "")) from None

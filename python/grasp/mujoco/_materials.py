@@ -6,6 +6,7 @@ import json
 import os
 
 from ._errors import MaterialMapError
+from ._files import read_input
 
 # The default: a rubber fingertip pad (the project's examples use it for every finger).
 DEFAULT_MATERIAL = {"youngs_modulus": 2e6, "poisson_ratio": 0.45}
@@ -17,12 +18,12 @@ def load_map(source):
     if source is None:
         return {}
     if isinstance(source, (str, os.PathLike)):
+        raw = read_input(source, "material_map", MaterialMapError)
         try:
-            with open(source, encoding="utf-8") as f:
-                data = json.load(f)
-        except OSError as e:
-            raise MaterialMapError(f"cannot read the material map {os.fspath(source)}: {e.strerror}",
-                                   "give a JSON file {\"geom or body name\": material}") from None
+            data = json.loads(raw.decode("utf-8"))
+        except UnicodeDecodeError as e:
+            raise MaterialMapError(f"the material map {os.fspath(source)} is not UTF-8 text: {e}",
+                                   "save it as plain (UTF-8) JSON") from None
         except json.JSONDecodeError as e:
             raise MaterialMapError(f"the material map {os.fspath(source)} is not JSON: {e}",
                                    "give a JSON object {\"geom or body name\": material}") from None

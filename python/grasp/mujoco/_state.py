@@ -1,5 +1,6 @@
 """Loading a MuJoCo model and a state into it (a keyframe, a qpos file, a rollout's rows)."""
 
+import io
 import json
 import math
 import os
@@ -8,14 +9,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._errors import ModelLoadError, StateError, require_mujoco
+from ._files import check_input, read_input
 
 
 def load_model(path):
     """An MjModel from an MJCF (.xml) or binary (.mjb) file; ModelLoadError otherwise."""
     mujoco = require_mujoco()
     p = os.fspath(path)
-    if not os.path.isfile(p):
-        raise ModelLoadError(f"cannot read the MuJoCo model {p}: no such file", "give the path of an MJCF .xml or .mjb file")
+    # A regular file within the limit (never a FIFO or /dev/zero) before MuJoCo opens it.
+    check_input(p, "mujoco_model", ModelLoadError)
     try:
         if p.endswith(".mjb"):
             return mujoco.MjModel.from_binary_path(p)
@@ -53,17 +55,17 @@ def vector(values, length, what, source):
 def read_state_file(path):
     """{"qpos": ..., optional "qvel", "ctrl", "act"} from .npy/.txt (qpos only), .npz or .json."""
     p = os.fspath(path)
+    raw = read_input(p, "mujoco_state", StateError)
     try:
         if p.endswith(".npz"):
-            with np.load(p) as z:
+            with np.load(io.BytesIO(raw)) as z:
                 return {k: np.array(z[k]) for k in z.files}
         if p.endswith(".npy"):
-            return {"qpos": np.load(p)}
+            return {"qpos": np.load(io.BytesIO(raw))}
         if p.endswith(".json"):
-            with open(p, encoding="utf-8") as f:
-                d = json.load(f)
+            d = json.loads(raw.decode("utf-8"))
             return d if isinstance(d, dict) else {"qpos": d}
-        return {"qpos": np.loadtxt(p, ndmin=1)}
+        return {"qpos": np.loadtxt(io.BytesIO(raw), ndmin=1)}
     except (OSError, ValueError) as e:
         raise StateError(f"cannot read the state file {p}: {e}",
                          "give qpos as whitespace-separated numbers, .npy, .npz or JSON") from None
@@ -135,8 +137,9 @@ class Rollout:
         ``mocap_pos``, ``mocap_quat`` optional (the model's defaults)."""
         src = os.fspath(source) if isinstance(source, (str, os.PathLike)) else "rollout"
         if isinstance(source, (str, os.PathLike)):
+            raw = read_input(source, "mujoco_rollout", StateError)
             try:
-                with np.load(source) as z:
+                with np.load(io.BytesIO(raw)) as z:
                     arrays = {k: np.array(z[k]) for k in z.files}
             except (OSError, ValueError) as e:
                 raise StateError(f"cannot read the rollout {src}: {e}", "give an .npz with time, qpos, qvel") from None

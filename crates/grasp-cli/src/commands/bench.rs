@@ -261,12 +261,11 @@ fn derived_rows(all: &[Measured], solvers: &[SolverChoice]) -> Vec<Row> {
 /// Runs `grasp transfer` on the bundled plate hand-off with MCAP, Rerun and CSV outputs in a
 /// temporary folder, timed from outside (process start to exit), median of 3 (1 when quick).
 fn whole_command(solver: SolverChoice, quick: bool) -> Result<Row> {
-    let dir = std::env::temp_dir().join(format!("grasp-bench-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let dir = ScratchFolder::create()?;
     let (scene, schedule) =
         grasp_bench::case::bundled("plate_transfer").context("bundled plate_transfer")?;
     let schedule = schedule.context("bundled plate_transfer schedule")?;
-    let (scene_path, schedule_path) = (dir.join("scene.json"), dir.join("schedule.json"));
+    let (scene_path, schedule_path) = (dir.path.join("scene.json"), dir.path.join("schedule.json"));
     std::fs::write(&scene_path, scene)?;
     std::fs::write(&schedule_path, schedule)?;
     let exe = std::env::current_exe().context("locating the grasp executable")?;
@@ -280,23 +279,22 @@ fn whole_command(solver: SolverChoice, quick: bool) -> Result<Row> {
             .arg(&schedule_path)
             .args(["--solver", &solver.to_string(), "--force"])
             .arg("--mcap")
-            .arg(dir.join("run.mcap"))
+            .arg(dir.path.join("run.mcap"))
             .arg("--rrd")
-            .arg(dir.join("run.rrd"))
+            .arg(dir.path.join("run.rrd"))
             .arg("--csv")
-            .arg(dir.join("run.csv"))
+            .arg(dir.path.join("run.csv"))
             .output()
             .context("running grasp transfer")?;
         times.push(t.elapsed().as_secs_f64());
         if !out.status.success() {
-            let _ = std::fs::remove_dir_all(&dir);
             bail!(
                 "grasp transfer failed in the bench: {}",
                 String::from_utf8_lossy(&out.stderr)
             );
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
+    drop(dir);
     let (median, lo, hi) = median_and_range(&times).context("no timing")?;
     let mut row = vec![String::new(); HEADER.len()];
     row[0] = "plate hand-off command".into();
@@ -307,6 +305,50 @@ fn whole_command(solver: SolverChoice, quick: bool) -> Result<Row> {
     row[5] = times.len().to_string();
     row[11] = verdict(median, 0.5, time);
     Ok(row)
+}
+
+/// Attempts at a fresh scratch folder name.
+const SCRATCH_ATTEMPTS: usize = 16;
+
+/// A private scratch folder (`grasp-bench-<pid>-<random>` in the temporary folder, mode 0700),
+/// created fresh (an existing folder or link of that name is never used), removed on drop.
+struct ScratchFolder {
+    path: std::path::PathBuf,
+}
+
+impl ScratchFolder {
+    fn create() -> Result<ScratchFolder> {
+        use std::hash::{BuildHasher, Hasher};
+        use std::os::unix::fs::DirBuilderExt;
+        let base = std::env::temp_dir();
+        for attempt in 0..SCRATCH_ATTEMPTS {
+            let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+            h.write_usize(attempt);
+            h.write_u128(
+                std::time::SystemTime::now()
+                    .duration_since(std::time::UNIX_EPOCH)
+                    .map_or(0, |d| d.as_nanos()),
+            );
+            let path = base.join(format!(
+                "grasp-bench-{}-{:016x}",
+                std::process::id(),
+                h.finish()
+            ));
+            // mkdir never follows a link and fails on any existing name.
+            match std::fs::DirBuilder::new().mode(0o700).create(&path) {
+                Ok(()) => return Ok(ScratchFolder { path }),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+                Err(e) => return Err(e).with_context(|| format!("creating {}", path.display())),
+            }
+        }
+        bail!("cannot create a fresh scratch folder in {}", base.display())
+    }
+}
+
+impl Drop for ScratchFolder {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.path);
+    }
 }
 
 /// Timed runs of each batch configuration (after one untimed run).
