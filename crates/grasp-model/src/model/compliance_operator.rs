@@ -261,9 +261,7 @@ impl ComplianceOperator {
         if self.parallel() {
             use rayon::prelude::*;
             let chunk = self.px * self.hy.div_ceil(rayon::current_num_threads().max(1));
-            spectrum
-                .par_chunks_mut(chunk)
-                .for_each(|c| plan.process(c));
+            spectrum.par_chunks_mut(chunk).for_each(|c| plan.process(c));
         } else {
             plan.process(spectrum);
         }

@@ -229,7 +229,7 @@ pub(crate) fn conjugate_gradients(
     for it in 1..=max {
         apply(&p, &mut ap);
         let pap = dot(&p, &ap);
-        if !(pap > 0.0) {
+        if pap.is_nan() || pap <= 0.0 {
             break;
         }
         let alpha = rz / pap;
