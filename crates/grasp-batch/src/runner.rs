@@ -10,7 +10,8 @@ use std::time::Instant;
 
 use grasp_io::RunInputs;
 
-use grasp_model::scene::work_bounds::estimate_memory_bytes;
+use grasp_model::model::patch_compliance::uses_fft;
+use grasp_model::scene::work_bounds::estimate_memory_bytes_with;
 use grasp_model::{GraspModel, GraspSolver, InputProblem, SolveOptions};
 use rayon::prelude::*;
 
@@ -97,7 +98,12 @@ pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultL
     let mut out = match scene {
         Err(p) => ResultLine::invalid(id, index, of, p),
         Ok(scene) => {
-            let bytes = estimate_memory_bytes(&scene);
+            let bytes = estimate_memory_bytes_with(&scene, |f| {
+                uses_fft(
+                    options.solve.compliance,
+                    f.patch.grid[0].saturating_mul(f.patch.grid[1]),
+                )
+            });
             if bytes > options.max_memory_bytes {
                 let p = InputProblem {
                     path: "fingers".into(),
@@ -114,7 +120,7 @@ pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultL
                 ResultLine::invalid(id, index, of, vec![p])
             } else {
                 let clock = Instant::now();
-                match GraspModel::from_validated_scene(&scene) {
+                match GraspModel::from_validated_scene_with(&scene, options.solve.compliance) {
                     Err(e) => ResultLine::invalid(id, index, of, e.problems()),
                     Ok(model) => {
                         let mut solver = GraspSolver::new(&model, options.solve);

@@ -74,7 +74,7 @@ enum Failure {
 /// Model, solver, solve: the path of `grasp solve` (no Python objects touched).
 fn solve_scene(scene: &grasp_model::Scene, options: SolveOptions) -> Result<Solution, Failure> {
     let t0 = Instant::now();
-    let model = GraspModel::from_scene(scene).map_err(Failure::Scene)?;
+    let model = GraspModel::from_scene_with(scene, options.compliance).map_err(Failure::Scene)?;
     let build_time_s = t0.elapsed().as_secs_f64();
     let mut solver = GraspSolver::new(&model, options);
     let mut solution = solver

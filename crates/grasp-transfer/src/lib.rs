@@ -66,9 +66,11 @@ pub fn run(
 ) -> Result<(TransferSummary, Option<StepRecord>), TransferError> {
     // The scene's model, built once: the sinks draw it, the stepper restricts it to each
     // step's active fingers.
-    let model = GraspModel::from_scene(scene).map_err(|source| TransferError::Scene {
-        time_s: 0.0,
-        source,
+    let model = GraspModel::from_scene_with(scene, options.solve.compliance).map_err(|source| {
+        TransferError::Scene {
+            time_s: 0.0,
+            source,
+        }
     })?;
     let info = RunInfo {
         scene,

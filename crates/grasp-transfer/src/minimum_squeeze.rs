@@ -103,9 +103,11 @@ pub fn minimum_squeeze(
                 .into(),
         ));
     }
-    let base = GraspModel::from_scene(scene).map_err(|source| TransferError::Scene {
-        time_s: last.time_s,
-        source,
+    let base = GraspModel::from_scene_with(scene, options.compliance).map_err(|source| {
+        TransferError::Scene {
+            time_s: last.time_s,
+            source,
+        }
     })?;
     // The final grasp with the receiving loads scaled by `s`: the scene's model restricted to
     // the active fingers (their compliance blocks are shared, not recomputed).

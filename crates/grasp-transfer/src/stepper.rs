@@ -153,7 +153,7 @@ impl<'a> Stepper<'a> {
     pub fn new(scene: &'a Scene, schedule: &'a Schedule, options: TransferOptions) -> Self {
         Self::build(
             scene,
-            GraspModel::from_scene(scene).map(Cow::Owned),
+            GraspModel::from_scene_with(scene, options.solve.compliance).map(Cow::Owned),
             schedule,
             options,
         )

@@ -20,6 +20,7 @@ use crate::load_scene::load_scene;
 use crate::pictures::margin_plot::{label, MarginPlot};
 use crate::pictures::picture;
 use crate::{limits, output};
+use grasp_model::model::patch_compliance::ComplianceChoice;
 
 /// Disturbance margins: per direction of an extra wrench on the object, the largest
 /// magnitude the grasp takes before it fails (no equilibrium, or coulomb: a finger slides as
@@ -62,6 +63,10 @@ pub struct Args {
     /// Solver: `auto`, `native` or `clarabel`.
     #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
     pub solver: SolverChoice,
+    /// Patch compliance: `auto` (dense up to 64x64 elements a patch, the FFT operator above),
+    /// `dense` or `fft` (matrix-free, native solver; see README "Fine patches").
+    #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
+    pub compliance: ComplianceChoice,
     #[command(flatten)]
     pub memory: MemoryArg,
 }
@@ -74,6 +79,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         length_m: args.length,
         tolerance: args.tolerance,
         solver: args.solver,
+        compliance: args.compliance,
         max_memory: args.memory.max_memory,
     };
     let outputs = Outputs {
@@ -97,6 +103,8 @@ pub struct Flags {
     pub tolerance: f64,
     /// Solver.
     pub solver: SolverChoice,
+    /// Form of the patch compliances.
+    pub compliance: ComplianceChoice,
     /// Memory limit, bytes.
     pub max_memory: Option<u64>,
 }
@@ -188,6 +196,7 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
     options.validate()?;
     let solve = SolveOptions {
         solver: flags.solver,
+        compliance: flags.compliance,
         ..SolveOptions::default()
     };
     let plot_format = outputs
@@ -208,8 +217,8 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
         _ => {}
     }
     let (limit, what) = limits::memory_limit(flags.max_memory);
-    limits::check_memory(&scene, scene_path, (limit, &what))?;
-    let model = GraspModel::from_scene(&scene)
+    limits::check_memory_with(&scene, scene_path, (limit, &what), flags.compliance)?;
+    let model = GraspModel::from_scene_with(&scene, flags.compliance)
         .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
     let length_m = flags.length_m.unwrap_or(model.scales.length_m);
     let dirs = directions(&model, flags.directions.as_deref(), length_m)?;

@@ -18,6 +18,7 @@ use crate::output::{self, Outputs as Claimed};
 use crate::pictures::force_history::ForceHistory;
 use crate::pictures::picture;
 use grasp_io::PendingOutput;
+use grasp_model::model::patch_compliance::ComplianceChoice;
 
 /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
 #[derive(clap::Args, Debug)]
@@ -68,6 +69,10 @@ pub struct Args {
     /// Solver: `auto`, `native` or `clarabel`.
     #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
     pub solver: grasp_model::SolverChoice,
+    /// Patch compliance: `auto` (dense up to 64x64 elements a patch, the FFT operator above),
+    /// `dense` or `fft` (matrix-free, native solver; see README "Fine patches").
+    #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
+    pub compliance: ComplianceChoice,
     #[command(flatten)]
     pub memory: MemoryArg,
 }
@@ -93,6 +98,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         min_squeeze: args.min_squeeze,
         margins: args.margins,
         solver: args.solver,
+        compliance: args.compliance,
         max_memory: args.memory.max_memory,
     };
     run(&args.scene, &args.schedule, &outputs, flags)
@@ -181,6 +187,7 @@ pub struct Flags {
     pub min_squeeze: bool,
     pub margins: bool,
     pub solver: grasp_model::SolverChoice,
+    pub compliance: ComplianceChoice,
     pub max_memory: Option<u64>,
 }
 
@@ -251,7 +258,12 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
         .map(|p| picture::Format::of(p, "--plot"))
         .transpose()?;
     let outs = output::claim(&out.targets(), &[scene_path, schedule_path], out.force)?;
-    let (scene, schedule) = load_inputs(scene_path, schedule_path, flags.max_memory)?;
+    let (scene, schedule) = load_inputs(
+        scene_path,
+        schedule_path,
+        flags.max_memory,
+        flags.compliance,
+    )?;
     outs.refuse_inputs_read()?;
     let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
     let mut open = OpenSinks::create(out, &outs)?;
@@ -261,6 +273,7 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
         warm_start: !flags.cold,
         solve: grasp_model::SolveOptions {
             solver: flags.solver,
+            compliance: flags.compliance,
             ..grasp_model::SolveOptions::default()
         },
         margins: flags.margins,
@@ -340,10 +353,11 @@ fn load_inputs(
     scene_path: &Path,
     schedule_path: &Path,
     max_memory: Option<u64>,
+    compliance: ComplianceChoice,
 ) -> Result<(Scene, Schedule)> {
     let scene = crate::load_scene::load_scene(scene_path)?;
     let (limit, what) = crate::limits::memory_limit(max_memory);
-    crate::limits::check_memory(&scene, scene_path, (limit, &what))?;
+    crate::limits::check_memory_with(&scene, scene_path, (limit, &what), compliance)?;
     let text = crate::limits::read_input(schedule_path, "schedule file")?;
     let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
     let base = schedule_path

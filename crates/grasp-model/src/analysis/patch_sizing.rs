@@ -71,9 +71,11 @@ pub fn auto_patch(
 
 /// Solves a (validated) scene.
 fn solved(scene: Scene, options: SolveOptions) -> Result<AutoPatch, ModelError> {
-    let model = GraspModel::from_scene(&scene).map_err(|source| ModelError::DerivedScene {
-        context: "the scene with grown patches".into(),
-        source,
+    let model = GraspModel::from_scene_with(&scene, options.compliance).map_err(|source| {
+        ModelError::DerivedScene {
+            context: "the scene with grown patches".into(),
+            source,
+        }
     })?;
     let solution = GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
     Ok(AutoPatch {

@@ -98,9 +98,11 @@ pub fn estimate_error(
         return Ok(Err(NoEstimate::CannotCoarsen));
     }
     let model =
-        GraspModel::from_scene(&coarse_scene).map_err(|source| ModelError::DerivedScene {
-            context: "the grid half as fine".into(),
-            source,
+        GraspModel::from_scene_with(&coarse_scene, options.compliance).map_err(|source| {
+            ModelError::DerivedScene {
+                context: "the grid half as fine".into(),
+                source,
+            }
         })?;
     let coarse = GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
     if !coarse.status.has_forces() {
@@ -216,7 +218,8 @@ pub fn refinement_study(
         let s = with_grids(scene, |_, g| grid_with_first_side(g, n));
         check_grid_size(&s, n)?;
         let t = Instant::now();
-        let model = GraspModel::from_scene(&s).map_err(|e| e.to_string())?;
+        let model =
+            GraspModel::from_scene_with(&s, options.compliance).map_err(|e| e.to_string())?;
         let sol = GraspSolver::new(&model, options)
             .solve(&model, &model.scene_loads_n())
             .map_err(|e| e.to_string())?;
