@@ -136,6 +136,28 @@ pub const CASES: [Case; 10] = [
     ),
 ];
 
+/// The fine-patch cases of issue 21, on the FFT compliance (the automatic choice above 64 x 64
+/// elements): model build and one solve, timed together, native solver only (Clarabel needs
+/// the matrices these grids do not store). Targets: issue 21's.
+pub const FFT_CASES: [Case; 2] = [
+    case(
+        "hertz_128x128_fft",
+        OneShot,
+        "hertz_sphere_on_flat",
+        Some([128, 128]),
+        Some(0.2),
+        false,
+    ),
+    case(
+        "hertz_256x256_fft",
+        OneShot,
+        "hertz_sphere_on_flat",
+        Some([256, 256]),
+        Some(1.0),
+        false,
+    ),
+];
+
 /// The bundled scene and schedule texts (compiled in) of an example stem, e.g.
 /// `plate_transfer`.
 pub fn bundled(stem: &str) -> Option<(&'static str, Option<&'static str>)> {

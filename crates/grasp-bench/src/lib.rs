@@ -11,6 +11,6 @@ pub mod peak_memory;
 pub mod sample;
 pub mod statistics;
 
-pub use case::{Case, CaseKind, Prepared, CASES};
+pub use case::{Case, CaseKind, Prepared, CASES, FFT_CASES};
 pub use error::BenchError;
 pub use sample::Sample;

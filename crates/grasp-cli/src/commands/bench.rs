@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use grasp_bench::statistics::{growth_exponent, median_and_range};
-use grasp_bench::{Case, CaseKind, Sample, CASES};
+use grasp_bench::{Case, CaseKind, Sample, CASES, FFT_CASES};
 use grasp_model::SolverChoice;
 
 /// Benchmark table: the cases of issue 9 (cube A grids, Hertz 41x41, both hand-offs warm
@@ -493,17 +493,17 @@ fn progress(what: &str) {
 
 /// Runs the bench and prints the table.
 fn run(flags: Flags) -> Result<ExitCode> {
+    let all = || CASES.iter().chain(&FFT_CASES);
     for name in &flags.cases {
-        if !CASES.iter().any(|c| c.name == name) {
-            let names: Vec<&str> = CASES.iter().map(|c| c.name).collect();
+        if !all().any(|c| c.name == name) {
+            let names: Vec<&str> = all().map(|c| c.name).collect();
             bail!(
                 "--case {name}: no such case; choose from {}",
                 names.join(", ")
             );
         }
     }
-    let chosen: Vec<&Case> = CASES
-        .iter()
+    let chosen: Vec<&Case> = all()
         .filter(|c| flags.cases.is_empty() || flags.cases.iter().any(|n| n == c.name))
         .filter(|c| !flags.quick || c.quick || !flags.cases.is_empty())
         .collect();
@@ -511,6 +511,9 @@ fn run(flags: Flags) -> Result<ExitCode> {
     let mut rows = Vec::new();
     for case in &chosen {
         for &solver in &flags.solvers {
+            if solver == SolverChoice::Clarabel && FFT_CASES.iter().any(|c| c.name == case.name) {
+                continue;
+            }
             progress(&format!("bench: {} ({solver})", case.name));
             let m = measure(case, solver, &flags)?;
             rows.push(case_row(&m));
