@@ -33,7 +33,7 @@ use super::conic_rows::ElementRows;
 use super::finger_block::FingerBlockData;
 use super::interior_cones::{Cone, Scaling};
 use super::reduced_factor::cholesky;
-use super::{Counts, Iterate, NativeResult, NativeStatus};
+use super::{Counts, NativeResult, NativeStatus};
 
 /// Interior-point iterations before giving up.
 const MAX_ITERATIONS: u32 = 100;
@@ -436,16 +436,7 @@ pub(crate) fn run(
             && max_abs(&res.2) <= tolerance * scale_s
             && gap <= tolerance * nu * scale_s
         {
-            return NativeResult {
-                status: NativeStatus::Converged,
-                iterate: Iterate {
-                    x: p.x,
-                    lambda: p.lambda,
-                },
-                iterations: counts.newton_steps,
-                factorisations: counts.factorisations,
-                inner_iterations: counts.inner_iterations,
-            };
+            return NativeResult::after(NativeStatus::Converged, p.x, p.lambda, counts);
         }
         if let Err(why) = predictor_corrector(blocks, program, &lay, &mut p, &res, gap, &mut counts)
         {
@@ -457,16 +448,12 @@ pub(crate) fn run(
 
 /// A stall at `p` after the work `counts`, for the reason `why`.
 fn stalled(p: Point, why: &str, counts: Counts) -> NativeResult {
-    NativeResult {
-        status: NativeStatus::Stalled(why.to_string()),
-        iterate: Iterate {
-            x: p.x,
-            lambda: p.lambda,
-        },
-        iterations: counts.newton_steps,
-        factorisations: counts.factorisations,
-        inner_iterations: counts.inner_iterations,
-    }
+    NativeResult::after(
+        NativeStatus::Stalled(why.to_string()),
+        p.x,
+        p.lambda,
+        counts,
+    )
 }
 
 /// One iteration from `p` (residuals `res`, gap `s'z`), counted in `counts`: the NT scalings,

@@ -72,6 +72,24 @@ pub(crate) struct NativeResult {
     pub inner_iterations: u32,
 }
 
+impl NativeResult {
+    /// The result `status` at `(x, lambda)` after the work `counts`.
+    pub(crate) fn after(
+        status: NativeStatus,
+        x: Vec<f64>,
+        lambda: Vec<f64>,
+        counts: Counts,
+    ) -> Self {
+        NativeResult {
+            status,
+            iterate: Iterate { x, lambda },
+            iterations: counts.newton_steps,
+            factorisations: counts.factorisations,
+            inner_iterations: counts.inner_iterations,
+        }
+    }
+}
+
 /// The work of a solve so far, carried from the Newton iteration to the interior-point method
 /// and back.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

@@ -209,16 +209,9 @@ fn newton_iteration(
         },
     };
     match descend(blocks, caches, program, s, limits, &mut counts, first) {
-        Descent::Converged(s) => NativeResult {
-            status: NativeStatus::Converged,
-            iterate: Iterate {
-                x: s.x,
-                lambda: s.lambda,
-            },
-            iterations: counts.newton_steps,
-            factorisations: counts.factorisations,
-            inner_iterations: counts.inner_iterations,
-        },
+        Descent::Converged(s) => {
+            NativeResult::after(NativeStatus::Converged, s.x, s.lambda, counts)
+        }
         Descent::Singular(s) => stalled(s, counts, NOT_POSITIVE_DEFINITE),
         Descent::Stalled(s) => robust(blocks, caches, program, s, limits, counts, fallback),
     }
@@ -452,14 +445,10 @@ fn polish_or(polish: NativeResult, ipm: NativeResult) -> NativeResult {
 
 /// A stall at `s` after the work `counts`, for the reason `why`.
 fn stalled(s: State, counts: Counts, why: &str) -> NativeResult {
-    NativeResult {
-        status: NativeStatus::Stalled(why.to_string()),
-        iterate: Iterate {
-            x: s.x,
-            lambda: s.lambda,
-        },
-        iterations: counts.newton_steps,
-        factorisations: counts.factorisations,
-        inner_iterations: counts.inner_iterations,
-    }
+    NativeResult::after(
+        NativeStatus::Stalled(why.to_string()),
+        s.x,
+        s.lambda,
+        counts,
+    )
 }
