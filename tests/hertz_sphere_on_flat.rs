@@ -106,3 +106,41 @@ fn fine_grids_on_the_fft_operator_meet_hertz() {
         );
     }
 }
+
+/// What needs matrix entries is refused on an FFT patch too large to write out, with the
+/// option that changes it (issue 21): the sensitivities (a dense system over the free
+/// directions), Clarabel, and a dense matrix forced on a grid whose blocks cannot fit.
+#[test]
+fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {
+    use grasp_model::model::patch_compliance::ComplianceChoice;
+    use grasp_model::{GraspSolver, ModelError, SceneError, SolveOptions, SolverChoice};
+    let model = GraspModel::from_scene(&scene(128, 2.4)).unwrap();
+    let mut solver = GraspSolver::new(&model, SolveOptions::default());
+    let sol = solver.solve(&model, &model.scene_loads_n()).unwrap();
+    match solver.sensitivities(&model, &sol) {
+        Err(ModelError::Derivative(m)) => assert!(m.contains("`SolveOptions::compliance`"), "{m}"),
+        other => panic!("sensitivities on a 128x128 FFT patch: {other:?}"),
+    }
+    let clarabel = SolveOptions {
+        solver: SolverChoice::Clarabel,
+        ..SolveOptions::default()
+    };
+    match GraspSolver::new(&model, clarabel).solve(&model, &model.scene_loads_n()) {
+        Err(ModelError::Solver(m)) => assert!(m.contains("`SolveOptions::compliance`"), "{m}"),
+        other => panic!(
+            "Clarabel on a 128x128 FFT patch: {:?}",
+            other.map(|s| s.status)
+        ),
+    }
+    match GraspModel::from_scene_with(&scene(1024, 2.4), ComplianceChoice::Dense) {
+        Err(SceneError::Invalid(p)) => {
+            assert_eq!(p[0].path, "fingers");
+            assert!(
+                p[0].fix.contains("`SolveOptions::compliance`"),
+                "{:?}",
+                p[0]
+            );
+        }
+        other => panic!("a dense 1024x1024 patch: {:?}", other.map(|m| m.n_unknowns)),
+    }
+}

@@ -64,7 +64,7 @@ def checker(module, reason):
 def rerun_cli():
     """The `rerun` CLI of rerun-sdk (installed by scripts/install-checkers.sh), or None."""
     path = os.environ.get("GRASP_RERUN_CLI") or shutil.which("rerun")
-    found = path if path and os.path.exists(path) else None
-    if found is None and require_checkers():
-        raise RuntimeError(f"the rerun CLI is not at {path!r}: run scripts/install-checkers.sh")
-    return found
+    if require_checkers():
+        # Never None under scripts/test.sh: a missing CLI fails each test that runs it.
+        return path or "rerun"
+    return path if path and os.path.exists(path) else None

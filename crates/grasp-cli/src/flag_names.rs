@@ -2,13 +2,14 @@
 //! (`grasp_model::option_names`, `grasp_batch::option_names`); the CLI says the flag instead.
 
 use grasp_model::option_names::{
-    respell, AUTO_PATCH, MARGIN_LENGTH, MARGIN_TOLERANCE, SOLVER, TOLERANCE,
+    respell, AUTO_PATCH, COMPLIANCE, MARGIN_LENGTH, MARGIN_TOLERANCE, SOLVER, TOLERANCE,
 };
 use grasp_model::Solution;
 
 /// Library option name -> command-line flag.
 const FLAGS: &[(&str, &str)] = &[
     (SOLVER, "--solver"),
+    (COMPLIANCE, "--compliance"),
     (TOLERANCE, "--tolerance"),
     (MARGIN_LENGTH, "--length"),
     (MARGIN_TOLERANCE, "--tolerance"),

@@ -14,7 +14,8 @@ use crate::model::friction::FrictionLaw;
 use crate::model::influence::PairConstants;
 use crate::model::material::Material;
 use crate::model::patch::Patch;
-use crate::model::patch_compliance::{ComplianceChoice, PatchCompliance};
+use crate::model::patch_compliance::{uses_fft, ComplianceChoice, PatchCompliance};
+use crate::scene::limits::MAX_COMPLIANCE_BYTES;
 use crate::scene::scene_format::{ModelKind, RadiusSpec, Scene};
 
 /// Compliance entries (summed over fingers) from which the blocks are built in parallel:
@@ -237,6 +238,7 @@ impl GraspModel {
                 fix: "list at least one finger".into(),
             }]));
         }
+        check_dense_bytes(scene, compliance)?;
         let object = object_model(scene);
         // The fingers' compliance blocks are independent: build them in parallel when they
         // are large enough to pay for the threads (the same numbers either way).
@@ -460,6 +462,30 @@ fn object_model(scene: &Scene) -> ObjectModel {
             .as_ref()
             .map_or_else(Vec::new, |r| r.warnings.clone()),
     }
+}
+
+/// Refuses a scene whose dense patch compliances under `compliance` would exceed
+/// [`MAX_COMPLIANCE_BYTES`] (validation checks the automatic choice; a caller that forces the
+/// dense matrix on a fine grid is refused here, before anything is allocated).
+fn check_dense_bytes(scene: &Scene, compliance: ComplianceChoice) -> Result<(), SceneError> {
+    let bytes = crate::scene::work_bounds::compliance_bytes_of(scene, |f| {
+        !uses_fft(compliance, f.patch.grid[0].saturating_mul(f.patch.grid[1]))
+    }) as f64;
+    if bytes <= MAX_COMPLIANCE_BYTES {
+        return Ok(());
+    }
+    Err(SceneError::Invalid(vec![crate::error::InputProblem {
+        path: "fingers".into(),
+        message: format!(
+            "the dense patch compliance blocks need {:.1} GiB, more than {:.0} GiB",
+            bytes / 1073741824.0,
+            MAX_COMPLIANCE_BYTES / 1073741824.0
+        ),
+        fix: format!(
+            "set `{}` to auto or fft, or use coarser grids",
+            crate::option_names::COMPLIANCE
+        ),
+    }]))
 }
 
 /// One finger of a scene, prepared (offset 0 until the model places it).

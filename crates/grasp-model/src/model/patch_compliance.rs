@@ -162,17 +162,7 @@ impl PatchCompliance {
     pub fn matrix(&self) -> Option<Arc<DMatrix<f64>>> {
         match self {
             PatchCompliance::Dense(c) => Some(Arc::clone(c)),
-            PatchCompliance::Fft(op) if op.len() <= MATERIALISED_UNKNOWNS => {
-                let n = op.len();
-                let mut m = DMatrix::zeros(n, n);
-                let mut unit = vec![0.0; n];
-                for col in 0..n {
-                    unit[col] = 1.0;
-                    op.apply(&unit, m.column_mut(col).as_mut_slice());
-                    unit[col] = 0.0;
-                }
-                Some(Arc::new(m))
-            }
+            PatchCompliance::Fft(op) if op.len() <= MATERIALISED_UNKNOWNS => Some(op.matrix()),
             PatchCompliance::Fft(_) => None,
         }
     }

@@ -10,15 +10,18 @@
 //! ```
 //!
 //! The FFT operator keeps one spectrum of `2 nx_i (ny_i + 1)` complex numbers (16 bytes) per
-//! kernel (`k_i` = 1, 3 or 6 for `c_i` = 0, 1, 2), an apply needs `c_i + 3` more, and the conjugate-gradient solves keep
-//! [`FFT_VECTORS`] vectors of `n_i` numbers (the columns `M^-1 Et'` and the iterates):
+//! kernel (`k_i` = 1, 3 or 6 for `c_i` = 0, 1, 2), an apply needs `c_i + 3` more, the
+//! conjugate-gradient solves keep [`FFT_VECTORS`] vectors of `n_i` numbers plus
+//! [`FFT_VECTORS_PER_ROW`] per equality row (`m = 6 + fingers` at most: the columns `Et'` and
+//! `M^-1 Et'`), and the build holds a table of 48 bytes per padded grid point:
 //!
 //! ```text
-//!   fft:    FFT_SAFETY * (16 (k_i + c_i + 3) 2 nx_i (ny_i + 1) + 8 FFT_VECTORS n_i)   bytes
+//!   fft:    FFT_SAFETY * (16 (k_i + c_i + 3) 2 nx_i (ny_i + 1)
+//!                         + 8 (FFT_VECTORS + FFT_VECTORS_PER_ROW m) n_i + 48 4 nx_i ny_i)   bytes
 //! ```
 //!
-//! with [`DENSE_COPIES`] for the model's block, the assembled program's copy and the
-//! factorisations of the solver, and [`SPARSE_ALLOWANCE`] (the same again) for the sparse
+//! In the dense estimate [`DENSE_COPIES`] counts the model's block, the assembled program's
+//! copy and the factorisations of the solver, and [`SPARSE_ALLOWANCE`] (the same again) for the sparse
 //! solver's fill-in and workspace. Every product saturates at `u64::MAX`, so absurd grids give
 //! an absurd estimate rather than a wrapped small one. On the bundled examples the estimate lies
 //! above the measured peak (`grasp study` reports it); the factors may be retuned.
@@ -34,9 +37,17 @@ pub const SPARSE_ALLOWANCE: u64 = DENSE_COPIES;
 /// Bytes of one `f64`.
 const F64_BYTES: u64 = 8;
 
-/// Vectors of a finger's unknowns the FFT path keeps (equality columns and their solves, the
-/// conjugate-gradient iterates, the Newton step's vectors).
+/// Vectors of a finger's unknowns the FFT path keeps besides its equality columns (the
+/// conjugate-gradient iterates, the Newton step's and the program's vectors).
 pub const FFT_VECTORS: u64 = 48;
+
+/// Vectors per equality row the FFT path keeps for a finger: `Et'` and `U = M^-1 Et'` in each
+/// of the two cached reduced systems.
+pub const FFT_VECTORS_PER_ROW: u64 = 4;
+
+/// Bytes of the table of rectangle integrals per padded grid point, while the operator is
+/// built (six `f64`).
+const TABLE_BYTES: u64 = 48;
 
 /// Safety factor of the FFT path's estimate (allocator slack, the model's other vectors).
 pub const FFT_SAFETY: u64 = 2;
@@ -111,8 +122,15 @@ fn fft_bytes(scene: &Scene, f: &FingerSpec) -> u64 {
     // Kernels kept: nn; then 11 and n1; then 22, 12 and n2.
     let kernels = [1, 3, 6][c as usize];
     let spectra = spectrum.saturating_mul(kernels + c + 3);
-    let vectors = finger_unknowns(scene, f).saturating_mul(F64_BYTES * FFT_VECTORS);
-    spectra.saturating_add(vectors).saturating_mul(FFT_SAFETY)
+    // Equality rows: 6 (3 planar) equilibrium rows and at most one load row per finger.
+    let rows = 6 + scene.fingers.len() as u64;
+    let per_unknown = F64_BYTES * (FFT_VECTORS + FFT_VECTORS_PER_ROW * rows);
+    let vectors = finger_unknowns(scene, f).saturating_mul(per_unknown);
+    let table = (4 * TABLE_BYTES).saturating_mul(nx).saturating_mul(ny);
+    spectra
+        .saturating_add(vectors)
+        .saturating_add(table)
+        .saturating_mul(FFT_SAFETY)
 }
 
 #[cfg(test)]

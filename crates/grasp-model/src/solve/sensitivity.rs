@@ -241,6 +241,19 @@ pub(crate) fn sensitivities(
         (true, Some(it)) => it.clone(),
         _ => return Err(ModelError::NoSolution),
     };
+    if let Some(f) = model.fingers.iter().find(|f| {
+        f.compliance_m_per_n.is_fft()
+            && f.n_unknowns() > crate::model::patch_compliance::MATERIALISED_UNKNOWNS
+    }) {
+        // The derivative's system is dense in the free directions (n_free^2 entries).
+        return Err(ModelError::Derivative(format!(
+            "finger `{}` has {} unknowns on the FFT compliance, too many for the dense system \
+             of the derivative: sensitivities need `{}` dense (or a coarser grid)",
+            f.name,
+            f.n_unknowns(),
+            crate::option_names::COMPLIANCE
+        )));
+    }
     let mut params = wrench_parameters(model);
     let rhs = rhs_columns(model, ps, &mut params);
     let mu = radius_coefficients(model, ps, solution);

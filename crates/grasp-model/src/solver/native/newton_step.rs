@@ -183,7 +183,10 @@ pub(crate) fn newton_step(
     let mut rhs = DVector::from_column_slice(e_res);
     // Fingers are independent until the Schur complement: factorise them in parallel when the
     // work pays for the threads (each finger's arithmetic stays sequential: deterministic).
-    let work: usize = lins.iter().map(|l| l.free.len().pow(3)).sum();
+    let work: usize = lins
+        .iter()
+        .map(|l| l.free.len().saturating_pow(3))
+        .fold(0, usize::saturating_add);
     let per_finger =
         |(block, lin, cache): (&FingerBlockData, &FingerLinearisation, &mut FactorCache)| {
             let (mut count, mut inner) = (0, 0);

@@ -226,7 +226,9 @@ pub(crate) fn conjugate_gradients(
     let mut rz = dot(&r, &z);
     let mut ap = vec![0.0; n];
     let max = CG_ITERATIONS_PER_ROOT * ((n as f64).sqrt().ceil() as usize).max(1);
+    let mut done = 0;
     for it in 1..=max {
+        done = it;
         apply(&p, &mut ap);
         let pap = dot(&p, &ap);
         if pap.is_nan() || pap <= 0.0 {
@@ -254,7 +256,7 @@ pub(crate) fn conjugate_gradients(
     // Out of iterations (or a breakdown): the true residual decides.
     apply(&x, &mut ap);
     let residual: Vec<f64> = b.iter().zip(&ap).map(|(bi, a)| bi - a).collect();
-    (norm(&residual) <= CG_ACCEPTABLE * b_norm).then_some((x, max as u32))
+    (norm(&residual) <= CG_ACCEPTABLE * b_norm).then_some((x, done as u32))
 }
 
 #[cfg(test)]

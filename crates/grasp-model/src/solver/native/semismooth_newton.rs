@@ -218,7 +218,8 @@ fn newton_iteration(
 }
 
 /// Why a stall at a reduced matrix that cannot be factorised.
-const NOT_POSITIVE_DEFINITE: &str = "a reduced matrix is not positive definite";
+const NOT_POSITIVE_DEFINITE: &str = "a reduced matrix is not positive definite, or (FFT \
+     compliance) conjugate gradients did not solve a reduced system to 1e-8";
 
 /// The cold start: from `x = 0`, `lambda = 0` the all-stick step (every element in contact
 /// and sticking, [`cold_pattern`]), counted in `counts`; `Err` with the zero state when a
