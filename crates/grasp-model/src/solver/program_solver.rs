@@ -16,7 +16,7 @@ use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
 use crate::option_names;
 use crate::program::cone_program::ConeProgram;
-use crate::solver::native::{Iterate, Limits, NativeSolver, NativeStatus};
+use crate::solver::native::{Iterate, Limits, NativeResult, NativeSolver, NativeStatus};
 use crate::solver::options::{SolveOptions, SolverChoice};
 
 use crate::solver::clarabel::{self, ClarabelWorkspace};
@@ -145,69 +145,74 @@ impl ProgramSolver {
         };
         let result = native.solve(program, &starts, limits);
         let native_time = clock.elapsed().as_secs_f64();
-        let why = match result.status {
+        let matrix_free = native.is_matrix_free();
+        let why = match &result.status {
             NativeStatus::Converged => {
-                return Ok(ConvexRun {
-                    outcome: ConvexOutcome::Solved {
-                        reduced_accuracy: false,
-                        x: result.iterate.x,
-                        multipliers: result.iterate.lambda,
-                    },
-                    iterations: result.iterations,
-                    factorisations: result.factorisations,
-                    inner_iterations: result.inner_iterations,
-                    solver_time_s: native_time,
-                    answered_by: SolverKind::Native,
-                    fallback: None,
-                })
+                let solved = ConvexOutcome::Solved {
+                    reduced_accuracy: false,
+                    x: result.iterate.x.clone(),
+                    multipliers: result.iterate.lambda.clone(),
+                };
+                return Ok(native_run(solved, &result, native_time));
             }
             NativeStatus::Stalled(why) => format!(
                 "the native solver did not converge in {} Newton steps ({why})",
                 result.iterations
             ),
         };
-        if native.is_matrix_free() {
-            // Clarabel needs the dense matrices: the stall is the outcome.
-            return Ok(ConvexRun {
-                outcome: ConvexOutcome::Failed {
-                    reason: format!(
-                        "no convergence: {why}; Clarabel cannot take over a model with the FFT \
-                         compliance (set `{}` to dense for it)",
-                        option_names::COMPLIANCE
-                    ),
-                },
-                iterations: result.iterations,
-                factorisations: result.factorisations,
-                inner_iterations: result.inner_iterations,
-                solver_time_s: native_time,
-                answered_by: SolverKind::Native,
-                fallback: None,
-            });
+        if matrix_free {
+            // Clarabel needs the matrices: the stall is the outcome.
+            let reason = format!(
+                "no convergence: {why}; Clarabel cannot take over a model with the FFT \
+                 compliance (set `{}` to dense for it)",
+                option_names::COMPLIANCE
+            );
+            let failed = ConvexOutcome::Failed { reason };
+            return Ok(native_run(failed, &result, native_time));
         }
         let mut run = self.solve_clarabel(model, options)?;
         run.iterations += result.iterations;
         run.factorisations += result.factorisations;
         run.inner_iterations += result.inner_iterations;
         run.solver_time_s += native_time;
-        run.fallback = Some(match (&run.outcome, options.solver) {
-            (ConvexOutcome::Infeasible(_), _) => {
-                format!("{why}; Clarabel certified that the program has no solution")
-            }
-            (_, SolverChoice::Auto) => format!("{why}; Clarabel answered"),
-            _ => why.clone(),
-        });
-        if options.solver == SolverChoice::Native {
-            if let ConvexOutcome::Solved { .. } = run.outcome {
-                run.outcome = ConvexOutcome::Failed {
-                    reason: format!(
-                        "no convergence: {why}; Clarabel solves this program, so set `{}` to \
-                         auto (or clarabel)",
-                        option_names::SOLVER
-                    ),
-                };
-            }
-        }
+        after_native_stall(&mut run, options.solver, &why);
         Ok(run)
+    }
+}
+
+/// A run the native solver answered (or whose stall is the outcome), with its work.
+fn native_run(outcome: ConvexOutcome, result: &NativeResult, time_s: f64) -> ConvexRun {
+    ConvexRun {
+        outcome,
+        iterations: result.iterations,
+        factorisations: result.factorisations,
+        inner_iterations: result.inner_iterations,
+        solver_time_s: time_s,
+        answered_by: SolverKind::Native,
+        fallback: None,
+    }
+}
+
+/// Clarabel's run after the native solver stalled (`why`): the fallback's reason, and with
+/// `SolverChoice::Native` an answer of Clarabel's is no answer (the native solver was asked).
+fn after_native_stall(run: &mut ConvexRun, choice: SolverChoice, why: &str) {
+    run.fallback = Some(match (&run.outcome, choice) {
+        (ConvexOutcome::Infeasible(_), _) => {
+            format!("{why}; Clarabel certified that the program has no solution")
+        }
+        (_, SolverChoice::Auto) => format!("{why}; Clarabel answered"),
+        _ => why.to_string(),
+    });
+    if choice == SolverChoice::Native {
+        if let ConvexOutcome::Solved { .. } = run.outcome {
+            run.outcome = ConvexOutcome::Failed {
+                reason: format!(
+                    "no convergence: {why}; Clarabel solves this program, so set `{}` to \
+                     auto (or clarabel)",
+                    option_names::SOLVER
+                ),
+            };
+        }
     }
 }
 
