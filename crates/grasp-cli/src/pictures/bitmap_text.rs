@@ -91,7 +91,7 @@ impl<DB: DrawingBackend> DrawingBackend for BaselineText<DB> {
         if color.alpha == 0.0 {
             return Ok(());
         }
-        let font = FontRef::try_from_slice(super::picture::FONT)
+        let font = FontRef::try_from_slice(super::font::FONT)
             .map_err(|e| DrawingErrorKind::FontError(Box::new(e)))?;
         let ((min_x, min_y), (max_x, max_y)) = style
             .layout_box(text)

@@ -13,9 +13,6 @@ use plotters::prelude::*;
 
 use super::bitmap_text::BaselineText;
 
-/// The shipped font (DejaVu Sans: Latin, Greek, punctuation, arrows, mathematical operators).
-pub(super) const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans-subset.ttf");
-
 /// A file format for pictures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
@@ -88,7 +85,7 @@ pub fn draw_err(e: impl std::fmt::Display) -> anyhow::Error {
 pub(super) fn use_shipped_font() -> Result<()> {
     static REGISTERED: OnceLock<bool> = OnceLock::new();
     let ok = *REGISTERED.get_or_init(|| {
-        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()
+        plotters::style::register_font("sans-serif", FontStyle::Normal, super::font::FONT).is_ok()
     });
     match ok {
         true => Ok(()),
