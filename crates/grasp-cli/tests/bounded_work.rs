@@ -134,3 +134,56 @@ fn memory_does_not_grow_with_the_number_of_steps() {
         "peak grew from {short} KiB to {long} KiB with the steps"
     );
 }
+
+/// `--compliance` (issue 21): the memory estimate is that of the path that runs. A 128x128
+/// patch on cube A's first finger is refused on the dense path within 1 GiB, naming the flag
+/// that avoids it; a small scene solved on the FFT path says so in its time line and its JSON,
+/// with the same finger forces as the dense path (to 1e-8 of the load).
+#[test]
+fn the_compliance_flag_picks_the_path_and_its_memory_estimate() {
+    let dir = tmp("compliance");
+    let fine = cube_with_grid(&dir, [128, 128], false);
+    let fine = fine.to_str().unwrap();
+    let o = grasp(&["solve", fine, "--compliance", "dense", "--max-memory", "1G"]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("a dense 49152 x 49152 block") && t.contains("--compliance fft"),
+        "{t}"
+    );
+    let scene = example("cube_a.json");
+    let mut forces = Vec::new();
+    for path in ["dense", "fft"] {
+        let json = dir.join(format!("cube_a.{path}.json"));
+        let o = grasp(&[
+            "solve",
+            &scene,
+            "--compliance",
+            path,
+            "--json",
+            json.to_str().unwrap(),
+            "--force",
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        assert_eq!(v["solver"]["compliance"], path);
+        assert_eq!(
+            text(&o).contains("FFT compliance"),
+            path == "fft",
+            "{}",
+            text(&o)
+        );
+        let load = v["load_scale_n"].as_f64().unwrap();
+        let f: Vec<f64> = v["fingers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f["normal_force_n"].as_f64().unwrap() / load)
+            .collect();
+        forces.push(f);
+    }
+    for (a, b) in forces[0].iter().zip(&forces[1]) {
+        assert!((a - b).abs() <= 1e-8, "{a} vs {b}");
+    }
+}

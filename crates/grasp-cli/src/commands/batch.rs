@@ -1,6 +1,7 @@
 //! `grasp batch`: many scenes, one result line each ([`grasp_batch`]), with a
 //! progress bar, resume, shards and merge.
 
+use grasp_model::model::patch_compliance::ComplianceChoice;
 use std::collections::HashSet;
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -47,6 +48,10 @@ pub struct Args {
     /// Solver: `auto`, `native` or `clarabel`.
     #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
     pub solver: SolverChoice,
+    /// Patch compliance: `auto` (dense up to 64x64 elements a patch, the FFT operator above),
+    /// `dense` or `fft` (matrix-free, native solver; see README "Fine patches").
+    #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
+    pub compliance: ComplianceChoice,
     #[command(flatten)]
     pub memory: MemoryArg,
 }
@@ -66,6 +71,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         shard: args.shard,
         jobs: args.jobs,
         solver: args.solver,
+        compliance: args.compliance,
         max_memory: args.memory.max_memory,
     };
     let source = BatchInput::open(&input)?;
@@ -93,6 +99,7 @@ pub struct Flags {
     pub shard: Option<String>,
     pub jobs: Option<usize>,
     pub solver: SolverChoice,
+    pub compliance: ComplianceChoice,
     pub max_memory: Option<u64>,
 }
 
@@ -152,6 +159,7 @@ pub(crate) fn run(
     let options = BatchOptions {
         solve: SolveOptions {
             solver: flags.solver,
+            compliance: flags.compliance,
             ..SolveOptions::default()
         },
         threads: flags.jobs.unwrap_or(0),

@@ -1,6 +1,7 @@
 //! `grasp study`: a grid-refinement table (and CSV, plot) so a user can pick a grid for the
 //! accuracy they need.
 
+use grasp_model::model::patch_compliance::ComplianceChoice;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -50,6 +51,10 @@ pub struct Args {
     /// Solver: `auto`, `native` or `clarabel`.
     #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
     pub solver: grasp_model::SolverChoice,
+    /// Patch compliance: `auto` (dense up to 64x64 elements a patch, the FFT operator above),
+    /// `dense` or `fft` (matrix-free, native solver; see README "Fine patches").
+    #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
+    pub compliance: ComplianceChoice,
     #[command(flatten)]
     pub memory: MemoryArg,
 }
@@ -67,7 +72,11 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         &args.reference,
         outputs,
         args.memory.max_memory,
-        args.solver,
+        SolveOptions {
+            solver: args.solver,
+            compliance: args.compliance,
+            ..SolveOptions::default()
+        },
     )
 }
 
@@ -84,7 +93,7 @@ fn run(
     reference: &str,
     out: Outputs,
     max_memory: Option<u64>,
-    solver: grasp_model::SolverChoice,
+    options: SolveOptions,
 ) -> Result<ExitCode> {
     check_grids(grids)?;
     let (csv, plot) = (out.csv, out.plot);
@@ -97,20 +106,13 @@ fn run(
     let finest_scene = refinement::with_grids(&scene_obj, |_, g| {
         refinement::grid_with_first_side(g, finest)
     });
-    crate::limits::check_memory(&finest_scene, scene, (limit.0, &limit.1)).with_context(|| {
-        format!("the finest grid of the study ({finest} elements along the first side)")
-    })?;
+    let memory = (limit.0, limit.1.as_str());
+    crate::limits::check_memory_with(&finest_scene, scene, memory, options.compliance)
+        .with_context(|| {
+            format!("the finest grid of the study ({finest} elements along the first side)")
+        })?;
     let (reference, why) = choose_reference(&scene_obj, reference, finest);
-    let rows = match refinement_study(
-        &scene_obj,
-        grids,
-        reference,
-        SolveOptions {
-            solver,
-            ..SolveOptions::default()
-        },
-        peak_memory_bytes,
-    ) {
+    let rows = match refinement_study(&scene_obj, grids, reference, options, peak_memory_bytes) {
         Ok(r) => r,
         Err(e) => bail!("study of {} failed: {e}", scene.display()),
     };

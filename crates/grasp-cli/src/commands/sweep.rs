@@ -1,6 +1,7 @@
 //! `grasp sweep`: a grid of variants of one scene, written as JSONL for `grasp batch` or run
 //! at once.
 
+use grasp_model::model::patch_compliance::ComplianceChoice;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -40,6 +41,10 @@ pub struct Args {
     /// Solver: `auto`, `native` or `clarabel`.
     #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
     pub solver: SolverChoice,
+    /// Patch compliance: `auto` (dense up to 64x64 elements a patch, the FFT operator above),
+    /// `dense` or `fft` (matrix-free, native solver; see README "Fine patches").
+    #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
+    pub compliance: ComplianceChoice,
     #[command(flatten)]
     pub memory: MemoryArg,
 }
@@ -53,6 +58,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         shard: None,
         jobs: args.jobs,
         solver: args.solver,
+        compliance: args.compliance,
         max_memory: args.memory.max_memory,
     };
     sweep(&args.scene, &args.vary, args.run, &flags)
