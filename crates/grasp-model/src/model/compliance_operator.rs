@@ -32,12 +32,14 @@ const PARALLEL_POINTS: usize = 128 * 128;
 /// `out[q px + i] = rows[i hy + q]`: an `px x hy` array transposed, in tiles that stay in
 /// cache.
 fn transpose(rows: &[Complex<f64>], px: usize, hy: usize, out: &mut [Complex<f64>]) {
-    const TILE: usize = 32;
+    const TILE: usize = 16;
     for i0 in (0..px).step_by(TILE) {
+        let i1 = (i0 + TILE).min(px);
         for q0 in (0..hy).step_by(TILE) {
-            for i in i0..(i0 + TILE).min(px) {
-                for q in q0..(q0 + TILE).min(hy) {
-                    out[q * px + i] = rows[i * hy + q];
+            // Writes run along `out`'s rows, reads stride through `rows`.
+            for q in q0..(q0 + TILE).min(hy) {
+                for (i, o) in (i0..i1).zip(&mut out[q * px + i0..q * px + i1]) {
+                    *o = rows[i * hy + q];
                 }
             }
         }
