@@ -29,17 +29,24 @@ use super::influence::{offset_table, BlockKernels, GridSpec, PairConstants, Rect
 /// cores.
 const PARALLEL_POINTS: usize = 128 * 128;
 
-/// `out[q px + i] = rows[i hy + q]`: an `px x hy` array transposed, in tiles that stay in
-/// cache.
-fn transpose(rows: &[Complex<f64>], px: usize, hy: usize, out: &mut [Complex<f64>]) {
+/// `dst[c dst_stride + r] = src[r src_stride + c]` for `r < rows`, `c < cols`: a transpose, in
+/// tiles that stay in cache, writing along `dst`'s rows (strided writes cost far more than
+/// strided reads).
+fn transpose(
+    src: &[Complex<f64>],
+    src_stride: usize,
+    (rows, cols): (usize, usize),
+    dst: &mut [Complex<f64>],
+    dst_stride: usize,
+) {
     const TILE: usize = 16;
-    for i0 in (0..px).step_by(TILE) {
-        let i1 = (i0 + TILE).min(px);
-        for q0 in (0..hy).step_by(TILE) {
-            // Writes run along `out`'s rows, reads stride through `rows`.
-            for q in q0..(q0 + TILE).min(hy) {
-                for (i, o) in (i0..i1).zip(&mut out[q * px + i0..q * px + i1]) {
-                    *o = rows[i * hy + q];
+    for r0 in (0..rows).step_by(TILE) {
+        let r1 = (r0 + TILE).min(rows);
+        for c0 in (0..cols).step_by(TILE) {
+            for c in c0..(c0 + TILE).min(cols) {
+                let line = &mut dst[c * dst_stride + r0..c * dst_stride + r1];
+                for (r, d) in (r0..r1).zip(line) {
+                    *d = src[r * src_stride + c];
                 }
             }
         }
@@ -275,7 +282,7 @@ impl ComplianceOperator {
                 .for_each(row_transform);
         }
         let mut spectrum = vec![Complex::default(); hy * px];
-        transpose(&rows, px, hy, &mut spectrum);
+        transpose(&rows, hy, (px, hy), &mut spectrum, px);
         self.columns(&mut spectrum, &self.forward);
         spectrum
     }
@@ -302,27 +309,32 @@ impl ComplianceOperator {
         let (px, py, hy) = (self.px, self.py, self.hy);
         let ny = self.grid.ny;
         self.columns(spectrum, &self.inverse);
-        let spectrum = &*spectrum;
         let scale = 1.0 / (px * py) as f64;
-        let row_inverse = |(i, out_row): (usize, &mut [f64])| {
-            let mut row: Vec<Complex<f64>> = (0..hy).map(|q| spectrum[q * px + i]).collect();
-            // The zero and Nyquist frequencies of a real signal are real; round-off in their
-            // imaginary parts is dropped rather than refused.
-            row[0].im = 0.0;
-            row[hy - 1].im = 0.0;
-            let mut real = vec![0.0; py];
-            let _ = self.c2r.process(&mut row, &mut real);
-            for (o, r) in out_row.iter_mut().zip(&real[..ny]) {
-                *o += scale * r;
-            }
-        };
+        // The grid's rows of the spectrum, each a contiguous half-spectrum for c2r.
+        let nx = self.grid.nx;
+        let mut rows = vec![Complex::default(); nx * hy];
+        transpose(spectrum, px, (hy, nx), &mut rows, hy);
+        let row_inverse =
+            |real: &mut Vec<f64>, (row, out_row): (&mut [Complex<f64>], &mut [f64])| {
+                // The zero and Nyquist frequencies of a real signal are real; round-off in their
+                // imaginary parts is dropped rather than refused.
+                row[0].im = 0.0;
+                row[hy - 1].im = 0.0;
+                let _ = self.c2r.process(row, real);
+                for (o, r) in out_row.iter_mut().zip(&real[..ny]) {
+                    *o += scale * r;
+                }
+            };
         if self.parallel() {
             use rayon::prelude::*;
-            out.par_chunks_exact_mut(ny)
-                .enumerate()
-                .for_each(row_inverse);
+            rows.par_chunks_exact_mut(hy)
+                .zip(out.par_chunks_exact_mut(ny))
+                .for_each_init(|| vec![0.0; py], row_inverse);
         } else {
-            out.chunks_exact_mut(ny).enumerate().for_each(row_inverse);
+            let mut real = vec![0.0; py];
+            rows.chunks_exact_mut(hy)
+                .zip(out.chunks_exact_mut(ny))
+                .for_each(|pair| row_inverse(&mut real, pair));
         }
     }
 
