@@ -15,7 +15,7 @@
 //! the transposed off-diagonal blocks (`21`, `1n`, `2n`) take `K(-d)`, whose spectrum is the
 //! complex conjugate of `K(d)`'s (a real kernel), so only six spectra are kept.
 
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use nalgebra::DMatrix;
 
@@ -91,6 +91,33 @@ pub struct ComplianceOperator {
     inverse: Arc<dyn Fft<f64>>,
     /// The operator written out as a matrix, once asked for ([`ComplianceOperator::matrix`]).
     written_out: OnceLock<Arc<DMatrix<f64>>>,
+    /// Work buffers kept between products: a fresh allocation of this size faults in new
+    /// pages at every product.
+    complex_buffers: Mutex<Vec<Vec<Complex<f64>>>>,
+    real_buffers: Mutex<Vec<Vec<f64>>>,
+}
+
+/// Work buffers kept per kind.
+const KEPT_BUFFERS: usize = 8;
+
+/// A buffer of `len` from `pool` (its contents arbitrary), or a new one.
+fn take<T: Copy + Default>(pool: &Mutex<Vec<Vec<T>>>, len: usize) -> Vec<T> {
+    let mut b = pool
+        .lock()
+        .ok()
+        .and_then(|mut p| p.pop())
+        .unwrap_or_default();
+    b.resize(len, T::default());
+    b
+}
+
+/// Gives a buffer back to `pool`.
+fn give<T>(pool: &Mutex<Vec<Vec<T>>>, b: Vec<T>) {
+    if let Ok(mut p) = pool.lock() {
+        if p.len() < KEPT_BUFFERS {
+            p.push(b);
+        }
+    }
 }
 
 impl std::fmt::Debug for ComplianceOperator {
@@ -127,6 +154,8 @@ impl ComplianceOperator {
             forward: complex.plan_fft_forward(px),
             inverse: complex.plan_fft_inverse(px),
             written_out: OnceLock::new(),
+            complex_buffers: Mutex::new(Vec::new()),
+            real_buffers: Mutex::new(Vec::new()),
         };
         op.build_spectra(pair);
         op
@@ -260,7 +289,8 @@ impl ComplianceOperator {
     /// on any thread: the result does not depend on the number of threads).
     fn transform(&self, padded: &mut [f64], nonzero_rows: usize) -> Vec<Complex<f64>> {
         let (px, py, hy) = (self.px, self.py, self.hy);
-        let mut rows = vec![Complex::default(); px * hy];
+        let mut rows = take(&self.complex_buffers, px * hy);
+        rows[nonzero_rows * hy..].fill(Complex::default());
         let row_transform = |(input, output): (&mut [f64], &mut [Complex<f64>])| {
             // Lengths are the plan's: the transform cannot fail.
             let _ = self.r2c.process(input, output);
@@ -281,8 +311,10 @@ impl ComplianceOperator {
                 .zip(outputs.chunks_exact_mut(hy))
                 .for_each(row_transform);
         }
-        let mut spectrum = vec![Complex::default(); hy * px];
+        // Every entry is written by the transpose.
+        let mut spectrum = take(&self.complex_buffers, hy * px);
         transpose(&rows, hy, (px, hy), &mut spectrum, px);
+        give(&self.complex_buffers, rows);
         self.columns(&mut spectrum, &self.forward);
         spectrum
     }
@@ -312,7 +344,7 @@ impl ComplianceOperator {
         let scale = 1.0 / (px * py) as f64;
         // The grid's rows of the spectrum, each a contiguous half-spectrum for c2r.
         let nx = self.grid.nx;
-        let mut rows = vec![Complex::default(); nx * hy];
+        let mut rows = take(&self.complex_buffers, nx * hy);
         transpose(spectrum, px, (hy, nx), &mut rows, hy);
         let row_inverse =
             |real: &mut Vec<f64>, (row, out_row): (&mut [Complex<f64>], &mut [f64])| {
@@ -336,6 +368,7 @@ impl ComplianceOperator {
                 .zip(out.chunks_exact_mut(ny))
                 .for_each(|pair| row_inverse(&mut real, pair));
         }
+        give(&self.complex_buffers, rows);
     }
 
     /// The terms of output component `r`.
@@ -392,7 +425,7 @@ impl ComplianceOperator {
                     .then(|| self.spectrum_of(part))
             })
             .collect();
-        let mut acc = vec![Complex::default(); self.hy * self.px];
+        let mut acc = take(&self.complex_buffers, self.hy * self.px);
         for r in 0..dim {
             acc.fill(Complex::default());
             let mut any = false;
@@ -408,16 +441,24 @@ impl ComplianceOperator {
                 self.add_inverse(&mut acc, &mut out[r * n..(r + 1) * n]);
             }
         }
+        give(&self.complex_buffers, acc);
+        for s in spectra.into_iter().flatten() {
+            give(&self.complex_buffers, s);
+        }
     }
 
     /// The padded spectrum of one component's values on the grid.
     fn spectrum_of(&self, values: &[f64]) -> Vec<Complex<f64>> {
         let (ny, py) = (self.grid.ny, self.py);
-        let mut padded = vec![0.0; self.px * py];
+        let mut padded = take(&self.real_buffers, self.px * py);
         for (i, row) in values.chunks_exact(ny).enumerate() {
             padded[i * py..i * py + ny].copy_from_slice(row);
+            padded[i * py + ny..(i + 1) * py].fill(0.0);
         }
-        self.transform(&mut padded, self.grid.nx)
+        // Rows from nx on are not read (the transform skips them).
+        let spectrum = self.transform(&mut padded, self.grid.nx);
+        give(&self.real_buffers, padded);
+        spectrum
     }
 }
 
