@@ -5,7 +5,7 @@ corrected in ``docs/model.md``), called in-process:
 
 >>> import grasp
 >>> scene = grasp.Scene("examples/cube_a.json")          # a path, a dict or JSON text
->>> sol = grasp.solve(scene)                             # model=, solver=, tolerance=
+>>> sol = grasp.solve(scene)                  # model=, solver=, tolerance=, compliance=
 >>> sol.status, sol.finger_normal_forces_n               # N, one per finger
 >>> sol.normal_forces_n, sol.tangential_forces_n         # per element: (N,), (N, 3)
 >>> run = grasp.transfer(scene_b, "examples/plate_transfer.schedule.json", mcap="out.mcap")

@@ -10,6 +10,7 @@ __version__: str
 
 Model = Literal["energy", "coulomb"]
 SolverName = Literal["auto", "native", "clarabel"]
+ComplianceName = Literal["auto", "dense", "fft"]
 Source = Union[str, "os.PathLike[str]", dict]
 
 class SceneError(ValueError):
@@ -150,6 +151,7 @@ def solve(
     model: Optional[Model] = None,
     solver: SolverName = "auto",
     tolerance: float = 1e-10,
+    compliance: ComplianceName = "auto",
 ) -> Solution:
     """Solves one grasp (GIL released); see the package docstring."""
 

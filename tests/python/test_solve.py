@@ -66,6 +66,20 @@ def test_native_and_clarabel_agree_to_1e_8_of_the_load():
     assert np.abs(a.tangential_forces_n - b.tangential_forces_n).max() <= 1e-8 * a.load_scale_n
 
 
+def test_dense_and_fft_compliance_agree_and_say_which_ran():
+    # Issue 21: the FFT operator discretises the same operator as the dense matrix (products
+    # equal to 1e-12), so the native solver's answers agree to its tolerance; 1e-8 of the load,
+    # as in tests/solver_equivalence.rs.
+    scene = grasp.Scene(EXAMPLES / "cube_a.json")
+    dense = grasp.solve(scene, solver="native", compliance="dense")
+    fft = grasp.solve(scene, solver="native", compliance="fft")
+    assert dense.solver["compliance"] == "dense" and fft.solver["compliance"] == "fft"
+    assert dense.solver["inner_iterations"] == 0 < fft.solver["inner_iterations"]
+    assert np.abs(dense.normal_forces_n - fft.normal_forces_n).max() <= 1e-8 * dense.load_scale_n
+    with pytest.raises(ValueError, match="compliance="):
+        grasp.solve(scene, compliance="sparse")
+
+
 def test_model_override_runs_the_coulomb_fixed_point():
     scene = grasp.Scene(EXAMPLES / "plate_handoff_coulomb.json")
     coulomb = grasp.solve(scene)

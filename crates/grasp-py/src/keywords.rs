@@ -3,12 +3,16 @@
 //! `tolerance=`). Every library text that reaches Python (exception messages, a solution's
 //! reason, warnings and fallback, serialised records) goes through [`in_keywords`].
 
-use grasp_model::option_names::{respell, SOLVER, TOLERANCE};
+use grasp_model::option_names::{respell, COMPLIANCE, SOLVER, TOLERANCE};
 use grasp_model::Solution;
 
 /// Library option name -> keyword argument of `grasp.solve` / `grasp.transfer`. Options
 /// without a keyword keep the library's name.
-const KEYWORDS: &[(&str, &str)] = &[(SOLVER, "solver="), (TOLERANCE, "tolerance=")];
+const KEYWORDS: &[(&str, &str)] = &[
+    (SOLVER, "solver="),
+    (TOLERANCE, "tolerance="),
+    (COMPLIANCE, "compliance="),
+];
 
 /// `text` with every library option name replaced by its keyword argument.
 pub fn in_keywords(text: &str) -> String {

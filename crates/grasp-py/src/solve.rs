@@ -4,6 +4,7 @@
 use std::str::FromStr;
 use std::time::Instant;
 
+use grasp_model::model::patch_compliance::ComplianceChoice;
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice};
 use pyo3::prelude::*;
 
@@ -19,19 +20,25 @@ use crate::solution::Solution;
 /// - `solver`: `"auto"` (native, falling back to Clarabel), `"native"` or `"clarabel"`.
 /// - `tolerance`: relative tolerance of the scaled program, in [1e-14, 1e-2] (below, round-off
 ///   exceeds it; above, an answer is no solution).
+/// - `compliance`: `"auto"` (dense up to 64x64 elements a patch, the FFT operator above),
+///   `"dense"` or `"fft"` (matrix-free, native solver; README "Fine patches").
 ///
 /// A grasp without equilibrium is a solution with status `"no_equilibrium"`, not an
 /// exception. The GIL is released while the model is built and solved.
 #[pyfunction]
-#[pyo3(signature = (scene, *, model=None, solver="auto", tolerance=1e-10))]
+#[pyo3(signature = (scene, *, model=None, solver="auto", tolerance=1e-10, compliance="auto"))]
 pub fn solve(
     py: Python<'_>,
     scene: &Scene,
     model: Option<&str>,
     solver: &str,
     tolerance: f64,
+    compliance: &str,
 ) -> PyResult<Solution> {
-    let options = solve_options(solver, tolerance)?;
+    let mut options = solve_options(solver, tolerance)?;
+    options.compliance = ComplianceChoice::from_str(compliance).map_err(|e| {
+        pyo3::exceptions::PyValueError::new_err(format!("compliance={compliance:?}: {e}"))
+    })?;
     let scene_used = match model {
         Some(m) => {
             let mut s = scene.scene.clone();
