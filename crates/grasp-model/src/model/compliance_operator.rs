@@ -475,6 +475,21 @@ mod tests {
         }
     }
 
+    /// The largest difference between `got` and the dense product `C v`, and the scale it is
+    /// judged against, `max |C| sum |v|` (a bound of every entry of the product).
+    fn product_error(dense: &nalgebra::DMatrix<f64>, v: &[f64], got: &[f64]) -> (f64, f64) {
+        let want = dense * nalgebra::DVector::from_column_slice(v);
+        let err = got
+            .iter()
+            .zip(want.iter())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        (
+            err,
+            dense.abs().max() * v.iter().map(|x| x.abs()).sum::<f64>(),
+        )
+    }
+
     /// Seeded pseudo-random numbers in [0, 1) (64-bit LCG).
     fn lcg(seed: &mut u64) -> f64 {
         *seed = seed
@@ -509,15 +524,9 @@ mod tests {
                     let dense = patch_compliance(&grid, pair, nt);
                     let op = ComplianceOperator::new(&grid, pair, nt);
                     let v: Vec<f64> = (0..op.len()).map(|_| lcg(&mut seed) - 0.5).collect();
-                    let want = &dense * nalgebra::DVector::from_column_slice(&v);
                     let mut got = vec![0.0; op.len()];
                     op.apply(&v, &mut got);
-                    let scale = dense.abs().max() * v.iter().map(|x| x.abs()).sum::<f64>();
-                    let err = got
-                        .iter()
-                        .zip(want.iter())
-                        .map(|(a, b)| (a - b).abs())
-                        .fold(0.0, f64::max);
+                    let (err, scale) = product_error(&dense, &v, &got);
                     assert!(
                         err <= 1e-12 * scale,
                         "pair {p}, grid {nx}x{ny}, n_tangential {nt}: error {err:e} of {scale:e}"
@@ -596,13 +605,7 @@ mod tests {
             if nt == 0 {
                 // Dense check on the frictionless block (4480 x 4480, 160 MB).
                 let dense = patch_compliance(&grid, &pair, nt);
-                let want = &dense * nalgebra::DVector::from_column_slice(&v);
-                let scale = dense.abs().max() * v.iter().map(|x| x.abs()).sum::<f64>();
-                let err = got
-                    .iter()
-                    .zip(want.iter())
-                    .map(|(a, b)| (a - b).abs())
-                    .fold(0.0, f64::max);
+                let (err, scale) = product_error(&dense, &v, &got);
                 assert!(err <= 1e-12 * scale, "error {err:e} of {scale:e}");
             }
         }

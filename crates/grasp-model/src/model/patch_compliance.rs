@@ -171,15 +171,7 @@ impl PatchCompliance {
     pub fn apply(&self, v: &[f64], out: &mut [f64]) {
         match self {
             PatchCompliance::Dense(c) => {
-                let n = c.nrows();
-                out.fill(0.0);
-                for (col, &vc) in c.as_slice().chunks_exact(n.max(1)).zip(v) {
-                    if vc != 0.0 {
-                        for (o, r) in out.iter_mut().zip(col) {
-                            *o += r * vc;
-                        }
-                    }
-                }
+                out.copy_from_slice((&**c * nalgebra::DVector::from_column_slice(v)).as_slice())
             }
             PatchCompliance::Fft(op) => op.apply(v, out),
         }

@@ -10,10 +10,9 @@
 //! - Coulomb model (non-associated): `gap_k = 0` wherever `F_k > 0`; the slip of this step is
 //!   `w_k - m_k` (`m_k`: slip memory), zero in stick and opposite `G_k` in slip.
 
-use nalgebra::{DVector, Vector3};
+use nalgebra::Vector3;
 
 use crate::model::grasp_model::GraspModel;
-use crate::model::patch_compliance::PatchCompliance;
 use crate::solve::solution::{ElementState, Residuals};
 
 /// The slip direction of an element is checked against its friction force only when the slip
@@ -50,7 +49,8 @@ pub fn contact_kinematics(
     for (i, f) in model.fingers.iter().enumerate() {
         let ne = f.patch.len();
         let xi = &x_n[f.offset..f.offset + f.n_unknowns()];
-        let u = displacements_m(&f.compliance_m_per_n, xi);
+        let mut u = vec![0.0; xi.len()];
+        f.compliance_m_per_n.apply(xi, &mut u);
         let mut g = Vec::with_capacity(ne);
         let mut w = Vec::with_capacity(ne);
         for k in 0..ne {
@@ -189,17 +189,4 @@ pub(crate) fn tangential(x: &[f64], offset: usize, ne: usize, n_tan: usize, k: u
         *gc = x[offset + (c + 1) * ne + k];
     }
     g
-}
-
-/// `C x`, m: the relative displacements of a finger's elements under its forces `x` (N),
-/// by the dense matrix's product or the FFT operator.
-fn displacements_m(compliance: &PatchCompliance, x_n: &[f64]) -> Vec<f64> {
-    match compliance.dense() {
-        Some(c) => (&**c * DVector::from_column_slice(x_n)).as_slice().to_vec(),
-        None => {
-            let mut u = vec![0.0; x_n.len()];
-            compliance.apply(x_n, &mut u);
-            u
-        }
-    }
 }

@@ -143,15 +143,16 @@ impl ProgramSolver {
             Start::Last => predicted.iter().chain(self.last.as_ref()).collect(),
             Start::At(it) => vec![it],
         };
-        let result = native.solve(program, &starts, limits);
+        let mut result = native.solve(program, &starts, limits);
         let native_time = clock.elapsed().as_secs_f64();
         let matrix_free = native.is_matrix_free();
-        let why = match &result.status {
+        let why = match result.status.clone() {
             NativeStatus::Converged => {
+                // The iterate moves into the outcome (no copy on the hot path of a hand-off).
                 let solved = ConvexOutcome::Solved {
                     reduced_accuracy: false,
-                    x: result.iterate.x.clone(),
-                    multipliers: result.iterate.lambda.clone(),
+                    x: std::mem::take(&mut result.iterate.x),
+                    multipliers: std::mem::take(&mut result.iterate.lambda),
                 };
                 return Ok(native_run(solved, &result, native_time));
             }
