@@ -15,43 +15,15 @@
 //! the transposed off-diagonal blocks (`21`, `1n`, `2n`) take `K(-d)`, whose spectrum is the
 //! complex conjugate of `K(d)`'s (a real kernel), so only six spectra are kept.
 
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::{Arc, OnceLock};
 
 use nalgebra::DMatrix;
 
 use realfft::num_complex::Complex;
-use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
-use rustfft::{Fft, FftPlanner};
 
+use super::circulant_inverse::CirculantInverse;
+use super::grid_fft::GridFft;
 use super::influence::{offset_table, BlockKernels, GridSpec, PairConstants, RectangleIntegrals};
-
-/// Padded grids of at least this many points (`2 nx x 2 ny`, 128 x 128) transform on all
-/// cores.
-const PARALLEL_POINTS: usize = 128 * 128;
-
-/// `dst[c dst_stride + r] = src[r src_stride + c]` for `r < rows`, `c < cols`: a transpose, in
-/// tiles that stay in cache, writing along `dst`'s rows (strided writes cost far more than
-/// strided reads).
-fn transpose(
-    src: &[Complex<f64>],
-    src_stride: usize,
-    (rows, cols): (usize, usize),
-    dst: &mut [Complex<f64>],
-    dst_stride: usize,
-) {
-    const TILE: usize = 16;
-    for r0 in (0..rows).step_by(TILE) {
-        let r1 = (r0 + TILE).min(rows);
-        for c0 in (0..cols).step_by(TILE) {
-            for c in c0..(c0 + TILE).min(cols) {
-                let line = &mut dst[c * dst_stride + r0..c * dst_stride + r1];
-                for (r, d) in (r0..r1).zip(line) {
-                    *d = src[r * src_stride + c];
-                }
-            }
-        }
-    }
-}
 
 /// The kernels kept as spectra, in this order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -74,10 +46,8 @@ pub struct ComplianceOperator {
     grid: GridSpec,
     n_tangential: usize,
     coupled: bool,
-    /// Padded grid, `2 nx x 2 ny`; `hy = ny + 1` complex columns after the real transform.
-    px: usize,
-    py: usize,
-    hy: usize,
+    /// Transforms on the padded grid, `2 nx x 2 ny`.
+    fft: GridFft,
     /// Kernel spectra, indexed by [`Block`] (empty where the block is not needed), in the
     /// transposed layout `hy x px` (row `q`: the column transform of frequency `q` along `j`).
     spectra: Vec<Vec<Complex<f64>>>,
@@ -85,39 +55,10 @@ pub struct ComplianceOperator {
     diagonal: [f64; 3],
     /// Per kernel (indexed by [`Block`]), the sum of its absolute values over all offsets, m/N.
     abs_sums: [f64; 6],
-    r2c: Arc<dyn RealToComplex<f64>>,
-    c2r: Arc<dyn ComplexToReal<f64>>,
-    forward: Arc<dyn Fft<f64>>,
-    inverse: Arc<dyn Fft<f64>>,
+    /// The inverse of its circulant approximation: the conjugate gradients' preconditioner.
+    preconditioner: CirculantInverse,
     /// The operator written out as a matrix, once asked for ([`ComplianceOperator::matrix`]).
     written_out: OnceLock<Arc<DMatrix<f64>>>,
-    /// Work buffers kept between products: a fresh allocation of this size faults in new
-    /// pages at every product.
-    complex_buffers: Mutex<Vec<Vec<Complex<f64>>>>,
-    real_buffers: Mutex<Vec<Vec<f64>>>,
-}
-
-/// Work buffers kept per kind.
-const KEPT_BUFFERS: usize = 8;
-
-/// A buffer of `len` from `pool` (its contents arbitrary), or a new one.
-fn take<T: Copy + Default>(pool: &Mutex<Vec<Vec<T>>>, len: usize) -> Vec<T> {
-    let mut b = pool
-        .lock()
-        .ok()
-        .and_then(|mut p| p.pop())
-        .unwrap_or_default();
-    b.resize(len, T::default());
-    b
-}
-
-/// Gives a buffer back to `pool`.
-fn give<T>(pool: &Mutex<Vec<Vec<T>>>, b: Vec<T>) {
-    if let Ok(mut p) = pool.lock() {
-        if p.len() < KEPT_BUFFERS {
-            p.push(b);
-        }
-    }
 }
 
 impl std::fmt::Debug for ComplianceOperator {
@@ -135,29 +76,21 @@ impl ComplianceOperator {
     /// components as [`super::influence::patch_compliance`] is (model.md, patch compliance;
     /// Johnson 3.22c and 3.86a-c).
     pub fn new(grid: &GridSpec, pair: &PairConstants, n_tangential: usize) -> Self {
-        let (px, py) = (2 * grid.nx, 2 * grid.ny);
-        let hy = py / 2 + 1;
-        let mut real = RealFftPlanner::<f64>::new();
-        let mut complex = FftPlanner::<f64>::new();
+        let coupled = !pair.uncoupled() && n_tangential > 0;
+        let table = offset_table(grid);
+        let kernels = BlockKernels::new(grid, pair);
         let mut op = ComplianceOperator {
             grid: *grid,
             n_tangential,
-            coupled: !pair.uncoupled() && n_tangential > 0,
-            px,
-            py,
-            hy,
+            coupled,
+            fft: GridFft::new((grid.nx, grid.ny), (2 * grid.nx, 2 * grid.ny)),
             spectra: vec![Vec::new(); 6],
             diagonal: [0.0; 3],
             abs_sums: [0.0; 6],
-            r2c: real.plan_fft_forward(py),
-            c2r: real.plan_fft_inverse(py),
-            forward: complex.plan_fft_forward(px),
-            inverse: complex.plan_fft_inverse(px),
+            preconditioner: CirculantInverse::new(grid, &table, &kernels, n_tangential, coupled),
             written_out: OnceLock::new(),
-            complex_buffers: Mutex::new(Vec::new()),
-            real_buffers: Mutex::new(Vec::new()),
         };
-        op.build_spectra(pair);
+        op.build_spectra(&table, &kernels);
         op
     }
 
@@ -213,14 +146,15 @@ impl ComplianceOperator {
         }))
     }
 
-    /// Bytes held by the operator (its kernel spectra), for memory estimates.
+    /// Bytes held by the operator (its kernel spectra and its preconditioner), for memory
+    /// estimates.
     pub fn memory_bytes(&self) -> usize {
         let entries: usize = self.spectra.iter().map(Vec::len).sum();
-        entries * std::mem::size_of::<Complex<f64>>()
+        entries * std::mem::size_of::<Complex<f64>>() + self.preconditioner.memory_bytes()
     }
 
     /// Bytes [`ComplianceOperator::new`] keeps for a grid, before building it: one spectrum
-    /// of `2 nx (ny + 1)` complex numbers per block needed.
+    /// of `2 nx (ny + 1)` complex numbers per block needed, and the preconditioner's.
     pub fn memory_estimate_bytes(grid: &GridSpec, n_tangential: usize, coupled: bool) -> usize {
         let blocks = match n_tangential {
             0 => 1,
@@ -228,31 +162,36 @@ impl ComplianceOperator {
             _ => 4 + 2 * usize::from(coupled),
         };
         blocks * 2 * grid.nx * (grid.ny + 1) * std::mem::size_of::<Complex<f64>>()
+            + CirculantInverse::memory_estimate_bytes(grid, n_tangential, coupled)
     }
 
-    fn build_spectra(&mut self, pair: &PairConstants) {
-        let table = offset_table(&self.grid);
-        let k = BlockKernels::new(&self.grid, pair);
+    /// `out = C_circ^-1 v`: the inverse of the operator's circulant approximation
+    /// ([`CirculantInverse`]), N/m times m; a preconditioner for systems in this operator.
+    pub fn apply_approximate_inverse(&self, v: &[f64], out: &mut [f64]) {
+        self.preconditioner.apply(v, out)
+    }
+
+    fn build_spectra(&mut self, table: &[RectangleIntegrals], k: &BlockKernels) {
         let sym = |f: fn(&BlockKernels, &RectangleIntegrals) -> f64| {
-            move |a: &RectangleIntegrals, b: &RectangleIntegrals| 0.5 * (f(&k, a) + f(&k, b))
+            move |a: &RectangleIntegrals, b: &RectangleIntegrals| 0.5 * (f(k, a) + f(k, b))
         };
         let plain = |f: fn(&BlockKernels, &RectangleIntegrals) -> f64| {
-            move |a: &RectangleIntegrals, _: &RectangleIntegrals| f(&k, a)
+            move |a: &RectangleIntegrals, _: &RectangleIntegrals| f(k, a)
         };
         let centre = &table[(self.grid.nx - 1) * (2 * self.grid.ny - 1) + self.grid.ny - 1];
         self.diagonal = [k.nn(centre), k.t11(centre), k.t22(centre)];
-        self.set(Block::Nn, &table, sym(BlockKernels::nn));
+        self.set(Block::Nn, table, sym(BlockKernels::nn));
         if self.n_tangential >= 1 {
-            self.set(Block::T11, &table, sym(BlockKernels::t11));
+            self.set(Block::T11, table, sym(BlockKernels::t11));
             if self.coupled {
-                self.set(Block::N1, &table, plain(BlockKernels::n1));
+                self.set(Block::N1, table, plain(BlockKernels::n1));
             }
         }
         if self.n_tangential >= 2 {
-            self.set(Block::T22, &table, sym(BlockKernels::t22));
-            self.set(Block::T12, &table, plain(BlockKernels::t12));
+            self.set(Block::T22, table, sym(BlockKernels::t22));
+            self.set(Block::T12, table, plain(BlockKernels::t12));
             if self.coupled {
-                self.set(Block::N2, &table, plain(BlockKernels::n2));
+                self.set(Block::N2, table, plain(BlockKernels::n2));
             }
         }
     }
@@ -267,108 +206,21 @@ impl ComplianceOperator {
     ) {
         let (nx, ny) = (self.grid.nx, self.grid.ny);
         let wy = 2 * ny - 1;
-        let mut padded = vec![0.0; self.px * self.py];
+        let (px, py) = (self.fft.px, self.fft.py);
+        let mut padded = vec![0.0; px * py];
         let mut abs_sum = 0.0;
         for a in 0..2 * nx - 1 {
-            let row = (a + self.px + 1 - nx) % self.px;
+            let row = (a + px + 1 - nx) % px;
             for b in 0..wy {
-                let col = (b + self.py + 1 - ny) % self.py;
+                let col = (b + py + 1 - ny) % py;
                 let mirror = &table[(2 * nx - 2 - a) * wy + (2 * ny - 2 - b)];
                 let k = value(&table[a * wy + b], mirror);
                 abs_sum += k.abs();
-                padded[row * self.py + col] = k;
+                padded[row * py + col] = k;
             }
         }
         self.abs_sums[block as usize] = abs_sum;
-        self.spectra[block as usize] = self.transform(&mut padded, self.px);
-    }
-
-    /// The 2-D spectrum of a padded real array (`px x py`, row-major; overwritten) whose rows
-    /// from `nonzero_rows` on are zero, in the transposed layout `hy x px`. The row and column
-    /// transforms run on all cores for large grids (each transform is computed the same way
-    /// on any thread: the result does not depend on the number of threads).
-    fn transform(&self, padded: &mut [f64], nonzero_rows: usize) -> Vec<Complex<f64>> {
-        let (px, py, hy) = (self.px, self.py, self.hy);
-        let mut rows = take(&self.complex_buffers, px * hy);
-        rows[nonzero_rows * hy..].fill(Complex::default());
-        let row_transform = |(input, output): (&mut [f64], &mut [Complex<f64>])| {
-            // Lengths are the plan's: the transform cannot fail.
-            let _ = self.r2c.process(input, output);
-        };
-        let (inputs, outputs) = (
-            &mut padded[..nonzero_rows * py],
-            &mut rows[..nonzero_rows * hy],
-        );
-        if self.parallel() {
-            use rayon::prelude::*;
-            inputs
-                .par_chunks_exact_mut(py)
-                .zip(outputs.par_chunks_exact_mut(hy))
-                .for_each(row_transform);
-        } else {
-            inputs
-                .chunks_exact_mut(py)
-                .zip(outputs.chunks_exact_mut(hy))
-                .for_each(row_transform);
-        }
-        // Every entry is written by the transpose.
-        let mut spectrum = take(&self.complex_buffers, hy * px);
-        transpose(&rows, hy, (px, hy), &mut spectrum, px);
-        give(&self.complex_buffers, rows);
-        self.columns(&mut spectrum, &self.forward);
-        spectrum
-    }
-
-    /// The column transforms (length `px`) of a spectrum in the transposed layout.
-    fn columns(&self, spectrum: &mut [Complex<f64>], plan: &Arc<dyn Fft<f64>>) {
-        if self.parallel() {
-            use rayon::prelude::*;
-            let chunk = self.px * self.hy.div_ceil(rayon::current_num_threads().max(1));
-            spectrum.par_chunks_mut(chunk).for_each(|c| plan.process(c));
-        } else {
-            plan.process(spectrum);
-        }
-    }
-
-    /// True when the grid is large enough for the transforms to pay for threads.
-    fn parallel(&self) -> bool {
-        self.px * self.py >= PARALLEL_POINTS
-    }
-
-    /// The real array (`nx x ny` of the grid, row-major) whose padded spectrum is `spectrum`
-    /// (transposed layout; overwritten), scaled by `1 / (px py)`, added into `out`.
-    fn add_inverse(&self, spectrum: &mut [Complex<f64>], out: &mut [f64]) {
-        let (px, py, hy) = (self.px, self.py, self.hy);
-        let ny = self.grid.ny;
-        self.columns(spectrum, &self.inverse);
-        let scale = 1.0 / (px * py) as f64;
-        // The grid's rows of the spectrum, each a contiguous half-spectrum for c2r.
-        let nx = self.grid.nx;
-        let mut rows = take(&self.complex_buffers, nx * hy);
-        transpose(spectrum, px, (hy, nx), &mut rows, hy);
-        let row_inverse =
-            |real: &mut Vec<f64>, (row, out_row): (&mut [Complex<f64>], &mut [f64])| {
-                // The zero and Nyquist frequencies of a real signal are real; round-off in their
-                // imaginary parts is dropped rather than refused.
-                row[0].im = 0.0;
-                row[hy - 1].im = 0.0;
-                let _ = self.c2r.process(row, real);
-                for (o, r) in out_row.iter_mut().zip(&real[..ny]) {
-                    *o += scale * r;
-                }
-            };
-        if self.parallel() {
-            use rayon::prelude::*;
-            rows.par_chunks_exact_mut(hy)
-                .zip(out.par_chunks_exact_mut(ny))
-                .for_each_init(|| vec![0.0; py], row_inverse);
-        } else {
-            let mut real = vec![0.0; py];
-            rows.chunks_exact_mut(hy)
-                .zip(out.chunks_exact_mut(ny))
-                .for_each(|pair| row_inverse(&mut real, pair));
-        }
-        give(&self.complex_buffers, rows);
+        self.spectra[block as usize] = self.fft.transform(&mut padded, px);
     }
 
     /// The terms of output component `r`.
@@ -422,10 +274,10 @@ impl ComplianceOperator {
                 let part = &v[c * n..(c + 1) * n];
                 part.iter()
                     .any(|x| *x != 0.0)
-                    .then(|| self.spectrum_of(part))
+                    .then(|| self.fft.spectrum_of(part))
             })
             .collect();
-        let mut acc = take(&self.complex_buffers, self.hy * self.px);
+        let mut acc = self.fft.zeroed_spectrum();
         for r in 0..dim {
             acc.fill(Complex::default());
             let mut any = false;
@@ -438,27 +290,13 @@ impl ComplianceOperator {
                 }
             }
             if any {
-                self.add_inverse(&mut acc, &mut out[r * n..(r + 1) * n]);
+                self.fft.add_inverse(&mut acc, &mut out[r * n..(r + 1) * n]);
             }
         }
-        give(&self.complex_buffers, acc);
+        self.fft.recycle(acc);
         for s in spectra.into_iter().flatten() {
-            give(&self.complex_buffers, s);
+            self.fft.recycle(s);
         }
-    }
-
-    /// The padded spectrum of one component's values on the grid.
-    fn spectrum_of(&self, values: &[f64]) -> Vec<Complex<f64>> {
-        let (ny, py) = (self.grid.ny, self.py);
-        let mut padded = take(&self.real_buffers, self.px * py);
-        for (i, row) in values.chunks_exact(ny).enumerate() {
-            padded[i * py..i * py + ny].copy_from_slice(row);
-            padded[i * py + ny..(i + 1) * py].fill(0.0);
-        }
-        // Rows from nx on are not read (the transform skips them).
-        let spectrum = self.transform(&mut padded, self.grid.nx);
-        give(&self.real_buffers, padded);
-        spectrum
     }
 }
 
@@ -588,7 +426,7 @@ mod tests {
         let mut seed = 0x853c49e6748fea9b;
         for nt in [0, 2] {
             let op = ComplianceOperator::new(&grid, &pair, nt);
-            assert!(op.parallel());
+            assert!(op.fft.parallel());
             let v: Vec<f64> = (0..op.len()).map(|_| lcg(&mut seed) - 0.5).collect();
             let mut got = vec![0.0; op.len()];
             op.apply(&v, &mut got);

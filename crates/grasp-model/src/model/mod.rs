@@ -2,11 +2,13 @@
 //! (patch compliance, as a dense matrix or an FFT operator), friction laws, the equilibrium
 //! map, and the closed forms the model is checked against.
 
+pub mod circulant_inverse;
 pub mod closed_form;
 pub mod compliance_operator;
 pub mod equilibrium;
 pub mod friction;
 pub mod grasp_model;
+pub(crate) mod grid_fft;
 pub mod influence;
 pub mod material;
 pub mod patch;

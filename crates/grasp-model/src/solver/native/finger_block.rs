@@ -171,6 +171,25 @@ impl FingerBlockData {
         }
     }
 
+    /// `out = Pc_i^-1 v` (local vectors) with `Pc_i` the circulant approximation of `P_i`
+    /// ([`crate::model::circulant_inverse`]) for an FFT patch, `P_i`'s diagonal for a dense
+    /// one: a preconditioner for systems in `P_i`.
+    pub fn precondition(&self, v: &[f64], out: &mut [f64]) {
+        match &self.c {
+            PatchCompliance::Dense(m) => {
+                for (i, (o, x)) in out.iter_mut().zip(v).enumerate() {
+                    *o = x / (self.scale * m[(i, i)]);
+                }
+            }
+            PatchCompliance::Fft(op) => {
+                op.apply_approximate_inverse(v, out);
+                for o in out.iter_mut() {
+                    *o /= self.scale;
+                }
+            }
+        }
+    }
+
     /// `out += E_i' lambda` (local vector).
     pub fn add_equality_transpose(&self, lambda: &[f64], out: &mut [f64]) {
         for (c, o) in out.iter_mut().enumerate() {

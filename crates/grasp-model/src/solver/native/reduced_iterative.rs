@@ -18,8 +18,14 @@
 //!   S dlambda = sum_i Et_i g_i + ...,        xi_F,i = g_i - U_i dlambda
 //! ```
 //!
-//! which is the dense path's `xi = L^-T (L^-1 r - W dlambda)` written with `M^-1`. The
-//! preconditioner is `M`'s diagonal (the operator's diagonal is the same for every element).
+//! which is the dense path's `xi = L^-T (L^-1 r - W dlambda)` written with `M^-1`.
+//!
+//! The preconditioner is the inverse of the operator's circulant approximation restricted to
+//! the free directions, `D_F' Pc^-1 D_F` ([`crate::model::circulant_inverse`]: it cancels the
+//! compliance's `1/|k|` symbol, so the iterations stay nearly constant as the grid is refined,
+//! where `M`'s diagonal, the same for every element, does nothing), on the directions where
+//! `P` dominates `M`'s diagonal; on those where `beta` does (nearly sliding ones), `M`'s
+//! diagonal. Both parts are symmetric positive definite, so the preconditioner is.
 
 use nalgebra::DMatrix;
 
@@ -56,6 +62,9 @@ pub(crate) struct ReducedIterative {
     beta: Vec<f64>,
     /// `1 / M[a, a]`.
     inverse_diagonal: Vec<f64>,
+    /// Per free direction: preconditioned by the circulant inverse (`beta_a` below the
+    /// compliance's part of `M[a, a]`), else by `1 / M[a, a]`.
+    circulant: Vec<bool>,
     /// `U = M^-1 Et'`, column per equality row (empty where `Et'` has a zero column).
     u: Vec<Vec<f64>>,
     /// `S_i = Et U` (`m x m`, symmetric).
@@ -76,15 +85,25 @@ impl ReducedIterative {
             .iter()
             .map(|d| (1.0 - d.theta) / (block.gamma * d.theta))
             .collect();
-        let inverse_diagonal = free
+        // The compliance's part of `M[a, a]`, `d_a' P_i[k_a, k_a] d_a`.
+        let compliance_part: Vec<f64> = free
             .iter()
-            .zip(&beta)
-            .map(|(d, b)| {
+            .map(|d| {
                 let p: f64 = (0..block.dim)
                     .map(|c| d.dir[c] * d.dir[c] * block.compliance_diagonal(c * block.elements))
                     .sum();
-                1.0 / (block.scale * p + b)
+                block.scale * p
             })
+            .collect();
+        let inverse_diagonal = compliance_part
+            .iter()
+            .zip(&beta)
+            .map(|(p, b)| 1.0 / (p + b))
+            .collect();
+        let circulant = compliance_part
+            .iter()
+            .zip(&beta)
+            .map(|(p, b)| b <= p)
             .collect();
         let mut system = ReducedIterative {
             key,
@@ -93,6 +112,7 @@ impl ReducedIterative {
             et: Vec::new(),
             beta,
             inverse_diagonal,
+            circulant,
             u: Vec::new(),
             schur: DMatrix::zeros(0, 0),
             iterations: 0,
@@ -124,9 +144,40 @@ impl ReducedIterative {
     pub fn solve(&self, block: &FingerBlockData, r: &[f64]) -> Option<(Vec<f64>, u32)> {
         conjugate_gradients(
             |p, out| self.apply(block, p, out),
-            &self.inverse_diagonal,
+            |r, z| self.precondition(block, r, z),
             r,
         )
+    }
+
+    /// `z = D_F' Pc^-1 D_F r` on the circulant-preconditioned directions, `r / M[a, a]` on
+    /// the others (the module's preconditioner).
+    fn precondition(&self, block: &FingerBlockData, r: &[f64], z: &mut [f64]) {
+        let mut full = vec![0.0; block.len()];
+        let mut any = false;
+        for ((d, &ra), _) in self
+            .free
+            .iter()
+            .zip(r)
+            .zip(&self.circulant)
+            .filter(|x| *x.1)
+        {
+            any = true;
+            for c in 0..block.dim {
+                full[block.index(d.element, c)] += d.dir[c] * ra;
+            }
+        }
+        let mut back = vec![0.0; block.len()];
+        if any {
+            block.precondition(&full, &mut back);
+        }
+        for (a, (d, za)) in self.free.iter().zip(z.iter_mut()).enumerate() {
+            *za = match self.circulant[a] {
+                true => (0..block.dim)
+                    .map(|c| d.dir[c] * back[block.index(d.element, c)])
+                    .sum(),
+                false => r[a] * self.inverse_diagonal[a],
+            };
+        }
     }
 
     /// `rhs += Et g` and `S += S_i`: the finger's part of the Schur complement system.
@@ -205,11 +256,12 @@ fn schur_of(et: &[Vec<f64>], u: &[Vec<f64>]) -> DMatrix<f64> {
 }
 
 /// Preconditioned conjugate gradients for `A x = b` (`A` symmetric positive definite, applied
-/// by `apply`; Jacobi preconditioner `inverse_diagonal`), from `x = 0`. Returns `x` and the
+/// by `apply`; the symmetric positive definite preconditioner applied by `precondition`,
+/// `z = B^-1 r`), from `x = 0`. Returns `x` and the
 /// iterations, or `None` when the residual did not fall to [`CG_ACCEPTABLE`] of `|b|`.
 pub(crate) fn conjugate_gradients(
     mut apply: impl FnMut(&[f64], &mut [f64]),
-    inverse_diagonal: &[f64],
+    mut precondition: impl FnMut(&[f64], &mut [f64]),
     b: &[f64],
 ) -> Option<(Vec<f64>, u32)> {
     let n = b.len();
@@ -221,7 +273,8 @@ pub(crate) fn conjugate_gradients(
         return b_norm.is_finite().then_some((x, 0));
     }
     let mut r = b.to_vec();
-    let mut z: Vec<f64> = r.iter().zip(inverse_diagonal).map(|(a, m)| a * m).collect();
+    let mut z = vec![0.0; n];
+    precondition(&r, &mut z);
     let mut p = z.clone();
     let mut rz = dot(&r, &z);
     let mut ap = vec![0.0; n];
@@ -243,9 +296,7 @@ pub(crate) fn conjugate_gradients(
         if r_norm <= CG_TOLERANCE * b_norm {
             return Some((x, it as u32));
         }
-        for i in 0..n {
-            z[i] = r[i] * inverse_diagonal[i];
-        }
+        precondition(&r, &mut z);
         let rz_new = dot(&r, &z);
         let beta = rz_new / rz;
         rz = rz_new;
@@ -280,7 +331,11 @@ mod tests {
                 let v = &a * nalgebra::DVector::from_column_slice(p);
                 out.copy_from_slice(v.as_slice());
             },
-            &inv,
+            |r, z| {
+                for ((zi, ri), m) in z.iter_mut().zip(r).zip(&inv) {
+                    *zi = ri * m;
+                }
+            },
             &b,
         )
         .expect("converges");
@@ -299,7 +354,8 @@ mod tests {
     #[test]
     fn a_zero_right_hand_side_needs_no_iteration() {
         let (x, its) =
-            conjugate_gradients(|_, _| unreachable!(), &[1.0, 1.0], &[0.0, 0.0]).expect("trivial");
+            conjugate_gradients(|_, _| unreachable!(), |_, _| unreachable!(), &[0.0, 0.0])
+                .expect("trivial");
         assert_eq!((x, its), (vec![0.0, 0.0], 0));
     }
 }
