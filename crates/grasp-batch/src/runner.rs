@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use grasp_io::RunInputs;
 
-use grasp_model::model::patch_compliance::uses_fft;
+use grasp_model::model::patch_compliance::takes_fft;
 use grasp_model::scene::work_bounds::estimate_memory_bytes_with;
 use grasp_model::{GraspModel, GraspSolver, InputProblem, SolveOptions};
 use rayon::prelude::*;
@@ -99,10 +99,7 @@ pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultL
         Err(p) => ResultLine::invalid(id, index, of, p),
         Ok(scene) => {
             let bytes = estimate_memory_bytes_with(&scene, |f| {
-                uses_fft(
-                    options.solve.compliance,
-                    f.patch.grid[0].saturating_mul(f.patch.grid[1]),
-                )
+                takes_fft(&scene, f, options.solve.compliance)
             });
             if bytes > options.max_memory_bytes {
                 let p = InputProblem {

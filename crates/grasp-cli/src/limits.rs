@@ -9,7 +9,7 @@ use std::sync::Mutex;
 use anyhow::{bail, Result};
 use grasp_io::input_file::{self, InputKind};
 use grasp_io::RunInputs;
-use grasp_model::model::patch_compliance::{uses_fft, ComplianceChoice};
+use grasp_model::model::patch_compliance::{takes_fft, ComplianceChoice};
 use grasp_model::scene::work_bounds;
 use grasp_model::Scene;
 
@@ -95,9 +95,7 @@ pub fn check_memory_with(
     limit: (u64, &str),
     compliance: ComplianceChoice,
 ) -> Result<()> {
-    let fft = |f: &grasp_model::scene::FingerSpec| {
-        uses_fft(compliance, f.patch.grid[0].saturating_mul(f.patch.grid[1]))
-    };
+    let fft = |f: &grasp_model::scene::FingerSpec| takes_fft(scene, f, compliance);
     let need = work_bounds::estimate_memory_bytes_with(scene, fft);
     if need <= limit.0 {
         return Ok(());

@@ -26,13 +26,22 @@ fn cube_with_grid(dir: &Path, grid: [usize; 2], all: bool) -> PathBuf {
     p
 }
 
+/// The dense path's estimate is refused before anything is allocated; the automatic choice
+/// takes the FFT operator on the same patch (12,288 unknowns), whose estimate fits.
 #[test]
 fn memory_estimate_refuses_huge_grids_before_allocating() {
     let dir = tmp("memory");
     for grid in [[64, 64], [4096, 1]] {
         let scene = cube_with_grid(&dir, grid, false);
         let start = Instant::now();
-        let o = grasp(&["solve", scene.to_str().unwrap(), "--max-memory", "4G"]);
+        let o = grasp(&[
+            "solve",
+            scene.to_str().unwrap(),
+            "--max-memory",
+            "4G",
+            "--compliance",
+            "dense",
+        ]);
         assert_eq!(o.status.code(), Some(1), "{}", text(&o));
         let t = text(&o);
         assert!(
@@ -52,13 +61,25 @@ fn memory_estimate_refuses_huge_grids_before_allocating() {
     let scene = scene.to_str().unwrap();
     let estimate = 8 * 8 * 12288u64 * 12288;
     if mem_total_bytes() / 4 < estimate {
-        let o = grasp(&["solve", scene]);
+        let o = grasp(&["solve", scene, "--compliance", "dense"]);
         assert_eq!(o.status.code(), Some(1), "{}", text(&o));
         assert!(text(&o).contains("the default limit"), "{}", text(&o));
     } else {
         println!("skipped the default limit: a quarter of this machine's memory holds 9 GiB");
     }
-    let o = grasp(&["study", scene, "--grids", "3,64", "--max-memory", "1G"]);
+    let o = grasp(&["solve", scene, "--max-memory", "4G"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("FFT compliance"), "{}", text(&o));
+    let o = grasp(&[
+        "study",
+        scene,
+        "--grids",
+        "3,64",
+        "--max-memory",
+        "1G",
+        "--compliance",
+        "dense",
+    ]);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(
         text(&o).contains("the finest grid of the study"),

@@ -20,7 +20,7 @@ use crate::solution::Solution;
 /// - `solver`: `"auto"` (native, falling back to Clarabel), `"native"` or `"clarabel"`.
 /// - `tolerance`: relative tolerance of the scaled program, in [1e-14, 1e-2] (below, round-off
 ///   exceeds it; above, an answer is no solution).
-/// - `compliance`: `"auto"` (dense up to 64x64 elements a patch, the FFT operator above),
+/// - `compliance`: `"auto"` (dense up to 1,024 unknowns a patch (32x32 frictionless, 18x18 with friction), the FFT operator above),
 ///   `"dense"` or `"fft"` (matrix-free, native solver; README "Fine patches").
 ///
 /// A grasp without equilibrium is a solution with status `"no_equilibrium"`, not an

@@ -14,7 +14,7 @@ use crate::model::friction::FrictionLaw;
 use crate::model::influence::PairConstants;
 use crate::model::material::Material;
 use crate::model::patch::Patch;
-use crate::model::patch_compliance::{uses_fft, ComplianceChoice, PatchCompliance};
+use crate::model::patch_compliance::{takes_fft, ComplianceChoice, PatchCompliance};
 use crate::scene::limits::MAX_COMPLIANCE_BYTES;
 use crate::scene::scene_format::{ModelKind, RadiusSpec, Scene};
 
@@ -203,7 +203,7 @@ impl GraspModel {
     }
 
     /// Builds the model from a scene, validating it first (patch compliances dense up to
-    /// [`crate::model::patch_compliance::AUTO_FFT_ABOVE_ELEMENTS`] elements, FFT above).
+    /// [`crate::model::patch_compliance::AUTO_FFT_ABOVE_UNKNOWNS`] unknowns, FFT above).
     pub fn from_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
         Self::from_scene_with(scene, ComplianceChoice::Auto)
     }
@@ -468,9 +468,9 @@ fn object_model(scene: &Scene) -> ObjectModel {
 /// [`MAX_COMPLIANCE_BYTES`] (validation checks the automatic choice; a caller that forces the
 /// dense matrix on a fine grid is refused here, before anything is allocated).
 fn check_dense_bytes(scene: &Scene, compliance: ComplianceChoice) -> Result<(), SceneError> {
-    let bytes = crate::scene::work_bounds::compliance_bytes_of(scene, |f| {
-        !uses_fft(compliance, f.patch.grid[0].saturating_mul(f.patch.grid[1]))
-    }) as f64;
+    let bytes =
+        crate::scene::work_bounds::compliance_bytes_of(scene, |f| !takes_fft(scene, f, compliance))
+            as f64;
     if bytes <= MAX_COMPLIANCE_BYTES {
         return Ok(());
     }

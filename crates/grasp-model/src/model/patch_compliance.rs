@@ -14,12 +14,14 @@ use serde::{Deserialize, Serialize};
 
 use super::compliance_operator::ComplianceOperator;
 use super::influence::{patch_compliance, GridSpec, PairConstants};
+use crate::scene::scene_format::{FingerSpec, Scene};
+use crate::scene::work_bounds::finger_unknowns;
 
 /// Which form of the patch compliance a model builds.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ComplianceChoice {
-    /// Dense up to [`AUTO_FFT_ABOVE_ELEMENTS`] elements per patch, FFT above.
+    /// Dense up to [`AUTO_FFT_ABOVE_UNKNOWNS`] unknowns per patch, FFT above.
     #[default]
     Auto,
     /// The dense matrix (every solver, every analysis).
@@ -52,17 +54,23 @@ impl std::fmt::Display for ComplianceChoice {
     }
 }
 
-pub use crate::scene::limits::AUTO_FFT_ABOVE_ELEMENTS;
+pub use crate::scene::limits::AUTO_FFT_ABOVE_UNKNOWNS;
 
-/// True when a patch of `elements` elements takes the FFT operator under `choice` (up to
-/// [`AUTO_FFT_ABOVE_ELEMENTS`] the automatic choice is the dense matrix, so every scene that
-/// solved before this operator existed solves exactly as before).
-pub fn uses_fft(choice: ComplianceChoice, elements: usize) -> bool {
+/// True when a patch of `unknowns` unknowns (elements times `1 + n_tangential`) takes the FFT
+/// operator under `choice` (the automatic choice: above [`AUTO_FFT_ABOVE_UNKNOWNS`]).
+pub fn uses_fft(choice: ComplianceChoice, unknowns: usize) -> bool {
     match choice {
-        ComplianceChoice::Auto => elements > AUTO_FFT_ABOVE_ELEMENTS,
+        ComplianceChoice::Auto => unknowns > AUTO_FFT_ABOVE_UNKNOWNS,
         ComplianceChoice::Dense => false,
         ComplianceChoice::Fft => true,
     }
+}
+
+/// True when `finger`'s patch compliance takes the FFT operator under `choice` ([`uses_fft`]
+/// of its unknowns).
+pub fn takes_fft(scene: &Scene, finger: &FingerSpec, choice: ComplianceChoice) -> bool {
+    let unknowns = usize::try_from(finger_unknowns(scene, finger)).unwrap_or(usize::MAX);
+    uses_fft(choice, unknowns)
 }
 
 /// Which form the patch compliances of a solved model took.
@@ -123,7 +131,7 @@ impl PatchCompliance {
         n_tangential: usize,
         choice: ComplianceChoice,
     ) -> Self {
-        if uses_fft(choice, grid.len()) {
+        if uses_fft(choice, grid.len().saturating_mul(1 + n_tangential)) {
             PatchCompliance::Fft(Arc::new(ComplianceOperator::new(grid, pair, n_tangential)))
         } else {
             PatchCompliance::Dense(Arc::new(patch_compliance(grid, pair, n_tangential)))

@@ -189,9 +189,9 @@ pub enum RadiusSpec {
 pub struct PatchSpec {
     /// Side lengths `[Lx, Ly]` in metres along `t1`, `t2`, each in `[1e-9, 10]`.
     pub size: [f64; 2],
-    /// Elements `[nx, ny]` along `t1`, `t2` (each >= 1, `nx ny <= 4096`). The memory a solve
-    /// needs grows like `(nx ny)^2`; `grasp` refuses grids whose estimate exceeds
-    /// `--max-memory`.
+    /// Elements `[nx, ny]` along `t1`, `t2` (each >= 1, `nx ny <= 1024 x 1024`). The memory a
+    /// solve needs grows like `(nx ny)^2` on the dense path and like `nx ny` on the FFT path;
+    /// `grasp` refuses grids whose estimate exceeds `--max-memory`.
     pub grid: [usize; 2],
 }
 

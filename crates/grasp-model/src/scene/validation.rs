@@ -232,12 +232,12 @@ impl Scene {
     }
 
     /// Refuses scenes whose dense compliance blocks (the patches the automatic choice keeps
-    /// dense, up to [`AUTO_FFT_ABOVE_ELEMENTS`] elements) could not fit in any machine's
+    /// dense, up to [`AUTO_FFT_ABOVE_UNKNOWNS`] unknowns) could not fit in any machine's
     /// memory (callers check the full estimate of the path that runs,
     /// [`work_bounds::estimate_memory_bytes_with`], against the machine they run on).
     fn check_memory(&self, v: &mut Problems) {
         let bytes = crate::scene::work_bounds::compliance_bytes_of(self, |f| {
-            f.patch.grid[0].saturating_mul(f.patch.grid[1]) <= AUTO_FFT_ABOVE_ELEMENTS
+            crate::scene::work_bounds::finger_unknowns(self, f) <= AUTO_FFT_ABOVE_UNKNOWNS as u64
         }) as f64;
         if bytes > MAX_COMPLIANCE_BYTES {
             v.push(

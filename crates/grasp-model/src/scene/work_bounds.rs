@@ -10,13 +10,15 @@
 //! ```
 //!
 //! The FFT operator keeps one spectrum of `2 nx_i (ny_i + 1)` complex numbers (16 bytes) per
-//! kernel (`k_i` = 1, 3 or 6 for `c_i` = 0, 1, 2), an apply needs `c_i + 3` more, the
+//! kernel (`k_i` = 1, 3 or 6 for `c_i` = 0, 1, 2), an apply needs `c_i + 3` more, its
+//! preconditioner keeps `k_i` spectra a quarter that size (and holds as many again while it is
+//! built), the
 //! conjugate-gradient solves keep [`FFT_VECTORS`] vectors of `n_i` numbers plus
 //! [`FFT_VECTORS_PER_ROW`] per equality row (`m = 6 + fingers` at most: the columns `Et'` and
 //! `M^-1 Et'`), and the build holds a table of 48 bytes per padded grid point:
 //!
 //! ```text
-//!   fft:    FFT_SAFETY * (16 (k_i + c_i + 3) 2 nx_i (ny_i + 1)
+//!   fft:    FFT_SAFETY * (16 (k_i + c_i + 3 + k_i / 2) 2 nx_i (ny_i + 1)
 //!                         + 8 (FFT_VECTORS + FFT_VECTORS_PER_ROW m) n_i + 48 4 nx_i ny_i)   bytes
 //! ```
 //!
@@ -121,7 +123,11 @@ fn fft_bytes(scene: &Scene, f: &FingerSpec) -> u64 {
     let c = tangential_components(scene, f);
     // Kernels kept: nn; then 11 and n1; then 22, 12 and n2.
     let kernels = [1, 3, 6][c as usize];
-    let spectra = spectrum.saturating_mul(kernels + c + 3);
+    // The operator's spectra, an apply's, and the preconditioner's (quarter-size, twice
+    // while built).
+    let spectra = spectrum
+        .saturating_mul(kernels + c + 3)
+        .saturating_add((spectrum / 4).saturating_mul(2 * kernels));
     // Equality rows: 6 (3 planar) equilibrium rows and at most one load row per finger.
     let rows = 6 + scene.fingers.len() as u64;
     let per_unknown = F64_BYTES * (FFT_VECTORS + FFT_VECTORS_PER_ROW * rows);
