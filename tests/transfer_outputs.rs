@@ -277,24 +277,11 @@ fn csv_history_has_a_row_per_step_and_columns_per_finger() {
     );
 }
 
-/// The `rerun` CLI of the checker install, or a failing test saying how to get it.
-fn rerun_cli() -> Option<PathBuf> {
-    if let Ok(p) = std::env::var("GRASP_RERUN_CLI") {
-        return Some(PathBuf::from(p));
-    }
-    if std::env::var("GRASP_SKIP_EXTERNAL_CHECKS").as_deref() == Ok("1") {
-        eprintln!("GRASP_SKIP_EXTERNAL_CHECKS=1: external rerun checks skipped");
-        return None;
-    }
-    panic!(
-        "GRASP_RERUN_CLI is not set: run the tests with scripts/test.sh (it installs rerun-sdk==0.36.3), \
-         or set GRASP_SKIP_EXTERNAL_CHECKS=1 to skip the external checks knowingly"
-    );
-}
-
 #[test]
 fn rerun_cli_accepts_the_mcap_and_the_rrd() {
-    let Some(cli) = rerun_cli() else { return };
+    let Some(cli) = support::rerun_cli() else {
+        return;
+    };
     let dir = out_dir("rerun");
     run_plate(&dir);
     check_rrd_chunks(&cli, &dir);

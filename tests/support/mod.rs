@@ -384,3 +384,18 @@ impl Lcg {
         self.next() < p
     }
 }
+
+/// The `rerun` CLI of the checker install, or a failing test saying how to get it.
+pub fn rerun_cli() -> Option<std::path::PathBuf> {
+    if let Ok(p) = std::env::var("GRASP_RERUN_CLI") {
+        return Some(std::path::PathBuf::from(p));
+    }
+    if std::env::var("GRASP_SKIP_EXTERNAL_CHECKS").as_deref() == Ok("1") {
+        eprintln!("GRASP_SKIP_EXTERNAL_CHECKS=1: external rerun checks skipped");
+        return None;
+    }
+    panic!(
+        "GRASP_RERUN_CLI is not set: run the tests with scripts/test.sh (it installs rerun-sdk==0.36.3), \
+         or set GRASP_SKIP_EXTERNAL_CHECKS=1 to skip the external checks knowingly"
+    );
+}

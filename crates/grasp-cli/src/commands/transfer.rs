@@ -28,7 +28,8 @@ pub struct Args {
     /// Schedule file (JSON; see `grasp schema --schedule`).
     #[arg(long, value_name = "SCHEDULE.json")]
     pub schedule: PathBuf,
-    /// Write an MCAP log (per-finger resultants and per-element fields, JSON with schemas).
+    /// Write an MCAP log (per-finger resultants and per-element fields, JSON with schemas;
+    /// patches above 64x64 elements as compact base64 maps on /grasp/patch_maps).
     #[arg(long, value_name = "F.mcap")]
     pub mcap: Option<PathBuf>,
     /// Write a Rerun recording (.rrd) to replay in the Rerun viewer.
@@ -119,7 +120,8 @@ pub struct Outputs {
 /// How to open each output (`{}` stands for its path, quoted for the shell when needed).
 const OPEN_RRD: &str = "rerun {}   (the Rerun viewer: pip install rerun-sdk==0.36.3)";
 const OPEN_MCAP: &str = "Foxglove (https://app.foxglove.dev or the desktop app), Open local file; \
-                         topics /grasp/fingers, /grasp/patches, /grasp/scene";
+                         topics /grasp/fingers, /grasp/patches, /grasp/scene \
+                         (and /grasp/patch_maps with patches above 64 x 64 elements)";
 const OPEN_CSV: &str = "one row per step, a column per quantity: any spreadsheet, or Python's \
                         pandas.read_csv";
 const OPEN_PLOT: &str = "any web browser or image viewer";

@@ -3,12 +3,18 @@
 //! Channels:
 //! - `/grasp/fingers` (`grasp.FingerResultants`): per step, every finger's command and
 //!   resultants;
-//! - `/grasp/patches` (`grasp.PatchFields`): per step, every active patch's element fields;
+//! - `/grasp/patches` (`grasp.PatchFields`): per step, every active patch's element fields,
+//!   one JSON object an element (patches of up to
+//!   [`COMPACT_ABOVE_ELEMENTS`](super::element_maps::COMPACT_ABOVE_ELEMENTS) elements);
+//! - `/grasp/patch_maps` (`grasp.PatchMaps`, only when the scene has a larger patch): per step,
+//!   every active larger patch's element fields as compact base64 arrays
+//!   ([`super::patch_maps_message`]);
 //! - `/grasp/scene` (`foxglove.SceneUpdate`): the object and contact points once, then per
 //!   step the finger forces as arrows, for Foxglove's 3-D panel ([`super::foxglove_scene`]).
 //!
 //! Log and publish time are the schedule time in nanoseconds. Nothing nondeterministic (wall
-//! times) is written, so the same inputs give the same file.
+//! times) is written, so the same inputs give the same file. Chunks are compressed with zstd
+//! (the `mcap` crate's default).
 
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -18,7 +24,11 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use serde_json::json;
 
+use super::element_maps::is_compact;
 use super::foxglove_scene::{forces_update, object_update, scene_update_schema, SCENE_TOPIC};
+use super::patch_maps_message::{
+    has_compact_patch, patch_maps_message, patch_maps_schema, PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC,
+};
 use super::{io_err, io_err_chain, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::schedule::Command;
@@ -199,12 +209,13 @@ fn patches_schema() -> serde_json::Value {
     })
 }
 
-/// The `/grasp/patches` message of a step.
+/// The `/grasp/patches` message of a step: every solved finger whose patch is not recorded as
+/// compact maps.
 pub fn patches_message(r: &StepRecord) -> serde_json::Value {
     json!({
         "time_s": r.time_s,
         "step": r.index,
-        "patches": r.solution.fingers.iter().map(|f| json!({
+        "patches": r.solution.fingers.iter().filter(|f| !is_compact(f.elements.len())).map(|f| json!({
             "name": f.name,
             "elements": f.elements.iter().map(|e| json!({
                 "index": e.index, "position_m": e.position_m, "normal_force_n": e.normal_force_n,
@@ -223,6 +234,8 @@ pub struct McapSink {
     fingers_channel: u16,
     patches_channel: u16,
     scene_channel: u16,
+    /// The `/grasp/patch_maps` channel, when the scene has a patch recorded as compact maps.
+    maps_channel: Option<u16>,
     /// Size of the scene (diagonal of the contacts and centre of mass), m, and the force
     /// arrows' scale, m per N.
     drawing: (f64, f64),
@@ -250,6 +263,7 @@ impl McapSink {
             fingers_channel: 0,
             patches_channel: 0,
             scene_channel: 0,
+            maps_channel: None,
             drawing: (1.0, 1.0),
             object_sent: false,
             sequence: 0,
@@ -312,9 +326,24 @@ impl Sink for McapSink {
             )
             .map_err(e)?;
         let sc = w.add_channel(ss, SCENE_TOPIC, "json", &meta).map_err(e)?;
+        let mut mc = None;
+        if has_compact_patch(run) {
+            let ms = w
+                .add_schema(
+                    PATCH_MAPS_SCHEMA,
+                    "jsonschema",
+                    patch_maps_schema().to_string().as_bytes(),
+                )
+                .map_err(e)?;
+            mc = Some(
+                w.add_channel(ms, PATCH_MAPS_TOPIC, "json", &meta)
+                    .map_err(e)?,
+            );
+        }
         self.fingers_channel = fc;
         self.patches_channel = pc;
         self.scene_channel = sc;
+        self.maps_channel = mc;
         Ok(())
     }
 
@@ -323,6 +352,10 @@ impl Sink for McapSink {
         self.write(self.fingers_channel, r.time_s, &f)?;
         let p = serde_json::to_vec(&patches_message(r)).map_err(|e| self.err(e))?;
         self.write(self.patches_channel, r.time_s, &p)?;
+        if let Some(channel) = self.maps_channel {
+            let m = serde_json::to_vec(&patch_maps_message(run, r)).map_err(|e| self.err(e))?;
+            self.write(channel, r.time_s, &m)?;
+        }
         let (size_m, m_per_n) = self.drawing;
         if !self.object_sent {
             let o = object_update(run, r.time_s, size_m).to_string();

@@ -10,6 +10,11 @@
 //!   relative to the step's largest pressure);
 //! - `world/patches/<name>/state`: elements coloured by state (stick green, slip orange,
 //!   separated grey);
+//!
+//!   both one point an element for patches of up to
+//!   [`COMPACT_ABOVE_ELEMENTS`](super::element_maps::COMPACT_ABOVE_ELEMENTS) elements, and
+//!   images on the patch's plane (`GridMap`s, with a static `Transform3D` at
+//!   `world/patches/<name>`) for larger ones ([`super::rerun_grid_maps`]);
 //! - `plots/normal_force/<name>`, `plots/friction/<name>`: time series in newtons;
 //! - `plots/margin/smallest`: the step's smallest disturbance margin, N (with `--margins`);
 //! - `world/margin/...` (static, `grasp margin --rrd`): the wrench surface
@@ -35,7 +40,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use grasp_model::{ElementState, FingerModel, FingerSolution};
+use grasp_model::{FingerModel, FingerSolution};
 use rerun::external::re_tuid::Tuid;
 use rerun::log::{Chunk, ChunkBatcherConfig, ChunkId, LogMsg, RowId};
 use rerun::sink::{FileSink, LogSink, SinkFlushError};
@@ -44,7 +49,9 @@ use rerun::{
     RecordingStream, Scalars, SerializedComponentBatch, SeriesLines, TimeCell, TimePoint,
 };
 
+use super::element_maps::is_compact;
 use super::fingertip_drawing::{tip_drawings, z_to, TipDrawing};
+use super::rerun_grid_maps::{cleared_map, patch_pose, pressure_map, state_map, state_rgb};
 use super::rerun_layout::{layout_messages, APPLICATION_ID};
 use super::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
@@ -381,7 +388,7 @@ impl RerunSink {
     }
 
     /// Finger `fm`'s elements coloured by pressure (relative to `p_max`) and, set off behind
-    /// the patch, by state.
+    /// the patch, by state: points, or images for a large patch.
     fn log_patch(
         &mut self,
         fm: &FingerModel,
@@ -389,6 +396,13 @@ impl RerunSink {
         p_max: f64,
     ) -> Result<(), TransferError> {
         let name = &fm.name;
+        if is_compact(f.elements.len()) {
+            self.send(
+                format!("world/patches/{name}/pressure"),
+                &pressure_map(fm, f, p_max),
+            )?;
+            return self.send(format!("world/patches/{name}/state"), &state_map(fm, f));
+        }
         let h = 0.5 * fm.patch.grid.hx.min(fm.patch.grid.hy);
         let pos: Vec<[f32; 3]> = f
             .elements
@@ -410,10 +424,9 @@ impl RerunSink {
         self.send(
             format!("world/patches/{name}/state"),
             &Points3D::new(pos_state)
-                .with_colors(f.elements.iter().map(|e| match e.state {
-                    ElementState::Stick => Color::from_rgb(60, 180, 75),
-                    ElementState::Slip => Color::from_rgb(245, 130, 48),
-                    ElementState::Separated => Color::from_rgb(128, 128, 128),
+                .with_colors(f.elements.iter().map(|e| {
+                    let [r, g, b] = state_rgb(e.state);
+                    Color::from_rgb(r, g, b)
                 }))
                 .with_radii(std::iter::repeat_n(0.6 * h as f32, f.elements.len())),
         )
@@ -421,7 +434,8 @@ impl RerunSink {
 
     /// Clears the arrows and patch of a finger without a solution (released, or a failed
     /// step) and plots zero.
-    fn clear_finger(&mut self, name: &str) -> Result<(), TransferError> {
+    fn clear_finger(&mut self, fm: &FingerModel) -> Result<(), TransferError> {
+        let name = &fm.name;
         let none: [[f32; 3]; 0] = [];
         for part in ["normal", "friction"] {
             self.send(
@@ -430,7 +444,11 @@ impl RerunSink {
             )?;
         }
         for part in ["pressure", "state"] {
-            self.send(format!("world/patches/{name}/{part}"), &Points3D::new(none))?;
+            let path = format!("world/patches/{name}/{part}");
+            match is_compact(fm.patch.len()) {
+                true => self.send(path, &cleared_map())?,
+                false => self.send(path, &Points3D::new(none))?,
+            }
         }
         self.send(format!("plots/normal_force/{name}"), &Scalars::new([0.0]))?;
         self.send(format!("plots/friction/{name}"), &Scalars::new([0.0]))
@@ -468,6 +486,9 @@ impl Sink for RerunSink {
                 format!("world/fingers/{name}/tip"),
                 tip_archetype(&tip).as_ref(),
             )?;
+        }
+        for f in g.fingers.iter().filter(|f| is_compact(f.patch.len())) {
+            self.send(format!("world/patches/{}", f.name), &patch_pose(f))?;
         }
         for f in &g.fingers {
             let len = 0.25 * size;
@@ -513,7 +534,7 @@ impl Sink for RerunSink {
             match r.solution.finger(&fm.name) {
                 Some(f) => self.log_finger(fm, f, scale, p_max)?,
                 // Released (or failed step): clear its arrows and patch, plot zero.
-                None => self.clear_finger(&fm.name)?,
+                None => self.clear_finger(fm)?,
             }
         }
         if let Some(m) = &r.margin {
