@@ -99,8 +99,8 @@ def import_peer():
         import tamaas as tm
     except ImportError as e:
         print(
-            f"peer-hertz.py: the peer is not installed for {sys.executable} ({e}); "
-            "install it with `bash scripts/install-checkers.sh` (tamaas into ~/.cache/grasp-venv)",
+            f"peer-hertz.py: {e.name or e} is missing for this Python; install the peer with "
+            "`bash scripts/install-checkers.sh` (tamaas==2.9.0 into ~/.cache/grasp-venv)",
             file=sys.stderr,
         )
         sys.exit(MISSING)
