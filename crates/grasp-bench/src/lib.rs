@@ -3,11 +3,13 @@
 //! grasp-bench` (divan). Data flow: [`case`] names a case and prepares its inputs from the
 //! bundled example scenes; [`sample`] runs a prepared case once and says what it cost;
 //! [`statistics`] folds repeated samples (median, spread, growth exponent); [`peak_memory`]
-//! reads the process's resident memory (Linux `/proc`).
+//! reads the process's resident memory (Linux `/proc`); [`peer`] runs the peer library of
+//! issue 21 (tamaas, through `scripts/peer-hertz.py`) on a Hertz case's grid.
 
 pub mod case;
 pub mod error;
 pub mod peak_memory;
+pub mod peer;
 pub mod sample;
 pub mod statistics;
 

@@ -89,3 +89,21 @@ fn an_unknown_case_is_refused_with_the_list_of_cases() {
         "{stderr}"
     );
 }
+
+#[test]
+fn a_peer_python_that_does_not_exist_is_refused_before_any_case_runs() {
+    let out = grasp(&[
+        "bench",
+        "--case",
+        "hertz_128x128_fft",
+        "--peer",
+        "/nonexistent/python",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--peer /nonexistent/python: no such file"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("bench: hertz_128x128_fft"), "{stderr}");
+}

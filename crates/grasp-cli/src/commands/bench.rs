@@ -4,14 +4,18 @@
 //! case's target. Derived rows: warm/cold iteration ratios of both hand-offs, the growth
 //! exponent of solve time against unknowns over the cube A series, the whole `grasp
 //! transfer` command with MCAP, Rerun and CSV outputs (a child process, timed from outside),
-//! and the batch runner's throughput on one thread and on every core (issue 12).
+//! and the batch runner's throughput on one thread and on every core (issue 12). Beside the
+//! Hertz FFT cases of issue 21, the peer library (tamaas, `scripts/peer-hertz.py`) solves the
+//! same grid in the same run: a row with its time and error, and the ratio of its time to ours.
 
 use std::fmt::Write as _;
 use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
+use grasp_bench::peer::{PeerError, PeerProblem, PeerRecord};
 use grasp_bench::statistics::{growth_exponent, median_and_range};
 use grasp_bench::{Case, CaseKind, Sample, CASES, FFT_CASES};
 use grasp_model::SolverChoice;
@@ -43,6 +47,44 @@ pub struct Args {
     /// 50), in [0, 3600].
     #[arg(long, default_value_t = 1.0, value_name = "SECONDS")]
     pub min_time: f64,
+    /// Python with the peer library (tamaas, installed by scripts/install-checkers.sh) that
+    /// solves the Hertz FFT cases' grids beside ours (default: ~/.cache/grasp-venv/bin/python
+    /// where it exists; without the peer the table says so and the bench goes on).
+    #[arg(long, value_name = "PYTHON", conflicts_with = "no_peer")]
+    pub peer: Option<PathBuf>,
+    /// Do not run the peer on the Hertz FFT cases.
+    #[arg(long)]
+    pub no_peer: bool,
+}
+
+/// The reason of a bench run without the peer when asked so.
+const NO_PEER: &str = "--no-peer";
+
+/// The peer's Python in the project's virtualenv (scripts/install-checkers.sh).
+const VENV_PYTHON: &str = ".cache/grasp-venv/bin/python";
+
+/// The Python that runs the peer: `--peer` (which must exist), else the virtualenv's where it
+/// exists; `Err` is the reason there is none (printed under the table).
+fn peer_python(args: &Args) -> Result<Result<PathBuf, String>> {
+    if args.no_peer {
+        return Ok(Err(NO_PEER.into()));
+    }
+    if let Some(p) = &args.peer {
+        if !p.is_file() {
+            bail!(
+                "--peer {}: no such file; give a Python with tamaas, e.g. {}",
+                p.display(),
+                Path::new("~").join(VENV_PYTHON).display()
+            );
+        }
+        return Ok(Ok(p.clone()));
+    }
+    let home = std::env::var_os("HOME").map(PathBuf::from);
+    match home.map(|h| h.join(VENV_PYTHON)) {
+        Some(p) if p.is_file() => Ok(Ok(p)),
+        Some(p) => Ok(Err(format!("no Python at {}", p.display()))),
+        None => Ok(Err("HOME is not set".into())),
+    }
 }
 
 /// Largest `--min-time`, s (50 runs cap a case anyway).
@@ -66,12 +108,14 @@ pub fn execute(args: Args) -> Result<ExitCode> {
             bail!("--case lists {c} twice; name each case once");
         }
     }
+    let peer = peer_python(&args)?;
     run(Flags {
         quick: args.quick,
         markdown: args.markdown,
         solvers: args.solver,
         cases: args.cases,
         min_time_s: args.min_time,
+        peer,
     })
 }
 
@@ -88,6 +132,8 @@ pub struct Flags {
     pub cases: Vec<String>,
     /// Timing runs of a case continue until this much time has passed, s.
     pub min_time_s: f64,
+    /// The Python that runs the peer on the Hertz FFT cases, or why there is none.
+    pub peer: Result<PathBuf, String>,
 }
 
 /// Median, range and the first (memory) sample of one case with one solver.
@@ -256,6 +302,96 @@ fn derived_rows(all: &[Measured], solvers: &[SolverChoice]) -> Vec<Row> {
         }
     }
     rows
+}
+
+/// The peer's row on a Hertz FFT case (its time, its peak-pressure error) and one row per
+/// solver measured on the case with the ratio of the peer's time to ours.
+fn peer_rows(record: &PeerRecord, ours: &[Measured]) -> Vec<Row> {
+    let Some(case) = ours.first().map(|m| m.case) else {
+        return Vec::new();
+    };
+    let mut row = vec!["-".to_string(); HEADER.len()];
+    row[0] = case.name.to_string();
+    row[1] = per(&case).to_string();
+    row[2] = format!("{} {} (peer)", record.peer, record.version);
+    row[3] = time(record.median_s);
+    row[4] = format!("{}-{}", time(record.min_s), time(record.max_s));
+    row[5] = record.runs.to_string();
+    row[6] = (record.grid * record.grid).to_string();
+    row[10] = format!("{:.1e}", record.p0_error.abs());
+    let mut rows = vec![row];
+    for m in ours {
+        let mut row = vec![String::new(); HEADER.len()];
+        row[0] = format!("{} peer/ours", case.name);
+        row[1] = "time ratio".into();
+        row[2] = m.solver.to_string();
+        row[3] = format!("{:.2}x", record.median_s / m.median_s);
+        row[4] = format!("{} / {}", time(record.median_s), time(m.median_s));
+        rows.push(row);
+    }
+    rows
+}
+
+/// Runs the peer on a Hertz FFT case just measured (`ours`: its rows, one per solver) with as
+/// many timing runs as ours had; the rows, and a note under the table with the peer's checks
+/// against the closed form. A missing peer is not retried on the next case (`python` becomes
+/// the reason); any other failure is a note. The bench never fails for the peer.
+fn peer_case(
+    ours: &[Measured],
+    python: &mut Result<PathBuf, String>,
+    notes: &mut Vec<String>,
+) -> Vec<Row> {
+    let (Some(first), Ok(exe)) = (ours.first(), python.as_ref()) else {
+        return Vec::new();
+    };
+    let case = first.case;
+    progress(&format!("bench: {} (peer)", case.name));
+    let record = case
+        .prepare(SolverChoice::Native)
+        .map_err(|e| PeerError::Problem {
+            case: case.name.to_string(),
+            message: e.to_string(),
+        })
+        .and_then(|p| PeerProblem::of(&p))
+        .and_then(|problem| problem.measure(exe, first.runs));
+    match record {
+        Ok(r) => {
+            notes.push(format!(
+                "peer {} {} on {}: tolerance {:e} (its own relative measure), {} timed runs \
+                 after an untimed one; against Hertz: peak pressure {:+.1e}, contact radius \
+                 {:+.1e}, load {:+.1e}",
+                r.peer,
+                r.version,
+                case.name,
+                r.tolerance,
+                r.runs,
+                r.p0_error,
+                r.contact_radius_error,
+                r.load_error
+            ));
+            peer_rows(&r, ours)
+        }
+        Err(e @ PeerError::Missing { .. }) => {
+            *python = Err(e.to_string());
+            Vec::new()
+        }
+        Err(e) => {
+            notes.push(format!("peer not measured on {}: {e}", case.name));
+            Vec::new()
+        }
+    }
+}
+
+/// The line under the table when the peer was not measured: why, and how to install it
+/// (unless the reason says so already, or `--no-peer` was given).
+fn peer_missing_note(reason: &str) -> String {
+    if reason == NO_PEER || reason.contains("scripts/install-checkers.sh") {
+        return format!("peer not measured ({reason})");
+    }
+    format!(
+        "peer not measured ({reason}); install it with `bash scripts/install-checkers.sh` \
+         (tamaas into ~/.cache/grasp-venv) or give --peer <PYTHON>"
+    )
 }
 
 /// Runs `grasp transfer` on the bundled plate hand-off with MCAP, Rerun and CSV outputs in a
@@ -509,15 +645,29 @@ fn run(flags: Flags) -> Result<ExitCode> {
         .collect();
     let mut measured = Vec::new();
     let mut rows = Vec::new();
+    let (mut peer, mut notes) = (flags.peer.clone(), Vec::new());
     for case in &chosen {
+        let fft = FFT_CASES.iter().any(|c| c.name == case.name);
+        let start = measured.len();
         for &solver in &flags.solvers {
-            if solver == SolverChoice::Clarabel && FFT_CASES.iter().any(|c| c.name == case.name) {
+            if solver == SolverChoice::Clarabel && fft {
                 continue;
             }
             progress(&format!("bench: {} ({solver})", case.name));
             let m = measure(case, solver, &flags)?;
             rows.push(case_row(&m));
             measured.push(m);
+        }
+        if fft {
+            rows.extend(peer_case(&measured[start..], &mut peer, &mut notes));
+        }
+    }
+    if let Err(reason) = &peer {
+        if chosen
+            .iter()
+            .any(|c| FFT_CASES.iter().any(|f| f.name == c.name))
+        {
+            notes.push(peer_missing_note(reason));
         }
     }
     rows.extend(derived_rows(&measured, &flags.solvers));
@@ -539,5 +689,8 @@ fn run(flags: Flags) -> Result<ExitCode> {
          peak MiB: resident memory above the start of the case's first run; error: Hertz \
          peak-pressure error for hertz_*, else the worst relative residual)"
     );
+    for note in &notes {
+        println!("{note}");
+    }
     Ok(ExitCode::SUCCESS)
 }

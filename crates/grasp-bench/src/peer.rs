@@ -1,0 +1,199 @@
+//! The peer measurement of issue 21: an FFT boundary-element library (tamaas, from PyPI)
+//! solving the same frictionless Hertz grid as a `hertz_<n>x<n>_fft` case, in the same bench
+//! run. `scripts/peer-hertz.py` is compiled in and fed to the peer's Python on standard
+//! input (so the bench runs anywhere, like its bundled scenes); the problem's numbers are read
+//! from the case's scene and passed as arguments, so both codes solve the same problem. The
+//! script prints one JSON line ([`PeerRecord`]).
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+use grasp_model::analysis::refinement::hertz_parameters;
+
+use crate::case::Prepared;
+
+/// The peer's script, `scripts/peer-hertz.py`.
+pub const PEER_SCRIPT: &str = include_str!("../../../scripts/peer-hertz.py");
+
+/// The script's exit code when numpy or the peer's package is missing.
+const EXIT_MISSING: i32 = 3;
+
+/// The frictionless Hertz problem the peer solves: a square patch of `grid` x `grid`
+/// elements centred on the contact point, a sphere of radius `radius_m` on a flat.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PeerProblem {
+    /// Elements per side.
+    pub grid: usize,
+    /// Sphere radius, m.
+    pub radius_m: f64,
+    /// Combined modulus E* of the two bodies, Pa.
+    pub e_star_pa: f64,
+    /// Total normal load, N.
+    pub load_n: f64,
+    /// Patch width, m.
+    pub width_m: f64,
+}
+
+/// What the peer's script reports (its JSON line).
+#[derive(Debug, Clone, PartialEq, serde::Deserialize)]
+pub struct PeerRecord {
+    /// The peer's package name.
+    pub peer: String,
+    /// Its installed version.
+    pub version: String,
+    /// Elements per side.
+    pub grid: usize,
+    /// Median of the timed runs (setup and solve), s.
+    pub median_s: f64,
+    /// Fastest timed run, s.
+    pub min_s: f64,
+    /// Slowest timed run, s.
+    pub max_s: f64,
+    /// Timed runs.
+    pub runs: usize,
+    /// The peer's tolerance (its own relative measure).
+    pub tolerance: f64,
+    /// Largest element pressure against Hertz's p0, relative, signed.
+    pub p0_error: f64,
+    /// Radius of the contact area's circle against Hertz's a, relative, signed.
+    pub contact_radius_error: f64,
+    /// Total pressure times element area against the load, relative, signed.
+    pub load_error: f64,
+}
+
+/// Why the peer was not measured.
+#[derive(Debug, thiserror::Error)]
+pub enum PeerError {
+    /// The case is not a single-finger Hertz case on a square patch.
+    #[error("bench case {case}: no peer problem: {message}")]
+    Problem { case: String, message: String },
+    /// No such Python, or the peer's package is not installed for it.
+    #[error("the peer is not installed for {}: {message}", python.display())]
+    Missing { python: PathBuf, message: String },
+    /// The peer ran and failed, or printed no record.
+    #[error("the peer failed with {}: {message}", python.display())]
+    Failed { python: PathBuf, message: String },
+}
+
+impl PeerProblem {
+    /// The problem of a prepared Hertz case: its scene's finger, patch and load.
+    pub fn of(prepared: &Prepared) -> Result<PeerProblem, PeerError> {
+        let err = |message: String| PeerError::Problem {
+            case: prepared.case.name.to_string(),
+            message,
+        };
+        let scene = &prepared.scene;
+        let (radius_m, e_star_pa) = hertz_parameters(scene).map_err(err)?;
+        let patch = &scene.fingers[0].patch;
+        if patch.grid[0] != patch.grid[1] || patch.size[0] != patch.size[1] {
+            return Err(err(format!(
+                "the patch is {:?} elements over {:?} m; the peer takes a square grid",
+                patch.grid, patch.size
+            )));
+        }
+        Ok(PeerProblem {
+            grid: patch.grid[0],
+            radius_m,
+            e_star_pa,
+            load_n: scene.object.weight,
+            width_m: patch.size[0],
+        })
+    }
+
+    /// The script's arguments for this problem and `repeats` timed runs.
+    fn arguments(&self, repeats: usize) -> Vec<String> {
+        let mut args = vec!["-".to_string()];
+        for (flag, value) in [
+            ("--grid", self.grid.to_string()),
+            ("--repeats", repeats.to_string()),
+            ("--radius", format!("{:e}", self.radius_m)),
+            ("--e-star", format!("{:e}", self.e_star_pa)),
+            ("--load", format!("{:e}", self.load_n)),
+            ("--width", format!("{:e}", self.width_m)),
+        ] {
+            args.push(flag.into());
+            args.push(value);
+        }
+        args
+    }
+
+    /// Runs the peer's script with `python` (`repeats` timed runs after an untimed one) and
+    /// reads its record.
+    pub fn measure(&self, python: &Path, repeats: usize) -> Result<PeerRecord, PeerError> {
+        let missing = |message: String| PeerError::Missing {
+            python: python.to_path_buf(),
+            message,
+        };
+        let failed = |message: String| PeerError::Failed {
+            python: python.to_path_buf(),
+            message,
+        };
+        let mut child = Command::new(python)
+            .args(self.arguments(repeats))
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .map_err(|e| missing(e.to_string()))?;
+        if let Some(mut stdin) = child.stdin.take() {
+            // A Python that exits before reading (a broken interpreter) closes the pipe: its
+            // exit status and message below say why, not this write's broken pipe.
+            let _ = stdin.write_all(PEER_SCRIPT.as_bytes());
+        }
+        let out = child
+            .wait_with_output()
+            .map_err(|e| failed(e.to_string()))?;
+        let stderr = String::from_utf8_lossy(&out.stderr).trim().to_string();
+        match out.status.code() {
+            Some(0) => {}
+            Some(EXIT_MISSING) => return Err(missing(stderr)),
+            _ => return Err(failed(format!("{}: {stderr}", out.status))),
+        }
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let line = stdout.lines().last().unwrap_or_default();
+        let record: PeerRecord = serde_json::from_str(line)
+            .map_err(|e| failed(format!("unreadable record {line:?}: {e}")))?;
+        if record.grid != self.grid {
+            return Err(failed(format!(
+                "the record is for grid {}, not {}",
+                record.grid, self.grid
+            )));
+        }
+        Ok(record)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::case::FFT_CASES;
+
+    #[test]
+    fn the_peer_problem_is_the_scene_s() {
+        let prepared = FFT_CASES[0]
+            .prepare(grasp_model::SolverChoice::Native)
+            .expect("prepare");
+        let p = PeerProblem::of(&prepared).expect("a Hertz case");
+        assert_eq!(p.grid, 128);
+        assert_eq!(p.radius_m, 0.01);
+        assert_eq!(p.load_n, 10.0);
+        assert_eq!(p.width_m, 0.000212);
+        // Steel on steel: E* = E / (2 (1 - nu^2)).
+        assert!((p.e_star_pa / (210e9 / (2.0 * 0.91)) - 1.0).abs() < 1e-12);
+        let args = p.arguments(4);
+        assert_eq!(&args[..5], &["-", "--grid", "128", "--repeats", "4"]);
+    }
+
+    #[test]
+    fn a_missing_python_is_reported_as_missing() {
+        let prepared = FFT_CASES[0]
+            .prepare(grasp_model::SolverChoice::Native)
+            .expect("prepare");
+        let p = PeerProblem::of(&prepared).expect("a Hertz case");
+        let e = p
+            .measure(Path::new("/nonexistent/python"), 1)
+            .expect_err("no such Python");
+        assert!(matches!(e, PeerError::Missing { .. }), "{e}");
+    }
+}
