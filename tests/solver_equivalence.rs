@@ -245,6 +245,11 @@ fn native_and_clarabel_agree_on_240_random_grasps() {
 /// patches are small (at most 3,072 unknowns), so the FFT operator is also written out for the
 /// interior-point fallback and for Clarabel, which certifies "no equilibrium" on both paths.
 fn dense_and_fft_agree(v: &Value) -> Result<(SolveStatus, f64), String> {
+    dense_and_agree(v, ComplianceChoice::Fft)
+}
+
+/// [`dense_and_fft_agree`] with `other` against the dense path.
+fn dense_and_agree(v: &Value, other: ComplianceChoice) -> Result<(SolveStatus, f64), String> {
     let solve = |compliance| {
         solve_with_options(
             v,
@@ -257,7 +262,7 @@ fn dense_and_fft_agree(v: &Value) -> Result<(SolveStatus, f64), String> {
             },
         )
     };
-    let (dense, fft) = (solve(ComplianceChoice::Dense), solve(ComplianceChoice::Fft));
+    let (dense, fft) = (solve(ComplianceChoice::Dense), solve(other));
     let class = |s: &grasp_model::Solution| match s.status.has_forces() {
         true => SolveStatus::Solved,
         false => s.status,
@@ -320,4 +325,36 @@ fn dense_and_fft_compliance_agree_on_the_examples_and_random_grasps() {
     );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert!(solved >= 30, "too few solved random grasps: {solved}");
+}
+
+/// Fingers on both paths in one grasp (the automatic choice with the first finger refined to
+/// 24 x 24, above 1,024 unknowns, the others coarse): the FFT finger's reduced systems are
+/// then solved by conjugate gradients inside the dense fingers' Schur complement rather than
+/// by the all-FFT projected step. Same agreement as above against every finger dense.
+#[test]
+fn mixed_dense_and_fft_fingers_agree_with_all_dense() {
+    let mut failures = Vec::new();
+    let mut checked = 0;
+    for name in [
+        "cube_a",
+        "cube_b",
+        "plate_four_fingers",
+        "disc_three_fingers",
+        "plate_handoff_coulomb",
+    ] {
+        let mut v = example_json(&format!("{name}.json"));
+        v["fingers"][0]["patch"]["grid"] = serde_json::json!([24, 24]);
+        let auto = solve_with_options(&v, SolveOptions::default());
+        assert_eq!(
+            auto.solver.compliance.to_string(),
+            "dense and FFT",
+            "{name}"
+        );
+        match dense_and_agree(&v, ComplianceChoice::Auto) {
+            Ok(_) => checked += 1,
+            Err(e) => failures.push(format!("{name}: {e}")),
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert_eq!(checked, 5);
 }

@@ -23,7 +23,7 @@ use super::reduced_system::ReducedSystem;
 use super::Counts;
 
 /// Relative eigenvalue threshold of the Schur complement.
-const SCHUR_CUTOFF: f64 = 1e-12;
+pub(crate) const SCHUR_CUTOFF: f64 = 1e-12;
 
 /// A Newton direction: `dx` (global), `dlambda`, and `dy = P dx + E' dlambda` (global).
 pub(crate) struct Step {
@@ -97,12 +97,12 @@ pub(crate) fn factor_for<'c>(
     cache.first()
 }
 
-/// The first half of a finger's step: `z_i`, `g_i` (`L^-1 r_i` factorised, `M^-1 r_i`
-/// iterative) and `E_i z_i`.
+/// The first half of a finger's step: `z_i`, `g_i` (`r_i` as [`fixed_part`] gives it, then
+/// `L^-1 r_i` factorised, `M^-1 r_i` iterative) and `E_i z_i`.
 pub(crate) struct FingerHalf {
-    z: Vec<f64>,
-    g: Vec<f64>,
-    e_z: Vec<f64>,
+    pub z: Vec<f64>,
+    pub g: Vec<f64>,
+    pub e_z: Vec<f64>,
 }
 
 pub(crate) fn first_half(
@@ -111,6 +111,14 @@ pub(crate) fn first_half(
     factor: &ReducedSystem,
     inner: &mut u32,
 ) -> Option<FingerHalf> {
+    let mut half = fixed_part(block, lin);
+    *inner += factor.first_solve(block, &mut half.g)?;
+    Some(half)
+}
+
+/// The fixed directions' part of a finger's step: `z_i` (`xi_j = -phi_j`), the free rows'
+/// right-hand side `r_i = -phi_a / (gamma theta_a) - d_a' P_i z_i` (in `g`) and `E_i z_i`.
+pub(crate) fn fixed_part(block: &FingerBlockData, lin: &FingerLinearisation) -> FingerHalf {
     let n = block.len();
     let mut z = vec![0.0; n];
     let mut support = Vec::new();
@@ -129,7 +137,7 @@ pub(crate) fn first_half(
     support.dedup();
     let mut pz = vec![0.0; n];
     block.apply_columns(&z, &support, &mut pz);
-    let mut g: Vec<f64> = lin
+    let g: Vec<f64> = lin
         .free
         .iter()
         .map(|d| {
@@ -139,10 +147,9 @@ pub(crate) fn first_half(
             -d.phi / (block.gamma * d.theta) - ppz
         })
         .collect();
-    *inner += factor.first_solve(block, &mut g)?;
     let mut e_z = vec![0.0; block.equality_rows()];
     block.add_equality(&z, &mut e_z);
-    Some(FingerHalf { z, g, e_z })
+    FingerHalf { z, g, e_z }
 }
 
 /// Solves `S v = rhs` in the least-squares sense over the well-conditioned eigendirections;
@@ -245,8 +252,20 @@ fn second_half(
     step: &mut Step,
 ) {
     let xi = factor.second_solve(half.g, &step.dlambda);
-    let mut dx = half.z;
-    for (d, v) in lin.free.iter().zip(&xi) {
+    finish_finger(block, lin, half.z, &xi, step);
+}
+
+/// A finger's part of the step from `z_i` and the free directions' `xi_F`: `dx_i = z_i + D_F
+/// xi_F`, `dy_i = P_i dx_i + E_i' dlambda` and `E_i dx_i`, written into `step`.
+pub(crate) fn finish_finger(
+    block: &FingerBlockData,
+    lin: &FingerLinearisation,
+    z: Vec<f64>,
+    xi: &[f64],
+    step: &mut Step,
+) {
+    let mut dx = z;
+    for (d, v) in lin.free.iter().zip(xi) {
         for c in 0..block.dim {
             dx[block.index(d.element, c)] += d.dir[c] * v;
         }

@@ -1,17 +1,12 @@
 //! The reduced Newton system of one finger solved by preconditioned conjugate gradients, for a
-//! finger whose compliance is the FFT operator (no matrix to factorise; issue 21).
+//! finger whose compliance is the FFT operator (no matrix to factorise; issue 21), in the
+//! Schur-complement form the dense fingers use: this is the path of a finger beside dense ones
+//! (when every finger is an FFT one, [`super::projected_step`] solves all of them with the
+//! equality rows at once).
 //!
-//! Over the free directions `d_a` the system matrix is the one of [`super::reduced_factor`],
-//!
-//! ```text
-//!   M[a, b] = d_a' P_i[k_a, k_b] d_b + delta_ab beta_a,      beta = (1 - theta)/(gamma theta),
-//! ```
-//!
-//! symmetric positive definite, applied here as `D_F' (P_i (D_F p)) + beta p` with one operator
-//! product (Polonsky and Keer's conjugate gradients for the contact pressure, Wear 231, 1999,
-//! and Vollebregt's NormCG/TangCG do the same over the contact area). Where the dense path
-//! keeps `L` and `W = L^-1 Et'`, this keeps `U = M^-1 Et'` (one solve per equality row the
-//! free directions reach) and the finger's Schur complement `S_i = Et U`; each Newton step
+//! Where the dense path keeps `L` and `W = L^-1 Et'`, this keeps `U = M^-1 Et'` (one solve
+//! per equality row the free directions reach; `M` and its preconditioner are
+//! [`super::free_operator`]) and the finger's Schur complement `S_i = Et U`; each Newton step
 //! then costs one more solve, `M^-1 r`. With `g = M^-1 r`:
 //!
 //! ```text
@@ -19,17 +14,11 @@
 //! ```
 //!
 //! which is the dense path's `xi = L^-T (L^-1 r - W dlambda)` written with `M^-1`.
-//!
-//! The preconditioner is the inverse of the operator's circulant approximation restricted to
-//! the free directions, `D_F' Pc^-1 D_F` ([`crate::model::circulant_inverse`]: it cancels the
-//! compliance's `1/|k|` symbol, so the iterations stay nearly constant as the grid is refined,
-//! where `M`'s diagonal, the same for every element, does nothing), on the directions where
-//! `P` dominates `M`'s diagonal; on those where `beta` does (nearly sliding ones), `M`'s
-//! diagonal. Both parts are symmetric positive definite, so the preconditioner is.
 
 use nalgebra::DMatrix;
 
 use super::finger_block::FingerBlockData;
+use super::free_operator::FreeOperator;
 use super::linearisation::Direction;
 
 /// A conjugate-gradient solve ends when its residual is below this fraction of the right-hand
@@ -42,29 +31,22 @@ pub(crate) const CG_TOLERANCE: f64 = 1e-12;
 /// of the unknowns (the condition number of a boundary-element compliance grows like the
 /// square root of the elements, and CG needs about the square root of that) is accepted when
 /// it reached [`CG_ACCEPTABLE`], and refused otherwise.
-const CG_ITERATIONS_PER_ROOT: usize = 50;
+pub(crate) const CG_ITERATIONS_PER_ROOT: usize = 50;
 
 /// The accuracy a solve that ran out of iterations must have reached to be used.
-const CG_ACCEPTABLE: f64 = 1e-8;
+pub(crate) const CG_ACCEPTABLE: f64 = 1e-8;
 
 /// The reduced system of one finger over its free directions, ready for conjugate gradients.
 #[derive(Debug, Clone)]
 pub(crate) struct ReducedIterative {
     /// The free directions it was built for (`element`, `dir`, `theta` bits).
     key: Vec<u64>,
-    /// The linearisation's free directions it was built for.
-    pub free: Vec<Direction>,
+    /// `M` over the free directions it was built for, with its preconditioner.
+    pub op: FreeOperator,
     /// The linearisation's fixed directions it was built with, for chord steps.
     pub fixed: Vec<Direction>,
     /// `Et'` as columns (one per equality row, `n_free` long).
     et: Vec<Vec<f64>>,
-    /// `beta_a` per free direction.
-    beta: Vec<f64>,
-    /// `1 / M[a, a]`.
-    inverse_diagonal: Vec<f64>,
-    /// Per free direction: preconditioned by the circulant inverse (`beta_a` below the
-    /// compliance's part of `M[a, a]`), else by `1 / M[a, a]`.
-    circulant: Vec<bool>,
     /// `U = M^-1 Et'`, column per equality row (empty where `Et'` has a zero column).
     u: Vec<Vec<f64>>,
     /// `S_i = Et U` (`m x m`, symmetric).
@@ -81,43 +63,16 @@ impl ReducedIterative {
         fixed: &[Direction],
         key: Vec<u64>,
     ) -> Option<Self> {
-        let beta: Vec<f64> = free
-            .iter()
-            .map(|d| (1.0 - d.theta) / (block.gamma * d.theta))
-            .collect();
-        // The compliance's part of `M[a, a]`, `d_a' P_i[k_a, k_a] d_a`.
-        let compliance_part: Vec<f64> = free
-            .iter()
-            .map(|d| {
-                let p: f64 = (0..block.dim)
-                    .map(|c| d.dir[c] * d.dir[c] * block.compliance_diagonal(c * block.elements))
-                    .sum();
-                block.scale * p
-            })
-            .collect();
-        let inverse_diagonal = compliance_part
-            .iter()
-            .zip(&beta)
-            .map(|(p, b)| 1.0 / (p + b))
-            .collect();
-        let circulant = compliance_part
-            .iter()
-            .zip(&beta)
-            .map(|(p, b)| b <= p)
-            .collect();
         let mut system = ReducedIterative {
             key,
-            free: free.to_vec(),
+            op: FreeOperator::new(block, free),
             fixed: fixed.to_vec(),
             et: Vec::new(),
-            beta,
-            inverse_diagonal,
-            circulant,
             u: Vec::new(),
             schur: DMatrix::zeros(0, 0),
             iterations: 0,
         };
-        let et = reduced_equality_columns(block, free);
+        let et = system.op.equality_columns(block);
         for col in &et {
             let u = match col.iter().any(|v| *v != 0.0) {
                 true => {
@@ -143,41 +98,10 @@ impl ReducedIterative {
     /// [`CG_ACCEPTABLE`]).
     pub fn solve(&self, block: &FingerBlockData, r: &[f64]) -> Option<(Vec<f64>, u32)> {
         conjugate_gradients(
-            |p, out| self.apply(block, p, out),
-            |r, z| self.precondition(block, r, z),
+            |p, out| self.op.apply(block, p, out),
+            |r, z| self.op.precondition(block, r, z),
             r,
         )
-    }
-
-    /// `z = D_F' Pc^-1 D_F r` on the circulant-preconditioned directions, `r / M[a, a]` on
-    /// the others (the module's preconditioner).
-    fn precondition(&self, block: &FingerBlockData, r: &[f64], z: &mut [f64]) {
-        let mut full = vec![0.0; block.len()];
-        let mut any = false;
-        for ((d, &ra), _) in self
-            .free
-            .iter()
-            .zip(r)
-            .zip(&self.circulant)
-            .filter(|x| *x.1)
-        {
-            any = true;
-            for c in 0..block.dim {
-                full[block.index(d.element, c)] += d.dir[c] * ra;
-            }
-        }
-        let mut back = vec![0.0; block.len()];
-        if any {
-            block.precondition(&full, &mut back);
-        }
-        for (a, (d, za)) in self.free.iter().zip(z.iter_mut()).enumerate() {
-            *za = match self.circulant[a] {
-                true => (0..block.dim)
-                    .map(|c| d.dir[c] * back[block.index(d.element, c)])
-                    .sum(),
-                false => r[a] * self.inverse_diagonal[a],
-            };
-        }
     }
 
     /// `rhs += Et g` and `S += S_i`: the finger's part of the Schur complement system.
@@ -198,45 +122,6 @@ impl ReducedIterative {
             }
         }
     }
-
-    /// `out = M p`.
-    fn apply(&self, block: &FingerBlockData, p: &[f64], out: &mut [f64]) {
-        let free = &self.free;
-        let mut full = vec![0.0; block.len()];
-        let mut support = Vec::with_capacity(free.len() * block.dim);
-        for (d, &pa) in free.iter().zip(p) {
-            for c in 0..block.dim {
-                if d.dir[c] != 0.0 {
-                    let i = block.index(d.element, c);
-                    full[i] += d.dir[c] * pa;
-                    support.push(i);
-                }
-            }
-        }
-        let mut pfull = vec![0.0; block.len()];
-        block.apply_columns(&full, &support, &mut pfull);
-        for ((o, d), (&pa, &b)) in out.iter_mut().zip(free).zip(p.iter().zip(&self.beta)) {
-            *o = b * pa
-                + (0..block.dim)
-                    .map(|c| d.dir[c] * pfull[block.index(d.element, c)])
-                    .sum::<f64>();
-        }
-    }
-}
-
-/// `Et' = D_F' E_i'` as columns (one per equality row, each of length `n_free`).
-fn reduced_equality_columns(block: &FingerBlockData, free: &[Direction]) -> Vec<Vec<f64>> {
-    (0..block.equality_rows())
-        .map(|r| {
-            free.iter()
-                .map(|d| {
-                    (0..block.dim)
-                        .map(|c| d.dir[c] * block.equality(r, block.index(d.element, c)))
-                        .sum()
-                })
-                .collect()
-        })
-        .collect()
 }
 
 /// `S = Et U`, symmetrised (exact arithmetic gives a symmetric matrix; the inexact solves do

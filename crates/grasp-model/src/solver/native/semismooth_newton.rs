@@ -14,6 +14,7 @@ use crate::program::cone_program::ConeProgram;
 use super::finger_block::FingerBlockData;
 use super::linearisation::{cold_pattern, linearise, residual_norms, FingerLinearisation};
 use super::newton_step::{chord_linearisations, newton_step, FactorCache, Step};
+use super::projected_step::projected_step;
 use super::{Counts, Iterate, NativeResult, NativeStatus};
 
 /// Armijo constant of the line search.
@@ -221,6 +222,23 @@ fn newton_iteration(
 const NOT_POSITIVE_DEFINITE: &str = "a reduced matrix is not positive definite, or (FFT \
      compliance) conjugate gradients did not solve a reduced system to 1e-8";
 
+/// The Newton step at `lins`: by projected conjugate gradients when every finger's
+/// compliance is the FFT operator ([`projected_step`]), else through the Schur complement of
+/// the fingers' reduced systems ([`newton_step`]).
+fn step_of(
+    blocks: &[FingerBlockData],
+    lins: &[FingerLinearisation],
+    caches: &mut [FactorCache],
+    e_res: &[f64],
+    n: usize,
+    counts: &mut Counts,
+) -> Option<Step> {
+    match blocks.iter().all(FingerBlockData::is_fft) {
+        true => projected_step(blocks, lins, e_res, n, counts),
+        false => newton_step(blocks, lins, caches, e_res, n, counts),
+    }
+}
+
 /// The cold start: from `x = 0`, `lambda = 0` the all-stick step (every element in contact
 /// and sticking, [`cold_pattern`]), counted in `counts`; `Err` with the zero state when a
 /// reduced matrix cannot be factorised.
@@ -242,7 +260,7 @@ fn all_stick_start(
         .collect();
     let e_res = equality_residual(blocks, program, &s.x);
     counts.newton_steps += 1;
-    match newton_step(blocks, &lins, caches, &e_res, n, counts) {
+    match step_of(blocks, &lins, caches, &e_res, n, counts) {
         Some(step) => apply(&mut s, &step, 1.0),
         None => return Err(s),
     }
@@ -322,7 +340,7 @@ fn descend(
             false => lins,
         };
         let n = program.n_unknowns;
-        let Some(step) = newton_step(blocks, &step_lins, caches, &e_res, n, counts) else {
+        let Some(step) = step_of(blocks, &step_lins, caches, &e_res, n, counts) else {
             return Descent::Singular(s);
         };
         if max_abs(&step.unreachable) > tol.e {
