@@ -4,7 +4,7 @@
 use std::time::Instant;
 
 use grasp_model::analysis::refinement::hertz_parameters;
-use grasp_model::model::closed_form::HertzSphere;
+use grasp_model::model::closed_form::{cattaneo_stick_radius_m, HertzSphere};
 use grasp_model::{GraspModel, GraspSolver, Solution, SolverKind};
 use grasp_transfer::Stepper;
 
@@ -16,7 +16,8 @@ use crate::peak_memory;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sample {
     /// The timed quantity, s: one solve, one model build plus solve, or the mean of a
-    /// hand-off's steps (each step's wall time as the stepper reports it).
+    /// hand-off's steps (each step's wall time as the stepper reports it, and the model's
+    /// build before the first step spread over the steps).
     pub time_s: f64,
     /// The solve alone, s (per step for a hand-off): the growth exponent is fitted to this.
     pub solve_s: f64,
@@ -36,8 +37,9 @@ pub struct Sample {
     /// Peak resident memory above the resident memory at the start of the run, bytes.
     pub peak_memory_bytes: Option<u64>,
     /// Error of the run: the relative error of the peak pressure against Hertz's closed form
-    /// (Johnson 4.2) for a Hertz scene; otherwise the worst relative residual of the solve
-    /// (the worst over the steps of a hand-off).
+    /// (Johnson 4.2) for a Hertz scene; the error of the last step's stick radius against
+    /// Cattaneo's (Johnson 7.2), in elements, for the Cattaneo scene; otherwise the worst
+    /// relative residual of the solve (the worst over the steps of a hand-off).
     pub error: f64,
 }
 
@@ -58,6 +60,28 @@ fn error_of(p: &Prepared, sol: &Solution) -> f64 {
         }
     }
     sol.residuals.map_or(f64::NAN, |r| r.worst())
+}
+
+/// The Cattaneo case's error: `|c - a (1 - Q/(mu P))^(1/3)| / h` with `c` the
+/// area-equivalent radius of the stick elements, `sqrt(N_stick h^2 / pi)`, `P` and `Q` the
+/// forces the finger carries, `a` Hertz's radius under `P` (Johnson 4.2 and 7.2); `None` for
+/// other scenes.
+fn stick_radius_error(p: &Prepared, sol: &Solution) -> Option<f64> {
+    if p.case.scene != "cattaneo_sphere_on_flat" {
+        return None;
+    }
+    let (r, e_star) = hertz_parameters(&p.scene).ok()?;
+    let spec = p.scene.fingers.first()?;
+    let grasp_model::scene::FrictionSpec::Coefficient(c) = &spec.friction else {
+        return None;
+    };
+    let mu = c.mu;
+    let f = sol.fingers.first()?;
+    let h = spec.patch.size[0] / spec.patch.grid[0] as f64;
+    let a = HertzSphere::new(f.normal_force_n, r, e_star).contact_radius_m;
+    let c_exact = cattaneo_stick_radius_m(a, f.tangential_magnitude_n, mu, f.normal_force_n);
+    let c = (f.stick_count as f64 * h * h / std::f64::consts::PI).sqrt();
+    Some((c - c_exact).abs() / h)
 }
 
 fn one_solve(
@@ -113,7 +137,12 @@ fn hand_off(p: &Prepared, warm: bool) -> Result<Sample, BenchError> {
         peak_memory_bytes: None,
         error: 0.0,
     };
-    for r in Stepper::new(&p.scene, schedule, p.transfer_options(warm)) {
+    let built = Instant::now();
+    let stepper = Stepper::new(&p.scene, schedule, p.transfer_options(warm));
+    s.build_s = built.elapsed().as_secs_f64();
+    s.time_s = s.build_s;
+    let mut last = None;
+    for r in stepper {
         let r = r.map_err(|e| run_err(p, e.to_string()))?;
         let sol = &r.solution;
         s.time_s += r.wall_time_s;
@@ -124,6 +153,10 @@ fn hand_off(p: &Prepared, warm: bool) -> Result<Sample, BenchError> {
         s.fallbacks += usize::from(fell_back(p, sol));
         s.error = s.error.max(sol.residuals.map_or(f64::NAN, |x| x.worst()));
         s.steps += 1;
+        last = Some(r.solution);
+    }
+    if let Some(e) = last.and_then(|sol| stick_radius_error(p, &sol)) {
+        s.error = e;
     }
     let n = s.steps.max(1) as f64;
     for v in [

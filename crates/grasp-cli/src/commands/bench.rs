@@ -17,7 +17,7 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use grasp_bench::peer::{PeerError, PeerProblem, PeerRecord};
 use grasp_bench::statistics::{growth_exponent, median_and_range};
-use grasp_bench::{Case, CaseKind, Sample, CASES, FFT_CASES};
+use grasp_bench::{Case, CaseKind, Sample, CASES, FFT_CASES, PEER_CASES};
 use grasp_model::SolverChoice;
 
 /// Benchmark table: the cases of issue 9 (cube A grids, Hertz 41x41, both hand-offs warm
@@ -658,15 +658,12 @@ fn run(flags: Flags) -> Result<ExitCode> {
             rows.push(case_row(&m));
             measured.push(m);
         }
-        if fft {
+        if PEER_CASES.contains(&case.name) {
             rows.extend(peer_case(&measured[start..], &mut peer, &mut notes));
         }
     }
     if let Err(reason) = &peer {
-        if chosen
-            .iter()
-            .any(|c| FFT_CASES.iter().any(|f| f.name == c.name))
-        {
+        if chosen.iter().any(|c| PEER_CASES.contains(&c.name)) {
             notes.push(peer_missing_note(reason));
         }
     }
@@ -687,7 +684,8 @@ fn run(flags: Flags) -> Result<ExitCode> {
         "\n(release build, this machine; times are medians of the timing runs; iterations: \
          Newton steps (native) or interior-point iterations (Clarabel) per solve or step; \
          peak MiB: resident memory above the start of the case's first run; error: Hertz \
-         peak-pressure error for hertz_*, else the worst relative residual)"
+         peak-pressure error for hertz_*, the stick radius's error in elements against \
+         Cattaneo's for cattaneo_*, else the worst relative residual)"
     );
     for note in &notes {
         println!("{note}");

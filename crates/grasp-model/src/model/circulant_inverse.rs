@@ -133,8 +133,10 @@ impl CirculantInverse {
                     continue;
                 }
                 any = true;
-                for ((a, k), x) in acc.iter_mut().zip(&self.inverse[e]).zip(vc) {
-                    *a += if conjugate { k.conj() * x } else { k * x };
+                let terms = acc.iter_mut().zip(&self.inverse[e]).zip(vc);
+                match conjugate {
+                    true => terms.for_each(|((a, k), x)| *a += k.conj() * x),
+                    false => terms.for_each(|((a, k), x)| *a += k * x),
                 }
             }
             if any {

@@ -15,8 +15,8 @@ use realfft::num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use rustfft::{Fft, FftPlanner};
 
-/// Transform grids of at least this many points (128 x 128) transform on all cores.
-const PARALLEL_POINTS: usize = 128 * 128;
+/// Transform grids of at least this many points (256 x 256) transform on all cores.
+const PARALLEL_POINTS: usize = 256 * 256;
 
 /// Work buffers kept per kind.
 const KEPT_BUFFERS: usize = 8;

@@ -136,8 +136,14 @@ impl FingerBlockData {
         self.e[(r, c)]
     }
 
-    /// `out = P_i v` (local vectors): a sum of columns, which vectorises at every size.
+    /// `out = P_i v` (local vectors): a sum of columns, which vectorises at every size (the
+    /// operator's product, scaled, for an FFT patch).
     pub fn apply(&self, v: &[f64], out: &mut [f64]) {
+        if let PatchCompliance::Fft(op) = &self.c {
+            op.apply(v, out);
+            out.iter_mut().for_each(|o| *o *= self.scale);
+            return;
+        }
         out.fill(0.0);
         let support: Vec<usize> = (0..v.len()).collect();
         self.apply_columns(v, &support, out);

@@ -107,26 +107,34 @@ impl<'a> Projected<'a> {
         })
     }
 
+    /// `f(i)` for every finger `i`, the fingers on all cores when there are several (each
+    /// finger's arithmetic is the same on any thread: the result does not depend on the
+    /// threads).
+    fn per_finger(&self, f: impl Fn(usize) -> Vec<f64> + Sync + Send) -> Split {
+        if self.ops.len() > 1 {
+            use rayon::prelude::*;
+            (0..self.ops.len()).into_par_iter().map(f).collect()
+        } else {
+            (0..self.ops.len()).map(f).collect()
+        }
+    }
+
     /// `G^-1 v`.
     fn precondition(&self, v: &Split) -> Split {
-        (0..self.ops.len())
-            .map(|i| {
-                let mut z = vec![0.0; v[i].len()];
-                self.ops[i].precondition(&self.blocks[i], &v[i], &mut z);
-                z
-            })
-            .collect()
+        self.per_finger(|i| {
+            let mut z = vec![0.0; v[i].len()];
+            self.ops[i].precondition(&self.blocks[i], &v[i], &mut z);
+            z
+        })
     }
 
     /// `M v`.
     fn apply(&self, v: &Split) -> Split {
-        (0..self.ops.len())
-            .map(|i| {
-                let mut out = vec![0.0; v[i].len()];
-                self.ops[i].apply(&self.blocks[i], &v[i], &mut out);
-                out
-            })
-            .collect()
+        self.per_finger(|i| {
+            let mut out = vec![0.0; v[i].len()];
+            self.ops[i].apply(&self.blocks[i], &v[i], &mut out);
+            out
+        })
     }
 
     /// `out += cols w` per finger (`cols`: `et` or `y`).
