@@ -9,6 +9,7 @@ use grasp_model::model::closed_form::{
     cattaneo_stick_radius_m, mindlin_deresiewicz_dissipation_j, mindlin_displacement_m, HertzSphere,
 };
 use grasp_model::model::material::Material;
+use grasp_model::model::patch_compliance::ComplianceChoice;
 use grasp_model::{
     ContactState, GraspModel, GraspSolver, Scene, Solution, SolveOptions, SolveStatus,
 };
@@ -66,19 +67,27 @@ fn scene(model: &str, q: f64, grid: usize) -> Scene {
     Scene::from_json_str(&json).expect("valid scene")
 }
 
-/// Solves one load step from `state` (updated on success).
+/// Solves one load step from `state` (updated on success), on the dense compliance (the
+/// tests on this grid check the model's physics on the path every analysis has).
 fn step(model_kind: &str, q: f64, state: &mut Option<ContactState>) -> Solution {
-    step_on(model_kind, q, GRID, state)
+    step_on(model_kind, q, GRID, ComplianceChoice::Dense, state)
 }
 
-/// [`step`] on a `grid x grid` patch (the compliance path `auto` picks: FFT above 64 x 64).
-fn step_on(model_kind: &str, q: f64, grid: usize, state: &mut Option<ContactState>) -> Solution {
-    let model = GraspModel::from_scene(&scene(model_kind, q, grid)).unwrap();
+/// [`step`] on a `grid x grid` patch with the compliance `compliance`.
+fn step_on(
+    model_kind: &str,
+    q: f64,
+    grid: usize,
+    compliance: ComplianceChoice,
+    state: &mut Option<ContactState>,
+) -> Solution {
+    let model = GraspModel::from_scene_with(&scene(model_kind, q, grid), compliance).unwrap();
     let st = state.get_or_insert_with(|| ContactState::new(&model));
     let sol = GraspSolver::new(
         &model,
         SolveOptions {
             tolerance: 1e-12,
+            compliance,
             ..SolveOptions::default()
         },
     )
@@ -181,8 +190,8 @@ fn cattaneo_on_a_256x256_fft_grid() {
     let q = x * MU * P;
     let mut state = None;
     let started = std::time::Instant::now();
-    step_on("coulomb", 0.0, grid, &mut state);
-    let s1 = step_on("coulomb", q, grid, &mut state);
+    step_on("coulomb", 0.0, grid, ComplianceChoice::Auto, &mut state);
+    let s1 = step_on("coulomb", q, grid, ComplianceChoice::Auto, &mut state);
     let elapsed = started.elapsed().as_secs_f64();
     let c_model = stick_radius(&s1, grid);
     let c_exact = cattaneo_stick_radius_m(a, q, MU, P);

@@ -169,6 +169,7 @@ def transfer(
     overwrite: bool = False,
     keep_solutions: bool = True,
     max_memory: Optional[int] = None,
+    compliance: ComplianceName = "auto",
 ) -> Transfer:
     """Runs a hand-off schedule (GIL released), writing the CLI's files; see the package docstring."""
 

@@ -94,3 +94,18 @@ def test_cold_runs_reach_the_same_forces_with_more_iterations():
     cold = grasp.transfer(scene, SCHEDULE, cold=True)
     assert np.abs(warm.normal_forces_n - cold.normal_forces_n).max() <= 1e-8 * warm.normal_forces_n.max()
     assert warm.iterations.sum() < cold.iterations.sum()
+
+
+def test_dense_and_fft_compliance_give_the_same_hand_off():
+    # Issue 21: compliance= on grasp.transfer as on grasp.solve. The two paths discretise the
+    # same operator, so every step's forces agree to the solver's tolerance; 1e-8 of the load,
+    # as in tests/solver_equivalence.rs. A bad value is a ValueError naming the keyword.
+    scene = grasp.Scene(SCENE)
+    dense = grasp.transfer(scene, SCHEDULE, compliance="dense")
+    fft = grasp.transfer(scene, SCHEDULE, compliance="fft")
+    assert fft.step(len(fft) - 1).solver["compliance"] == "fft"
+    assert dense.step(len(dense) - 1).solver["compliance"] == "dense"
+    scale = dense.normal_forces_n.max()
+    assert np.abs(dense.normal_forces_n - fft.normal_forces_n).max() <= 1e-8 * scale
+    with pytest.raises(ValueError, match="compliance="):
+        grasp.transfer(scene, SCHEDULE, compliance="sparse")

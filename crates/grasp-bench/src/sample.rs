@@ -156,6 +156,9 @@ fn hand_off(p: &Prepared, warm: bool) -> Result<Sample, BenchError> {
         last = Some(r.solution);
     }
     if let Some(e) = last.and_then(|sol| stick_radius_error(p, &sol)) {
+        if !s.error.is_finite() {
+            return Err(run_err(p, format!("residual {} is not finite", s.error)));
+        }
         s.error = e;
     }
     let n = s.steps.max(1) as f64;
@@ -187,7 +190,7 @@ impl Prepared {
                 one_solve(self, model, self.build_s, t0)?
             }
             CaseKind::OneShot => {
-                let model = GraspModel::from_scene(&self.scene)
+                let model = GraspModel::from_scene_with(&self.scene, self.case.compliance())
                     .map_err(|e| run_err(self, e.to_string()))?;
                 let build_s = t0.elapsed().as_secs_f64();
                 one_solve(self, &model, build_s, t0)?

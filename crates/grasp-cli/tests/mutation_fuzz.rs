@@ -381,9 +381,9 @@ fn solution_is_sound(text: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// Every cell of a force-history CSV is a finite number, except the three text columns
-/// named in its header: `status`, `solver` (`native` or `clarabel`) and `warm_start`
-/// (`true` or `false`).
+/// Every cell of a force-history CSV is a finite number, except the text columns named in its
+/// header: `status`, `solver` (`native` or `clarabel`), `warm_start` (`true` or `false`) and
+/// `compliance` (`dense`, `fft` or `mixed`).
 fn csv_is_sound(text: &str) -> Result<(), String> {
     let header: Vec<&str> = text.lines().next().unwrap_or("").split(',').collect();
     for (i, line) in text.lines().enumerate().skip(1) {
@@ -392,6 +392,7 @@ fn csv_is_sound(text: &str) -> Result<(), String> {
                 Some("status") => !cell.is_empty(),
                 Some("solver") => cell == "native" || cell == "clarabel",
                 Some("warm_start") => cell == "true" || cell == "false",
+                Some("compliance") => ["dense", "fft", "mixed"].contains(&cell),
                 // Empty unless the run computed margins (--margins).
                 Some("smallest_margin_n") if cell.is_empty() => true,
                 _ => cell.parse::<f64>().is_ok_and(f64::is_finite),

@@ -20,11 +20,18 @@ use crate::solution::Solution;
 /// - `solver`: `"auto"` (native, falling back to Clarabel), `"native"` or `"clarabel"`.
 /// - `tolerance`: relative tolerance of the scaled program, in [1e-14, 1e-2] (below, round-off
 ///   exceeds it; above, an answer is no solution).
-/// - `compliance`: `"auto"` (dense up to 1,024 unknowns a patch (32x32 frictionless, 18x18 with friction), the FFT operator above),
+/// - `compliance`: `"auto"` (dense up to 1,024 unknowns a patch (32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D), the FFT operator above),
 ///   `"dense"` or `"fft"` (matrix-free, native solver; README "Fine patches").
 ///
 /// A grasp without equilibrium is a solution with status `"no_equilibrium"`, not an
 /// exception. The GIL is released while the model is built and solved.
+/// The `compliance=` keyword's value (`ValueError` naming the keyword otherwise).
+pub(crate) fn compliance_choice(compliance: &str) -> PyResult<ComplianceChoice> {
+    ComplianceChoice::from_str(compliance).map_err(|e| {
+        pyo3::exceptions::PyValueError::new_err(format!("compliance={compliance:?}: {e}"))
+    })
+}
+
 #[pyfunction]
 #[pyo3(signature = (scene, *, model=None, solver="auto", tolerance=1e-10, compliance="auto"))]
 pub fn solve(
@@ -36,9 +43,7 @@ pub fn solve(
     compliance: &str,
 ) -> PyResult<Solution> {
     let mut options = solve_options(solver, tolerance)?;
-    options.compliance = ComplianceChoice::from_str(compliance).map_err(|e| {
-        pyo3::exceptions::PyValueError::new_err(format!("compliance={compliance:?}: {e}"))
-    })?;
+    options.compliance = compliance_choice(compliance)?;
     let scene_used = match model {
         Some(m) => {
             let mut s = scene.scene.clone();

@@ -34,6 +34,7 @@ use crate::solution::{tangents_by_name, Solution, Tangents};
 ///   a failed step: only with `keep_going=True`); a second run writing the same file is
 ///   refused while this one runs.
 /// - `solver`: `"auto"`, `"native"` or `"clarabel"`; `cold=True` starts every step cold.
+/// - `compliance`: `"auto"`, `"dense"` or `"fft"`, as in `solve` (README "Fine patches").
 /// - `keep_going`: continue past a step without equilibrium (default: stop there).
 /// - `margins`: compute each step's smallest disturbance margin (costly).
 /// - `keep_solutions`: keep every step's full solution for `step(i)` (default); refused
@@ -45,7 +46,7 @@ use crate::solution::{tangents_by_name, Solution, Tangents};
 #[pyfunction]
 #[pyo3(signature = (scene, schedule, *, mcap=None, rrd=None, csv=None, solver="auto",
                     cold=false, keep_going=false, margins=false, overwrite=false,
-                    keep_solutions=true, max_memory=None))]
+                    keep_solutions=true, max_memory=None, compliance="auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn transfer(
     py: Python<'_>,
@@ -61,12 +62,15 @@ pub fn transfer(
     overwrite: bool,
     keep_solutions: bool,
     max_memory: Option<&Bound<'_, PyAny>>,
+    compliance: &str,
 ) -> PyResult<Transfer> {
     let max_memory = max_memory.map(memory_limit).transpose()?;
+    let mut solve = crate::solve::solve_options(solver, 1e-10)?;
+    solve.compliance = crate::solve::compliance_choice(compliance)?;
     let options = TransferOptions {
         keep_going,
         warm_start: !cold,
-        solve: crate::solve::solve_options(solver, 1e-10)?,
+        solve,
         margins,
     };
     let (schedule, mut inputs) = load_schedule(py, scene, schedule)?;

@@ -40,7 +40,7 @@ pub struct Args {
     pub solver: SolverChoice,
     /// Patch compliance: `dense` (a stored matrix, factorised), `fft` (a matrix-free FFT
     /// operator, solved by conjugate gradients: for fine grids, native solver only) or `auto`
-    /// (dense up to 1,024 unknowns a patch: 32x32 frictionless, 18x18 with friction; FFT above).
+    /// (dense up to 1,024 unknowns a patch: 32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D; FFT above).
     #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
     pub compliance: ComplianceChoice,
     /// Also compute the derivatives of every finger's and element's forces with respect to

@@ -51,7 +51,7 @@ pub struct Args {
     /// Solver: `auto`, `native` or `clarabel`.
     #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
     pub solver: grasp_model::SolverChoice,
-    /// Patch compliance: `auto` (dense up to 1,024 unknowns a patch (32x32 frictionless, 18x18 with friction), the FFT operator above),
+    /// Patch compliance: `auto` (dense up to 1,024 unknowns a patch (32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D), the FFT operator above),
     /// `dense` or `fft` (matrix-free, native solver; see README "Fine patches").
     #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
     pub compliance: ComplianceChoice,

@@ -7,7 +7,8 @@
 //! 1986; T. Chan, SIAM J. Sci. Stat. Comput. 9, 1988), so on the `nx x ny` grid itself (no
 //! padding) it is diagonalised by the 2-D FFT: per frequency a Hermitian `dim x dim` matrix
 //! (`dim = 1 + n_tangential`, the blocks `nn`, `11`, `22`, `12`, `n1`, `n2`). Its inverse is
-//! applied in one forward and one inverse transform of a quarter of the operator's padded grid.
+//! applied with `dim` forward and `dim` inverse transforms on a grid a quarter the size of the
+//! operator's padded one.
 //!
 //! As a preconditioner of the compliance restricted to the contact area (Vollebregt, "A new
 //! solver for the elastic normal contact problem using conjugate gradients, deflation, and an
@@ -25,14 +26,17 @@ use super::influence::{BlockKernels, GridSpec, RectangleIntegrals};
 /// Entries of a Hermitian `3 x 3` matrix kept per frequency, upper triangle: `(row, col)`.
 const ENTRIES: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
 
-/// A per-frequency matrix whose pivots fall below this fraction of its largest diagonal entry
-/// is not inverted as a whole: its diagonal is (a preconditioner only needs to be positive
-/// definite, and round-off could make a nearly singular block indefinite).
+/// A per-frequency matrix whose pivots fall below this fraction of the largest diagonal entry
+/// over all frequencies is not inverted as a whole: its diagonal is (a preconditioner only
+/// needs to be positive definite, and round-off could make a nearly singular block
+/// indefinite).
 const PIVOT_FLOOR: f64 = 1e-12;
 
 /// The inverse of the Strang circulant approximation of one patch's compliance, N/m.
 pub struct CirculantInverse {
     dim: usize,
+    /// Elements of the grid.
+    elements: usize,
     fft: GridFft,
     /// Per [`ENTRIES`] index, the inverse's entry at every frequency (empty where the
     /// compliance has no such block, which the inverse then lacks too).
@@ -84,15 +88,26 @@ impl CirculantInverse {
             }
         }
         let dim = 1 + n_tangential;
+        // The floor of every frequency's pivots: a fraction of the largest diagonal entry over
+        // all of them (a block that is zero at one frequency is then not inverted to 1e308).
+        let scale = (0..fft.spectrum_len())
+            .flat_map(|f| (0..dim).map(move |c| (f, c)))
+            .map(|(f, c)| spectra[c][f].re.abs())
+            .fold(0.0, f64::max);
         for f in 0..fft.spectrum_len() {
-            let inv = invert(&hermitian_at(&spectra, f, dim), dim);
+            let inv = invert(&hermitian_at(&spectra, f, dim), dim, PIVOT_FLOOR * scale);
             for (entry, &(r, c)) in inverse.iter_mut().zip(&ENTRIES) {
                 if let Some(slot) = entry.get_mut(f) {
                     *slot = inv[r][c];
                 }
             }
         }
-        CirculantInverse { dim, fft, inverse }
+        CirculantInverse {
+            dim,
+            elements: grid.len(),
+            fft,
+            inverse,
+        }
     }
 
     /// Bytes kept ([`CirculantInverse::new`]'s per-frequency entries).
@@ -110,7 +125,9 @@ impl CirculantInverse {
     /// `out = C_circ^-1 v` (component-major like the compliance's unknowns), N/m times m.
     pub fn apply(&self, v: &[f64], out: &mut [f64]) {
         let dim = self.dim;
-        let n = v.len() / dim;
+        let n = self.elements;
+        assert_eq!(v.len(), dim * n, "vector length");
+        assert_eq!(out.len(), dim * n, "output length");
         out.fill(0.0);
         let spectra: Vec<Option<Vec<Complex<f64>>>> = (0..dim)
             .map(|c| {
@@ -216,18 +233,14 @@ fn hermitian_at(spectra: &[Vec<Complex<f64>>], f: usize, dim: usize) -> [[Comple
 }
 
 /// The inverse of a Hermitian positive definite `dim x dim` matrix by Cholesky
-/// (`H = L L*`), or the inverse of its diagonal (its absolute values, floored) when a pivot
-/// falls below [`PIVOT_FLOOR`] of the largest diagonal entry.
-fn invert(h: &[[Complex<f64>; 3]; 3], dim: usize) -> [[Complex<f64>; 3]; 3] {
-    let scale = (0..dim).map(|i| h[i][i].re.abs()).fold(0.0, f64::max);
-    let floor = PIVOT_FLOOR * scale;
+/// (`H = L L*`), or the inverse of its diagonal (its absolute values, raised to `floor`; zero
+/// where that is zero too) when a pivot falls below `floor`.
+fn invert(h: &[[Complex<f64>; 3]; 3], dim: usize, floor: f64) -> [[Complex<f64>; 3]; 3] {
     let diagonal = || {
         let mut out = [[Complex::default(); 3]; 3];
         for (i, row) in out.iter_mut().enumerate().take(dim) {
-            row[i] = Complex::new(
-                1.0 / h[i][i].re.abs().max(floor).max(f64::MIN_POSITIVE),
-                0.0,
-            );
+            let d = h[i][i].re.abs().max(floor);
+            row[i] = Complex::new(if d > 0.0 { 1.0 / d } else { 0.0 }, 0.0);
         }
         out
     };
@@ -323,7 +336,7 @@ mod tests {
             PairConstants::new(&elastic(70e9, 0.33), &elastic(70e9, 0.33)),
         ];
         for pair in &pairs {
-            for (nx, ny) in [(6, 5), (7, 8), (1, 6)] {
+            for (nx, ny) in [(6, 5), (7, 8), (1, 6), (6, 1), (1, 1)] {
                 let grid = GridSpec {
                     nx,
                     ny,

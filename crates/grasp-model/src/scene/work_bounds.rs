@@ -12,13 +12,13 @@
 //! The FFT operator keeps one spectrum of `2 nx_i (ny_i + 1)` complex numbers (16 bytes) per
 //! kernel (`k_i` = 1, 3 or 6 for `c_i` = 0, 1, 2), an apply needs `c_i + 3` more, its
 //! preconditioner keeps `k_i` spectra a quarter that size (and holds as many again while it is
-//! built), the
+//! built; an apply of it needs `c_i + 3` of them), the
 //! conjugate-gradient solves keep [`FFT_VECTORS`] vectors of `n_i` numbers plus
 //! [`FFT_VECTORS_PER_ROW`] per equality row (`m = 6 + fingers` at most: the columns `Et'` and
 //! `M^-1 Et'`), and the build holds a table of 48 bytes per padded grid point:
 //!
 //! ```text
-//!   fft:    FFT_SAFETY * (16 (k_i + c_i + 3 + k_i / 2) 2 nx_i (ny_i + 1)
+//!   fft:    FFT_SAFETY * (16 (k_i + c_i + 3 + (2 k_i + c_i + 3) / 4) 2 nx_i (ny_i + 1)
 //!                         + 8 (FFT_VECTORS + FFT_VECTORS_PER_ROW m) n_i + 48 4 nx_i ny_i)   bytes
 //! ```
 //!
@@ -123,11 +123,11 @@ fn fft_bytes(scene: &Scene, f: &FingerSpec) -> u64 {
     let c = tangential_components(scene, f);
     // Kernels kept: nn; then 11 and n1; then 22, 12 and n2.
     let kernels = [1, 3, 6][c as usize];
-    // The operator's spectra, an apply's, and the preconditioner's (quarter-size, twice
-    // while built).
+    // The operator's spectra and an apply's; the preconditioner's (quarter-size: twice its
+    // kernels while built, and an apply's).
     let spectra = spectrum
         .saturating_mul(kernels + c + 3)
-        .saturating_add((spectrum / 4).saturating_mul(2 * kernels));
+        .saturating_add((spectrum / 4).saturating_mul(2 * kernels + c + 3));
     // Equality rows: 6 (3 planar) equilibrium rows and at most one load row per finger.
     let rows = 6 + scene.fingers.len() as u64;
     let per_unknown = F64_BYTES * (FFT_VECTORS + FFT_VECTORS_PER_ROW * rows);

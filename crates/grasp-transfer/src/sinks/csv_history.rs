@@ -4,7 +4,9 @@
 //! `<name>_friction_n`, `<name>_slip_fraction`, then `solver, warm_start, iterations,
 //! factorizations, wall_time_s` (which solver answered, whether the step started from the
 //! previous one, its Newton or interior-point iterations and factorisations), then
-//! `smallest_margin_n` (the step's smallest disturbance margin, N; empty without `--margins`).
+//! `smallest_margin_n` (the step's smallest disturbance margin, N; empty without `--margins`),
+//! then `compliance, inner_iterations` (the form of the patch compliances, `dense`, `fft` or
+//! `mixed`, and the FFT path's conjugate-gradient iterations in the step).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -56,7 +58,8 @@ impl Sink for CsvSink {
                 h.push_str(&csv_field(&format!("{}_{col}", f.name)));
             }
         }
-        h.push_str(",solver,warm_start,iterations,factorizations,wall_time_s,smallest_margin_n\n");
+        h.push_str(",solver,warm_start,iterations,factorizations,wall_time_s,smallest_margin_n");
+        h.push_str(",compliance,inner_iterations\n");
         self.write(&h)
     }
 
@@ -70,13 +73,15 @@ impl Sink for CsvSink {
             ));
         }
         line.push_str(&format!(
-            ",{},{},{},{},{},{}\n",
+            ",{},{},{},{},{},{},{},{}\n",
             csv_field(&m.solver),
             m.warm_start,
             m.iterations,
             m.factorizations,
             r.wall_time_s,
-            m.smallest_margin_n.map_or(String::new(), |v| v.to_string())
+            m.smallest_margin_n.map_or(String::new(), |v| v.to_string()),
+            csv_field(&m.compliance),
+            m.inner_iterations
         ));
         self.write(&line)
     }

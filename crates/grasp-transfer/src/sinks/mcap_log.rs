@@ -84,6 +84,10 @@ pub struct FingersMessage {
     pub iterations: u32,
     /// Reduced matrices factorised by the native solver in the step.
     pub factorizations: u32,
+    /// The form of the patch compliances: `dense`, `fft` or `mixed` (README "Fine patches").
+    pub compliance: String,
+    /// Conjugate-gradient iterations of the FFT path in the step (0 on the dense path).
+    pub inner_iterations: u32,
     /// Relative equilibrium residual (absent without forces).
     pub equilibrium_residual: Option<f64>,
     /// Scheduled external force at the centre of mass, N.
@@ -119,6 +123,11 @@ impl FingersMessage {
             warm_start: r.reused_program,
             iterations: r.solution.solver.iterations,
             factorizations: r.solution.solver.factorizations,
+            compliance: serde_json::to_value(r.solution.solver.compliance)
+                .ok()
+                .and_then(|v| v.as_str().map(String::from))
+                .unwrap_or_default(),
+            inner_iterations: r.solution.solver.inner_iterations,
             equilibrium_residual: r.solution.residuals.map(|x| x.equilibrium_relative),
             external_force_n: r.external_force_n,
             external_torque_nm: r.external_torque_nm,
@@ -170,6 +179,8 @@ fn fingers_schema() -> serde_json::Value {
             "solver": {"type": "string", "enum": ["native", "clarabel"]},
             "fallback": {"type": ["string", "null"]}, "warm_start": {"type": "boolean"},
             "iterations": {"type": "integer"}, "factorizations": {"type": "integer"},
+            "compliance": {"type": "string", "enum": ["dense", "fft", "mixed"]},
+            "inner_iterations": {"type": "integer"},
             "equilibrium_residual": {"type": ["number", "null"]},
             "external_force_n": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},
             "external_torque_nm": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},

@@ -190,9 +190,10 @@ fn pseudo_inverse(k: DMatrix<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
     (plus, null)
 }
 
-/// Projected conjugate gradients from `xi`: returns `xi`, `dlambda` and the iterations, or
-/// `None` when the projected residual did not fall to [`CG_ACCEPTABLE`] of its start.
-fn solve(p: &Projected, r: &Split, mut xi: Split) -> Option<(Split, DVector<f64>, u32)> {
+/// Projected conjugate gradients from `xi`: returns `xi` and `dlambda` (`None` when the
+/// projected residual did not fall to [`CG_ACCEPTABLE`] of its start, or is not finite) and
+/// the iterations.
+fn solve(p: &Projected, r: &Split, mut xi: Split) -> (Option<(Split, DVector<f64>)>, u32) {
     let mut res = p.apply(&xi);
     for (v, ri) in res.iter_mut().zip(r) {
         for (x, b) in v.iter_mut().zip(ri) {
@@ -201,6 +202,9 @@ fn solve(p: &Projected, r: &Split, mut xi: Split) -> Option<(Split, DVector<f64>
     }
     let (mut g, mut lambda) = p.project(&mut res);
     let mut rg = dot_split(&res, &g);
+    if !rg.is_finite() {
+        return (None, 0);
+    }
     let start = rg.max(0.0).sqrt();
     let mut d: Split = g.iter().map(|v| v.iter().map(|x| -x).collect()).collect();
     let n: usize = xi.iter().map(Vec::len).sum();
@@ -223,6 +227,9 @@ fn solve(p: &Projected, r: &Split, mut xi: Split) -> Option<(Split, DVector<f64>
         let (g_new, w) = p.project(&mut res);
         lambda += w;
         let rg_new = dot_split(&res, &g_new);
+        if !rg_new.is_finite() {
+            return (None, its as u32);
+        }
         let beta = rg_new / rg;
         (g, rg) = (g_new, rg_new);
         for (di, gi) in d.iter_mut().zip(&g) {
@@ -233,7 +240,8 @@ fn solve(p: &Projected, r: &Split, mut xi: Split) -> Option<(Split, DVector<f64>
     }
     let reached = rg.max(0.0).sqrt();
     let converged = reached.is_finite() && reached <= CG_ACCEPTABLE * start;
-    (converged || start == 0.0).then(|| (xi, -lambda, its as u32))
+    let done = converged || start == 0.0;
+    (done.then(|| (xi, -lambda)), its as u32)
 }
 
 /// The Newton step at the linearisations `lins` (one per finger, every finger an FFT one)
@@ -260,8 +268,9 @@ pub(crate) fn projected_step(
     let unreachable = &p.k_null * &rhs;
     let xi0 = p.particular(&(-&rhs));
     let r: Split = halves.iter().map(|h| h.g.clone()).collect();
-    let (xi, dlambda, its) = solve(&p, &r, xi0)?;
+    let (solved, its) = solve(&p, &r, xi0);
     counts.inner_iterations += its;
+    let (xi, dlambda) = solved?;
     let mut step = Step {
         dx: vec![0.0; n],
         dlambda: dlambda.iter().copied().collect(),

@@ -220,11 +220,12 @@ fn newton_iteration(
 
 /// Why a stall at a reduced matrix that cannot be factorised.
 const NOT_POSITIVE_DEFINITE: &str = "a reduced matrix is not positive definite, or (FFT \
-     compliance) conjugate gradients did not solve a reduced system to 1e-8";
+     compliance) conjugate gradients did not solve a Newton system to 1e-8 of its right-hand \
+     side";
 
 /// The Newton step at `lins`: by projected conjugate gradients when every finger's
-/// compliance is the FFT operator ([`projected_step`]), else through the Schur complement of
-/// the fingers' reduced systems ([`newton_step`]).
+/// compliance is the FFT operator ([`projected_step`]), else (or when those do not converge)
+/// through the Schur complement of the fingers' reduced systems ([`newton_step`]).
 fn step_of(
     blocks: &[FingerBlockData],
     lins: &[FingerLinearisation],
@@ -233,10 +234,12 @@ fn step_of(
     n: usize,
     counts: &mut Counts,
 ) -> Option<Step> {
-    match blocks.iter().all(FingerBlockData::is_fft) {
-        true => projected_step(blocks, lins, e_res, n, counts),
-        false => newton_step(blocks, lins, caches, e_res, n, counts),
+    if blocks.iter().all(FingerBlockData::is_fft) {
+        if let Some(step) = projected_step(blocks, lins, e_res, n, counts) {
+            return Some(step);
+        }
     }
+    newton_step(blocks, lins, caches, e_res, n, counts)
 }
 
 /// The cold start: from `x = 0`, `lambda = 0` the all-stick step (every element in contact
