@@ -294,6 +294,7 @@ fn dense_and_fft_compliance_agree_on_the_examples_and_random_grasps() {
         "plate_transfer",
         "disc_transfer",
         "plate_handoff_coulomb",
+        "cattaneo_sphere_on_flat",
     ] {
         match dense_and_fft_agree(&example_json(&format!("{name}.json"))) {
             Ok((_, d)) => worst = worst.max(d),
@@ -317,7 +318,7 @@ fn dense_and_fft_compliance_agree_on_the_examples_and_random_grasps() {
         }
     }
     println!(
-        "dense vs FFT compliance: 9 examples and {} random grasps ({solved} solved, {other} \
+        "dense vs FFT compliance: 10 examples and {} random grasps ({solved} solved, {other} \
          with the same outcome without forces); forces agree to {worst:.1e} of the load; {} \
          disagreements",
         solved + other,

@@ -451,6 +451,14 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
             .iter()
             .map(|r| r.solution.solver.factorizations as u64)
             .sum(),
+        total_inner_iterations: records
+            .iter()
+            .map(|r| r.solution.solver.inner_iterations as u64)
+            .sum(),
+        compliance: records
+            .last()
+            .map(|r| r.solution.solver.compliance)
+            .unwrap_or_default(),
         answered_by_native: records
             .iter()
             .filter(|r| r.solution.solver.solver == grasp_model::SolverKind::Native)

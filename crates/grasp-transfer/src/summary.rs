@@ -42,6 +42,10 @@ pub struct TransferSummary {
     pub total_iterations: u64,
     /// Sum of reduced matrices factorised by the native solver.
     pub total_factorizations: u64,
+    /// Sum of conjugate-gradient iterations of the FFT compliance path (0 on the dense path).
+    pub total_inner_iterations: u64,
+    /// The form of the patch compliances (the same for every step of a run).
+    pub compliance: grasp_model::model::patch_compliance::CompliancePath,
     /// Steps answered by the native solver and by Clarabel.
     pub answered_by_native: usize,
     /// Steps answered by Clarabel (`--solver clarabel`, or a fallback).
@@ -171,6 +175,8 @@ pub struct SummaryAccumulator {
     total_wall_time_s: f64,
     total_iterations: u64,
     total_factorizations: u64,
+    total_inner_iterations: u64,
+    compliance: grasp_model::model::patch_compliance::CompliancePath,
     answered: (usize, usize),
     fallbacks: Fallbacks,
     warm_steps: usize,
@@ -208,6 +214,8 @@ impl SummaryAccumulator {
             total_wall_time_s: 0.0,
             total_iterations: 0,
             total_factorizations: 0,
+            total_inner_iterations: 0,
+            compliance: Default::default(),
             answered: (0, 0),
             fallbacks: Fallbacks::default(),
             warm_steps: 0,
@@ -276,6 +284,8 @@ impl SummaryAccumulator {
     fn add_solver(&mut self, r: &StepRecord) {
         let st = &r.solution.solver;
         self.total_factorizations += st.factorizations as u64;
+        self.total_inner_iterations += st.inner_iterations as u64;
+        self.compliance = st.compliance;
         match st.solver {
             grasp_model::SolverKind::Native => self.answered.0 += 1,
             grasp_model::SolverKind::Clarabel => self.answered.1 += 1,
@@ -362,6 +372,8 @@ impl SummaryAccumulator {
             total_wall_time_s: self.total_wall_time_s,
             total_iterations: self.total_iterations,
             total_factorizations: self.total_factorizations,
+            total_inner_iterations: self.total_inner_iterations,
+            compliance: self.compliance,
             answered_by_native: self.answered.0,
             answered_by_clarabel: self.answered.1,
             fallbacks: self.fallbacks.clone(),

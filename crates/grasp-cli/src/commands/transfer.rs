@@ -473,6 +473,14 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
         s.total_iterations as f64 / steps,
         s.total_factorizations as f64 / steps
     );
+    if s.total_inner_iterations > 0 {
+        let _ = writeln!(
+            o,
+            "patch compliance: {}; {:.1} conjugate-gradient iterations per step",
+            s.compliance,
+            s.total_inner_iterations as f64 / steps
+        );
+    }
     if let Some(why) = &s.fallbacks.first_reason {
         let _ = writeln!(
             o,
