@@ -455,10 +455,14 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
             .iter()
             .map(|r| r.solution.solver.inner_iterations as u64)
             .sum(),
-        compliance: records
-            .last()
-            .map(|r| r.solution.solver.compliance)
-            .unwrap_or_default(),
+        compliance: {
+            let mut paths = records.iter().map(|r| r.solution.solver.compliance);
+            let first = paths.next().unwrap_or_default();
+            match paths.all(|p| p == first) {
+                true => first,
+                false => grasp_model::model::patch_compliance::CompliancePath::Mixed,
+            }
+        },
         answered_by_native: records
             .iter()
             .filter(|r| r.solution.solver.solver == grasp_model::SolverKind::Native)

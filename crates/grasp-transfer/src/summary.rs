@@ -4,6 +4,7 @@
 use serde::Serialize;
 
 use crate::stepper::StepRecord;
+use grasp_model::model::patch_compliance::CompliancePath;
 
 /// A finger carries load when its normal force exceeds this fraction of the load scale (the
 /// model's one meaning of "loaded").
@@ -44,7 +45,8 @@ pub struct TransferSummary {
     pub total_factorizations: u64,
     /// Sum of conjugate-gradient iterations of the FFT compliance path (0 on the dense path).
     pub total_inner_iterations: u64,
-    /// The form of the patch compliances (the same for every step of a run).
+    /// The form of the patch compliances over the run's steps (`mixed` when some steps'
+    /// active fingers were dense and others' FFT, or both within a step).
     pub compliance: grasp_model::model::patch_compliance::CompliancePath,
     /// Steps answered by the native solver and by Clarabel.
     pub answered_by_native: usize,
@@ -176,7 +178,7 @@ pub struct SummaryAccumulator {
     total_iterations: u64,
     total_factorizations: u64,
     total_inner_iterations: u64,
-    compliance: grasp_model::model::patch_compliance::CompliancePath,
+    compliance: Option<grasp_model::model::patch_compliance::CompliancePath>,
     answered: (usize, usize),
     fallbacks: Fallbacks,
     warm_steps: usize,
@@ -215,7 +217,7 @@ impl SummaryAccumulator {
             total_iterations: 0,
             total_factorizations: 0,
             total_inner_iterations: 0,
-            compliance: Default::default(),
+            compliance: None,
             answered: (0, 0),
             fallbacks: Fallbacks::default(),
             warm_steps: 0,
@@ -285,7 +287,10 @@ impl SummaryAccumulator {
         let st = &r.solution.solver;
         self.total_factorizations += st.factorizations as u64;
         self.total_inner_iterations += st.inner_iterations as u64;
-        self.compliance = st.compliance;
+        self.compliance = Some(match self.compliance {
+            Some(c) if c != st.compliance => CompliancePath::Mixed,
+            _ => st.compliance,
+        });
         match st.solver {
             grasp_model::SolverKind::Native => self.answered.0 += 1,
             grasp_model::SolverKind::Clarabel => self.answered.1 += 1,
@@ -373,7 +378,7 @@ impl SummaryAccumulator {
             total_iterations: self.total_iterations,
             total_factorizations: self.total_factorizations,
             total_inner_iterations: self.total_inner_iterations,
-            compliance: self.compliance,
+            compliance: self.compliance.unwrap_or_default(),
             answered_by_native: self.answered.0,
             answered_by_clarabel: self.answered.1,
             fallbacks: self.fallbacks.clone(),
