@@ -34,6 +34,8 @@ pub(crate) struct FreeOperator {
     /// Per free direction: preconditioned by the circulant inverse (`beta_a` below the
     /// compliance's part of `M[a, a]`), else by `1 / M[a, a]`.
     circulant: Vec<bool>,
+    /// `D_F` as `(a, local index, d_a[c])` over its nonzero entries, direction by direction.
+    terms: Vec<(usize, usize, f64)>,
 }
 
 impl FreeOperator {
@@ -63,11 +65,21 @@ impl FreeOperator {
             .zip(&beta)
             .map(|(p, b)| b <= p)
             .collect();
+        let terms = free
+            .iter()
+            .enumerate()
+            .flat_map(|(a, d)| {
+                (0..block.dim)
+                    .filter(|&c| d.dir[c] != 0.0)
+                    .map(move |c| (a, block.index(d.element, c), d.dir[c]))
+            })
+            .collect();
         FreeOperator {
             free: free.to_vec(),
             beta,
             inverse_diagonal,
             circulant,
+            terms,
         }
     }
 
@@ -76,7 +88,7 @@ impl FreeOperator {
         self.free.len()
     }
 
-    /// `v_full += D_F p` (a local vector of the finger).
+    /// `D_F p` over the directions `keep` accepts (a local vector of the finger).
     fn scatter(
         &self,
         block: &FingerBlockData,
@@ -84,21 +96,21 @@ impl FreeOperator {
         keep: impl Fn(usize) -> bool,
     ) -> Vec<f64> {
         let mut full = vec![0.0; block.len()];
-        for (a, (d, &pa)) in self.free.iter().zip(p).enumerate() {
+        for &(a, i, coef) in &self.terms {
             if keep(a) {
-                for c in 0..block.dim {
-                    full[block.index(d.element, c)] += d.dir[c] * pa;
-                }
+                full[i] += coef * p[a];
             }
         }
         full
     }
 
-    /// `d_a' v_full[k_a]`: free direction `a`'s component of a local vector.
-    fn gather(block: &FingerBlockData, d: &Direction, full: &[f64]) -> f64 {
-        (0..block.dim)
-            .map(|c| d.dir[c] * full[block.index(d.element, c)])
-            .sum()
+    /// `out[a] += d_a' v_full[k_a]` over the directions `keep` accepts.
+    fn gather(&self, full: &[f64], keep: impl Fn(usize) -> bool, out: &mut [f64]) {
+        for &(a, i, coef) in &self.terms {
+            if keep(a) {
+                out[a] += coef * full[i];
+            }
+        }
     }
 
     /// `out = M p`.
@@ -106,24 +118,26 @@ impl FreeOperator {
         let full = self.scatter(block, p, |_| true);
         let mut pfull = vec![0.0; block.len()];
         block.apply(&full, &mut pfull);
-        for ((o, d), (&pa, &b)) in out.iter_mut().zip(&self.free).zip(p.iter().zip(&self.beta)) {
-            *o = b * pa + Self::gather(block, d, &pfull);
+        for ((o, &pa), &b) in out.iter_mut().zip(p).zip(&self.beta) {
+            *o = b * pa;
         }
+        self.gather(&pfull, |_| true, out);
     }
 
     /// `z = D_F' Pc^-1 D_F r` on the circulant-preconditioned directions, `r / M[a, a]` on
     /// the others (the module's preconditioner).
     pub fn precondition(&self, block: &FingerBlockData, r: &[f64], z: &mut [f64]) {
-        let full = self.scatter(block, r, |a| self.circulant[a]);
-        let mut back = vec![0.0; block.len()];
-        if self.circulant.iter().any(|c| *c) {
-            block.precondition(&full, &mut back);
-        }
-        for (a, (d, za)) in self.free.iter().zip(z.iter_mut()).enumerate() {
+        for (a, za) in z.iter_mut().enumerate() {
             *za = match self.circulant[a] {
-                true => Self::gather(block, d, &back),
+                true => 0.0,
                 false => r[a] * self.inverse_diagonal[a],
             };
+        }
+        if self.circulant.iter().any(|c| *c) {
+            let full = self.scatter(block, r, |a| self.circulant[a]);
+            let mut back = vec![0.0; block.len()];
+            block.precondition(&full, &mut back);
+            self.gather(&back, |a| self.circulant[a], z);
         }
     }
 

@@ -190,10 +190,16 @@ fn pseudo_inverse(k: DMatrix<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
     (plus, null)
 }
 
-/// Projected conjugate gradients from `xi`: returns `xi` and `dlambda` (`None` when the
-/// projected residual did not fall to [`CG_ACCEPTABLE`] of its start, or is not finite) and
-/// the iterations.
-fn solve(p: &Projected, r: &Split, mut xi: Split) -> (Option<(Split, DVector<f64>)>, u32) {
+/// Projected conjugate gradients from `xi`, until the projected residual falls to
+/// [`CG_TOLERANCE`] of its start or its largest entry to `floor`: returns `xi` and `dlambda`
+/// (`None` when the residual did not fall to [`CG_ACCEPTABLE`] of its start or to `floor`, or
+/// is not finite) and the iterations.
+fn solve(
+    p: &Projected,
+    r: &Split,
+    mut xi: Split,
+    floor: f64,
+) -> (Option<(Split, DVector<f64>)>, u32) {
     let mut res = p.apply(&xi);
     for (v, ri) in res.iter_mut().zip(r) {
         for (x, b) in v.iter_mut().zip(ri) {
@@ -210,7 +216,9 @@ fn solve(p: &Projected, r: &Split, mut xi: Split) -> (Option<(Split, DVector<f64
     let n: usize = xi.iter().map(Vec::len).sum();
     let max = CG_ITERATIONS_PER_ROOT * ((n as f64).sqrt().ceil() as usize).max(1);
     let mut its = 0;
-    while rg.max(0.0).sqrt() > CG_TOLERANCE * start && its < max {
+    let small = |res: &Split| res.iter().flatten().all(|v| v.abs() <= floor);
+    let mut below_floor = small(&res);
+    while rg.max(0.0).sqrt() > CG_TOLERANCE * start && !below_floor && its < max {
         its += 1;
         let md = p.apply(&d);
         let dmd = dot_split(&d, &md);
@@ -230,6 +238,7 @@ fn solve(p: &Projected, r: &Split, mut xi: Split) -> (Option<(Split, DVector<f64
         if !rg_new.is_finite() {
             return (None, its as u32);
         }
+        below_floor = small(&res);
         let beta = rg_new / rg;
         (g, rg) = (g_new, rg_new);
         for (di, gi) in d.iter_mut().zip(&g) {
@@ -239,19 +248,22 @@ fn solve(p: &Projected, r: &Split, mut xi: Split) -> (Option<(Split, DVector<f64
         }
     }
     let reached = rg.max(0.0).sqrt();
-    let converged = reached.is_finite() && reached <= CG_ACCEPTABLE * start;
+    let converged = reached.is_finite() && (reached <= CG_ACCEPTABLE * start || below_floor);
     let done = converged || start == 0.0;
     (done.then(|| (xi, -lambda)), its as u32)
 }
 
 /// The Newton step at the linearisations `lins` (one per finger, every finger an FFT one)
-/// with equality residual `e_res = E x - e`. `None` when the conjugate gradients fail.
+/// with equality residual `e_res = E x - e`, its free rows solved to [`CG_TOLERANCE`] of
+/// their start or to `floor` (force units of the scaled program, 0 for none). `None` when
+/// the conjugate gradients fail.
 pub(crate) fn projected_step(
     blocks: &[FingerBlockData],
     lins: &[FingerLinearisation],
     e_res: &[f64],
     n: usize,
     counts: &mut Counts,
+    floor: f64,
 ) -> Option<Step> {
     let m = e_res.len();
     let halves: Vec<FingerHalf> = blocks
@@ -268,7 +280,7 @@ pub(crate) fn projected_step(
     let unreachable = &p.k_null * &rhs;
     let xi0 = p.particular(&(-&rhs));
     let r: Split = halves.iter().map(|h| h.g.clone()).collect();
-    let (solved, its) = solve(&p, &r, xi0);
+    let (solved, its) = solve(&p, &r, xi0, floor);
     counts.inner_iterations += its;
     let (xi, dlambda) = solved?;
     let mut step = Step {
