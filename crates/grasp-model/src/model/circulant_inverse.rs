@@ -128,42 +128,11 @@ impl CirculantInverse {
         let n = self.elements;
         assert_eq!(v.len(), dim * n, "vector length");
         assert_eq!(out.len(), dim * n, "output length");
-        out.fill(0.0);
-        let spectra: Vec<Option<Vec<Complex<f64>>>> = (0..dim)
-            .map(|c| {
-                let part = &v[c * n..(c + 1) * n];
-                part.iter()
-                    .any(|x| *x != 0.0)
-                    .then(|| self.fft.spectrum_of(part))
-            })
-            .collect();
-        let mut acc = self.fft.zeroed_spectrum();
-        for r in 0..dim {
-            acc.fill(Complex::default());
-            let mut any = false;
-            for (c, vc) in spectra.iter().enumerate() {
-                let Some(vc) = vc else { continue };
-                let Some((e, conjugate)) = entry_of(r, c) else {
-                    continue;
-                };
-                if self.inverse[e].is_empty() {
-                    continue;
-                }
-                any = true;
-                let terms = acc.iter_mut().zip(&self.inverse[e]).zip(vc);
-                match conjugate {
-                    true => terms.for_each(|((a, k), x)| *a += k.conj() * x),
-                    false => terms.for_each(|((a, k), x)| *a += k * x),
-                }
-            }
-            if any {
-                self.fft.add_inverse(&mut acc, &mut out[r * n..(r + 1) * n]);
-            }
-        }
-        self.fft.recycle(acc);
-        for s in spectra.into_iter().flatten() {
-            self.fft.recycle(s);
-        }
+        self.fft.multiply_blocks(v, out, dim, |r, c| {
+            let (e, conjugate) = entry_of(r, c)?;
+            let k = &self.inverse[e];
+            (!k.is_empty()).then_some((k.as_slice(), conjugate))
+        });
     }
 }
 

@@ -265,40 +265,11 @@ impl ComplianceOperator {
         let dim = 1 + self.n_tangential;
         assert_eq!(v.len(), dim * n, "vector length");
         assert_eq!(out.len(), dim * n, "output length");
-        out.fill(0.0);
-        if n == 0 {
-            return;
-        }
-        let spectra: Vec<Option<Vec<Complex<f64>>>> = (0..dim)
-            .map(|c| {
-                let part = &v[c * n..(c + 1) * n];
-                part.iter()
-                    .any(|x| *x != 0.0)
-                    .then(|| self.fft.spectrum_of(part))
-            })
-            .collect();
-        let mut acc = self.fft.zeroed_spectrum();
-        for r in 0..dim {
-            acc.fill(Complex::default());
-            let mut any = false;
-            for (c, block, conjugate) in self.terms(r) {
-                let Some(vc) = &spectra[c] else { continue };
-                any = true;
-                let k = &self.spectra[block as usize];
-                let terms = acc.iter_mut().zip(k).zip(vc);
-                match conjugate {
-                    true => terms.for_each(|((a, kk), x)| *a += kk.conj() * x),
-                    false => terms.for_each(|((a, kk), x)| *a += kk * x),
-                }
-            }
-            if any {
-                self.fft.add_inverse(&mut acc, &mut out[r * n..(r + 1) * n]);
-            }
-        }
-        self.fft.recycle(acc);
-        for s in spectra.into_iter().flatten() {
-            self.fft.recycle(s);
-        }
+        let terms: Vec<Vec<Term>> = (0..dim).map(|r| self.terms(r)).collect();
+        self.fft.multiply_blocks(v, out, dim, |r, c| {
+            let &(_, block, conjugate) = terms[r].iter().find(|t| t.0 == c)?;
+            Some((self.spectra[block as usize].as_slice(), conjugate))
+        });
     }
 }
 

@@ -224,4 +224,54 @@ impl GridFft {
         }
         give(&self.complex_buffers, rows);
     }
+
+    /// `out_r = sum_c K_rc * v_c` for a vector of `dim` components on the grid
+    /// (component-major, `n = nx ny` each): each component transformed once, each output
+    /// accumulated over its blocks in the spectrum and transformed back once. `kernel(r, c)`
+    /// gives block `(r, c)`'s spectrum and whether it is read conjugated (a transposed
+    /// block), or `None` where the block is zero. Components that are zero are skipped.
+    pub fn multiply_blocks<'k>(
+        &self,
+        v: &[f64],
+        out: &mut [f64],
+        dim: usize,
+        kernel: impl Fn(usize, usize) -> Option<(&'k [Complex<f64>], bool)>,
+    ) {
+        let n = self.nx * self.ny;
+        out.fill(0.0);
+        if n == 0 {
+            return;
+        }
+        let spectra: Vec<Option<Vec<Complex<f64>>>> = (0..dim)
+            .map(|c| {
+                let part = &v[c * n..(c + 1) * n];
+                part.iter()
+                    .any(|x| *x != 0.0)
+                    .then(|| self.spectrum_of(part))
+            })
+            .collect();
+        let mut acc = self.zeroed_spectrum();
+        for r in 0..dim {
+            acc.fill(Complex::default());
+            let mut any = false;
+            for (c, vc) in spectra.iter().enumerate() {
+                let (Some(vc), Some((k, conjugate))) = (vc, kernel(r, c)) else {
+                    continue;
+                };
+                any = true;
+                let terms = acc.iter_mut().zip(k).zip(vc);
+                match conjugate {
+                    true => terms.for_each(|((a, kk), x)| *a += kk.conj() * x),
+                    false => terms.for_each(|((a, kk), x)| *a += kk * x),
+                }
+            }
+            if any {
+                self.add_inverse(&mut acc, &mut out[r * n..(r + 1) * n]);
+            }
+        }
+        self.recycle(acc);
+        for s in spectra.into_iter().flatten() {
+            self.recycle(s);
+        }
+    }
 }

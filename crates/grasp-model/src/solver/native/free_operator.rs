@@ -34,6 +34,8 @@ pub(crate) struct FreeOperator {
     /// Per free direction: preconditioned by the circulant inverse (`beta_a` below the
     /// compliance's part of `M[a, a]`), else by `1 / M[a, a]`.
     circulant: Vec<bool>,
+    /// True when some direction is circulant-preconditioned.
+    any_circulant: bool,
     /// `D_F` as `(a, local index, d_a[c])` over its nonzero entries, direction by direction.
     terms: Vec<(usize, usize, f64)>,
 }
@@ -60,7 +62,7 @@ impl FreeOperator {
             .zip(&beta)
             .map(|(p, b)| 1.0 / (p + b))
             .collect();
-        let circulant = compliance_part
+        let circulant: Vec<bool> = compliance_part
             .iter()
             .zip(&beta)
             .map(|(p, b)| b <= p)
@@ -78,6 +80,7 @@ impl FreeOperator {
             free: free.to_vec(),
             beta,
             inverse_diagonal,
+            any_circulant: circulant.iter().any(|c| *c),
             circulant,
             terms,
         }
@@ -133,7 +136,7 @@ impl FreeOperator {
                 false => r[a] * self.inverse_diagonal[a],
             };
         }
-        if self.circulant.iter().any(|c| *c) {
+        if self.any_circulant {
             let full = self.scatter(block, r, |a| self.circulant[a]);
             let mut back = vec![0.0; block.len()];
             block.precondition(&full, &mut back);

@@ -37,6 +37,20 @@ pub(crate) struct Step {
     pub unreachable: Vec<f64>,
 }
 
+impl Step {
+    /// A step of `n` unknowns with these multipliers and unreachable part, its `dx`, `dy` and
+    /// `E dx` still zero (the fingers' parts are written by [`finish_finger`]).
+    pub fn new(n: usize, dlambda: &DVector<f64>, unreachable: &DVector<f64>) -> Self {
+        Step {
+            dx: vec![0.0; n],
+            dlambda: dlambda.iter().copied().collect(),
+            dy: vec![0.0; n],
+            e_dx: vec![0.0; dlambda.len()],
+            unreachable: unreachable.iter().copied().collect(),
+        }
+    }
+}
+
 /// Per-finger cache of reduced systems (most recent first).
 pub(crate) type FactorCache = Vec<ReducedSystem>;
 
@@ -230,13 +244,7 @@ pub(crate) fn newton_step(
         halves.push(half);
     }
     let (dlambda, unreachable) = solve_schur(s, rhs);
-    let mut step = Step {
-        dx: vec![0.0; n],
-        dlambda: dlambda.iter().copied().collect(),
-        dy: vec![0.0; n],
-        e_dx: vec![0.0; m],
-        unreachable: unreachable.iter().copied().collect(),
-    };
+    let mut step = Step::new(n, &dlambda, &unreachable);
     for (((block, lin), cache), half) in blocks.iter().zip(lins).zip(caches.iter()).zip(halves) {
         second_half(block, lin, &cache[0], half, &mut step);
     }

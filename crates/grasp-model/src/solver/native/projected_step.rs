@@ -283,13 +283,7 @@ pub(crate) fn projected_step(
     let (solved, its) = solve(&p, &r, xi0, floor);
     counts.inner_iterations += its;
     let (xi, dlambda) = solved?;
-    let mut step = Step {
-        dx: vec![0.0; n],
-        dlambda: dlambda.iter().copied().collect(),
-        dy: vec![0.0; n],
-        e_dx: vec![0.0; m],
-        unreachable: unreachable.iter().copied().collect(),
-    };
+    let mut step = Step::new(n, &dlambda, &unreachable);
     for (((block, lin), half), x) in blocks.iter().zip(lins).zip(halves).zip(&xi) {
         finish_finger(block, lin, half.z, x, &mut step);
     }
