@@ -292,9 +292,13 @@ pub fn hertz_table(scene: &grasp_model::Scene) -> anyhow::Result<String> {
             continue;
         };
         let axis = |a: Option<f64>| a.map_or("line".to_string(), |a| format!("{} mm", mm(a)));
+        let kind = match h.layered {
+            true => "contact on a layer (estimate)",
+            false => "Hertz contact",
+        };
         let _ = writeln!(
             o,
-            "finger {}: Hertz contact at {:.4} N ({which}): semi-axes {} x {}; suggested patch [{}, {}] mm (now [{}, {}] mm)",
+            "finger {}: {kind} at {:.4} N ({which}): semi-axes {} x {}; suggested patch [{}, {}] mm (now [{}, {}] mm)",
             f.name,
             h.load_n,
             axis(h.semi_axes_m[0]),

@@ -122,6 +122,11 @@ pub struct HertzSuggestion {
     /// Suggested patch sides along `t1`, `t2`, m: 2.4 semi-axes (the contact and a ring of free
     /// elements around it), the present side where the contact is a line.
     pub suggested_size_m: [f64; 2],
+    /// True when a body is a layer on a rigid core and the semi-axes are Hertz's scaled by the
+    /// layered contact's estimate ([`crate::model::contact_pair::ContactPair::contact_radius_estimate_m`]
+    /// at the equivalent radius `sqrt(R1 R2)`); a line contact keeps Hertz's half-width, which
+    /// a layer only narrows.
+    pub layered: bool,
 }
 
 /// Hertz estimate (Johnson 4.2) of finger `f`'s contact at `load_n` from the summed tip and
@@ -129,7 +134,9 @@ pub struct HertzSuggestion {
 /// `c (R1/R2)^(1/3)`, `c (R2/R1)^(1/3)` with `c = (3 P sqrt(R1 R2) / 4 E*)^(1/3)` (the
 /// equivalent-radius approximation, a few percent for moderate eccentricity), or, curved one
 /// way only, a line contact of half-width `sqrt(4 P R / (pi L E*))` over the patch length `L`.
-/// `None` for two flat faces or two rigid bodies.
+/// On a layered body the ellipse shrinks by the ratio of the layered estimate of the contact
+/// radius to Hertz's ([`HertzSuggestion::layered`]). `None` for two flat faces or two rigid
+/// bodies.
 pub fn hertz_suggestion(
     f: &FingerSpec,
     model: &FingerModel,
@@ -138,14 +145,24 @@ pub fn hertz_suggestion(
     let tip = crate::model::grasp_model::tip_curvatures_per_m(f, &model.frame);
     let obj = crate::model::grasp_model::object_curvatures_per_m(f);
     let k = [tip[0] + obj[0], tip[1] + obj[1]];
-    let inv_e = model.pair.normal;
+    let inv_e = model.contact.constants.normal;
     if !(inv_e > 0.0 && load_n > 0.0) {
         return None;
     }
     let size = f.patch.size;
     let e_star = 1.0 / inv_e;
+    let layered = model.contact.is_layered();
     let axes = match (k[0] > 0.0, k[1] > 0.0) {
-        (true, true) => elliptical_semi_axes_m(load_n, [1.0 / k[0], 1.0 / k[1]], e_star).map(Some),
+        (true, true) => {
+            let r = 1.0 / (k[0] * k[1]).sqrt();
+            let hertz = (3.0 * load_n * r / (4.0 * e_star)).cbrt();
+            let shrink = match layered {
+                true => model.contact.contact_radius_estimate_m(load_n, r) / hertz,
+                false => 1.0,
+            };
+            elliptical_semi_axes_m(load_n, [1.0 / k[0], 1.0 / k[1]], e_star)
+                .map(|a| Some(a * shrink))
+        }
         (false, true) => [
             None,
             Some(line_contact_half_width_m(
@@ -170,5 +187,6 @@ pub fn hertz_suggestion(
         load_n,
         semi_axes_m: axes,
         suggested_size_m: [0, 1].map(|d| axes[d].map_or(size[d], |a| 2.4 * a)),
+        layered,
     })
 }

@@ -21,7 +21,7 @@
 use realfft::num_complex::Complex;
 
 use super::grid_fft::GridFft;
-use super::influence::{BlockKernels, GridSpec, RectangleIntegrals};
+use super::influence::{Block, GridSpec, KernelTable};
 
 /// Entries of a Hermitian `3 x 3` matrix kept per frequency, upper triangle: `(row, col)`.
 const ENTRIES: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
@@ -64,20 +64,15 @@ fn needed(n_tangential: usize, coupled: bool) -> [bool; 6] {
 }
 
 impl CirculantInverse {
-    /// The inverse for `grid`'s kernels `kernels` over the offsets `table`
-    /// ([`super::influence::offset_table`]), with `1 + n_tangential` components.
-    pub fn new(
-        grid: &GridSpec,
-        table: &[RectangleIntegrals],
-        kernels: &BlockKernels,
-        n_tangential: usize,
-        coupled: bool,
-    ) -> Self {
+    /// The inverse for the offsets' entries `table` ([`KernelTable`], on its grid), with
+    /// `1 + n_tangential` components.
+    pub fn new(table: &KernelTable, n_tangential: usize, coupled: bool) -> Self {
+        let grid = table.grid();
         let fft = GridFft::new((grid.nx, grid.ny), (grid.nx, grid.ny));
         let need = needed(n_tangential, coupled);
         let spectra: Vec<Vec<Complex<f64>>> = (0..ENTRIES.len())
             .map(|e| match need[e] {
-                true => wrapped_spectrum(&fft, grid, table, |a, b| kernel(kernels, e, a, b)),
+                true => wrapped_spectrum(&fft, table, |a, b| kernel(e, a, b)),
                 false => Vec::new(),
             })
             .collect();
@@ -149,15 +144,15 @@ fn entry_of(r: usize, c: usize) -> Option<(usize, bool)> {
 /// Kernel of entry `e` at offset `d` (`at`) and `-d` (`mirror`): the diagonal blocks
 /// symmetrised like the dense matrix, the off-diagonal ones as they are (their lower triangle
 /// is the transposed block, read conjugated).
-fn kernel(k: &BlockKernels, e: usize, at: &RectangleIntegrals, mirror: &RectangleIntegrals) -> f64 {
-    let sym = |f: fn(&BlockKernels, &RectangleIntegrals) -> f64| 0.5 * (f(k, at) + f(k, mirror));
+fn kernel(e: usize, at: &[f64; 6], mirror: &[f64; 6]) -> f64 {
+    let sym = |b: Block| 0.5 * (at[b as usize] + mirror[b as usize]);
     match ENTRIES[e] {
-        (0, 0) => sym(BlockKernels::nn),
-        (1, 1) => sym(BlockKernels::t11),
-        (2, 2) => sym(BlockKernels::t22),
-        (0, 1) => k.n1(at),
-        (0, 2) => k.n2(at),
-        _ => k.t12(at),
+        (0, 0) => sym(Block::Nn),
+        (1, 1) => sym(Block::T11),
+        (2, 2) => sym(Block::T22),
+        (0, 1) => at[Block::N1 as usize],
+        (0, 2) => at[Block::N2 as usize],
+        _ => at[Block::T12 as usize],
     }
 }
 
@@ -165,12 +160,10 @@ fn kernel(k: &BlockKernels, e: usize, at: &RectangleIntegrals, mirror: &Rectangl
 /// `nx / 2` and `i - nx` above (Strang), likewise along `j`.
 fn wrapped_spectrum(
     fft: &GridFft,
-    grid: &GridSpec,
-    table: &[RectangleIntegrals],
-    value: impl Fn(&RectangleIntegrals, &RectangleIntegrals) -> f64,
+    table: &KernelTable,
+    value: impl Fn(&[f64; 6], &[f64; 6]) -> f64,
 ) -> Vec<Complex<f64>> {
-    let (nx, ny) = (grid.nx, grid.ny);
-    let wy = 2 * ny - 1;
+    let (nx, ny) = (table.grid().nx, table.grid().ny);
     // Table index of periodic index `i` of a side of `n` elements (offset `i` or `i - n`).
     let slot = |i: usize, n: usize| if i <= n / 2 { i + n - 1 } else { i - 1 };
     let mut wrapped = vec![0.0; nx * ny];
@@ -178,7 +171,7 @@ fn wrapped_spectrum(
         let (a, ma) = (slot(i, nx), 2 * nx - 2 - slot(i, nx));
         for j in 0..ny {
             let (b, mb) = (slot(j, ny), 2 * ny - 2 - slot(j, ny));
-            wrapped[i * ny + j] = value(&table[a * wy + b], &table[ma * wy + mb]);
+            wrapped[i * ny + j] = value(table.at(a, b), table.at(ma, mb));
         }
     }
     fft.transform(&mut wrapped, nx)
@@ -251,7 +244,7 @@ fn invert(h: &[[Complex<f64>; 3]; 3], dim: usize, floor: f64) -> [[Complex<f64>;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::influence::{offset_table, patch_compliance, PairConstants};
+    use crate::model::influence::{patch_compliance, PairConstants};
     use crate::model::material::Material;
     use nalgebra::{DMatrix, DVector};
 
@@ -312,14 +305,13 @@ mod tests {
                     hx: 1.2e-4,
                     hy: 0.9e-4,
                 };
-                let table = offset_table(&grid);
-                let kernels = BlockKernels::new(&grid, pair);
+                let table = KernelTable::half_space(&grid, pair);
                 for nt in 0..=2 {
                     let dim = 1 + nt;
-                    let dense = patch_compliance(&grid, pair, nt);
+                    let dense = patch_compliance(&table, nt);
                     let circ = strang_from_dense(&dense, &grid, dim);
                     let coupled = !pair.uncoupled() && nt > 0;
-                    let inv = CirculantInverse::new(&grid, &table, &kernels, nt, coupled);
+                    let inv = CirculantInverse::new(&table, nt, coupled);
                     let v =
                         DVector::from_fn(dim * grid.len(), |i, _| ((i * 7 + 3) % 11) as f64 - 5.0);
                     let cv = &circ * &v;
@@ -341,9 +333,9 @@ mod tests {
             hy: 1e-4,
         };
         let pair = PairConstants::new(&elastic(5e6, 0.45), &elastic(210e9, 0.3));
-        let (table, kernels) = (offset_table(&grid), BlockKernels::new(&grid, &pair));
+        let table = KernelTable::half_space(&grid, &pair);
         for nt in 0..=2 {
-            let inv = CirculantInverse::new(&grid, &table, &kernels, nt, nt > 0);
+            let inv = CirculantInverse::new(&table, nt, nt > 0);
             let want = CirculantInverse::memory_estimate_bytes(&grid, nt, nt > 0);
             assert_eq!(inv.memory_bytes(), want);
         }

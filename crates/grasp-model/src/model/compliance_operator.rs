@@ -7,7 +7,7 @@
 //! offsets `(-(nx-1)..nx) x (-(ny-1)..ny)`. Padding the grid to `2 nx x 2 ny` and placing the
 //! kernel there with wrap-around makes the circular convolution of the FFT equal to the
 //! non-periodic one on the grid (the "DC-FFT" construction of Liu, Wang and Liu, Wear 243,
-//! 2000). The kernels are the exact rectangle integrals of [`super::influence::BlockKernels`],
+//! 2000). The kernels are the offsets' entries of [`super::influence::KernelTable`] (for half-spaces the exact rectangle integrals),
 //! so this operator and the dense matrix discretise the same thing and agree to round-off.
 //!
 //! The dense matrix is symmetrised (`(C + C')/2`) to remove the collocation round-off of the
@@ -23,18 +23,7 @@ use realfft::num_complex::Complex;
 
 use super::circulant_inverse::CirculantInverse;
 use super::grid_fft::GridFft;
-use super::influence::{offset_table, BlockKernels, GridSpec, PairConstants, RectangleIntegrals};
-
-/// The kernels kept as spectra, in this order.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Block {
-    Nn = 0,
-    T11 = 1,
-    T22 = 2,
-    T12 = 3,
-    N1 = 4,
-    N2 = 5,
-}
+use super::influence::{Block, GridSpec, KernelTable};
 
 /// One term of an output component: the source component, the kernel and whether it is read
 /// conjugated (the transposed block).
@@ -72,13 +61,12 @@ impl std::fmt::Debug for ComplianceOperator {
 }
 
 impl ComplianceOperator {
-    /// The operator of `grid` for the pair `pair`, truncated to the first `1 + n_tangential`
-    /// components as [`super::influence::patch_compliance`] is (model.md, patch compliance;
-    /// Johnson 3.22c and 3.86a-c).
-    pub fn new(grid: &GridSpec, pair: &PairConstants, n_tangential: usize) -> Self {
-        let coupled = !pair.uncoupled() && n_tangential > 0;
-        let table = offset_table(grid);
-        let kernels = BlockKernels::new(grid, pair);
+    /// The operator of the offsets' entries `table` (its grid's), truncated to the first
+    /// `1 + n_tangential` components as [`super::influence::patch_compliance`] is (model.md,
+    /// patch compliance; Johnson 3.22c and 3.86a-c for half-spaces).
+    pub fn new(table: &KernelTable, n_tangential: usize) -> Self {
+        let grid = table.grid();
+        let coupled = table.coupled() && n_tangential > 0;
         let mut op = ComplianceOperator {
             grid: *grid,
             n_tangential,
@@ -87,10 +75,10 @@ impl ComplianceOperator {
             spectra: vec![Vec::new(); 6],
             diagonal: [0.0; 3],
             abs_sums: [0.0; 6],
-            preconditioner: CirculantInverse::new(grid, &table, &kernels, n_tangential, coupled),
+            preconditioner: CirculantInverse::new(table, n_tangential, coupled),
             written_out: OnceLock::new(),
         };
-        op.build_spectra(&table, &kernels);
+        op.build_spectra(table);
         op
     }
 
@@ -171,27 +159,29 @@ impl ComplianceOperator {
         self.preconditioner.apply(v, out)
     }
 
-    fn build_spectra(&mut self, table: &[RectangleIntegrals], k: &BlockKernels) {
-        let sym = |f: fn(&BlockKernels, &RectangleIntegrals) -> f64| {
-            move |a: &RectangleIntegrals, b: &RectangleIntegrals| 0.5 * (f(k, a) + f(k, b))
+    fn build_spectra(&mut self, table: &KernelTable) {
+        let sym = |block: Block| {
+            move |a: &[f64; 6], b: &[f64; 6]| 0.5 * (a[block as usize] + b[block as usize])
         };
-        let plain = |f: fn(&BlockKernels, &RectangleIntegrals) -> f64| {
-            move |a: &RectangleIntegrals, _: &RectangleIntegrals| f(k, a)
-        };
-        let centre = &table[(self.grid.nx - 1) * (2 * self.grid.ny - 1) + self.grid.ny - 1];
-        self.diagonal = [k.nn(centre), k.t11(centre), k.t22(centre)];
-        self.set(Block::Nn, table, sym(BlockKernels::nn));
+        let plain = |block: Block| move |a: &[f64; 6], _: &[f64; 6]| a[block as usize];
+        let centre = table.centre();
+        self.diagonal = [
+            centre[Block::Nn as usize],
+            centre[Block::T11 as usize],
+            centre[Block::T22 as usize],
+        ];
+        self.set(Block::Nn, table, sym(Block::Nn));
         if self.n_tangential >= 1 {
-            self.set(Block::T11, table, sym(BlockKernels::t11));
+            self.set(Block::T11, table, sym(Block::T11));
             if self.coupled {
-                self.set(Block::N1, table, plain(BlockKernels::n1));
+                self.set(Block::N1, table, plain(Block::N1));
             }
         }
         if self.n_tangential >= 2 {
-            self.set(Block::T22, table, sym(BlockKernels::t22));
-            self.set(Block::T12, table, plain(BlockKernels::t12));
+            self.set(Block::T22, table, sym(Block::T22));
+            self.set(Block::T12, table, plain(Block::T12));
             if self.coupled {
-                self.set(Block::N2, table, plain(BlockKernels::n2));
+                self.set(Block::N2, table, plain(Block::N2));
             }
         }
     }
@@ -201,8 +191,8 @@ impl ComplianceOperator {
     fn set(
         &mut self,
         block: Block,
-        table: &[RectangleIntegrals],
-        value: impl Fn(&RectangleIntegrals, &RectangleIntegrals) -> f64,
+        table: &KernelTable,
+        value: impl Fn(&[f64; 6], &[f64; 6]) -> f64,
     ) {
         let (nx, ny) = (self.grid.nx, self.grid.ny);
         let wy = 2 * ny - 1;
@@ -213,8 +203,7 @@ impl ComplianceOperator {
             let row = (a + px + 1 - nx) % px;
             for b in 0..wy {
                 let col = (b + py + 1 - ny) % py;
-                let mirror = &table[(2 * nx - 2 - a) * wy + (2 * ny - 2 - b)];
-                let k = value(&table[a * wy + b], mirror);
+                let k = value(table.at(a, b), table.at(2 * nx - 2 - a, 2 * ny - 2 - b));
                 abs_sum += k.abs();
                 padded[row * py + col] = k;
             }
@@ -276,8 +265,13 @@ impl ComplianceOperator {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::influence::patch_compliance;
+    use crate::model::influence::{offset_table, patch_compliance, BlockKernels, PairConstants};
     use crate::model::material::Material;
+
+    /// The half-space table of `pair` on `grid`.
+    fn half_space(grid: &GridSpec, pair: &PairConstants) -> KernelTable {
+        KernelTable::half_space(grid, pair)
+    }
 
     fn elastic(e: f64, nu: f64) -> Material {
         Material::Elastic {
@@ -332,8 +326,9 @@ mod tests {
                     hy: 1e-4 * (1.0 + lcg(&mut seed)),
                 };
                 for nt in 0..=2 {
-                    let dense = patch_compliance(&grid, pair, nt);
-                    let op = ComplianceOperator::new(&grid, pair, nt);
+                    let table = half_space(&grid, pair);
+                    let dense = patch_compliance(&table, nt);
+                    let op = ComplianceOperator::new(&table, nt);
                     let v: Vec<f64> = (0..op.len()).map(|_| lcg(&mut seed) - 0.5).collect();
                     let mut got = vec![0.0; op.len()];
                     op.apply(&v, &mut got);
@@ -367,8 +362,9 @@ mod tests {
             hy: 1e-4,
         };
         let pair = PairConstants::new(&elastic(2e6, 0.49), &elastic(200e9, 0.25));
-        let dense = patch_compliance(&grid, &pair, 2);
-        let op = ComplianceOperator::new(&grid, &pair, 2);
+        let table = half_space(&grid, &pair);
+        let dense = patch_compliance(&table, 2);
+        let op = ComplianceOperator::new(&table, 2);
         let mut e = vec![0.0; op.len()];
         let mut got = vec![0.0; op.len()];
         for col in [0, 7, grid.len() + 3, 2 * grid.len() + 19] {
@@ -401,7 +397,7 @@ mod tests {
         let pair = PairConstants::new(&elastic(5e6, 0.45), &elastic(210e9, 0.3));
         let mut seed = 0x853c49e6748fea9b;
         for nt in [0, 2] {
-            let op = ComplianceOperator::new(&grid, &pair, nt);
+            let op = ComplianceOperator::new(&half_space(&grid, &pair), nt);
             assert!(op.fft.parallel());
             let v: Vec<f64> = (0..op.len()).map(|_| lcg(&mut seed) - 0.5).collect();
             let mut got = vec![0.0; op.len()];
@@ -417,7 +413,7 @@ mod tests {
                 .zip(&alone)
                 .all(|(a, b)| a.to_bits() == b.to_bits()));
         }
-        let op = ComplianceOperator::new(&grid, &pair, 0);
+        let op = ComplianceOperator::new(&half_space(&grid, &pair), 0);
         let loaded = [0, 77, 8000, 12345, grid.len() - 1];
         let mut v = vec![0.0; op.len()];
         for (i, &k) in loaded.iter().enumerate() {
@@ -458,7 +454,7 @@ mod tests {
         };
         let pair = PairConstants::new(&elastic(5e6, 0.45), &elastic(210e9, 0.3));
         for nt in 0..=2 {
-            let op = ComplianceOperator::new(&grid, &pair, nt);
+            let op = ComplianceOperator::new(&half_space(&grid, &pair), nt);
             assert_eq!(
                 op.memory_bytes(),
                 ComplianceOperator::memory_estimate_bytes(&grid, nt, !pair.uncoupled())

@@ -9,9 +9,9 @@ use nalgebra::Vector3;
 
 use crate::error::{ModelError, SceneError};
 use crate::geometry::contact_frame::ContactFrame;
+use crate::model::contact_pair::ContactPair;
 use crate::model::equilibrium::{unit_wrench, EquilibriumMap, MotionPlane, Wrench};
 use crate::model::friction::FrictionLaw;
-use crate::model::influence::PairConstants;
 use crate::model::material::Material;
 use crate::model::patch::Patch;
 use crate::model::patch_compliance::{takes_fft, ComplianceChoice, PatchCompliance};
@@ -45,8 +45,8 @@ pub struct FingerModel {
     pub patch: Patch,
     /// Fingertip material.
     pub material: Material,
-    /// Kernel constants of the pair (finger, object).
-    pub pair: PairConstants,
+    /// The contact's two bodies (finger, object): their half-space constants and layers.
+    pub contact: ContactPair,
     /// Friction law.
     pub friction: FrictionLaw,
     /// Tangential unknowns per element: 0 (frictionless), 1 (planar) or 2.
@@ -124,6 +124,8 @@ pub struct ObjectModel {
     pub loads: Vec<ExternalLoad>,
     /// Object material.
     pub material: Material,
+    /// Thickness of the object's elastic layer on a rigid core, m (`None`: a half-space).
+    pub layer_thickness_m: Option<f64>,
     /// Plane of motion of a planar scene.
     pub plane: Option<MotionPlane>,
     /// Contact law.
@@ -239,7 +241,7 @@ impl GraspModel {
             }]));
         }
         check_dense_bytes(scene, compliance)?;
-        let object = object_model(scene);
+        let mut object = object_model(scene);
         // The fingers' compliance blocks are independent: build them in parallel when they
         // are large enough to pay for the threads (the same numbers either way).
         let entries: usize = scene
@@ -253,7 +255,7 @@ impl GraspModel {
                 .fingers
                 .par_iter()
                 .map(|f| finger_model(f, &object, compliance))
-                .collect()
+                .collect::<Vec<_>>()
         } else {
             scene
                 .fingers
@@ -261,6 +263,12 @@ impl GraspModel {
                 .map(|f| finger_model(f, &object, compliance))
                 .collect()
         };
+        for (i, f) in fingers.iter().enumerate() {
+            let warnings =
+                f.contact
+                    .layer_warnings(&f.patch.grid, &format!("fingers[{i}]"), &f.name);
+            object.scene_warnings.extend(warnings);
+        }
         Ok(Self::from_parts(fingers, object))
     }
 
@@ -455,6 +463,7 @@ fn object_model(scene: &Scene) -> ObjectModel {
         center_of_mass_m,
         loads,
         material: Material::from(&o.material),
+        layer_thickness_m: o.material.layer_thickness_m(),
         plane,
         kind: scene.model,
         scene_warnings: scene
@@ -508,7 +517,12 @@ fn finger_model(
         [tip[0] + obj[0], tip[1] + obj[1]],
     );
     let material = Material::from(&f.material);
-    let pair = PairConstants::new(&material, &object.material);
+    let contact = ContactPair::new(
+        &material,
+        f.material.layer_thickness_m(),
+        &object.material,
+        object.layer_thickness_m,
+    );
     let friction = FrictionLaw::from_spec(&f.friction, &material, &object.material);
     let n_tangential = if friction.is_frictionless() {
         0
@@ -517,7 +531,8 @@ fn finger_model(
     } else {
         2
     };
-    let compliance_m_per_n = PatchCompliance::build(&patch.grid, &pair, n_tangential, compliance);
+    let compliance_m_per_n =
+        PatchCompliance::build(&patch.grid, &contact, n_tangential, compliance);
     let control = match f.control.normal_load_n() {
         Some(p) => Control::NormalLoad { newtons: p },
         None => Control::Held,
@@ -527,7 +542,7 @@ fn finger_model(
         frame,
         patch,
         material,
-        pair,
+        contact,
         friction,
         n_tangential,
         compliance_m_per_n,

@@ -154,13 +154,118 @@ impl GridSpec {
     }
 }
 
+/// The blocks of a patch compliance, in the order [`KernelTable`] keeps them: `nn` (normal from
+/// normal), `11`, `22`, `12` (tangential from tangential) and `n1`, `n2` (normal from
+/// tangential; the tangential-from-normal blocks are their transposes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Block {
+    /// `Cnn`.
+    Nn = 0,
+    /// `C11`.
+    T11 = 1,
+    /// `C22`.
+    T22 = 2,
+    /// `C12`.
+    T12 = 3,
+    /// `Cn1`.
+    N1 = 4,
+    /// `Cn2`.
+    N2 = 5,
+}
+
+/// The compliance entries of every index offset of a grid, m/N, block by block: what the dense
+/// matrix ([`patch_compliance`]), the FFT operator ([`super::compliance_operator`]) and its
+/// preconditioner ([`super::circulant_inverse`]) are all built from, so they discretise the same
+/// operator. Offsets `(di, dj)` in `(-(nx-1)..nx) x (-(ny-1)..ny)`, row-major over `di` then
+/// `dj` (`(2 nx - 1)(2 ny - 1)` entries); entry `d` is the displacement at a field element
+/// `d` elements from a unit force spread over the source element.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KernelTable {
+    grid: GridSpec,
+    /// Per offset, the blocks in [`Block`] order.
+    values: Vec<[f64; 6]>,
+    /// True when the normal/tangential coupling blocks are not all zero.
+    coupled: bool,
+}
+
+impl KernelTable {
+    /// The half-space table of a pair of materials: the exact rectangle integrals of
+    /// [`offset_table`] through [`BlockKernels`] (model.md's table; Johnson 3.22c, 3.86a-c).
+    pub fn half_space(grid: &GridSpec, pair: &PairConstants) -> Self {
+        let kernels = BlockKernels::new(grid, pair);
+        let values = offset_table(grid)
+            .iter()
+            .map(|r| {
+                [
+                    kernels.nn(r),
+                    kernels.t11(r),
+                    kernels.t22(r),
+                    kernels.t12(r),
+                    kernels.n1(r),
+                    kernels.n2(r),
+                ]
+            })
+            .collect();
+        KernelTable {
+            grid: *grid,
+            values,
+            coupled: !pair.uncoupled(),
+        }
+    }
+
+    /// The grid the table belongs to.
+    pub fn grid(&self) -> &GridSpec {
+        &self.grid
+    }
+
+    /// Offsets per row of the table, `2 ny - 1`.
+    pub fn row_len(&self) -> usize {
+        2 * self.grid.ny - 1
+    }
+
+    /// The blocks at table index `(a, b)`: offset `(a - (nx - 1), b - (ny - 1))` elements.
+    pub fn at(&self, a: usize, b: usize) -> &[f64; 6] {
+        &self.values[a * self.row_len() + b]
+    }
+
+    /// The blocks at table index `(a, b)`, to be changed.
+    pub fn at_mut(&mut self, a: usize, b: usize) -> &mut [f64; 6] {
+        let w = self.row_len();
+        &mut self.values[a * w + b]
+    }
+
+    /// The blocks of the zero offset (an element on itself).
+    pub fn centre(&self) -> &[f64; 6] {
+        self.at(self.grid.nx - 1, self.grid.ny - 1)
+    }
+
+    /// Every offset's blocks, row-major.
+    pub fn values(&self) -> &[[f64; 6]] {
+        &self.values
+    }
+
+    /// True when the normal/tangential coupling blocks are not all zero (equal half-spaces:
+    /// all zero, and no coupling blocks are assembled).
+    pub fn coupled(&self) -> bool {
+        self.coupled
+    }
+
+    /// Marks the coupling blocks as present (a layered body's correction fills them even
+    /// between equal materials).
+    pub fn set_coupled(&mut self, coupled: bool) {
+        self.coupled = coupled;
+    }
+}
+
 /// The patch compliance matrix `C`, m/N, of model.md:
 /// `[[Cnn, Cn1, Cn2], [Cn1', C11, C12], [Cn2', C12', C22]]`, truncated to the first
-/// `1 + n_tangential` blocks (`n_tangential` = 0 frictionless, 1 planar, 2 in 3-D).
+/// `1 + n_tangential` blocks (`n_tangential` = 0 frictionless, 1 planar, 2 in 3-D), from the
+/// offsets' entries `table` ([`KernelTable`]).
 ///
 /// Entry `(k, j)` of each block is the relative displacement (object surface minus finger
 /// surface; normal component along `n`, i.e. the increase of the gap) at the centre of element
-/// `k` due to a unit force spread uniformly over element `j`:
+/// `k` due to a unit force spread uniformly over element `j`; for two half-spaces
+/// ([`KernelTable::half_space`]):
 /// - `Cnn = (1/(pi A)) sum_b (1 - nu_b^2)/E_b I[1/rho]` (Boussinesq, Johnson 3.22c),
 /// - `C11 = (1/(pi A)) sum_b (1 + nu_b)/E_b ((1 - nu_b) I[1/rho] + nu_b I[X^2/rho^3])`,
 ///   `C22` with `Y^2`, `C12 = (1/(pi A)) sum_b (1 + nu_b) nu_b/E_b I[XY/rho^3]`
@@ -168,47 +273,38 @@ impl GridSpec {
 /// - `Cn1 = (kappa_o - kappa_f)/A I[X/rho^2]`, `Cn2` with `Y` (Johnson 3.86c), and the
 ///   tangential-from-normal blocks their transposes (Betti reciprocity).
 ///
-/// Blocks depend only on the index offset between elements (Toeplitz), so each distinct
-/// offset's integrals are computed once.
-pub fn patch_compliance(
-    grid: &GridSpec,
-    pair: &PairConstants,
-    n_tangential: usize,
-) -> DMatrix<f64> {
+/// Blocks depend only on the index offset between elements (Toeplitz): each entry is read
+/// from the table.
+pub fn patch_compliance(table: &KernelTable, n_tangential: usize) -> DMatrix<f64> {
+    let grid = table.grid();
     let (nx, ny) = (grid.nx, grid.ny);
     let n = grid.len();
-    let (wx, wy) = (2 * nx - 1, 2 * ny - 1);
-    let table = offset_table(grid);
-    let at = |k: usize, j: usize| -> &RectangleIntegrals {
+    let at = |k: usize, j: usize| -> &[f64; 6] {
         let (ik, jk) = (k / ny, k % ny);
         let (ij, jj) = (j / ny, j % ny);
-        let a = ik + nx - 1 - ij;
-        let b = jk + ny - 1 - jj;
-        &table[a * wy + b]
+        table.at(ik + nx - 1 - ij, jk + ny - 1 - jj)
     };
-    debug_assert_eq!(table.len(), wx * wy);
     let dim = n * (1 + n_tangential);
     let mut c = DMatrix::<f64>::zeros(dim, dim);
-    let kernels = BlockKernels::new(grid, pair);
-    let coupled = !pair.uncoupled() && n_tangential > 0;
+    let coupled = table.coupled() && n_tangential > 0;
     // Column by column (j outer): the writes of each block run down contiguous memory.
     for j in 0..n {
         for k in 0..n {
             let r = at(k, j);
-            c[(k, j)] = kernels.nn(r);
+            c[(k, j)] = r[Block::Nn as usize];
             if n_tangential >= 1 {
-                c[(n + k, n + j)] = kernels.t11(r);
+                c[(n + k, n + j)] = r[Block::T11 as usize];
                 if coupled {
-                    let v = kernels.n1(r);
+                    let v = r[Block::N1 as usize];
                     c[(k, n + j)] = v;
                     c[(n + j, k)] = v;
                 }
             }
             if n_tangential >= 2 {
-                c[(2 * n + k, 2 * n + j)] = kernels.t22(r);
-                c[(n + k, 2 * n + j)] = kernels.t12(r);
+                c[(2 * n + k, 2 * n + j)] = r[Block::T22 as usize];
+                c[(n + k, 2 * n + j)] = r[Block::T12 as usize];
                 if coupled {
-                    let v = kernels.n2(r);
+                    let v = r[Block::N2 as usize];
                     c[(k, 2 * n + j)] = v;
                     c[(2 * n + j, k)] = v;
                 }
@@ -485,7 +581,10 @@ mod tests {
                 hy: 1e-3 * (0.5 + next()),
             };
             for ntan in 0..=2 {
-                let c = patch_compliance(&grid, &PairConstants::new(&f, &o), ntan);
+                let c = patch_compliance(
+                    &KernelTable::half_space(&grid, &PairConstants::new(&f, &o)),
+                    ntan,
+                );
                 let asym = (&c - c.transpose()).abs().max();
                 assert!(asym <= 1e-14 * c.abs().max(), "not symmetric: {asym}");
                 let eig = nalgebra::SymmetricEigen::new(c.clone());
@@ -528,7 +627,7 @@ mod tests {
             hy: 1e-3,
         };
         let n = grid.len();
-        let c = patch_compliance(&grid, &pair, 2);
+        let c = patch_compliance(&KernelTable::half_space(&grid, &pair), 2);
         let (k, j) = (grid.index(40, 2), grid.index(0, 0));
         let (x, y): (f64, f64) = (40.0e-3, 2.0e-3);
         let r = x.hypot(y);
@@ -576,7 +675,7 @@ mod tests {
             hx: 1e-3,
             hy: 1e-3,
         };
-        let c = patch_compliance(&grid, &equal, 2);
+        let c = patch_compliance(&KernelTable::half_space(&grid, &equal), 2);
         let n = grid.len();
         assert_eq!(c.view((0, n), (n, 2 * n)).abs().max(), 0.0);
         // Swapping finger and object flips the sign of the coupling (a difference, not a sum).

@@ -5,11 +5,16 @@
 pub mod circulant_inverse;
 pub mod closed_form;
 pub mod compliance_operator;
+pub mod contact_pair;
+pub mod elastic_layer;
 pub mod equilibrium;
 pub mod friction;
 pub mod grasp_model;
 pub(crate) mod grid_fft;
 pub mod influence;
+pub mod layer_green_function;
+pub mod layer_kernels;
 pub mod material;
 pub mod patch;
 pub mod patch_compliance;
+pub mod quadrature;

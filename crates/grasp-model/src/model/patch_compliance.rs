@@ -13,7 +13,8 @@ use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 use super::compliance_operator::ComplianceOperator;
-use super::influence::{patch_compliance, GridSpec, PairConstants};
+use super::contact_pair::ContactPair;
+use super::influence::{patch_compliance, GridSpec};
 use crate::scene::scene_format::{FingerSpec, Scene};
 use crate::scene::work_bounds::finger_unknowns;
 
@@ -123,18 +124,20 @@ pub enum PatchCompliance {
 }
 
 impl PatchCompliance {
-    /// The compliance of `grid` for `pair` with `n_tangential` tangential components, in the
-    /// form `choice` gives (model.md, patch compliance; Johnson 3.22c, 3.86a-c).
+    /// The compliance of `grid` for the contact's bodies `pair` with `n_tangential`
+    /// tangential components, in the form `choice` gives (model.md, patch compliance; Johnson
+    /// 3.22c, 3.86a-c, and [`super::elastic_layer`] for a layered body).
     pub fn build(
         grid: &GridSpec,
-        pair: &PairConstants,
+        pair: &ContactPair,
         n_tangential: usize,
         choice: ComplianceChoice,
     ) -> Self {
+        let table = pair.kernel_table(grid);
         if uses_fft(choice, grid.len().saturating_mul(1 + n_tangential)) {
-            PatchCompliance::Fft(Arc::new(ComplianceOperator::new(grid, pair, n_tangential)))
+            PatchCompliance::Fft(Arc::new(ComplianceOperator::new(&table, n_tangential)))
         } else {
-            PatchCompliance::Dense(Arc::new(patch_compliance(grid, pair, n_tangential)))
+            PatchCompliance::Dense(Arc::new(patch_compliance(&table, n_tangential)))
         }
     }
 

@@ -27,6 +27,10 @@ pub const PLAUSIBLE_REACH_FACTOR: f64 = 100.0;
 /// almost surely in the wrong unit.
 pub const MODULUS_RANGE_PA: (f64, f64) = (1.0, 1e15);
 
+/// Physical range of the thickness of an elastic layer on a rigid core, m (a micrometre coating
+/// to a metre-thick pad).
+pub const LAYER_THICKNESS_RANGE_M: (f64, f64) = (1e-6, 1.0);
+
 /// Physical range of a patch side, m.
 pub const PATCH_SIDE_RANGE_M: (f64, f64) = (1e-9, 10.0);
 

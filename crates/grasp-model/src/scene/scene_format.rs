@@ -124,6 +124,24 @@ pub struct ElasticSpec {
     pub youngs_modulus: f64,
     /// Poisson's ratio `nu`, dimensionless, in `[0, 0.5)`.
     pub poisson_ratio: f64,
+    /// Thickness `h` in metres of an elastic layer of this material bonded to a rigid core (a
+    /// fingertip pad on its phalanx, a coating on a rigid object), in `[1e-6, 1]`; absent: the
+    /// body is an elastic half-space. A layer is stiffer than the half-space where the contact
+    /// is wider than about `h`: normally (towards `E (1 - nu)/((1 + nu)(1 - 2 nu) h)` per unit
+    /// area, the Winkler limit) and tangentially (towards `G / h`), and it couples the normal
+    /// and tangential responses even against a rigid partner.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer_thickness_m: Option<f64>,
+}
+
+impl MaterialSpec {
+    /// The layer thickness, m, of a material that is a layer on a rigid core.
+    pub fn layer_thickness_m(&self) -> Option<f64> {
+        match self {
+            MaterialSpec::Rigid(_) => None,
+            MaterialSpec::Elastic(e) => e.layer_thickness_m,
+        }
+    }
 }
 
 /// One finger in contact with the object.

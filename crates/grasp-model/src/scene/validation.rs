@@ -710,6 +710,16 @@ impl Problems {
                     "give Poisson's ratio in [0, 0.5) (rubber is about 0.49)",
                 );
             }
+            if let Some(h) = e.layer_thickness_m {
+                self.range(
+                    &format!("{path}.layer_thickness_m"),
+                    h,
+                    LAYER_THICKNESS_RANGE_M,
+                    "m",
+                    "give the thickness of the elastic layer on its rigid core in metres (1 mm = \
+                     0.001), or omit layer_thickness_m for an elastic half-space",
+                );
+            }
         }
     }
 

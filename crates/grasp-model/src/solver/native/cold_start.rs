@@ -3,7 +3,10 @@
 //! starts with the elements whose initial gap lies within [`APPROACH_FACTOR`] Hertz approaches
 //! of the smallest gap: Johnson's eq. 4.23, `delta = (9 P^2 / (16 E*^2 R))^(1/3)` with `1/R`
 //! the largest curvature of the gap, `E*` the pair's effective modulus and `P` the finger's
-//! expected load (its prescribed load, or the load scale for a held finger). With the factor
+//! expected load (its prescribed load, or the load scale for a held finger). On a layered body
+//! the circle is the layered estimate of the contact radius
+//! ([`crate::model::contact_pair::ContactPair::contact_radius_estimate_m`]: a layer is stiffer,
+//! its contact smaller), with `delta = a^2 / R`. With the factor
 //! 1/2 this is Hertz's contact circle itself: inside it the surfaces close by `delta - r^2/2R`
 //! and its edge `a^2 = R delta` is where the initial gap `r^2/2R` equals `delta/2` (Johnson
 //! 4.2). Elements outside then start separated instead of in deep tension, and the first
@@ -28,7 +31,7 @@ pub(crate) fn initial_contact(model: &GraspModel, finger: &FingerModel) -> Vec<b
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     let flat = !(c_max > c_min);
     let curvature = curvature_per_m(finger);
-    let e_star = finger.material.effective_modulus_pa(&model.object_material);
+    let e_star = 1.0 / finger.contact.constants.normal;
     let load = match finger.control {
         Control::NormalLoad { newtons } if newtons > 0.0 => newtons,
         _ => model.scales.load_n,
@@ -36,7 +39,18 @@ pub(crate) fn initial_contact(model: &GraspModel, finger: &FingerModel) -> Vec<b
     if flat || !(curvature > 0.0 && e_star.is_finite() && e_star > 0.0) {
         return vec![true; gaps.len()];
     }
-    let delta = HertzSphere::new(load, 1.0 / curvature, e_star).approach_m;
+    let delta = match finger.contact.is_layered() {
+        // Hertz's relation `delta = a^2 / R` at the layered estimate of the radius: the
+        // candidates are then that circle, as on a half-space.
+        true => {
+            finger
+                .contact
+                .contact_radius_estimate_m(load, 1.0 / curvature)
+                .powi(2)
+                * curvature
+        }
+        false => HertzSphere::new(load, 1.0 / curvature, e_star).approach_m,
+    };
     gaps.iter()
         .map(|&c| c <= c_min + APPROACH_FACTOR * delta)
         .collect()
