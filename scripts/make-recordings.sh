@@ -8,7 +8,7 @@ export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/grasp-target}"
 cargo build --release -p grasp-cli
 grasp="$CARGO_TARGET_DIR/release/grasp"
 mkdir -p recordings
-for case in plate_transfer disc_transfer plate_handoff_coulomb; do
+for case in plate_transfer disc_transfer plate_handoff_coulomb cylinder_handoff_pads; do
   "$grasp" transfer "examples/${case}.json" \
     --schedule "examples/${case}.schedule.json" \
     --rrd "recordings/${case}.rrd" --mcap "recordings/${case}.mcap" \

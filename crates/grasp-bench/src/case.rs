@@ -201,6 +201,57 @@ pub const FFT_CASES: [Case; 7] = [
     ),
 ];
 
+/// The layered-pad cases of issue 22: the padded pinch (`pad_pinch`, 1 mm pads) and its twin
+/// with half-space pads of the same silicone (`pad_pinch_halfspace`), model build and one solve
+/// timed together, on the FFT path (64 x 64 a finger) and the dense one (18 x 18, 972 unknowns
+/// a finger), automatic compliance. Issue 22's target is a ratio, a layered patch at most 1.5x
+/// the half-space one on the same path: `grasp bench` prints it as a derived row
+/// ([`LAYER_PAIRS`]).
+pub const LAYER_CASES: [Case; 4] = [
+    case(
+        "pad_pinch_64x64_fft",
+        OneShot,
+        "pad_pinch",
+        Some([64, 64]),
+        None,
+        false,
+    ),
+    case(
+        "pad_pinch_halfspace_64x64_fft",
+        OneShot,
+        "pad_pinch_halfspace",
+        Some([64, 64]),
+        None,
+        false,
+    ),
+    case(
+        "pad_pinch_18x18_dense",
+        OneShot,
+        "pad_pinch",
+        Some([18, 18]),
+        None,
+        true,
+    ),
+    case(
+        "pad_pinch_halfspace_18x18_dense",
+        OneShot,
+        "pad_pinch_halfspace",
+        Some([18, 18]),
+        None,
+        true,
+    ),
+];
+
+/// The (layered, half-space) case pairs whose time ratio issue 22 bounds, with the bound.
+pub const LAYER_PAIRS: [(&str, &str, f64); 2] = [
+    ("pad_pinch_64x64_fft", "pad_pinch_halfspace_64x64_fft", 1.5),
+    (
+        "pad_pinch_18x18_dense",
+        "pad_pinch_halfspace_18x18_dense",
+        1.5,
+    ),
+];
+
 /// The cases the peer library solves too, in the same run (`grasp bench`; issue 21 asks for
 /// the time ratio at these two grids; the peer's time grows past a minute above them).
 pub const PEER_CASES: [&str; 2] = ["hertz_128x128_fft", "hertz_256x256_fft"];
@@ -228,6 +279,8 @@ pub fn bundled(stem: &str) -> Option<(&'static str, Option<&'static str>)> {
             example!("plate_handoff_coulomb.json"),
             Some(example!("plate_handoff_coulomb.schedule.json")),
         ),
+        "pad_pinch" => (example!("pad_pinch.json"), None),
+        "pad_pinch_halfspace" => (example!("pad_pinch_halfspace.json"), None),
         _ => return None,
     })
 }
@@ -250,10 +303,12 @@ pub struct Prepared {
 
 impl Case {
     /// The patch compliance of the case's solves: `auto` for the fine-patch cases
-    /// ([`FFT_CASES`]), the dense matrices for issue 9's ([`CASES`]), as they were measured
-    /// before the FFT path existed (`auto` would take it for `hertz_41x41`).
+    /// ([`FFT_CASES`]) and the layered-pad ones ([`LAYER_CASES`]), the dense matrices for issue
+    /// 9's ([`CASES`]), as they were measured before the FFT path existed (`auto` would take it
+    /// for `hertz_41x41`).
     pub fn compliance(&self) -> ComplianceChoice {
-        match FFT_CASES.iter().any(|c| c.name == self.name) {
+        let mut auto = FFT_CASES.iter().chain(&LAYER_CASES);
+        match auto.any(|c| c.name == self.name) {
             true => ComplianceChoice::Auto,
             false => ComplianceChoice::Dense,
         }

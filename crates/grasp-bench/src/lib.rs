@@ -13,6 +13,6 @@ pub mod peer;
 pub mod sample;
 pub mod statistics;
 
-pub use case::{Case, CaseKind, Prepared, CASES, FFT_CASES, PEER_CASES};
+pub use case::{Case, CaseKind, Prepared, CASES, FFT_CASES, LAYER_CASES, LAYER_PAIRS, PEER_CASES};
 pub use error::BenchError;
 pub use sample::Sample;

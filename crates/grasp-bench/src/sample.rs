@@ -180,6 +180,9 @@ impl Prepared {
     pub fn run(&self, memory: bool) -> Result<Sample, BenchError> {
         let reset = memory && peak_memory::reset_peak();
         let base = peak_memory::rss_bytes().filter(|_| reset);
+        // A model build computes a layer's radial functions unless an earlier run of the
+        // process did: every sample pays for them, as a one-shot `grasp solve` does.
+        grasp_model::model::layer_green_function::forget_radial_functions();
         let t0 = Instant::now();
         let mut sample = match self.case.kind {
             CaseKind::Solve => {

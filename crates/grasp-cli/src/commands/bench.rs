@@ -17,7 +17,7 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use grasp_bench::peer::{PeerError, PeerProblem, PeerRecord};
 use grasp_bench::statistics::{growth_exponent, median_and_range};
-use grasp_bench::{Case, CaseKind, Sample, CASES, FFT_CASES, PEER_CASES};
+use grasp_bench::{Case, CaseKind, Sample, CASES, FFT_CASES, LAYER_CASES, LAYER_PAIRS, PEER_CASES};
 use grasp_model::SolverChoice;
 
 /// Benchmark table: the cases of issue 9 (cube A grids, Hertz 41x41, both hand-offs warm
@@ -282,6 +282,7 @@ fn derived_rows(all: &[Measured], solvers: &[SolverChoice]) -> Vec<Row> {
             row[11] = verdict(ratio, 0.2, |x| format!("{x:.1}"));
             rows.push(row);
         }
+        rows.extend(layer_ratio_rows(all, solver));
         let series: Vec<(f64, f64)> = all
             .iter()
             // The dense series (issue 9's cases); the FFT case grows differently.
@@ -302,6 +303,27 @@ fn derived_rows(all: &[Measured], solvers: &[SolverChoice]) -> Vec<Row> {
                 .join(", ");
             rows.push(row);
         }
+    }
+    rows
+}
+
+/// Issue 22's ratios: a layered pad's time (model build and solve) over the half-space pad's
+/// on the same path, target at most [`LAYER_PAIRS`]' bound.
+fn layer_ratio_rows(all: &[Measured], solver: SolverChoice) -> Vec<Row> {
+    let mut rows = Vec::new();
+    for (layered, half, bound) in LAYER_PAIRS {
+        let (Some(l), Some(h)) = (find(all, layered, solver), find(all, half, solver)) else {
+            continue;
+        };
+        let ratio = l.median_s / h.median_s;
+        let mut row = vec![String::new(); HEADER.len()];
+        row[0] = format!("{layered} / half-space");
+        row[1] = "time ratio".into();
+        row[2] = solver.to_string();
+        row[3] = format!("{ratio:.2}x");
+        row[4] = format!("{} / {}", time(l.median_s), time(h.median_s));
+        row[11] = verdict(ratio, bound, |x| format!("{x:.1}x"));
+        rows.push(row);
     }
     rows
 }
@@ -631,7 +653,7 @@ fn progress(what: &str) {
 
 /// Runs the bench and prints the table.
 fn run(flags: Flags) -> Result<ExitCode> {
-    let all = || CASES.iter().chain(&FFT_CASES);
+    let all = || CASES.iter().chain(&FFT_CASES).chain(&LAYER_CASES);
     for name in &flags.cases {
         if !all().any(|c| c.name == name) {
             let names: Vec<&str> = all().map(|c| c.name).collect();
@@ -649,7 +671,7 @@ fn run(flags: Flags) -> Result<ExitCode> {
     let mut rows = Vec::new();
     let (mut peer, mut notes) = (flags.peer.clone(), Vec::new());
     for case in &chosen {
-        let fft = FFT_CASES.iter().any(|c| c.name == case.name);
+        let fft = FFT_CASES.iter().any(|c| c.name == case.name) || case.name.ends_with("_fft");
         let start = measured.len();
         for &solver in &flags.solvers {
             if solver == SolverChoice::Clarabel && fft {

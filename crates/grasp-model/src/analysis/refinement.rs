@@ -169,7 +169,8 @@ pub struct StudyRow {
     pub equilibrium_residual: f64,
 }
 
-/// Checks that `scene` is a Hertz case and returns `(R m, E* Pa)`.
+/// Checks that `scene` is a Hertz case (one spherical tip on a flat, both bodies half-spaces)
+/// and returns `(R m, E* Pa)`.
 pub fn hertz_parameters(scene: &Scene) -> Result<(f64, f64), String> {
     if scene.fingers.len() != 1 {
         return Err(format!(
@@ -186,6 +187,17 @@ pub fn hertz_parameters(scene: &Scene) -> Result<(f64, f64), String> {
         None | Some(RadiusSpec::Principal([None, None]))
     ) {
         return Err("fingers[0].object_radius is set: a Hertz study needs a flat object".into());
+    }
+    for (path, m) in [
+        ("fingers[0].material", &f.material),
+        ("object.material", &scene.object.material),
+    ] {
+        if m.layer_thickness_m().is_some() {
+            return Err(format!(
+                "{path}.layer_thickness_m is set: a layer on a rigid core has no Hertz closed \
+                 form (model/elastic_layer.rs gives its thin and thick limits)"
+            ));
+        }
     }
     let fm = crate::model::material::Material::from(&f.material);
     let om = crate::model::material::Material::from(&scene.object.material);

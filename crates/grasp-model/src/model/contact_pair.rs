@@ -173,3 +173,89 @@ impl ContactPair {
         out
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::influence::patch_compliance;
+
+    /// Seeded pseudo-random numbers in [0, 1) (64-bit LCG).
+    fn lcg(seed: &mut u64) -> f64 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// With layers on either or both bodies (thin and thick against the elements, every
+    /// Poisson's ratio) the patch compliance stays symmetric and positive definite, every block
+    /// and reduction: a wrong sign or a mirrored block would break one or the other.
+    #[test]
+    fn layered_compliance_is_symmetric_positive_definite() {
+        let mut seed = 0x9e3779b97f4a7c15;
+        for _ in 0..16 {
+            let body = |seed: &mut u64| {
+                let m = Material::Elastic {
+                    youngs_modulus_pa: 10f64.powf(5.0 + 6.0 * lcg(seed)),
+                    poisson_ratio: 0.499 * lcg(seed),
+                };
+                let layer = (lcg(seed) < 0.7).then(|| 1e-4 * 10f64.powf(2.0 * lcg(seed) - 0.5));
+                (m, layer)
+            };
+            let (f, fl) = body(&mut seed);
+            let (o, ol) = body(&mut seed);
+            let pair = ContactPair::new(&f, fl, &o, ol);
+            let grid = GridSpec {
+                nx: 1 + (lcg(&mut seed) * 7.0) as usize,
+                ny: 1 + (lcg(&mut seed) * 7.0) as usize,
+                hx: 1e-4 * (0.3 + lcg(&mut seed)),
+                hy: 1e-4 * (0.3 + lcg(&mut seed)),
+            };
+            let table = pair.kernel_table(&grid);
+            for nt in 0..=2 {
+                let c = patch_compliance(&table, nt);
+                let asym = (&c - c.transpose()).abs().max();
+                assert!(asym <= 1e-14 * c.abs().max(), "not symmetric: {asym}");
+                let min = nalgebra::SymmetricEigen::new(c.clone()).eigenvalues.min();
+                assert!(
+                    min > 0.0,
+                    "not positive definite: {min:e}, {pair:?}, {grid:?}"
+                );
+            }
+        }
+    }
+
+    /// The contact radius estimate is Hertz's on half-spaces (exactly), and within the
+    /// documented bounds of the two thin limits: Winkler (`a^4 = 4 R h P / (pi M)`, 7 % small)
+    /// and the squeeze film (`a^6 = 32 R h^3 P / (pi G)`, 20 % small); the layer never makes it
+    /// larger than Hertz's.
+    #[test]
+    fn contact_radius_estimates() {
+        let (r, p): (f64, f64) = (0.05, 3.0);
+        let pad = |nu: f64| Material::Elastic {
+            youngs_modulus_pa: 2e6,
+            poisson_ratio: nu,
+        };
+        let half = ContactPair::new(&pad(0.3), None, &Material::Rigid, None);
+        let e_star = 2e6 / (1.0 - 0.09);
+        let hertz = (3.0 * p * r / (4.0 * e_star)).cbrt();
+        assert_eq!(half.contact_radius_estimate_m(p, r), hertz);
+        let h = hertz / 50.0;
+        let winkler = ContactPair::new(&pad(0.3), Some(h), &Material::Rigid, None);
+        let m = 2e6 * 0.7 / (1.3 * 0.4);
+        let exact = (4.0 * r * h * p / (std::f64::consts::PI * m)).powf(0.25);
+        let est = winkler.contact_radius_estimate_m(p, r);
+        assert!(
+            est < hertz && (est / exact - 1.0).abs() < 0.08,
+            "{est:e} vs {exact:e}"
+        );
+        let squeeze = ContactPair::new(&pad(0.4999999), Some(h), &Material::Rigid, None);
+        let g = 2e6 / (2.0 * 1.4999999);
+        let exact = (32.0 * r * h.powi(3) * p / (std::f64::consts::PI * g)).powf(1.0 / 6.0);
+        let est = squeeze.contact_radius_estimate_m(p, r);
+        assert!(
+            est < hertz && (est / exact - 1.0).abs() < 0.25,
+            "{est:e} vs {exact:e}"
+        );
+    }
+}

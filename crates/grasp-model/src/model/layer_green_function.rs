@@ -92,13 +92,27 @@ pub struct RadialFunctions {
     panels: Vec<[[f64; PANEL_POINTS]; 4]>,
 }
 
+/// The process's radial functions, by `(nu bits, panels)`.
+type Cache = Mutex<HashMap<(u64, usize), Arc<RadialFunctions>>>;
+
+fn cache() -> &'static Cache {
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    CACHE.get_or_init(|| Mutex::new(HashMap::new()))
+}
+
+/// Forgets the radial functions computed so far (a benchmark's run then pays for them as a
+/// fresh process does); the next [`RadialFunctions::of`] computes them again, to the same bits.
+pub fn forget_radial_functions() {
+    if let Ok(mut c) = cache().lock() {
+        c.clear();
+    }
+}
+
 impl RadialFunctions {
     /// The functions of Poisson's ratio `nu` on `[0, panels PANEL_WIDTH]`, computed once per
     /// process for each `(nu, panels)` and shared (they depend on nothing else).
     pub fn of(nu: f64, panels: usize) -> Arc<RadialFunctions> {
-        type Cache = Mutex<HashMap<(u64, usize), Arc<RadialFunctions>>>;
-        static CACHE: OnceLock<Cache> = OnceLock::new();
-        let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+        let cache = cache();
         let key = (nu.to_bits(), panels);
         if let Some(f) = cache.lock().ok().and_then(|c| c.get(&key).cloned()) {
             return f;
