@@ -363,3 +363,68 @@ fn set(v: &mut Value, ptr: &str, value: Value) {
         _ => panic!("{ptr}"),
     }
 }
+
+/// A layer thickness (issue 22) that is not a thickness: zero, negative, not finite, or out of
+/// the physical range (a micrometre to a metre; millimetres typed as metres land above it).
+#[test]
+fn layer_thickness_outside_its_range() {
+    for (h, words) in [
+        (json!(0.0), "outside [1e-6, 1e0] m"),
+        (json!(-0.001), "outside"),
+        (json!(2.0), "outside"),
+        (json!(1e-9), "outside"),
+    ] {
+        let mut v = cube();
+        v["fingers"][1]["material"]["layer_thickness_m"] = h.clone();
+        assert_problem(&v, "fingers[1].material.layer_thickness_m", words);
+        let mut v = cube();
+        v["object"]["material"]["layer_thickness_m"] = h;
+        assert_problem(&v, "object.material.layer_thickness_m", words);
+    }
+    // A rigid body has no layer: the field has nowhere to go.
+    let mut v = cube();
+    v["object"]["material"] = json!("rigid");
+    v["fingers"][0]["material"] = json!({"layer_thickness_m": 0.001});
+    assert!(!problems(&v).is_empty());
+}
+
+/// A layer the grid cannot resolve (elements larger than its thickness), and one so thick it
+/// is a half-space to 1e-6, are solved but warned about, each naming its field and the fix; a
+/// resolved layer is not.
+#[test]
+fn unresolved_and_half_space_like_layers_are_warned_about() {
+    use grasp_model::{solve, GraspModel};
+    let warnings = |finger_h: f64, patch: f64| {
+        let mut v = cube();
+        for f in v["fingers"].as_array_mut().unwrap() {
+            f["material"]["layer_thickness_m"] = json!(finger_h);
+            f["patch"]["size"] = json!([patch, patch]);
+        }
+        let scene = Scene::from_json_str(&v.to_string()).unwrap();
+        let model = GraspModel::from_scene(&scene).unwrap();
+        solve(&model).unwrap().warnings
+    };
+    // cube A's 5 x 5 grids on 5 mm patches: elements of 1 mm.
+    let thin = warnings(2e-4, 0.005);
+    assert!(
+        thin.iter()
+            .any(|w| w.starts_with("fingers[0].material.layer_thickness_m")
+                && w.contains("cannot resolve")
+                && w.contains("patch.grid [25, 25]")),
+        "{thin:#?}"
+    );
+    let thick = warnings(1.0, 1e-5);
+    assert!(
+        thick
+            .iter()
+            .any(|w| w.starts_with("fingers[2].material.layer_thickness_m")
+                && w.contains("half-space")
+                && w.contains("omit layer_thickness_m")),
+        "{thick:#?}"
+    );
+    let fine = warnings(2e-3, 0.005);
+    assert!(
+        !fine.iter().any(|w| w.contains("layer_thickness_m")),
+        "{fine:#?}"
+    );
+}

@@ -340,6 +340,18 @@ def test_mujoco_unnamed_geoms_get_the_default_material_with_a_warning(pinch):
     assert g.scene_dict["object"]["material"] == "rigid"
 
 
+def test_mujoco_material_map_may_give_pads_a_layer(pinch):
+    """A material of the map may carry layer_thickness_m (issue 22): the pad's scene material
+    keeps it and the scene solves with the layered kernels; anything else stays refused."""
+    model, data, _ = pinch
+    pad = {"youngs_modulus": 1e6, "poisson_ratio": 0.45, "layer_thickness_m": 0.002}
+    g = gm.scene_from(model, data, "box", materials={"box": "rigid", "pad_left": pad, "pad_right": pad})
+    assert [f["material"] for f in g.scene_dict["fingers"]] == [pad, pad]
+    assert grasp.solve(g.scene).status == "solved"
+    with pytest.raises(gm.MaterialMapError):
+        gm.scene_from(model, data, "box", materials={"box": "rigid", "pad_left": dict(pad, thickness=1)})
+
+
 def test_mujoco_a_sphere_tip_on_a_cylinder_gets_hertz_patch_and_radii(rollout):
     model, r = rollout
     data = mujoco.MjData(model)

@@ -35,11 +35,13 @@ def load_map(source):
     for name, m in data.items():
         if m == "rigid":
             continue
-        if not (isinstance(m, dict) and set(m) == {"youngs_modulus", "poisson_ratio"}
+        required = {"youngs_modulus", "poisson_ratio"}
+        if not (isinstance(m, dict) and required <= set(m) <= required | {"layer_thickness_m"}
                 and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in m.values())):
             raise MaterialMapError(
                 f"material of '{name}' is {json.dumps(m)}",
-                "give \"rigid\" or {\"youngs_modulus\": Pa, \"poisson_ratio\": -}")
+                "give \"rigid\" or {\"youngs_modulus\": Pa, \"poisson_ratio\": -} (and "
+                "\"layer_thickness_m\": m for a pad bonded to a rigid core)")
     return dict(data)
 
 
@@ -86,7 +88,8 @@ class MaterialMap:
 
 
 def compliance(material):
-    """(1 - nu^2) / E of a material, 0 for rigid."""
+    """(1 - nu^2) / E of a material, 0 for rigid (the half-space's: a layer's thickness, which
+    only stiffens it, is left to the contact model)."""
     if material == "rigid":
         return 0.0
     return (1.0 - material["poisson_ratio"] ** 2) / material["youngs_modulus"]
