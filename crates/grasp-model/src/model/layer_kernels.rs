@@ -5,7 +5,7 @@
 //!
 //! An element's average is a tensor Gauss-Legendre rule over sub-elements of at most one
 //! thickness, of the order that brings a function analytic within two thicknesses of the real
-//! axis (the difference functions' strip) to [`AVERAGE_TOLERANCE`] (Trefethen, Approximation
+//! axis (the difference functions' strip) to `AVERAGE_TOLERANCE` (Trefethen, Approximation
 //! Theory and Approximation Practice, ch. 19: error `~ rho^-2n` for the Bernstein ellipse
 //! `rho` through the singularity). A source element wholly beyond
 //! [`super::layer_green_function::cutoff_thicknesses`] gets minus the body's own half-space
