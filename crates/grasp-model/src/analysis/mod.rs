@@ -4,3 +4,4 @@
 pub mod margin;
 pub mod patch_sizing;
 pub mod refinement;
+pub mod relaxation;

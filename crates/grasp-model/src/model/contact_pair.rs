@@ -78,6 +78,23 @@ impl ContactPair {
         table
     }
 
+    /// The compliance entries of one body of the pair alone on `grid` (m/N; the other body
+    /// rigid): its half-space kernels plus its layer's correction, the coupling with its side's
+    /// sign. The pair's table is the sum of its two bodies' (to round-off).
+    pub fn body_table(&self, grid: &GridSpec, side: Side) -> KernelTable {
+        let (material, layer) = match side {
+            Side::Finger => (&self.finger_material, self.finger_layer),
+            Side::Object => (&self.object_material, self.object_layer),
+        };
+        let mut table = KernelTable::half_space(grid, &body_constants(material, side));
+        if let Some(l) = layer {
+            LayerKernels::new(&l, grid).add_to(&mut table, side);
+            let coupled = table.values().iter().any(|v| v[4] != 0.0 || v[5] != 0.0);
+            table.set_coupled(coupled);
+        }
+        table
+    }
+
     /// The pair's normal surface compliance for a pressure wave of wavenumber `k_per_m`, m/Pa:
     /// `sum_b H_zz,b(k)` (a half-space's `2 (1 - nu_b^2)/(E_b k)`; a layer's of
     /// [`ElasticLayer::normal_compliance_m_per_pa`]).

@@ -5,6 +5,8 @@
 //! G2_1..G2_N]` truncated to `1 + n_tangential` blocks, where `n_tangential` is 0 for a
 //! frictionless finger, 1 in a planar scene and 2 otherwise. Forces in newtons.
 
+use std::sync::Arc;
+
 use nalgebra::Vector3;
 
 use crate::error::{ModelError, SceneError};
@@ -14,9 +16,10 @@ use crate::model::equilibrium::{unit_wrench, EquilibriumMap, MotionPlane, Wrench
 use crate::model::friction::FrictionLaw;
 use crate::model::material::Material;
 use crate::model::patch::Patch;
-use crate::model::patch_compliance::{takes_fft, ComplianceChoice, PatchCompliance};
+use crate::model::patch_compliance::{takes_fft, uses_fft, ComplianceChoice, PatchCompliance};
+use crate::model::viscous_contact::ViscousContact;
 use crate::scene::limits::MAX_COMPLIANCE_BYTES;
-use crate::scene::scene_format::{ModelKind, RadiusSpec, Scene};
+use crate::scene::scene_format::{ModelKind, RadiusSpec, RelaxationSpec, Scene};
 
 /// Compliance entries (summed over fingers) from which the blocks are built in parallel:
 /// about 2 ms of work, well above a thread hand-off.
@@ -32,6 +35,24 @@ pub enum Control {
         /// Prescribed total normal force `P_i`, N.
         newtons: f64,
     },
+    /// Position-controlled: moved `d` metres along its inward normal from first touch (every
+    /// element's gap closes by `d`); its normal load is an unknown of the program, as a held
+    /// finger's (`d = 0`).
+    Approach {
+        /// The prescribed approach `d`, m.
+        metres: f64,
+    },
+}
+
+impl Control {
+    /// The prescribed approach, m: `d` for a position-controlled finger, 0 otherwise (a held
+    /// finger is the reference; a force-controlled one's approach is an unknown).
+    pub fn approach_m(&self) -> f64 {
+        match *self {
+            Control::Approach { metres } => metres,
+            _ => 0.0,
+        }
+    }
 }
 
 /// One finger, fully prepared.
@@ -58,6 +79,9 @@ pub struct FingerModel {
     pub compliance_m_per_n: PatchCompliance,
     /// How the finger is driven (as in the scene; loads may be overridden per solve).
     pub control: Control,
+    /// The contact's viscoelastic bodies (`None`: both elastic or rigid): their own
+    /// compliances and creep functions ([`crate::model::viscous_contact`]).
+    pub viscous: Option<Arc<ViscousContact>>,
     /// Index of this finger's first unknown in the program's `x`.
     pub offset: usize,
 }
@@ -126,6 +150,8 @@ pub struct ObjectModel {
     pub material: Material,
     /// Thickness of the object's elastic layer on a rigid core, m (`None`: a half-space).
     pub layer_thickness_m: Option<f64>,
+    /// The object material's relaxation law, as written (`None`: elastic).
+    pub relaxation: Option<RelaxationSpec>,
     /// Plane of motion of a planar scene.
     pub plane: Option<MotionPlane>,
     /// Contact law.
@@ -183,7 +209,7 @@ impl GraspModel {
                     j += 1;
                     loads_n.get(j - 1).copied().unwrap_or(share)
                 }
-                Control::Held => share,
+                Control::Held | Control::Approach { .. } => share,
             })
             .collect()
     }
@@ -290,6 +316,33 @@ impl GraspModel {
         Some(Self::from_parts(fingers, self.object.clone()))
     }
 
+    /// True when a contact has a viscoelastic body.
+    pub fn is_viscoelastic(&self) -> bool {
+        self.fingers.iter().any(|f| f.viscous.is_some())
+    }
+
+    /// The model of one time step of `dt_s` seconds (`f64::INFINITY`: fully relaxed): every
+    /// viscoelastic contact's compliance is its compliance over the step
+    /// ([`ViscousContact::step_compliance`]; `dt_s = 0` gives the instantaneous one, this
+    /// model's), the elastic fingers' are shared. This model itself when nothing relaxes.
+    pub fn for_time_step(&self, dt_s: f64) -> GraspModel {
+        if !self.is_viscoelastic() {
+            return self.clone();
+        }
+        let fingers = self
+            .fingers
+            .iter()
+            .map(|f| {
+                let mut f = f.clone();
+                if let Some(v) = &f.viscous {
+                    f.compliance_m_per_n = v.step_compliance(dt_s);
+                }
+                f
+            })
+            .collect();
+        Self::from_parts(fingers, self.object.clone())
+    }
+
     /// Offsets, reference point, external wrench, scales and equilibrium map of `fingers` (at
     /// least one) holding `object`.
     fn from_parts(mut fingers: Vec<FingerModel>, object: ObjectModel) -> GraspModel {
@@ -351,7 +404,7 @@ impl GraspModel {
             .iter()
             .map(|&i| match self.fingers[i].control {
                 Control::NormalLoad { newtons } => newtons,
-                Control::Held => 0.0,
+                Control::Held | Control::Approach { .. } => 0.0,
             })
             .collect()
     }
@@ -464,6 +517,7 @@ fn object_model(scene: &Scene) -> ObjectModel {
         loads,
         material: Material::from(&o.material),
         layer_thickness_m: o.material.layer_thickness_m(),
+        relaxation: o.material.relaxation().cloned(),
         plane,
         kind: scene.model,
         scene_warnings: scene
@@ -531,11 +585,27 @@ fn finger_model(
     } else {
         2
     };
-    let compliance_m_per_n =
-        PatchCompliance::build(&patch.grid, &contact, n_tangential, compliance);
-    let control = match f.control.normal_load_n() {
-        Some(p) => Control::NormalLoad { newtons: p },
-        None => Control::Held,
+    let grid = patch.grid;
+    let fft = uses_fft(compliance, grid.len().saturating_mul(1 + n_tangential));
+    let relaxation = (f.material.relaxation(), object.relaxation.as_ref());
+    let (compliance_m_per_n, viscous) = match relaxation {
+        (None, None) => (
+            PatchCompliance::build(&grid, &contact, n_tangential, compliance),
+            None,
+        ),
+        laws => {
+            let table = Arc::new(contact.kernel_table(&grid));
+            let viscous = ViscousContact::new(&contact, &table, (&grid, n_tangential, fft), laws);
+            (
+                PatchCompliance::from_table(&table, n_tangential, fft),
+                viscous.map(Arc::new),
+            )
+        }
+    };
+    let control = match (f.control.normal_load_n(), f.control.approach_m()) {
+        (Some(p), _) => Control::NormalLoad { newtons: p },
+        (None, Some(d)) => Control::Approach { metres: d },
+        (None, None) => Control::Held,
     };
     FingerModel {
         name: f.name.clone(),
@@ -547,6 +617,7 @@ fn finger_model(
         n_tangential,
         compliance_m_per_n,
         control,
+        viscous,
         offset: 0,
     }
 }

@@ -250,6 +250,18 @@ impl KernelTable {
         self.coupled
     }
 
+    /// `self + c * other` entry by entry (the same grid): a viscoelastic step's compliance,
+    /// the pair's plus a body's scaled by its step factor less one.
+    pub fn add_scaled(&mut self, c: f64, other: &KernelTable) {
+        debug_assert_eq!(self.grid, other.grid);
+        for (a, b) in self.values.iter_mut().zip(&other.values) {
+            for (x, y) in a.iter_mut().zip(b) {
+                *x += c * y;
+            }
+        }
+        self.coupled |= other.coupled;
+    }
+
     /// Marks the coupling blocks as present (a layered body's correction fills them even
     /// between equal materials).
     pub fn set_coupled(&mut self, coupled: bool) {

@@ -18,3 +18,5 @@ pub mod material;
 pub mod patch;
 pub mod patch_compliance;
 pub mod quadrature;
+pub mod viscoelasticity;
+pub mod viscous_contact;

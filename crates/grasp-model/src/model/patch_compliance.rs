@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use super::compliance_operator::ComplianceOperator;
 use super::contact_pair::ContactPair;
-use super::influence::{patch_compliance, GridSpec};
+use super::influence::{patch_compliance, GridSpec, KernelTable};
 use crate::scene::scene_format::{FingerSpec, Scene};
 use crate::scene::work_bounds::finger_unknowns;
 
@@ -134,10 +134,16 @@ impl PatchCompliance {
         choice: ComplianceChoice,
     ) -> Self {
         let table = pair.kernel_table(grid);
-        if uses_fft(choice, grid.len().saturating_mul(1 + n_tangential)) {
-            PatchCompliance::Fft(Arc::new(ComplianceOperator::new(&table, n_tangential)))
-        } else {
-            PatchCompliance::Dense(Arc::new(patch_compliance(&table, n_tangential)))
+        let fft = uses_fft(choice, grid.len().saturating_mul(1 + n_tangential));
+        Self::from_table(&table, n_tangential, fft)
+    }
+
+    /// The compliance of the offsets' entries `table` with `n_tangential` tangential
+    /// components: the FFT operator when `fft`, else the dense matrix.
+    pub fn from_table(table: &KernelTable, n_tangential: usize, fft: bool) -> Self {
+        match fft {
+            true => PatchCompliance::Fft(Arc::new(ComplianceOperator::new(table, n_tangential))),
+            false => PatchCompliance::Dense(Arc::new(patch_compliance(table, n_tangential))),
         }
     }
 

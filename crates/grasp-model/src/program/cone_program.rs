@@ -12,8 +12,11 @@
 //! - `P = C / Cu`: block-diagonal over fingers; block `i` is the finger's patch compliance
 //!   (m/N) over the compliance unit. It is not copied here: backends read
 //!   [`crate::FingerModel::compliance_m_per_n`] and multiply by [`ConeProgram::compliance_scale`].
-//! - `q = c / (Fu Cu)` on normal unknowns (initial gaps `c`, m) and `q = -m / (Fu Cu)` on
-//!   tangential ones (slip memory `m`, m, coulomb model).
+//! - `q = (c + o_n) / (Fu Cu)` on normal unknowns (initial gaps `c`, m) and `q = (o_t - m) /
+//!   (Fu Cu)` on tangential ones (slip memory `m`, m, coulomb model), with `o` a displacement
+//!   added to the elastic one `C x` (m): `-d` on the normal unknowns of a finger pressed in by
+//!   a prescribed approach `d`, and a viscoelastic body's history displacement
+//!   ([`crate::model::viscoelasticity`]).
 //! - `E x = e`: the equilibrium rows reduced to their range (thesis eqs. 48-49; 6 in 3-D, 3
 //!   planar, fewer when contacts cannot resist some direction), then one row
 //!   `sum_k F_k = P_i / Fu` per force-controlled finger. Dense, `m x n` with `m <= 6 + fingers`.
@@ -115,6 +118,11 @@ pub struct ConeProgram {
     pub compliance_scale: f64,
     /// Linear cost `q`.
     pub q: Vec<f64>,
+    /// Per unknown, the displacement `o` added to the elastic one (m): prescribed approaches
+    /// and viscoelastic history (module docs). Zero by default.
+    pub offset_m: Vec<f64>,
+    /// Per unknown, the slip memory `m` (m; zero on the normal unknowns).
+    memory_m: Vec<f64>,
     /// Equality matrix `E` (`m x n`): reduced equilibrium rows, then load rows.
     pub equality: DMatrix<f64>,
     /// Right-hand side `e` (for the loads last set).
@@ -152,12 +160,6 @@ impl ConeProgram {
                 },
             })
             .collect();
-        let mut q = vec![0.0; model.n_unknowns];
-        for f in &model.fingers {
-            for (k, gap) in f.patch.gap_m.iter().enumerate() {
-                q[f.offset + k] = gap / s.displacement_m();
-            }
-        }
         let e_hat = equilibrium_matrix(model);
         let reduction = RowReduction::new(&e_hat);
         let (equality, load_rows) = equality_matrix(model, &reduction, &e_hat);
@@ -166,7 +168,9 @@ impl ConeProgram {
             blocks,
             n_unknowns: model.n_unknowns,
             compliance_scale: 1.0 / s.compliance_m_per_n,
-            q,
+            q: vec![0.0; model.n_unknowns],
+            offset_m: vec![0.0; model.n_unknowns],
+            memory_m: vec![0.0; model.n_unknowns],
             equality_rhs: vec![0.0; equality.nrows()],
             equality,
             reduction,
@@ -176,7 +180,31 @@ impl ConeProgram {
         };
         program.set_external_wrench(model);
         program.set_loads(model, loads_n);
+        program.refresh_q(model);
         program
+    }
+
+    /// `q` from the gaps, the offsets and the slip memory (module docs).
+    fn refresh_q(&mut self, model: &GraspModel) {
+        let du = model.scales.displacement_m();
+        for f in &model.fingers {
+            let ne = f.patch.len();
+            for (k, gap) in f.patch.gap_m.iter().enumerate() {
+                let j = f.offset + k;
+                self.q[j] = (gap + self.offset_m[j]) / du;
+            }
+            for j in f.offset + ne..f.offset + f.n_unknowns() {
+                self.q[j] = (self.offset_m[j] - self.memory_m[j]) / du;
+            }
+        }
+    }
+
+    /// Sets the offsets `o` (m, per unknown; module docs) and rewrites `q`.
+    pub fn set_offsets(&mut self, model: &GraspModel, offset_m: &[f64]) {
+        if self.offset_m.as_slice() != offset_m {
+            self.offset_m.copy_from_slice(offset_m);
+            self.refresh_q(model);
+        }
     }
 
     /// Overwrites the equilibrium rows of `e` with `model.external_wrench` (thesis eqs.
@@ -244,18 +272,18 @@ impl ConeProgram {
     }
 
     /// Writes the slip memory `m` (m; per finger, per element `[t1, t2]`) into `q`:
-    /// `q_G = -m / (Fu Cu)`, so that a sticking element keeps its relative tangential
+    /// `q_G = (o_t - m) / (Fu Cu)`, so that a sticking element keeps its relative tangential
     /// displacement `w_k = m_k` (model.md, "coulomb").
     pub fn set_slip_memory(&mut self, model: &GraspModel, memory_m: &[Vec<[f64; 2]>]) {
-        let du = model.scales.displacement_m();
         for (i, f) in model.fingers.iter().enumerate() {
             let ne = f.patch.len();
             for c in 0..f.n_tangential {
                 for (k, m) in memory_m[i].iter().enumerate().take(ne) {
-                    self.q[f.offset + (c + 1) * ne + k] = -m[c] / du;
+                    self.memory_m[f.offset + (c + 1) * ne + k] = m[c];
                 }
             }
         }
+        self.refresh_q(model);
     }
 
     /// Overwrites the load rows of `e` (N, one per force-controlled finger).

@@ -31,6 +31,13 @@ pub const MODULUS_RANGE_PA: (f64, f64) = (1.0, 1e15);
 /// to a metre-thick pad).
 pub const LAYER_THICKNESS_RANGE_M: (f64, f64) = (1e-6, 1.0);
 
+/// Range of a relaxation time, s (a microsecond to about 31 years, the schedules' longest
+/// time).
+pub const RELAXATION_TIME_RANGE_S: (f64, f64) = (1e-6, 1e9);
+
+/// Range of a prescribed approach, m.
+pub const APPROACH_RANGE_M: (f64, f64) = (0.0, 1.0);
+
 /// Physical range of a patch side, m.
 pub const PATCH_SIDE_RANGE_M: (f64, f64) = (1e-9, 10.0);
 

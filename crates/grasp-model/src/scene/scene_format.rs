@@ -99,7 +99,7 @@ pub struct ExternalForceSpec {
 }
 
 /// A linear-elastic isotropic material, or `"rigid"` (`1/E = 0`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 #[serde(untagged)]
 pub enum MaterialSpec {
     /// A rigid body.
@@ -117,7 +117,7 @@ pub enum RigidTag {
 }
 
 /// Elastic constants.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ElasticSpec {
     /// Young's modulus `E` in pascals, in `[1, 1e15]`.
@@ -132,6 +132,48 @@ pub struct ElasticSpec {
     /// and tangential responses even against a rigid partner.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layer_thickness_m: Option<f64>,
+    /// How the material relaxes (a viscoelastic pad): a Prony series of the shear modulus,
+    /// `[{"fraction": g_i, "time_s": tau_i}, ...]` (`G(t) = G_0 (1 - sum g_i) + sum g_i G_0
+    /// exp(-t / tau_i)`, each `g_i` in `[0, 1)` with `sum g_i < 1`, each `tau_i` in `[1e-6,
+    /// 1e9]` s), or a standard linear solid `{"long_term_modulus": Pa, "time_s": tau}` (`E`
+    /// relaxing from `youngs_modulus` to `long_term_modulus` with the one relaxation time).
+    /// `youngs_modulus` is then the instantaneous modulus; Poisson's ratio stays constant, so
+    /// every compliance of the body follows the same creep function. Absent, or all fractions
+    /// zero: elastic.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub relaxation: Option<RelaxationSpec>,
+}
+
+/// A material's relaxation law.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+#[serde(untagged)]
+pub enum RelaxationSpec {
+    /// A Prony series of the shear modulus.
+    Prony(Vec<PronyTermSpec>),
+    /// A standard linear solid: instantaneous modulus `youngs_modulus`, long-term modulus and
+    /// one relaxation time.
+    StandardLinearSolid(StandardLinearSolidSpec),
+}
+
+/// One term of a Prony series.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PronyTermSpec {
+    /// `g_i`: the fraction of the instantaneous shear modulus that relaxes with this time, in
+    /// `[0, 1)` (the fractions sum below 1).
+    pub fraction: f64,
+    /// `tau_i`: relaxation time, s, in `[1e-6, 1e9]`.
+    pub time_s: f64,
+}
+
+/// A standard linear solid.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StandardLinearSolidSpec {
+    /// Young's modulus after full relaxation, Pa, in `(0, youngs_modulus]`.
+    pub long_term_modulus: f64,
+    /// Relaxation time, s, in `[1e-6, 1e9]`.
+    pub time_s: f64,
 }
 
 impl MaterialSpec {
@@ -140,6 +182,14 @@ impl MaterialSpec {
         match self {
             MaterialSpec::Rigid(_) => None,
             MaterialSpec::Elastic(e) => e.layer_thickness_m,
+        }
+    }
+
+    /// The relaxation law of a viscoelastic material, as written.
+    pub fn relaxation(&self) -> Option<&RelaxationSpec> {
+        match self {
+            MaterialSpec::Rigid(_) => None,
+            MaterialSpec::Elastic(e) => e.relaxation.as_ref(),
         }
     }
 }
@@ -291,6 +341,9 @@ pub enum ControlSpec {
     Held(HeldTag),
     /// Force-controlled: the total normal force is prescribed.
     Load(NormalLoadSpec),
+    /// Position-controlled: pressed in by a prescribed approach from first touch; its load is
+    /// found by the model.
+    Approach(ApproachSpec),
 }
 
 impl Default for ControlSpec {
@@ -307,6 +360,24 @@ impl ControlSpec {
             _ => None,
         }
     }
+
+    /// The prescribed approach in metres, if the finger is position-controlled.
+    pub fn approach_m(&self) -> Option<f64> {
+        match self {
+            ControlSpec::Approach(a) => Some(a.approach_m),
+            _ => None,
+        }
+    }
+}
+
+/// A prescribed approach.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ApproachSpec {
+    /// How far the finger is moved along its normal from first touch, m, in `[0, 1]`: the gaps
+    /// of its elements close by this much (the object still finds its equilibrium). 0 is a
+    /// held finger.
+    pub approach_m: f64,
 }
 
 /// The literal string `"held"`.
@@ -345,7 +416,11 @@ const EXPECT_MATERIAL: &str =
 const EXPECT_FRICTION: &str = "expected a friction law: {\"mu\": c}, {\"table\": [[P_N, mu], \
      ...]} or {\"elastic\": {\"finger_radius\": m, \"object_radius\": m, \"contact_length\": m}}";
 /// What a control looks like, for messages.
-const EXPECT_CONTROL: &str = "expected a control: \"held\" or {\"normal_load\": N}";
+const EXPECT_CONTROL: &str =
+    "expected a control: \"held\", {\"normal_load\": N} or {\"approach_m\": m}";
+/// What a relaxation law looks like, for messages.
+const EXPECT_RELAXATION: &str = "expected a relaxation law: [{\"fraction\": g, \"time_s\": s}, \
+     ...] or {\"long_term_modulus\": Pa, \"time_s\": s}";
 /// What a radius looks like, for messages.
 const EXPECT_RADIUS: &str = "expected a radius in metres, or [R1, R2] with each a number or null";
 
@@ -397,8 +472,22 @@ impl<'de> Deserialize<'de> for ControlSpec {
         let StrictValue(v) = StrictValue::deserialize(d)?;
         match v {
             Value::String(ref s) if s == "held" => variant(v).map(ControlSpec::Held),
+            Value::Object(ref o) if o.contains_key("approach_m") => {
+                variant(v).map(ControlSpec::Approach)
+            }
             Value::Object(_) => variant(v).map(ControlSpec::Load),
             v => Err(shape_error(EXPECT_CONTROL, &v)),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for RelaxationSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let StrictValue(v) = StrictValue::deserialize(d)?;
+        match v {
+            Value::Array(_) => variant(v).map(RelaxationSpec::Prony),
+            Value::Object(_) => variant(v).map(RelaxationSpec::StandardLinearSolid),
+            v => Err(shape_error(EXPECT_RELAXATION, &v)),
         }
     }
 }

@@ -10,7 +10,8 @@ use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
 use crate::geometry::shape_spec::MeshSpec;
 use crate::scene::scene_format::{
-    ControlSpec, ElasticLawParams, FingerSpec, FrictionSpec, MaterialSpec, RadiusSpec, Scene, Vec3,
+    ControlSpec, ElasticLawParams, FingerSpec, FrictionSpec, MaterialSpec, RadiusSpec,
+    RelaxationSpec, Scene, Vec3,
 };
 use crate::scene::strict_json::StrictValue;
 
@@ -222,12 +223,25 @@ impl Scene {
         validate_tip(&p, f, self.planar.as_ref().map(|pl| pl.normal), v);
         validate_patch(&p, f, v);
         v.friction(&format!("{p}.friction"), &f.friction, object_rigid);
-        if let ControlSpec::Load(l) = f.control {
-            v.force(
-                &format!("{p}.control.normal_load"),
-                l.normal_load,
-                "give the prescribed normal load in newtons",
-            );
+        match f.control {
+            ControlSpec::Load(l) => {
+                v.force(
+                    &format!("{p}.control.normal_load"),
+                    l.normal_load,
+                    "give the prescribed normal load in newtons",
+                );
+            }
+            ControlSpec::Approach(a) => {
+                v.range(
+                    &format!("{p}.control.approach_m"),
+                    a.approach_m,
+                    APPROACH_RANGE_M,
+                    "m",
+                    "give how far the finger is pressed in from first touch, in metres (0.1 mm \
+                     = 1e-4), or use \"held\"",
+                );
+            }
+            ControlSpec::Held(_) => {}
         }
     }
 
@@ -710,6 +724,9 @@ impl Problems {
                     "give Poisson's ratio in [0, 0.5) (rubber is about 0.49)",
                 );
             }
+            if let Some(r) = &e.relaxation {
+                self.relaxation(&format!("{path}.relaxation"), r, e.youngs_modulus);
+            }
             if let Some(h) = e.layer_thickness_m {
                 self.range(
                     &format!("{path}.layer_thickness_m"),
@@ -718,6 +735,63 @@ impl Problems {
                     "m",
                     "give the thickness of the elastic layer on its rigid core in metres (1 mm = \
                      0.001), or omit layer_thickness_m for an elastic half-space",
+                );
+            }
+        }
+    }
+
+    /// A relaxation law: times in range, fractions in `[0, 1)` summing below 1 (a long-term
+    /// modulus remains), a standard linear solid's long-term modulus in `(0, E_0]`.
+    fn relaxation(&mut self, path: &str, r: &RelaxationSpec, youngs_modulus: f64) {
+        let time_fix = "give the relaxation time in seconds (1 ms = 0.001)";
+        match r {
+            RelaxationSpec::Prony(terms) => {
+                let mut sum = 0.0;
+                for (i, t) in terms.iter().enumerate() {
+                    let p = format!("{path}[{i}]");
+                    if !(t.fraction.is_finite() && (0.0..1.0).contains(&t.fraction)) {
+                        self.push(
+                            &format!("{p}.fraction"),
+                            format!("is {}", number(t.fraction)),
+                            "give the fraction of the instantaneous modulus that relaxes with \
+                             this time, in [0, 1)",
+                        );
+                    } else {
+                        sum += t.fraction;
+                    }
+                    self.range(
+                        &format!("{p}.time_s"),
+                        t.time_s,
+                        RELAXATION_TIME_RANGE_S,
+                        "s",
+                        time_fix,
+                    );
+                }
+                if sum >= 1.0 {
+                    self.push(
+                        path,
+                        format!("has fractions summing to {}", number(sum)),
+                        "make the fractions sum below 1: the modulus left after full relaxation \
+                         is (1 - their sum) times youngs_modulus, and must stay above zero",
+                    );
+                }
+            }
+            RelaxationSpec::StandardLinearSolid(sls) => {
+                let e = sls.long_term_modulus;
+                if !(e.is_finite() && e > 0.0 && e <= youngs_modulus) {
+                    self.push(
+                        &format!("{path}.long_term_modulus"),
+                        format!("is {} Pa", number(e)),
+                        "give the modulus after full relaxation in pascals, above 0 and at most \
+                         youngs_modulus (the instantaneous modulus)",
+                    );
+                }
+                self.range(
+                    &format!("{path}.time_s"),
+                    sls.time_s,
+                    RELAXATION_TIME_RANGE_S,
+                    "s",
+                    time_fix,
                 );
             }
         }

@@ -30,6 +30,22 @@ pub struct FingerState {
     /// most [`EARLIER_KEPT`], oldest first): from them the sequential solve's warm start
     /// continues the loads' ramp.
     pub earlier: Vec<EarlierSolve>,
+    /// The displacement a viscoelastic body's history adds to this step's elastic one, m, in
+    /// the finger's unknown layout (normal, then `t1`, `t2`): `C h` of
+    /// [`crate::model::viscoelasticity`]. `None`: none (an elastic pair, or the first step).
+    pub history_m: Option<Vec<f64>>,
+    /// The viscoelastic internal variables of the contact ([`crate::solve::viscous_history`]);
+    /// `None` for an elastic contact and before its first solve of a time history.
+    pub viscous: Option<ViscousState>,
+}
+
+/// A finger's viscoelastic internal variables.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ViscousState {
+    /// Per viscoelastic body of the contact, per creep term, `z_k` (N, finger layout).
+    pub internal_n: Vec<Vec<Vec<f64>>>,
+    /// The forces at the end of the last step (N, finger layout).
+    pub forces_n: Vec<f64>,
 }
 
 /// A finger's forces at one earlier converged solve.
@@ -50,6 +66,8 @@ impl FingerState {
             normal_forces_n: None,
             normal_load_n: None,
             earlier: Vec::new(),
+            history_m: None,
+            viscous: None,
         }
     }
 }
@@ -86,7 +104,29 @@ impl ContactState {
                     && s.earlier
                         .iter()
                         .all(|e| e.normal_forces_n.len() == f.patch.len())
+                    && s.history_m
+                        .as_ref()
+                        .is_none_or(|h| h.len() == f.n_unknowns())
             })
+    }
+
+    /// The displacement added to the elastic one of every unknown of `model` (m, program
+    /// layout; [`crate::program::cone_program`]): `-d` on the normal unknowns of a finger
+    /// pressed in by a prescribed approach `d`, plus each finger's viscoelastic history.
+    pub fn offsets_m(&self, model: &GraspModel) -> Vec<f64> {
+        let mut o = vec![0.0; model.n_unknowns];
+        for (f, s) in model.fingers.iter().zip(&self.fingers) {
+            let d = f.control.approach_m();
+            if d != 0.0 {
+                o[f.offset..f.offset + f.patch.len()].fill(-d);
+            }
+            if let Some(h) = &s.history_m {
+                for (oj, hj) in o[f.offset..f.offset + f.n_unknowns()].iter_mut().zip(h) {
+                    *oj += hj;
+                }
+            }
+        }
+        o
     }
 
     /// Slip memory of every finger, m.

@@ -122,6 +122,8 @@ impl GraspSolver {
     ) -> Result<Solution, ModelError> {
         self.main.program.set_loads(model, loads_n);
         self.main.program.set_external_wrench(model);
+        let offsets = state.offsets_m(model);
+        self.main.program.set_offsets(model, &offsets);
         let p = &self.main.program;
         let stats = SolverStats {
             solver: match self.options.solver {

@@ -12,3 +12,4 @@ pub mod residuals;
 pub mod sensitivity;
 pub mod sequential;
 pub mod solution;
+pub mod viscous_history;

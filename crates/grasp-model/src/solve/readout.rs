@@ -5,13 +5,14 @@
 //! Multipliers (KKT of `min 1/2 x'Px + q'x, E x = e, x in K`: `P x + q + E' lambda = y`):
 //! - equilibrium rows: the object's rigid displacement, `delta = Fu Cu S' U lambda_eq`
 //!   (translation of `O` in m, rotation in rad);
-//! - load rows: minus the approach of the force-controlled finger, `a_i = -Fu Cu lambda_i`.
+//! - load rows: minus the approach of the force-controlled finger, `a_i = -Fu Cu lambda_i` (a
+//!   position-controlled finger reports its commanded approach).
 
 use std::time::Instant;
 
 use nalgebra::{DVector, Vector3};
 
-use crate::model::grasp_model::GraspModel;
+use crate::model::grasp_model::{Control, GraspModel};
 use crate::option_names;
 use crate::program::cone_program::{ConeProgram, LoadRow};
 use crate::solve::patch_check::patch_warnings;
@@ -351,7 +352,13 @@ pub(crate) fn build_solution(
     for &LoadRow { finger: i, row } in &program.load_rows {
         approach[i] = -multipliers[row] * s.displacement_m();
     }
-    let kin = contact_kinematics(model, &x_n, &t_o, &theta, &approach);
+    let kin = contact_kinematics(model, &x_n, &t_o, &theta, &approach, &program.offset_m);
+    // A position-controlled finger's approach is its command (its gaps carry it).
+    for (a, f) in approach.iter_mut().zip(&model.fingers) {
+        if let Control::Approach { metres } = f.control {
+            *a = metres;
+        }
+    }
     let states = element_states(model, &x_n, &kin, solved_with);
     // The law's coefficient at each finger's load (equal to the frozen one at a fixed point).
     let mu_at_load: Vec<f64> = model

@@ -1,9 +1,10 @@
 //! Residuals of a solution, computed from the forces and the rigid displacement with this
 //! crate's own matrices, never taken from the solver's report.
 //!
-//! Compatibility (thesis eqs. 61-65): `gap_k = c_k + (C x)_n,k + n . delta(p_k) - a_i >= 0`,
-//! with `w_k = (C x)_t,k + t . delta(p_k)` the relative tangential displacement (object minus
-//! finger) and `delta(p) = t + theta x (p - O)` the object's rigid displacement.
+//! Compatibility (thesis eqs. 61-65): `gap_k = c_k + (C x + o)_n,k + n . delta(p_k) - a_i >= 0`,
+//! with `w_k = (C x + o)_t,k + t . delta(p_k)` the relative tangential displacement (object
+//! minus finger), `delta(p) = t + theta x (p - O)` the object's rigid displacement and `o` the
+//! displacement added to the elastic one (prescribed approaches, viscoelastic history).
 //!
 //! - Energy model (associated friction, model.md): `gap_k = 0` where element `k` sticks and
 //!   `= mu |w_k|` where it slips.
@@ -36,13 +37,18 @@ pub struct ContactKinematics {
 /// - `x_n`: element forces, N, program layout;
 /// - `translation_o_m`, `rotation_rad`: rigid displacement of the object at the reference
 ///   point `O`;
-/// - `approach_m`: per finger, its advance along the inward normal (0 for held fingers).
+/// - `approach_m`: per finger, its advance along the inward normal as the program found it
+///   (force-controlled fingers; 0 for the others);
+/// - `offset_m`: per unknown (program layout), the displacement added to the elastic one:
+///   a prescribed approach (`-d` on the normal unknowns) and viscoelastic history
+///   ([`crate::program::cone_program`]).
 pub fn contact_kinematics(
     model: &GraspModel,
     x_n: &[f64],
     translation_o_m: &Vector3<f64>,
     rotation_rad: &Vector3<f64>,
     approach_m: &[f64],
+    offset_m: &[f64],
 ) -> ContactKinematics {
     let mut gap_m = Vec::with_capacity(model.fingers.len());
     let mut tangential_m = Vec::with_capacity(model.fingers.len());
@@ -51,6 +57,12 @@ pub fn contact_kinematics(
         let xi = &x_n[f.offset..f.offset + f.n_unknowns()];
         let mut u = vec![0.0; xi.len()];
         f.compliance_m_per_n.apply(xi, &mut u);
+        for (uj, o) in u
+            .iter_mut()
+            .zip(&offset_m[f.offset..f.offset + f.n_unknowns()])
+        {
+            *uj += o;
+        }
         let mut g = Vec::with_capacity(ne);
         let mut w = Vec::with_capacity(ne);
         for k in 0..ne {

@@ -98,7 +98,7 @@ fn warm_forces(model: &GraspModel, loads_n: &[f64], state: &ContactState) -> Opt
     for (f, s) in model.fingers.iter().zip(&state.fingers) {
         let prev = s.normal_forces_n.as_ref()?;
         match f.control {
-            Control::Held => out.push(prev.clone()),
+            Control::Held | Control::Approach { .. } => out.push(prev.clone()),
             Control::NormalLoad { .. } => {
                 let p_new = loads_n[j];
                 j += 1;
@@ -178,7 +178,7 @@ type ColdStart = Result<(Vec<Vec<f64>>, Iterate), (SolveStatus, String)>;
 fn cold_start(
     energy: &mut Option<ProgramSolver>,
     model: &GraspModel,
-    loads_n: &[f64],
+    (loads_n, offsets_m): (&[f64], &[f64]),
     memory: &[Vec<[f64; 2]>],
     options: &SolveOptions,
     stats: &mut SolverStats,
@@ -196,6 +196,7 @@ fn cold_start(
     ps.program.set_external_wrench(model);
     ps.program.set_mu(&guess_mu);
     ps.program.set_slip_memory(model, memory);
+    ps.program.set_offsets(model, offsets_m);
     let run = ps.solve(model, options, start_of(options))?;
     add_run(stats, &run);
     Ok(match run.outcome {
@@ -323,7 +324,8 @@ pub(crate) fn solve_sequential(
     let mut input = match warm {
         Some(f) => Input::of_forces(f),
         None if coulomb => {
-            match cold_start(energy, model, loads_n, &seq.memory, options, &mut seq.stats)? {
+            let data = (loads_n, main.program.offset_m.as_slice());
+            match cold_start(energy, model, data, &seq.memory, options, &mut seq.stats)? {
                 Ok((f, it)) => {
                     start_at = Some(it);
                     Input::of_forces(f)
@@ -494,7 +496,8 @@ fn after_infeasible(
         // The previous step's forces were a poor guess: restart from the energy model.
         seq.report.cold_restarts += 1;
         let (model, options) = (seq.model, seq.options);
-        let cold = cold_start(energy, model, loads_n, &seq.memory, options, &mut seq.stats)?;
+        let data = (loads_n, main.program.offset_m.as_slice());
+        let cold = cold_start(energy, model, data, &seq.memory, options, &mut seq.stats)?;
         return Ok(match cold {
             Ok((f, it)) => {
                 *input = Input::of_forces(f);
