@@ -152,8 +152,12 @@ def solve(
     solver: SolverName = "auto",
     tolerance: float = 1e-10,
     compliance: ComplianceName = "auto",
+    at_time: Optional[float] = None,
+    long_term: bool = False,
 ) -> Solution:
-    """Solves one grasp (GIL released); see the package docstring."""
+    """Solves one grasp (GIL released); see the package docstring. A viscoelastic scene is
+    answered at t = 0+ (its instantaneous response), ``at_time`` seconds after its loads were
+    applied as a step, or fully relaxed (``long_term=True``)."""
 
 def transfer(
     scene: Scene,

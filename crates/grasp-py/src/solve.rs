@@ -4,6 +4,7 @@
 use std::str::FromStr;
 use std::time::Instant;
 
+use grasp_model::analysis::relaxation::{solve_at, TimePoint};
 use grasp_model::model::patch_compliance::ComplianceChoice;
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice};
 use pyo3::prelude::*;
@@ -22,6 +23,9 @@ use crate::solution::Solution;
 ///   exceeds it; above, an answer is no solution).
 /// - `compliance`: `"auto"` (dense up to 1,024 unknowns a patch (32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D), the FFT operator above),
 ///   `"dense"` or `"fft"` (matrix-free, native solver; README "Fine patches").
+/// - `at_time`: a viscoelastic scene's state this many seconds (in (0, 1e9]) after its loads
+///   and approaches were applied as a step at t = 0; `long_term=True`: its fully relaxed
+///   state; neither: the instantaneous response (README "Viscoelastic pads").
 ///
 /// A grasp without equilibrium is a solution with status `"no_equilibrium"`, not an
 /// exception. The GIL is released while the model is built and solved.
@@ -33,7 +37,8 @@ pub(crate) fn compliance_choice(compliance: &str) -> PyResult<ComplianceChoice> 
 }
 
 #[pyfunction]
-#[pyo3(signature = (scene, *, model=None, solver="auto", tolerance=1e-10, compliance="auto"))]
+#[pyo3(signature = (scene, *, model=None, solver="auto", tolerance=1e-10, compliance="auto", at_time=None, long_term=false))]
+#[allow(clippy::too_many_arguments)]
 pub fn solve(
     py: Python<'_>,
     scene: &Scene,
@@ -41,9 +46,12 @@ pub fn solve(
     solver: &str,
     tolerance: f64,
     compliance: &str,
+    at_time: Option<f64>,
+    long_term: bool,
 ) -> PyResult<Solution> {
     let mut options = solve_options(solver, tolerance)?;
     options.compliance = compliance_choice(compliance)?;
+    let time = time_point(at_time, long_term)?;
     let scene_used = match model {
         Some(m) => {
             let mut s = scene.scene.clone();
@@ -54,7 +62,7 @@ pub fn solve(
         }
         None => scene.scene.clone(),
     };
-    let outcome = py.allow_threads(|| solve_scene(&scene_used, options));
+    let outcome = py.allow_threads(|| solve_scene(&scene_used, options, time));
     match outcome {
         Ok(s) => Ok(s),
         Err(Failure::Scene(e)) => Err(scene_error(py, &scene.origin, &e)),
@@ -83,15 +91,46 @@ enum Failure {
     Model(grasp_model::ModelError),
 }
 
+/// The time of a viscoelastic solve (`at_time=`, `long_term=`), or a ValueError naming the
+/// keyword.
+fn time_point(at_time: Option<f64>, long_term: bool) -> PyResult<TimePoint> {
+    Ok(match (at_time, long_term) {
+        (Some(_), true) => {
+            return Err(pyo3::exceptions::PyValueError::new_err(
+                "at_time= and long_term=True ask for two different times: give one",
+            ))
+        }
+        (Some(t), false) if !(t.is_finite() && t > 0.0 && t <= 1e9) => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "at_time={t}: give the time after the step in seconds, in (0, 1e9]"
+            )))
+        }
+        (Some(t), false) => TimePoint::At { seconds: t },
+        (None, true) => TimePoint::LongTerm,
+        (None, false) => TimePoint::Instantaneous,
+    })
+}
+
 /// Model, solver, solve: the path of `grasp solve` (no Python objects touched).
-fn solve_scene(scene: &grasp_model::Scene, options: SolveOptions) -> Result<Solution, Failure> {
+fn solve_scene(
+    scene: &grasp_model::Scene,
+    options: SolveOptions,
+    time: TimePoint,
+) -> Result<Solution, Failure> {
     let t0 = Instant::now();
     let model = GraspModel::from_scene_with(scene, options.compliance).map_err(Failure::Scene)?;
     let build_time_s = t0.elapsed().as_secs_f64();
-    let mut solver = GraspSolver::new(&model, options);
-    let mut solution = solver
-        .solve(&model, &model.scene_loads_n())
-        .map_err(Failure::Model)?;
+    let mut solution = match time {
+        TimePoint::Instantaneous => GraspSolver::new(&model, options)
+            .solve(&model, &model.scene_loads_n())
+            .map_err(Failure::Model)?,
+        later => {
+            let clock = Instant::now();
+            let mut timed = solve_at(&model, options, later).map_err(Failure::Model)?;
+            timed.solution.solve_time_s = clock.elapsed().as_secs_f64();
+            timed.solution
+        }
+    };
     crate::keywords::respell_solution(&mut solution);
     let frames = crate::solution::tangents_by_name(scene);
     let tangents = solution

@@ -4,7 +4,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
+use grasp_model::analysis::relaxation::{solve_at, TimePoint, TimedSolution};
 use grasp_model::model::patch_compliance::ComplianceChoice;
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice};
 
@@ -53,8 +54,31 @@ pub struct Args {
     /// volume and mass, and the shape checks' warnings.
     #[arg(long)]
     pub explain_frames: bool,
+    /// A viscoelastic scene's state this many seconds after its loads and approaches were
+    /// applied as a step at t = 0 (the history stepped: 50 steps a decade), instead of the
+    /// instantaneous response; in (0, 1e9].
+    #[arg(long, value_name = "SECONDS", conflicts_with_all = ["long_term", "auto_patch", "sensitivities"])]
+    pub at_time: Option<f64>,
+    /// A viscoelastic scene's fully relaxed state (every viscoelastic body at its long-term
+    /// modulus), instead of the instantaneous response.
+    #[arg(long, conflicts_with_all = ["auto_patch", "sensitivities"])]
+    pub long_term: bool,
     #[command(flatten)]
     pub memory: MemoryArg,
+}
+
+/// The time point `--at-time` / `--long-term` ask for.
+fn time_point(at_time: Option<f64>, long_term: bool) -> Result<TimePoint> {
+    Ok(match (at_time, long_term) {
+        (Some(t), _) => {
+            if !(t.is_finite() && t > 0.0 && t <= 1e9) {
+                bail!("--at-time {t}: give the time after the step in seconds, in (0, 1e9]");
+            }
+            TimePoint::At { seconds: t }
+        }
+        (None, true) => TimePoint::LongTerm,
+        (None, false) => TimePoint::Instantaneous,
+    })
 }
 
 /// `grasp solve`.
@@ -70,8 +94,11 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         compliance,
         sensitivities,
         explain_frames,
+        at_time,
+        long_term,
         memory,
     } = args;
+    let time = time_point(at_time, long_term)?;
     let options = SolveOptions {
         tolerance,
         solver,
@@ -116,12 +143,27 @@ pub fn execute(args: Args) -> Result<ExitCode> {
             .with_context(|| format!("{} is not a usable scene", scene.display()))?;
         let build_s = t0.elapsed().as_secs_f64();
         // The solve's time covers the program assembly (GraspSolver::new) too.
-        let mut solver = GraspSolver::new(&model, options);
-        let solution = solver.solve(&model, &model.scene_loads_n())?;
-        let sens = match sensitivities {
-            true => sensitivities_of(&mut solver, &model, &solution)?,
-            false => None,
+        let (solution, sens) = match time {
+            TimePoint::Instantaneous => {
+                let mut solver = GraspSolver::new(&model, options);
+                let solution = solver.solve(&model, &model.scene_loads_n())?;
+                let sens = match sensitivities {
+                    true => sensitivities_of(&mut solver, &model, &solution)?,
+                    false => None,
+                };
+                (solution, sens)
+            }
+            later => {
+                let clock = Instant::now();
+                let mut timed = solve_at(&model, options, later)?;
+                timed.solution.solve_time_s = clock.elapsed().as_secs_f64();
+                println!("{}", time_line(&model, &timed));
+                (timed.solution, None)
+            }
         };
+        if time == TimePoint::Instantaneous && model.is_viscoelastic() {
+            println!("viscoelastic: {time}; --at-time SECONDS or --long-term for a later state");
+        }
         (scene_obj, model, solution, build_s, sens)
     };
     let mut solution = solution;
@@ -142,6 +184,13 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     if let Some(out) = &json {
         // Every outcome is written, "no equilibrium" (exit 2) included: it is the result.
         let mut value = serde_json::to_value(&solution)?;
+        if model.is_viscoelastic() {
+            value["time"] = match time {
+                TimePoint::Instantaneous => serde_json::json!("instantaneous"),
+                TimePoint::At { seconds } => serde_json::json!({ "at_s": seconds }),
+                TimePoint::LongTerm => serde_json::json!("long_term"),
+            };
+        }
         if let Some((sens, _)) = &sens {
             value["sensitivities"] = serde_json::to_value(sens)?;
         }
@@ -169,4 +218,20 @@ fn sensitivities_of(
     let t = Instant::now();
     let sens = solver.sensitivities(model, solution)?;
     Ok(Some((sens, t.elapsed().as_secs_f64())))
+}
+
+/// What a solve at a later time answered: the time, and how many programs its history took
+/// (or that the scene is elastic, so every time gives the same answer).
+fn time_line(model: &GraspModel, timed: &TimedSolution) -> String {
+    match model.is_viscoelastic() {
+        true => format!(
+            "viscoelastic: {} ({} programs stepped through the history)",
+            timed.time, timed.steps
+        ),
+        false => format!(
+            "the scene is elastic (no material has a relaxation law): {} is the \
+             instantaneous response",
+            timed.time
+        ),
+    }
 }
