@@ -111,6 +111,10 @@ fn warm_steps_equal_fresh_cold_solves() {
                         f.control =
                             serde_json::from_value(serde_json::json!({"normal_load": p})).unwrap()
                     }
+                    Command::Approach(d) => {
+                        f.control =
+                            serde_json::from_value(serde_json::json!({"approach_m": d})).unwrap()
+                    }
                 }
                 Some(f)
             })

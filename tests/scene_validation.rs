@@ -428,3 +428,38 @@ fn unresolved_and_half_space_like_layers_are_warned_about() {
         "{fine:#?}"
     );
 }
+
+/// Relaxation laws and approach control (issue 26): fractions outside `[0, 1)` or summing to
+/// 1 or more, times out of range, a long-term modulus above the instantaneous one, and an
+/// approach out of range are named with the fix.
+#[test]
+fn relaxation_laws_and_approaches_out_of_range() {
+    let law = |r: Value| {
+        let mut v = cube();
+        v["fingers"][0]["material"]["relaxation"] = r;
+        v
+    };
+    assert_problem(
+        &law(json!([{"fraction": 1.2, "time_s": 1.0}])),
+        "fingers[0].material.relaxation[0].fraction",
+        "is 1.2",
+    );
+    assert_problem(
+        &law(json!([{"fraction": 0.6, "time_s": 1.0}, {"fraction": 0.5, "time_s": 2.0}])),
+        "fingers[0].material.relaxation",
+        "summing to 1.1",
+    );
+    assert_problem(
+        &law(json!([{"fraction": 0.3, "time_s": 0.0}])),
+        "fingers[0].material.relaxation[0].time_s",
+        "outside",
+    );
+    assert_problem(
+        &law(json!({"long_term_modulus": 1e12, "time_s": 1.0})),
+        "fingers[0].material.relaxation.long_term_modulus",
+        "is 1e12 Pa",
+    );
+    let mut v = cube();
+    v["fingers"][1]["control"] = json!({"approach_m": -0.001});
+    assert_problem(&v, "fingers[1].control.approach_m", "outside");
+}

@@ -365,3 +365,32 @@ fn a_bad_external_csv_is_one_problem() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Approach ramps and holds (issue 26): a bad approach or duration is named with the fix; a
+/// hold keeps the phase before's last command for its duration, then the next phase runs.
+#[test]
+fn approach_ramps_and_holds() {
+    let mut v = base();
+    v["fingers"] = json!({"f1": [{"approach": {"keyframes": [[0, 0.001], [1, 2.0]]}}]});
+    assert_problem(
+        &v,
+        "fingers.f1[0].approach.keyframes[1]",
+        "outside [0, 1] m",
+    );
+    let mut v = base();
+    v["fingers"] =
+        json!({"f1": [{"approach": {"keyframes": [[0, 0.001]]}}, {"hold": {"duration_s": -2}}]});
+    assert_problem(&v, "fingers.f1[1].hold.duration_s", "is -2 s");
+    let v = json!({"time": {"start": 0, "end": 4, "step": 0.5},
+        "fingers": {"f1": [
+            {"approach": {"keyframes": [[0, 0.0], [1, 0.002]]}},
+            {"hold": {"duration_s": 2}},
+            {"ramp": {"keyframes": [[3.5, 5.0]]}}]}});
+    let s = Schedule::from_json_str(&v.to_string(), &names(), Path::new(".")).unwrap();
+    let at = |t: f64| s.command(0, t, 0.0, Command::Held);
+    assert_eq!(at(0.0), Command::Held);
+    assert_eq!(at(0.5), Command::Approach(0.001));
+    assert_eq!(at(2.0), Command::Approach(0.002));
+    assert_eq!(at(3.0), Command::Approach(0.002));
+    assert_eq!(at(3.5), Command::Load(5.0));
+}

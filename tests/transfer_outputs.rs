@@ -513,7 +513,60 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
                 wall_time_s: c.wall_time_s + m.time_s,
             },
         ),
+        held_relaxation: held_relaxation(records, names),
+        margin_below_threshold: None,
     }
+}
+
+/// Per finger, the largest fall of its normal force over a run of solved steps with one
+/// unchanged held (or approach) command, from the largest force since that run began.
+fn held_relaxation(
+    records: &[grasp_transfer::StepRecord],
+    names: &[String],
+) -> Vec<grasp_transfer::summary::HeldRelaxation> {
+    use grasp_transfer::Command;
+    let mut out = Vec::new();
+    for (i, name) in names.iter().enumerate() {
+        let solved: Vec<_> = records
+            .iter()
+            .filter(|r| r.solution.status.has_forces())
+            .collect();
+        let mut best: Option<grasp_transfer::summary::HeldRelaxation> = None;
+        for (j, r) in solved.iter().enumerate() {
+            let c = r.commands[i].command;
+            if !matches!(c, Command::Held | Command::Approach(_)) {
+                continue;
+            }
+            // The run of the same command ending at step j, and its largest force (the latest
+            // one of equal forces wins: a fall is measured from where it starts).
+            let run_start = (0..=j)
+                .rev()
+                .take_while(|&m| solved[m].commands[i].command == c)
+                .last()
+                .unwrap();
+            let (peak_n, peak_t) = solved[run_start..=j]
+                .iter()
+                .map(|s| (s.normal_force_n(name), s.time_s))
+                .fold(
+                    (f64::NEG_INFINITY, 0.0),
+                    |a, b| if b.0 >= a.0 { b } else { a },
+                );
+            let p = r.normal_force_n(name);
+            let fraction = if peak_n > 0.0 { 1.0 - p / peak_n } else { 0.0 };
+            if fraction > 1e-9 && best.as_ref().is_none_or(|b| fraction > b.fraction) {
+                best = Some(grasp_transfer::summary::HeldRelaxation {
+                    finger: name.clone(),
+                    from_n: peak_n,
+                    from_time_s: peak_t,
+                    to_n: p,
+                    to_time_s: r.time_s,
+                    fraction,
+                });
+            }
+        }
+        out.extend(best);
+    }
+    out
 }
 
 #[test]

@@ -371,3 +371,60 @@ fn a_relaxing_pinch_starts_to_slip_when_two_mu_p_reaches_the_weight() {
     assert_eq!(before.solution.status, SolveStatus::Solved);
     assert_ne!(after.solution.status, SolveStatus::Solved);
 }
+
+/// A hand-off that holds (`examples/plate_hold_viscoelastic.json` with its schedule: two
+/// position-controlled fingers pressed in by 0.6 mm at t = 0, then a 60 s hold in steps of
+/// 0.5 s, coulomb model): each finger's squeeze relaxes like the pads' `E(t)/E_0 = 0.5 + 0.5
+/// exp(-t / 5 s)` within 0.5 % (the stepping's second-order error, `(dt/tau)^2 / 12 = 1e-3`
+/// relative at most, and the friction's coupling); the summary reports the fall; and pressed
+/// in by 0.5 mm the plate slips at the first step after `2 mu P(t) = W` (t* = 10.1 s).
+#[test]
+fn a_held_plate_relaxes_in_a_hand_off_and_slips_when_the_squeeze_is_short() {
+    use grasp_transfer::{run_collect, Schedule, TransferOptions};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples");
+    let scene_text = std::fs::read_to_string(root.join("plate_hold_viscoelastic.json")).unwrap();
+    let schedule_text =
+        std::fs::read_to_string(root.join("plate_hold_viscoelastic.schedule.json")).unwrap();
+    let run = |approach: f64| {
+        let scene =
+            Scene::from_json_str(&scene_text.replace("0.0006", &approach.to_string())).unwrap();
+        let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+        let text = schedule_text.replace("0.0006", &approach.to_string());
+        let schedule = Schedule::from_json_str(&text, &names, &root).unwrap();
+        let options = TransferOptions {
+            keep_going: true,
+            ..TransferOptions::default()
+        };
+        run_collect(&scene, &schedule, options, &mut []).unwrap()
+    };
+    let (records, summary) = run(0.0006);
+    let p0 = records[0].normal_force_n("f1");
+    for r in records.iter().step_by(10) {
+        let want = 0.5 + 0.5 * (-r.time_s / 5.0).exp();
+        let got = r.normal_force_n("f1") / p0;
+        assert!(
+            (got - want).abs() <= 5e-3 * want,
+            "t {}: {got} vs {want}",
+            r.time_s
+        );
+    }
+    let fall = summary
+        .held_relaxation
+        .iter()
+        .find(|h| h.finger == "f1")
+        .unwrap();
+    assert!((fall.fraction - 0.5).abs() < 0.01, "{fall:?}");
+    let (short, _) = run(0.0005);
+    let w = 4.448;
+    let p0 = short[0].normal_force_n("f1");
+    let t_star = -5.0 * ((w / (2.0 * 0.4 * p0) - 0.5) / 0.5f64).ln();
+    let first_failure = short
+        .iter()
+        .find(|r| !r.solution.status.has_forces())
+        .unwrap();
+    eprintln!(
+        "0.5 mm: P0 {p0:.4} N, t* {t_star:.3} s, first failed step at {} s",
+        first_failure.time_s
+    );
+    assert!(first_failure.time_s > t_star && first_failure.time_s <= t_star + 0.5);
+}

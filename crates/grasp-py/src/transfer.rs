@@ -72,6 +72,7 @@ pub fn transfer(
         warm_start: !cold,
         solve,
         margins,
+        margin_threshold_n: None,
     };
     let (schedule, mut inputs) = load_schedule(py, scene, schedule)?;
     inputs.extend(&scene.inputs);

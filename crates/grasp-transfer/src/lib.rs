@@ -78,7 +78,8 @@ pub fn run(
         margins: options.margins,
     };
     let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
-    let mut summary = SummaryAccumulator::new(&names);
+    let mut summary =
+        SummaryAccumulator::new(&names).with_margin_threshold(options.margin_threshold_n);
     let mut last = None;
     let outcome = (|| {
         for s in sinks.iter_mut() {

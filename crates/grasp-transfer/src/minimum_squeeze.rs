@@ -117,6 +117,7 @@ pub fn minimum_squeeze(
             .enumerate()
             .filter_map(|(i, c)| match c {
                 Command::Held => Some((i, Control::Held)),
+                Command::Approach(d) => Some((i, Control::Approach { metres: *d })),
                 Command::Load(p) => Some((i, Control::NormalLoad { newtons: s * p })),
                 Command::Released => None,
             })

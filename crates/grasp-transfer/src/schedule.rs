@@ -9,8 +9,11 @@
 //!     "f5": [ {"csv": {"path": "f5.csv", "time_column": "t_s", "load_column": "load_n"}} ] } }
 //! ```
 //!
-//! Each finger runs through its phases in order; a phase lasts until its end time (`held.until`,
-//! the last keyframe, the last CSV row); after the last phase its final state persists. A
+//! Phases also ramp a position-controlled finger's approach (`{"approach": {"keyframes": [[t,
+//! m], ...]}}`) or hold the phase before's last command (`{"hold": {"duration_s": D}}`, from its
+//! end). Each finger runs through its phases in order; a phase lasts until its end time
+//! (`held.until`, the last keyframe, the last CSV row, a hold's end); after the last phase its
+//! final state persists. A
 //! finger whose scheduled load is zero is released: it leaves the problem at that step.
 //! Fingers the schedule does not name keep the scene's control. Times in seconds, loads in
 //! newtons. The keyframe value `"current"` is the normal force the finger carried at the step
@@ -153,6 +156,32 @@ pub enum PhaseSpec {
     Ramp(RampPhase),
     /// Normal load read from a CSV file.
     Csv(CsvPhase),
+    /// Approach (position control) following keyframes.
+    Approach(ApproachPhase),
+    /// The command of the phase before (or the scene's control) kept for a duration: a hold,
+    /// during which a viscoelastic pad relaxes.
+    Hold(HoldPhase),
+}
+
+/// An approach ramp through keyframes `[time s, approach m]`: the finger pressed in by that
+/// much from first touch (0: held at first touch), its load found by the model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ApproachPhase {
+    /// Keyframes `[time s, approach m]`, times strictly increasing (`|t| <= 1e9`), approaches
+    /// in `[0, 1]` m.
+    pub keyframes: Vec<(f64, f64)>,
+    /// Interpolation between keyframes (default `linear`).
+    #[serde(default)]
+    pub easing: Easing,
+}
+
+/// A hold.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct HoldPhase {
+    /// How long, s (> 0), from the end of the phase before (or the schedule's start).
+    pub duration_s: f64,
 }
 
 /// A held phase.
@@ -251,6 +280,9 @@ pub enum Command {
     Load(f64),
     /// Load zero: out of the problem.
     Released,
+    /// Pressed in by a prescribed approach from first touch, m (> 0); its load is found by
+    /// the model.
+    Approach(f64),
 }
 
 /// A validated phase with resolved keyframes.
@@ -268,6 +300,18 @@ pub enum Phase {
         /// Interpolation.
         easing: Easing,
     },
+    /// Approach keyframes.
+    Approach {
+        /// `(time s, approach m)`.
+        keyframes: Vec<(f64, f64)>,
+        /// Interpolation.
+        easing: Easing,
+    },
+    /// The phase before's last command (or the scene's control), until the time.
+    Hold {
+        /// End, s.
+        until: f64,
+    },
 }
 
 impl Phase {
@@ -275,6 +319,8 @@ impl Phase {
         match self {
             Phase::Held { until } => *until,
             Phase::Ramp { keyframes, .. } => keyframes.last().map(|k| k.0),
+            Phase::Approach { keyframes, .. } => keyframes.last().map(|k| k.0),
+            Phase::Hold { until } => Some(*until),
         }
     }
 }
@@ -342,7 +388,8 @@ impl Schedule {
                 );
                 continue;
             };
-            phases[idx] = Some(finger_phases(&path, list, base_dir, &mut v));
+            let start = times.first().copied().unwrap_or(0.0);
+            phases[idx] = Some(finger_phases(&path, list, (base_dir, start), &mut v));
         }
         let external = spec
             .external
@@ -397,13 +444,21 @@ impl Schedule {
     /// The command for finger `i` at time `t`, given the resolved value of `"current"` for its
     /// active phase (N) and the scene's own command (for unscheduled fingers).
     pub fn command(&self, i: usize, t: f64, current_n: f64, scene: Command) -> Command {
-        let phase = self
-            .phase_index(i, t)
-            .and_then(|p| self.phases.get(i)?.as_ref()?.get(p));
-        match phase {
+        match self.phase_index(i, t) {
             None => scene,
-            Some(Phase::Held { .. }) => Command::Held,
-            Some(Phase::Ramp { keyframes, easing }) => {
+            Some(p) => self.phase_command(i, p, t, current_n, scene),
+        }
+    }
+
+    /// The command of phase `p` of finger `i` at time `t` (a hold: the phase before's at its
+    /// end, or the scene's).
+    fn phase_command(&self, i: usize, p: usize, t: f64, current_n: f64, scene: Command) -> Command {
+        let Some(list) = self.phases.get(i).and_then(Option::as_ref) else {
+            return scene;
+        };
+        match &list[p] {
+            Phase::Held { .. } => Command::Held,
+            Phase::Ramp { keyframes, easing } => {
                 let load = ramp_load(keyframes, *easing, t, current_n);
                 if load > 0.0 {
                     Command::Load(load)
@@ -411,6 +466,23 @@ impl Schedule {
                     Command::Released
                 }
             }
+            Phase::Approach { keyframes, easing } => {
+                let k: Vec<(f64, Option<f64>)> =
+                    keyframes.iter().map(|k| (k.0, Some(k.1))).collect();
+                let d = ramp_load(&k, *easing, t, 0.0);
+                if d > 0.0 {
+                    Command::Approach(d)
+                } else {
+                    Command::Held
+                }
+            }
+            Phase::Hold { .. } => match p.checked_sub(1) {
+                None => scene,
+                Some(q) => {
+                    let end = list[q].end().unwrap_or(t);
+                    self.phase_command(i, q, end, current_n, scene)
+                }
+            },
         }
     }
 }
@@ -576,7 +648,12 @@ fn explicit_times(times: &[f64], v: &mut Problems) -> Vec<f64> {
 }
 
 /// Resolves the phases of one finger.
-fn finger_phases(path: &str, list: &[PhaseSpec], base_dir: &Path, v: &mut Problems) -> Vec<Phase> {
+fn finger_phases(
+    path: &str,
+    list: &[PhaseSpec],
+    (base_dir, start_s): (&Path, f64),
+    v: &mut Problems,
+) -> Vec<Phase> {
     if list.is_empty() {
         v.push(
             path.to_string(),
@@ -597,6 +674,20 @@ fn finger_phases(path: &str, list: &[PhaseSpec], base_dir: &Path, v: &mut Proble
             }
             PhaseSpec::Ramp(r) => ramp_phase(&pp, r, v),
             PhaseSpec::Csv(c) => csv_phase(&format!("{pp}.csv"), c, base_dir, v),
+            PhaseSpec::Approach(a) => approach_phase(&pp, a, v),
+            PhaseSpec::Hold(h) => {
+                let from = last_end.as_ref().map_or(start_s, |e| e.0);
+                if !(h.duration_s.is_finite() && h.duration_s > 0.0 && h.duration_s <= MAX_TIME_S) {
+                    v.push(
+                        format!("{pp}.hold.duration_s"),
+                        format!("is {} s", N(h.duration_s)),
+                        "give how long the hold lasts in seconds, > 0",
+                    );
+                }
+                Phase::Hold {
+                    until: from + h.duration_s,
+                }
+            }
         };
         if let (Some((prev, prev_path)), Some(end)) = (&last_end, ph.end()) {
             if end < *prev {
@@ -624,6 +715,43 @@ fn finger_phases(path: &str, list: &[PhaseSpec], base_dir: &Path, v: &mut Proble
         resolved.push(ph);
     }
     resolved
+}
+
+/// An approach ramp's keyframes: times in range and increasing, approaches in `[0, 1]` m.
+fn approach_phase(pp: &str, a: &ApproachPhase, v: &mut Problems) -> Phase {
+    if a.keyframes.is_empty() {
+        v.push(
+            format!("{pp}.approach.keyframes"),
+            "is empty".into(),
+            "give at least one [time, approach]",
+        );
+    }
+    for (k, (t, d)) in a.keyframes.iter().enumerate() {
+        let kp = format!("{pp}.approach.keyframes[{k}]");
+        v.time(kp.clone(), *t, false);
+        if k > 0 && !(*t > a.keyframes[k - 1].0) {
+            v.push(
+                kp.clone(),
+                format!(
+                    "time {} s is not after {} s",
+                    N(*t),
+                    N(a.keyframes[k - 1].0)
+                ),
+                "list keyframes in strictly increasing time",
+            );
+        }
+        if !(d.is_finite() && (0.0..=1.0).contains(d)) {
+            v.push(
+                kp,
+                format!("approach is {} m, outside [0, 1] m", N(*d)),
+                "give how far the finger is pressed in from first touch, in metres",
+            );
+        }
+    }
+    Phase::Approach {
+        keyframes: a.keyframes.clone(),
+        easing: a.easing,
+    }
 }
 
 /// A ramp's keyframes: times in range and increasing, loads in range.

@@ -24,6 +24,7 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use grasp_model::solve::solution::SolverStats;
+use grasp_model::solve::viscous_history::{advance_step, prepare_step};
 use grasp_model::{
     ContactState, Control, FingerState, GraspModel, GraspSolver, Scene, SceneError, Solution,
     SolveOptions, SolverKind,
@@ -47,6 +48,9 @@ pub struct TransferOptions {
     /// Compute each solved step's smallest disturbance margin ([`crate::step_margin`]; about
     /// 10 to 20 extra solves per axis direction and step).
     pub margins: bool,
+    /// With `margins`, the summary says when the smallest margin first fell below this many
+    /// newtons.
+    pub margin_threshold_n: Option<f64>,
 }
 
 impl Default for TransferOptions {
@@ -56,6 +60,7 @@ impl Default for TransferOptions {
             warm_start: true,
             solve: SolveOptions::default(),
             margins: false,
+            margin_threshold_n: None,
         }
     }
 }
@@ -113,7 +118,7 @@ fn structure_of(commands: &[Command]) -> (StructureKey, Vec<f64>) {
         .iter()
         .enumerate()
         .filter_map(|(i, c)| match c {
-            Command::Held => Some((i, false)),
+            Command::Held | Command::Approach(_) => Some((i, false)),
             Command::Load(_) => Some((i, true)),
             Command::Released => None,
         })
@@ -135,7 +140,12 @@ pub struct Stepper<'a> {
     base: Result<Cow<'a, GraspModel>, SceneError>,
     schedule: &'a Schedule,
     options: TransferOptions,
-    cache: BTreeMap<StructureKey, (GraspModel, GraspSolver)>,
+    /// Per structure and time step (the step's bits; 0 for an elastic scene), the model and
+    /// its solver.
+    cache: BTreeMap<(StructureKey, u64), (GraspModel, GraspSolver)>,
+    /// Schedule time of the last step that found forces, s (the next step's viscoelastic
+    /// history runs from it).
+    last_solved_s: Option<f64>,
     /// Contact state of each active finger, by name.
     states: BTreeMap<String, FingerState>,
     /// Normal force of each scene finger at the last successful step, N.
@@ -183,6 +193,7 @@ impl<'a> Stepper<'a> {
             schedule,
             options,
             cache: BTreeMap::new(),
+            last_solved_s: None,
             states: BTreeMap::new(),
             previous_normal_n: vec![0.0; n],
             current: vec![None; n],
@@ -209,10 +220,12 @@ impl<'a> Stepper<'a> {
     }
 
     fn scene_command(&self, i: usize) -> Command {
-        match self.scene.fingers[i].control.normal_load_n() {
-            None => Command::Held,
-            Some(p) if p > 0.0 => Command::Load(p),
-            Some(_) => Command::Released,
+        let control = &self.scene.fingers[i].control;
+        match (control.normal_load_n(), control.approach_m()) {
+            (Some(p), _) if p > 0.0 => Command::Load(p),
+            (Some(_), _) => Command::Released,
+            (None, Some(d)) if d > 0.0 => Command::Approach(d),
+            (None, _) => Command::Held,
         }
     }
 
@@ -233,7 +246,7 @@ impl<'a> Stepper<'a> {
                 .map(|(i, f)| (i, matches!(f.control, Control::NormalLoad { .. })))
                 .collect();
             let model = model.clone();
-            self.cache.insert(key, (model, solver));
+            self.cache.insert((key, 0), (model, solver));
         }
         Ok(self
             .scene
@@ -296,16 +309,29 @@ impl<'a> Stepper<'a> {
         Ok(out)
     }
 
+    /// The time step of step `k` at `t` s for the viscoelastic history: the time since the
+    /// last step that found forces (0 at the first: the loads applied as a step); always 0 for
+    /// an elastic scene.
+    fn time_step_s(&self, t: f64) -> f64 {
+        let viscous = self.base.as_ref().is_ok_and(|m| m.is_viscoelastic());
+        match (viscous, self.last_solved_s) {
+            (true, Some(prev)) => t - prev,
+            _ => 0.0,
+        }
+    }
+
     /// Solves step `k` of the schedule.
     fn solve_step(&mut self, k: usize) -> Result<StepRecord, TransferError> {
         let start = Instant::now();
         let t = self.schedule.times[k];
         let external = self.schedule.external_at(t);
         let commands = self.commands(k)?;
-        let (key, loads) = structure_of(&commands);
+        let (structure, loads) = structure_of(&commands);
+        let dt = self.time_step_s(t);
+        let key = (structure, dt.to_bits());
         let reused = self.reusable(&key, &loads);
         if !reused {
-            if key.is_empty() {
+            if key.0.is_empty() {
                 // Nothing holds the object: a reported outcome, not an error.
                 self.states.clear();
                 let sol = empty_grasp_solution(self.scene);
@@ -313,14 +339,25 @@ impl<'a> Stepper<'a> {
             }
             self.build_program(t, &key, &loads)?;
         }
-        let solved = self.solve_cached(&key, &loads, external)?;
+        let approaches: Vec<(usize, f64)> = commands
+            .iter()
+            .enumerate()
+            .filter_map(|(i, c)| match c {
+                Command::Approach(d) => Some((i, *d)),
+                _ => None,
+            })
+            .collect();
+        let solved = self.solve_cached(&key, (&loads, &approaches), external)?;
+        if solved.0.status.has_forces() {
+            self.last_solved_s = Some(t);
+        }
         Ok(self.record(k, (t, external), commands, solved, start, reused))
     }
 
     /// True when the cached program of structure `key` can answer a step with `loads` (N):
     /// warm stepping, and the step's load scale within a factor 1e3 of the one the program was
     /// scaled with (the scaled problem stays well conditioned).
-    fn reusable(&self, key: &StructureKey, loads: &[f64]) -> bool {
+    fn reusable(&self, key: &(StructureKey, u64), loads: &[f64]) -> bool {
         let step_scale = loads.iter().copied().fold(self.external_scale_n, f64::max);
         self.options.warm_start
             && self.cache.get(key).is_some_and(|(m, _)| {
@@ -334,11 +371,12 @@ impl<'a> Stepper<'a> {
     fn build_program(
         &mut self,
         t: f64,
-        key: &StructureKey,
+        key: &(StructureKey, u64),
         loads: &[f64],
     ) -> Result<(), TransferError> {
         let mut load = loads.iter();
         let active: Vec<(usize, Control)> = key
+            .0
             .iter()
             .map(|&(i, fc)| match fc.then(|| load.next()).flatten() {
                 Some(&p) => (i, Control::NormalLoad { newtons: p }),
@@ -352,7 +390,8 @@ impl<'a> Stepper<'a> {
             .restricted(&active)
             .ok_or(TransferError::Internal(
                 "a step's active fingers are not in the scene",
-            ))?;
+            ))?
+            .for_time_step(f64::from_bits(key.1));
         let solver = GraspSolver::new(&model, self.step_solve_options());
         if !self.options.warm_start {
             self.cache.clear();
@@ -386,8 +425,8 @@ impl<'a> Stepper<'a> {
     /// external wrench, and the step's margin when asked for.
     fn solve_cached(
         &mut self,
-        key: &StructureKey,
-        loads: &[f64],
+        key: &(StructureKey, u64),
+        (loads, approaches): (&[f64], &[(usize, f64)]),
         external: Option<ExternalWrench>,
     ) -> Result<(Solution, Option<StepMargin>), TransferError> {
         let options = self.options;
@@ -395,14 +434,32 @@ impl<'a> Stepper<'a> {
             return Err(TransferError::Internal("the step's program is not cached"));
         };
         let mut state = self.contact_state_of(&model);
-        // The scheduled external wrench rides on the step's model (the program reads it).
+        // The scheduled external wrench and approaches ride on the step's model (the program
+        // reads them).
         let loaded = external.map(|e| {
             let w = model.wrench_at_center_of_mass(&e.force_n.into(), &e.torque_nm.into());
             model.with_extra_wrench(&w)
         });
-        let step_model = loaded.as_ref().unwrap_or(&model);
+        let pressed = (!approaches.is_empty()).then(|| {
+            let mut m = loaded.clone().unwrap_or_else(|| model.clone());
+            for &(i, d) in approaches {
+                let name = &self.scene.fingers[i].name;
+                if let Some(f) = m.fingers.iter_mut().find(|f| &f.name == name) {
+                    f.control = Control::Approach { metres: d };
+                }
+            }
+            m
+        });
+        let step_model = pressed.as_ref().or(loaded.as_ref()).unwrap_or(&model);
+        let dt = f64::from_bits(key.1);
+        prepare_step(step_model, &mut state, dt);
         let before = options.margins.then(|| state.clone());
         let solved = solver.solve_step(step_model, loads, &mut state);
+        if let Ok(sol) = &solved {
+            if sol.status.has_forces() {
+                advance_step(step_model, &mut state, dt, sol);
+            }
+        }
         let margin = match (&solved, before) {
             (Ok(sol), Some(b)) if sol.status.has_forces() => {
                 Some(step_margin(step_model, &b, options.solve))

@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use crate::schedule::Command;
 use crate::stepper::StepRecord;
 use grasp_model::model::patch_compliance::CompliancePath;
 
@@ -62,6 +63,44 @@ pub struct TransferSummary {
     pub least_safe_step: Option<LeastSafeStep>,
     /// Solves and wall time spent on the margins.
     pub margin_cost: MarginCost,
+    /// Per held or position-controlled finger whose normal force fell while its command stayed
+    /// the same (a viscoelastic pad relaxing; also load taken over by other fingers), the
+    /// largest such fall, by finger in scene order.
+    pub held_relaxation: Vec<HeldRelaxation>,
+    /// The first step whose smallest disturbance margin fell below the threshold asked for
+    /// (`TransferOptions::margin_threshold_n`), when margins were computed.
+    pub margin_below_threshold: Option<MarginCrossing>,
+}
+
+/// The largest fall of a held (or position-controlled) finger's normal force under one
+/// unchanged command.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HeldRelaxation {
+    /// The finger.
+    pub finger: String,
+    /// The force the fall started from (its largest under the command), N, and when, s.
+    pub from_n: f64,
+    /// When the fall started, s.
+    pub from_time_s: f64,
+    /// The force it fell to, N.
+    pub to_n: f64,
+    /// When, s.
+    pub to_time_s: f64,
+    /// `1 - to / from`.
+    pub fraction: f64,
+}
+
+/// When the smallest disturbance margin first fell below a threshold.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MarginCrossing {
+    /// The threshold, N.
+    pub threshold_n: f64,
+    /// Step index.
+    pub step: usize,
+    /// Schedule time, s.
+    pub time_s: f64,
+    /// The step's smallest margin, N.
+    pub margin_n: f64,
 }
 
 /// A step that found no forces.
@@ -185,6 +224,11 @@ pub struct SummaryAccumulator {
     sequential: Option<SequentialTotals>,
     least_safe: Option<LeastSafeStep>,
     margin_cost: MarginCost,
+    /// Per finger: its command and the largest force under it (N, time s) while unchanged.
+    held_peak: Vec<Option<(Command, f64, f64)>>,
+    held_relaxation: Vec<Option<HeldRelaxation>>,
+    threshold_n: Option<f64>,
+    crossing: Option<MarginCrossing>,
 }
 
 impl SummaryAccumulator {
@@ -224,6 +268,49 @@ impl SummaryAccumulator {
             sequential: None,
             least_safe: None,
             margin_cost: MarginCost::default(),
+            held_peak: vec![None; names.len()],
+            held_relaxation: vec![None; names.len()],
+            threshold_n: None,
+            crossing: None,
+        }
+    }
+
+    /// Also reports the first step whose smallest disturbance margin falls below
+    /// `threshold_n` (N).
+    pub fn with_margin_threshold(mut self, threshold_n: Option<f64>) -> Self {
+        self.threshold_n = threshold_n;
+        self
+    }
+
+    /// A held or position-controlled finger's force under an unchanged command: its peak, and
+    /// the largest fall from it.
+    fn add_held(&mut self, r: &StepRecord) {
+        for (i, c) in r.commands.iter().enumerate() {
+            if !matches!(c.command, Command::Held | Command::Approach(_)) {
+                self.held_peak[i] = None;
+                continue;
+            }
+            let p = r.normal_force_n(&c.name);
+            let peak = match self.held_peak[i] {
+                Some((cmd, f, t)) if cmd == c.command && f > p => (cmd, f, t),
+                _ => (c.command, p, r.time_s),
+            };
+            self.held_peak[i] = Some(peak);
+            let fraction = if peak.1 > 0.0 { 1.0 - p / peak.1 } else { 0.0 };
+            if fraction > 1e-9
+                && self.held_relaxation[i]
+                    .as_ref()
+                    .is_none_or(|h| fraction > h.fraction)
+            {
+                self.held_relaxation[i] = Some(HeldRelaxation {
+                    finger: c.name.clone(),
+                    from_n: peak.1,
+                    from_time_s: peak.2,
+                    to_n: p,
+                    to_time_s: r.time_s,
+                    fraction,
+                });
+            }
         }
     }
 
@@ -266,6 +353,16 @@ impl SummaryAccumulator {
         let Some(m) = &r.margin else { return };
         self.margin_cost.solves += m.solves as u64;
         self.margin_cost.wall_time_s += m.time_s;
+        if let Some(threshold_n) = self.threshold_n {
+            if self.crossing.is_none() && m.smallest_n < threshold_n {
+                self.crossing = Some(MarginCrossing {
+                    threshold_n,
+                    step: r.index,
+                    time_s: r.time_s,
+                    margin_n: m.smallest_n,
+                });
+            }
+        }
         if self
             .least_safe
             .as_ref()
@@ -305,6 +402,7 @@ impl SummaryAccumulator {
     }
 
     fn add_solved(&mut self, r: &StepRecord) {
+        self.add_held(r);
         let forces: Vec<f64> = self.names.iter().map(|n| r.normal_force_n(n)).collect();
         let loaded: Vec<bool> = forces
             .iter()
@@ -386,6 +484,8 @@ impl SummaryAccumulator {
             sequential: self.sequential,
             least_safe_step: self.least_safe,
             margin_cost: self.margin_cost,
+            held_relaxation: self.held_relaxation.into_iter().flatten().collect(),
+            margin_below_threshold: self.crossing,
         }
     }
 }

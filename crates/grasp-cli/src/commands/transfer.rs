@@ -64,6 +64,10 @@ pub struct Args {
     /// step).
     #[arg(long)]
     pub margins: bool,
+    /// With --margins, also say when the smallest disturbance margin first fell below this
+    /// many newtons (a viscoelastic grasp's margin falls as its pads relax).
+    #[arg(long, value_name = "NEWTONS", requires = "margins")]
+    pub margin_threshold: Option<f64>,
     /// Overwrite output files that already exist.
     #[arg(long)]
     pub force: bool,
@@ -98,6 +102,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         cold: args.cold,
         min_squeeze: args.min_squeeze,
         margins: args.margins,
+        margin_threshold: args.margin_threshold,
         solver: args.solver,
         compliance: args.compliance,
         max_memory: args.memory.max_memory,
@@ -188,6 +193,7 @@ pub struct Flags {
     pub cold: bool,
     pub min_squeeze: bool,
     pub margins: bool,
+    pub margin_threshold: Option<f64>,
     pub solver: grasp_model::SolverChoice,
     pub compliance: ComplianceChoice,
     pub max_memory: Option<u64>,
@@ -279,6 +285,7 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
             ..grasp_model::SolveOptions::default()
         },
         margins: flags.margins,
+        margin_threshold_n: flags.margin_threshold,
     };
     let mut history = out.plot.as_ref().map(|_| ForceHistory::new(&names));
     let started = std::time::Instant::now();
@@ -444,6 +451,26 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
             l.margin_n,
             crate::pictures::margin_plot::label(&l.direction),
             l.failing_finger.as_deref().unwrap_or("-"),
+        );
+    }
+    if let Some(c) = &s.margin_below_threshold {
+        let _ = writeln!(
+            o,
+            "smallest disturbance margin below {:.4e} N: first at step {} (t = {:.3} s), {:.4e} N",
+            c.threshold_n, c.step, c.time_s, c.margin_n
+        );
+    }
+    for h in &s.held_relaxation {
+        let _ = writeln!(
+            o,
+            "held finger {}: normal force fell {:.2} % under one command, {:.5} N (t = {:.3} s) \
+             -> {:.5} N (t = {:.3} s)",
+            h.finger,
+            100.0 * h.fraction,
+            h.from_n,
+            h.from_time_s,
+            h.to_n,
+            h.to_time_s
         );
     }
     if s.failed_step_count == 0 {

@@ -44,10 +44,13 @@ pub const PATCHES_TOPIC: &str = "/grasp/patches";
 pub struct FingerMessage {
     /// Finger name.
     pub name: String,
-    /// `held`, `load` or `released`.
+    /// `held`, `load`, `approach` or `released`.
     pub control: String,
     /// Commanded load, N (0 unless `load`).
     pub commanded_load_n: f64,
+    /// Commanded approach, m (0 unless `approach`).
+    #[serde(default)]
+    pub commanded_approach_m: f64,
     /// Normal force, N.
     pub normal_force_n: f64,
     /// Friction force, world frame, N.
@@ -137,10 +140,11 @@ impl FingersMessage {
                 .commands
                 .iter()
                 .map(|c| {
-                    let (control, load) = match c.command {
-                        Command::Held => ("held", 0.0),
-                        Command::Load(p) => ("load", p),
-                        Command::Released => ("released", 0.0),
+                    let (control, load, approach) = match c.command {
+                        Command::Held => ("held", 0.0, 0.0),
+                        Command::Load(p) => ("load", p, 0.0),
+                        Command::Released => ("released", 0.0, 0.0),
+                        Command::Approach(d) => ("approach", 0.0, d),
                     };
                     let f = r.solution.finger(&c.name);
                     let contact = f.map_or(0, |f| f.stick_count + f.slip_count);
@@ -148,6 +152,7 @@ impl FingersMessage {
                         name: c.name.clone(),
                         control: control.into(),
                         commanded_load_n: load,
+                        commanded_approach_m: approach,
                         normal_force_n: f.map_or(0.0, |f| f.normal_force_n),
                         tangential_force_n: f.map_or([0.0; 3], |f| f.tangential_force_n),
                         tangential_magnitude_n: f.map_or(0.0, |f| f.tangential_magnitude_n),
@@ -187,8 +192,8 @@ fn fingers_schema() -> serde_json::Value {
             "smallest_margin_n": {"type": ["number", "null"]},
             "margin_failing_finger": {"type": ["string", "null"]},
             "fingers": {"type": "array", "items": {"type": "object", "properties": {
-                "name": {"type": "string"}, "control": {"type": "string", "enum": ["held", "load", "released"]},
-                "commanded_load_n": num, "normal_force_n": num,
+                "name": {"type": "string"}, "control": {"type": "string", "enum": ["held", "load", "released", "approach"]},
+                "commanded_load_n": num, "commanded_approach_m": num, "normal_force_n": num,
                 "tangential_force_n": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},
                 "tangential_magnitude_n": num, "torsional_moment_nm": num,
                 "friction_utilization": num, "slip_fraction": num
