@@ -13,6 +13,8 @@
 //! crate (the Volterra equation `int_0^t E(t - s) dJ(s) = 1` stepped on a fine logarithmic
 //! grid), not taken from its creep function.
 
+mod support;
+
 use grasp_model::analysis::relaxation::{solve_at, TimePoint};
 use grasp_model::{GraspModel, Scene, Solution, SolveOptions, SolveStatus};
 
@@ -427,4 +429,88 @@ fn a_held_plate_relaxes_in_a_hand_off_and_slips_when_the_squeeze_is_short() {
         first_failure.time_s
     );
     assert!(first_failure.time_s > t_star && first_failure.time_s <= t_star + 0.5);
+}
+
+/// The history goes into the recordings: the viscoelastic hold's `/grasp/patches` carries each
+/// element's history displacement (zero at the first step, the loads' step, and growing as the
+/// pads relax under the held approach: the history makes up for the falling force), the
+/// `.rrd` a `plots/viscous_displacement/<finger>` series; `rerun mcap check` and `rrd verify`
+/// accept both files.
+#[test]
+fn the_history_is_recorded() {
+    use grasp_transfer::{run_collect, McapSink, RerunSink, Schedule, Sink, TransferOptions};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples");
+    let scene = Scene::from_json_str(
+        &std::fs::read_to_string(root.join("plate_hold_viscoelastic.json")).unwrap(),
+    )
+    .unwrap();
+    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let text = std::fs::read_to_string(root.join("plate_hold_viscoelastic.schedule.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["time"]["end"] = 10.0.into();
+    let schedule = Schedule::from_json_str(&v.to_string(), &names, &root).unwrap();
+    let dir = std::env::temp_dir().join(format!("grasp-viscous-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut m = McapSink::create(&dir.join("hold.mcap")).unwrap();
+    let mut r = RerunSink::create(&dir.join("hold.rrd")).unwrap();
+    let mut sinks: Vec<&mut dyn Sink> = vec![&mut m, &mut r];
+    let (records, _) =
+        run_collect(&scene, &schedule, TransferOptions::default(), &mut sinks).unwrap();
+    let history = |k: usize| {
+        records[k].solution.fingers[0]
+            .elements
+            .iter()
+            .map(|e| e.viscous_displacement_m.unwrap()[0])
+            .fold(0.0_f64, |a, h| a.max(h.abs()))
+    };
+    assert_eq!(history(0), 0.0);
+    assert!(
+        history(5) > 0.0 && history(20) > history(5),
+        "{} {}",
+        history(5),
+        history(20)
+    );
+    let bytes = std::fs::read(dir.join("hold.mcap")).unwrap();
+    let mut found = 0;
+    for msg in mcap::MessageStream::new(&bytes).unwrap() {
+        let msg = msg.unwrap();
+        if msg.channel.topic == "/grasp/patches" {
+            let v: serde_json::Value = serde_json::from_slice(&msg.data).unwrap();
+            let e = &v["patches"][0]["elements"][0];
+            assert_eq!(
+                e["viscous_displacement_m"].as_array().map(Vec::len),
+                Some(3),
+                "{e}"
+            );
+            found += 1;
+        }
+    }
+    assert_eq!(found, records.len());
+    let Some(cli) = support::rerun_cli() else {
+        return;
+    };
+    for (args, file) in [
+        (["mcap", "check"], "hold.mcap"),
+        (["rrd", "verify"], "hold.rrd"),
+    ] {
+        let out = std::process::Command::new(&cli)
+            .args(args)
+            .arg(dir.join(file))
+            .env("CI", "1")
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let print = std::process::Command::new(&cli)
+        .args(["rrd", "print", "-v"])
+        .arg(dir.join("hold.rrd"))
+        .env("CI", "1")
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&print.stdout);
+    assert!(text.contains("/plots/viscous_displacement/f1"), "{text}");
 }

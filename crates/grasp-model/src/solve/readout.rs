@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use nalgebra::{DVector, Vector3};
 
-use crate::model::grasp_model::{Control, GraspModel};
+use crate::model::grasp_model::{Control, FingerModel, GraspModel};
 use crate::option_names;
 use crate::program::cone_program::{ConeProgram, LoadRow};
 use crate::solve::patch_check::patch_warnings;
@@ -301,6 +301,7 @@ fn finger_solution(
             slip_m: kin.tangential_m[i][k],
             step_slip_m: solved_with.rule.step_slip(i, k, kin.tangential_m[i][k]),
             state: states[k],
+            viscous_displacement_m: None,
         });
     }
     // An unloaded finger (solver noise only) has no centre of pressure: its contact point.
@@ -333,6 +334,21 @@ fn finger_solution(
         slip_count: counts[ElementState::Slip as usize],
         separated_count: counts[ElementState::Separated as usize],
         elements,
+    }
+}
+
+/// Each element's viscoelastic history displacement this step (m, `[normal, t1, t2]`): the
+/// program's offset less the finger's prescribed approach.
+fn set_viscous_displacement(f: &FingerModel, offset_m: &[f64], fs: &mut FingerSolution) {
+    let ne = f.patch.len();
+    let o = &offset_m[f.offset..f.offset + f.n_unknowns()];
+    let d = f.control.approach_m();
+    for (k, e) in fs.elements.iter_mut().enumerate() {
+        let mut v = [o[k] + d, 0.0, 0.0];
+        for c in 0..f.n_tangential {
+            v[c + 1] = o[(c + 1) * ne + k];
+        }
+        e.viscous_displacement_m = Some(v);
     }
 }
 
@@ -370,7 +386,7 @@ pub(crate) fn build_solution(
         })
         .collect();
     let residuals = evaluate(model, &x_n, &kin, &states, &mu_at_load, solved_with.rule);
-    let fingers = (0..model.fingers.len())
+    let mut fingers: Vec<FingerSolution> = (0..model.fingers.len())
         .map(|i| {
             finger_solution(
                 model,
@@ -384,6 +400,11 @@ pub(crate) fn build_solution(
             )
         })
         .collect();
+    for (f, fs) in model.fingers.iter().zip(fingers.iter_mut()) {
+        if f.viscous.is_some() {
+            set_viscous_displacement(f, &program.offset_m, fs);
+        }
+    }
     let t_com = t_o + theta.cross(&(model.center_of_mass_m - model.reference_point_m));
     let mut sol = Solution {
         status: SolveStatus::Solved,

@@ -86,6 +86,11 @@ pub struct ElementSolution {
     pub step_slip_m: [f64; 2],
     /// Contact state.
     pub state: ElementState,
+    /// On a viscoelastic contact, the displacement its history added this step (m, `[normal,
+    /// t1, t2]`: the normal part closes the gap; [`crate::solve::viscous_history`]); absent on an
+    /// elastic one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub viscous_displacement_m: Option<[f64; 3]>,
 }
 
 /// Resultants of one finger.

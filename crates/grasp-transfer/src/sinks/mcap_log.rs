@@ -218,11 +218,27 @@ fn patches_schema() -> serde_json::Value {
                     "index": {"type": "array", "items": {"type": "integer"}},
                     "position_m": v3, "normal_force_n": num, "tangential_force_n": v2,
                     "pressure_pa": num, "gap_m": num, "slip_m": v2, "step_slip_m": v2,
+                    "viscous_displacement_m": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},
                     "state": {"type": "string", "enum": ["stick", "slip", "separated"]}
                 }}}
             }}}
         }
     })
+}
+
+/// One element of a `/grasp/patches` message (a viscoelastic contact's elements also carry
+/// the displacement their history added this step).
+fn element_json(e: &grasp_model::solve::solution::ElementSolution) -> serde_json::Value {
+    let mut v = json!({
+        "index": e.index, "position_m": e.position_m, "normal_force_n": e.normal_force_n,
+        "tangential_force_n": e.tangential_force_n, "pressure_pa": e.pressure_pa,
+        "gap_m": e.gap_m, "slip_m": e.slip_m, "step_slip_m": e.step_slip_m,
+        "state": e.state
+    });
+    if let Some(h) = e.viscous_displacement_m {
+        v["viscous_displacement_m"] = json!(h);
+    }
+    v
 }
 
 /// The `/grasp/patches` message of a step: every solved finger whose patch is not recorded as
@@ -233,12 +249,7 @@ pub fn patches_message(r: &StepRecord) -> serde_json::Value {
         "step": r.index,
         "patches": r.solution.fingers.iter().filter(|f| !is_compact(f.elements.len())).map(|f| json!({
             "name": f.name,
-            "elements": f.elements.iter().map(|e| json!({
-                "index": e.index, "position_m": e.position_m, "normal_force_n": e.normal_force_n,
-                "tangential_force_n": e.tangential_force_n, "pressure_pa": e.pressure_pa,
-                "gap_m": e.gap_m, "slip_m": e.slip_m, "step_slip_m": e.step_slip_m,
-                "state": e.state
-            })).collect::<Vec<_>>()
+            "elements": f.elements.iter().map(element_json).collect::<Vec<_>>()
         })).collect::<Vec<_>>()
     })
 }

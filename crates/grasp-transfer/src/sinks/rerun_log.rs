@@ -17,6 +17,8 @@
 //!   `world/patches/<name>`) for larger ones ([`super::rerun_grid_maps`]);
 //! - `plots/normal_force/<name>`, `plots/friction/<name>`: time series in newtons;
 //! - `plots/margin/smallest`: the step's smallest disturbance margin, N (with `--margins`);
+//! - `plots/viscous_displacement/<name>`: on a viscoelastic contact, the largest normal
+//!   displacement its history added at the step, m (the creep or relaxation under way);
 //! - `world/margin/...` (static, `grasp margin --rrd`): the wrench surface
 //!   ([`RerunSink::log_wrench_surface`]).
 //!
@@ -358,7 +360,20 @@ impl RerunSink {
         self.send(
             format!("plots/friction/{name}"),
             &Scalars::new([f.tangential_magnitude_n]),
-        )
+        )?;
+        // A viscoelastic contact: the largest normal displacement its history added, m.
+        let history = f
+            .elements
+            .iter()
+            .filter_map(|e| e.viscous_displacement_m.map(|h| h[0]))
+            .fold(None, |m: Option<f64>, h| Some(m.map_or(h, |m| m.max(h))));
+        match history {
+            Some(h) => self.send(
+                format!("plots/viscous_displacement/{name}"),
+                &Scalars::new([h]),
+            ),
+            None => Ok(()),
+        }
     }
 
     /// The normal and friction force arrows of finger `fm`, at the centre of pressure, `scale`
