@@ -207,7 +207,7 @@ pub const FFT_CASES: [Case; 7] = [
 /// a finger), automatic compliance. Issue 22's target is a ratio, a layered patch at most 1.5x
 /// the half-space one on the same path: `grasp bench` prints it as a derived row
 /// ([`LAYER_PAIRS`]).
-pub const LAYER_CASES: [Case; 4] = [
+pub const LAYER_CASES: [Case; 6] = [
     case(
         "pad_pinch_64x64_fft",
         OneShot,
@@ -240,16 +240,36 @@ pub const LAYER_CASES: [Case; 4] = [
         None,
         true,
     ),
+    // Issue 26: the padded cylinder hand-off with relaxing pads and with elastic ones (the same
+    // grids: A's patches on the FFT path, B's dense), the same 41-step schedule, per step.
+    case(
+        "viscous_handoff_warm",
+        HandOff { warm: true },
+        "cylinder_handoff_viscoelastic",
+        None,
+        None,
+        false,
+    ),
+    case(
+        "elastic_handoff_warm",
+        HandOff { warm: true },
+        "cylinder_handoff_pads_halfspace",
+        None,
+        None,
+        false,
+    ),
 ];
 
-/// The (layered, half-space) case pairs whose time ratio issue 22 bounds, with the bound.
-pub const LAYER_PAIRS: [(&str, &str, f64); 2] = [
+/// The (layered or viscoelastic, plain) case pairs whose time ratio issues 22 and 26 bound,
+/// with the bound.
+pub const LAYER_PAIRS: [(&str, &str, f64); 3] = [
     ("pad_pinch_64x64_fft", "pad_pinch_halfspace_64x64_fft", 1.5),
     (
         "pad_pinch_18x18_dense",
         "pad_pinch_halfspace_18x18_dense",
         1.5,
     ),
+    ("viscous_handoff_warm", "elastic_handoff_warm", 1.5),
 ];
 
 /// The cases the peer library solves too, in the same run (`grasp bench`; issue 21 asks for
@@ -280,6 +300,14 @@ pub fn bundled(stem: &str) -> Option<(&'static str, Option<&'static str>)> {
             Some(example!("plate_handoff_coulomb.schedule.json")),
         ),
         "pad_pinch" => (example!("pad_pinch.json"), None),
+        "cylinder_handoff_viscoelastic" => (
+            example!("cylinder_handoff_viscoelastic.json"),
+            Some(example!("cylinder_handoff_viscoelastic_fast.schedule.json")),
+        ),
+        "cylinder_handoff_pads_halfspace" => (
+            example!("cylinder_handoff_pads_halfspace.json"),
+            Some(example!("cylinder_handoff.schedule.json")),
+        ),
         "pad_pinch_halfspace" => (example!("pad_pinch_halfspace.json"), None),
         _ => return None,
     })

@@ -315,7 +315,7 @@ impl<'a> Stepper<'a> {
     fn time_step_s(&self, t: f64) -> f64 {
         let viscous = self.base.as_ref().is_ok_and(|m| m.is_viscoelastic());
         match (viscous, self.last_solved_s) {
-            (true, Some(prev)) => t - prev,
+            (true, Some(prev)) => nine_digits(t - prev),
             _ => 0.0,
         }
     }
@@ -537,6 +537,17 @@ impl Iterator for Stepper<'_> {
         }
         Some(r)
     }
+}
+
+/// `x` rounded to nine significant digits: the steps of a schedule's span (`start + i step`)
+/// differ in their last bits, and equal steps must share one model (its compliance over the
+/// step is built once per step length); the rounding moves a step by 1e-9 of itself at most.
+fn nine_digits(x: f64) -> f64 {
+    if !(x.is_finite() && x > 0.0) {
+        return x;
+    }
+    let scale = 10f64.powi(8 - x.log10().floor() as i32);
+    (x * scale).round() / scale
 }
 
 /// The outcome of a step at which no finger is active.

@@ -317,7 +317,7 @@ fn layer_ratio_rows(all: &[Measured], solver: SolverChoice) -> Vec<Row> {
         };
         let ratio = l.median_s / h.median_s;
         let mut row = vec![String::new(); HEADER.len()];
-        row[0] = format!("{layered} / half-space");
+        row[0] = format!("{layered} / {half}");
         row[1] = "time ratio".into();
         row[2] = solver.to_string();
         row[3] = format!("{ratio:.2}x");
