@@ -410,6 +410,10 @@ fn a_held_plate_relaxes_in_a_hand_off_and_slips_when_the_squeeze_is_short() {
             r.time_s
         );
     }
+    // Equal steps share one model over the step (the first step is instantaneous, the second
+    // builds the 0.5 s one): every later step reuses it.
+    let reused = records.iter().filter(|r| r.reused_program).count();
+    assert!(reused >= records.len() - 2, "{reused} of {}", records.len());
     let fall = summary
         .held_relaxation
         .iter()
@@ -513,4 +517,30 @@ fn the_history_is_recorded() {
         .unwrap();
     let text = String::from_utf8_lossy(&print.stdout);
     assert!(text.contains("/plots/viscous_displacement/f1"), "{text}");
+}
+
+/// Equal schedule steps share one model over the step: the fast padded cylinder hand-off's
+/// steps of 0.025 s (`start + i step`, which differ in their last bits) all reuse the model and
+/// solver built at the second step (before the steps' lengths were rounded to nine digits, 6
+/// of its 41 steps built a new model and started cold).
+#[test]
+fn equal_steps_share_one_model() {
+    use grasp_transfer::{run_collect, Schedule, TransferOptions};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples");
+    let read = |f: &str| std::fs::read_to_string(root.join(f)).unwrap();
+    let scene = Scene::from_json_str(&read("cylinder_handoff_viscoelastic.json")).unwrap();
+    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let schedule = Schedule::from_json_str(
+        &read("cylinder_handoff_viscoelastic_fast.schedule.json"),
+        &names,
+        &root,
+    )
+    .unwrap();
+    let (records, _) = run_collect(&scene, &schedule, TransferOptions::default(), &mut []).unwrap();
+    let cold: Vec<usize> = records
+        .iter()
+        .filter(|r| !r.reused_program)
+        .map(|r| r.index)
+        .collect();
+    assert!(cold.len() <= 2, "steps that built a model: {cold:?}");
 }
