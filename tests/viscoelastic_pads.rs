@@ -218,14 +218,6 @@ fn element_forces(sol: &Solution) -> Vec<f64> {
         .collect()
 }
 
-fn largest_difference(a: &Solution, b: &Solution) -> f64 {
-    element_forces(a)
-        .iter()
-        .zip(element_forces(b))
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-}
-
 /// The limits of the stepping: relaxation times far below the time asked give the long-term
 /// elastic answer (the pad at `E_inf`), far above it the instantaneous one (the pad at `E_0`),
 /// both to 1e-6 of the load (the solver's tolerance is 1e-10; what is left is
@@ -256,9 +248,9 @@ fn the_stepping_meets_its_elastic_limits() {
     );
     let long = at(&sphere_on_pad(&pad(SLS), p, side), TimePoint::LongTerm);
     let (d_fast, d_slow, d_long) = (
-        largest_difference(&fast, &relaxed),
-        largest_difference(&slow, &instant),
-        largest_difference(&long, &relaxed),
+        support::element_force_difference_n(&fast, &relaxed),
+        support::element_force_difference_n(&slow, &instant),
+        support::element_force_difference_n(&long, &relaxed),
     );
     eprintln!("fast relaxation vs E_inf {d_fast:.2e} N, slow vs E_0 {d_slow:.2e} N, long-term vs E_inf {d_long:.2e} N");
     assert!(d_fast <= 1e-6 * p && d_slow <= 1e-6 * p && d_long <= 1e-9 * p);
