@@ -61,21 +61,6 @@ fn finger_values(s: &Solution) -> Vec<f64> {
         .collect()
 }
 
-fn element_values(s: &Solution) -> Vec<f64> {
-    s.fingers
-        .iter()
-        .flat_map(|f| {
-            f.elements.iter().flat_map(|e| {
-                [
-                    e.normal_force_n,
-                    e.tangential_force_n[0],
-                    e.tangential_force_n[1],
-                ]
-            })
-        })
-        .collect()
-}
-
 fn sens_finger(s: &Sensitivities, c: usize) -> Vec<f64> {
     s.fingers
         .iter()
@@ -201,7 +186,10 @@ fn check_with_step(scene: &Scene, label: &str, step: f64) -> Option<(usize, usiz
             a.iter().zip(&b).map(|(x, y)| (x - y) / (2.0 * h)).collect()
         };
         let fd_finger = fd(finger_values(&plus), finger_values(&minus));
-        let fd_element = fd(element_values(&plus), element_values(&minus));
+        let fd_element = fd(
+            support::element_force_components(&plus),
+            support::element_force_components(&minus),
+        );
         let scale = fd_finger.iter().fold(1.0_f64, |a, v| a.max(v.abs()));
         for (what, got, want) in [
             ("finger", sens_finger(&sens, c), fd_finger),

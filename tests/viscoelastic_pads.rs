@@ -203,21 +203,6 @@ fn a_held_approach_relaxes_as_lee_and_radok() {
     }
 }
 
-fn element_forces(sol: &Solution) -> Vec<f64> {
-    sol.fingers
-        .iter()
-        .flat_map(|f| {
-            f.elements.iter().flat_map(|e| {
-                [
-                    e.normal_force_n,
-                    e.tangential_force_n[0],
-                    e.tangential_force_n[1],
-                ]
-            })
-        })
-        .collect()
-}
-
 /// The limits of the stepping: relaxation times far below the time asked give the long-term
 /// elastic answer (the pad at `E_inf`), far above it the instantaneous one (the pad at `E_0`),
 /// both to 1e-6 of the load (the solver's tolerance is 1e-10; what is left is
@@ -264,7 +249,7 @@ fn the_stepping_meets_its_elastic_limits() {
         TimePoint::Instantaneous,
     );
     let bits = |s: &Solution| {
-        element_forces(s)
+        support::element_force_components(s)
             .iter()
             .map(|v| v.to_bits())
             .collect::<Vec<_>>()

@@ -97,6 +97,22 @@ pub fn solve_with_options(v: &Value, options: grasp_model::SolveOptions) -> Solu
         .expect("solve runs")
 }
 
+/// Every element's force components `[F, G1, G2]`, N, finger by finger.
+pub fn element_force_components(s: &Solution) -> Vec<f64> {
+    s.fingers
+        .iter()
+        .flat_map(|f| {
+            f.elements.iter().flat_map(|e| {
+                [
+                    e.normal_force_n,
+                    e.tangential_force_n[0],
+                    e.tangential_force_n[1],
+                ]
+            })
+        })
+        .collect()
+}
+
 /// Largest difference of any element force component (normal or tangential) between two
 /// solutions of the same model, N.
 pub fn element_force_difference_n(a: &Solution, b: &Solution) -> f64 {

@@ -732,3 +732,36 @@ fn svg_circles(svg: &str) -> Vec<SvgCircle> {
         })
         .collect()
 }
+
+/// Bad times and thresholds of the viscoelastic flags are refused naming the flag and the fix
+/// (issue 26), before anything runs.
+#[test]
+fn bad_viscoelastic_flags_name_the_flag() {
+    let scene = example("plate_hold_viscoelastic.json");
+    let schedule = example("plate_hold_viscoelastic.schedule.json");
+    for (args, flag) in [
+        (vec!["solve", &scene, "--at-time", "0"], "--at-time 0"),
+        (
+            vec!["solve", &scene, "--at-time", "2e9"],
+            "--at-time 2000000000",
+        ),
+        (
+            vec![
+                "transfer",
+                &scene,
+                "--schedule",
+                &schedule,
+                "--margins",
+                "--margin-threshold=-1",
+            ],
+            "--margin-threshold -1",
+        ),
+    ] {
+        let o = grasp(&args);
+        let t = text(&o);
+        assert!(
+            !o.status.success() && t.contains(flag) && t.contains("give"),
+            "{t}"
+        );
+    }
+}

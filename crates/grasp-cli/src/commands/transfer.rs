@@ -97,6 +97,14 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         force: args.force,
         live,
     };
+    if let Some(n) = args.margin_threshold {
+        if !(n.is_finite() && n > 0.0) {
+            anyhow::bail!(
+                "--margin-threshold {n}: give the margin in newtons below which the summary \
+                 reports the first step, > 0"
+            );
+        }
+    }
     let flags = Flags {
         keep_going: args.keep_going,
         cold: args.cold,

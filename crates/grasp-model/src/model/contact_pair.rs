@@ -73,8 +73,6 @@ impl ContactPair {
                 LayerKernels::new(&l, grid).add_to(&mut table, side);
             }
         }
-        let coupled = table.values().iter().any(|v| v[4] != 0.0 || v[5] != 0.0);
-        table.set_coupled(coupled);
         table
     }
 
@@ -89,8 +87,6 @@ impl ContactPair {
         let mut table = KernelTable::half_space(grid, &body_constants(material, side));
         if let Some(l) = layer {
             LayerKernels::new(&l, grid).add_to(&mut table, side);
-            let coupled = table.values().iter().any(|v| v[4] != 0.0 || v[5] != 0.0);
-            table.set_coupled(coupled);
         }
         table
     }

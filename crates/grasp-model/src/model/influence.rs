@@ -262,10 +262,14 @@ impl KernelTable {
         self.coupled |= other.coupled;
     }
 
-    /// Marks the coupling blocks as present (a layered body's correction fills them even
-    /// between equal materials).
-    pub fn set_coupled(&mut self, coupled: bool) {
-        self.coupled = coupled;
+    /// Marks the coupling blocks present when any of their entries is nonzero (after a
+    /// layered body's correction, which fills them even between equal materials, or cancels
+    /// between two equal layers).
+    pub fn refresh_coupled(&mut self) {
+        self.coupled = self
+            .values
+            .iter()
+            .any(|v| v[Block::N1 as usize] != 0.0 || v[Block::N2 as usize] != 0.0);
     }
 }
 

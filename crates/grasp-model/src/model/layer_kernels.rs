@@ -74,7 +74,8 @@ impl<'a> LayerKernels<'a> {
     }
 
     /// Adds the layer's correction to every offset of `table` (on this grid), the layer being
-    /// the body on `side` of the contact (its coupling blocks with that side's sign).
+    /// the body on `side` of the contact (its coupling blocks with that side's sign), and marks
+    /// the table's coupling blocks present or not.
     pub fn add_to(&self, table: &mut KernelTable, side: Side) {
         let (nx, ny) = (self.grid.nx, self.grid.ny);
         use rayon::prelude::*;
@@ -109,6 +110,7 @@ impl<'a> LayerKernels<'a> {
                 }
             }
         }
+        table.refresh_coupled();
     }
 
     /// True when the source element `(di, dj)` elements away lies wholly beyond the cutoff.
