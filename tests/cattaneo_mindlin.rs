@@ -5,11 +5,12 @@
 //!
 //! Grid: 21 x 21 elements over a square patch of side 2.4 a (element h = 0.114 a).
 
-use grasp_model::model::closed_form::{
-    cattaneo_stick_radius_m, mindlin_deresiewicz_dissipation_j, mindlin_displacement_m, HertzSphere,
+use grasp_model::ComplianceChoice;
+use grasp_model::Material;
+use grasp_model::{
+    closed_form::cattaneo_stick_radius_m, closed_form::mindlin_deresiewicz_dissipation_j,
+    closed_form::mindlin_displacement_m, closed_form::HertzSphere,
 };
-use grasp_model::model::material::Material;
-use grasp_model::model::patch_compliance::ComplianceChoice;
 use grasp_model::{
     ContactState, GraspModel, GraspSolver, Scene, Solution, SolveOptions, SolveStatus,
 };

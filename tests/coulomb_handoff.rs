@@ -66,11 +66,9 @@ fn loading_path_changes_the_answer() {
     let (scene, _) = transfer_example("plate_handoff_coulomb");
     let mut fresh_scene = scene.clone();
     for f in &mut fresh_scene.fingers {
-        f.control = grasp_model::scene::scene_format::ControlSpec::Load(
-            grasp_model::scene::scene_format::NormalLoadSpec {
-                normal_load: r.normal_force_n(&f.name),
-            },
-        );
+        f.control = grasp_model::ControlSpec::Load(grasp_model::NormalLoadSpec {
+            normal_load: r.normal_force_n(&f.name),
+        });
     }
     let model = GraspModel::from_scene(&fresh_scene).unwrap();
     let mut state = ContactState::new(&model);

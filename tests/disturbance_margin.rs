@@ -21,11 +21,9 @@ use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
-use grasp_model::analysis::margin::{
-    disturbance_margins, spread_directions, MarginOptions, WrenchDirection,
-};
-use grasp_model::model::closed_form::{full_slip_torque_nm, HertzSphere};
-use grasp_model::model::material::Material;
+use grasp_model::Material;
+use grasp_model::{closed_form::full_slip_torque_nm, closed_form::HertzSphere};
+use grasp_model::{disturbance_margins, spread_directions, MarginOptions, WrenchDirection};
 use grasp_model::{ContactState, GraspModel, GraspSolver, Scene, SolveOptions};
 use nalgebra::Vector3;
 use serde_json::{json, Value};

@@ -13,8 +13,9 @@
 //!   thin layer the same way): `p = 3 G (a^2 - r^2)^2 / (32 R h^3)`, `delta = a^2 / (4 R)`,
 //!   `P = pi G a^6 / (32 R h^3)`.
 
-use grasp_model::model::patch_compliance::ComplianceChoice;
-use grasp_model::{solve, GraspModel, GraspSolver, Scene, Solution, SolveOptions, SolveStatus};
+use grasp_model::solve;
+use grasp_model::ComplianceChoice;
+use grasp_model::{GraspModel, GraspSolver, Scene, Solution, SolveOptions, SolveStatus};
 
 const PI: f64 = std::f64::consts::PI;
 
@@ -68,14 +69,12 @@ fn approach(sol: &Solution) -> f64 {
 }
 
 /// The element nearest the patch centre.
-fn centre(sol: &Solution) -> &grasp_model::solve::solution::ElementSolution {
+fn centre(sol: &Solution) -> &grasp_model::ElementSolution {
     let f = &sol.fingers[0];
     f.elements
         .iter()
         .min_by(|a, b| {
-            let r = |e: &&grasp_model::solve::solution::ElementSolution| {
-                e.local_m[0].hypot(e.local_m[1])
-            };
+            let r = |e: &&grasp_model::ElementSolution| e.local_m[0].hypot(e.local_m[1]);
             r(a).total_cmp(&r(b))
         })
         .unwrap()
@@ -178,7 +177,7 @@ fn a_thin_layer_sheared_is_a_winkler_foundation() {
     let want = g * u.abs() / h;
     let got = c.traction_pa[0].abs();
     eprintln!("centre shear {got:.6e} Pa, G u / h {want:.6e} Pa (u {u:.3e} m)");
-    assert_eq!(c.state, grasp_model::solve::solution::ElementState::Stick);
+    assert_eq!(c.state, grasp_model::ElementState::Stick);
     assert!((got - want).abs() <= 1e-3 * want, "{got:e} vs {want:e}");
     let normal = constrained_modulus(e, nu) * approach(&sol) / h;
     assert!((c.pressure_pa - normal).abs() <= 1e-4 * normal);

@@ -5,13 +5,14 @@
 mod support;
 use support::*;
 
-use grasp_model::analysis::patch_sizing::auto_patch;
-use grasp_model::analysis::refinement::{estimate_error, refinement_study, StudyReference};
-use grasp_model::model::closed_form::HertzSphere;
-use grasp_model::{solve, GraspModel, SolveOptions};
+use grasp_model::auto_patch;
+use grasp_model::closed_form::HertzSphere;
+use grasp_model::solve;
+use grasp_model::{estimate_error, refinement_study, StudyReference};
+use grasp_model::{GraspModel, SolveOptions};
 
 fn hertz_reference() -> HertzSphere {
-    let m = grasp_model::model::material::Material::Elastic {
+    let m = grasp_model::Material::Elastic {
         youngs_modulus_pa: 210e9,
         poisson_ratio: 0.3,
     };

@@ -76,8 +76,7 @@ fn a_cylindrical_tip_turned_a_quarter_turn_transposes_the_pressure_map() {
     // Straight along its axis, the tip touches along the whole centre line of the patch
     // (zero initial gap there), where the sphere's contact circle leaves the ends unloaded.
     let sphere = solved(&hertz());
-    let loaded =
-        |e: &[grasp_model::solve::solution::ElementSolution], k: usize| e[k].normal_force_n > 0.0;
+    let loaded = |e: &[grasp_model::ElementSolution], k: usize| e[k].normal_force_n > 0.0;
     let centre = n / 2;
     assert!(
         (0..n).all(|i| loaded(a, i * n + centre)),
@@ -138,8 +137,8 @@ fn a_placed_finger_takes_its_cylindrical_tips_axis_as_t1() {
 
 #[test]
 fn the_hertz_suggestion_is_hertz_and_its_patch_holds_the_contact() {
-    use grasp_model::analysis::patch_sizing::hertz_suggestion;
-    use grasp_model::model::closed_form::HertzSphere;
+    use grasp_model::closed_form::HertzSphere;
+    use grasp_model::hertz_suggestion;
     let v = hertz();
     let scene = Scene::from_json_str(&v.to_string()).unwrap();
     let model = grasp_model::GraspModel::from_scene(&scene).unwrap();

@@ -13,7 +13,7 @@
 
 mod support;
 
-use grasp_model::analysis::margin::{disturbance_margins, holds, MarginOptions, WrenchDirection};
+use grasp_model::{disturbance_margins, holds, MarginOptions, WrenchDirection};
 use grasp_model::{ContactState, GraspModel, GraspSolver, Scene, SolveOptions};
 use grasp_transfer::{Schedule, Stepper, TransferOptions, TransferSummary};
 use serde_json::json;

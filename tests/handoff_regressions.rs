@@ -4,7 +4,8 @@
 
 use std::path::Path;
 
-use grasp_model::{solve, GraspModel, Scene};
+use grasp_model::solve;
+use grasp_model::{GraspModel, Scene};
 use grasp_transfer::{Command, Schedule, Stepper, TransferOptions};
 use serde_json::json;
 

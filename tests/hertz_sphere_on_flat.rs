@@ -2,9 +2,10 @@
 //! section 4.2). The model must reproduce the peak pressure and the approach within 1 % at a
 //! stated grid, and the error must shrink as the grid is refined.
 
-use grasp_model::model::closed_form::HertzSphere;
-use grasp_model::model::material::Material;
-use grasp_model::{solve, GraspModel, Scene, SolveStatus};
+use grasp_model::closed_form::HertzSphere;
+use grasp_model::solve;
+use grasp_model::Material;
+use grasp_model::{GraspModel, Scene, SolveStatus};
 
 const E: f64 = 210e9; // steel, Pa
 const NU: f64 = 0.3;
@@ -77,7 +78,7 @@ fn error_shrinks_as_the_grid_is_refined() {
 /// round-off (it is an equality row of the program).
 #[test]
 fn fine_grids_on_the_fft_operator_meet_hertz() {
-    use grasp_model::solve::solution::CompliancePath;
+    use grasp_model::CompliancePath;
     let h = hertz();
     for grid in [128, 256] {
         let model = GraspModel::from_scene(&scene(grid, 2.4)).unwrap();
@@ -112,7 +113,7 @@ fn fine_grids_on_the_fft_operator_meet_hertz() {
 /// directions), Clarabel, and a dense matrix forced on a grid whose blocks cannot fit.
 #[test]
 fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {
-    use grasp_model::model::patch_compliance::ComplianceChoice;
+    use grasp_model::ComplianceChoice;
     use grasp_model::{GraspSolver, ModelError, SceneError, SolveOptions, SolverChoice};
     let model = GraspModel::from_scene(&scene(128, 2.4)).unwrap();
     let mut solver = GraspSolver::new(&model, SolveOptions::default());

@@ -4,7 +4,8 @@
 
 mod support;
 
-use grasp_model::{solve, GraspModel, Scene, SolveStatus};
+use grasp_model::solve;
+use grasp_model::{GraspModel, Scene, SolveStatus};
 use grasp_transfer::{Command, Schedule, StepRecord, TransferOptions};
 
 fn load() -> (Scene, Schedule) {

@@ -393,7 +393,8 @@ fn layer_thickness_outside_its_range() {
 /// resolved layer is not.
 #[test]
 fn unresolved_and_half_space_like_layers_are_warned_about() {
-    use grasp_model::{solve, GraspModel};
+    use grasp_model::solve;
+    use grasp_model::GraspModel;
     let warnings = |finger_h: f64, patch: f64| {
         let mut v = cube();
         for f in v["fingers"].as_array_mut().unwrap() {

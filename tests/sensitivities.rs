@@ -13,7 +13,7 @@
 
 mod support;
 
-use grasp_model::solve::solution::ElementState;
+use grasp_model::ElementState;
 use grasp_model::{
     GraspModel, GraspSolver, Scene, Sensitivities, Solution, SolveOptions, SolveStatus,
 };

@@ -9,9 +9,9 @@ mod support;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
-use grasp_model::geometry::mesh_surface::TriangleMesh;
-use grasp_model::geometry::tessellation::icosphere;
-use grasp_model::scene::finger_placement::{DerivedFrame, STANDARD_GRAVITY};
+use grasp_model::icosphere;
+use grasp_model::TriangleMesh;
+use grasp_model::{DerivedFrame, STANDARD_GRAVITY};
 use grasp_model::{GraspModel, Scene, SceneError};
 use serde_json::{json, Value};
 use support::*;
@@ -78,7 +78,7 @@ fn a_sphere_gives_its_radius_in_every_direction() {
     assert!(close(d.normal, [-dir.x, -dir.y, -dir.z], EXACT));
     assert_eq!(d.object_radius_m, [Some(r), Some(r)]);
     assert!(
-        matches!(s.fingers[0].object_radius, Some(grasp_model::scene::scene_format::RadiusSpec::Isotropic(x)) if (x - r).abs() < EXACT)
+        matches!(s.fingers[0].object_radius, Some(grasp_model::RadiusSpec::Isotropic(x)) if (x - r).abs() < EXACT)
     );
 }
 
@@ -384,7 +384,7 @@ fn a_cube_mesh_has_the_exact_volume_and_centroid_and_an_stl_reads_the_same() {
         triangles: f.iter().map(|t: &[usize; 3]| t.map(|i| i as u32)).collect(),
     };
     let obj = write_obj(&dir, "cube.obj", &cube);
-    let spec = grasp_model::geometry::shape::MeshSpec {
+    let spec = grasp_model::MeshSpec {
         file: "cube.obj".into(),
         scale: 0.1,
         unit: Default::default(),
@@ -422,8 +422,7 @@ fn with_shape(example: &str, shape: Value) -> (Value, Value) {
         let p: [f64; 3] = serde_json::from_value(f.remove("contact_point").unwrap()).unwrap();
         let n: [f64; 3] = serde_json::from_value(f.remove("normal").unwrap()).unwrap();
         f.remove("object_radius");
-        let scene =
-            grasp_model::geometry::contact_frame::ContactFrame::new(p.into(), n.into(), None, None);
+        let scene = grasp_model::ContactFrame::new(p.into(), n.into(), None, None);
         let nudged = [0, 1, 2].map(|i| p[i] + 3e-4 * n[i]);
         let mut place = json!({"point": nudged});
         if !planar {

@@ -17,7 +17,7 @@
 
 mod support;
 
-use grasp_model::model::patch_compliance::ComplianceChoice;
+use grasp_model::ComplianceChoice;
 use grasp_model::{SolveOptions, SolveStatus, SolverChoice};
 use serde_json::{json, Value};
 use support::*;

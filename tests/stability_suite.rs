@@ -10,7 +10,8 @@ use support::Lcg;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use grasp_model::{solve, GraspModel, Scene, Solution, SolveStatus};
+use grasp_model::solve;
+use grasp_model::{GraspModel, Scene, Solution, SolveStatus};
 use serde_json::{json, Value};
 
 fn elastic(e: f64, nu: f64) -> Value {

@@ -460,7 +460,7 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
             let first = paths.next().unwrap_or_default();
             match paths.all(|p| p == first) {
                 true => first,
-                false => grasp_model::model::patch_compliance::CompliancePath::Mixed,
+                false => grasp_model::CompliancePath::Mixed,
             }
         },
         answered_by_native: records

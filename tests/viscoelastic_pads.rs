@@ -15,7 +15,7 @@
 
 mod support;
 
-use grasp_model::analysis::relaxation::{solve_at, TimePoint};
+use grasp_model::{solve_at, TimePoint};
 use grasp_model::{GraspModel, Scene, Solution, SolveOptions, SolveStatus};
 
 const E0: f64 = 2e6;
@@ -264,7 +264,7 @@ fn the_stepping_meets_its_elastic_limits() {
 /// measured between 3.5 and 4.5.
 #[test]
 fn halving_the_step_shows_second_order() {
-    use grasp_model::solve::viscous_history::{advance_step, prepare_step};
+    use grasp_model::{advance_step, prepare_step};
     use grasp_model::{ContactState, GraspSolver};
     let d = 2e-4;
     let scene = approach_pinch(&pad(SLS), d, 2.4 * (R * d).sqrt());

@@ -8,7 +8,7 @@
 
 use std::f64::consts::PI;
 
-use grasp_model::geometry::mesh_surface::TriangleMesh;
+use grasp_model::TriangleMesh;
 
 /// A mesh being built: vertices are merged by exact coordinates as they are added.
 #[derive(Default)]

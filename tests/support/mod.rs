@@ -1,7 +1,8 @@
 //! Shared helpers of the integration tests: load the bundled examples, edit them as JSON.
 #![allow(dead_code)]
 
-use grasp_model::{solve, GraspModel, Scene, Solution, SolveStatus};
+use grasp_model::solve;
+use grasp_model::{GraspModel, Scene, Solution, SolveStatus};
 use serde_json::Value;
 
 /// Path of a file in the workspace's `examples/` folder.
@@ -304,7 +305,7 @@ pub fn native_agrees_with_clarabel(v: &Value) -> Result<(Solution, Agreement, f6
             s.status
         }
     };
-    let coulomb = model.kind == grasp_model::scene::scene_format::ModelKind::Coulomb;
+    let coulomb = model.kind == grasp_model::ModelKind::Coulomb;
     let confirmed = |native: &Solution| coulomb && fixed_point_confirmed(&model, native).is_some();
     let residuals_hold = |native: &Solution| {
         let cones = if coulomb {

@@ -17,7 +17,7 @@ use grasp_io::input_file::{
 };
 use grasp_io::scene_file::{base_dir_of, scene_from_json_str_noting, scene_from_value};
 use grasp_io::{FileIdentity, RunInputs};
-use grasp_model::scene::strict_json::{from_str_strict, StrictValue};
+use grasp_model::{strict_json::from_str_strict, strict_json::StrictValue};
 use grasp_model::{InputProblem, Scene};
 use serde_json::Value;
 

@@ -174,7 +174,7 @@ impl<'de> Visitor<'de> for IdScanVisitor {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use grasp_model::scene::strict_json::{from_str_strict, StrictValue};
+    use grasp_model::{strict_json::from_str_strict, strict_json::StrictValue};
 
     /// The scan and the full parse give every line the same id.
     #[test]

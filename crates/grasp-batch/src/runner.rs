@@ -10,8 +10,8 @@ use std::time::Instant;
 
 use grasp_io::RunInputs;
 
-use grasp_model::model::patch_compliance::takes_fft;
-use grasp_model::scene::work_bounds::estimate_memory_bytes_with;
+use grasp_model::estimate_memory_bytes_with;
+use grasp_model::takes_fft;
 use grasp_model::{GraspModel, GraspSolver, InputProblem, SolveOptions};
 use rayon::prelude::*;
 

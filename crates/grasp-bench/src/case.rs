@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use grasp_model::model::patch_compliance::ComplianceChoice;
+use grasp_model::ComplianceChoice;
 use grasp_model::{GraspModel, Scene, SolveOptions, SolverChoice};
 use grasp_transfer::{Schedule, TransferOptions};
 

@@ -9,7 +9,7 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use grasp_model::analysis::refinement::hertz_parameters;
+use grasp_model::hertz_parameters;
 
 use crate::case::Prepared;
 

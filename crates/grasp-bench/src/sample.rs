@@ -3,8 +3,8 @@
 
 use std::time::Instant;
 
-use grasp_model::analysis::refinement::hertz_parameters;
-use grasp_model::model::closed_form::{cattaneo_stick_radius_m, HertzSphere};
+use grasp_model::hertz_parameters;
+use grasp_model::{closed_form::cattaneo_stick_radius_m, closed_form::HertzSphere};
 use grasp_model::{GraspModel, GraspSolver, Solution, SolverKind};
 use grasp_transfer::Stepper;
 
@@ -72,7 +72,7 @@ fn stick_radius_error(p: &Prepared, sol: &Solution) -> Option<f64> {
     }
     let (r, e_star) = hertz_parameters(&p.scene).ok()?;
     let spec = p.scene.fingers.first()?;
-    let grasp_model::scene::FrictionSpec::Coefficient(c) = &spec.friction else {
+    let grasp_model::FrictionSpec::Coefficient(c) = &spec.friction else {
         return None;
     };
     let mu = c.mu;
@@ -182,7 +182,7 @@ impl Prepared {
         let base = peak_memory::rss_bytes().filter(|_| reset);
         // A model build computes a layer's radial functions unless an earlier run of the
         // process did: every sample pays for them, as a one-shot `grasp solve` does.
-        grasp_model::model::layer_green_function::forget_radial_functions();
+        grasp_model::forget_radial_functions();
         let t0 = Instant::now();
         let mut sample = match self.case.kind {
             CaseKind::Solve => {

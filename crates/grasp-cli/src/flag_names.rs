@@ -1,10 +1,12 @@
 //! The libraries name the options a user can change as their Rust API spells them
 //! (`grasp_model::option_names`, `grasp_batch::option_names`); the CLI says the flag instead.
 
-use grasp_model::option_names::{
-    respell, AUTO_PATCH, COMPLIANCE, MARGIN_LENGTH, MARGIN_TOLERANCE, SOLVER, TOLERANCE,
-};
 use grasp_model::Solution;
+use grasp_model::{
+    option_names::respell, option_names::AUTO_PATCH, option_names::COMPLIANCE,
+    option_names::MARGIN_LENGTH, option_names::MARGIN_TOLERANCE, option_names::SOLVER,
+    option_names::TOLERANCE,
+};
 
 /// Library option name -> command-line flag.
 const FLAGS: &[(&str, &str)] = &[

@@ -1,5 +1,5 @@
 //! Work bounds of a command, checked before any allocation: the memory a scene's solve needs
-//! (estimated by `grasp_model::scene::work_bounds`) against `--max-memory`; and the input
+//! (estimated by `grasp_model::estimate_memory_bytes`) against `--max-memory`; and the input
 //! files, read through `grasp_io::input_file` (regular files within a size limit) and noted,
 //! so no output of the command replaces one of them.
 
@@ -9,9 +9,8 @@ use std::sync::Mutex;
 use anyhow::{bail, Result};
 use grasp_io::input_file::{self, InputKind};
 use grasp_io::RunInputs;
-use grasp_model::model::patch_compliance::{takes_fft, ComplianceChoice};
-use grasp_model::scene::work_bounds;
 use grasp_model::Scene;
+use grasp_model::{estimate_memory_bytes_with, finger_unknowns, takes_fft, ComplianceChoice};
 
 /// Largest scene, schedule or directions file read, bytes.
 pub const MAX_INPUT_BYTES: u64 = input_file::SCENE_FILE.max_bytes;
@@ -95,8 +94,8 @@ pub fn check_memory_with(
     limit: (u64, &str),
     compliance: ComplianceChoice,
 ) -> Result<()> {
-    let fft = |f: &grasp_model::scene::FingerSpec| takes_fft(scene, f, compliance);
-    let need = work_bounds::estimate_memory_bytes_with(scene, fft);
+    let fft = |f: &grasp_model::FingerSpec| takes_fft(scene, f, compliance);
+    let need = estimate_memory_bytes_with(scene, fft);
     if need <= limit.0 {
         return Ok(());
     }
@@ -104,9 +103,9 @@ pub fn check_memory_with(
         .fingers
         .iter()
         .enumerate()
-        .max_by_key(|(_, f)| work_bounds::finger_unknowns(scene, f));
+        .max_by_key(|(_, f)| finger_unknowns(scene, f));
     let detail = biggest.map_or(String::new(), |(i, f)| {
-        let n = work_bounds::finger_unknowns(scene, f);
+        let n = finger_unknowns(scene, f);
         let form = match fft(f) {
             true => "the FFT operator".to_string(),
             false => format!("a dense {n} x {n} block"),

@@ -120,8 +120,8 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
 }
 
 /// Which solver answered, its time and iterations, in words.
-pub fn solver_words(st: &grasp_model::solve::solution::SolverStats) -> String {
-    use grasp_model::solve::solution::CompliancePath;
+pub fn solver_words(st: &grasp_model::SolverStats) -> String {
+    use grasp_model::CompliancePath;
     match (st.solver, st.compliance) {
         (grasp_model::SolverKind::Native, CompliancePath::Dense) => format!(
             "native solver {:.1} ms, {} Newton steps, {} factorizations",
@@ -151,7 +151,7 @@ pub fn error_estimate_line(
     sol: &Solution,
     options: grasp_model::SolveOptions,
 ) -> anyhow::Result<String> {
-    use grasp_model::analysis::refinement::{estimate_error, NoEstimate};
+    use grasp_model::{estimate_error, NoEstimate};
     Ok(match estimate_error(scene, sol, options)? {
         Ok(e) => format!(
             "discretisation error estimate (coarse grids {:?}, ratio {:.2}, order 1): P within {:.2e} N, \
@@ -234,12 +234,12 @@ pub fn sensitivity_table(sens: &grasp_model::Sensitivities, time_s: f64) -> Stri
 }
 
 /// What the object's shape gave each finger (`grasp solve --explain-frames`).
-pub fn frames_table(r: &grasp_model::scene::finger_placement::ShapeReport) -> String {
+pub fn frames_table(r: &grasp_model::ShapeReport) -> String {
     let mut o = String::new();
     let mass = r.mass_kg.map_or(String::new(), |m| {
         format!(
             ", mass {m:.6} kg (weight {:.6} N)",
-            m * grasp_model::scene::finger_placement::STANDARD_GRAVITY
+            m * grasp_model::STANDARD_GRAVITY
         )
     });
     let c = r.centroid_m;
@@ -288,7 +288,7 @@ pub fn hertz_table(scene: &grasp_model::Scene) -> anyhow::Result<String> {
             Some(p) => (p, "its commanded load"),
             None => (scene.object.weight, "the object's weight"),
         };
-        let Some(h) = grasp_model::analysis::patch_sizing::hertz_suggestion(f, m, load) else {
+        let Some(h) = grasp_model::hertz_suggestion(f, m, load) else {
             continue;
         };
         let axis = |a: Option<f64>| a.map_or("line".to_string(), |a| format!("{} mm", mm(a)));

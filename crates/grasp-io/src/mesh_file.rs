@@ -8,8 +8,8 @@ use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::Path;
 
-use grasp_model::geometry::mesh_surface::TriangleMesh;
-use grasp_model::geometry::shape::MeshSpec;
+use grasp_model::MeshSpec;
+use grasp_model::TriangleMesh;
 
 use crate::input_file::{read_bytes, FileIdentity, MESH_FILE};
 

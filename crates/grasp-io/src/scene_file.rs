@@ -5,8 +5,8 @@
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
-use grasp_model::geometry::mesh_surface::TriangleMesh;
-use grasp_model::geometry::shape::MeshSpec;
+use grasp_model::MeshSpec;
+use grasp_model::TriangleMesh;
 use grasp_model::{Scene, SceneError};
 
 use crate::error::InputFileError;

@@ -13,27 +13,28 @@
 //! fingers and a Coulomb cone `||G_k|| <= mu F_k` per element: a second-order cone program
 //! (Sinha 1989, as corrected in the repository's `docs/model.md`), solved by a native
 //! semismooth Newton method that factorises each finger's block and warm-starts from the
-//! previous solution, with Clarabel as the reference and fallback ([`solver::clarabel`]).
+//! previous solution, with Clarabel as the reference and fallback (`--solver clarabel`).
 //!
-//! ## Layout: one folder per layer, imports only downwards
+//! ## Layout: one folder per layer, imports only downwards (private; the face is below)
 //!
 //! | folder | what it holds | may import |
 //! |---|---|---|
-//! | [`geometry`] | contact frames, surface points, exact primitives, triangle meshes, posed shapes, tessellation | - |
-//! | [`scene`] | the file format, strict JSON, validation (a path and a fix per problem), shape checks, finger placement, work bounds | geometry |
-//! | [`model`] | the immutable [`GraspModel`]: materials, patches, influence coefficients, friction laws, equilibrium map, closed forms | scene, geometry |
-//! | [`program`] | the solver-neutral [`ConeProgram`] (assembly kept apart from solving) | model |
-//! | [`solver`] | options, outcomes and certificates, Clarabel, the native semismooth Newton solver, the warm start's prediction | program, model |
-//! | [`mod@solve`] | [`GraspSolver`] and its strategies (one convex solve, the sequential fixed point), readout, residuals, [`Solution`], contact state, sensitivities | solver, program, model, scene |
-//! | [`analysis`] | many solves: disturbance margins, refinement studies, patch sizing | all of the above |
+//! | `geometry/` | contact frames, surface points, exact primitives, triangle meshes, posed shapes, tessellation | - |
+//! | `scene/` | the file format, strict JSON, validation (a path and a fix per problem), shape checks, finger placement, work bounds | geometry |
+//! | `model/` | the immutable [`GraspModel`]: materials, patches, influence coefficients, friction laws, equilibrium map, closed forms | scene, geometry |
+//! | `program/` | the solver-neutral [`ConeProgram`] (assembly kept apart from solving) | model |
+//! | `solver/` | options, outcomes and certificates, Clarabel, the native semismooth Newton solver, the warm start's prediction | program, model |
+//! | `solve/` | [`GraspSolver`] and its strategies (one convex solve, the sequential fixed point), readout, residuals, [`Solution`], contact state, sensitivities | solver, program, model, scene |
+//! | `analysis/` | many solves: disturbance margins, refinement studies, patch sizing | all of the above |
 //!
-//! [`error`] (one [`InputProblem`] type for every input) and [`option_names`] (how messages
-//! name options) sit below them all.
+//! `error.rs` (one [`InputProblem`] type for every input) and [`option_names`] (how messages
+//! name options) sit below them all. The folders are private: this page is the crate's whole
+//! face, its names grouped below in data-flow order, so a file can move without breaking a caller.
 //!
 //! Data flow: [`Scene`] (file format, validated) -> [`GraspModel`] (immutable) ->
 //! [`ConeProgram`] (scaled, assembled once) -> [`GraspSolver::solve`] (strategy: one convex
 //! solve or the sequential fixed point; backend: native or Clarabel) -> [`Solution`] (SI, with
-//! [`Residuals`] computed from the solution itself, [`solve::readout`]).
+//! [`Residuals`] computed from the solution itself).
 //!
 //! ```
 //! use grasp_model::{GraspModel, GraspSolver, Scene, SolveOptions};
@@ -60,26 +61,94 @@
 
 #![warn(missing_docs)]
 
-pub mod analysis;
-pub mod error;
-pub mod geometry;
-pub mod model;
-pub mod number_text;
+mod analysis;
+mod error;
+mod geometry;
+mod model;
+mod number_text;
 pub mod option_names;
-pub mod program;
-pub mod scene;
-pub mod solve;
-pub mod solver;
+mod program;
+mod scene;
+mod solve;
+mod solver;
 
-pub use error::{InputProblem, ModelError, OptionError, SceneError};
-pub use model::grasp_model::{Control, FingerModel, GraspModel, Scales};
+// ---- The scene: what a user writes (serde types, JSON Schema, validation) ----
+pub use geometry::shape_spec::{
+    BoxSpec, CylinderSpec, LengthUnit, MeshSpec, PlaceSpec, RaySpec, ShapeSpec, SphereSpec,
+    TipCylinderSpec, TipFlatSpec, TipSpec, TipSphereSpec, DEFAULT_SURFACE_TOLERANCE_M,
+};
+pub use scene::finger_placement::STANDARD_GRAVITY;
+pub use scene::scene_format::{
+    scene_json_schema, ApproachSpec, CoefficientSpec, ControlSpec, ElasticLawParams,
+    ElasticLawSpec, ElasticSpec, ExternalForceSpec, FingerSpec, FrictionSpec, HeldTag,
+    MaterialSpec, ModelKind, NormalLoadSpec, ObjectSpec, PatchSpec, PlanarSpec, PronyTermSpec,
+    RadiusSpec, RelaxationSpec, RigidTag, Scene, StandardLinearSolidSpec, TableSpec, Vec3,
+};
+pub use scene::shape_report::{DerivedFrame, ShapeReport};
+pub use scene::work_bounds::{estimate_memory_bytes, estimate_memory_bytes_with, finger_unknowns};
+
+/// The ranges a scene's numbers may take (physical ranges, patch sizes, the planarity
+/// tolerance): what validation checks, for front ends that check their own inputs alike.
+pub mod limits {
+    pub use crate::scene::limits::*;
+}
+
+/// Strict JSON, shared by every input format of the project (scenes, schedules, batch lines):
+/// one document, no duplicate keys, nested enum errors with their inner path, syntax errors by
+/// line and column.
+pub mod strict_json {
+    pub use crate::scene::strict_json::{
+        describe, from_str_strict, unique_keys, variant, JsonError, StrictValue,
+    };
+}
+
+// ---- Geometry ----
+pub use geometry::contact_frame::ContactFrame;
+pub use geometry::mesh_surface::TriangleMesh;
+pub use geometry::tessellation::icosphere;
+
+// ---- The model: built once from a scene, immutable ----
+pub use model::equilibrium::{MotionPlane, Wrench};
+pub use model::grasp_model::{
+    object_curvatures_per_m, tip_curvatures_per_m, Control, FingerModel, GraspModel, Scales,
+};
+pub use model::layer_green_function::forget_radial_functions;
+pub use model::material::Material;
+pub use model::patch_compliance::{takes_fft, ComplianceChoice, CompliancePath};
+
+/// Closed-form references the model is checked against: Hertz (sphere, elliptical, line),
+/// Cattaneo, Mindlin and Mindlin-Deresiewicz (Johnson, *Contact Mechanics*, 4.2, 7.2, 7.4).
+pub mod closed_form {
+    pub use crate::model::closed_form::*;
+}
+
+// ---- The program and its solve ----
 pub use program::cone_program::ConeProgram;
-pub use scene::{scene_json_schema, Scene};
 pub use solve::contact_state::{ContactState, FingerState};
 pub use solve::grasp_solver::{solve, GraspSolver};
 pub use solve::sensitivity::Sensitivities;
-pub use solve::solution::{
-    ElementState, FingerSolution, Residuals, SequentialReport, Solution, SolveStatus,
-};
+pub use solve::viscous_history::{advance_step, prepare_step};
 pub use solver::options::{SolveOptions, SolverChoice};
 pub use solver::outcome::SolverKind;
+
+// ---- The solution ----
+pub use solve::solution::{
+    ElementSolution, ElementState, FingerSolution, Residuals, RigidDisplacement, SequentialReport,
+    Solution, SolveStatus, SolverStats, LOADED_FRACTION,
+};
+
+// ---- Analyses: many solves ----
+pub use analysis::margin::{
+    axis_directions, disturbance_margins, holds, plane_directions, spread_directions,
+    DirectionMargin, Failure, MarginOptions, MarginReport, WrenchDirection,
+};
+pub use analysis::patch_sizing::{auto_patch, hertz_suggestion, AutoPatch, HertzSuggestion};
+pub use analysis::refinement::{
+    estimate_error, grid_with_first_side, hertz_parameters, refinement_study, with_grids,
+    ErrorEstimate, NoEstimate, StudyReference, StudyRow,
+};
+pub use analysis::relaxation::{solve_at, TimePoint, TimedSolution};
+
+// ---- Errors and messages ----
+pub use error::{format_problems, InputProblem, ModelError, OptionError, SceneError};
+pub use number_text::{readable, Readable};

@@ -3,7 +3,7 @@
 //! `keep_solutions=False`) every step's full solution, estimated before the run so a long
 //! schedule is refused up front rather than filling the machine.
 
-use grasp_model::solve::solution::{ElementSolution, FingerSolution};
+use grasp_model::{ElementSolution, FingerSolution};
 use grasp_transfer::{Command, StepRecord};
 
 /// Per step and finger, in scene order: the values `grasp.Transfer` returns as arrays.

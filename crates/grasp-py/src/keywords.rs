@@ -3,8 +3,10 @@
 //! `tolerance=`). Every library text that reaches Python (exception messages, a solution's
 //! reason, warnings and fallback, serialised records) goes through [`in_keywords`].
 
-use grasp_model::option_names::{respell, COMPLIANCE, SOLVER, TOLERANCE};
 use grasp_model::Solution;
+use grasp_model::{
+    option_names::respell, option_names::COMPLIANCE, option_names::SOLVER, option_names::TOLERANCE,
+};
 
 /// Library option name -> keyword argument of `grasp.solve` / `grasp.transfer`. Options
 /// without a keyword keep the library's name.

@@ -163,18 +163,18 @@ impl Scene {
 }
 
 /// The scene format's name of a model.
-pub fn model_name(m: grasp_model::scene::scene_format::ModelKind) -> &'static str {
+pub fn model_name(m: grasp_model::ModelKind) -> &'static str {
     match m {
-        grasp_model::scene::scene_format::ModelKind::Energy => "energy",
-        grasp_model::scene::scene_format::ModelKind::Coulomb => "coulomb",
+        grasp_model::ModelKind::Energy => "energy",
+        grasp_model::ModelKind::Coulomb => "coulomb",
     }
 }
 
 /// The model named `name` (`"energy"` or `"coulomb"`).
-pub fn parse_model(name: &str) -> PyResult<grasp_model::scene::scene_format::ModelKind> {
+pub fn parse_model(name: &str) -> PyResult<grasp_model::ModelKind> {
     match name {
-        "energy" => Ok(grasp_model::scene::scene_format::ModelKind::Energy),
-        "coulomb" => Ok(grasp_model::scene::scene_format::ModelKind::Coulomb),
+        "energy" => Ok(grasp_model::ModelKind::Energy),
+        "coulomb" => Ok(grasp_model::ModelKind::Coulomb),
         other => Err(pyo3::exceptions::PyValueError::new_err(format!(
             "model={other:?}: choose \"energy\" or \"coulomb\""
         ))),

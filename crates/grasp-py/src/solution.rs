@@ -212,7 +212,7 @@ impl Solution {
     }
 }
 
-type Element = grasp_model::solve::solution::ElementSolution;
+type Element = grasp_model::ElementSolution;
 /// Unit tangents `(t1, t2)` of a finger, world frame.
 pub type Tangents = ([f64; 3], [f64; 3]);
 
@@ -274,7 +274,7 @@ pub fn tangents_by_name(
         .fingers
         .iter()
         .map(|f| {
-            let frame = grasp_model::geometry::contact_frame::ContactFrame::new(
+            let frame = grasp_model::ContactFrame::new(
                 v3(&f.contact_point),
                 v3(&f.normal),
                 f.tangent.as_ref().map(v3),

@@ -4,8 +4,8 @@
 use std::str::FromStr;
 use std::time::Instant;
 
-use grasp_model::analysis::relaxation::{solve_at, TimePoint};
-use grasp_model::model::patch_compliance::ComplianceChoice;
+use grasp_model::ComplianceChoice;
+use grasp_model::{solve_at, TimePoint};
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice};
 use pyo3::prelude::*;
 

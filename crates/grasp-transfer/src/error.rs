@@ -1,6 +1,6 @@
 //! Errors of the transfer driver.
 
-use grasp_model::error::{format_problems, InputProblem};
+use grasp_model::{format_problems, InputProblem};
 
 /// A schedule that cannot be used.
 #[derive(Debug, Clone, thiserror::Error)]
@@ -38,7 +38,7 @@ pub enum TransferError {
     /// The scene restricted to the active fingers is not usable.
     #[error(
         "at t = {} s the active fingers do not form a usable scene: {source}",
-        grasp_model::number_text::Readable(*time_s)
+        grasp_model::Readable(*time_s)
     )]
     Scene {
         /// Step time, s.

@@ -12,7 +12,7 @@
 //! receiving gripper must command; under the energy model it is the load above which the
 //! model's own squeeze suffices.
 
-use grasp_model::number_text::Readable;
+use grasp_model::Readable;
 use grasp_model::{Control, GraspModel, GraspSolver, Scene, Solution, SolveOptions};
 use serde::Serialize;
 

@@ -25,9 +25,11 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use grasp_model::number_text::Readable as N;
-use grasp_model::scene::strict_json::{self, describe, variant, StrictValue};
-use grasp_model::scene::validation::{force_in_range, MAX_FORCE_N, MIN_NONZERO_FORCE_N};
+use grasp_model::Readable as N;
+use grasp_model::{limits::force_in_range, limits::MAX_FORCE_N, limits::MIN_NONZERO_FORCE_N};
+use grasp_model::{
+    strict_json, strict_json::describe, strict_json::variant, strict_json::StrictValue,
+};
 use schemars::JsonSchema;
 use serde::{Deserialize, Deserializer, Serialize};
 use serde_json::Value;

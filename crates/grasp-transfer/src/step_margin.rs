@@ -1,10 +1,8 @@
 //! The disturbance margin of one hand-off step (issue 13): the smallest, over the axis
-//! directions of force and couple, of the margins of [`grasp_model::analysis::margin`], continued from
+//! directions of force and couple, of the margins of [`grasp_model::disturbance_margins`], continued from
 //! the contact state at the start of the step.
 
-use grasp_model::analysis::margin::{
-    axis_directions, disturbance_margins, MarginOptions, WrenchDirection,
-};
+use grasp_model::{axis_directions, disturbance_margins, MarginOptions, WrenchDirection};
 use grasp_model::{ContactState, GraspModel, ModelError, SolveOptions};
 use serde::Serialize;
 

@@ -23,8 +23,8 @@ use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use grasp_model::solve::solution::SolverStats;
-use grasp_model::solve::viscous_history::{advance_step, prepare_step};
+use grasp_model::SolverStats;
+use grasp_model::{advance_step, prepare_step};
 use grasp_model::{
     ContactState, Control, FingerState, GraspModel, GraspSolver, Scene, SceneError, Solution,
     SolveOptions, SolverKind,

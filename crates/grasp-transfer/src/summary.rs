@@ -5,11 +5,11 @@ use serde::Serialize;
 
 use crate::schedule::Command;
 use crate::stepper::StepRecord;
-use grasp_model::model::patch_compliance::CompliancePath;
+use grasp_model::CompliancePath;
 
 /// A finger carries load when its normal force exceeds this fraction of the load scale (the
 /// model's one meaning of "loaded").
-pub use grasp_model::solve::solution::LOADED_FRACTION;
+pub use grasp_model::LOADED_FRACTION;
 
 /// The summary of a run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -48,7 +48,7 @@ pub struct TransferSummary {
     pub total_inner_iterations: u64,
     /// The form of the patch compliances over the run's steps (`mixed` when some steps'
     /// active fingers were dense and others' FFT, or both within a step).
-    pub compliance: grasp_model::model::patch_compliance::CompliancePath,
+    pub compliance: grasp_model::CompliancePath,
     /// Steps answered by the native solver and by Clarabel.
     pub answered_by_native: usize,
     /// Steps answered by Clarabel (`--solver clarabel`, or a fallback).
@@ -153,7 +153,7 @@ pub struct LeastSafeStep {
     /// The margin, N (see [`crate::StepMargin`]).
     pub margin_n: f64,
     /// Its direction: force part and couple part (unit vector of the scaled wrench space).
-    pub direction: grasp_model::analysis::margin::WrenchDirection,
+    pub direction: grasp_model::WrenchDirection,
     /// The finger that fails first.
     pub failing_finger: Option<String>,
     /// False when the margin reached the search's cap (the grasp held up to it).
@@ -217,7 +217,7 @@ pub struct SummaryAccumulator {
     total_iterations: u64,
     total_factorizations: u64,
     total_inner_iterations: u64,
-    compliance: Option<grasp_model::model::patch_compliance::CompliancePath>,
+    compliance: Option<grasp_model::CompliancePath>,
     answered: (usize, usize),
     fallbacks: Fallbacks,
     warm_steps: usize,

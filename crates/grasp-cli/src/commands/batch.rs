@@ -1,7 +1,7 @@
 //! `grasp batch`: many scenes, one result line each ([`grasp_batch`]), with a
 //! progress bar, resume, shards and merge.
 
-use grasp_model::model::patch_compliance::ComplianceChoice;
+use grasp_model::ComplianceChoice;
 use std::collections::HashSet;
 use std::fs::File;
 use std::io::{BufWriter, Write};

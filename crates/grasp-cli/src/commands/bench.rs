@@ -95,7 +95,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     if !(0.0..=MAX_MIN_TIME_S).contains(&args.min_time) {
         bail!(
             "--min-time is {}; give a number of seconds in [0, {MAX_MIN_TIME_S}], e.g. 1",
-            grasp_model::number_text::readable(args.min_time)
+            grasp_model::readable(args.min_time)
         );
     }
     for (i, s) in args.solver.iter().enumerate() {

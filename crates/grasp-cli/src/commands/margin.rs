@@ -1,4 +1,4 @@
-//! `grasp margin`: disturbance margins of one grasp ([`grasp_model::analysis::margin`]) as a table, JSON,
+//! `grasp margin`: disturbance margins of one grasp ([`grasp_model::disturbance_margins`]) as a table, JSON,
 //! a picture ([`crate::pictures::margin_plot`]) and a Rerun recording of the wrench surface.
 
 use std::fmt::Write as _;
@@ -6,11 +6,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
-use grasp_model::analysis::margin::{
+use grasp_model::ModelKind;
+use grasp_model::{
     axis_directions, disturbance_margins, plane_directions, spread_directions, DirectionMargin,
     Failure, MarginOptions, MarginReport, WrenchDirection,
 };
-use grasp_model::scene::scene_format::ModelKind;
 use grasp_model::{ContactState, GraspModel, SolveOptions, SolverChoice};
 use grasp_transfer::{RerunSink, RunInfo, Sink};
 use serde::Deserialize;
@@ -20,7 +20,7 @@ use crate::load_scene::load_scene;
 use crate::pictures::margin_plot::{label, MarginPlot};
 use crate::pictures::picture;
 use crate::{limits, output};
-use grasp_model::model::patch_compliance::ComplianceChoice;
+use grasp_model::ComplianceChoice;
 
 /// Disturbance margins: per direction of an extra wrench on the object, the largest
 /// magnitude the grasp takes before it fails (no equilibrium, or coulomb: a finger slides as

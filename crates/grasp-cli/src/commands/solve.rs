@@ -5,8 +5,8 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use grasp_model::analysis::relaxation::{solve_at, TimePoint, TimedSolution};
-use grasp_model::model::patch_compliance::ComplianceChoice;
+use grasp_model::ComplianceChoice;
+use grasp_model::{solve_at, TimePoint, TimedSolution};
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice};
 
 use crate::limits::{self, MemoryArg};
@@ -124,7 +124,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     }
     let t0 = Instant::now();
     let (scene_obj, model, solution, build_s, sens) = if auto_patch {
-        let a = grasp_model::analysis::patch_sizing::auto_patch(&scene_obj, options, 6)?;
+        let a = grasp_model::auto_patch(&scene_obj, options, 6)?;
         for line in &a.log {
             println!("auto-patch: {line}");
         }

@@ -1,14 +1,16 @@
 //! `grasp study`: a grid-refinement table (and CSV, plot) so a user can pick a grid for the
 //! accuracy they need.
 
-use grasp_model::model::patch_compliance::ComplianceChoice;
+use grasp_model::ComplianceChoice;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
-use grasp_model::analysis::refinement::{self, refinement_study, StudyReference, StudyRow};
 use grasp_model::SolveOptions;
+use grasp_model::{
+    grid_with_first_side, hertz_parameters, refinement_study, with_grids, StudyReference, StudyRow,
+};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -103,9 +105,7 @@ fn run(
     let scene_obj = crate::load_scene::load_scene(scene)?;
     let limit = crate::limits::memory_limit(max_memory);
     let finest = grids.iter().copied().max().unwrap_or(1);
-    let finest_scene = refinement::with_grids(&scene_obj, |_, g| {
-        refinement::grid_with_first_side(g, finest)
-    });
+    let finest_scene = with_grids(&scene_obj, |_, g| grid_with_first_side(g, finest));
     let memory = (limit.0, limit.1.as_str());
     crate::limits::check_memory_with(&finest_scene, scene, memory, options.compliance)
         .with_context(|| {
@@ -163,7 +163,7 @@ fn choose_reference(
     asked: &str,
     finest: usize,
 ) -> (StudyReference, String) {
-    let closed_form = refinement::hertz_parameters(scene);
+    let closed_form = hertz_parameters(scene);
     let finest_words = format!(
         "the finest grid ({finest} elements along the first side): each error is the \
          difference from it, so the finest row shows 0 and the errors are understated"
@@ -201,7 +201,7 @@ const MAX_GRIDS: usize = 32;
 /// `--grids`: between 1 and [`MAX_GRIDS`] counts, each in [1, 1048576] (a patch has at most
 /// `MAX_ELEMENTS_PER_PATCH` elements, so no first side can exceed it).
 fn check_grids(grids: &[usize]) -> Result<()> {
-    let most = grasp_model::scene::validation::MAX_ELEMENTS_PER_PATCH;
+    let most = grasp_model::limits::MAX_ELEMENTS_PER_PATCH;
     if grids.is_empty() || grids.len() > MAX_GRIDS {
         bail!(
             "--grids lists {} grids; give between 1 and {MAX_GRIDS}, e.g. --grids 5,9,17",

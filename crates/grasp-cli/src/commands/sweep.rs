@@ -1,7 +1,7 @@
 //! `grasp sweep`: a grid of variants of one scene, written as JSONL for `grasp batch` or run
 //! at once.
 
-use grasp_model::model::patch_compliance::ComplianceChoice;
+use grasp_model::ComplianceChoice;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

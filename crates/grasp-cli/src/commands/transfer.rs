@@ -18,7 +18,7 @@ use crate::output::{self, Outputs as Claimed};
 use crate::pictures::force_history::ForceHistory;
 use crate::pictures::picture;
 use grasp_io::PendingOutput;
-use grasp_model::model::patch_compliance::ComplianceChoice;
+use grasp_model::ComplianceChoice;
 
 /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
 #[derive(clap::Args, Debug)]

@@ -4,9 +4,9 @@
 //! panels, drawn at the cap).
 
 use anyhow::Result;
-use grasp_model::analysis::margin::{MarginReport, WrenchDirection};
-use grasp_model::model::equilibrium::MotionPlane;
 use grasp_model::GraspModel;
+use grasp_model::MotionPlane;
+use grasp_model::{MarginReport, WrenchDirection};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};

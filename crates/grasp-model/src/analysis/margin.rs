@@ -34,8 +34,8 @@ use crate::model::equilibrium::MotionPlane;
 use crate::model::grasp_model::GraspModel;
 use crate::number_text::Readable;
 use crate::option_names;
+use crate::scene::limits::LENGTH_RANGE_M;
 use crate::scene::scene_format::ModelKind;
-use crate::scene::validation::LENGTH_RANGE_M;
 use crate::solve::contact_state::ContactState;
 use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::solution::{Solution, SolveStatus, LOADED_FRACTION};
@@ -100,10 +100,10 @@ pub struct MarginOptions {
     /// reach (`Scales::length_m`). In the scene's length range [`LENGTH_RANGE_M`].
     pub length_m: Option<f64>,
     /// Bisection stops when the bracket is below this fraction of its upper end (in
-    /// [`RELATIVE_TOLERANCE_RANGE`]).
+    /// `RELATIVE_TOLERANCE_RANGE`).
     pub relative_tolerance: f64,
     /// Magnitudes above this multiple of the load scale count as unbounded (in
-    /// [`MAX_FACTOR_RANGE`]).
+    /// `MAX_FACTOR_RANGE`).
     pub max_factor: f64,
 }
 

@@ -9,7 +9,7 @@ use crate::model::closed_form::{elliptical_semi_axes_m, line_contact_half_width_
 use crate::model::grasp_model::{FingerModel, GraspModel};
 use crate::scene::scene_format::{FingerSpec, Scene};
 use crate::solve::grasp_solver::GraspSolver;
-pub use crate::solve::patch_check::{patch_warnings, undersized_patches, BOUNDARY_LOAD_TOLERANCE};
+use crate::solve::patch_check::undersized_patches;
 use crate::solve::solution::Solution;
 use crate::solver::options::SolveOptions;
 
@@ -29,7 +29,7 @@ pub struct AutoPatch {
     pub log: Vec<String>,
 }
 
-/// Solves `scene`, growing every curved patch whose boundary carries load by [`GROWTH`] in size
+/// Solves `scene`, growing every curved patch whose boundary carries load by `GROWTH` in size
 /// and element count (element size kept) until no boundary carries load, at most `rounds`
 /// times, or until growing would break validation (a patch wider than its radius, too many
 /// elements), which the log says.
@@ -123,7 +123,7 @@ pub struct HertzSuggestion {
     /// elements around it), the present side where the contact is a line.
     pub suggested_size_m: [f64; 2],
     /// True when a body is a layer on a rigid core and the semi-axes are Hertz's scaled by the
-    /// layered contact's estimate ([`crate::model::contact_pair::ContactPair::contact_radius_estimate_m`]
+    /// layered contact's estimate (`crate::model::contact_pair::ContactPair::contact_radius_estimate_m`
     /// at the equivalent radius `sqrt(R1 R2)`); a line contact keeps Hertz's half-width, which
     /// a layer only narrows.
     pub layered: bool,

@@ -11,10 +11,11 @@ use std::time::Instant;
 use crate::error::ModelError;
 use crate::model::closed_form::HertzSphere;
 use crate::model::grasp_model::GraspModel;
+use crate::scene::limits::MAX_ELEMENTS_PER_PATCH;
 use crate::scene::scene_format::{RadiusSpec, Scene};
-use crate::scene::validation::MAX_ELEMENTS_PER_PATCH;
-use crate::solve::grasp_solver::{GraspSolver, SolveOptions};
+use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::solution::Solution;
+use crate::solver::options::SolveOptions;
 
 /// Convergence order assumed by the estimate.
 pub const ASSUMED_ORDER: f64 = 1.0;

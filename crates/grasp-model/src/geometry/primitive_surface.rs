@@ -6,7 +6,7 @@
 use nalgebra::Vector3;
 
 use crate::geometry::shape_spec::ShapeSpec;
-pub use crate::geometry::surface_point::perpendicular;
+use crate::geometry::surface_point::perpendicular;
 use crate::geometry::surface_point::{SurfaceFeature, SurfacePoint};
 
 /// A point within this fraction of the primitive's size of a face (or edge) lies on it.

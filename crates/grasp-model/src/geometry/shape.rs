@@ -13,10 +13,8 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use crate::geometry::mesh_surface::{MeshSurface, TriangleMesh};
 use crate::geometry::mesh_topology::MeshDefects;
 use crate::geometry::primitive_surface::Primitive;
-pub use crate::geometry::shape_spec::{
-    BoxSpec, CylinderSpec, LengthUnit, MeshSpec, ShapeSpec, SphereSpec,
-};
-pub use crate::geometry::surface_point::{SurfaceFeature, SurfacePoint};
+use crate::geometry::shape_spec::ShapeSpec;
+use crate::geometry::surface_point::SurfacePoint;
 
 /// The shape in its local frame.
 #[derive(Debug, Clone)]

@@ -73,14 +73,14 @@ pub struct FingerModel {
     /// Tangential unknowns per element: 0 (frictionless), 1 (planar) or 2.
     pub n_tangential: usize,
     /// Patch compliance `C`, m/N, `(1 + n_tangential) N` square (see
-    /// [`crate::model::influence::patch_compliance`]), dense or as the FFT operator
-    /// ([`PatchCompliance`]); shared by the models restricted to some fingers
+    /// `crate::model::influence::patch_compliance`), dense or as the FFT operator
+    /// (`PatchCompliance`); shared by the models restricted to some fingers
     /// ([`GraspModel::restricted`]).
     pub compliance_m_per_n: PatchCompliance,
     /// How the finger is driven (as in the scene; loads may be overridden per solve).
     pub control: Control,
     /// The contact's viscoelastic bodies (`None`: both elastic or rigid): their own
-    /// compliances and creep functions ([`crate::model::viscous_contact`]).
+    /// compliances and creep functions (`crate::model::viscous_contact`).
     pub viscous: Option<Arc<ViscousContact>>,
     /// Index of this finger's first unknown in the program's `x`.
     pub offset: usize,
@@ -215,7 +215,7 @@ impl GraspModel {
     }
 
     /// Each finger's friction coefficient to freeze at finger loads `p_n` (N): its law at that
-    /// load, at least [`MU_FLOOR`]; 0 for frictionless fingers.
+    /// load, at least `MU_FLOOR`; 0 for frictionless fingers.
     pub fn mu_at(&self, p_n: &[f64]) -> Vec<f64> {
         self.fingers
             .iter()
@@ -231,7 +231,7 @@ impl GraspModel {
     }
 
     /// Builds the model from a scene, validating it first (patch compliances dense up to
-    /// [`crate::model::patch_compliance::AUTO_FFT_ABOVE_UNKNOWNS`] unknowns, FFT above).
+    /// [`crate::scene::limits::AUTO_FFT_ABOVE_UNKNOWNS`] unknowns, FFT above).
     pub fn from_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
         Self::from_scene_with(scene, ComplianceChoice::Auto)
     }
@@ -323,7 +323,7 @@ impl GraspModel {
 
     /// The model of one time step of `dt_s` seconds (`f64::INFINITY`: fully relaxed): every
     /// viscoelastic contact's compliance is its compliance over the step
-    /// ([`ViscousContact::step_compliance`]; `dt_s = 0` gives the instantaneous one, this
+    /// (`ViscousContact::step_compliance`; `dt_s = 0` gives the instantaneous one, this
     /// model's), the elastic fingers' are shared. This model itself when nothing relaxes.
     pub fn for_time_step(&self, dt_s: f64) -> GraspModel {
         if !self.is_viscoelastic() {

@@ -101,7 +101,7 @@ fn cache() -> &'static Cache {
 }
 
 /// Forgets the radial functions computed so far (a benchmark's run then pays for them as a
-/// fresh process does); the next [`RadialFunctions::of`] computes them again, to the same bits.
+/// fresh process does); the next `RadialFunctions::of` computes them again, to the same bits.
 pub fn forget_radial_functions() {
     if let Ok(mut c) = cache().lock() {
         c.clear();

@@ -55,7 +55,7 @@ impl std::fmt::Display for ComplianceChoice {
     }
 }
 
-pub use crate::scene::limits::AUTO_FFT_ABOVE_UNKNOWNS;
+use crate::scene::limits::AUTO_FFT_ABOVE_UNKNOWNS;
 
 /// True when a patch of `unknowns` unknowns (elements times `1 + n_tangential`) takes the FFT
 /// operator under `choice` (the automatic choice: above [`AUTO_FFT_ABOVE_UNKNOWNS`]).
@@ -67,7 +67,7 @@ pub fn uses_fft(choice: ComplianceChoice, unknowns: usize) -> bool {
     }
 }
 
-/// True when `finger`'s patch compliance takes the FFT operator under `choice` ([`uses_fft`]
+/// True when `finger`'s patch compliance takes the FFT operator under `choice` (`uses_fft`
 /// of its unknowns).
 pub fn takes_fft(scene: &Scene, finger: &FingerSpec, choice: ComplianceChoice) -> bool {
     let unknowns = usize::try_from(finger_unknowns(scene, finger)).unwrap_or(usize::MAX);

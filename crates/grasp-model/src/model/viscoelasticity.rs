@@ -91,7 +91,9 @@ impl RelaxationLaw {
         1.0 - self.terms.iter().map(|t| t.fraction).sum::<f64>()
     }
 
-    /// `e(t)`: the relaxation modulus over the instantaneous one at `t_s` seconds.
+    /// `e(t)`: the relaxation modulus over the instantaneous one at `t_s` seconds (the tests'
+    /// check of the creep function by the Volterra equation).
+    #[cfg(test)]
     pub fn relaxation(&self, t_s: f64) -> f64 {
         self.long_term_fraction()
             + self

@@ -11,8 +11,10 @@ use serde_json::{json, Map, Value};
 use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
 use crate::geometry::mesh_topology::MeshDefects;
-use crate::geometry::shape::{MeshSpec, Shape, ShapeSpec, SurfaceFeature, SurfacePoint};
-pub use crate::geometry::shape_spec::{PlaceSpec, RaySpec};
+use crate::geometry::shape::Shape;
+use crate::geometry::shape_spec::PlaceSpec;
+use crate::geometry::shape_spec::{MeshSpec, ShapeSpec};
+use crate::geometry::surface_point::{SurfaceFeature, SurfacePoint};
 use crate::scene::patch_on_shape::{overhang_warning, overlap_warnings};
 use crate::scene::shape_checks::check_shape_spec;
 
@@ -25,7 +27,7 @@ const ALIGNED_COSINE_GAP: f64 = 1e-6;
 /// A tangent hint whose part in the tangent plane is below this fraction of it (it is along
 /// the normal) is ignored.
 const NORMAL_HINT_FRACTION: f64 = 1e-9;
-pub use crate::scene::shape_report::{DerivedFrame, ShapeReport};
+use crate::scene::shape_report::{DerivedFrame, ShapeReport};
 
 type Vec3 = [f64; 3];
 
@@ -33,7 +35,7 @@ type Vec3 = [f64; 3];
 pub const STANDARD_GRAVITY: f64 = 9.80665;
 
 /// Default largest distance of a finger's point from the surface, m.
-pub use crate::geometry::shape_spec::DEFAULT_SURFACE_TOLERANCE_M;
+use crate::geometry::shape_spec::DEFAULT_SURFACE_TOLERANCE_M;
 
 /// A principal curvature below this magnitude counts as flat, 1/m (radius above 1 km).
 pub const FLAT_CURVATURE_PER_M: f64 = 1e-3;

@@ -1,6 +1,6 @@
 //! Every structural problem of a scene at once: a missing field, a key the format does not
 //! know, a value of the wrong type or length, found by walking the parsed JSON against the
-//! scene's JSON Schema ([`crate::scene::scene_json_schema`]). The typed reader (serde) stops
+//! scene's JSON Schema ([`crate::scene::scene_format::scene_json_schema`]). The typed reader (serde) stops
 //! at the first such problem; this walk runs when it has, so the user sees them all, each with
 //! a fix taken from the field's documentation.
 //!
@@ -365,7 +365,9 @@ mod tests {
     use serde_json::json;
 
     fn scene_schema() -> Value {
-        crate::scene::scene_json_schema().as_value().clone()
+        crate::scene::scene_format::scene_json_schema()
+            .as_value()
+            .clone()
     }
 
     fn example(name: &str) -> Value {

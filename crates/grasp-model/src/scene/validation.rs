@@ -15,7 +15,7 @@ use crate::scene::scene_format::{
 };
 use crate::scene::strict_json::StrictValue;
 
-pub use crate::scene::limits::*;
+use crate::scene::limits::*;
 
 /// A tangent whose angle with the normal has a sine below this (about 0.2 arc seconds) is
 /// parallel to it and cannot give a frame.
@@ -39,7 +39,7 @@ impl Scene {
     /// [`Scene::validate`]).
     ///
     /// A scene with `object.shape` is resolved first (fingers placed on it, the weight from a
-    /// density, explicit frames checked: [`crate::scene::finger_placement`]); this entry point reads
+    /// density, explicit frames checked: `crate::scene::finger_placement`); this entry point reads
     /// no files, so a mesh shape needs [`Scene::from_json_str_with_meshes`].
     pub fn from_json_str(text: &str) -> Result<Scene, SceneError> {
         Scene::from_json_str_with_meshes(text, &|m: &MeshSpec| {
@@ -105,7 +105,7 @@ impl Scene {
     }
 
     /// Replaces every direction (gravity, planar normal, finger normals and tangents) by its
-    /// unit vector, computed without overflow ([`unit_vector`]); zero or non-finite directions
+    /// unit vector, computed without overflow (`unit_vector`); zero or non-finite directions
     /// are left for [`Scene::validate`] to refuse.
     pub fn normalize_directions(&mut self) {
         let fix = |x: &mut Vec3| {
@@ -555,7 +555,7 @@ fn structure_error_of(
         path: e.path,
     };
     let single = single_problem;
-    let schema = crate::scene::scene_json_schema();
+    let schema = crate::scene::scene_format::scene_json_schema();
     let found = crate::scene::schema_check::structural_problems(value, schema.as_value());
     if found.is_empty() {
         return single(e);

@@ -72,6 +72,7 @@ pub fn finger_unknowns(scene: &Scene, finger: &FingerSpec) -> u64 {
 }
 
 /// Bytes of the dense compliance blocks of every finger, `sum_i 8 n_i^2` (saturating).
+#[cfg(test)]
 pub fn compliance_bytes(scene: &Scene) -> u64 {
     compliance_bytes_of(scene, |_| true)
 }

@@ -27,14 +27,14 @@ pub struct FingerState {
     /// `mu`).
     pub normal_load_n: Option<f64>,
     /// `normal_forces_n` and `normal_load_n` of the converged solves before the last (at
-    /// most [`EARLIER_KEPT`], oldest first): from them the sequential solve's warm start
+    /// most `EARLIER_KEPT`, oldest first): from them the sequential solve's warm start
     /// continues the loads' ramp.
     pub earlier: Vec<EarlierSolve>,
     /// The displacement a viscoelastic body's history adds to this step's elastic one, m, in
     /// the finger's unknown layout (normal, then `t1`, `t2`): `C h` of
-    /// [`crate::model::viscoelasticity`]. `None`: none (an elastic pair, or the first step).
+    /// `crate::model::viscoelasticity`. `None`: none (an elastic pair, or the first step).
     pub history_m: Option<Vec<f64>>,
-    /// The viscoelastic internal variables of the contact ([`crate::solve::viscous_history`]);
+    /// The viscoelastic internal variables of the contact (`crate::solve::viscous_history`);
     /// `None` for an elastic contact and before its first solve of a time history.
     pub viscous: Option<ViscousState>,
 }
@@ -111,7 +111,7 @@ impl ContactState {
     }
 
     /// The displacement added to the elastic one of every unknown of `model` (m, program
-    /// layout; [`crate::program::cone_program`]): `-d` on the normal unknowns of a finger
+    /// layout; `crate::program::cone_program`): `-d` on the normal unknowns of a finger
     /// pressed in by a prescribed approach `d`, plus each finger's viscoelastic history.
     pub fn offsets_m(&self, model: &GraspModel) -> Vec<f64> {
         let mut o = vec![0.0; model.n_unknowns];

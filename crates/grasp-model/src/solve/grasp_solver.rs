@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
+use crate::model::patch_compliance::CompliancePath;
 use crate::program::cone_program::{ConeLaw, ConeProgram};
 use crate::scene::scene_format::ModelKind;
 use crate::solve::contact_state::ContactState;
@@ -15,9 +16,10 @@ use crate::solve::convex_solve::solve_once;
 use crate::solve::readout::{enforce_invariant, failed};
 use crate::solve::sensitivity::Sensitivities;
 use crate::solve::sequential::solve_sequential;
-use crate::solve::solution::{CompliancePath, Solution, SolveStatus, SolverKind, SolverStats};
+use crate::solve::solution::{Solution, SolveStatus, SolverStats};
 use crate::solver::clarabel::ClarabelForm;
-pub use crate::solver::options::{SolveOptions, SolverChoice};
+use crate::solver::options::{SolveOptions, SolverChoice};
+use crate::solver::outcome::SolverKind;
 use crate::solver::program_solver::ProgramSolver;
 
 /// A solver for one model: the assembled program and, after the first solve, the solver
@@ -68,7 +70,7 @@ impl GraspSolver {
     }
 
     /// The sensitivities of `solution`, this solver's last answer for `model`
-    /// ([`crate::solve::sensitivity`]): derivatives of the finger and element forces with respect to
+    /// (`crate::solve::sensitivity`): derivatives of the finger and element forces with respect to
     /// an extra wrench on the object and to the commanded loads, at the active set.
     pub fn sensitivities(
         &mut self,

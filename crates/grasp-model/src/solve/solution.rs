@@ -3,8 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
-pub use crate::model::patch_compliance::CompliancePath;
-pub use crate::solver::outcome::SolverKind;
+use crate::model::patch_compliance::CompliancePath;
+use crate::solver::outcome::SolverKind;
 
 /// A finger or element counts as loaded when its normal force exceeds this fraction of the
 /// load scale (below it, a force is solver round-off: friction utilisation, stick counts and
@@ -87,7 +87,7 @@ pub struct ElementSolution {
     /// Contact state.
     pub state: ElementState,
     /// On a viscoelastic contact, the displacement its history added this step (m, `[normal,
-    /// t1, t2]`: the normal part closes the gap; [`crate::solve::viscous_history`]); absent on an
+    /// t1, t2]`: the normal part closes the gap; `crate::solve::viscous_history`); absent on an
     /// elastic one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub viscous_displacement_m: Option<[f64; 3]>,

@@ -60,30 +60,30 @@ pub struct SolveOptions {
     /// Tolerance of the scaled program: Clarabel's `tol_feas`, `tol_gap_abs`, `tol_gap_rel`;
     /// the native solver's bound on the natural residual relative to `max(1, max |x|)` and on
     /// the equality residual relative to `max(1, max |e|)` (dimensionless, in
-    /// [`TOLERANCE_RANGE`]).
+    /// `TOLERANCE_RANGE`).
     pub tolerance: f64,
     /// Iteration limit of each convex solve: Clarabel's interior-point iterations; the native
-    /// solver's Newton steps (at most [`crate::solver::outcome::MAX_NEWTON_ITERATIONS`]); in
-    /// [`ITERATION_RANGE`].
+    /// solver's Newton steps (at most `crate::solver::outcome::MAX_NEWTON_ITERATIONS`); in
+    /// `ITERATION_RANGE`.
     pub max_iterations: u32,
     /// Time limit of each Clarabel solve, s (> 0; `inf` for none).
     pub time_limit_s: f64,
     /// Sequential solve: converged when no element normal force changes by more than this
     /// many element force units `Fu` between iterates (dimensionless, in
-    /// [`SEQUENTIAL_TOLERANCE_RANGE`]; `inf` accepts the first iterate).
+    /// `SEQUENTIAL_TOLERANCE_RANGE`; `inf` accepts the first iterate).
     pub sequential_tolerance: f64,
-    /// Sequential solve: largest number of convex solves per step (in [`ITERATION_RANGE`]).
+    /// Sequential solve: largest number of convex solves per step (in `ITERATION_RANGE`).
     pub max_sequential_iterations: u32,
     /// Sequential solve: smallest relaxation `omega` of the damped fixed-point iteration
     /// before an iterate without solution is reported as the outcome (dimensionless, in
-    /// [`MIN_RELAXATION_RANGE`]; `1` gives the plain, undamped iteration).
+    /// `MIN_RELAXATION_RANGE`; `1` gives the plain, undamped iteration).
     pub min_relaxation: f64,
     /// Start each solve from the previous solution of the same program (the previous step or
     /// iterate), and a coulomb step from the previous step's forces; `false` starts every
     /// convex solve cold (for comparison).
     pub warm_start: bool,
     /// The form of the patch compliances: a dense matrix or the FFT operator
-    /// ([`crate::model::patch_compliance`]). Read where the model is built
+    /// (`crate::model::patch_compliance`). Read where the model is built
     /// ([`crate::GraspModel::from_scene_with`]): front ends build the model with it.
     pub compliance: ComplianceChoice,
 }

@@ -1,5 +1,5 @@
 //! How each fingertip is drawn (Rerun and Foxglove alike): its shape near the contact, from
-//! the curvatures the gap function uses ([`grasp_model::model::grasp_model::tip_curvatures_per_m`]), on the
+//! the curvatures the gap function uses ([`grasp_model::tip_curvatures_per_m`]), on the
 //! finger's side of the contact (against the inward normal `n`).
 //!
 //! - a sphere (equal curvatures `1/R`): the ball of radius `R` touching the contact point;
@@ -12,7 +12,7 @@
 //! A curved tip much larger than the scene (radius over [`LARGEST_DRAWN`] scene sizes) is
 //! drawn as a pad, so a nearly flat tip does not fill the view.
 
-use grasp_model::model::grasp_model::tip_curvatures_per_m;
+use grasp_model::tip_curvatures_per_m;
 use grasp_model::FingerModel;
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 

@@ -228,7 +228,7 @@ fn patches_schema() -> serde_json::Value {
 
 /// One element of a `/grasp/patches` message (a viscoelastic contact's elements also carry
 /// the displacement their history added this step).
-fn element_json(e: &grasp_model::solve::solution::ElementSolution) -> serde_json::Value {
+fn element_json(e: &grasp_model::ElementSolution) -> serde_json::Value {
     let mut v = json!({
         "index": e.index, "position_m": e.position_m, "normal_force_n": e.normal_force_n,
         "tangential_force_n": e.tangential_force_n, "pressure_pa": e.pressure_pa,

@@ -289,7 +289,7 @@ impl RerunSink {
     pub fn log_wrench_surface(
         &mut self,
         run: &RunInfo,
-        report: &grasp_model::analysis::margin::MarginReport,
+        report: &grasp_model::MarginReport,
     ) -> Result<(), TransferError> {
         let com = run.model.center_of_mass_m;
         let k = self.arrow_m_per_n as f64;
@@ -622,7 +622,7 @@ fn tip_archetype(tip: &TipDrawing) -> Box<dyn AsComponents> {
 }
 
 /// The object's surface as a Rerun mesh (light grey, half transparent).
-fn object_mesh(surface: &grasp_model::geometry::mesh_surface::TriangleMesh) -> Mesh3D {
+fn object_mesh(surface: &grasp_model::TriangleMesh) -> Mesh3D {
     let f = |v: &[f64; 3]| [v[0] as f32, v[1] as f32, v[2] as f32];
     Mesh3D::new(surface.vertices_m.iter().map(f))
         .with_triangle_indices(surface.triangles.iter().copied())

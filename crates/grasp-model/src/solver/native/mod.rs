@@ -40,7 +40,7 @@ use crate::program::cone_program::ConeProgram;
 
 use finger_block::FingerBlockData;
 use newton_step::FactorCache;
-pub(crate) use semismooth_newton::Limits;
+use semismooth_newton::Limits;
 
 /// A point of the iteration, scaled: forces `x` and equality multipliers `lambda`.
 #[derive(Debug, Clone, PartialEq)]

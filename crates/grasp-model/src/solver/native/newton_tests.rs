@@ -7,7 +7,7 @@
 
 use crate::model::grasp_model::GraspModel;
 use crate::program::cone_program::{ConeLaw, ConeProgram};
-use crate::scene::Scene;
+use crate::scene::scene_format::Scene;
 
 use super::linearisation::{cold_pattern, linearise};
 use super::reduced_factor::{key_of, ReducedFactor};
