@@ -92,7 +92,7 @@ fn step_on(
             ..SolveOptions::default()
         },
     )
-    .solve_step(&model, &[], st)
+    .solve_step(&grasp_model::StepInputs::loads(vec![]), st)
     .unwrap();
     assert_eq!(sol.status, SolveStatus::Solved, "Q = {q}: {:?}", sol.reason);
     sol

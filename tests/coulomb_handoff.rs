@@ -73,7 +73,7 @@ fn loading_path_changes_the_answer() {
     let model = GraspModel::from_scene(&fresh_scene).unwrap();
     let mut state = ContactState::new(&model);
     let fresh = GraspSolver::new(&model, SolveOptions::default())
-        .solve_step(&model, &model.scene_loads_n(), &mut state)
+        .solve_step(&grasp_model::StepInputs::of_scene(&model), &mut state)
         .unwrap();
     assert_eq!(fresh.status, SolveStatus::Solved);
     let fresh_q = |n: &str| fresh.finger(n).unwrap().tangential_magnitude_n;

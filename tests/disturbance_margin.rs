@@ -62,6 +62,7 @@ fn margins_along(scene: &Scene, dirs: &[WrenchDirection], length_m: f64) -> Vec<
     };
     let report = disturbance_margins(
         &model,
+        &grasp_model::StepInputs::of_scene(&model),
         &ContactState::new(&model),
         SolveOptions::default(),
         dirs,
@@ -118,7 +119,7 @@ fn pinch_torque_about_its_axis_is_the_pads_friction_moment() {
     // The grid's own full-slip moment, from the untwisted element loads.
     let model = GraspModel::from_scene(&scene).unwrap();
     let base = GraspSolver::new(&model, SolveOptions::default())
-        .solve(&model, &[P, P])
+        .solve(&grasp_model::StepInputs::loads(vec![P, P]))
         .unwrap();
     let grid_moment: f64 = base
         .fingers
@@ -162,7 +163,7 @@ fn rigid_body_bound(v: &Value, d: &WrenchDirection, length_m: f64) -> Option<f64
     );
     let weight = Vector3::new(0.0, 0.0, -v["object"]["weight"].as_f64().unwrap());
     let elements: Vec<(usize, Vector3<f64>, Vector3<f64>)> = model
-        .fingers
+        .fingers()
         .iter()
         .enumerate()
         .flat_map(|(i, f)| {
@@ -174,7 +175,7 @@ fn rigid_body_bound(v: &Value, d: &WrenchDirection, length_m: f64) -> Option<f64
                     .map(|x| x.as_f64().unwrap()),
             )
             .normalize();
-            (0..f.patch.len()).map(move |k| (i, f.element_point(k), n))
+            (0..f.patch().len()).map(move |k| (i, f.element_point(k), n))
         })
         .collect();
     let nvar = 1 + 4 * elements.len();
@@ -283,13 +284,14 @@ fn energy_margins_of_a_commanded_cube_grasp_are_its_rigid_body_bound() {
     let options = MarginOptions::default();
     let report = disturbance_margins(
         &model,
+        &grasp_model::StepInputs::of_scene(&model),
         &ContactState::new(&model),
         SolveOptions::default(),
         &dirs,
         &options,
     )
     .unwrap();
-    let cap = options.max_factor * model.scales.load_n;
+    let cap = options.max_factor * model.scales().load_n;
     let mut bounded = 0;
     for (d, m) in dirs.iter().zip(&report.directions) {
         match rigid_body_bound(&v, d, report.length_m) {

@@ -129,8 +129,8 @@ fn a_thick_layer_is_the_half_space() {
     assert!((ft.peak_pressure_pa - fh.peak_pressure_pa).abs() <= 1e-3 * fh.peak_pressure_pa);
     assert!((fh.peak_pressure_pa - p0).abs() <= 0.01 * p0);
     let (ch, ct) = (
-        mh.fingers[0].compliance_m_per_n.matrix().unwrap(),
-        mt.fingers[0].compliance_m_per_n.matrix().unwrap(),
+        mh.fingers()[0].compliance_matrix_m_per_n().unwrap(),
+        mt.fingers()[0].compliance_matrix_m_per_n().unwrap(),
     );
     let diff = (&*ch - &*ct).amax();
     eprintln!(
@@ -279,7 +279,7 @@ fn dense_and_fft_agree_with_layers_on_both_bodies() {
             ..SolveOptions::default()
         };
         let sol = GraspSolver::new(&model, options)
-            .solve(&model, &model.scene_loads_n())
+            .solve(&grasp_model::StepInputs::of_scene(&model))
             .unwrap();
         assert_eq!(sol.status, SolveStatus::Solved, "{:?}", sol.reason);
         sol

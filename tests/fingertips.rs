@@ -142,7 +142,7 @@ fn the_hertz_suggestion_is_hertz_and_its_patch_holds_the_contact() {
     let v = hertz();
     let scene = Scene::from_json_str(&v.to_string()).unwrap();
     let model = grasp_model::GraspModel::from_scene(&scene).unwrap();
-    let h = hertz_suggestion(&scene.fingers[0], &model.fingers[0], 10.0).unwrap();
+    let h = hertz_suggestion(&scene.fingers[0], &model.fingers()[0], 10.0).unwrap();
     // Steel on steel: E* = E / (2 (1 - nu^2)).
     let exact = HertzSphere::new(10.0, 0.01, 2.1e11 / (2.0 * (1.0 - 0.09)));
     for a in h.semi_axes_m {
@@ -171,7 +171,7 @@ fn tip_drawing(v: &Value) -> (grasp_transfer::sinks::TipDrawing, grasp_model::Fi
     };
     let mut tips = grasp_transfer::sinks::tip_drawings(&run, 0.05);
     assert_eq!(tips.len(), 1);
-    (tips.remove(0).1, model.fingers[0].clone())
+    (tips.remove(0).1, model.fingers()[0].clone())
 }
 
 /// Each tip shape is drawn touching the contact point from the finger's side (outside the
@@ -183,7 +183,7 @@ fn tip_drawing(v: &Value) -> (grasp_transfer::sinks::TipDrawing, grasp_model::Fi
 fn every_tip_shape_is_drawn_touching_its_contact_from_outside() {
     use grasp_transfer::sinks::TipDrawing;
     let (sphere, f) = tip_drawing(&hertz());
-    let (o, n) = (f.frame.origin_m, f.frame.normal);
+    let (o, n) = (f.frame().origin_m, f.frame().normal);
     match sphere {
         TipDrawing::Sphere { centre, radius_m } => {
             assert!((radius_m - 0.01).abs() < 1e-15);
@@ -201,7 +201,10 @@ fn every_tip_shape_is_drawn_touching_its_contact_from_outside() {
         } => {
             assert!((radius_m - 0.004).abs() < 1e-15);
             assert!((centre - (o - n * 0.004)).norm() < 1e-12);
-            assert!(axis.cross(&f.frame.t2).norm() < 1e-12, "along t2: {axis:?}");
+            assert!(
+                axis.cross(&f.frame().t2).norm() < 1e-12,
+                "along t2: {axis:?}"
+            );
             assert!(length_m >= 2.0 * radius_m);
         }
         other => panic!("a cylinder tip drawn as {other:?}"),
@@ -217,7 +220,7 @@ fn every_tip_shape_is_drawn_touching_its_contact_from_outside() {
                 (half_sizes_m.x - 0.0015).abs() < 1e-15 && (half_sizes_m.y - 0.001).abs() < 1e-15
             );
             assert!((rotation * nalgebra::Vector3::z() - n).norm() < 1e-12);
-            assert!((rotation * nalgebra::Vector3::x() - f.frame.t1).norm() < 1e-12);
+            assert!((rotation * nalgebra::Vector3::x() - f.frame().t1).norm() < 1e-12);
             // The face towards the object lies in the contact plane, through the contact.
             assert!((centre + n * half_sizes_m.z - o).norm() < 1e-12);
         }

@@ -54,6 +54,7 @@ fn margin_down(scene: &Scene) -> f64 {
     let model = GraspModel::from_scene(scene).unwrap();
     disturbance_margins(
         &model,
+        &grasp_model::StepInputs::of_scene(&model),
         &ContactState::new(&model),
         SolveOptions::default(),
         &[down()],
@@ -166,12 +167,14 @@ fn more_squeeze_gives_more_margin_and_the_sensitivity_says_so() {
         let loads = base.map(|p| p * lambda);
         let model = GraspModel::from_scene(&scene(&plate(loads))).unwrap();
         let mut solver = GraspSolver::new(&model, SolveOptions::default());
-        let sol = solver.solve(&model, &loads).unwrap();
+        let sol = solver
+            .solve(&grasp_model::StepInputs::loads(loads.to_vec()))
+            .unwrap();
         assert!(sol.status.has_forces(), "{loads:?}: {:?}", sol.reason);
         (sol.fingers[0].friction_utilization, sol, solver, model)
     };
-    let (u0, sol, mut solver, model) = utilisation(1.0);
-    let sens = solver.sensitivities(&model, &sol).unwrap();
+    let (u0, sol, mut solver, _model) = utilisation(1.0);
+    let sens = solver.sensitivities(&sol).unwrap();
     let col = sens
         .parameters
         .iter()

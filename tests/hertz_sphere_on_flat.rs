@@ -117,8 +117,10 @@ fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {
     use grasp_model::{GraspSolver, ModelError, SceneError, SolveOptions, SolverChoice};
     let model = GraspModel::from_scene(&scene(128, 2.4)).unwrap();
     let mut solver = GraspSolver::new(&model, SolveOptions::default());
-    let sol = solver.solve(&model, &model.scene_loads_n()).unwrap();
-    match solver.sensitivities(&model, &sol) {
+    let sol = solver
+        .solve(&grasp_model::StepInputs::of_scene(&model))
+        .unwrap();
+    match solver.sensitivities(&sol) {
         Err(ModelError::Derivative(m)) => assert!(m.contains("`SolveOptions::compliance`"), "{m}"),
         other => panic!("sensitivities on a 128x128 FFT patch: {other:?}"),
     }
@@ -126,7 +128,7 @@ fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {
         solver: SolverChoice::Clarabel,
         ..SolveOptions::default()
     };
-    match GraspSolver::new(&model, clarabel).solve(&model, &model.scene_loads_n()) {
+    match GraspSolver::new(&model, clarabel).solve(&grasp_model::StepInputs::of_scene(&model)) {
         Err(ModelError::Solver(m)) => assert!(m.contains("`SolveOptions::compliance`"), "{m}"),
         other => panic!(
             "Clarabel on a 128x128 FFT patch: {:?}",
@@ -142,6 +144,9 @@ fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {
                 p[0]
             );
         }
-        other => panic!("a dense 1024x1024 patch: {:?}", other.map(|m| m.n_unknowns)),
+        other => panic!(
+            "a dense 1024x1024 patch: {:?}",
+            other.map(|m| m.n_unknowns())
+        ),
     }
 }

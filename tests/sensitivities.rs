@@ -39,12 +39,11 @@ fn states(s: &Solution) -> Vec<ElementState> {
 
 /// A perturbed solve: the model with an extra wrench (or loads), from a fresh state.
 fn perturbed(model: &GraspModel, loads: &[f64], extra: Option<nalgebra::Vector6<f64>>) -> Solution {
-    let m = match extra {
-        Some(w) => model.with_extra_wrench(&w),
-        None => model.clone(),
-    };
-    let mut solver = GraspSolver::new(&m, options());
-    let s = solver.solve(&m, loads).unwrap();
+    let mut inputs = grasp_model::StepInputs::loads(loads.to_vec());
+    if let Some(w) = extra {
+        inputs = inputs.with_extra_wrench(&w);
+    }
+    let s = GraspSolver::new(model, options()).solve(&inputs).unwrap();
     assert_eq!(s.status, SolveStatus::Solved, "{:?}", s.reason);
     s
 }
@@ -96,7 +95,9 @@ fn check_with_step(scene: &Scene, label: &str, step: f64) -> Option<(usize, usiz
     let model = GraspModel::from_scene(scene).unwrap();
     let loads = model.scene_loads_n();
     let mut solver = GraspSolver::new(&model, options());
-    let base = solver.solve(&model, &loads).unwrap();
+    let base = solver
+        .solve(&grasp_model::StepInputs::loads(loads.to_vec()))
+        .unwrap();
     if base.status == SolveStatus::NoEquilibrium {
         return None;
     }
@@ -106,8 +107,8 @@ fn check_with_step(scene: &Scene, label: &str, step: f64) -> Option<(usize, usiz
         "{label}: {:?}",
         base.reason
     );
-    let sens = solver.sensitivities(&model, &base).unwrap();
-    let (load_n, length_m) = (model.scales.load_n, model.scales.length_m);
+    let sens = solver.sensitivities(&base).unwrap();
+    let (load_n, length_m) = (model.scales().load_n, model.scales().length_m);
     let (mut compared, mut skipped) = (0, 0);
     let mut load_col = 0;
     for (c, p) in sens.parameters.iter().enumerate() {
@@ -127,8 +128,9 @@ fn check_with_step(scene: &Scene, label: &str, step: f64) -> Option<(usize, usiz
                 let mut up = loads.clone();
                 up[load_col] += 1e-4 * load_n;
                 load_col += 1;
-                let m = model.clone();
-                let s = GraspSolver::new(&m, options()).solve(&m, &up).unwrap();
+                let s = GraspSolver::new(&model, options())
+                    .solve(&grasp_model::StepInputs::loads(up.to_vec()))
+                    .unwrap();
                 assert!(
                     s.status != SolveStatus::Solved || states(&s) != states(&base),
                     "{label} {}: said undefined ({:?}) but the raised load solves on the same \

@@ -264,26 +264,25 @@ fn the_stepping_meets_its_elastic_limits() {
 /// measured between 3.5 and 4.5.
 #[test]
 fn halving_the_step_shows_second_order() {
-    use grasp_model::{advance_step, prepare_step};
-    use grasp_model::{ContactState, GraspSolver};
+    use grasp_model::{ContactState, GraspSolver, StepInputs};
     let d = 2e-4;
     let scene = approach_pinch(&pad(SLS), d, 2.4 * (R * d).sqrt());
     let model = GraspModel::from_scene(&scene).unwrap();
-    let loads = model.scene_loads_n();
+    let inputs = StepInputs::of_scene(&model);
     let run = |dt: f64| {
         let mut state = ContactState::new(&model);
         let first = GraspSolver::new(&model, SolveOptions::default())
-            .solve_step(&model, &loads, &mut state)
+            .solve_step(&inputs, &mut state)
             .unwrap();
         let p0 = first.fingers[0].normal_force_n;
-        advance_step(&model, &mut state, 0.0, &first);
+        state.advance_time_step(&model, &first);
         let m = model.for_time_step(dt);
         let mut solver = GraspSolver::new(&m, SolveOptions::default());
         let mut p = p0;
         for _ in 0..(2.0 / dt).round() as usize {
-            prepare_step(&m, &mut state, dt);
-            let s = solver.solve_step(&m, &loads, &mut state).unwrap();
-            advance_step(&m, &mut state, dt, &s);
+            state.prepare_time_step(&m);
+            let s = solver.solve_step(&inputs, &mut state).unwrap();
+            state.advance_time_step(&m, &s);
             p = s.fingers[0].normal_force_n;
         }
         (p / p0 - relaxation(SLS, 2.0)).abs()

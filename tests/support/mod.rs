@@ -94,7 +94,7 @@ pub fn solve_with(v: &Value, solver: grasp_model::SolverChoice) -> Solution {
 pub fn solve_with_options(v: &Value, options: grasp_model::SolveOptions) -> Solution {
     let model = GraspModel::from_scene_with(&scene(v), options.compliance).expect("model");
     grasp_model::GraspSolver::new(&model, options)
-        .solve(&model, &model.scene_loads_n())
+        .solve(&grasp_model::StepInputs::of_scene(&model))
         .expect("solve runs")
 }
 
@@ -150,22 +150,22 @@ pub const ENERGY_ROUNDOFF: f64 = 1e-11;
 /// the model's compliance blocks and gaps, independently of both solvers.
 pub fn complementary_energy_j(model: &GraspModel, sol: &Solution) -> f64 {
     let mut j = 0.0;
-    for (f, fs) in model.fingers.iter().zip(&sol.fingers) {
-        let ne = f.patch.len();
+    for (f, fs) in model.fingers().iter().zip(&sol.fingers) {
+        let ne = f.patch().len();
         let mut x = vec![0.0; f.n_unknowns()];
         for (k, e) in fs.elements.iter().enumerate() {
             x[k] = e.normal_force_n;
-            for c in 0..f.n_tangential {
+            for c in 0..f.n_tangential() {
                 x[(c + 1) * ne + k] = e.tangential_force_n[c];
             }
         }
-        let c = f.compliance_m_per_n.dense().expect("a dense compliance");
+        let c = f.compliance_matrix_m_per_n().expect("a dense compliance");
         for a in 0..x.len() {
             let row: f64 = (0..x.len()).map(|b| c[(a, b)] * x[b]).sum();
             j += 0.5 * x[a] * row;
         }
         for (k, xk) in x.iter().enumerate().take(ne) {
-            j += f.patch.gap_m[k] * xk;
+            j += f.patch().gap_m[k] * xk;
         }
     }
     j
@@ -198,7 +198,7 @@ pub enum Agreement {
 /// True when `native`'s forces satisfy the Tresca program at their own radii `mu F_k` to
 /// `1e-10` element force units, and equilibrium to `1e-10` of the load.
 fn tresca_feasible_at_own_radii(model: &GraspModel, native: &Solution) -> bool {
-    let fu = model.scales.element_force_n;
+    let fu = model.scales().element_force_n;
     let eq = native
         .residuals
         .is_some_and(|r| r.equilibrium_relative <= 1e-10);
@@ -232,7 +232,7 @@ pub fn clarabel_at_native_radii(model: &GraspModel, native: &Solution) -> Option
         ..grasp_model::SolveOptions::default()
     };
     let sol = grasp_model::GraspSolver::new(model, options)
-        .solve_step(model, &model.scene_loads_n(), &mut state)
+        .solve_step(&grasp_model::StepInputs::of_scene(model), &mut state)
         .ok()?;
     let once = sol
         .sequential
@@ -305,7 +305,7 @@ pub fn native_agrees_with_clarabel(v: &Value) -> Result<(Solution, Agreement, f6
             s.status
         }
     };
-    let coulomb = model.kind == grasp_model::ModelKind::Coulomb;
+    let coulomb = model.kind() == grasp_model::ModelKind::Coulomb;
     let confirmed = |native: &Solution| coulomb && fixed_point_confirmed(&model, native).is_some();
     let residuals_hold = |native: &Solution| {
         let cones = if coulomb {

@@ -12,7 +12,7 @@ use grasp_io::RunInputs;
 
 use grasp_model::estimate_memory_bytes_with;
 use grasp_model::takes_fft;
-use grasp_model::{GraspModel, GraspSolver, InputProblem, SolveOptions};
+use grasp_model::{GraspModel, GraspSolver, InputProblem, SolveOptions, StepInputs};
 use rayon::prelude::*;
 
 use crate::error::{io, BatchError};
@@ -120,8 +120,8 @@ pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultL
                 match GraspModel::from_validated_scene_with(&scene, options.solve.compliance) {
                     Err(e) => ResultLine::invalid(id, index, of, e.problems()),
                     Ok(model) => {
-                        let mut solver = GraspSolver::new(&model, options.solve);
-                        match solver.solve(&model, &model.scene_loads_n()) {
+                        let inputs = StepInputs::of_scene(&model);
+                        match GraspSolver::new(model, options.solve).solve(&inputs) {
                             Ok(sol) => {
                                 let t = clock.elapsed().as_secs_f64();
                                 ResultLine::of_solution(id, index, of, &sol, t)

@@ -322,7 +322,7 @@ pub struct Prepared {
     /// The scene (grid applied).
     pub scene: Scene,
     /// The model, built once for [`CaseKind::Solve`].
-    pub model: Option<GraspModel>,
+    pub model: Option<std::sync::Arc<GraspModel>>,
     /// Time the model build took when it was built here, s.
     pub build_s: f64,
     /// The schedule of a hand-off.
@@ -371,7 +371,7 @@ impl Case {
                 let t = std::time::Instant::now();
                 let m = GraspModel::from_scene_with(&scene, self.compliance())
                     .map_err(|e| err(e.to_string()))?;
-                (Some(m), t.elapsed().as_secs_f64())
+                (Some(std::sync::Arc::new(m)), t.elapsed().as_secs_f64())
             }
             _ => (None, 0.0),
         };

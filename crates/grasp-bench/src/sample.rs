@@ -1,11 +1,12 @@
 //! One run of a prepared case and what it cost: time (as the case's target counts it),
 //! unknowns, iterations, factorisations, peak memory, and the run's error.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use grasp_model::hertz_parameters;
 use grasp_model::{closed_form::cattaneo_stick_radius_m, closed_form::HertzSphere};
-use grasp_model::{GraspModel, GraspSolver, Solution, SolverKind};
+use grasp_model::{GraspModel, GraspSolver, Solution, SolverKind, StepInputs};
 use grasp_transfer::Stepper;
 
 use crate::case::{CaseKind, Prepared};
@@ -86,13 +87,14 @@ fn stick_radius_error(p: &Prepared, sol: &Solution) -> Option<f64> {
 
 fn one_solve(
     p: &Prepared,
-    model: &GraspModel,
+    model: Arc<GraspModel>,
     build_s: f64,
     t0: Instant,
 ) -> Result<Sample, BenchError> {
     let t = Instant::now();
+    let inputs = StepInputs::of_scene(&model);
     let sol = GraspSolver::new(model, p.solve_options())
-        .solve(model, &model.scene_loads_n())
+        .solve(&inputs)
         .map_err(|e| run_err(p, e.to_string()))?;
     let solve_s = t.elapsed().as_secs_f64();
     let time_s = t0.elapsed().as_secs_f64();
@@ -190,13 +192,13 @@ impl Prepared {
                     .model
                     .as_ref()
                     .ok_or_else(|| run_err(self, "model not built".into()))?;
-                one_solve(self, model, self.build_s, t0)?
+                one_solve(self, Arc::clone(model), self.build_s, t0)?
             }
             CaseKind::OneShot => {
                 let model = GraspModel::from_scene_with(&self.scene, self.case.compliance())
                     .map_err(|e| run_err(self, e.to_string()))?;
                 let build_s = t0.elapsed().as_secs_f64();
-                one_solve(self, &model, build_s, t0)?
+                one_solve(self, Arc::new(model), build_s, t0)?
             }
             CaseKind::HandOff { warm } => hand_off(self, warm)?,
         };

@@ -9,7 +9,7 @@ use grasp_model::{GraspModel, Solution};
 /// successful run prints no line starting with `error:`: that word is kept for errors).
 pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s: f64) -> String {
     let mut s = String::new();
-    let planar = if model.plane.is_some() {
+    let planar = if model.plane().is_some() {
         "planar"
     } else {
         "3-D"
@@ -18,7 +18,7 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
         s,
         "{}: {} fingers, {} scene, {} unknowns, {} equality + {} cone rows",
         scene.display(),
-        model.fingers.len(),
+        model.fingers().len(),
         planar,
         sol.solver.unknowns,
         sol.solver.equality_rows,
@@ -26,7 +26,7 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
     );
     let status = serde_json::to_value(sol.status).ok();
     let status = status.as_ref().and_then(|v| v.as_str()).unwrap_or("?");
-    let kind = serde_json::to_value(model.kind).ok();
+    let kind = serde_json::to_value(model.kind()).ok();
     let kind = kind.as_ref().and_then(|v| v.as_str()).unwrap_or("?");
     let _ = writeln!(s, "model: {kind}");
     let _ = writeln!(s, "status: {status}");
@@ -283,7 +283,7 @@ pub fn hertz_table(scene: &grasp_model::Scene) -> anyhow::Result<String> {
     let model = grasp_model::GraspModel::from_scene(scene)?;
     let mut o = String::new();
     let mm = |x: f64| format!("{:.3}", 1e3 * x);
-    for (f, m) in scene.fingers.iter().zip(&model.fingers) {
+    for (f, m) in scene.fingers.iter().zip(model.fingers()) {
         let (load, which) = match f.control.normal_load_n() {
             Some(p) => (p, "its commanded load"),
             None => (scene.object.weight, "the object's weight"),

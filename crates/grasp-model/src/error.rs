@@ -119,6 +119,10 @@ pub enum ModelError {
         /// The value given.
         value: f64,
     },
+    /// A solve's inputs do not fit the model (an approach of a finger the model lacks or of a
+    /// force-controlled one).
+    #[error("{0}")]
+    BadInput(String),
     /// A contact state built for another model was passed to a solve.
     #[error("the contact state does not belong to this model (finger names or element counts differ); build it with ContactState::new(model)")]
     StateMismatch,

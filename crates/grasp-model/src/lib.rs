@@ -31,25 +31,46 @@
 //! name options) sit below them all. The folders are private: this page is the crate's whole
 //! face, its names grouped below in data-flow order, so a file can move without breaking a caller.
 //!
-//! Data flow: [`Scene`] (file format, validated) -> [`GraspModel`] (immutable) ->
-//! [`ConeProgram`] (scaled, assembled once) -> [`GraspSolver::solve`] (strategy: one convex
-//! solve or the sequential fixed point; backend: native or Clarabel) -> [`Solution`] (SI, with
-//! [`Residuals`] computed from the solution itself).
+//! ## The workflow
+//!
+//! [`Scene`] (the file format, validated) -> [`GraspModel`] (built once, immutable: frames,
+//! patches and gaps, compliance, equilibrium map, scales) -> [`GraspSolver`] (keeps the model,
+//! assembles the [`ConeProgram`] once; strategy: one convex solve or the sequential fixed
+//! point; backend: native or Clarabel) -> [`Solution`] (SI, with [`Residuals`] computed from
+//! the solution itself). What changes from one solve to the next travels beside the model:
+//! [`StepInputs`] (commanded loads, an extra wrench on the object, commanded approaches) and
+//! the [`ContactState`] the solves leave behind (slip memory, warm start, viscoelastic
+//! history), as MuJoCo keeps `mjModel` apart from `mjData`.
 //!
 //! ```
-//! use grasp_model::{GraspModel, GraspSolver, Scene, SolveOptions};
+//! use grasp_model::{ContactState, GraspModel, GraspSolver, Scene, SolveOptions, StepInputs};
 //!
 //! // A frictionless steel fingertip (R = 10 mm) under a 10 N steel plate: Hertz contact.
 //! let text = include_str!("../../../examples/hertz_sphere_on_flat.json");
 //! let scene = Scene::from_json_str(text)?;
 //! let model = GraspModel::from_scene(&scene)?;
-//! let solution = GraspSolver::new(&model, SolveOptions::default())
-//!     .solve(&model, &model.scene_loads_n())?;
+//! let mut solver = GraspSolver::new(model, SolveOptions::default());
+//! let solution = solver.solve(&StepInputs::of_scene(solver.model()))?;
 //! let tip = solution.finger("tip").expect("the scene's finger");
 //! // The fingertip carries the weight; Hertz's peak pressure p0 = 3P/(2 pi a^2) = 0.636 GPa
 //! // (Johnson eq. 4.23) is met to the grid's resolution.
 //! assert!((tip.normal_force_n - 10.0).abs() < 1e-6);
 //! assert!((tip.peak_pressure_pa / 0.636e9 - 1.0).abs() < 0.01);
+//!
+//! // A loading path: the same model, a push of 1 N along x at the centre of mass added step
+//! // by step, each step starting from the state the last one left.
+//! let mut state = ContactState::new(solver.model());
+//! for push_n in [0.0, 0.5, 1.0] {
+//!     let force = nalgebra::Vector3::new(push_n, 0.0, 0.0);
+//!     let inputs = StepInputs::of_scene(solver.model()).with_load_at_center_of_mass(
+//!         solver.model(),
+//!         &force,
+//!         &nalgebra::Vector3::zeros(),
+//!     );
+//!     let step = solver.solve_step(&inputs, &mut state)?;
+//!     // Frictionless: nothing resists a sideways push, and the solve says so.
+//!     assert_eq!(step.status.has_forces(), push_n == 0.0);
+//! }
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
@@ -127,7 +148,7 @@ pub use program::cone_program::ConeProgram;
 pub use solve::contact_state::{ContactState, FingerState};
 pub use solve::grasp_solver::{solve, GraspSolver};
 pub use solve::sensitivity::Sensitivities;
-pub use solve::viscous_history::{advance_step, prepare_step};
+pub use solve::step_inputs::StepInputs;
 pub use solver::options::{SolveOptions, SolverChoice};
 pub use solver::outcome::SolverKind;
 

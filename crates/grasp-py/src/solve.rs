@@ -122,7 +122,7 @@ fn solve_scene(
     let build_time_s = t0.elapsed().as_secs_f64();
     let mut solution = match time {
         TimePoint::Instantaneous => GraspSolver::new(&model, options)
-            .solve(&model, &model.scene_loads_n())
+            .solve(&grasp_model::StepInputs::of_scene(&model))
             .map_err(Failure::Model)?,
         later => {
             let clock = Instant::now();

@@ -13,7 +13,7 @@
 //! model's own squeeze suffices.
 
 use grasp_model::Readable;
-use grasp_model::{Control, GraspModel, GraspSolver, Scene, Solution, SolveOptions};
+use grasp_model::{Control, GraspModel, GraspSolver, Scene, Solution, SolveOptions, StepInputs};
 use serde::Serialize;
 
 use crate::error::TransferError;
@@ -115,17 +115,21 @@ pub fn minimum_squeeze(
         let active: Vec<(usize, Control)> = commands
             .iter()
             .enumerate()
-            .filter_map(|(i, c)| match c {
-                Command::Held => Some((i, Control::Held)),
-                Command::Approach(d) => Some((i, Control::Approach { metres: *d })),
-                Command::Load(p) => Some((i, Control::NormalLoad { newtons: s * p })),
-                Command::Released => None,
+            .filter_map(|(i, c)| match c.control()? {
+                Control::NormalLoad { newtons } => Some((
+                    i,
+                    Control::NormalLoad {
+                        newtons: s * newtons,
+                    },
+                )),
+                control => Some((i, control)),
             })
             .collect();
         let model = base.restricted(&active).ok_or(TransferError::Internal(
             "the final grasp has no active finger",
         ))?;
-        Ok(GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?)
+        let inputs = StepInputs::of_scene(&model);
+        Ok(GraspSolver::new(model, options).solve(&inputs)?)
     };
     let (hi, limiting) = match smallest_factor(|s| Ok(holds(&trial(s)?)))? {
         Ok(found) => found,

@@ -287,6 +287,19 @@ pub enum Command {
     Approach(f64),
 }
 
+impl Command {
+    /// How the commanded finger is driven in the step's grasp (`None`: released, out of it).
+    pub fn control(&self) -> Option<grasp_model::Control> {
+        use grasp_model::Control;
+        match *self {
+            Command::Held => Some(Control::Held),
+            Command::Load(p) => Some(Control::NormalLoad { newtons: p }),
+            Command::Approach(d) => Some(Control::Approach { metres: d }),
+            Command::Released => None,
+        }
+    }
+}
+
 /// A validated phase with resolved keyframes.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Phase {

@@ -3,7 +3,7 @@
 //! the contact state at the start of the step.
 
 use grasp_model::{axis_directions, disturbance_margins, MarginOptions, WrenchDirection};
-use grasp_model::{ContactState, GraspModel, ModelError, SolveOptions};
+use grasp_model::{ContactState, GraspModel, ModelError, SolveOptions, StepInputs};
 use serde::Serialize;
 
 /// The smallest margin of a step.
@@ -30,15 +30,17 @@ pub struct StepMargin {
     pub time_s: f64,
 }
 
-/// The margin of the step grasp `model` (its loads, its external wrench) from `state`, the
-/// contact state at the start of the step.
+/// The margin of the step grasp `model` under the step's `inputs` (its loads, approaches and
+/// external wrench) from `state`, the contact state at the start of the step.
 pub fn step_margin(
     model: &GraspModel,
+    inputs: &StepInputs,
     state: &ContactState,
     solve: SolveOptions,
 ) -> Result<StepMargin, ModelError> {
     let dirs = axis_directions(model);
-    let r = disturbance_margins(model, state, solve, &dirs, &MarginOptions::default())?;
+    let options = MarginOptions::default();
+    let r = disturbance_margins(model, inputs, state, solve, &dirs, &options)?;
     let d = &r.directions[r.smallest];
     Ok(StepMargin {
         unresisted: r

@@ -23,11 +23,9 @@ use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use grasp_model::SolverStats;
-use grasp_model::{advance_step, prepare_step};
 use grasp_model::{
     ContactState, Control, FingerState, GraspModel, GraspSolver, Scene, SceneError, Solution,
-    SolveOptions, SolverKind,
+    SolveOptions, SolverKind, SolverStats, StepInputs,
 };
 use serde::Serialize;
 
@@ -140,9 +138,9 @@ pub struct Stepper<'a> {
     base: Result<Cow<'a, GraspModel>, SceneError>,
     schedule: &'a Schedule,
     options: TransferOptions,
-    /// Per structure and time step (the step's bits; 0 for an elastic scene), the model and
-    /// its solver.
-    cache: BTreeMap<(StructureKey, u64), (GraspModel, GraspSolver)>,
+    /// Per structure and time step (the step's bits; 0 for an elastic scene), the solver of
+    /// the step's model.
+    cache: BTreeMap<(StructureKey, u64), GraspSolver>,
     /// Schedule time of the last step that found forces, s (the next step's viscoelastic
     /// history runs from it).
     last_solved_s: Option<f64>,
@@ -237,16 +235,15 @@ impl<'a> Stepper<'a> {
     fn initial_loads(&mut self) -> Result<Vec<Option<f64>>, TransferError> {
         let model = self.base_model(self.schedule.times[0])?;
         let mut solver = GraspSolver::new(model, self.options.solve);
-        let sol = solver.solve(model, &model.scene_loads_n())?;
+        let sol = solver.solve(&StepInputs::of_scene(model))?;
         if self.options.warm_start {
             let key = model
-                .fingers
+                .fingers()
                 .iter()
                 .enumerate()
-                .map(|(i, f)| (i, matches!(f.control, Control::NormalLoad { .. })))
+                .map(|(i, f)| (i, matches!(f.control(), Control::NormalLoad { .. })))
                 .collect();
-            let model = model.clone();
-            self.cache.insert((key, 0), (model, solver));
+            self.cache.insert((key, 0), solver);
         }
         Ok(self
             .scene
@@ -337,17 +334,9 @@ impl<'a> Stepper<'a> {
                 let sol = empty_grasp_solution(self.scene);
                 return Ok(self.record(k, (t, external), commands, (sol, None), start, false));
             }
-            self.build_program(t, &key, &loads)?;
+            self.build_program(t, &key, &commands)?;
         }
-        let approaches: Vec<(usize, f64)> = commands
-            .iter()
-            .enumerate()
-            .filter_map(|(i, c)| match c {
-                Command::Approach(d) => Some((i, *d)),
-                _ => None,
-            })
-            .collect();
-        let solved = self.solve_cached(&key, (&loads, &approaches), external)?;
+        let solved = self.solve_cached(&key, (&loads, &commands), external)?;
         if solved.0.status.has_forces() {
             self.last_solved_s = Some(t);
         }
@@ -360,28 +349,25 @@ impl<'a> Stepper<'a> {
     fn reusable(&self, key: &(StructureKey, u64), loads: &[f64]) -> bool {
         let step_scale = loads.iter().copied().fold(self.external_scale_n, f64::max);
         self.options.warm_start
-            && self.cache.get(key).is_some_and(|(m, _)| {
-                let r = step_scale / m.scales.load_n;
+            && self.cache.get(key).is_some_and(|solver| {
+                let r = step_scale / solver.model().scales().load_n;
                 step_scale <= 0.0 || PROGRAM_REUSE_SCALE_RANGE.contains(&r)
             })
     }
 
-    /// Builds and caches the model and program of structure `key` (the scene's model
-    /// restricted to the active fingers; a force-controlled finger takes the next of `loads`).
+    /// Builds and caches the model and program of structure `key`: the scene's model
+    /// restricted to the active fingers, each driven as `commands` says (a force-controlled
+    /// finger's load sets the program's scale), over the step's time step.
     fn build_program(
         &mut self,
         t: f64,
         key: &(StructureKey, u64),
-        loads: &[f64],
+        commands: &[Command],
     ) -> Result<(), TransferError> {
-        let mut load = loads.iter();
-        let active: Vec<(usize, Control)> = key
-            .0
+        let active: Vec<(usize, Control)> = commands
             .iter()
-            .map(|&(i, fc)| match fc.then(|| load.next()).flatten() {
-                Some(&p) => (i, Control::NormalLoad { newtons: p }),
-                None => (i, Control::Held),
-            })
+            .enumerate()
+            .filter_map(|(i, c)| c.control().map(|control| (i, control)))
             .collect();
         // The full scene was validated; a subset of its fingers needs no new validation
         // (the reach heuristic, say, would judge the subset differently).
@@ -392,81 +378,93 @@ impl<'a> Stepper<'a> {
                 "a step's active fingers are not in the scene",
             ))?
             .for_time_step(f64::from_bits(key.1));
-        let solver = GraspSolver::new(&model, self.step_solve_options());
+        let solver = GraspSolver::new(model, self.step_solve_options());
         if !self.options.warm_start {
             self.cache.clear();
         }
-        self.cache.insert(key.clone(), (model, solver));
+        self.cache.insert(key.clone(), solver);
         Ok(())
     }
 
     /// The contact state of the active fingers of `model`: each carries its own over by name;
     /// released fingers lose theirs.
     fn contact_state_of(&mut self, model: &GraspModel) -> ContactState {
-        let active: Vec<&str> = model.fingers.iter().map(|f| f.name.as_str()).collect();
+        let active: Vec<&str> = model.fingers().iter().map(|f| f.name()).collect();
         self.states
             .retain(|name, _| active.contains(&name.as_str()));
         ContactState {
             fingers: model
-                .fingers
+                .fingers()
                 .iter()
                 .map(|f| {
                     self.states
-                        .get(&f.name)
-                        .filter(|s| s.slip_memory_m.len() == f.patch.len())
+                        .get(f.name())
+                        .filter(|s| s.slip_memory_m.len() == f.patch().len())
                         .cloned()
-                        .unwrap_or_else(|| FingerState::fresh(&f.name, f.patch.len()))
+                        .unwrap_or_else(|| FingerState::fresh(f.name(), f.patch().len()))
                 })
                 .collect(),
         }
     }
 
-    /// Solves the cached program of structure `key` with `loads` (N) and the scheduled
-    /// external wrench, and the step's margin when asked for.
+    /// The inputs of a step of `model`: the loads (N) of its force-controlled fingers, every
+    /// other active finger's approach as commanded (0 when held; m), and the scheduled
+    /// external wrench at the centre of mass.
+    fn step_inputs(
+        &self,
+        model: &GraspModel,
+        (loads, commands): (&[f64], &[Command]),
+        external: Option<ExternalWrench>,
+    ) -> StepInputs {
+        let mut inputs = StepInputs::loads(loads.to_vec());
+        for (f, c) in self.scene.fingers.iter().zip(commands) {
+            let d = match c {
+                Command::Approach(d) => *d,
+                Command::Held => 0.0,
+                Command::Load(_) | Command::Released => continue,
+            };
+            if let Some((i, _)) = model.finger(&f.name) {
+                inputs = inputs.with_approach(i, d);
+            }
+        }
+        match external {
+            Some(e) => {
+                inputs.with_load_at_center_of_mass(model, &e.force_n.into(), &e.torque_nm.into())
+            }
+            None => inputs,
+        }
+    }
+
+    /// Solves the cached program of structure `key` with `loads` (N), the commands'
+    /// approaches and the scheduled external wrench, and the step's margin when asked for.
     fn solve_cached(
         &mut self,
         key: &(StructureKey, u64),
-        (loads, approaches): (&[f64], &[(usize, f64)]),
+        step: (&[f64], &[Command]),
         external: Option<ExternalWrench>,
     ) -> Result<(Solution, Option<StepMargin>), TransferError> {
         let options = self.options;
-        let Some((model, mut solver)) = self.cache.remove(key) else {
+        let Some(mut solver) = self.cache.remove(key) else {
             return Err(TransferError::Internal("the step's program is not cached"));
         };
+        let model = std::sync::Arc::clone(solver.shared_model());
         let mut state = self.contact_state_of(&model);
-        // The scheduled external wrench and approaches ride on the step's model (the program
-        // reads them).
-        let loaded = external.map(|e| {
-            let w = model.wrench_at_center_of_mass(&e.force_n.into(), &e.torque_nm.into());
-            model.with_extra_wrench(&w)
-        });
-        let pressed = (!approaches.is_empty()).then(|| {
-            let mut m = loaded.clone().unwrap_or_else(|| model.clone());
-            for &(i, d) in approaches {
-                let name = &self.scene.fingers[i].name;
-                if let Some(f) = m.fingers.iter_mut().find(|f| &f.name == name) {
-                    f.control = Control::Approach { metres: d };
-                }
-            }
-            m
-        });
-        let step_model = pressed.as_ref().or(loaded.as_ref()).unwrap_or(&model);
-        let dt = f64::from_bits(key.1);
-        prepare_step(step_model, &mut state, dt);
+        let inputs = self.step_inputs(&model, step, external);
+        state.prepare_time_step(&model);
         let before = options.margins.then(|| state.clone());
-        let solved = solver.solve_step(step_model, loads, &mut state);
+        let solved = solver.solve_step(&inputs, &mut state);
         if let Ok(sol) = &solved {
             if sol.status.has_forces() {
-                advance_step(step_model, &mut state, dt, sol);
+                state.advance_time_step(&model, sol);
             }
         }
         let margin = match (&solved, before) {
             (Ok(sol), Some(b)) if sol.status.has_forces() => {
-                Some(step_margin(step_model, &b, options.solve))
+                Some(step_margin(&model, &inputs, &b, options.solve))
             }
             _ => None,
         };
-        self.cache.insert(key.clone(), (model, solver));
+        self.cache.insert(key.clone(), solver);
         let sol = solved?;
         let margin = margin.transpose()?;
         for f in state.fingers {

@@ -11,7 +11,7 @@ use grasp_model::{
     axis_directions, disturbance_margins, plane_directions, spread_directions, DirectionMargin,
     Failure, MarginOptions, MarginReport, WrenchDirection,
 };
-use grasp_model::{ContactState, GraspModel, SolveOptions, SolverChoice};
+use grasp_model::{ContactState, GraspModel, SolveOptions, SolverChoice, StepInputs};
 use grasp_transfer::{RerunSink, RunInfo, Sink};
 use serde::Deserialize;
 
@@ -220,13 +220,15 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
     limits::check_memory_with(&scene, scene_path, (limit, &what), flags.compliance)?;
     let model = GraspModel::from_scene_with(&scene, flags.compliance)
         .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
-    let length_m = flags.length_m.unwrap_or(model.scales.length_m);
+    let length_m = flags.length_m.unwrap_or(model.scales().length_m);
     let dirs = directions(&model, flags.directions.as_deref(), length_m)?;
     let options = MarginOptions {
         length_m: Some(length_m),
         ..options
     };
-    let report = disturbance_margins(&model, &ContactState::new(&model), solve, &dirs, &options)?;
+    let inputs = StepInputs::of_scene(&model);
+    let state = ContactState::new(&model);
+    let report = disturbance_margins(&model, &inputs, &state, solve, &dirs, &options)?;
     print!(
         "{}",
         crate::flag_names::in_flags(&table(scene_path, &report))

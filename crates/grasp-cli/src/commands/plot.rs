@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice};
+use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice, StepInputs};
 
 use crate::limits::{self, MemoryArg};
 use crate::load_scene::load_scene;
@@ -60,7 +60,8 @@ fn plot_command(
         solver,
         ..SolveOptions::default()
     };
-    let mut solution = GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
+    let inputs = StepInputs::of_scene(&model);
+    let mut solution = GraspSolver::new(&model, options).solve(&inputs)?;
     crate::flag_names::respell_solution(&mut solution);
     let title = scene_path
         .file_name()

@@ -2,12 +2,13 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use grasp_model::ComplianceChoice;
 use grasp_model::{solve_at, TimePoint, TimedSolution};
-use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice};
+use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice, StepInputs};
 
 use crate::limits::{self, MemoryArg};
 use crate::load_scene::load_scene;
@@ -129,26 +130,28 @@ pub fn execute(args: Args) -> Result<ExitCode> {
             println!("auto-patch: {line}");
         }
         // The derivative is taken at a solver's own answer: solve the final patch again.
-        let mut solver = GraspSolver::new(&a.model, options);
+        let model = Arc::new(a.model);
+        let mut solver = GraspSolver::new(Arc::clone(&model), options);
         let sens = match sensitivities {
             true => {
-                let again = solver.solve(&a.model, &a.model.scene_loads_n())?;
-                sensitivities_of(&mut solver, &a.model, &again)?
+                let again = solver.solve(&StepInputs::of_scene(&model))?;
+                sensitivities_of(&mut solver, &again)?
             }
             false => None,
         };
-        (a.scene, a.model, a.solution, 0.0, sens)
+        (a.scene, model, a.solution, 0.0, sens)
     } else {
         let model = GraspModel::from_scene_with(&scene_obj, compliance)
             .with_context(|| format!("{} is not a usable scene", scene.display()))?;
+        let model = Arc::new(model);
         let build_s = t0.elapsed().as_secs_f64();
         // The solve's time covers the program assembly (GraspSolver::new) too.
         let (solution, sens) = match time {
             TimePoint::Instantaneous => {
-                let mut solver = GraspSolver::new(&model, options);
-                let solution = solver.solve(&model, &model.scene_loads_n())?;
+                let mut solver = GraspSolver::new(Arc::clone(&model), options);
+                let solution = solver.solve(&StepInputs::of_scene(&model))?;
                 let sens = match sensitivities {
-                    true => sensitivities_of(&mut solver, &model, &solution)?,
+                    true => sensitivities_of(&mut solver, &solution)?,
                     false => None,
                 };
                 (solution, sens)
@@ -209,14 +212,13 @@ pub fn execute(args: Args) -> Result<ExitCode> {
 /// without forces.
 fn sensitivities_of(
     solver: &mut GraspSolver,
-    model: &GraspModel,
     solution: &grasp_model::Solution,
 ) -> Result<Option<(grasp_model::Sensitivities, f64)>> {
     if !solution.status.has_forces() {
         return Ok(None);
     }
     let t = Instant::now();
-    let sens = solver.sensitivities(model, solution)?;
+    let sens = solver.sensitivities(solution)?;
     Ok(Some((sens, t.elapsed().as_secs_f64())))
 }
 

@@ -56,7 +56,7 @@ impl Picture for ForceDiagram<'_> {
             scene,
             model,
             solution,
-            m_per_n: 0.3 * size / model.scales.load_n,
+            m_per_n: 0.3 * size / model.scales().load_n,
             cone_m: 0.15 * size,
         };
         // The views show the object and every arrow's far end.
@@ -86,8 +86,8 @@ fn outline_points(scene: &Scene, model: &GraspModel) -> Vec<Vector3<f64>> {
             .map(|v| Vector3::from(*v))
             .collect();
     }
-    let mut pts: Vec<Vector3<f64>> = model.fingers.iter().map(|f| f.frame.origin_m).collect();
-    pts.push(model.center_of_mass_m);
+    let mut pts: Vec<Vector3<f64>> = model.fingers().iter().map(|f| f.frame().origin_m).collect();
+    pts.push(model.center_of_mass_m());
     let (lo, hi) = bounds(&pts);
     let pad = (hi - lo).norm().max(1e-3) * 0.02;
     (0..8)
@@ -107,16 +107,16 @@ fn outline_points(scene: &Scene, model: &GraspModel) -> Vec<Vector3<f64>> {
 fn arrow_ends(d: &Drawing) -> Vec<Vector3<f64>> {
     let mut ends = Vec::new();
     for f in &d.solution.fingers {
-        if let Some(m) = d.model.fingers.iter().find(|m| m.name == f.name) {
+        if let Some(m) = d.model.fingers().iter().find(|m| m.name() == f.name) {
             let cop = Vector3::from(f.center_of_pressure_m);
-            ends.push(cop - m.frame.normal * (f.normal_force_n * d.m_per_n));
+            ends.push(cop - m.frame().normal * (f.normal_force_n * d.m_per_n));
             ends.push(cop - Vector3::from(f.tangential_force_n) * d.m_per_n);
-            ends.push(m.frame.origin_m - m.frame.normal * d.cone_m);
+            ends.push(m.frame().origin_m - m.frame().normal * d.cone_m);
         }
     }
     let o = &d.scene.object;
     ends.push(
-        d.model.center_of_mass_m + Vector3::from(o.gravity).normalize() * (o.weight * d.m_per_n),
+        d.model.center_of_mass_m() + Vector3::from(o.gravity).normalize() * (o.weight * d.m_per_n),
     );
     ends
 }
@@ -131,7 +131,7 @@ fn bounds(points: &[Vector3<f64>]) -> (Vector3<f64>, Vector3<f64>) {
 /// The axes of the two views: `[a, b, c]` draws (a, b) and (a, c), `a` the axis along which
 /// the contacts spread most, `b` the next.
 fn view_axes(model: &GraspModel) -> [usize; 3] {
-    let pts: Vec<Vector3<f64>> = model.fingers.iter().map(|f| f.frame.origin_m).collect();
+    let pts: Vec<Vector3<f64>> = model.fingers().iter().map(|f| f.frame().origin_m).collect();
     let (lo, hi) = bounds(&pts);
     let spread = hi - lo;
     let mut order = [0, 1, 2];
@@ -252,10 +252,12 @@ fn draw_names<DB: DrawingBackend>(
     };
     let mut names = Vec::new();
     for f in &d.solution.fingers {
-        if let Some(m) = d.model.fingers.iter().find(|m| m.name == f.name) {
-            let anchor = px(p2(&(m.frame.origin_m - m.frame.normal * (0.35 * d.cone_m))));
+        if let Some(m) = d.model.fingers().iter().find(|m| m.name() == f.name) {
+            let anchor = px(p2(
+                &(m.frame().origin_m - m.frame().normal * (0.35 * d.cone_m))
+            ));
             let (w, h) = area.estimate_text_size(&f.name, &font).map_err(plot_err)?;
-            names.push((f.name.as_str(), px(p2(&m.frame.origin_m)), anchor, (w, h)));
+            names.push((f.name.as_str(), px(p2(&m.frame().origin_m)), anchor, (w, h)));
         }
     }
     let anchors: Vec<(f64, f64)> = names.iter().map(|n| n.2).collect();
@@ -271,7 +273,7 @@ fn draw_names<DB: DrawingBackend>(
         h: 8.0,
     };
     let mut dots: Vec<LabelBox> = names.iter().map(|n| dot(n.1)).collect();
-    dots.push(dot(px(p2(&d.model.center_of_mass_m))));
+    dots.push(dot(px(p2(&d.model.center_of_mass_m()))));
     let boxes = place_labels(&anchors, &sizes, bounds, 3.0, &dots);
     for ((name, contact, anchor, _), b) in names.iter().zip(&boxes) {
         let centre = (b.x + b.w / 2.0, b.y + b.h / 2.0);
@@ -299,7 +301,7 @@ fn draw_weight<DB: DrawingBackend>(
     d: &Drawing,
     p2: &dyn Fn(&Vector3<f64>) -> (f64, f64),
 ) -> Result<()> {
-    let com = d.model.center_of_mass_m;
+    let com = d.model.center_of_mass_m();
     let o = &d.scene.object;
     let w = Vector3::from(o.gravity).normalize() * o.weight;
     chart
@@ -314,10 +316,10 @@ fn draw_finger<DB: DrawingBackend>(
     f: &grasp_model::FingerSolution,
     p2: &dyn Fn(&Vector3<f64>) -> (f64, f64),
 ) -> Result<()> {
-    let Some(m) = d.model.fingers.iter().find(|m| m.name == f.name) else {
+    let Some(m) = d.model.fingers().iter().find(|m| m.name() == f.name) else {
         return Ok(());
     };
-    let (n, cop) = (m.frame.normal, Vector3::from(f.center_of_pressure_m));
+    let (n, cop) = (m.frame().normal, Vector3::from(f.center_of_pressure_m));
     cone(chart, d, &n, f.friction_coefficient, &cop, p2)?;
     let normal = n * f.normal_force_n * d.m_per_n;
     let friction = Vector3::from(f.tangential_force_n) * d.m_per_n;
@@ -325,7 +327,7 @@ fn draw_finger<DB: DrawingBackend>(
     arrow(chart, p2(&(cop - friction)), p2(&cop), &FRICTION)?;
     chart
         .draw_series(std::iter::once(Circle::new(
-            p2(&m.frame.origin_m),
+            p2(&m.frame().origin_m),
             3,
             BLACK.filled(),
         )))
@@ -428,7 +430,7 @@ fn convex_hull(mut points: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
 mod tests {
     use super::*;
     use crate::pictures::picture::{render, Format};
-    use grasp_model::{GraspSolver, SolveOptions};
+    use grasp_model::{GraspSolver, SolveOptions, StepInputs};
     use plotters_backend::BackendTextStyle;
 
     /// The force diagram of a bundled example, as SVG text.
@@ -440,7 +442,7 @@ mod tests {
         let scene = grasp_io::scene_from_json_str(&text, &grasp_io::base_dir_of(&path)).unwrap();
         let model = GraspModel::from_scene(&scene).unwrap();
         let solution = GraspSolver::new(&model, SolveOptions::default())
-            .solve(&model, &model.scene_loads_n())
+            .solve(&StepInputs::of_scene(&model))
             .unwrap();
         let diagram = ForceDiagram {
             scene: &scene,

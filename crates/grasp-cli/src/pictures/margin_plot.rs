@@ -109,7 +109,7 @@ fn panel_planes(model: &GraspModel) -> Vec<PanelPlane> {
         b,
         names: [axis_name(&a, "e1"), axis_name(&b, "e2")],
     };
-    match model.plane {
+    match model.plane() {
         None => vec![
             plane("force in the x-y plane", X, Y),
             plane("force in the y-z plane", Y, Z),

@@ -24,6 +24,7 @@
 //! bracket to [`MarginOptions::relative_tolerance`]. Directions run in parallel; each is
 //! deterministic.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use nalgebra::Vector3;
@@ -39,6 +40,7 @@ use crate::scene::scene_format::ModelKind;
 use crate::solve::contact_state::ContactState;
 use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::solution::{Solution, SolveStatus, LOADED_FRACTION};
+use crate::solve::step_inputs::StepInputs;
 use crate::solver::options::{check_range, SolveOptions};
 
 /// A random direction sample shorter than this (a near-zero Gaussian vector) is drawn again
@@ -232,11 +234,11 @@ pub struct MarginReport {
 /// The 12 axis directions in 3-D (force `+-x, +-y, +-z`, then torque), the 6 in-plane ones of
 /// a planar scene (force `+-e1, +-e2`, torque `+-p`).
 pub fn axis_directions(model: &GraspModel) -> Vec<WrenchDirection> {
-    let axes: Vec<Vector3<f64>> = match model.plane {
+    let axes: Vec<Vector3<f64>> = match model.plane() {
         None => vec![Vector3::x(), Vector3::y(), Vector3::z()],
         Some(p) => vec![p.e1, p.e2],
     };
-    let torques: Vec<Vector3<f64>> = match model.plane {
+    let torques: Vec<Vector3<f64>> = match model.plane() {
         None => vec![Vector3::x(), Vector3::y(), Vector3::z()],
         Some(p) => vec![p.normal],
     };
@@ -265,7 +267,7 @@ pub fn axis_directions(model: &GraspModel) -> Vec<WrenchDirection> {
 /// `xy`, `yz` and `zx` planes, the axes listed once; planar: the plane of motion), then the
 /// couple axes (both signs): the directions a polar plot of the margins draws.
 pub fn plane_directions(model: &GraspModel, per_plane: usize) -> Vec<WrenchDirection> {
-    let planes: Vec<(Vector3<f64>, Vector3<f64>)> = match model.plane {
+    let planes: Vec<(Vector3<f64>, Vector3<f64>)> = match model.plane() {
         None => vec![
             (Vector3::x(), Vector3::y()),
             (Vector3::y(), Vector3::z()),
@@ -311,7 +313,7 @@ pub fn spread_directions(model: &GraspModel, n: usize) -> Vec<WrenchDirection> {
         out.truncate(n);
         return out;
     }
-    let basis: Vec<[f64; 6]> = match model.plane {
+    let basis: Vec<[f64; 6]> = match model.plane() {
         None => (0..6)
             .map(|i| {
                 let mut b = [0.0; 6];
@@ -385,7 +387,7 @@ pub fn holds(model: &GraspModel, sol: &Solution, exempt: &[String]) -> Result<()
         }
         _ => {}
     }
-    if model.kind == ModelKind::Coulomb {
+    if model.kind() == ModelKind::Coulomb {
         if let Some(finger) = sliding_fingers(sol)
             .into_iter()
             .find(|f| !exempt.contains(f))
@@ -413,7 +415,7 @@ fn most_utilised(model: &GraspModel, sol: &Solution) -> Option<String> {
 /// The search along one direction.
 struct Search<'a> {
     model: &'a GraspModel,
-    loads: Vec<f64>,
+    inputs: &'a StepInputs,
     solver: GraspSolver,
     direction: WrenchDirection,
     length_m: f64,
@@ -432,13 +434,15 @@ struct Held {
 type Fails = (f64, Failure);
 
 impl Search<'_> {
-    /// The wrench about `O` of magnitude `s` (N) along the direction.
-    fn model_at(&self, s: f64) -> GraspModel {
+    /// The step's inputs with the disturbance of magnitude `s` (N) along the direction: a
+    /// force at the centre of mass and a couple.
+    fn inputs_at(&self, s: f64) -> StepInputs {
         let d = &self.direction;
         let f = Vector3::from(d.force) * s;
         let t = Vector3::from(d.torque) * (s * self.length_m);
-        self.model
-            .with_extra_wrench(&self.model.wrench_at_center_of_mass(&f, &t))
+        self.inputs
+            .clone()
+            .with_load_at_center_of_mass(self.model, &f, &t)
     }
 
     /// One quasi-static step to magnitude `s` from `state`.
@@ -447,11 +451,11 @@ impl Search<'_> {
         s: f64,
         state: &ContactState,
     ) -> Result<Result<(ContactState, Solution), Failure>, ModelError> {
-        let m = self.model_at(s);
+        let inputs = self.inputs_at(s);
         let mut next = state.clone();
-        let sol = self.solver.solve_step(&m, &self.loads, &mut next)?;
+        let sol = self.solver.solve_step(&inputs, &mut next)?;
         self.solves += 1;
-        Ok(holds(&m, &sol, self.exempt).map(|()| (next, sol)))
+        Ok(holds(self.model, &sol, self.exempt).map(|()| (next, sol)))
     }
 
     /// Grows the magnitude from `held` (the step doubling from [`INITIAL_STEP`] of the load
@@ -538,10 +542,10 @@ impl Search<'_> {
     }
 }
 
-/// The margin along `direction` from the undisturbed `state` and solution `base`; fingers in
-/// `exempt` already slide undisturbed.
+/// The margin along `direction` from the undisturbed `state` and solution `base` of the
+/// grasp `(model, inputs)`; fingers in `exempt` already slide undisturbed.
 fn along(
-    model: &GraspModel,
+    (model, inputs): (&Arc<GraspModel>, &StepInputs),
     solve_options: SolveOptions,
     options: &MarginOptions,
     (length_m, exempt): (f64, &[String]),
@@ -550,9 +554,9 @@ fn along(
 ) -> Result<DirectionMargin, ModelError> {
     let clock = Instant::now();
     let mut search = Search {
-        model,
-        loads: model.scene_loads_n(),
-        solver: GraspSolver::new(model, solve_options),
+        model: model.as_ref(),
+        inputs,
+        solver: GraspSolver::new(Arc::clone(model), solve_options),
         direction,
         length_m,
         solves: 0,
@@ -589,13 +593,14 @@ fn along(
     })
 }
 
-/// The margins of `model` (with its scene loads) along `directions`, starting from `state`
-/// (a fresh [`ContactState`] for a single grasp; a hand-off step's state to continue its
-/// path). If the grasp does not hold undisturbed every margin is 0 with that failure. Options
+/// The margins of `model` under `inputs` (its loads, extra wrench and approaches) along
+/// `directions`, starting from `state` (a fresh [`ContactState`] for a single grasp; a hand-off
+/// step's state to continue its path). If the grasp does not hold undisturbed every margin is 0 with that failure. Options
 /// outside their ranges are an error ([`MarginOptions::validate`],
 /// [`SolveOptions::validate`]).
 pub fn disturbance_margins(
     model: &GraspModel,
+    inputs: &StepInputs,
     state: &ContactState,
     solve_options: SolveOptions,
     directions: &[WrenchDirection],
@@ -606,13 +611,11 @@ pub fn disturbance_margins(
     options.validate()?;
     let clock = Instant::now();
     let length_m = options.length_m.unwrap_or(model.scales.length_m);
+    let shared: Arc<GraspModel> = model.into();
     let mut base_state = state.clone();
-    let base = GraspSolver::new(model, solve_options).solve_step(
-        model,
-        &model.scene_loads_n(),
-        &mut base_state,
-    )?;
-    let sliding_undisturbed = match model.kind {
+    let base =
+        GraspSolver::new(Arc::clone(&shared), solve_options).solve_step(inputs, &mut base_state)?;
+    let sliding_undisturbed = match model.kind() {
         ModelKind::Coulomb if base.status.has_forces() => sliding_fingers(&base),
         _ => Vec::new(),
     };
@@ -641,7 +644,7 @@ pub fn disturbance_margins(
             .map(|&d| {
                 let geometry = (length_m, sliding_undisturbed.as_slice());
                 along(
-                    model,
+                    (&shared, inputs),
                     solve_options,
                     options,
                     geometry,
@@ -661,7 +664,7 @@ pub fn disturbance_margins(
         .min_by(|&a, &b| margins[a].margin_n.total_cmp(&margins[b].margin_n))
         .unwrap_or(0);
     Ok(MarginReport {
-        model: model.kind,
+        model: model.kind(),
         length_m,
         load_scale_n: model.scales.load_n,
         solves: 1 + margins.iter().map(|m| m.solves).sum::<u32>(),
@@ -714,16 +717,18 @@ mod tests {
         let model = pinch();
         let mut base_state = ContactState::new(&model);
         let solve = SolveOptions::default();
+        let inputs = StepInputs::of_scene(&model);
         let base = GraspSolver::new(&model, solve)
-            .solve_step(&model, &model.scene_loads_n(), &mut base_state)
+            .solve_step(&inputs, &mut base_state)
             .unwrap();
         for tolerance in [1e-300, 0.0, 1e-17] {
             let options = MarginOptions {
                 relative_tolerance: tolerance,
                 ..MarginOptions::default()
             };
+            let shared = Arc::new(model.clone());
             let m = along(
-                &model,
+                (&shared, &inputs),
                 solve,
                 &options,
                 (0.05, &[]),
@@ -755,6 +760,7 @@ mod tests {
         let model = pinch();
         let r = disturbance_margins(
             &model,
+            &StepInputs::of_scene(&model),
             &ContactState::new(&model),
             SolveOptions::default(),
             &[DOWN],
@@ -796,8 +802,15 @@ mod tests {
             ),
         ];
         for (options, name) in cases {
-            let e = disturbance_margins(&model, &state, SolveOptions::default(), &[DOWN], &options)
-                .unwrap_err();
+            let e = disturbance_margins(
+                &model,
+                &StepInputs::of_scene(&model),
+                &state,
+                SolveOptions::default(),
+                &[DOWN],
+                &options,
+            )
+            .unwrap_err();
             match e {
                 ModelError::Option(o) => assert_eq!(o.option, name),
                 other => panic!("{other}"),
@@ -809,6 +822,7 @@ mod tests {
         };
         let r = disturbance_margins(
             &model,
+            &StepInputs::of_scene(&model),
             &state,
             SolveOptions::default(),
             &[nan],

@@ -11,6 +11,7 @@ use crate::scene::scene_format::{FingerSpec, Scene};
 use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::patch_check::undersized_patches;
 use crate::solve::solution::Solution;
+use crate::solve::step_inputs::StepInputs;
 use crate::solver::options::SolveOptions;
 
 /// Growth factor of a patch's size (and element count) per round of [`auto_patch`].
@@ -77,7 +78,7 @@ fn solved(scene: Scene, options: SolveOptions) -> Result<AutoPatch, ModelError> 
             source,
         }
     })?;
-    let solution = GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
+    let solution = GraspSolver::new(&model, options).solve(&StepInputs::of_scene(&model))?;
     Ok(AutoPatch {
         scene,
         model,

@@ -15,6 +15,7 @@ use crate::scene::limits::MAX_ELEMENTS_PER_PATCH;
 use crate::scene::scene_format::{RadiusSpec, Scene};
 use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::solution::Solution;
+use crate::solve::step_inputs::StepInputs;
 use crate::solver::options::SolveOptions;
 
 /// Convergence order assumed by the estimate.
@@ -105,7 +106,7 @@ pub fn estimate_error(
                 source,
             }
         })?;
-    let coarse = GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n())?;
+    let coarse = GraspSolver::new(&model, options).solve(&StepInputs::of_scene(&model))?;
     if !coarse.status.has_forces() {
         return Ok(Err(NoEstimate::CoarseFailed(
             coarse.reason.unwrap_or_default(),
@@ -234,7 +235,7 @@ pub fn refinement_study(
         let model =
             GraspModel::from_scene_with(&s, options.compliance).map_err(|e| e.to_string())?;
         let sol = GraspSolver::new(&model, options)
-            .solve(&model, &model.scene_loads_n())
+            .solve(&StepInputs::of_scene(&model))
             .map_err(|e| e.to_string())?;
         let wall = t.elapsed().as_secs_f64();
         if !sol.status.has_forces() {
@@ -302,7 +303,7 @@ fn hertz_errors(
         .ok_or_else(|| format!("grid {n}: solved without a rigid displacement"))?;
     let t_com = nalgebra::Vector3::from(d.translation_m);
     let theta = nalgebra::Vector3::from(d.rotation_rad);
-    let at = model.fingers[0].frame.origin_m - model.center_of_mass_m;
+    let at = model.fingers[0].frame.origin_m - model.center_of_mass_m();
     let approach = f.approach_m - n_i.dot(&(t_com + theta.cross(&at)));
     Ok((
         (f.peak_pressure_pa - h.peak_pressure_pa).abs() / h.peak_pressure_pa,

@@ -15,7 +15,7 @@ use crate::model::grasp_model::GraspModel;
 use crate::solve::contact_state::ContactState;
 use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::solution::Solution;
-use crate::solve::viscous_history::{advance_step, prepare_step};
+use crate::solve::step_inputs::StepInputs;
 use crate::solver::options::SolveOptions;
 
 /// Equal steps in each decade of time of a solve at a later time.
@@ -65,12 +65,12 @@ pub fn solve_at(
     options: SolveOptions,
     time: TimePoint,
 ) -> Result<TimedSolution, ModelError> {
-    let loads = model.scene_loads_n();
+    let inputs = StepInputs::of_scene(model);
     let seconds = match time {
         TimePoint::At { seconds } if model.is_viscoelastic() => seconds,
         TimePoint::LongTerm if model.is_viscoelastic() => {
             let relaxed = model.for_time_step(f64::INFINITY);
-            let solution = GraspSolver::new(&relaxed, options).solve(&relaxed, &loads)?;
+            let solution = GraspSolver::new(relaxed, options).solve(&inputs)?;
             return Ok(TimedSolution {
                 solution,
                 time,
@@ -78,7 +78,7 @@ pub fn solve_at(
             });
         }
         _ => {
-            let solution = GraspSolver::new(model, options).solve(model, &loads)?;
+            let solution = GraspSolver::new(model, options).solve(&inputs)?;
             return Ok(TimedSolution {
                 solution,
                 time,
@@ -87,7 +87,7 @@ pub fn solve_at(
         }
     };
     let mut state = ContactState::new(model);
-    let mut solution = GraspSolver::new(model, options).solve_step(model, &loads, &mut state)?;
+    let mut solution = GraspSolver::new(model, options).solve_step(&inputs, &mut state)?;
     let mut steps = 1;
     if !solution.status.has_forces() {
         return Ok(TimedSolution {
@@ -96,18 +96,17 @@ pub fn solve_at(
             steps,
         });
     }
-    advance_step(model, &mut state, 0.0, &solution);
-    let mut stepped: Option<(u64, GraspModel, GraspSolver)> = None;
+    state.advance_time_step(model, &solution);
+    let mut stepped: Option<(u64, GraspSolver)> = None;
     let mut t = 0.0;
     for dt in time_steps(seconds, fastest_retardation_s(model)) {
         if stepped.as_ref().is_none_or(|s| s.0 != dt.to_bits()) {
-            let m = model.for_time_step(dt);
-            let s = GraspSolver::new(&m, options);
-            stepped = Some((dt.to_bits(), m, s));
+            let s = GraspSolver::new(model.for_time_step(dt), options);
+            stepped = Some((dt.to_bits(), s));
         }
-        let (_, m, solver) = stepped.as_mut().expect("set above");
-        prepare_step(m, &mut state, dt);
-        solution = solver.solve_step(m, &loads, &mut state)?;
+        let (_, solver) = stepped.as_mut().expect("set above");
+        state.prepare_time_step(solver.model());
+        solution = solver.solve_step(&inputs, &mut state)?;
         steps += 1;
         t += dt;
         if !solution.status.has_forces() {
@@ -116,7 +115,7 @@ pub fn solve_at(
             }
             break;
         }
-        advance_step(m, &mut state, dt, &solution);
+        state.advance_time_step(solver.model(), &solution);
     }
     Ok(TimedSolution {
         solution,

@@ -21,7 +21,7 @@
 use realfft::num_complex::Complex;
 
 use super::grid_fft::GridFft;
-use super::influence::{Block, GridSpec, KernelTable};
+use super::influence::{Block, KernelTable};
 
 /// Entries of a Hermitian `3 x 3` matrix kept per frequency, upper triangle: `(row, col)`.
 const ENTRIES: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
@@ -105,14 +105,20 @@ impl CirculantInverse {
         }
     }
 
+    #[cfg(test)]
     /// Bytes kept ([`CirculantInverse::new`]'s per-frequency entries).
     pub fn memory_bytes(&self) -> usize {
         let entries: usize = self.inverse.iter().map(Vec::len).sum();
         entries * std::mem::size_of::<Complex<f64>>()
     }
 
+    #[cfg(test)]
     /// Bytes [`CirculantInverse::new`] keeps for a grid, before building it.
-    pub fn memory_estimate_bytes(grid: &GridSpec, n_tangential: usize, coupled: bool) -> usize {
+    pub fn memory_estimate_bytes(
+        grid: &super::influence::GridSpec,
+        n_tangential: usize,
+        coupled: bool,
+    ) -> usize {
         let kept = needed(n_tangential, coupled).iter().filter(|n| **n).count();
         kept * grid.nx * (grid.ny / 2 + 1) * std::mem::size_of::<Complex<f64>>()
     }
@@ -244,7 +250,7 @@ fn invert(h: &[[Complex<f64>; 3]; 3], dim: usize, floor: f64) -> [[Complex<f64>;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::influence::{patch_compliance, PairConstants};
+    use crate::model::influence::{patch_compliance, GridSpec, PairConstants};
     use crate::model::material::Material;
     use nalgebra::{DMatrix, DVector};
 

@@ -92,11 +92,6 @@ impl ComplianceOperator {
         self.grid.len() * (1 + self.n_tangential)
     }
 
-    /// True for an empty patch.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// Diagonal entry of component `c` (every element has the same, the block being Toeplitz),
     /// m/N.
     pub fn diagonal(&self, c: usize) -> f64 {
@@ -134,6 +129,7 @@ impl ComplianceOperator {
         }))
     }
 
+    #[cfg(test)]
     /// Bytes held by the operator (its kernel spectra and its preconditioner), for memory
     /// estimates.
     pub fn memory_bytes(&self) -> usize {
@@ -141,6 +137,7 @@ impl ComplianceOperator {
         entries * std::mem::size_of::<Complex<f64>>() + self.preconditioner.memory_bytes()
     }
 
+    #[cfg(test)]
     /// Bytes [`ComplianceOperator::new`] keeps for a grid, before building it: one spectrum
     /// of `2 nx (ny + 1)` complex numbers per block needed, and the preconditioner's.
     pub fn memory_estimate_bytes(grid: &GridSpec, n_tangential: usize, coupled: bool) -> usize {

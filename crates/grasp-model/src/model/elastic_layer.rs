@@ -99,6 +99,7 @@ impl ElasticLayer {
         self.youngs_modulus_pa / (2.0 * (1.0 + self.poisson_ratio))
     }
 
+    #[cfg(test)]
     /// The constrained (uniaxial-strain) modulus `M = E (1 - nu)/((1 + nu)(1 - 2 nu))`, Pa: a
     /// thin layer's normal stiffness per unit area is `M / h` (the Winkler limit).
     pub fn constrained_modulus_pa(&self) -> f64 {

@@ -55,38 +55,96 @@ impl Control {
     }
 }
 
-/// One finger, fully prepared.
+/// One finger, fully prepared: read-only outside this crate (its accessors below); a model
+/// changes only where its matrices change ([`GraspModel::restricted`],
+/// [`GraspModel::for_time_step`]).
 #[derive(Debug, Clone)]
 pub struct FingerModel {
     /// Name from the scene.
-    pub name: String,
+    pub(crate) name: String,
     /// Contact frame (`normal` into the object).
-    pub frame: ContactFrame,
+    pub(crate) frame: ContactFrame,
     /// Patch geometry and initial gaps.
-    pub patch: Patch,
+    pub(crate) patch: Patch,
     /// Fingertip material.
-    pub material: Material,
+    pub(crate) material: Material,
     /// The contact's two bodies (finger, object): their half-space constants and layers.
-    pub contact: ContactPair,
+    pub(crate) contact: ContactPair,
     /// Friction law.
-    pub friction: FrictionLaw,
+    pub(crate) friction: FrictionLaw,
     /// Tangential unknowns per element: 0 (frictionless), 1 (planar) or 2.
-    pub n_tangential: usize,
-    /// Patch compliance `C`, m/N, `(1 + n_tangential) N` square (see
-    /// `crate::model::influence::patch_compliance`), dense or as the FFT operator
-    /// (`PatchCompliance`); shared by the models restricted to some fingers
-    /// ([`GraspModel::restricted`]).
-    pub compliance_m_per_n: PatchCompliance,
-    /// How the finger is driven (as in the scene; loads may be overridden per solve).
-    pub control: Control,
+    pub(crate) n_tangential: usize,
+    /// Patch compliance `C`, m/N, `(1 + n_tangential) N` square (`model/influence.rs`), dense
+    /// or as the FFT operator; shared by the models restricted to some fingers.
+    pub(crate) compliance_m_per_n: PatchCompliance,
+    /// How the finger is driven (as in the scene; loads and approaches are given per solve).
+    pub(crate) control: Control,
     /// The contact's viscoelastic bodies (`None`: both elastic or rigid): their own
-    /// compliances and creep functions (`crate::model::viscous_contact`).
-    pub viscous: Option<Arc<ViscousContact>>,
+    /// compliances and creep functions (`model/viscous_contact.rs`).
+    pub(crate) viscous: Option<Arc<ViscousContact>>,
     /// Index of this finger's first unknown in the program's `x`.
-    pub offset: usize,
+    pub(crate) offset: usize,
 }
 
 impl FingerModel {
+    /// Name from the scene.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Contact frame (`normal` into the object).
+    pub fn frame(&self) -> &ContactFrame {
+        &self.frame
+    }
+
+    /// Patch geometry (grid, element centres) and initial gaps.
+    pub fn patch(&self) -> &Patch {
+        &self.patch
+    }
+
+    /// Fingertip material.
+    pub fn material(&self) -> &Material {
+        &self.material
+    }
+
+    /// Tangential unknowns per element: 0 (frictionless), 1 (planar) or 2.
+    pub fn n_tangential(&self) -> usize {
+        self.n_tangential
+    }
+
+    /// Which form the patch compliance takes: `true` for the FFT operator, `false` for the
+    /// dense matrix.
+    pub fn compliance_is_fft(&self) -> bool {
+        self.compliance_m_per_n.is_fft()
+    }
+
+    /// The patch compliance `C`, m/N (`(1 + n_tangential) N` square, the unknown layout of
+    /// the module docs), written out: the dense matrix, or the FFT operator's entries for a
+    /// patch small enough to write out; `None` for a larger FFT patch.
+    pub fn compliance_matrix_m_per_n(&self) -> Option<Arc<nalgebra::DMatrix<f64>>> {
+        self.compliance_m_per_n.matrix()
+    }
+
+    /// How the finger is driven, as the scene (or the restriction that made this model) says.
+    pub fn control(&self) -> Control {
+        self.control
+    }
+
+    /// True when the contact has a viscoelastic body.
+    pub fn is_viscoelastic(&self) -> bool {
+        self.viscous.is_some()
+    }
+
+    /// Friction coefficient of the finger's law at total normal load `p_n` (N).
+    pub fn mu_at(&self, p_n: f64) -> f64 {
+        self.friction.mu_at(p_n)
+    }
+
+    /// Index of this finger's first unknown in the program's `x`.
+    pub fn offset(&self) -> usize {
+        self.offset
+    }
+
     /// Number of unknowns of this finger.
     pub fn n_unknowns(&self) -> usize {
         self.patch.len() * (1 + self.n_tangential)
@@ -141,7 +199,7 @@ pub struct ExternalLoad {
 
 /// What a model keeps of the scene besides its fingers (to restrict it to some fingers).
 #[derive(Debug, Clone, PartialEq)]
-pub struct ObjectModel {
+pub(crate) struct ObjectModel {
     /// Object centre of mass, m.
     pub center_of_mass_m: Vector3<f64>,
     /// Weight (first, when nonzero) and external forces.
@@ -161,32 +219,27 @@ pub struct ObjectModel {
     pub scene_warnings: Vec<String>,
 }
 
-/// The immutable grasp model.
+/// The immutable grasp model: read-only outside this crate (its accessors below).
 #[derive(Debug, Clone)]
 pub struct GraspModel {
     /// Fingers in scene order.
-    pub fingers: Vec<FingerModel>,
-    /// Plane of motion of a planar scene.
-    pub plane: Option<MotionPlane>,
+    pub(crate) fingers: Vec<FingerModel>,
     /// Reference point `O` of moments and of the rigid displacement: centroid of the contact
     /// points, m.
-    pub reference_point_m: Vector3<f64>,
-    /// Object centre of mass, m.
-    pub center_of_mass_m: Vector3<f64>,
+    pub(crate) reference_point_m: Vector3<f64>,
     /// External wrench on the object (weight and external forces), moments about `O`.
-    pub external_wrench: Wrench,
+    pub(crate) external_wrench: Wrench,
     /// Scales of the program.
-    pub scales: Scales,
+    pub(crate) scales: Scales,
     /// Scaled equilibrium map.
-    pub equilibrium: EquilibriumMap,
+    pub(crate) equilibrium: EquilibriumMap,
     /// Total number of unknowns.
-    pub n_unknowns: usize,
-    /// Contact law.
-    pub kind: ModelKind,
-    /// Object material.
-    pub object_material: Material,
-    /// The scene's object and loads, for [`GraspModel::restricted`].
-    pub object: ObjectModel,
+    pub(crate) n_unknowns: usize,
+    /// The scene's object and loads (also for [`GraspModel::restricted`]).
+    pub(crate) object: ObjectModel,
+    /// The time step (s) whose compliance a viscoelastic contact has
+    /// ([`GraspModel::for_time_step`]); 0 for the instantaneous response.
+    pub(crate) time_step_s: f64,
 }
 
 /// Smallest frozen friction coefficient of a frictional finger. The energy model's cone
@@ -197,6 +250,78 @@ pub struct GraspModel {
 pub const MU_FLOOR: f64 = 1e-3;
 
 impl GraspModel {
+    /// Fingers in scene order.
+    pub fn fingers(&self) -> &[FingerModel] {
+        &self.fingers
+    }
+
+    /// The finger named `name`, with its index.
+    pub fn finger(&self, name: &str) -> Option<(usize, &FingerModel)> {
+        self.fingers
+            .iter()
+            .enumerate()
+            .find(|(_, f)| f.name == name)
+    }
+
+    /// Plane of motion of a planar scene.
+    pub fn plane(&self) -> Option<MotionPlane> {
+        self.object.plane
+    }
+
+    /// Reference point `O` of moments and of the rigid displacement: the centroid of the
+    /// contact points, m.
+    pub fn reference_point_m(&self) -> Vector3<f64> {
+        self.reference_point_m
+    }
+
+    /// Object centre of mass, m.
+    pub fn center_of_mass_m(&self) -> Vector3<f64> {
+        self.object.center_of_mass_m
+    }
+
+    /// External wrench on the object from the scene (weight and external forces; N, N m
+    /// about `O`); a solve adds its [`crate::StepInputs`]' extra wrench.
+    pub fn external_wrench(&self) -> Wrench {
+        self.external_wrench
+    }
+
+    /// Scales of the program (model.md, "Scale before solving").
+    pub fn scales(&self) -> Scales {
+        self.scales
+    }
+
+    /// Number of equilibrium rows: 6 in 3-D, 3 in a planar scene (thesis eqs. 48-49).
+    pub fn equilibrium_rows(&self) -> usize {
+        self.equilibrium.rows()
+    }
+
+    /// Total number of unknowns (the program's `x`).
+    pub fn n_unknowns(&self) -> usize {
+        self.n_unknowns
+    }
+
+    /// Contact law.
+    pub fn kind(&self) -> ModelKind {
+        self.object.kind
+    }
+
+    /// Object material.
+    pub fn object_material(&self) -> &Material {
+        &self.object.material
+    }
+
+    /// The scene's warnings (its shape checks, the layers' resolution), carried by every
+    /// solution of the model.
+    pub fn scene_warnings(&self) -> &[String] {
+        &self.object.scene_warnings
+    }
+
+    /// The time step (s) over which a viscoelastic contact's compliance is taken
+    /// ([`GraspModel::for_time_step`]); 0 for the instantaneous response.
+    pub fn time_step_s(&self) -> f64 {
+        self.time_step_s
+    }
+
     /// A first guess of each finger's total normal load, N: the prescribed load of a
     /// force-controlled finger, an equal share of the load scale for a held one.
     pub fn guess_loads(&self, loads_n: &[f64]) -> Vec<f64> {
@@ -313,7 +438,10 @@ impl GraspModel {
                 Some(f)
             })
             .collect::<Option<Vec<_>>>()?;
-        Some(Self::from_parts(fingers, self.object.clone()))
+        Some(GraspModel {
+            time_step_s: self.time_step_s,
+            ..Self::from_parts(fingers, self.object.clone())
+        })
     }
 
     /// True when a contact has a viscoelastic body.
@@ -327,7 +455,10 @@ impl GraspModel {
     /// model's), the elastic fingers' are shared. This model itself when nothing relaxes.
     pub fn for_time_step(&self, dt_s: f64) -> GraspModel {
         if !self.is_viscoelastic() {
-            return self.clone();
+            return GraspModel {
+                time_step_s: dt_s,
+                ..self.clone()
+            };
         }
         let fingers = self
             .fingers
@@ -340,7 +471,10 @@ impl GraspModel {
                 f
             })
             .collect();
-        Self::from_parts(fingers, self.object.clone())
+        GraspModel {
+            time_step_s: dt_s,
+            ..Self::from_parts(fingers, self.object.clone())
+        }
     }
 
     /// Offsets, reference point, external wrench, scales and equilibrium map of `fingers` (at
@@ -378,16 +512,13 @@ impl GraspModel {
         let equilibrium = EquilibriumMap::new(scales.length_m, object.plane);
         GraspModel {
             fingers,
-            plane: object.plane,
             reference_point_m,
-            center_of_mass_m: object.center_of_mass_m,
             external_wrench,
             scales,
             equilibrium,
             n_unknowns: offset,
-            kind: object.kind,
-            object_material: object.material,
             object,
+            time_step_s: 0.0,
         }
     }
 
@@ -440,15 +571,6 @@ impl GraspModel {
         )
     }
 
-    /// The same model with `extra` (N, N m about `O`) added to its external wrench. The scales
-    /// stay this model's, so a solver built for this model solves it too (every solve reads the
-    /// external wrench of the model it is given).
-    pub fn with_extra_wrench(&self, extra: &Wrench) -> GraspModel {
-        let mut m = self.clone();
-        m.external_wrench += extra;
-        m
-    }
-
     /// Wrench about `O` (N, N m) of a force `force_n` (N, world) applied at the centre of mass
     /// plus a couple `torque_nm` (N m, world): `(f, t + (r - O) x f)` (thesis eq. 49's moment
     /// of an external force).
@@ -457,14 +579,14 @@ impl GraspModel {
         force_n: &Vector3<f64>,
         torque_nm: &Vector3<f64>,
     ) -> Wrench {
-        let m = torque_nm + (self.center_of_mass_m - self.reference_point_m).cross(force_n);
+        let m = torque_nm + (self.center_of_mass_m() - self.reference_point_m).cross(force_n);
         Wrench::new(force_n.x, force_n.y, force_n.z, m.x, m.y, m.z)
     }
 
     /// Net wrench (N, N m about `O`) of contact forces `x` (N, program layout) plus the external
-    /// wrench: zero at equilibrium.
-    pub fn net_wrench(&self, x_n: &[f64]) -> Wrench {
-        let mut w = self.external_wrench;
+    /// wrench `external` (N, N m about `O`): zero at equilibrium (thesis eqs. 48-49).
+    pub fn net_wrench(&self, x_n: &[f64], external: &Wrench) -> Wrench {
+        let mut w = *external;
         for (i, f) in self.fingers.iter().enumerate() {
             let n = f.patch.len();
             for c in 0..=f.n_tangential {
@@ -684,5 +806,13 @@ pub fn object_curvatures_per_m(f: &crate::scene::scene_format::FingerSpec) -> [f
         Some(RadiusSpec::Principal([a, b])) => {
             [a.map_or(0.0, |r| 1.0 / r), b.map_or(0.0, |r| 1.0 / r)]
         }
+    }
+}
+
+/// A solver built from a reference to a model keeps a copy of it: the patches and scales are
+/// copied, the compliance blocks and viscoelastic bodies shared (`Arc`), not rebuilt.
+impl From<&GraspModel> for Arc<GraspModel> {
+    fn from(model: &GraspModel) -> Self {
+        Arc::new(model.clone())
     }
 }

@@ -239,11 +239,6 @@ impl KernelTable {
         self.at(self.grid.nx - 1, self.grid.ny - 1)
     }
 
-    /// Every offset's blocks, row-major.
-    pub fn values(&self) -> &[[f64; 6]] {
-        &self.values
-    }
-
     /// True when the normal/tangential coupling blocks are not all zero (equal half-spaces:
     /// all zero, and no coupling blocks are assembled).
     pub fn coupled(&self) -> bool {

@@ -147,27 +147,6 @@ impl PatchCompliance {
         }
     }
 
-    /// Unknowns (rows).
-    pub fn len(&self) -> usize {
-        match self {
-            PatchCompliance::Dense(c) => c.nrows(),
-            PatchCompliance::Fft(op) => op.len(),
-        }
-    }
-
-    /// True for an empty patch.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// The dense matrix, if this is one.
-    pub fn dense(&self) -> Option<&Arc<DMatrix<f64>>> {
-        match self {
-            PatchCompliance::Dense(c) => Some(c),
-            PatchCompliance::Fft(_) => None,
-        }
-    }
-
     /// True for the FFT operator.
     pub fn is_fft(&self) -> bool {
         matches!(self, PatchCompliance::Fft(_))
@@ -216,14 +195,6 @@ impl PatchCompliance {
                 .map(|col| col.iter().map(|v| v.abs()).sum::<f64>())
                 .fold(0.0_f64, f64::max),
             PatchCompliance::Fft(op) => op.row_sum_bound(),
-        }
-    }
-
-    /// Bytes held.
-    pub fn memory_bytes(&self) -> usize {
-        match self {
-            PatchCompliance::Dense(c) => c.len() * std::mem::size_of::<f64>(),
-            PatchCompliance::Fft(op) => op.memory_bytes(),
         }
     }
 }

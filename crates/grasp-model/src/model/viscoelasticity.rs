@@ -187,6 +187,7 @@ pub struct StepCoefficients {
 }
 
 impl CreepFunction {
+    #[cfg(test)]
     /// `phi(t)` at `t_s` seconds.
     pub fn at(&self, t_s: f64) -> f64 {
         self.long_term

@@ -20,8 +20,6 @@ use crate::scene::scene_format::RelaxationSpec;
 /// One viscoelastic body of a contact.
 #[derive(Debug, Clone)]
 pub struct ViscousBody {
-    /// Which side of the contact it is.
-    pub side: Side,
     /// Its creep function, normalised by its instantaneous modulus.
     pub creep: CreepFunction,
     /// Its own compliance at its instantaneous modulus (m/N, the finger's unknown layout).
@@ -70,7 +68,6 @@ impl ViscousContact {
             };
             let table = pair.body_table(grid, side);
             bodies.push(ViscousBody {
-                side,
                 creep: law.creep(),
                 compliance_m_per_n: PatchCompliance::from_table(&table, n_tangential, fft),
                 table: Arc::new(table),

@@ -33,7 +33,7 @@
 
 use nalgebra::DMatrix;
 
-use crate::model::equilibrium::{MotionPlane, RowReduction};
+use crate::model::equilibrium::{MotionPlane, RowReduction, Wrench};
 use crate::model::grasp_model::GraspModel;
 
 /// Largest floor on the Tresca radii Clarabel is given, in element force units `Fu` (the
@@ -89,11 +89,6 @@ impl FingerBlock {
     pub fn len(&self) -> usize {
         self.elements * (1 + self.n_tangential)
     }
-
-    /// True for a block without unknowns.
-    pub fn is_empty(&self) -> bool {
-        self.elements == 0
-    }
 }
 
 /// The equality row that fixes a force-controlled finger's total normal load.
@@ -109,32 +104,37 @@ pub struct LoadRow {
 #[derive(Debug, Clone)]
 pub struct ConeProgram {
     /// Which cones bound the friction forces.
-    pub law: ConeLaw,
+    pub(crate) law: ConeLaw,
     /// Per finger, scene order.
-    pub blocks: Vec<FingerBlock>,
+    pub(crate) blocks: Vec<FingerBlock>,
     /// Total number of unknowns.
-    pub n_unknowns: usize,
+    pub(crate) n_unknowns: usize,
     /// `P = compliance_scale * C` (C in m/N): `1 / Cu`.
-    pub compliance_scale: f64,
+    pub(crate) compliance_scale: f64,
     /// Linear cost `q`.
-    pub q: Vec<f64>,
+    pub(crate) q: Vec<f64>,
     /// Per unknown, the displacement `o` added to the elastic one (m): prescribed approaches
     /// and viscoelastic history (module docs). Zero by default.
-    pub offset_m: Vec<f64>,
+    pub(crate) offset_m: Vec<f64>,
     /// Per unknown, the slip memory `m` (m; zero on the normal unknowns).
     memory_m: Vec<f64>,
     /// Equality matrix `E` (`m x n`): reduced equilibrium rows, then load rows.
-    pub equality: DMatrix<f64>,
+    pub(crate) equality: DMatrix<f64>,
     /// Right-hand side `e` (for the loads last set).
-    pub equality_rhs: Vec<f64>,
+    pub(crate) equality_rhs: Vec<f64>,
     /// Reduction of the equilibrium rows.
-    pub reduction: RowReduction,
+    pub(crate) reduction: RowReduction,
     /// The load equation of each force-controlled finger, in finger order.
-    pub load_rows: Vec<LoadRow>,
+    pub(crate) load_rows: Vec<LoadRow>,
+    /// The external wrench of the last solve (N, N m about `O`): the model's and the step's
+    /// extra one ([`crate::StepInputs`]).
+    pub(crate) external_wrench: Wrench,
+    /// Each finger's commanded approach of the last solve, m (0 where none).
+    pub(crate) approach_m: Vec<f64>,
     /// Scaled external wrench in equilibrium coordinates (`S w_ext / Fu`).
-    pub external_scaled: Vec<f64>,
+    pub(crate) external_scaled: Vec<f64>,
     /// Set when the external load has a component no contact force can resist: the reason.
-    pub unbalanced: Option<String>,
+    pub(crate) unbalanced: Option<String>,
 }
 
 impl ConeProgram {
@@ -175,10 +175,12 @@ impl ConeProgram {
             equality,
             reduction,
             load_rows,
+            external_wrench: model.external_wrench,
+            approach_m: vec![0.0; model.fingers.len()],
             external_scaled: Vec::new(),
             unbalanced: None,
         };
-        program.set_external_wrench(model);
+        program.set_external_wrench(model, &model.external_wrench);
         program.set_loads(model, loads_n);
         program.refresh_q(model);
         program
@@ -199,6 +201,17 @@ impl ConeProgram {
         }
     }
 
+    /// The external wrench of the last solve (N, N m about `O`).
+    pub fn external_wrench(&self) -> Wrench {
+        self.external_wrench
+    }
+
+    /// Sets each finger's commanded approach (m; it is also in the offsets, see
+    /// [`ConeProgram::set_offsets`]): the readout reports it as the finger's approach.
+    pub fn set_approaches(&mut self, approach_m: &[f64]) {
+        self.approach_m.copy_from_slice(approach_m);
+    }
+
     /// Sets the offsets `o` (m, per unknown; module docs) and rewrites `q`.
     pub fn set_offsets(&mut self, model: &GraspModel, offset_m: &[f64]) {
         if self.offset_m.as_slice() != offset_m {
@@ -207,16 +220,15 @@ impl ConeProgram {
         }
     }
 
-    /// Overwrites the equilibrium rows of `e` with `model.external_wrench` (thesis eqs.
-    /// 48-49: `U' E_hat x = -U' S w_ext / Fu`) and re-checks that no component of it lies in a
-    /// direction no contact resists. The model must be this program's model up to its
-    /// external wrench (the same fingers, reference point and scales), as
-    /// [`GraspModel::with_extra_wrench`] makes it.
-    pub fn set_external_wrench(&mut self, model: &GraspModel) {
+    /// Overwrites the equilibrium rows of `e` with the external wrench `w_ext` (N, N m about
+    /// `O`; thesis eqs. 48-49: `U' E_hat x = -U' S w_ext / Fu`) and re-checks that no
+    /// component of it lies in a direction no contact resists.
+    pub fn set_external_wrench(&mut self, model: &GraspModel, wrench: &Wrench) {
         let fu = model.scales.element_force_n;
+        self.external_wrench = *wrench;
         self.external_scaled = model
             .equilibrium
-            .apply(&model.external_wrench)
+            .apply(wrench)
             .iter()
             .map(|v| v / fu)
             .collect();
@@ -352,7 +364,7 @@ fn unbalanced_reason(model: &GraspModel, red: &RowReduction, w: &[f64]) -> Optio
         let comp: f64 = u.iter().zip(w).map(|(a, b)| a * b).sum();
         if comp.abs() > UNBALANCED_FRACTION * norm_w.max(f64::MIN_POSITIVE) {
             // Express the unresisted direction in the world frame.
-            let (force, moment) = match model.plane {
+            let (force, moment) = match model.plane() {
                 None => ([u[0], u[1], u[2]], [u[3], u[4], u[5]]),
                 Some(MotionPlane { e1, e2, normal: p }) => {
                     let f = e1 * u[0] + e2 * u[1];

@@ -111,12 +111,12 @@ impl ContactState {
     }
 
     /// The displacement added to the elastic one of every unknown of `model` (m, program
-    /// layout; `crate::program::cone_program`): `-d` on the normal unknowns of a finger
-    /// pressed in by a prescribed approach `d`, plus each finger's viscoelastic history.
-    pub fn offsets_m(&self, model: &GraspModel) -> Vec<f64> {
+    /// layout; `program/cone_program.rs`): `-d` on the normal unknowns of a finger pressed in
+    /// by its commanded approach `d` (`approach_m`, m, per finger), plus each finger's
+    /// viscoelastic history.
+    pub(crate) fn offsets_m(&self, model: &GraspModel, approach_m: &[f64]) -> Vec<f64> {
         let mut o = vec![0.0; model.n_unknowns];
-        for (f, s) in model.fingers.iter().zip(&self.fingers) {
-            let d = f.control.approach_m();
+        for ((f, s), &d) in model.fingers.iter().zip(&self.fingers).zip(approach_m) {
             if d != 0.0 {
                 o[f.offset..f.offset + f.patch.len()].fill(-d);
             }

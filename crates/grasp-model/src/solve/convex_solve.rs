@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
-use crate::solve::readout::{build_solution, escape_reason, failed, SolvedWith};
-use crate::solve::residuals::FrictionRule;
+use crate::solve::readout::{build_solution, escape_reason, failed};
+use crate::solve::residuals::{FrictionRule, SolvedWith};
 use crate::solve::solution::{Solution, SolveStatus, SolverStats};
 use crate::solver::options::SolveOptions;
 use crate::solver::outcome::{ConvexOutcome, ConvexRun, Start};

@@ -1,9 +1,10 @@
-//! The public entry point: a [`GraspSolver`] for one model, which assembles the program once
-//! and answers solves (one grasp) and steps (one step of a loading path) with the strategy the
-//! model needs: one convex solve ([`crate::solve::convex_solve`]) or the sequential fixed point
+//! The public entry point: a [`GraspSolver`] for one model, which keeps the model, assembles
+//! the program once and answers solves (one grasp) and steps (one step of a loading path:
+//! [`StepInputs`] beside a [`ContactState`]) with the strategy the model needs: one convex solve ([`crate::solve::convex_solve`]) or the sequential fixed point
 //! ([`crate::solve::sequential`]), each calling down into the backend layer (`solver::program_solver`) and
 //! the readout ([`crate::solve::readout`]).
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use crate::error::ModelError;
@@ -17,6 +18,7 @@ use crate::solve::readout::{enforce_invariant, failed};
 use crate::solve::sensitivity::Sensitivities;
 use crate::solve::sequential::solve_sequential;
 use crate::solve::solution::{Solution, SolveStatus, SolverStats};
+use crate::solve::step_inputs::StepInputs;
 use crate::solver::clarabel::ClarabelForm;
 use crate::solver::options::{SolveOptions, SolverChoice};
 use crate::solver::outcome::SolverKind;
@@ -27,6 +29,7 @@ use crate::solver::program_solver::ProgramSolver;
 /// only loads, radii, memory or frozen `mu` change. The coulomb model also keeps an
 /// energy-model program for cold starts.
 pub struct GraspSolver {
+    model: Arc<GraspModel>,
     main: ProgramSolver,
     energy: Option<ProgramSolver>,
     options: SolveOptions,
@@ -35,22 +38,35 @@ pub struct GraspSolver {
 }
 
 impl GraspSolver {
-    /// Assembles the program of `model` with the scene's prescribed loads.
-    pub fn new(model: &GraspModel, options: SolveOptions) -> Self {
+    /// Assembles the program of `model` with the scene's prescribed loads; the solver keeps
+    /// the model (shared: pass an `Arc` to keep using it, or the model itself).
+    pub fn new(model: impl Into<Arc<GraspModel>>, options: SolveOptions) -> Self {
+        let model: Arc<GraspModel> = model.into();
         let clock = Instant::now();
         let loads = model.scene_loads_n();
-        let law = match model.kind {
+        let law = match model.kind() {
             ModelKind::Energy => ConeLaw::Associated,
             ModelKind::Coulomb => ConeLaw::Tresca,
         };
         let mu = model.mu_at(&model.guess_loads(&loads));
-        let program = ConeProgram::assemble(model, &loads, law, &mu);
+        let program = ConeProgram::assemble(&model, &loads, law, &mu);
         GraspSolver {
+            model,
             main: ProgramSolver::new(program),
             energy: None,
             options,
             pending_assembly_s: clock.elapsed().as_secs_f64(),
         }
+    }
+
+    /// The model this solver was built for.
+    pub fn model(&self) -> &GraspModel {
+        &self.model
+    }
+
+    /// The model this solver was built for, shared.
+    pub fn shared_model(&self) -> &Arc<GraspModel> {
+        &self.model
     }
 
     /// The assembled program.
@@ -64,48 +80,43 @@ impl GraspSolver {
     }
 
     /// The program in Clarabel's conic form (for inspection: sizes and nonzeros).
-    pub fn clarabel_form(&self, model: &GraspModel) -> ClarabelForm {
+    pub fn clarabel_form(&self) -> ClarabelForm {
         let floor = crate::solver::clarabel::radius_floor(self.options.tolerance);
-        ClarabelForm::assemble(model, &self.main.program, floor)
+        ClarabelForm::assemble(&self.model, &self.main.program, floor)
     }
 
-    /// The sensitivities of `solution`, this solver's last answer for `model`
-    /// (`crate::solve::sensitivity`): derivatives of the finger and element forces with respect to
-    /// an extra wrench on the object and to the commanded loads, at the active set.
-    pub fn sensitivities(
-        &mut self,
-        model: &GraspModel,
-        solution: &Solution,
-    ) -> Result<Sensitivities, ModelError> {
-        crate::solve::sensitivity::sensitivities(&mut self.main, model, solution)
+    /// The sensitivities of `solution`, this solver's last answer: derivatives of the finger
+    /// and element forces with respect to an extra wrench on the object and to the commanded
+    /// loads, at the active set (the KKT system's derivative, `solve/sensitivity.rs`).
+    pub fn sensitivities(&mut self, solution: &Solution) -> Result<Sensitivities, ModelError> {
+        crate::solve::sensitivity::sensitivities(&mut self.main, &self.model, solution)
     }
 
-    /// Solves with prescribed loads `loads_n` (N, one per force-controlled finger, scene
-    /// order) and the external wrench of `model` (which may be this solver's model with another
-    /// external wrench, [`GraspModel::with_extra_wrench`]) from a fresh contact state (no slip memory). Infeasible grasps and solver
-    /// failures are reported in the returned [`Solution`]'s status; `Err` only for malformed
-    /// loads or data a solver refuses.
-    pub fn solve(&mut self, model: &GraspModel, loads_n: &[f64]) -> Result<Solution, ModelError> {
-        let mut state = ContactState::new(model);
-        self.solve_step(model, loads_n, &mut state)
+    /// Solves with `inputs` (loads, extra wrench, approaches) from a fresh contact state (no
+    /// slip memory). Infeasible grasps and solver failures are reported in the returned
+    /// [`Solution`]'s status; `Err` only for inputs that do not fit the model or data a solver
+    /// refuses.
+    pub fn solve(&mut self, inputs: &StepInputs) -> Result<Solution, ModelError> {
+        let mut state = ContactState::new(&self.model);
+        self.solve_step(inputs, &mut state)
     }
 
     /// Solves one step of a loading path: like [`GraspSolver::solve`], starting from `state`
-    /// (slip memory of the coulomb model; previous forces for the warm start) and from this
-    /// solver's last solution (when `options.warm_start`). `state` is updated when the step
-    /// succeeds and left as it was otherwise.
+    /// (slip memory of the coulomb model; previous forces for the warm start; a viscoelastic
+    /// history) and from this solver's last solution (when `options.warm_start`). `state` is
+    /// updated when the step succeeds and left as it was otherwise.
     pub fn solve_step(
         &mut self,
-        model: &GraspModel,
-        loads_n: &[f64],
+        inputs: &StepInputs,
         state: &mut ContactState,
     ) -> Result<Solution, ModelError> {
-        model.check_loads(loads_n)?;
-        if !state.matches(model) {
+        let model = Arc::clone(&self.model);
+        inputs.check(&model)?;
+        if !state.matches(&model) {
             return Err(ModelError::StateMismatch);
         }
         let clock = Instant::now();
-        let mut sol = self.dispatch(model, loads_n, state, clock)?;
+        let mut sol = self.dispatch(&model, inputs, state, clock)?;
         enforce_invariant(&mut sol);
         // The scene's warnings hold whatever the outcome; the solve's own follow them.
         let scene_warnings = model.object.scene_warnings.iter().cloned();
@@ -115,17 +126,25 @@ impl GraspSolver {
         Ok(sol)
     }
 
+    /// Writes the step's inputs into the program: loads, external wrench, commanded approaches
+    /// and the displacement offsets (approaches and viscoelastic history).
+    fn set_step(&mut self, model: &GraspModel, inputs: &StepInputs, state: &ContactState) {
+        let program = &mut self.main.program;
+        program.set_loads(model, &inputs.loads_n);
+        program.set_external_wrench(model, &inputs.external_wrench(model));
+        let approaches = inputs.approaches_per_finger_m(model);
+        program.set_approaches(&approaches);
+        program.set_offsets(model, &state.offsets_m(model, &approaches));
+    }
+
     fn dispatch(
         &mut self,
         model: &GraspModel,
-        loads_n: &[f64],
+        inputs: &StepInputs,
         state: &mut ContactState,
         clock: Instant,
     ) -> Result<Solution, ModelError> {
-        self.main.program.set_loads(model, loads_n);
-        self.main.program.set_external_wrench(model);
-        let offsets = state.offsets_m(model);
-        self.main.program.set_offsets(model, &offsets);
+        self.set_step(model, inputs, state);
         let p = &self.main.program;
         let stats = SolverStats {
             solver: match self.options.solver {
@@ -154,7 +173,7 @@ impl GraspSolver {
                 stats,
             ));
         }
-        let sequential = model.kind == ModelKind::Coulomb
+        let sequential = model.kind() == ModelKind::Coulomb
             || model
                 .fingers
                 .iter()
@@ -164,7 +183,7 @@ impl GraspSolver {
                 &mut self.main,
                 &mut self.energy,
                 model,
-                loads_n,
+                &inputs.loads_n,
                 state,
                 &self.options,
                 stats,
@@ -180,7 +199,8 @@ impl GraspSolver {
     }
 }
 
-/// Convenience: builds a solver and solves with the scene's own loads.
+/// Convenience: builds a solver for (a copy of) `model` and solves with the scene's own
+/// inputs.
 pub fn solve(model: &GraspModel) -> Result<Solution, ModelError> {
-    GraspSolver::new(model, SolveOptions::default()).solve(model, &model.scene_loads_n())
+    GraspSolver::new(model.clone(), SolveOptions::default()).solve(&StepInputs::of_scene(model))
 }

@@ -12,4 +12,5 @@ pub mod residuals;
 pub mod sensitivity;
 pub mod sequential;
 pub mod solution;
+pub mod step_inputs;
 pub mod viscous_history;

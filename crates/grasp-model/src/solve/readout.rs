@@ -12,12 +12,12 @@ use std::time::Instant;
 
 use nalgebra::{DVector, Vector3};
 
-use crate::model::grasp_model::{Control, FingerModel, GraspModel};
+use crate::model::grasp_model::{FingerModel, GraspModel};
 use crate::option_names;
 use crate::program::cone_program::{ConeProgram, LoadRow};
 use crate::solve::patch_check::patch_warnings;
 use crate::solve::residuals::{
-    contact_kinematics, evaluate, tangential, ContactKinematics, FrictionRule,
+    check_contacts, tangential, ElementCheck, RigidMotion, SolvedWith, StepMotion,
 };
 use crate::solve::solution::{
     ElementSolution, ElementState, FingerSolution, RigidDisplacement, Solution, SolveStatus,
@@ -32,17 +32,6 @@ pub const ACCEPTED_FORCE_RESIDUAL: f64 = 1e-6;
 /// Largest compatibility, penetration, complementarity and stick-motion residual (relative to
 /// the displacement and work units) of an answer reported as solved.
 pub const ACCEPTED_KINEMATIC_RESIDUAL: f64 = 1e-3;
-
-/// What a solved program was solved with (its friction rule, coefficients and radii): how to
-/// read its answer.
-pub(crate) struct SolvedWith<'a> {
-    /// The friction rule (energy: associated; coulomb: with the step's starting memory).
-    pub rule: FrictionRule<'a>,
-    /// Friction coefficient per finger the program was solved with.
-    pub mu: &'a [f64],
-    /// Tresca radii per finger, per element (N), coulomb model only.
-    pub radii_n: Option<&'a [Vec<f64>]>,
-}
 
 /// A solution without forces: `status` with its `reason`.
 pub(crate) fn failed(
@@ -87,12 +76,6 @@ fn fmt3(v: &Vector3<f64>) -> String {
     format!("[{:.3}, {:.3}, {:.3}]", v.x, v.y, v.z)
 }
 
-/// An element is in contact when its normal force, in element force units `Fu`, exceeds both
-/// its opening (gap, in displacement units) and this floor: a smaller force is the solver's
-/// round-off on a separated element (the tolerance 1e-10 of the scaled program, with margin).
-/// It judges elements; a finger is loaded by [`LOADED_FRACTION`] of the load scale.
-pub const CONTACT_FORCE_FLOOR_FU: f64 = 1e-7;
-
 /// The object's rigid displacement is reported only when some element force exceeds this many
 /// `Fu`: with no contact force at all the equality multipliers are any interior point, and
 /// the displacement is not determined by the grasp.
@@ -112,7 +95,7 @@ struct EscapeMotion {
 
 fn escape_motion(model: &GraspModel, program: &ConeProgram, cert: &Certificate) -> EscapeMotion {
     let (t_o, theta) = rigid_from_multipliers(model, program, &cert.equality);
-    let t = t_o + theta.cross(&(model.center_of_mass_m - model.reference_point_m));
+    let t = t_o + theta.cross(&(model.center_of_mass_m() - model.reference_point_m));
     let turn = theta.norm() * model.scales.length_m;
     let scale = t.norm().max(turn);
     if !(scale > 0.0 && scale.is_finite()) {
@@ -180,7 +163,7 @@ fn sliding_fingers(model: &GraspModel, cert: &Certificate) -> Vec<(String, f64)>
 }
 
 /// The reason of an infeasible Tresca program: too little normal force, which fingers slide,
-/// and solved_with the object would move.
+/// and where the object would move.
 pub(crate) fn cannot_hold_reason(
     model: &GraspModel,
     program: &ConeProgram,
@@ -204,68 +187,13 @@ pub(crate) fn cannot_hold_reason(
     s
 }
 
-/// Contact state of every element: primal slack against dual slack, the larger one says which
-/// side of each complementarity is active.
-fn element_states(
-    model: &GraspModel,
-    x_n: &[f64],
-    kin: &ContactKinematics,
-    solved_with: &SolvedWith<'_>,
-) -> Vec<Vec<ElementState>> {
-    let (fu, du) = (model.scales.element_force_n, model.scales.displacement_m());
-    model
-        .fingers
-        .iter()
-        .enumerate()
-        .map(|(i, f)| {
-            let ne = f.patch.len();
-            let mu = solved_with.mu[i];
-            let dilatancy = if solved_with.rule.is_associated() {
-                mu
-            } else {
-                0.0
-            };
-            (0..ne)
-                .map(|k| {
-                    let fk = x_n[f.offset + k] / fu;
-                    let g = tangential(x_n, f.offset, ne, f.n_tangential, k);
-                    let gn = g[0].hypot(g[1]) / fu;
-                    let w = solved_with.rule.step_slip(i, k, kin.tangential_m[i][k]);
-                    let wn = w[0].hypot(w[1]) / du;
-                    let gap = kin.gap_m[i][k] / du;
-                    let opening = if f.n_tangential == 0 {
-                        gap
-                    } else {
-                        gap - dilatancy * wn
-                    };
-                    let radius = match solved_with.radii_n {
-                        Some(r) => r[i][k] / fu,
-                        None => mu * fk,
-                    };
-                    if fk < opening.max(CONTACT_FORCE_FLOOR_FU) {
-                        ElementState::Separated
-                    } else if f.n_tangential == 0 || wn > radius - gn {
-                        ElementState::Slip
-                    } else {
-                        ElementState::Stick
-                    }
-                })
-                .collect()
-        })
-        .collect()
-}
-
-/// Resultants and element fields of finger `i`.
-#[allow(clippy::too_many_arguments)] // the finger's inputs, each read once; a struct would only rename them
+/// Resultants and element fields of finger `i` from its elements' checks.
 fn finger_solution(
     model: &GraspModel,
     i: usize,
     x_n: &[f64],
-    kin: &ContactKinematics,
-    states: &[ElementState],
-    mu_at_load: f64,
-    approach_m: f64,
-    solved_with: &SolvedWith<'_>,
+    checks: &[ElementCheck],
+    (mu_at_load, approach_m): (f64, f64),
 ) -> FingerSolution {
     let f = &model.fingers[i];
     let ne = f.patch.len();
@@ -274,7 +202,7 @@ fn finger_solution(
     let mut elements = Vec::with_capacity(ne);
     let (mut p, mut q, mut torsion, mut cx, mut cy) = (0.0, Vector3::zeros(), 0.0, 0.0, 0.0);
     let (mut counts, mut peak, mut boundary) = ([0usize; 3], 0.0_f64, 0.0);
-    for k in 0..ne {
+    for (k, c) in checks.iter().enumerate() {
         let fk = x_n[f.offset + k];
         let g = tangential(x_n, f.offset, ne, f.n_tangential, k);
         let [x, y] = f.patch.centres_m[k];
@@ -287,7 +215,7 @@ fn finger_solution(
         cx += fk * x;
         cy += fk * y;
         peak = peak.max(fk / area);
-        counts[states[k] as usize] += 1;
+        counts[c.state as usize] += 1;
         let pos = f.element_point(k);
         elements.push(ElementSolution {
             index: [k / f.patch.grid.ny, k % f.patch.grid.ny],
@@ -297,10 +225,10 @@ fn finger_solution(
             tangential_force_n: g,
             pressure_pa: fk / area,
             traction_pa: [g[0] / area, g[1] / area],
-            gap_m: kin.gap_m[i][k],
-            slip_m: kin.tangential_m[i][k],
-            step_slip_m: solved_with.rule.step_slip(i, k, kin.tangential_m[i][k]),
-            state: states[k],
+            gap_m: c.gap_m,
+            slip_m: c.slip_m,
+            step_slip_m: c.step_slip_m,
+            state: c.state,
             viscous_displacement_m: None,
         });
     }
@@ -338,11 +266,10 @@ fn finger_solution(
 }
 
 /// Each element's viscoelastic history displacement this step (m, `[normal, t1, t2]`): the
-/// program's offset less the finger's prescribed approach.
-fn set_viscous_displacement(f: &FingerModel, offset_m: &[f64], fs: &mut FingerSolution) {
+/// program's offset less the finger's commanded approach `d` (m).
+fn set_viscous_displacement(f: &FingerModel, offset_m: &[f64], d: f64, fs: &mut FingerSolution) {
     let ne = f.patch.len();
     let o = &offset_m[f.offset..f.offset + f.n_unknowns()];
-    let d = f.control.approach_m();
     for (k, e) in fs.elements.iter_mut().enumerate() {
         let mut v = [o[k] + d, 0.0, 0.0];
         for c in 0..f.n_tangential {
@@ -364,18 +291,14 @@ pub(crate) fn build_solution(
     let s = model.scales;
     let x_n: Vec<f64> = x_scaled.iter().map(|v| v * s.element_force_n).collect();
     let (t_o, theta) = rigid_from_multipliers(model, program, multipliers);
-    let mut approach = vec![0.0; model.fingers.len()];
+    // The program's approach of each force-controlled finger; the others' is in the offsets
+    // and reported as commanded.
+    let mut found = vec![0.0; model.fingers.len()];
+    let mut approach = program.approach_m.clone();
     for &LoadRow { finger: i, row } in &program.load_rows {
-        approach[i] = -multipliers[row] * s.displacement_m();
+        found[i] = -multipliers[row] * s.displacement_m();
+        approach[i] = found[i];
     }
-    let kin = contact_kinematics(model, &x_n, &t_o, &theta, &approach, &program.offset_m);
-    // A position-controlled finger's approach is its command (its gaps carry it).
-    for (a, f) in approach.iter_mut().zip(&model.fingers) {
-        if let Control::Approach { metres } = f.control {
-            *a = metres;
-        }
-    }
-    let states = element_states(model, &x_n, &kin, solved_with);
     // The law's coefficient at each finger's load (equal to the frozen one at a fixed point).
     let mu_at_load: Vec<f64> = model
         .fingers
@@ -385,27 +308,28 @@ pub(crate) fn build_solution(
             f.friction.mu_at(p)
         })
         .collect();
-    let residuals = evaluate(model, &x_n, &kin, &states, &mu_at_load, solved_with.rule);
+    let motion = StepMotion {
+        rigid: RigidMotion {
+            translation_o_m: t_o,
+            rotation_rad: theta,
+        },
+        approach_m: &found,
+        offset_m: &program.offset_m,
+        external: &program.external_wrench,
+    };
+    let check = check_contacts(model, &x_n, &motion, solved_with, &mu_at_load);
     let mut fingers: Vec<FingerSolution> = (0..model.fingers.len())
         .map(|i| {
-            finger_solution(
-                model,
-                i,
-                &x_n,
-                &kin,
-                &states[i],
-                mu_at_load[i],
-                approach[i],
-                solved_with,
-            )
+            let data = (mu_at_load[i], approach[i]);
+            finger_solution(model, i, &x_n, &check.elements[i], data)
         })
         .collect();
-    for (f, fs) in model.fingers.iter().zip(fingers.iter_mut()) {
+    for (i, (f, fs)) in model.fingers.iter().zip(fingers.iter_mut()).enumerate() {
         if f.viscous.is_some() {
-            set_viscous_displacement(f, &program.offset_m, fs);
+            set_viscous_displacement(f, &program.offset_m, approach[i], fs);
         }
     }
-    let t_com = t_o + theta.cross(&(model.center_of_mass_m - model.reference_point_m));
+    let t_com = t_o + theta.cross(&(model.center_of_mass_m() - model.reference_point_m));
     let mut sol = Solution {
         status: SolveStatus::Solved,
         reason: None,
@@ -420,7 +344,7 @@ pub(crate) fn build_solution(
                 translation_m: [t_com.x, t_com.y, t_com.z],
                 rotation_rad: [theta.x, theta.y, theta.z],
             }),
-        residuals: Some(residuals),
+        residuals: Some(check.residuals),
         load_scale_n: s.load_n,
         solve_time_s: 0.0,
         solver: stats,

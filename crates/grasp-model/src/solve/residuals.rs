@@ -1,5 +1,6 @@
-//! Residuals of a solution, computed from the forces and the rigid displacement with this
-//! crate's own matrices, never taken from the solver's report.
+//! One pass over the elements of a solved program: each element's kinematics, opening, state
+//! and residuals, computed from the forces and the rigid displacement with this crate's own
+//! matrices, never taken from the solver's report. The readout only assembles them.
 //!
 //! Compatibility (thesis eqs. 61-65): `gap_k = c_k + (C x + o)_n,k + n . delta(p_k) - a_i >= 0`,
 //! with `w_k = (C x + o)_t,k + t . delta(p_k)` the relative tangential displacement (object
@@ -13,7 +14,8 @@
 
 use nalgebra::Vector3;
 
-use crate::model::grasp_model::GraspModel;
+use crate::model::equilibrium::Wrench;
+use crate::model::grasp_model::{FingerModel, GraspModel};
 use crate::solve::solution::{ElementState, Residuals};
 
 /// The slip direction of an element is checked against its friction force only when the slip
@@ -21,68 +23,11 @@ use crate::solve::solution::{ElementState, Residuals};
 /// name: it is the round-off of a sticking element's relative motion).
 const SLIP_DIRECTION_FLOOR: f64 = 1e-9;
 
-/// Kinematics of every element: gaps and relative tangential displacements (m).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ContactKinematics {
-    /// Per finger, per element: gap after loading, m.
-    pub gap_m: Vec<Vec<f64>>,
-    /// Per finger, per element: relative tangential displacement along `[t1, t2]`, m. For a
-    /// frictionless finger only the rigid part is known (its elastic tangential displacement
-    /// is not modelled).
-    pub tangential_m: Vec<Vec<[f64; 2]>>,
-}
-
-/// Evaluates gaps and tangential displacements (see the module docs).
-///
-/// - `x_n`: element forces, N, program layout;
-/// - `translation_o_m`, `rotation_rad`: rigid displacement of the object at the reference
-///   point `O`;
-/// - `approach_m`: per finger, its advance along the inward normal as the program found it
-///   (force-controlled fingers; 0 for the others);
-/// - `offset_m`: per unknown (program layout), the displacement added to the elastic one:
-///   a prescribed approach (`-d` on the normal unknowns) and viscoelastic history
-///   ([`crate::program::cone_program`]).
-pub fn contact_kinematics(
-    model: &GraspModel,
-    x_n: &[f64],
-    translation_o_m: &Vector3<f64>,
-    rotation_rad: &Vector3<f64>,
-    approach_m: &[f64],
-    offset_m: &[f64],
-) -> ContactKinematics {
-    let mut gap_m = Vec::with_capacity(model.fingers.len());
-    let mut tangential_m = Vec::with_capacity(model.fingers.len());
-    for (i, f) in model.fingers.iter().enumerate() {
-        let ne = f.patch.len();
-        let xi = &x_n[f.offset..f.offset + f.n_unknowns()];
-        let mut u = vec![0.0; xi.len()];
-        f.compliance_m_per_n.apply(xi, &mut u);
-        for (uj, o) in u
-            .iter_mut()
-            .zip(&offset_m[f.offset..f.offset + f.n_unknowns()])
-        {
-            *uj += o;
-        }
-        let mut g = Vec::with_capacity(ne);
-        let mut w = Vec::with_capacity(ne);
-        for k in 0..ne {
-            let p = f.element_point(k);
-            let delta = translation_o_m + rotation_rad.cross(&(p - model.reference_point_m));
-            g.push(f.patch.gap_m[k] + u[k] + f.frame.normal.dot(&delta) - approach_m[i]);
-            let mut wk = [f.frame.t1.dot(&delta), f.frame.t2.dot(&delta)];
-            for (c, wc) in wk.iter_mut().enumerate().take(f.n_tangential) {
-                *wc += u[(c + 1) * ne + k];
-            }
-            w.push(wk);
-        }
-        gap_m.push(g);
-        tangential_m.push(w);
-    }
-    ContactKinematics {
-        gap_m,
-        tangential_m,
-    }
-}
+/// An element is in contact when its normal force, in element force units `Fu`, exceeds both
+/// its opening (gap, in displacement units) and this floor: a smaller force is the solver's
+/// round-off on a separated element (the tolerance 1e-10 of the scaled program, with margin).
+/// It judges elements; a finger is loaded by [`crate::LOADED_FRACTION`] of the load scale.
+pub const CONTACT_FORCE_FLOOR_FU: f64 = 1e-7;
 
 /// The friction rule a solution is checked against.
 #[derive(Debug, Clone, Copy)]
@@ -108,29 +53,120 @@ impl FrictionRule<'_> {
         }
     }
 
-    /// True for the associated (energy) rule.
-    pub fn is_associated(&self) -> bool {
-        matches!(self, FrictionRule::Associated)
+    /// The opening a slip of `|w|` comes with per unit slip: `mu` for the associated law on a
+    /// frictional finger (model.md: a slipping element opens by `mu |slip|`), 0 otherwise.
+    fn dilatancy(&self, mu: f64, n_tangential: usize) -> f64 {
+        match self {
+            FrictionRule::Associated if n_tangential > 0 => mu,
+            _ => 0.0,
+        }
     }
 }
 
-/// Computes the residuals of forces `x_n` (N), given their kinematics, element states, the
-/// friction coefficient of each finger at its load (`mu`) and the friction rule.
-pub fn evaluate(
+/// What a solved program was solved with (its friction rule, coefficients and radii): how to
+/// read its answer.
+pub(crate) struct SolvedWith<'a> {
+    /// The friction rule (energy: associated; coulomb: with the step's starting memory).
+    pub rule: FrictionRule<'a>,
+    /// Friction coefficient per finger the program was solved with.
+    pub mu: &'a [f64],
+    /// Tresca radii per finger, per element (N), coulomb model only.
+    pub radii_n: Option<&'a [Vec<f64>]>,
+}
+
+/// The object's rigid displacement at the reference point `O`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RigidMotion {
+    /// Translation of `O`, m.
+    pub translation_o_m: Vector3<f64>,
+    /// Small rotation, rad.
+    pub rotation_rad: Vector3<f64>,
+}
+
+/// One element's kinematics and state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ElementCheck {
+    /// Gap after loading, m.
+    pub gap_m: f64,
+    /// Relative tangential displacement along `[t1, t2]`, m (object minus finger; for a
+    /// frictionless finger only the rigid part, its elastic tangential displacement not
+    /// being modelled).
+    pub slip_m: [f64; 2],
+    /// This step's slip (`slip_m` less the slip memory), m.
+    pub step_slip_m: [f64; 2],
+    /// Stick, slip or separation.
+    pub state: ElementState,
+}
+
+/// Every element's check and the residuals of a solution.
+pub(crate) struct ContactCheck {
+    /// Per finger, per element.
+    pub elements: Vec<Vec<ElementCheck>>,
+    /// The residuals over all elements and the object's equilibrium.
+    pub residuals: Residuals,
+}
+
+/// The step's data a check reads besides the forces: the rigid motion, each finger's approach
+/// (m), the displacement offsets (m, program layout: prescribed approaches and viscoelastic
+/// history, [`crate::program::cone_program`]) and the external wrench (N, N m about `O`).
+pub(crate) struct StepMotion<'a> {
+    /// Rigid displacement of the object.
+    pub rigid: RigidMotion,
+    /// Per finger, its advance along the inward normal as the program found it
+    /// (force-controlled fingers; 0 for the others, whose approach is in the offsets).
+    pub approach_m: &'a [f64],
+    /// Per unknown, the displacement added to the elastic one.
+    pub offset_m: &'a [f64],
+    /// External wrench on the object.
+    pub external: &'a Wrench,
+}
+
+/// Checks forces `x_n` (N, program layout): every element's gap (thesis eqs. 61-65, module
+/// docs), slip and state, and the residuals, in one pass. `mu_at_load` is each finger's law
+/// at its load (the residuals' coefficient), `solved_with.mu` the coefficient the program was
+/// solved with (the states').
+pub(crate) fn check_contacts(
     model: &GraspModel,
     x_n: &[f64],
-    kin: &ContactKinematics,
-    states: &[Vec<ElementState>],
-    mu: &[f64],
-    rule: FrictionRule<'_>,
-) -> Residuals {
+    motion: &StepMotion<'_>,
+    solved_with: &SolvedWith<'_>,
+    mu_at_load: &[f64],
+) -> ContactCheck {
+    let mut r = equilibrium_residuals(model, x_n, motion.external);
+    let elements = model
+        .fingers
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let (gap, w) = finger_kinematics(model, f, i, x_n, motion);
+            (0..f.patch.len())
+                .map(|k| {
+                    Element::of(f, x_n, k, gap[k], w[k]).check(
+                        i,
+                        solved_with,
+                        model,
+                        mu_at_load[i],
+                        &mut r,
+                    )
+                })
+                .collect()
+        })
+        .collect();
+    ContactCheck {
+        elements,
+        residuals: r,
+    }
+}
+
+/// Equilibrium residuals of forces `x_n` (N) under `external` (N, N m); the element residuals
+/// start at zero.
+fn equilibrium_residuals(model: &GraspModel, x_n: &[f64], external: &Wrench) -> Residuals {
     let s = model.scales;
-    let w = model.net_wrench(x_n);
+    let w = model.net_wrench(x_n, external);
     let force_n = w.fixed_rows::<3>(0).norm();
     let moment_nm = w.fixed_rows::<3>(3).norm();
     let equilibrium_relative = (force_n / s.load_n).max(moment_nm / (s.load_n * s.length_m));
-    let (fu, du) = (s.element_force_n, s.displacement_m());
-    let mut r = Residuals {
+    Residuals {
         force_n,
         moment_nm,
         equilibrium_relative,
@@ -140,58 +176,164 @@ pub fn evaluate(
         complementarity_relative: 0.0,
         stick_motion_relative: 0.0,
         slip_direction_error: 0.0,
-    };
-    for (i, f) in model.fingers.iter().enumerate() {
-        let ne = f.patch.len();
-        let mu = mu[i];
-        // Opening on slip: `mu` for the associated law, none for Coulomb.
-        let dilatancy = if rule.is_associated() && f.n_tangential > 0 {
-            mu
-        } else {
-            0.0
-        };
-        for k in 0..ne {
-            let fk = x_n[f.offset + k];
-            let g = tangential(x_n, f.offset, ne, f.n_tangential, k);
-            let gn = (g[0] * g[0] + g[1] * g[1]).sqrt();
-            let viol = (gn - mu * fk).max(-fk).max(0.0);
-            r.cone_violation_relative = r.cone_violation_relative.max(viol / fu);
-            let gap = kin.gap_m[i][k];
+    }
+}
 
-            let wk = rule.step_slip(i, k, kin.tangential_m[i][k]);
-            let wn = (wk[0] * wk[0] + wk[1] * wk[1]).sqrt();
-            // Penetration, and for the associated law the dual cone `gap >= mu |w|` (model.md:
-            // a slipping element opens by mu |slip|; a separated one at least as much).
-            let dual_gap = gap - dilatancy * wn;
-            r.penetration_relative = r.penetration_relative.max((-dual_gap).max(0.0) / du);
-            let (opening, tangential_slack) = if f.n_tangential == 0 {
-                (gap, 0.0)
-            } else {
-                (gap - dilatancy * wn, (mu * fk - gn).max(0.0) * wn)
-            };
-            let normal = fk.max(0.0) * opening.abs();
-            r.complementarity_relative = r
-                .complementarity_relative
-                .max(normal.max(tangential_slack) / (fu * du));
-            match states[i][k] {
-                ElementState::Separated => {}
-                ElementState::Stick => {
-                    r.compatibility_relative = r.compatibility_relative.max(gap.abs() / du);
-                    r.stick_motion_relative = r.stick_motion_relative.max(wn / du);
-                }
-                ElementState::Slip => {
-                    let slip_gap = dilatancy * wn;
-                    r.compatibility_relative =
-                        r.compatibility_relative.max((gap - slip_gap).abs() / du);
-                    if f.n_tangential > 0 && gn > 0.0 && wn > SLIP_DIRECTION_FLOOR * du {
-                        let cos = (wk[0] * g[0] + wk[1] * g[1]) / (wn * gn);
-                        r.slip_direction_error = r.slip_direction_error.max(1.0 + cos);
-                    }
+/// Gaps (m) and relative tangential displacements (m) of finger `i`'s elements:
+/// `gap_k = c_k + (C x + o)_n,k + n . delta(p_k) - a_i`, `w_k = (C x + o)_t,k + t . delta(p_k)`.
+fn finger_kinematics(
+    model: &GraspModel,
+    f: &FingerModel,
+    i: usize,
+    x_n: &[f64],
+    motion: &StepMotion<'_>,
+) -> (Vec<f64>, Vec<[f64; 2]>) {
+    let ne = f.patch.len();
+    let range = f.offset..f.offset + f.n_unknowns();
+    let mut u = vec![0.0; range.len()];
+    f.compliance_m_per_n.apply(&x_n[range.clone()], &mut u);
+    for (uj, o) in u.iter_mut().zip(&motion.offset_m[range]) {
+        *uj += o;
+    }
+    let RigidMotion {
+        translation_o_m,
+        rotation_rad,
+    } = motion.rigid;
+    let mut g = Vec::with_capacity(ne);
+    let mut w = Vec::with_capacity(ne);
+    for k in 0..ne {
+        let p = f.element_point(k);
+        let delta = translation_o_m + rotation_rad.cross(&(p - model.reference_point_m));
+        g.push(f.patch.gap_m[k] + u[k] + f.frame.normal.dot(&delta) - motion.approach_m[i]);
+        let mut wk = [f.frame.t1.dot(&delta), f.frame.t2.dot(&delta)];
+        for (c, wc) in wk.iter_mut().enumerate().take(f.n_tangential) {
+            *wc += u[(c + 1) * ne + k];
+        }
+        w.push(wk);
+    }
+    (g, w)
+}
+
+/// One element's forces and kinematics, SI.
+struct Element {
+    /// Normal force, N.
+    fk: f64,
+    /// Tangential force `[G1, G2]`, N.
+    g: [f64; 2],
+    /// Gap, m.
+    gap: f64,
+    /// Relative tangential displacement, m.
+    w: [f64; 2],
+    /// Element index and the finger's tangential unknowns per element.
+    k: usize,
+    n_tangential: usize,
+}
+
+impl Element {
+    fn of(f: &FingerModel, x_n: &[f64], k: usize, gap: f64, w: [f64; 2]) -> Element {
+        Element {
+            fk: x_n[f.offset + k],
+            g: tangential(x_n, f.offset, f.patch.len(), f.n_tangential, k),
+            gap,
+            w,
+            k,
+            n_tangential: f.n_tangential,
+        }
+    }
+
+    /// The element's state and slips, its residuals folded into `r`.
+    fn check(
+        &self,
+        i: usize,
+        with: &SolvedWith<'_>,
+        model: &GraspModel,
+        mu_at_load: f64,
+        r: &mut Residuals,
+    ) -> ElementCheck {
+        let step_slip_m = with.rule.step_slip(i, self.k, self.w);
+        let state = self.state(i, with, model, step_slip_m);
+        self.fold_residuals(state, step_slip_m, with.rule, model, mu_at_load, r);
+        ElementCheck {
+            gap_m: self.gap,
+            slip_m: self.w,
+            step_slip_m,
+            state,
+        }
+    }
+
+    /// Stick, slip or separation, in the program's units: primal slack against dual slack,
+    /// the larger one says which side of each complementarity is active.
+    fn state(
+        &self,
+        i: usize,
+        with: &SolvedWith<'_>,
+        model: &GraspModel,
+        w: [f64; 2],
+    ) -> ElementState {
+        let (fu, du) = (model.scales.element_force_n, model.scales.displacement_m());
+        let mu = with.mu[i];
+        let fk = self.fk / fu;
+        let gn = self.g[0].hypot(self.g[1]) / fu;
+        let wn = w[0].hypot(w[1]) / du;
+        let opening = self.gap / du - with.rule.dilatancy(mu, self.n_tangential) * wn;
+        let radius = match with.radii_n {
+            Some(r) => r[i][self.k] / fu,
+            None => mu * fk,
+        };
+        if fk < opening.max(CONTACT_FORCE_FLOOR_FU) {
+            ElementState::Separated
+        } else if self.n_tangential == 0 || wn > radius - gn {
+            ElementState::Slip
+        } else {
+            ElementState::Stick
+        }
+    }
+
+    /// Folds the element's cone, penetration, compatibility, complementarity, stick-motion and
+    /// slip-direction residuals (SI, over the program's units) into `r`.
+    fn fold_residuals(
+        &self,
+        state: ElementState,
+        wk: [f64; 2],
+        rule: FrictionRule<'_>,
+        model: &GraspModel,
+        mu: f64,
+        r: &mut Residuals,
+    ) {
+        let (fu, du) = (model.scales.element_force_n, model.scales.displacement_m());
+        let (fk, g, gap) = (self.fk, self.g, self.gap);
+        let dilatancy = rule.dilatancy(mu, self.n_tangential);
+        let gn = (g[0] * g[0] + g[1] * g[1]).sqrt();
+        let viol = (gn - mu * fk).max(-fk).max(0.0);
+        r.cone_violation_relative = r.cone_violation_relative.max(viol / fu);
+        let wn = (wk[0] * wk[0] + wk[1] * wk[1]).sqrt();
+        // Penetration, and for the associated law the dual cone `gap >= mu |w|` (model.md: a
+        // slipping element opens by mu |slip|; a separated one at least as much).
+        let opening = gap - dilatancy * wn;
+        r.penetration_relative = r.penetration_relative.max((-opening).max(0.0) / du);
+        let tangential_slack = match self.n_tangential {
+            0 => 0.0,
+            _ => (mu * fk - gn).max(0.0) * wn,
+        };
+        let normal = fk.max(0.0) * opening.abs();
+        r.complementarity_relative = r
+            .complementarity_relative
+            .max(normal.max(tangential_slack) / (fu * du));
+        match state {
+            ElementState::Separated => {}
+            ElementState::Stick => {
+                r.compatibility_relative = r.compatibility_relative.max(gap.abs() / du);
+                r.stick_motion_relative = r.stick_motion_relative.max(wn / du);
+            }
+            ElementState::Slip => {
+                r.compatibility_relative = r.compatibility_relative.max(opening.abs() / du);
+                if self.n_tangential > 0 && gn > 0.0 && wn > SLIP_DIRECTION_FLOOR * du {
+                    let cos = (wk[0] * g[0] + wk[1] * g[1]) / (wn * gn);
+                    r.slip_direction_error = r.slip_direction_error.max(1.0 + cos);
                 }
             }
         }
     }
-    r
 }
 
 /// Tangential force `[G1, G2]` of element `k` (N), zero-filled for missing components.

@@ -103,7 +103,7 @@ pub struct Sensitivities {
 
 /// The parameters of `model` with their world wrenches about `O` (unit force or couple).
 fn wrench_parameters(model: &GraspModel) -> Vec<(Parameter, Option<nalgebra::Vector6<f64>>)> {
-    let axes: Vec<(String, &str, Vector3<f64>)> = match model.plane {
+    let axes: Vec<(String, &str, Vector3<f64>)> = match model.plane() {
         None => ["x", "y", "z"]
             .iter()
             .enumerate()
@@ -389,7 +389,7 @@ fn notes(model: &GraspModel) -> Vec<String> {
                 .into(),
         );
     }
-    if model.kind == crate::scene::scene_format::ModelKind::Coulomb {
+    if model.kind() == crate::scene::scene_format::ModelKind::Coulomb {
         notes.push(
             "coulomb model: derivatives of this step's result with the slip memory at the start \
              of the step held fixed (the Tresca radii follow mu F_k)"

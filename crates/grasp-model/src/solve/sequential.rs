@@ -22,15 +22,14 @@
 use std::time::Instant;
 
 use crate::error::ModelError;
+use crate::model::equilibrium::Wrench;
 use crate::model::grasp_model::{Control, GraspModel};
 use crate::program::cone_program::{ConeLaw, ConeProgram};
 use crate::scene::scene_format::ModelKind;
 use crate::solve::contact_state::ContactState;
 use crate::solve::convex_solve::{add_run, start_of};
-use crate::solve::readout::{
-    build_solution, cannot_hold_reason, escape_reason, failed, SolvedWith,
-};
-use crate::solve::residuals::FrictionRule;
+use crate::solve::readout::{build_solution, cannot_hold_reason, escape_reason, failed};
+use crate::solve::residuals::{FrictionRule, SolvedWith};
 use crate::solve::solution::{
     SequentialReport, Solution, SolveStatus, SolverStats, LOADED_FRACTION,
 };
@@ -178,7 +177,7 @@ type ColdStart = Result<(Vec<Vec<f64>>, Iterate), (SolveStatus, String)>;
 fn cold_start(
     energy: &mut Option<ProgramSolver>,
     model: &GraspModel,
-    (loads_n, offsets_m): (&[f64], &[f64]),
+    (loads_n, offsets_m, wrench): (&[f64], &[f64], &Wrench),
     memory: &[Vec<[f64; 2]>],
     options: &SolveOptions,
     stats: &mut SolverStats,
@@ -193,7 +192,7 @@ fn cold_start(
         ))
     });
     ps.program.set_loads(model, loads_n);
-    ps.program.set_external_wrench(model);
+    ps.program.set_external_wrench(model, wrench);
     ps.program.set_mu(&guess_mu);
     ps.program.set_slip_memory(model, memory);
     ps.program.set_offsets(model, offsets_m);
@@ -294,7 +293,7 @@ pub(crate) fn solve_sequential(
     stats: SolverStats,
     clock: Instant,
 ) -> Result<Solution, ModelError> {
-    let coulomb = model.kind == ModelKind::Coulomb;
+    let coulomb = model.kind() == ModelKind::Coulomb;
     let mut seq = Sequence {
         model,
         options,
@@ -324,7 +323,11 @@ pub(crate) fn solve_sequential(
     let mut input = match warm {
         Some(f) => Input::of_forces(f),
         None if coulomb => {
-            let data = (loads_n, main.program.offset_m.as_slice());
+            let data = (
+                loads_n,
+                main.program.offset_m.as_slice(),
+                &main.program.external_wrench,
+            );
             match cold_start(energy, model, data, &seq.memory, options, &mut seq.stats)? {
                 Ok((f, it)) => {
                     start_at = Some(it);
@@ -496,7 +499,11 @@ fn after_infeasible(
         // The previous step's forces were a poor guess: restart from the energy model.
         seq.report.cold_restarts += 1;
         let (model, options) = (seq.model, seq.options);
-        let data = (loads_n, main.program.offset_m.as_slice());
+        let data = (
+            loads_n,
+            main.program.offset_m.as_slice(),
+            &main.program.external_wrench,
+        );
         let cold = cold_start(energy, model, data, &seq.memory, options, &mut seq.stats)?;
         return Ok(match cold {
             Ok((f, it)) => {

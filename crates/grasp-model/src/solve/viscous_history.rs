@@ -4,20 +4,35 @@
 //! the next step, `sum_b C_b h_b` ([`crate::model::viscoelasticity`], exact for forces linear
 //! within a step).
 //!
-//! A time-stepping caller (a hand-off, a solve at a later time) brackets each solve:
-//! [`prepare_step`] before it writes the history displacement into the contact state (which
-//! the program adds to the gaps and tangential displacements), [`advance_step`] after a
-//! successful one moves the internal variables to the step's end. The first solve of a history
-//! is the instantaneous response (the loads applied as a step): no history displacement.
+//! A time-stepping caller (a hand-off, a solve at a later time) brackets each solve with a
+//! model of the step's length ([`GraspModel::for_time_step`]):
+//! [`ContactState::prepare_time_step`] before it writes the history displacement into the
+//! contact state (which the program adds to the gaps and tangential displacements),
+//! [`ContactState::advance_time_step`] after a successful one moves the internal variables to
+//! the step's end. The first solve of a history is the instantaneous response (the loads
+//! applied as a step): no history displacement.
 
 use crate::model::grasp_model::GraspModel;
 use crate::solve::contact_state::{ContactState, ViscousState};
 use crate::solve::solution::Solution;
 
-/// Writes each viscoelastic finger's history displacement for a step of `dt_s` seconds into
-/// `state` (`C_b h_b` summed over its bodies, `h_b = sum_k w_k (E_k z_k + (A_k - E_k) F)`);
-/// none where the finger has no history yet.
-pub fn prepare_step(model: &GraspModel, state: &mut ContactState, dt_s: f64) {
+impl ContactState {
+    /// Writes each viscoelastic finger's history displacement for the step of `model`
+    /// ([`GraspModel::time_step_s`]) into this state (`C_b h_b` summed over its bodies,
+    /// `h_b = sum_k w_k (E_k z_k + (A_k - E_k) F)`); none where the finger has no history yet.
+    pub fn prepare_time_step(&mut self, model: &GraspModel) {
+        prepare_step(model, self, model.time_step_s);
+    }
+
+    /// Moves each viscoelastic finger's internal variables to the end of the step of `model`
+    /// ([`GraspModel::time_step_s`]) whose solution is `sol`.
+    pub fn advance_time_step(&mut self, model: &GraspModel, sol: &Solution) {
+        advance_step(model, self, model.time_step_s, sol);
+    }
+}
+
+/// [`ContactState::prepare_time_step`] for a step of `dt_s` seconds.
+fn prepare_step(model: &GraspModel, state: &mut ContactState, dt_s: f64) {
     for (f, s) in model.fingers.iter().zip(state.fingers.iter_mut()) {
         s.history_m = None;
         let (Some(v), Some(vs)) = (&f.viscous, &s.viscous) else {
@@ -47,7 +62,7 @@ pub fn prepare_step(model: &GraspModel, state: &mut ContactState, dt_s: f64) {
 /// Moves each viscoelastic finger's internal variables to the end of a step of `dt_s` seconds
 /// whose solution is `sol` (`z_k <- E_k z_k + (A_k - E_k) F_old + (1 - A_k) F_new`), starting
 /// them at zero after a finger's first solve.
-pub fn advance_step(model: &GraspModel, state: &mut ContactState, dt_s: f64, sol: &Solution) {
+fn advance_step(model: &GraspModel, state: &mut ContactState, dt_s: f64, sol: &Solution) {
     for ((f, s), fs) in model
         .fingers
         .iter()

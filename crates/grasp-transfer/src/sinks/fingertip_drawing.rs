@@ -57,8 +57,8 @@ pub enum TipDrawing {
 pub fn tip_drawings(run: &RunInfo, size_m: f64) -> Vec<(String, TipDrawing)> {
     let mut out = Vec::new();
     for spec in &run.scene.fingers {
-        if let Some(m) = run.model.fingers.iter().find(|m| m.name == spec.name) {
-            let k = tip_curvatures_per_m(spec, &m.frame);
+        if let Some(m) = run.model.fingers().iter().find(|m| m.name() == spec.name) {
+            let k = tip_curvatures_per_m(spec, m.frame());
             let flat_size = spec.tip.as_ref().and_then(|t| t.flat).map(|f| f.size);
             out.push((spec.name.clone(), drawing(m, k, flat_size, size_m)));
         }
@@ -68,8 +68,8 @@ pub fn tip_drawings(run: &RunInfo, size_m: f64) -> Vec<(String, TipDrawing)> {
 
 /// The drawing of finger `m`'s tip with curvatures `k` along `t1`, `t2` (1/m).
 fn drawing(m: &FingerModel, k: [f64; 2], flat_size_m: Option<[f64; 2]>, size_m: f64) -> TipDrawing {
-    let f = &m.frame;
-    let g = &m.patch.grid;
+    let f = &m.frame();
+    let g = &m.patch().grid;
     let side = [g.nx as f64 * g.hx, g.ny as f64 * g.hy];
     let drawn = |k: f64| k > 0.0 && 1.0 / k <= LARGEST_DRAWN * size_m;
     match (drawn(k[0]), drawn(k[1])) {

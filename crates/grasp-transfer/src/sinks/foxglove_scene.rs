@@ -98,9 +98,9 @@ pub fn object_update(run: &RunInfo, t_s: f64, size_m: f64) -> Value {
     };
     let d = 0.03 * size_m;
     let tips: Vec<Value> = g
-        .fingers
+        .fingers()
         .iter()
-        .map(|f| json!({"pose": identity_pose(&f.frame.origin_m), "size": vec3(&Vector3::repeat(d)), "color": color(0.35, 0.35, 0.4, 1.0)}))
+        .map(|f| json!({"pose": identity_pose(&f.frame().origin_m), "size": vec3(&Vector3::repeat(d)), "color": color(0.35, 0.35, 0.4, 1.0)}))
         .collect();
     let entities = [
         entity("object", t_s, object),
@@ -140,11 +140,11 @@ fn arrow(
 pub fn forces_update(run: &RunInfo, r: &StepRecord, m_per_n: f64, size_m: f64) -> Value {
     let mut arrows = Vec::new();
     for f in &r.solution.fingers {
-        let Some(model) = run.model.fingers.iter().find(|m| m.name == f.name) else {
+        let Some(model) = run.model.fingers().iter().find(|m| m.name() == f.name) else {
             continue;
         };
         let cop = Vector3::from(f.center_of_pressure_m);
-        let normal = model.frame.normal * f.normal_force_n;
+        let normal = model.frame().normal * f.normal_force_n;
         arrows.extend(arrow(&cop, &normal, m_per_n, [0.2, 0.4, 0.9], size_m));
         arrows.extend(arrow(
             &cop,

@@ -92,9 +92,9 @@ pub fn csv_field(s: &str) -> std::borrow::Cow<'_, str> {
 
 /// The box around the contact points and the centre of mass, `(low, high)` corners, m.
 pub(crate) fn contact_bounds(g: &GraspModel) -> (nalgebra::Vector3<f64>, nalgebra::Vector3<f64>) {
-    let c = g.center_of_mass_m;
-    g.fingers.iter().fold((c, c), |(lo, hi), f| {
-        (lo.inf(&f.frame.origin_m), hi.sup(&f.frame.origin_m))
+    let c = g.center_of_mass_m();
+    g.fingers().iter().fold((c, c), |(lo, hi), f| {
+        (lo.inf(&f.frame().origin_m), hi.sup(&f.frame().origin_m))
     })
 }
 
@@ -103,5 +103,5 @@ pub(crate) fn contact_bounds(g: &GraspModel) -> (nalgebra::Vector3<f64>, nalgebr
 pub(crate) fn drawing_scale(g: &GraspModel) -> (f64, f64) {
     let (lo, hi) = contact_bounds(g);
     let size = (hi - lo).norm().max(1e-3);
-    (size, 0.3 * size / g.scales.load_n)
+    (size, 0.3 * size / g.scales().load_n)
 }

@@ -31,7 +31,10 @@ pub const PATCH_MAPS_SCHEMA: &str = "grasp.PatchMaps";
 
 /// Whether the run has a patch recorded as compact maps (the topic is written only then).
 pub fn has_compact_patch(run: &RunInfo) -> bool {
-    run.model.fingers.iter().any(|f| is_compact(f.patch.len()))
+    run.model
+        .fingers()
+        .iter()
+        .any(|f| is_compact(f.patch().len()))
 }
 
 /// The JSON Schema of a `/grasp/patch_maps` message.
@@ -75,17 +78,17 @@ pub fn patch_maps_message(run: &RunInfo, r: &StepRecord) -> serde_json::Value {
     let v3 = |v: &nalgebra::Vector3<f64>| [v.x, v.y, v.z];
     let patches: Vec<serde_json::Value> = run
         .model
-        .fingers
+        .fingers()
         .iter()
-        .filter(|fm| is_compact(fm.patch.len()))
-        .filter_map(|fm| r.solution.finger(&fm.name).map(|f| (fm, f)))
+        .filter(|fm| is_compact(fm.patch().len()))
+        .filter_map(|fm| r.solution.finger(fm.name()).map(|f| (fm, f)))
         .map(|(fm, f)| {
             let m = ElementMaps::of(f);
-            let g = &fm.patch.grid;
+            let g = &fm.patch().grid;
             json!({
-                "name": fm.name, "grid": [g.nx, g.ny], "element_size_m": [g.hx, g.hy],
-                "origin_m": v3(&fm.frame.origin_m), "t1": v3(&fm.frame.t1),
-                "t2": v3(&fm.frame.t2), "normal": v3(&fm.frame.normal),
+                "name": fm.name(), "grid": [g.nx, g.ny], "element_size_m": [g.hx, g.hy],
+                "origin_m": v3(&fm.frame().origin_m), "t1": v3(&fm.frame().t1),
+                "t2": v3(&fm.frame().t2), "normal": v3(&fm.frame().normal),
                 "normal_force_n": f32s(&m.normal_force_n), "pressure_pa": f32s(&m.pressure_pa),
                 "tangential_force_n": f32s(&m.tangential_force_n), "gap_m": f32s(&m.gap_m),
                 "slip_m": f32s(&m.slip_m), "step_slip_m": f32s(&m.step_slip_m),

@@ -35,8 +35,8 @@ pub fn state_rgb(s: ElementState) -> [u8; 3] {
 /// Grid cells to the world: the patch's lower-left corner (m) and the columns `hx t1`, `hy t2`
 /// (m a cell) and `normal` (unit); cell `(x, y)` lies at `corner + x c0 + y c1`.
 pub fn grid_to_world(fm: &FingerModel) -> (Vector3<f64>, [Vector3<f64>; 3]) {
-    let g = &fm.patch.grid;
-    let f = &fm.frame;
+    let g = &fm.patch().grid;
+    let f = &fm.frame();
     let corner = f.origin_m - f.t1 * (0.5 * g.nx as f64 * g.hx) - f.t2 * (0.5 * g.ny as f64 * g.hy);
     (corner, [f.t1 * g.hx, f.t2 * g.hy, f.normal])
 }
@@ -50,7 +50,7 @@ pub fn patch_pose(fm: &FingerModel) -> Transform3D {
 
 /// The pressure image of finger `fm`: each element's pressure over `p_max_pa`, in `[0, 1]`.
 pub fn pressure_map(fm: &FingerModel, f: &FingerSolution, p_max_pa: f64) -> GridMap {
-    let (nx, ny) = (fm.patch.grid.nx, fm.patch.grid.ny);
+    let (nx, ny) = (fm.patch().grid.nx, fm.patch().grid.ny);
     let fraction: Vec<f32> = f
         .elements
         .iter()
@@ -70,11 +70,11 @@ pub fn pressure_map(fm: &FingerModel, f: &FingerSolution, p_max_pa: f64) -> Grid
 
 /// The state image of finger `fm`, one element behind the patch.
 pub fn state_map(fm: &FingerModel, f: &FingerSolution) -> GridMap {
-    let (nx, ny) = (fm.patch.grid.nx, fm.patch.grid.ny);
+    let (nx, ny) = (fm.patch().grid.nx, fm.patch().grid.ny);
     let rgb: Vec<[u8; 3]> = f.elements.iter().map(|e| state_rgb(e.state)).collect();
     let bytes: Vec<u8> = raster(&rgb, nx, ny).into_iter().flatten().collect();
     let format = rerun::components::ImageFormat::rgb8([nx as u32, ny as u32]);
-    let behind_m = -fm.patch.grid.hx.min(fm.patch.grid.hy);
+    let behind_m = -fm.patch().grid.hx.min(fm.patch().grid.hy);
     GridMap::new(bytes, format, 1.0).with_translation([0.0, 0.0, behind_m as f32])
 }
 
@@ -95,14 +95,14 @@ mod tests {
         );
         let scene = grasp_model::Scene::from_json_str(&std::fs::read_to_string(path).unwrap());
         let model = grasp_model::GraspModel::from_scene(&scene.unwrap()).unwrap();
-        for fm in &model.fingers {
+        for fm in model.fingers() {
             let (corner, c) = grid_to_world(fm);
-            let ny = fm.patch.grid.ny;
-            for k in 0..fm.patch.len() {
+            let ny = fm.patch().grid.ny;
+            for k in 0..fm.patch().len() {
                 let (x, y) = ((k / ny) as f64 + 0.5, (k % ny) as f64 + 0.5);
                 let cell = corner + c[0] * x + c[1] * y;
                 let d = (cell - fm.element_point(k)).norm();
-                assert!(d < 1e-15, "{} element {k}: {d:e} m", fm.name);
+                assert!(d < 1e-15, "{} element {k}: {d:e} m", fm.name());
             }
             assert!(
                 (c[0].cross(&c[1]).normalize() - c[2]).norm() < 1e-12,

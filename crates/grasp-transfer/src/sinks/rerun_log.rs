@@ -291,7 +291,7 @@ impl RerunSink {
         run: &RunInfo,
         report: &grasp_model::MarginReport,
     ) -> Result<(), TransferError> {
-        let com = run.model.center_of_mass_m;
+        let com = run.model.center_of_mass_m();
         let k = self.arrow_m_per_n as f64;
         let colour = |i: usize, bounded: bool| match (i == report.smallest, bounded) {
             (true, _) => Color::from_rgb(214, 39, 40),
@@ -350,7 +350,7 @@ impl RerunSink {
         scale: f64,
         p_max: f64,
     ) -> Result<(), TransferError> {
-        let name = &fm.name;
+        let name = &fm.name();
         self.log_forces(fm, f, scale)?;
         self.log_patch(fm, f, p_max)?;
         self.send(
@@ -384,9 +384,9 @@ impl RerunSink {
         f: &FingerSolution,
         scale: f64,
     ) -> Result<(), TransferError> {
-        let name = &fm.name;
+        let name = &fm.name();
         let cop = nalgebra::Vector3::from(f.center_of_pressure_m);
-        let pn = fm.frame.normal * (f.normal_force_n * scale);
+        let pn = fm.frame().normal * (f.normal_force_n * scale);
         self.send(
             format!("world/forces/{name}/normal"),
             &Arrows3D::from_vectors([v3(&pn)])
@@ -410,7 +410,7 @@ impl RerunSink {
         f: &FingerSolution,
         p_max: f64,
     ) -> Result<(), TransferError> {
-        let name = &fm.name;
+        let name = &fm.name();
         if is_compact(f.elements.len()) {
             self.send(
                 format!("world/patches/{name}/pressure"),
@@ -418,7 +418,7 @@ impl RerunSink {
             )?;
             return self.send(format!("world/patches/{name}/state"), &state_map(fm, f));
         }
-        let h = 0.5 * fm.patch.grid.hx.min(fm.patch.grid.hy);
+        let h = 0.5 * fm.patch().grid.hx.min(fm.patch().grid.hy);
         let pos: Vec<[f32; 3]> = f
             .elements
             .iter()
@@ -430,7 +430,7 @@ impl RerunSink {
                 .with_colors(f.elements.iter().map(|e| ramp(e.pressure_pa / p_max)))
                 .with_radii(std::iter::repeat_n(0.9 * h as f32, pos.len())),
         )?;
-        let off = fm.frame.normal * (-2.0 * h);
+        let off = fm.frame().normal * (-2.0 * h);
         let pos_state: Vec<[f32; 3]> = f
             .elements
             .iter()
@@ -450,7 +450,7 @@ impl RerunSink {
     /// Clears the arrows and patch of a finger without a solution (released, or a failed
     /// step) and plots zero.
     fn clear_finger(&mut self, fm: &FingerModel) -> Result<(), TransferError> {
-        let name = &fm.name;
+        let name = &fm.name();
         let none: [[f32; 3]; 0] = [];
         for part in ["normal", "friction"] {
             self.send(
@@ -460,7 +460,7 @@ impl RerunSink {
         }
         for part in ["pressure", "state"] {
             let path = format!("world/patches/{name}/{part}");
-            match is_compact(fm.patch.len()) {
+            match is_compact(fm.patch().len()) {
                 true => self.send(path, &cleared_map())?,
                 false => self.send(path, &Points3D::new(none))?,
             }
@@ -492,7 +492,7 @@ impl Sink for RerunSink {
         }
         self.send(
             "world/object/center_of_mass",
-            &Points3D::new([v3(&g.center_of_mass_m)])
+            &Points3D::new([v3(&g.center_of_mass_m())])
                 .with_radii([0.01 * size as f32])
                 .with_labels(["centre of mass"]),
         )?;
@@ -502,26 +502,26 @@ impl Sink for RerunSink {
                 tip_archetype(&tip).as_ref(),
             )?;
         }
-        for f in g.fingers.iter().filter(|f| is_compact(f.patch.len())) {
-            self.send(format!("world/patches/{}", f.name), &patch_pose(f))?;
+        for f in g.fingers().iter().filter(|f| is_compact(f.patch().len())) {
+            self.send(format!("world/patches/{}", f.name()), &patch_pose(f))?;
         }
-        for f in &g.fingers {
+        for f in g.fingers() {
             let len = 0.25 * size;
-            let base = f.frame.origin_m - f.frame.normal * len;
+            let base = f.frame().origin_m - f.frame().normal * len;
             self.send(
-                format!("world/fingers/{}", f.name),
-                &Arrows3D::from_vectors([v3(&(f.frame.normal * (0.9 * len)))])
+                format!("world/fingers/{}", f.name()),
+                &Arrows3D::from_vectors([v3(&(f.frame().normal * (0.9 * len)))])
                     .with_origins([v3(&base)])
                     .with_colors([Color::from_rgb(150, 150, 160)])
-                    .with_labels([f.name.as_str()]),
+                    .with_labels([f.name()]),
             )?;
             self.send(
-                format!("plots/normal_force/{}", f.name),
-                &SeriesLines::new().with_names([format!("{} normal force [N]", f.name)]),
+                format!("plots/normal_force/{}", f.name()),
+                &SeriesLines::new().with_names([format!("{} normal force [N]", f.name())]),
             )?;
             self.send(
-                format!("plots/friction/{}", f.name),
-                &SeriesLines::new().with_names([format!("{} friction force [N]", f.name)]),
+                format!("plots/friction/{}", f.name()),
+                &SeriesLines::new().with_names([format!("{} friction force [N]", f.name())]),
             )?;
         }
         Ok(())
@@ -545,8 +545,8 @@ impl Sink for RerunSink {
             .map(|f| f.peak_pressure_pa)
             .fold(0.0_f64, f64::max)
             .max(f64::MIN_POSITIVE);
-        for fm in &run.model.fingers {
-            match r.solution.finger(&fm.name) {
+        for fm in run.model.fingers() {
+            match r.solution.finger(fm.name()) {
                 Some(f) => self.log_finger(fm, f, scale, p_max)?,
                 // Released (or failed step): clear its arrows and patch, plot zero.
                 None => self.clear_finger(fm)?,
