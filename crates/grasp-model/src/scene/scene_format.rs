@@ -1,7 +1,7 @@
 //! The scene file: plain data as the user writes it (JSON, SI units).
 //!
 //! These types are the on-disk format. They carry no derived quantities; [`crate::GraspModel`]
-//! is built from a validated scene (see [`crate::scene::validation`]). Field names are part of the file
+//! is built from a validated scene (see [`crate::scene::scene_validation`]). Field names are part of the file
 //! format and must stay stable between versions.
 //!
 //! Conventions (fixed by the format):
