@@ -37,6 +37,8 @@ pub mod error;
 pub mod load_profile;
 pub mod minimum_squeeze;
 pub mod schedule;
+pub mod schedule_builder;
+pub mod schedule_spec;
 pub mod sinks;
 pub mod step_margin;
 pub mod stepper;
@@ -44,7 +46,8 @@ pub mod summary;
 
 pub use error::{ScheduleError, TransferError};
 pub use minimum_squeeze::{minimum_squeeze, MinimumSqueeze, SqueezeOutcome};
-pub use schedule::{Command, Schedule, ScheduleSpec};
+pub use schedule::{Command, Schedule};
+pub use schedule_spec::ScheduleSpec;
 pub use sinks::{CsvSink, McapSink, RerunSink, RunInfo, Sink};
 pub use step_margin::StepMargin;
 pub use stepper::{StepRecord, Stepper, TransferOptions};
