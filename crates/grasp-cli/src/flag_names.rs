@@ -30,15 +30,7 @@ pub fn in_flags(text: &str) -> String {
 
 /// The solution's texts (reason, warnings, solver fallback) with flags for option names.
 pub fn respell_solution(solution: &mut Solution) {
-    if let Some(r) = solution.reason.as_mut() {
-        *r = in_flags(r);
-    }
-    for w in &mut solution.warnings {
-        *w = in_flags(w);
-    }
-    if let Some(f) = solution.solver.fallback.as_mut() {
-        *f = in_flags(f);
-    }
+    solution.respell_options(FLAGS);
 }
 
 #[cfg(test)]

@@ -15,7 +15,7 @@
 //!
 //! // Thesis section 4.2.1: the pair f1, f2 lets go of a plate while f3, f4 take it over.
 //! let scene = Scene::from_json_str(include_str!("../../../examples/plate_transfer.json"))?;
-//! let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+//! let names = scene.finger_names();
 //! let text = include_str!("../../../examples/plate_transfer.schedule.json");
 //! let schedule = Schedule::from_json_str(text, &names, std::path::Path::new("."))?;
 //! let (summary, last) =
@@ -80,7 +80,7 @@ pub fn run(
         model: &model,
         margins: options.margins,
     };
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.finger_names();
     let mut summary =
         SummaryAccumulator::new(&names).with_margin_threshold(options.margin_threshold_n);
     let mut last = None;

@@ -46,6 +46,13 @@ pub struct Scene {
     pub shape_report: Option<crate::scene::shape_report::ShapeReport>,
 }
 
+impl Scene {
+    /// The fingers' names, in scene order (a schedule's and a history's finger names).
+    pub fn finger_names(&self) -> Vec<String> {
+        self.fingers.iter().map(|f| f.name.clone()).collect()
+    }
+}
+
 /// The plane of a planar scene.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
