@@ -36,6 +36,7 @@ pub mod easing;
 pub mod error;
 pub mod load_profile;
 pub mod minimum_squeeze;
+pub mod output_files;
 pub mod schedule;
 pub mod schedule_builder;
 pub mod schedule_spec;
@@ -46,6 +47,7 @@ pub mod summary;
 
 pub use error::{ScheduleError, TransferError};
 pub use minimum_squeeze::{minimum_squeeze, MinimumSqueeze, SqueezeOutcome};
+pub use output_files::{OpenError, OutputFiles, OutputPaths};
 pub use schedule::{Command, Schedule};
 pub use schedule_spec::ScheduleSpec;
 pub use sinks::{CsvSink, McapSink, RerunSink, RunInfo, Sink};
