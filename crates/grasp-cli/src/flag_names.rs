@@ -17,7 +17,7 @@ const FLAGS: &[(&str, &str)] = &[
     (MARGIN_TOLERANCE, "--tolerance"),
     (AUTO_PATCH, "--auto-patch"),
     (grasp_batch::option_names::THREADS, "--jobs"),
-    (grasp_batch::option_names::MAX_MEMORY, "--max-memory"),
+    (grasp_io::memory_limit::MAX_MEMORY, "--max-memory"),
     (grasp_batch::option_names::SHARD, "--shard"),
     (grasp_batch::option_names::SWEEP_AXIS, "--vary"),
     (grasp_io::output_file::FORCE, "--force"),
