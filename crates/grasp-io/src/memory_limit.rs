@@ -1,8 +1,8 @@
 //! The memory limit of a run and the one check of a scene against it, before anything is
 //! allocated: the estimate of the path that will run (`grasp_model::estimate_memory_bytes_with`,
 //! every patch in the form the compliance choice gives it) against the limit given or, without
-//! one, [`DEFAULT_MEMORY_SHARE`](crate::machine_memory::DEFAULT_MEMORY_SHARE) of the machine's
-//! memory. Every front end (the CLI's commands, batch lines) checks here, with one message.
+//! one, [`DEFAULT_MEMORY_SHARE`] of the machine's memory. Every front end (the CLI's commands,
+//! batch lines) checks here, with one message.
 
 use std::fmt;
 

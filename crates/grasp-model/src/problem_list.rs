@@ -1,6 +1,7 @@
-//! The one collector of an input's problems: every input the project reads (scenes,
-//! schedules, batch lines) gathers its [`InputProblem`]s here and lists at most
-//! [`MAX_LISTED_PROBLEMS`] of them, the rest counted in one last `(more)` problem.
+//! The one collector of an input's problems: every input the project reads gathers its
+//! [`InputProblem`]s here (a scene's structural and validation problems, a schedule's; a batch
+//! line carries its scene's) and lists at most [`MAX_LISTED_PROBLEMS`] of them, the rest
+//! counted in one last `(more)` problem.
 
 use crate::error::InputProblem;
 
