@@ -8,7 +8,7 @@ use grasp_transfer::{Stepper, TransferOptions, TransferSummary};
 #[test]
 fn receiving_pair_ramps_up_and_the_disc_ends_in_its_grasp() {
     let (scene, schedule) = support::transfer_example("disc_transfer");
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.finger_names();
     let recs: Vec<_> = Stepper::new(&scene, &schedule, TransferOptions::default())
         .map(|r| r.unwrap())
         .collect();

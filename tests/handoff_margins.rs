@@ -70,7 +70,7 @@ fn a_scheduled_pull_fails_the_grasp_where_it_crosses_the_margin() {
     let scene = pinch();
     let margin = margin_down(&scene);
     // Pull from 0 to 1.5 margins in 30 steps of 0.05 margins.
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.finger_names();
     let text = json!({
         "time": {"start": 0.0, "end": 3.0, "step": 0.1},
         "fingers": {},
@@ -117,7 +117,7 @@ fn the_least_safe_step_is_the_smallest_margin_and_the_log_carries_it() {
     let records: Vec<_> = Stepper::new(&scene, &schedule, options)
         .map(|r| r.unwrap())
         .collect();
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.finger_names();
     let summary = TransferSummary::from_records(&records, &names);
     let least = summary.least_safe_step.expect("margins were computed");
     let smallest = records
@@ -215,7 +215,7 @@ fn the_bundled_task_load_schedules_run_and_log_their_wrench() {
             &std::fs::read_to_string(dir.join("plate_handoff_coulomb.json")).unwrap(),
         )
         .unwrap();
-        let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+        let names = scene.finger_names();
         let text = std::fs::read_to_string(dir.join(format!("{name}.schedule.json"))).unwrap();
         let schedule = Schedule::from_json_str(&text, &names, &dir).unwrap();
         let records: Vec<_> = Stepper::new(&scene, &schedule, TransferOptions::default())

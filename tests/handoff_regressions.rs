@@ -89,7 +89,7 @@ fn a_held_finger_before_a_force_controlled_one_keeps_the_loads_in_order() {
     ))
     .unwrap();
     let scene = Scene::from_json_str(&scene_text).unwrap();
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.finger_names();
     let schedule = Schedule::from_json_str(&sched.to_string(), &names, Path::new(".")).unwrap();
     let mut loaded_after_held = 0;
     for r in Stepper::new(&scene, &schedule, TransferOptions::default()) {

@@ -573,7 +573,7 @@ fn held_relaxation(
 fn streamed_summary_equals_the_summary_of_all_records() {
     for name in ["plate_transfer", "disc_transfer", "plate_handoff_coulomb"] {
         let (scene, schedule) = support::transfer_example(name);
-        let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+        let names = scene.finger_names();
         let mut records = Vec::new();
         let (summary, last) = grasp_transfer::run(
             &scene,
@@ -627,7 +627,7 @@ fn csv_quotes_finger_names_by_rfc_4180() {
     let (mut scene, _) = support::transfer_example("plate_transfer");
     let odd = "f,\"1\"\nx";
     scene.fingers[0].name = odd.to_string();
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.finger_names();
     let text = r#"{"time": {"times": [0, 1, 2]}, "fingers": {"f3": [{"held": {}}]}}"#;
     let schedule = grasp_transfer::Schedule::from_json_str(text, &names, Path::new(".")).unwrap();
     let dir = out_dir("quote");

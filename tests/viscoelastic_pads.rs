@@ -366,7 +366,7 @@ fn a_held_plate_relaxes_in_a_hand_off_and_slips_when_the_squeeze_is_short() {
     let run = |approach: f64| {
         let scene =
             Scene::from_json_str(&scene_text.replace("0.0006", &approach.to_string())).unwrap();
-        let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+        let names = scene.finger_names();
         let text = schedule_text.replace("0.0006", &approach.to_string());
         let schedule = Schedule::from_json_str(&text, &names, &root).unwrap();
         let options = TransferOptions {
@@ -424,7 +424,7 @@ fn the_history_is_recorded() {
         &std::fs::read_to_string(root.join("plate_hold_viscoelastic.json")).unwrap(),
     )
     .unwrap();
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.finger_names();
     let text = std::fs::read_to_string(root.join("plate_hold_viscoelastic.schedule.json")).unwrap();
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["time"]["end"] = 10.0.into();
@@ -505,7 +505,7 @@ fn equal_steps_share_one_model() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples");
     let read = |f: &str| std::fs::read_to_string(root.join(f)).unwrap();
     let scene = Scene::from_json_str(&read("cylinder_handoff_viscoelastic.json")).unwrap();
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.finger_names();
     let schedule = Schedule::from_json_str(
         &read("cylinder_handoff_viscoelastic_fast.schedule.json"),
         &names,

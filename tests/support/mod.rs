@@ -62,7 +62,7 @@ pub fn transfer_example(name: &str) -> (Scene, grasp_transfer::Schedule) {
     let scene =
         Scene::from_json_str(&std::fs::read_to_string(dir.join(format!("{name}.json"))).unwrap())
             .unwrap();
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.finger_names();
     let text = std::fs::read_to_string(dir.join(format!("{name}.schedule.json"))).unwrap();
     let schedule = grasp_transfer::Schedule::from_json_str(&text, &names, &dir).unwrap();
     (scene, schedule)

@@ -8,11 +8,9 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use grasp_io::RunInputs;
+use grasp_io::{MemoryLimit, RunInputs};
 
-use grasp_model::estimate_memory_bytes_with;
-use grasp_model::takes_fft;
-use grasp_model::{GraspModel, GraspSolver, InputProblem, SolveOptions, StepInputs};
+use grasp_model::{GraspModel, GraspSolver, SolveOptions, StepInputs};
 use rayon::prelude::*;
 
 use crate::error::{io, BatchError};
@@ -31,8 +29,8 @@ pub struct BatchOptions {
     pub threads: usize,
     /// The part of the input this run takes.
     pub shard: Shard,
-    /// Scenes whose memory estimate exceeds this many bytes are refused (an `invalid` line).
-    pub max_memory_bytes: u64,
+    /// Scenes whose memory estimate exceeds this limit are refused (an `invalid` line).
+    pub max_memory: MemoryLimit,
     /// Scenes solved between two writes of the output.
     pub chunk: usize,
 }
@@ -43,7 +41,7 @@ impl Default for BatchOptions {
             solve: SolveOptions::default(),
             threads: 0,
             shard: Shard::ALL,
-            max_memory_bytes: u64::MAX,
+            max_memory: MemoryLimit::given(u64::MAX),
             chunk: 256,
         }
     }
@@ -98,23 +96,8 @@ pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultL
     let mut out = match scene {
         Err(p) => ResultLine::invalid(id, index, of, p),
         Ok(scene) => {
-            let bytes = estimate_memory_bytes_with(&scene, |f| {
-                takes_fft(&scene, f, options.solve.compliance)
-            });
-            if bytes > options.max_memory_bytes {
-                let p = InputProblem {
-                    path: "fingers".into(),
-                    message: format!(
-                        "the patch grids need about {} MiB, over the limit of {} MiB",
-                        bytes >> 20,
-                        options.max_memory_bytes >> 20
-                    ),
-                    fix: format!(
-                        "use coarser patch grids or raise `{}`",
-                        option_names::MAX_MEMORY
-                    ),
-                };
-                ResultLine::invalid(id, index, of, vec![p])
+            if let Err(e) = options.max_memory.check(&scene, options.solve.compliance) {
+                ResultLine::invalid(id, index, of, vec![e.problem()])
             } else {
                 let clock = Instant::now();
                 match GraspModel::from_validated_scene_with(&scene, options.solve.compliance) {
@@ -144,7 +127,7 @@ pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultL
 }
 
 /// Most worker threads a batch may have: more threads than cores only add switching, and each
-/// worker holds one solve's memory (up to [`BatchOptions::max_memory_bytes`]), so a large
+/// worker holds one solve's memory (up to [`BatchOptions::max_memory`]), so a large
 /// count multiplies the memory a batch can take; 256 covers the largest common machines.
 pub const MAX_THREADS: usize = 256;
 

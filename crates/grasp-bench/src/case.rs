@@ -358,7 +358,7 @@ impl Case {
         }
         let schedule = match (self.kind, schedule_text) {
             (HandOff { .. }, Some(text)) => {
-                let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+                let names = scene.finger_names();
                 let s = Schedule::from_json_str(text, &names, Path::new("."))
                     .map_err(|e| err(e.to_string()))?;
                 Some(s)

@@ -17,7 +17,7 @@ const FLAGS: &[(&str, &str)] = &[
     (MARGIN_TOLERANCE, "--tolerance"),
     (AUTO_PATCH, "--auto-patch"),
     (grasp_batch::option_names::THREADS, "--jobs"),
-    (grasp_batch::option_names::MAX_MEMORY, "--max-memory"),
+    (grasp_io::memory_limit::MAX_MEMORY, "--max-memory"),
     (grasp_batch::option_names::SHARD, "--shard"),
     (grasp_batch::option_names::SWEEP_AXIS, "--vary"),
     (grasp_io::output_file::FORCE, "--force"),
@@ -30,15 +30,7 @@ pub fn in_flags(text: &str) -> String {
 
 /// The solution's texts (reason, warnings, solver fallback) with flags for option names.
 pub fn respell_solution(solution: &mut Solution) {
-    if let Some(r) = solution.reason.as_mut() {
-        *r = in_flags(r);
-    }
-    for w in &mut solution.warnings {
-        *w = in_flags(w);
-    }
-    if let Some(f) = solution.solver.fallback.as_mut() {
-        *f = in_flags(f);
-    }
+    solution.respell_options(FLAGS);
 }
 
 #[cfg(test)]

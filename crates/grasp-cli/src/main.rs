@@ -26,6 +26,7 @@ mod load_scene;
 mod output;
 mod pictures;
 mod report;
+mod solve_flags;
 mod stdout;
 
 use std::process::ExitCode;

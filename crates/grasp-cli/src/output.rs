@@ -49,6 +49,18 @@ pub fn remove_pending_and_exit(code: i32, note: impl FnOnce(usize) -> Option<Str
     std::process::exit(code);
 }
 
+/// `--force`, one flag group of every command that writes files (a command writing one file,
+/// `--out`, says [`FORCE_OUT_HELP`] instead: `#[command(mut_arg("force", ...))]`).
+#[derive(clap::Args, Debug, Clone, Copy)]
+pub struct ForceArg {
+    /// Overwrite output files that already exist.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `--force`'s help in a command whose one output is `--out`.
+pub const FORCE_OUT_HELP: &str = "Overwrite OUT if it exists";
+
 /// The outputs of a command, checked and locked until dropped.
 pub struct Outputs(OutputSet);
 
@@ -73,6 +85,12 @@ pub fn claim(targets: &[&Path], inputs: &[&Path], force: bool) -> Result<Outputs
 }
 
 impl Outputs {
+    /// The claimed outputs, for a library that opens its files itself
+    /// ([`grasp_transfer::OutputFiles`]).
+    pub fn set(&self) -> &OutputSet {
+        &self.0
+    }
+
     /// A new temporary file for `target`.
     pub fn create(&self, target: &Path) -> Result<PendingOutput> {
         Ok(self.0.create(target)?)

@@ -46,9 +46,9 @@ fn memory_estimate_refuses_huge_grids_before_allocating() {
         let t = text(&o);
         assert!(
             t.contains("needs an estimated 9.0 GiB of memory")
-                && t.contains("more than --max-memory 4.0 GiB")
+                && t.contains("more than `--max-memory` 4.0 GiB")
                 && t.contains("coarser grid")
-                && t.contains("raise --max-memory"),
+                && t.contains("raise `--max-memory`"),
             "{t}"
         );
         assert!(
@@ -169,7 +169,7 @@ fn the_compliance_flag_picks_the_path_and_its_memory_estimate() {
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     let t = text(&o);
     assert!(
-        t.contains("a dense 49152 x 49152 block") && t.contains("--compliance fft"),
+        t.contains("a dense 49152 x 49152 block") && t.contains("`--compliance` fft"),
         "{t}"
     );
     let scene = example("cube_a.json");

@@ -13,13 +13,15 @@
 //!   replacing without `force`, exclusive unguessable temporary files moved into place on
 //!   success); [`output_lock`]: every output locked for the run; [`temporary_files`]: the
 //!   live hidden files a signal handler removes.
-//! - [`machine_memory`]: the machine's memory, for default memory limits.
+//! - [`machine_memory`]: the machine's memory, for default memory limits;
+//!   [`memory_limit`]: the one check of a scene's estimated memory against a run's limit.
 //!
 //! Unix only (device and inode numbers, `O_NOFOLLOW`, `/proc/self/fd`, `flock`).
 
 pub mod error;
 pub mod input_file;
 pub mod machine_memory;
+pub mod memory_limit;
 pub mod mesh_file;
 pub mod output_file;
 pub mod output_lock;
@@ -30,6 +32,7 @@ pub mod temporary_files;
 
 pub use error::{InputFileError, OutputError, OutputErrorKind};
 pub use input_file::{FileIdentity, InputFile, InputKind};
+pub use memory_limit::{MemoryError, MemoryLimit};
 pub use mesh_file::read_mesh;
 pub use output_file::{OutputRules, OutputSet, PendingOutput};
 pub use run_inputs::RunInputs;

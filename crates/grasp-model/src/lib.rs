@@ -27,8 +27,9 @@
 //! | `solve/` | [`GraspSolver`] and its strategies (one convex solve, the sequential fixed point), readout, residuals, [`Solution`], contact state, sensitivities | solver, program, model, scene |
 //! | `analysis/` | many solves: disturbance margins, refinement studies, patch sizing | all of the above |
 //!
-//! `error.rs` (one [`InputProblem`] type for every input) and [`option_names`] (how messages
-//! name options) sit below them all. The folders are private: this page is the crate's whole
+//! `error.rs` (one [`InputProblem`] type for every input), `problem_list.rs` (the one
+//! collector of an input's problems, [`ProblemList`]) and [`option_names`] (how messages name
+//! options) sit below them all. The folders are private: this page is the crate's whole
 //! face, its names grouped below in data-flow order, so a file can move without breaking a caller.
 //!
 //! ## The workflow
@@ -88,6 +89,7 @@ mod geometry;
 mod model;
 mod number_text;
 pub mod option_names;
+mod problem_list;
 mod program;
 mod scene;
 mod solve;
@@ -173,3 +175,4 @@ pub use analysis::relaxation::{solve_at, TimePoint, TimedSolution};
 // ---- Errors and messages ----
 pub use error::{format_problems, InputProblem, ModelError, OptionError, SceneError};
 pub use number_text::{readable, Readable};
+pub use problem_list::{ProblemList, MAX_LISTED_PROBLEMS};

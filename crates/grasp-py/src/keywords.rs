@@ -23,15 +23,7 @@ pub fn in_keywords(text: &str) -> String {
 
 /// The solution's texts (reason, warnings, solver fallback) with keywords for option names.
 pub fn respell_solution(solution: &mut Solution) {
-    if let Some(r) = solution.reason.as_mut() {
-        *r = in_keywords(r);
-    }
-    for w in &mut solution.warnings {
-        *w = in_keywords(w);
-    }
-    if let Some(f) = solution.solver.fallback.as_mut() {
-        *f = in_keywords(f);
-    }
+    solution.respell_options(KEYWORDS);
 }
 
 #[cfg(test)]

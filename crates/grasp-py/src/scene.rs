@@ -81,7 +81,7 @@ impl Scene {
     /// Finger names, scene order.
     #[getter]
     fn finger_names(&self) -> Vec<String> {
-        self.scene.fingers.iter().map(|f| f.name.clone()).collect()
+        self.scene.finger_names()
     }
 
     /// The contact model the scene asks for: `"energy"` or `"coulomb"`.

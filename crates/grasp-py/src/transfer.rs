@@ -9,9 +9,9 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use grasp_io::input_file::SCHEDULE_FILE;
-use grasp_io::{OutputError, OutputSet, PendingOutput, RunInputs};
+use grasp_io::{OutputError, OutputSet, RunInputs};
 use grasp_transfer::{
-    CsvSink, McapSink, RerunSink, Schedule, Sink, StepRecord, TransferOptions, TransferSummary,
+    OpenError, OutputFiles, OutputPaths, Schedule, StepRecord, TransferOptions, TransferSummary,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyInt, PyString};
@@ -82,7 +82,7 @@ pub fn transfer(
         .filter_map(|(n, p)| p.as_deref().map(|p| (n, p)))
         .collect();
     let outputs = claim(&targets, &inputs, overwrite)?;
-    let files = Files {
+    let files = OutputPaths {
         mcap: mcap.as_deref(),
         rrd: rrd.as_deref(),
         csv: csv.as_deref(),
@@ -209,7 +209,7 @@ fn load_schedule(
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
         (text, path.display().to_string(), base)
     };
-    let names: Vec<String> = scene.scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.scene.finger_names();
     let schedule = Schedule::from_json_str(&text, &names, &base)
         .map_err(|e| schedule_error(py, &origin, &e))?;
     inputs.extend(&schedule.input_files);
@@ -223,14 +223,6 @@ fn json_text(source: &Bound<'_, PyAny>) -> PyResult<Option<String>> {
     }
     let text: String = source.extract()?;
     Ok(text.trim_start().starts_with('{').then_some(text))
-}
-
-/// The output files asked for.
-#[derive(Clone, Copy)]
-struct Files<'a> {
-    mcap: Option<&'a Path>,
-    rrd: Option<&'a Path>,
-    csv: Option<&'a Path>,
 }
 
 /// Why a run gave no result.
@@ -256,56 +248,6 @@ struct Kept {
     written: Vec<String>,
 }
 
-/// The sinks of the files asked for, each writing its temporary file.
-struct OpenSinks {
-    mcap: Option<McapSink>,
-    rrd: Option<RerunSink>,
-    csv: Option<CsvSink>,
-    pending: Vec<PendingOutput>,
-}
-
-impl OpenSinks {
-    fn create(outputs: &OutputSet, files: Files<'_>) -> Result<OpenSinks, RunError> {
-        let driver = |e: grasp_transfer::TransferError| RunError::Driver(e.to_string());
-        let mut sinks = OpenSinks {
-            mcap: None,
-            rrd: None,
-            csv: None,
-            pending: Vec::new(),
-        };
-        if let Some(t) = files.mcap {
-            let p = outputs.create(t)?;
-            sinks.mcap = Some(McapSink::from_file(p.file_handle()?, t).map_err(driver)?);
-            sinks.pending.push(p);
-        }
-        if let Some(t) = files.rrd {
-            let p = outputs.create(t)?;
-            sinks.rrd = Some(RerunSink::create_as(&p.write_path(), t).map_err(driver)?);
-            sinks.pending.push(p);
-        }
-        if let Some(t) = files.csv {
-            let p = outputs.create(t)?;
-            sinks.csv = Some(CsvSink::from_file(p.file_handle()?, t));
-            sinks.pending.push(p);
-        }
-        Ok(sinks)
-    }
-
-    fn sinks(&mut self) -> Vec<&mut dyn Sink> {
-        let mut v: Vec<&mut dyn Sink> = Vec::new();
-        if let Some(s) = self.mcap.as_mut() {
-            v.push(s);
-        }
-        if let Some(s) = self.rrd.as_mut() {
-            v.push(s);
-        }
-        if let Some(s) = self.csv.as_mut() {
-            v.push(s);
-        }
-        v
-    }
-}
-
 /// The driver with the sinks asked for, keeping the histories (and the solutions when asked);
 /// commits the files when the run is complete.
 fn run_transfer(
@@ -313,21 +255,25 @@ fn run_transfer(
     schedule: &Schedule,
     options: TransferOptions,
     outputs: &OutputSet,
-    files: Files<'_>,
+    files: OutputPaths<'_>,
     keep_solutions: bool,
 ) -> Result<Kept, RunError> {
-    let mut open = OpenSinks::create(outputs, files)?;
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let mut open = OutputFiles::open(outputs, files).map_err(|e| match e {
+        OpenError::Output(e) => RunError::Output(e),
+        OpenError::Sink(e) => RunError::Driver(e.to_string()),
+    })?;
+    let names = scene.finger_names();
     let mut histories = Histories::new(names);
     let mut records = keep_solutions.then(Vec::new);
-    let (summary, last) = grasp_transfer::run(scene, schedule, options, &mut open.sinks(), |r| {
-        histories.push(r);
-        if let Some(all) = records.as_mut() {
-            all.push(r.clone());
-        }
-    })
-    .map_err(|e| RunError::Driver(e.to_string()))?;
-    let pending = std::mem::take(&mut open.pending);
+    let (summary, last) =
+        grasp_transfer::run(scene, schedule, options, &mut open.sinks(None), |r| {
+            histories.push(r);
+            if let Some(all) = records.as_mut() {
+                all.push(r.clone());
+            }
+        })
+        .map_err(|e| RunError::Driver(e.to_string()))?;
+    let pending = open.take_pending();
     drop(open); // sinks closed: their files complete
     let complete = summary.failed_step_count == 0 || options.keep_going;
     let mut written = Vec::new();

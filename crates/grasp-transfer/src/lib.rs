@@ -15,7 +15,7 @@
 //!
 //! // Thesis section 4.2.1: the pair f1, f2 lets go of a plate while f3, f4 take it over.
 //! let scene = Scene::from_json_str(include_str!("../../../examples/plate_transfer.json"))?;
-//! let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+//! let names = scene.finger_names();
 //! let text = include_str!("../../../examples/plate_transfer.schedule.json");
 //! let schedule = Schedule::from_json_str(text, &names, std::path::Path::new("."))?;
 //! let (summary, last) =
@@ -36,7 +36,10 @@ pub mod easing;
 pub mod error;
 pub mod load_profile;
 pub mod minimum_squeeze;
+pub mod output_files;
 pub mod schedule;
+pub mod schedule_builder;
+pub mod schedule_spec;
 pub mod sinks;
 pub mod step_margin;
 pub mod stepper;
@@ -44,7 +47,9 @@ pub mod summary;
 
 pub use error::{ScheduleError, TransferError};
 pub use minimum_squeeze::{minimum_squeeze, MinimumSqueeze, SqueezeOutcome};
-pub use schedule::{Command, Schedule, ScheduleSpec};
+pub use output_files::{OpenError, OutputFiles, OutputPaths};
+pub use schedule::{Command, Schedule};
+pub use schedule_spec::ScheduleSpec;
 pub use sinks::{CsvSink, McapSink, RerunSink, RunInfo, Sink};
 pub use step_margin::StepMargin;
 pub use stepper::{StepRecord, Stepper, TransferOptions};
@@ -77,7 +82,7 @@ pub fn run(
         model: &model,
         margins: options.margins,
     };
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.finger_names();
     let mut summary =
         SummaryAccumulator::new(&names).with_margin_threshold(options.margin_threshold_n);
     let mut last = None;

@@ -1,7 +1,6 @@
 //! `grasp batch`: many scenes, one result line each ([`grasp_batch`]), with a
 //! progress bar, resume, shards and merge.
 
-use grasp_model::ComplianceChoice;
 use std::collections::HashSet;
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -11,15 +10,16 @@ use std::process::ExitCode;
 use anyhow::{bail, Context, Result};
 use grasp_batch::{read_batch_output, run_batch, BatchInput, BatchOptions, BatchSummary, Shard};
 use grasp_io::{FileIdentity, PendingOutput, RunInputs};
-use grasp_model::{SolveOptions, SolverChoice};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::limits::MemoryArg;
-use crate::{limits, output};
+use crate::limits;
+use crate::output::{self, ForceArg};
+use crate::solve_flags::SolveFlags;
 
 /// Solve many scenes: one per line of a JSONL file (`{"id": ..., "scene": {...}}` or a bare
 /// scene) or one per file of a folder; one result line each, in input order, on all cores.
 #[derive(clap::Args, Debug)]
+#[command(mut_arg("force", |a| a.help(crate::output::FORCE_OUT_HELP)))]
 pub struct Args {
     /// JSONL file or folder of scene files (omit with --merge).
     pub input: Option<PathBuf>,
@@ -42,24 +42,16 @@ pub struct Args {
     /// Join these shard outputs into OUT (checked complete) instead of solving.
     #[arg(long, num_args = 1.., value_name = "SHARD.jsonl", conflicts_with_all = ["input", "resume", "shard"])]
     pub merge: Vec<PathBuf>,
-    /// Overwrite OUT if it exists.
-    #[arg(long)]
-    pub force: bool,
-    /// Solver: `auto`, `native` or `clarabel`.
-    #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
-    pub solver: SolverChoice,
-    /// Patch compliance: `auto` (dense up to 1,024 unknowns a patch (32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D), the FFT operator above),
-    /// `dense` or `fft` (matrix-free, native solver; see README "Fine patches").
-    #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
-    pub compliance: ComplianceChoice,
     #[command(flatten)]
-    pub memory: MemoryArg,
+    pub force: ForceArg,
+    #[command(flatten)]
+    pub solve: SolveFlags,
 }
 
 /// `grasp batch`: a run, or with `--merge` the join of shard outputs.
 pub fn execute(args: Args) -> Result<ExitCode> {
     if !args.merge.is_empty() {
-        return merge(&args.merge, &args.out, args.force);
+        return merge(&args.merge, &args.out, args.force.force);
     }
     let Some(input) = args.input else {
         bail!("give a JSONL file or a folder of scenes (or --merge SHARDS...)");
@@ -67,12 +59,10 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     let flags = Flags {
         out: args.out,
         resume: args.resume,
-        force: args.force,
+        force: args.force.force,
         shard: args.shard,
         jobs: args.jobs,
-        solver: args.solver,
-        compliance: args.compliance,
-        max_memory: args.memory.max_memory,
+        solve: args.solve,
     };
     let source = BatchInput::open(&input)?;
     run(&source, Some(&input), &flags)
@@ -98,9 +88,7 @@ pub struct Flags {
     pub force: bool,
     pub shard: Option<String>,
     pub jobs: Option<usize>,
-    pub solver: SolverChoice,
-    pub compliance: ComplianceChoice,
-    pub max_memory: Option<u64>,
+    pub solve: SolveFlags,
 }
 
 /// The shard: `--shard`, else the job array's environment, else all.
@@ -155,16 +143,11 @@ pub(crate) fn run(
     } else {
         (HashSet::new(), Sink::Fresh(outs.create(&flags.out)?))
     };
-    let (limit, _) = limits::memory_limit(flags.max_memory);
     let options = BatchOptions {
-        solve: SolveOptions {
-            solver: flags.solver,
-            compliance: flags.compliance,
-            ..SolveOptions::default()
-        },
+        solve: flags.solve.options(),
         threads: flags.jobs.unwrap_or(0),
         shard,
-        max_memory_bytes: limit,
+        max_memory: flags.solve.memory.limit(),
         ..BatchOptions::default()
     };
     let in_shard = (0..index.scenes).filter(|&i| shard.takes(i)).count();

@@ -11,16 +11,16 @@ use grasp_model::{
     axis_directions, disturbance_margins, plane_directions, spread_directions, DirectionMargin,
     Failure, MarginOptions, MarginReport, WrenchDirection,
 };
-use grasp_model::{ContactState, GraspModel, SolveOptions, SolverChoice, StepInputs};
+use grasp_model::{ContactState, GraspModel, StepInputs};
 use grasp_transfer::{RerunSink, RunInfo, Sink};
 use serde::Deserialize;
 
-use crate::limits::MemoryArg;
+use crate::limits;
 use crate::load_scene::load_scene;
+use crate::output::{self, ForceArg};
 use crate::pictures::margin_plot::{label, MarginPlot};
 use crate::pictures::picture;
-use crate::{limits, output};
-use grasp_model::ComplianceChoice;
+use crate::solve_flags::SolveFlags;
 
 /// Disturbance margins: per direction of an extra wrench on the object, the largest
 /// magnitude the grasp takes before it fails (no equilibrium, or coulomb: a finger slides as
@@ -57,18 +57,10 @@ pub struct Args {
     /// Write a Rerun recording of the grasp with its wrench surface.
     #[arg(long, value_name = "F.rrd")]
     pub rrd: Option<PathBuf>,
-    /// Overwrite output files that already exist.
-    #[arg(long)]
-    pub force: bool,
-    /// Solver: `auto`, `native` or `clarabel`.
-    #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
-    pub solver: SolverChoice,
-    /// Patch compliance: `auto` (dense up to 1,024 unknowns a patch (32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D), the FFT operator above),
-    /// `dense` or `fft` (matrix-free, native solver; see README "Fine patches").
-    #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
-    pub compliance: ComplianceChoice,
     #[command(flatten)]
-    pub memory: MemoryArg,
+    pub force: ForceArg,
+    #[command(flatten)]
+    pub solve: SolveFlags,
 }
 
 /// `grasp margin`.
@@ -78,15 +70,13 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         model: args.model,
         length_m: args.length,
         tolerance: args.tolerance,
-        solver: args.solver,
-        compliance: args.compliance,
-        max_memory: args.memory.max_memory,
+        solve: args.solve,
     };
     let outputs = Outputs {
         json: args.json,
         plot: args.plot,
         rrd: args.rrd,
-        force: args.force,
+        force: args.force.force,
     };
     run(&args.scene, flags, &outputs)
 }
@@ -101,12 +91,8 @@ pub struct Flags {
     pub length_m: Option<f64>,
     /// Relative bracket width.
     pub tolerance: f64,
-    /// Solver.
-    pub solver: SolverChoice,
-    /// Form of the patch compliances.
-    pub compliance: ComplianceChoice,
-    /// Memory limit, bytes.
-    pub max_memory: Option<u64>,
+    /// Solver, form of the patch compliances, memory limit.
+    pub solve: SolveFlags,
 }
 
 /// Where to write.
@@ -194,11 +180,7 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
         ..MarginOptions::default()
     };
     options.validate()?;
-    let solve = SolveOptions {
-        solver: flags.solver,
-        compliance: flags.compliance,
-        ..SolveOptions::default()
-    };
+    let solve = flags.solve.options();
     let plot_format = outputs
         .plot
         .as_deref()
@@ -216,9 +198,8 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
         Some("energy") => scene.model = ModelKind::Energy,
         _ => {}
     }
-    let (limit, what) = limits::memory_limit(flags.max_memory);
-    limits::check_memory_with(&scene, scene_path, (limit, &what), flags.compliance)?;
-    let model = GraspModel::from_scene_with(&scene, flags.compliance)
+    flags.solve.check_memory(&scene, scene_path)?;
+    let model = GraspModel::from_scene_with(&scene, flags.solve.compliance)
         .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
     let length_m = flags.length_m.unwrap_or(model.scales().length_m);
     let dirs = directions(&model, flags.directions.as_deref(), length_m)?;

@@ -4,26 +4,29 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice, StepInputs};
+use grasp_model::{
+    ComplianceChoice, GraspModel, GraspSolver, SolveOptions, SolverChoice, StepInputs,
+};
 
-use crate::limits::{self, MemoryArg};
+use crate::limits::MemoryArg;
 use crate::load_scene::load_scene;
-use crate::output;
+use crate::output::{self, ForceArg};
 use crate::pictures::{force_diagram, picture};
 
 /// Force diagram of one solve (SVG or PNG): two orthographic views with the object's
 /// outline, each finger's normal and friction force, its friction cone, and the weight.
 #[derive(clap::Args, Debug)]
+#[command(mut_arg("force", |a| a.help(crate::output::FORCE_OUT_HELP)))]
 pub struct Args {
     /// Scene file (JSON).
     pub scene: PathBuf,
     /// The picture to write: .svg or .png (by the extension).
     #[arg(long, value_name = "F.svg|F.png")]
     pub out: PathBuf,
-    /// Overwrite OUT if it exists.
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub force: ForceArg,
     /// Solver: `auto`, `native` or `clarabel`.
+    // Not `SolveFlags`: a plot takes the automatic compliance (no `--compliance`).
     #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
     pub solver: SolverChoice,
     #[command(flatten)]
@@ -35,9 +38,9 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     plot_command(
         &args.scene,
         &args.out,
-        args.force,
+        args.force.force,
         args.solver,
-        args.memory.max_memory,
+        args.memory,
     )
 }
 
@@ -47,13 +50,12 @@ fn plot_command(
     out: &Path,
     force: bool,
     solver: SolverChoice,
-    max_memory: Option<u64>,
+    memory: MemoryArg,
 ) -> Result<ExitCode> {
     let format = picture::Format::of(out, "--out")?;
     let outs = output::claim(&[out], &[scene_path], force)?;
     let scene = load_scene(scene_path)?;
-    let (limit, what) = limits::memory_limit(max_memory);
-    limits::check_memory(&scene, scene_path, (limit, &what))?;
+    memory.check(&scene, scene_path, ComplianceChoice::Auto)?;
     let model = GraspModel::from_scene(&scene)
         .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
     let options = SolveOptions {

@@ -6,25 +6,26 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use grasp_model::ComplianceChoice;
 use grasp_model::{solve_at, TimePoint, TimedSolution};
-use grasp_model::{GraspModel, GraspSolver, SolveOptions, SolverChoice, StepInputs};
+use grasp_model::{GraspModel, GraspSolver, SolveOptions, StepInputs};
 
-use crate::limits::{self, MemoryArg};
 use crate::load_scene::load_scene;
-use crate::{output, report};
+use crate::output::{self, ForceArg};
+use crate::report;
+use crate::solve_flags::SolveFlags;
 
 /// Solve one grasp: normal and friction forces of every finger, element by element.
 #[derive(clap::Args, Debug)]
+#[command(mut_arg("solver", |a| a.help(SOLVER_HELP)))]
+#[command(mut_arg("compliance", |a| a.help(COMPLIANCE_HELP)))]
 pub struct Args {
     /// Scene file (JSON; see `grasp schema`).
     pub scene: PathBuf,
     /// Write the whole solution (elements, residuals, timing) as JSON to this file.
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
-    /// Overwrite output files that already exist.
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub force: ForceArg,
     /// Solver tolerance on the scaled program (feasibility and gap), in [1e-14, 1e-2]: below
     /// 1e-14 round-off exceeds it, above 1e-2 an answer is no solution.
     #[arg(long, default_value_t = 1e-10, value_name = "TOL")]
@@ -36,15 +37,8 @@ pub struct Args {
     /// Grow curved patches whose boundary carries load until it does not (thesis 2.2.1).
     #[arg(long)]
     pub auto_patch: bool,
-    /// Solver: `auto` (native, falling back to Clarabel when it does not converge),
-    /// `native` or `clarabel`.
-    #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
-    pub solver: SolverChoice,
-    /// Patch compliance: `dense` (a stored matrix, factorised), `fft` (a matrix-free FFT
-    /// operator, solved by conjugate gradients: for fine grids, native solver only) or `auto`
-    /// (dense up to 1,024 unknowns a patch: 32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D; FFT above).
-    #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
-    pub compliance: ComplianceChoice,
+    #[command(flatten)]
+    pub solve: SolveFlags,
     /// Also compute the derivatives of every finger's and element's forces with respect to
     /// an extra force and couple on the object and to each commanded load (from the KKT
     /// system at the active set); printed per finger and written into the JSON.
@@ -64,9 +58,17 @@ pub struct Args {
     /// modulus), instead of the instantaneous response.
     #[arg(long, conflicts_with_all = ["auto_patch", "sensitivities"])]
     pub long_term: bool,
-    #[command(flatten)]
-    pub memory: MemoryArg,
 }
+
+/// `--solver`'s help here: what `auto` does.
+const SOLVER_HELP: &str = "Solver: `auto` (native, falling back to Clarabel when it does not \
+                           converge), `native` or `clarabel`";
+
+/// `--compliance`'s help here: each form in full.
+const COMPLIANCE_HELP: &str = "Patch compliance: `dense` (a stored matrix, factorised), `fft` (a \
+     matrix-free FFT operator, solved by conjugate gradients: for fine grids, native solver \
+     only) or `auto` (dense up to 1,024 unknowns a patch: 32x32 frictionless, 22x22 planar, \
+     18x18 with friction in 3-D; FFT above)";
 
 /// The time point `--at-time` / `--long-term` ask for.
 fn time_point(at_time: Option<f64>, long_term: bool) -> Result<TimePoint> {
@@ -91,27 +93,22 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         tolerance,
         error_estimate,
         auto_patch,
-        solver,
-        compliance,
+        solve,
         sensitivities,
         explain_frames,
         at_time,
         long_term,
-        memory,
     } = args;
     let time = time_point(at_time, long_term)?;
     let options = SolveOptions {
         tolerance,
-        solver,
-        compliance,
-        ..SolveOptions::default()
+        ..solve.options()
     };
     options.validate()?;
     let outputs: Vec<&Path> = json.iter().map(PathBuf::as_path).collect();
-    let outs = output::claim(&outputs, &[&scene], force)?;
+    let outs = output::claim(&outputs, &[&scene], force.force)?;
     let scene_obj = load_scene(&scene)?;
-    let (limit, what) = limits::memory_limit(memory.max_memory);
-    limits::check_memory_with(&scene_obj, &scene, (limit, &what), compliance)?;
+    solve.check_memory(&scene_obj, &scene)?;
     if explain_frames {
         print!("{}", report::hertz_table(&scene_obj)?);
     }
@@ -141,7 +138,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         };
         (a.scene, model, a.solution, 0.0, sens)
     } else {
-        let model = GraspModel::from_scene_with(&scene_obj, compliance)
+        let model = GraspModel::from_scene_with(&scene_obj, solve.compliance)
             .with_context(|| format!("{} is not a usable scene", scene.display()))?;
         let model = Arc::new(model);
         let build_s = t0.elapsed().as_secs_f64();

@@ -1,22 +1,20 @@
 //! `grasp study`: a grid-refinement table (and CSV, plot) so a user can pick a grid for the
 //! accuracy they need.
 
-use grasp_model::ComplianceChoice;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
-use grasp_model::SolveOptions;
 use grasp_model::{
     grid_with_first_side, hertz_parameters, refinement_study, with_grids, StudyReference, StudyRow,
 };
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::limits::MemoryArg;
-use crate::output;
+use crate::output::{self, ForceArg};
 use crate::pictures::picture::{self, draw_err, Picture};
+use crate::solve_flags::SolveFlags;
 
 /// Peak resident memory of this process (Linux `VmHWM`), bytes. Grids run in ascending order,
 /// so after each solve it is that grid's peak.
@@ -47,18 +45,10 @@ pub struct Args {
     /// Write an error-versus-time plot (.svg or .png).
     #[arg(long, value_name = "F.svg|F.png")]
     pub plot: Option<PathBuf>,
-    /// Overwrite output files that already exist.
-    #[arg(long)]
-    pub force: bool,
-    /// Solver: `auto`, `native` or `clarabel`.
-    #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
-    pub solver: grasp_model::SolverChoice,
-    /// Patch compliance: `auto` (dense up to 1,024 unknowns a patch (32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D), the FFT operator above),
-    /// `dense` or `fft` (matrix-free, native solver; see README "Fine patches").
-    #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
-    pub compliance: ComplianceChoice,
     #[command(flatten)]
-    pub memory: MemoryArg,
+    pub force: ForceArg,
+    #[command(flatten)]
+    pub solve: SolveFlags,
 }
 
 /// `grasp study`.
@@ -66,19 +56,14 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     let outputs = Outputs {
         csv: args.csv.as_deref(),
         plot: args.plot.as_deref(),
-        force: args.force,
+        force: args.force.force,
     };
     run(
         &args.scene,
         &args.grids,
         &args.reference,
         outputs,
-        args.memory.max_memory,
-        SolveOptions {
-            solver: args.solver,
-            compliance: args.compliance,
-            ..SolveOptions::default()
-        },
+        args.solve,
     )
 }
 
@@ -94,23 +79,20 @@ fn run(
     grids: &[usize],
     reference: &str,
     out: Outputs,
-    max_memory: Option<u64>,
-    options: SolveOptions,
+    solve: SolveFlags,
 ) -> Result<ExitCode> {
+    let options = solve.options();
     check_grids(grids)?;
     let (csv, plot) = (out.csv, out.plot);
     let plot_format = plot.map(|p| picture::Format::of(p, "--plot")).transpose()?;
     let targets: Vec<&Path> = [csv, plot].into_iter().flatten().collect();
     let outs = output::claim(&targets, &[scene], out.force)?;
     let scene_obj = crate::load_scene::load_scene(scene)?;
-    let limit = crate::limits::memory_limit(max_memory);
     let finest = grids.iter().copied().max().unwrap_or(1);
     let finest_scene = with_grids(&scene_obj, |_, g| grid_with_first_side(g, finest));
-    let memory = (limit.0, limit.1.as_str());
-    crate::limits::check_memory_with(&finest_scene, scene, memory, options.compliance)
-        .with_context(|| {
-            format!("the finest grid of the study ({finest} elements along the first side)")
-        })?;
+    solve.check_memory(&finest_scene, scene).with_context(|| {
+        format!("the finest grid of the study ({finest} elements along the first side)")
+    })?;
     let (reference, why) = choose_reference(&scene_obj, reference, finest);
     let rows = match refinement_study(&scene_obj, grids, reference, options, peak_memory_bytes) {
         Ok(r) => r,

@@ -1,7 +1,6 @@
 //! `grasp sweep`: a grid of variants of one scene, written as JSONL for `grasp batch` or run
 //! at once.
 
-use grasp_model::ComplianceChoice;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -10,16 +9,17 @@ use std::sync::Arc;
 use anyhow::{bail, Result};
 use grasp_batch::sweep::{Axis, Sweep};
 use grasp_batch::BatchInput;
-use grasp_model::SolverChoice;
 
 use crate::commands::batch::{run, Flags};
-use crate::limits::MemoryArg;
-use crate::{limits, output};
+use crate::limits;
+use crate::output::{self, ForceArg};
+use crate::solve_flags::SolveFlags;
 
 /// Expand a grid of variants of one scene (`--vary PATH=START:END:COUNT` or
 /// `PATH=V1,V2,...`, e.g. `fingers[*].friction.mu=0.2:1.0:9`) into JSONL for `batch`, or
 /// run them (`--run`).
 #[derive(clap::Args, Debug)]
+#[command(mut_arg("force", |a| a.help(crate::output::FORCE_OUT_HELP)))]
 pub struct Args {
     /// Scene file (JSON).
     pub scene: PathBuf,
@@ -35,18 +35,10 @@ pub struct Args {
     /// Worker threads for --run, at most 256 (default, or 0: one per core).
     #[arg(long, value_name = "J", value_parser = crate::commands::batch::jobs_in_range)]
     pub jobs: Option<usize>,
-    /// Overwrite OUT if it exists.
-    #[arg(long)]
-    pub force: bool,
-    /// Solver: `auto`, `native` or `clarabel`.
-    #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
-    pub solver: SolverChoice,
-    /// Patch compliance: `auto` (dense up to 1,024 unknowns a patch (32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D), the FFT operator above),
-    /// `dense` or `fft` (matrix-free, native solver; see README "Fine patches").
-    #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
-    pub compliance: ComplianceChoice,
     #[command(flatten)]
-    pub memory: MemoryArg,
+    pub force: ForceArg,
+    #[command(flatten)]
+    pub solve: SolveFlags,
 }
 
 /// `grasp sweep`.
@@ -54,12 +46,10 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     let flags = Flags {
         out: args.out,
         resume: false,
-        force: args.force,
+        force: args.force.force,
         shard: None,
         jobs: args.jobs,
-        solver: args.solver,
-        compliance: args.compliance,
-        max_memory: args.memory.max_memory,
+        solve: args.solve,
     };
     sweep(&args.scene, &args.vary, args.run, &flags)
 }

@@ -2,23 +2,21 @@
 //! closing summary. Outputs are moved into place only when the run completes (see `output`).
 
 use std::fmt::Write as _;
-use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use grasp_model::Scene;
 use grasp_transfer::{
-    CsvSink, McapSink, RerunSink, Schedule, Sink, SqueezeOutcome, TransferOptions, TransferSummary,
+    OutputFiles, OutputPaths, RerunSink, Schedule, Sink, SqueezeOutcome, TransferOptions,
+    TransferSummary,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::limits::MemoryArg;
-use crate::output::{self, Outputs as Claimed};
+use crate::output::{self, ForceArg, Outputs as Claimed};
 use crate::pictures::force_history::ForceHistory;
 use crate::pictures::picture;
-use grasp_io::PendingOutput;
-use grasp_model::ComplianceChoice;
+use crate::solve_flags::SolveFlags;
 
 /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
 #[derive(clap::Args, Debug)]
@@ -68,18 +66,10 @@ pub struct Args {
     /// many newtons (a viscoelastic grasp's margin falls as its pads relax).
     #[arg(long, value_name = "NEWTONS", requires = "margins")]
     pub margin_threshold: Option<f64>,
-    /// Overwrite output files that already exist.
-    #[arg(long)]
-    pub force: bool,
-    /// Solver: `auto`, `native` or `clarabel`.
-    #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
-    pub solver: grasp_model::SolverChoice,
-    /// Patch compliance: `auto` (dense up to 1,024 unknowns a patch (32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D), the FFT operator above),
-    /// `dense` or `fft` (matrix-free, native solver; see README "Fine patches").
-    #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
-    pub compliance: ComplianceChoice,
     #[command(flatten)]
-    pub memory: MemoryArg,
+    pub force: ForceArg,
+    #[command(flatten)]
+    pub solve: SolveFlags,
 }
 
 /// `grasp transfer`: the flags as given, turned into outputs and switches.
@@ -94,7 +84,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         rrd: args.rrd,
         csv: args.csv,
         plot: args.plot,
-        force: args.force,
+        force: args.force.force,
         live,
     };
     if let Some(n) = args.margin_threshold {
@@ -111,9 +101,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         min_squeeze: args.min_squeeze,
         margins: args.margins,
         margin_threshold: args.margin_threshold,
-        solver: args.solver,
-        compliance: args.compliance,
-        max_memory: args.memory.max_memory,
+        solve: args.solve,
     };
     run(&args.scene, &args.schedule, &outputs, flags)
 }
@@ -202,67 +190,33 @@ pub struct Flags {
     pub min_squeeze: bool,
     pub margins: bool,
     pub margin_threshold: Option<f64>,
-    pub solver: grasp_model::SolverChoice,
-    pub compliance: ComplianceChoice,
-    pub max_memory: Option<u64>,
+    pub solve: SolveFlags,
 }
 
-/// The sinks of a run, each writing its temporary file.
+/// The sinks of a run: its files and a live stream.
 struct OpenSinks {
-    mcap: Option<McapSink>,
-    rrd: Option<RerunSink>,
+    files: OutputFiles,
     live: Option<RerunSink>,
-    csv: Option<CsvSink>,
-    pending: Vec<PendingOutput>,
 }
 
 impl OpenSinks {
     fn create(out: &Outputs, outs: &Claimed) -> Result<OpenSinks> {
-        let mut pending = Vec::new();
-        // (open temporary file, a path that opens it, the target) of an output given.
-        let mut open = |p: &Option<PathBuf>| -> Result<Option<(File, PathBuf, PathBuf)>> {
-            let Some(p) = p else { return Ok(None) };
-            let o = outs.create(p)?;
-            let (f, path) = (o.file_handle()?, o.write_path());
-            pending.push(o);
-            Ok(Some((f, path, p.clone())))
+        let paths = OutputPaths {
+            mcap: out.mcap.as_deref(),
+            rrd: out.rrd.as_deref(),
+            csv: out.csv.as_deref(),
         };
-        let mcap = open(&out.mcap)?
-            .map(|(f, _, target)| McapSink::from_file(f, &target))
-            .transpose()?;
-        let rrd = open(&out.rrd)?
-            .map(|(_, tmp, target)| RerunSink::create_as(&tmp, &target))
-            .transpose()?;
-        let csv = open(&out.csv)?.map(|(f, _, target)| CsvSink::from_file(f, &target));
+        let files = OutputFiles::open(outs.set(), paths)?;
         let live = match &out.live {
             Some(Live::Connect(url)) => Some(RerunSink::connect(url)?),
             Some(Live::Spawn) => Some(RerunSink::spawn()?),
             None => None,
         };
-        Ok(OpenSinks {
-            mcap,
-            rrd,
-            live,
-            csv,
-            pending,
-        })
+        Ok(OpenSinks { files, live })
     }
 
     fn sinks(&mut self) -> Vec<&mut dyn Sink> {
-        let mut v: Vec<&mut dyn Sink> = Vec::new();
-        if let Some(s) = self.mcap.as_mut() {
-            v.push(s);
-        }
-        if let Some(s) = self.rrd.as_mut() {
-            v.push(s);
-        }
-        if let Some(s) = self.live.as_mut() {
-            v.push(s);
-        }
-        if let Some(s) = self.csv.as_mut() {
-            v.push(s);
-        }
-        v
+        self.files.sinks(self.live.as_mut())
     }
 }
 
@@ -274,24 +228,15 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
         .map(|p| picture::Format::of(p, "--plot"))
         .transpose()?;
     let outs = output::claim(&out.targets(), &[scene_path, schedule_path], out.force)?;
-    let (scene, schedule) = load_inputs(
-        scene_path,
-        schedule_path,
-        flags.max_memory,
-        flags.compliance,
-    )?;
+    let (scene, schedule) = load_inputs(scene_path, schedule_path, &flags.solve)?;
     outs.refuse_inputs_read()?;
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.finger_names();
     let mut open = OpenSinks::create(out, &outs)?;
     let bar = progress_bar(schedule.times.len());
     let options = TransferOptions {
         keep_going: flags.keep_going,
         warm_start: !flags.cold,
-        solve: grasp_model::SolveOptions {
-            solver: flags.solver,
-            compliance: flags.compliance,
-            ..grasp_model::SolveOptions::default()
-        },
+        solve: flags.solve.options(),
         margins: flags.margins,
         margin_threshold_n: flags.margin_threshold,
     };
@@ -335,7 +280,7 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
             Ok(bytes) => {
                 let mut o = outs.create(p)?;
                 o.write_all(&bytes)?;
-                open.pending.push(o);
+                open.files.add_pending(o);
             }
             Err(e) => unplotted = Some(format!("{e:#}")),
         }
@@ -349,7 +294,7 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
             None => println!("minimum squeeze: no step was solved"),
         }
     }
-    outs.commit(std::mem::take(&mut open.pending))?;
+    outs.commit(open.files.take_pending())?;
     match unplotted {
         None => print!("{}", out.wrote()),
         Some(why) => {
@@ -369,14 +314,12 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
 fn load_inputs(
     scene_path: &Path,
     schedule_path: &Path,
-    max_memory: Option<u64>,
-    compliance: ComplianceChoice,
+    solve: &SolveFlags,
 ) -> Result<(Scene, Schedule)> {
     let scene = crate::load_scene::load_scene(scene_path)?;
-    let (limit, what) = crate::limits::memory_limit(max_memory);
-    crate::limits::check_memory_with(&scene, scene_path, (limit, &what), compliance)?;
+    solve.check_memory(&scene, scene_path)?;
     let text = crate::limits::read_input(schedule_path, "schedule file")?;
-    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let names = scene.finger_names();
     let base = schedule_path
         .parent()
         .map(PathBuf::from)

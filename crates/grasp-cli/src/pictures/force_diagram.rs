@@ -451,7 +451,7 @@ mod tests {
             title: name,
         };
         let svg = String::from_utf8(render(&diagram, Format::Svg).unwrap()).unwrap();
-        let names = scene.fingers.iter().map(|f| f.name.clone()).collect();
+        let names = scene.finger_names();
         (svg, names)
     }
 

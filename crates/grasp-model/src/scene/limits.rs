@@ -1,6 +1,6 @@
 //! The ranges a scene's numbers may take: physical ranges outside which an input is almost
 //! surely in the wrong unit, the size limits of a patch, and the tolerance of the planarity
-//! checks. Validation ([`super::validation`]) and the shape checks ([`super::shape_checks`])
+//! checks. Validation ([`super::scene_validation`], [`super::field_checks`]) and the shape checks ([`super::shape_checks`])
 //! read them from here.
 
 /// Largest number of elements allowed in one patch (1024 x 1024). Patches above
@@ -72,9 +72,6 @@ pub const MAX_FRICTION_COEFFICIENT: f64 = 1e3;
 /// few times more: see [`super::work_bounds::estimate_memory_bytes`], which callers check against the
 /// machine's memory).
 pub const MAX_COMPLIANCE_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
-
-/// Most problems listed in one error (the rest are counted).
-pub const MAX_LISTED_PROBLEMS: usize = 50;
 
 /// Relative tolerance of the planarity checks (normalised directions, distances over the
 /// scene's length scale).

@@ -3,14 +3,21 @@
 //! a path and a fix per problem, the object's shape checks, fingers placed on the shape, the
 //! report of what the shape gave each finger, and the memory estimate of a solve before
 //! anything is allocated.
+//!
+//! Reading a scene ([`scene_reading`]) ends with its validation pass ([`scene_validation`]),
+//! which applies the checks of one field each ([`field_checks`]) over the vector arithmetic
+//! of [`vector_math`]; each imports only those after it.
 
+pub mod field_checks;
 pub mod finger_placement;
 pub mod limits;
 pub mod patch_on_shape;
 pub mod scene_format;
+pub mod scene_reading;
+pub mod scene_validation;
 pub mod schema_check;
 pub mod shape_checks;
 pub mod shape_report;
 pub mod strict_json;
-pub mod validation;
+pub mod vector_math;
 pub mod work_bounds;

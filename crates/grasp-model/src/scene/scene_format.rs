@@ -1,7 +1,7 @@
 //! The scene file: plain data as the user writes it (JSON, SI units).
 //!
 //! These types are the on-disk format. They carry no derived quantities; [`crate::GraspModel`]
-//! is built from a validated scene (see [`crate::scene::validation`]). Field names are part of the file
+//! is built from a validated scene (see [`crate::scene::scene_validation`]). Field names are part of the file
 //! format and must stay stable between versions.
 //!
 //! Conventions (fixed by the format):
@@ -44,6 +44,13 @@ pub struct Scene {
     #[serde(skip)]
     #[schemars(skip)]
     pub shape_report: Option<crate::scene::shape_report::ShapeReport>,
+}
+
+impl Scene {
+    /// The fingers' names, in scene order (a schedule's and a history's finger names).
+    pub fn finger_names(&self) -> Vec<String> {
+        self.fingers.iter().map(|f| f.name.clone()).collect()
+    }
 }
 
 /// The plane of a planar scene.

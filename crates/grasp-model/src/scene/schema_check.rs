@@ -7,7 +7,7 @@
 //! The walk knows the part of JSON Schema the generated schema uses: `$ref` into `$defs`,
 //! `type`, `properties`, `required`, `additionalProperties: false`, `items`, `prefixItems`,
 //! `minItems`, `maxItems`, `const`, `enum`, `anyOf` and `oneOf`. Value ranges are not its
-//! business: [`crate::scene::validation`] checks them once the scene reads.
+//! business: [`crate::scene::scene_validation`] checks them once the scene reads.
 
 use serde_json::{Map, Value};
 

@@ -293,6 +293,17 @@ pub struct Solution {
 }
 
 impl Solution {
+    /// Respells the option names in the solution's texts (its reason, warnings and solver
+    /// fallback) with a front end's `spelling` (pairs of library name and the front end's;
+    /// see [`crate::option_names::respell`]), so its messages name the front end's flags or
+    /// keywords.
+    pub fn respell_options(&mut self, spelling: &[(&str, &str)]) {
+        let respell = |t: &mut String| *t = crate::option_names::respell(t, spelling);
+        self.reason.iter_mut().for_each(respell);
+        self.warnings.iter_mut().for_each(respell);
+        self.solver.fallback.iter_mut().for_each(respell);
+    }
+
     /// The finger named `name`.
     pub fn finger(&self, name: &str) -> Option<&FingerSolution> {
         self.fingers.iter().find(|f| f.name == name)

@@ -1,0 +1,207 @@
+//! Reading a scene: strict JSON text or an already parsed value, the object's shape resolved
+//! (fingers placed on it), directions normalised on load (scaled by their largest component
+//! first, so `[1e200, 0, 0]` is `[1, 0, 0]`), then the validation pass
+//! ([`crate::scene::scene_validation`]). A document that does not read as a scene reports every
+//! structural problem at once (against the JSON Schema), each with its path and fix.
+
+use crate::error::{InputProblem, SceneError};
+use crate::geometry::mesh_surface::TriangleMesh;
+use crate::geometry::shape_spec::MeshSpec;
+use crate::problem_list::ProblemList;
+use crate::scene::scene_format::{Scene, Vec3};
+use crate::scene::strict_json::StrictValue;
+use crate::scene::vector_math::unit_vector;
+
+impl Scene {
+    /// Parses a scene from JSON text (one document, nothing after it; duplicate keys refused),
+    /// normalises its directions (see [`Scene::normalize_directions`]) and validates it (see
+    /// [`Scene::validate`]).
+    ///
+    /// A scene with `object.shape` is resolved first (fingers placed on it, the weight from a
+    /// density, explicit frames checked: `crate::scene::finger_placement`); this entry point reads
+    /// no files, so a mesh shape needs [`Scene::from_json_str_with_meshes`].
+    pub fn from_json_str(text: &str) -> Result<Scene, SceneError> {
+        Scene::from_json_str_with_meshes(text, &|m: &MeshSpec| {
+            Err(format!(
+                "{}: this loader reads no files; load the scene with the grasp CLI, grasp.Scene \
+                 or grasp_io",
+                m.file
+            ))
+        })
+    }
+
+    /// As [`Scene::from_json_str`], reading a mesh shape's file with `load_mesh`.
+    pub fn from_json_str_with_meshes(
+        text: &str,
+        load_mesh: &dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>,
+    ) -> Result<Scene, SceneError> {
+        let parse_error = |e: crate::scene::strict_json::JsonError| structure_error(text, e);
+        // Most scenes name no shape: read them once, as written (a key inside a string only
+        // sends a scene down the resolving path, which reads it the same way).
+        if !["\"shape\"", "\"place\"", "\"density\""]
+            .iter()
+            .any(|k| text.contains(k))
+        {
+            let mut scene: Scene =
+                crate::scene::strict_json::from_str_strict(text).map_err(parse_error)?;
+            scene.normalize_directions();
+            scene.validate()?;
+            return Ok(scene);
+        }
+        let StrictValue(mut value) =
+            crate::scene::strict_json::from_str_strict::<StrictValue>(text).map_err(parse_error)?;
+        let report = crate::scene::finger_placement::resolve_shapes(&mut value, load_mesh)?;
+        let mut scene: Scene = match report {
+            // Without a shape the text is read as written (positions in messages are its own).
+            None => crate::scene::strict_json::from_str_strict(text).map_err(parse_error)?,
+            Some(_) => {
+                let resolved = serde_json::to_string_pretty(&value).unwrap_or_default();
+                crate::scene::strict_json::from_str_strict(&resolved).map_err(parse_error)?
+            }
+        };
+        scene.shape_report = report;
+        scene.normalize_directions();
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// As [`Scene::from_json_str_with_meshes`], from a JSON value already parsed strictly (no
+    /// key twice: [`StrictValue`]), so a scene inside a larger document (a batch line) is
+    /// parsed once: its shape resolved on the value, then the typed scene read from it.
+    pub fn from_value_with_meshes(
+        mut value: serde_json::Value,
+        load_mesh: &dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>,
+    ) -> Result<Scene, SceneError> {
+        // As written, for the structural problems of a scene that does not parse.
+        let written = value.clone();
+        let report = crate::scene::finger_placement::resolve_shapes(&mut value, load_mesh)?;
+        let mut scene: Scene = crate::scene::strict_json::from_value_strict(value)
+            .map_err(|e| structure_error_of(&written, e))?;
+        scene.shape_report = report;
+        scene.normalize_directions();
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Replaces every direction (gravity, planar normal, finger normals and tangents) by its
+    /// unit vector, computed without overflow (`unit_vector`); zero or non-finite directions
+    /// are left for [`Scene::validate`] to refuse.
+    pub fn normalize_directions(&mut self) {
+        let fix = |x: &mut Vec3| {
+            if let Some(u) = unit_vector(x) {
+                *x = u;
+            }
+        };
+        fix(&mut self.object.gravity);
+        if let Some(p) = &mut self.planar {
+            fix(&mut p.normal);
+        }
+        for f in &mut self.fingers {
+            fix(&mut f.normal);
+            if let Some(t) = &mut f.tangent {
+                fix(t);
+            }
+        }
+    }
+}
+
+/// The error of a scene text the typed reader stopped on (`e`): every structural problem of
+/// the document (missing, unknown and mistyped fields, each with a fix;
+/// [`crate::scene::schema_check`]) when it is valid JSON, the reader's own error kept among
+/// them; else `e` alone (a syntax error).
+fn structure_error(text: &str, e: crate::scene::strict_json::JsonError) -> SceneError {
+    match crate::scene::strict_json::from_str_strict::<StrictValue>(text) {
+        Ok(StrictValue(value)) => structure_error_of(&value, e),
+        // Not even a JSON document: the reader's error, with its position.
+        Err(_) => single_problem(e),
+    }
+}
+
+/// A reader's error as the one problem of a scene.
+fn single_problem(e: crate::scene::strict_json::JsonError) -> SceneError {
+    SceneError::Parse {
+        path: e.path,
+        message: e.message,
+    }
+}
+
+/// serde_json's data error without its trailing ` at line L column C`.
+fn without_position(message: &str) -> &str {
+    match message.rfind(" at line ") {
+        Some(i)
+            if message[i + 9..]
+                .split(" column ")
+                .all(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())) =>
+        {
+            &message[..i]
+        }
+        _ => message,
+    }
+}
+
+/// [`structure_error`] of a scene already parsed into `value` (as written, before any shape
+/// was resolved). The reader's message loses its position (` at line L column C`): the JSON
+/// path locates a data error, and a scene parsed from text or from a value (a batch line)
+/// reports it alike.
+fn structure_error_of(
+    value: &serde_json::Value,
+    e: crate::scene::strict_json::JsonError,
+) -> SceneError {
+    let e = crate::scene::strict_json::JsonError {
+        message: without_position(&e.message).to_string(),
+        path: e.path,
+    };
+    let single = single_problem;
+    let schema = crate::scene::scene_format::scene_json_schema();
+    let mut found = crate::scene::schema_check::structural_problems(value, schema.as_value());
+    if found.is_empty() {
+        return single(e);
+    }
+    // Where the walk only knows that no form fits, the reader's message says which it expected.
+    for p in found.iter_mut() {
+        if p.path == e.path && p.message.contains(NO_FORM_FITS) {
+            p.message = e.message.clone();
+        }
+    }
+    // The walk knows the format's structure, the reader its details: keep the reader's error
+    // when no problem found lies on its path.
+    let related = |p: &InputProblem| p.path.starts_with(&e.path) || e.path.starts_with(&p.path);
+    let reader_error = (!found.iter().any(related)).then(|| reader_problem(&e));
+    let problems: ProblemList = found.into_iter().chain(reader_error).collect();
+    problems
+        .finish()
+        .err()
+        .map_or_else(|| single(e), SceneError::Invalid)
+}
+
+/// The reader's error `e` as a problem: a field the schema leaves optional (a placed finger
+/// derives its frame) but this scene needs, or the reader's message.
+fn reader_problem(e: &crate::scene::strict_json::JsonError) -> InputProblem {
+    match missing_field(&e.message) {
+        Some(name) => {
+            let path = if e.path == "." {
+                name.to_string()
+            } else {
+                format!("{}.{name}", e.path)
+            };
+            InputProblem::new(
+                path,
+                "is missing",
+                format!("add `{name}` (see `grasp schema`)"),
+            )
+        }
+        None => InputProblem::new(
+            e.path.clone(),
+            e.message.clone(),
+            "correct the JSON (see `grasp schema`)",
+        ),
+    }
+}
+
+/// What [`crate::scene::schema_check`] says of a value that fits none of a field's forms.
+const NO_FORM_FITS: &str = crate::scene::schema_check::NO_FORM_FITS;
+
+/// The field named by serde's "missing field `name` at line ..." message.
+fn missing_field(message: &str) -> Option<&str> {
+    message.strip_prefix("missing field `")?.split('`').next()
+}

@@ -1,0 +1,400 @@
+//! The validation pass of a scene: every value checked, every problem found listed with its
+//! JSON path and the fix (the object, each finger, the memory the dense patches need, the
+//! reach of the contacts, a planar scene's plane). Every number is checked against the
+//! physical range a grasp can have ([`crate::scene::limits`], stated in the JSON Schema and the
+//! README): outside it the input is a unit mistake or garbage, and a solve would overflow. A
+//! direction that is zero or not finite is refused.
+
+use crate::error::SceneError;
+use crate::scene::field_checks::{number, FieldChecks};
+use crate::scene::limits::*;
+use crate::scene::scene_format::{ControlSpec, FingerSpec, MaterialSpec, RadiusSpec, Scene, Vec3};
+use crate::scene::vector_math::{cross, dot, norm, sub, unit, unit_vector};
+
+/// A tangent whose angle with the normal has a sine below this (about 0.2 arc seconds) is
+/// parallel to it and cannot give a frame.
+const PARALLEL_SINE: f64 = 1e-6;
+
+impl Scene {
+    /// Checks every value; returns all problems found, each with path and fix.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let mut v = FieldChecks::default();
+        self.validate_object(&mut v);
+        if self.fingers.is_empty() {
+            v.push(
+                "fingers",
+                "is empty".into(),
+                "list at least one finger in contact with the object",
+            );
+        }
+        for (i, f) in self.fingers.iter().enumerate() {
+            self.validate_finger(i, f, &mut v);
+        }
+        self.check_memory(&mut v);
+        self.check_reach(&mut v);
+        if let Some(pl) = &self.planar {
+            if v.direction(
+                "planar.normal",
+                &pl.normal,
+                "give the normal of the plane of motion",
+            ) {
+                self.check_planar(&unit(&pl.normal), &mut v);
+            }
+        }
+        v.finish()
+    }
+
+    fn validate_object(&self, v: &mut FieldChecks) {
+        let o = &self.object;
+        v.force("object.weight", o.weight, "give the weight in newtons");
+        v.point("object.center_of_mass", &o.center_of_mass);
+        v.direction(
+            "object.gravity",
+            &o.gravity,
+            "give a nonzero direction, e.g. [0, 0, -1]",
+        );
+        v.material("object.material", &o.material);
+        for (j, r) in o.external_forces.iter().enumerate() {
+            let p = format!("object.external_forces[{j}]");
+            for (k, c) in r.force.iter().enumerate() {
+                v.signed_force(&format!("{p}.force[{k}]"), *c);
+            }
+            v.point(&format!("{p}.at"), &r.at);
+        }
+    }
+
+    fn validate_finger(&self, i: usize, f: &FingerSpec, v: &mut FieldChecks) {
+        let p = format!("fingers[{i}]");
+        if f.name.trim().is_empty() {
+            v.push(
+                &format!("{p}.name"),
+                "is empty".into(),
+                "give each finger a unique name",
+            );
+        }
+        if let Some(j) = self.fingers[..i].iter().position(|g| g.name == f.name) {
+            v.push(
+                &format!("{p}.name"),
+                format!("`{}` is also the name of fingers[{j}]", f.name),
+                "give each finger a unique name",
+            );
+        }
+        v.point(&format!("{p}.contact_point"), &f.contact_point);
+        let n_ok = v.direction(
+            &format!("{p}.normal"),
+            &f.normal,
+            "give the contact normal pointing into the object, e.g. [0, 0, 1]",
+        );
+        if let Some(t) = &f.tangent {
+            let t_ok = v.direction(
+                &format!("{p}.tangent"),
+                t,
+                "give a nonzero tangent or omit it",
+            );
+            if t_ok && n_ok && norm(&cross(&unit(&f.normal), &unit(t))) < PARALLEL_SINE {
+                v.push(
+                    &format!("{p}.tangent"),
+                    "is parallel to the normal".into(),
+                    "give a tangent perpendicular to the normal, or omit it",
+                );
+            }
+        }
+        v.material(&format!("{p}.material"), &f.material);
+        let object_rigid = matches!(self.object.material, MaterialSpec::Rigid(_));
+        if object_rigid && matches!(f.material, MaterialSpec::Rigid(_)) {
+            v.push(
+                &format!("{p}.material"),
+                "is rigid and so is the object: the contact has no compliance and its \
+                 forces are indeterminate"
+                    .into(),
+                "make the finger or the object elastic ({youngs_modulus, poisson_ratio})",
+            );
+        }
+        validate_radii(&p, f, v);
+        validate_tip(&p, f, self.planar.as_ref().map(|pl| pl.normal), v);
+        validate_patch(&p, f, v);
+        v.friction(&format!("{p}.friction"), &f.friction, object_rigid);
+        match f.control {
+            ControlSpec::Load(l) => {
+                v.force(
+                    &format!("{p}.control.normal_load"),
+                    l.normal_load,
+                    "give the prescribed normal load in newtons",
+                );
+            }
+            ControlSpec::Approach(a) => {
+                v.range(
+                    &format!("{p}.control.approach_m"),
+                    a.approach_m,
+                    APPROACH_RANGE_M,
+                    "m",
+                    "give how far the finger is pressed in from first touch, in metres (0.1 mm \
+                     = 1e-4), or use \"held\"",
+                );
+            }
+            ControlSpec::Held(_) => {}
+        }
+    }
+
+    /// Refuses scenes whose dense compliance blocks (the patches the automatic choice keeps
+    /// dense, up to [`AUTO_FFT_ABOVE_UNKNOWNS`] unknowns) could not fit in any machine's
+    /// memory (callers check the full estimate of the path that runs,
+    /// [`work_bounds::estimate_memory_bytes_with`], against the machine they run on).
+    fn check_memory(&self, v: &mut FieldChecks) {
+        let bytes = crate::scene::work_bounds::compliance_bytes_of(self, |f| {
+            crate::scene::work_bounds::finger_unknowns(self, f) <= AUTO_FFT_ABOVE_UNKNOWNS as u64
+        }) as f64;
+        if bytes > MAX_COMPLIANCE_BYTES {
+            v.push(
+                "fingers",
+                format!(
+                    "the patch compliance blocks need {:.1} GiB, more than {:.0} GiB",
+                    bytes / 1073741824.0,
+                    MAX_COMPLIANCE_BYTES / 1073741824.0
+                ),
+                "use coarser grids (see `grasp study` for the accuracy each grid gives)",
+            );
+        }
+    }
+
+    /// Flags contact points implausibly far from the centre of mass (a unit mistake).
+    fn check_reach(&self, v: &mut FieldChecks) {
+        let r = self.object.center_of_mass;
+        let d: Vec<f64> = self
+            .fingers
+            .iter()
+            .map(|f| norm(&sub(&f.contact_point, &r)))
+            .collect();
+        if d.len() < 2 || d.iter().any(|x| !x.is_finite()) {
+            return;
+        }
+        let mut s = d.clone();
+        s.sort_by(f64::total_cmp);
+        let median = s[s.len() / 2];
+        if median <= 0.0 {
+            return;
+        }
+        for (i, di) in d.iter().enumerate() {
+            if *di > PLAUSIBLE_REACH_FACTOR * median {
+                v.push(
+                    &format!("fingers[{i}].contact_point"),
+                    format!(
+                        "is {di:.3e} m from the centre of mass, over {PLAUSIBLE_REACH_FACTOR}x \
+                         the median of all contacts ({median:.3e} m): no plausible object \
+                         reaches it"
+                    ),
+                    "check the units (metres) and the coordinates of this contact point",
+                );
+            }
+        }
+    }
+
+    /// A planar scene keeps every point in one plane and every force direction in it.
+    fn check_planar(&self, p: &[f64; 3], v: &mut FieldChecks) {
+        let r = self.object.center_of_mass;
+        let scale = self
+            .fingers
+            .iter()
+            .map(|f| norm(&sub(&f.contact_point, &r)))
+            .chain(
+                self.fingers
+                    .iter()
+                    .map(|f| f.patch.size[0].max(f.patch.size[1])),
+            )
+            .fold(0.0_f64, f64::max)
+            .max(f64::MIN_POSITIVE);
+        let off_plane = |x: &Vec3| dot(&sub(x, &r), p).abs() > PLANAR_TOLERANCE * scale;
+        let out_dir = |x: &Vec3| {
+            let n = norm(x);
+            n > 0.0 && (dot(x, p) / n).abs() > PLANAR_TOLERANCE
+        };
+        if self.object.weight > 0.0 && out_dir(&self.object.gravity) {
+            v.push(
+                "object.gravity",
+                "leaves the plane of a planar scene".into(),
+                "give gravity perpendicular to planar.normal, or make the scene 3-D (planar: null)",
+            );
+        }
+        for (j, e) in self.object.external_forces.iter().enumerate() {
+            if out_dir(&e.force) {
+                v.push(
+                    &format!("object.external_forces[{j}].force"),
+                    "leaves the plane of a planar scene".into(),
+                    "give a force perpendicular to planar.normal",
+                );
+            }
+            if off_plane(&e.at) {
+                v.push(
+                    &format!("object.external_forces[{j}].at"),
+                    "is off the plane through the centre of mass".into(),
+                    "move the point into that plane",
+                );
+            }
+        }
+        for (i, f) in self.fingers.iter().enumerate() {
+            if out_dir(&f.normal) {
+                v.push(
+                    &format!("fingers[{i}].normal"),
+                    "leaves the plane of a planar scene".into(),
+                    "give a normal perpendicular to planar.normal",
+                );
+            }
+            if off_plane(&f.contact_point) {
+                v.push(
+                    &format!("fingers[{i}].contact_point"),
+                    "is off the plane through the centre of mass".into(),
+                    "move the contact point into that plane",
+                );
+            }
+            if let Some(t) = &f.tangent {
+                if out_dir(t) {
+                    v.push(
+                        &format!("fingers[{i}].tangent"),
+                        "leaves the plane of a planar scene".into(),
+                        "omit the tangent (it is taken in the plane) or give one in the plane",
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Radii of curvature of the tip and the object.
+fn validate_radii(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
+    let half = 0.5 * f.patch.size[0].max(f.patch.size[1]);
+    if let Some(r) = f.tip_radius {
+        v.radius(&format!("{p}.tip_radius"), r, half);
+    }
+    match f.object_radius {
+        Some(RadiusSpec::Isotropic(r)) => v.radius(&format!("{p}.object_radius"), r, half),
+        Some(RadiusSpec::Principal(rs)) => {
+            for (k, r) in rs.iter().enumerate() {
+                if let Some(r) = r {
+                    let h = 0.5 * f.patch.size[k];
+                    v.radius(&format!("{p}.object_radius[{k}]"), *r, h);
+                }
+            }
+        }
+        None => {}
+    }
+}
+
+/// The fingertip's shape: one kind, not with `tip_radius`; a cylinder's axis tangent and
+/// along `t1` or `t2`; a flat pad at least as large as the patch.
+fn validate_tip(p: &str, f: &FingerSpec, planar: Option<Vec3>, v: &mut FieldChecks) {
+    let Some(tip) = &f.tip else { return };
+    let kinds = [
+        tip.sphere.is_some(),
+        tip.cylinder.is_some(),
+        tip.flat.is_some(),
+    ];
+    if kinds.iter().filter(|k| **k).count() != 1 {
+        let fix = "give one of {\"sphere\": {...}}, {\"cylinder\": {...}}, {\"flat\": {...}}";
+        return v.push(
+            &format!("{p}.tip"),
+            "needs exactly one of sphere, cylinder, flat".into(),
+            fix,
+        );
+    }
+    if f.tip_radius.is_some() {
+        let fix = "remove tip_radius (a spherical tip is {\"sphere\": {\"radius\": R}})";
+        v.push(
+            &format!("{p}.tip"),
+            "is given together with tip_radius".into(),
+            fix,
+        );
+    }
+    let half = 0.5 * f.patch.size[0].max(f.patch.size[1]);
+    if let Some(s) = &tip.sphere {
+        v.radius(&format!("{p}.tip.sphere.radius"), s.radius, half);
+    }
+    if let Some(c) = &tip.cylinder {
+        v.radius(&format!("{p}.tip.cylinder.radius"), c.radius, half);
+        let axis_ok = v.direction(
+            &format!("{p}.tip.cylinder.axis"),
+            &c.axis,
+            "give the tip's axis, e.g. [1, 0, 0]",
+        );
+        if axis_ok && unit_vector(&f.normal).is_some() {
+            check_tip_axis(p, f, &unit(&c.axis), planar, v);
+        }
+    }
+    if let Some(flat) = &tip.flat {
+        for k in 0..2 {
+            // False for a NaN pad side too.
+            let fits = f.patch.size[k] <= flat.size[k] * (1.0 + 1e-12);
+            if !fits {
+                v.push(
+                    &format!("{p}.patch.size[{k}]"),
+                    format!(
+                        "{} m is larger than the flat pad's {} m",
+                        number(f.patch.size[k]),
+                        number(flat.size[k])
+                    ),
+                    "make the patch no larger than the pad (the pad is all that can touch)",
+                );
+            }
+        }
+    }
+}
+
+/// A cylindrical tip's axis must be tangent to the contact and along `t1` or `t2`, so that
+/// the tip's and the object's curvatures add along common directions.
+fn check_tip_axis(p: &str, f: &FingerSpec, axis: &Vec3, planar: Option<Vec3>, v: &mut FieldChecks) {
+    let v3 = |a: &Vec3| nalgebra::Vector3::new(a[0], a[1], a[2]);
+    let frame = crate::geometry::contact_frame::ContactFrame::new(
+        v3(&f.contact_point),
+        v3(&f.normal),
+        f.tangent.as_ref().map(v3),
+        planar.as_ref().map(v3),
+    );
+    let a = v3(axis);
+    let along = a.dot(&frame.t1).abs().max(a.dot(&frame.t2).abs());
+    if along < 1.0 - PLANAR_TOLERANCE {
+        v.push(
+            &format!("{p}.tip.cylinder.axis"),
+            format!(
+                "is not along the patch's t1 [{:.4}, {:.4}, {:.4}] or t2 [{:.4}, {:.4}, {:.4}]",
+                frame.t1.x, frame.t1.y, frame.t1.z, frame.t2.x, frame.t2.y, frame.t2.z
+            ),
+            "give the finger's tangent along the tip's axis (or across it), or turn the axis into the contact's tangent plane",
+        );
+    }
+}
+
+/// Patch sides and grid.
+fn validate_patch(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
+    for k in 0..2 {
+        let s = f.patch.size[k];
+        if !(s.is_finite() && s > 0.0) {
+            v.push(
+                &format!("{p}.patch.size[{k}]"),
+                format!("is {} m", number(s)),
+                "give the patch side length in metres, > 0",
+            );
+        } else {
+            v.range(
+                &format!("{p}.patch.size[{k}]"),
+                s,
+                PATCH_SIDE_RANGE_M,
+                "m",
+                "give the side in metres",
+            );
+        }
+        if f.patch.grid[k] == 0 {
+            v.push(
+                &format!("{p}.patch.grid[{k}]"),
+                "is 0".into(),
+                "give at least one element along each side",
+            );
+        }
+    }
+    let ne = f.patch.grid[0].saturating_mul(f.patch.grid[1]);
+    if ne > MAX_ELEMENTS_PER_PATCH {
+        v.push(
+            &format!("{p}.patch.grid"),
+            format!("has {ne} elements, more than {MAX_ELEMENTS_PER_PATCH}"),
+            "use a coarser grid",
+        );
+    }
+}

@@ -1,0 +1,100 @@
+//! The files a transfer run writes, opened from the paths asked for: an MCAP log, a Rerun
+//! recording and a CSV history, each a [`Sink`] writing the temporary file of its target
+//! under the run's output policy ([`grasp_io::OutputSet`]: claimed targets, exclusive
+//! temporary files moved into place on success). Every front end opens its files here.
+
+use std::path::Path;
+
+use grasp_io::{OutputError, OutputSet, PendingOutput};
+
+use crate::error::TransferError;
+use crate::sinks::{CsvSink, McapSink, RerunSink, Sink};
+
+/// The targets asked for (none: no file of that kind).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct OutputPaths<'a> {
+    /// The MCAP log.
+    pub mcap: Option<&'a Path>,
+    /// The Rerun recording (`.rrd`).
+    pub rrd: Option<&'a Path>,
+    /// The CSV force history.
+    pub csv: Option<&'a Path>,
+}
+
+/// Why the files could not be opened.
+#[derive(Debug, thiserror::Error)]
+pub enum OpenError {
+    /// A target refused, or its temporary file not created.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// A sink could not start on its file.
+    #[error(transparent)]
+    Sink(#[from] TransferError),
+}
+
+/// The sinks of the files asked for, each writing its temporary file; the temporary files are
+/// removed when dropped unless taken ([`OutputFiles::take_pending`]) and committed.
+pub struct OutputFiles {
+    mcap: Option<McapSink>,
+    rrd: Option<RerunSink>,
+    csv: Option<CsvSink>,
+    pending: Vec<PendingOutput>,
+}
+
+impl OutputFiles {
+    /// Opens a temporary file for each target of `paths` (claimed in `outputs`), in the order
+    /// MCAP, recording, CSV, and a sink writing it.
+    pub fn open(outputs: &OutputSet, paths: OutputPaths<'_>) -> Result<OutputFiles, OpenError> {
+        let mut files = OutputFiles {
+            mcap: None,
+            rrd: None,
+            csv: None,
+            pending: Vec::new(),
+        };
+        if let Some(t) = paths.mcap {
+            let p = outputs.create(t)?;
+            files.mcap = Some(McapSink::from_file(p.file_handle()?, t)?);
+            files.pending.push(p);
+        }
+        if let Some(t) = paths.rrd {
+            let p = outputs.create(t)?;
+            files.rrd = Some(RerunSink::create_as(&p.write_path(), t)?);
+            files.pending.push(p);
+        }
+        if let Some(t) = paths.csv {
+            let p = outputs.create(t)?;
+            files.csv = Some(CsvSink::from_file(p.file_handle()?, t));
+            files.pending.push(p);
+        }
+        Ok(files)
+    }
+
+    /// The sinks of a run, in the order they are written: MCAP, the recording, `live` (a
+    /// stream to a viewer, when there is one), CSV.
+    pub fn sinks<'a>(&'a mut self, live: Option<&'a mut RerunSink>) -> Vec<&'a mut dyn Sink> {
+        let mut v: Vec<&mut dyn Sink> = Vec::new();
+        if let Some(s) = self.mcap.as_mut() {
+            v.push(s);
+        }
+        if let Some(s) = self.rrd.as_mut() {
+            v.push(s);
+        }
+        if let Some(s) = live {
+            v.push(s);
+        }
+        if let Some(s) = self.csv.as_mut() {
+            v.push(s);
+        }
+        v
+    }
+
+    /// Adds another output of the run (a picture), committed and removed with the files.
+    pub fn add_pending(&mut self, output: PendingOutput) {
+        self.pending.push(output);
+    }
+
+    /// The temporary files, to commit once the run is complete (the sinks finished).
+    pub fn take_pending(&mut self) -> Vec<PendingOutput> {
+        std::mem::take(&mut self.pending)
+    }
+}
