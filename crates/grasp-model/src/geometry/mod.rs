@@ -10,3 +10,4 @@ pub mod shape;
 pub mod shape_spec;
 pub mod surface_point;
 pub mod tessellation;
+pub mod texture_spec;

@@ -160,9 +160,14 @@ pub struct TipSpec {
     /// tangent to the contact and along `t1` or `t2`): curved across the axis, straight along it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cylinder: Option<TipCylinderSpec>,
-    /// A flat pad: `{"size": [a, b]}`, m along `t1`, `t2`; the patch must lie on the pad.
+    /// A flat pad: `{"size": [a, b], "edge_radius": r}`, m along `t1`, `t2`; the patch must
+    /// lie on the pad.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub flat: Option<TipFlatSpec>,
+    /// A round flat pad (a disc, its rim rounded): `{"diameter": D, "edge_radius": r}`, m; the
+    /// patch must lie on the pad.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub disc: Option<TipDiscSpec>,
 }
 
 /// A spherical fingertip.
@@ -183,10 +188,32 @@ pub struct TipCylinderSpec {
     pub axis: Vec3,
 }
 
-/// A flat fingertip pad.
+/// A flat fingertip pad, rectangular, its edges rounded.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TipFlatSpec {
-    /// Pad sides along `t1`, `t2`, m.
+    /// Pad sides along `t1`, `t2`, m (the rounded edges included).
     pub size: [f64; 2],
+    /// Radius of the rounded edges, m (0, the default: sharp edges), at most half the smaller
+    /// side: the flat part is `size - 2 edge_radius`, beyond it the pad falls away along a
+    /// quarter circle of this radius (exact gaps; Ciavarella, Hills and Monno 1998).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub edge_radius: f64,
+}
+
+/// A round flat fingertip pad (a disc), its rim rounded.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TipDiscSpec {
+    /// Diameter, m (the rounded rim included).
+    pub diameter: f64,
+    /// Radius of the rounded rim, m (0, the default: a sharp rim), at most half the
+    /// diameter: the flat part has radius `diameter / 2 - edge_radius`, beyond it the pad
+    /// falls away along a quarter circle of this radius (Ciavarella 1999, axisymmetric).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub edge_radius: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }

@@ -39,6 +39,10 @@ pub struct Scene {
     /// Which contact law resolves the grasp.
     #[serde(default)]
     pub model: ModelKind,
+    /// How every finger's smooth initial gap is computed, unless the finger says otherwise:
+    /// `"exact"` (the default when the object has a shape) or `"quadratic"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gap: Option<crate::geometry::texture_spec::GapSpec>,
     /// What the object's shape gave: derived finger frames, volume, mass, warnings (`None`
     /// without `object.shape`). Not part of the file.
     #[serde(skip)]
@@ -246,6 +250,15 @@ pub struct FingerSpec {
     /// How the finger is driven.
     #[serde(default)]
     pub control: ControlSpec,
+    /// How the smooth initial gap is computed: `"exact"` (from the shapes: the default when
+    /// the object has a shape) or `"quadratic"` (the thesis's form from the curvatures; the
+    /// default, and the only form, without a shape). Overrides the scene's `gap`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gap: Option<crate::geometry::texture_spec::GapSpec>,
+    /// The surfaces' texture under the patch (heights added to the gap): `{"heights": {"file":
+    /// "h.npy", "pixel_m": [dx, dy]}}`, `{"ridges": {...}}` or `{"random": {...}}`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture: Option<crate::geometry::texture_spec::TextureSpec>,
 }
 
 /// Curvature radius of the object at a contact.
