@@ -8,11 +8,13 @@
 use crate::model::grasp_model::GraspModel;
 use crate::program::cone_program::{ConeLaw, ConeProgram};
 use crate::scene::scene_format::Scene;
+use crate::solver::iterate::Iterate;
+use crate::solver::native::native_result::NativeStatus;
+use crate::solver::native::NativeSolver;
 
 use super::linearisation::{cold_pattern, linearise};
 use super::reduced_factor::{key_of, ReducedFactor};
 use super::semismooth_newton::{dual_of, Limits};
-use super::{Iterate, NativeSolver, NativeStatus};
 
 /// Element spacing `h`, m (the pad is `2h x h` with a 2 x 1 grid).
 const H_M: f64 = 1e-3;
@@ -181,3 +183,4 @@ fn a_start_at_the_answer_takes_no_step() {
     assert_eq!(again.iterations, 0);
     assert_eq!(again.iterate, answer);
 }
+
