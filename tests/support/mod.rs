@@ -402,17 +402,33 @@ impl Lcg {
     }
 }
 
-/// The `rerun` CLI of the checker install, or a failing test saying how to get it.
+/// The `rerun` CLI of the checker install (`GRASP_RERUN_CLI`, set by scripts/test.sh), or
+/// `None` when the external checks are skipped knowingly (`GRASP_SKIP_EXTERNAL_CHECKS=1`, not
+/// allowed together with `GRASP_REQUIRE_CHECKERS=1`); a failing test otherwise.
 pub fn rerun_cli() -> Option<std::path::PathBuf> {
     if let Ok(p) = std::env::var("GRASP_RERUN_CLI") {
         return Some(std::path::PathBuf::from(p));
     }
-    if std::env::var("GRASP_SKIP_EXTERNAL_CHECKS").as_deref() == Ok("1") {
+    let require = std::env::var("GRASP_REQUIRE_CHECKERS").as_deref() == Ok("1");
+    if !require && std::env::var("GRASP_SKIP_EXTERNAL_CHECKS").as_deref() == Ok("1") {
         eprintln!("GRASP_SKIP_EXTERNAL_CHECKS=1: external rerun checks skipped");
         return None;
     }
     panic!(
         "GRASP_RERUN_CLI is not set: run the tests with scripts/test.sh (it installs rerun-sdk==0.36.3), \
-         or set GRASP_SKIP_EXTERNAL_CHECKS=1 to skip the external checks knowingly"
+         or set GRASP_SKIP_EXTERNAL_CHECKS=1 (without GRASP_REQUIRE_CHECKERS=1) to skip the \
+         external checks knowingly"
+    );
+}
+
+/// Makes a FIFO (named pipe) at `path` with `mkfifo`, replacing what is there: a test case, never
+/// skipped (a failure here fails the test).
+pub fn fifo(path: &std::path::Path) {
+    let _ = std::fs::remove_file(path);
+    let made = std::process::Command::new("mkfifo").arg(path).status();
+    assert!(
+        made.as_ref().is_ok_and(|s| s.success()),
+        "mkfifo {}: {made:?}",
+        path.display()
     );
 }
