@@ -2,6 +2,9 @@
 //! (`grasp_model::option_names`); Python says the keyword argument instead (`solver=`,
 //! `tolerance=`). Every library text that reaches Python (exception messages, a solution's
 //! reason, warnings and fallback, serialised records) goes through [`in_keywords`].
+//!
+//! Tested from Python (the crate has no Rust test binary): `tests/python/test_option_ranges.py`
+//! checks messages of the library that reach Python naming `tolerance=` and `compliance=`.
 
 use grasp_model::Solution;
 use grasp_model::{
@@ -31,19 +34,5 @@ pub fn respell_solution(solution: &mut Solution) {
     }
     if let Some(f) = solution.solver.fallback.as_mut() {
         *f = in_keywords(f);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn library_names_become_keywords() {
-        let text = format!("`{TOLERANCE}` is 2e-16; set `{SOLVER}` to clarabel");
-        assert_eq!(
-            in_keywords(&text),
-            "`tolerance=` is 2e-16; set `solver=` to clarabel"
-        );
     }
 }
