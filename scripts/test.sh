@@ -2,9 +2,10 @@
 # The project's whole test command (README "Test"; .ci/run calls exactly this).
 # 1. installs the independent checker (Python package rerun-sdk==0.36.3, for `rerun rrd verify`
 #    and `rerun mcap check`) into a cached virtualenv;
-# 2. checks formatting and lints (clippy), builds and tests the workspace in the release profile (the only profile
-#    built, shared with `cargo run --release`; CARGO_TARGET_DIR is honoured), runs the API docs' examples and
-#    builds the docs with warnings denied;
+# 2. checks formatting, ARCHITECTURE.md's generated parts (scripts/architecture.py) and lints (clippy), builds
+#    and tests the workspace in the release profile (the only profile built, shared with `cargo run --release`;
+#    CARGO_TARGET_DIR is honoured; grasp-model's layering is one of its tests), runs the tests that need root
+#    when run as root, runs the API docs' examples and builds the docs with warnings denied;
 # 3. installs the Python package from this checkout with the README's command (`pip install .`, in the
 #    virtualenv; maturin builds in the same target folder and profile) and runs its pytest tests, the Ray
 #    example on a local runtime and the Slurm scripts included.
@@ -15,14 +16,22 @@ bash scripts/install-checkers.sh
 export GRASP_REQUIRE_CHECKERS=1
 export GRASP_RERUN_CLI="${GRASP_RERUN_CLI:-$HOME/.cache/grasp-venv/bin/rerun}"
 cargo fmt --all -- --check
+status=0
+# ARCHITECTURE.md's dependency and file tables are generated: stale (a file added or moved, a first doc line
+# or a Cargo.toml changed) fails here; `python3 scripts/architecture.py --write` regenerates them.
+python3 scripts/architecture.py --check || status=$?
 # Lints of every target (benches included), warnings as errors.
 cargo clippy --release --workspace --all-targets -- -D warnings
 log="$(mktemp)"
 trap 'rm -f "$log"' EXIT
-status=0
 # grasp-py is an extension module (it links against the interpreter that loads it), so it has no Rust test
 # binary: its tests are the pytest suite below.
 cargo test --release --workspace --exclude grasp-py --lib --bins --tests --no-fail-fast -- --show-output 2>&1 | tee "$log" || status=$?
+# Tests ignored because they need root (a tmpfs mounted): run here when the command runs as root, where a
+# mount that fails is a failure, not a skip.
+if [ "$(id -u)" = 0 ]; then
+    cargo test --release --workspace --exclude grasp-py --test outputs -- --ignored --show-output 2>&1 | tee -a "$log" || status=$?
+fi
 # The examples in the API docs run (`cargo test --doc` cannot be mixed with the targets above),
 # and the docs build without a broken link or a warning (release profile: clippy's artifacts).
 cargo test --release --workspace --exclude grasp-py --doc 2>&1 | tee -a "$log" || status=$?

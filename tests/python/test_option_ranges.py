@@ -64,6 +64,20 @@ def test_an_unknown_solver_names_the_keyword():
         grasp.solve(grasp.Scene(EXAMPLES / "cube_a.json"), solver="fast")
 
 
+def test_library_option_names_reach_python_as_keywords(cube_a_dict):
+    """The library names an option as its Rust API spells it (`SolveOptions::compliance`); the
+    module respells every such name as its keyword argument (`keywords.rs`, `in_keywords`). A
+    message from deep in the library, not from the module's own argument checks: Clarabel
+    refusing an FFT compliance too large to write out (40 x 40 elements, 4800 unknowns)."""
+    cube_a_dict["fingers"][0]["patch"]["grid"] = [40, 40]
+    scene = grasp.Scene(cube_a_dict)
+    with pytest.raises(grasp.GraspError) as e:
+        grasp.solve(scene, solver="clarabel", compliance="fft")
+    message = str(e.value)
+    assert "set `compliance=` to dense" in message, message
+    assert "SolveOptions" not in message, message
+
+
 def test_extreme_scene_numbers_are_quoted_in_exponent_form(cube_a_dict):
     for value in (1e308, -1e308, 5e-324):
         for where in ("weight", "youngs_modulus", "poisson_ratio", "size"):

@@ -56,6 +56,87 @@ pub const EXAMPLES: [&str; 5] = [
     "cube_b.json",
 ];
 
+/// The bundled files of `examples/` and `examples/mujoco/` whose names end in `suffix`, as
+/// paths relative to `examples/` (`mujoco/pinch.json`), sorted.
+fn example_files(suffix: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for folder in ["", "mujoco/"] {
+        let dir = std::fs::read_dir(example_path(folder)).expect("the examples folder");
+        for entry in dir {
+            let name = entry.expect("a folder entry").file_name();
+            let name = name.to_string_lossy();
+            if name.ends_with(suffix) {
+                out.push(format!("{folder}{name}"));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Every bundled example scene (`examples/*.json` and `examples/mujoco/*.json`, without the
+/// schedules, MuJoCo material maps and reports), as paths relative to `examples/`.
+pub fn example_scenes() -> Vec<String> {
+    let not_a_scene = [".schedule.json", ".materials.json", ".report.json"];
+    example_files(".json")
+        .into_iter()
+        .filter(|n| !not_a_scene.iter().any(|s| n.ends_with(s)))
+        .collect()
+}
+
+/// Schedules that drive a scene whose name is not a prefix of theirs (README: the coulomb
+/// plate hand-off with a task-induced load).
+const SCHEDULE_SCENES: [(&str, &str); 2] = [
+    ("plate_bump.schedule.json", "plate_handoff_coulomb.json"),
+    ("plate_pull.schedule.json", "plate_handoff_coulomb.json"),
+];
+
+/// Every bundled schedule (`*.schedule.json`, `mujoco/` included) with the scene it drives:
+/// `<name>.json` for `<name>.schedule.json`, else the longest scene name its name starts with
+/// (`cylinder_handoff_viscoelastic_fast` drives `cylinder_handoff_viscoelastic`), else the
+/// scene [`SCHEDULE_SCENES`] names; a schedule with none fails.
+pub fn example_schedules() -> Vec<(String, String)> {
+    let scenes = example_scenes();
+    example_files(".schedule.json")
+        .into_iter()
+        .map(|schedule| {
+            let stem = schedule.trim_end_matches(".schedule.json");
+            let prefix = scenes
+                .iter()
+                .filter(|s| stem.starts_with(s.trim_end_matches(".json")))
+                .max_by_key(|s| s.len());
+            let named = SCHEDULE_SCENES.iter().find(|(s, _)| *s == schedule);
+            let scene = match (prefix, named) {
+                (Some(scene), _) => scene.clone(),
+                (None, Some((_, scene))) => scene.to_string(),
+                (None, None) => panic!("{schedule}: no scene; name it in SCHEDULE_SCENES"),
+            };
+            (scene, schedule)
+        })
+        .collect()
+}
+
+/// A bundled scene (a path relative to `examples/`) read as the CLI reads it, mesh files
+/// resolved in its folder.
+pub fn example_scene(name: &str) -> Scene {
+    grasp_io::scene_file::read_scene_file(std::path::Path::new(&example_path(name)))
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+        .scene
+}
+
+/// A bundled scene and a schedule for it (paths relative to `examples/`), the schedule's CSV
+/// profiles resolved in its folder.
+pub fn scene_and_schedule(scene: &str, schedule: &str) -> (Scene, grasp_transfer::Schedule) {
+    let path = std::path::PathBuf::from(example_path(schedule));
+    let dir = path.parent().expect("a folder");
+    let scene = example_scene(scene);
+    let names: Vec<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let schedule = grasp_transfer::Schedule::from_json_str(&text, &names, dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    (scene, schedule)
+}
+
 /// A bundled hand-off: its scene and its schedule (`<name>.json`, `<name>.schedule.json`).
 pub fn transfer_example(name: &str) -> (Scene, grasp_transfer::Schedule) {
     let dir = std::path::PathBuf::from(example_path(""));
@@ -92,7 +173,12 @@ pub fn solve_with(v: &Value, solver: grasp_model::SolverChoice) -> Solution {
 
 /// Builds and solves a JSON scene with the given options.
 pub fn solve_with_options(v: &Value, options: grasp_model::SolveOptions) -> Solution {
-    let model = GraspModel::from_scene_with(&scene(v), options.compliance).expect("model");
+    solve_scene_with_options(&scene(v), options)
+}
+
+/// Builds and solves a scene with the given options.
+pub fn solve_scene_with_options(scene: &Scene, options: grasp_model::SolveOptions) -> Solution {
+    let model = GraspModel::from_scene_with(scene, options.compliance).expect("model");
     grasp_model::GraspSolver::new(&model, options)
         .solve(&grasp_model::StepInputs::of_scene(&model))
         .expect("solve runs")
@@ -273,13 +359,18 @@ pub fn fixed_point_confirmed(model: &GraspModel, native: &Solution) -> Option<f6
 /// scale or, for the energy model, the native answer shown to be the minimiser (see
 /// [`Agreement`]). Returns the native solution and how it agreed, or why they disagree.
 pub fn native_agrees_with_clarabel(v: &Value) -> Result<(Solution, Agreement, f64), String> {
-    let model = GraspModel::from_scene(&scene(v)).expect("model");
+    native_agrees_with_clarabel_on(&scene(v))
+}
+
+/// [`native_agrees_with_clarabel`] on a scene already read.
+pub fn native_agrees_with_clarabel_on(scene: &Scene) -> Result<(Solution, Agreement, f64), String> {
+    let model = GraspModel::from_scene(scene).expect("model");
     // A sequential (coulomb) answer is a fixed point known to its sequential tolerance; two
     // solvers stopping at neighbouring iterates differ by that much, so both run at
     // SEQUENTIAL_REFERENCE here.
     let sequential_tolerance = SEQUENTIAL_REFERENCE;
-    let native = solve_with_options(
-        v,
+    let native = solve_scene_with_options(
+        scene,
         grasp_model::SolveOptions {
             solver: grasp_model::SolverChoice::Native,
             sequential_tolerance,
@@ -287,8 +378,8 @@ pub fn native_agrees_with_clarabel(v: &Value) -> Result<(Solution, Agreement, f6
             ..grasp_model::SolveOptions::default()
         },
     );
-    let clarabel = solve_with_options(
-        v,
+    let clarabel = solve_scene_with_options(
+        scene,
         grasp_model::SolveOptions {
             solver: grasp_model::SolverChoice::Clarabel,
             tolerance: REFERENCE_TOLERANCE,
@@ -402,17 +493,33 @@ impl Lcg {
     }
 }
 
-/// The `rerun` CLI of the checker install, or a failing test saying how to get it.
+/// The `rerun` CLI of the checker install (`GRASP_RERUN_CLI`, set by scripts/test.sh), or
+/// `None` when the external checks are skipped knowingly (`GRASP_SKIP_EXTERNAL_CHECKS=1`, not
+/// allowed together with `GRASP_REQUIRE_CHECKERS=1`); a failing test otherwise.
 pub fn rerun_cli() -> Option<std::path::PathBuf> {
     if let Ok(p) = std::env::var("GRASP_RERUN_CLI") {
         return Some(std::path::PathBuf::from(p));
     }
-    if std::env::var("GRASP_SKIP_EXTERNAL_CHECKS").as_deref() == Ok("1") {
+    let require = std::env::var("GRASP_REQUIRE_CHECKERS").as_deref() == Ok("1");
+    if !require && std::env::var("GRASP_SKIP_EXTERNAL_CHECKS").as_deref() == Ok("1") {
         eprintln!("GRASP_SKIP_EXTERNAL_CHECKS=1: external rerun checks skipped");
         return None;
     }
     panic!(
         "GRASP_RERUN_CLI is not set: run the tests with scripts/test.sh (it installs rerun-sdk==0.36.3), \
-         or set GRASP_SKIP_EXTERNAL_CHECKS=1 to skip the external checks knowingly"
+         or set GRASP_SKIP_EXTERNAL_CHECKS=1 (without GRASP_REQUIRE_CHECKERS=1) to skip the \
+         external checks knowingly"
+    );
+}
+
+/// Makes a FIFO (named pipe) at `path` with `mkfifo`, replacing what is there: a test case, never
+/// skipped (a failure here fails the test).
+pub fn fifo(path: &std::path::Path) {
+    let _ = std::fs::remove_file(path);
+    let made = std::process::Command::new("mkfifo").arg(path).status();
+    assert!(
+        made.as_ref().is_ok_and(|s| s.success()),
+        "mkfifo {}: {made:?}",
+        path.display()
     );
 }

@@ -251,18 +251,31 @@ fn file_id(path: &Path) -> String {
 pub enum UnparsedScene {
     /// A JSONL line: position, the line, and the folder mesh files are read relative to.
     Line {
+        /// Position in the input (0-based).
         index: usize,
+        /// The line as read.
         line: FileLine,
+        /// The folder its mesh files are read relative to.
         base: PathBuf,
     },
     /// A scene file of a folder (read when parsed).
-    File { index: usize, path: PathBuf },
+    File {
+        /// Position in the input (0-based).
+        index: usize,
+        /// The file.
+        path: PathBuf,
+    },
     /// A sweep variant, already a JSON value.
     Variant {
+        /// Position in the sweep (0-based).
         index: usize,
+        /// The variant's id.
         id: String,
+        /// The values varied in this variant.
         vary: Value,
+        /// The scene with those values set.
         scene: Value,
+        /// The folder its mesh files are read relative to.
         base: PathBuf,
     },
 }

@@ -17,6 +17,8 @@
 //! [`resume`], [`merge`], [`sweep`], [`error`]. No terminal output: progress is reported
 //! through a callback.
 
+#![warn(missing_docs)]
+
 pub mod error;
 pub mod input;
 pub mod input_index;

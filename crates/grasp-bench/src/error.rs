@@ -5,8 +5,18 @@
 pub enum BenchError {
     /// A bundled scene or schedule did not load (a bug in the bundled inputs).
     #[error("bench case {case}: {message}")]
-    Input { case: String, message: String },
+    Input {
+        /// The case's name.
+        case: String,
+        /// What went wrong.
+        message: String,
+    },
     /// The solve or the hand-off failed.
     #[error("bench case {case}: {message}")]
-    Run { case: String, message: String },
+    Run {
+        /// The case's name.
+        case: String,
+        /// What went wrong.
+        message: String,
+    },
 }

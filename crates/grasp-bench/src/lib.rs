@@ -6,6 +6,8 @@
 //! reads the process's resident memory (Linux `/proc`); [`peer`] runs the peer library of
 //! issue 21 (tamaas, through `scripts/peer-hertz.py`) on a Hertz case's grid.
 
+#![warn(missing_docs)]
+
 pub mod case;
 pub mod error;
 pub mod peak_memory;

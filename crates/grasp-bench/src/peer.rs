@@ -67,13 +67,28 @@ pub struct PeerRecord {
 pub enum PeerError {
     /// The case is not a single-finger Hertz case on a square patch.
     #[error("bench case {case}: no peer problem: {message}")]
-    Problem { case: String, message: String },
+    Problem {
+        /// The case's name.
+        case: String,
+        /// Why the case has no peer problem.
+        message: String,
+    },
     /// No such Python, or the peer's package is not installed for it.
     #[error("the peer is not installed for {}: {message}", python.display())]
-    Missing { python: PathBuf, message: String },
+    Missing {
+        /// The Python asked for.
+        python: PathBuf,
+        /// What the attempt to run it said.
+        message: String,
+    },
     /// The peer ran and failed, or printed no record.
     #[error("the peer failed with {}: {message}", python.display())]
-    Failed { python: PathBuf, message: String },
+    Failed {
+        /// The Python that ran the peer.
+        python: PathBuf,
+        /// What it printed, or what was missing from its output.
+        message: String,
+    },
 }
 
 impl PeerProblem {

@@ -52,21 +52,14 @@ fn margin_writes_json_plot_and_recording_and_names_the_smallest() {
     assert!(picture.matches("<rect").count() > dirs.len(), "{picture}");
     assert!(picture.contains("#D62728"), "{picture}");
     // Rerun's own CLI (installed by scripts/test.sh) verifies the recording.
-    match std::env::var("GRASP_RERUN_CLI") {
-        Ok(cli) => {
-            let v = std::process::Command::new(cli)
-                .args(["rrd", "verify"])
-                .arg(&rrd)
-                .env("CI", "1")
-                .output()
-                .expect("run the rerun CLI");
-            assert!(v.status.success(), "rerun rrd verify: {}", text(&v));
-        }
-        Err(_) => assert!(
-            std::env::var("GRASP_SKIP_EXTERNAL_CHECKS").as_deref() == Ok("1"),
-            "GRASP_RERUN_CLI is not set: run the tests with scripts/test.sh, or set \
-             GRASP_SKIP_EXTERNAL_CHECKS=1 to skip the external checks knowingly"
-        ),
+    if let Some(cli) = common::rerun_cli() {
+        let v = std::process::Command::new(cli)
+            .args(["rrd", "verify"])
+            .arg(&rrd)
+            .env("CI", "1")
+            .output()
+            .expect("run the rerun CLI");
+        assert!(v.status.success(), "rerun rrd verify: {}", text(&v));
     }
     // Written files are not overwritten without --force.
     let again = grasp(&[

@@ -18,6 +18,8 @@
 //!
 //! Unix only (device and inode numbers, `O_NOFOLLOW`, `/proc/self/fd`, `flock`).
 
+#![warn(missing_docs)]
+
 pub mod error;
 pub mod input_file;
 pub mod machine_memory;

@@ -115,7 +115,8 @@ mod tests {
         // fail (missing, a folder): the geometry is read all the same.
         let fifo = d.join("pipe.mtl");
         let _ = std::fs::remove_file(&fifo);
-        let _ = std::process::Command::new("mkfifo").arg(&fifo).status();
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        assert!(made.as_ref().is_ok_and(|s| s.success()), "mkfifo: {made:?}");
         for lib in [
             "/dev/zero".to_string(),
             fifo.display().to_string(),

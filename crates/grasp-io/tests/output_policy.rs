@@ -68,13 +68,9 @@ fn targets_that_are_not_regular_files_are_refused_even_with_force() {
     ];
     std::fs::create_dir_all(d.join("sub")).unwrap();
     let fifo = d.join("pipe.csv");
-    if std::process::Command::new("mkfifo")
-        .arg(&fifo)
-        .status()
-        .is_ok_and(|s| s.success())
-    {
-        cases.push((fifo, "a FIFO"));
-    }
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    assert!(made.as_ref().is_ok_and(|s| s.success()), "mkfifo: {made:?}");
+    cases.push((fifo, "a FIFO"));
     for (target, words) in &cases {
         for rules in [KEEP, FORCE] {
             let e = claim(target, &RunInputs::new(), rules).unwrap_err();

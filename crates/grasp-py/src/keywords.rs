@@ -2,6 +2,9 @@
 //! (`grasp_model::option_names`); Python says the keyword argument instead (`solver=`,
 //! `tolerance=`). Every library text that reaches Python (exception messages, a solution's
 //! reason, warnings and fallback, serialised records) goes through [`in_keywords`].
+//!
+//! Tested from Python (the crate has no Rust test binary): `tests/python/test_option_ranges.py`
+//! checks messages of the library that reach Python naming `tolerance=` and `compliance=`.
 
 use grasp_model::Solution;
 use grasp_model::{
@@ -24,18 +27,4 @@ pub fn in_keywords(text: &str) -> String {
 /// The solution's texts (reason, warnings, solver fallback) with keywords for option names.
 pub fn respell_solution(solution: &mut Solution) {
     solution.respell_options(KEYWORDS);
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn library_names_become_keywords() {
-        let text = format!("`{TOLERANCE}` is 2e-16; set `{SOLVER}` to clarabel");
-        assert_eq!(
-            in_keywords(&text),
-            "`tolerance=` is 2e-16; set `solver=` to clarabel"
-        );
-    }
 }

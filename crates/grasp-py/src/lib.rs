@@ -7,6 +7,8 @@
 //! files, returning [`transfer::Transfer`] with force histories, time x finger). The GIL is
 //! released while the library computes. SI units throughout; names carry their unit.
 
+#![warn(missing_docs)]
+
 use pyo3::prelude::*;
 
 mod arrays;

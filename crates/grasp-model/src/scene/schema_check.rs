@@ -375,20 +375,25 @@ mod tests {
         serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
     }
 
+    /// Every scene of `examples/` and `examples/mujoco/` (schedules, MuJoCo material maps and
+    /// reports are not scenes), found by listing the folders.
     #[test]
     fn every_bundled_example_fits_the_schema() {
-        for name in [
-            "cube_a.json",
-            "plate_four_fingers.json",
-            "plate_transfer.json",
-            "hertz_sphere_on_flat.json",
-            "box_pinch.json",
-            "mug_power_grasp.json",
-            "plate_handoff_coulomb.json",
-        ] {
-            let p = structural_problems(&example(name), &scene_schema());
-            assert!(p.is_empty(), "{name}: {p:?}");
+        let not_a_scene = [".schedule.json", ".materials.json", ".report.json"];
+        let mut checked = 0;
+        for folder in ["", "mujoco/"] {
+            let dir = format!("{}/../../examples/{folder}", env!("CARGO_MANIFEST_DIR"));
+            for entry in std::fs::read_dir(dir).unwrap() {
+                let name = format!("{folder}{}", entry.unwrap().file_name().to_string_lossy());
+                if !name.ends_with(".json") || not_a_scene.iter().any(|s| name.ends_with(s)) {
+                    continue;
+                }
+                let p = structural_problems(&example(&name), &scene_schema());
+                assert!(p.is_empty(), "{name}: {p:?}");
+                checked += 1;
+            }
         }
+        assert!(checked >= 20, "{checked} scenes");
     }
 
     #[test]

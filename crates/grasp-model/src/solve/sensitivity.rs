@@ -1,7 +1,7 @@
 //! Sensitivities of a solved grasp (issue 13): the derivatives of every finger's normal and
 //! friction force, and of every element's force, with respect to an extra wrench on the
 //! object and to each force-controlled finger's commanded load, from the KKT system at the
-//! solution's active set (`solver::native::kkt_derivative`), not from finite differences.
+//! solution's active set (`solver::native::newton::kkt_derivative`), not from finite differences.
 //!
 //! Parameters (the columns), all in SI:
 //! - a force at the centre of mass along a world axis (3-D: `x`, `y`, `z`; planar: the plane's
@@ -26,7 +26,7 @@ use crate::model::equilibrium::MotionPlane;
 use crate::model::grasp_model::GraspModel;
 use crate::program::cone_program::{BlockCone, LoadRow};
 use crate::solve::solution::Solution;
-use crate::solver::native::kkt_derivative::kkt_derivative;
+use crate::solver::native::newton::kkt_derivative::kkt_derivative;
 use crate::solver::program_solver::ProgramSolver;
 
 /// A parameter's wrench direction is unresisted when its part outside the span of the contact
@@ -351,7 +351,7 @@ fn finger_sensitivity(
 
 fn near_changes(
     model: &GraspModel,
-    margins: &[Vec<crate::solver::native::kkt_derivative::StateMargin>],
+    margins: &[Vec<crate::solver::native::newton::kkt_derivative::StateMargin>],
     scale: f64,
 ) -> Vec<NearChange> {
     let mut out = Vec::new();

@@ -33,7 +33,7 @@ use crate::solve::residuals::{FrictionRule, SolvedWith};
 use crate::solve::solution::{
     SequentialReport, Solution, SolveStatus, SolverStats, LOADED_FRACTION,
 };
-use crate::solver::native::Iterate;
+use crate::solver::iterate::Iterate;
 use crate::solver::options::SolveOptions;
 use crate::solver::outcome::{Certificate, ConvexOutcome, Start};
 use crate::solver::predictor::{affine_coefficients, combine};

@@ -1,8 +1,10 @@
-//! Solvers of one convex program: the options of a solve, the solver-neutral outcome, the
-//! program with its workspaces (`program_solver`), Clarabel (the reference), the native
-//! semismooth Newton solver (`native`), and the warm start's prediction (`predictor`).
+//! Solvers of one convex program: the options of a solve, the solver-neutral outcome and the
+//! point of a solution (`iterate`), the program with its workspaces (`program_solver`),
+//! Clarabel (the reference), the native semismooth Newton solver (`native`), and the warm
+//! start's prediction (`predictor`).
 
 pub mod clarabel;
+pub(crate) mod iterate;
 pub(crate) mod native;
 pub mod options;
 pub mod outcome;

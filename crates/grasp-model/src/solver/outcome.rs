@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::solver::native::Iterate;
+use crate::solver::iterate::Iterate;
 
 /// Largest number of Newton steps of one native solve.
 pub const MAX_NEWTON_ITERATIONS: u32 = 60;

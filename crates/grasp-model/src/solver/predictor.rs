@@ -17,7 +17,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use crate::program::cone_program::{BlockCone, ConeProgram};
-use crate::solver::native::Iterate;
+use crate::solver::iterate::Iterate;
 
 /// Largest departure of the new data from the remembered points' affine hull (relative to the
 /// data's change) for which a prediction is made: round-off of the schedule's arithmetic.

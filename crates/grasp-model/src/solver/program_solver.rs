@@ -16,8 +16,10 @@ use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
 use crate::option_names;
 use crate::program::cone_program::ConeProgram;
-use crate::solver::native::semismooth_newton::Limits;
-use crate::solver::native::{Iterate, NativeResult, NativeSolver, NativeStatus};
+use crate::solver::iterate::Iterate;
+use crate::solver::native::native_result::{NativeResult, NativeStatus};
+use crate::solver::native::newton::semismooth_newton::Limits;
+use crate::solver::native::NativeSolver;
 use crate::solver::options::{SolveOptions, SolverChoice};
 
 use crate::solver::clarabel::{self, ClarabelWorkspace};

@@ -16,7 +16,7 @@ use crate::model::patch_compliance::{PatchCompliance, MATERIALISED_UNKNOWNS};
 
 use crate::program::cone_program::{BlockCone, FingerBlock};
 
-use super::element_cone::ElementCone;
+use super::cones::element_cone::ElementCone;
 
 /// One finger's constant data.
 #[derive(Debug, Clone)]
@@ -37,9 +37,9 @@ pub(crate) struct FingerBlockData {
     /// Step of the natural residual `x - Proj(x - gamma y)`: `1 / ||P_i||_inf` (the largest
     /// absolute row sum, Gershgorin's bound on the largest eigenvalue `L` of `P_i`), so that
     /// `gamma y` is a force like `x` and `gamma <= 1 / L`, which makes the forward-backward
-    /// envelope of the finger's problem convex and smooth ([`super::inner_problem`]).
+    /// envelope of the finger's problem convex and smooth.
     pub gamma: f64,
-    /// Per element: in contact at a cold start ([`super::cold_start`]).
+    /// Per element: in contact at a cold start ([`crate::solver::native::newton::cold_start`]).
     pub cold_contact: Vec<bool>,
 }
 
@@ -84,7 +84,7 @@ impl FingerBlockData {
     }
 
     /// True when `C_i` is the FFT operator (reduced systems are solved by conjugate
-    /// gradients, [`super::reduced_iterative`]).
+    /// gradients, [`crate::solver::native::newton::reduced_iterative`]).
     pub fn is_fft(&self) -> bool {
         self.c.is_fft()
     }

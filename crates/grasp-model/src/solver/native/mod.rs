@@ -5,104 +5,45 @@
 //! cached while the stick / slip / separation pattern stays the same) and solves an `m x m`
 //! Schur complement. It accepts a starting point (the previous step's or iterate's forces and
 //! multipliers), so a hand-off step whose contact sets do not change costs one step and no
-//! factorisation.
+//! factorisation. Where the Newton iteration stalls, a primal-dual interior-point method takes
+//! over and the Newton method polishes its answer.
 //!
-//! Files: [`element_cone`] with one file per cone ([`cone_nonnegative`], [`cone_friction`],
-//! [`cone_tresca`]); [`finger_block`] (the fixed data); [`linearisation`] (residual and Newton
-//! directions); [`reduced_factor`] (reduced matrix and factorisation); [`newton_step`];
-//! [`semismooth_newton`] (the iteration).
+//! Files, layered: `cones/` at the bottom, then the shared files here, then `interior/`, then
+//! `newton/` (whose iteration hands over to the interior point), then this entry.
+//!
+//! - this file: [`NativeSolver`], the entry (the fingers' fixed blocks and their factor caches);
+//! - [`native_result`]: how a native solve ended (status, last iterate, work counted);
+//! - [`finger_block`]: one finger's fixed data (compliance block, equality columns, cones);
+//! - [`dense_cholesky`]: the in-place Cholesky shared by both methods;
+//! - [`cones`]: an element's constraint set and its projection with a generalised Jacobian:
+//!   [`cones::element_cone`], [`cones::projection`], one file per cone
+//!   ([`cones::cone_nonnegative`], [`cones::cone_friction`], [`cones::cone_tresca`]);
+//! - [`newton`]: the semismooth Newton method: [`newton::cold_start`] (which elements start in
+//!   contact), [`newton::linearisation`] (residual and Newton directions),
+//!   [`newton::reduced_system`] over [`newton::reduced_factor`] (dense, factorised) and
+//!   [`newton::reduced_iterative`] (FFT operator, conjugate gradients, with
+//!   [`newton::free_operator`]), [`newton::newton_step`] and [`newton::projected_step`] (one
+//!   step), [`newton::semismooth_newton`] (the iteration), [`newton::kkt_derivative`] (the
+//!   solution's derivative at its active set), and the unit tests `newton_tests`;
+//! - [`interior`]: the interior-point fallback: [`interior::interior_cones`],
+//!   [`interior::conic_rows`], [`interior::interior_point`].
 
-pub(crate) mod cold_start;
-pub(crate) mod cone_friction;
-pub(crate) mod cone_nonnegative;
-pub(crate) mod cone_tresca;
-pub(crate) mod conic_rows;
-pub(crate) mod element_cone;
+pub(crate) mod cones;
+pub(crate) mod dense_cholesky;
 pub(crate) mod finger_block;
-pub(crate) mod free_operator;
-pub(crate) mod interior_cones;
-pub(crate) mod interior_point;
-pub(crate) mod kkt_derivative;
-pub(crate) mod linearisation;
-pub(crate) mod newton_step;
-pub(crate) mod projected_step;
-pub(crate) mod projection;
-pub(crate) mod reduced_factor;
-pub(crate) mod reduced_iterative;
-pub(crate) mod reduced_system;
-pub(crate) mod semismooth_newton;
-
-#[cfg(test)]
-mod newton_tests;
+pub(crate) mod interior;
+pub(crate) mod native_result;
+pub(crate) mod newton;
 
 use crate::model::grasp_model::GraspModel;
 use crate::program::cone_program::ConeProgram;
+use crate::solver::iterate::Iterate;
 
 use finger_block::FingerBlockData;
-use newton_step::FactorCache;
-use semismooth_newton::Limits;
-
-/// A point of the iteration, scaled: forces `x` and equality multipliers `lambda`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Iterate {
-    /// Scaled forces (program layout).
-    pub x: Vec<f64>,
-    /// Scaled equality multipliers (equilibrium rows, then load rows).
-    pub lambda: Vec<f64>,
-}
-
-/// How a native solve ended.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) enum NativeStatus {
-    /// The KKT conditions hold to the tolerance.
-    Converged,
-    /// No convergence: why.
-    Stalled(String),
-}
-
-/// The result of a native solve.
-#[derive(Debug, Clone)]
-pub(crate) struct NativeResult {
-    pub status: NativeStatus,
-    /// The last iterate (the solution when converged).
-    pub iterate: Iterate,
-    /// Newton steps taken.
-    pub iterations: u32,
-    /// Reduced matrices factorised (or, for the FFT operator, reduced systems prepared).
-    pub factorisations: u32,
-    /// Conjugate-gradient iterations of the reduced systems (the FFT operator's path).
-    pub inner_iterations: u32,
-}
-
-impl NativeResult {
-    /// The result `status` at `(x, lambda)` after the work `counts`.
-    pub(crate) fn after(
-        status: NativeStatus,
-        x: Vec<f64>,
-        lambda: Vec<f64>,
-        counts: Counts,
-    ) -> Self {
-        NativeResult {
-            status,
-            iterate: Iterate { x, lambda },
-            iterations: counts.newton_steps,
-            factorisations: counts.factorisations,
-            inner_iterations: counts.inner_iterations,
-        }
-    }
-}
-
-/// The work of a solve so far, carried from the Newton iteration to the interior-point method
-/// and back.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub(crate) struct Counts {
-    /// Newton steps taken (interior-point iterations included).
-    pub newton_steps: u32,
-    /// Reduced matrices factorised (or, for the FFT operator, reduced systems prepared).
-    pub factorisations: u32,
-    /// Conjugate-gradient iterations of the reduced systems (the FFT operator's path).
-    pub inner_iterations: u32,
-}
+use native_result::NativeResult;
+use newton::cold_start;
+use newton::newton_step::FactorCache;
+use newton::semismooth_newton::{self, Limits};
 
 /// The native solver's workspace for one program: the fingers' fixed blocks and their cached
 /// factors.

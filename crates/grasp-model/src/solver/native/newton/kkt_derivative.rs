@@ -5,8 +5,8 @@
 //!
 //! At a KKT point the natural residual `Phi_k = x_k - Proj_{K_k}(x_k - gamma y_k)` vanishes
 //! ([`super::linearisation`]). Differentiating it with the projection's Jacobian
-//! `sum_j theta_j d_j d_j'` ([`super::element_cone`]) gives, per direction `d_j` of element `k`
-//! and with `dy = P dx + E' dlambda` (`q` does not change):
+//! `sum_j theta_j d_j d_j'` ([`crate::solver::native::cones::element_cone`]) gives, per
+//! direction `d_j` of element `k` and with `dy = P dx + E' dlambda` (`q` does not change):
 //!
 //! - `theta_j = 0` (separated, or the cone normal of a sliding element): `d_j . dx_k = dr_j`,
 //!   where `dr_j` is the change of the set itself: 0, except the radial direction of a sliding
@@ -28,11 +28,11 @@ use faer::Mat;
 use nalgebra::DMatrix;
 
 use crate::program::cone_program::{BlockCone, ConeProgram};
+use crate::solver::iterate::Iterate;
+use crate::solver::native::finger_block::FingerBlockData;
 
-use super::finger_block::FingerBlockData;
 use super::linearisation::{linearise, projection_input, Direction, FingerLinearisation};
 use super::semismooth_newton::dual_of;
-use super::Iterate;
 
 /// Relative singular value below which a direction of the Schur complement counts as not
 /// producible by the active set.

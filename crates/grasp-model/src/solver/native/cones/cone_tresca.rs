@@ -34,7 +34,7 @@ pub(crate) fn project_tresca(radius: f64, v: [f64; 3], d: usize) -> Projection {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::native::projection::assert_jacobian_matches_differences;
+    use crate::solver::native::cones::projection::assert_jacobian_matches_differences;
 
     #[test]
     fn jacobian_matches_finite_differences() {

@@ -1,5 +1,5 @@
 //! The constraint set of one element and its projection, the building block of the
-//! semismooth Newton method ([`super::semismooth_newton`]).
+//! semismooth Newton method ([`crate::solver::native::newton::semismooth_newton`]).
 //!
 //! For an element with `d` unknowns (`d = 1 + n_tangential`: `(F)`, `(F, G)` or `(F, G1, G2)`,
 //! scaled by the element force unit) the projection `pi = Proj_K(v)` onto its set `K` is

@@ -10,12 +10,14 @@
 //! Converged when `max |Phi| <= tol max(1, max |x|)` and `max |E x - e| <= tol max(1, max |e|)`.
 
 use crate::program::cone_program::ConeProgram;
+use crate::solver::iterate::Iterate;
+use crate::solver::native::finger_block::FingerBlockData;
+use crate::solver::native::interior::interior_point;
+use crate::solver::native::native_result::{Counts, NativeResult, NativeStatus};
 
-use super::finger_block::FingerBlockData;
 use super::linearisation::{cold_pattern, linearise, residual_norms, FingerLinearisation};
 use super::newton_step::{chord_linearisations, newton_step, FactorCache, Step};
 use super::projected_step::projected_step;
-use super::{Counts, Iterate, NativeResult, NativeStatus};
 
 /// Armijo constant of the line search.
 const ARMIJO: f64 = 1e-4;
@@ -445,7 +447,7 @@ fn robust(
              unknowns)",
         );
     }
-    let ipm = super::interior_point::run(blocks, program, limits.tolerance, counts);
+    let ipm = interior_point::run(blocks, program, limits.tolerance, counts);
     let ipm_counts = Counts {
         newton_steps: ipm.iterations,
         factorisations: ipm.factorisations,

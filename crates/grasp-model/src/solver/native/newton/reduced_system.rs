@@ -6,7 +6,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::finger_block::FingerBlockData;
+use crate::solver::native::finger_block::FingerBlockData;
+
 use super::linearisation::Direction;
 use super::reduced_factor::ReducedFactor;
 use super::reduced_iterative::ReducedIterative;

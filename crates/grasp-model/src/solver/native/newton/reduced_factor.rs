@@ -14,14 +14,14 @@
 //! reused while they stay the same (a hand-off step whose stick, slip and separation sets do
 //! not change, or a quiescent iterate, costs no factorisation).
 
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
 use faer::{Mat, MatMut, Par};
 
-use super::finger_block::FingerBlockData;
+use crate::solver::native::dense_cholesky::cholesky;
+use crate::solver::native::finger_block::FingerBlockData;
+
 use super::linearisation::Direction;
 
 /// A factorised reduced matrix.
@@ -113,24 +113,6 @@ impl ReducedFactor {
             Par::Seq,
         );
     }
-}
-
-/// In-place lower Cholesky; false on a non-positive pivot.
-pub(crate) fn cholesky(a: MatMut<'_, f64>) -> bool {
-    let n = a.nrows();
-    let mut mem = MemBuffer::new(cholesky_in_place_scratch::<f64>(
-        n,
-        Par::Seq,
-        Default::default(),
-    ));
-    cholesky_in_place(
-        a,
-        Default::default(),
-        Par::Seq,
-        MemStack::new(&mut mem),
-        Default::default(),
-    )
-    .is_ok()
 }
 
 /// The nonzero components `(local index, coefficient)` of a direction.

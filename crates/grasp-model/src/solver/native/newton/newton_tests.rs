@@ -8,11 +8,13 @@
 use crate::model::grasp_model::GraspModel;
 use crate::program::cone_program::{ConeLaw, ConeProgram};
 use crate::scene::scene_format::Scene;
+use crate::solver::iterate::Iterate;
+use crate::solver::native::native_result::NativeStatus;
+use crate::solver::native::NativeSolver;
 
 use super::linearisation::{cold_pattern, linearise};
 use super::reduced_factor::{key_of, ReducedFactor};
 use super::semismooth_newton::{dual_of, Limits};
-use super::{Iterate, NativeSolver, NativeStatus};
 
 /// Element spacing `h`, m (the pad is `2h x h` with a 2 x 1 grid).
 const H_M: f64 = 1e-3;
@@ -180,4 +182,83 @@ fn a_start_at_the_answer_takes_no_step() {
     assert_eq!(again.status, NativeStatus::Converged);
     assert_eq!(again.iterations, 0);
     assert_eq!(again.iterate, answer);
+}
+
+/// Coefficient of friction of the rough pad.
+const MU: f64 = 0.2;
+
+/// The pad with friction `MU`, the same material on both sides (no normal/tangential coupling)
+/// and the centre of mass at `(com_x_m, 0, 0)` on the contact plane, under gravity tilted by
+/// `tilt` (sine of its angle from `-z`) towards `-x`.
+fn rough_pad(com_x_m: f64, tilt: f64) -> GraspModel {
+    let (gx, gz) = (-tilt, -(1.0 - tilt * tilt).sqrt());
+    let text = format!(
+        r#"{{
+        "planar": null,
+        "object": {{"weight": {WEIGHT_N}, "center_of_mass": [{com_x_m}, 0, 0],
+                    "gravity": [{gx}, 0, {gz}],
+                    "material": {{"youngs_modulus": 2e11, "poisson_ratio": 0.3}}}},
+        "fingers": [{{"name": "pad", "contact_point": [0, 0, 0], "normal": [0, 0, 1],
+                     "tangent": [1, 0, 0],
+                     "material": {{"youngs_modulus": 2e11, "poisson_ratio": 0.3}},
+                     "tip_radius": null, "object_radius": null,
+                     "patch": {{"size": [{}, {H_M}], "grid": [2, 1]}},
+                     "friction": {{"mu": {MU}}}, "control": "held"}}],
+        "model": "energy"
+    }}"#,
+        2.0 * H_M
+    );
+    let scene = Scene::from_json_str(&text).expect("a valid scene");
+    GraspModel::from_scene(&scene).expect("a usable model")
+}
+
+/// A frictional pad with one element slipping and one sticking, against its known answer.
+///
+/// With the centre of mass on the contact plane at `x = c`, the tangential load makes no moment
+/// about the pad, so statics alone still fix the normal forces: `F_left, F_right =
+/// W_n (1/2 -+ c/h)` (`W_n` the weight's normal part). The tangential load `Q` (the weight's
+/// part along `x`) is shared: sticking, both elements move with the rigid object, and with the
+/// same material on both sides (no normal/tangential coupling) the two identical elements'
+/// tangential compliance is symmetric, so each would carry `Q/2`. With `c = 0.3 h`, a tilt of
+/// 0.1 and `mu = 0.2`, the left element's cone (`mu F_left = 0.0398 W`) is smaller than
+/// `Q/2 = 0.05 W`: it slips at its cone, `|G_left| = mu F_left`, and the right element sticks
+/// inside its own (`Q - mu F_left = 0.060 W < mu F_right = 0.159 W`). Forces to `1e-12` of the
+/// weight: once the stick / slip pattern is found, a Newton step solves the linear KKT system
+/// of that pattern exactly up to round-off (a 6 x 6 system of order-1 scaled entries), and the
+/// solve stops at a natural residual of `1e-12`.
+#[test]
+fn a_rough_pad_slips_on_its_lighter_element_and_sticks_on_the_other() {
+    let (c, tilt) = (0.3 * H_M, 0.1);
+    let model = rough_pad(c, tilt);
+    let program = program_of(&model);
+    let mut native = NativeSolver::new(&model, &program);
+    let limits = Limits {
+        tolerance: 1e-12,
+        max_iterations: 30,
+    };
+    let result = native.solve(&program, &[], limits);
+    assert_eq!(result.status, NativeStatus::Converged);
+    let block = &native.blocks()[0];
+    let fu = model.scales.element_force_n;
+    let force = |k: usize, c: usize| result.iterate.x[block.offset + block.index(k, c)] * fu;
+    let normal = WEIGHT_N * (1.0 - tilt * tilt).sqrt();
+    let load = WEIGHT_N * tilt;
+    let f_left = normal * (0.5 - c / H_M);
+    let f_right = normal * (0.5 + c / H_M);
+    // The object pushes the pad towards -x, so the pad's friction on it points along +x.
+    let want = [
+        [f_left, MU * f_left, 0.0],
+        [f_right, load - MU * f_left, 0.0],
+    ];
+    for (k, want_k) in want.iter().enumerate() {
+        for (c, &w) in want_k.iter().enumerate() {
+            let got = force(k, c);
+            assert!(
+                (got - w).abs() < 1e-12 * WEIGHT_N,
+                "element {k}, component {c}: {got} vs {w}"
+            );
+        }
+    }
+    // The pattern: the right element well inside its cone (the left one is on it, above).
+    assert!(force(1, 1) < 0.5 * MU * force(1, 0));
 }

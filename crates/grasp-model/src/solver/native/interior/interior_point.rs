@@ -28,12 +28,12 @@ use faer::{Mat, Par};
 use nalgebra::{DMatrix, DVector};
 
 use crate::program::cone_program::ConeProgram;
+use crate::solver::native::dense_cholesky::cholesky;
+use crate::solver::native::finger_block::FingerBlockData;
+use crate::solver::native::native_result::{Counts, NativeResult, NativeStatus};
 
 use super::conic_rows::ElementRows;
-use super::finger_block::FingerBlockData;
 use super::interior_cones::{Cone, Scaling};
-use super::reduced_factor::cholesky;
-use super::{Counts, NativeResult, NativeStatus};
 
 /// Interior-point iterations before giving up.
 const MAX_ITERATIONS: u32 = 100;

@@ -22,12 +22,13 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::finger_block::FingerBlockData;
+use crate::solver::native::finger_block::FingerBlockData;
+use crate::solver::native::native_result::Counts;
+
 use super::free_operator::FreeOperator;
 use super::linearisation::FingerLinearisation;
 use super::newton_step::{finish_finger, fixed_part, FingerHalf, Step, SCHUR_CUTOFF};
 use super::reduced_iterative::{CG_ACCEPTABLE, CG_ITERATIONS_PER_ROOT, CG_TOLERANCE};
-use super::Counts;
 
 /// One vector per finger (its free directions).
 type Split = Vec<Vec<f64>>;

@@ -47,7 +47,7 @@ pub(crate) fn project_friction(mu: f64, v: [f64; 3], d: usize) -> Projection {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::native::projection::assert_jacobian_matches_differences;
+    use crate::solver::native::cones::projection::assert_jacobian_matches_differences;
 
     fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
         a.iter().zip(b).map(|(x, y)| x * y).sum()

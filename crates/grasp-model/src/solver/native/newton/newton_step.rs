@@ -16,11 +16,12 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::finger_block::FingerBlockData;
+use crate::solver::native::finger_block::FingerBlockData;
+use crate::solver::native::native_result::Counts;
+
 use super::linearisation::FingerLinearisation;
 use super::reduced_factor::key_of;
 use super::reduced_system::ReducedSystem;
-use super::Counts;
 
 /// Relative eigenvalue threshold of the Schur complement.
 pub(crate) const SCHUR_CUTOFF: f64 = 1e-12;

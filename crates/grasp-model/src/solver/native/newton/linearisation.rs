@@ -9,8 +9,9 @@
 //! ```
 //!
 //! vanishes for every element (and `E x = e`), for any `gamma > 0`. With the Jacobian of the
-//! projection written `sum_j theta_j d_j d_j'` ([`super::element_cone`]), each direction `d_j`
-//! of element `k` contributes one Newton row, in the rotated unknown `xi_j = d_j . dx_k`:
+//! projection written `sum_j theta_j d_j d_j'` ([`crate::solver::native::cones::element_cone`]),
+//! each direction `d_j` of element `k` contributes one Newton row, in the rotated unknown
+//! `xi_j = d_j . dx_k`:
 //!
 //! - `theta_j = 0` (fixed: separation, or the cone normal of a sliding element): `xi_j = -phi_j`;
 //! - `theta_j > 0` (free): `d_j . (P dx + E' dlambda)_k + beta_j xi_j = -phi_j / (gamma theta_j)`,
@@ -20,8 +21,7 @@
 //! ([`super::reduced_factor`]).
 
 use crate::program::cone_program::BlockCone;
-
-use super::finger_block::FingerBlockData;
+use crate::solver::native::finger_block::FingerBlockData;
 
 /// One Jacobian direction of one element.
 #[derive(Debug, Clone, Copy, PartialEq)]

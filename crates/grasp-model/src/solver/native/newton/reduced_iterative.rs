@@ -17,7 +17,8 @@
 
 use nalgebra::DMatrix;
 
-use super::finger_block::FingerBlockData;
+use crate::solver::native::finger_block::FingerBlockData;
+
 use super::free_operator::FreeOperator;
 use super::linearisation::Direction;
 

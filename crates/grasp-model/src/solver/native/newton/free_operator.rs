@@ -19,7 +19,8 @@
 //! `P` dominates `M`'s diagonal; on those where `beta` does (nearly sliding ones), `M`'s
 //! diagonal. Both parts are symmetric positive definite, so the preconditioner is.
 
-use super::finger_block::FingerBlockData;
+use crate::solver::native::finger_block::FingerBlockData;
+
 use super::linearisation::Direction;
 
 /// `M` and its preconditioner for one finger's free directions.
