@@ -149,7 +149,9 @@ fn clarabel_takes(scene: &grasp_model::Scene) -> bool {
         max_iterations: 1,
         ..grasp_model::SolveOptions::default()
     };
-    match grasp_model::GraspSolver::new(&model, options).solve(&model, &model.scene_loads_n()) {
+    match grasp_model::GraspSolver::new(&model, options)
+        .solve(&grasp_model::StepInputs::of_scene(&model))
+    {
         Ok(_) => true,
         Err(e) => {
             assert!(e.to_string().contains("too large to write out"), "{e}");
