@@ -326,7 +326,7 @@ pub(crate) fn build_solution(
         .collect();
     for (i, (f, fs)) in model.fingers.iter().zip(fingers.iter_mut()).enumerate() {
         if f.viscous.is_some() {
-            set_viscous_displacement(f, &program.offset_m, approach[i], fs);
+            set_viscous_displacement(f, &program.offset_m, program.approach_m[i], fs);
         }
     }
     let t_com = t_o + theta.cross(&(model.center_of_mass_m() - model.reference_point_m));
