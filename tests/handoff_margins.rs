@@ -132,6 +132,59 @@ fn the_least_safe_step_is_the_smallest_margin_and_the_log_carries_it() {
     assert_eq!(msg.smallest_margin_n, Some(least.margin_n));
 }
 
+/// A step's margin is the margin of that step's grasp under that step's own loads: on the
+/// plate hand-off solved with the energy model (no path dependence: a fresh contact state
+/// gives the same grasp), every 12th step's smallest margin equals `disturbance_margins` of
+/// the scene's model restricted to the step's active fingers, each driven as commanded, to
+/// 2e-3 of the load scale (twice the bisection's relative tolerance: both searches stop within
+/// 1e-3 of the same bracket). Reusing a step's program at later steps once made the margins
+/// read the loads the program was built with: the ramped pads kept their first squeeze.
+#[test]
+fn a_steps_margin_is_its_grasps_margin_under_its_own_loads() {
+    let (mut scene, mut schedule) = support::transfer_example("plate_handoff_coulomb");
+    scene.model = grasp_model::ModelKind::Energy;
+    schedule.times = schedule.times.iter().copied().step_by(12).collect();
+    let options = TransferOptions {
+        margins: true,
+        ..TransferOptions::default()
+    };
+    let records: Vec<_> = Stepper::new(&scene, &schedule, options)
+        .map(|r| r.unwrap())
+        .collect();
+    let base = GraspModel::from_scene(&scene).unwrap();
+    let mut checked = 0;
+    for r in records.iter().filter(|r| r.solution.status.has_forces()) {
+        let active: Vec<(usize, grasp_model::Control)> = r
+            .commands
+            .iter()
+            .enumerate()
+            .filter_map(|(i, c)| c.command.control().map(|control| (i, control)))
+            .collect();
+        let model = base.restricted(&active).unwrap();
+        let dirs = grasp_model::axis_directions(&model);
+        let fresh = disturbance_margins(
+            &model,
+            &grasp_model::StepInputs::of_scene(&model),
+            &ContactState::new(&model),
+            SolveOptions::default(),
+            &dirs,
+            &MarginOptions::default(),
+        )
+        .unwrap();
+        let expected = fresh.directions[fresh.smallest].margin_n;
+        let got = r.margin.as_ref().unwrap().smallest_n;
+        let scale = fresh.load_scale_n;
+        assert!(
+            (got - expected).abs() <= 2e-3 * scale,
+            "step {} (t = {} s): margin {got} N, its grasp's {expected} N",
+            r.index,
+            r.time_s
+        );
+        checked += 1;
+    }
+    assert!(checked >= 8, "{checked} steps checked");
+}
+
 /// The plate of the coulomb hand-off with all four pads loaded (mid-transfer).
 fn plate(loads: [f64; 4]) -> serde_json::Value {
     let mut v = example_json("plate_handoff_coulomb.json");
