@@ -75,7 +75,13 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
                 f.friction_utilization,
                 f.contact_area_m2,
                 f.peak_pressure_pa,
-                format!("{}/{}/{}", f.stick_count, f.slip_count, f.separated_count)
+                match f.off_surface_count {
+                    0 => format!("{}/{}/{}", f.stick_count, f.slip_count, f.separated_count),
+                    off => format!(
+                        "{}/{}/{} +{off} off",
+                        f.stick_count, f.slip_count, f.separated_count
+                    ),
+                }
             );
         }
         if let Some(d) = &sol.rigid_displacement {
@@ -277,13 +283,39 @@ pub fn frames_table(r: &grasp_model::ShapeReport) -> String {
     o
 }
 
-/// Per curved contact, the Hertz estimate and the patch it suggests (`--explain-frames`), at
-/// the finger's commanded load, or the object's weight for a held finger.
+/// A finger's initial gaps: how they are computed, their range and largest slope over the
+/// elements facing a surface, and how many face none.
+fn gap_line(name: &str, m: &grasp_model::FingerModel) -> String {
+    let kind = match m.has_exact_gaps() {
+        true => "exact (from the shapes)",
+        false => "quadratic (the thesis's form from the radii)",
+    };
+    let patch = m.patch();
+    let off = patch.off_surface_count();
+    let range = match patch.gap_range() {
+        Some(([lo, hi], slope)) => format!(
+            "from {:.4} to {:.4} mm, largest slope {slope:.3} ({:.1} degrees)",
+            1e3 * lo,
+            1e3 * hi,
+            slope.atan().to_degrees()
+        ),
+        None => "none: no element faces a surface".into(),
+    };
+    format!(
+        "finger {name}: gaps {kind}: {range}; {off} of {} elements face no surface",
+        patch.len()
+    )
+}
+
+/// Per finger, its initial gaps, and per curved contact the Hertz estimate and the patch it
+/// suggests (`--explain-frames`), at the finger's commanded load, or the object's weight for a
+/// held finger.
 pub fn hertz_table(scene: &grasp_model::Scene) -> anyhow::Result<String> {
     let model = grasp_model::GraspModel::from_scene(scene)?;
     let mut o = String::new();
     let mm = |x: f64| format!("{:.3}", 1e3 * x);
     for (f, m) in scene.fingers.iter().zip(model.fingers()) {
+        let _ = writeln!(o, "{}", gap_line(&f.name, m));
         let (load, which) = match f.control.normal_load_n() {
             Some(p) => (p, "its commanded load"),
             None => (scene.object.weight, "the object's weight"),

@@ -135,8 +135,10 @@ pub use model::equilibrium::{MotionPlane, Wrench};
 pub use model::grasp_model::{
     object_curvatures_per_m, tip_curvatures_per_m, Control, FingerModel, GraspModel, Scales,
 };
+pub use model::influence::GridSpec;
 pub use model::layer_green_function::forget_radial_functions;
 pub use model::material::Material;
+pub use model::patch::Patch;
 pub use model::patch_compliance::{takes_fft, ComplianceChoice, CompliancePath};
 
 /// Closed-form references the model is checked against: Hertz (sphere, elliptical, line),

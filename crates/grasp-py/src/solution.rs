@@ -180,13 +180,14 @@ impl Solution {
         float_array(py, &v, &[v.len() / 2, 2])
     }
 
-    /// Element states `"stick"`, `"slip"` or `"separated"`, shape `(N,)`.
+    /// Element states `"stick"`, `"slip"`, `"separated"` or `"off_surface"`, shape `(N,)`.
     #[getter]
     fn states<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let v: Vec<&str> = self.per_finger(|_, e| match e.state {
             ElementState::Stick => "stick",
             ElementState::Slip => "slip",
             ElementState::Separated => "separated",
+            ElementState::OffSurface => "off_surface",
         });
         str_array(py, &v)
     }

@@ -11,15 +11,22 @@ use nalgebra::Vector3;
 
 use crate::error::{ModelError, SceneError};
 use crate::geometry::contact_frame::ContactFrame;
+use crate::geometry::texture_spec::GapSpec;
 use crate::model::contact_pair::ContactPair;
 use crate::model::equilibrium::{unit_wrench, EquilibriumMap, MotionPlane, Wrench};
 use crate::model::friction::FrictionLaw;
 use crate::model::material::Material;
 use crate::model::patch::Patch;
 use crate::model::patch_compliance::{takes_fft, uses_fft, ComplianceChoice, PatchCompliance};
+use crate::model::surface_gap::{exact_gaps, TipProfile};
 use crate::model::viscous_contact::ViscousContact;
 use crate::scene::limits::MAX_COMPLIANCE_BYTES;
-use crate::scene::scene_format::{ModelKind, RadiusSpec, RelaxationSpec, Scene};
+use crate::scene::scene_format::{FingerSpec, ModelKind, RadiusSpec, RelaxationSpec, Scene};
+use crate::scene::shape_report::SharedShape;
+
+/// A first touch away from the contact point is reported when the gaps shift by more than this
+/// fraction of the patch's half diagonal (smaller shifts are the rays' round-off).
+const FIRST_TOUCH_TOLERANCE: f64 = 1e-9;
 
 /// Compliance entries (summed over fingers) from which the blocks are built in parallel:
 /// about 2 ms of work, well above a thread hand-off.
@@ -84,6 +91,9 @@ pub struct FingerModel {
     pub(crate) viscous: Option<Arc<ViscousContact>>,
     /// Index of this finger's first unknown in the program's `x`.
     pub(crate) offset: usize,
+    /// True when the initial gaps are the exact ones from the shapes (`model/surface_gap.rs`),
+    /// false for the thesis's quadratic form.
+    pub(crate) exact_gaps: bool,
 }
 
 impl FingerModel {
@@ -133,6 +143,12 @@ impl FingerModel {
     /// True when the contact has a viscoelastic body.
     pub fn is_viscoelastic(&self) -> bool {
         self.viscous.is_some()
+    }
+
+    /// True when the initial gaps are the exact ones from the shapes, false for the thesis's
+    /// quadratic form.
+    pub fn has_exact_gaps(&self) -> bool {
+        self.exact_gaps
     }
 
     /// Friction coefficient of the finger's law at total normal load `p_n` (N).
@@ -217,6 +233,10 @@ pub(crate) struct ObjectModel {
     /// The scene's warnings (its shape checks: a patch over an edge, overlapping patches, an
     /// open mesh), carried by every solution of the model.
     pub scene_warnings: Vec<String>,
+    /// The object's posed shape (`None` without `object.shape`), for exact gaps.
+    pub shape: Option<SharedShape>,
+    /// The scene's `gap`: how every finger's smooth gap is computed unless it says otherwise.
+    pub gap: Option<GapSpec>,
 }
 
 /// The immutable grasp model: read-only outside this crate (its accessors below).
@@ -400,20 +420,28 @@ impl GraspModel {
             .iter()
             .map(|f| (3 * f.patch.grid[0] * f.patch.grid[1]).pow(2))
             .sum();
-        let fingers = if entries >= PARALLEL_BUILD_ENTRIES && scene.fingers.len() > 1 {
-            use rayon::prelude::*;
-            scene
-                .fingers
-                .par_iter()
-                .map(|f| finger_model(f, &object, compliance))
-                .collect::<Vec<_>>()
-        } else {
-            scene
-                .fingers
-                .iter()
-                .map(|f| finger_model(f, &object, compliance))
-                .collect()
-        };
+        let built: Vec<(FingerModel, Option<String>)> =
+            if entries >= PARALLEL_BUILD_ENTRIES && scene.fingers.len() > 1 {
+                use rayon::prelude::*;
+                scene
+                    .fingers
+                    .par_iter()
+                    .enumerate()
+                    .map(|(i, f)| finger_model(i, f, &object, compliance))
+                    .collect::<Result<_, _>>()?
+            } else {
+                scene
+                    .fingers
+                    .iter()
+                    .enumerate()
+                    .map(|(i, f)| finger_model(i, f, &object, compliance))
+                    .collect::<Result<_, _>>()?
+            };
+        let mut fingers = Vec::with_capacity(built.len());
+        for (f, gap_warning) in built {
+            object.scene_warnings.extend(gap_warning);
+            fingers.push(f);
+        }
         for (i, f) in fingers.iter().enumerate() {
             let warnings =
                 f.contact
@@ -646,6 +674,8 @@ fn object_model(scene: &Scene) -> ObjectModel {
             .shape_report
             .as_ref()
             .map_or_else(Vec::new, |r| r.warnings.clone()),
+        shape: scene.shape_report.as_ref().map(|r| r.shape.clone()),
+        gap: scene.gap,
     }
 }
 
@@ -673,25 +703,22 @@ fn check_dense_bytes(scene: &Scene, compliance: ComplianceChoice) -> Result<(), 
     }]))
 }
 
-/// One finger of a scene, prepared (offset 0 until the model places it).
+/// Finger `i` of a scene, prepared (offset 0 until the model places it), with the warning its
+/// gaps give (a first touch away from the contact point).
 fn finger_model(
+    i: usize,
     f: &crate::scene::scene_format::FingerSpec,
     object: &ObjectModel,
     compliance: ComplianceChoice,
-) -> FingerModel {
+) -> Result<(FingerModel, Option<String>), SceneError> {
     let frame = ContactFrame::new(
         v3(&f.contact_point),
         v3(&f.normal),
         f.tangent.as_ref().map(v3),
         object.plane.map(|p| p.normal),
     );
-    let tip = tip_curvatures_per_m(f, &frame);
-    let obj = object_curvatures_per_m(f);
-    let patch = Patch::new(
-        f.patch.size,
-        f.patch.grid,
-        [tip[0] + obj[0], tip[1] + obj[1]],
-    );
+    let (patch, gap_warning) = finger_patch(i, f, &frame, object)?;
+    let exact_gaps = gap_kind(f, object) == GapSpec::Exact && object.shape.is_some();
     let material = Material::from(&f.material);
     let contact = ContactPair::new(
         &material,
@@ -729,7 +756,7 @@ fn finger_model(
         (None, Some(d)) => Control::Approach { metres: d },
         (None, None) => Control::Held,
     };
-    FingerModel {
+    let finger = FingerModel {
         name: f.name.clone(),
         frame,
         patch,
@@ -741,7 +768,58 @@ fn finger_model(
         control,
         viscous,
         offset: 0,
-    }
+        exact_gaps,
+    };
+    Ok((finger, gap_warning))
+}
+
+/// How finger `f`'s smooth gap is computed: its own `gap`, else the scene's, else exact with
+/// a shape and quadratic without.
+fn gap_kind(f: &FingerSpec, object: &ObjectModel) -> GapSpec {
+    f.gap.or(object.gap).unwrap_or(match object.shape {
+        Some(_) => GapSpec::Exact,
+        None => GapSpec::Quadratic,
+    })
+}
+
+/// Finger `i`'s patch: its elements and initial gaps, exact from the shapes
+/// ([`crate::model::surface_gap`]) or the thesis's quadratic form (Johnson 4.1), and the
+/// warning of a first touch away from the contact point.
+fn finger_patch(
+    i: usize,
+    f: &FingerSpec,
+    frame: &ContactFrame,
+    object: &ObjectModel,
+) -> Result<(Patch, Option<String>), SceneError> {
+    let shape = match (gap_kind(f, object), &object.shape) {
+        (GapSpec::Exact, Some(shape)) => shape,
+        _ => {
+            let tip = tip_curvatures_per_m(f, frame);
+            let obj = object_curvatures_per_m(f);
+            let curvature = [tip[0] + obj[0], tip[1] + obj[1]];
+            return Ok((Patch::new(f.patch.size, f.patch.grid, curvature), None));
+        }
+    };
+    let flat = Patch::new(f.patch.size, f.patch.grid, [0.0, 0.0]);
+    let reach_m = 0.5 * f.patch.size[0].hypot(f.patch.size[1]);
+    let tip = TipProfile::of(f, frame);
+    let gaps = exact_gaps(&shape.0, frame, &tip, &flat.centres_m, reach_m).map_err(|e| {
+        SceneError::Invalid(vec![crate::error::InputProblem {
+            path: format!("fingers[{i}].contact_point"),
+            message: e,
+            fix: "move the contact onto the object's surface with its normal into the object, \
+                  or set the finger's `gap` to \"quadratic\""
+                .into(),
+        }])
+    })?;
+    let warning = (gaps.first_touch_shift_m > FIRST_TOUCH_TOLERANCE * reach_m).then(|| {
+        format!(
+            "fingers[{i}] ({}): the fingertip first touches the object {:.3e} m closer than at              the contact point (the surfaces curve toward each other there): its gaps and              approach are measured from that first touch; move the contact to where the              surfaces first meet",
+            f.name, gaps.first_touch_shift_m
+        )
+    });
+    let patch = flat.with_gaps(gaps.gap_m, gaps.off_surface, gaps.off_object);
+    Ok((patch, warning))
 }
 
 /// Scales of a model (model.md, "Scale before solving"): `load_n` over the largest element

@@ -18,5 +18,6 @@ pub mod material;
 pub mod patch;
 pub mod patch_compliance;
 pub mod quadrature;
+pub mod surface_gap;
 pub mod viscoelasticity;
 pub mod viscous_contact;

@@ -2,6 +2,9 @@
 
 use crate::model::influence::GridSpec;
 
+/// Smooth gaps below this fraction of a patch's half diagonal do not make a contact curved.
+const CURVED_FRACTION: f64 = 1e-9;
+
 /// A rectangular patch of `nx x ny` elements centred on the contact point.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Patch {
@@ -12,6 +15,16 @@ pub struct Patch {
     pub centres_m: Vec<[f64; 2]>,
     /// Initial gap `c_k`, m, at each element centre (model.md; thesis eqs. 14-16).
     pub gap_m: Vec<f64>,
+    /// Per element, true when it faces no surface of the object or of the fingertip (exact
+    /// gaps: beyond an edge or a rim); empty when every element does.
+    pub off_surface: Vec<bool>,
+    /// Per element, true when it lies past the object's edge (a subset of `off_surface`);
+    /// empty when none does.
+    pub off_object: Vec<bool>,
+    /// True when the smooth surfaces curve apart from the contact point (some element facing
+    /// a surface has a positive smooth gap): a contact that should end inside its patch
+    /// (thesis 2.2.1); false for a flat tip on a flat face, which loads its whole patch.
+    pub curved: bool,
 }
 
 impl Patch {
@@ -32,11 +45,87 @@ impl Patch {
                 gap_m.push(0.5 * (curvature_per_m[0] * x * x + curvature_per_m[1] * y * y));
             }
         }
+        let curved = gap_m.iter().any(|&g| g > 0.0);
         Patch {
             grid: GridSpec { nx, ny, hx, hy },
             centres_m,
             gap_m,
+            off_surface: Vec::new(),
+            off_object: Vec::new(),
+            curved,
         }
+    }
+
+    /// This patch with gaps `gap_m` (m, one per element) in place of its own, the elements
+    /// that face no surface (`off_surface`) and those past the object's edge (`off_object`;
+    /// either empty: none).
+    /// A smooth gap above `CURVED_FRACTION` of the patch's half diagonal counts the contact as
+    /// curved (below it, the rays' round-off on a flat face).
+    pub(crate) fn with_gaps(
+        self,
+        gap_m: Vec<f64>,
+        off_surface: Vec<bool>,
+        off_object: Vec<bool>,
+    ) -> Self {
+        let any = |v: Vec<bool>| if v.iter().any(|&o| o) { v } else { Vec::new() };
+        let half_diagonal =
+            0.5 * (self.grid.hx * self.grid.nx as f64).hypot(self.grid.hy * self.grid.ny as f64);
+        let floor = CURVED_FRACTION * half_diagonal;
+        let curved = (0..gap_m.len())
+            .any(|k| !off_surface.get(k).copied().unwrap_or(false) && gap_m[k] > floor);
+        Patch {
+            gap_m,
+            off_surface: any(off_surface),
+            off_object: any(off_object),
+            curved,
+            ..self
+        }
+    }
+
+    /// The initial gap's slope `|grad c|` at element `k` (dimensionless), by central
+    /// differences between neighbours that face a surface (one-sided at the border and next
+    /// to elements off the surface; 0 for an element without such neighbours).
+    pub fn gap_slope_at(&self, k: usize) -> f64 {
+        let g = &self.grid;
+        let at = |i: usize, j: usize| -> Option<f64> {
+            let k = i * g.ny + j;
+            (!self.is_off_surface(k)).then(|| self.gap_m[k])
+        };
+        let diff = |lo: Option<f64>, hi: Option<f64>, c: f64, h: f64| match (lo, hi) {
+            (Some(a), Some(b)) => (b - a) / (2.0 * h),
+            (Some(a), None) => (c - a) / h,
+            (None, Some(b)) => (b - c) / h,
+            (None, None) => 0.0,
+        };
+        let (i, j) = (k / g.ny, k % g.ny);
+        let c = self.gap_m[k];
+        let west = i.checked_sub(1).and_then(|i| at(i, j));
+        let east = (i + 1 < g.nx).then(|| at(i + 1, j)).flatten();
+        let south = j.checked_sub(1).and_then(|j| at(i, j));
+        let north = (j + 1 < g.ny).then(|| at(i, j + 1)).flatten();
+        diff(west, east, c, g.hx).hypot(diff(south, north, c, g.hy))
+    }
+
+    /// The smallest and largest initial gap (m) and the largest gap slope over the elements
+    /// that face a surface; `None` when none does.
+    pub fn gap_range(&self) -> Option<([f64; 2], f64)> {
+        let on: Vec<usize> = (0..self.len())
+            .filter(|&k| !self.is_off_surface(k))
+            .collect();
+        let lo = on.iter().map(|&k| self.gap_m[k]).reduce(f64::min)?;
+        let hi = on.iter().map(|&k| self.gap_m[k]).fold(lo, f64::max);
+        let slope = on.iter().map(|&k| self.gap_slope_at(k)).fold(0.0, f64::max);
+        Some(([lo, hi], slope))
+    }
+
+    /// Elements facing no surface.
+    pub fn off_surface_count(&self) -> usize {
+        self.off_surface.iter().filter(|&&o| o).count()
+    }
+
+    /// True when element `k` faces no surface (it can carry nothing).
+    pub fn is_off_surface(&self, k: usize) -> bool {
+        self.off_surface.get(k).copied().unwrap_or(false)
     }
 
     /// Number of elements.

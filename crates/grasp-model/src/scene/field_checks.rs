@@ -216,6 +216,22 @@ impl FieldChecks {
         }
     }
 
+    /// A pad's edge (or rim) radius `r`, m: finite, at least 0 (a sharp edge) and at most half
+    /// the pad's `side` (its smaller side, or a disc's diameter).
+    pub fn edge_radius(&mut self, path: &str, r: f64, side: f64) {
+        if !(r.is_finite() && r >= 0.0 && r <= 0.5 * side) {
+            self.push(
+                path,
+                format!("is {} m", number(r)),
+                &format!(
+                    "give the radius of the pad's rounded edge in metres, from 0 (sharp) to half \
+                     the pad's smaller side ({} m)",
+                    number(0.5 * side)
+                ),
+            );
+        }
+    }
+
     /// A radius of curvature: positive, in range, and at least half the patch.
     pub fn radius(&mut self, path: &str, r: f64, half_patch: f64) {
         if !(r.is_finite() && r > 0.0) {

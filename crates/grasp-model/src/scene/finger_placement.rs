@@ -114,7 +114,13 @@ pub fn resolve_shapes(
         .iter()
         .map(|d| open_mesh_warning(d, volume_m3))
         .collect();
-    warnings.extend((0..count).filter_map(|i| overhang_warning(&scene["fingers"][i], &shape)));
+    // With exact gaps the elements past an edge face no surface and carry nothing: only the
+    // thesis's quadratic gap, blind to the edge, needs the warning.
+    warnings.extend(
+        (0..count)
+            .filter(|&i| quadratic_gap(scene, i))
+            .filter_map(|i| overhang_warning(&scene["fingers"][i], &shape)),
+    );
     warnings.extend(overlap_warnings(&scene["fingers"]));
     Ok(Some(ShapeReport {
         volume_m3,
@@ -123,7 +129,18 @@ pub fn resolve_shapes(
         fingers,
         warnings,
         surface: crate::geometry::tessellation::tessellate(&shape),
+        shape: crate::scene::shape_report::SharedShape(std::sync::Arc::new(shape)),
     }))
+}
+
+/// True when finger `i` of the parsed scene uses the thesis's quadratic gap (its own `gap`, else
+/// the scene's; with a shape the default is exact).
+fn quadratic_gap(scene: &Value, i: usize) -> bool {
+    let gap = scene["fingers"][i]
+        .get("gap")
+        .filter(|g| !g.is_null())
+        .or_else(|| scene.get("gap").filter(|g| !g.is_null()));
+    gap.and_then(Value::as_str) == Some("quadratic")
 }
 
 /// Without a shape, `place` and `density` cannot be used.

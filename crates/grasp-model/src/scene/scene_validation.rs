@@ -6,6 +6,7 @@
 //! direction that is zero or not finite is refused.
 
 use crate::error::SceneError;
+use crate::geometry::texture_spec::GapSpec;
 use crate::scene::field_checks::{number, FieldChecks};
 use crate::scene::limits::*;
 use crate::scene::scene_format::{ControlSpec, FingerSpec, MaterialSpec, RadiusSpec, Scene, Vec3};
@@ -20,6 +21,7 @@ impl Scene {
     pub fn validate(&self) -> Result<(), SceneError> {
         let mut v = FieldChecks::default();
         self.validate_object(&mut v);
+        validate_gap("", self.gap, self.object.shape.is_some(), &mut v);
         if self.fingers.is_empty() {
             v.push(
                 "fingers",
@@ -110,8 +112,10 @@ impl Scene {
                 "make the finger or the object elastic ({youngs_modulus, poisson_ratio})",
             );
         }
-        validate_radii(&p, f, v);
+        let exact = self.object.shape.is_some() && f.gap.or(self.gap) != Some(GapSpec::Quadratic);
+        validate_radii(&p, f, exact, v);
         validate_tip(&p, f, self.planar.as_ref().map(|pl| pl.normal), v);
+        validate_gap(&p, f.gap, self.object.shape.is_some(), v);
         validate_patch(&p, f, v);
         v.friction(&format!("{p}.friction"), &f.friction, object_rigid);
         match f.control {
@@ -260,17 +264,20 @@ impl Scene {
 }
 
 /// Radii of curvature of the tip and the object.
-fn validate_radii(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
+/// With exact gaps (`exact`) the object's radius may be smaller than half the patch: the
+/// elements past a thin part's silhouette face no surface and carry nothing.
+fn validate_radii(p: &str, f: &FingerSpec, exact: bool, v: &mut FieldChecks) {
     let half = 0.5 * f.patch.size[0].max(f.patch.size[1]);
     if let Some(r) = f.tip_radius {
         v.radius(&format!("{p}.tip_radius"), r, half);
     }
+    let object_half = if exact { 0.0 } else { half };
     match f.object_radius {
-        Some(RadiusSpec::Isotropic(r)) => v.radius(&format!("{p}.object_radius"), r, half),
+        Some(RadiusSpec::Isotropic(r)) => v.radius(&format!("{p}.object_radius"), r, object_half),
         Some(RadiusSpec::Principal(rs)) => {
             for (k, r) in rs.iter().enumerate() {
                 if let Some(r) = r {
-                    let h = 0.5 * f.patch.size[k];
+                    let h = if exact { 0.0 } else { 0.5 * f.patch.size[k] };
                     v.radius(&format!("{p}.object_radius[{k}]"), *r, h);
                 }
             }
@@ -287,12 +294,14 @@ fn validate_tip(p: &str, f: &FingerSpec, planar: Option<Vec3>, v: &mut FieldChec
         tip.sphere.is_some(),
         tip.cylinder.is_some(),
         tip.flat.is_some(),
+        tip.disc.is_some(),
     ];
     if kinds.iter().filter(|k| **k).count() != 1 {
-        let fix = "give one of {\"sphere\": {...}}, {\"cylinder\": {...}}, {\"flat\": {...}}";
+        let fix = "give one of {\"sphere\": {...}}, {\"cylinder\": {...}}, {\"flat\": {...}}, \
+                   {\"disc\": {...}}";
         return v.push(
             &format!("{p}.tip"),
-            "needs exactly one of sphere, cylinder, flat".into(),
+            "needs exactly one of sphere, cylinder, flat, disc".into(),
             fix,
         );
     }
@@ -319,7 +328,16 @@ fn validate_tip(p: &str, f: &FingerSpec, planar: Option<Vec3>, v: &mut FieldChec
             check_tip_axis(p, f, &unit(&c.axis), planar, v);
         }
     }
+    if let Some(disc) = &tip.disc {
+        validate_disc(p, f, disc, v);
+    }
     if let Some(flat) = &tip.flat {
+        let smaller = flat.size[0].min(flat.size[1]);
+        v.edge_radius(
+            &format!("{p}.tip.flat.edge_radius"),
+            flat.edge_radius,
+            smaller,
+        );
         for k in 0..2 {
             // False for a NaN pad side too.
             let fits = f.patch.size[k] <= flat.size[k] * (1.0 + 1e-12);
@@ -335,6 +353,60 @@ fn validate_tip(p: &str, f: &FingerSpec, planar: Option<Vec3>, v: &mut FieldChec
                 );
             }
         }
+    }
+}
+
+/// A disc pad: its diameter a length, its rim's radius at most its radius, the patch no wider
+/// than the disc (the patch's corners past the rim face no surface).
+fn validate_disc(
+    p: &str,
+    f: &FingerSpec,
+    disc: &crate::geometry::shape_spec::TipDiscSpec,
+    v: &mut FieldChecks,
+) {
+    let path = format!("{p}.tip.disc.diameter");
+    if v.range(
+        &path,
+        disc.diameter,
+        PATCH_SIDE_RANGE_M,
+        "m",
+        "give the pad's diameter in metres",
+    ) {
+        v.edge_radius(
+            &format!("{p}.tip.disc.edge_radius"),
+            disc.edge_radius,
+            disc.diameter,
+        );
+        for k in 0..2 {
+            // False for a NaN patch side too.
+            let fits = f.patch.size[k] <= disc.diameter * (1.0 + 1e-12);
+            if !fits {
+                v.push(
+                    &format!("{p}.patch.size[{k}]"),
+                    format!(
+                        "{} m is wider than the disc pad's diameter {} m",
+                        number(f.patch.size[k]),
+                        number(disc.diameter)
+                    ),
+                    "make the patch no wider than the pad (the pad is all that can touch)",
+                );
+            }
+        }
+    }
+}
+
+/// `gap` (a finger's or the scene's): `"exact"` needs the object's shape.
+pub(crate) fn validate_gap(p: &str, gap: Option<GapSpec>, has_shape: bool, v: &mut FieldChecks) {
+    if gap == Some(GapSpec::Exact) && !has_shape {
+        let path = match p {
+            "" => "gap".to_string(),
+            _ => format!("{p}.gap"),
+        };
+        v.push(
+            &path,
+            "is \"exact\" but the object has no shape to measure the gaps on".into(),
+            "give object.shape, or set the gap to \"quadratic\" (the thesis's form from the radii)",
+        );
     }
 }
 

@@ -3,7 +3,10 @@
 
 use serde::Serialize;
 
+use std::sync::Arc;
+
 use crate::geometry::mesh_surface::TriangleMesh;
+use crate::geometry::shape::Shape;
 
 type Vec3 = [f64; 3];
 
@@ -46,4 +49,17 @@ pub struct ShapeReport {
     /// The shape's surface as triangles, world frame, for drawing (not serialised).
     #[serde(skip)]
     pub surface: TriangleMesh,
+    /// The posed shape itself, for the exact gaps (not serialised).
+    #[serde(skip)]
+    pub shape: SharedShape,
+}
+
+/// A posed shape shared by the scene and its models; two are equal when they are the same one.
+#[derive(Debug, Clone)]
+pub struct SharedShape(pub Arc<Shape>);
+
+impl PartialEq for SharedShape {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
 }

@@ -4,6 +4,7 @@
 //! solves, patch checks, and sensitivities at the solution.
 
 pub mod contact_state;
+pub mod contact_validity;
 pub mod convex_solve;
 pub mod grasp_solver;
 pub mod patch_check;

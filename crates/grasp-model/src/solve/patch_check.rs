@@ -14,8 +14,7 @@ pub const BOUNDARY_LOAD_TOLERANCE: f64 = 1e-4;
 pub fn undersized_patches(model: &GraspModel, sol: &Solution) -> Vec<(usize, f64)> {
     let mut out = Vec::new();
     for (i, f) in model.fingers.iter().enumerate() {
-        let curved = f.patch.gap_m.iter().any(|&g| g > 0.0);
-        if !curved || f.patch.grid.nx < 3 && f.patch.grid.ny < 3 {
+        if !f.patch.curved || f.patch.grid.nx < 3 && f.patch.grid.ny < 3 {
             continue;
         }
         if let Some(s) = sol.finger(&f.name) {

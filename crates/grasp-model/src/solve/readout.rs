@@ -201,7 +201,7 @@ fn finger_solution(
     let mu = if f.n_tangential == 0 { 0.0 } else { mu_at_load };
     let mut elements = Vec::with_capacity(ne);
     let (mut p, mut q, mut torsion, mut cx, mut cy) = (0.0, Vector3::zeros(), 0.0, 0.0, 0.0);
-    let (mut counts, mut peak, mut boundary) = ([0usize; 3], 0.0_f64, 0.0);
+    let (mut counts, mut peak, mut boundary) = ([0usize; 4], 0.0_f64, 0.0);
     for (k, c) in checks.iter().enumerate() {
         let fk = x_n[f.offset + k];
         let g = tangential(x_n, f.offset, ne, f.n_tangential, k);
@@ -247,7 +247,10 @@ fn finger_solution(
         tangential_magnitude_n: qn,
         torsional_moment_nm: torsion,
         center_of_pressure_m: [cop.x, cop.y, cop.z],
-        contact_area_m2: (ne - counts[ElementState::Separated as usize]) as f64 * area,
+        contact_area_m2: (ne
+            - counts[ElementState::Separated as usize]
+            - counts[ElementState::OffSurface as usize]) as f64
+            * area,
         peak_pressure_pa: peak,
         friction_coefficient: mu,
         // An unloaded finger (solver noise only) has no meaningful ratio.
@@ -261,6 +264,7 @@ fn finger_solution(
         stick_count: counts[ElementState::Stick as usize],
         slip_count: counts[ElementState::Slip as usize],
         separated_count: counts[ElementState::Separated as usize],
+        off_surface_count: counts[ElementState::OffSurface as usize],
         elements,
     }
 }
@@ -351,6 +355,10 @@ pub(crate) fn build_solution(
         sequential: None,
     };
     sol.warnings = patch_warnings(model, &sol);
+    sol.warnings
+        .extend(crate::solve::contact_validity::validity_warnings(
+            model, &sol,
+        ));
     sol
 }
 

@@ -227,6 +227,8 @@ struct Element {
     /// Element index and the finger's tangential unknowns per element.
     k: usize,
     n_tangential: usize,
+    /// True when the element faces no surface.
+    off_surface: bool,
 }
 
 impl Element {
@@ -238,6 +240,7 @@ impl Element {
             w,
             k,
             n_tangential: f.n_tangential,
+            off_surface: f.patch.is_off_surface(k),
         }
     }
 
@@ -280,7 +283,9 @@ impl Element {
             Some(r) => r[i][self.k] / fu,
             None => mu * fk,
         };
-        if fk < opening.max(CONTACT_FORCE_FLOOR_FU) {
+        if self.off_surface {
+            ElementState::OffSurface
+        } else if fk < opening.max(CONTACT_FORCE_FLOOR_FU) {
             ElementState::Separated
         } else if self.n_tangential == 0 || wn > radius - gn {
             ElementState::Slip
@@ -320,7 +325,7 @@ impl Element {
             .complementarity_relative
             .max(normal.max(tangential_slack) / (fu * du));
         match state {
-            ElementState::Separated => {}
+            ElementState::Separated | ElementState::OffSurface => {}
             ElementState::Stick => {
                 r.compatibility_relative = r.compatibility_relative.max(gap.abs() / du);
                 r.stick_motion_relative = r.stick_motion_relative.max(wn / du);

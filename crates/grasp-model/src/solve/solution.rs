@@ -55,6 +55,9 @@ pub enum ElementState {
     Slip,
     /// Not carrying load.
     Separated,
+    /// Facing no surface (exact gaps: beyond an edge of the object, past a thin part's
+    /// silhouette, beyond the fingertip's rim): it can carry nothing.
+    OffSurface,
 }
 
 /// One patch element.
@@ -130,6 +133,9 @@ pub struct FingerSolution {
     pub slip_count: usize,
     /// Elements separated.
     pub separated_count: usize,
+    /// Elements facing no surface (exact gaps past an edge or a rim; absent when none).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub off_surface_count: usize,
     /// Element fields, row-major.
     pub elements: Vec<ElementSolution>,
 }
@@ -363,6 +369,10 @@ impl Solution {
         });
         fingers && rigid && residuals
     }
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 #[cfg(test)]

@@ -25,17 +25,18 @@ pub fn is_compact(elements: usize) -> bool {
     elements > COMPACT_ABOVE_ELEMENTS
 }
 
-/// The state's code in the maps: 0 stick, 1 slip, 2 separated.
+/// The state's code in the maps: 0 stick, 1 slip, 2 separated, 3 off the surface.
 pub fn state_code(s: ElementState) -> u8 {
     match s {
         ElementState::Stick => 0,
         ElementState::Slip => 1,
         ElementState::Separated => 2,
+        ElementState::OffSurface => 3,
     }
 }
 
 /// The names of the state codes, by code.
-pub const STATE_NAMES: [&str; 3] = ["stick", "slip", "separated"];
+pub const STATE_NAMES: [&str; 4] = ["stick", "slip", "separated", "off_surface"];
 
 /// One finger's element fields as flat arrays in element order (`k = i ny + j`); two-component
 /// fields interleaved (`[t1 of k, t2 of k]` at `2k`, `2k + 1`).
@@ -132,6 +133,7 @@ mod tests {
             ElementState::Stick,
             ElementState::Slip,
             ElementState::Separated,
+            ElementState::OffSurface,
         ];
         for s in all {
             let name = serde_json::to_value(s).unwrap();

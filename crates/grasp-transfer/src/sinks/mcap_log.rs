@@ -219,7 +219,7 @@ fn patches_schema() -> serde_json::Value {
                     "position_m": v3, "normal_force_n": num, "tangential_force_n": v2,
                     "pressure_pa": num, "gap_m": num, "slip_m": v2, "step_slip_m": v2,
                     "viscous_displacement_m": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},
-                    "state": {"type": "string", "enum": ["stick", "slip", "separated"]}
+                    "state": {"type": "string", "enum": ["stick", "slip", "separated", "off_surface"]}
                 }}}
             }}}
         }

@@ -23,12 +23,14 @@ use rerun::{ChannelDatatype, ColorModel, GridMap, Transform3D};
 
 use super::element_maps::raster;
 
-/// The colour of an element state (stick green, slip orange, separated grey), RGB.
+/// The colour of an element state (stick green, slip orange, separated grey, off the surface
+/// near-black), RGB.
 pub fn state_rgb(s: ElementState) -> [u8; 3] {
     match s {
         ElementState::Stick => [60, 180, 75],
         ElementState::Slip => [245, 130, 48],
         ElementState::Separated => [128, 128, 128],
+        ElementState::OffSurface => [40, 40, 48],
     }
 }
 

@@ -1,0 +1,274 @@
+//! Exact gaps from the real surfaces (model.md, "Facts for gaps from real surfaces"): the
+//! exact sphere against Sneddon's closed form, a rounded disc pad against the rounded flat
+//! punch (Ciavarella's closed form and the exact rim by quadrature), a pad pressed near a box
+//! edge converging under refinement with the centre of pressure moving away from the edge,
+//! elements past the edge carrying nothing, and `"gap": "quadratic"` ignoring the shape.
+//!
+//! Every contact here is a symmetric pinch of a rigid (or much stiffer) box between two equal
+//! fingertips, so the object does not move and each fingertip's approach is its own.
+
+mod support;
+
+use grasp_model::{ElementState, GraspModel, GraspSolver, Scene, Solution, SolveOptions};
+use grasp_model::{SolveStatus, StepInputs};
+use serde_json::{json, Value};
+use support::{element_force_components, example_json};
+
+/// Young's modulus (Pa) and Poisson's ratio of the fingertips of the closed-form checks.
+const E: f64 = 1e6;
+const NU: f64 = 0.3;
+
+/// The plane-strain modulus `E* = E / (1 - nu^2)` of an elastic tip on a rigid object, Pa.
+fn e_star() -> f64 {
+    E / (1.0 - NU * NU)
+}
+
+/// Two frictionless tips, `tip` above and below a rigid box, each pressed in by `approach_m`
+/// on an `n x n` patch of side `side_m`.
+fn pinch(tip: Value, approach_m: f64, side_m: f64, n: usize) -> Value {
+    let finger = |name: &str, z: f64| {
+        json!({
+            "name": name, "contact_point": [0.0, 0.0, z], "normal": [0.0, 0.0, -z.signum()],
+            "material": {"youngs_modulus": E, "poisson_ratio": NU}, "tip": tip,
+            "patch": {"size": [side_m, side_m], "grid": [n, n]},
+            "friction": {"mu": 0.0}, "control": {"approach_m": approach_m}
+        })
+    };
+    json!({
+        "object": {"weight": 0.0, "center_of_mass": [0.0, 0.0, 0.0], "material": "rigid",
+                   "shape": {"box": {"size": [0.2, 0.2, 0.1]}}},
+        "fingers": [finger("top", 0.05), finger("bottom", -0.05)],
+        "model": "energy"
+    })
+}
+
+fn solve(v: &Value) -> Solution {
+    let scene = Scene::from_json_str(&v.to_string()).expect("valid scene");
+    let model = GraspModel::from_scene(&scene).expect("model");
+    let s = GraspSolver::new(&model, SolveOptions::default())
+        .solve(&StepInputs::of_scene(&model))
+        .expect("solve runs");
+    assert_eq!(s.status, SolveStatus::Solved, "{:?}", s.reason);
+    s
+}
+
+/// The contact radius from the contact area, `sqrt(A / pi)`, m.
+fn radius_of(s: &Solution) -> f64 {
+    (s.fingers[0].contact_area_m2 / std::f64::consts::PI).sqrt()
+}
+
+/// An elastic tip with the true sphere profile `R - sqrt(R^2 - r^2)` pressed
+/// into a rigid flat to `a/R = 0.4` (Sneddon 1965): `delta = (a/2) ln((R+a)/(R-a)) = 0.16946 R`
+/// gives `P = (E*/2)[(a^2 + R^2) ln((R+a)/(R-a)) - 2aR] = 0.091433 E* R^2`. On 64 x 64
+/// elements the load is within 5e-4 of it (measured 9e-5, falling to 1e-5 at 256: the grid's
+/// error), the contact radius within one element; the thesis's quadratic gap gives Hertz's
+/// 0.09301 E* R^2 instead, 1.7 % off: the exact profile is what the closed form checks.
+#[test]
+fn an_exact_sphere_meets_sneddons_closed_form() {
+    let r: f64 = 0.01;
+    let a = 0.4 * r;
+    let ln = ((r + a) / (r - a)).ln();
+    let delta = 0.5 * a * ln;
+    let p = 0.5 * e_star() * ((a * a + r * r) * ln - 2.0 * a * r);
+    let side = 2.4 * a;
+    let v = pinch(json!({"sphere": {"radius": r}}), delta, side, 64);
+    let s = solve(&v);
+    let got = s.fingers[0].normal_force_n;
+    eprintln!("Sneddon P {p:.6e} N, exact gaps {got:.6e} N");
+    assert!((got / p - 1.0).abs() <= 5e-4, "{got} N against {p} N");
+    assert!(
+        (radius_of(&s) - a).abs() <= side / 64.0,
+        "{} m",
+        radius_of(&s)
+    );
+    let mut q = v.clone();
+    q["gap"] = json!("quadratic");
+    let hertz = solve(&q).fingers[0].normal_force_n;
+    let hertz_closed = 4.0 / 3.0 * e_star() * r.sqrt() * delta.powf(1.5);
+    assert!((hertz / hertz_closed - 1.0).abs() <= 5e-4, "{hertz} N");
+    assert!(
+        hertz / p - 1.0 > 0.015,
+        "quadratic {hertz} N, Sneddon {p} N"
+    );
+}
+
+/// Approach `delta` and load `P` of a rigid disc punch of flat radius `b` with a rim of
+/// radius `rho` (the exact circle `rho - sqrt(rho^2 - (r - b)^2)`) on an elastic half-space,
+/// contact radius `a`, by Sneddon's integrals `delta = a int_0^a g'(r)/sqrt(a^2 - r^2) dr`,
+/// `P = 2 E* int_0^a r^2 g'(r)/sqrt(a^2 - r^2) dr` with `r = a sin(psi)` (composite Simpson on
+/// 20,000 intervals: the integrand is smooth, the rule's error far below 1e-9).
+fn exact_rim(a: f64, b: f64, rho: f64) -> (f64, f64) {
+    let slope = |r: f64| {
+        let d = r - b;
+        if d <= 0.0 {
+            0.0
+        } else {
+            d / (rho * rho - d * d).sqrt()
+        }
+    };
+    let lo = (b / a).asin();
+    let n = 20_000;
+    let h = (std::f64::consts::FRAC_PI_2 - lo) / n as f64;
+    let (mut sd, mut sp) = (0.0, 0.0);
+    for i in 0..=n {
+        let w = match i {
+            0 => 1.0,
+            i if i == n => 1.0,
+            i if i % 2 == 1 => 4.0,
+            _ => 2.0,
+        };
+        let r = a * (lo + i as f64 * h).sin();
+        sd += w * slope(r);
+        sp += w * r * r * slope(r);
+    }
+    (a * sd * h / 3.0, 2.0 * e_star() * sp * h / 3.0)
+}
+
+/// Ciavarella (1999), the rounded flat punch with the rim's parabola `(r - b)^2 / (2 rho)`:
+/// `delta = (a^2/rho)(sin t - t cos t)`, `P = (E* a^3/rho)[sin t (3 + sin^2 t)/3 - t cos t]`,
+/// `t = arccos(b/a)`; `b -> 0` gives Hertz (`a^2/rho`, `4 E* a^3/(3 rho)`).
+fn ciavarella(a: f64, b: f64, rho: f64) -> (f64, f64) {
+    let t = ((a - b) * (a + b)).sqrt().atan2(b);
+    let (s, c) = (t.sin(), t.cos());
+    let delta = a * a / rho * (s - t * c);
+    let p = e_star() * a.powi(3) / rho * (s * (3.0 + s * s) / 3.0 - t * c);
+    (delta, p)
+}
+
+/// A disc pad (flat radius 2 mm, rim radius 1 mm) pressed in: the load against the approach
+/// and the contact radius of the rounded flat punch. Against the exact rim by quadrature at
+/// `a` = 2.2 and 2.5 mm, within 1e-3 on 64 x 64 elements (measured 3.5e-4 and 2e-4, a quarter
+/// of that at 128); against Ciavarella's closed form at `a` = 2.1 mm, within 2e-3 (the grid's
+/// 7e-4 and the parabola's departure from the circle, about 0.1 % of the load at `(a - b) /
+/// rho` = 0.1); the contact radius within one element.
+#[test]
+fn a_rounded_disc_pad_meets_the_rounded_flat_punch() {
+    let (b, rho) = (2e-3, 1e-3);
+    let disc = json!({"disc": {"diameter": 2.0 * (b + rho), "edge_radius": rho}});
+    let cases: [(f64, (f64, f64), f64); 3] = [
+        (2.2e-3, exact_rim(2.2e-3, b, rho), 1e-3),
+        (2.5e-3, exact_rim(2.5e-3, b, rho), 1e-3),
+        (2.1e-3, ciavarella(2.1e-3, b, rho), 2e-3),
+    ];
+    for (a, (delta, p), tolerance) in cases {
+        let side = (2.3 * a).min(2.0 * (b + rho));
+        let s = solve(&pinch(disc.clone(), delta, side, 64));
+        let got = s.fingers[0].normal_force_n;
+        eprintln!("a = {a:e} m: approach {delta:.6e} m, P {p:.6e} N, exact gaps {got:.6e} N");
+        assert!(
+            (got / p - 1.0).abs() <= tolerance,
+            "a = {a}: {got} N against {p} N"
+        );
+        assert!(
+            (radius_of(&s) - a).abs() <= side / 64.0,
+            "a = {a}: {} m",
+            radius_of(&s)
+        );
+    }
+    // The closed form's limits: b -> 0 is Hertz.
+    let (d, p) = ciavarella(1e-3, 1e-15, rho);
+    assert!((d / (1e-6 / rho) - 1.0).abs() < 1e-9);
+    assert!((p / (4.0 * e_star() * 1e-9 / (3.0 * rho)) - 1.0).abs() < 1e-9);
+}
+
+/// The pad near an edge: 10 mm spherical silicone pads (E 2 MPa, nu 0.45) pinch an
+/// acrylic box with 2 N, 1 mm from the box's edge, frictionless; the patch (16/3 mm, its grid
+/// aligned so that the edge falls on element boundaries at 64, 128 and 256 a side).
+fn edge_pinch(n: usize, gap: &str) -> Value {
+    let finger = |name: &str, y: f64, control: Value| {
+        json!({
+            "name": name, "contact_point": [0.019, y, 0.03], "normal": [0.0, -y.signum(), 0.0],
+            "tangent": [1.0, 0.0, 0.0],
+            "material": {"youngs_modulus": 2e6, "poisson_ratio": 0.45},
+            "tip": {"sphere": {"radius": 0.01}},
+            "patch": {"size": [0.016 / 3.0, 0.016 / 3.0], "grid": [n, n]},
+            "friction": {"mu": 0.0}, "control": control, "gap": gap
+        })
+    };
+    json!({
+        "object": {"weight": 0.0, "center_of_mass": [0.0, 0.0, 0.03],
+                   "material": {"youngs_modulus": 3.2e9, "poisson_ratio": 0.35},
+                   "shape": {"box": {"size": [0.04, 0.04, 0.06]}, "position": [0.0, 0.0, 0.03]}},
+        "fingers": [finger("left", 0.02, json!("held")),
+                    finger("right", -0.02, json!({"normal_load": 2.0}))],
+        "model": "energy"
+    })
+}
+
+/// Approach (m), contact area (m^2) and the centre of pressure's distance from the contact
+/// point toward the edge (m) of the loaded finger.
+fn edge_quantities(s: &Solution) -> [f64; 3] {
+    let f = &s.fingers[1];
+    [
+        f.approach_m,
+        f.contact_area_m2,
+        f.center_of_pressure_m[0] - 0.019,
+    ]
+}
+
+/// Under refinement (64, 128, 256 a side) the edge pinch converges: the approach, the contact
+/// area and the centre of pressure each change less at every halving of the element (the ratio
+/// of successive changes above 1.5: observed orders about 0.9, 2.4 and 1.0; the first and the
+/// last are held back by the pressure's singularity at the edge). The centre of pressure moves
+/// away from the edge (by about 0.115 mm); elements past the edge carry nothing and say so;
+/// the thesis's quadratic gap, blind to the edge, gives a contact area about 17 % larger and
+/// an approach about 2.8 % smaller.
+#[test]
+fn a_pad_near_an_edge_converges_and_leans_away_from_it() {
+    let runs: Vec<[f64; 3]> = [64, 128, 256]
+        .iter()
+        .map(|&n| edge_quantities(&solve(&edge_pinch(n, "exact"))))
+        .collect();
+    for (q, name) in ["approach", "contact area", "centre of pressure"]
+        .iter()
+        .enumerate()
+    {
+        let (d1, d2) = (runs[0][q] - runs[1][q], runs[1][q] - runs[2][q]);
+        let order = (d1 / d2).abs().log2();
+        eprintln!(
+            "{name}: {:.6e}, {:.6e}, {:.6e}; observed order {order:.2}",
+            runs[0][q], runs[1][q], runs[2][q]
+        );
+        assert!((d1 / d2).abs() > 1.5 && d1 * d2 > 0.0, "{name}: {runs:?}");
+    }
+    assert!(runs[2][2] < -0.05e-3, "centre of pressure {} m", runs[2][2]);
+    let exact = solve(&edge_pinch(64, "exact"));
+    let off: Vec<_> = exact.fingers[1]
+        .elements
+        .iter()
+        .filter(|e| e.state == ElementState::OffSurface)
+        .collect();
+    // 20 of the 64 columns lie past the edge (1 mm of 16/3 mm from the patch's centre).
+    assert_eq!(off.len(), 20 * 64);
+    assert_eq!(exact.fingers[1].off_surface_count, 20 * 64);
+    assert!(off
+        .iter()
+        .all(|e| e.normal_force_n == 0.0 && e.local_m[0] > 1e-3));
+    let quadratic = edge_quantities(&solve(&edge_pinch(64, "quadratic")));
+    assert!(
+        quadratic[1] / runs[0][1] - 1.0 > 0.1,
+        "{quadratic:?} {runs:?}"
+    );
+    assert!(
+        1.0 - quadratic[0] / runs[0][0] > 0.015,
+        "{quadratic:?} {runs:?}"
+    );
+}
+
+/// `"gap": "quadratic"` keeps the thesis's form: a shaped scene solved with it gives, bit for
+/// bit, the forces of the same grasp written without a shape (the frames and radii the shape
+/// derived, written by hand).
+#[test]
+fn the_quadratic_gap_ignores_the_shape() {
+    let mut v = example_json("box_pinch.json");
+    v["gap"] = json!("quadratic");
+    let shaped = Scene::from_json_str(&v.to_string()).unwrap();
+    let mut plain = serde_json::to_value(&shaped).unwrap();
+    let object = plain["object"].as_object_mut().unwrap();
+    object.remove("shape");
+    object.remove("density");
+    plain.as_object_mut().unwrap().remove("gap");
+    let a = solve(&v);
+    let b = solve(&plain);
+    assert_eq!(element_force_components(&a), element_force_components(&b));
+}
