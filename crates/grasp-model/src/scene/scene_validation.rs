@@ -113,6 +113,7 @@ impl Scene {
         validate_radii(&p, f, v);
         validate_tip(&p, f, self.planar.as_ref().map(|pl| pl.normal), v);
         validate_patch(&p, f, v);
+        crate::scene::texture_checks::check_texture(&p, f, v);
         v.friction(&format!("{p}.friction"), &f.friction, object_rigid);
         match f.control {
             ControlSpec::Load(l) => {
