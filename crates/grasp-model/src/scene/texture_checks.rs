@@ -80,7 +80,7 @@ pub fn check_texture(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
 /// needs small slopes; a larger texture is a unit mistake).
 fn check_height(path: &str, h: f64, zero_ok: bool, patch: Option<Patch>, v: &mut FieldChecks) {
     let fix = "give the height in metres (1 um = 1e-6)";
-    if !(zero_ok && h == 0.0) && !v.range(path, h, LENGTH_RANGE_M, "m", fix) {
+    if (zero_ok && h == 0.0) || !v.range(path, h, LENGTH_RANGE_M, "m", fix) {
         return;
     }
     if let Some(patch) = patch.filter(|q| h > q.larger_side_m()) {
