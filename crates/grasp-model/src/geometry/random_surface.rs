@@ -41,7 +41,7 @@ use crate::geometry::texture_spec::RandomSurfaceSpec;
 pub const PIXELS_PER_SHORT_WAVELENGTH: f64 = 8.0;
 
 /// Largest side of the generation grid, pixels: 8192 x 8192 pixels hold
-/// [`BYTES_PER_PIXEL`] x 2^26 = 1.5 GiB while the surface is made, and allow a patch or a long
+/// `BYTES_PER_PIXEL` x 2^26 = 1.5 GiB while the surface is made, and allow a patch or a long
 /// wavelength of 1024 short wavelengths.
 pub const MAX_GRID_SIDE: usize = 8192;
 
@@ -87,7 +87,8 @@ pub fn grid_side(spec: &RandomSurfaceSpec, patch_m: [f64; 2]) -> Option<usize> {
 }
 
 /// The surface of `spec` for a patch of sides `patch_m` (m): see the module documentation.
-/// Refuses a grid over [`MAX_GRID_SIDE`] and numbers validation refuses (the caller names the
+/// Refuses a grid over 8192 pixels a side
+/// ([`crate::limits::MAX_RANDOM_TEXTURE_GRID_SIDE`]) and numbers validation refuses (the caller names the
 /// field).
 pub fn random_surface(
     spec: &RandomSurfaceSpec,

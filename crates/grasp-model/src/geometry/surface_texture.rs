@@ -13,10 +13,10 @@ pub const MAP_EDGE_TOLERANCE_PIXELS: f64 = 1e-6;
 /// of a patch of elements `element_m` (m, along `t1` and `t2`):
 ///
 /// - `heights`: bilinear interpolation of the map, pixel `(i, j)` centred at
-///   `((i - (rows - 1)/2) dx, (j - (cols - 1)/2) dy)` ([`map_height_at_m`]); a centre outside
+///   `((i - (rows - 1)/2) dx, (j - (cols - 1)/2) dy)` (`map_height_at_m`); a centre outside
 ///   the map is an error.
-/// - `ridges`: `h = A cos(2 pi s / L)`, `s = x cos(theta) + y sin(theta)` ([`ridge_height_m`]).
-/// - `random`: the self-affine surface of [`super::random_surface`] for a patch whose sides
+/// - `ridges`: `h = A cos(2 pi s / L)`, `s = x cos(theta) + y sin(theta)` (`ridge_height_m`).
+/// - `random`: the self-affine surface of [`crate::random_surface`] for a patch whose sides
 ///   are the centres' extent plus one element (the patch itself: its element centres lie half
 ///   an element inside its edges), sampled bilinearly.
 ///

@@ -78,8 +78,8 @@ pub const MAX_COMPLIANCE_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
 pub const PLANAR_TOLERANCE: f64 = 1e-6;
 
 /// Largest side of a random texture's generation grid, pixels (of `short / 8`): see
-/// [`crate::geometry::random_surface`]. Its memory is counted in the solve's estimate
-/// ([`super::work_bounds`]).
+/// `geometry/random_surface.rs`. Its memory is counted in the solve's estimate
+/// ([`crate::estimate_memory_bytes`]).
 pub use crate::geometry::random_surface::MAX_GRID_SIDE as MAX_RANDOM_TEXTURE_GRID_SIDE;
 
 /// Fewest elements per shortest texture wavelength (a ridge period along its direction, a

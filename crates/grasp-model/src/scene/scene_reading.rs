@@ -65,7 +65,8 @@ impl Scene {
     ///
     /// A scene with `object.shape` is resolved first (fingers placed on it, the weight from a
     /// density, explicit frames checked: `crate::scene::finger_placement`); this entry point reads
-    /// no files, so a mesh shape needs [`Scene::from_json_str_with_meshes`].
+    /// no files, so a mesh shape needs [`Scene::from_json_str_with_meshes`], and a texture's
+    /// height map [`Scene::from_json_str_with_files`] (grasp_io reads both).
     pub fn from_json_str(text: &str) -> Result<Scene, SceneError> {
         Scene::from_json_str_with_meshes(text, &|m: &MeshSpec| {
             Err(format!(
