@@ -464,3 +464,154 @@ fn relaxation_laws_and_approaches_out_of_range() {
     v["fingers"][1]["control"] = json!({"approach_m": -0.001});
     assert_problem(&v, "fingers[1].control.approach_m", "outside");
 }
+
+/// Textures (`fingers[i].texture`) with one member too many or too few, numbers out of range,
+/// a wavelength the elements cannot resolve, or a generation grid too large: each is named
+/// with its path and the fix. Cube A's patches are 10 mm of 5 x 5 elements (2 mm).
+#[test]
+fn textures_out_of_range_or_unresolved() {
+    let ridges = json!({"amplitude_m": 1e-6, "period_m": 5e-3, "angle_deg": 0});
+    let random = json!({"rms_m": 1e-6, "hurst": 0.8, "wavelengths_m": [2e-2, 5e-3]});
+    let with = |t: Value| {
+        let mut v = cube();
+        v["fingers"][0]["texture"] = t;
+        v
+    };
+    // The unchanged ones are accepted.
+    scene(&with(json!({ "ridges": ridges })));
+    scene(&with(json!({ "random": random })));
+    let changed = |base: &Value, key: &str, value: Value| {
+        let mut t = base.clone();
+        t[key] = value;
+        t
+    };
+    let cases = [
+        (json!({}), "fingers[0].texture", "has 0 of heights"),
+        (
+            json!({"ridges": ridges, "random": random}),
+            "fingers[0].texture",
+            "has 2 of heights",
+        ),
+        (
+            json!({"ridges": changed(&ridges, "amplitude_m", json!(1.0))}),
+            "fingers[0].texture.ridges.amplitude_m",
+            "larger than the patch",
+        ),
+        (
+            json!({"ridges": changed(&ridges, "period_m", json!(0.0))}),
+            "fingers[0].texture.ridges.period_m",
+            "outside",
+        ),
+        // 3 mm across ridges along t1: shorter than two 2 mm elements.
+        (
+            json!({"ridges": changed(&ridges, "period_m", json!(3e-3))}),
+            "fingers[0].texture.ridges.period_m",
+            "cannot resolve",
+        ),
+        (
+            json!({"ridges": changed(&ridges, "angle_deg", json!(1e9))}),
+            "fingers[0].texture.ridges.angle_deg",
+            "outside",
+        ),
+        (
+            json!({"random": changed(&random, "hurst", json!(0.0))}),
+            "fingers[0].texture.random.hurst",
+            "outside (0, 1]",
+        ),
+        (
+            json!({"random": changed(&random, "hurst", json!(1.5))}),
+            "fingers[0].texture.random.hurst",
+            "outside (0, 1]",
+        ),
+        (
+            json!({"random": changed(&random, "rms_m", json!(-1e-6))}),
+            "fingers[0].texture.random.rms_m",
+            "outside",
+        ),
+        (
+            json!({"random": changed(&random, "wavelengths_m", json!([1e-3, 5e-3]))}),
+            "fingers[0].texture.random.wavelengths_m",
+            "not above short",
+        ),
+        (
+            json!({"random": changed(&random, "wavelengths_m", json!([2e-2, 3e-3]))}),
+            "fingers[0].texture.random.wavelengths_m[1]",
+            "cannot resolve",
+        ),
+        // A 2 m roll-off over 5 mm: 3200 pixels of 0.625 mm -> 4096 fits; 20 m does not.
+        (
+            json!({"random": changed(&random, "wavelengths_m", json!([20.0, 5e-3]))}),
+            "fingers[0].texture.random.wavelengths_m",
+            "generation grid",
+        ),
+        (
+            json!({"heights": {"file": "h.npy", "pixel_m": [1e-3, 1e-3]}}),
+            "fingers[0].texture.heights.file",
+            "reads no height maps",
+        ),
+    ];
+    for (texture, path, words) in cases {
+        assert_problem(&with(texture), path, words);
+    }
+    // The fix of an unresolved wavelength names the grid that resolves it: 10 mm over
+    // 3 mm / 2 = 6.7 -> 7 elements.
+    let p = problems(&with(
+        json!({"ridges": changed(&ridges, "period_m", json!(3e-3))}),
+    ));
+    assert!(
+        p.iter()
+            .any(|m| m.contains("patch.grid to at least [7, 5]")),
+        "{p:#?}"
+    );
+}
+
+/// Height maps read from files: one that does not cover the patch, one not in metres, one
+/// with a NaN, a CSV with a header and a missing file are each named at
+/// `fingers[i].texture.heights.file` with the fix.
+#[test]
+fn height_map_files_that_cannot_serve() {
+    let dir = std::env::temp_dir().join(format!("grasp-maps-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Each case its own file (named for its pixel size); `None` writes none.
+    let read = |csv: Option<&str>, pixel: f64| {
+        let file = format!("m{}.csv", pixel.to_bits());
+        if let Some(text) = csv {
+            std::fs::write(dir.join(&file), text).unwrap();
+        }
+        let mut v = cube();
+        v["fingers"][1]["texture"] = json!({"heights": {"file": file, "pixel_m": [pixel, pixel]}});
+        grasp_io::scene_from_json_str(&v.to_string(), &dir)
+    };
+    let problems_of = |csv: Option<&str>, pixel: f64| match read(csv, pixel) {
+        Ok(_) => panic!("accepted"),
+        Err(e) => e
+            .problems()
+            .iter()
+            .map(|p| p.to_string())
+            .collect::<Vec<_>>(),
+    };
+    let has = |p: &[String], words: &str| {
+        assert!(
+            p.iter()
+                .any(|m| m.starts_with("fingers[1].texture.heights.file")
+                    && m.contains(words)
+                    && m.contains("fix")),
+            "expected {words}: {p:#?}"
+        )
+    };
+    // 3 x 3 pixels of 1 mm cover +-1 mm; the element centres reach +-4 mm.
+    let small = "0,0,0\n0,1e-6,0\n0,0,0\n";
+    has(&problems_of(Some(small), 1e-3), "reach +-0.004 m");
+    // With 4 mm pixels it covers them.
+    assert!(read(Some(small), 4e-3).is_ok());
+    has(
+        &problems_of(Some("0,0,0\n0,3,0\n0,0,0\n"), 4.1e-3),
+        "larger than the patch",
+    );
+    has(
+        &problems_of(Some("0,0,0\n0,nan,0\n0,0,0\n"), 4.2e-3),
+        "row 1, column 1",
+    );
+    has(&problems_of(Some("a,b,c\n0,0,0\n"), 4.3e-3), "header line");
+    has(&problems_of(None, 4.4e-3), "relative to the scene file");
+}

@@ -149,9 +149,8 @@ fn clarabel_takes(scene: &grasp_model::Scene) -> bool {
         max_iterations: 1,
         ..grasp_model::SolveOptions::default()
     };
-    match grasp_model::GraspSolver::new(&model, options)
-        .solve(&grasp_model::StepInputs::of_scene(&model))
-    {
+    let inputs = grasp_model::StepInputs::of_scene(&model);
+    match grasp_model::GraspSolver::new(model, options).solve(&inputs) {
         Ok(_) => true,
         Err(e) => {
             assert!(e.to_string().contains("too large to write out"), "{e}");

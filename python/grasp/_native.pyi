@@ -35,7 +35,11 @@ class Scene:
     @staticmethod
     def from_json(text: str) -> "Scene": ...
     @staticmethod
-    def from_dict(d: dict) -> "Scene": ...
+    def from_dict(d: dict) -> "Scene":
+        """The scene of a dict. A finger's texture heights may be a NumPy array instead of a
+        file: ``"texture": {"heights": {"array": a, "pixel_m": [dx, dy]}}`` (heights in
+        metres, rows of ``a`` along ``t1``, its centre on the contact point); ``to_dict()``
+        then shows ``"file": "<array>"`` in its place."""
     @property
     def finger_names(self) -> list[str]: ...
     @property
@@ -49,6 +53,9 @@ class Scene:
         """Derived finger frames (m, 1/m), volume (m^3), mass (kg), warnings; None without a shape."""
     @property
     def warnings(self) -> list[str]: ...
+    def texture_heights_m(self, finger: str) -> Optional[npt.NDArray[np.float64]]:
+        """The texture heights (m, a peak positive) of a finger at its patch's element centres,
+        shape ``(nx, ny)``, rows along ``t1``; None without a texture."""
     def to_dict(self) -> dict[str, Any]: ...
     def to_json(self) -> str: ...
 

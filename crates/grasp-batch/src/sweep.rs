@@ -1,7 +1,9 @@
 //! Parameter sweeps: a grid of variants of one scene, `--vary PATH=START:END:COUNT` (COUNT
 //! values evenly spaced, both ends included) or `--vary PATH=V1,V2,...`, one axis per `--vary`,
 //! the last varying fastest. `PATH` is dotted with indices: `object.weight`,
-//! `fingers[0].friction.mu`, `fingers[*].friction.mu` (every finger).
+//! `fingers[0].friction.mu`, `fingers[*].friction.mu` (every finger),
+//! `fingers[0].texture.random.seed` (an integer in the scene stays an integer when the value
+//! is whole).
 
 use serde_json::{json, Value};
 
@@ -97,13 +99,21 @@ fn steps(path: &str) -> Option<Vec<Step>> {
     (!out.is_empty()).then_some(out)
 }
 
+/// Largest magnitude below which every whole `f64` is exact (2^53).
+const EXACT_WHOLE: f64 = 9_007_199_254_740_992.0;
+
 /// Sets every number the path reaches to `value`; false if the path reaches nothing or a value
-/// that is not a number.
+/// that is not a number. A whole value replacing an integer is written as an integer, so that
+/// integer fields (a texture's `seed`, a patch's `grid`) can be swept.
 fn set(v: &mut Value, path: &[Step], value: f64) -> bool {
     let Some((first, rest)) = path.split_first() else {
         return match v {
-            Value::Number(_) => {
-                *v = json!(value);
+            Value::Number(old) => {
+                let whole = value.fract() == 0.0 && value.abs() < EXACT_WHOLE;
+                *v = match (old.is_f64(), whole) {
+                    (false, true) => json!(value as i64),
+                    _ => json!(value),
+                };
                 true
             }
             _ => false,
@@ -232,6 +242,57 @@ mod tests {
         assert_eq!(v4.1["object.weight"], json!(2.0));
         let bad = [Axis::parse("fingers[5].friction.mu=1").unwrap()];
         assert!(Sweep::new(scene.clone(), "s", &bad).is_err());
+    }
+
+    /// A texture's numbers sweep like any other, its seed as an integer (a float seed would
+    /// not read), and each variant is a scene whose height map is read relative to the swept
+    /// scene's folder.
+    #[test]
+    fn textures_are_swept_seeds_as_integers() {
+        let text = include_str!("../../../examples/cube_a.json");
+        let mut scene: Value = serde_json::from_str(text).unwrap();
+        scene["fingers"][0]["texture"] = json!({"random": {"rms_m": 1e-6, "hurst": 0.8, "wavelengths_m": [2e-2, 5e-3], "seed": 1}});
+        scene["fingers"][1]["texture"] =
+            json!({"heights": {"file": "h.csv", "pixel_m": [4e-3, 4e-3]}});
+        let axes = [
+            Axis::parse("fingers[0].texture.random.seed=2,3").unwrap(),
+            Axis::parse("fingers[0].texture.random.hurst=0.5:1:2").unwrap(),
+            Axis::parse("fingers[1].texture.heights.pixel_m[0]=4e-3,5e-3").unwrap(),
+        ];
+        let sweep = Sweep::new(scene, "t", &axes).unwrap();
+        assert_eq!(sweep.len(), 8);
+        let dir = std::env::temp_dir().join(format!("grasp-sweep-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("h.csv"), "0,0,0\n0,1e-6,0\n0,0,0\n").unwrap();
+        let mut seen = Vec::new();
+        for k in 0..sweep.len() {
+            let (_, vary, v) = sweep.variant(k).unwrap();
+            assert!(
+                v["fingers"][0]["texture"]["random"]["seed"].is_u64(),
+                "{vary}"
+            );
+            let mut inputs = grasp_io::RunInputs::new();
+            let s = grasp_io::scene_file::scene_from_value(v, &dir, &mut inputs)
+                .unwrap_or_else(|e| panic!("{vary}: {e}"));
+            assert_eq!(inputs.len(), 1, "the height map is read and noted");
+            let t = s.fingers[0].texture.as_ref().unwrap().random.unwrap();
+            let map = s.fingers[1]
+                .texture
+                .as_ref()
+                .unwrap()
+                .heights
+                .as_ref()
+                .unwrap();
+            seen.push((t.seed, t.hurst, map.pixel_m[0]));
+        }
+        assert_eq!(seen[0], (2, 0.5, 4e-3));
+        assert_eq!(seen[7], (3, 1.0, 5e-3));
+        // A fractional value of an integer field stays fractional (and is refused when read).
+        let (_, _, v) = Sweep::new(json!({"seed": 1}), "f", &[Axis::parse("seed=2.5").unwrap()])
+            .unwrap()
+            .variant(0)
+            .unwrap();
+        assert_eq!(v["seed"], json!(2.5));
     }
 
     /// The documented largest grid is a count, not a million scenes held: made on demand,

@@ -1,5 +1,5 @@
 //! Every file the project reads goes through here: scenes, schedules, CSV load profiles,
-//! meshes, direction files, batch inputs and their folder entries, shard outputs to merge, a
+//! meshes, height maps, direction files, batch inputs and their folder entries, shard outputs to merge, a
 //! batch output to resume; and the files of `grasp.mujoco` (state files, rollouts, material
 //! maps; a MuJoCo model is checked here before MuJoCo reads it).
 //!
@@ -52,6 +52,12 @@ pub const DIRECTIONS_FILE: InputKind = InputKind {
 /// An OBJ or STL mesh, 256 MiB (about 5 million triangles of binary STL).
 pub const MESH_FILE: InputKind = InputKind {
     what: "mesh file",
+    max_bytes: 256 * MIB,
+};
+/// A height map of a finger's texture (`.npy` or `.csv`), 256 MiB (a 4096 x 8192 map of
+/// `f64`).
+pub const HEIGHT_MAP_FILE: InputKind = InputKind {
+    what: "height map file",
     max_bytes: 256 * MIB,
 };
 /// The JSONL input of a batch, 1 TiB: read line by line (memory is bounded by

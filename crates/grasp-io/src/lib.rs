@@ -6,8 +6,9 @@
 //! - [`input_file`]: every read is of a regular file (never a FIFO, a device or a folder),
 //!   within a size limit of its kind, read with a bound even if the file grows; line files
 //!   (JSONL) line by line, each line bounded, a line that is not UTF-8 reported as such.
-//! - [`mesh_file`]: OBJ and STL meshes (an OBJ's materials are never read).
-//! - [`scene_file`]: scenes with their mesh files resolved against the scene's folder, and
+//! - [`mesh_file`]: OBJ and STL meshes (an OBJ's materials are never read);
+//!   [`height_map_file`]: the height maps of textures (`.npy`, `.csv`).
+//! - [`scene_file`]: scenes with the files they name resolved against the scene's folder, and
 //!   every file read noted ([`run_inputs`]).
 //! - [`output_file`]: the one output policy (checked targets, inputs never overwritten, no
 //!   replacing without `force`, exclusive unguessable temporary files moved into place on
@@ -21,6 +22,7 @@
 #![warn(missing_docs)]
 
 pub mod error;
+pub mod height_map_file;
 pub mod input_file;
 pub mod machine_memory;
 pub mod memory_limit;

@@ -19,7 +19,7 @@
 //!
 //! | folder | what it holds | may import |
 //! |---|---|---|
-//! | `geometry/` | contact frames, surface points, exact primitives, triangle meshes, posed shapes, tessellation | - |
+//! | `geometry/` | contact frames, surface points, exact primitives, triangle meshes, posed shapes, tessellation, texture heights | - |
 //! | `scene/` | the file format, strict JSON, validation (a path and a fix per problem), shape checks, finger placement, work bounds | geometry |
 //! | `model/` | the immutable [`GraspModel`]: materials, patches, influence coefficients, friction laws, equilibrium map, closed forms | scene, geometry |
 //! | `program/` | the solver-neutral [`ConeProgram`] (assembly kept apart from solving) | model |
@@ -100,6 +100,9 @@ pub use geometry::shape_spec::{
     BoxSpec, CylinderSpec, LengthUnit, MeshSpec, PlaceSpec, RaySpec, ShapeSpec, SphereSpec,
     TipCylinderSpec, TipFlatSpec, TipSpec, TipSphereSpec, DEFAULT_SURFACE_TOLERANCE_M,
 };
+pub use geometry::texture_spec::{
+    HeightGrid, HeightMapSpec, RandomSurfaceSpec, RidgesSpec, TextureSpec,
+};
 pub use scene::finger_placement::STANDARD_GRAVITY;
 pub use scene::scene_format::{
     scene_json_schema, ApproachSpec, CoefficientSpec, ControlSpec, ElasticLawParams,
@@ -107,6 +110,7 @@ pub use scene::scene_format::{
     MaterialSpec, ModelKind, NormalLoadSpec, ObjectSpec, PatchSpec, PlanarSpec, PronyTermSpec,
     RadiusSpec, RelaxationSpec, RigidTag, Scene, StandardLinearSolidSpec, TableSpec, Vec3,
 };
+pub use scene::scene_reading::{FileProblem, SceneFiles};
 pub use scene::shape_report::{DerivedFrame, ShapeReport};
 pub use scene::work_bounds::{estimate_memory_bytes, estimate_memory_bytes_with, finger_unknowns};
 
@@ -128,6 +132,8 @@ pub mod strict_json {
 // ---- Geometry ----
 pub use geometry::contact_frame::ContactFrame;
 pub use geometry::mesh_surface::TriangleMesh;
+pub use geometry::random_surface::{random_surface, RandomSurface};
+pub use geometry::surface_texture::texture_heights_m;
 pub use geometry::tessellation::icosphere;
 
 // ---- The model: built once from a scene, immutable ----

@@ -13,6 +13,7 @@ use pyo3::prelude::*;
 
 mod arrays;
 mod errors;
+mod height_arrays;
 mod histories;
 mod inputs;
 mod json_value;

@@ -12,13 +12,17 @@ use crate::errors::{grasp_error, scene_error};
 /// A validated grasp scene (SI units: m, N, Pa).
 ///
 /// `Scene(source)` takes a path (str or os.PathLike) to a scene file, a dict of the scene
-/// format, or the JSON text of one (a str whose first non-blank character is `{`).
+/// format, or the JSON text of one (a str whose first non-blank character is `{`). Files the
+/// scene names (a mesh, a texture's height map) are read relative to the scene file's folder
+/// (the working folder for a dict or text); in a dict a texture's heights may be a NumPy
+/// array: `{"heights": {"array": a, "pixel_m": [dx, dy]}}`.
 #[pyclass(module = "grasp", frozen)]
 pub struct Scene {
     pub(crate) scene: grasp_model::Scene,
     /// Where the scene came from (a path, `<dict>` or `<json>`), for messages.
     pub(crate) origin: String,
-    /// The files read for it (the scene file, mesh files): no output may replace them.
+    /// The files read for it (the scene file, mesh files, height maps): no output may replace
+    /// them.
     pub(crate) inputs: grasp_io::RunInputs,
 }
 
@@ -67,15 +71,21 @@ impl Scene {
     /// The scene given as JSON text.
     #[staticmethod]
     fn from_json(py: Python<'_>, text: &str) -> PyResult<Scene> {
-        Scene::parse(py, text, "<json>".into(), std::path::Path::new(""))
+        let arrays = grasp_io::scene_file::HeightArrays::new();
+        Scene::parse(py, text, "<json>".into(), std::path::Path::new(""), &arrays)
     }
 
-    /// The scene given as a dict (as `json.load` returns it).
+    /// The scene given as a dict (as `json.load` returns it). A finger's texture heights may
+    /// be a NumPy array instead of a file: `"texture": {"heights": {"array": a, "pixel_m":
+    /// [dx, dy]}}` (heights in metres, rows of `a` along `t1`, the array's centre on the
+    /// contact point); `to_dict()` then shows `"file": "<array>"` in its place.
     #[staticmethod]
     fn from_dict(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<Scene> {
+        let origin = "<dict>";
+        let (d, arrays) = crate::height_arrays::take_height_arrays(py, origin, d)?;
         let json = py.import("json")?;
         let text: String = json.call_method1("dumps", (d,))?.extract()?;
-        Scene::parse(py, &text, "<dict>".into(), std::path::Path::new(""))
+        Scene::parse(py, &text, origin.into(), std::path::Path::new(""), &arrays)
     }
 
     /// Finger names, scene order.
@@ -120,6 +130,38 @@ impl Scene {
             .map_or_else(Vec::new, |r| r.warnings.clone())
     }
 
+    /// The texture heights `h` (m, a peak positive, toward the other body) of the finger
+    /// named `finger` at its patch's element centres: an array of shape `(nx, ny)`, rows
+    /// along `t1` (element `(i, j)` centred at `((i + 1/2) Lx/nx - Lx/2, (j + 1/2) Ly/ny -
+    /// Ly/2)` from the contact point); None for a finger without a texture.
+    fn texture_heights_m<'py>(
+        &self,
+        py: Python<'py>,
+        finger: &str,
+    ) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let Some(f) = self.scene.fingers.iter().find(|f| f.name == finger) else {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "finger={finger:?}: the scene's fingers are {:?}",
+                self.finger_names()
+            )));
+        };
+        let Some(texture) = &f.texture else {
+            return Ok(None);
+        };
+        let ([lx, ly], [nx, ny]) = (f.patch.size, f.patch.grid);
+        let (hx, hy) = (lx / nx as f64, ly / ny as f64);
+        let centres: Vec<[f64; 2]> = (0..nx * ny)
+            .map(|k| {
+                let (i, j) = ((k / ny) as f64, (k % ny) as f64);
+                [(i + 0.5) * hx - 0.5 * lx, (j + 0.5) * hy - 0.5 * ly]
+            })
+            .collect();
+        let heights = py
+            .allow_threads(|| grasp_model::texture_heights_m(texture, &centres, [hx, hy]))
+            .map_err(crate::errors::grasp_error)?;
+        crate::arrays::float_array(py, &heights, &[nx, ny]).map(Some)
+    }
+
     /// The scene as a dict (directions normalised, as validated).
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         crate::json_value::serialize_to_py(py, &self.scene)
@@ -142,16 +184,19 @@ impl Scene {
 }
 
 impl Scene {
-    /// The scene of `text`, its mesh files read relative to `base` (the scene file's folder;
-    /// the working folder for a dict or JSON text).
+    /// The scene of `text`, the files it names read relative to `base` (the scene file's
+    /// folder; the working folder for a dict or JSON text), the fingers of `arrays` taking
+    /// their height maps from there.
     fn parse(
         py: Python<'_>,
         text: &str,
         origin: String,
         base: &std::path::Path,
+        arrays: &grasp_io::scene_file::HeightArrays,
     ) -> PyResult<Scene> {
         let mut inputs = grasp_io::RunInputs::new();
-        match grasp_io::scene_file::scene_from_json_str_noting(text, base, &mut inputs) {
+        let read = grasp_io::scene_file::scene_from_json_str_with_arrays;
+        match read(text, base, arrays, &mut inputs) {
             Ok(scene) => Ok(Scene {
                 scene,
                 origin,

@@ -57,7 +57,9 @@ pub struct HeightMapSpec {
     pub data: Option<Arc<HeightGrid>>,
 }
 
-/// Heights on a regular grid, m: `rows x cols`, row-major.
+/// Heights on a regular grid, m: `rows x cols`, row-major. In a height map, pixel `(i, j)` is
+/// centred at `((i - (rows - 1)/2) dx, (j - (cols - 1)/2) dy)` from the contact point, and the
+/// heights between pixel centres are bilinear.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HeightGrid {
     /// Number of rows (along `t1`).
@@ -85,6 +87,15 @@ pub struct RidgesSpec {
 /// A random isotropic self-affine surface (Persson et al. 2005): power spectral density
 /// `C(q) ~ q^(-2(1 + H))` between the wavenumbers of the long and short wavelengths, flat
 /// below the long one (roll-off), zero above the short one.
+///
+/// It is generated on a periodic square grid of pixels `short / 8`, `N x N` with `N` the
+/// smallest power of two whose side covers both the patch's larger side and the long
+/// wavelength, by the random-phase method (phases from ChaCha8 seeded with `seed`), scaled to
+/// exactly `rms_m`, and sampled bilinearly at the element centres: the same seed gives the
+/// same heights on every machine and for any element count (a finer grid samples the same
+/// surface), but a patch of another *size* may need another `N` and then sees another
+/// realisation of the same statistics. Validation asks for `short` at least two elements
+/// (finer texture cannot be resolved) and `N <= 8192`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RandomSurfaceSpec {

@@ -76,3 +76,13 @@ pub const MAX_COMPLIANCE_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
 /// Relative tolerance of the planarity checks (normalised directions, distances over the
 /// scene's length scale).
 pub const PLANAR_TOLERANCE: f64 = 1e-6;
+
+/// Largest side of a random texture's generation grid, pixels (of `short / 8`): see
+/// `geometry/random_surface.rs`. Its memory is counted in the solve's estimate
+/// ([`crate::estimate_memory_bytes`]).
+pub use crate::geometry::random_surface::MAX_GRID_SIDE as MAX_RANDOM_TEXTURE_GRID_SIDE;
+
+/// Fewest elements per shortest texture wavelength (a ridge period along its direction, a
+/// random surface's short wavelength): below two the elements cannot resolve it, and the
+/// sampled texture aliases into a longer, false one.
+pub const MIN_ELEMENTS_PER_TEXTURE_WAVELENGTH: f64 = 2.0;

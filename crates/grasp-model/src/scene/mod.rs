@@ -5,7 +5,8 @@
 //! anything is allocated.
 //!
 //! Reading a scene ([`scene_reading`]) ends with its validation pass ([`scene_validation`]),
-//! which applies the checks of one field each ([`field_checks`]) over the vector arithmetic
+//! which applies the checks of one field each ([`field_checks`], a finger's texture in
+//! [`texture_checks`]) over the vector arithmetic
 //! of [`vector_math`]; each imports only those after it.
 
 pub mod field_checks;
@@ -19,5 +20,6 @@ pub mod schema_check;
 pub mod shape_checks;
 pub mod shape_report;
 pub mod strict_json;
+pub mod texture_checks;
 pub mod vector_math;
 pub mod work_bounds;

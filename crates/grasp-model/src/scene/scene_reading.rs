@@ -1,16 +1,62 @@
 //! Reading a scene: strict JSON text or an already parsed value, the object's shape resolved
-//! (fingers placed on it), directions normalised on load (scaled by their largest component
-//! first, so `[1e200, 0, 0]` is `[1, 0, 0]`), then the validation pass
-//! ([`crate::scene::scene_validation`]). A document that does not read as a scene reports every
-//! structural problem at once (against the JSON Schema), each with its path and fix.
+//! (fingers placed on it), the height maps its fingers' textures name read, directions
+//! normalised on load (scaled by their largest component first, so `[1e200, 0, 0]` is
+//! `[1, 0, 0]`), then the validation pass ([`crate::scene::scene_validation`]). A document
+//! that does not read as a scene reports every structural problem at once (against the JSON
+//! Schema), each with its path and fix. The files a scene names are read by the caller
+//! ([`SceneFiles`]): this crate does no I/O.
+
+use std::sync::Arc;
 
 use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
 use crate::geometry::shape_spec::MeshSpec;
+use crate::geometry::texture_spec::{HeightGrid, HeightMapSpec};
 use crate::problem_list::ProblemList;
 use crate::scene::scene_format::{Scene, Vec3};
 use crate::scene::strict_json::StrictValue;
 use crate::scene::vector_math::unit_vector;
+
+/// Why a file a scene names could not be read: what is wrong (naming the file) and the fix.
+/// The scene reader adds the JSON path.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FileProblem {
+    /// What is wrong.
+    pub message: String,
+    /// How to fix it.
+    pub fix: String,
+}
+
+/// The files a scene names, read for it by the caller: a mesh shape's file
+/// (`object.shape.mesh.file`) and the fingers' height maps (`fingers[i].texture.heights.file`),
+/// each path relative to the scene file's folder.
+pub trait SceneFiles {
+    /// The mesh of `object.shape.mesh`, in metres; the error names the file.
+    fn mesh(&self, spec: &MeshSpec) -> Result<TriangleMesh, String>;
+    /// The heights of `fingers[finger].texture.heights` (m, rows along `t1`).
+    fn height_map(
+        &self,
+        finger: usize,
+        spec: &HeightMapSpec,
+    ) -> Result<Arc<HeightGrid>, FileProblem>;
+}
+
+/// Meshes from a closure; height maps refused (the readers of [`Scene::from_json_str`] and
+/// [`Scene::from_json_str_with_meshes`]).
+struct MeshesOnly<'a>(&'a dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>);
+
+impl SceneFiles for MeshesOnly<'_> {
+    fn mesh(&self, spec: &MeshSpec) -> Result<TriangleMesh, String> {
+        (self.0)(spec)
+    }
+
+    fn height_map(&self, _: usize, spec: &HeightMapSpec) -> Result<Arc<HeightGrid>, FileProblem> {
+        Err(FileProblem {
+            message: format!("{}: this loader reads no height maps", spec.file),
+            fix: "load the scene with its files: the grasp CLI, grasp.Scene or grasp_io".into(),
+        })
+    }
+}
 
 impl Scene {
     /// Parses a scene from JSON text (one document, nothing after it; duplicate keys refused),
@@ -19,7 +65,8 @@ impl Scene {
     ///
     /// A scene with `object.shape` is resolved first (fingers placed on it, the weight from a
     /// density, explicit frames checked: `crate::scene::finger_placement`); this entry point reads
-    /// no files, so a mesh shape needs [`Scene::from_json_str_with_meshes`].
+    /// no files, so a mesh shape needs [`Scene::from_json_str_with_meshes`], and a texture's
+    /// height map [`Scene::from_json_str_with_files`] (grasp_io reads both).
     pub fn from_json_str(text: &str) -> Result<Scene, SceneError> {
         Scene::from_json_str_with_meshes(text, &|m: &MeshSpec| {
             Err(format!(
@@ -30,10 +77,19 @@ impl Scene {
         })
     }
 
-    /// As [`Scene::from_json_str`], reading a mesh shape's file with `load_mesh`.
+    /// As [`Scene::from_json_str`], reading a mesh shape's file with `load_mesh` (a height
+    /// map is refused: see [`Scene::from_json_str_with_files`]).
     pub fn from_json_str_with_meshes(
         text: &str,
         load_mesh: &dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>,
+    ) -> Result<Scene, SceneError> {
+        Scene::from_json_str_with_files(text, &MeshesOnly(load_mesh))
+    }
+
+    /// As [`Scene::from_json_str`], reading the files the scene names with `files`.
+    pub fn from_json_str_with_files(
+        text: &str,
+        files: &dyn SceneFiles,
     ) -> Result<Scene, SceneError> {
         let parse_error = |e: crate::scene::strict_json::JsonError| structure_error(text, e);
         // Most scenes name no shape: read them once, as written (a key inside a string only
@@ -44,13 +100,15 @@ impl Scene {
         {
             let mut scene: Scene =
                 crate::scene::strict_json::from_str_strict(text).map_err(parse_error)?;
+            scene.read_height_maps(files)?;
             scene.normalize_directions();
             scene.validate()?;
             return Ok(scene);
         }
         let StrictValue(mut value) =
             crate::scene::strict_json::from_str_strict::<StrictValue>(text).map_err(parse_error)?;
-        let report = crate::scene::finger_placement::resolve_shapes(&mut value, load_mesh)?;
+        let load_mesh = |m: &MeshSpec| files.mesh(m);
+        let report = crate::scene::finger_placement::resolve_shapes(&mut value, &load_mesh)?;
         let mut scene: Scene = match report {
             // Without a shape the text is read as written (positions in messages are its own).
             None => crate::scene::strict_json::from_str_strict(text).map_err(parse_error)?,
@@ -60,6 +118,7 @@ impl Scene {
             }
         };
         scene.shape_report = report;
+        scene.read_height_maps(files)?;
         scene.normalize_directions();
         scene.validate()?;
         Ok(scene)
@@ -69,18 +128,49 @@ impl Scene {
     /// key twice: [`StrictValue`]), so a scene inside a larger document (a batch line) is
     /// parsed once: its shape resolved on the value, then the typed scene read from it.
     pub fn from_value_with_meshes(
-        mut value: serde_json::Value,
+        value: serde_json::Value,
         load_mesh: &dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>,
+    ) -> Result<Scene, SceneError> {
+        Scene::from_value_with_files(value, &MeshesOnly(load_mesh))
+    }
+
+    /// As [`Scene::from_value_with_meshes`], reading the files the scene names with `files`.
+    pub fn from_value_with_files(
+        mut value: serde_json::Value,
+        files: &dyn SceneFiles,
     ) -> Result<Scene, SceneError> {
         // As written, for the structural problems of a scene that does not parse.
         let written = value.clone();
-        let report = crate::scene::finger_placement::resolve_shapes(&mut value, load_mesh)?;
+        let load_mesh = |m: &MeshSpec| files.mesh(m);
+        let report = crate::scene::finger_placement::resolve_shapes(&mut value, &load_mesh)?;
         let mut scene: Scene = crate::scene::strict_json::from_value_strict(value)
             .map_err(|e| structure_error_of(&written, e))?;
         scene.shape_report = report;
+        scene.read_height_maps(files)?;
         scene.normalize_directions();
         scene.validate()?;
         Ok(scene)
+    }
+
+    /// Fills `fingers[i].texture.heights.data` from `files` for every finger whose texture
+    /// names a height map; every map that cannot be read is a problem at
+    /// `fingers[i].texture.heights.file`.
+    fn read_height_maps(&mut self, files: &dyn SceneFiles) -> Result<(), SceneError> {
+        let mut problems = ProblemList::default();
+        for (i, f) in self.fingers.iter_mut().enumerate() {
+            let Some(map) = f.texture.as_mut().and_then(|t| t.heights.as_mut()) else {
+                continue;
+            };
+            match files.height_map(i, map) {
+                Ok(grid) => map.data = Some(grid),
+                Err(e) => problems.add(
+                    format!("fingers[{i}].texture.heights.file"),
+                    e.message,
+                    e.fix,
+                ),
+            }
+        }
+        problems.finish().map_err(SceneError::Invalid)
     }
 
     /// Replaces every direction (gravity, planar normal, finger normals and tangents) by its

@@ -117,6 +117,7 @@ impl Scene {
         validate_tip(&p, f, self.planar.as_ref().map(|pl| pl.normal), v);
         validate_gap(&p, f.gap, self.object.shape.is_some(), v);
         validate_patch(&p, f, v);
+        crate::scene::texture_checks::check_texture(&p, f, v);
         v.friction(&format!("{p}.friction"), &f.friction, object_rigid);
         match f.control {
             ControlSpec::Load(l) => {

@@ -22,6 +22,11 @@
 //!                         + 8 (FFT_VECTORS + FFT_VECTORS_PER_ROW m) n_i + 48 4 nx_i ny_i)   bytes
 //! ```
 //!
+//! A finger's texture adds its bytes ([`texture_bytes`]): `8 N_i` for the heights at the element
+//! centres, plus a height map's `8 rows cols`, or a random surface's generation grid of
+//! `G x G` pixels at [`crate::geometry::random_surface::BYTES_PER_PIXEL`] each while it is made
+//! (`G` from [`crate::geometry::random_surface::grid_side`]).
+//!
 //! In the dense estimate [`DENSE_COPIES`] counts the model's block, the assembled program's
 //! copy and the factorisations of the solver, and [`SPARSE_ALLOWANCE`] (the same again) for the sparse
 //! solver's fill-in and workspace. Every product saturates at `u64::MAX`, so absurd grids give
@@ -103,16 +108,40 @@ pub fn estimate_memory_bytes_with(scene: &Scene, fft: impl Fn(&FingerSpec) -> bo
     scene
         .fingers
         .iter()
-        .map(|f| match fft(f) {
-            true => fft_bytes(scene, f),
-            false => {
-                let n = finger_unknowns(scene, f);
-                n.saturating_mul(n)
-                    .saturating_mul(F64_BYTES)
-                    .saturating_mul(DENSE_COPIES + SPARSE_ALLOWANCE)
-            }
+        .map(|f| {
+            let solve = match fft(f) {
+                true => fft_bytes(scene, f),
+                false => {
+                    let n = finger_unknowns(scene, f);
+                    n.saturating_mul(n)
+                        .saturating_mul(F64_BYTES)
+                        .saturating_mul(DENSE_COPIES + SPARSE_ALLOWANCE)
+                }
+            };
+            solve.saturating_add(texture_bytes(f))
         })
         .fold(0, u64::saturating_add)
+}
+
+/// Bytes of a finger's texture (0 without one; saturating): the heights at its element
+/// centres, and a height map's heights or a random surface's generation grid (see the module
+/// documentation). A random surface whose grid cannot be counted counts as `u64::MAX`
+/// (validation refuses it).
+pub fn texture_bytes(finger: &FingerSpec) -> u64 {
+    let Some(t) = &finger.texture else { return 0 };
+    let elements = (finger.patch.grid[0] as u64).saturating_mul(finger.patch.grid[1] as u64);
+    let source = if let Some(map) = t.heights.as_ref().and_then(|h| h.data.as_ref()) {
+        (map.heights_m.len() as u64).saturating_mul(F64_BYTES)
+    } else if let Some(r) = &t.random {
+        crate::geometry::random_surface::grid_side(r, finger.patch.size).map_or(u64::MAX, |g| {
+            (g as u64)
+                .saturating_mul(g as u64)
+                .saturating_mul(crate::geometry::random_surface::BYTES_PER_PIXEL)
+        })
+    } else {
+        0
+    };
+    elements.saturating_mul(F64_BYTES).saturating_add(source)
 }
 
 /// The FFT path's estimate for one finger, bytes (saturating).
@@ -181,6 +210,29 @@ mod tests {
             let e = estimate_memory_bytes_with(&scene([1024, 1024], mu), |_| true);
             assert!(e < estimate_memory_bytes(&scene([1024, 1024], mu)) / 1000);
         }
+    }
+
+    #[test]
+    fn a_texture_adds_its_heights_and_its_generation_grid() {
+        let plain = scene([8, 8], 0.4);
+        let mut textured = plain.clone();
+        // Short 10 um: pixels of 1.25 um; the 10 mm patch needs 8000 -> 8192 a side.
+        textured.fingers[0].texture = Some(
+            serde_json::from_str(
+                r#"{"random": {"rms_m": 1e-6, "hurst": 0.8, "wavelengths_m": [1e-4, 1e-5]}}"#,
+            )
+            .unwrap(),
+        );
+        let grid = 8192u64 * 8192 * 24;
+        assert_eq!(
+            estimate_memory_bytes(&textured) - estimate_memory_bytes(&plain),
+            8 * 64 + grid
+        );
+        assert_eq!(
+            estimate_memory_bytes_with(&textured, |_| true)
+                - estimate_memory_bytes_with(&plain, |_| true),
+            8 * 64 + grid
+        );
     }
 
     #[test]
