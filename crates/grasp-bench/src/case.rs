@@ -207,7 +207,7 @@ pub const FFT_CASES: [Case; 7] = [
 /// a finger), automatic compliance. Issue 22's target is a ratio, a layered patch at most 1.5x
 /// the half-space one on the same path: `grasp bench` prints it as a derived row
 /// ([`LAYER_PAIRS`]).
-pub const LAYER_CASES: [Case; 6] = [
+pub const LAYER_CASES: [Case; 8] = [
     case(
         "pad_pinch_64x64_fft",
         OneShot,
@@ -258,11 +258,30 @@ pub const LAYER_CASES: [Case; 6] = [
         None,
         false,
     ),
+    // Textured surfaces: the half-space pad pinch with ridged pads (20 um ridges of 0.5 mm
+    // period) against the smooth pads, 256 x 256 a finger on the FFT path, model build and one
+    // solve; the target is a ratio, a textured pad at most 1.5x the smooth one.
+    case(
+        "ridged_pad_256x256_fft",
+        OneShot,
+        "ridged_pad_pinch",
+        Some([256, 256]),
+        None,
+        false,
+    ),
+    case(
+        "smooth_pad_256x256_fft",
+        OneShot,
+        "pad_pinch_halfspace",
+        Some([256, 256]),
+        None,
+        false,
+    ),
 ];
 
-/// The (layered or viscoelastic, plain) case pairs whose time ratio issues 22 and 26 bound,
-/// with the bound.
-pub const LAYER_PAIRS: [(&str, &str, f64); 3] = [
+/// The (layered, viscoelastic or textured; plain) case pairs whose time ratio is bounded, with
+/// the bound.
+pub const LAYER_PAIRS: [(&str, &str, f64); 4] = [
     ("pad_pinch_64x64_fft", "pad_pinch_halfspace_64x64_fft", 1.5),
     (
         "pad_pinch_18x18_dense",
@@ -270,6 +289,7 @@ pub const LAYER_PAIRS: [(&str, &str, f64); 3] = [
         1.5,
     ),
     ("viscous_handoff_warm", "elastic_handoff_warm", 1.5),
+    ("ridged_pad_256x256_fft", "smooth_pad_256x256_fft", 1.5),
 ];
 
 /// The cases the peer library solves too, in the same run (`grasp bench`; issue 21 asks for
@@ -309,6 +329,7 @@ pub fn bundled(stem: &str) -> Option<(&'static str, Option<&'static str>)> {
             Some(example!("cylinder_handoff.schedule.json")),
         ),
         "pad_pinch_halfspace" => (example!("pad_pinch_halfspace.json"), None),
+        "ridged_pad_pinch" => (example!("ridged_pad_pinch.json"), None),
         _ => return None,
     })
 }

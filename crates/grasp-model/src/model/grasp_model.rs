@@ -11,6 +11,7 @@ use nalgebra::Vector3;
 
 use crate::error::{ModelError, SceneError};
 use crate::geometry::contact_frame::ContactFrame;
+use crate::geometry::surface_texture::texture_heights_m;
 use crate::geometry::texture_spec::GapSpec;
 use crate::model::contact_pair::ContactPair;
 use crate::model::equilibrium::{unit_wrench, EquilibriumMap, MotionPlane, Wrench};
@@ -782,10 +783,32 @@ fn gap_kind(f: &FingerSpec, object: &ObjectModel) -> GapSpec {
     })
 }
 
-/// Finger `i`'s patch: its elements and initial gaps, exact from the shapes
-/// ([`crate::model::surface_gap`]) or the thesis's quadratic form (Johnson 4.1), and the
-/// warning of a first touch away from the contact point.
+/// Finger `i`'s patch: its elements and initial gaps, smooth (exact from the shapes,
+/// `model/surface_gap.rs`, or the thesis's quadratic form, Johnson 4.1) less its texture's
+/// heights, and the warning of a first touch away from the contact point.
 fn finger_patch(
+    i: usize,
+    f: &FingerSpec,
+    frame: &ContactFrame,
+    object: &ObjectModel,
+) -> Result<(Patch, Option<String>), SceneError> {
+    let (patch, warning) = smooth_patch(i, f, frame, object)?;
+    let Some(texture) = &f.texture else {
+        return Ok((patch, warning));
+    };
+    let element = [patch.grid.hx, patch.grid.hy];
+    let heights = texture_heights_m(texture, &patch.centres_m, element).map_err(|e| {
+        SceneError::Invalid(vec![crate::error::InputProblem {
+            path: format!("fingers[{i}].texture"),
+            message: e,
+            fix: "give a texture that covers the patch (see the scene schema)".into(),
+        }])
+    })?;
+    Ok((patch.with_texture(&heights), warning))
+}
+
+/// Finger `i`'s patch with its smooth gaps (see [`finger_patch`]).
+fn smooth_patch(
     i: usize,
     f: &FingerSpec,
     frame: &ContactFrame,
@@ -814,7 +837,10 @@ fn finger_patch(
     })?;
     let warning = (gaps.first_touch_shift_m > FIRST_TOUCH_TOLERANCE * reach_m).then(|| {
         format!(
-            "fingers[{i}] ({}): the fingertip first touches the object {:.3e} m closer than at              the contact point (the surfaces curve toward each other there): its gaps and              approach are measured from that first touch; move the contact to where the              surfaces first meet",
+            "fingers[{i}] ({}): the fingertip first touches the object {:.3e} m closer than at \
+             the contact point (the surfaces curve toward each other there): its gaps and \
+             approach are measured from that first touch; move the contact to where the \
+             surfaces first meet",
             f.name, gaps.first_touch_shift_m
         )
     });

@@ -25,6 +25,9 @@ pub struct Patch {
     /// a surface has a positive smooth gap): a contact that should end inside its patch
     /// (thesis 2.2.1); false for a flat tip on a flat face, which loads its whole patch.
     pub curved: bool,
+    /// The largest curvature of the smooth gap, 1/m: the largest `2 c / r^2` over the
+    /// elements facing a surface (the cold start's Hertz estimate; a texture leaves it).
+    pub curvature_per_m: f64,
 }
 
 impl Patch {
@@ -46,6 +49,7 @@ impl Patch {
             }
         }
         let curved = gap_m.iter().any(|&g| g > 0.0);
+        let curvature_per_m = largest_curvature(&centres_m, &gap_m, &[]);
         Patch {
             grid: GridSpec { nx, ny, hx, hy },
             centres_m,
@@ -53,6 +57,7 @@ impl Patch {
             off_surface: Vec::new(),
             off_object: Vec::new(),
             curved,
+            curvature_per_m,
         }
     }
 
@@ -73,13 +78,41 @@ impl Patch {
         let floor = CURVED_FRACTION * half_diagonal;
         let curved = (0..gap_m.len())
             .any(|k| !off_surface.get(k).copied().unwrap_or(false) && gap_m[k] > floor);
+        let curvature_per_m = largest_curvature(&self.centres_m, &gap_m, &off_surface);
         Patch {
             gap_m,
             off_surface: any(off_surface),
             off_object: any(off_object),
             curved,
+            curvature_per_m,
             ..self
         }
+    }
+
+    /// This patch with the texture's heights `h` (m, one per element, a peak positive)
+    /// taken from its gaps, `c - h`, and every gap shifted so that the first touch (the
+    /// smallest gap facing a surface) is at zero: the textured surfaces touch first at their
+    /// highest asperity, and the approach counts from there.
+    pub(crate) fn with_texture(self, heights_m: &[f64]) -> Self {
+        let mut gap_m: Vec<f64> = self
+            .gap_m
+            .iter()
+            .zip(heights_m)
+            .map(|(c, h)| c - h)
+            .collect();
+        let on = |k: usize| !self.is_off_surface(k);
+        let lowest = (0..gap_m.len())
+            .filter(|&k| on(k))
+            .map(|k| gap_m[k])
+            .fold(f64::INFINITY, f64::min);
+        if lowest.is_finite() {
+            for (k, g) in gap_m.iter_mut().enumerate() {
+                if on(k) {
+                    *g -= lowest;
+                }
+            }
+        }
+        Patch { gap_m, ..self }
     }
 
     /// The initial gap's slope `|grad c|` at element `k` (dimensionless), by central
@@ -148,4 +181,24 @@ impl Patch {
         let (i, j) = (k / self.grid.ny, k % self.grid.ny);
         i == 0 || j == 0 || i + 1 == self.grid.nx || j + 1 == self.grid.ny
     }
+}
+
+/// The largest `2 c / r^2` (1/m) over the elements at `centres_m` (m) with gaps `gap_m` (m),
+/// those marked in `off` left out: the curvature of a gap `x^2/2 k1 + y^2/2 k2` along its
+/// steeper direction, or of an exact profile at its steepest reach.
+fn largest_curvature(centres_m: &[[f64; 2]], gap_m: &[f64], off: &[bool]) -> f64 {
+    centres_m
+        .iter()
+        .zip(gap_m)
+        .enumerate()
+        .filter(|(k, _)| !off.get(*k).copied().unwrap_or(false))
+        .map(|(_, (&[x, y], &c))| {
+            let r2 = x * x + y * y;
+            if r2 > 0.0 {
+                2.0 * c / r2
+            } else {
+                0.0
+            }
+        })
+        .fold(0.0_f64, f64::max)
 }

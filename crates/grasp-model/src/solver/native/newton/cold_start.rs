@@ -1,8 +1,10 @@
-//! Which elements a cold start puts in contact. A flat pad starts with every element in
-//! contact and sticking (the all-stick step of [`super::semismooth_newton`]). A curved contact
-//! starts with the elements whose initial gap lies within [`APPROACH_FACTOR`] Hertz approaches
-//! of the smallest gap: Johnson's eq. 4.23, `delta = (9 P^2 / (16 E*^2 R))^(1/3)` with `1/R`
-//! the largest curvature of the gap, `E*` the pair's effective modulus and `P` the finger's
+//! Which elements a cold start puts in contact (never one facing no surface). A flat pad
+//! starts with every element in contact and sticking (the all-stick step of
+//! [`super::semismooth_newton`]). A curved contact starts with the elements whose initial gap
+//! lies within [`APPROACH_FACTOR`] Hertz approaches of the smallest gap: Johnson's eq. 4.23,
+//! `delta = (9 P^2 / (16 E*^2 R))^(1/3)` with `1/R` the largest curvature of the smooth gap
+//! (`Patch::curvature_per_m`; on a textured patch the candidates are then the elements its
+//! asperities bring within that approach, the rigid interference's bearing area), `E*` the pair's effective modulus and `P` the finger's
 //! expected load (its prescribed load, or the load scale for a held finger). On a layered body
 //! the circle is the layered estimate of the contact radius
 //! ([`crate::model::contact_pair::ContactPair::contact_radius_estimate_m`]: a layer is stiffer,
@@ -24,20 +26,28 @@ pub const APPROACH_FACTOR: f64 = 0.5;
 
 /// Per element of `finger`: true when a cold start puts it in contact.
 pub(crate) fn initial_contact(model: &GraspModel, finger: &FingerModel) -> Vec<bool> {
-    let gaps = &finger.patch.gap_m;
-    let c_min = gaps.iter().cloned().fold(f64::INFINITY, f64::min);
-    let c_max = gaps.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    let patch = &finger.patch;
+    let gaps = &patch.gap_m;
+    let on = |k: &usize| !patch.is_off_surface(*k);
+    let c_min = (0..gaps.len())
+        .filter(on)
+        .map(|k| gaps[k])
+        .fold(f64::INFINITY, f64::min);
+    let c_max = (0..gaps.len())
+        .filter(on)
+        .map(|k| gaps[k])
+        .fold(f64::NEG_INFINITY, f64::max);
     // Negated on purpose: NaN gaps count as flat.
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     let flat = !(c_max > c_min);
-    let curvature = curvature_per_m(finger);
+    let curvature = patch.curvature_per_m;
     let e_star = 1.0 / finger.contact.constants.normal;
     let load = match finger.control {
         Control::NormalLoad { newtons } if newtons > 0.0 => newtons,
         _ => model.scales.load_n,
     };
     if flat || !(curvature > 0.0 && e_star.is_finite() && e_star > 0.0) {
-        return vec![true; gaps.len()];
+        return (0..gaps.len()).map(|k| on(&k)).collect();
     }
     let delta = match finger.contact.is_layered() {
         // Hertz's relation `delta = a^2 / R` at the layered estimate of the radius: the
@@ -54,23 +64,4 @@ pub(crate) fn initial_contact(model: &GraspModel, finger: &FingerModel) -> Vec<b
     gaps.iter()
         .map(|&c| c <= c_min + APPROACH_FACTOR * delta)
         .collect()
-}
-
-/// The largest curvature of the finger's gap function, 1/m (from `c = x^2/2 k1 + y^2/2 k2`
-/// at the element centres).
-fn curvature_per_m(finger: &FingerModel) -> f64 {
-    finger
-        .patch
-        .centres_m
-        .iter()
-        .zip(&finger.patch.gap_m)
-        .map(|(&[x, y], &c)| {
-            let r2 = x * x + y * y;
-            if r2 > 0.0 {
-                2.0 * c / r2
-            } else {
-                0.0
-            }
-        })
-        .fold(0.0_f64, f64::max)
 }
