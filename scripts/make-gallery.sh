@@ -7,7 +7,8 @@ cd "$(dirname "$0")/.."
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/grasp-target}"
 scenes="plate_four_fingers disc_three_fingers pipe_three_fingers cube_a cube_b hertz_sphere_on_flat
         plate_transfer disc_transfer plate_handoff_coulomb
-        box_pinch sphere_three_fingers mug_power_grasp cylinder_handoff pad_pinch cylinder_handoff_pads"
+        box_pinch sphere_three_fingers mug_power_grasp cylinder_handoff pad_pinch cylinder_handoff_pads
+        edge_pinch handle_handoff ridged_pad_pinch rough_object_pinch"
 for s in $scenes; do
   cargo run --release --quiet -- plot "examples/$s.json" --out "docs/gallery/$s.svg" --force
 done

@@ -315,3 +315,27 @@ fn a_textured_pad_solves_alike_on_both_compliance_paths() {
     assert!(rough.contact_area_m2 < 0.9 * flat.contact_area_m2);
     assert!(rough.peak_pressure_pa > 1.2 * flat.peak_pressure_pa);
 }
+
+/// A mesh's exact gaps stay within the two surfaces' sag over the patch: on the mug
+/// (`examples/mug_power_grasp.json`, a faceted cylinder of radius 40 mm) every body finger's
+/// 12 mm patch sees gaps no larger than its 12 mm sphere's sag `R - sqrt(R^2 - d^2)` plus the
+/// body's at the patch's half-diagonal `d` (3.51 + 0.91 mm). A ray that slips between two
+/// triangles and meets the mug's far wall from within (80 mm away) broke this before hits on
+/// a surface facing along the ray counted as leaks; the bound is geometry, independent of
+/// the code.
+#[test]
+fn a_mesh_rays_gaps_stay_within_the_surfaces_sag() {
+    let scene = support::example_scene("mug_power_grasp.json");
+    let model = GraspModel::from_scene(&scene).expect("model");
+    let sag = |r: f64, d: f64| r - (r * r - d * d).sqrt();
+    let d = 0.006 * 2f64.sqrt();
+    let bound = sag(0.012, d) + sag(0.040, d);
+    for name in ["index", "middle", "ring", "little", "thumb"] {
+        let (_, f) = model.finger(name).expect("finger");
+        let ([lo, hi], _) = f.patch().gap_range().expect("gaps");
+        assert!(
+            lo >= -1e-12 && hi <= bound,
+            "{name}: gaps {lo:.3e} to {hi:.3e} m, bound {bound:.3e}"
+        );
+    }
+}

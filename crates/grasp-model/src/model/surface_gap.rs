@@ -193,8 +193,9 @@ fn settle(gaps: Vec<Option<f64>>, off_object: Vec<bool>, reach_m: f64) -> ExactG
 /// Depth (m) of the object's surface below the tangent plane at `(x, y)`, along the inward
 /// normal, found by a ray from `reach_m` above the plane; `None` when the ray meets no
 /// surface. A ray through a mesh's edge or vertex can slip between its triangles in floating
-/// point: a miss is tried again from four origins [`LEAK_NUDGE`] of the reach aside before it
-/// counts.
+/// point and miss, or meet the far side of the object from within (a hit on a surface whose
+/// outward normal points along the ray): either is tried again from four origins
+/// [`LEAK_NUDGE`] of the reach aside before it counts as no surface.
 fn object_depth_m(
     shape: &Shape,
     frame: &ContactFrame,
@@ -226,7 +227,9 @@ fn ray_depth_m(
 ) -> Result<Option<f64>, String> {
     let origin = frame.point(x, y) - frame.normal * reach_m;
     match shape.ray_hit(&origin, &frame.normal) {
-        Ok(hit) => Ok(hit.map(|s| (s.point_m - origin).dot(&frame.normal) - reach_m)),
+        Ok(hit) => Ok(hit
+            .filter(|s| s.outward_normal.dot(&frame.normal) < 0.0)
+            .map(|s| (s.point_m - origin).dot(&frame.normal) - reach_m)),
         Err(_) => Err(format!(
             "the object's surface rises more than {:.3e} m above the contact's tangent plane at \
              ({:.3e}, {:.3e}) m of the patch: the fingertip would meet it before its contact \
