@@ -105,18 +105,26 @@ fn a_scheduled_pull_fails_the_grasp_where_it_crosses_the_margin() {
         .all(|r| holds(&model, &r.solution, &[]).is_ok()));
 }
 
-#[test]
-fn the_least_safe_step_is_the_smallest_margin_and_the_log_carries_it() {
-    let (scene, mut schedule) = support::transfer_example("plate_handoff_coulomb");
-    // Every 12th step of the 121: the margins cost about 50 solves a step.
+/// The hand-off stepped with margins at every 12th step of the schedule's (the margins cost
+/// about 50 solves a step).
+fn every_12th_step_with_margins(
+    scene: &grasp_model::Scene,
+    schedule: &mut grasp_transfer::Schedule,
+) -> Vec<grasp_transfer::StepRecord> {
     schedule.times = schedule.times.iter().copied().step_by(12).collect();
     let options = TransferOptions {
         margins: true,
         ..TransferOptions::default()
     };
-    let records: Vec<_> = Stepper::new(&scene, &schedule, options)
+    Stepper::new(scene, schedule, options)
         .map(|r| r.unwrap())
-        .collect();
+        .collect()
+}
+
+#[test]
+fn the_least_safe_step_is_the_smallest_margin_and_the_log_carries_it() {
+    let (scene, mut schedule) = support::transfer_example("plate_handoff_coulomb");
+    let records = every_12th_step_with_margins(&scene, &mut schedule);
     let names = scene.finger_names();
     let summary = TransferSummary::from_records(&records, &names);
     let least = summary.least_safe_step.expect("margins were computed");
@@ -143,14 +151,7 @@ fn the_least_safe_step_is_the_smallest_margin_and_the_log_carries_it() {
 fn a_steps_margin_is_its_grasps_margin_under_its_own_loads() {
     let (mut scene, mut schedule) = support::transfer_example("plate_handoff_coulomb");
     scene.model = grasp_model::ModelKind::Energy;
-    schedule.times = schedule.times.iter().copied().step_by(12).collect();
-    let options = TransferOptions {
-        margins: true,
-        ..TransferOptions::default()
-    };
-    let records: Vec<_> = Stepper::new(&scene, &schedule, options)
-        .map(|r| r.unwrap())
-        .collect();
+    let records = every_12th_step_with_margins(&scene, &mut schedule);
     let base = GraspModel::from_scene(&scene).unwrap();
     let mut checked = 0;
     for r in records.iter().filter(|r| r.solution.status.has_forces()) {
