@@ -465,6 +465,43 @@ fn relaxation_laws_and_approaches_out_of_range() {
     assert_problem(&v, "fingers[1].control.approach_m", "outside");
 }
 
+/// Unbounded work (issue 36): inputs whose cost grows without bound are refused with the
+/// bound named. A Prony series of more than 32 terms (its stepping costs the square of the
+/// count: 10,000 terms ran 236 s), a patch side of more than 1024 elements (a 1 x 1,048,576
+/// strip passed the element count and ran for minutes).
+#[test]
+fn unbounded_work_is_refused_with_its_bound() {
+    let terms = |n: usize| {
+        (0..n)
+            .map(|i| json!({"fraction": 0.5 / n as f64, "time_s": 10f64.powf(i as f64 / 8.0)}))
+            .collect::<Vec<_>>()
+    };
+    let mut v = cube();
+    v["fingers"][0]["material"]["relaxation"] = json!(terms(32));
+    assert!(
+        Scene::from_json_str(&v.to_string()).is_ok(),
+        "32 terms are a law"
+    );
+    for n in [33, 1000] {
+        v["fingers"][0]["material"]["relaxation"] = json!(terms(n));
+        assert_problem(
+            &v,
+            "fingers[0].material.relaxation",
+            &format!("has {n} terms, more than 32"),
+        );
+    }
+    for grid in [[1, 1_048_576], [1025, 4], [4, 2048]] {
+        let mut v = cube();
+        v["fingers"][2]["patch"]["grid"] = json!(grid);
+        let k = if grid[0] > 1024 { 0 } else { 1 };
+        assert_problem(
+            &v,
+            &format!("fingers[2].patch.grid[{k}]"),
+            "more than 1024 elements along a side",
+        );
+    }
+}
+
 /// Textures (`fingers[i].texture`) with one member too many or too few, numbers out of range,
 /// a wavelength the elements cannot resolve, or a generation grid too large: each is named
 /// with its path and the fix. Cube A's patches are 10 mm of 5 x 5 elements (2 mm).

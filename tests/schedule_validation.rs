@@ -135,8 +135,18 @@ fn step_counts_are_bounded_without_overflow() {
     v["time"] = json!({"start": 0, "end": 1e308, "step": 0.1});
     assert_problem(&v, "time.end", "outside [0e0, 1e9] s");
     let mut v = base();
-    v["time"] = json!({"start": 0, "end": 1e9, "step": 1e-300});
+    v["time"] = json!({"start": 0, "end": 1e9, "step": 1e-6});
     assert_problem(&v, "time.step", "more than 1000000");
+    // Steps shorter than a nanosecond (the logs' unit), a span's or between listed times:
+    // a step of 5e-324 s once broke the viscoelastic step with non-finite program data.
+    for step in [5e-324, 1e-300, 9.9e-10] {
+        let mut v = base();
+        v["time"] = json!({"start": 0, "end": 1e-8, "step": step});
+        assert_problem(&v, "time.step", "give a step of at least 1e-9 s");
+        let mut v = base();
+        v["time"] = json!({"times": [0.0, 0.5, 0.5 + step]});
+        assert_problem(&v, "time.times[2]", "space the times at least 1e-9 s apart");
+    }
     let mut v = base();
     v["time"] = json!({"start": 0, "end": 1e6, "step": 1});
     assert_problem(&v, "time.step", "gives 1.000e6 steps");

@@ -1024,3 +1024,29 @@ fn a_box_stored_in_single_precision_still_has_flat_faces() {
         }
     }
 }
+
+/// A ray aimed at an edge or a corner of the box (posed off the origin) is refused alike by
+/// the primitive and by every tessellation of it: "lands on an edge" / "a corner", where
+/// the normal is not defined (issue 36: the mesh box once accepted the ray with a warning).
+#[test]
+fn rays_onto_a_mesh_boxs_edge_or_corner_are_refused_as_on_the_primitive() {
+    let primitive = posed(json!({"box": {"size": HALF.map(|h| 2.0 * h)}}));
+    let mesh_shape = posed(json!({"mesh": {"file": "box.obj"}}));
+    let targets = [
+        ([HALF[0], HALF[1], 0.013], [-1.0, -1.0, 0.0], "an edge"),
+        ([-HALF[0], 0.007, HALF[2]], [1.0, 0.0, -1.0], "an edge"),
+        (HALF, [-1.0, -1.0, -1.0], "a corner"),
+    ];
+    for (target, dir, what) in targets {
+        let origin = world([0, 1, 2].map(|k| target[k] - 0.01 * dir[k]));
+        let place = json!({"ray": {"origin": origin, "direction": world_dir(dir)}});
+        let expected = format!("lands on {what}");
+        let e = load(&placed(primitive.clone(), place.clone())).unwrap_err();
+        assert!(e.to_string().contains(&expected), "primitive: {e}");
+        for (name, mesh) in box_meshes() {
+            let e =
+                load_with_mesh(&placed(mesh_shape.clone(), place.clone()), &mesh).expect_err(name);
+            assert!(e.to_string().contains(&expected), "{name}: {e}");
+        }
+    }
+}

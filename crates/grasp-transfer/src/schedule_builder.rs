@@ -18,7 +18,7 @@ use crate::load_profile::read_profile_csv_noting;
 use crate::schedule::{Phase, Schedule};
 use crate::schedule_spec::{
     ApproachPhase, CsvPhase, ExternalSpec, KeyValue, PhaseSpec, RampPhase, ScheduleSpec, SpanSpec,
-    TimeSpec, WrenchCsv, MAX_STEPS, MAX_TIME_S,
+    TimeSpec, WrenchCsv, MAX_STEPS, MAX_TIME_S, MIN_STEP_S,
 };
 
 impl Schedule {
@@ -131,12 +131,12 @@ impl Problems {
 fn span_times(s: &SpanSpec, v: &mut Problems) -> Vec<f64> {
     let start_ok = v.time("time.start".into(), s.start, true);
     let end_ok = v.time("time.end".into(), s.end, true);
-    let step_ok = s.step.is_finite() && s.step > 0.0;
+    let step_ok = s.step.is_finite() && s.step >= MIN_STEP_S;
     if !step_ok {
         v.push(
             "time.step".into(),
-            format!("is {}", N(s.step)),
-            "give a step > 0 s",
+            format!("is {} s", N(s.step)),
+            &format!("give a step of at least {MIN_STEP_S:e} s (the logs count whole nanoseconds)"),
         );
     }
     if !(s.end >= s.start) {
@@ -192,6 +192,16 @@ fn explicit_times(times: &[f64], v: &mut Problems) -> Vec<f64> {
                 format!("time.times[{i}]"),
                 format!("is {} s, not after {} s", N(*t), N(times[i - 1])),
                 "list times in strictly increasing order",
+            );
+        } else if i > 0 && *t - times[i - 1] < MIN_STEP_S {
+            v.push(
+                format!("time.times[{i}]"),
+                format!(
+                    "is {} s, {} s after the time before it",
+                    N(*t),
+                    N(*t - times[i - 1])
+                ),
+                &format!("space the times at least {MIN_STEP_S:e} s apart (the logs count whole nanoseconds)"),
             );
         }
     }

@@ -39,6 +39,10 @@ pub const MAX_STEPS: usize = 1_000_000;
 /// nanoseconds as 64-bit integers).
 pub const MAX_TIME_S: f64 = 1e9;
 
+/// Shortest step between two schedule times, s: the logs store times in whole nanoseconds, and
+/// a viscoelastic step shorter than this is the instantaneous response to round-off.
+pub const MIN_STEP_S: f64 = 1e-9;
+
 /// A schedule file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]

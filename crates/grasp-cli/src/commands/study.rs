@@ -180,10 +180,10 @@ fn choose_reference(
 /// Most grids of one study (each is a solve).
 const MAX_GRIDS: usize = 32;
 
-/// `--grids`: between 1 and [`MAX_GRIDS`] counts, each in [1, 1048576] (a patch has at most
-/// `MAX_ELEMENTS_PER_PATCH` elements, so no first side can exceed it).
+/// `--grids`: between 1 and [`MAX_GRIDS`] counts, each in [1, 1024] (a patch has at most
+/// `MAX_GRID_SIDE` elements a side).
 fn check_grids(grids: &[usize]) -> Result<()> {
-    let most = grasp_model::limits::MAX_ELEMENTS_PER_PATCH;
+    let most = grasp_model::limits::MAX_GRID_SIDE;
     if grids.is_empty() || grids.len() > MAX_GRIDS {
         bail!(
             "--grids lists {} grids; give between 1 and {MAX_GRIDS}, e.g. --grids 5,9,17",

@@ -11,7 +11,7 @@ use std::time::Instant;
 use crate::error::ModelError;
 use crate::model::closed_form::HertzSphere;
 use crate::model::grasp_model::GraspModel;
-use crate::scene::limits::MAX_ELEMENTS_PER_PATCH;
+use crate::scene::limits::{MAX_ELEMENTS_PER_PATCH, MAX_GRID_SIDE};
 use crate::scene::scene_format::{RadiusSpec, Scene};
 use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::solution::Solution;
@@ -270,17 +270,21 @@ pub fn refinement_study(
 }
 
 /// Refuses the grid with first side `n` when it gives a patch of `s` more than
-/// [`MAX_ELEMENTS_PER_PATCH`] elements.
+/// [`MAX_ELEMENTS_PER_PATCH`] elements, or more than [`MAX_GRID_SIDE`] along a side.
 fn check_grid_size(s: &Scene, n: usize) -> Result<(), String> {
+    let too_big = |g: [usize; 2]| {
+        g[0].saturating_mul(g[1]) > MAX_ELEMENTS_PER_PATCH || g.iter().any(|&k| k > MAX_GRID_SIDE)
+    };
     if let Some((i, f)) = s
         .fingers
         .iter()
         .enumerate()
-        .find(|(_, f)| f.patch.grid[0].saturating_mul(f.patch.grid[1]) > MAX_ELEMENTS_PER_PATCH)
+        .find(|(_, f)| too_big(f.patch.grid))
     {
         return Err(format!(
-            "grid {n} gives fingers[{i}] ({}) more than {MAX_ELEMENTS_PER_PATCH} elements",
-            f.name
+            "grid {n} gives fingers[{i}] ({}) a {} x {} patch: at most {MAX_GRID_SIDE} elements \
+             a side and {MAX_ELEMENTS_PER_PATCH} in all",
+            f.name, f.patch.grid[0], f.patch.grid[1]
         ));
     }
     Ok(())

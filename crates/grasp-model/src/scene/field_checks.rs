@@ -165,6 +165,14 @@ impl FieldChecks {
         let time_fix = "give the relaxation time in seconds (1 ms = 0.001)";
         match r {
             RelaxationSpec::Prony(terms) => {
+                if terms.len() > MAX_PRONY_TERMS {
+                    self.push(
+                        path,
+                        format!("has {} terms, more than {MAX_PRONY_TERMS}", terms.len()),
+                        "fit the law with fewer terms (one a decade of time is plenty)",
+                    );
+                    return;
+                }
                 let mut sum = 0.0;
                 for (i, t) in terms.iter().enumerate() {
                     let p = format!("{path}[{i}]");

@@ -10,6 +10,10 @@
 /// machine, refuses what does not fit before this limit does.
 pub const MAX_ELEMENTS_PER_PATCH: usize = 1024 * 1024;
 
+/// Most elements along one side of a patch: the largest patch is 1024 x 1024, and a strip of
+/// a million elements one wide is no contact patch (its FFT grid alone runs for minutes).
+pub const MAX_GRID_SIDE: usize = 1024;
+
 /// Patches with more unknowns than this (elements times `1 + n_tangential`: 32 x 32
 /// frictionless, about 18 x 18 with friction in 3-D) take the FFT compliance operator when
 /// the form is chosen automatically. Measured on the bundled scenes (`grasp solve`, 2 cores):
@@ -34,6 +38,10 @@ pub const LAYER_THICKNESS_RANGE_M: (f64, f64) = (1e-6, 1.0);
 /// Range of a relaxation time, s (a microsecond to about 31 years, the schedules' longest
 /// time).
 pub const RELAXATION_TIME_RANGE_S: (f64, f64) = (1e-6, 1e9);
+
+/// Most terms of a Prony series: measured laws use a handful (about one a decade of time),
+/// and the stepping's cost grows with the square of their number.
+pub const MAX_PRONY_TERMS: usize = 32;
 
 /// Range of a prescribed approach, m.
 pub const APPROACH_RANGE_M: (f64, f64) = (0.0, 1.0);

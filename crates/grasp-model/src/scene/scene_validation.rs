@@ -460,6 +460,15 @@ fn validate_patch(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
                 "is 0".into(),
                 "give at least one element along each side",
             );
+        } else if f.patch.grid[k] > MAX_GRID_SIDE {
+            v.push(
+                &format!("{p}.patch.grid[{k}]"),
+                format!(
+                    "is {}, more than {MAX_GRID_SIDE} elements along a side",
+                    f.patch.grid[k]
+                ),
+                "use at most 1024 elements a side (the largest patch is 1024 x 1024)",
+            );
         }
     }
     let ne = f.patch.grid[0].saturating_mul(f.patch.grid[1]);

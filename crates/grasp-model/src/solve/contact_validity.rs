@@ -13,10 +13,22 @@ use crate::solve::solution::{ElementState, FingerSolution, Solution};
 /// 0.31, differs from Hertz by 3 % in load.
 pub const SLOPE_LIMIT: f64 = 0.3;
 
-/// The warnings of `sol` for the fingers of `model` with exact gaps.
+/// Largest compression, as a fraction of the surfaces' relative radius of curvature, within
+/// which the contact is taken as small-strain: Hertz's `delta / R = (a / R)^2`, so 0.2 is a
+/// contact radius of 0.45 R, where Sneddon's exact sphere carries 9 % more than Hertz's
+/// (Johnson 4.2; 4 % at the slope limit's 0.32 R).
+pub const APPROACH_PER_RADIUS_LIMIT: f64 = 0.2;
+
+/// Largest compression, as a fraction of a bonded layer's thickness, within which the layer's
+/// strain is taken as small (a nominal compression of 30 %).
+pub const APPROACH_PER_LAYER_LIMIT: f64 = 0.3;
+
+/// The warnings of `sol` for the fingers of `model`: every finger's approach beyond small
+/// strain, and, with exact gaps, steep slopes and loads at a soft object's edge.
 pub(crate) fn validity_warnings(model: &GraspModel, sol: &Solution) -> Vec<String> {
     let mut out = Vec::new();
     for (i, (f, fs)) in model.fingers.iter().zip(&sol.fingers).enumerate() {
+        out.extend(strain_warning(f, fs).map(|w| format!("fingers[{i}] `{}`: {w}", f.name)));
         if !f.exact_gaps {
             continue;
         }
@@ -43,6 +55,64 @@ pub(crate) fn validity_warnings(model: &GraspModel, sol: &Solution) -> Vec<Strin
         }
     }
     out
+}
+
+/// When the finger's contact leaves small strain: its compression (the largest elastic
+/// closure of the surfaces over the patch, Hertz's approach `delta` at a curved contact)
+/// beyond [`APPROACH_PER_LAYER_LIMIT`] of a bonded layer's thickness, or, with the quadratic
+/// gap (exact gaps have the slope warning), beyond [`APPROACH_PER_RADIUS_LIMIT`] of the
+/// surfaces' relative radius of curvature. Commanded and solved approaches alike.
+fn strain_warning(f: &FingerModel, fs: &FingerSolution) -> Option<String> {
+    let d = compression_m(f, fs);
+    if !(d > 0.0) {
+        return None;
+    }
+    let layers = [&f.contact.finger_layer, &f.contact.object_layer];
+    if let Some(h) = layers
+        .iter()
+        .filter_map(|l| l.as_ref().map(|l| l.thickness_m))
+        .find(|h| d > APPROACH_PER_LAYER_LIMIT * h)
+    {
+        return Some(format!(
+            "its compression {d:.3e} m is {:.0} % of a {h:.3e} m layer's thickness, beyond \
+             small strain ({:.0} %): its forces are approximate; give a smaller approach or \
+             load, or a thicker layer",
+            100.0 * d / h,
+            100.0 * APPROACH_PER_LAYER_LIMIT
+        ));
+    }
+    let r = 1.0 / f.patch.curvature_per_m;
+    (!f.exact_gaps && f.patch.curved && d > APPROACH_PER_RADIUS_LIMIT * r).then(|| {
+        format!(
+            "its compression {d:.3e} m is {:.2} of the surfaces' radius of curvature {r:.3e} m \
+             (a contact radius near {:.2} of it), beyond small strain \
+             ({APPROACH_PER_RADIUS_LIMIT}): its forces are approximate; give a smaller \
+             approach or load, or a larger tip radius",
+            d / r,
+            (d / r).sqrt()
+        )
+    })
+}
+
+/// The largest elastic normal closure of the surfaces over the finger's elements in contact,
+/// m (the compliance applied to its forces, Johnson 3.2).
+fn compression_m(f: &FingerModel, fs: &FingerSolution) -> f64 {
+    let ne = f.patch.len();
+    let mut x = vec![0.0; f.n_unknowns()];
+    for (k, e) in fs.elements.iter().enumerate() {
+        x[k] = e.normal_force_n;
+        for c in 0..f.n_tangential {
+            x[(c + 1) * ne + k] = e.tangential_force_n[c];
+        }
+    }
+    let mut u = vec![0.0; x.len()];
+    f.compliance_m_per_n.apply(&x, &mut u);
+    fs.elements
+        .iter()
+        .zip(&u)
+        .filter(|(e, _)| matches!(e.state, ElementState::Stick | ElementState::Slip))
+        .map(|(_, &uk)| uk)
+        .fold(0.0, f64::max)
 }
 
 /// The largest slope `|grad c|` of the initial gap at the elements in contact.

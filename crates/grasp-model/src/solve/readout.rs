@@ -33,6 +33,11 @@ pub const ACCEPTED_FORCE_RESIDUAL: f64 = 1e-6;
 /// the displacement and work units) of an answer reported as solved.
 pub const ACCEPTED_KINEMATIC_RESIDUAL: f64 = 1e-3;
 
+/// Largest relative residual of any kind of an answer reported as `solved`; an accepted
+/// answer above it (kinematic residuals up to [`ACCEPTED_KINEMATIC_RESIDUAL`]) is reported as
+/// `reduced_accuracy` with the residual named.
+pub const SOLVED_RESIDUAL: f64 = 1e-6;
+
 /// A solution without forces: `status` with its `reason`.
 pub(crate) fn failed(
     model: &GraspModel,
@@ -365,7 +370,8 @@ pub(crate) fn build_solution(
 /// The end-of-solve invariant: a solution with forces is reported as solved only if every
 /// number in it is finite and its residuals are within [`ACCEPTED_FORCE_RESIDUAL`] and
 /// [`ACCEPTED_KINEMATIC_RESIDUAL`]; otherwise it becomes `no_convergence` with the reason and
-/// loses its forces.
+/// loses its forces. An accepted answer with a residual above [`SOLVED_RESIDUAL`] is
+/// `reduced_accuracy`, the residual named.
 pub(crate) fn enforce_invariant(sol: &mut Solution) {
     if !sol.status.has_forces() {
         return;
@@ -388,5 +394,19 @@ pub(crate) fn enforce_invariant(sol: &mut Solution) {
         sol.fingers.clear();
         sol.rigid_displacement = None;
         sol.warnings.clear();
+        return;
+    }
+    let loose = sol
+        .residuals
+        .and_then(|r| r.unacceptable(SOLVED_RESIDUAL, SOLVED_RESIDUAL));
+    if let (SolveStatus::Solved, Some(p)) = (sol.status, loose) {
+        sol.status = SolveStatus::ReducedAccuracy;
+        sol.reason = Some(format!(
+            "solved to reduced accuracy: {p} (a solved answer's are within {SOLVED_RESIDUAL:.0e}); \
+             the forces are approximate: try the other solver (`{}`), a tighter `{}`, or check \
+             the scene's extremes (an approach beyond small strain, say)",
+            option_names::SOLVER,
+            option_names::TOLERANCE
+        ));
     }
 }
