@@ -147,6 +147,12 @@ impl MeshSurface {
         Ok(s)
     }
 
+    /// Distance within which a point is on a sharp edge, m ([`EDGE_TOLERANCE`] of the mesh's
+    /// size).
+    pub fn edge_tolerance_m(&self) -> f64 {
+        self.edge_tolerance_m
+    }
+
     /// Ray parameter of the first hit of `o + t d` (`d` unit), if any.
     pub fn ray_hit(&self, o: &Vector3<f64>, d: &Vector3<f64>) -> Option<f64> {
         self.trimesh

@@ -81,7 +81,8 @@ impl Shape {
     /// The first surface point hit by the ray from `origin` along `direction` (world; the
     /// direction need not be unit), or `None` when it misses. A ray starting inside the
     /// object is refused (not on a mesh that is not closed: it has no inside; a ray may then
-    /// hit the back of a triangle, which the caller checks).
+    /// hit the back of a triangle, which the caller checks). On a closed mesh a ray that
+    /// slips between triangles is cast again beside itself ([`Self::local_hit`]).
     pub fn ray_hit(
         &self,
         origin: &Vector3<f64>,
@@ -95,21 +96,48 @@ impl Shape {
         if self.open_mesh().is_none() && self.closest(origin)?.distance_m < 0.0 {
             return Err("starts inside the object".into());
         }
-        let hit = match &self.local {
-            LocalShape::Primitive(prim) => prim.ray_hit(&o, &d),
-            LocalShape::Mesh(m) => m.ray_hit(&o, &d),
+        let LocalShape::Mesh(m) = &self.local else {
+            return self.local_hit(&o, &d).map(|s| s.map(|s| self.to_world(s)));
         };
-        match hit {
-            None => Ok(None),
-            Some(t) => {
-                let mut s = match &self.local {
-                    LocalShape::Primitive(prim) => prim.closest(&(o + d * t))?,
-                    LocalShape::Mesh(m) => m.closest(&(o + d * t))?,
-                };
-                s.distance_m = 0.0;
-                Ok(Some(self.to_world(s)))
+        if let Some(s) = self.local_hit(&o, &d)? {
+            return Ok(Some(self.to_world(s)));
+        }
+        // A ray exactly through an edge or a vertex can slip between the triangles in floating
+        // point: cast again a tenth of the edge tolerance aside, so that it lands on the edge.
+        let e1 = d
+            .cross(&Vector3::x())
+            .try_normalize(1e-6)
+            .unwrap_or_else(|| d.cross(&Vector3::y()).normalize());
+        let e2 = d.cross(&e1);
+        let nudge = 0.1 * m.edge_tolerance_m();
+        for e in [e1, -e1, e2, -e2] {
+            if let Some(s) = self.local_hit(&(o + e * nudge), &d)? {
+                return Ok(Some(self.to_world(s)));
             }
         }
+        Ok(None)
+    }
+
+    /// The first hit of the local ray `o + t d` (`d` unit) on a face turned towards it (local
+    /// frame): on a closed mesh, a hit on a face turned away is the far side met from within
+    /// by a ray that slipped between two triangles, and counts as none.
+    fn local_hit(
+        &self,
+        o: &Vector3<f64>,
+        d: &Vector3<f64>,
+    ) -> Result<Option<SurfacePoint>, String> {
+        let hit = match &self.local {
+            LocalShape::Primitive(prim) => prim.ray_hit(o, d),
+            LocalShape::Mesh(m) => m.ray_hit(o, d),
+        };
+        let Some(t) = hit else { return Ok(None) };
+        let mut s = match &self.local {
+            LocalShape::Primitive(prim) => prim.closest(&(o + d * t))?,
+            LocalShape::Mesh(m) => m.closest(&(o + d * t))?,
+        };
+        s.distance_m = 0.0;
+        let back = s.outward_normal.dot(d) >= 0.0 && self.open_mesh().is_none();
+        Ok((!back).then_some(s))
     }
 
     /// Why the shape does not bound a solid: the defects of a mesh that is not closed

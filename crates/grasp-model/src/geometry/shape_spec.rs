@@ -149,7 +149,7 @@ pub struct RaySpec {
 }
 
 /// `fingers[i].tip`: the fingertip's shape near the contact (exactly one member; the older
-/// `tip_radius` is a sphere).
+/// `tip_radius` is a sphere; `shape` a solid posed in the world, a mesh say).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TipSpec {
@@ -168,6 +168,13 @@ pub struct TipSpec {
     /// patch must lie on the pad.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub disc: Option<TipDiscSpec>,
+    /// A fingertip of any shape the object can take (a mesh from an OBJ or STL file, a box, a
+    /// sphere, a cylinder, a capsule), posed in the world like `object.shape`: its surface
+    /// passes through the contact point, facing the object. Exact gaps only (the object's
+    /// shape is needed); the tip's height at each element is found by a ray cast from the
+    /// object's side (Johnson 5.1: the compliance stays the half-space's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shape: Option<Box<ShapeSpec>>,
 }
 
 /// A spherical fingertip.

@@ -236,6 +236,8 @@ pub(crate) struct ObjectModel {
     pub scene_warnings: Vec<String>,
     /// The object's posed shape (`None` without `object.shape`), for exact gaps.
     pub shape: Option<SharedShape>,
+    /// Per finger, its posed `tip.shape` (empty without `object.shape`), for exact gaps.
+    pub tip_shapes: Vec<Option<SharedShape>>,
     /// The scene's `gap`: how every finger's smooth gap is computed unless it says otherwise.
     pub gap: Option<GapSpec>,
 }
@@ -676,6 +678,10 @@ fn object_model(scene: &Scene) -> ObjectModel {
             .as_ref()
             .map_or_else(Vec::new, |r| r.warnings.clone()),
         shape: scene.shape_report.as_ref().map(|r| r.shape.clone()),
+        tip_shapes: scene
+            .shape_report
+            .as_ref()
+            .map_or_else(Vec::new, |r| r.tips.clone()),
         gap: scene.gap,
     }
 }
@@ -825,7 +831,8 @@ fn smooth_patch(
     };
     let flat = Patch::new(f.patch.size, f.patch.grid, [0.0, 0.0]);
     let reach_m = 0.5 * f.patch.size[0].hypot(f.patch.size[1]);
-    let tip = TipProfile::of(f, frame);
+    let solid = object.tip_shapes.get(i).and_then(Option::as_ref);
+    let tip = TipProfile::of(f, frame, solid);
     let gaps = exact_gaps(&shape.0, frame, &tip, &flat.centres_m, reach_m).map_err(|e| {
         SceneError::Invalid(vec![crate::error::InputProblem {
             path: format!("fingers[{i}].contact_point"),

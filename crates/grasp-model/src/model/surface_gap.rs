@@ -18,6 +18,7 @@ use crate::geometry::contact_frame::ContactFrame;
 use crate::geometry::shape::Shape;
 use crate::geometry::shape_spec::TipSpec;
 use crate::scene::scene_format::FingerSpec;
+use crate::scene::shape_report::SharedShape;
 
 /// A ray that misses is cast again this fraction of the reach aside (a ray through a mesh's
 /// edge can slip between its triangles; a true miss, past an edge, misses again).
@@ -32,7 +33,7 @@ const PARALLEL_RAYS: usize = 4_096;
 const OFF_SURFACE_GAP_DIAGONALS: f64 = 10.0;
 
 /// The fingertip's exact surface near the contact, in the contact frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub(crate) enum TipProfile {
     /// A flat tip with no edge (the scene gives none): height 0 everywhere.
     Unbounded,
@@ -44,11 +45,18 @@ pub(crate) enum TipProfile {
     Pad { flat_half_m: [f64; 2], edge_m: f64 },
     /// A disc pad: the flat part's radius, m, and the rim's radius, m.
     Disc { flat_radius_m: f64, edge_m: f64 },
+    /// A solid posed in the world (`tip.shape`, a mesh say), met by rays cast from the
+    /// object's side of the tangent plane.
+    Solid(SharedShape),
 }
 
 impl TipProfile {
-    /// The profile of finger `f` (frame `frame`: a cylinder's axis along `t1` or `t2`).
-    pub(crate) fn of(f: &FingerSpec, frame: &ContactFrame) -> TipProfile {
+    /// The profile of finger `f` (frame `frame`: a cylinder's axis along `t1` or `t2`); `solid`
+    /// its posed `tip.shape`, when it has one.
+    pub(crate) fn of(f: &FingerSpec, frame: &ContactFrame, solid: Option<&SharedShape>) -> Self {
+        if let Some(s) = solid {
+            return TipProfile::Solid(s.clone());
+        }
         if let Some(r) = f.tip_radius {
             return TipProfile::Sphere { radius_m: r };
         }
@@ -87,9 +95,34 @@ impl TipProfile {
     }
 
     /// The tip's height above the tangent plane at `(x, y)` (m, along `t1`, `t2`), away from
-    /// the object; `None` beyond its surface.
+    /// the object; `None` beyond its surface. A solid tip's is found by a ray from `reach_m`
+    /// below the plane, on the object's side (`Err` when the tip crosses the plane deeper),
+    /// measured from its height at the contact point.
+    fn surface_height_m(
+        &self,
+        frame: &ContactFrame,
+        [x, y]: [f64; 2],
+        reach_m: f64,
+    ) -> Result<Option<f64>, String> {
+        let TipProfile::Solid(solid) = self else {
+            return Ok(self.height_m(x, y));
+        };
+        let tip_side = ContactFrame {
+            normal: -frame.normal,
+            ..*frame
+        };
+        let at = |c: [f64; 2]| surface_depth_m(&solid.0, &tip_side, c, reach_m, "fingertip's");
+        let centre = at([0.0, 0.0])?.ok_or_else(|| {
+            "the fingertip's surface does not pass over the contact point".to_string()
+        })?;
+        Ok(at([x, y])?.map(|h| h - centre))
+    }
+
+    /// The height of an analytic tip (see [`Self::surface_height_m`]); a solid's is found by
+    /// rays.
     pub(crate) fn height_m(&self, x: f64, y: f64) -> Option<f64> {
         match *self {
+            TipProfile::Solid(_) => None,
             TipProfile::Unbounded => Some(0.0),
             TipProfile::Sphere { radius_m } => circle_height(radius_m, x.hypot(y)),
             TipProfile::Cylinder { radius_m, along_t1 } => {
@@ -159,7 +192,7 @@ pub(crate) fn exact_gaps(
     })?;
     let one = |c: &[f64; 2]| -> Result<(Option<f64>, bool), String> {
         let depth = object_depth_m(shape, frame, *c, reach_m)?;
-        let tip = tip.height_m(c[0], c[1]);
+        let tip = tip.surface_height_m(frame, *c, reach_m)?;
         let gap = depth.zip(tip).map(|(d, h)| d - depth_at_contact + h);
         Ok((gap, depth.is_none()))
     };
@@ -199,8 +232,19 @@ fn settle(gaps: Vec<Option<f64>>, off_object: Vec<bool>, reach_m: f64) -> ExactG
 fn object_depth_m(
     shape: &Shape,
     frame: &ContactFrame,
+    at: [f64; 2],
+    reach_m: f64,
+) -> Result<Option<f64>, String> {
+    surface_depth_m(shape, frame, at, reach_m, "object's")
+}
+
+/// [`object_depth_m`] for any surface: `whose` names it in the error.
+fn surface_depth_m(
+    shape: &Shape,
+    frame: &ContactFrame,
     [x, y]: [f64; 2],
     reach_m: f64,
+    whose: &str,
 ) -> Result<Option<f64>, String> {
     let nudge = LEAK_NUDGE * reach_m;
     let tries = [
@@ -211,7 +255,7 @@ fn object_depth_m(
         (0.0, -nudge),
     ];
     for (dx, dy) in tries {
-        if let Some(depth) = ray_depth_m(shape, frame, [x + dx, y + dy], reach_m)? {
+        if let Some(depth) = ray_depth_m(shape, frame, [x + dx, y + dy], reach_m, whose)? {
             return Ok(Some(depth));
         }
     }
@@ -224,6 +268,7 @@ fn ray_depth_m(
     frame: &ContactFrame,
     [x, y]: [f64; 2],
     reach_m: f64,
+    whose: &str,
 ) -> Result<Option<f64>, String> {
     let origin = frame.point(x, y) - frame.normal * reach_m;
     match shape.ray_hit(&origin, &frame.normal) {
@@ -231,9 +276,9 @@ fn ray_depth_m(
             .filter(|s| s.outward_normal.dot(&frame.normal) < 0.0)
             .map(|s| (s.point_m - origin).dot(&frame.normal) - reach_m)),
         Err(_) => Err(format!(
-            "the object's surface rises more than {:.3e} m above the contact's tangent plane at \
-             ({:.3e}, {:.3e}) m of the patch: the fingertip would meet it before its contact \
-             point",
+            "the {whose} surface crosses the contact's tangent plane by more than {:.3e} m at \
+             ({:.3e}, {:.3e}) m of the patch: the two bodies would meet there before the \
+             contact point",
             reach_m, x, y
         )),
     }

@@ -74,7 +74,7 @@ pub fn resolve_shapes(
         let (path, message) = crate::scene::strict_json::join_path("object.shape", &e.to_string());
         SceneError::Parse { path, message }
     })?;
-    check_shape_spec(&spec)?;
+    check_shape_spec("object.shape", &spec)?;
     let mesh = match &spec.mesh {
         Some(m) => Some(load_mesh(m).map_err(|e| {
             SceneError::Invalid(vec![problem(
@@ -86,7 +86,8 @@ pub fn resolve_shapes(
         None => None,
     };
     if let Some(m) = &mesh {
-        crate::scene::shape_checks::check_mesh(m).map_err(|p| SceneError::Invalid(vec![p]))?;
+        crate::scene::shape_checks::check_mesh("object.shape", m)
+            .map_err(|p| SceneError::Invalid(vec![p]))?;
     }
     let shape = Shape::new(&spec, mesh)
         .map_err(|e| SceneError::Invalid(vec![problem("object.shape", e, "give a closed mesh")]))?;
@@ -110,6 +111,7 @@ pub fn resolve_shapes(
     if !problems.is_empty() {
         return Err(SceneError::Invalid(problems));
     }
+    let tips = crate::scene::tip_shapes::resolve_tip_shapes(scene, load_mesh)?;
     let mut warnings: Vec<String> = open
         .iter()
         .map(|d| open_mesh_warning(d, volume_m3))
@@ -130,6 +132,7 @@ pub fn resolve_shapes(
         warnings,
         surface: crate::geometry::tessellation::tessellate(&shape),
         shape: crate::scene::shape_report::SharedShape(std::sync::Arc::new(shape)),
+        tips,
     }))
 }
 

@@ -21,5 +21,6 @@ pub mod shape_checks;
 pub mod shape_report;
 pub mod strict_json;
 pub mod texture_checks;
+pub mod tip_shapes;
 pub mod vector_math;
 pub mod work_bounds;

@@ -115,6 +115,7 @@ impl Scene {
         let exact = self.object.shape.is_some() && f.gap.or(self.gap) != Some(GapSpec::Quadratic);
         validate_radii(&p, f, exact, v);
         validate_tip(&p, f, self.planar.as_ref().map(|pl| pl.normal), v);
+        validate_tip_shape(&p, f, exact, v);
         validate_gap(&p, f.gap, self.object.shape.is_some(), v);
         validate_patch(&p, f, v);
         crate::scene::texture_checks::check_texture(&p, f, v);
@@ -296,13 +297,14 @@ fn validate_tip(p: &str, f: &FingerSpec, planar: Option<Vec3>, v: &mut FieldChec
         tip.cylinder.is_some(),
         tip.flat.is_some(),
         tip.disc.is_some(),
+        tip.shape.is_some(),
     ];
     if kinds.iter().filter(|k| **k).count() != 1 {
         let fix = "give one of {\"sphere\": {...}}, {\"cylinder\": {...}}, {\"flat\": {...}}, \
-                   {\"disc\": {...}}";
+                   {\"disc\": {...}}, {\"shape\": {...}}";
         return v.push(
             &format!("{p}.tip"),
-            "needs exactly one of sphere, cylinder, flat, disc".into(),
+            "needs exactly one of sphere, cylinder, flat, disc, shape".into(),
             fix,
         );
     }
@@ -354,6 +356,19 @@ fn validate_tip(p: &str, f: &FingerSpec, planar: Option<Vec3>, v: &mut FieldChec
                 );
             }
         }
+    }
+}
+
+/// A tip given as a solid (`tip.shape`) needs exact gaps: the object's shape, and no
+/// `"gap": "quadratic"` (the thesis's form has no curvature of a mesh to read).
+fn validate_tip_shape(p: &str, f: &FingerSpec, exact: bool, v: &mut FieldChecks) {
+    if f.tip.as_ref().is_some_and(|t| t.shape.is_some()) && !exact {
+        v.push(
+            &format!("{p}.tip.shape"),
+            "needs exact gaps, measured on the object's shape".into(),
+            "give object.shape and leave `gap` \"exact\" (the default with a shape), or give \
+             the tip as a sphere, cylinder, flat or disc",
+        );
     }
 }
 

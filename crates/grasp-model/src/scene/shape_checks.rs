@@ -1,4 +1,5 @@
-//! Checks of `object.shape` as written: exactly one geometry, sizes in range, a usable pose.
+//! Checks of a shape as written (`object.shape`, a finger's `tip.shape`): exactly one geometry,
+//! sizes in range, a usable pose; each problem named under the path given.
 
 use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
@@ -15,14 +16,15 @@ pub const SHAPE_SIZE_RANGE_M: (f64, f64) = (1e-6, 1e3);
 /// The first problem of a mesh as read (vertices in metres after `unit` and `scale`): a vertex
 /// that is not finite or lies beyond [`MAX_COORDINATE_M`] (a garbage file, or a unit or scale
 /// too large), or a triangle naming a vertex the mesh does not have.
-pub fn check_mesh(mesh: &TriangleMesh) -> Result<(), InputProblem> {
+pub fn check_mesh(path: &str, mesh: &TriangleMesh) -> Result<(), InputProblem> {
+    let file = format!("{path}.mesh.file");
     let bad = |v: &[f64; 3]| {
         !v.iter()
             .all(|x| x.is_finite() && x.abs() <= MAX_COORDINATE_M)
     };
     if let Some((i, v)) = mesh.vertices_m.iter().enumerate().find(|(_, v)| bad(v)) {
         return Err(problem(
-            "object.shape.mesh.file",
+            &file,
             format!(
                 "vertex {i} of the mesh is [{}, {}, {}] m (after unit and scale): not finite or \
                  beyond {MAX_COORDINATE_M:e} m",
@@ -39,7 +41,7 @@ pub fn check_mesh(mesh: &TriangleMesh) -> Result<(), InputProblem> {
         (mesh.triangles.iter().enumerate()).find(|(_, tri)| tri.iter().any(|&k| k as usize >= n))
     {
         return Err(problem(
-            "object.shape.mesh.file",
+            &file,
             format!("triangle {t} names vertex {tri:?}, but the mesh has {n} vertices"),
             "correct the file's faces",
         ));
@@ -48,7 +50,7 @@ pub fn check_mesh(mesh: &TriangleMesh) -> Result<(), InputProblem> {
 }
 
 /// Every problem of `spec`.
-pub fn check_shape_spec(spec: &ShapeSpec) -> Result<(), SceneError> {
+pub fn check_shape_spec(path: &str, spec: &ShapeSpec) -> Result<(), SceneError> {
     let mut p = Vec::new();
     let kinds = [
         spec.box_shape.is_some(),
@@ -59,7 +61,7 @@ pub fn check_shape_spec(spec: &ShapeSpec) -> Result<(), SceneError> {
     ];
     if kinds.iter().filter(|k| **k).count() != 1 {
         p.push(problem(
-            "object.shape",
+            path,
             "needs exactly one of box, sphere, cylinder, capsule, mesh".into(),
             "give one geometry, e.g. {\"box\": {\"size\": [0.1, 0.1, 0.1]}}",
         ));
@@ -76,25 +78,25 @@ pub fn check_shape_spec(spec: &ShapeSpec) -> Result<(), SceneError> {
     };
     if let Some(b) = &spec.box_shape {
         for (k, v) in b.size.iter().enumerate() {
-            size(&format!("object.shape.box.size[{k}]"), *v, false);
+            size(&format!("{path}.box.size[{k}]"), *v, false);
         }
     }
     if let Some(s) = &spec.sphere {
-        size("object.shape.sphere.radius", s.radius, false);
+        size(&format!("{path}.sphere.radius"), s.radius, false);
     }
     for (name, c, zero_ok) in [
         ("cylinder", &spec.cylinder, false),
         ("capsule", &spec.capsule, true),
     ] {
         if let Some(c) = c {
-            size(&format!("object.shape.{name}.radius"), c.radius, false);
-            size(&format!("object.shape.{name}.length"), c.length, zero_ok);
+            size(&format!("{path}.{name}.radius"), c.radius, false);
+            size(&format!("{path}.{name}.length"), c.length, zero_ok);
         }
     }
     if let Some(m) = &spec.mesh {
         if !(m.scale.is_finite() && m.scale > 0.0) {
             p.push(problem(
-                "object.shape.mesh.scale",
+                &format!("{path}.mesh.scale"),
                 format!("is {}", readable(m.scale)),
                 "give a positive factor, e.g. 1",
             ));
@@ -103,7 +105,7 @@ pub fn check_shape_spec(spec: &ShapeSpec) -> Result<(), SceneError> {
     for (k, v) in spec.position.iter().enumerate() {
         if !(v.is_finite() && v.abs() <= 1e3) {
             p.push(problem(
-                &format!("object.shape.position[{k}]"),
+                &format!("{path}.position[{k}]"),
                 format!("is {}", readable(*v)),
                 "give a coordinate in metres in [-1e3, 1e3]",
             ));
@@ -113,7 +115,7 @@ pub fn check_shape_spec(spec: &ShapeSpec) -> Result<(), SceneError> {
     let len = q.iter().map(|x| x * x).sum::<f64>().sqrt();
     if !(len.is_finite() && len > MIN_QUATERNION_NORM) {
         p.push(problem(
-            "object.shape.quaternion",
+            &format!("{path}.quaternion"),
             format!("is {q:?}"),
             "give a rotation [w, x, y, z], e.g. [1, 0, 0, 0]",
         ));

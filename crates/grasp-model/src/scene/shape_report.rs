@@ -52,6 +52,10 @@ pub struct ShapeReport {
     /// The posed shape itself, for the exact gaps (not serialised).
     #[serde(skip)]
     pub shape: SharedShape,
+    /// Per finger, scene order, its posed tip shape (`fingers[i].tip.shape`; `None` for the
+    /// other tips), for the exact gaps (not serialised).
+    #[serde(skip)]
+    pub tips: Vec<Option<SharedShape>>,
 }
 
 /// A posed shape shared by the scene and its models; two are equal when they are the same one.
