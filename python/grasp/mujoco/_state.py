@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._assets import check_model_files
 from ._errors import ModelLoadError, StateError, require_mujoco
 from ._files import check_input, read_input
 
@@ -16,8 +17,11 @@ def load_model(path):
     """An MjModel from an MJCF (.xml) or binary (.mjb) file; ModelLoadError otherwise."""
     mujoco = require_mujoco()
     p = os.fspath(path)
-    # A regular file within the limit (never a FIFO or /dev/zero) before MuJoCo opens it.
+    # A regular file within the limit (never a FIFO or /dev/zero) before MuJoCo opens it, and
+    # so is every file it names (meshes, textures, includes...).
     check_input(p, "mujoco_model", ModelLoadError)
+    if not p.endswith(".mjb"):
+        check_model_files(p)
     try:
         if p.endswith(".mjb"):
             return mujoco.MjModel.from_binary_path(p)
