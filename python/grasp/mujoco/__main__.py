@@ -127,7 +127,8 @@ def run_scene(args):
 
 def run_handoff(args):
     from ._files import check_targets
-    from ._handoff import schedule_from_rollout, simulate
+    from ._controller import simulate
+    from ._handoff import schedule_from_rollout
     from ._state import Rollout, load_model, load_state
 
     if args.controller and not args.steps:
