@@ -525,3 +525,39 @@ def test_mujoco_handoff_flags_held_steps_the_elastic_model_cannot_hold(handoff):
     # Without a threshold only the step with no equilibrium is flagged.
     unthresholded = gm.HandoffReplay(handoff, run, threshold_n=None).flagged_steps
     assert [i for i, _, _ in unthresholded] == [held[0]]
+
+
+def test_mujoco_a_controller_that_exits_or_raises_is_a_controller_error(tmp_path):
+    """Item 2 of the hostile review: a controller's sys.exit (at a step, or when its module is
+    imported) is a ControllerError naming the controller, exit 1 and nothing written, as any
+    exception of the controller; Ctrl-C (KeyboardInterrupt) still interrupts."""
+    cases = [  # (module text, words of the error after the controller's name)
+        ("import sys\ndef control(model, data):\n    sys.exit(0)\n", "called sys.exit(0) at step 0 (t = 0 s)"),
+        ("import sys\ndef control(model, data):\n    if data.time > 0.0015:\n        sys.exit('done')\n",
+         "called sys.exit('done') at step 2 (t = 0.002 s)"),
+        ("def control(model, data):\n    raise SystemExit\n", "called sys.exit(None) at step 0"),
+        ("class Stop(BaseException):\n    pass\ndef control(model, data):\n    raise Stop('odd')\n",
+         "failed at step 0 (t = 0 s): Stop('odd')"),
+        ("def control(model, data):\n    raise RuntimeError('boom')\n", "failed at step 0 (t = 0 s): RuntimeError('boom')"),
+        ("import sys\nsys.exit(3)\ndef control(model, data):\n    pass\n", "called sys.exit(3) while its module was imported"),
+    ]
+    model = gm.load_model(HANDOFF)
+    out = tmp_path / "out"
+    out.mkdir()
+    for i, (text, words) in enumerate(cases):
+        path = tmp_path / f"c{i}.py"
+        path.write_text(text)
+        spec = f"{path}:control"
+        with pytest.raises(gm.ControllerError, match=re.escape(f"the controller {spec} {words}")):
+            gm.simulate(model, gm.load_state(model), spec, steps=5)
+        proc = python_m("handoff", HANDOFF, "--object", "cylinder", "--controller", spec, "--steps", "5",
+                        "--out", out / "h", "--save-rollout", out / "r.npz")
+        assert proc.returncode == 1, (spec, proc.returncode, proc.stderr)
+        assert f"error: the controller {spec} {words}" in proc.stderr and "; fix: " in proc.stderr, proc.stderr
+        assert list(out.iterdir()) == []
+
+    def interrupt(model, data):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        gm.simulate(model, gm.load_state(model), interrupt, steps=5)

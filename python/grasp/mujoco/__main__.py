@@ -19,7 +19,7 @@ import os
 import signal
 import sys
 
-from ._errors import MujocoError
+from ._errors import Interrupted, MujocoError
 
 PROG = "python -m grasp.mujoco"
 
@@ -182,16 +182,6 @@ def run_handoff(args):
     # A discrepancy is a step where MuJoCo held the object and the elastic model found no
     # equilibrium (steps where MuJoCo did not hold either are reported, not failures).
     return 2 if any(why in ("no_equilibrium", "no_convergence") for _, _, why in replay.flagged_steps) else 0
-
-
-class Interrupted(BaseException):
-    """A SIGINT, SIGTERM or SIGHUP: unwinds the run, so every ``with`` and ``finally`` on the
-    way removes what it made (scratch folders; the native library's temporary and lock files
-    are removed when their owners are dropped)."""
-
-    def __init__(self, signum):
-        super().__init__(signum)
-        self.signum = signum
 
 
 CLEANUP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n))

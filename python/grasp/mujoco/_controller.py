@@ -6,12 +6,44 @@ import importlib.util
 import os
 from typing import TYPE_CHECKING, Callable, Union
 
-from ._errors import ControllerError, StateError, require_mujoco
+from ._errors import ControllerError, Interrupted, StateError, require_mujoco
 from ._scene import check_warnings, warning_counts
 from ._state import Rollout
 
 if TYPE_CHECKING:
     import mujoco
+
+# What a controller's errors let pass: Ctrl-C, and the signals of `python -m grasp.mujoco`.
+STOPS = (KeyboardInterrupt, Interrupted)
+
+
+def name_of(controller):
+    """How messages name a controller: its MODULE:FN, or the function's module and name."""
+    if isinstance(controller, str):
+        return controller
+    return f"{getattr(controller, '__module__', None) or '?'}:{getattr(controller, '__qualname__', repr(controller))}"
+
+
+def failure(name, when, e):
+    """The ControllerError of the controller ``name`` that raised ``e`` (``sys.exit`` too:
+    it would end the command with exit 0, no message and no output)."""
+    if isinstance(e, SystemExit):
+        return ControllerError(f"the controller {name} called sys.exit({e.code!r}) {when}",
+                               "return from the controller (it sets data.ctrl and returns); to end the run "
+                               "earlier, give fewer steps (steps=, --steps)")
+    return ControllerError(f"the controller {name} failed {when}: {e!r}", "fix the controller")
+
+
+def import_module(module):
+    """A dotted module on the path, or a .py file, imported."""
+    if not module.endswith(".py"):
+        return importlib.import_module(module)
+    s = importlib.util.spec_from_file_location(f"grasp_mujoco_controller_{abs(hash(module))}", module)
+    if s is None or not os.path.isfile(module):
+        raise ImportError(f"no file {module}")
+    mod = importlib.util.module_from_spec(s)
+    s.loader.exec_module(mod)
+    return mod
 
 
 def load_controller(spec):
@@ -22,15 +54,12 @@ def load_controller(spec):
         raise ControllerError(f"controller {spec!r} is not MODULE:FN", "give e.g. examples/mujoco/handoff_controller.py:control")
     module, _, fn = spec.rpartition(":")
     try:
-        if module.endswith(".py"):
-            s = importlib.util.spec_from_file_location(f"grasp_mujoco_controller_{abs(hash(module))}", module)
-            if s is None or not os.path.isfile(module):
-                raise ImportError(f"no file {module}")
-            mod = importlib.util.module_from_spec(s)
-            s.loader.exec_module(mod)
-        else:
-            mod = importlib.import_module(module)
-    except Exception as e:
+        mod = import_module(module)
+    except STOPS:
+        raise
+    except SystemExit as e:
+        raise failure(spec, "while its module was imported", e) from None
+    except BaseException as e:
         raise ControllerError(f"cannot import the controller module {module}: {e}",
                               "give a module on the Python path or a .py file") from None
     f = getattr(mod, fn, None)
@@ -53,9 +82,10 @@ def simulate(model: "mujoco.MjModel", data: "mujoco.MjData", controller: Union[s
     for i in range(steps + 1):
         try:
             fn(model, data)
-        except Exception as e:
-            raise ControllerError(f"the controller failed at step {i} (t = {data.time:.6g} s): {e!r}",
-                                  "fix the controller") from None
+        except STOPS:
+            raise
+        except BaseException as e:
+            raise failure(name_of(controller), f"at step {i} (t = {data.time:.6g} s)", e) from None
         if i % every == 0 or i == steps:
             rows.append(Rollout.record(model, data))
         if i < steps:
