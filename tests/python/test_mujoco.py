@@ -561,3 +561,47 @@ def test_mujoco_a_controller_that_exits_or_raises_is_a_controller_error(tmp_path
 
     with pytest.raises(KeyboardInterrupt):
         gm.simulate(model, gm.load_state(model), interrupt, steps=5)
+
+
+def test_mujoco_count_arguments_are_range_checked_before_the_run(rollout, tmp_path):
+    """Item 3 of the hostile review: steps, every, the patch grid, the margin threshold and a
+    rollout's states are range-checked, naming the argument (and its option) and the range,
+    before MuJoCo or the replay runs (--steps had no bound; a rollout grew 0.5 MB/s)."""
+    model, r = rollout
+    idle = lambda model, data: None  # noqa: E731
+    api = [
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=0), "steps (--steps) is 0, not a whole number "
+         "from 1 to 1000000; fix: give a whole number from 1 to 1000000"),
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=10**10), "steps (--steps) is 10000000000"),
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=2.5), "steps (--steps) is 2.5"),
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=True), "steps (--steps) is True"),
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=10, every=0), "every (--every) is 0"),
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=10, every=10**7), "every (--every) is 10000000"),
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=10**6), "give 1000001 states of this model "
+         "(275 MiB), more than a rollout may have (1000000 states, 1024 MiB); fix: record fewer states"),
+        (lambda: gm.schedule_from_rollout(model, r, "cylinder", patch={"grid": [2000, 2000]}),
+         "patch grid (--grid) is 2000 x 2000: 4000000 elements per finger, more than the 1048576 (1024 x 1024)"),
+        (lambda: gm.schedule_from_rollout(model, r, "cylinder", patch={"grid": [0, 9]}), "patch grid[0] (--grid) is 0"),
+        (lambda: gm.schedule_from_rollout(model, {"time": np.arange(1_000_001.0),
+                                                  "qpos": np.broadcast_to(r.qpos[0], (1_000_001, model.nq)),
+                                                  "qvel": np.broadcast_to(r.qvel[0], (1_000_001, model.nv))}, "cylinder"),
+         "rollout: 1000001 states, more than the 1000000 a schedule may have"),
+        (lambda: gm.schedule_from_rollout(model, r, "cylinder").replay(threshold_n=float("nan")),
+         "threshold_n (--threshold) is nan, not a finite number from 0 to 1e+07 N"),
+    ]
+    for call, words in api:
+        with pytest.raises(gm.MujocoError, match=re.escape(words)):
+            call()
+    out = tmp_path / "out"
+    out.mkdir()
+    base = ["handoff", HANDOFF, "--object", "cylinder", "--controller", CONTROLLER, "--materials",
+            MJ / "handoff.materials.json", "--out", out / "h"]
+    cli = [(["--steps", "0"], "steps (--steps) is 0"), (["--steps", "10000000000"], "steps (--steps) is 10000000000"),
+           (["--steps", "10", "--every", "0"], "every (--every) is 0"),
+           (["--steps", "10", "--grid", "2000", "2000"], "patch grid (--grid) is 2000 x 2000"),
+           (["--steps", "10", "--threshold", "-1"], "threshold_n (--threshold) is -1.0")]
+    for args, words in cli:
+        proc = subprocess.run([sys.executable, "-m", "grasp.mujoco", *map(str, base + args)], capture_output=True,
+                              text=True, cwd=ROOT, timeout=60)
+        assert proc.returncode == 1 and f"error: {words}" in proc.stderr, (args, proc.stderr)
+        assert list(out.iterdir()) == []

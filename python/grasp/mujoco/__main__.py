@@ -128,17 +128,21 @@ def run_scene(args):
 def run_handoff(args):
     from ._files import check_targets
     from ._controller import simulate
-    from ._handoff import schedule_from_rollout
+    from ._handoff import check_threshold, schedule_from_rollout
+    from ._scene import patch_options
     from ._state import Rollout, load_model, load_state
 
-    if args.controller and not args.steps:
+    if args.controller and args.steps is None:
         raise MujocoError("--controller needs --steps", "give the number of MuJoCo steps to run, e.g. --steps 1600")
-    if args.rollout and (args.steps or args.keyframe or args.qpos):
+    if args.rollout and (args.steps is not None or args.keyframe or args.qpos):
         raise MujocoError("--steps, --keyframe and --qpos go with --controller", "leave them out with --rollout")
     prefix = args.out
     replay_outs = [p for p in (args.mcap, args.rrd, args.csv) if p]
     if args.no_replay and (replay_outs or args.margins):
         raise MujocoError("--no-replay with replay outputs", "leave out --no-replay, or --mcap/--rrd/--csv/--margins")
+    # Checked before the (long) simulation, as the controller's steps are.
+    patch_options(patch_of(args))
+    check_threshold(args.threshold)
     if args.rrd:
         from ._rerun import require_rerun
 

@@ -7,6 +7,7 @@ import os
 from typing import TYPE_CHECKING, Callable, Union
 
 from ._errors import ControllerError, Interrupted, StateError, require_mujoco
+from ._limits import MAX_ROLLOUT_BYTES, MAX_STATES, MAX_STEPS, check_count
 from ._scene import check_warnings, warning_counts
 from ._state import Rollout
 
@@ -68,17 +69,37 @@ def load_controller(spec):
     return f
 
 
+def recorded_states(steps, every):
+    """How many states ``simulate`` records: every ``every``-th of the ``steps + 1``, and the last."""
+    return steps // every + 1 + (steps % every != 0)
+
+
+def check_run(model, steps, every):
+    """``steps`` and ``every`` in range, and the rollout they record within a rollout's limits
+    (the states of a schedule, the bytes of a rollout file); StateError naming them otherwise."""
+    steps = check_count("steps (--steps)", steps, 1, MAX_STEPS, StateError)
+    every = check_count("every (--every)", every, 1, MAX_STEPS, StateError)
+    n = recorded_states(steps, every)
+    mib = n * Rollout.row_bytes(model) / (1 << 20)
+    if n > MAX_STATES or mib > MAX_ROLLOUT_BYTES >> 20:
+        raise StateError(f"steps {steps} (--steps) recorded every {every} (--every) give {n} states of this model "
+                         f"({mib:.0f} MiB), more than a rollout may have ({MAX_STATES} states, "
+                         f"{MAX_ROLLOUT_BYTES >> 20} MiB)", "record fewer states: a larger every (--every) or "
+                         "fewer steps (--steps)")
+    return steps, every, n
+
+
 def simulate(model: "mujoco.MjModel", data: "mujoco.MjData", controller: Union[str, Callable], steps: int,
              every: int = 1) -> Rollout:
     """Runs ``steps`` MuJoCo steps from the state of ``data``; before each step
     ``controller(model, data)`` sets the controls. Records the state (with its controls and
     the solver's warm start, so ``mj_forward`` there gives the forces ``mj_step`` used) every
-    ``every`` steps, the first and the last state included. Returns a :class:`Rollout`."""
+    ``every`` steps, the first and the last state included (at most 1,000,000 steps and
+    1,000,000 states, 1 GiB). Returns a :class:`Rollout`."""
     mujoco = require_mujoco()
-    if not (isinstance(steps, int) and steps >= 1 and isinstance(every, int) and every >= 1):
-        raise StateError(f"steps {steps!r}, every {every!r}", "give whole numbers >= 1")
+    steps, every, n = check_run(model, steps, every)
     fn = load_controller(controller)
-    rows = []
+    rollout, k = Rollout.empty(model, n), 0
     for i in range(steps + 1):
         try:
             fn(model, data)
@@ -87,10 +108,11 @@ def simulate(model: "mujoco.MjModel", data: "mujoco.MjData", controller: Union[s
         except BaseException as e:
             raise failure(name_of(controller), f"at step {i} (t = {data.time:.6g} s)", e) from None
         if i % every == 0 or i == steps:
-            rows.append(Rollout.record(model, data))
+            rollout.store(k, data)
+            k += 1
         if i < steps:
             before = warning_counts(data)
             mujoco.mj_step(model, data)
             check_warnings(mujoco, data, before)
-    return Rollout.from_rows(rows)
+    return rollout
 

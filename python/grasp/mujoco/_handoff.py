@@ -25,6 +25,7 @@ from ._contacts import body_id, contact_wrench, finger_names, group_fingers, obj
 from ._controller import load_controller, simulate  # noqa: F401 (this module's names before the split)
 from ._errors import NoContactError, require_mujoco
 from ._files import check_targets, write_all
+from ._limits import MAX_FORCE_N, check_number
 from ._materials import MaterialMap
 from ._report import HOLD_SPEED_M_PER_S
 from ._scene import (
@@ -44,6 +45,13 @@ if TYPE_CHECKING:
     import mujoco
 
 PLAIN_NAME = re.compile(r"^[A-Za-z0-9_.:-]+$")
+
+
+def check_threshold(threshold_n):
+    """None, or a margin threshold in [0, MAX_FORCE_N] newtons."""
+    if threshold_n is None:
+        return None
+    return check_number("threshold_n (--threshold)", threshold_n, 0.0, MAX_FORCE_N, "N")
 
 
 @dataclass
@@ -116,6 +124,7 @@ class Handoff:
         margin below ``threshold_n``."""
         import grasp
 
+        threshold_n = check_threshold(threshold_n)
         named = {"mcap": mcap, "rrd": rrd, "csv": csv}
         targets = [p for p in named.values() if p is not None] + list(also or {})
         check_targets(targets, overwrite, inputs)

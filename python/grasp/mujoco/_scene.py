@@ -24,6 +24,7 @@ from ._geometry import (
     straight_length,
     surface_at,
 )
+from ._limits import MAX_ELEMENTS_PER_PATCH, check_count
 from ._materials import MaterialMap, compliance
 
 if TYPE_CHECKING:
@@ -55,14 +56,25 @@ def patch_options(patch):
     grid = p.get("grid", DEFAULT_GRID)
     margin = p.get("margin_m", 0.0)
     size = p.get("size")
-    if not (isinstance(grid, (list, tuple)) and len(grid) == 2 and all(isinstance(n, int) and n >= 1 for n in grid)):
-        raise MujocoError(f"patch grid is {grid!r}", "give [nx, ny], each a whole number >= 1")
+    grid = patch_grid(grid)
     if not (isinstance(margin, (int, float)) and math.isfinite(margin) and margin >= 0):
         raise MujocoError(f"patch margin_m is {margin!r}", "give a length >= 0 in metres")
     if size is not None and not (isinstance(size, (list, tuple)) and len(size) == 2
                                  and all(isinstance(s, (int, float)) and s > 0 for s in size)):
         raise MujocoError(f"patch size is {size!r}", "give [a, b] in metres, each > 0")
-    return {"grid": list(grid), "margin_m": float(margin), "size": None if size is None else [float(s) for s in size]}
+    return {"grid": grid, "margin_m": float(margin), "size": None if size is None else [float(s) for s in size]}
+
+
+def patch_grid(grid):
+    """[nx, ny], each at least 1, with at most a patch's most elements."""
+    if not (isinstance(grid, (list, tuple)) and len(grid) == 2):
+        raise MujocoError(f"patch grid (--grid) is {grid!r}", "give [nx, ny], each a whole number >= 1")
+    grid = [check_count(f"patch grid[{i}] (--grid)", n, 1, MAX_ELEMENTS_PER_PATCH) for i, n in enumerate(grid)]
+    if grid[0] * grid[1] > MAX_ELEMENTS_PER_PATCH:
+        raise MujocoError(f"patch grid (--grid) is {grid[0]} x {grid[1]}: {grid[0] * grid[1]} elements per finger, "
+                          f"more than the {MAX_ELEMENTS_PER_PATCH} (1024 x 1024) a patch may have",
+                          "give a coarser grid")
+    return grid
 
 
 @dataclass

@@ -11,6 +11,7 @@ import numpy as np
 from ._assets import check_model_files
 from ._errors import ModelLoadError, StateError, require_mujoco
 from ._files import check_input, read_input
+from ._limits import MAX_STATES
 
 
 def load_model(path):
@@ -121,18 +122,25 @@ class Rollout:
     def __len__(self):
         return len(self.time)
 
+    @staticmethod
+    def row_bytes(model):
+        """Bytes of one state of ``model`` in a rollout."""
+        return 8 * (1 + model.nq + 2 * model.nv + model.nu + model.na + 7 * model.nmocap)
+
+    @staticmethod
+    def empty(model, n):
+        """A rollout of ``n`` states of ``model``, all zero, to be filled by ``store``."""
+        data = require_mujoco().MjData(model)
+        return Rollout(**{k: np.zeros((n, *np.shape(getattr(data, k)))) for k in ROLLOUT_KEYS})
+
+    def store(self, i, data):
+        """Puts the state of ``data`` into row ``i``."""
+        for k in ROLLOUT_KEYS:
+            getattr(self, k)[i] = getattr(data, k)
+
     def save(self, path):
         """Writes the rollout as .npz (the format ``--rollout`` reads)."""
         np.savez(path, **{k: getattr(self, k) for k in ROLLOUT_KEYS})
-
-    @staticmethod
-    def record(model, data):
-        return {k: np.array(getattr(data, k), dtype=float).copy() if k != "time" else float(data.time)
-                for k in ROLLOUT_KEYS}
-
-    @staticmethod
-    def from_rows(rows):
-        return Rollout(**{k: np.array([r[k] for r in rows], dtype=float) for k in ROLLOUT_KEYS})
 
     @staticmethod
     def load(source, model):
@@ -160,6 +168,9 @@ class Rollout:
         if t == 0 or not np.all(np.isfinite(time)) or np.any(np.diff(time) <= 0) or time[0] < 0:
             raise StateError(f"{src}: time must be finite, >= 0 and strictly increasing, with at least one row",
                              "give the times of the recorded steps")
+        if t > MAX_STATES:
+            raise StateError(f"{src}: {t} states, more than the {MAX_STATES} a schedule may have",
+                             f"give at most {MAX_STATES} states (record every K-th step)")
         data = require_mujoco().MjData(model)
         shapes = {"qpos": model.nq, "qvel": model.nv, "ctrl": model.nu, "act": model.na,
                   "qacc_warmstart": model.nv, "mocap_pos": (model.nmocap, 3), "mocap_quat": (model.nmocap, 4)}
