@@ -605,3 +605,44 @@ def test_mujoco_count_arguments_are_range_checked_before_the_run(rollout, tmp_pa
                               text=True, cwd=ROOT, timeout=60)
         assert proc.returncode == 1 and f"error: {words}" in proc.stderr, (args, proc.stderr)
         assert list(out.iterdir()) == []
+
+
+def test_mujoco_an_object_body_that_is_not_free_or_has_no_mass_is_refused(pinch, rollout, tmp_path):
+    """Items 4 and 7 of the hostile review: the world (by name or id: one wording), a body fixed
+    or welded to another, on a slide joint, a mocap body, or a free body without mass is not
+    taken as the grasped object (a fixed jaw's contacts carry the world's reaction, which was
+    written as an external force); the error names the body and the bodies that can be."""
+    model, data, _ = pinch
+    xml = """<mujoco><worldbody><geom type="plane" size="1 1 .1"/>
+      <body name="hand" mocap="true" pos="0 0 .5"><geom type="box" size=".01 .01 .01"/></body>
+      <body name="frame" pos="0 0 .2"><freejoint/><body name="part"><geom type="box" size=".05 .05 .05" mass="1"/></body>
+      </body><body name="ball" pos="0 .5 .1"><freejoint/><geom type="sphere" size=".1"/></body></worldbody></mujoco>"""
+    other = mujoco.MjModel.from_xml_string(xml)
+    hmodel, r = rollout
+    pinch_fix = "fix: give the grasped object's body, one with a free joint (<freejoint/>) and a mass: box"
+    cases = [
+        (lambda: gm.scene_from(model, data, "world"), "body 'world' (id 0) cannot be the grasped object: it is the "
+         f"world body; {pinch_fix}"),
+        (lambda: gm.scene_from(model, data, 0), f"body 'world' (id 0) cannot be the grasped object: it is the world "
+         f"body; {pinch_fix}"),
+        (lambda: gm.scene_from(model, data, "jaw_left"), "body 'jaw_left' (id 2) cannot be the grasped object: it has no "
+         f"joint: it is fixed to the world, which holds it; {pinch_fix}"),
+        (lambda: gm.scene_from(model, data, "jaw_right"), "body 'jaw_right' (id 3) cannot be the grasped object: it "
+         f"moves on a slide joint only, not a free joint; {pinch_fix}"),
+        (lambda: gm.schedule_from_rollout(hmodel, r, "a1"), "body 'a1' (id 2) cannot be the grasped object: it moves "
+         "on a slide joint only"),
+        (lambda: gm.scene_from(other, mujoco.MjData(other), "hand"), "body 'hand' (id 1) cannot be the grasped object: "
+         "it is a mocap body, moved by the program, not by its contacts; fix: give the grasped object's body, one "
+         "with a free joint (<freejoint/>) and a mass: ball"),
+        (lambda: gm.scene_from(other, mujoco.MjData(other), "part"), "body 'part' (id 3) cannot be the grasped object: "
+         "it has no joint: it is fixed to body 'frame', which holds it"),
+        (lambda: gm.scene_from(other, mujoco.MjData(other), "frame"), "body 'frame' (id 2) cannot be the grasped "
+         "object: it has no mass (0 kg), so no weight for a grasp to hold"),
+    ]
+    for call, words in cases:
+        with pytest.raises(gm.UnknownBodyError, match=re.escape(words)):
+            call()
+    for body, words in (("world", cases[0][1]), ("jaw_left", cases[2][1])):
+        proc = python_m("scene", PINCH, "--object", body, "--keyframe", "grasped", "--out", tmp_path / "s.json")
+        assert proc.returncode == 1 and f"error: {words}" in proc.stderr, proc.stderr
+    assert list(tmp_path.iterdir()) == []

@@ -12,8 +12,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._errors import UnknownBodyError
-
 
 @dataclass
 class Contact:
@@ -87,23 +85,6 @@ class FingerLoad:
         """The finger geom carrying the most normal force (the first one on a tie)."""
         best = max(self.contacts, key=lambda c: c.normal_force_n)
         return best.other_geom
-
-
-def body_id(mujoco, model, body):
-    """The id of a body given by name (or id); UnknownBodyError otherwise."""
-    if isinstance(body, (int, np.integer)) and not isinstance(body, bool):
-        if 0 <= int(body) < model.nbody:
-            return int(body)
-        raise UnknownBodyError(f"body id {body} is out of range (the model has {model.nbody} bodies)",
-                               "give a body name or an id in range")
-    b = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, str(body))
-    if b < 0:
-        names = [model.body(i).name for i in range(1, model.nbody) if model.body(i).name]
-        raise UnknownBodyError(f"the model has no body '{body}'",
-                               f"give one of its bodies: {', '.join(names) or '(none named)'}")
-    if b == 0:
-        raise UnknownBodyError("the object cannot be the world body", "give the body of the grasped object")
-    return b
 
 
 def object_contacts(mujoco, model, data, body):

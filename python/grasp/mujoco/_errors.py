@@ -37,7 +37,8 @@ class StateError(MujocoError):
 
 
 class UnknownBodyError(MujocoError):
-    """The object body is not a body of the model."""
+    """The object body is not a body of the model, or not one that can be the grasped object
+    (the world; a body fixed, welded or jointed other than free; a mocap body; no mass)."""
 
 
 class MaterialMapError(MujocoError):

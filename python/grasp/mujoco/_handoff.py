@@ -21,7 +21,8 @@ from typing import TYPE_CHECKING, Optional, Union
 
 import numpy as np
 
-from ._contacts import body_id, contact_wrench, finger_names, group_fingers, object_contacts, slip_speeds_m_per_s
+from ._body import object_body_id
+from ._contacts import contact_wrench, finger_names, group_fingers, object_contacts, slip_speeds_m_per_s
 from ._controller import load_controller, simulate  # noqa: F401 (this module's names before the split)
 from ._errors import NoContactError, require_mujoco
 from ._files import check_targets, write_all
@@ -251,7 +252,7 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
     mujoco = require_mujoco()
     check_choice("contact_model", contact_model, MODELS)
     opts = patch_options(patch)
-    b = body_id(mujoco, model, object_body)
+    b = object_body_id(mujoco, model, object_body)
     mats = MaterialMap(mujoco, model, materials)
     if not isinstance(rollout, Rollout):
         rollout = Rollout.load(rollout, model)

@@ -10,7 +10,8 @@ from typing import TYPE_CHECKING, Optional, Union
 
 import numpy as np
 
-from ._contacts import body_id, contact_wrench, finger_names, group_fingers, object_contacts, slip_speeds_m_per_s
+from ._body import object_body_id
+from ._contacts import contact_wrench, finger_names, group_fingers, object_contacts, slip_speeds_m_per_s
 from ._errors import MujocoError, NoContactError, require_mujoco
 from ._geometry import (
     HERTZ_SIDE_PER_SEMI_AXIS,
@@ -414,7 +415,7 @@ def scene_from(model: "mujoco.MjModel", data: "mujoco.MjData", object_body: Unio
     check_choice("control", control, CONTROLS)
     check_choice("contact_model", contact_model, MODELS)
     opts = patch_options(patch)
-    b = body_id(mujoco, model, object_body)
+    b = object_body_id(mujoco, model, object_body)
     mats = MaterialMap(mujoco, model, materials)
     before = warning_counts(data)
     mujoco.mj_forward(model, data)
