@@ -646,3 +646,45 @@ def test_mujoco_an_object_body_that_is_not_free_or_has_no_mass_is_refused(pinch,
         proc = python_m("scene", PINCH, "--object", body, "--keyframe", "grasped", "--out", tmp_path / "s.json")
         assert proc.returncode == 1 and f"error: {words}" in proc.stderr, proc.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def test_mujoco_patch_size_and_margin_are_range_checked_and_a_cut_is_warned(pinch, tmp_path):
+    """Item 5 of the hostile review: patch sizes and margins outside the scene's ranges (finite;
+    a side from 1e-9 to 10 m, a margin from 0 to 5 m) are refused, naming the field and its
+    option; a patch side cut to a box pad's side is a warning (1e308 silently gave 10 mm)."""
+    model, data, _ = pinch
+    mats = MJ / "pinch.materials.json"
+    side = "not a finite number from 1e-09 to 10 m; fix: give a number from 1e-09 to 10 m"
+    margin = "not a finite number from 0 to 5 m; fix: give a number from 0 to 5 m"
+    refused = [({"size": [1e308, 1e308]}, f"patch size[0] (--patch-size) is 1e+308, {side}"),
+               ({"size": [0.01, float("inf")]}, f"patch size[1] (--patch-size) is inf, {side}"),
+               ({"size": [float("nan"), 0.01]}, "patch size[0] (--patch-size) is nan"),
+               ({"size": [0.0, 0.01]}, "patch size[0] (--patch-size) is 0.0"),
+               ({"size": [1e-12, 0.01]}, "patch size[0] (--patch-size) is 1e-12"),
+               ({"size": [20, 0.01]}, "patch size[0] (--patch-size) is 20"),
+               ({"size": ["1", 0.01]}, "patch size[0] (--patch-size) is '1'"),
+               ({"size": [0.01]}, "patch size (--patch-size) is [0.01]; fix: give [a, b]"),
+               ({"margin_m": 1e308}, f"patch margin_m (--margin) is 1e+308, {margin}"),
+               ({"margin_m": -0.001}, "patch margin_m (--margin) is -0.001"),
+               ({"margin_m": float("nan")}, "patch margin_m (--margin) is nan"),
+               ({"margin_m": 6}, "patch margin_m (--margin) is 6")]
+    for patch, words in refused:
+        with pytest.raises(gm.MujocoError, match=re.escape(words)):
+            gm.scene_from(model, data, "box", materials=mats, patch=patch)
+    cut = [({"size": [0.02, 0.005]}, [0.01, 0.005], "patch side along t1 (0.02 m, patch size (--patch-size)) cut to "
+            "the pad's side 0.01 m"),
+           ({"margin_m": 0.001}, [0.01, 0.01], "patch side along t1 (0.012 m, MuJoCo's points plus twice margin_m "
+            "(--margin)) cut to the pad's side 0.01 m")]
+    for patch, size, words in cut:
+        g = gm.scene_from(model, data, "box", materials=mats, patch=patch)
+        for f in g.scene_dict["fingers"]:
+            assert f["patch"]["size"] == pytest.approx(size, abs=1e-4)
+            assert f"finger {f['name']}: {words}" in g.warnings, g.warnings
+    base = ["scene", PINCH, "--object", "box", "--keyframe", "grasped", "--materials", mats, "--no-margin",
+            "--out", tmp_path / "s.json"]
+    for args, words in ((["--patch-size", "1e308", "1e308"], refused[0][1]), (["--margin", "1e308"], refused[8][1])):
+        proc = python_m(*base, *args)
+        assert proc.returncode == 1 and f"error: {words}" in proc.stderr, proc.stderr
+        assert list(tmp_path.iterdir()) == []
+    proc = python_m(*base, "--margin", "0.001")
+    assert proc.returncode == 0 and f"warning: finger jaw_left: {cut[1][2]}" in proc.stderr, proc.stderr

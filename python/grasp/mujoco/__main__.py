@@ -129,7 +129,7 @@ def run_handoff(args):
     from ._files import check_targets
     from ._controller import simulate
     from ._handoff import check_threshold, schedule_from_rollout
-    from ._scene import patch_options
+    from ._patch import patch_options
     from ._state import Rollout, load_model, load_state
 
     if args.controller and args.steps is None:

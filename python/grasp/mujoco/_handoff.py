@@ -28,6 +28,7 @@ from ._errors import NoContactError, require_mujoco
 from ._files import check_targets, write_all
 from ._limits import MAX_FORCE_N, check_number
 from ._materials import MaterialMap
+from ._patch import patch_options
 from ._report import HOLD_SPEED_M_PER_S
 from ._scene import (
     MODELS,
@@ -37,7 +38,6 @@ from ._scene import (
     finger_spec,
     load_scene,
     object_part,
-    patch_options,
     warning_counts,
 )
 from ._state import Rollout

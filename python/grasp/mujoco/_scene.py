@@ -2,7 +2,6 @@
 model, one finger per (object geom, other body) pair of MuJoCo's active contacts."""
 
 import json
-import math
 import os
 import tempfile
 from dataclasses import dataclass, field
@@ -25,15 +24,14 @@ from ._geometry import (
     straight_length,
     surface_at,
 )
-from ._limits import MAX_ELEMENTS_PER_PATCH, check_count
 from ._materials import MaterialMap, compliance
+from ._patch import pad_cut_notes, patch_options
 
 if TYPE_CHECKING:
     import mujoco
 
 CONTROLS = ("held", "mujoco-force")
 MODELS = ("energy", "coulomb")
-DEFAULT_GRID = [9, 9]
 # The scene format's smallest nonzero force component, N: smaller ones are written as 0.
 MIN_FORCE_N = 1e-15
 
@@ -46,36 +44,6 @@ def clean_force(x):
 def check_choice(name, value, choices):
     if value not in choices:
         raise MujocoError(f"{name} is {value!r}", f"give one of {', '.join(choices)}")
-
-
-def patch_options(patch):
-    """``patch``: None or {"grid": [nx, ny], "margin_m": m, "size": [a, b]} (size overrides)."""
-    p = dict(patch or {})
-    unknown = set(p) - {"grid", "margin_m", "size"}
-    if unknown:
-        raise MujocoError(f"patch has unknown keys {sorted(unknown)}", "give grid, margin_m and/or size")
-    grid = p.get("grid", DEFAULT_GRID)
-    margin = p.get("margin_m", 0.0)
-    size = p.get("size")
-    grid = patch_grid(grid)
-    if not (isinstance(margin, (int, float)) and math.isfinite(margin) and margin >= 0):
-        raise MujocoError(f"patch margin_m is {margin!r}", "give a length >= 0 in metres")
-    if size is not None and not (isinstance(size, (list, tuple)) and len(size) == 2
-                                 and all(isinstance(s, (int, float)) and s > 0 for s in size)):
-        raise MujocoError(f"patch size is {size!r}", "give [a, b] in metres, each > 0")
-    return {"grid": grid, "margin_m": float(margin), "size": None if size is None else [float(s) for s in size]}
-
-
-def patch_grid(grid):
-    """[nx, ny], each at least 1, with at most a patch's most elements."""
-    if not (isinstance(grid, (list, tuple)) and len(grid) == 2):
-        raise MujocoError(f"patch grid (--grid) is {grid!r}", "give [nx, ny], each a whole number >= 1")
-    grid = [check_count(f"patch grid[{i}] (--grid)", n, 1, MAX_ELEMENTS_PER_PATCH) for i, n in enumerate(grid)]
-    if grid[0] * grid[1] > MAX_ELEMENTS_PER_PATCH:
-        raise MujocoError(f"patch grid (--grid) is {grid[0]} x {grid[1]}: {grid[0] * grid[1]} elements per finger, "
-                          f"more than the {MAX_ELEMENTS_PER_PATCH} (1024 x 1024) a patch may have",
-                          "give a coarser grid")
-    return grid
 
 
 @dataclass
@@ -193,6 +161,7 @@ def finger_spec(mujoco, model, data, fl, name, materials, opts, hertz_load_n, co
         spec["tip"] = {"cylinder": {"radius": tip.radius_m, "axis": (t2 if k_tip[0] > 0 else t1).tolist()}}
     elif tip.box is not None:
         pad = [straight_length(tip, a) for a in axes]
+        notes += pad_cut_notes(name, size, pad, opts)
         size = [min(size[d], pad[d]) for d in range(2)]
         spec["tip"] = {"flat": {"size": pad}}
     if obj.kind == "sphere":
