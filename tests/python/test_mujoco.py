@@ -688,3 +688,54 @@ def test_mujoco_patch_size_and_margin_are_range_checked_and_a_cut_is_warned(pinc
         assert list(tmp_path.iterdir()) == []
     proc = python_m(*base, "--margin", "0.001")
     assert proc.returncode == 0 and f"warning: finger jaw_left: {cut[1][2]}" in proc.stderr, proc.stderr
+
+
+def test_mujoco_states_with_non_finite_numbers_or_absurd_forces_are_state_errors(pinch, rollout, tmp_path, monkeypatch):
+    """Item 6 of the hostile review: a NaN or an infinity anywhere in the state mj_forward reads
+    (data, a keyframe, a rollout) is a StateError naming the field (a NaN keyframe said "no
+    active contact"); MuJoCo contact forces that are not finite or beyond the project's 1e7 N
+    are refused naming the finger (qvel 1e150 gave normal_load nan, 1e10 gave 1.7e17 N)."""
+    model, data, _ = pinch
+    mats = MJ / "pinch.materials.json"
+    hmodel, r = rollout
+
+    def state(field, value, index=slice(None)):
+        d = gm.load_state(model, keyframe="grasped")
+        getattr(d, field)[index] = value
+        return d
+
+    monkeypatch.chdir(tmp_path)  # MuJoCo logs the NaN of the keyframe to MUJOCO_LOG.TXT here
+    text = PINCH.read_text().replace('<key name="start"', '<key name="bad" qpos="0 0 nan 1 0 0 0 0"/><key name="start"')
+    (tmp_path / "nan.xml").write_text(text)
+    arrays = {k: getattr(r, k) for k in ("time", "qpos", "qvel", "ctrl", "act", "qacc_warmstart", "mocap_pos",
+                                         "mocap_quat")}
+    fast = dict(arrays, qvel=np.full_like(r.qvel, 1e10))
+    force = "MuJoCo's contact force is"
+    cases = [
+        (lambda: gm.scene_from(model, state("qvel", float("inf")), "box"), "data: qvel[0] is inf; fix: give finite "
+         "numbers for qvel in data"),
+        (lambda: gm.scene_from(model, state("qpos", float("nan"), 2), "box"), "data: qpos[2] is nan"),
+        (lambda: gm.scene_from(model, state("ctrl", float("nan")), "box"), "data: ctrl[0] is nan"),
+        (lambda: gm.scene_from(model, state("xfrc_applied", float("inf"), (1, 2)), "box"),
+         "data: xfrc_applied[1][2] is inf"),
+        (lambda: gm.scene_from(model, state("qvel", 1e150), "box", materials=mats),
+         f"finger jaw_left: {force} nan N, not a force a grasp may have; fix: give a state MuJoCo can simulate"),
+        (lambda: gm.scene_from(model, state("qvel", 1e10), "box", materials=mats),
+         f"finger jaw_left: {force} 2.227e+17 N, beyond the 1e+07 N a grasp may have"),
+        (lambda: gm.load_state(gm.load_model(tmp_path / "nan.xml"), keyframe="bad"),
+         "keyframe 'bad': qpos[2] is nan; fix: give finite numbers for qpos in keyframe 'bad'"),
+        (lambda: gm.schedule_from_rollout(hmodel, fast, "cylinder"), "MuJoCo's contact force at state 1 (t = 0.01 s)"),
+        (lambda: gm.schedule_from_rollout(hmodel, gm.Rollout(**dict(arrays, qpos=r.qpos * np.nan)), "cylinder"),
+         "rollout: 'qpos' has a NaN or an infinity"),
+    ]
+    for call, words in cases:
+        with pytest.raises(gm.StateError, match=re.escape(words)):
+            call()
+    out = tmp_path / "out"
+    out.mkdir()
+    np.savez(tmp_path / "fast.npz", qpos=data.qpos, qvel=data.qvel * 0 + 1e10)
+    for args, words in ((["--keyframe", "bad"], cases[6][1]), (["--qpos", tmp_path / "fast.npz"], cases[5][1])):
+        proc = python_m("scene", tmp_path / "nan.xml", "--object", "box", "--materials", mats, *args,
+                        "--out", out / "s.json", cwd=tmp_path)
+        assert proc.returncode == 1 and f"error: {words}" in proc.stderr, proc.stderr
+        assert list(out.iterdir()) == []

@@ -10,7 +10,12 @@ overlap), so the object's surface point is ``pos +- dist/2 n``.
 
 from dataclasses import dataclass, field
 
+import math
+
 import numpy as np
+
+from ._errors import StateError
+from ._limits import MAX_FORCE_N
 
 
 @dataclass
@@ -143,6 +148,19 @@ def finger_names(model, keys):
             base = f"{base}:{model.geom(g).name or f'geom{g}'}"
         names[(g, b)] = base
     return names
+
+
+def check_forces(groups, names, where=""):
+    """StateError naming the first finger whose MuJoCo contact force (or torque) is not finite
+    or beyond the project's largest force: a state MuJoCo cannot simulate (bodies overlapping
+    deeply, or moving at absurd speeds), whose forces no scene may carry."""
+    for fl in groups:
+        force = float(np.linalg.norm(fl.force_n))
+        if not math.isfinite(force) or force > MAX_FORCE_N or not all(np.isfinite(c.torque_nm).all() for c in fl.contacts):
+            what = f"{force:.4g} N, beyond the {MAX_FORCE_N:g} N" if math.isfinite(force) else f"{force} N, not a force"
+            raise StateError(f"finger {names[fl.key]}: MuJoCo's contact force{where} is {what} a grasp may have",
+                             "give a state MuJoCo can simulate (finite, physical qpos and qvel: no body moving at "
+                             "absurd speed or overlapping another deeply)")
 
 
 def contact_wrench(contacts, center_m):

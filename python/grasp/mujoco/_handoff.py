@@ -22,7 +22,14 @@ from typing import TYPE_CHECKING, Optional, Union
 import numpy as np
 
 from ._body import object_body_id
-from ._contacts import contact_wrench, finger_names, group_fingers, object_contacts, slip_speeds_m_per_s
+from ._contacts import (
+    check_forces,
+    contact_wrench,
+    finger_names,
+    group_fingers,
+    object_contacts,
+    slip_speeds_m_per_s,
+)
 from ._controller import load_controller, simulate  # noqa: F401 (this module's names before the split)
 from ._errors import NoContactError, require_mujoco
 from ._files import check_targets, write_all
@@ -254,8 +261,8 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
     opts = patch_options(patch)
     b = object_body_id(mujoco, model, object_body)
     mats = MaterialMap(mujoco, model, materials)
-    if not isinstance(rollout, Rollout):
-        rollout = Rollout.load(rollout, model)
+    # A Rollout is checked as a file or a dict is (its shapes, finite numbers, its length).
+    rollout = Rollout.load(rollout.arrays() if isinstance(rollout, Rollout) else rollout, model)
     data = mujoco.MjData(model)
     per_step, poses, wrenches, speeds = [], [], [], []
     for i in range(len(rollout)):
@@ -265,6 +272,7 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
         check_warnings(mujoco, data, before)
         contacts = object_contacts(mujoco, model, data, b)
         groups = {fl.key: fl for fl in group_fingers(contacts)}
+        check_forces(groups.values(), finger_names(model, list(groups)), f" at state {i} (t = {rollout.time[i]:.6g} s)")
         sp = slip_speeds_m_per_s(mujoco, model, data, contacts)
         speed_of = {c.index: s for c, s in zip(contacts, sp)}
         per_step.append({k: (fl, max(speed_of[c.index] for c in fl.contacts)) for k, fl in groups.items()})

@@ -10,7 +10,14 @@ from typing import TYPE_CHECKING, Optional, Union
 import numpy as np
 
 from ._body import object_body_id
-from ._contacts import contact_wrench, finger_names, group_fingers, object_contacts, slip_speeds_m_per_s
+from ._contacts import (
+    check_forces,
+    contact_wrench,
+    finger_names,
+    group_fingers,
+    object_contacts,
+    slip_speeds_m_per_s,
+)
 from ._errors import MujocoError, NoContactError, require_mujoco
 from ._geometry import (
     HERTZ_SIDE_PER_SEMI_AXIS,
@@ -26,6 +33,7 @@ from ._geometry import (
 )
 from ._materials import MaterialMap, compliance
 from ._patch import pad_cut_notes, patch_options
+from ._state import check_finite_state
 
 if TYPE_CHECKING:
     import mujoco
@@ -299,6 +307,7 @@ def build(mujoco, model, data, b, materials, opts, control, contact_model, descr
     weight, com, gravity, shape, files = object_part(mujoco, model, data, b, warnings, mesh_name)
     groups = group_fingers(contacts)
     names = finger_names(model, [fl.key for fl in groups])
+    check_forces(groups, names)
     speeds = slip_speeds_m_per_s(mujoco, model, data, contacts)
     speed_of = {c.index: s for c, s in zip(contacts, speeds)}
     fingers, specs, obj_mats = [], [], []
@@ -386,6 +395,7 @@ def scene_from(model: "mujoco.MjModel", data: "mujoco.MjData", object_body: Unio
     opts = patch_options(patch)
     b = object_body_id(mujoco, model, object_body)
     mats = MaterialMap(mujoco, model, materials)
+    check_finite_state(data, "data")
     before = warning_counts(data)
     mujoco.mj_forward(model, data)
     check_warnings(mujoco, data, before)

@@ -76,6 +76,34 @@ def read_state_file(path):
                          "give qpos as whitespace-separated numbers, .npy, .npz or JSON") from None
 
 
+# What ``mj_forward`` reads of a state: each must be finite (MuJoCo checks none of it there, and
+# a NaN in qpos gives no contacts at all).
+STATE_FIELDS = ("time", "qpos", "qvel", "act", "ctrl", "qacc_warmstart", "mocap_pos", "mocap_quat", "qfrc_applied",
+                "xfrc_applied")
+
+
+def check_finite_state(data, source):
+    """StateError naming the first NaN or infinity of the state of ``data`` (``source``: how
+    the message names the state)."""
+    for k in STATE_FIELDS:
+        a = np.asarray(getattr(data, k), dtype=float)
+        bad = np.argwhere(~np.isfinite(a))
+        if len(bad):
+            at = "".join(f"[{i}]" for i in bad[0])
+            raise StateError(f"{source}: {k}{at} is {a[tuple(bad[0])]}",
+                             f"give finite numbers for {k} in {source} (a state MuJoCo can simulate)")
+
+
+def state_name(model, keyframe, qpos):
+    """How messages name the state ``load_state`` loads."""
+    if keyframe is not None:
+        k = str(keyframe)
+        return f"keyframe '{model.key(int(k)).name or k}'" if k.isdigit() else f"keyframe '{k}'"
+    if isinstance(qpos, (str, os.PathLike)):
+        return f"state file {os.fspath(qpos)}"
+    return "qpos" if qpos is not None else "the model's initial state"
+
+
 def load_state(model, keyframe=None, qpos=None):
     """An MjData at a keyframe (name or index), at a state file (qpos, optionally qvel, ctrl,
     act), or at the model's initial state; ``mj_forward`` is left to the caller."""
@@ -100,6 +128,7 @@ def load_state(model, keyframe=None, qpos=None):
             if not math.isfinite(t):
                 raise StateError(f"{src}: time is not finite", "give a finite time")
             data.time = t
+    check_finite_state(data, state_name(model, keyframe, qpos))
     return data
 
 
@@ -137,6 +166,10 @@ class Rollout:
         """Puts the state of ``data`` into row ``i``."""
         for k in ROLLOUT_KEYS:
             getattr(self, k)[i] = getattr(data, k)
+
+    def arrays(self):
+        """{name: array} of the rollout (what ``load`` and ``save`` take)."""
+        return {k: getattr(self, k) for k in ROLLOUT_KEYS}
 
     def save(self, path):
         """Writes the rollout as .npz (the format ``--rollout`` reads)."""
