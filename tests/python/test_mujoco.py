@@ -739,3 +739,56 @@ def test_mujoco_states_with_non_finite_numbers_or_absurd_forces_are_state_errors
                         "--out", out / "s.json", cwd=tmp_path)
         assert proc.returncode == 1 and f"error: {words}" in proc.stderr, proc.stderr
         assert list(out.iterdir()) == []
+
+
+def npz_bomb(path, name, nbytes):
+    """An .npz whose one array (zeros, deflated to a few kB) unpacks to ``nbytes``."""
+    import zipfile
+
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(header, {"descr": "<f8", "fortran_order": False, "shape": (nbytes // 8,)})
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z, z.open(f"{name}.npy", "w", force_zip64=True) as f:
+        f.write(header.getvalue())
+        chunk = bytes(1 << 20)
+        for _ in range(nbytes // len(chunk)):
+            f.write(chunk)
+
+
+def test_mujoco_a_patch_that_is_not_a_dict_and_corrupt_state_files_are_named_errors(pinch, rollout, tmp_path):
+    """Item 7 of the hostile review: patch=[9, 9] raised a bare TypeError; a corrupt rollout
+    ended in a BadZipFile traceback (and an empty one in EOFError, a JSON state nested too deep
+    in RecursionError): each is a named error, the command exits 1 and writes nothing."""
+    model, data, _ = pinch
+    hmodel, r = rollout
+    for patch in ([9, 9], "9 9", 9):
+        with pytest.raises(gm.MujocoError, match=re.escape(f"patch is {patch!r} (a {type(patch).__name__}), not a "
+                                                           "dict; fix: give None or a dict such as {'grid': [9, 9]")):
+            gm.scene_from(model, data, "box", patch=patch)
+    good = io.BytesIO()
+    r.save(good)
+    np.save(tmp_path / "one.npy", r.time)
+    corrupt = {"zip.npz": b"PK\x03\x04" + bytes(64), "half.npz": good.getvalue()[:len(good.getvalue()) // 2],
+               "text.npz": b"time qpos qvel\n", "empty.npz": b"", "one.npz": (tmp_path / "one.npy").read_bytes()}
+    out = tmp_path / "out"
+    out.mkdir()
+    rollout_fix = "fix: give an .npz of time (T,), qpos (T, nq) and qvel (T, nv), as --save-rollout writes it"
+    for name, raw in corrupt.items():
+        path = tmp_path / name
+        path.write_bytes(raw)
+        words = f"{path} is not a rollout written by `python -m grasp.mujoco handoff --save-rollout` or Rollout.save ("
+        with pytest.raises(gm.StateError, match=re.escape(words) + ".*" + re.escape(rollout_fix)):
+            gm.schedule_from_rollout(hmodel, path, "cylinder")
+        proc = python_m("handoff", HANDOFF, "--object", "cylinder", "--rollout", path, "--out", out / "h", "--no-replay")
+        assert proc.returncode == 1 and f"error: {words}" in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+        with pytest.raises(gm.StateError, match=re.escape(f"state file {path} is not an .npz of qpos")):
+            gm.load_state(model, qpos=path)
+    assert list(out.iterdir()) == []
+    (tmp_path / "deep.json").write_text("[" * 100_000 + "]" * 100_000)
+    (tmp_path / "words.json").write_text('{"qpos": ["a", "b"]}')
+    npz_bomb(tmp_path / "bomb.npz", "qpos", 65 << 20)
+    states = [("deep.json", "cannot read the state file {}: RecursionError"),
+              ("words.json", "{}: qpos is not a list of numbers (ValueError"),
+              ("bomb.npz", "state file {} unpacks to 68157568 bytes, more than the 64 MiB its file may have")]
+    for name, words in states:
+        with pytest.raises(gm.StateError, match=re.escape(words.format(tmp_path / name))):
+            gm.load_state(model, qpos=tmp_path / name)

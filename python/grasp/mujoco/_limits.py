@@ -24,6 +24,8 @@ MAX_STEPS = 1_000_000
 MAX_STATES = 1_000_000
 # Most bytes of a rollout's arrays: what a rollout file may have (1 GiB).
 MAX_ROLLOUT_BYTES = 1 << 30
+# Most bytes of a state file's arrays: what the file may have (64 MiB).
+MAX_STATE_FILE_BYTES = 64 << 20
 
 
 def is_whole(x):

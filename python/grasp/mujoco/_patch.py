@@ -2,6 +2,8 @@
 ``--patch-size``): checked against the scene's ranges, and the warning where a patch is cut to a
 box pad's size."""
 
+from collections.abc import Mapping
+
 from ._errors import MujocoError
 from ._limits import MARGIN_RANGE_M, MAX_ELEMENTS_PER_PATCH, PATCH_SIDE_RANGE_M, check_count, check_number
 
@@ -13,6 +15,10 @@ PAD_CUT_TOLERANCE = 1e-9
 
 def patch_options(patch):
     """``patch``: None or {"grid": [nx, ny], "margin_m": m, "size": [a, b]} (size overrides)."""
+    if patch is not None and not isinstance(patch, Mapping):
+        raise MujocoError(f"patch is {patch!r} (a {type(patch).__name__}), not a dict",
+                          "give None or a dict such as {'grid': [9, 9], 'margin_m': 0.001, 'size': [0.01, 0.01]} "
+                          "(the command's --grid, --margin, --patch-size)")
     p = dict(patch or {})
     unknown = set(p) - {"grid", "margin_m", "size"}
     if unknown:

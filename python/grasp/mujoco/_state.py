@@ -11,7 +11,8 @@ import numpy as np
 from ._assets import check_model_files
 from ._errors import ModelLoadError, StateError, require_mujoco
 from ._files import check_input, read_input
-from ._limits import MAX_STATES
+from ._limits import MAX_ROLLOUT_BYTES, MAX_STATE_FILE_BYTES, MAX_STATES
+from ._npz import load_npy, load_npz, reason
 
 
 def load_model(path):
@@ -46,8 +47,16 @@ def keyframe_id(mujoco, model, key):
     return k
 
 
+def numbers(values, what, source):
+    """``values`` as a flat float array; StateError naming ``what`` where they are not numbers."""
+    try:
+        return np.asarray(values, dtype=float).reshape(-1)
+    except (TypeError, ValueError) as e:
+        raise StateError(f"{source}: {what} is not a list of numbers ({reason(e)})", f"give {what} as numbers") from None
+
+
 def vector(values, length, what, source):
-    a = np.asarray(values, dtype=float).reshape(-1) if values is not None else None
+    a = numbers(values, what, source) if values is not None else None
     if a is None or a.shape != (length,):
         got = "nothing" if a is None else f"{a.size} numbers"
         raise StateError(f"{source}: {what} has {got}, the model needs {length}",
@@ -57,23 +66,28 @@ def vector(values, length, what, source):
     return a
 
 
+STATE_FIX = "give qpos as whitespace-separated numbers, .npy, .npz (qpos and optionally qvel, ctrl, act, time) or JSON"
+ROLLOUT_WHAT = "a rollout written by `python -m grasp.mujoco handoff --save-rollout` or Rollout.save"
+ROLLOUT_FIX = "give an .npz of time (T,), qpos (T, nq) and qvel (T, nv), as --save-rollout writes it"
+
+
 def read_state_file(path):
     """{"qpos": ..., optional "qvel", "ctrl", "act"} from .npy/.txt (qpos only), .npz or .json."""
     p = os.fspath(path)
     raw = read_input(p, "mujoco_state", StateError)
+    src = f"state file {p}"
+    if p.endswith(".npz"):
+        return load_npz(raw, src, "an .npz of qpos (and qvel, ctrl, act, time)", MAX_STATE_FILE_BYTES, StateError,
+                        STATE_FIX)
+    if p.endswith(".npy"):
+        return {"qpos": load_npy(raw, src, "an .npy of qpos", StateError, STATE_FIX)}
     try:
-        if p.endswith(".npz"):
-            with np.load(io.BytesIO(raw)) as z:
-                return {k: np.array(z[k]) for k in z.files}
-        if p.endswith(".npy"):
-            return {"qpos": np.load(io.BytesIO(raw))}
         if p.endswith(".json"):
             d = json.loads(raw.decode("utf-8"))
             return d if isinstance(d, dict) else {"qpos": d}
         return {"qpos": np.loadtxt(io.BytesIO(raw), ndmin=1)}
-    except (OSError, ValueError) as e:
-        raise StateError(f"cannot read the state file {p}: {e}",
-                         "give qpos as whitespace-separated numbers, .npy, .npz or JSON") from None
+    except Exception as e:  # noqa: BLE001 (a decode, JSON, nesting or number error: the file is not a state)
+        raise StateError(f"cannot read the state file {p}: {reason(e)}", STATE_FIX) from None
 
 
 # What ``mj_forward`` reads of a state: each must be finite (MuJoCo checks none of it there, and
@@ -124,9 +138,10 @@ def load_state(model, keyframe=None, qpos=None):
             if key in state:
                 getattr(data, key)[:] = vector(state[key], n, key, src)
         if "time" in state:
-            t = float(np.asarray(state["time"]).reshape(-1)[0])
+            t = numbers(state["time"], "time", src)
+            t = float(t[0]) if t.size == 1 else math.nan
             if not math.isfinite(t):
-                raise StateError(f"{src}: time is not finite", "give a finite time")
+                raise StateError(f"{src}: time is not one finite number", "give a finite time")
             data.time = t
     check_finite_state(data, state_name(model, keyframe, qpos))
     return data
@@ -183,11 +198,7 @@ class Rollout:
         src = os.fspath(source) if isinstance(source, (str, os.PathLike)) else "rollout"
         if isinstance(source, (str, os.PathLike)):
             raw = read_input(source, "mujoco_rollout", StateError)
-            try:
-                with np.load(io.BytesIO(raw)) as z:
-                    arrays = {k: np.array(z[k]) for k in z.files}
-            except (OSError, ValueError) as e:
-                raise StateError(f"cannot read the rollout {src}: {e}", "give an .npz with time, qpos, qvel") from None
+            arrays = load_npz(raw, src, ROLLOUT_WHAT, MAX_ROLLOUT_BYTES, StateError, ROLLOUT_FIX)
         else:
             arrays = dict(source)
         unknown = set(arrays) - set(ROLLOUT_KEYS)
