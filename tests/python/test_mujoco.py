@@ -710,6 +710,7 @@ def test_mujoco_states_with_non_finite_numbers_or_absurd_forces_are_state_errors
     arrays = {k: getattr(r, k) for k in ("time", "qpos", "qvel", "ctrl", "act", "qacc_warmstart", "mocap_pos",
                                          "mocap_quat")}
     fast = dict(arrays, qvel=np.full_like(r.qvel, 1e10))
+    nan_gravity = mujoco.MjModel.from_xml_string(PINCH.read_text().replace('gravity="0 0 -9.81"', 'gravity="0 nan -9.81"'))
     force = "MuJoCo's contact force is"
     cases = [
         (lambda: gm.scene_from(model, state("qvel", float("inf")), "box"), "data: qvel[0] is inf; fix: give finite "
@@ -731,6 +732,8 @@ def test_mujoco_states_with_non_finite_numbers_or_absurd_forces_are_state_errors
     for call, words in cases:
         with pytest.raises(gm.StateError, match=re.escape(words)):
             call()
+    with pytest.raises(gm.ModelLoadError, match=re.escape("the model's gravity (<option gravity>) is [0.0, nan, -9.81]")):
+        gm.scene_from(nan_gravity, mujoco.MjData(nan_gravity), "box")
     out = tmp_path / "out"
     out.mkdir()
     np.savez(tmp_path / "fast.npz", qpos=data.qpos, qvel=data.qvel * 0 + 1e10)

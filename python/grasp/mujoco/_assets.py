@@ -47,9 +47,8 @@ def parse(path, named_by):
 
 
 def places(name, bases, dirs):
-    """Every path MuJoCo may open for the file ``name``, existing ones first seen first."""
-    if os.path.isabs(name):
-        return [name] if os.path.exists(name) else []
+    """Every existing path MuJoCo may open for the file ``name`` (an absolute one itself, and
+    its bare name in the folders)."""
     out = []
     for base in bases:
         for d in dirs:

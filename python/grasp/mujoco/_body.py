@@ -5,7 +5,7 @@ contacts carry its support's reaction, which the scene would take for a grasp's 
 
 import numpy as np
 
-from ._errors import UnknownBodyError
+from ._errors import ModelLoadError, UnknownBodyError
 
 
 def body_name(model, b):
@@ -31,8 +31,8 @@ def why_not_object(mujoco, model, b):
         weld = int(model.body_weldid[b])
         to = "the world" if weld == 0 else f"body '{body_name(model, weld)}'"
         return f"it has no joint: it is fixed to {to}, which holds it"
-    if model.body_mass[b] <= 0:
-        return "it has no mass (0 kg), so no weight for a grasp to hold"
+    if not model.body_mass[b] > 0:
+        return f"it has no mass ({model.body_mass[b]:g} kg), so no weight for a grasp to hold"
     return None
 
 
@@ -57,9 +57,18 @@ def body_id(mujoco, model, body):
     return b
 
 
+def check_gravity(model):
+    """The model's gravity (which makes the object's weight) is finite; ModelLoadError otherwise."""
+    g = np.array(model.opt.gravity, dtype=float)
+    if not np.all(np.isfinite(g)):
+        raise ModelLoadError(f"the model's gravity (<option gravity>) is {g.tolist()}",
+                             "give finite numbers, m/s^2 (MuJoCo's default is 0 0 -9.81)")
+
+
 def object_body_id(mujoco, model, body):
     """The id of the grasped object's body (a name or an id): UnknownBodyError when the model
     has no such body, or when it cannot be the object (the same words for a name or an id)."""
+    check_gravity(model)
     b = body_id(mujoco, model, body)
     why = why_not_object(mujoco, model, b)
     if why is not None:
