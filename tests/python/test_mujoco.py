@@ -717,6 +717,7 @@ def test_mujoco_states_with_non_finite_numbers_or_absurd_forces_are_state_errors
          "numbers for qvel in data"),
         (lambda: gm.scene_from(model, state("qpos", float("nan"), 2), "box"), "data: qpos[2] is nan"),
         (lambda: gm.scene_from(model, state("ctrl", float("nan")), "box"), "data: ctrl[0] is nan"),
+        (lambda: gm.simulate(model, state("qvel", float("nan"), 3), lambda m, d: None, steps=2), "data: qvel[3] is nan"),
         (lambda: gm.scene_from(model, state("xfrc_applied", float("inf"), (1, 2)), "box"),
          "data: xfrc_applied[1][2] is inf"),
         (lambda: gm.scene_from(model, state("qvel", 1e150), "box", materials=mats),
@@ -725,7 +726,7 @@ def test_mujoco_states_with_non_finite_numbers_or_absurd_forces_are_state_errors
          f"finger jaw_left: {force} 2.227e+17 N, beyond the 1e+07 N a grasp may have"),
         (lambda: gm.load_state(gm.load_model(tmp_path / "nan.xml"), keyframe="bad"),
          "keyframe 'bad': qpos[2] is nan; fix: give finite numbers for qpos in keyframe 'bad'"),
-        (lambda: gm.schedule_from_rollout(hmodel, fast, "cylinder"), "MuJoCo's contact force at state 1 (t = 0.01 s)"),
+        (lambda: gm.schedule_from_rollout(hmodel, fast, "cylinder"), "at state 1 (t = 0.01 s): MuJoCo's contact force is"),
         (lambda: gm.schedule_from_rollout(hmodel, gm.Rollout(**dict(arrays, qpos=r.qpos * np.nan)), "cylinder"),
          "rollout: 'qpos' has a NaN or an infinity"),
     ]
@@ -737,7 +738,9 @@ def test_mujoco_states_with_non_finite_numbers_or_absurd_forces_are_state_errors
     out = tmp_path / "out"
     out.mkdir()
     np.savez(tmp_path / "fast.npz", qpos=data.qpos, qvel=data.qvel * 0 + 1e10)
-    for args, words in ((["--keyframe", "bad"], cases[6][1]), (["--qpos", tmp_path / "fast.npz"], cases[5][1])):
+    by_keyframe = next(w for _, w in cases if w.startswith("keyframe 'bad'"))
+    too_fast = next(w for _, w in cases if "2.227e+17 N" in w)
+    for args, words in ((["--keyframe", "bad"], by_keyframe), (["--qpos", tmp_path / "fast.npz"], too_fast)):
         proc = python_m("scene", tmp_path / "nan.xml", "--object", "box", "--materials", mats, *args,
                         "--out", out / "s.json", cwd=tmp_path)
         assert proc.returncode == 1 and f"error: {words}" in proc.stderr, proc.stderr

@@ -8,9 +8,8 @@ midpoint between the two surfaces, ``contact.dist`` their signed distance (negat
 overlap), so the object's surface point is ``pos +- dist/2 n``.
 """
 
-from dataclasses import dataclass, field
-
 import math
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -150,15 +149,26 @@ def finger_names(model, keys):
     return names
 
 
+def force_problem(fl):
+    """What is wrong with MuJoCo's contact force on the finger ``fl`` for a grasp (not finite,
+    beyond the project's largest force, a torque not finite), or None."""
+    force = float(np.linalg.norm(fl.force_n))
+    if not math.isfinite(force):
+        return f"contact force is {force} N, not a force"
+    if force > MAX_FORCE_N:
+        return f"contact force is {force:.4g} N, beyond the {MAX_FORCE_N:g} N"
+    if not all(np.isfinite(c.torque_nm).all() for c in fl.contacts):
+        return "contact torque is not finite, not a torque"
+    return None
+
+
 def check_forces(groups, names, where=""):
-    """StateError naming the first finger whose MuJoCo contact force (or torque) is not finite
-    or beyond the project's largest force: a state MuJoCo cannot simulate (bodies overlapping
-    deeply, or moving at absurd speeds), whose forces no scene may carry."""
+    """StateError naming the first finger whose MuJoCo contact force is no grasp's: a state
+    MuJoCo cannot simulate (bodies overlapping deeply, or moving at absurd speeds)."""
     for fl in groups:
-        force = float(np.linalg.norm(fl.force_n))
-        if not math.isfinite(force) or force > MAX_FORCE_N or not all(np.isfinite(c.torque_nm).all() for c in fl.contacts):
-            what = f"{force:.4g} N, beyond the {MAX_FORCE_N:g} N" if math.isfinite(force) else f"{force} N, not a force"
-            raise StateError(f"finger {names[fl.key]}: MuJoCo's contact force{where} is {what} a grasp may have",
+        problem = force_problem(fl)
+        if problem:
+            raise StateError(f"finger {names[fl.key]}{where}: MuJoCo's {problem} a grasp may have",
                              "give a state MuJoCo can simulate (finite, physical qpos and qvel: no body moving at "
                              "absurd speed or overlapping another deeply)")
 

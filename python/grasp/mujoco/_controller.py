@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Callable, Union
 from ._errors import ControllerError, Interrupted, StateError, require_mujoco
 from ._limits import MAX_ROLLOUT_BYTES, MAX_STATES, MAX_STEPS, check_count
 from ._scene import check_warnings, warning_counts
-from ._state import Rollout
+from ._state import Rollout, check_finite_state
 
 if TYPE_CHECKING:
     import mujoco
@@ -98,6 +98,7 @@ def simulate(model: "mujoco.MjModel", data: "mujoco.MjData", controller: Union[s
     1,000,000 states, 1 GiB). Returns a :class:`Rollout`."""
     mujoco = require_mujoco()
     steps, every, n = check_run(model, steps, every)
+    check_finite_state(data, "data")
     fn = load_controller(controller)
     rollout, k = Rollout.empty(model, n), 0
     for i in range(steps + 1):

@@ -59,9 +59,9 @@ class ControllerError(MujocoError):
 
 class Interrupted(BaseException):
     """A SIGINT, SIGTERM or SIGHUP (``python -m grasp.mujoco``'s handlers raise it; a
-    controller's errors let it pass, as ``KeyboardInterrupt``): unwinds the run, so every ``with`` and ``finally`` on the
-    way removes what it made (scratch folders; the native library's temporary and lock files
-    are removed when their owners are dropped)."""
+    controller's errors let it pass, as ``KeyboardInterrupt``): unwinds the run, so every
+    ``with`` and ``finally`` on the way removes what it made (scratch folders; the native
+    library's temporary and lock files are removed when their owners are dropped)."""
 
     def __init__(self, signum):
         super().__init__(signum)

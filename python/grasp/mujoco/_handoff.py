@@ -272,7 +272,8 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
         check_warnings(mujoco, data, before)
         contacts = object_contacts(mujoco, model, data, b)
         groups = {fl.key: fl for fl in group_fingers(contacts)}
-        check_forces(groups.values(), finger_names(model, list(groups)), f" at state {i} (t = {rollout.time[i]:.6g} s)")
+        at = f" at state {i} (t = {rollout.time[i]:.6g} s)"
+        check_forces(groups.values(), finger_names(model, list(groups)), at)
         sp = slip_speeds_m_per_s(mujoco, model, data, contacts)
         speed_of = {c.index: s for c, s in zip(contacts, sp)}
         per_step.append({k: (fl, max(speed_of[c.index] for c in fl.contacts)) for k, fl in groups.items()})

@@ -52,7 +52,8 @@ def numbers(values, what, source):
     try:
         return np.asarray(values, dtype=float).reshape(-1)
     except (TypeError, ValueError) as e:
-        raise StateError(f"{source}: {what} is not a list of numbers ({reason(e)})", f"give {what} as numbers") from None
+        raise StateError(f"{source}: {what} is not a list of numbers ({reason(e)})",
+                         f"give {what} as numbers") from None
 
 
 def vector(values, length, what, source):
