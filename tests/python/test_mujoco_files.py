@@ -251,6 +251,8 @@ def file_cases():
         ({"m.xml": mjcf("<asset><mesh name='a' file='/dev/zero'/></asset>")}, "m.xml", '<mesh file="/dev/zero">',
          "/dev/zero", "is a device, not a regular file"),
         ({"m.xml": mjcf(mesh), "a.obj": ""}, "m.xml", '<mesh file="a.obj">', "a.obj", "is a folder, not a regular file"),
+        ({"m.xml": mjcf("<asset><mesh name='a' file=' a.obj'/></asset>"), " a.obj": FIFO}, "m.xml",
+         '<mesh file=" a.obj">', " a.obj", "is a FIFO"),
     ]
 
 

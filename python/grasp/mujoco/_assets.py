@@ -32,7 +32,7 @@ def tag_of(elem):
 
 def file_attrs(elem):
     """(attribute, file name) of each file an element names."""
-    return [(k, v.strip()) for k, v in elem.attrib.items() if k.lower().startswith("file") and v.strip()]
+    return [(k, v) for k, v in elem.attrib.items() if k.lower().startswith("file") and v.strip()]
 
 
 def parse(path, named_by):
@@ -48,11 +48,12 @@ def parse(path, named_by):
 
 def places(name, bases, dirs):
     """Every existing path MuJoCo may open for the file ``name`` (an absolute one itself, and
-    its bare name in the folders)."""
+    its bare name in the folders; as written, and without surrounding blanks)."""
     out = []
+    names = dict.fromkeys([name, name.strip(), os.path.basename(name), os.path.basename(name.strip())])
     for base in bases:
         for d in dirs:
-            for n in (name, os.path.basename(name)):
+            for n in names:
                 p = os.path.normpath(os.path.join(base, d, n))
                 if p not in out and os.path.exists(p):
                     out.append(p)
