@@ -183,6 +183,17 @@ class Rollout:
         for k in ROLLOUT_KEYS:
             getattr(self, k)[i] = getattr(data, k)
 
+    @staticmethod
+    def record(model, data):
+        """{name: value} of the state of ``data`` (a row for ``from_rows``)."""
+        return {k: np.array(getattr(data, k), dtype=float).copy() if k != "time" else float(data.time)
+                for k in ROLLOUT_KEYS}
+
+    @staticmethod
+    def from_rows(rows):
+        """A rollout of the rows of ``record``."""
+        return Rollout(**{k: np.array([r[k] for r in rows], dtype=float) for k in ROLLOUT_KEYS})
+
     def arrays(self):
         """{name: array} of the rollout (what ``load`` and ``save`` take)."""
         return {k: getattr(self, k) for k in ROLLOUT_KEYS}
