@@ -525,3 +525,276 @@ def test_mujoco_handoff_flags_held_steps_the_elastic_model_cannot_hold(handoff):
     # Without a threshold only the step with no equilibrium is flagged.
     unthresholded = gm.HandoffReplay(handoff, run, threshold_n=None).flagged_steps
     assert [i for i, _, _ in unthresholded] == [held[0]]
+
+
+def test_mujoco_a_controller_that_exits_or_raises_is_a_controller_error(tmp_path):
+    """Item 2 of the hostile review: a controller's sys.exit (at a step, or when its module is
+    imported) is a ControllerError naming the controller, exit 1 and nothing written, as any
+    exception of the controller; Ctrl-C (KeyboardInterrupt) still interrupts."""
+    cases = [  # (module text, words of the error after the controller's name)
+        ("import sys\ndef control(model, data):\n    sys.exit(0)\n", "called sys.exit(0) at step 0 (t = 0 s)"),
+        ("import sys\ndef control(model, data):\n    if data.time > 0.0015:\n        sys.exit('done')\n",
+         "called sys.exit('done') at step 2 (t = 0.002 s)"),
+        ("def control(model, data):\n    raise SystemExit\n", "called sys.exit(None) at step 0"),
+        ("class Stop(BaseException):\n    pass\ndef control(model, data):\n    raise Stop('odd')\n",
+         "failed at step 0 (t = 0 s): Stop('odd')"),
+        ("def control(model, data):\n    raise RuntimeError('boom')\n", "failed at step 0 (t = 0 s): RuntimeError('boom')"),
+        ("import sys\nsys.exit(3)\ndef control(model, data):\n    pass\n", "called sys.exit(3) while its module was imported"),
+    ]
+    model = gm.load_model(HANDOFF)
+    out = tmp_path / "out"
+    out.mkdir()
+    for i, (text, words) in enumerate(cases):
+        path = tmp_path / f"c{i}.py"
+        path.write_text(text)
+        spec = f"{path}:control"
+        with pytest.raises(gm.ControllerError, match=re.escape(f"the controller {spec} {words}")):
+            gm.simulate(model, gm.load_state(model), spec, steps=5)
+        proc = python_m("handoff", HANDOFF, "--object", "cylinder", "--controller", spec, "--steps", "5",
+                        "--out", out / "h", "--save-rollout", out / "r.npz")
+        assert proc.returncode == 1, (spec, proc.returncode, proc.stderr)
+        assert f"error: the controller {spec} {words}" in proc.stderr and "; fix: " in proc.stderr, proc.stderr
+        assert list(out.iterdir()) == []
+
+    def interrupt(model, data):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        gm.simulate(model, gm.load_state(model), interrupt, steps=5)
+
+
+def test_mujoco_count_arguments_are_range_checked_before_the_run(rollout, tmp_path):
+    """Item 3 of the hostile review: steps, every, the patch grid, the margin threshold and a
+    rollout's states are range-checked, naming the argument (and its option) and the range,
+    before MuJoCo or the replay runs (--steps had no bound; a rollout grew 0.5 MB/s)."""
+    model, r = rollout
+    idle = lambda model, data: None  # noqa: E731
+    api = [
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=0), "steps (--steps) is 0, not a whole number "
+         "from 1 to 1000000; fix: give a whole number from 1 to 1000000"),
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=10**10), "steps (--steps) is 10000000000"),
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=2.5), "steps (--steps) is 2.5"),
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=True), "steps (--steps) is True"),
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=10, every=0), "every (--every) is 0"),
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=10, every=10**7), "every (--every) is 10000000"),
+        (lambda: gm.simulate(model, gm.load_state(model), idle, steps=10**6), "give 1000001 states of this model "
+         "(275 MiB), more than a rollout may have (1000000 states, 1024 MiB); fix: record fewer states"),
+        (lambda: gm.schedule_from_rollout(model, r, "cylinder", patch={"grid": [2000, 2000]}),
+         "patch grid (--grid) is 2000 x 2000: 4000000 elements per finger, more than the 1048576 (1024 x 1024)"),
+        (lambda: gm.schedule_from_rollout(model, r, "cylinder", patch={"grid": [0, 9]}), "patch grid[0] (--grid) is 0"),
+        (lambda: gm.schedule_from_rollout(model, {"time": np.arange(1_000_001.0),
+                                                  "qpos": np.broadcast_to(r.qpos[0], (1_000_001, model.nq)),
+                                                  "qvel": np.broadcast_to(r.qvel[0], (1_000_001, model.nv))}, "cylinder"),
+         "rollout: 1000001 states, more than the 1000000 a schedule may have"),
+        (lambda: gm.schedule_from_rollout(model, r, "cylinder").replay(threshold_n=float("nan")),
+         "threshold_n (--threshold) is nan, not a finite number from 0 to 1e+07 N"),
+    ]
+    for call, words in api:
+        with pytest.raises(gm.MujocoError, match=re.escape(words)):
+            call()
+    out = tmp_path / "out"
+    out.mkdir()
+    base = ["handoff", HANDOFF, "--object", "cylinder", "--controller", CONTROLLER, "--materials",
+            MJ / "handoff.materials.json", "--out", out / "h"]
+    cli = [(["--steps", "0"], "steps (--steps) is 0"), (["--steps", "10000000000"], "steps (--steps) is 10000000000"),
+           (["--steps", "10", "--every", "0"], "every (--every) is 0"),
+           (["--steps", "10", "--grid", "2000", "2000"], "patch grid (--grid) is 2000 x 2000"),
+           (["--steps", "10", "--threshold", "-1"], "threshold_n (--threshold) is -1.0")]
+    for args, words in cli:
+        proc = subprocess.run([sys.executable, "-m", "grasp.mujoco", *map(str, base + args)], capture_output=True,
+                              text=True, cwd=ROOT, timeout=60)
+        assert proc.returncode == 1 and f"error: {words}" in proc.stderr, (args, proc.stderr)
+        assert list(out.iterdir()) == []
+
+
+def test_mujoco_an_object_body_that_is_not_free_or_has_no_mass_is_refused(pinch, rollout, tmp_path):
+    """Items 4 and 7 of the hostile review: the world (by name or id: one wording), a body fixed
+    or welded to another, on a slide joint, a mocap body, or a free body without mass is not
+    taken as the grasped object (a fixed jaw's contacts carry the world's reaction, which was
+    written as an external force); the error names the body and the bodies that can be."""
+    model, data, _ = pinch
+    xml = """<mujoco><worldbody><geom type="plane" size="1 1 .1"/>
+      <body name="hand" mocap="true" pos="0 0 .5"><geom type="box" size=".01 .01 .01"/></body>
+      <body name="frame" pos="0 0 .2"><freejoint/><body name="part"><geom type="box" size=".05 .05 .05" mass="1"/></body>
+      </body><body name="ball" pos="0 .5 .1"><freejoint/><geom type="sphere" size=".1"/></body></worldbody></mujoco>"""
+    other = mujoco.MjModel.from_xml_string(xml)
+    hmodel, r = rollout
+    pinch_fix = "fix: give the grasped object's body, one with a free joint (<freejoint/>) and a mass: box"
+    cases = [
+        (lambda: gm.scene_from(model, data, "world"), "body 'world' (id 0) cannot be the grasped object: it is the "
+         f"world body; {pinch_fix}"),
+        (lambda: gm.scene_from(model, data, 0), f"body 'world' (id 0) cannot be the grasped object: it is the world "
+         f"body; {pinch_fix}"),
+        (lambda: gm.scene_from(model, data, "jaw_left"), "body 'jaw_left' (id 2) cannot be the grasped object: it has no "
+         f"joint: it is fixed to the world, which holds it; {pinch_fix}"),
+        (lambda: gm.scene_from(model, data, "jaw_right"), "body 'jaw_right' (id 3) cannot be the grasped object: it "
+         f"moves on a slide joint only, not a free joint; {pinch_fix}"),
+        (lambda: gm.schedule_from_rollout(hmodel, r, "a1"), "body 'a1' (id 2) cannot be the grasped object: it moves "
+         "on a slide joint only"),
+        (lambda: gm.scene_from(other, mujoco.MjData(other), "hand"), "body 'hand' (id 1) cannot be the grasped object: "
+         "it is a mocap body, moved by the program, not by its contacts; fix: give the grasped object's body, one "
+         "with a free joint (<freejoint/>) and a mass: ball"),
+        (lambda: gm.scene_from(other, mujoco.MjData(other), "part"), "body 'part' (id 3) cannot be the grasped object: "
+         "it has no joint: it is fixed to body 'frame', which holds it"),
+        (lambda: gm.scene_from(other, mujoco.MjData(other), "frame"), "body 'frame' (id 2) cannot be the grasped "
+         "object: it has no mass (0 kg), so no weight for a grasp to hold"),
+    ]
+    for call, words in cases:
+        with pytest.raises(gm.UnknownBodyError, match=re.escape(words)):
+            call()
+    for body, words in (("world", cases[0][1]), ("jaw_left", cases[2][1])):
+        proc = python_m("scene", PINCH, "--object", body, "--keyframe", "grasped", "--out", tmp_path / "s.json")
+        assert proc.returncode == 1 and f"error: {words}" in proc.stderr, proc.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_mujoco_patch_size_and_margin_are_range_checked_and_a_cut_is_warned(pinch, tmp_path):
+    """Item 5 of the hostile review: patch sizes and margins outside the scene's ranges (finite;
+    a side from 1e-9 to 10 m, a margin from 0 to 5 m) are refused, naming the field and its
+    option; a patch side cut to a box pad's side is a warning (1e308 silently gave 10 mm)."""
+    model, data, _ = pinch
+    mats = MJ / "pinch.materials.json"
+    side = "not a finite number from 1e-09 to 10 m; fix: give a number from 1e-09 to 10 m"
+    margin = "not a finite number from 0 to 5 m; fix: give a number from 0 to 5 m"
+    refused = [({"size": [1e308, 1e308]}, f"patch size[0] (--patch-size) is 1e+308, {side}"),
+               ({"size": [0.01, float("inf")]}, f"patch size[1] (--patch-size) is inf, {side}"),
+               ({"size": [float("nan"), 0.01]}, "patch size[0] (--patch-size) is nan"),
+               ({"size": [0.0, 0.01]}, "patch size[0] (--patch-size) is 0.0"),
+               ({"size": [1e-12, 0.01]}, "patch size[0] (--patch-size) is 1e-12"),
+               ({"size": [20, 0.01]}, "patch size[0] (--patch-size) is 20"),
+               ({"size": ["1", 0.01]}, "patch size[0] (--patch-size) is '1'"),
+               ({"size": [0.01]}, "patch size (--patch-size) is [0.01]; fix: give [a, b]"),
+               ({"margin_m": 1e308}, f"patch margin_m (--margin) is 1e+308, {margin}"),
+               ({"margin_m": -0.001}, "patch margin_m (--margin) is -0.001"),
+               ({"margin_m": float("nan")}, "patch margin_m (--margin) is nan"),
+               ({"margin_m": 6}, "patch margin_m (--margin) is 6")]
+    for patch, words in refused:
+        with pytest.raises(gm.MujocoError, match=re.escape(words)):
+            gm.scene_from(model, data, "box", materials=mats, patch=patch)
+    cut = [({"size": [0.02, 0.005]}, [0.01, 0.005], "patch side along t1 (0.02 m, patch size (--patch-size)) cut to "
+            "the pad's side 0.01 m"),
+           ({"margin_m": 0.001}, [0.01, 0.01], "patch side along t1 (0.012 m, MuJoCo's points plus twice margin_m "
+            "(--margin)) cut to the pad's side 0.01 m")]
+    for patch, size, words in cut:
+        g = gm.scene_from(model, data, "box", materials=mats, patch=patch)
+        for f in g.scene_dict["fingers"]:
+            assert f["patch"]["size"] == pytest.approx(size, abs=1e-4)
+            assert f"finger {f['name']}: {words}" in g.warnings, g.warnings
+    base = ["scene", PINCH, "--object", "box", "--keyframe", "grasped", "--materials", mats, "--no-margin",
+            "--out", tmp_path / "s.json"]
+    for args, words in ((["--patch-size", "1e308", "1e308"], refused[0][1]), (["--margin", "1e308"], refused[8][1])):
+        proc = python_m(*base, *args)
+        assert proc.returncode == 1 and f"error: {words}" in proc.stderr, proc.stderr
+        assert list(tmp_path.iterdir()) == []
+    proc = python_m(*base, "--margin", "0.001")
+    assert proc.returncode == 0 and f"warning: finger jaw_left: {cut[1][2]}" in proc.stderr, proc.stderr
+
+
+def test_mujoco_states_with_non_finite_numbers_or_absurd_forces_are_state_errors(pinch, rollout, tmp_path, monkeypatch):
+    """Item 6 of the hostile review: a NaN or an infinity anywhere in the state mj_forward reads
+    (data, a keyframe, a rollout) is a StateError naming the field (a NaN keyframe said "no
+    active contact"); MuJoCo contact forces that are not finite or beyond the project's 1e7 N
+    are refused naming the finger (qvel 1e150 gave normal_load nan, 1e10 gave 1.7e17 N)."""
+    model, data, _ = pinch
+    mats = MJ / "pinch.materials.json"
+    hmodel, r = rollout
+
+    def state(field, value, index=slice(None)):
+        d = gm.load_state(model, keyframe="grasped")
+        getattr(d, field)[index] = value
+        return d
+
+    monkeypatch.chdir(tmp_path)  # MuJoCo logs the NaN of the keyframe to MUJOCO_LOG.TXT here
+    text = PINCH.read_text().replace('<key name="start"', '<key name="bad" qpos="0 0 nan 1 0 0 0 0"/><key name="start"')
+    (tmp_path / "nan.xml").write_text(text)
+    arrays = {k: getattr(r, k) for k in ("time", "qpos", "qvel", "ctrl", "act", "qacc_warmstart", "mocap_pos",
+                                         "mocap_quat")}
+    fast = dict(arrays, qvel=np.full_like(r.qvel, 1e10))
+    nan_gravity = mujoco.MjModel.from_xml_string(PINCH.read_text().replace('gravity="0 0 -9.81"', 'gravity="0 nan -9.81"'))
+    force = "MuJoCo's contact force is"
+    cases = [
+        (lambda: gm.scene_from(model, state("qvel", float("inf")), "box"), "data: qvel[0] is inf; fix: give finite "
+         "numbers for qvel in data"),
+        (lambda: gm.scene_from(model, state("qpos", float("nan"), 2), "box"), "data: qpos[2] is nan"),
+        (lambda: gm.scene_from(model, state("ctrl", float("nan")), "box"), "data: ctrl[0] is nan"),
+        (lambda: gm.simulate(model, state("qvel", float("nan"), 3), lambda m, d: None, steps=2), "data: qvel[3] is nan"),
+        (lambda: gm.scene_from(model, state("xfrc_applied", float("inf"), (1, 2)), "box"),
+         "data: xfrc_applied[1][2] is inf"),
+        (lambda: gm.scene_from(model, state("qvel", 1e150), "box", materials=mats),
+         f"finger jaw_left: {force} nan N, not a force a grasp may have; fix: give a state MuJoCo can simulate"),
+        (lambda: gm.scene_from(model, state("qvel", 1e10), "box", materials=mats),
+         f"finger jaw_left: {force} 2.227e+17 N, beyond the 1e+07 N a grasp may have"),
+        (lambda: gm.load_state(gm.load_model(tmp_path / "nan.xml"), keyframe="bad"),
+         "keyframe 'bad': qpos[2] is nan; fix: give finite numbers for qpos in keyframe 'bad'"),
+        (lambda: gm.schedule_from_rollout(hmodel, fast, "cylinder"), "at state 1 (t = 0.01 s): MuJoCo's contact force is"),
+        (lambda: gm.schedule_from_rollout(hmodel, gm.Rollout(**dict(arrays, qpos=r.qpos * np.nan)), "cylinder"),
+         "rollout: 'qpos' has a NaN or an infinity"),
+    ]
+    for call, words in cases:
+        with pytest.raises(gm.StateError, match=re.escape(words)):
+            call()
+    with pytest.raises(gm.ModelLoadError, match=re.escape("the model's gravity (<option gravity>) is [0.0, nan, -9.81]")):
+        gm.scene_from(nan_gravity, mujoco.MjData(nan_gravity), "box")
+    out = tmp_path / "out"
+    out.mkdir()
+    np.savez(tmp_path / "fast.npz", qpos=data.qpos, qvel=data.qvel * 0 + 1e10)
+    by_keyframe = next(w for _, w in cases if w.startswith("keyframe 'bad'"))
+    too_fast = next(w for _, w in cases if "2.227e+17 N" in w)
+    for args, words in ((["--keyframe", "bad"], by_keyframe), (["--qpos", tmp_path / "fast.npz"], too_fast)):
+        proc = python_m("scene", tmp_path / "nan.xml", "--object", "box", "--materials", mats, *args,
+                        "--out", out / "s.json", cwd=tmp_path)
+        assert proc.returncode == 1 and f"error: {words}" in proc.stderr, proc.stderr
+        assert list(out.iterdir()) == []
+
+
+def npz_bomb(path, name, nbytes):
+    """An .npz whose one array (zeros, deflated to a few kB) unpacks to ``nbytes``."""
+    import zipfile
+
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(header, {"descr": "<f8", "fortran_order": False, "shape": (nbytes // 8,)})
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z, z.open(f"{name}.npy", "w", force_zip64=True) as f:
+        f.write(header.getvalue())
+        chunk = bytes(1 << 20)
+        for _ in range(nbytes // len(chunk)):
+            f.write(chunk)
+
+
+def test_mujoco_a_patch_that_is_not_a_dict_and_corrupt_state_files_are_named_errors(pinch, rollout, tmp_path):
+    """Item 7 of the hostile review: patch=[9, 9] raised a bare TypeError; a corrupt rollout
+    ended in a BadZipFile traceback (and an empty one in EOFError, a JSON state nested too deep
+    in RecursionError): each is a named error, the command exits 1 and writes nothing."""
+    model, data, _ = pinch
+    hmodel, r = rollout
+    for patch in ([9, 9], "9 9", 9):
+        with pytest.raises(gm.MujocoError, match=re.escape(f"patch is {patch!r} (a {type(patch).__name__}), not a "
+                                                           "dict; fix: give None or a dict such as {'grid': [9, 9]")):
+            gm.scene_from(model, data, "box", patch=patch)
+    good = io.BytesIO()
+    r.save(good)
+    np.save(tmp_path / "one.npy", r.time)
+    corrupt = {"zip.npz": b"PK\x03\x04" + bytes(64), "half.npz": good.getvalue()[:len(good.getvalue()) // 2],
+               "text.npz": b"time qpos qvel\n", "empty.npz": b"", "one.npz": (tmp_path / "one.npy").read_bytes()}
+    out = tmp_path / "out"
+    out.mkdir()
+    rollout_fix = "fix: give an .npz of time (T,), qpos (T, nq) and qvel (T, nv), as --save-rollout writes it"
+    for name, raw in corrupt.items():
+        path = tmp_path / name
+        path.write_bytes(raw)
+        words = f"{path} is not a rollout written by `python -m grasp.mujoco handoff --save-rollout` or Rollout.save ("
+        with pytest.raises(gm.StateError, match=re.escape(words) + ".*" + re.escape(rollout_fix)):
+            gm.schedule_from_rollout(hmodel, path, "cylinder")
+        proc = python_m("handoff", HANDOFF, "--object", "cylinder", "--rollout", path, "--out", out / "h", "--no-replay")
+        assert proc.returncode == 1 and f"error: {words}" in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+        with pytest.raises(gm.StateError, match=re.escape(f"state file {path} is not an .npz of qpos")):
+            gm.load_state(model, qpos=path)
+    assert list(out.iterdir()) == []
+    (tmp_path / "deep.json").write_text("[" * 100_000 + "]" * 100_000)
+    (tmp_path / "words.json").write_text('{"qpos": ["a", "b"]}')
+    npz_bomb(tmp_path / "bomb.npz", "qpos", 65 << 20)
+    states = [("deep.json", "cannot read the state file {}: RecursionError"),
+              ("words.json", "{}: qpos is not a list of numbers (ValueError"),
+              ("bomb.npz", "state file {} unpacks to 68157568 bytes, more than the 64 MiB its file may have")]
+    for name, words in states:
+        with pytest.raises(gm.StateError, match=re.escape(words.format(tmp_path / name))):
+            gm.load_state(model, qpos=tmp_path / name)

@@ -200,3 +200,108 @@ def test_mujoco_sigterm_and_sighup_end_the_command_with_nothing_left(tmp_path):
         assert proc.returncode == 128 + sig, err
         assert "interrupted" in err, err
         assert list(out.iterdir()) == [] and list(scratch.iterdir()) == []
+
+
+FIFO = object()  # a case's file that is made a FIFO
+LOAD_EACH = """
+import json, sys
+import grasp.mujoco as gm
+for path in sys.argv[1:]:
+    try:
+        gm.load_model(path)
+        print(json.dumps("loaded"), flush=True)
+    except gm.ModelLoadError as e:
+        print(json.dumps(str(e)), flush=True)
+"""
+
+
+def mjcf(body):
+    return f"<mujoco>{body}<worldbody><body name='o'><freejoint/><geom size='.01'/></body></worldbody></mujoco>"
+
+
+def file_cases():
+    """(files {relative path: text, FIFO or a folder ""}, model file, the element that names
+    the bad file, its path, words of the refusal)."""
+    mesh = "<asset><mesh name='a' file='a.obj'/></asset>"
+    urdf = ("<robot name='r'><link name='l'><collision><geometry><mesh filename='package://p/m.stl'/></geometry>"
+            "</collision></link></robot>")
+    return [
+        ({"m.xml": mjcf(mesh), "a.obj": FIFO}, "m.xml", '<mesh file="a.obj">', "a.obj", "is a FIFO (named pipe)"),
+        ({"m.xml": mjcf("<compiler meshdir='meshes'/>" + mesh), "meshes/a.obj": FIFO}, "m.xml", '<mesh file="a.obj">',
+         "meshes/a.obj", "is a FIFO"),
+        ({"m.xml": mjcf("<compiler texturedir='tex'/><asset><texture name='t' type='2d' file='t.png'/></asset>"),
+          "tex/t.png": FIFO}, "m.xml", '<texture file="t.png">', "tex/t.png", "is a FIFO"),
+        ({"m.xml": mjcf("<asset><texture name='t' type='cube' fileright='r.png' fileleft='l.png'/></asset>"),
+          "r.png": FIFO}, "m.xml", '<texture fileright="r.png">', "r.png", "is a FIFO"),
+        ({"m.xml": mjcf("<compiler assetdir='assets'/><asset><hfield name='h' file='h.png' size='1 1 1 1'/></asset>"),
+          "assets/h.png": FIFO}, "m.xml", '<hfield file="h.png">', "assets/h.png", "is a FIFO"),
+        ({"m.xml": mjcf("<deformable><skin name='s' file='s.skn'/></deformable>"), "s.skn": FIFO}, "m.xml",
+         '<skin file="s.skn">', "s.skn", "is a FIFO"),
+        ({"m.xml": mjcf("<asset><model name='sub' file='sub.xml'/></asset>"), "sub.xml": FIFO}, "m.xml",
+         '<model file="sub.xml">', "sub.xml", "is a FIFO"),
+        ({"m.xml": mjcf("<include file='inc.xml'/>"), "inc.xml": FIFO}, "m.xml", '<include file="inc.xml">', "inc.xml",
+         "is a FIFO"),
+        ({"m.xml": mjcf("<INCLUDE file='inc.xml'/>"), "inc.xml": FIFO}, "m.xml", '<include file="inc.xml">', "inc.xml",
+         "is a FIFO"),
+        ({"m.xml": mjcf("<include file='sub/a.xml'/>"), "sub/a.xml": "<mujoco><include file='b.xml'/></mujoco>",
+          "sub/b.xml": FIFO}, "sub/a.xml", '<include file="b.xml">', "sub/b.xml", "is a FIFO"),
+        ({"m.xml": mjcf("<include file='sub/a.xml'/>"), "sub/a.xml": f"<mujoco>{mesh}</mujoco>", "sub/a.obj": FIFO},
+         "sub/a.xml", '<mesh file="a.obj">', "sub/a.obj", "is a FIFO"),
+        ({"r.urdf": urdf, "m.stl": FIFO}, "r.urdf", '<mesh filename="package://p/m.stl">', "m.stl", "is a FIFO"),
+        ({"m.xml": mjcf("<asset><mesh name='a' file='/dev/zero'/></asset>")}, "m.xml", '<mesh file="/dev/zero">',
+         "/dev/zero", "is a device, not a regular file"),
+        ({"m.xml": mjcf(mesh), "a.obj": ""}, "m.xml", '<mesh file="a.obj">', "a.obj", "is a folder, not a regular file"),
+        ({"m.xml": mjcf("<asset><mesh name='a' file=' a.obj'/></asset>"), " a.obj": FIFO}, "m.xml",
+         '<mesh file=" a.obj">', " a.obj", "is a FIFO"),
+    ]
+
+
+def make_files(folder, files):
+    for rel, text in files.items():
+        p = folder / rel
+        p.parent.mkdir(parents=True, exist_ok=True)
+        if text is FIFO:
+            os.mkfifo(p)
+        elif text == "":
+            p.mkdir()
+        else:
+            p.write_text(text)
+
+
+def test_mujoco_files_a_model_names_are_checked_as_the_model_is(tmp_path):
+    """Item 1 of the hostile review: every file an MJCF (or URDF) names, its includes
+    recursively, is refused as the model would be (a FIFO blocked MuJoCo for ever)."""
+    models, expected = [], []
+    for i, (files, naming, element, bad, words) in enumerate(file_cases()):
+        folder = tmp_path / f"case{i}"
+        make_files(folder, files)
+        models.append(folder / next(iter(files)))
+        path = bad if bad.startswith("/") else str(folder / bad)
+        expected.append(f"{folder / naming}: {element} names {path}, which {words}")
+    proc = subprocess.run([sys.executable, "-c", LOAD_EACH, *map(str, models)], capture_output=True, text=True,
+                          cwd=ROOT, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    said = [json.loads(line) for line in proc.stdout.splitlines()]
+    for want, got in zip(expected, said, strict=True):
+        assert got.startswith(want) and "; fix: make " in got, (want, got)
+    # The command refuses it too, at once, writing nothing.
+    out = tmp_path / "out"
+    out.mkdir()
+    proc = python_m("scene", models[0], "--object", "o", "--out", out / "s.json", timeout=60)
+    assert proc.returncode == 1 and f"error: {expected[0]}" in proc.stderr, proc.stderr
+    assert list(out.iterdir()) == []
+
+
+def test_mujoco_files_models_whose_files_are_regular_still_load(tmp_path):
+    """The files check refuses nothing MuJoCo can load: meshes under the compiler's meshdir and
+    beside an include in a sub-folder, the examples."""
+    cube = "".join(f"v {x} {y} {z}\n" for x in (-.01, .01) for y in (-.01, .01) for z in (-.01, .01))
+    cube += "f 1 2 3\nf 1 3 5\nf 1 5 2\nf 8 7 6\nf 8 4 7\nf 8 6 4\nf 2 4 3\nf 2 6 4\nf 3 7 5\nf 3 4 7\nf 5 6 2\nf 5 7 6\n"
+    make_files(tmp_path, {
+        "m.xml": mjcf("<compiler meshdir='meshes'/><include file='sub/part.xml'/>"
+                      "<asset><mesh name='a' file='cube.obj'/></asset>"),
+        "meshes/cube.obj": cube, "sub/part.xml": "<mujoco><asset><mesh name='b' file='c.obj'/></asset></mujoco>",
+        "sub/c.obj": cube})
+    assert gm.load_model(tmp_path / "m.xml").nmesh == 2
+    for name in ("pinch.xml", "handoff.xml"):
+        assert gm.load_model(MJ / name).nbody > 1

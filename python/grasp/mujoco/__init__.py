@@ -39,7 +39,8 @@ from ._errors import (
     StateError,
     UnknownBodyError,
 )
-from ._handoff import Handoff, HandoffReplay, load_controller, schedule_from_rollout, simulate
+from ._controller import load_controller, simulate
+from ._handoff import Handoff, HandoffReplay, schedule_from_rollout
 from ._materials import DEFAULT_MATERIAL
 from ._report import HOLD_SPEED_M_PER_S, Report, compare
 from ._scene import MujocoFinger, MujocoGrasp, scene_from

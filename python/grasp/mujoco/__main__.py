@@ -19,7 +19,7 @@ import os
 import signal
 import sys
 
-from ._errors import MujocoError
+from ._errors import Interrupted, MujocoError
 
 PROG = "python -m grasp.mujoco"
 
@@ -127,17 +127,22 @@ def run_scene(args):
 
 def run_handoff(args):
     from ._files import check_targets
-    from ._handoff import schedule_from_rollout, simulate
+    from ._controller import simulate
+    from ._handoff import check_threshold, schedule_from_rollout
+    from ._patch import patch_options
     from ._state import Rollout, load_model, load_state
 
-    if args.controller and not args.steps:
+    if args.controller and args.steps is None:
         raise MujocoError("--controller needs --steps", "give the number of MuJoCo steps to run, e.g. --steps 1600")
-    if args.rollout and (args.steps or args.keyframe or args.qpos):
+    if args.rollout and (args.steps is not None or args.keyframe or args.qpos):
         raise MujocoError("--steps, --keyframe and --qpos go with --controller", "leave them out with --rollout")
     prefix = args.out
     replay_outs = [p for p in (args.mcap, args.rrd, args.csv) if p]
     if args.no_replay and (replay_outs or args.margins):
         raise MujocoError("--no-replay with replay outputs", "leave out --no-replay, or --mcap/--rrd/--csv/--margins")
+    # Checked before the (long) simulation, as the controller's steps are.
+    patch_options(patch_of(args))
+    check_threshold(args.threshold)
     if args.rrd:
         from ._rerun import require_rerun
 
@@ -181,16 +186,6 @@ def run_handoff(args):
     # A discrepancy is a step where MuJoCo held the object and the elastic model found no
     # equilibrium (steps where MuJoCo did not hold either are reported, not failures).
     return 2 if any(why in ("no_equilibrium", "no_convergence") for _, _, why in replay.flagged_steps) else 0
-
-
-class Interrupted(BaseException):
-    """A SIGINT, SIGTERM or SIGHUP: unwinds the run, so every ``with`` and ``finally`` on the
-    way removes what it made (scratch folders; the native library's temporary and lock files
-    are removed when their owners are dropped)."""
-
-    def __init__(self, signum):
-        super().__init__(signum)
-        self.signum = signum
 
 
 CLEANUP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, n))

@@ -8,11 +8,13 @@ midpoint between the two surfaces, ``contact.dist`` their signed distance (negat
 overlap), so the object's surface point is ``pos +- dist/2 n``.
 """
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._errors import UnknownBodyError
+from ._errors import StateError
+from ._limits import MAX_FORCE_N
 
 
 @dataclass
@@ -89,23 +91,6 @@ class FingerLoad:
         return best.other_geom
 
 
-def body_id(mujoco, model, body):
-    """The id of a body given by name (or id); UnknownBodyError otherwise."""
-    if isinstance(body, (int, np.integer)) and not isinstance(body, bool):
-        if 0 <= int(body) < model.nbody:
-            return int(body)
-        raise UnknownBodyError(f"body id {body} is out of range (the model has {model.nbody} bodies)",
-                               "give a body name or an id in range")
-    b = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, str(body))
-    if b < 0:
-        names = [model.body(i).name for i in range(1, model.nbody) if model.body(i).name]
-        raise UnknownBodyError(f"the model has no body '{body}'",
-                               f"give one of its bodies: {', '.join(names) or '(none named)'}")
-    if b == 0:
-        raise UnknownBodyError("the object cannot be the world body", "give the body of the grasped object")
-    return b
-
-
 def object_contacts(mujoco, model, data, body):
     """Every active contact (in the constraint solver: ``efc_address >= 0``, not excluded)
     between a geom of ``body`` and a geom of another body, at the state of ``data``
@@ -162,6 +147,30 @@ def finger_names(model, keys):
             base = f"{base}:{model.geom(g).name or f'geom{g}'}"
         names[(g, b)] = base
     return names
+
+
+def force_problem(fl):
+    """What is wrong with MuJoCo's contact force on the finger ``fl`` for a grasp (not finite,
+    beyond the project's largest force, a torque not finite), or None."""
+    force = float(np.linalg.norm(fl.force_n))
+    if not math.isfinite(force):
+        return f"contact force is {force} N, not a force"
+    if force > MAX_FORCE_N:
+        return f"contact force is {force:.4g} N, beyond the {MAX_FORCE_N:g} N"
+    if not all(np.isfinite(c.torque_nm).all() for c in fl.contacts):
+        return "contact torque is not finite, not a torque"
+    return None
+
+
+def check_forces(groups, names, where=""):
+    """StateError naming the first finger whose MuJoCo contact force is no grasp's: a state
+    MuJoCo cannot simulate (bodies overlapping deeply, or moving at absurd speeds)."""
+    for fl in groups:
+        problem = force_problem(fl)
+        if problem:
+            raise StateError(f"finger {names[fl.key]}{where}: MuJoCo's {problem} a grasp may have",
+                             "give a state MuJoCo can simulate (finite, physical qpos and qvel: no body moving at "
+                             "absurd speed or overlapping another deeply)")
 
 
 def contact_wrench(contacts, center_m):

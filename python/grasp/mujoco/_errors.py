@@ -37,7 +37,8 @@ class StateError(MujocoError):
 
 
 class UnknownBodyError(MujocoError):
-    """The object body is not a body of the model."""
+    """The object body is not a body of the model, or not one that can be the grasped object
+    (the world; a body fixed, welded or jointed other than free; a mocap body; no mass)."""
 
 
 class MaterialMapError(MujocoError):
@@ -53,7 +54,18 @@ class ContactGeometryError(MujocoError):
 
 
 class ControllerError(MujocoError):
-    """The controller ``MODULE:FN`` cannot be imported or fails."""
+    """The controller ``MODULE:FN`` cannot be imported, fails, or calls ``sys.exit``."""
+
+
+class Interrupted(BaseException):
+    """A SIGINT, SIGTERM or SIGHUP (``python -m grasp.mujoco``'s handlers raise it; a
+    controller's errors let it pass, as ``KeyboardInterrupt``): unwinds the run, so every
+    ``with`` and ``finally`` on the way removes what it made (scratch folders; the native
+    library's temporary and lock files are removed when their owners are dropped)."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
 
 
 def require_mujoco():

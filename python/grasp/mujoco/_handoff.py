@@ -10,8 +10,6 @@ the centre of mass, so the elastic model carries exactly MuJoCo's contact load a
 """
 
 import csv
-import importlib
-import importlib.util
 import io
 import json
 import math
@@ -19,14 +17,25 @@ import os
 import re
 import tempfile
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Callable, Optional, Union
+from typing import TYPE_CHECKING, Optional, Union
 
 import numpy as np
 
-from ._contacts import body_id, contact_wrench, finger_names, group_fingers, object_contacts, slip_speeds_m_per_s
-from ._errors import ControllerError, NoContactError, StateError, require_mujoco
+from ._body import object_body_id
+from ._contacts import (
+    check_forces,
+    contact_wrench,
+    finger_names,
+    group_fingers,
+    object_contacts,
+    slip_speeds_m_per_s,
+)
+from ._controller import load_controller, simulate  # noqa: F401 (this module's names before the split)
+from ._errors import NoContactError, require_mujoco
 from ._files import check_targets, write_all
+from ._limits import MAX_FORCE_N, check_number
 from ._materials import MaterialMap
+from ._patch import patch_options
 from ._report import HOLD_SPEED_M_PER_S
 from ._scene import (
     MODELS,
@@ -36,7 +45,6 @@ from ._scene import (
     finger_spec,
     load_scene,
     object_part,
-    patch_options,
     warning_counts,
 )
 from ._state import Rollout
@@ -47,55 +55,11 @@ if TYPE_CHECKING:
 PLAIN_NAME = re.compile(r"^[A-Za-z0-9_.:-]+$")
 
 
-def load_controller(spec):
-    """``MODULE:FN`` (a dotted module on the path, or a .py file) -> FN(model, data)."""
-    if callable(spec):
-        return spec
-    if not isinstance(spec, str) or ":" not in spec:
-        raise ControllerError(f"controller {spec!r} is not MODULE:FN", "give e.g. examples/mujoco/handoff_controller.py:control")
-    module, _, fn = spec.rpartition(":")
-    try:
-        if module.endswith(".py"):
-            s = importlib.util.spec_from_file_location(f"grasp_mujoco_controller_{abs(hash(module))}", module)
-            if s is None or not os.path.isfile(module):
-                raise ImportError(f"no file {module}")
-            mod = importlib.util.module_from_spec(s)
-            s.loader.exec_module(mod)
-        else:
-            mod = importlib.import_module(module)
-    except Exception as e:
-        raise ControllerError(f"cannot import the controller module {module}: {e}",
-                              "give a module on the Python path or a .py file") from None
-    f = getattr(mod, fn, None)
-    if not callable(f):
-        raise ControllerError(f"{module} has no function {fn}", "give MODULE:FN naming a function FN(model, data)")
-    return f
-
-
-def simulate(model: "mujoco.MjModel", data: "mujoco.MjData", controller: Union[str, Callable], steps: int,
-             every: int = 1) -> Rollout:
-    """Runs ``steps`` MuJoCo steps from the state of ``data``; before each step
-    ``controller(model, data)`` sets the controls. Records the state (with its controls and
-    the solver's warm start, so ``mj_forward`` there gives the forces ``mj_step`` used) every
-    ``every`` steps, the first and the last state included. Returns a :class:`Rollout`."""
-    mujoco = require_mujoco()
-    if not (isinstance(steps, int) and steps >= 1 and isinstance(every, int) and every >= 1):
-        raise StateError(f"steps {steps!r}, every {every!r}", "give whole numbers >= 1")
-    fn = load_controller(controller)
-    rows = []
-    for i in range(steps + 1):
-        try:
-            fn(model, data)
-        except Exception as e:
-            raise ControllerError(f"the controller failed at step {i} (t = {data.time:.6g} s): {e!r}",
-                                  "fix the controller") from None
-        if i % every == 0 or i == steps:
-            rows.append(Rollout.record(model, data))
-        if i < steps:
-            before = warning_counts(data)
-            mujoco.mj_step(model, data)
-            check_warnings(mujoco, data, before)
-    return Rollout.from_rows(rows)
+def check_threshold(threshold_n):
+    """None, or a margin threshold in [0, MAX_FORCE_N] newtons."""
+    if threshold_n is None:
+        return None
+    return check_number("threshold_n (--threshold)", threshold_n, 0.0, MAX_FORCE_N, "N")
 
 
 @dataclass
@@ -168,6 +132,7 @@ class Handoff:
         margin below ``threshold_n``."""
         import grasp
 
+        threshold_n = check_threshold(threshold_n)
         named = {"mcap": mcap, "rrd": rrd, "csv": csv}
         targets = [p for p in named.values() if p is not None] + list(also or {})
         check_targets(targets, overwrite, inputs)
@@ -294,10 +259,10 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
     mujoco = require_mujoco()
     check_choice("contact_model", contact_model, MODELS)
     opts = patch_options(patch)
-    b = body_id(mujoco, model, object_body)
+    b = object_body_id(mujoco, model, object_body)
     mats = MaterialMap(mujoco, model, materials)
-    if not isinstance(rollout, Rollout):
-        rollout = Rollout.load(rollout, model)
+    # A Rollout is checked as a file or a dict is (its shapes, finite numbers, its length).
+    rollout = Rollout.load(rollout.arrays() if isinstance(rollout, Rollout) else rollout, model)
     data = mujoco.MjData(model)
     per_step, poses, wrenches, speeds = [], [], [], []
     for i in range(len(rollout)):
@@ -307,6 +272,8 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
         check_warnings(mujoco, data, before)
         contacts = object_contacts(mujoco, model, data, b)
         groups = {fl.key: fl for fl in group_fingers(contacts)}
+        at = f" at state {i} (t = {rollout.time[i]:.6g} s)"
+        check_forces(groups.values(), finger_names(model, list(groups)), at)
         sp = slip_speeds_m_per_s(mujoco, model, data, contacts)
         speed_of = {c.index: s for c, s in zip(contacts, sp)}
         per_step.append({k: (fl, max(speed_of[c.index] for c in fl.contacts)) for k, fl in groups.items()})

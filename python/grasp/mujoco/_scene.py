@@ -2,7 +2,6 @@
 model, one finger per (object geom, other body) pair of MuJoCo's active contacts."""
 
 import json
-import math
 import os
 import tempfile
 from dataclasses import dataclass, field
@@ -10,7 +9,15 @@ from typing import TYPE_CHECKING, Optional, Union
 
 import numpy as np
 
-from ._contacts import body_id, contact_wrench, finger_names, group_fingers, object_contacts, slip_speeds_m_per_s
+from ._body import object_body_id
+from ._contacts import (
+    check_forces,
+    contact_wrench,
+    finger_names,
+    group_fingers,
+    object_contacts,
+    slip_speeds_m_per_s,
+)
 from ._errors import MujocoError, NoContactError, require_mujoco
 from ._geometry import (
     HERTZ_SIDE_PER_SEMI_AXIS,
@@ -25,13 +32,14 @@ from ._geometry import (
     surface_at,
 )
 from ._materials import MaterialMap, compliance
+from ._patch import pad_cut_notes, patch_options
+from ._state import check_finite_state
 
 if TYPE_CHECKING:
     import mujoco
 
 CONTROLS = ("held", "mujoco-force")
 MODELS = ("energy", "coulomb")
-DEFAULT_GRID = [9, 9]
 # The scene format's smallest nonzero force component, N: smaller ones are written as 0.
 MIN_FORCE_N = 1e-15
 
@@ -44,25 +52,6 @@ def clean_force(x):
 def check_choice(name, value, choices):
     if value not in choices:
         raise MujocoError(f"{name} is {value!r}", f"give one of {', '.join(choices)}")
-
-
-def patch_options(patch):
-    """``patch``: None or {"grid": [nx, ny], "margin_m": m, "size": [a, b]} (size overrides)."""
-    p = dict(patch or {})
-    unknown = set(p) - {"grid", "margin_m", "size"}
-    if unknown:
-        raise MujocoError(f"patch has unknown keys {sorted(unknown)}", "give grid, margin_m and/or size")
-    grid = p.get("grid", DEFAULT_GRID)
-    margin = p.get("margin_m", 0.0)
-    size = p.get("size")
-    if not (isinstance(grid, (list, tuple)) and len(grid) == 2 and all(isinstance(n, int) and n >= 1 for n in grid)):
-        raise MujocoError(f"patch grid is {grid!r}", "give [nx, ny], each a whole number >= 1")
-    if not (isinstance(margin, (int, float)) and math.isfinite(margin) and margin >= 0):
-        raise MujocoError(f"patch margin_m is {margin!r}", "give a length >= 0 in metres")
-    if size is not None and not (isinstance(size, (list, tuple)) and len(size) == 2
-                                 and all(isinstance(s, (int, float)) and s > 0 for s in size)):
-        raise MujocoError(f"patch size is {size!r}", "give [a, b] in metres, each > 0")
-    return {"grid": list(grid), "margin_m": float(margin), "size": None if size is None else [float(s) for s in size]}
 
 
 @dataclass
@@ -180,6 +169,7 @@ def finger_spec(mujoco, model, data, fl, name, materials, opts, hertz_load_n, co
         spec["tip"] = {"cylinder": {"radius": tip.radius_m, "axis": (t2 if k_tip[0] > 0 else t1).tolist()}}
     elif tip.box is not None:
         pad = [straight_length(tip, a) for a in axes]
+        notes += pad_cut_notes(name, size, pad, opts)
         size = [min(size[d], pad[d]) for d in range(2)]
         spec["tip"] = {"flat": {"size": pad}}
     if obj.kind == "sphere":
@@ -317,6 +307,7 @@ def build(mujoco, model, data, b, materials, opts, control, contact_model, descr
     weight, com, gravity, shape, files = object_part(mujoco, model, data, b, warnings, mesh_name)
     groups = group_fingers(contacts)
     names = finger_names(model, [fl.key for fl in groups])
+    check_forces(groups, names)
     speeds = slip_speeds_m_per_s(mujoco, model, data, contacts)
     speed_of = {c.index: s for c, s in zip(contacts, speeds)}
     fingers, specs, obj_mats = [], [], []
@@ -402,8 +393,9 @@ def scene_from(model: "mujoco.MjModel", data: "mujoco.MjData", object_body: Unio
     check_choice("control", control, CONTROLS)
     check_choice("contact_model", contact_model, MODELS)
     opts = patch_options(patch)
-    b = body_id(mujoco, model, object_body)
+    b = object_body_id(mujoco, model, object_body)
     mats = MaterialMap(mujoco, model, materials)
+    check_finite_state(data, "data")
     before = warning_counts(data)
     mujoco.mj_forward(model, data)
     check_warnings(mujoco, data, before)

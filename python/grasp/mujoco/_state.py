@@ -8,16 +8,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._assets import check_model_files
 from ._errors import ModelLoadError, StateError, require_mujoco
 from ._files import check_input, read_input
+from ._limits import MAX_ROLLOUT_BYTES, MAX_STATE_FILE_BYTES, MAX_STATES
+from ._npz import load_npy, load_npz, reason
 
 
 def load_model(path):
     """An MjModel from an MJCF (.xml) or binary (.mjb) file; ModelLoadError otherwise."""
     mujoco = require_mujoco()
     p = os.fspath(path)
-    # A regular file within the limit (never a FIFO or /dev/zero) before MuJoCo opens it.
+    # A regular file within the limit (never a FIFO or /dev/zero) before MuJoCo opens it, and
+    # so is every file it names (meshes, textures, includes...).
     check_input(p, "mujoco_model", ModelLoadError)
+    if not p.endswith(".mjb"):
+        check_model_files(p)
     try:
         if p.endswith(".mjb"):
             return mujoco.MjModel.from_binary_path(p)
@@ -41,8 +47,17 @@ def keyframe_id(mujoco, model, key):
     return k
 
 
+def numbers(values, what, source):
+    """``values`` as a flat float array; StateError naming ``what`` where they are not numbers."""
+    try:
+        return np.asarray(values, dtype=float).reshape(-1)
+    except (TypeError, ValueError) as e:
+        raise StateError(f"{source}: {what} is not a list of numbers ({reason(e)})",
+                         f"give {what} as numbers") from None
+
+
 def vector(values, length, what, source):
-    a = np.asarray(values, dtype=float).reshape(-1) if values is not None else None
+    a = numbers(values, what, source) if values is not None else None
     if a is None or a.shape != (length,):
         got = "nothing" if a is None else f"{a.size} numbers"
         raise StateError(f"{source}: {what} has {got}, the model needs {length}",
@@ -52,23 +67,56 @@ def vector(values, length, what, source):
     return a
 
 
+STATE_FIX = "give qpos as whitespace-separated numbers, .npy, .npz (qpos and optionally qvel, ctrl, act, time) or JSON"
+ROLLOUT_WHAT = "a rollout written by `python -m grasp.mujoco handoff --save-rollout` or Rollout.save"
+ROLLOUT_FIX = "give an .npz of time (T,), qpos (T, nq) and qvel (T, nv), as --save-rollout writes it"
+
+
 def read_state_file(path):
     """{"qpos": ..., optional "qvel", "ctrl", "act"} from .npy/.txt (qpos only), .npz or .json."""
     p = os.fspath(path)
     raw = read_input(p, "mujoco_state", StateError)
+    src = f"state file {p}"
+    if p.endswith(".npz"):
+        return load_npz(raw, src, "an .npz of qpos (and qvel, ctrl, act, time)", MAX_STATE_FILE_BYTES, StateError,
+                        STATE_FIX)
+    if p.endswith(".npy"):
+        return {"qpos": load_npy(raw, src, "an .npy of qpos", StateError, STATE_FIX)}
     try:
-        if p.endswith(".npz"):
-            with np.load(io.BytesIO(raw)) as z:
-                return {k: np.array(z[k]) for k in z.files}
-        if p.endswith(".npy"):
-            return {"qpos": np.load(io.BytesIO(raw))}
         if p.endswith(".json"):
             d = json.loads(raw.decode("utf-8"))
             return d if isinstance(d, dict) else {"qpos": d}
         return {"qpos": np.loadtxt(io.BytesIO(raw), ndmin=1)}
-    except (OSError, ValueError) as e:
-        raise StateError(f"cannot read the state file {p}: {e}",
-                         "give qpos as whitespace-separated numbers, .npy, .npz or JSON") from None
+    except Exception as e:  # noqa: BLE001 (a decode, JSON, nesting or number error: the file is not a state)
+        raise StateError(f"cannot read the state file {p}: {reason(e)}", STATE_FIX) from None
+
+
+# What ``mj_forward`` reads of a state: each must be finite (MuJoCo checks none of it there, and
+# a NaN in qpos gives no contacts at all).
+STATE_FIELDS = ("time", "qpos", "qvel", "act", "ctrl", "qacc_warmstart", "mocap_pos", "mocap_quat", "qfrc_applied",
+                "xfrc_applied")
+
+
+def check_finite_state(data, source):
+    """StateError naming the first NaN or infinity of the state of ``data`` (``source``: how
+    the message names the state)."""
+    for k in STATE_FIELDS:
+        a = np.asarray(getattr(data, k), dtype=float)
+        bad = np.argwhere(~np.isfinite(a))
+        if len(bad):
+            at = "".join(f"[{i}]" for i in bad[0])
+            raise StateError(f"{source}: {k}{at} is {a[tuple(bad[0])]}",
+                             f"give finite numbers for {k} in {source} (a state MuJoCo can simulate)")
+
+
+def state_name(model, keyframe, qpos):
+    """How messages name the state ``load_state`` loads."""
+    if keyframe is not None:
+        k = str(keyframe)
+        return f"keyframe '{model.key(int(k)).name or k}'" if k.isdigit() else f"keyframe '{k}'"
+    if isinstance(qpos, (str, os.PathLike)):
+        return f"state file {os.fspath(qpos)}"
+    return "qpos" if qpos is not None else "the model's initial state"
 
 
 def load_state(model, keyframe=None, qpos=None):
@@ -91,10 +139,12 @@ def load_state(model, keyframe=None, qpos=None):
             if key in state:
                 getattr(data, key)[:] = vector(state[key], n, key, src)
         if "time" in state:
-            t = float(np.asarray(state["time"]).reshape(-1)[0])
+            t = numbers(state["time"], "time", src)
+            t = float(t[0]) if t.size == 1 else math.nan
             if not math.isfinite(t):
-                raise StateError(f"{src}: time is not finite", "give a finite time")
+                raise StateError(f"{src}: time is not one finite number", "give a finite time")
             data.time = t
+    check_finite_state(data, state_name(model, keyframe, qpos))
     return data
 
 
@@ -117,18 +167,40 @@ class Rollout:
     def __len__(self):
         return len(self.time)
 
-    def save(self, path):
-        """Writes the rollout as .npz (the format ``--rollout`` reads)."""
-        np.savez(path, **{k: getattr(self, k) for k in ROLLOUT_KEYS})
+    @staticmethod
+    def row_bytes(model):
+        """Bytes of one state of ``model`` in a rollout."""
+        return 8 * (1 + model.nq + 2 * model.nv + model.nu + model.na + 7 * model.nmocap)
+
+    @staticmethod
+    def empty(model, n):
+        """A rollout of ``n`` states of ``model``, all zero, to be filled by ``store``."""
+        data = require_mujoco().MjData(model)
+        return Rollout(**{k: np.zeros((n, *np.shape(getattr(data, k)))) for k in ROLLOUT_KEYS})
+
+    def store(self, i, data):
+        """Puts the state of ``data`` into row ``i``."""
+        for k in ROLLOUT_KEYS:
+            getattr(self, k)[i] = getattr(data, k)
 
     @staticmethod
     def record(model, data):
+        """{name: value} of the state of ``data`` (a row for ``from_rows``)."""
         return {k: np.array(getattr(data, k), dtype=float).copy() if k != "time" else float(data.time)
                 for k in ROLLOUT_KEYS}
 
     @staticmethod
     def from_rows(rows):
+        """A rollout of the rows of ``record``."""
         return Rollout(**{k: np.array([r[k] for r in rows], dtype=float) for k in ROLLOUT_KEYS})
+
+    def arrays(self):
+        """{name: array} of the rollout (what ``load`` and ``save`` take)."""
+        return {k: getattr(self, k) for k in ROLLOUT_KEYS}
+
+    def save(self, path):
+        """Writes the rollout as .npz (the format ``--rollout`` reads)."""
+        np.savez(path, **{k: getattr(self, k) for k in ROLLOUT_KEYS})
 
     @staticmethod
     def load(source, model):
@@ -138,11 +210,7 @@ class Rollout:
         src = os.fspath(source) if isinstance(source, (str, os.PathLike)) else "rollout"
         if isinstance(source, (str, os.PathLike)):
             raw = read_input(source, "mujoco_rollout", StateError)
-            try:
-                with np.load(io.BytesIO(raw)) as z:
-                    arrays = {k: np.array(z[k]) for k in z.files}
-            except (OSError, ValueError) as e:
-                raise StateError(f"cannot read the rollout {src}: {e}", "give an .npz with time, qpos, qvel") from None
+            arrays = load_npz(raw, src, ROLLOUT_WHAT, MAX_ROLLOUT_BYTES, StateError, ROLLOUT_FIX)
         else:
             arrays = dict(source)
         unknown = set(arrays) - set(ROLLOUT_KEYS)
@@ -156,6 +224,9 @@ class Rollout:
         if t == 0 or not np.all(np.isfinite(time)) or np.any(np.diff(time) <= 0) or time[0] < 0:
             raise StateError(f"{src}: time must be finite, >= 0 and strictly increasing, with at least one row",
                              "give the times of the recorded steps")
+        if t > MAX_STATES:
+            raise StateError(f"{src}: {t} states, more than the {MAX_STATES} a schedule may have",
+                             f"give at most {MAX_STATES} states (record every K-th step)")
         data = require_mujoco().MjData(model)
         shapes = {"qpos": model.nq, "qvel": model.nv, "ctrl": model.nu, "act": model.na,
                   "qacc_warmstart": model.nv, "mocap_pos": (model.nmocap, 3), "mocap_quat": (model.nmocap, 4)}
