@@ -117,6 +117,67 @@ fn every_problem_is_reported_at_once() {
     assert!(e.to_string().contains("3 problem(s)"));
 }
 
+/// Every missing field at once, each with its own fix (issue 36: a scene missing
+/// `object.weight` and `fingers[1].normal` reported only the first, without a fix): the
+/// fields a scene needs unless it derives them (a finger's frame without `place`, the
+/// object's weight and centre of mass without a density) as well as the always required.
+#[test]
+fn every_missing_field_is_reported_with_its_fix() {
+    let cases: [(&[&str], &[(&str, &str)]); 3] = [
+        (
+            &["/object/weight", "/fingers/1/normal"],
+            &[
+                ("object.weight", "newtons"),
+                ("fingers[1].normal", "into the object"),
+            ],
+        ),
+        (
+            &[
+                "/object/center_of_mass",
+                "/fingers/0/contact_point",
+                "/fingers/2/patch",
+            ],
+            &[
+                ("object.center_of_mass", "world frame"),
+                ("fingers[0].contact_point", "`place`"),
+                ("fingers[2].patch", "add `patch`"),
+            ],
+        ),
+        (
+            &[
+                "/fingers/0/normal",
+                "/fingers/1/normal",
+                "/fingers/2/normal",
+            ],
+            &[
+                ("fingers[0].normal", "into the object"),
+                ("fingers[1].normal", "into the object"),
+                ("fingers[2].normal", "into the object"),
+            ],
+        ),
+    ];
+    for (removed, expected) in cases {
+        let mut v = cube();
+        for ptr in removed {
+            let (parent, key) = ptr.rsplit_once('/').unwrap();
+            v.pointer_mut(parent)
+                .unwrap()
+                .as_object_mut()
+                .unwrap()
+                .remove(key);
+        }
+        let p = problems(&v);
+        assert_eq!(p.len(), expected.len(), "{removed:?}: {p:#?}");
+        for (path, words) in expected {
+            assert_problem(&v, path, "is missing");
+            assert!(
+                p.iter().any(|m| m.starts_with(path) && m.contains(words)),
+                "{path}: {p:#?}"
+            );
+        }
+    }
+}
+
 #[test]
 fn both_bodies_rigid() {
     let mut v = cube();

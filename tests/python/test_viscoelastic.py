@@ -34,3 +34,17 @@ def test_bad_times_name_the_keyword(run_cli, tmp_path):
     assert cli["time"] == {"at_s": 3.0}
     py = grasp.solve(scene, at_time=3.0).to_dict()
     assert [f["normal_force_n"] for f in py["fingers"]] == [f["normal_force_n"] for f in cli["fingers"]]
+    # The solved time too (issue 36: to_dict lacked it), and the whole answer but its timings.
+    assert py["time"] == {"at_s": 3.0}
+    assert grasp.solve(scene, long_term=True).to_dict()["time"] == "long_term"
+    assert grasp.solve(scene).to_dict()["time"] == "instantaneous"
+    assert json.loads(grasp.solve(scene, at_time=3.0).to_json())["time"] == {"at_s": 3.0}
+    assert "time" not in grasp.solve(grasp.Scene(EXAMPLES / "cube_a.json")).to_dict()
+
+
+def test_a_time_on_an_elastic_scene_is_warned_about():
+    # As the CLI's note (issue 36): the time changes nothing on an elastic scene.
+    cube = grasp.Scene(EXAMPLES / "cube_a.json")
+    with pytest.warns(UserWarning, match="the scene is elastic"):
+        timed = grasp.solve(cube, at_time=1.0)
+    assert timed.to_dict()["fingers"] == grasp.solve(cube).to_dict()["fingers"]

@@ -19,6 +19,10 @@ pub struct Solution {
     pub(crate) tangents: Vec<([f64; 3], [f64; 3])>,
     /// Time to build the model from the scene (influence matrices), s.
     pub(crate) build_time_s: f64,
+    /// When a viscoelastic scene was solved (`None` for an elastic one, or a hand-off step's
+    /// solution): written as `"time"` by `to_dict` and `to_json`, as `grasp solve --json`
+    /// does.
+    pub(crate) time: Option<grasp_model::TimePoint>,
 }
 
 #[pymethods]
@@ -194,12 +198,12 @@ impl Solution {
 
     /// The whole solution as a dict, field for field the JSON of `grasp solve --json`.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        serialize_to_py(py, &self.solution)
+        serialize_to_py(py, &self.json_value()?)
     }
 
     /// The whole solution as JSON text, the same as `grasp solve --json` writes.
     fn to_json(&self) -> PyResult<String> {
-        serde_json::to_string_pretty(&self.solution).map_err(crate::errors::grasp_error)
+        serde_json::to_string_pretty(&self.json_value()?).map_err(crate::errors::grasp_error)
     }
 
     fn __repr__(&self) -> String {
@@ -218,6 +222,15 @@ type Element = grasp_model::ElementSolution;
 pub type Tangents = ([f64; 3], [f64; 3]);
 
 impl Solution {
+    /// The solution's JSON, with the solve's time for a viscoelastic scene.
+    fn json_value(&self) -> PyResult<serde_json::Value> {
+        let mut value = serde_json::to_value(&self.solution).map_err(crate::errors::grasp_error)?;
+        if let Some(t) = self.time {
+            value["time"] = t.to_json();
+        }
+        Ok(value)
+    }
+
     fn fingers_with_tangents(&self) -> impl Iterator<Item = (usize, &FingerSolution, &Tangents)> {
         self.solution
             .fingers

@@ -64,7 +64,19 @@ pub fn solve(
     };
     let outcome = py.allow_threads(|| solve_scene(&scene_used, options, time));
     match outcome {
-        Ok(s) => Ok(s),
+        Ok(s) => {
+            if time != TimePoint::Instantaneous && s.time.is_none() {
+                // As the CLI's note: the time asked changes nothing on an elastic scene.
+                let message = std::ffi::CString::new(format!(
+                    "the scene is elastic (no material has a relaxation law): {time} is the \
+                     instantaneous response"
+                ))
+                .unwrap_or_default();
+                let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+                PyErr::warn(py, category.as_any(), &message, 1)?;
+            }
+            Ok(s)
+        }
         Err(Failure::Scene(e)) => Err(scene_error(py, &scene.origin, &e)),
         Err(Failure::Model(e)) => Err(grasp_error(e)),
     }
@@ -142,5 +154,6 @@ fn solve_scene(
         solution,
         tangents,
         build_time_s,
+        time: model.is_viscoelastic().then_some(time),
     })
 }

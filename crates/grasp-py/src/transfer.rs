@@ -429,6 +429,7 @@ impl Transfer {
             solution,
             tangents,
             build_time_s: 0.0,
+            time: None,
         })
     }
 

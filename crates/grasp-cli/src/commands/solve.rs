@@ -185,11 +185,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         // Every outcome is written, "no equilibrium" (exit 2) included: it is the result.
         let mut value = serde_json::to_value(&solution)?;
         if model.is_viscoelastic() {
-            value["time"] = match time {
-                TimePoint::Instantaneous => serde_json::json!("instantaneous"),
-                TimePoint::At { seconds } => serde_json::json!({ "at_s": seconds }),
-                TimePoint::LongTerm => serde_json::json!("long_term"),
-            };
+            value["time"] = time.to_json();
         }
         if let Some((sens, _)) = &sens {
             value["sensitivities"] = serde_json::to_value(sens)?;

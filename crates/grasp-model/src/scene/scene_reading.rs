@@ -244,6 +244,7 @@ fn structure_error_of(
     let single = single_problem;
     let schema = crate::scene::scene_format::scene_json_schema();
     let mut found = crate::scene::schema_check::structural_problems(value, schema.as_value());
+    found.extend(conditionally_missing(value));
     if found.is_empty() {
         return single(e);
     }
@@ -264,6 +265,66 @@ fn structure_error_of(
         .map_or_else(|| single(e), SceneError::Invalid)
 }
 
+/// The fields the schema leaves optional but this scene needs, each with its fix: a finger's
+/// `contact_point` and `normal` unless it has `place`, the object's `weight` and
+/// `center_of_mass` unless it has a `density` (every one at once, where the reader stops at
+/// the first).
+fn conditionally_missing(value: &serde_json::Value) -> Vec<InputProblem> {
+    let mut out = Vec::new();
+    let object = &value["object"];
+    if object.is_object() && object.get("density").is_none() {
+        for key in ["center_of_mass", "weight"] {
+            if object.get(key).is_none() {
+                out.push(InputProblem::new(
+                    format!("object.{key}"),
+                    "is missing",
+                    conditional_fix(key),
+                ));
+            }
+        }
+    }
+    let fingers = value["fingers"].as_array().map_or(&[][..], Vec::as_slice);
+    for (i, f) in fingers.iter().enumerate() {
+        if !f.is_object() || f.get("place").is_some() {
+            continue;
+        }
+        for key in ["contact_point", "normal"] {
+            if f.get(key).is_none() {
+                out.push(InputProblem::new(
+                    format!("fingers[{i}].{key}"),
+                    "is missing",
+                    conditional_fix(key),
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// The fix for a missing field of [`conditionally_missing`].
+fn conditional_fix(key: &str) -> String {
+    match key {
+        "weight" => {
+            "give the object's weight in newtons, or object.shape with object.density \
+                     (the weight and centre of mass then follow)"
+        }
+        "center_of_mass" => {
+            "give the centre of mass in metres (world frame), or object.shape \
+                             with object.density"
+        }
+        "contact_point" => {
+            "give the contact point on the object's surface in metres (world \
+                            frame), or `place` to derive it from object.shape"
+        }
+        "normal" => {
+            "give the contact normal pointing into the object, or `place` to derive it \
+                     from object.shape"
+        }
+        _ => return format!("add `{key}` (see `grasp schema`)"),
+    }
+    .to_string()
+}
+
 /// The reader's error `e` as a problem: a field the schema leaves optional (a placed finger
 /// derives its frame) but this scene needs, or the reader's message.
 fn reader_problem(e: &crate::scene::strict_json::JsonError) -> InputProblem {
@@ -274,11 +335,7 @@ fn reader_problem(e: &crate::scene::strict_json::JsonError) -> InputProblem {
             } else {
                 format!("{}.{name}", e.path)
             };
-            InputProblem::new(
-                path,
-                "is missing",
-                format!("add `{name}` (see `grasp schema`)"),
-            )
+            InputProblem::new(path, "is missing", conditional_fix(name))
         }
         None => InputProblem::new(
             e.path.clone(),
