@@ -1,5 +1,6 @@
 """grasp.Scene: the three sources give the same scene; every kind of bad input is a clear error."""
 
+import math
 import json
 import pathlib
 
@@ -49,6 +50,27 @@ def test_every_problem_is_listed(cube_a_dict):
         grasp.Scene(cube_a_dict)
     paths = {p["path"] for p in e.value.problems}
     assert {"fingers[0].normal", "object.weight"} <= paths
+
+
+def test_non_finite_numbers_in_a_dict_are_named_by_their_path(cube_a_dict):
+    # Issue 36: NaN, infinities and 1e400 (read by Python as infinity) from Python objects
+    # once gave "line 1, column 308: expected value" in a text the user never wrote.
+    cube_a_dict["object"]["weight"] = float("nan")
+    cube_a_dict["fingers"][1]["material"]["youngs_modulus"] = float("inf")
+    cube_a_dict["fingers"][2]["contact_point"][0] = 1e400
+    cube_a_dict["fingers"][0]["normal"] = (0.0, -math.inf, 0.0)
+    with pytest.raises(grasp.SceneError) as e:
+        grasp.Scene(cube_a_dict)
+    found = {p["path"]: p for p in e.value.problems}
+    assert set(found) == {
+        "object.weight",
+        "fingers[1].material.youngs_modulus",
+        "fingers[2].contact_point[0]",
+        "fingers[0].normal[1]",
+    }
+    assert found["object.weight"]["message"] == "is NaN"
+    assert all("finite" in p["fix"] for p in found.values())
+    assert "line 1" not in str(e.value)
 
 
 def test_malformed_json_and_unknown_fields_are_scene_errors(cube_a_dict):

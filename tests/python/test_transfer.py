@@ -86,6 +86,13 @@ def test_schedule_from_dict_and_errors():
         grasp.transfer(scene, spec)
     assert [p["path"] for p in e.value.problems] == ["fingers.nope"]
     assert "f1" in e.value.problems[0]["fix"]
+    # Non-finite numbers from Python objects are named by their path (issue 36).
+    spec = json.loads(SCHEDULE.read_text())
+    spec["time"]["end"] = float("inf")
+    with pytest.raises(grasp.ScheduleError) as e:
+        grasp.transfer(scene, spec)
+    assert [p["path"] for p in e.value.problems] == ["time.end"]
+    assert "finite" in e.value.problems[0]["fix"]
 
 
 def test_cold_runs_reach_the_same_forces_with_more_iterations():

@@ -22,6 +22,7 @@
 pub mod error;
 pub mod input;
 pub mod input_index;
+pub mod memory_budget;
 pub mod merge;
 pub mod option_names;
 pub mod result_line;

@@ -13,6 +13,8 @@ use grasp_io::{MemoryLimit, RunInputs};
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, StepInputs};
 use rayon::prelude::*;
 
+use crate::memory_budget::MemoryBudget;
+
 use crate::error::{io, BatchError};
 use crate::input::{BatchInput, SceneLine, UnparsedScene};
 use crate::input_index::InputIndex;
@@ -84,8 +86,14 @@ impl BatchSummary {
     }
 }
 
-/// Solves one scene into its line.
-pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultLine {
+/// Solves one scene into its line, once its memory estimate is admitted by `budget` (the
+/// batch's limit shared by the scenes solved at once).
+pub fn solve_line(
+    line: SceneLine,
+    of: usize,
+    options: &BatchOptions,
+    budget: &MemoryBudget,
+) -> ResultLine {
     let SceneLine {
         index,
         id,
@@ -95,10 +103,10 @@ pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultL
     } = line;
     let mut out = match scene {
         Err(p) => ResultLine::invalid(id, index, of, p),
-        Ok(scene) => {
-            if let Err(e) = options.max_memory.check(&scene, options.solve.compliance) {
-                ResultLine::invalid(id, index, of, vec![e.problem()])
-            } else {
+        Ok(scene) => match options.max_memory.check(&scene, options.solve.compliance) {
+            Err(e) => ResultLine::invalid(id, index, of, vec![e.problem()]),
+            Ok(need) => {
+                let _admitted = budget.admit(need);
                 let clock = Instant::now();
                 match GraspModel::from_validated_scene_with(&scene, options.solve.compliance) {
                     Err(e) => ResultLine::invalid(id, index, of, e.problems()),
@@ -120,7 +128,7 @@ pub fn solve_line(line: SceneLine, of: usize, options: &BatchOptions) -> ResultL
                     }
                 }
             }
-        }
+        },
     };
     out.vary = vary;
     out
@@ -154,7 +162,7 @@ fn worker_pool(threads: usize) -> Result<rayon::ThreadPool, BatchError> {
 fn solve_chunk(
     pool: &rayon::ThreadPool,
     chunk: Vec<UnparsedScene>,
-    of: usize,
+    (of, budget): (usize, &MemoryBudget),
     options: &BatchOptions,
     out_name: &Path,
 ) -> Result<Vec<(ResultLine, String, RunInputs)>, BatchError> {
@@ -164,7 +172,7 @@ fn solve_chunk(
             .map(|u| {
                 let mut line = u.parse();
                 let files = std::mem::take(&mut line.files);
-                let r = solve_line(line, of, options);
+                let r = solve_line(line, of, options, budget);
                 let text = serde_json::to_string(&r).map_err(|e| io(out_name, e))?;
                 Ok((r, text, files))
             })
@@ -185,6 +193,7 @@ pub fn run_batch(
 ) -> Result<BatchSummary, BatchError> {
     let clock = Instant::now();
     let pool = worker_pool(options.threads)?;
+    let budget = MemoryBudget::new(options.max_memory.bytes);
     let of = index.scenes;
     let mut summary = BatchSummary {
         scenes: of,
@@ -196,7 +205,13 @@ pub fn run_batch(
     // Parsing, solving and writing each line's text run on the workers; only the ordered
     // writes stay on this thread.
     let mut flush = |pending: &mut Vec<UnparsedScene>, summary: &mut BatchSummary| {
-        let lines = solve_chunk(&pool, std::mem::take(pending), of, options, out_name)?;
+        let lines = solve_chunk(
+            &pool,
+            std::mem::take(pending),
+            (of, &budget),
+            options,
+            out_name,
+        )?;
         for (line, text, files) in &lines {
             summary.count(line);
             summary.inputs.extend(files);

@@ -18,7 +18,8 @@ pub const MAX_INPUT_BYTES: u64 = input_file::SCENE_FILE.max_bytes;
 #[derive(clap::Args, Debug, Clone, Copy)]
 pub struct MemoryArg {
     /// Refuse scenes whose estimated memory exceeds this many bytes (suffixes K, M, G, T:
-    /// 512M, 4G); default: a quarter of the machine's memory (MemTotal in /proc/meminfo).
+    /// 512M, 4G); default: a quarter of the machine's memory (MemTotal in /proc/meminfo); a
+    /// limit above the machine's memory is cut to it.
     #[arg(long, value_name = "BYTES", value_parser = parse_bytes)]
     pub max_memory: Option<u64>,
 }
@@ -34,6 +35,7 @@ impl MemoryArg {
     pub fn check(&self, scene: &Scene, file: &Path, compliance: ComplianceChoice) -> Result<()> {
         self.limit()
             .check(scene, compliance)
+            .map(|_| ())
             .map_err(|e| anyhow!("{} {e}", file.display()))
     }
 }

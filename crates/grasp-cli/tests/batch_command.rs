@@ -107,6 +107,32 @@ fn bad_lines_are_lines_and_threads_do_not_change_the_output() {
     assert_eq!(again.status.code(), Some(1));
 }
 
+/// Scenes that each fit `--max-memory` but not two at once (cube A's estimate is 1.0 MiB, the
+/// limit 1.5 MiB) run one after the other on four workers: every scene is solved, the output
+/// equal to one worker's (issue 36: the workers once ran them all at once and the batch
+/// aborted out of memory; `memory_budget.rs` tests that the admitted bytes never exceed the
+/// limit).
+#[test]
+fn scenes_that_fit_the_memory_limit_only_one_at_a_time_all_solve() {
+    let d = tmp("batch", "budget");
+    let all = input(&d);
+    let (one, four) = (d.join("one.jsonl"), d.join("four.jsonl"));
+    for (out, jobs) in [(&one, "1"), (&four, "4")] {
+        let log = batch(&[
+            "batch",
+            all.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--jobs",
+            jobs,
+            "--max-memory",
+            "1.5M",
+        ]);
+        assert!(log.contains("solved 13"), "{log}");
+    }
+    assert_eq!(results(&one), results(&four));
+}
+
 #[test]
 fn a_resumed_run_equals_one_run() {
     let d = tmp("batch", "resume");

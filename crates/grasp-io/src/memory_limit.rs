@@ -35,6 +35,8 @@ enum Origin {
     MachineShare,
     /// The fallback: the machine's memory could not be read.
     Fallback,
+    /// The machine's whole memory, below the limit given.
+    MachineTotal,
 }
 
 impl MemoryLimit {
@@ -66,13 +68,33 @@ impl MemoryLimit {
         given.map_or_else(MemoryLimit::machine_default, MemoryLimit::given)
     }
 
-    /// Refuses a scene whose estimated memory exceeds the limit, naming its largest patch
-    /// (each patch in the form `compliance` gives it: the estimate of the path that will run).
-    pub fn check(&self, scene: &Scene, compliance: ComplianceChoice) -> Result<(), MemoryError> {
+    /// The scene's estimated memory, bytes, or its refusal when the estimate exceeds the
+    /// limit, naming its largest patch (each patch in the form `compliance` gives it: the
+    /// estimate of the path that will run).
+    /// A limit above the machine's memory (`--max-memory 1T` on a 23 GiB machine) is cut to
+    /// it: no limit makes room the machine does not have.
+    pub fn check(&self, scene: &Scene, compliance: ComplianceChoice) -> Result<u64, MemoryError> {
+        self.check_within(scene, compliance, mem_total_bytes())
+    }
+
+    /// [`Self::check`] on a machine of `machine_bytes` of memory (`None`: unknown).
+    fn check_within(
+        &self,
+        scene: &Scene,
+        compliance: ComplianceChoice,
+        machine_bytes: Option<u64>,
+    ) -> Result<u64, MemoryError> {
         let fft = |f: &FingerSpec| takes_fft(scene, f, compliance);
         let need = estimate_memory_bytes_with(scene, fft);
-        if need <= self.bytes {
-            return Ok(());
+        let limit = match machine_bytes {
+            Some(total) if total < self.bytes => MemoryLimit {
+                bytes: total,
+                origin: Origin::MachineTotal,
+            },
+            _ => *self,
+        };
+        if need <= limit.bytes {
+            return Ok(need);
         }
         let biggest = scene
             .fingers
@@ -92,7 +114,7 @@ impl MemoryLimit {
         });
         Err(MemoryError {
             need_bytes: need,
-            limit: *self,
+            limit,
             largest,
             dense: compliance == ComplianceChoice::Dense,
         })
@@ -111,6 +133,11 @@ impl fmt::Display for MemoryLimit {
                 )
             }
             Origin::Fallback => write!(f, "the default limit {b} (/proc/meminfo unreadable)"),
+            Origin::MachineTotal => write!(
+                f,
+                "this machine's memory {b} (MemTotal in /proc/meminfo; a larger `{MAX_MEMORY}` \
+                 cannot make room)"
+            ),
         }
     }
 }
@@ -146,7 +173,10 @@ impl MemoryError {
             true => format!("use a coarser grid or `{}` fft", option_names::COMPLIANCE),
             false => "use a coarser grid (`grasp study` shows the accuracy each grid gives)".into(),
         };
-        format!("{grid}, or raise `{MAX_MEMORY}`")
+        match self.limit.origin {
+            Origin::MachineTotal => format!("{grid}, or run on a machine with more memory"),
+            _ => format!("{grid}, or raise `{MAX_MEMORY}`"),
+        }
     }
 
     /// The problem of a scene it makes (at `fingers`, the patches' grids).
@@ -207,8 +237,37 @@ mod tests {
         assert_eq!(p.fix, fix);
         assert_eq!(e.to_string(), format!("{}; fix: {fix}", p.message));
         assert_eq!(
-            MemoryLimit::given(u64::MAX).check(&scene, ComplianceChoice::Dense),
-            Ok(())
+            MemoryLimit::given(u64::MAX).check_within(&scene, ComplianceChoice::Dense, None),
+            Ok(e.need_bytes)
         );
+    }
+
+    /// A limit above the machine's memory is cut to it (issue 36: 8 fingers of 1024 x 1024,
+    /// an estimated 49.6 GiB, were accepted on a 23 GiB machine with `--max-memory 1T`).
+    #[test]
+    fn no_limit_makes_room_the_machine_does_not_have() {
+        let text = include_str!("../../../examples/cube_a.json");
+        let scene = Scene::from_json_str(text).unwrap();
+        let huge = MemoryLimit::given(1 << 40);
+        let e = huge
+            .check_within(&scene, ComplianceChoice::Dense, Some(1 << 10))
+            .unwrap_err();
+        assert!(
+            e.message().ends_with(&format!(
+                "more than this machine's memory 1.0 KiB (MemTotal in /proc/meminfo; a larger \
+                 `{MAX_MEMORY}` cannot make room)"
+            )),
+            "{}",
+            e.message()
+        );
+        assert!(
+            e.fix().ends_with("or run on a machine with more memory"),
+            "{}",
+            e.fix()
+        );
+        let need = huge
+            .check_within(&scene, ComplianceChoice::Dense, Some(1 << 40))
+            .unwrap();
+        assert_eq!(need, e.need_bytes);
     }
 }

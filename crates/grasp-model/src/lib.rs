@@ -179,6 +179,7 @@ pub use analysis::refinement::{
     ErrorEstimate, NoEstimate, StudyReference, StudyRow,
 };
 pub use analysis::relaxation::{solve_at, TimePoint, TimedSolution};
+pub use analysis::solution_record::SolutionRecord;
 
 // ---- Errors and messages ----
 pub use error::{format_problems, InputProblem, ModelError, OptionError, SceneError};

@@ -83,6 +83,14 @@ impl Scene {
     fn from_dict(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<Scene> {
         let origin = "<dict>";
         let (d, arrays) = crate::height_arrays::take_height_arrays(py, origin, d)?;
+        let bad = crate::json_value::non_finite_numbers(d.as_any());
+        if !bad.is_empty() {
+            return Err(scene_error(
+                py,
+                origin,
+                &grasp_model::SceneError::Invalid(bad),
+            ));
+        }
         let json = py.import("json")?;
         let text: String = json.call_method1("dumps", (d,))?.extract()?;
         Scene::parse(py, &text, origin.into(), std::path::Path::new(""), &arrays)

@@ -198,12 +198,12 @@ impl Solution {
 
     /// The whole solution as a dict, field for field the JSON of `grasp solve --json`.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        serialize_to_py(py, &self.json_value()?)
+        serialize_to_py(py, &self.record())
     }
 
     /// The whole solution as JSON text, the same as `grasp solve --json` writes.
     fn to_json(&self) -> PyResult<String> {
-        serde_json::to_string_pretty(&self.json_value()?).map_err(crate::errors::grasp_error)
+        serde_json::to_string_pretty(&self.record()).map_err(crate::errors::grasp_error)
     }
 
     fn __repr__(&self) -> String {
@@ -222,13 +222,14 @@ type Element = grasp_model::ElementSolution;
 pub type Tangents = ([f64; 3], [f64; 3]);
 
 impl Solution {
-    /// The solution's JSON, with the solve's time for a viscoelastic scene.
-    fn json_value(&self) -> PyResult<serde_json::Value> {
-        let mut value = serde_json::to_value(&self.solution).map_err(crate::errors::grasp_error)?;
-        if let Some(t) = self.time {
-            value["time"] = t.to_json();
+    /// What the solution's JSON holds: the solution, with the solve's time for a
+    /// viscoelastic scene.
+    fn record(&self) -> grasp_model::SolutionRecord<'_> {
+        grasp_model::SolutionRecord {
+            solution: &self.solution,
+            time: self.time,
+            sensitivities: None,
         }
-        Ok(value)
     }
 
     fn fingers_with_tangents(&self) -> impl Iterator<Item = (usize, &FingerSolution, &Tangents)> {

@@ -195,6 +195,11 @@ fn load_schedule(
 ) -> PyResult<(Schedule, RunInputs)> {
     let mut inputs = RunInputs::new();
     let (text, origin, base) = if let Ok(d) = source.downcast::<PyDict>() {
+        let bad = crate::json_value::non_finite_numbers(d.as_any());
+        if !bad.is_empty() {
+            let e = grasp_transfer::ScheduleError::Invalid(bad);
+            return Err(crate::errors::schedule_error(py, "<dict>", &e));
+        }
         let text: String = py.import("json")?.call_method1("dumps", (d,))?.extract()?;
         (text, "<dict>".to_string(), PathBuf::new())
     } else if let Some(t) = json_text(source)? {

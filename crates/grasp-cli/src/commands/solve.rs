@@ -183,15 +183,12 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     }
     if let Some(out) = &json {
         // Every outcome is written, "no equilibrium" (exit 2) included: it is the result.
-        let mut value = serde_json::to_value(&solution)?;
-        if model.is_viscoelastic() {
-            value["time"] = time.to_json();
-        }
-        if let Some((sens, _)) = &sens {
-            value["sensitivities"] = serde_json::to_value(sens)?;
-        }
-        let text = serde_json::to_string_pretty(&value)?;
-        outs.write(out, text.as_bytes())?;
+        let record = grasp_model::SolutionRecord {
+            solution: &solution,
+            time: model.is_viscoelastic().then_some(time),
+            sensitivities: sens.as_ref().map(|(s, _)| s),
+        };
+        write_json_streamed(&outs, out, &record)?;
         println!("wrote {}", out.display());
     }
     Ok(if solution.status.has_forces() {
@@ -199,6 +196,21 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     } else {
         ExitCode::from(2)
     })
+}
+
+/// Writes `record` as pretty JSON into the claimed `out`, serialised straight into the file
+/// (a 1024 x 1024 patch's solution is about 2 GB of text: no copy of it is held in memory).
+fn write_json_streamed(
+    outs: &crate::output::Outputs,
+    out: &std::path::Path,
+    record: &impl serde::Serialize,
+) -> Result<()> {
+    let pending = outs.create(out)?;
+    let mut writer = std::io::BufWriter::new(pending.file());
+    serde_json::to_writer_pretty(&mut writer, record)?;
+    std::io::Write::flush(&mut writer)?;
+    drop(writer);
+    outs.commit(vec![pending])
 }
 
 /// The sensitivities of `solution` (this solver's last answer) with their time, s; `None`

@@ -1,0 +1,29 @@
+//! A solution as its JSON file holds it (`grasp solve --json`, Python's `Solution.to_json`):
+//! the solution's fields in their declared order, then the solve's time for a viscoelastic
+//! scene and the sensitivities when asked. Serialised straight into a writer, so a fine
+//! patch's answer (about 2 GB of text at 1024 x 1024) needs no copy in memory.
+
+use serde::Serialize;
+
+use crate::analysis::relaxation::TimePoint;
+use crate::solve::sensitivity::Sensitivities;
+use crate::solve::solution::Solution;
+
+/// What a solution's JSON file holds.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct SolutionRecord<'a> {
+    /// The solution.
+    #[serde(flatten)]
+    pub solution: &'a Solution,
+    /// When a viscoelastic scene was solved (`None` for an elastic one): `"instantaneous"`,
+    /// `{"at_s": t}` or `"long_term"`.
+    #[serde(skip_serializing_if = "Option::is_none", serialize_with = "time_json")]
+    pub time: Option<TimePoint>,
+    /// The sensitivities, when they were computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensitivities: Option<&'a Sensitivities>,
+}
+
+fn time_json<S: serde::Serializer>(t: &Option<TimePoint>, s: S) -> Result<S::Ok, S::Error> {
+    t.map(|t| t.to_json()).serialize(s)
+}
