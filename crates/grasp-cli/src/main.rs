@@ -25,6 +25,7 @@ mod limits;
 mod load_scene;
 mod output;
 mod pictures;
+mod progress;
 mod report;
 mod solve_flags;
 mod stdout;
@@ -40,6 +41,10 @@ use clap::{Parser, Subcommand};
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// No progress bars (they are drawn on a terminal's standard error only, for the runs
+    /// that take long: hand-offs, batches, margins, a viscoelastic history, studies).
+    #[arg(long, global = true)]
+    quiet: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -80,6 +85,7 @@ fn main() -> ExitCode {
             return ExitCode::from(if e.use_stderr() { 1 } else { 0 });
         }
     };
+    progress::set_quiet(cli.quiet);
     if let Err(e) = output::install_signal_cleanup() {
         eprintln!("error: {e:#}");
         return ExitCode::from(1);

@@ -170,15 +170,15 @@ pub use solve::solution::{
 
 // ---- Analyses: many solves ----
 pub use analysis::margin::{
-    axis_directions, disturbance_margins, holds, plane_directions, spread_directions,
-    DirectionMargin, Failure, MarginOptions, MarginReport, WrenchDirection,
+    axis_directions, disturbance_margins, disturbance_margins_reporting, holds, plane_directions,
+    spread_directions, DirectionMargin, Failure, MarginOptions, MarginReport, WrenchDirection,
 };
 pub use analysis::patch_sizing::{auto_patch, hertz_suggestion, AutoPatch, HertzSuggestion};
 pub use analysis::refinement::{
     estimate_error, grid_with_first_side, hertz_parameters, refinement_study, with_grids,
     ErrorEstimate, NoEstimate, StudyReference, StudyRow,
 };
-pub use analysis::relaxation::{solve_at, TimePoint, TimedSolution};
+pub use analysis::relaxation::{solve_at, solve_at_reporting, TimePoint, TimedSolution};
 pub use analysis::solution_record::SolutionRecord;
 
 // ---- Errors and messages ----

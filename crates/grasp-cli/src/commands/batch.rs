@@ -10,7 +10,6 @@ use std::process::ExitCode;
 use anyhow::{bail, Context, Result};
 use grasp_batch::{read_batch_output, run_batch, BatchInput, BatchOptions, BatchSummary, Shard};
 use grasp_io::{FileIdentity, PendingOutput, RunInputs};
-use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::limits;
 use crate::output::{self, ForceArg};
@@ -151,11 +150,7 @@ pub(crate) fn run(
         ..BatchOptions::default()
     };
     let in_shard = (0..index.scenes).filter(|&i| shard.takes(i)).count();
-    let bar = ProgressBar::new(in_shard.saturating_sub(done.len()) as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} scenes ({elapsed}, eta {eta})")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let bar = crate::progress::bar(in_shard.saturating_sub(done.len()), "scenes");
     let file = match &sink {
         Sink::Fresh(p) => p.file_handle()?,
         Sink::Append(f) => f.try_clone()?,

@@ -8,8 +8,8 @@ use std::process::ExitCode;
 use anyhow::{bail, Context, Result};
 use grasp_model::ModelKind;
 use grasp_model::{
-    axis_directions, disturbance_margins, plane_directions, spread_directions, DirectionMargin,
-    Failure, MarginOptions, MarginReport, WrenchDirection,
+    axis_directions, disturbance_margins_reporting, plane_directions, spread_directions,
+    DirectionMargin, Failure, MarginOptions, MarginReport, WrenchDirection,
 };
 use grasp_model::{ContactState, GraspModel, StepInputs};
 use grasp_transfer::{RerunSink, RunInfo, Sink};
@@ -209,7 +209,11 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
     };
     let inputs = StepInputs::of_scene(&model);
     let state = ContactState::new(&model);
-    let report = disturbance_margins(&model, &inputs, &state, solve, &dirs, &options)?;
+    let bar = crate::progress::bar(dirs.len(), "directions");
+    let done = |k: usize| bar.set_position(k as u64);
+    let report =
+        disturbance_margins_reporting(&model, &inputs, &state, solve, &dirs, &options, &done)?;
+    bar.finish_and_clear();
     print!(
         "{}",
         crate::flag_names::in_flags(&table(scene_path, &report))

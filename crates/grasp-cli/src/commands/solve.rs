@@ -6,7 +6,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use grasp_model::{solve_at, TimePoint, TimedSolution};
+use grasp_model::{solve_at_reporting, TimePoint, TimedSolution};
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, StepInputs};
 
 use crate::load_scene::load_scene;
@@ -155,7 +155,13 @@ pub fn execute(args: Args) -> Result<ExitCode> {
             }
             later => {
                 let clock = Instant::now();
-                let mut timed = solve_at(&model, options, later)?;
+                let bar = crate::progress::bar(0, "time steps");
+                let mut tick = |k: usize, n: usize| {
+                    bar.set_length(n as u64);
+                    bar.set_position(k as u64 + 1);
+                };
+                let mut timed = solve_at_reporting(&model, options, later, &mut tick)?;
+                bar.finish_and_clear();
                 timed.solution.solve_time_s = clock.elapsed().as_secs_f64();
                 println!("{}", time_line(&model, &timed));
                 (timed.solution, None)

@@ -11,7 +11,6 @@ use grasp_transfer::{
     OutputFiles, OutputPaths, RerunSink, Schedule, Sink, SqueezeOutcome, TransferOptions,
     TransferSummary,
 };
-use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::output::{self, ForceArg, Outputs as Claimed};
 use crate::pictures::force_history::ForceHistory;
@@ -232,7 +231,7 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
     outs.refuse_inputs_read()?;
     let names = scene.finger_names();
     let mut open = OpenSinks::create(out, &outs)?;
-    let bar = progress_bar(schedule.times.len());
+    let bar = crate::progress::bar(schedule.times.len(), "steps");
     let options = TransferOptions {
         keep_going: flags.keep_going,
         warm_start: !flags.cold,
@@ -244,7 +243,7 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
     let started = std::time::Instant::now();
     let (summary, last) =
         grasp_transfer::run(&scene, &schedule, options, &mut open.sinks(), |r| {
-            bar.set_message(format!("{:.3} s", r.time_s));
+            bar.set_message(format!("t = {:.3} s", r.time_s));
             bar.inc(1);
             if let Some(h) = history.as_mut() {
                 h.push(r);
@@ -328,18 +327,6 @@ fn load_inputs(
         .with_context(|| format!("{} is not a usable schedule", schedule_path.display()))?;
     crate::limits::note_inputs(&schedule.input_files);
     Ok((scene, schedule))
-}
-
-/// A progress bar of the steps (indicatif draws only on a terminal; piped output stays quiet).
-fn progress_bar(steps: usize) -> ProgressBar {
-    let bar = ProgressBar::new(steps as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} steps  t = {msg}  ({elapsed}, eta {eta})",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar
 }
 
 /// A slip margin `1 - |Q|/(mu P)` this close to 0 is a finger at the friction limit: the

@@ -606,7 +606,31 @@ pub fn disturbance_margins(
     directions: &[WrenchDirection],
     options: &MarginOptions,
 ) -> Result<MarginReport, ModelError> {
+    let quiet = |_: usize| {};
+    disturbance_margins_reporting(
+        model,
+        inputs,
+        state,
+        solve_options,
+        directions,
+        options,
+        &quiet,
+    )
+}
+
+/// [`disturbance_margins`], calling `done(k)` from the worker threads as each direction's
+/// search ends (`k` directions done so far), for a progress bar.
+pub fn disturbance_margins_reporting(
+    model: &GraspModel,
+    inputs: &StepInputs,
+    state: &ContactState,
+    solve_options: SolveOptions,
+    directions: &[WrenchDirection],
+    options: &MarginOptions,
+    done: &(dyn Fn(usize) + Sync),
+) -> Result<MarginReport, ModelError> {
     use rayon::prelude::*;
+    let finished = std::sync::atomic::AtomicUsize::new(0);
     solve_options.validate()?;
     options.validate()?;
     let clock = Instant::now();
@@ -643,14 +667,16 @@ pub fn disturbance_margins(
             .par_iter()
             .map(|&d| {
                 let geometry = (length_m, sliding_undisturbed.as_slice());
-                along(
+                let m = along(
                     (&shared, inputs),
                     solve_options,
                     options,
                     geometry,
                     d,
                     (&base_state, &base),
-                )
+                );
+                done(finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+                m
             })
             .collect::<Result<_, _>>()?,
     };

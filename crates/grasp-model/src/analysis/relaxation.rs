@@ -78,6 +78,17 @@ pub fn solve_at(
     options: SolveOptions,
     time: TimePoint,
 ) -> Result<TimedSolution, ModelError> {
+    solve_at_reporting(model, options, time, &mut |_, _| {})
+}
+
+/// [`solve_at`], calling `step(k, n)` after each of the `n` time steps of a history (`k` done
+/// so far), for a progress bar.
+pub fn solve_at_reporting(
+    model: &GraspModel,
+    options: SolveOptions,
+    time: TimePoint,
+    step: &mut dyn FnMut(usize, usize),
+) -> Result<TimedSolution, ModelError> {
     let inputs = StepInputs::of_scene(model);
     let seconds = match time {
         TimePoint::At { seconds } if model.is_viscoelastic() => seconds,
@@ -112,7 +123,9 @@ pub fn solve_at(
     state.advance_time_step(model, &solution);
     let mut stepped: Option<(u64, GraspSolver)> = None;
     let mut t = 0.0;
-    for dt in time_steps(seconds, fastest_retardation_s(model)) {
+    let steps_of_history = time_steps(seconds, fastest_retardation_s(model));
+    let n = steps_of_history.len();
+    for dt in steps_of_history {
         if stepped.as_ref().is_none_or(|s| s.0 != dt.to_bits()) {
             let s = GraspSolver::new(model.for_time_step(dt), options);
             stepped = Some((dt.to_bits(), s));
@@ -120,6 +133,7 @@ pub fn solve_at(
         let (_, solver) = stepped.as_mut().expect("set above");
         state.prepare_time_step(solver.model());
         solution = solver.solve_step(&inputs, &mut state)?;
+        step(steps, n);
         steps += 1;
         t += dt;
         if !solution.status.has_forces() {

@@ -64,8 +64,9 @@ impl Patch {
     /// This patch with gaps `gap_m` (m, one per element) in place of its own, the elements
     /// that face no surface (`off_surface`) and those past the object's edge (`off_object`;
     /// either empty: none).
-    /// A smooth gap above `CURVED_FRACTION` of the patch's half diagonal counts the contact as
-    /// curved (below it, the rays' round-off on a flat face).
+    /// A smooth gap departing from a plane by more than `CURVED_FRACTION` of the patch's half
+    /// diagonal counts the contact as curved (below it, the rays' round-off on a flat face; a
+    /// plane, a flat pad tilted on a flat face, is a flat contact that loads its whole pad).
     pub(crate) fn with_gaps(
         self,
         gap_m: Vec<f64>,
@@ -76,8 +77,10 @@ impl Patch {
         let half_diagonal =
             0.5 * (self.grid.hx * self.grid.nx as f64).hypot(self.grid.hy * self.grid.ny as f64);
         let floor = CURVED_FRACTION * half_diagonal;
-        let curved = (0..gap_m.len())
-            .any(|k| !off_surface.get(k).copied().unwrap_or(false) && gap_m[k] > floor);
+        let on: Vec<usize> = (0..gap_m.len())
+            .filter(|&k| !off_surface.get(k).copied().unwrap_or(false))
+            .collect();
+        let curved = departs_from_a_plane(&self.centres_m, &gap_m, &on, floor);
         let curvature_per_m = largest_curvature(&self.centres_m, &gap_m, &off_surface);
         Patch {
             gap_m,
@@ -201,4 +204,25 @@ fn largest_curvature(centres_m: &[[f64; 2]], gap_m: &[f64], off: &[bool]) -> f64
             }
         })
         .fold(0.0_f64, f64::max)
+}
+
+/// True when the gaps `gap_m` at the elements `on` depart from their least-squares plane
+/// `a + b x + c y` by more than `floor` (m) anywhere.
+fn departs_from_a_plane(centres_m: &[[f64; 2]], gap_m: &[f64], on: &[usize], floor: f64) -> bool {
+    let mut normal = nalgebra::Matrix3::<f64>::zeros();
+    let mut rhs = nalgebra::Vector3::<f64>::zeros();
+    for &k in on {
+        let row = nalgebra::Vector3::new(1.0, centres_m[k][0], centres_m[k][1]);
+        normal += row * row.transpose();
+        rhs += row * gap_m[k];
+    }
+    // A pseudo-inverse: a one-row patch (planar scenes) fits a line.
+    let eps = 1e-12 * normal.amax();
+    let plane = normal
+        .pseudo_inverse(eps)
+        .map_or_else(|_| nalgebra::Vector3::zeros(), |inv| inv * rhs);
+    on.iter().any(|&k| {
+        let [x, y] = centres_m[k];
+        (gap_m[k] - plane[0] - plane[1] * x - plane[2] * y).abs() > floor
+    })
 }

@@ -1,0 +1,30 @@
+//! Progress bars on the runs that take minutes (indicatif): drawn on standard error only when
+//! it is a terminal, with the elapsed time and an estimate of what is left; nothing when it
+//! is not a terminal (a pipe, a file, a batch job's log) or with `--quiet`.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+/// Set by `--quiet`: no bar at all.
+static QUIET: AtomicBool = AtomicBool::new(false);
+
+/// `--quiet`: no progress bars for the rest of the run.
+pub fn set_quiet(quiet: bool) {
+    QUIET.store(quiet, Ordering::Relaxed);
+}
+
+/// A bar of `len` items counted as `what` (`steps`, `scenes`, `directions`), with `{msg}`
+/// after the count for a caller's detail; hidden with `--quiet` (and by indicatif on a
+/// standard error that is not a terminal).
+pub fn bar(len: usize, what: &str) -> ProgressBar {
+    if QUIET.load(Ordering::Relaxed) {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(len as u64);
+    let template = format!("{{bar:40}} {{pos}}/{{len}} {what}  {{msg}} ({{elapsed}}, eta {{eta}})");
+    bar.set_style(
+        ProgressStyle::with_template(&template).unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}
