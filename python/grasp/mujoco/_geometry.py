@@ -1,6 +1,7 @@
 """Geometry of MuJoCo geoms in this project's terms: the object's shape, the curvature of each
-surface at a contact (sphere, cylinder, flat), the finger frame (t1, t2), the fingertip, and
-the candidate patch (the points' spread for a flat pair, a Hertz estimate for a curved one).
+surface at a contact (sphere, cylinder, flat), the finger frame (t1, t2), the fingertip (a box,
+cylinder or capsule as the posed solid, moved out of MuJoCo's overlap), and the candidate patch
+(the points' spread for a flat pair, a Hertz estimate for a curved one).
 """
 
 import math
