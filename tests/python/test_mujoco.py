@@ -121,7 +121,7 @@ def test_mujoco_pinch_scene_has_two_fingers_at_the_pads_with_the_models_weight(p
         overlap = max(-data.contact[i].dist for i in range(data.ncon) if pad in (data.contact[i].geom1, data.contact[i].geom2))
         assert 0 <= model.geom_size[pad][1] - abs(local[1]) <= overlap + 1e-12
         assert f["patch"]["size"] == pytest.approx([0.01, 0.01], abs=1e-5)
-        assert f["tip"]["flat"]["size"][0] == pytest.approx(0.01, abs=1e-12)
+        assert f["tip"]["shape"]["box"]["size"] == pytest.approx([0.01, 0.005, 0.01], abs=1e-12)
         assert f["material"] == {"youngs_modulus": 2e6, "poisson_ratio": 0.45}
         assert f["friction"] == {"mu": 0.8}
     assert g.warnings == []
@@ -389,6 +389,213 @@ def test_mujoco_a_mesh_object_is_written_beside_the_scene(tmp_path):
     assert any("mesh" in w for w in g.warnings)
 
 
+
+# Box, cylinder and capsule fingertips as the solids MuJoCo poses (issue 32).
+
+RUBBER = {"youngs_modulus": 2e6, "poisson_ratio": 0.45}
+
+
+def settled(xml, steps=300):
+    """The model of ``xml`` and its state after ``steps`` steps of 2 ms."""
+    model = mujoco.MjModel.from_xml_string(xml)
+    data = mujoco.MjData(model)
+    for _ in range(steps):
+        mujoco.mj_step(model, data)
+    return model, data
+
+
+def ball_on(tip_geom, ball_at):
+    """A steel ball (radius 10 mm, 8000 kg/m^3) resting on the fixed fingertip geom ``tip_geom``
+    (named "tip", in body "tip"), dropped from ``ball_at`` and settled for 0.3 s."""
+    return settled(f"""<mujoco><option cone="elliptic" impratio="10"/><worldbody>
+      <body name="tip">{tip_geom}</body>
+      <body name="ball" pos="{ball_at}"><freejoint/><geom name="ball" type="sphere" size=".01" density="8000"/></body>
+      </worldbody></mujoco>""")
+
+
+def pose_matrix(shape):
+    m = np.zeros(9)
+    mujoco.mju_quat2Mat(m, np.array(shape["quaternion"], dtype=float))
+    return m.reshape(3, 3)
+
+
+def mujoco_overlaps(model, data, geom):
+    """MuJoCo's overlaps (-contact.dist, m) at the contacts of ``geom``."""
+    return [-data.contact[i].dist for i in range(data.ncon) if geom in (data.contact[i].geom1, data.contact[i].geom2)]
+
+
+def test_mujoco_a_box_pad_is_the_posed_box_and_carries_nothing_past_its_edge():
+    """A box fingertip is the scene's ``tip.shape``: the box as MuJoCo poses it, moved out of
+    the object along the normal by MuJoCo's overlap (it was a flat pad of the box's size centred
+    on MuJoCo's point, with no edge where the real one is). A steel ball rests on a 10 x 10 mm
+    rubber pad (turned 30 degrees about its normal) 0.5 mm in from the pad's edge: its Hertz
+    patch (2.4 semi-axes, 2.4 mm) reaches 0.7 mm past the edge. The elements past the edge are
+    off the surface, exactly those whose centres lie outside the pad's footprint (from MuJoCo's
+    pose of the pad, not from the scene), and the solved contact lies within the footprint."""
+    turn = math.radians(30)
+    rot_z = np.array([[math.cos(turn), -math.sin(turn), 0], [math.sin(turn), math.cos(turn), 0], [0, 0, 1]])
+    centre = np.array([0.01, 0.02, 0.0])
+    ball = centre + rot_z @ [0.0045, 0.0, 0.0] + [0, 0, 0.0125]
+    model, data = ball_on(f'<geom name="tip" type="box" size=".005 .005 .0025" pos="{" ".join(map(str, centre))}" '
+                          'euler="0 0 30"/>', " ".join(map(str, ball)))
+    pad = model.geom("tip").id
+    g = gm.scene_from(model, data, "ball", materials={"ball": "rigid", "tip": RUBBER})
+    assert g.warnings == []
+    f = g.scene_dict["fingers"][0]
+    n = np.array(f["normal"])
+    assert np.allclose(n, [0, 0, 1], atol=1e-9)
+    # The tip: the box, its size and orientation MuJoCo's, moved by MuJoCo's overlap along n.
+    shape = f["tip"]["shape"]
+    assert set(f["tip"]) == {"shape"} and set(shape) == {"box", "position", "quaternion"}
+    assert shape["box"]["size"] == pytest.approx((2 * model.geom_size[pad]).tolist(), rel=1e-15)
+    assert np.allclose(pose_matrix(shape), data.geom_xmat[pad].reshape(3, 3), rtol=0, atol=1e-12)
+    [overlap] = mujoco_overlaps(model, data, pad)
+    assert 1e-4 < overlap < 1e-3
+    assert np.allclose(shape["position"], data.geom_xpos[pad] - overlap * n, rtol=0, atol=1e-12)
+    # Solved: the elements past the pad's real edge carry nothing.
+    sol = grasp.solve(g.scene)
+    assert sol.status == "solved"
+    assert sol.finger_normal_forces_n[0] == pytest.approx(g.fingers[0].normal_force_n, rel=1e-9)
+    rot = data.geom_xmat[pad].reshape(3, 3)
+    local = (sol.positions_m - data.geom_xpos[pad]) @ rot  # element centres in the pad's frame
+    half = model.geom_size[pad][:2]
+    outside = np.any(np.abs(local[:, :2]) > half, axis=1)
+    assert outside.sum() >= 9  # at least a column of the 9 x 9 patch
+    assert np.array_equal(sol.states == "off_surface", outside)
+    # The contact reaches the edge and stops there.
+    loaded = sol.normal_forces_n > 0
+    element = f["patch"]["size"][0] / 9
+    assert np.all(np.abs(local[loaded, :2]) <= half)
+    assert local[loaded, 0].max() > half[0] - element
+
+
+def test_mujoco_box_pads_are_moved_out_of_mujocos_overlap_which_changes_no_gap(pinch):
+    """MuJoCo's soft contacts let the pinch's pads overlap the box by 0.48 mm (fixed jaw) and
+    1.30 mm (the moving jaw) at the contact point: more than the 5 % of the patch's half diagonal
+    (0.35 mm) by which a ``tip.shape`` may miss it. The pads are moved back along the normal by
+    their overlap: the pads as MuJoCo poses them are refused, the moved ones touch the box at the
+    contact point, and moving them further along the normal changes no gap (the tip's heights
+    are measured from its height at the contact point): the same solution to round-off."""
+    import copy
+
+    model, data, g = pinch
+    moved = []
+    for f in g.scene_dict["fingers"]:
+        pad = model.geom(f"pad_{f['name'].split('_')[1]}").id
+        shape, n = f["tip"]["shape"], np.array(f["normal"])
+        assert shape["box"]["size"] == pytest.approx((2 * model.geom_size[pad]).tolist(), rel=1e-15)
+        assert np.allclose(pose_matrix(shape), data.geom_xmat[pad].reshape(3, 3), rtol=0, atol=1e-12)
+        d = data.geom_xpos[pad] - np.array(shape["position"])
+        assert np.allclose(d, (d @ n) * n, rtol=0, atol=1e-15)  # along the normal, into the object
+        overlaps = mujoco_overlaps(model, data, pad)
+        assert min(overlaps) - 1e-12 <= d @ n <= max(overlaps) + 1e-12
+        moved.append(float(d @ n))
+        # The moved pad's face (its side facing the box) passes through the contact point.
+        local = pose_matrix(shape).T @ (np.array(f["contact_point"]) - shape["position"])
+        assert abs(abs(local[1]) - model.geom_size[pad][1]) < 1e-12
+    assert moved == pytest.approx([4.82e-4, 1.298e-3], rel=2e-3)
+    half_diagonal = 0.5 * math.hypot(*g.scene_dict["fingers"][0]["patch"]["size"])
+    assert min(moved) > 0.05 * half_diagonal
+    as_posed = copy.deepcopy(g.scene_dict)
+    further = copy.deepcopy(g.scene_dict)
+    for a, b, f in zip(as_posed["fingers"], further["fingers"], g.scene_dict["fingers"]):
+        pad = model.geom(f"pad_{f['name'].split('_')[1]}").id
+        a["tip"]["shape"]["position"] = data.geom_xpos[pad].tolist()
+        b["tip"]["shape"]["position"] = (np.array(f["tip"]["shape"]["position"])
+                                         - 0.02 * half_diagonal * np.array(f["normal"])).tolist()
+    with pytest.raises(ValueError, match=r"fingers\[1\]\.tip\.shape: lies 1\.29\de-3 m from the contact point"):
+        grasp.Scene(as_posed)
+    ours, theirs = grasp.solve(g.scene), grasp.solve(grasp.Scene(further))
+    assert ours.status == theirs.status == "solved"
+    assert np.allclose(theirs.normal_forces_n, ours.normal_forces_n, rtol=1e-9, atol=1e-12)
+    assert np.allclose(theirs.tangential_forces_n, ours.tangential_forces_n, rtol=1e-9, atol=1e-12)
+
+
+def test_mujoco_without_the_objects_shape_a_box_pad_stays_a_flat_pad(pinch):
+    """Without exact gaps (an object of two geoms has no shape, so its gaps are quadratic) a
+    ``tip.shape`` would be refused: the box pad stays ``tip.flat``, the box's size."""
+    text = PINCH.read_text().replace(
+        '<geom name="box" type="box" size="0.03 0.02 0.05"',
+        '<geom name="box_low" type="box" pos="0 0 -0.03" size="0.03 0.02 0.02" density="700"/>'
+        '<geom name="box" type="box" pos="0 0 0.02" size="0.03 0.02 0.03"')
+    model = mujoco.MjModel.from_xml_string(text)
+    data = gm.load_state(model, keyframe="grasped")
+    g = gm.scene_from(model, data, "box", materials=MJ / "pinch.materials.json")
+    assert "shape" not in g.scene_dict["object"]
+    assert any("2 collision geoms" in w for w in g.warnings)
+    for f in g.scene_dict["fingers"]:
+        assert f["tip"] == {"flat": {"size": pytest.approx([0.01, 0.01], rel=2e-3)}}
+    assert grasp.solve(g.scene).status == "solved"
+
+
+def test_mujoco_cylinder_and_capsule_tips_are_posed_solids():
+    """A cylinder and a capsule fingertip are ``tip.shape`` too: a ball on a cylinder's flat
+    end 0.5 mm in from its rim (it had no tip: an unbounded flat) carries nothing past the rim;
+    a ball on a capsule's side, next to its round end (it was an infinite cylinder), solves on
+    the capsule as MuJoCo poses it."""
+    model, data = ball_on('<geom name="tip" type="cylinder" size=".005 .01" pos="0 0 -.01"/>', ".0045 0 .0101")
+    tip = model.geom("tip").id
+    g = gm.scene_from(model, data, "ball", materials={"ball": "rigid", "tip": RUBBER})
+    f = g.scene_dict["fingers"][0]
+    shape = f["tip"]["shape"]
+    assert shape["cylinder"] == {"radius": 0.005, "length": 0.02}
+    assert np.allclose(pose_matrix(shape), data.geom_xmat[tip].reshape(3, 3), rtol=0, atol=1e-12)
+    [overlap] = mujoco_overlaps(model, data, tip)
+    assert np.allclose(shape["position"], data.geom_xpos[tip] - overlap * np.array(f["normal"]), rtol=0, atol=1e-12)
+    sol = grasp.solve(g.scene)
+    assert sol.status == "solved"
+    radial = np.linalg.norm((sol.positions_m - data.geom_xpos[tip])[:, :2], axis=1)
+    assert np.array_equal(sol.states == "off_surface", radial > 0.005)
+    assert 9 <= np.sum(radial > 0.005) and np.all(radial[sol.normal_forces_n > 0] <= 0.005)
+    # A capsule (radius 5 mm, 20 mm between its end centres) along x; the ball on its side
+    # 1 mm before the round end begins.
+    model, data = ball_on('<geom name="tip" type="capsule" size=".005 .01" euler="0 90 0"/>', ".009 0 .0151")
+    tip = model.geom("tip").id
+    g = gm.scene_from(model, data, "ball", materials={"ball": "rigid", "tip": RUBBER})
+    f = g.scene_dict["fingers"][0]
+    shape = f["tip"]["shape"]
+    assert shape["capsule"] == {"radius": 0.005, "length": 0.02}
+    assert np.allclose(pose_matrix(shape), data.geom_xmat[tip].reshape(3, 3), rtol=0, atol=1e-12)
+    [overlap] = mujoco_overlaps(model, data, tip)
+    assert np.allclose(shape["position"], data.geom_xpos[tip] - overlap * np.array(f["normal"]), rtol=0, atol=1e-12)
+    assert grasp.solve(g.scene).status == "solved"
+
+
+def test_mujoco_handoff_box_pads_are_posed_in_the_scenes_frame():
+    """In a hand-off each finger is placed where it carried its largest load, moved with the
+    object to its first pose: its ``tip.shape`` moves with it, so the pad sits on the object as
+    MuJoCo had it at that step (the pinch's box drops and turns while MuJoCo's contact settles)."""
+    model = gm.load_model(PINCH)
+
+    def squeeze(model, data):
+        data.ctrl[0] = 10.0
+
+    r = gm.simulate(model, gm.load_state(model, keyframe="start"), squeeze, steps=400, every=20)
+    h = gm.schedule_from_rollout(model, r, "box", materials=MJ / "pinch.materials.json")
+    obj = h.scene_dict["object"]["shape"]
+    obj_rot = pose_matrix(obj)
+    data = mujoco.MjData(model)
+    box = model.geom("box").id
+    turned = 0.0
+    for j, f in enumerate(h.scene_dict["fingers"]):
+        i = int(np.argmax(h.normal_forces_n[:, j]))
+        r.apply(data, int(np.flatnonzero(r.time == h.times_s[i])[0]))
+        mujoco.mj_forward(model, data)
+        pad = model.geom(f"pad_{f['name'].split('_')[1]}").id
+        box_rot = data.geom_xmat[box].reshape(3, 3)
+        shape = f["tip"]["shape"]
+        # The pad's orientation and place relative to the box: MuJoCo's at that step (its place
+        # but for the move out of the overlap, along the normal).
+        assert np.allclose(obj_rot.T @ pose_matrix(shape), box_rot.T @ data.geom_xmat[pad].reshape(3, 3), atol=1e-12)
+        ours = obj_rot.T @ (np.array(shape["position"]) - obj["position"])
+        theirs = box_rot.T @ (data.geom_xpos[pad] - data.geom_xpos[box])
+        n_box = obj_rot.T @ np.array(f["normal"])
+        d = theirs - ours
+        assert np.allclose(d, (d @ n_box) * n_box, rtol=0, atol=1e-12) and 0 < d @ n_box < 2e-3
+        turned = max(turned, float(np.abs(box_rot - obj_rot).max()))
+    assert turned > 1e-4  # the box did turn between the first state and the fingers' steps
+    assert h.scene.finger_names == ["jaw_left", "jaw_right"]
+
 # Bad input: a named error, nothing written.
 
 
@@ -412,6 +619,26 @@ def test_mujoco_an_object_with_no_contacts_is_a_named_error(tmp_path):
                     "--steps", "3", "--out", out / "h")
     assert proc.returncode == 1 and "held by no contact" in proc.stderr and no_files(out), proc.stderr
 
+
+def test_mujoco_a_box_pad_touching_by_its_edge_is_a_contact_geometry_error(tmp_path):
+    """A box fingertip whose edge touches the object (a pad turned 45 degrees under a block)
+    has no face towards the object at MuJoCo's contact: the elastic model's small slopes do not
+    hold there, and the scene would refuse the posed tip. A ContactGeometryError says so (it was
+    a flat pad, face to face), exit 1 and nothing written."""
+    xml = """<mujoco><worldbody>
+      <body name="tip"><geom name="tip" type="box" size=".005 .005 .005" euler="0 45 0"/></body>
+      <body name="block" pos="0 0 .01697"><freejoint/><geom name="block" type="box" size=".01 .01 .01" density="700"/></body>
+      </worldbody></mujoco>"""
+    (tmp_path / "m.xml").write_text(xml)
+    model = gm.load_model(tmp_path / "m.xml")
+    words = ("finger tip: the fingertip box tip faces 45.0 degrees away from MuJoCo's contact normal where it meets "
+             "the object (at most 16.7: its edge or corner touches the object")
+    with pytest.raises(gm.ContactGeometryError, match=re.escape(words)):
+        gm.scene_from(model, gm.load_state(model), "block", materials={"block": "rigid"})
+    out = tmp_path / "out"
+    out.mkdir()
+    proc = python_m("scene", tmp_path / "m.xml", "--object", "block", "--out", out / "s.json")
+    assert proc.returncode == 1 and f"error: {words}" in proc.stderr and no_files(out), proc.stderr
 
 def test_mujoco_unknown_body_and_unknown_names_in_the_material_map_are_named_errors(pinch, tmp_path):
     model, data, _ = pinch

@@ -1,6 +1,7 @@
 """Geometry of MuJoCo geoms in this project's terms: the object's shape, the curvature of each
-surface at a contact (sphere, cylinder, flat), the finger frame (t1, t2), the fingertip, and
-the candidate patch (the points' spread for a flat pair, a Hertz estimate for a curved one).
+surface at a contact (sphere, cylinder, flat), the finger frame (t1, t2), the fingertip (a box,
+cylinder or capsule as the posed solid, moved out of MuJoCo's overlap), and the candidate patch
+(the points' spread for a flat pair, a Hertz estimate for a curved one).
 """
 
 import math
@@ -19,6 +20,15 @@ MIN_SPREAD_M = 1e-6
 HERTZ_SIDE_PER_SEMI_AXIS = 2.4
 # A normal within this angle of a cylinder's axis is on its flat end.
 CAP_ANGLE_DEG = 45.0
+# Fingertip geoms written as the scene's `tip.shape` (the solid, posed) under exact gaps. A
+# sphere keeps `tip.sphere`, already its exact profile; a mesh stays flat (MuJoCo collides its
+# convex hull, not the mesh the scene would cast rays to).
+TIP_SHAPE_TYPES = ("box", "cylinder", "capsule")
+# The largest angle between a `tip.shape`'s outward normal at the contact and the contact's
+# normal: the scene's limit (atan 0.3, the half-space's small slopes), degrees.
+MAX_TIP_FACING_DEG = math.degrees(0.2915)
+# A ray onto a fingertip that slips through an edge is cast again this fraction of its length aside.
+RAY_NUDGE = 1e-9
 
 
 def geom_type_name(mujoco, gtype):
@@ -65,6 +75,61 @@ def object_shape(mujoco, model, data, g):
     if t == "mesh":
         return {"mesh": {"file": None}, **pose}, mesh_obj_text(model, g), None
     return None, None, f"a {t} has no shape in the scene format"
+
+
+def tip_shape(mujoco, model, data, g, point, n, who):
+    """The scene's ``tip.shape`` for fingertip geom ``g`` (box, cylinder or capsule) at the
+    contact ``point`` (on the object's surface) with the normal ``n`` (into the object), and the
+    distance (m) it was moved; None for another type.
+
+    The tip is the geom as MuJoCo poses it, moved back along ``n`` out of the object by its
+    overlap there (MuJoCo's soft contacts overlap, by a millimetre say; the scene's tip touches
+    the object at the contact point undeformed, and the elastic model finds its own approach).
+    The move is along the rays the scene casts to the tip (along the normal, its heights measured
+    from its height at the contact point), so it changes no gap. ContactGeometryError where the
+    line through the point along ``n`` misses the geom, or meets it where its surface does not
+    face the object (MuJoCo's contact on the pad's edge or corner)."""
+    t = geom_type_name(mujoco, model.geom_type[g])
+    if t not in TIP_SHAPE_TYPES:
+        return None
+    shape, _, _ = object_shape(mujoco, model, data, g)
+    pos, rot = geom_pose(data, g)
+    # A ray from outside the geom, on the object's side, back along the normal; one through an
+    # edge may slip past both faces in floating point: it is cast again a hair aside.
+    reach = 2 * float(model.geom_rbound[g]) + float(np.linalg.norm(point - pos)) + 1e-3
+    u = tangent_plane(np.eye(3)[int(np.argmin(np.abs(n)))], n)
+    aside = [np.zeros(3)] + [RAY_NUDGE * reach * d for d in (u, -u, np.cross(n, u), -np.cross(n, u))]
+    name = model.geom(g).name or f"geom {g}"
+    for a in aside:
+        normal = np.zeros(3)
+        hit = mujoco.mju_rayGeom(pos, np.ascontiguousarray(rot).reshape(9), np.array(model.geom_size[g], dtype=float),
+                                 point + a + reach * n, -n, int(model.geom_type[g]), normal)
+        if hit >= 0:
+            break
+    else:
+        raise ContactGeometryError(
+            f"{who}: the line through MuJoCo's contact point along its normal misses the fingertip {t} "
+            f"{name}", "give a state where the fingertip's surface faces the object at the contact")
+    angle = math.degrees(math.acos(float(np.clip(normal @ n, -1.0, 1.0))))
+    if angle > MAX_TIP_FACING_DEG:
+        raise ContactGeometryError(
+            f"{who}: the fingertip {t} {name} faces {angle:.1f} degrees away from MuJoCo's contact normal where "
+            f"it meets the object (at most {MAX_TIP_FACING_DEG:.1f}: its edge or corner touches the object, "
+            "which the elastic model's small slopes do not allow)",
+            "give a state where the fingertip's face meets the object")
+    moved = reach - float(hit)  # > 0: the tip's surface lies inside the object
+    shape["position"] = (pos - moved * n).tolist()
+    return shape, moved
+
+
+def moved_shape(mujoco, shape, p_map, rot):
+    """A posed shape moved rigidly: its position by ``p_map``, its orientation turned by ``rot``."""
+    m = np.zeros(9)
+    mujoco.mju_quat2Mat(m, np.array(shape["quaternion"], dtype=float))
+    out = dict(shape)
+    out["position"] = p_map(shape["position"]).tolist()
+    out["quaternion"] = quaternion_of(mujoco, rot @ m.reshape(3, 3)).tolist()
+    return out
 
 
 class Surface:

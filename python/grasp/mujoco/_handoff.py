@@ -33,6 +33,7 @@ from ._contacts import (
 from ._controller import load_controller, simulate  # noqa: F401 (this module's names before the split)
 from ._errors import NoContactError, require_mujoco
 from ._files import check_targets, write_all
+from ._geometry import moved_shape
 from ._limits import MAX_FORCE_N, check_number
 from ._materials import MaterialMap
 from ._patch import patch_options
@@ -302,9 +303,11 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
     names = finger_names(model, keys)
     x0, r0, _ = poses[0]
 
+    def turn(i):
+        return r0 @ poses[i][1].T
+
     def to_scene(i):
-        x, r, _ = poses[i]
-        a = r0 @ r.T
+        x, a = poses[i][0], turn(i)
         return (lambda p: a @ (np.asarray(p) - x) + x0), (lambda v: a @ np.asarray(v))
 
     # The scene's object: its weight, centre of mass and shape at the first state.
@@ -328,7 +331,7 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
         fl = group_fingers([c for c in object_contacts(mujoco, model, data, b) if (c.object_geom, c.other_body) == k])[0]
         load = fl.normal_force_n if fl.normal_force_n > 0 else max(weight, 1.0)
         spec, notes, mat_o = finger_spec(mujoco, model, data, fl, names[k], mats, opts, load,
-                                         "mujoco-force")
+                                         "mujoco-force", exact=shape is not None)
         warnings += notes
         p_map, v_map = to_scene(i)
         spec["contact_point"] = p_map(spec["contact_point"]).tolist()
@@ -336,6 +339,8 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
         spec["tangent"] = v_map(spec["tangent"]).tolist()
         if "cylinder" in spec.get("tip", {}):
             spec["tip"]["cylinder"]["axis"] = v_map(spec["tip"]["cylinder"]["axis"]).tolist()
+        if "shape" in spec.get("tip", {}):
+            spec["tip"]["shape"] = moved_shape(mujoco, spec["tip"]["shape"], p_map, turn(i))
         at = per_step[shown].get(k)
         spec["control"] = {"normal_load": clean_force(max(at[0].normal_force_n, 0.0)) if at else 0.0}
         specs.append(spec)

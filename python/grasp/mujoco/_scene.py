@@ -30,6 +30,7 @@ from ._geometry import (
     object_shape,
     straight_length,
     surface_at,
+    tip_shape,
 )
 from ._materials import MaterialMap, compliance
 from ._patch import pad_cut_notes, patch_options
@@ -89,9 +90,10 @@ class MujocoFinger:
         }
 
 
-def finger_spec(mujoco, model, data, fl, name, materials, opts, hertz_load_n, control):
+def finger_spec(mujoco, model, data, fl, name, materials, opts, hertz_load_n, control, exact):
     """The scene finger of one (object geom, other body) group (world frame of ``data``), and
-    notes on approximations."""
+    notes on approximations; ``exact``: the scene has exact gaps (its object has a shape), so a
+    box, cylinder or capsule fingertip is written as ``tip.shape``."""
     notes = []
     n = fl.normal
     cop = fl.center_of_pressure_m
@@ -163,14 +165,20 @@ def finger_spec(mujoco, model, data, fl, name, materials, opts, hertz_load_n, co
                 size[d] = 2 * r * RADIUS_SIDE_LIMIT
     spec = {"name": name, "contact_point": point.tolist(), "normal": n.tolist(), "tangent": t1.tolist()}
     spec["material"] = mat_f
-    if tip.kind == "sphere":
+    if tip.box is not None:
+        pad = [straight_length(tip, a) for a in axes]
+        notes += pad_cut_notes(name, size, pad, opts)
+        size = [min(size[d], pad[d]) for d in range(2)]
+    # With exact gaps (the object has a shape) a box, cylinder or capsule fingertip is the solid
+    # as MuJoCo poses it: a pad's real edges, wherever MuJoCo's points lie on it.
+    posed = tip_shape(mujoco, model, data, tip_geom, point, n, f"finger {name}") if exact else None
+    if posed is not None:
+        spec["tip"] = {"shape": posed[0]}
+    elif tip.kind == "sphere":
         spec["tip"] = {"sphere": {"radius": tip.radius_m}}
     elif tip.kind == "cylinder":
         spec["tip"] = {"cylinder": {"radius": tip.radius_m, "axis": (t2 if k_tip[0] > 0 else t1).tolist()}}
     elif tip.box is not None:
-        pad = [straight_length(tip, a) for a in axes]
-        notes += pad_cut_notes(name, size, pad, opts)
-        size = [min(size[d], pad[d]) for d in range(2)]
         spec["tip"] = {"flat": {"size": pad}}
     if obj.kind == "sphere":
         spec["object_radius"] = obj.radius_m
@@ -314,7 +322,8 @@ def build(mujoco, model, data, b, materials, opts, control, contact_model, descr
     for fl in groups:
         name = names[fl.key]
         load = fl.normal_force_n if fl.normal_force_n > 0 else max(weight, 1.0)
-        spec, notes, mat_o = finger_spec(mujoco, model, data, fl, name, materials, opts, load, control)
+        spec, notes, mat_o = finger_spec(mujoco, model, data, fl, name, materials, opts, load, control,
+                                         exact=shape is not None)
         warnings += notes
         specs.append(spec)
         obj_mats.append(mat_o)
@@ -382,7 +391,11 @@ def scene_from(model: "mujoco.MjModel", data: "mujoco.MjData", object_body: Unio
     normal into the object, its patch the points' spread plus ``patch["margin_m"]`` (flat pairs)
     or 2.4 Hertz semi-axes at MuJoCo's normal force (curved pairs), its friction MuJoCo's
     combined sliding friction. The object's weight is ``body_mass |gravity|`` at its centre of
-    mass (``data.xipos``), its shape its geom's (box, sphere, cylinder, capsule, mesh).
+    mass (``data.xipos``), its shape its geom's (box, sphere, cylinder, capsule, mesh). With
+    that shape (exact gaps) a box, cylinder or capsule fingertip geom is the scene's
+    ``tip.shape``: the solid as MuJoCo poses it, moved back out of the object along the normal
+    by MuJoCo's overlap (a pad's real edges wherever MuJoCo's points lie on it); without it a
+    box is a flat pad of its size. A sphere is ``tip.sphere``; a mesh is taken flat.
 
     ``materials``: {geom or body name: material} (dict or JSON path); unnamed geoms get the
     default (rubber) with a warning. ``control``: "mujoco-force" (each finger force-controlled
