@@ -845,7 +845,7 @@ fn smooth_patch(
     let warning = (gaps.first_touch_shift_m > FIRST_TOUCH_TOLERANCE * reach_m).then(|| {
         format!(
             "fingers[{i}] ({}): the fingertip first touches the object {:.3e} m closer than at \
-             the contact point (the surfaces curve toward each other there): its gaps and \
+             the contact point (the surfaces curve or tilt toward each other there): its gaps and \
              approach are measured from that first touch; move the contact to where the \
              surfaces first meet",
             f.name, gaps.first_touch_shift_m
