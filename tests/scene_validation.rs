@@ -123,7 +123,12 @@ fn every_problem_is_reported_at_once() {
 /// object's weight and centre of mass without a density) as well as the always required.
 #[test]
 fn every_missing_field_is_reported_with_its_fix() {
-    let cases: [(&[&str], &[(&str, &str)]); 3] = [
+    // (JSON pointers removed, [(path, words of its fix)] expected)
+    type Case = (
+        &'static [&'static str],
+        &'static [(&'static str, &'static str)],
+    );
+    let cases: [Case; 3] = [
         (
             &["/object/weight", "/fingers/1/normal"],
             &[

@@ -112,7 +112,10 @@ fn meets_the_contact(path: &str, finger: &Value, shape: &Shape) -> Result<(), In
         )
     })?;
     let tolerance = CONTACT_DISTANCE_FRACTION * half_diagonal;
-    if !(s.distance_m.abs() <= tolerance) {
+    // Negated on purpose: a NaN distance fails the check.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    let far = !(s.distance_m.abs() <= tolerance);
+    if far {
         return Err(problem(
             path,
             format!(
@@ -125,7 +128,9 @@ fn meets_the_contact(path: &str, finger: &Value, shape: &Shape) -> Result<(), In
         ));
     }
     let angle = s.outward_normal.dot(&normal).clamp(-1.0, 1.0).acos();
-    if !(angle <= MAX_FACING_ANGLE_RAD) {
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    let turned = !(angle <= MAX_FACING_ANGLE_RAD);
+    if turned {
         return Err(problem(
             path,
             format!(

@@ -64,7 +64,7 @@ pub(crate) fn validity_warnings(model: &GraspModel, sol: &Solution) -> Vec<Strin
 /// surfaces' relative radius of curvature. Commanded and solved approaches alike.
 fn strain_warning(f: &FingerModel, fs: &FingerSolution) -> Option<String> {
     let d = compression_m(f, fs);
-    if !(d > 0.0) {
+    if d.is_nan() || d <= 0.0 {
         return None;
     }
     let layers = [&f.contact.finger_layer, &f.contact.object_layer];
