@@ -387,6 +387,9 @@ fn approach_ramps_and_holds() {
     v["fingers"] =
         json!({"f1": [{"approach": {"keyframes": [[0, 0.001]]}}, {"hold": {"duration_s": -2}}]});
     assert_problem(&v, "fingers.f1[1].hold.duration_s", "is -2 s");
+    // The fix names the range, its upper bound included (issue 36).
+    v["fingers"]["f1"][1]["hold"]["duration_s"] = json!(2e9);
+    assert_problem(&v, "fingers.f1[1].hold.duration_s", "in (0, 1e9]");
     let v = json!({"time": {"start": 0, "end": 4, "step": 0.5},
         "fingers": {"f1": [
             {"approach": {"keyframes": [[0, 0.0], [1, 0.002]]}},

@@ -657,6 +657,29 @@ def test_mujoco_unknown_body_and_unknown_names_in_the_material_map_are_named_err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["map.json"]
 
 
+def test_mujoco_material_maps_with_duplicates_non_finite_or_huge_numbers_are_named_errors(pinch, tmp_path):
+    # Issue 36: duplicate keys were accepted (the last won), "layer_thickness_m": null refused,
+    # and a 5,000-digit integer leaked Python's own 4,300-digit error.
+    model, data, _ = pinch
+    cases = [
+        ('{"box": "rigid", "box": {"youngs_modulus": 1e9, "poisson_ratio": 0.3}}', "gives 'box' twice"),
+        ('{"box": {"youngs_modulus": NaN, "poisson_ratio": 0.3}}', "has NaN"),
+        ('{"box": {"youngs_modulus": 1e400, "poisson_ratio": 0.3}}', "material of 'box'"),
+        ('{"box": {"youngs_modulus": 1' + "0" * 5000 + ', "poisson_ratio": 0.3}}', "integer of 5001 digits"),
+    ]
+    for text, words in cases:
+        path = tmp_path / "map.json"
+        path.write_text(text)
+        with pytest.raises(gm.MaterialMapError, match=words) as e:
+            gm.scene_from(model, data, "box", materials=path)
+        assert len(str(e.value)) < 600, str(e.value)[:300]
+    with pytest.raises(gm.MaterialMapError, match="material of 'box'"):
+        gm.scene_from(model, data, "box", materials={"box": {"youngs_modulus": float("inf"), "poisson_ratio": 0.3}})
+    layered = {"youngs_modulus": 2e6, "poisson_ratio": 0.45, "layer_thickness_m": None}
+    g = gm.scene_from(model, data, "box", materials={"box": "rigid", "pad_left": layered, "pad_right": layered})
+    assert [f["material"] for f in g.scene_dict["fingers"]] == [{"youngs_modulus": 2e6, "poisson_ratio": 0.45}] * 2
+
+
 def test_mujoco_states_that_do_not_load_are_named_errors(rollout, tmp_path):
     model = gm.load_model(PINCH)
     with pytest.raises(gm.StateError, match="no keyframe 'nope'.*start, grasped"):

@@ -26,6 +26,12 @@ def test_bad_times_name_the_keyword(run_cli, tmp_path):
         grasp.solve(scene, at_time=-1.0)
     with pytest.raises(ValueError, match="long_term"):
         grasp.solve(scene, at_time=1.0, long_term=True)
+    # Issue 36: True was read as 1 s; 1e300 was written out in 301 digits.
+    with pytest.raises(TypeError, match="at_time= is a bool"):
+        grasp.solve(scene, at_time=True)
+    with pytest.raises(ValueError) as e:
+        grasp.solve(scene, at_time=1e300)
+    assert "1e300" in str(e.value) and "000000" not in str(e.value)
     # The CLI's answer at the same time is the same to the last bit.
     out = tmp_path / "s.json"
     proc = run_cli("solve", EXAMPLES / "plate_hold_viscoelastic.json", "--at-time", "3", "--json", out)

@@ -46,12 +46,12 @@ pub fn solve(
     solver: &str,
     tolerance: f64,
     compliance: &str,
-    at_time: Option<f64>,
+    at_time: Option<&Bound<'_, PyAny>>,
     long_term: bool,
 ) -> PyResult<Solution> {
     let mut options = solve_options(solver, tolerance)?;
     options.compliance = compliance_choice(compliance)?;
-    let time = time_point(at_time, long_term)?;
+    let time = time_point(seconds_of(at_time)?, long_term)?;
     let scene_used = match model {
         Some(m) => {
             let mut s = scene.scene.clone();
@@ -103,6 +103,25 @@ enum Failure {
     Model(grasp_model::ModelError),
 }
 
+/// `at_time=` as seconds: a number, not a bool (`True` is an int to Python, and would read as
+/// 1 s), or a TypeError naming the keyword.
+fn seconds_of(at_time: Option<&Bound<'_, PyAny>>) -> PyResult<Option<f64>> {
+    let Some(v) = at_time.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    if v.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(pyo3::exceptions::PyTypeError::new_err(
+            "at_time= is a bool: give the time after the step in seconds (a number), or \
+             long_term=True for the fully relaxed state",
+        ));
+    }
+    v.extract::<f64>().map(Some).map_err(|_| {
+        pyo3::exceptions::PyTypeError::new_err(
+            "at_time= is not a number: give the time after the step in seconds",
+        )
+    })
+}
+
 /// The time of a viscoelastic solve (`at_time=`, `long_term=`), or a ValueError naming the
 /// keyword.
 fn time_point(at_time: Option<f64>, long_term: bool) -> PyResult<TimePoint> {
@@ -114,7 +133,8 @@ fn time_point(at_time: Option<f64>, long_term: bool) -> PyResult<TimePoint> {
         }
         (Some(t), false) if !(t.is_finite() && t > 0.0 && t <= 1e9) => {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "at_time={t}: give the time after the step in seconds, in (0, 1e9]"
+                "at_time={}: give the time after the step in seconds, in (0, 1e9]",
+                grasp_model::readable(t)
             )))
         }
         (Some(t), false) => TimePoint::At { seconds: t },

@@ -242,7 +242,7 @@ fn finger_phases(
                     v.push(
                         format!("{pp}.hold.duration_s"),
                         format!("is {} s", N(h.duration_s)),
-                        "give how long the hold lasts in seconds, > 0",
+                        &format!("give how long the hold lasts in seconds, in (0, {MAX_TIME_S:e}]"),
                     );
                 }
                 Phase::Hold {

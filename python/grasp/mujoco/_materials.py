@@ -3,6 +3,7 @@
 
 import difflib
 import json
+import math
 import os
 
 from ._errors import MaterialMapError
@@ -20,7 +21,8 @@ def load_map(source):
     if isinstance(source, (str, os.PathLike)):
         raw = read_input(source, "material_map", MaterialMapError)
         try:
-            data = json.loads(raw.decode("utf-8"))
+            data = json.loads(raw.decode("utf-8"), object_pairs_hook=_unique_keys,
+                              parse_constant=_no_constant, parse_int=_bounded_int)
         except UnicodeDecodeError as e:
             raise MaterialMapError(f"the material map {os.fspath(source)} is not UTF-8 text: {e}",
                                    "save it as plain (UTF-8) JSON") from None
@@ -32,17 +34,69 @@ def load_map(source):
     if not isinstance(data, dict):
         raise MaterialMapError(f"the material map is a {type(data).__name__}, not an object",
                                "give {\"geom or body name\": {\"youngs_modulus\": Pa, \"poisson_ratio\": -}}")
+    out = {}
     for name, m in data.items():
         if m == "rigid":
+            out[name] = m
             continue
+        if isinstance(m, dict) and m.get("layer_thickness_m", 0) is None:
+            # null: no layer, as the scene format reads it.
+            m = {k: v for k, v in m.items() if k != "layer_thickness_m"}
         required = {"youngs_modulus", "poisson_ratio"}
         if not (isinstance(m, dict) and required <= set(m) <= required | {"layer_thickness_m"}
-                and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in m.values())):
+                and all(_finite_number(v) for v in m.values())):
             raise MaterialMapError(
-                f"material of '{name}' is {json.dumps(m)}",
-                "give \"rigid\" or {\"youngs_modulus\": Pa, \"poisson_ratio\": -} (and "
-                "\"layer_thickness_m\": m for a pad bonded to a rigid core)")
-    return dict(data)
+                f"material of '{name}' is {_shown(m)}",
+                "give \"rigid\" or {\"youngs_modulus\": Pa, \"poisson_ratio\": -} with finite "
+                "numbers (and \"layer_thickness_m\": m for a pad bonded to a rigid core)")
+        out[name] = m
+    return out
+
+
+def _finite_number(v):
+    """A finite int or float (not a bool, not NaN or an infinity, not an int too large for a
+    float)."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        return False
+    try:
+        return math.isfinite(float(v))
+    except OverflowError:
+        return False
+
+
+def _shown(m):
+    """A material as JSON for a message, numbers beyond a float's range shown short."""
+    try:
+        text = json.dumps(m, allow_nan=True)
+    except (ValueError, TypeError):
+        text = repr(m)
+    return text if len(text) <= 200 else text[:200] + "..."
+
+
+def _unique_keys(pairs):
+    """A JSON object's pairs as a dict, refusing a key given twice (the second would win)."""
+    out = {}
+    for k, v in pairs:
+        if k in out:
+            raise MaterialMapError(f"the material map gives '{k}' twice",
+                                   "give each geom or body once")
+        out[k] = v
+    return out
+
+
+def _no_constant(name):
+    """NaN and Infinity are not JSON numbers."""
+    raise MaterialMapError(f"the material map has {name}, which is no number",
+                           "give finite numbers (Pa for youngs_modulus, m for layer_thickness_m)")
+
+
+def _bounded_int(text):
+    """An integer of the map, refused past 300 digits (beyond any float; Python itself would
+    stop at 4,300 with its own message)."""
+    if len(text.lstrip("-")) > 300:
+        raise MaterialMapError(f"the material map has an integer of {len(text)} digits",
+                               "give moduli in Pa and lengths in m as ordinary numbers")
+    return int(text)
 
 
 class MaterialMap:
