@@ -57,6 +57,27 @@ fn radius_of(s: &Solution) -> f64 {
     (s.fingers[0].contact_area_m2 / std::f64::consts::PI).sqrt()
 }
 
+/// Sneddon's rigid sphere of radius `r` at `a/R = 0.4` (see
+/// [`an_exact_sphere_meets_sneddons_closed_form`]): contact radius, approach and load, and the
+/// patch side used (2.4 a).
+struct Sneddon {
+    a: f64,
+    delta: f64,
+    p: f64,
+    side: f64,
+}
+
+fn sneddon(r: f64) -> Sneddon {
+    let a = 0.4 * r;
+    let ln = ((r + a) / (r - a)).ln();
+    Sneddon {
+        a,
+        delta: 0.5 * a * ln,
+        p: 0.5 * e_star() * ((a * a + r * r) * ln - 2.0 * a * r),
+        side: 2.4 * a,
+    }
+}
+
 /// An elastic tip with the true sphere profile `R - sqrt(R^2 - r^2)` pressed
 /// into a rigid flat to `a/R = 0.4` (Sneddon 1965): `delta = (a/2) ln((R+a)/(R-a)) = 0.16946 R`
 /// gives `P = (E*/2)[(a^2 + R^2) ln((R+a)/(R-a)) - 2aR] = 0.091433 E* R^2`. On 64 x 64
@@ -66,11 +87,7 @@ fn radius_of(s: &Solution) -> f64 {
 #[test]
 fn an_exact_sphere_meets_sneddons_closed_form() {
     let r: f64 = 0.01;
-    let a = 0.4 * r;
-    let ln = ((r + a) / (r - a)).ln();
-    let delta = 0.5 * a * ln;
-    let p = 0.5 * e_star() * ((a * a + r * r) * ln - 2.0 * a * r);
-    let side = 2.4 * a;
+    let Sneddon { a, delta, p, side } = sneddon(r);
     let v = pinch(json!({"sphere": {"radius": r}}), delta, side, 64);
     let s = solve(&v);
     let got = s.fingers[0].normal_force_n;
@@ -377,11 +394,7 @@ fn solid_tip_pinch(
 #[test]
 fn a_solid_fingertip_meets_the_sphere_and_sneddon() {
     let r: f64 = 0.01;
-    let a = 0.4 * r;
-    let ln = ((r + a) / (r - a)).ln();
-    let delta = 0.5 * a * ln;
-    let p = 0.5 * e_star() * ((a * a + r * r) * ln - 2.0 * a * r);
-    let side = 2.4 * a;
+    let Sneddon { delta, p, side, .. } = sneddon(r);
     let centre = |z: f64| [0.0, 0.0, z + z.signum() * r];
     let (analytic_model, analytic) = {
         let v = pinch(json!({"sphere": {"radius": r}}), delta, side, 64);
