@@ -534,7 +534,8 @@ fn relaxation_laws_and_approaches_out_of_range() {
 /// Unbounded work (issue 36): inputs whose cost grows without bound are refused with the
 /// bound named. A Prony series of more than 32 terms (its stepping costs the square of the
 /// count: 10,000 terms ran 236 s), a patch side of more than 1024 elements (a 1 x 1,048,576
-/// strip passed the element count and ran for minutes).
+/// strip passed the element count and ran for minutes), a bonded layer's Poisson's ratio
+/// within 1e-9 of 0.5.
 #[test]
 fn unbounded_work_is_refused_with_its_bound() {
     let terms = |n: usize| {
@@ -554,6 +555,20 @@ fn unbounded_work_is_refused_with_its_bound() {
             &v,
             "fingers[0].material.relaxation",
             &format!("has {n} terms, more than 32"),
+        );
+    }
+    // A layer's Poisson's ratio within 1e-9 of 0.5 (a coating at 0.5 - 1e-14 ran 253 s to
+    // no convergence); 0.499999 (the squeeze-film check's) stays a layer.
+    let mut v = cube();
+    v["fingers"][0]["material"] =
+        json!({"youngs_modulus": 1e6, "poisson_ratio": 0.499999, "layer_thickness_m": 1e-3});
+    assert!(Scene::from_json_str(&v.to_string()).is_ok());
+    for nu in [0.49999999999999, 0.4999999999] {
+        v["fingers"][0]["material"]["poisson_ratio"] = json!(nu);
+        assert_problem(
+            &v,
+            "fingers[0].material.poisson_ratio",
+            "for a bonded layer, nearer 0.5 than 1e-9",
         );
     }
     for grid in [[1, 1_048_576], [1025, 4], [4, 2048]] {

@@ -147,6 +147,17 @@ impl FieldChecks {
                 self.relaxation(&format!("{path}.relaxation"), r, e.youngs_modulus);
             }
             if let Some(h) = e.layer_thickness_m {
+                if e.poisson_ratio > MAX_LAYER_POISSON_RATIO && e.poisson_ratio < 0.5 {
+                    self.push(
+                        &format!("{path}.poisson_ratio"),
+                        format!(
+                            "is {} for a bonded layer, nearer 0.5 than 1e-9",
+                            number(e.poisson_ratio)
+                        ),
+                        "give at most 0.499999999 (the layer is then incompressible for any \
+                         patch), or omit layer_thickness_m for a half-space",
+                    );
+                }
                 self.range(
                     &format!("{path}.layer_thickness_m"),
                     h,
