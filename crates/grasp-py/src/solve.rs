@@ -62,7 +62,7 @@ pub fn solve(
         }
         None => scene.scene.clone(),
     };
-    let outcome = py.allow_threads(|| solve_scene(&scene_used, options, time));
+    let outcome = interruptible(py, move || solve_scene(&scene_used, options, time))?;
     match outcome {
         Ok(s) => {
             if time != TimePoint::Instantaneous && s.time.is_none() {
@@ -79,6 +79,41 @@ pub fn solve(
         }
         Err(Failure::Scene(e)) => Err(scene_error(py, &scene.origin, &e)),
         Err(Failure::Model(e)) => Err(grasp_error(e)),
+    }
+}
+
+/// How often a long call looks for Ctrl-C (and other Python signals), s.
+const SIGNAL_POLL_S: f64 = 0.1;
+
+/// Runs `work` on its own thread with the GIL released, looking for Python signals every
+/// [`SIGNAL_POLL_S`]: Ctrl-C raises KeyboardInterrupt at once (the abandoned solve finishes
+/// on its thread, its answer dropped), where a call that holds the thread answers it only
+/// when it returns.
+pub fn interruptible<T: Send + 'static>(
+    py: Python<'_>,
+    work: impl FnOnce() -> T + Send + 'static,
+) -> PyResult<T> {
+    let (tx, mut rx) = std::sync::mpsc::channel();
+    std::thread::Builder::new()
+        .name("grasp-solve".into())
+        .spawn(move || {
+            let _ = tx.send(work());
+        })
+        .map_err(|e| crate::errors::grasp_error(format!("cannot start the solve: {e}")))?;
+    let wait = std::time::Duration::from_secs_f64(SIGNAL_POLL_S);
+    loop {
+        // The receiver goes to the GIL-free closure and back (it is Send, not Sync).
+        let (got, back) = py.allow_threads(move || (rx.recv_timeout(wait), rx));
+        rx = back;
+        match got {
+            Ok(answer) => return Ok(answer),
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => py.check_signals()?,
+            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(crate::errors::grasp_error(
+                    "the solve's thread ended without an answer (a panic)",
+                ))
+            }
+        }
     }
 }
 
