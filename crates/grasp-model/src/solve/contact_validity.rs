@@ -25,10 +25,15 @@ pub const APPROACH_PER_LAYER_LIMIT: f64 = 0.3;
 
 /// The warnings of `sol` for the fingers of `model`: every finger's approach beyond small
 /// strain, and, with exact gaps, steep slopes and loads at a soft object's edge.
-pub(crate) fn validity_warnings(model: &GraspModel, sol: &Solution) -> Vec<String> {
+pub(crate) fn validity_warnings(
+    model: &GraspModel,
+    sol: &Solution,
+    compression_m: &[f64],
+) -> Vec<String> {
     let mut out = Vec::new();
     for (i, (f, fs)) in model.fingers.iter().zip(&sol.fingers).enumerate() {
-        out.extend(strain_warning(f, fs).map(|w| format!("fingers[{i}] `{}`: {w}", f.name)));
+        let d = compression_m.get(i).copied().unwrap_or(0.0);
+        out.extend(strain_warning(f, d).map(|w| format!("fingers[{i}] `{}`: {w}", f.name)));
         if !f.exact_gaps {
             continue;
         }
@@ -57,13 +62,12 @@ pub(crate) fn validity_warnings(model: &GraspModel, sol: &Solution) -> Vec<Strin
     out
 }
 
-/// When the finger's contact leaves small strain: its compression (the largest elastic
+/// When the finger's contact leaves small strain: its compression `d` (m, the largest elastic
 /// closure of the surfaces over the patch, Hertz's approach `delta` at a curved contact)
 /// beyond [`APPROACH_PER_LAYER_LIMIT`] of a bonded layer's thickness, or, with the quadratic
 /// gap (exact gaps have the slope warning), beyond [`APPROACH_PER_RADIUS_LIMIT`] of the
 /// surfaces' relative radius of curvature. Commanded and solved approaches alike.
-fn strain_warning(f: &FingerModel, fs: &FingerSolution) -> Option<String> {
-    let d = compression_m(f, fs);
+fn strain_warning(f: &FingerModel, d: f64) -> Option<String> {
     if d.is_nan() || d <= 0.0 {
         return None;
     }
@@ -92,27 +96,6 @@ fn strain_warning(f: &FingerModel, fs: &FingerSolution) -> Option<String> {
             (d / r).sqrt()
         )
     })
-}
-
-/// The largest elastic normal closure of the surfaces over the finger's elements in contact,
-/// m (the compliance applied to its forces, Johnson 3.2).
-fn compression_m(f: &FingerModel, fs: &FingerSolution) -> f64 {
-    let ne = f.patch.len();
-    let mut x = vec![0.0; f.n_unknowns()];
-    for (k, e) in fs.elements.iter().enumerate() {
-        x[k] = e.normal_force_n;
-        for c in 0..f.n_tangential {
-            x[(c + 1) * ne + k] = e.tangential_force_n[c];
-        }
-    }
-    let mut u = vec![0.0; x.len()];
-    f.compliance_m_per_n.apply(&x, &mut u);
-    fs.elements
-        .iter()
-        .zip(&u)
-        .filter(|(e, _)| matches!(e.state, ElementState::Stick | ElementState::Slip))
-        .map(|(_, &uk)| uk)
-        .fold(0.0, f64::max)
 }
 
 /// The largest slope `|grad c|` of the initial gap at the elements in contact.

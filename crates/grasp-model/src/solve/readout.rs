@@ -362,7 +362,9 @@ pub(crate) fn build_solution(
     sol.warnings = patch_warnings(model, &sol);
     sol.warnings
         .extend(crate::solve::contact_validity::validity_warnings(
-            model, &sol,
+            model,
+            &sol,
+            &check.compression_m,
         ));
     sol
 }

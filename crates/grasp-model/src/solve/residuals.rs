@@ -104,6 +104,9 @@ pub(crate) struct ContactCheck {
     pub elements: Vec<Vec<ElementCheck>>,
     /// The residuals over all elements and the object's equilibrium.
     pub residuals: Residuals,
+    /// Per finger, its compression: the largest elastic normal closure of the surfaces over
+    /// its loaded elements (the compliance applied to its forces, Johnson 3.2), m.
+    pub compression_m: Vec<f64>,
 }
 
 /// The step's data a check reads besides the forces: the rigid motion, each finger's approach
@@ -133,12 +136,14 @@ pub(crate) fn check_contacts(
     mu_at_load: &[f64],
 ) -> ContactCheck {
     let mut r = equilibrium_residuals(model, x_n, motion.external);
+    let mut compression_m = Vec::with_capacity(model.fingers.len());
     let elements = model
         .fingers
         .iter()
         .enumerate()
         .map(|(i, f)| {
-            let (gap, w) = finger_kinematics(model, f, i, x_n, motion);
+            let (gap, w, compression) = finger_kinematics(model, f, i, x_n, motion);
+            compression_m.push(compression);
             (0..f.patch.len())
                 .map(|k| {
                     Element::of(f, x_n, k, gap[k], w[k]).check(
@@ -155,6 +160,7 @@ pub(crate) fn check_contacts(
     ContactCheck {
         elements,
         residuals: r,
+        compression_m,
     }
 }
 
@@ -187,11 +193,15 @@ fn finger_kinematics(
     i: usize,
     x_n: &[f64],
     motion: &StepMotion<'_>,
-) -> (Vec<f64>, Vec<[f64; 2]>) {
+) -> (Vec<f64>, Vec<[f64; 2]>, f64) {
     let ne = f.patch.len();
     let range = f.offset..f.offset + f.n_unknowns();
     let mut u = vec![0.0; range.len()];
     f.compliance_m_per_n.apply(&x_n[range.clone()], &mut u);
+    let compression = (0..ne)
+        .filter(|&k| x_n[f.offset + k] > 0.0)
+        .map(|k| u[k])
+        .fold(0.0, f64::max);
     for (uj, o) in u.iter_mut().zip(&motion.offset_m[range]) {
         *uj += o;
     }
@@ -211,7 +221,7 @@ fn finger_kinematics(
         }
         w.push(wk);
     }
-    (g, w)
+    (g, w, compression)
 }
 
 /// One element's forces and kinematics, SI.
