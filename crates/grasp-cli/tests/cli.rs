@@ -612,7 +612,8 @@ fn a_scene_lists_every_structural_problem_with_a_fix() {
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     let t = text(&o);
     for path in [
-        "fingers[0].normal: is missing; fix: add `normal`",
+        "fingers[0].normal: is missing; fix: give the contact normal pointing into the object, \
+         or `place`",
         "fingers[1].material: is missing; fix: add `material`",
         "fingers[2].nromal: is not a field here; fix: did you mean `normal`?",
         "object.weight: is the string \"heavy\", expected a number; fix: write a number",
