@@ -1,7 +1,7 @@
 """Type stubs of the native module (``grasp._native``); see the package docstring."""
 
 import os
-from typing import Any, Literal, Optional, Union
+from typing import Any, Callable, Literal, Optional, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -181,8 +181,11 @@ def transfer(
     keep_solutions: bool = True,
     max_memory: Optional[int] = None,
     compliance: ComplianceName = "auto",
+    progress: Optional[Callable[[int, int], object]] = None,
 ) -> Transfer:
-    """Runs a hand-off schedule (GIL released), writing the CLI's files; see the package docstring."""
+    """Runs a hand-off schedule (GIL released), writing the CLI's files; see the package docstring.
+    ``progress(done, total)`` is called after each step; an exception it raises (or Ctrl-C) stops
+    the run between steps."""
 
 # For the pure-Python readers and writers of the package (grasp.mujoco): the project's file
 # policy (grasp-io). `kind`: "mujoco_model", "mujoco_state", "mujoco_rollout", "material_map".

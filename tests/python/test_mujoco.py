@@ -1048,3 +1048,31 @@ def test_mujoco_a_patch_that_is_not_a_dict_and_corrupt_state_files_are_named_err
     for name, words in states:
         with pytest.raises(gm.StateError, match=re.escape(words.format(tmp_path / name))):
             gm.load_state(model, qpos=tmp_path / name)
+
+
+def test_mujoco_long_runs_report_progress_on_a_terminal_only(tmp_path):
+    # Issue 36: the simulation and the replay report their progress (a callable, or a line on
+    # a terminal's standard error); nothing on a pipe or with --quiet.
+    from grasp.mujoco._progress import terminal_bar
+
+    model = gm.load_model(PINCH)
+    seen = []
+    gm.simulate(model, gm.load_state(model, keyframe="start"), lambda m, d: None, steps=7,
+                progress=lambda done, total: seen.append((done, total)))
+    assert seen == [(k, 7) for k in range(1, 8)]
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    assert terminal_bar("steps", stream=io.StringIO()) is None
+    assert terminal_bar("steps", quiet=True, stream=Terminal()) is None
+    screen = Terminal()
+    bar = terminal_bar("steps", stream=screen)
+    for k in range(1, 4):
+        bar(k, 3)
+    assert "steps 3/3" in screen.getvalue() and "eta" in screen.getvalue()
+    proc = python_m("scene", PINCH, "--object", "box", "--keyframe", "grasped", "--quiet", "--no-margin",
+                    "--out", tmp_path / "s.json")
+    assert proc.returncode == 0, proc.stderr
+    assert "\r" not in proc.stderr

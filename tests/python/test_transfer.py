@@ -116,3 +116,25 @@ def test_dense_and_fft_compliance_give_the_same_hand_off():
     assert np.abs(dense.normal_forces_n - fft.normal_forces_n).max() <= 1e-8 * scale
     with pytest.raises(ValueError, match="compliance="):
         grasp.transfer(scene, SCHEDULE, compliance="sparse")
+
+
+def test_progress_is_called_after_each_step_and_can_stop_the_run(tmp_path):
+    # Issue 36: progress on long runs, and a way to stop them (Ctrl-C is looked for at the
+    # same place, between steps).
+    scene = grasp.Scene(SCENE)
+    seen = []
+    run = grasp.transfer(scene, SCHEDULE, progress=lambda done, total: seen.append((done, total)))
+    n = len(run.times_s)
+    assert seen == [(k, n) for k in range(1, n + 1)]
+
+    class Enough(Exception):
+        pass
+
+    def stop_at_ten(done, total):
+        if done == 10:
+            raise Enough()
+
+    out = tmp_path / "h.csv"
+    with pytest.raises(Enough):
+        grasp.transfer(scene, SCHEDULE, csv=out, progress=stop_at_ten)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [], "a stopped run writes no file"

@@ -40,13 +40,16 @@ use crate::solution::{tangents_by_name, Solution, Tangents};
 /// - `keep_solutions`: keep every step's full solution for `step(i)` (default); refused
 ///   before the run when that needs more than `max_memory` bytes (default: a quarter of the
 ///   machine's memory). With `False` only the histories and the last step are kept.
+/// - `progress`: a callable `progress(done, total)` called after each step (a `tqdm`'s
+///   `update` wrapped, say); an exception it raises stops the run, as Ctrl-C does between
+///   steps (no output file is written then).
 ///
 /// CSV paths inside a schedule file are read relative to its folder (to the working folder
 /// for a dict or JSON text).
 #[pyfunction]
 #[pyo3(signature = (scene, schedule, *, mcap=None, rrd=None, csv=None, solver="auto",
                     cold=false, keep_going=false, margins=false, overwrite=false,
-                    keep_solutions=true, max_memory=None, compliance="auto"))]
+                    keep_solutions=true, max_memory=None, compliance="auto", progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn transfer(
     py: Python<'_>,
@@ -63,6 +66,7 @@ pub fn transfer(
     keep_solutions: bool,
     max_memory: Option<&Bound<'_, PyAny>>,
     compliance: &str,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<Transfer> {
     let max_memory = max_memory.map(memory_limit).transpose()?;
     let mut solve = crate::solve::solve_options(solver, 1e-10)?;
@@ -94,12 +98,13 @@ pub fn transfer(
             options,
             &outputs,
             files,
-            keep_solutions,
+            (keep_solutions, progress.as_ref()),
         )
     });
     let kept = run.map_err(|e| match e {
         RunError::Output(e) => output_error(&targets, &e),
         RunError::Driver(e) => grasp_error(e),
+        RunError::Stopped(e) => e,
     })?;
     Ok(Transfer {
         histories: kept.histories,
@@ -236,6 +241,8 @@ enum RunError {
     Output(OutputError),
     /// The driver or a sink failed.
     Driver(String),
+    /// A signal (Ctrl-C) or the progress callback raised: the run stopped after a step.
+    Stopped(PyErr),
 }
 
 impl From<OutputError> for RunError {
@@ -261,7 +268,7 @@ fn run_transfer(
     options: TransferOptions,
     outputs: &OutputSet,
     files: OutputPaths<'_>,
-    keep_solutions: bool,
+    (keep_solutions, progress): (bool, Option<&Py<PyAny>>),
 ) -> Result<Kept, RunError> {
     let mut open = OutputFiles::open(outputs, files).map_err(|e| match e {
         OpenError::Output(e) => RunError::Output(e),
@@ -270,14 +277,27 @@ fn run_transfer(
     let names = scene.finger_names();
     let mut histories = Histories::new(names);
     let mut records = keep_solutions.then(Vec::new);
-    let (summary, last) =
-        grasp_transfer::run(scene, schedule, options, &mut open.sinks(None), |r| {
-            histories.push(r);
-            if let Some(all) = records.as_mut() {
-                all.push(r.clone());
+    let total = schedule.times.len();
+    let mut stopped: Option<PyErr> = None;
+    let ran = grasp_transfer::run_until(scene, schedule, options, &mut open.sinks(None), |r| {
+        histories.push(r);
+        if let Some(all) = records.as_mut() {
+            all.push(r.clone());
+        }
+        match after_step(r.index + 1, total, progress) {
+            Ok(()) => std::ops::ControlFlow::Continue(()),
+            Err(e) => {
+                let reason = e.to_string();
+                stopped = Some(e);
+                std::ops::ControlFlow::Break(reason)
             }
-        })
-        .map_err(|e| RunError::Driver(e.to_string()))?;
+        }
+    });
+    let (summary, last) = match (ran, stopped) {
+        (_, Some(e)) => return Err(RunError::Stopped(e)),
+        (Ok(done), None) => done,
+        (Err(e), None) => return Err(RunError::Driver(e.to_string())),
+    };
     let pending = open.take_pending();
     drop(open); // sinks closed: their files complete
     let complete = summary.failed_step_count == 0 || options.keep_going;
@@ -295,6 +315,18 @@ fn run_transfer(
         last,
         summary,
         written,
+    })
+}
+
+/// After each step: Python's signals (Ctrl-C raises KeyboardInterrupt here, between steps)
+/// and the caller's `progress(done, total)`, whose exception stops the run too.
+fn after_step(done: usize, total: usize, progress: Option<&Py<PyAny>>) -> PyResult<()> {
+    Python::with_gil(|py| {
+        py.check_signals()?;
+        if let Some(callback) = progress {
+            callback.call1(py, (done, total))?;
+        }
+        Ok(())
     })
 }
 

@@ -63,6 +63,14 @@ pub enum TransferError {
     /// An invariant of the stepper did not hold (a bug; please report the scene and schedule).
     #[error("internal error: {0}; please report the scene and schedule")]
     Internal(&'static str),
+    /// The caller stopped the run after a step ([`crate::run_until`]: Ctrl-C in Python).
+    #[error("stopped after t = {} s: {reason}", grasp_model::Readable(*time_s))]
+    Stopped {
+        /// The last step's time, s.
+        time_s: f64,
+        /// Why.
+        reason: String,
+    },
     /// A sink failed to write.
     #[error("{sink}: {message}")]
     Sink {

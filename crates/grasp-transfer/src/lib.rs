@@ -69,6 +69,23 @@ pub fn run(
     sinks: &mut [&mut dyn Sink],
     mut on_step: impl FnMut(&StepRecord),
 ) -> Result<(TransferSummary, Option<StepRecord>), TransferError> {
+    let go_on = |r: &StepRecord| {
+        on_step(r);
+        std::ops::ControlFlow::Continue(())
+    };
+    run_until(scene, schedule, options, sinks, go_on)
+}
+
+/// [`run`], stopped after the step at which `on_step` answers `Break(reason)`: the sinks are
+/// aborted (their temporary files removed) and the run ends in [`TransferError::Stopped`]
+/// (Python's Ctrl-C and progress callbacks).
+pub fn run_until(
+    scene: &Scene,
+    schedule: &Schedule,
+    options: TransferOptions,
+    sinks: &mut [&mut dyn Sink],
+    mut on_step: impl FnMut(&StepRecord) -> std::ops::ControlFlow<String>,
+) -> Result<(TransferSummary, Option<StepRecord>), TransferError> {
     // The scene's model, built once: the sinks draw it, the stepper restricts it to each
     // step's active fingers.
     let model = GraspModel::from_scene_with(scene, options.solve.compliance).map_err(|source| {
@@ -95,7 +112,12 @@ pub fn run(
             for s in sinks.iter_mut() {
                 s.step(&info, &r)?;
             }
-            on_step(&r);
+            if let std::ops::ControlFlow::Break(reason) = on_step(&r) {
+                return Err(TransferError::Stopped {
+                    time_s: r.time_s,
+                    reason,
+                });
+            }
             summary.add(&r);
             last = Some(r);
         }

@@ -20,6 +20,7 @@ import signal
 import sys
 
 from ._errors import Interrupted, MujocoError
+from ._progress import terminal_bar
 
 PROG = "python -m grasp.mujoco"
 
@@ -40,6 +41,7 @@ def common(p):
     p.add_argument("--margin", type=float, metavar="M", help="flat pairs: patch margin around MuJoCo's points, m (default 0)")
     p.add_argument("--patch-size", nargs=2, type=float, metavar=("A", "B"), help="every patch's sides, m (overrides)")
     p.add_argument("--force", action="store_true", help="replace existing output files")
+    p.add_argument("--quiet", action="store_true", help="no progress line (drawn on a terminal only)")
 
 
 def parser():
@@ -155,7 +157,8 @@ def run_handoff(args):
         # The targets are checked before the (long) simulation.
         check_targets(replay_outs + [f"{prefix}.json", f"{prefix}.schedule.json", f"{prefix}.csv"]
                       + ([args.save_rollout] if args.save_rollout else []), args.force, inputs_of(args))
-        rollout = simulate(model, data, args.controller, args.steps, args.every)
+        rollout = simulate(model, data, args.controller, args.steps, args.every,
+                           progress=terminal_bar("mujoco steps", args.quiet))
     h = schedule_from_rollout(model, rollout, args.object, materials=args.materials, patch=patch_of(args),
                               contact_model=args.contact_model)
     for w in h.warnings:
@@ -180,7 +183,8 @@ def run_handoff(args):
         return 0
     replay = h.replay(mcap=args.mcap, rrd=args.rrd, csv=args.csv, margins=args.margins or args.threshold is not None,
                       threshold_n=args.threshold,
-                      overwrite=args.force, inputs=inputs_of(args), also=outs)
+                      overwrite=args.force, inputs=inputs_of(args), also=outs,
+                      progress=terminal_bar("replayed steps", args.quiet))
     print(replay.summary_text())
     print("wrote " + ", ".join(list(outs) + replay_outs))
     # A discrepancy is a step where MuJoCo held the object and the elastic model found no

@@ -4,7 +4,7 @@
 import importlib
 import importlib.util
 import os
-from typing import TYPE_CHECKING, Callable, Union
+from typing import TYPE_CHECKING, Callable, Optional, Union
 
 from ._errors import ControllerError, Interrupted, StateError, require_mujoco
 from ._limits import MAX_ROLLOUT_BYTES, MAX_STATES, MAX_STEPS, check_count
@@ -90,12 +90,13 @@ def check_run(model, steps, every):
 
 
 def simulate(model: "mujoco.MjModel", data: "mujoco.MjData", controller: Union[str, Callable], steps: int,
-             every: int = 1) -> Rollout:
+             every: int = 1, progress: Optional[Callable[[int, int], object]] = None) -> Rollout:
     """Runs ``steps`` MuJoCo steps from the state of ``data``; before each step
     ``controller(model, data)`` sets the controls. Records the state (with its controls and
     the solver's warm start, so ``mj_forward`` there gives the forces ``mj_step`` used) every
     ``every`` steps, the first and the last state included (at most 1,000,000 steps and
-    1,000,000 states, 1 GiB). Returns a :class:`Rollout`."""
+    1,000,000 states, 1 GiB). ``progress(done, steps)`` is called after each step. Returns a
+    :class:`Rollout`."""
     mujoco = require_mujoco()
     steps, every, n = check_run(model, steps, every)
     check_finite_state(data, "data")
@@ -115,5 +116,7 @@ def simulate(model: "mujoco.MjModel", data: "mujoco.MjData", controller: Union[s
             before = warning_counts(data)
             mujoco.mj_step(model, data)
             check_warnings(mujoco, data, before)
+            if progress is not None:
+                progress(i + 1, steps)
     return rollout
 

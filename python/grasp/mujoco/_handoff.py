@@ -125,12 +125,13 @@ class Handoff:
         return write_all(self.outputs(prefix), overwrite, inputs)
 
     def replay(self, mcap=None, rrd=None, csv=None, margins=False, threshold_n=None, solver="auto",
-               overwrite=False, inputs=(), also=None):
+               overwrite=False, inputs=(), also=None, progress=None):
         """Runs the schedule with ``grasp.transfer`` (``keep_going``: every step is solved) and
         writes its MCAP / Rerun (merged with MuJoCo's forces) / CSV, and the files of ``also``
         ({path: text or bytes}), all or nothing; returns a :class:`HandoffReplay` listing the
         steps where MuJoCo held but the elastic model found no equilibrium, or a smallest
-        margin below ``threshold_n``."""
+        margin below ``threshold_n``. ``progress(done, total)`` is called after each step
+        (``grasp.transfer``'s)."""
         import grasp
 
         threshold_n = check_threshold(threshold_n)
@@ -144,7 +145,7 @@ class Handoff:
             scene = grasp.Scene(os.path.join(tmp, "handoff.json"))
             temps = {k: os.path.join(tmp, f"out.{k}") for k, p in named.items() if p is not None}
             run = grasp.transfer(scene, os.path.join(tmp, "handoff.schedule.json"), margins=margins,
-                                 keep_going=True, solver=solver, **temps)
+                                 keep_going=True, solver=solver, progress=progress, **temps)
             if rrd is not None:
                 from . import _rerun
 
