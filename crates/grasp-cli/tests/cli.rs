@@ -768,3 +768,56 @@ fn bad_viscoelastic_flags_name_the_flag() {
         );
     }
 }
+
+/// The long runs' progress bars (issue 36: hand-offs, batches, margins, a viscoelastic
+/// history, studies) are drawn on a terminal's standard error only: piped, as here, standard
+/// error carries no bar, with or without `--quiet`, and the run's answer is the same.
+#[test]
+fn progress_bars_stay_off_a_pipe_and_quiet_changes_nothing_else() {
+    let runs: [Vec<String>; 4] = [
+        vec!["margin".into(), example("cube_a.json")],
+        vec![
+            "study".into(),
+            example("hertz_sphere_on_flat.json"),
+            "--grids".into(),
+            "5,9".into(),
+        ],
+        vec![
+            "solve".into(),
+            example("plate_hold_viscoelastic.json"),
+            "--at-time".into(),
+            "3".into(),
+        ],
+        vec![
+            "transfer".into(),
+            example("plate_transfer.json"),
+            "--schedule".into(),
+            example("plate_transfer.schedule.json"),
+        ],
+    ];
+    for args in runs {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let plain = grasp(&args);
+        assert_eq!(plain.status.code(), Some(0), "{args:?}: {}", text(&plain));
+        let stderr = String::from_utf8_lossy(&plain.stderr);
+        assert!(
+            !stderr.contains('\r') && !stderr.contains("eta"),
+            "{args:?}: {stderr}"
+        );
+        let quiet = grasp(&[args.as_slice(), &["--quiet"]].concat());
+        assert_eq!(quiet.status.code(), Some(0), "{args:?}: {}", text(&quiet));
+        // The answer without what varies between runs: times, and a study row's peak memory
+        // (its last columns).
+        let table = |o: &std::process::Output| {
+            String::from_utf8_lossy(&o.stdout)
+                .lines()
+                .filter(|l| !l.contains("time") && !l.contains(" ms") && !l.contains("solves in"))
+                .map(|l| match l.starts_with("| ") {
+                    true => l.split('|').take(5).collect::<Vec<_>>().join("|"),
+                    false => l.to_string(),
+                })
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(table(&plain), table(&quiet), "{args:?}");
+    }
+}

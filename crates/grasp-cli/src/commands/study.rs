@@ -94,7 +94,18 @@ fn run(
         format!("the finest grid of the study ({finest} elements along the first side)")
     })?;
     let (reference, why) = choose_reference(&scene_obj, reference, finest);
-    let rows = match refinement_study(&scene_obj, grids, reference, options, peak_memory_bytes) {
+    let mut distinct = grids.to_vec();
+    distinct.sort_unstable();
+    distinct.dedup();
+    let bar = crate::progress::bar(distinct.len(), "grids");
+    // Called after each grid's solve: the bar moves on as the peak memory is read.
+    let after_solve = || {
+        bar.inc(1);
+        peak_memory_bytes()
+    };
+    let studied = refinement_study(&scene_obj, grids, reference, options, after_solve);
+    bar.finish_and_clear();
+    let rows = match studied {
         Ok(r) => r,
         Err(e) => bail!("study of {} failed: {e}", scene.display()),
     };
