@@ -28,3 +28,20 @@ pub fn bar(len: usize, what: &str) -> ProgressBar {
     );
     bar
 }
+
+/// A spinner with the elapsed time for one long piece of work that cannot count its steps (a
+/// fine patch's solve: its Newton steps are not known ahead), `what` after it; redrawn ten
+/// times a second by its own thread, hidden with `--quiet` (and off a terminal).
+pub fn spinner(what: &str) -> ProgressBar {
+    if QUIET.load(Ordering::Relaxed) {
+        return ProgressBar::hidden();
+    }
+    let spinner = ProgressBar::new_spinner();
+    spinner.set_style(
+        ProgressStyle::with_template("{spinner} {msg} ({elapsed})")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    spinner.set_message(what.to_string());
+    spinner.enable_steady_tick(std::time::Duration::from_millis(100));
+    spinner
+}

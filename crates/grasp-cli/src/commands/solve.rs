@@ -145,8 +145,15 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         // The solve's time covers the program assembly (GraspSolver::new) too.
         let (solution, sens) = match time {
             TimePoint::Instantaneous => {
+                let spinner = (model.n_unknowns() > LONG_SOLVE_UNKNOWNS).then(|| {
+                    crate::progress::spinner(&format!("solving {} unknowns", model.n_unknowns()))
+                });
                 let mut solver = GraspSolver::new(Arc::clone(&model), options);
-                let solution = solver.solve(&StepInputs::of_scene(&model))?;
+                let solution = solver.solve(&StepInputs::of_scene(&model));
+                if let Some(s) = spinner {
+                    s.finish_and_clear();
+                }
+                let solution = solution?;
                 let sens = match sensitivities {
                     true => sensitivities_of(&mut solver, &solution)?,
                     false => None,
@@ -203,6 +210,10 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         ExitCode::from(2)
     })
 }
+
+/// Solves of more unknowns than this show a spinner on a terminal (about a second and more on
+/// two cores: a 256 x 256 frictionless patch).
+const LONG_SOLVE_UNKNOWNS: usize = 65_536;
 
 /// Writes `record` as pretty JSON into the claimed `out`, serialised straight into the file
 /// (a 1024 x 1024 patch's solution is about 2 GB of text: no copy of it is held in memory).
