@@ -646,22 +646,7 @@ pub fn disturbance_margins_reporting(
     let margins: Vec<DirectionMargin> = match holds(model, &base, &sliding_undisturbed) {
         Err(f) => directions
             .iter()
-            .map(|&d| DirectionMargin {
-                direction: d,
-                margin_n: 0.0,
-                fails_at_n: Some(0.0),
-                force_n: [0.0; 3],
-                torque_nm: [0.0; 3],
-                bounded: true,
-                failing_finger: match &f {
-                    Failure::Slides { finger } => Some(finger.clone()),
-                    _ => None,
-                },
-                failure: Some(f.clone()),
-                solves: 0,
-                time_s: 0.0,
-                stopped_early: None,
-            })
+            .map(|&d| failing_undisturbed(d, &f))
             .collect(),
         Ok(()) => directions
             .par_iter()
@@ -680,15 +665,7 @@ pub fn disturbance_margins_reporting(
             })
             .collect::<Result<_, _>>()?,
     };
-    // Directions not resisted at all: searched, and failing at the smallest magnitude.
-    let searched = margins.iter().any(|m| m.solves > 0);
-    let unresisted: Vec<usize> = (0..margins.len())
-        .filter(|&i| searched && margins[i].margin_n == 0.0 && margins[i].failure.is_some())
-        .collect();
-    let smallest = (0..margins.len())
-        .filter(|i| !unresisted.contains(i) || unresisted.len() == margins.len())
-        .min_by(|&a, &b| margins[a].margin_n.total_cmp(&margins[b].margin_n))
-        .unwrap_or(0);
+    let (unresisted, smallest) = unresisted_and_smallest(&margins);
     Ok(MarginReport {
         model: model.kind(),
         length_m,
@@ -700,6 +677,40 @@ pub fn disturbance_margins_reporting(
         unresisted,
         time_s: clock.elapsed().as_secs_f64(),
     })
+}
+
+/// The margin along `d` of a grasp that fails undisturbed (`f`): 0, with that failure.
+fn failing_undisturbed(d: WrenchDirection, f: &Failure) -> DirectionMargin {
+    DirectionMargin {
+        direction: d,
+        margin_n: 0.0,
+        fails_at_n: Some(0.0),
+        force_n: [0.0; 3],
+        torque_nm: [0.0; 3],
+        bounded: true,
+        failing_finger: match f {
+            Failure::Slides { finger } => Some(finger.clone()),
+            _ => None,
+        },
+        failure: Some(f.clone()),
+        solves: 0,
+        time_s: 0.0,
+        stopped_early: None,
+    }
+}
+
+/// The directions not resisted at all (searched, and failing at the smallest magnitude), and
+/// the index of the smallest margin among the others (among all when none is resisted).
+fn unresisted_and_smallest(margins: &[DirectionMargin]) -> (Vec<usize>, usize) {
+    let searched = margins.iter().any(|m| m.solves > 0);
+    let unresisted: Vec<usize> = (0..margins.len())
+        .filter(|&i| searched && margins[i].margin_n == 0.0 && margins[i].failure.is_some())
+        .collect();
+    let smallest = (0..margins.len())
+        .filter(|i| !unresisted.contains(i) || unresisted.len() == margins.len())
+        .min_by(|&a, &b| margins[a].margin_n.total_cmp(&margins[b].margin_n))
+        .unwrap_or(0);
+    (unresisted, smallest)
 }
 
 #[cfg(test)]

@@ -20,10 +20,6 @@ use crate::geometry::shape_spec::TipSpec;
 use crate::scene::scene_format::FingerSpec;
 use crate::scene::shape_report::SharedShape;
 
-/// A ray that misses is cast again this fraction of the reach aside (a ray through a mesh's
-/// edge can slip between its triangles; a true miss, past an edge, misses again).
-const LEAK_NUDGE: f64 = 1e-7;
-
 /// Elements per patch from which the object's ray casts run on all cores.
 const PARALLEL_RAYS: usize = 4_096;
 
@@ -224,11 +220,10 @@ fn settle(gaps: Vec<Option<f64>>, off_object: Vec<bool>, reach_m: f64) -> ExactG
 }
 
 /// Depth (m) of the object's surface below the tangent plane at `(x, y)`, along the inward
-/// normal, found by a ray from `reach_m` above the plane; `None` when the ray meets no
-/// surface. A ray through a mesh's edge or vertex can slip between its triangles in floating
-/// point and miss, or meet the far side of the object from within (a hit on a surface whose
-/// outward normal points along the ray): either is tried again from four origins
-/// [`LEAK_NUDGE`] of the reach aside before it counts as no surface.
+/// normal, found by a ray from `reach_m` above the plane; `None` when the ray meets no surface
+/// facing it. A ray that slips between a closed mesh's triangles is cast again beside itself
+/// by [`Shape::ray_hit`]; on an open mesh a hit on a face turned away (the far side of the
+/// sheet) counts as no surface here.
 fn object_depth_m(
     shape: &Shape,
     frame: &ContactFrame,
@@ -240,30 +235,6 @@ fn object_depth_m(
 
 /// [`object_depth_m`] for any surface: `whose` names it in the error.
 fn surface_depth_m(
-    shape: &Shape,
-    frame: &ContactFrame,
-    [x, y]: [f64; 2],
-    reach_m: f64,
-    whose: &str,
-) -> Result<Option<f64>, String> {
-    let nudge = LEAK_NUDGE * reach_m;
-    let tries = [
-        (0.0, 0.0),
-        (nudge, 0.0),
-        (-nudge, 0.0),
-        (0.0, nudge),
-        (0.0, -nudge),
-    ];
-    for (dx, dy) in tries {
-        if let Some(depth) = ray_depth_m(shape, frame, [x + dx, y + dy], reach_m, whose)? {
-            return Ok(Some(depth));
-        }
-    }
-    Ok(None)
-}
-
-/// The depth of one ray's hit (see [`object_depth_m`]).
-fn ray_depth_m(
     shape: &Shape,
     frame: &ContactFrame,
     [x, y]: [f64; 2],

@@ -64,13 +64,17 @@ fn tip_shape(
     )
     .map_err(|e| {
         let (path, message) = crate::scene::strict_json::join_path(&path, &e.to_string());
-        vec![problem(&path, message, "see the scene schema's ShapeSpec")]
+        vec![InputProblem::new(
+            &path,
+            message,
+            "see the scene schema's ShapeSpec",
+        )]
     })?;
     check_shape_spec(&path, &spec).map_err(|e| e.problems())?;
     let mesh = match &spec.mesh {
         Some(m) => {
             let mesh = load_mesh(m).map_err(|e| {
-                vec![problem(
+                vec![InputProblem::new(
                     &format!("{path}.mesh.file"),
                     e,
                     "give the path of an OBJ or STL file, relative to the scene file",
@@ -81,8 +85,13 @@ fn tip_shape(
         }
         None => None,
     };
-    let shape = Shape::new(&spec, mesh)
-        .map_err(|e| vec![problem(&path, e, "give a closed mesh or a primitive")])?;
+    let shape = Shape::new(&spec, mesh).map_err(|e| {
+        vec![InputProblem::new(
+            &path,
+            e,
+            "give a closed mesh or a primitive",
+        )]
+    })?;
     meets_the_contact(&path, finger, &shape).map_err(|p| vec![p])?;
     Ok(shape)
 }
@@ -105,7 +114,7 @@ fn meets_the_contact(path: &str, finger: &Value, shape: &Shape) -> Result<(), In
             .unwrap_or(0.0)
             .hypot(size[1].as_f64().unwrap_or(0.0));
     let s = shape.closest(&point).map_err(|e| {
-        problem(
+        InputProblem::new(
             path,
             e,
             "pose the tip so that its surface passes through the contact point",
@@ -116,7 +125,7 @@ fn meets_the_contact(path: &str, finger: &Value, shape: &Shape) -> Result<(), In
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     let far = !(s.distance_m.abs() <= tolerance);
     if far {
-        return Err(problem(
+        return Err(InputProblem::new(
             path,
             format!(
                 "lies {:.3e} m from the contact point (more than {tolerance:.3e} m, 5 % of the \
@@ -131,7 +140,7 @@ fn meets_the_contact(path: &str, finger: &Value, shape: &Shape) -> Result<(), In
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
     let turned = !(angle <= MAX_FACING_ANGLE_RAD);
     if turned {
-        return Err(problem(
+        return Err(InputProblem::new(
             path,
             format!(
                 "faces {:.1} degrees away from the contact's normal at the contact point (at \
@@ -149,12 +158,4 @@ fn meets_the_contact(path: &str, finger: &Value, shape: &Shape) -> Result<(), In
 fn vec3_at(v: &Value) -> Option<Vector3<f64>> {
     let a: [f64; 3] = serde_json::from_value(v.clone()).ok()?;
     a.iter().all(|x| x.is_finite()).then(|| Vector3::from(a))
-}
-
-fn problem(path: &str, message: String, fix: &str) -> InputProblem {
-    InputProblem {
-        path: path.into(),
-        message,
-        fix: fix.into(),
-    }
 }
