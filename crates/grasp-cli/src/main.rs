@@ -69,7 +69,7 @@ enum Command {
     Study(commands::study::Args),
     /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
     Transfer(commands::transfer::Args),
-    /// Benchmark table: the cases of issue 9 (cube A grids, Hertz 41x41, both hand-offs warm
+    /// Benchmark table: the solver's cases (cube A grids, Hertz 41x41, both hand-offs warm
     /// and cold, the whole transfer command) with each solver, medians against targets.
     Bench(commands::bench::Args),
     /// Print the JSON Schema of the scene format (or of the schedule format).

@@ -20,7 +20,7 @@ use grasp_bench::statistics::{growth_exponent, median_and_range};
 use grasp_bench::{Case, CaseKind, Sample, CASES, FFT_CASES, LAYER_CASES, LAYER_PAIRS, PEER_CASES};
 use grasp_model::SolverChoice;
 
-/// Benchmark table: the cases of issue 9 (cube A grids, Hertz 41x41, both hand-offs warm
+/// Benchmark table: the solver's cases (cube A grids, Hertz 41x41, both hand-offs warm
 /// and cold, the whole transfer command) with each solver, medians against targets.
 #[derive(clap::Args, Debug)]
 pub struct Args {
