@@ -75,7 +75,7 @@ fn tip_shape(
         Some(m) => {
             let mesh = load_mesh(m).map_err(|e| {
                 vec![InputProblem::new(
-                    &format!("{path}.mesh.file"),
+                    format!("{path}.mesh.file"),
                     e,
                     "give the path of an OBJ or STL file, relative to the scene file",
                 )]
