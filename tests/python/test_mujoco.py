@@ -1060,6 +1060,8 @@ def test_mujoco_long_runs_report_progress_on_a_terminal_only(tmp_path):
     gm.simulate(model, gm.load_state(model, keyframe="start"), lambda m, d: None, steps=7,
                 progress=lambda done, total: seen.append((done, total)))
     assert seen == [(k, 7) for k in range(1, 8)]
+    with pytest.raises(TypeError, match="progress= is not callable"):
+        gm.simulate(model, gm.load_state(model, keyframe="start"), lambda m, d: None, steps=2, progress=3)
 
     class Terminal(io.StringIO):
         def isatty(self):

@@ -138,3 +138,5 @@ def test_progress_is_called_after_each_step_and_can_stop_the_run(tmp_path):
     with pytest.raises(Enough):
         grasp.transfer(scene, SCHEDULE, csv=out, progress=stop_at_ten)
     assert sorted(p.name for p in tmp_path.iterdir()) == [], "a stopped run writes no file"
+    with pytest.raises(TypeError, match="progress= is not callable"):
+        grasp.transfer(scene, SCHEDULE, progress=3)

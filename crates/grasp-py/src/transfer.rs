@@ -68,6 +68,11 @@ pub fn transfer(
     compliance: &str,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Transfer> {
+    if progress.as_ref().is_some_and(|p| !p.bind(py).is_callable()) {
+        return Err(pyo3::exceptions::PyTypeError::new_err(
+            "progress= is not callable: give a function progress(done, total), or None",
+        ));
+    }
     let max_memory = max_memory.map(memory_limit).transpose()?;
     let mut solve = crate::solve::solve_options(solver, 1e-10)?;
     solve.compliance = crate::solve::compliance_choice(compliance)?;

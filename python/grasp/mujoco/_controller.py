@@ -99,6 +99,8 @@ def simulate(model: "mujoco.MjModel", data: "mujoco.MjData", controller: Union[s
     :class:`Rollout`."""
     mujoco = require_mujoco()
     steps, every, n = check_run(model, steps, every)
+    if progress is not None and not callable(progress):
+        raise TypeError("progress= is not callable: give a function progress(done, total), or None")
     check_finite_state(data, "data")
     fn = load_controller(controller)
     rollout, k = Rollout.empty(model, n), 0
