@@ -123,13 +123,14 @@ impl CirculantInverse {
         kept * grid.nx * (grid.ny / 2 + 1) * std::mem::size_of::<Complex<f64>>()
     }
 
-    /// `out = C_circ^-1 v` (component-major like the compliance's unknowns), N/m times m.
-    pub fn apply(&self, v: &[f64], out: &mut [f64]) {
+    /// `out = factor C_circ^-1 v` (component-major like the compliance's unknowns), N/m
+    /// times m.
+    pub fn apply(&self, v: &[f64], out: &mut [f64], factor: f64) {
         let dim = self.dim;
         let n = self.elements;
         assert_eq!(v.len(), dim * n, "vector length");
         assert_eq!(out.len(), dim * n, "output length");
-        self.fft.multiply_blocks(v, out, dim, |r, c| {
+        self.fft.multiply_blocks(v, out, (dim, factor), |r, c| {
             let (e, conjugate) = entry_of(r, c)?;
             let k = &self.inverse[e];
             (!k.is_empty()).then_some((k.as_slice(), conjugate))
@@ -322,7 +323,7 @@ mod tests {
                         DVector::from_fn(dim * grid.len(), |i, _| ((i * 7 + 3) % 11) as f64 - 5.0);
                     let cv = &circ * &v;
                     let mut back = vec![0.0; v.len()];
-                    inv.apply(cv.as_slice(), &mut back);
+                    inv.apply(cv.as_slice(), &mut back, 1.0);
                     let err = (DVector::from_vec(back) - &v).amax();
                     assert!(err <= 1e-9 * v.amax(), "{nx}x{ny}, nt {nt}: error {err:e}");
                 }

@@ -150,10 +150,11 @@ impl ComplianceOperator {
             + CirculantInverse::memory_estimate_bytes(grid, n_tangential, coupled)
     }
 
-    /// `out = C_circ^-1 v`: the inverse of the operator's circulant approximation
-    /// ([`CirculantInverse`]), N/m times m; a preconditioner for systems in this operator.
-    pub fn apply_approximate_inverse(&self, v: &[f64], out: &mut [f64]) {
-        self.preconditioner.apply(v, out)
+    /// `out = factor C_circ^-1 v`: the inverse of the operator's circulant approximation
+    /// ([`CirculantInverse`]), N/m times m, scaled in the same pass; a preconditioner for
+    /// systems in this operator.
+    pub fn apply_approximate_inverse_scaled(&self, v: &[f64], out: &mut [f64], factor: f64) {
+        self.preconditioner.apply(v, out, factor)
     }
 
     fn build_spectra(&mut self, table: &KernelTable) {
@@ -247,12 +248,18 @@ impl ComplianceOperator {
     /// then along `t1`, `t2`) of the dense matrix's product
     /// ([`super::influence::patch_compliance`]), to round-off.
     pub fn apply(&self, v: &[f64], out: &mut [f64]) {
+        self.apply_scaled(v, out, 1.0)
+    }
+
+    /// `out = factor C v`: [`ComplianceOperator::apply`] with its result scaled in the same
+    /// pass.
+    pub fn apply_scaled(&self, v: &[f64], out: &mut [f64], factor: f64) {
         let n = self.grid.len();
         let dim = 1 + self.n_tangential;
         assert_eq!(v.len(), dim * n, "vector length");
         assert_eq!(out.len(), dim * n, "output length");
         let terms: Vec<Vec<Term>> = (0..dim).map(|r| self.terms(r)).collect();
-        self.fft.multiply_blocks(v, out, dim, |r, c| {
+        self.fft.multiply_blocks(v, out, (dim, factor), |r, c| {
             let &(_, block, conjugate) = terms[r].iter().find(|t| t.0 == c)?;
             Some((self.spectra[block as usize].as_slice(), conjugate))
         });
@@ -459,3 +466,4 @@ mod tests {
         }
     }
 }
+

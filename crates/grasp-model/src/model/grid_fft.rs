@@ -5,9 +5,20 @@
 //!
 //! Spectra are kept in a transposed layout, `hy x px` (row `q`: the column transform of
 //! frequency `q` along `j`), with `hy = py / 2 + 1`: rows are transformed real-to-complex, then
-//! the columns complex-to-complex. Transforms of large grids run on all cores; each row or
-//! column is transformed the same way on any thread, so results do not depend on the number
-//! of threads.
+//! the columns complex-to-complex.
+//!
+//! A product with a block kernel ([`GridFft::multiply_blocks`]) runs in three passes, each
+//! split into independent tasks that run on all cores for large grids:
+//!
+//! 1. the grid's rows, real-to-complex (a task per few rows);
+//! 2. per tile of [`TILE`] frequencies `q`: the columns gathered, transformed, multiplied by
+//!    the kernel's rows and transformed back, all in a tile-sized scratch that stays in cache
+//!    (the padded spectrum is never stored whole);
+//! 3. the grid's rows back, complex-to-real.
+//!
+//! Every row, column and product is computed by the same code on any thread, and nothing is
+//! summed across tasks, so a product's bits do not depend on the number of threads. Scratch
+//! buffers are leased from a pool: after the first product, products allocate nothing.
 
 use std::sync::{Arc, Mutex};
 
@@ -18,31 +29,29 @@ use rustfft::{Fft, FftPlanner};
 /// Transform grids of at least this many points (256 x 256) transform on all cores.
 const PARALLEL_POINTS: usize = 256 * 256;
 
+/// Frequencies `q` whose columns one task transforms together (their scratch, `TILE px`
+/// complex numbers per component, stays in cache).
+const TILE: usize = 16;
+
+/// Grid rows one task transforms together.
+const ROWS: usize = 8;
+
 /// Work buffers kept per kind.
 const KEPT_BUFFERS: usize = 8;
 
-/// `dst[c dst_stride + r] = src[r src_stride + c]` for `r < rows`, `c < cols`: a transpose, in
-/// tiles that stay in cache, writing along `dst`'s rows (strided writes cost far more than
-/// strided reads).
-fn transpose(
-    src: &[Complex<f64>],
-    src_stride: usize,
-    (rows, cols): (usize, usize),
-    dst: &mut [Complex<f64>],
-    dst_stride: usize,
-) {
-    const TILE: usize = 16;
-    for r0 in (0..rows).step_by(TILE) {
-        let r1 = (r0 + TILE).min(rows);
-        for c0 in (0..cols).step_by(TILE) {
-            for c in c0..(c0 + TILE).min(cols) {
-                let line = &mut dst[c * dst_stride + r0..c * dst_stride + r1];
-                for (r, d) in (r0..r1).zip(line) {
-                    *d = src[r * src_stride + c];
-                }
-            }
-        }
-    }
+/// One task's work buffers.
+#[derive(Default)]
+struct Scratch {
+    /// Per component, the gathered columns of a tile, `TILE px`.
+    columns: Vec<Vec<Complex<f64>>>,
+    /// One output component's spectrum over a tile, `TILE px`.
+    sum: Vec<Complex<f64>>,
+    /// The transforms' scratch.
+    fft: Vec<Complex<f64>>,
+    /// A real row of the transform grid, `py`.
+    real: Vec<f64>,
+    /// Half-spectra of [`ROWS`] rows, `ROWS hy`.
+    half: Vec<Complex<f64>>,
 }
 
 /// A buffer of `len` from `pool` (its contents arbitrary), or a new one.
@@ -65,6 +74,24 @@ fn give<T>(pool: &Mutex<Vec<Vec<T>>>, b: Vec<T>) {
     }
 }
 
+/// A [`Scratch`] leased from a pool, given back when dropped.
+struct Lease<'p> {
+    pool: &'p Mutex<Vec<Scratch>>,
+    scratch: Scratch,
+}
+
+impl Drop for Lease<'_> {
+    fn drop(&mut self) {
+        if let Ok(mut p) = self.pool.lock() {
+            p.push(std::mem::take(&mut self.scratch));
+        }
+    }
+}
+
+/// One output component's terms: per source component, the kernel's spectrum and whether it
+/// is read conjugated.
+type Terms<'k> = Vec<(usize, &'k [Complex<f64>], bool)>;
+
 /// Plans and work buffers for the transforms of an `nx x ny` grid embedded in a `px x py`
 /// periodic grid (`px >= nx`, `py >= ny`; the rest zero).
 pub(crate) struct GridFft {
@@ -79,10 +106,11 @@ pub(crate) struct GridFft {
     c2r: Arc<dyn ComplexToReal<f64>>,
     forward: Arc<dyn Fft<f64>>,
     inverse: Arc<dyn Fft<f64>>,
-    /// Work buffers kept between transforms: a fresh allocation of this size faults in new
-    /// pages at every product.
-    complex_buffers: Mutex<Vec<Vec<Complex<f64>>>>,
-    real_buffers: Mutex<Vec<Vec<f64>>>,
+    /// Row and column spectra kept between products: a fresh allocation of this size faults
+    /// in new pages at every product.
+    buffers: Mutex<Vec<Vec<Complex<f64>>>>,
+    /// Tasks' scratch kept between products.
+    scratch: Mutex<Vec<Scratch>>,
 }
 
 impl GridFft {
@@ -100,8 +128,8 @@ impl GridFft {
             c2r: real.plan_fft_inverse(py),
             forward: complex.plan_fft_forward(px),
             inverse: complex.plan_fft_inverse(px),
-            complex_buffers: Mutex::new(Vec::new()),
-            real_buffers: Mutex::new(Vec::new()),
+            buffers: Mutex::new(Vec::new()),
+            scratch: Mutex::new(Vec::new()),
         }
     }
 
@@ -110,168 +138,247 @@ impl GridFft {
         self.hy * self.px
     }
 
-    /// A zeroed spectrum-sized buffer (from the pool when one is free).
-    pub fn zeroed_spectrum(&self) -> Vec<Complex<f64>> {
-        let mut b = take(&self.complex_buffers, self.spectrum_len());
-        b.fill(Complex::default());
-        b
-    }
-
-    /// Gives a spectrum-sized buffer back for reuse.
-    pub fn recycle(&self, b: Vec<Complex<f64>>) {
-        give(&self.complex_buffers, b);
-    }
-
-    /// The 2-D spectrum of a real array on the transform grid (`px x py`, row-major;
-    /// overwritten) whose rows from `nonzero_rows` on are zero, in the transposed layout.
-    pub fn transform(&self, padded: &mut [f64], nonzero_rows: usize) -> Vec<Complex<f64>> {
-        let (px, py, hy) = (self.px, self.py, self.hy);
-        let mut rows = take(&self.complex_buffers, px * hy);
-        rows[nonzero_rows * hy..].fill(Complex::default());
-        let row_transform = |(input, output): (&mut [f64], &mut [Complex<f64>])| {
-            // Lengths are the plan's: the transform cannot fail.
-            let _ = self.r2c.process(input, output);
-        };
-        let (inputs, outputs) = (
-            &mut padded[..nonzero_rows * py],
-            &mut rows[..nonzero_rows * hy],
-        );
-        if self.parallel() {
-            use rayon::prelude::*;
-            inputs
-                .par_chunks_exact_mut(py)
-                .zip(outputs.par_chunks_exact_mut(hy))
-                .for_each(row_transform);
-        } else {
-            inputs
-                .chunks_exact_mut(py)
-                .zip(outputs.chunks_exact_mut(hy))
-                .for_each(row_transform);
-        }
-        // Every entry is written by the transpose.
-        let mut spectrum = take(&self.complex_buffers, hy * px);
-        transpose(&rows, hy, (px, hy), &mut spectrum, px);
-        give(&self.complex_buffers, rows);
-        self.columns(&mut spectrum, &self.forward);
-        spectrum
-    }
-
-    /// The spectrum of values on the grid (`nx x ny`, row-major), zero elsewhere on the
-    /// transform grid.
-    pub fn spectrum_of(&self, values: &[f64]) -> Vec<Complex<f64>> {
-        let (ny, py) = (self.ny, self.py);
-        let mut padded = take(&self.real_buffers, self.px * py);
-        for (i, row) in values.chunks_exact(ny).enumerate() {
-            padded[i * py..i * py + ny].copy_from_slice(row);
-            padded[i * py + ny..(i + 1) * py].fill(0.0);
-        }
-        // Rows from nx on are not read (the transform skips them).
-        let spectrum = self.transform(&mut padded, self.nx);
-        give(&self.real_buffers, padded);
-        spectrum
-    }
-
-    /// The column transforms (length `px`) of a spectrum in the transposed layout.
-    fn columns(&self, spectrum: &mut [Complex<f64>], plan: &Arc<dyn Fft<f64>>) {
-        if self.parallel() {
-            use rayon::prelude::*;
-            let chunk = self.px * self.hy.div_ceil(rayon::current_num_threads().max(1));
-            spectrum.par_chunks_mut(chunk).for_each(|c| plan.process(c));
-        } else {
-            plan.process(spectrum);
-        }
-    }
-
     /// True when the grid is large enough for the transforms to pay for threads.
     pub fn parallel(&self) -> bool {
         self.px * self.py >= PARALLEL_POINTS
     }
 
-    /// The real array on the grid (`nx x ny`, row-major) whose spectrum on the transform grid
-    /// is `spectrum` (transposed layout; overwritten), scaled by `1 / (px py)` (the inverse
-    /// transform), added into `out`.
-    pub fn add_inverse(&self, spectrum: &mut [Complex<f64>], out: &mut [f64]) {
-        let (px, py, hy) = (self.px, self.py, self.hy);
-        let (nx, ny) = (self.nx, self.ny);
-        self.columns(spectrum, &self.inverse);
-        let scale = 1.0 / (px * py) as f64;
-        // The grid's rows of the spectrum, each a contiguous half-spectrum for c2r.
-        let mut rows = take(&self.complex_buffers, nx * hy);
-        transpose(spectrum, px, (hy, nx), &mut rows, hy);
-        let row_inverse =
-            |real: &mut Vec<f64>, (row, out_row): (&mut [Complex<f64>], &mut [f64])| {
-                // The zero and Nyquist frequencies of a real signal are real; round-off in their
-                // imaginary parts is dropped rather than refused.
-                row[0].im = 0.0;
-                if py % 2 == 0 {
-                    row[hy - 1].im = 0.0;
-                }
-                let _ = self.c2r.process(row, real);
-                for (o, r) in out_row.iter_mut().zip(&real[..ny]) {
-                    *o += scale * r;
-                }
-            };
-        if self.parallel() {
-            use rayon::prelude::*;
-            rows.par_chunks_exact_mut(hy)
-                .zip(out.par_chunks_exact_mut(ny))
-                .for_each_init(|| vec![0.0; py], row_inverse);
-        } else {
-            let mut real = vec![0.0; py];
-            rows.chunks_exact_mut(hy)
-                .zip(out.chunks_exact_mut(ny))
-                .for_each(|pair| row_inverse(&mut real, pair));
+    /// A scratch from the pool (or a new one), sized for `dim` components.
+    fn lease(&self, dim: usize) -> Lease<'_> {
+        let mut scratch = self
+            .scratch
+            .lock()
+            .ok()
+            .and_then(|mut p| p.pop())
+            .unwrap_or_default();
+        let tile = TILE * self.px;
+        if scratch.columns.len() < dim.max(1) {
+            scratch.columns.resize_with(dim.max(1), Vec::new);
         }
-        give(&self.complex_buffers, rows);
+        for c in &mut scratch.columns {
+            c.resize(tile, Complex::default());
+        }
+        scratch.sum.resize(tile, Complex::default());
+        let fft = [
+            self.forward.get_inplace_scratch_len(),
+            self.inverse.get_inplace_scratch_len(),
+            self.r2c.get_scratch_len(),
+            self.c2r.get_scratch_len(),
+        ];
+        scratch
+            .fft
+            .resize(fft.into_iter().max().unwrap_or(0), Complex::default());
+        scratch.real.resize(self.py, 0.0);
+        scratch.half.resize(ROWS * self.hy, Complex::default());
+        Lease {
+            pool: &self.scratch,
+            scratch,
+        }
     }
 
-    /// `out_r = sum_c K_rc * v_c` for a vector of `dim` components on the grid
-    /// (component-major, `n = nx ny` each): each component transformed once, each output
-    /// accumulated over its blocks in the spectrum and transformed back once. `kernel(r, c)`
-    /// gives block `(r, c)`'s spectrum and whether it is read conjugated (a transposed
-    /// block), or `None` where the block is zero. Components that are zero are skipped.
+    /// `task(scratch, k, chunk)` for every `chunk`-long piece `k` of `data`: on all cores for
+    /// a large grid, each task with a leased scratch.
+    fn each_chunk<T: Send>(
+        &self,
+        data: &mut [T],
+        chunk: usize,
+        dim: usize,
+        task: impl Fn(&mut Scratch, usize, &mut [T]) + Sync + Send,
+    ) {
+        if self.parallel() {
+            use rayon::prelude::*;
+            data.par_chunks_mut(chunk)
+                .enumerate()
+                .for_each_init(|| self.lease(dim), |s, (k, c)| task(&mut s.scratch, k, c));
+        } else {
+            let mut s = self.lease(dim);
+            for (k, c) in data.chunks_mut(chunk).enumerate() {
+                task(&mut s.scratch, k, c);
+            }
+        }
+    }
+
+    /// The half-spectra (`hy` each, into `rows`) of the first `rows.len() / hy` rows of
+    /// `src`, whose rows are `stride` long and hold values in their first `width <= py`
+    /// entries (zero beyond, up to `py`).
+    fn row_spectra(&self, src: &[f64], (stride, width): (usize, usize), rows: &mut [Complex<f64>]) {
+        let hy = self.hy;
+        self.each_chunk(rows, ROWS * hy, 1, |s, k, out| {
+            for (r, spectrum) in out.chunks_exact_mut(hy).enumerate() {
+                let i = k * ROWS + r;
+                s.real[..width].copy_from_slice(&src[i * stride..i * stride + width]);
+                s.real[width..].fill(0.0);
+                // Lengths are the plan's: the transform cannot fail.
+                let _ = self
+                    .r2c
+                    .process_with_scratch(&mut s.real, spectrum, &mut s.fft);
+            }
+        });
+    }
+
+    /// Columns `q0 .. q0 + tile` of `rows` (`n_rows x hy`), each zero-padded to `px`, into
+    /// `dst` (`tile px`, column after column).
+    fn gather_columns(
+        &self,
+        rows: &[Complex<f64>],
+        n_rows: usize,
+        q0: usize,
+        dst: &mut [Complex<f64>],
+    ) {
+        let (px, hy) = (self.px, self.hy);
+        let tile = dst.len() / px;
+        for t in 0..tile {
+            dst[t * px + n_rows..(t + 1) * px].fill(Complex::default());
+        }
+        for i in 0..n_rows {
+            let src = &rows[i * hy + q0..i * hy + q0 + tile];
+            for (t, v) in src.iter().enumerate() {
+                dst[t * px + i] = *v;
+            }
+        }
+    }
+
+    /// The 2-D spectrum of a real array on the transform grid (`px x py`, row-major; its
+    /// rows from `nonzero_rows` on are zero and not read), in the transposed layout.
+    pub fn transform(&self, padded: &mut [f64], nonzero_rows: usize) -> Vec<Complex<f64>> {
+        let (px, py, hy) = (self.px, self.py, self.hy);
+        let mut rows = take(&self.buffers, nonzero_rows * hy);
+        self.row_spectra(padded, (py, py), &mut rows);
+        let mut spectrum = vec![Complex::default(); hy * px];
+        self.each_chunk(&mut spectrum, TILE * px, 1, |s, k, cols| {
+            self.gather_columns(&rows, nonzero_rows, k * TILE, cols);
+            self.forward.process_with_scratch(cols, &mut s.fft);
+        });
+        give(&self.buffers, rows);
+        spectrum
+    }
+
+    /// The tile `k` of frequencies of every output component with terms: the sources' columns
+    /// transformed, multiplied by the kernels and transformed back; their first `nx` entries
+    /// into `out` (`tile x dim x nx`, frequency-major).
+    fn tile_products(
+        &self,
+        s: &mut Scratch,
+        k: usize,
+        rows: &[Complex<f64>],
+        terms: &[Terms],
+        out: &mut [Complex<f64>],
+    ) {
+        let (nx, px, hy) = (self.nx, self.px, self.hy);
+        let (q0, dim) = (k * TILE, terms.len());
+        let tile = out.len() / (dim * nx);
+        let len = tile * px;
+        let mut sources = [false; 3];
+        terms
+            .iter()
+            .flatten()
+            .for_each(|&(c, _, _)| sources[c] = true);
+        for (c, cols) in s
+            .columns
+            .iter_mut()
+            .enumerate()
+            .filter(|(c, _)| sources[*c])
+        {
+            let cols = &mut cols[..len];
+            self.gather_columns(&rows[c * nx * hy..(c + 1) * nx * hy], nx, q0, cols);
+            self.forward.process_with_scratch(cols, &mut s.fft);
+        }
+        for (r, row_terms) in terms.iter().enumerate().filter(|(_, t)| !t.is_empty()) {
+            let sum = &mut s.sum[..len];
+            sum.fill(Complex::default());
+            for &(c, kernel, conjugate) in row_terms {
+                let terms = sum.iter_mut().zip(&kernel[q0 * px..q0 * px + len]);
+                let x = &s.columns[c][..len];
+                match conjugate {
+                    true => terms.zip(x).for_each(|((a, kk), x)| *a += kk.conj() * x),
+                    false => terms.zip(x).for_each(|((a, kk), x)| *a += kk * x),
+                }
+            }
+            self.inverse.process_with_scratch(sum, &mut s.fft);
+            for t in 0..tile {
+                let o = (t * dim + r) * nx;
+                out[o..o + nx].copy_from_slice(&sum[t * px..t * px + nx]);
+            }
+        }
+    }
+
+    /// Output component `r`'s grid values (`nx x ny`, into `out`) from its spectra in
+    /// `columns` (`hy x dim x nx`, frequency-major), scaled by `factor / (px py)`.
+    fn rows_back(
+        &self,
+        columns: &[Complex<f64>],
+        (r, dim): (usize, usize),
+        factor: f64,
+        out: &mut [f64],
+    ) {
+        let (nx, ny, py, hy) = (self.nx, self.ny, self.py, self.hy);
+        let scale = factor / (self.px * py) as f64;
+        self.each_chunk(out, ROWS * ny, 1, |s, k, out_rows| {
+            let n_rows = out_rows.len() / ny;
+            let i0 = k * ROWS;
+            for q in 0..hy {
+                let o = (q * dim + r) * nx + i0;
+                for (t, v) in columns[o..o + n_rows].iter().enumerate() {
+                    s.half[t * hy + q] = *v;
+                }
+            }
+            for (t, out_row) in out_rows.chunks_exact_mut(ny).enumerate() {
+                let half = &mut s.half[t * hy..(t + 1) * hy];
+                // The zero and Nyquist frequencies of a real signal are real; round-off in
+                // their imaginary parts is dropped rather than refused.
+                half[0].im = 0.0;
+                if py % 2 == 0 {
+                    half[hy - 1].im = 0.0;
+                }
+                let _ = self.c2r.process_with_scratch(half, &mut s.real, &mut s.fft);
+                for (o, v) in out_row.iter_mut().zip(&s.real[..ny]) {
+                    *o = scale * v;
+                }
+            }
+        });
+    }
+
+    /// `out_r = factor sum_c K_rc * v_c` for a vector of `dim` components on the grid
+    /// (component-major, `n = nx ny` each). `kernel(r, c)` gives block `(r, c)`'s spectrum
+    /// and whether it is read conjugated (a transposed block), or `None` where the block is
+    /// zero. Components that are zero are skipped.
     pub fn multiply_blocks<'k>(
         &self,
         v: &[f64],
         out: &mut [f64],
-        dim: usize,
+        (dim, factor): (usize, f64),
         kernel: impl Fn(usize, usize) -> Option<(&'k [Complex<f64>], bool)>,
     ) {
-        let n = self.nx * self.ny;
+        let (nx, ny, hy) = (self.nx, self.ny, self.hy);
+        let n = nx * ny;
         out.fill(0.0);
         if n == 0 {
             return;
         }
-        let spectra: Vec<Option<Vec<Complex<f64>>>> = (0..dim)
-            .map(|c| {
-                let part = &v[c * n..(c + 1) * n];
-                part.iter()
-                    .any(|x| *x != 0.0)
-                    .then(|| self.spectrum_of(part))
+        let nonzero: Vec<bool> = (0..dim)
+            .map(|c| v[c * n..(c + 1) * n].iter().any(|x| *x != 0.0))
+            .collect();
+        let terms: Vec<Terms> = (0..dim)
+            .map(|r| {
+                (0..dim)
+                    .filter(|&c| nonzero[c])
+                    .filter_map(|c| kernel(r, c).map(|(k, conj)| (c, k, conj)))
+                    .collect()
             })
             .collect();
-        let mut acc = self.zeroed_spectrum();
-        for r in 0..dim {
-            acc.fill(Complex::default());
-            let mut any = false;
-            for (c, vc) in spectra.iter().enumerate() {
-                let (Some(vc), Some((k, conjugate))) = (vc, kernel(r, c)) else {
-                    continue;
-                };
-                any = true;
-                let terms = acc.iter_mut().zip(k).zip(vc);
-                match conjugate {
-                    true => terms.for_each(|((a, kk), x)| *a += kk.conj() * x),
-                    false => terms.for_each(|((a, kk), x)| *a += kk * x),
-                }
-            }
-            if any {
-                self.add_inverse(&mut acc, &mut out[r * n..(r + 1) * n]);
-            }
+        let mut rows = take(&self.buffers, dim * nx * hy);
+        for c in (0..dim).filter(|&c| nonzero[c]) {
+            let part = &mut rows[c * nx * hy..(c + 1) * nx * hy];
+            self.row_spectra(&v[c * n..(c + 1) * n], (ny, ny), part);
         }
-        self.recycle(acc);
-        for s in spectra.into_iter().flatten() {
-            self.recycle(s);
+        let mut columns = take(&self.buffers, hy * dim * nx);
+        self.each_chunk(&mut columns, TILE * dim * nx, dim, |s, k, tile| {
+            self.tile_products(s, k, &rows, &terms, tile)
+        });
+        for r in (0..dim).filter(|&r| !terms[r].is_empty()) {
+            self.rows_back(&columns, (r, dim), factor, &mut out[r * n..(r + 1) * n]);
         }
+        give(&self.buffers, rows);
+        give(&self.buffers, columns);
     }
 }

@@ -193,19 +193,29 @@ impl KernelTable {
     /// [`offset_table`] through [`BlockKernels`] (model.md's table; Johnson 3.22c, 3.86a-c).
     pub fn half_space(grid: &GridSpec, pair: &PairConstants) -> Self {
         let kernels = BlockKernels::new(grid, pair);
-        let values = offset_table(grid)
-            .iter()
-            .map(|r| {
-                [
-                    kernels.nn(r),
-                    kernels.t11(r),
-                    kernels.t22(r),
-                    kernels.t12(r),
-                    kernels.n1(r),
-                    kernels.n2(r),
-                ]
-            })
-            .collect();
+        let (wx, wy) = (2 * grid.nx - 1, 2 * grid.ny - 1);
+        let mut values = vec![[0.0; 6]; wx * wy];
+        // Row `a` of offsets, each entry from its own rectangle integrals: the same on any
+        // thread, so the table's bits do not depend on the threads.
+        let row = |(a, out): (usize, &mut [[f64; 6]])| {
+            for (b, v) in out.iter_mut().enumerate() {
+                let r = offset_integrals(grid, a, b);
+                *v = [
+                    kernels.nn(&r),
+                    kernels.t11(&r),
+                    kernels.t22(&r),
+                    kernels.t12(&r),
+                    kernels.n1(&r),
+                    kernels.n2(&r),
+                ];
+            }
+        };
+        if wx * wy >= PARALLEL_OFFSETS {
+            use rayon::prelude::*;
+            values.par_chunks_mut(wy).enumerate().for_each(row);
+        } else {
+            values.chunks_mut(wy).enumerate().for_each(row);
+        }
         KernelTable {
             grid: *grid,
             values,
@@ -337,18 +347,23 @@ pub fn patch_compliance(table: &KernelTable, n_tangential: usize) -> DMatrix<f64
 /// The rectangle integrals of every index offset of a grid, `(di, dj)` in
 /// `(-(nx-1)..nx) x (-(ny-1)..ny)`, row-major over `di` then `dj` (`(2 nx - 1)(2 ny - 1)`
 /// entries): the compliance is block-Toeplitz, so these are all it depends on.
+#[cfg(test)]
 pub fn offset_table(grid: &GridSpec) -> Vec<RectangleIntegrals> {
-    let (nx, ny, hx, hy) = (grid.nx, grid.ny, grid.hx, grid.hy);
-    let (wx, wy) = (2 * nx - 1, 2 * ny - 1);
-    let mut table = Vec::with_capacity(wx * wy);
-    for a in 0..wx {
-        let di = a as f64 - (nx as f64 - 1.0);
-        for b in 0..wy {
-            let dj = b as f64 - (ny as f64 - 1.0);
-            table.push(RectangleIntegrals::for_offset(di * hx, dj * hy, hx, hy));
-        }
-    }
-    table
+    let (wx, wy) = (2 * grid.nx - 1, 2 * grid.ny - 1);
+    (0..wx)
+        .flat_map(|a| (0..wy).map(move |b| offset_integrals(grid, a, b)))
+        .collect()
+}
+
+/// Tables of at least this many offsets are computed on all cores.
+const PARALLEL_OFFSETS: usize = 1 << 14;
+
+/// The rectangle integrals of table index `(a, b)` (offset `(a - (nx - 1), b - (ny - 1))`
+/// elements), the entries of [`offset_table`].
+fn offset_integrals(grid: &GridSpec, a: usize, b: usize) -> RectangleIntegrals {
+    let di = a as f64 - (grid.nx as f64 - 1.0);
+    let dj = b as f64 - (grid.ny as f64 - 1.0);
+    RectangleIntegrals::for_offset(di * grid.hx, dj * grid.hy, grid.hx, grid.hy)
 }
 
 /// The compliance entries of one index offset, m/N, block by block (the formulas of

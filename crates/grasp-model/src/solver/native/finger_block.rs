@@ -140,8 +140,7 @@ impl FingerBlockData {
     /// operator's product, scaled, for an FFT patch).
     pub fn apply(&self, v: &[f64], out: &mut [f64]) {
         if let PatchCompliance::Fft(op) = &self.c {
-            op.apply(v, out);
-            out.iter_mut().for_each(|o| *o *= self.scale);
+            op.apply_scaled(v, out, self.scale);
             return;
         }
         out.fill(0.0);
@@ -188,10 +187,7 @@ impl FingerBlockData {
                 }
             }
             PatchCompliance::Fft(op) => {
-                op.apply_approximate_inverse(v, out);
-                for o in out.iter_mut() {
-                    *o /= self.scale;
-                }
+                op.apply_approximate_inverse_scaled(v, out, 1.0 / self.scale)
             }
         }
     }

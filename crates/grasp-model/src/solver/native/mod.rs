@@ -15,6 +15,8 @@
 //! - [`native_result`]: how a native solve ended (status, last iterate, work counted);
 //! - [`finger_block`]: one finger's fixed data (compliance block, equality columns, cones);
 //! - [`dense_cholesky`]: the in-place Cholesky shared by both methods;
+//! - [`parallel_vectors`]: vector arithmetic of the FFT path on all cores, with sums that do
+//!   not depend on the number of threads;
 //! - [`cones`]: an element's constraint set and its projection with a generalised Jacobian:
 //!   [`cones::element_cone`], [`cones::projection`], one file per cone
 //!   ([`cones::cone_nonnegative`], [`cones::cone_friction`], [`cones::cone_tresca`]);
@@ -34,6 +36,7 @@ pub(crate) mod finger_block;
 pub(crate) mod interior;
 pub(crate) mod native_result;
 pub(crate) mod newton;
+pub(crate) mod parallel_vectors;
 
 use crate::model::grasp_model::GraspModel;
 use crate::program::cone_program::ConeProgram;

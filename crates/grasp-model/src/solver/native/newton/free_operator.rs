@@ -20,8 +20,99 @@
 //! diagonal. Both parts are symmetric positive definite, so the preconditioner is.
 
 use crate::solver::native::finger_block::FingerBlockData;
+use crate::solver::native::parallel_vectors::{each_chunk, map_indices, VectorPool};
 
 use super::linearisation::Direction;
+
+/// `D_F` as a sparse matrix stored both ways: by free direction (for `D_F' v`) and by local
+/// unknown (for `D_F p`), so both products split into independent chunks of their output.
+#[derive(Debug, Clone, Default)]
+struct Directions {
+    /// Per direction `a`, its entries `by_direction[starts[a]..starts[a + 1]]`.
+    starts: Vec<usize>,
+    /// `(local index, d_a[c])`.
+    by_direction: Vec<(usize, f64)>,
+    /// Per local unknown `i`, its entries `by_unknown[unknown_starts[i]..unknown_starts[i + 1]]`.
+    unknown_starts: Vec<usize>,
+    /// `(direction, d_a[c])`.
+    by_unknown: Vec<(usize, f64)>,
+}
+
+impl Directions {
+    fn new(block: &FingerBlockData, free: &[Direction]) -> Self {
+        let mut starts = Vec::with_capacity(free.len() + 1);
+        let mut by_direction = Vec::with_capacity(free.len());
+        for d in free {
+            starts.push(by_direction.len());
+            for c in (0..block.dim).filter(|&c| d.dir[c] != 0.0) {
+                by_direction.push((block.index(d.element, c), d.dir[c]));
+            }
+        }
+        starts.push(by_direction.len());
+        let mut unknown_starts = vec![0; block.len() + 1];
+        for &(i, _) in &by_direction {
+            unknown_starts[i + 1] += 1;
+        }
+        for i in 0..block.len() {
+            unknown_starts[i + 1] += unknown_starts[i];
+        }
+        let mut fill = unknown_starts.clone();
+        let mut by_unknown = vec![(0, 0.0); by_direction.len()];
+        for a in 0..free.len() {
+            for &(i, coef) in &by_direction[starts[a]..starts[a + 1]] {
+                by_unknown[fill[i]] = (a, coef);
+                fill[i] += 1;
+            }
+        }
+        Directions {
+            starts,
+            by_direction,
+            unknown_starts,
+            by_unknown,
+        }
+    }
+
+    /// `full = D_F p` over the directions `keep` accepts (`full` a local vector, written
+    /// whole).
+    fn scatter(&self, p: &[f64], keep: impl Fn(usize) -> bool + Sync + Send, full: &mut [f64]) {
+        each_chunk(full, |s, chunk| {
+            for (i, f) in (s..s + chunk.len()).zip(chunk.iter_mut()) {
+                let entries = &self.by_unknown[self.unknown_starts[i]..self.unknown_starts[i + 1]];
+                *f = entries
+                    .iter()
+                    .filter(|(a, _)| keep(*a))
+                    .map(|&(a, coef)| coef * p[a])
+                    .sum();
+            }
+        });
+    }
+
+    /// `out[a] = d_a' full[k_a]` over the directions `keep` accepts, `other(a)` over the
+    /// rest, plus `base(a)` for all.
+    fn gather(
+        &self,
+        full: &[f64],
+        (keep, other): (
+            impl Fn(usize) -> bool + Sync + Send,
+            impl Fn(usize) -> f64 + Sync + Send,
+        ),
+        base: impl Fn(usize) -> f64 + Sync + Send,
+        out: &mut [f64],
+    ) {
+        each_chunk(out, |s, chunk| {
+            for (a, o) in (s..s + chunk.len()).zip(chunk.iter_mut()) {
+                let own = match keep(a) {
+                    true => {
+                        let entries = &self.by_direction[self.starts[a]..self.starts[a + 1]];
+                        entries.iter().map(|&(i, coef)| coef * full[i]).sum::<f64>()
+                    }
+                    false => other(a),
+                };
+                *o = base(a) + own;
+            }
+        });
+    }
+}
 
 /// `M` and its preconditioner for one finger's free directions.
 #[derive(Debug, Clone)]
@@ -37,53 +128,36 @@ pub(crate) struct FreeOperator {
     circulant: Vec<bool>,
     /// True when some direction is circulant-preconditioned.
     any_circulant: bool,
-    /// `D_F` as `(a, local index, d_a[c])` over its nonzero entries, direction by direction.
-    terms: Vec<(usize, usize, f64)>,
+    /// `D_F`.
+    directions: Directions,
+    /// Local vectors for the products.
+    work: VectorPool,
 }
 
 impl FreeOperator {
     /// The operator of `block` over `free`.
     pub fn new(block: &FingerBlockData, free: &[Direction]) -> Self {
-        let beta: Vec<f64> = free
-            .iter()
-            .map(|d| (1.0 - d.theta) / (block.gamma * d.theta))
-            .collect();
+        let beta = map_indices(free.len(), |a| {
+            (1.0 - free[a].theta) / (block.gamma * free[a].theta)
+        });
         // The compliance's part of `M[a, a]`, `d_a' P_i[k_a, k_a] d_a`.
-        let compliance_part: Vec<f64> = free
-            .iter()
-            .map(|d| {
-                let p: f64 = (0..block.dim)
-                    .map(|c| d.dir[c] * d.dir[c] * block.compliance_diagonal(c * block.elements))
-                    .sum();
-                block.scale * p
-            })
-            .collect();
-        let inverse_diagonal = compliance_part
-            .iter()
-            .zip(&beta)
-            .map(|(p, b)| 1.0 / (p + b))
-            .collect();
-        let circulant: Vec<bool> = compliance_part
-            .iter()
-            .zip(&beta)
-            .map(|(p, b)| b <= p)
-            .collect();
-        let terms = free
-            .iter()
-            .enumerate()
-            .flat_map(|(a, d)| {
-                (0..block.dim)
-                    .filter(|&c| d.dir[c] != 0.0)
-                    .map(move |c| (a, block.index(d.element, c), d.dir[c]))
-            })
-            .collect();
+        let compliance_part = map_indices(free.len(), |a| {
+            let d = &free[a];
+            let p: f64 = (0..block.dim)
+                .map(|c| d.dir[c] * d.dir[c] * block.compliance_diagonal(c * block.elements))
+                .sum();
+            block.scale * p
+        });
+        let inverse_diagonal = map_indices(free.len(), |a| 1.0 / (compliance_part[a] + beta[a]));
+        let circulant = map_indices(free.len(), |a| beta[a] <= compliance_part[a]);
         FreeOperator {
             free: free.to_vec(),
             beta,
             inverse_diagonal,
             any_circulant: circulant.iter().any(|c| *c),
             circulant,
-            terms,
+            directions: Directions::new(block, free),
+            work: VectorPool::default(),
         }
     }
 
@@ -92,71 +166,46 @@ impl FreeOperator {
         self.free.len()
     }
 
-    /// `D_F p` over the directions `keep` accepts (a local vector of the finger).
-    fn scatter(
-        &self,
-        block: &FingerBlockData,
-        p: &[f64],
-        keep: impl Fn(usize) -> bool,
-    ) -> Vec<f64> {
-        let mut full = vec![0.0; block.len()];
-        for &(a, i, coef) in &self.terms {
-            if keep(a) {
-                full[i] += coef * p[a];
-            }
-        }
-        full
-    }
-
-    /// `out[a] += d_a' v_full[k_a]` over the directions `keep` accepts.
-    fn gather(&self, full: &[f64], keep: impl Fn(usize) -> bool, out: &mut [f64]) {
-        for &(a, i, coef) in &self.terms {
-            if keep(a) {
-                out[a] += coef * full[i];
-            }
-        }
-    }
-
     /// `out = M p`.
     pub fn apply(&self, block: &FingerBlockData, p: &[f64], out: &mut [f64]) {
-        let full = self.scatter(block, p, |_| true);
-        let mut pfull = vec![0.0; block.len()];
+        let mut full = self.work.take(block.len());
+        self.directions.scatter(p, |_| true, &mut full);
+        let mut pfull = self.work.take(block.len());
         block.apply(&full, &mut pfull);
-        for ((o, &pa), &b) in out.iter_mut().zip(p).zip(&self.beta) {
-            *o = b * pa;
-        }
-        self.gather(&pfull, |_| true, out);
+        let all = (|_| true, |_| 0.0);
+        self.directions
+            .gather(&pfull, all, |a| self.beta[a] * p[a], out);
+        self.work.give(full);
+        self.work.give(pfull);
     }
 
     /// `z = D_F' Pc^-1 D_F r` on the circulant-preconditioned directions, `r / M[a, a]` on
     /// the others (the module's preconditioner).
     pub fn precondition(&self, block: &FingerBlockData, r: &[f64], z: &mut [f64]) {
-        for (a, za) in z.iter_mut().enumerate() {
-            *za = match self.circulant[a] {
-                true => 0.0,
-                false => r[a] * self.inverse_diagonal[a],
-            };
-        }
+        let circulant = |a: usize| self.circulant[a];
+        let diagonal = |a: usize| r[a] * self.inverse_diagonal[a];
+        let mut full = self.work.take(block.len());
+        let mut back = self.work.take(block.len());
         if self.any_circulant {
-            let full = self.scatter(block, r, |a| self.circulant[a]);
-            let mut back = vec![0.0; block.len()];
+            self.directions.scatter(r, circulant, &mut full);
             block.precondition(&full, &mut back);
-            self.gather(&back, |a| self.circulant[a], z);
         }
+        self.directions
+            .gather(&back, (circulant, diagonal), |_| 0.0, z);
+        self.work.give(full);
+        self.work.give(back);
     }
 
     /// `Et' = D_F' E_i'` as columns (one per equality row, each of length `n_free`).
     pub fn equality_columns(&self, block: &FingerBlockData) -> Vec<Vec<f64>> {
         (0..block.equality_rows())
             .map(|r| {
-                self.free
-                    .iter()
-                    .map(|d| {
-                        (0..block.dim)
-                            .map(|c| d.dir[c] * block.equality(r, block.index(d.element, c)))
-                            .sum()
-                    })
-                    .collect()
+                map_indices(self.free.len(), |a| {
+                    let d = &self.free[a];
+                    (0..block.dim)
+                        .map(|c| d.dir[c] * block.equality(r, block.index(d.element, c)))
+                        .sum()
+                })
             })
             .collect()
     }

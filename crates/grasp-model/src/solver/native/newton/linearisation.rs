@@ -22,6 +22,7 @@
 
 use crate::program::cone_program::BlockCone;
 use crate::solver::native::finger_block::FingerBlockData;
+use crate::solver::native::parallel_vectors::{map_indices_coarse, CHUNK};
 
 /// One Jacobian direction of one element.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -116,35 +117,67 @@ pub(crate) fn linearise(
     x: &[f64],
     y: &[f64],
 ) -> FingerLinearisation {
-    let d = block.dim;
+    let parts = for_element_chunks(block.elements, |range| {
+        let mut lin = FingerLinearisation::default();
+        for k in range {
+            linearise_element(block, cone, (x, y), k, &mut lin);
+        }
+        lin
+    });
     let mut lin = FingerLinearisation::default();
-    for k in 0..block.elements {
-        let xk = block.gather(x, k);
-        let v = projection_input(block, x, y, k);
-        let p = block.element_cone(cone, k).project(v, d);
-        let mut phi = [xk[0] - p.point[0], xk[1] - p.point[1], xk[2] - p.point[2]];
-        phi[d..].fill(0.0);
-        lin.residuals.push(phi);
-        for &f in phi.iter().take(d) {
-            lin.residual_sq += f * f;
-            lin.residual_max = lin.residual_max.max(f.abs());
-        }
-        for j in 0..d {
-            let dir = p.dirs[j];
-            let dj = Direction {
-                element: k,
-                dir,
-                theta: p.theta[j],
-                phi: (0..d).map(|c| dir[c] * phi[c]).sum(),
-            };
-            if dj.theta > 0.0 {
-                lin.free.push(dj);
-            } else {
-                lin.fixed.push(dj);
-            }
-        }
+    for part in parts {
+        lin.free.extend_from_slice(&part.free);
+        lin.fixed.extend_from_slice(&part.fixed);
+        lin.residuals.extend_from_slice(&part.residuals);
+        lin.residual_sq += part.residual_sq;
+        lin.residual_max = lin.residual_max.max(part.residual_max);
     }
     lin
+}
+
+/// `f(range)` for consecutive ranges of [`CHUNK`] elements out of `elements`, in order: on all
+/// cores for a large patch (each range is computed the same on any thread).
+fn for_element_chunks<T: Send>(
+    elements: usize,
+    f: impl Fn(std::ops::Range<usize>) -> T + Sync + Send,
+) -> Vec<T> {
+    let range = |c: usize| c * CHUNK..((c + 1) * CHUNK).min(elements);
+    map_indices_coarse(elements.div_ceil(CHUNK), elements, |c| f(range(c)))
+}
+
+/// Element `k`'s natural residual and Newton directions, appended to `lin`.
+fn linearise_element(
+    block: &FingerBlockData,
+    cone: &BlockCone,
+    (x, y): (&[f64], &[f64]),
+    k: usize,
+    lin: &mut FingerLinearisation,
+) {
+    let d = block.dim;
+    let xk = block.gather(x, k);
+    let v = projection_input(block, x, y, k);
+    let p = block.element_cone(cone, k).project(v, d);
+    let mut phi = [xk[0] - p.point[0], xk[1] - p.point[1], xk[2] - p.point[2]];
+    phi[d..].fill(0.0);
+    lin.residuals.push(phi);
+    for &f in phi.iter().take(d) {
+        lin.residual_sq += f * f;
+        lin.residual_max = lin.residual_max.max(f.abs());
+    }
+    for j in 0..d {
+        let dir = p.dirs[j];
+        let dj = Direction {
+            element: k,
+            dir,
+            theta: p.theta[j],
+            phi: (0..d).map(|c| dir[c] * phi[c]).sum(),
+        };
+        if dj.theta > 0.0 {
+            lin.free.push(dj);
+        } else {
+            lin.fixed.push(dj);
+        }
+    }
 }
 
 /// The residual norms of one finger at a trial point (no Jacobian): `(sum of squares, max)`.
@@ -155,19 +188,24 @@ pub(crate) fn residual_norms(
     y: &[f64],
 ) -> (f64, f64) {
     let d = block.dim;
-    let (mut sq, mut max) = (0.0, 0.0_f64);
-    for k in 0..block.elements {
-        let xk = block.gather(x, k);
-        let p = block
-            .element_cone(cone, k)
-            .project(projection_input(block, x, y, k), d);
-        for (c, &xc) in xk.iter().enumerate().take(d) {
-            let f = xc - p.point[c];
-            sq += f * f;
-            max = max.max(f.abs());
+    let parts = for_element_chunks(block.elements, |range| {
+        let (mut sq, mut max) = (0.0, 0.0_f64);
+        for k in range {
+            let xk = block.gather(x, k);
+            let p = block
+                .element_cone(cone, k)
+                .project(projection_input(block, x, y, k), d);
+            for (c, &xc) in xk.iter().enumerate().take(d) {
+                let f = xc - p.point[c];
+                sq += f * f;
+                max = max.max(f.abs());
+            }
         }
-    }
-    (sq, max)
+        (sq, max)
+    });
+    parts
+        .iter()
+        .fold((0.0, 0.0_f64), |(s, m), &(q, x)| (s + q, m.max(x)))
 }
 
 /// The linearisation used by a cold start from `x = 0`: every direction of the elements in

@@ -24,6 +24,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::solver::native::finger_block::FingerBlockData;
 use crate::solver::native::native_result::Counts;
+use crate::solver::native::parallel_vectors::{dot, each_chunk, max_abs};
 
 use super::free_operator::FreeOperator;
 use super::linearisation::FingerLinearisation;
@@ -46,12 +47,19 @@ struct Projected<'a> {
     k_null: DMatrix<f64>,
 }
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
 fn dot_split(a: &Split, b: &Split) -> f64 {
     a.iter().zip(b).map(|(x, y)| dot(x, y)).sum()
+}
+
+/// `x <- x + alpha y`, per finger.
+fn add_scaled(x: &mut Split, alpha: f64, y: &Split) {
+    for (xi, yi) in x.iter_mut().zip(y) {
+        each_chunk(xi, |s, c| {
+            c.iter_mut()
+                .zip(&yi[s..])
+                .for_each(|(a, b)| *a += alpha * b)
+        });
+    }
 }
 
 impl<'a> Projected<'a> {
@@ -108,62 +116,64 @@ impl<'a> Projected<'a> {
         })
     }
 
-    /// `f(i)` for every finger `i`, the fingers on all cores when there are several (each
-    /// finger's arithmetic is the same on any thread: the result does not depend on the
+    /// `f(i, out_i)` for every finger `i`, the fingers on all cores when there are several
+    /// (each finger's arithmetic is the same on any thread: the result does not depend on the
     /// threads).
-    fn per_finger(&self, f: impl Fn(usize) -> Vec<f64> + Sync + Send) -> Split {
+    fn per_finger(&self, out: &mut Split, f: impl Fn(usize, &mut [f64]) + Sync + Send) {
         if self.ops.len() > 1 {
             use rayon::prelude::*;
-            (0..self.ops.len()).into_par_iter().map(f).collect()
+            out.par_iter_mut().enumerate().for_each(|(i, o)| f(i, o));
         } else {
-            (0..self.ops.len()).map(f).collect()
+            out.iter_mut().enumerate().for_each(|(i, o)| f(i, o));
         }
     }
 
-    /// `G^-1 v`.
-    fn precondition(&self, v: &Split) -> Split {
-        self.per_finger(|i| {
-            let mut z = vec![0.0; v[i].len()];
-            self.ops[i].precondition(&self.blocks[i], &v[i], &mut z);
-            z
-        })
+    /// `z = G^-1 v`.
+    fn precondition(&self, v: &Split, z: &mut Split) {
+        self.per_finger(z, |i, z| {
+            self.ops[i].precondition(&self.blocks[i], &v[i], z)
+        });
     }
 
-    /// `M v`.
-    fn apply(&self, v: &Split) -> Split {
-        self.per_finger(|i| {
-            let mut out = vec![0.0; v[i].len()];
-            self.ops[i].apply(&self.blocks[i], &v[i], &mut out);
-            out
-        })
+    /// `out = M v`.
+    fn apply(&self, v: &Split, out: &mut Split) {
+        self.per_finger(out, |i, o| self.ops[i].apply(&self.blocks[i], &v[i], o));
     }
 
-    /// `out += cols w` per finger (`cols`: `et` or `y`).
+    /// Zero vectors, one per finger.
+    fn zeros(&self) -> Split {
+        self.ops.iter().map(|o| vec![0.0; o.len()]).collect()
+    }
+
+    /// `out += scale cols w` per finger (`cols`: `et` or `y`), in one pass.
     fn add_columns(cols: &[Vec<Vec<f64>>], w: &DVector<f64>, scale: f64, out: &mut Split) {
         for (c, o) in cols.iter().zip(out.iter_mut()) {
-            for (col, &wr) in c.iter().zip(w.iter()) {
-                if wr != 0.0 {
-                    for (x, v) in o.iter_mut().zip(col) {
-                        *x += scale * wr * v;
-                    }
+            each_chunk(o, |s, chunk| {
+                for (col, &wr) in c.iter().zip(w.iter()).filter(|(_, wr)| **wr != 0.0) {
+                    let f = scale * wr;
+                    chunk
+                        .iter_mut()
+                        .zip(&col[s..])
+                        .for_each(|(x, v)| *x += f * v);
                 }
-            }
+            });
         }
     }
 
-    /// Projects the residual `v` in place (`v <- v - A' w`) and returns `g = G^-1 v` and `w`.
-    fn project(&self, v: &mut Split) -> (Split, DVector<f64>) {
-        let mut g = self.precondition(v);
-        let w = &self.k_plus * self.a_times(&g);
+    /// Projects the residual `v` in place (`v <- v - A' w`), writes `g = G^-1 v` and returns
+    /// `w`.
+    fn project(&self, v: &mut Split, g: &mut Split) -> DVector<f64> {
+        self.precondition(v, g);
+        let w = &self.k_plus * self.a_times(g);
         Self::add_columns(&self.et, &w, -1.0, v);
-        Self::add_columns(&self.y, &w, -1.0, &mut g);
-        (g, w)
+        Self::add_columns(&self.y, &w, -1.0, g);
+        w
     }
 
     /// `xi_0 = G^-1 A' K^+ c`.
     fn particular(&self, c: &DVector<f64>) -> Split {
         let w = &self.k_plus * c;
-        let mut xi: Split = self.ops.iter().map(|o| vec![0.0; o.len()]).collect();
+        let mut xi = self.zeros();
         Self::add_columns(&self.y, &w, 1.0, &mut xi);
         xi
     }
@@ -192,22 +202,21 @@ fn pseudo_inverse(k: DMatrix<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
 }
 
 /// Projected conjugate gradients from `xi`, until the projected residual falls to
-/// [`CG_TOLERANCE`] of its start or its largest entry to `floor`: returns `xi` and `dlambda`
-/// (`None` when the residual did not fall to [`CG_ACCEPTABLE`] of its start or to `floor`, or
-/// is not finite) and the iterations.
+/// `relative` of its start or its largest entry to `floor`: returns `xi` and `dlambda`
+/// (`None` when the residual did not fall to [`CG_ACCEPTABLE`] of its start (or `relative`
+/// when that is larger) or to `floor`, or is not finite) and the iterations. The vectors are
+/// allocated once, before the iterations.
 fn solve(
     p: &Projected,
     r: &Split,
     mut xi: Split,
-    floor: f64,
+    (relative, floor): (f64, f64),
 ) -> (Option<(Split, DVector<f64>)>, u32) {
-    let mut res = p.apply(&xi);
-    for (v, ri) in res.iter_mut().zip(r) {
-        for (x, b) in v.iter_mut().zip(ri) {
-            *x -= b;
-        }
-    }
-    let (mut g, mut lambda) = p.project(&mut res);
+    let mut res = p.zeros();
+    p.apply(&xi, &mut res);
+    add_scaled(&mut res, -1.0, r);
+    let (mut g, mut g_new, mut md) = (p.zeros(), p.zeros(), p.zeros());
+    let mut lambda = p.project(&mut res, &mut g);
     let mut rg = dot_split(&res, &g);
     if !rg.is_finite() {
         return (None, 0);
@@ -217,54 +226,54 @@ fn solve(
     let n: usize = xi.iter().map(Vec::len).sum();
     let max = CG_ITERATIONS_PER_ROOT * ((n as f64).sqrt().ceil() as usize).max(1);
     let mut its = 0;
-    let small = |res: &Split| res.iter().flatten().all(|v| v.abs() <= floor);
+    let small = |res: &Split| res.iter().all(|v| max_abs(v) <= floor);
     let mut below_floor = small(&res);
-    while rg.max(0.0).sqrt() > CG_TOLERANCE * start && !below_floor && its < max {
+    while rg.max(0.0).sqrt() > relative * start && !below_floor && its < max {
         its += 1;
-        let md = p.apply(&d);
+        p.apply(&d, &mut md);
         let dmd = dot_split(&d, &md);
         if dmd.is_nan() || dmd <= 0.0 {
             break;
         }
         let alpha = rg / dmd;
-        for i in 0..xi.len() {
-            for a in 0..xi[i].len() {
-                xi[i][a] += alpha * d[i][a];
-                res[i][a] += alpha * md[i][a];
-            }
-        }
-        let (g_new, w) = p.project(&mut res);
-        lambda += w;
+        add_scaled(&mut xi, alpha, &d);
+        add_scaled(&mut res, alpha, &md);
+        lambda += p.project(&mut res, &mut g_new);
         let rg_new = dot_split(&res, &g_new);
         if !rg_new.is_finite() {
             return (None, its as u32);
         }
         below_floor = small(&res);
         let beta = rg_new / rg;
-        (g, rg) = (g_new, rg_new);
+        std::mem::swap(&mut g, &mut g_new);
+        rg = rg_new;
         for (di, gi) in d.iter_mut().zip(&g) {
-            for (x, y) in di.iter_mut().zip(gi) {
-                *x = -y + beta * *x;
-            }
+            each_chunk(di, |s, c| {
+                c.iter_mut()
+                    .zip(&gi[s..])
+                    .for_each(|(x, y)| *x = -y + beta * *x)
+            });
         }
     }
     let reached = rg.max(0.0).sqrt();
-    let converged = reached.is_finite() && (reached <= CG_ACCEPTABLE * start || below_floor);
+    let enough = CG_ACCEPTABLE.max(relative) * start;
+    let converged = reached.is_finite() && (reached <= enough || below_floor);
     let done = converged || start == 0.0;
     (done.then(|| (xi, -lambda)), its as u32)
 }
 
 /// The Newton step at the linearisations `lins` (one per finger, every finger an FFT one)
-/// with equality residual `e_res = E x - e`, its free rows solved to [`CG_TOLERANCE`] of
-/// their start or to `floor` (force units of the scaled program, 0 for none). `None` when
-/// the conjugate gradients fail.
+/// with equality residual `e_res = E x - e`, its free rows solved to `relative` (at least
+/// [`CG_TOLERANCE`]) of their start or to `floor` (force units of the scaled program, 0 for
+/// none): an inexact Newton step when `relative` is above [`CG_TOLERANCE`]. `None` when the
+/// conjugate gradients fail.
 pub(crate) fn projected_step(
     blocks: &[FingerBlockData],
     lins: &[FingerLinearisation],
     e_res: &[f64],
     n: usize,
     counts: &mut Counts,
-    floor: f64,
+    (relative, floor): (f64, f64),
 ) -> Option<Step> {
     let m = e_res.len();
     let halves: Vec<FingerHalf> = blocks
@@ -281,7 +290,7 @@ pub(crate) fn projected_step(
     let unreachable = &p.k_null * &rhs;
     let xi0 = p.particular(&(-&rhs));
     let r: Split = halves.iter().map(|h| h.g.clone()).collect();
-    let (solved, its) = solve(&p, &r, xi0, floor);
+    let (solved, its) = solve(&p, &r, xi0, (relative.max(CG_TOLERANCE), floor));
     counts.inner_iterations += its;
     let (xi, dlambda) = solved?;
     let mut step = Step::new(n, &dlambda, &unreachable);
