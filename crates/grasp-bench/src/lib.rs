@@ -4,7 +4,8 @@
 //! bundled example scenes; [`sample`] runs a prepared case once and says what it cost;
 //! [`statistics`] folds repeated samples (median, spread, growth exponent); [`peak_memory`]
 //! reads the process's resident memory (Linux `/proc`); [`peer`] runs the peer library of
-//! issue 21 (tamaas, through `scripts/peer-hertz.py`) on a Hertz case's grid.
+//! issue 21 (tamaas, through `scripts/peer-hertz.py`) on a Hertz case's grid;
+//! [`thread_scaling`] times a case on one thread and on every core.
 
 #![warn(missing_docs)]
 
@@ -14,7 +15,9 @@ pub mod peak_memory;
 pub mod peer;
 pub mod sample;
 pub mod statistics;
+pub mod thread_scaling;
 
 pub use case::{Case, CaseKind, Prepared, CASES, FFT_CASES, LAYER_CASES, LAYER_PAIRS, PEER_CASES};
 pub use error::BenchError;
 pub use sample::Sample;
+pub use thread_scaling::{thread_scaling, ThreadScaling};

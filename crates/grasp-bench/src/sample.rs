@@ -29,6 +29,8 @@ pub struct Sample {
     /// Solver iterations per solve (per step for a hand-off): Newton steps for the native
     /// solver, interior-point iterations for Clarabel.
     pub iterations: f64,
+    /// Conjugate-gradient iterations per solve (per step) of an FFT patch; 0 for dense ones.
+    pub inner_iterations: f64,
     /// Matrix factorisations per solve (per step); 0 where the solver does not count them.
     pub factorizations: f64,
     /// Steps of a hand-off (1 otherwise).
@@ -110,6 +112,7 @@ fn one_solve(
         build_s,
         unknowns: sol.solver.unknowns,
         iterations: f64::from(sol.solver.iterations),
+        inner_iterations: f64::from(sol.solver.inner_iterations),
         factorizations: f64::from(sol.solver.factorizations),
         steps: 1,
         fallbacks: usize::from(fell_back(p, &sol)),
@@ -133,6 +136,7 @@ fn hand_off(p: &Prepared, warm: bool) -> Result<Sample, BenchError> {
         build_s: 0.0,
         unknowns: 0,
         iterations: 0.0,
+        inner_iterations: 0.0,
         factorizations: 0.0,
         steps: 0,
         fallbacks: 0,
@@ -151,6 +155,7 @@ fn hand_off(p: &Prepared, warm: bool) -> Result<Sample, BenchError> {
         s.solve_s += sol.solve_time_s;
         s.unknowns = s.unknowns.max(sol.solver.unknowns);
         s.iterations += f64::from(sol.solver.iterations);
+        s.inner_iterations += f64::from(sol.solver.inner_iterations);
         s.factorizations += f64::from(sol.solver.factorizations);
         s.fallbacks += usize::from(fell_back(p, sol));
         s.error = s.error.max(sol.residuals.map_or(f64::NAN, |x| x.worst()));
@@ -168,6 +173,7 @@ fn hand_off(p: &Prepared, warm: bool) -> Result<Sample, BenchError> {
         &mut s.time_s,
         &mut s.solve_s,
         &mut s.iterations,
+        &mut s.inner_iterations,
         &mut s.factorizations,
     ] {
         *v /= n;

@@ -232,7 +232,10 @@ fn case_row(m: &Measured) -> Row {
         format!("{}-{}", time(m.min_s), time(m.max_s)),
         m.runs.to_string(),
         s.unknowns.to_string(),
-        format!("{:.2}", s.iterations),
+        match s.inner_iterations > 0.0 {
+            true => format!("{:.2} ({:.0} CG)", s.iterations, s.inner_iterations),
+            false => format!("{:.2}", s.iterations),
+        },
         format!("{:.2}", s.factorizations),
         mib,
         format!("{:.1e}", s.error),
@@ -512,6 +515,77 @@ impl Drop for ScratchFolder {
 }
 
 /// Timed runs of each batch configuration (after one untimed run).
+/// The fine patches timed on one thread and on every core, with their speed-up target.
+const SCALING_CASES: [&str; 2] = ["hertz_512x512_fft", "hertz_1024x1024_fft"];
+
+/// Two cores must make a fine patch at least this much faster than one.
+const SCALING_TARGET: f64 = 1.7;
+
+/// The 1024 x 1024 patch's conjugate-gradient iterations and peak memory must stay within
+/// these.
+const FINE_CG_LIMIT: f64 = 40.0;
+const FINE_MEMORY_LIMIT_MIB: f64 = 500.0;
+
+/// Rows of a fine patch timed on one thread and on every core: each time, and the speed-up
+/// against [`SCALING_TARGET`].
+fn scaling_rows(case: &Case, flags: &Flags) -> Result<Vec<Row>> {
+    let prepared = case.prepare(SolverChoice::Native)?;
+    let rounds = if flags.min_time_s > 0.0 { 3 } else { 1 };
+    let t = grasp_bench::thread_scaling(&prepared, rounds)?;
+    let mut rows = Vec::new();
+    for (label, secs) in [
+        ("1 thread".to_string(), t.one_thread_s),
+        (format!("{} threads", t.cores), t.all_cores_s),
+    ] {
+        let mut row = vec![String::new(); HEADER.len()];
+        row[0] = case.name.to_string();
+        row[1] = format!("build + solve, {label}");
+        row[2] = SolverChoice::Native.to_string();
+        row[3] = time(secs);
+        row[5] = t.runs.to_string();
+        rows.push(row);
+    }
+    let mut row = vec![String::new(); HEADER.len()];
+    row[0] = format!("{} speed-up", case.name);
+    row[1] = format!("{} cores / 1", t.cores);
+    row[2] = SolverChoice::Native.to_string();
+    row[3] = format!("{:.2}x", t.speed_up());
+    row[11] = match t.speed_up() >= SCALING_TARGET {
+        true => format!(">= {SCALING_TARGET}x (met)"),
+        false => format!(">= {SCALING_TARGET}x (MISSED)"),
+    };
+    rows.push(row);
+    Ok(rows)
+}
+
+/// The 1024 x 1024 patch's conjugate-gradient iterations and peak memory against their
+/// limits.
+fn fine_limit_rows(all: &[Measured]) -> Vec<Row> {
+    let Some(m) = find(all, "hertz_1024x1024_fft", SolverChoice::Native) else {
+        return Vec::new();
+    };
+    let mut rows = Vec::new();
+    let mib = m.first.peak_memory_bytes.map(|b| b as f64 / 1048576.0);
+    for (what, value, limit) in [
+        (
+            "CG iterations",
+            Some(m.first.inner_iterations),
+            FINE_CG_LIMIT,
+        ),
+        ("peak MiB", mib, FINE_MEMORY_LIMIT_MIB),
+    ] {
+        let Some(value) = value else { continue };
+        let mut row = vec![String::new(); HEADER.len()];
+        row[0] = format!("hertz_1024x1024_fft {what}");
+        row[1] = "per solve".into();
+        row[2] = SolverChoice::Native.to_string();
+        row[3] = format!("{value:.0}");
+        row[11] = verdict(value, limit, |x| format!("{x:.0}"));
+        rows.push(row);
+    }
+    rows
+}
+
 const BATCH_ROUNDS: usize = 5;
 
 /// Scenes per second of one in-process batch run on `threads` threads (output discarded).
@@ -685,7 +759,15 @@ fn run(flags: Flags) -> Result<ExitCode> {
         if PEER_CASES.contains(&case.name) {
             rows.extend(peer_case(&measured[start..], &mut peer, &mut notes));
         }
+        if SCALING_CASES.contains(&case.name) && flags.solvers.contains(&SolverChoice::Native) {
+            progress(&format!(
+                "bench: {} on 1 thread and on every core",
+                case.name
+            ));
+            rows.extend(scaling_rows(case, &flags)?);
+        }
     }
+    rows.extend(fine_limit_rows(&measured));
     if let Err(reason) = &peer {
         if chosen.iter().any(|c| PEER_CASES.contains(&c.name)) {
             notes.push(peer_missing_note(reason));

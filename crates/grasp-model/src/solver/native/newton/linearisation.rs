@@ -124,7 +124,13 @@ pub(crate) fn linearise(
         }
         lin
     });
-    let mut lin = FingerLinearisation::default();
+    let total = |f: fn(&FingerLinearisation) -> usize| parts.iter().map(f).sum::<usize>();
+    let mut lin = FingerLinearisation {
+        free: Vec::with_capacity(total(|p| p.free.len())),
+        fixed: Vec::with_capacity(total(|p| p.fixed.len())),
+        residuals: Vec::with_capacity(block.elements),
+        ..FingerLinearisation::default()
+    };
     for part in parts {
         lin.free.extend_from_slice(&part.free);
         lin.fixed.extend_from_slice(&part.fixed);

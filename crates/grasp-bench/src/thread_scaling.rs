@@ -1,0 +1,63 @@
+//! How a case's time scales with the cores: its runs on a one-thread pool and on a pool of
+//! every core, alternated (a slow moment of the machine falls on both), medians compared.
+//! The solver's parallel parts run on the pool they are called from, so the one-thread pool
+//! is the serial program.
+
+use crate::case::Prepared;
+use crate::error::BenchError;
+use crate::sample::Sample;
+use crate::statistics::median_and_range;
+
+/// A case timed on one thread and on every core.
+#[derive(Debug, Clone)]
+pub struct ThreadScaling {
+    /// Cores of the machine (threads of the second pool).
+    pub cores: usize,
+    /// Median time on one thread, s.
+    pub one_thread_s: f64,
+    /// Median time on every core, s.
+    pub all_cores_s: f64,
+    /// Timed runs of each.
+    pub runs: usize,
+    /// The first run on every core (its iterations and memory).
+    pub sample: Sample,
+}
+
+impl ThreadScaling {
+    /// One thread's time over every core's: the speed-up.
+    pub fn speed_up(&self) -> f64 {
+        self.one_thread_s / self.all_cores_s
+    }
+}
+
+fn pool(threads: usize, p: &Prepared) -> Result<rayon::ThreadPool, BenchError> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| BenchError::Run {
+            case: p.case.name.to_string(),
+            message: format!("thread pool: {e}"),
+        })
+}
+
+/// Times `p` on one thread and on every core, `rounds` alternating runs of each after one
+/// untimed run of each (thread start-up, first-touch memory).
+pub fn thread_scaling(p: &Prepared, rounds: usize) -> Result<ThreadScaling, BenchError> {
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get());
+    let (one, all) = (pool(1, p)?, pool(cores, p)?);
+    let sample = all.install(|| p.run(true))?;
+    one.install(|| p.run(false))?;
+    let (mut t1, mut tn) = (Vec::new(), Vec::new());
+    for _ in 0..rounds.max(1) {
+        t1.push(one.install(|| p.run(false))?.time_s);
+        tn.push(all.install(|| p.run(false))?.time_s);
+    }
+    let median = |v: &[f64]| median_and_range(v).map_or(f64::NAN, |m| m.0);
+    Ok(ThreadScaling {
+        cores,
+        one_thread_s: median(&t1),
+        all_cores_s: median(&tn),
+        runs: t1.len(),
+        sample,
+    })
+}
