@@ -21,7 +21,8 @@ use crate::solve_flags::SolveFlags;
 pub struct Args {
     /// Scene file (JSON; see `grasp schema`).
     pub scene: PathBuf,
-    /// Write the whole solution (elements, residuals, timing) as JSON to this file.
+    /// Write the whole solution (elements, residuals, timing) as JSON to this file (a finger
+    /// of more than 64x64 elements: one array per field, `element_fields`).
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
     /// Write every finger's element fields (forces, pressures, gaps, slips, states, centres)
