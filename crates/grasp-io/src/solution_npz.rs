@@ -9,8 +9,9 @@
 //! `pressure_pa`, `gap_m` float64 `(N,)`; `state` uint8 `(N,)`, the code of each element's
 //! state, whose name is `state_names[code]` (the archive's one array without a finger:
 //! `["stick", "slip", "separated", "off_surface"]`, unicode); `viscous_displacement_m` float64
-//! `(N, 3)` on a viscoelastic contact. Every float is the solution's own float64, bit for bit. The archive is the same
-//! for the same solution (entries dated 1980-01-01, the zip format's zero).
+//! `(N, 3)` on a viscoelastic contact. Every float is the solution's own float64, bit for
+//! bit. The archive is the same for the same solution (entries dated 1980-01-01, the zip
+//! format's zero).
 
 use std::io::{BufWriter, Seek, Write};
 

@@ -2,6 +2,7 @@
 //! a `bytearray` the values are written into once), so the extension needs no NumPy headers and no compiled
 //! dependency beyond the interpreter.
 
+use grasp_model::ElementState;
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyList, PyTuple};
 
@@ -27,6 +28,21 @@ pub fn int_array<'py>(
 pub fn str_array<'py>(py: Python<'py>, items: &[&str]) -> PyResult<Bound<'py, PyAny>> {
     let np = py.import("numpy")?;
     np.call_method1("array", (PyList::new(py, items)?, "str"))
+}
+
+/// The elements' state names as a NumPy string array (dtype `<U11`), made from their codes:
+/// the four names indexed by an int64 array of codes, so no Python string is made per element.
+pub fn state_array<'py>(
+    py: Python<'py>,
+    states: impl Iterator<Item = ElementState>,
+) -> PyResult<Bound<'py, PyAny>> {
+    use ElementState::*;
+    let all = [Stick, Slip, Separated, OffSurface];
+    let codes: Vec<i64> = states
+        .map(|s| all.iter().position(|a| *a == s).unwrap_or(0) as i64)
+        .collect();
+    let names = str_array(py, &all.map(|s| s.as_str()))?;
+    names.get_item(int_array(py, &codes, &[codes.len()])?)
 }
 
 /// The array of `data` (each value as its 8 native-endian `bytes`): the values are written

@@ -5,7 +5,7 @@ use grasp_model::ElementSolution;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{float_array, int_array, str_array};
+use crate::arrays::{float_array, int_array, state_array};
 
 /// The fields of `elements` (see `Solution.element_fields`).
 pub fn element_fields<'py>(
@@ -42,8 +42,7 @@ pub fn element_fields<'py>(
     d.set_item("gap_m", floats(&|e, v| v.push(e.gap_m), 1)?)?;
     d.set_item("slip_m", floats(&|e, v| v.extend(e.slip_m), 2)?)?;
     d.set_item("step_slip_m", floats(&|e, v| v.extend(e.step_slip_m), 2)?)?;
-    let states: Vec<&str> = elements.iter().map(|e| e.state.as_str()).collect();
-    d.set_item("state", str_array(py, &states)?)?;
+    d.set_item("state", state_array(py, elements.iter().map(|e| e.state))?)?;
     if elements.iter().any(|e| e.viscous_displacement_m.is_some()) {
         let nan = [f64::NAN; 3];
         let viscous = floats(&|e, v| v.extend(e.viscous_displacement_m.unwrap_or(nan)), 3)?;

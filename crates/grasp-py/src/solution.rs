@@ -6,7 +6,7 @@ use grasp_model::FingerSolution;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{float_array, int_array, str_array};
+use crate::arrays::{float_array, int_array, state_array};
 use crate::json_value::serialize_to_py;
 
 /// The answer of one solve (SI units). Solver outcomes are its `status`, never exceptions:
@@ -193,8 +193,8 @@ impl Solution {
     /// Element states `"stick"`, `"slip"`, `"separated"` or `"off_surface"`, shape `(N,)`.
     #[getter]
     fn states<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<&str> = self.per_finger(|_, e| e.state.as_str());
-        str_array(py, &v)
+        let states = self.solution.fingers.iter().flat_map(|f| &f.elements);
+        state_array(py, states.map(|e| e.state))
     }
 
     /// The whole solution as a dict, field for field the JSON of `grasp solve --json`.
