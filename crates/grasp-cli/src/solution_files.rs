@@ -41,10 +41,10 @@ pub fn write_npz(outs: &Outputs, out: &Path, solution: &grasp_model::Solution) -
 /// `wrote PATH (SIZE in TIME)`: the file written since `clock` started.
 fn say_written(out: &Path, clock: Instant) {
     let seconds = clock.elapsed().as_secs_f64();
-    let bytes = std::fs::metadata(out).map_or(0, |m| m.len());
-    println!(
-        "wrote {} ({:.1} MB in {seconds:.2} s)",
-        out.display(),
-        bytes as f64 / 1e6
-    );
+    let bytes = std::fs::metadata(out).map_or(0, |m| m.len()) as f64;
+    let size = match bytes {
+        b if b < 1e6 => format!("{:.1} kB", b / 1e3),
+        b => format!("{:.1} MB", b / 1e6),
+    };
+    println!("wrote {} ({size} in {seconds:.2} s)", out.display());
 }
