@@ -117,6 +117,10 @@ class Solution:
     def to_dict(self) -> dict[str, Any]:
         """The JSON of ``grasp solve --json``, as a dict."""
     def to_json(self) -> str: ...
+    def element_fields(self, finger: str) -> dict[str, npt.NDArray[Any]]:
+        """One finger's element fields by name, the arrays of ``grasp solve --npz``."""
+    def to_npz(self, path: Union[str, "os.PathLike[str]"], *, overwrite: bool = False) -> None:
+        """Writes every finger's element fields as ``grasp solve --npz`` does."""
 
 class Transfer:
     """A hand-off's force histories, time x finger (SI units)."""
@@ -173,6 +177,7 @@ def transfer(
     mcap: Optional[Union[str, "os.PathLike[str]"]] = None,
     rrd: Optional[Union[str, "os.PathLike[str]"]] = None,
     csv: Optional[Union[str, "os.PathLike[str]"]] = None,
+    npz: Optional[Union[str, "os.PathLike[str]"]] = None,
     solver: SolverName = "auto",
     cold: bool = False,
     keep_going: bool = False,

@@ -40,6 +40,17 @@ def run_cli(grasp_bin):
     return run
 
 
+def element_records(finger):
+    """A finger's elements from `grasp solve --json` as one dict per element, whichever form
+    the file holds: `elements` (one record per element, patches up to 64 x 64) or
+    `element_fields` (one array per field, finer patches), row `k` of every array."""
+    if "elements" in finger:
+        return finger["elements"]
+    columns = finger["element_fields"]
+    n = len(columns["index"])
+    return [{field: values[k] for field, values in columns.items()} for k in range(n)]
+
+
 @pytest.fixture
 def cube_a_dict():
     return json.loads((EXAMPLES / "cube_a.json").read_text())

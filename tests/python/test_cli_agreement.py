@@ -7,7 +7,7 @@ import json
 import pytest
 
 import grasp
-from conftest import scene_examples
+from conftest import element_records, scene_examples
 
 
 @pytest.mark.parametrize("path", scene_examples(), ids=lambda p: p.stem)
@@ -23,7 +23,8 @@ def test_python_and_cli_forces_are_identical(path, run_cli, tmp_path):
         assert a["name"] == b["name"]
         assert a["normal_force_n"] == b["normal_force_n"]
         assert a["tangential_force_n"] == b["tangential_force_n"]
-        assert [e["normal_force_n"] for e in a["elements"]] == [e["normal_force_n"] for e in b["elements"]]
-        assert [e["tangential_force_n"] for e in a["elements"]] == [e["tangential_force_n"] for e in b["elements"]]
-        assert [e["state"] for e in a["elements"]] == [e["state"] for e in b["elements"]]
+        ea, eb = element_records(a), element_records(b)
+        assert [e["normal_force_n"] for e in ea] == [e["normal_force_n"] for e in eb]
+        assert [e["tangential_force_n"] for e in ea] == [e["tangential_force_n"] for e in eb]
+        assert [e["state"] for e in ea] == [e["state"] for e in eb]
     assert py["residuals"] == cli["residuals"]

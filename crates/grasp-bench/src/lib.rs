@@ -5,12 +5,14 @@
 //! [`statistics`] folds repeated samples (median, spread, growth exponent); [`peak_memory`]
 //! reads the process's resident memory (Linux `/proc`); [`peer`] runs the peer library of
 //! issue 21 (tamaas, through `scripts/peer-hertz.py`) on a Hertz case's grid;
+//! [`output_writing`] times writing a fine patch's solution in each output format;
 //! [`thread_scaling`] times a case on one thread and on every core.
 
 #![warn(missing_docs)]
 
 pub mod case;
 pub mod error;
+pub mod output_writing;
 pub mod peak_memory;
 pub mod peer;
 pub mod sample;

@@ -27,6 +27,7 @@ mod output;
 mod pictures;
 mod progress;
 mod report;
+mod solution_files;
 mod solve_flags;
 mod stdout;
 

@@ -14,6 +14,8 @@
 //!   replacing without `force`, exclusive unguessable temporary files moved into place on
 //!   success); [`output_lock`]: every output locked for the run; [`temporary_files`]: the
 //!   live hidden files a signal handler removes.
+//! - [`solution_json`]: a solution's JSON text, streamed (a fine patch's element fields one
+//!   array a line); [`solution_npz`]: a solution's element fields as a NumPy `.npz` archive.
 //! - [`machine_memory`]: the machine's memory, for default memory limits;
 //!   [`memory_limit`]: the one check of a scene's estimated memory against a run's limit.
 //!
@@ -32,6 +34,8 @@ pub mod output_lock;
 pub mod run_inputs;
 pub mod scene_file;
 pub mod sibling_names;
+pub mod solution_json;
+pub mod solution_npz;
 pub mod temporary_files;
 
 pub use error::{InputFileError, OutputError, OutputErrorKind};
@@ -43,3 +47,5 @@ pub use run_inputs::RunInputs;
 pub use scene_file::{
     base_dir_of, read_scene_file, scene_from_json_str, SceneFile, SceneFileError,
 };
+pub use solution_json::write_solution_json;
+pub use solution_npz::{write_solution_npz, NpzArchive};

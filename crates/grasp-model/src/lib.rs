@@ -163,6 +163,7 @@ pub use solver::options::{SolveOptions, SolverChoice};
 pub use solver::outcome::SolverKind;
 
 // ---- The solution ----
+pub use solve::element_columns::{is_columnar, COLUMNS_ABOVE_ELEMENTS};
 pub use solve::solution::{
     ElementSolution, ElementState, FingerSolution, Residuals, RigidDisplacement, SequentialReport,
     Solution, SolveStatus, SolverStats, LOADED_FRACTION,

@@ -12,6 +12,7 @@
 use pyo3::prelude::*;
 
 mod arrays;
+mod element_fields;
 mod errors;
 mod height_arrays;
 mod histories;

@@ -2,11 +2,11 @@
 //! values (the CLI's JSON field names), element fields as NumPy arrays over all elements of
 //! all fingers, scene order then row-major within a patch. Arrays are made when asked for.
 
-use grasp_model::{ElementState, FingerSolution};
+use grasp_model::FingerSolution;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{float_array, int_array, str_array};
+use crate::arrays::{float_array, int_array, state_array};
 use crate::json_value::serialize_to_py;
 
 /// The answer of one solve (SI units). Solver outcomes are its `status`, never exceptions:
@@ -73,7 +73,13 @@ impl Solution {
             .fingers
             .iter()
             .map(|f| {
-                let d = serialize_to_py(py, f)?;
+                // The resultants alone: the elements are handed out as arrays.
+                let resultants = FingerSolution {
+                    name: f.name.clone(),
+                    elements: Vec::new(),
+                    ..*f
+                };
+                let d = serialize_to_py(py, &resultants)?;
                 d.downcast::<PyDict>()?.del_item("elements")?;
                 Ok(d)
             })
@@ -187,13 +193,8 @@ impl Solution {
     /// Element states `"stick"`, `"slip"`, `"separated"` or `"off_surface"`, shape `(N,)`.
     #[getter]
     fn states<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v: Vec<&str> = self.per_finger(|_, e| match e.state {
-            ElementState::Stick => "stick",
-            ElementState::Slip => "slip",
-            ElementState::Separated => "separated",
-            ElementState::OffSurface => "off_surface",
-        });
-        str_array(py, &v)
+        let states = self.solution.fingers.iter().flat_map(|f| &f.elements);
+        state_array(py, states.map(|e| e.state))
     }
 
     /// The whole solution as a dict, field for field the JSON of `grasp solve --json`.
@@ -203,7 +204,41 @@ impl Solution {
 
     /// The whole solution as JSON text, the same as `grasp solve --json` writes.
     fn to_json(&self) -> PyResult<String> {
-        serde_json::to_string_pretty(&self.record()).map_err(crate::errors::grasp_error)
+        let mut text = Vec::new();
+        grasp_io::write_solution_json(&mut text, &self.record())
+            .map_err(crate::errors::grasp_error)?;
+        String::from_utf8(text).map_err(crate::errors::grasp_error)
+    }
+
+    /// One finger's element fields as NumPy arrays, by field name, as `grasp solve --npz`
+    /// writes them (`index` int64 `(N, 2)`, `local_m` `(N, 2)`, `position_m` `(N, 3)`,
+    /// `normal_force_n`, `pressure_pa`, `gap_m` `(N,)`, `tangential_force_n`, `traction_pa`,
+    /// `slip_m`, `step_slip_m` along `[t1, t2]` `(N, 2)`, `state` strings `(N,)`,
+    /// `viscous_displacement_m` `(N, 3)` on a viscoelastic contact), element order
+    /// `k = i ny + j`. Raises `KeyError` for a name not in `finger_names`.
+    fn element_fields<'py>(&self, py: Python<'py>, finger: &str) -> PyResult<Bound<'py, PyDict>> {
+        let f = self.solution.finger(finger).ok_or_else(|| {
+            pyo3::exceptions::PyKeyError::new_err(format!(
+                "no finger `{finger}` in this solution; its fingers: {:?}",
+                self.finger_names()
+            ))
+        })?;
+        crate::element_fields::element_fields(py, &f.elements)
+    }
+
+    /// Writes every finger's element fields to the `.npz` file `path`, as `grasp solve --npz`
+    /// does (`numpy.load(path)["f1/pressure_pa"]`); an existing file is replaced only with
+    /// `overwrite=True`, and the folder must exist.
+    #[pyo3(signature = (path, *, overwrite=false))]
+    fn to_npz(&self, py: Python<'_>, path: std::path::PathBuf, overwrite: bool) -> PyResult<()> {
+        let targets = [("path", path.as_path())];
+        let set = crate::outputs::claim(&targets, &grasp_io::RunInputs::default(), overwrite)?;
+        py.allow_threads(|| -> Result<(), grasp_io::OutputError> {
+            let pending = set.create(&path)?;
+            grasp_io::write_solution_npz(&pending, &self.solution)?;
+            set.commit(vec![pending])
+        })
+        .map_err(|e| crate::outputs::output_error(&targets, &e))
     }
 
     fn __repr__(&self) -> String {

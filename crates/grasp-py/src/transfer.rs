@@ -28,7 +28,8 @@ use crate::solution::{tangents_by_name, Solution, Tangents};
 /// `grasp schema --schedule`) over `scene`, step by step, each step warm-started from the
 /// previous one (thesis section 4.2.2: the releasing fingers' normal forces ramped down).
 ///
-/// - `mcap`, `rrd`, `csv`: paths of the files to write, the same as `grasp transfer`'s, with
+/// - `mcap`, `rrd`, `csv`, `npz`: paths of the files to write, the same as `grasp transfer`'s
+///   (`npz`: every step's element fields, `step_<k>/<finger>/<field>`), with
 ///   the CLI's rules: existing files are replaced only with `overwrite=True` (never a folder,
 ///   a link, a device or an input of the run); files appear only when the run completes (with
 ///   a failed step: only with `keep_going=True`); a second run writing the same file is
@@ -47,7 +48,7 @@ use crate::solution::{tangents_by_name, Solution, Tangents};
 /// CSV paths inside a schedule file are read relative to its folder (to the working folder
 /// for a dict or JSON text).
 #[pyfunction]
-#[pyo3(signature = (scene, schedule, *, mcap=None, rrd=None, csv=None, solver="auto",
+#[pyo3(signature = (scene, schedule, *, mcap=None, rrd=None, csv=None, npz=None, solver="auto",
                     cold=false, keep_going=false, margins=false, overwrite=false,
                     keep_solutions=true, max_memory=None, compliance="auto", progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -58,6 +59,7 @@ pub fn transfer(
     mcap: Option<PathBuf>,
     rrd: Option<PathBuf>,
     csv: Option<PathBuf>,
+    npz: Option<PathBuf>,
     solver: &str,
     cold: bool,
     keep_going: bool,
@@ -86,7 +88,8 @@ pub fn transfer(
     let (schedule, mut inputs) = load_schedule(py, scene, schedule)?;
     inputs.extend(&scene.inputs);
     check_memory(&scene.scene, &schedule, keep_solutions, max_memory)?;
-    let targets: Vec<(&str, &Path)> = [("mcap", &mcap), ("rrd", &rrd), ("csv", &csv)]
+    let named = [("mcap", &mcap), ("rrd", &rrd), ("csv", &csv), ("npz", &npz)];
+    let targets: Vec<(&str, &Path)> = named
         .into_iter()
         .filter_map(|(n, p)| p.as_deref().map(|p| (n, p)))
         .collect();
@@ -95,6 +98,7 @@ pub fn transfer(
         mcap: mcap.as_deref(),
         rrd: rrd.as_deref(),
         csv: csv.as_deref(),
+        npz: npz.as_deref(),
     };
     let run = py.allow_threads(|| {
         run_transfer(
@@ -426,7 +430,7 @@ impl Transfer {
         serialize_to_py(py, &self.summary)
     }
 
-    /// The files written (paths), in the order mcap, rrd, csv; empty when a failed step
+    /// The files written (paths), in the order mcap, rrd, csv, npz; empty when a failed step
     /// stopped the run (existing files are then untouched).
     #[getter]
     fn written(&self) -> Vec<String> {

@@ -1,5 +1,5 @@
 //! The files a transfer run writes, opened from the paths asked for: an MCAP log, a Rerun
-//! recording and a CSV history, each a [`Sink`] writing the temporary file of its target
+//! recording, a CSV history and an `.npz` archive of the element fields, each a [`Sink`] writing the temporary file of its target
 //! under the run's output policy ([`grasp_io::OutputSet`]: claimed targets, exclusive
 //! temporary files moved into place on success). Every front end opens its files here.
 
@@ -8,7 +8,7 @@ use std::path::Path;
 use grasp_io::{OutputError, OutputSet, PendingOutput};
 
 use crate::error::TransferError;
-use crate::sinks::{CsvSink, McapSink, RerunSink, Sink};
+use crate::sinks::{CsvSink, McapSink, NpzSink, RerunSink, Sink};
 
 /// The targets asked for (none: no file of that kind).
 #[derive(Debug, Clone, Copy, Default)]
@@ -19,6 +19,8 @@ pub struct OutputPaths<'a> {
     pub rrd: Option<&'a Path>,
     /// The CSV force history.
     pub csv: Option<&'a Path>,
+    /// Every step's element fields as NumPy arrays (`.npz`).
+    pub npz: Option<&'a Path>,
 }
 
 /// Why the files could not be opened.
@@ -38,17 +40,19 @@ pub struct OutputFiles {
     mcap: Option<McapSink>,
     rrd: Option<RerunSink>,
     csv: Option<CsvSink>,
+    npz: Option<NpzSink>,
     pending: Vec<PendingOutput>,
 }
 
 impl OutputFiles {
     /// Opens a temporary file for each target of `paths` (claimed in `outputs`), in the order
-    /// MCAP, recording, CSV, and a sink writing it.
+    /// MCAP, recording, CSV, `.npz`, and a sink writing it.
     pub fn open(outputs: &OutputSet, paths: OutputPaths<'_>) -> Result<OutputFiles, OpenError> {
         let mut files = OutputFiles {
             mcap: None,
             rrd: None,
             csv: None,
+            npz: None,
             pending: Vec::new(),
         };
         if let Some(t) = paths.mcap {
@@ -66,11 +70,16 @@ impl OutputFiles {
             files.csv = Some(CsvSink::from_file(p.file_handle()?, t));
             files.pending.push(p);
         }
+        if let Some(t) = paths.npz {
+            let p = outputs.create(t)?;
+            files.npz = Some(NpzSink::from_file(p.file_handle()?, t));
+            files.pending.push(p);
+        }
         Ok(files)
     }
 
     /// The sinks of a run, in the order they are written: MCAP, the recording, `live` (a
-    /// stream to a viewer, when there is one), CSV.
+    /// stream to a viewer, when there is one), CSV, `.npz`.
     pub fn sinks<'a>(&'a mut self, live: Option<&'a mut RerunSink>) -> Vec<&'a mut dyn Sink> {
         let mut v: Vec<&mut dyn Sink> = Vec::new();
         if let Some(s) = self.mcap.as_mut() {
@@ -83,6 +92,9 @@ impl OutputFiles {
             v.push(s);
         }
         if let Some(s) = self.csv.as_mut() {
+            v.push(s);
+        }
+        if let Some(s) = self.npz.as_mut() {
             v.push(s);
         }
         v

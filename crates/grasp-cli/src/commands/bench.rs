@@ -4,7 +4,8 @@
 //! case's target. Derived rows: warm/cold iteration ratios of both hand-offs, the growth
 //! exponent of solve time against unknowns over the cube A series, the whole `grasp
 //! transfer` command with MCAP, Rerun and CSV outputs (a child process, timed from outside),
-//! and the batch runner's throughput on one thread and on every core (issue 12). Beside the
+//! the batch runner's throughput on one thread and on every core (issue 12), and the time to
+//! write a fine patch's solution in each output format ([`outputs`]). Beside the
 //! Hertz FFT cases of issue 21, the peer library (tamaas, `scripts/peer-hertz.py`) solves the
 //! same grid in the same run: a row with its time and error, and the ratio of its time to ours.
 
@@ -19,6 +20,8 @@ use grasp_bench::peer::{PeerError, PeerProblem, PeerRecord};
 use grasp_bench::statistics::{growth_exponent, median_and_range};
 use grasp_bench::{Case, CaseKind, Sample, CASES, FFT_CASES, LAYER_CASES, LAYER_PAIRS, PEER_CASES};
 use grasp_model::SolverChoice;
+
+mod outputs;
 
 /// Benchmark table: the solver's cases (cube A grids, Hertz 41x41, both hand-offs warm
 /// and cold, the whole transfer command) with each solver, medians against targets.
@@ -40,7 +43,8 @@ pub struct Args {
         value_name = "auto|native|clarabel"
     )]
     pub solver: Vec<SolverChoice>,
-    /// Run only these cases (comma-separated names from the table).
+    /// Run only these cases (comma-separated names from the table; `outputs`: the rows on
+    /// writing a fine patch's solution as JSON and as `.npz`).
     #[arg(long = "case", value_delimiter = ',', value_name = "NAME")]
     pub cases: Vec<String>,
     /// Keep timing a case until this many seconds have passed (at least 2 runs, at most
@@ -729,8 +733,8 @@ fn progress(what: &str) {
 fn run(flags: Flags) -> Result<ExitCode> {
     let all = || CASES.iter().chain(&FFT_CASES).chain(&LAYER_CASES);
     for name in &flags.cases {
-        if !all().any(|c| c.name == name) {
-            let names: Vec<&str> = all().map(|c| c.name).collect();
+        if !all().any(|c| c.name == name) && name != outputs::CASE {
+            let names: Vec<&str> = all().map(|c| c.name).chain([outputs::CASE]).collect();
             bail!(
                 "--case {name}: no such case; choose from {}",
                 names.join(", ")
@@ -781,6 +785,10 @@ fn run(flags: Flags) -> Result<ExitCode> {
             progress(&format!("bench: batch throughput ({solver})"));
             rows.extend(batch_throughput(solver, flags.quick)?);
         }
+    }
+    if flags.cases.is_empty() || flags.cases.iter().any(|c| c == outputs::CASE) {
+        progress(&format!("bench: {}", outputs::CASE));
+        rows.extend(outputs::output_rows(flags.quick)?);
     }
     if std::io::stderr().is_terminal() {
         eprint!("\r{:<60}\r", "");

@@ -21,9 +21,15 @@ use crate::solve_flags::SolveFlags;
 pub struct Args {
     /// Scene file (JSON; see `grasp schema`).
     pub scene: PathBuf,
-    /// Write the whole solution (elements, residuals, timing) as JSON to this file.
+    /// Write the whole solution (elements, residuals, timing) as JSON to this file (a finger
+    /// of more than 64x64 elements: one array per field, `element_fields`).
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
+    /// Write every finger's element fields (forces, pressures, gaps, slips, states, centres)
+    /// as NumPy arrays to this `.npz` file, one array per field and finger (`<finger>/<field>`:
+    /// `numpy.load(path)["f1/pressure_pa"]`), float64 as solved.
+    #[arg(long, value_name = "OUT.npz")]
+    pub npz: Option<PathBuf>,
     #[command(flatten)]
     pub force: ForceArg,
     /// Solver tolerance on the scaled program (feasibility and gap), in [1e-14, 1e-2]: below
@@ -89,6 +95,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     let Args {
         scene,
         json,
+        npz,
         force,
         tolerance,
         error_estimate,
@@ -105,7 +112,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         ..solve.options()
     };
     options.validate()?;
-    let outputs: Vec<&Path> = json.iter().map(PathBuf::as_path).collect();
+    let outputs: Vec<&Path> = json.iter().chain(&npz).map(PathBuf::as_path).collect();
     let outs = output::claim(&outputs, &[&scene], force.force)?;
     let scene_obj = load_scene(&scene)?;
     solve.check_memory(&scene_obj, &scene)?;
@@ -201,8 +208,10 @@ pub fn execute(args: Args) -> Result<ExitCode> {
             time: model.is_viscoelastic().then_some(time),
             sensitivities: sens.as_ref().map(|(s, _)| s),
         };
-        write_json_streamed(&outs, out, &record)?;
-        println!("wrote {}", out.display());
+        crate::solution_files::write_json(&outs, out, &record)?;
+    }
+    if let Some(out) = &npz {
+        crate::solution_files::write_npz(&outs, out, &solution)?;
     }
     Ok(if solution.status.has_forces() {
         ExitCode::SUCCESS
@@ -214,21 +223,6 @@ pub fn execute(args: Args) -> Result<ExitCode> {
 /// Solves of more unknowns than this show a spinner on a terminal (about a second and more on
 /// two cores: a 256 x 256 frictionless patch).
 const LONG_SOLVE_UNKNOWNS: usize = 65_536;
-
-/// Writes `record` as pretty JSON into the claimed `out`, serialised straight into the file
-/// (a 1024 x 1024 patch's solution is about 2 GB of text: no copy of it is held in memory).
-fn write_json_streamed(
-    outs: &crate::output::Outputs,
-    out: &std::path::Path,
-    record: &impl serde::Serialize,
-) -> Result<()> {
-    let pending = outs.create(out)?;
-    let mut writer = std::io::BufWriter::new(pending.file());
-    serde_json::to_writer_pretty(&mut writer, record)?;
-    std::io::Write::flush(&mut writer)?;
-    drop(writer);
-    outs.commit(vec![pending])
-}
 
 /// The sensitivities of `solution` (this solver's last answer) with their time, s; `None`
 /// without forces.

@@ -42,6 +42,11 @@ pub struct Args {
     /// Write the force histories as CSV.
     #[arg(long, value_name = "F.csv")]
     pub csv: Option<PathBuf>,
+    /// Write every step's element fields (forces, pressures, gaps, slips, states, centres) as
+    /// NumPy arrays to this `.npz` file: `step_<k>/<finger>/<field>` (`step_00012/f3/pressure_pa`),
+    /// float64 as solved, with `times_s` (each step's time, s).
+    #[arg(long, value_name = "F.npz")]
+    pub npz: Option<PathBuf>,
     /// Write a force-history plot (.svg or .png), like thesis figures 15 and 17.
     #[arg(long, value_name = "F.svg|F.png")]
     pub plot: Option<PathBuf>,
@@ -82,6 +87,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         mcap: args.mcap,
         rrd: args.rrd,
         csv: args.csv,
+        npz: args.npz,
         plot: args.plot,
         force: args.force.force,
         live,
@@ -111,6 +117,7 @@ pub struct Outputs {
     pub mcap: Option<PathBuf>,
     pub rrd: Option<PathBuf>,
     pub csv: Option<PathBuf>,
+    pub npz: Option<PathBuf>,
     pub plot: Option<PathBuf>,
     pub force: bool,
     /// A live Rerun stream besides the files.
@@ -124,6 +131,8 @@ const OPEN_MCAP: &str = "Foxglove (https://app.foxglove.dev or the desktop app),
                          (and /grasp/patch_maps with patches above 64 x 64 elements)";
 const OPEN_CSV: &str = "one row per step, a column per quantity: any spreadsheet, or Python's \
                         pandas.read_csv";
+const OPEN_NPZ: &str = "Python: numpy.load(path)[\"step_00000/<finger>/pressure_pa\"] (its \
+                        keys: .files)";
 const OPEN_PLOT: &str = "any web browser or image viewer";
 
 /// `word` as one shell word: as it is when it holds only characters the shell leaves alone,
@@ -153,6 +162,7 @@ impl Outputs {
             (&self.mcap, "MCAP", OPEN_MCAP),
             (&self.rrd, "Rerun recording", OPEN_RRD),
             (&self.csv, "CSV", OPEN_CSV),
+            (&self.npz, "element fields", OPEN_NPZ),
             (&self.plot, "plot", OPEN_PLOT),
         ] {
             if let Some(p) = p {
@@ -174,7 +184,7 @@ impl Outputs {
     }
 
     fn targets(&self) -> Vec<&Path> {
-        [&self.mcap, &self.rrd, &self.csv, &self.plot]
+        [&self.mcap, &self.rrd, &self.csv, &self.npz, &self.plot]
             .into_iter()
             .flatten()
             .map(PathBuf::as_path)
@@ -204,6 +214,7 @@ impl OpenSinks {
             mcap: out.mcap.as_deref(),
             rrd: out.rrd.as_deref(),
             csv: out.csv.as_deref(),
+            npz: out.npz.as_deref(),
         };
         let files = OutputFiles::open(outs.set(), paths)?;
         let live = match &out.live {

@@ -6,6 +6,7 @@
 pub mod contact_state;
 pub mod contact_validity;
 pub mod convex_solve;
+pub mod element_columns;
 pub mod grasp_solver;
 pub mod patch_check;
 pub mod readout;

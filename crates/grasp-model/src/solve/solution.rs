@@ -60,6 +60,19 @@ pub enum ElementState {
     OffSurface,
 }
 
+impl ElementState {
+    /// The state as the JSON output writes it (`"stick"`, `"slip"`, `"separated"`,
+    /// `"off_surface"`).
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            ElementState::Stick => "stick",
+            ElementState::Slip => "slip",
+            ElementState::Separated => "separated",
+            ElementState::OffSurface => "off_surface",
+        }
+    }
+}
+
 /// One patch element.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ElementSolution {
@@ -136,7 +149,14 @@ pub struct FingerSolution {
     /// Elements facing no surface (exact gaps past an edge or a rim; absent when none).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub off_surface_count: usize,
-    /// Element fields, row-major.
+    /// Element fields, row-major. In JSON: `"elements"`, one record per element, up to
+    /// 64 x 64 elements ([`crate::COLUMNS_ABOVE_ELEMENTS`]); `"element_fields"`, one array per
+    /// field under the same names, above.
+    #[serde(
+        flatten,
+        serialize_with = "crate::solve::element_columns::serialize",
+        deserialize_with = "crate::solve::element_columns::deserialize"
+    )]
     pub elements: Vec<ElementSolution>,
 }
 
@@ -385,6 +405,15 @@ mod tests {
     fn status_names_are_the_serde_names() {
         use SolveStatus::*;
         for s in [Solved, ReducedAccuracy, NoEquilibrium, NoConvergence] {
+            assert_eq!(serde_json::to_value(s).unwrap(), s.as_str());
+        }
+    }
+
+    /// `ElementState::as_str` is the serde name of each state.
+    #[test]
+    fn element_state_names_are_the_serde_names() {
+        use ElementState::*;
+        for s in [Stick, Slip, Separated, OffSurface] {
             assert_eq!(serde_json::to_value(s).unwrap(), s.as_str());
         }
     }

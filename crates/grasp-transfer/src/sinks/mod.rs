@@ -1,10 +1,11 @@
-//! Log sinks of a hand-off, each optional and independent: MCAP, Rerun, CSV.
+//! Log sinks of a hand-off, each optional and independent: MCAP, Rerun, CSV, NumPy `.npz`.
 
 mod csv_history;
 mod element_maps;
 mod fingertip_drawing;
 mod foxglove_scene;
 mod mcap_log;
+mod npz_steps;
 mod patch_maps_message;
 mod rerun_grid_maps;
 mod rerun_layout;
@@ -15,6 +16,7 @@ pub use element_maps::{is_compact, state_code, ElementMaps, COMPACT_ABOVE_ELEMEN
 pub use fingertip_drawing::{tip_drawings, TipDrawing, LARGEST_DRAWN};
 pub use foxglove_scene::SCENE_TOPIC;
 pub use mcap_log::{FingerMessage, FingersMessage, McapSink, FINGERS_TOPIC, PATCHES_TOPIC};
+pub use npz_steps::NpzSink;
 pub use patch_maps_message::{PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC};
 pub use rerun_layout::layout_messages;
 pub use rerun_log::{RerunSink, FLUSH_EVERY_STEPS};

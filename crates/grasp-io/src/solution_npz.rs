@@ -1,0 +1,171 @@
+//! Solutions as NumPy `.npz` archives (`grasp solve --npz`, `grasp transfer --npz`): one
+//! array per element field and finger, named `<finger>/<field>` (a prefix before it for a
+//! transfer's steps: `step_00012/<finger>/<field>`), each a `.npy` entry of a zip archive stored
+//! uncompressed as NumPy's `savez` writes it (`numpy.load(path)["f1/pressure_pa"]`).
+//!
+//! The fields are those of a solution's JSON elements under the same names, in element order
+//! (`k = i ny + j`): `index` int64 `(N, 2)`; `local_m`, `tangential_force_n`, `traction_pa`,
+//! `slip_m`, `step_slip_m` float64 `(N, 2)`; `position_m` float64 `(N, 3)`; `normal_force_n`,
+//! `pressure_pa`, `gap_m` float64 `(N,)`; `state` uint8 `(N,)`, the code of each element's
+//! state, whose name is `state_names[code]` (the archive's one array without a finger:
+//! `["stick", "slip", "separated", "off_surface"]`, unicode); `viscous_displacement_m` float64
+//! `(N, 3)` on a viscoelastic contact. Every float is the solution's own float64, bit for
+//! bit. The archive is the same for the same solution (entries dated 1980-01-01, the zip
+//! format's zero).
+
+use std::io::{BufWriter, Seek, Write};
+
+use grasp_model::{ElementSolution, ElementState, Solution};
+
+use crate::error::OutputError;
+use crate::output_file::PendingOutput;
+use npyz::WriterBuilder;
+use zip::write::SimpleFileOptions;
+use zip::{CompressionMethod, DateTime, ZipWriter};
+
+/// Entries of more bytes than this are written with the zip format's 64-bit sizes.
+const ZIP64_ABOVE_BYTES: u64 = u32::MAX as u64 / 2;
+
+/// The element states by their code in the `state` arrays.
+const STATE_NAMES: [ElementState; 4] = [
+    ElementState::Stick,
+    ElementState::Slip,
+    ElementState::Separated,
+    ElementState::OffSurface,
+];
+
+/// Widest state name (`"off_surface"`), the unicode width of `state_names`.
+const STATE_WIDTH: usize = 11;
+
+/// The code of `state` in the `state` arrays: its place in [`STATE_NAMES`].
+fn state_code(state: ElementState) -> u8 {
+    STATE_NAMES.iter().position(|s| *s == state).unwrap_or(0) as u8
+}
+
+/// An `.npz` archive being written into `W`.
+pub struct NpzArchive<W: Write + Seek> {
+    zip: ZipWriter<W>,
+    /// The `state_names` array is written (once, before the first solution's arrays).
+    has_state_names: bool,
+}
+
+impl<W: Write + Seek> NpzArchive<W> {
+    /// A new, empty archive written into `w`.
+    pub fn new(w: W) -> Self {
+        NpzArchive {
+            zip: ZipWriter::new(w),
+            has_state_names: false,
+        }
+    }
+
+    /// Adds every finger's element fields of `solution`, named `<prefix><finger>/<field>`.
+    pub fn add_solution(&mut self, prefix: &str, solution: &Solution) -> std::io::Result<()> {
+        if !self.has_state_names {
+            self.state_names("state_names")?;
+            self.has_state_names = true;
+        }
+        for f in &solution.fingers {
+            let p = format!("{prefix}{}/", f.name);
+            let e = f.elements.as_slice();
+            let n = e.len() as u64;
+            let index = e.iter().flat_map(|e| e.index.map(|i| i as i64));
+            self.array(&format!("{p}index"), &[n, 2], index)?;
+            self.floats(&format!("{p}local_m"), e, |e| e.local_m)?;
+            self.floats(&format!("{p}position_m"), e, |e| e.position_m)?;
+            self.floats(&format!("{p}normal_force_n"), e, |e| [e.normal_force_n])?;
+            self.floats(&format!("{p}tangential_force_n"), e, |e| {
+                e.tangential_force_n
+            })?;
+            self.floats(&format!("{p}pressure_pa"), e, |e| [e.pressure_pa])?;
+            self.floats(&format!("{p}traction_pa"), e, |e| e.traction_pa)?;
+            self.floats(&format!("{p}gap_m"), e, |e| [e.gap_m])?;
+            self.floats(&format!("{p}slip_m"), e, |e| e.slip_m)?;
+            self.floats(&format!("{p}step_slip_m"), e, |e| e.step_slip_m)?;
+            let codes = e.iter().map(|e| state_code(e.state));
+            self.array(&format!("{p}state"), &[n], codes)?;
+            if e.iter().any(|e| e.viscous_displacement_m.is_some()) {
+                self.floats(&format!("{p}viscous_displacement_m"), e, |e| {
+                    e.viscous_displacement_m.unwrap_or([f64::NAN; 3])
+                })?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds a float64 array `name` of shape `(N,)` (one value an element) or `(N, C)`.
+    fn floats<const C: usize>(
+        &mut self,
+        name: &str,
+        elements: &[ElementSolution],
+        field: impl Fn(&ElementSolution) -> [f64; C],
+    ) -> std::io::Result<()> {
+        let n = elements.len() as u64;
+        let shape: &[u64] = if C == 1 { &[n] } else { &[n, C as u64] };
+        self.array(name, shape, elements.iter().flat_map(field))
+    }
+
+    /// Adds an array `name` of `shape` holding `values` (row-major), of `T`'s NumPy type.
+    pub fn array<T: npyz::AutoSerialize>(
+        &mut self,
+        name: &str,
+        shape: &[u64],
+        values: impl IntoIterator<Item = T>,
+    ) -> std::io::Result<()> {
+        let bytes = shape.iter().product::<u64>() * std::mem::size_of::<T>() as u64;
+        self.start(name, bytes)?;
+        let mut buffered = BufWriter::with_capacity(1 << 20, &mut self.zip);
+        let mut w = npyz::WriteOptions::<T>::new()
+            .default_dtype()
+            .shape(shape)
+            .writer(&mut buffered)
+            .begin_nd()?;
+        w.extend(values)?;
+        w.finish()?;
+        buffered.flush()
+    }
+
+    /// Adds the names of the state codes as a unicode array `name`.
+    fn state_names(&mut self, name: &str) -> std::io::Result<()> {
+        self.start(name, (STATE_NAMES.len() * 4 * STATE_WIDTH) as u64)?;
+        let dtype = npyz::DType::Plain(
+            format!("<U{STATE_WIDTH}")
+                .parse()
+                .expect("a valid unicode type string"),
+        );
+        let mut w = npyz::WriteOptions::<str>::new()
+            .dtype(dtype)
+            .shape(&[STATE_NAMES.len() as u64])
+            .writer(&mut self.zip)
+            .begin_nd()?;
+        for s in STATE_NAMES {
+            w.push(s.as_str())?;
+        }
+        w.finish()
+    }
+
+    /// Starts the entry of array `name`, of about `bytes` bytes of data.
+    fn start(&mut self, name: &str, bytes: u64) -> std::io::Result<()> {
+        let options = SimpleFileOptions::default()
+            .compression_method(CompressionMethod::Stored)
+            .last_modified_time(DateTime::default())
+            .unix_permissions(0o644)
+            .large_file(bytes > ZIP64_ABOVE_BYTES);
+        self.zip
+            .start_file(npyz::npz::file_name_from_array_name(name), options)?;
+        Ok(())
+    }
+
+    /// Completes the archive (its central directory) and hands back the writer.
+    pub fn finish(self) -> std::io::Result<W> {
+        Ok(self.zip.finish()?)
+    }
+}
+
+/// Writes the element fields of `solution` as an archive into the temporary file of
+/// `pending` (the caller commits it), naming its target on failure.
+pub fn write_solution_npz(pending: &PendingOutput, solution: &Solution) -> Result<(), OutputError> {
+    let io = |e: std::io::Error| OutputError::io(pending.target(), "write", &e);
+    let mut archive = NpzArchive::new(BufWriter::new(pending.file_handle()?));
+    archive.add_solution("", solution).map_err(io)?;
+    archive.finish().map_err(io)?.flush().map_err(io)
+}
