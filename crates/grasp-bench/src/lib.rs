@@ -6,7 +6,7 @@
 //! reads the process's resident memory (Linux `/proc`); [`peer`] runs the peer library of
 //! issue 21 (tamaas, through `scripts/peer-hertz.py`) on a Hertz case's grid;
 //! [`output_writing`] times writing a fine patch's solution in each output format;
-//! [`thread_scaling`] times a case on one thread and on every core.
+//! [`mod@thread_scaling`] times a case on one thread and on every core.
 
 #![warn(missing_docs)]
 
