@@ -351,7 +351,6 @@ impl GridFft {
     ) {
         let (nx, ny, hy) = (self.nx, self.ny, self.hy);
         let n = nx * ny;
-        out.fill(0.0);
         if n == 0 {
             return;
         }
@@ -375,8 +374,12 @@ impl GridFft {
         self.each_chunk(&mut columns, TILE * dim * nx, dim, |s, k, tile| {
             self.tile_products(s, k, &rows, &terms, tile)
         });
-        for r in (0..dim).filter(|&r| !terms[r].is_empty()) {
-            self.rows_back(&columns, (r, dim), factor, &mut out[r * n..(r + 1) * n]);
+        // Every output with terms is written whole by its rows; the others are zero.
+        for (r, out_r) in out.chunks_exact_mut(n).enumerate().take(dim) {
+            match terms[r].is_empty() {
+                true => out_r.fill(0.0),
+                false => self.rows_back(&columns, (r, dim), factor, out_r),
+            }
         }
         give(&self.buffers, rows);
         give(&self.buffers, columns);

@@ -52,11 +52,7 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 /// `[f(0), .., f(len - 1)]`, on all cores for a long vector.
 pub(crate) fn map_indices<T: Send>(len: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
-    if len >= PARALLEL_LEN {
-        (0..len).into_par_iter().map(f).collect()
-    } else {
-        (0..len).map(f).collect()
-    }
+    map_indices_coarse(len, len, f)
 }
 
 /// `[f(0), .., f(n - 1)]` for `n` pieces of work over `len` entries in all: on all cores when
