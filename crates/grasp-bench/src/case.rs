@@ -23,6 +23,9 @@ pub enum CaseKind {
         /// Warm start (the default of `grasp transfer`) or cold (`--cold`).
         warm: bool,
     },
+    /// A whole warm hand-off with every step's smallest disturbance margin (`grasp transfer
+    /// --margins`): the margins' time per step (the stepping's own is not counted).
+    Margins,
 }
 
 /// A target of issue 9: the case's time must not exceed `limit_s`.
@@ -71,11 +74,11 @@ const fn case(
     }
 }
 
-use CaseKind::{HandOff, OneShot, Solve};
+use CaseKind::{HandOff, Margins, OneShot, Solve};
 
 /// Every case, in table order. The cube A series (5x5 to 16x16 per finger) also gives the
 /// growth exponent of solve time against unknowns.
-pub const CASES: [Case; 10] = [
+pub const CASES: [Case; 11] = [
     case("cube_a_5x5", Solve, "cube_a", None, Some(1e-3), true),
     case("cube_a_8x8", Solve, "cube_a", Some([8, 8]), None, true),
     case("cube_a_12x12", Solve, "cube_a", Some([12, 12]), None, false),
@@ -126,6 +129,16 @@ pub const CASES: [Case; 10] = [
         None,
         None,
         true,
+    ),
+    // Its target is a ratio, the margins' time at most 20x the stepping's: `grasp bench`
+    // prints it as a derived row ([`MARGIN_PAIRS`]).
+    case(
+        "coulomb_handoff_margins",
+        Margins,
+        "plate_handoff_coulomb",
+        None,
+        None,
+        false,
     ),
     case(
         "hertz_21x21",
@@ -293,6 +306,11 @@ pub const LAYER_PAIRS: [(&str, &str, f64); 4] = [
     ("ridged_pad_256x256_fft", "smooth_pad_256x256_fft", 1.5),
 ];
 
+/// The (margins; stepping) case pairs whose time ratio is bounded, with the bound: the
+/// disturbance margins of every step of a hand-off at most 20 times the stepping's time.
+pub const MARGIN_PAIRS: [(&str, &str, f64); 1] =
+    [("coulomb_handoff_margins", "coulomb_handoff_warm", 20.0)];
+
 /// The cases the peer library solves too, in the same run (`grasp bench`; issue 21 asks for
 /// the time ratio at these two grids; the peer's time grows past a minute above them).
 pub const PEER_CASES: [&str; 2] = ["hertz_128x128_fft", "hertz_256x256_fft"];
@@ -379,13 +397,15 @@ impl Case {
             }
         }
         let schedule = match (self.kind, schedule_text) {
-            (HandOff { .. }, Some(text)) => {
+            (HandOff { .. } | Margins, Some(text)) => {
                 let names = scene.finger_names();
                 let s = Schedule::from_json_str(text, &names, Path::new("."))
                     .map_err(|e| err(e.to_string()))?;
                 Some(s)
             }
-            (HandOff { .. }, None) => return Err(err("a hand-off needs a schedule".into())),
+            (HandOff { .. } | Margins, None) => {
+                return Err(err("a hand-off needs a schedule".into()))
+            }
             _ => None,
         };
         let (model, build_s) = match self.kind {
@@ -424,6 +444,7 @@ impl Prepared {
         TransferOptions {
             warm_start: warm,
             solve: self.solve_options(),
+            margins: self.case.kind == Margins,
             ..TransferOptions::default()
         }
     }

@@ -19,7 +19,9 @@ pub mod sample;
 pub mod statistics;
 pub mod thread_scaling;
 
-pub use case::{Case, CaseKind, Prepared, CASES, FFT_CASES, LAYER_CASES, LAYER_PAIRS, PEER_CASES};
+pub use case::{
+    Case, CaseKind, Prepared, CASES, FFT_CASES, LAYER_CASES, LAYER_PAIRS, MARGIN_PAIRS, PEER_CASES,
+};
 pub use error::BenchError;
 pub use sample::Sample;
 pub use thread_scaling::{thread_scaling, ThreadScaling};

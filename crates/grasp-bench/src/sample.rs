@@ -18,7 +18,8 @@ use crate::peak_memory;
 pub struct Sample {
     /// The timed quantity, s: one solve, one model build plus solve, or the mean of a
     /// hand-off's steps (each step's wall time as the stepper reports it, and the model's
-    /// build before the first step spread over the steps).
+    /// build before the first step spread over the steps; for [`CaseKind::Margins`] each
+    /// step's margins' wall time instead).
     pub time_s: f64,
     /// The solve alone, s (per step for a hand-off): the growth exponent is fitted to this.
     pub solve_s: f64,
@@ -125,7 +126,7 @@ fn fell_back(p: &Prepared, sol: &Solution) -> bool {
     p.solver != grasp_model::SolverChoice::Clarabel && sol.solver.solver == SolverKind::Clarabel
 }
 
-fn hand_off(p: &Prepared, warm: bool) -> Result<Sample, BenchError> {
+fn hand_off(p: &Prepared, warm: bool, margins: bool) -> Result<Sample, BenchError> {
     let schedule = p
         .schedule
         .as_ref()
@@ -146,12 +147,16 @@ fn hand_off(p: &Prepared, warm: bool) -> Result<Sample, BenchError> {
     let built = Instant::now();
     let stepper = Stepper::new(&p.scene, schedule, p.transfer_options(warm));
     s.build_s = built.elapsed().as_secs_f64();
-    s.time_s = s.build_s;
+    s.time_s = if margins { 0.0 } else { s.build_s };
     let mut last = None;
     for r in stepper {
         let r = r.map_err(|e| run_err(p, e.to_string()))?;
         let sol = &r.solution;
-        s.time_s += r.wall_time_s;
+        s.time_s += match (margins, &r.margin) {
+            (false, _) => r.wall_time_s,
+            (true, Some(m)) => m.time_s,
+            (true, None) => 0.0,
+        };
         s.solve_s += sol.solve_time_s;
         s.unknowns = s.unknowns.max(sol.solver.unknowns);
         s.iterations += f64::from(sol.solver.iterations);
@@ -206,7 +211,8 @@ impl Prepared {
                 let build_s = t0.elapsed().as_secs_f64();
                 one_solve(self, Arc::new(model), build_s, t0)?
             }
-            CaseKind::HandOff { warm } => hand_off(self, warm)?,
+            CaseKind::HandOff { warm } => hand_off(self, warm, false)?,
+            CaseKind::Margins => hand_off(self, true, true)?,
         };
         sample.peak_memory_bytes = match base {
             Some(b) => peak_memory::peak_rss_bytes().map(|p| p.saturating_sub(b)),

@@ -174,6 +174,7 @@ pub use analysis::margin::{
     axis_directions, disturbance_margins, disturbance_margins_reporting, holds, plane_directions,
     spread_directions, DirectionMargin, Failure, MarginOptions, MarginReport, WrenchDirection,
 };
+pub use analysis::margin_tracker::MarginTracker;
 pub use analysis::patch_sizing::{auto_patch, hertz_suggestion, AutoPatch, HertzSuggestion};
 pub use analysis::refinement::{
     estimate_error, grid_with_first_side, hertz_parameters, refinement_study, with_grids,

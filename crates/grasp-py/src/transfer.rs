@@ -34,7 +34,8 @@ use crate::solution::{tangents_by_name, Solution, Tangents};
 ///   a link, a device or an input of the run); files appear only when the run completes (with
 ///   a failed step: only with `keep_going=True`); a second run writing the same file is
 ///   refused while this one runs.
-/// - `solver`: `"auto"`, `"native"` or `"clarabel"`; `cold=True` starts every step cold.
+/// - `solver`: `"auto"`, `"native"` or `"clarabel"`; `cold=True` starts every step cold (and
+///   searches every step's margins from scratch).
 /// - `compliance`: `"auto"`, `"dense"` or `"fft"`, as in `solve` (README "Fine patches").
 /// - `keep_going`: continue past a step without equilibrium (default: stop there).
 /// - `margins`: compute each step's smallest disturbance margin (costly).
@@ -83,6 +84,7 @@ pub fn transfer(
         warm_start: !cold,
         solve,
         margins,
+        margins_from_scratch: cold,
         margin_threshold_n: None,
     };
     let (schedule, mut inputs) = load_schedule(py, scene, schedule)?;

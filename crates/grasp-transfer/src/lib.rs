@@ -51,7 +51,7 @@ pub use output_files::{OpenError, OutputFiles, OutputPaths};
 pub use schedule::{Command, Schedule};
 pub use schedule_spec::ScheduleSpec;
 pub use sinks::{CsvSink, McapSink, RerunSink, RunInfo, Sink};
-pub use step_margin::StepMargin;
+pub use step_margin::{MarginPath, StepMargin};
 pub use stepper::{StepRecord, Stepper, TransferOptions};
 pub use summary::TransferSummary;
 

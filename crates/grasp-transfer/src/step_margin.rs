@@ -2,8 +2,12 @@
 //! directions of force and couple, of the margins of [`grasp_model::disturbance_margins`], continued from
 //! the contact state at the start of the step.
 
+use std::sync::Arc;
+
 use grasp_model::{axis_directions, disturbance_margins, MarginOptions, WrenchDirection};
-use grasp_model::{ContactState, GraspModel, ModelError, SolveOptions, StepInputs};
+use grasp_model::{
+    ContactState, GraspModel, MarginReport, MarginTracker, ModelError, SolveOptions, StepInputs,
+};
 use serde::Serialize;
 
 /// The smallest margin of a step.
@@ -41,8 +45,52 @@ pub fn step_margin(
     let dirs = axis_directions(model);
     let options = MarginOptions::default();
     let r = disturbance_margins(model, inputs, state, solve, &dirs, &options)?;
+    Ok(smallest_of(&r))
+}
+
+/// The margins of the successive steps of a hand-off, each step's search continued from the
+/// last step's ([`grasp_model::MarginTracker`]): the same margins as [`step_margin`]'s, to
+/// the search's tolerance.
+pub struct MarginPath {
+    /// The tracker, made at the first step (its directions are the first step's model's).
+    tracker: Option<MarginTracker>,
+}
+
+impl Default for MarginPath {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl MarginPath {
+    /// A path before its first step.
+    pub fn new() -> Self {
+        MarginPath { tracker: None }
+    }
+
+    /// The margin of the next step: as [`step_margin`], from the last step's margins.
+    pub fn step_margin(
+        &mut self,
+        model: &Arc<GraspModel>,
+        inputs: &StepInputs,
+        state: &ContactState,
+        solve: SolveOptions,
+    ) -> Result<StepMargin, ModelError> {
+        let tracker = match &mut self.tracker {
+            Some(t) => t,
+            None => self.tracker.insert(MarginTracker::new(
+                axis_directions(model),
+                MarginOptions::default(),
+            )?),
+        };
+        Ok(smallest_of(&tracker.margins(model, inputs, state, solve)?))
+    }
+}
+
+/// The smallest margin of a report, with its cost.
+fn smallest_of(r: &MarginReport) -> StepMargin {
     let d = &r.directions[r.smallest];
-    Ok(StepMargin {
+    StepMargin {
         unresisted: r
             .unresisted
             .iter()
@@ -55,5 +103,5 @@ pub fn step_margin(
         length_m: r.length_m,
         solves: r.solves,
         time_s: r.time_s,
-    })
+    }
 }

@@ -31,7 +31,7 @@ use serde::Serialize;
 
 use crate::error::TransferError;
 use crate::schedule::{Command, ExternalWrench, Schedule};
-use crate::step_margin::{step_margin, StepMargin};
+use crate::step_margin::{step_margin, MarginPath, StepMargin};
 
 /// Options of a run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,9 +43,14 @@ pub struct TransferOptions {
     pub warm_start: bool,
     /// Options of each solve.
     pub solve: SolveOptions,
-    /// Compute each solved step's smallest disturbance margin ([`crate::step_margin`]; about
-    /// 10 to 20 extra solves per axis direction and step).
+    /// Compute each solved step's smallest disturbance margin ([`crate::step_margin`]): each
+    /// step's search starts from the last step's margins (two solves per axis direction and
+    /// step when they move smoothly).
     pub margins: bool,
+    /// With `margins`, search every step's margins from scratch instead (about 10 to 20
+    /// solves per axis direction and step; the reference the continued search is checked
+    /// against).
+    pub margins_from_scratch: bool,
     /// With `margins`, the summary says when the smallest margin first fell below this many
     /// newtons.
     pub margin_threshold_n: Option<f64>,
@@ -58,6 +63,7 @@ impl Default for TransferOptions {
             warm_start: true,
             solve: SolveOptions::default(),
             margins: false,
+            margins_from_scratch: false,
             margin_threshold_n: None,
         }
     }
@@ -154,6 +160,8 @@ pub struct Stepper<'a> {
     stopped: bool,
     /// Largest external load (weight, external forces), N.
     external_scale_n: f64,
+    /// The margins' searches along the path, when margins are asked for.
+    margin_path: Option<MarginPath>,
 }
 
 impl<'a> Stepper<'a> {
@@ -204,6 +212,7 @@ impl<'a> Stepper<'a> {
                 .map(|r| r.force.iter().map(|c| c * c).sum::<f64>().sqrt())
                 .fold(scene.object.weight, f64::max)
                 .max(schedule.external_scale()),
+            margin_path: (options.margins && !options.margins_from_scratch).then(MarginPath::new),
         }
     }
 
@@ -458,8 +467,11 @@ impl<'a> Stepper<'a> {
                 state.advance_time_step(&model, sol);
             }
         }
-        let margin = match (&solved, before) {
-            (Ok(sol), Some(b)) if sol.status.has_forces() => {
+        let margin = match (&solved, before, &mut self.margin_path) {
+            (Ok(sol), Some(b), Some(path)) if sol.status.has_forces() => {
+                Some(path.step_margin(&model, &inputs, &b, options.solve))
+            }
+            (Ok(sol), Some(b), None) if sol.status.has_forces() => {
                 Some(step_margin(&model, &inputs, &b, options.solve))
             }
             _ => None,

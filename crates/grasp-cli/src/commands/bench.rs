@@ -18,7 +18,9 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use grasp_bench::peer::{PeerError, PeerProblem, PeerRecord};
 use grasp_bench::statistics::{growth_exponent, median_and_range};
-use grasp_bench::{Case, CaseKind, Sample, CASES, FFT_CASES, LAYER_CASES, LAYER_PAIRS, PEER_CASES};
+use grasp_bench::{
+    Case, CaseKind, Sample, CASES, FFT_CASES, LAYER_CASES, LAYER_PAIRS, MARGIN_PAIRS, PEER_CASES,
+};
 use grasp_model::SolverChoice;
 
 mod outputs;
@@ -193,6 +195,7 @@ fn per(case: &Case) -> &'static str {
         CaseKind::Solve => "per solve",
         CaseKind::OneShot => "build + solve",
         CaseKind::HandOff { .. } => "per step",
+        CaseKind::Margins => "margins per step",
     }
 }
 
@@ -315,10 +318,11 @@ fn derived_rows(all: &[Measured], solvers: &[SolverChoice]) -> Vec<Row> {
 }
 
 /// Issue 22's ratios: a layered pad's time (model build and solve) over the half-space pad's
-/// on the same path, target at most [`LAYER_PAIRS`]' bound.
+/// on the same path, target at most [`LAYER_PAIRS`]' bound; and the margins of a hand-off's
+/// steps over the stepping, target at most [`MARGIN_PAIRS`]' bound.
 fn layer_ratio_rows(all: &[Measured], solver: SolverChoice) -> Vec<Row> {
     let mut rows = Vec::new();
-    for (layered, half, bound) in LAYER_PAIRS {
+    for (layered, half, bound) in LAYER_PAIRS.into_iter().chain(MARGIN_PAIRS) {
         let (Some(l), Some(h)) = (find(all, layered, solver), find(all, half, solver)) else {
             continue;
         };

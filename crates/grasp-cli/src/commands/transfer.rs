@@ -54,7 +54,8 @@ pub struct Args {
     #[arg(long)]
     pub keep_going: bool,
     /// Rebuild the program at every step and start every sequential solve from an
-    /// energy-model solve instead of the previous step (for comparison).
+    /// energy-model solve instead of the previous step, and with --margins search every
+    /// step's margins from scratch instead of from the previous step's (for comparison).
     #[arg(long)]
     pub cold: bool,
     /// After the run, find the smallest load of the receiving (force-controlled) fingers
@@ -248,6 +249,7 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
         warm_start: !flags.cold,
         solve: flags.solve.options(),
         margins: flags.margins,
+        margins_from_scratch: flags.cold,
         margin_threshold_n: flags.margin_threshold,
     };
     let mut history = out.plot.as_ref().map(|_| ForceHistory::new(&names));

@@ -50,11 +50,11 @@ const MIN_SAMPLE_NORM: f64 = 1e-9;
 /// First growth step of the search, as a fraction of the load scale: small, because a trial
 /// that holds is cheap (a warm-started step) and one that fails is not (the solver must certify
 /// that no equilibrium exists), so the search should fail as few times as it can.
-const INITIAL_STEP: f64 = 1e-2;
+pub(crate) const INITIAL_STEP: f64 = 1e-2;
 
 /// Below this fraction of the load scale a margin counts as zero: the bisection stops (the
 /// solves themselves balance the load only to about 1e-10 of it).
-const ZERO_MARGIN: f64 = 1e-6;
+pub(crate) const ZERO_MARGIN: f64 = 1e-6;
 
 /// Range of [`MarginOptions::relative_tolerance`]: the solves balance the load only to about
 /// 1e-10 of it, so a narrower bracket than 1e-9 would sort round-off; above 0.5 the bracket
@@ -365,7 +365,7 @@ pub fn spread_directions(model: &GraspModel, n: usize) -> Vec<WrenchDirection> {
 }
 
 /// The loaded frictional fingers of `sol` that slide as a whole (no sticking element).
-fn sliding_fingers(sol: &Solution) -> Vec<String> {
+pub(crate) fn sliding_fingers(sol: &Solution) -> Vec<String> {
     sol.fingers_sliding_as_a_whole()
         .map(|f| f.name.clone())
         .collect()
@@ -399,7 +399,7 @@ pub fn holds(model: &GraspModel, sol: &Solution, exempt: &[String]) -> Result<()
 }
 
 /// The loaded frictional finger with the highest friction utilisation.
-fn most_utilised(model: &GraspModel, sol: &Solution) -> Option<String> {
+pub(crate) fn most_utilised(model: &GraspModel, sol: &Solution) -> Option<String> {
     let loaded = LOADED_FRACTION * sol.load_scale_n;
     sol.fingers
         .iter()
@@ -413,25 +413,25 @@ fn most_utilised(model: &GraspModel, sol: &Solution) -> Option<String> {
 }
 
 /// The search along one direction.
-struct Search<'a> {
-    model: &'a GraspModel,
-    inputs: &'a StepInputs,
-    solver: GraspSolver,
-    direction: WrenchDirection,
-    length_m: f64,
-    solves: u32,
-    exempt: &'a [String],
+pub(crate) struct Search<'a> {
+    pub(crate) model: &'a GraspModel,
+    pub(crate) inputs: &'a StepInputs,
+    pub(crate) solver: &'a mut GraspSolver,
+    pub(crate) direction: WrenchDirection,
+    pub(crate) length_m: f64,
+    pub(crate) solves: u32,
+    pub(crate) exempt: &'a [String],
 }
 
 /// The largest magnitude known to hold, N, with the contact state and solution there.
-struct Held {
-    s: f64,
-    state: ContactState,
-    sol: Solution,
+pub(crate) struct Held {
+    pub(crate) s: f64,
+    pub(crate) state: ContactState,
+    pub(crate) sol: Solution,
 }
 
 /// The smallest magnitude known to fail, N, and how.
-type Fails = (f64, Failure);
+pub(crate) type Fails = (f64, Failure);
 
 impl Search<'_> {
     /// The step's inputs with the disturbance of magnitude `s` (N) along the direction: a
@@ -446,7 +446,7 @@ impl Search<'_> {
     }
 
     /// One quasi-static step to magnitude `s` from `state`.
-    fn trial(
+    pub(crate) fn trial(
         &mut self,
         s: f64,
         state: &ContactState,
@@ -461,7 +461,7 @@ impl Search<'_> {
     /// Grows the magnitude from `held` (the step doubling from [`INITIAL_STEP`] of the load
     /// scale) until the grasp fails (`Some`) or holds at `cap` (`None`); the note says why it
     /// stopped below the cap when it did.
-    fn grow(
+    pub(crate) fn grow(
         &mut self,
         held: &mut Held,
         cap: f64,
@@ -488,7 +488,7 @@ impl Search<'_> {
     /// Narrows the bracket `(held, fails)` by bisection to `tolerance` of its upper end (or
     /// below [`ZERO_MARGIN`] of the load scale); the note says why it stopped wider, when it
     /// did.
-    fn narrow(
+    pub(crate) fn narrow(
         &mut self,
         held: &mut Held,
         fails: &mut Fails,
@@ -553,10 +553,11 @@ fn along(
     base: (&ContactState, &Solution),
 ) -> Result<DirectionMargin, ModelError> {
     let clock = Instant::now();
+    let mut solver = GraspSolver::new(Arc::clone(model), solve_options);
     let mut search = Search {
         model: model.as_ref(),
         inputs,
-        solver: GraspSolver::new(Arc::clone(model), solve_options),
+        solver: &mut solver,
         direction,
         length_m,
         solves: 0,
@@ -572,25 +573,41 @@ fn along(
     if let Some(fails) = &mut hi {
         stopped_early = search.narrow(&mut held, fails, options.relative_tolerance)?;
     }
-    let lo = held.s;
-    let failing_finger = match &hi {
-        Some((_, Failure::Slides { finger })) => Some(finger.clone()),
-        Some(_) => most_utilised(model, &held.sol),
-        None => None,
-    };
-    Ok(DirectionMargin {
-        direction,
-        margin_n: lo,
-        fails_at_n: hi.as_ref().map(|(h, _)| *h),
-        force_n: direction.force.map(|v| v * lo),
-        torque_nm: direction.torque.map(|v| v * lo * length_m),
-        bounded: hi.is_some(),
-        failing_finger,
-        failure: hi.map(|(_, f)| f),
-        solves: search.solves,
-        time_s: clock.elapsed().as_secs_f64(),
-        stopped_early,
-    })
+    Ok(search.finish(held, hi, stopped_early, clock))
+}
+
+impl Search<'_> {
+    /// The margin of a finished search: `held` the largest magnitude found to hold, `hi` the
+    /// smallest found to fail (`None`: held at the cap), `stopped_early` why the bracket is
+    /// wider than asked, `clock` started with the search.
+    pub(crate) fn finish(
+        &self,
+        held: Held,
+        hi: Option<Fails>,
+        stopped_early: Option<String>,
+        clock: Instant,
+    ) -> DirectionMargin {
+        let lo = held.s;
+        let failing_finger = match &hi {
+            Some((_, Failure::Slides { finger })) => Some(finger.clone()),
+            Some(_) => most_utilised(self.model, &held.sol),
+            None => None,
+        };
+        let direction = self.direction;
+        DirectionMargin {
+            direction,
+            margin_n: lo,
+            fails_at_n: hi.as_ref().map(|(h, _)| *h),
+            force_n: direction.force.map(|v| v * lo),
+            torque_nm: direction.torque.map(|v| v * lo * self.length_m),
+            bounded: hi.is_some(),
+            failing_finger,
+            failure: hi.map(|(_, f)| f),
+            solves: self.solves,
+            time_s: clock.elapsed().as_secs_f64(),
+            stopped_early,
+        }
+    }
 }
 
 /// The margins of `model` under `inputs` (its loads, extra wrench and approaches) along
@@ -680,7 +697,7 @@ pub fn disturbance_margins_reporting(
 }
 
 /// The margin along `d` of a grasp that fails undisturbed (`f`): 0, with that failure.
-fn failing_undisturbed(d: WrenchDirection, f: &Failure) -> DirectionMargin {
+pub(crate) fn failing_undisturbed(d: WrenchDirection, f: &Failure) -> DirectionMargin {
     DirectionMargin {
         direction: d,
         margin_n: 0.0,
@@ -701,7 +718,7 @@ fn failing_undisturbed(d: WrenchDirection, f: &Failure) -> DirectionMargin {
 
 /// The directions not resisted at all (searched, and failing at the smallest magnitude), and
 /// the index of the smallest margin among the others (among all when none is resisted).
-fn unresisted_and_smallest(margins: &[DirectionMargin]) -> (Vec<usize>, usize) {
+pub(crate) fn unresisted_and_smallest(margins: &[DirectionMargin]) -> (Vec<usize>, usize) {
     let searched = margins.iter().any(|m| m.solves > 0);
     let unresisted: Vec<usize> = (0..margins.len())
         .filter(|&i| searched && margins[i].margin_n == 0.0 && margins[i].failure.is_some())

@@ -1,8 +1,10 @@
-//! Analyses built on many solves: disturbance margins, grid-refinement studies, patch
+//! Analyses built on many solves: disturbance margins (of one grasp, and along a loading path), grid-refinement studies, patch
 //! sizing, the state at a time of a viscoelastic scene, and the record a solution's JSON file
 //! holds.
 
+pub mod load_fixed_directions;
 pub mod margin;
+pub mod margin_tracker;
 pub mod patch_sizing;
 pub mod refinement;
 pub mod relaxation;

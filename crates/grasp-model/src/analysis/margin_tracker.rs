@@ -1,0 +1,400 @@
+//! Disturbance margins along a loading path (the steps of a hand-off), each step's search
+//! started from the previous step's margins, each direction keeping its solver (its warm start
+//! and factorisations) from step to step.
+//!
+//! The answers are those of [`crate::disturbance_margins`] to its bisection tolerance: a
+//! margin is again a bracket `[held, fails]` no wider than
+//! [`MarginOptions::relative_tolerance`] of its upper end, whose lower end holds and whose
+//! upper end fails in the criterion of [`holds`] (or the cap, held). Only where the trials go
+//! changes. Per direction and step:
+//!
+//! - **prediction**: the margins of the last three steps extrapolated by the parabola through
+//!   them (two: the line; one: itself), the last margin alone when the extrapolation moves it
+//!   by more than half;
+//! - **check**: a bracket of 0.9 times the tolerance centred on the prediction, one trial at
+//!   each end: two solves when the prediction is right;
+//! - **fallback**: from the end that was wrong the bracket walks on, its step growing fourfold
+//!   from the tolerance, until it holds the margin, and the bisection of the search from
+//!   scratch narrows it. The first step, a step after one whose grasp failed undisturbed, a
+//!   direction unresisted or unbounded at the last step, and a prediction above 100 times the
+//!   load scale run the search from scratch (with a fresh solver, as it does: the same trials,
+//!   the same answers). Whether a direction is resisted at all is decided at the edge of
+//!   equilibrium, where the solver's start can tip the answer; far above the load scale the
+//!   solves themselves stop converging at some magnitudes ([`LARGE_MARGIN_FACTOR`]).
+//! - **shared**: the step's undisturbed solve (from a fresh solver, as the search from
+//!   scratch makes it, so that both start from the same contact state), and the directions that only the commanded
+//!   loads could balance ([`crate::analysis::load_fixed_directions`], once per model): a
+//!   disturbance along one of them is unresisted without a solve (the search from scratch
+//!   finds the same, margin 0, with one solve that certifies no equilibrium).
+//!
+//! As in the search from scratch, each trial is one quasi-static step from the state at the
+//! largest magnitude known to hold (the step's undisturbed state when none is), so the coulomb
+//! model's slip memory follows a monotone loading path. That path takes fewer, larger steps
+//! here; slip memory makes the two searches' criteria differ only where a margin depends on
+//! the loading path within a step, which `tests/margin_tracking.rs` checks along every
+//! example hand-off.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use nalgebra::Vector3;
+
+use crate::analysis::load_fixed_directions::LoadFixedDirections;
+use crate::analysis::margin::{
+    failing_undisturbed, holds, sliding_fingers, unresisted_and_smallest, DirectionMargin, Fails,
+    Failure, Held, MarginOptions, MarginReport, Search, WrenchDirection, ZERO_MARGIN,
+};
+use crate::error::ModelError;
+use crate::model::grasp_model::GraspModel;
+use crate::scene::scene_format::ModelKind;
+use crate::solve::contact_state::ContactState;
+use crate::solve::grasp_solver::GraspSolver;
+use crate::solve::solution::Solution;
+use crate::solve::step_inputs::StepInputs;
+use crate::solver::options::SolveOptions;
+
+/// Half-width of the checking bracket around a prediction, as a fraction of the tolerance: the
+/// bracket `[m (1 - h), m (1 + h)]` with `h = 0.45 tol` is narrower than `tol` times its upper
+/// end, so two trials that confirm it need no bisection.
+const CHECK_HALF_WIDTH: f64 = 0.45;
+
+/// Predictions above this multiple of the load scale are not checked: there the scaled
+/// program is ill-conditioned and solves fail to converge at some magnitudes and not at
+/// others (a failure), so holding stops being monotone in the magnitude and any search's
+/// answer depends on where it tries. The search from scratch's own trials are taken.
+const LARGE_MARGIN_FACTOR: f64 = 100.0;
+
+/// Growth of the walking step after each trial that did not bracket the margin.
+const WALK_GROWTH: f64 = 4.0;
+
+/// Largest number of walking trials before the search from scratch takes over (a step
+/// growing fourfold from 1e-9 of the margin passes any cap within 40).
+const MAX_WALK_STEPS: u32 = 64;
+
+/// What the last step's search found along a direction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Seen {
+    /// A margin, N.
+    Margin(f64),
+    /// Not resisted at all.
+    Unresisted,
+    /// Held at the cap.
+    Unbounded,
+}
+
+/// One direction's solver and the margins of the last steps (newest last).
+#[derive(Default)]
+struct Track {
+    solver: Option<GraspSolver>,
+    last: Vec<Seen>,
+}
+
+/// The step's data every direction's search shares.
+struct Shared<'a> {
+    model: &'a Arc<GraspModel>,
+    inputs: &'a StepInputs,
+    solve_options: SolveOptions,
+    options: &'a MarginOptions,
+    length_m: f64,
+    exempt: &'a [String],
+    base: (&'a ContactState, &'a Solution),
+    fixed: &'a LoadFixedDirections,
+}
+
+/// A finished search: the largest magnitude found to hold, the smallest found to fail
+/// (`None`: held at the cap), and why the bracket is wider than asked, when it is.
+type Found = (Held, Option<Fails>, Option<String>);
+
+/// Disturbance margins of the successive steps of a loading path (see the module).
+pub struct MarginTracker {
+    directions: Vec<WrenchDirection>,
+    options: MarginOptions,
+    /// The model and solve options the solvers were built for.
+    built_for: Option<(Arc<GraspModel>, SolveOptions)>,
+    /// That model's directions fixed by the commanded loads.
+    fixed: LoadFixedDirections,
+    tracks: Vec<Track>,
+}
+
+impl MarginTracker {
+    /// A tracker of the margins along `directions`; options outside their ranges are an error
+    /// ([`MarginOptions::validate`]).
+    pub fn new(
+        directions: Vec<WrenchDirection>,
+        options: MarginOptions,
+    ) -> Result<Self, ModelError> {
+        options.validate()?;
+        let tracks = directions.iter().map(|_| Track::default()).collect();
+        Ok(MarginTracker {
+            directions,
+            options,
+            built_for: None,
+            fixed: LoadFixedDirections::none(),
+            tracks,
+        })
+    }
+
+    /// The margins of the next step of the path: `model` under `inputs` from `state`, as
+    /// [`crate::disturbance_margins`] defines them. The solvers are kept while `model` (the
+    /// same `Arc`) and `solve_options` stay; the predictions carry over a change of either.
+    pub fn margins(
+        &mut self,
+        model: &Arc<GraspModel>,
+        inputs: &StepInputs,
+        state: &ContactState,
+        solve_options: SolveOptions,
+    ) -> Result<MarginReport, ModelError> {
+        use rayon::prelude::*;
+        solve_options.validate()?;
+        let clock = Instant::now();
+        self.keep_solvers_of(model, solve_options);
+        let length_m = self.options.length_m.unwrap_or(model.scales.length_m);
+        let mut base_state = state.clone();
+        let base = GraspSolver::new(Arc::clone(model), solve_options)
+            .solve_step(inputs, &mut base_state)?;
+        let sliding_undisturbed = match model.kind() {
+            ModelKind::Coulomb if base.status.has_forces() => sliding_fingers(&base),
+            _ => Vec::new(),
+        };
+        let margins: Vec<DirectionMargin> = match holds(model, &base, &sliding_undisturbed) {
+            Err(f) => {
+                self.tracks.iter_mut().for_each(|t| t.last.clear());
+                let dirs = self.directions.iter();
+                dirs.map(|&d| failing_undisturbed(d, &f)).collect()
+            }
+            Ok(()) => {
+                let shared = Shared {
+                    model,
+                    inputs,
+                    solve_options,
+                    options: &self.options,
+                    length_m,
+                    exempt: &sliding_undisturbed,
+                    base: (&base_state, &base),
+                    fixed: &self.fixed,
+                };
+                let pairs = self.tracks.par_iter_mut().zip(self.directions.par_iter());
+                pairs
+                    .map(|(track, &d)| continue_along(track, &shared, d))
+                    .collect::<Result<_, _>>()?
+            }
+        };
+        let (unresisted, smallest) = unresisted_and_smallest(&margins);
+        Ok(MarginReport {
+            model: model.kind(),
+            length_m,
+            load_scale_n: model.scales.load_n,
+            solves: 1 + margins.iter().map(|m| m.solves).sum::<u32>(),
+            sliding_undisturbed,
+            directions: margins,
+            smallest,
+            unresisted,
+            time_s: clock.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Drops the solvers unless they were built for `model` and `solve_options`.
+    fn keep_solvers_of(&mut self, model: &Arc<GraspModel>, solve_options: SolveOptions) {
+        let same = self
+            .built_for
+            .as_ref()
+            .is_some_and(|(m, o)| Arc::ptr_eq(m, model) && *o == solve_options);
+        if !same {
+            self.fixed = LoadFixedDirections::of(model);
+            self.built_for = Some((Arc::clone(model), solve_options));
+            self.tracks.iter_mut().for_each(|t| t.solver = None);
+        }
+    }
+}
+
+/// The margin along `direction` at this step, started from what `track` saw at the last ones.
+fn continue_along(
+    track: &mut Track,
+    shared: &Shared<'_>,
+    direction: WrenchDirection,
+) -> Result<DirectionMargin, ModelError> {
+    let clock = Instant::now();
+    let model = shared.model;
+    let predicted = prediction(&track.last);
+    let solver = track
+        .solver
+        .get_or_insert_with(|| GraspSolver::new(Arc::clone(model), shared.solve_options));
+    let mut search = Search {
+        model: model.as_ref(),
+        inputs: shared.inputs,
+        solver,
+        direction,
+        length_m: shared.length_m,
+        solves: 0,
+        exempt: shared.exempt,
+    };
+    let base = Held {
+        s: 0.0,
+        state: shared.base.0.clone(),
+        sol: shared.base.1.clone(),
+    };
+    let options = shared.options;
+    let (force, torque) = (
+        Vector3::from(direction.force),
+        Vector3::from(direction.torque) * shared.length_m,
+    );
+    let (held, hi, note) = match predicted {
+        _ if shared.fixed.fixes(model, &force, &torque) => fixed_by_loads(&search, base),
+        Some(Seen::Margin(m)) => around(&mut search, base, m, options)?,
+        Some(Seen::Unresisted | Seen::Unbounded) | None => {
+            from_scratch(&mut search, base, options)?
+        }
+    };
+    let m = search.finish(held, hi, note, clock);
+    track.last.push(seen(&m));
+    if track.last.len() > 3 {
+        track.last.remove(0);
+    }
+    Ok(m)
+}
+
+/// What a margin says for the next step's prediction.
+fn seen(m: &DirectionMargin) -> Seen {
+    if !m.bounded {
+        Seen::Unbounded
+    } else if m.margin_n == 0.0 {
+        Seen::Unresisted
+    } else {
+        Seen::Margin(m.margin_n)
+    }
+}
+
+/// The prediction of this step from the last ones (newest last): three margins extrapolated
+/// by their parabola, two by their line (steps taken as equally spaced), unless that moves the
+/// last by more than half of it; else the last.
+fn prediction(last: &[Seen]) -> Option<Seen> {
+    let p = match last {
+        [.., Seen::Margin(a), Seen::Margin(b), Seen::Margin(c)] => 3.0 * (c - b) + a,
+        [.., Seen::Margin(b), Seen::Margin(c)] => 2.0 * c - b,
+        [.., x] => return Some(*x),
+        [] => return None,
+    };
+    let Some(Seen::Margin(c)) = last.last() else {
+        return None;
+    };
+    Some(Seen::Margin(if (p - c).abs() <= 0.5 * c { p } else { *c }))
+}
+
+/// A fresh solver for `search` (no warm start from other steps), as the search from scratch
+/// starts with.
+fn start_afresh(search: &mut Search<'_>) {
+    let model = Arc::clone(search.solver.shared_model());
+    *search.solver = GraspSolver::new(model, *search.solver.options());
+}
+
+/// The search from scratch ([`crate::disturbance_margins`]'s): growth from `held`, then
+/// bisection, with a fresh solver.
+fn from_scratch(
+    search: &mut Search<'_>,
+    mut held: Held,
+    options: &MarginOptions,
+) -> Result<Found, ModelError> {
+    start_afresh(search);
+    let cap = options.max_factor * search.model.scales.load_n;
+    let (mut hi, mut note) = search.grow(&mut held, cap)?;
+    if let Some(fails) = &mut hi {
+        note = search.narrow(&mut held, fails, options.relative_tolerance)?;
+    }
+    Ok((held, hi, note))
+}
+
+/// A direction only the commanded loads could balance: unresisted, failing at the smallest
+/// magnitude as the search from scratch finds with a solve.
+fn fixed_by_loads(search: &Search<'_>, base: Held) -> Found {
+    let zero = ZERO_MARGIN * search.model.scales.load_n;
+    let failure = Failure::NoEquilibrium {
+        reason: "no equilibrium: the disturbance has a component that only the commanded \
+                 normal loads could balance, and they are fixed"
+            .into(),
+    };
+    (base, Some((zero, failure)), None)
+}
+
+/// A margin predicted at `m` N: the checking bracket around it, walking on from the end that
+/// was wrong, then the bisection.
+fn around(
+    search: &mut Search<'_>,
+    base: Held,
+    m: f64,
+    options: &MarginOptions,
+) -> Result<Found, ModelError> {
+    let tol = options.relative_tolerance;
+    let cap = options.max_factor * search.model.scales.load_n;
+    let (lo, hi) = (
+        m * (1.0 - CHECK_HALF_WIDTH * tol),
+        m * (1.0 + CHECK_HALF_WIDTH * tol),
+    );
+    let load_n = search.model.scales.load_n;
+    if !(lo > ZERO_MARGIN * load_n && hi < LARGE_MARGIN_FACTOR * load_n) {
+        return from_scratch(search, base, options);
+    }
+    let (mut held, mut fails) = match search.trial(lo, &base.state)? {
+        Ok((state, sol)) => match walk_up(search, Held { s: lo, state, sol }, hi, cap)? {
+            (held, Some(fails)) => (held, fails),
+            (held, None) => return Ok((held, None, None)),
+        },
+        Err(f) => match walk_down(search, base, (lo, f), tol)? {
+            // Down to the smallest magnitude: whether the direction is resisted at all is
+            // the search from scratch's to say (see the module).
+            (base, _) if base.s == 0.0 => return from_scratch(search, base, options),
+            found => found,
+        },
+    };
+    let note = search.narrow(&mut held, &mut fails, tol)?;
+    Ok((held, Some(fails), note))
+}
+
+/// From `held`, trials at `first` N and on upwards (each step four times the last) until one
+/// fails (`Some`) or the grasp holds at `cap` (`None`); past [`MAX_WALK_STEPS`], the growth of
+/// the search from scratch.
+fn walk_up(
+    search: &mut Search<'_>,
+    mut held: Held,
+    first: f64,
+    cap: f64,
+) -> Result<(Held, Option<Fails>), ModelError> {
+    let (mut s, mut step) = (first, first - held.s);
+    for _ in 0..MAX_WALK_STEPS {
+        match search.trial(s, &held.state)? {
+            Err(f) => return Ok((held, Some((s, f)))),
+            Ok((state, sol)) => held = Held { s, state, sol },
+        }
+        if held.s >= cap {
+            return Ok((held, None));
+        }
+        step *= WALK_GROWTH;
+        s = (s + step).min(cap);
+    }
+    let (hi, _) = search.grow(&mut held, cap)?;
+    Ok((held, hi))
+}
+
+/// From a failure at `fails`, trials downwards from the undisturbed `base` (the gap four
+/// times the last each time, from `4 tol` of the magnitude) until one holds; below the
+/// smallest magnitude, the bracket is `[0, fails]`.
+fn walk_down(
+    search: &mut Search<'_>,
+    base: Held,
+    mut fails: Fails,
+    tol: f64,
+) -> Result<(Held, Fails), ModelError> {
+    let zero = ZERO_MARGIN * search.model.scales.load_n;
+    let mut gap = WALK_GROWTH * tol * fails.0;
+    for _ in 0..MAX_WALK_STEPS {
+        let s = fails.0 - gap;
+        if s.is_nan() || s <= zero {
+            break;
+        }
+        match search.trial(s, &base.state)? {
+            Ok((state, sol)) => return Ok((Held { s, state, sol }, fails)),
+            Err(f) => fails = (s, f),
+        }
+        gap *= WALK_GROWTH;
+    }
+    Ok((base, fails))
+}

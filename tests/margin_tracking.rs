@@ -1,0 +1,100 @@
+//! Margins along a hand-off, each step's search continued from the last step's
+//! (`grasp_model::MarginTracker`, what `grasp transfer --margins` runs), equal the margins
+//! searched from scratch at every step (`grasp_model::disturbance_margins`, called by the
+//! stepper with `margins_from_scratch`) along every bundled example hand-off, to the
+//! bisection's tolerance.
+//!
+//! Both searches end on a bracket `[held, fails]` no wider than the relative tolerance `tol`
+//! of its upper end around the same true margin `m` (the grasp holds below it and fails above
+//! it), so each reports a lower end in `[(1 - tol) m, m]`: two reports differ by at most
+//! `tol m <= tol / (1 - tol)` times the larger, and the smallest over the directions likewise.
+//! Below `1e-6` of the load scale the bisection stops (a margin there counts as zero), which
+//! adds that much in absolute terms.
+
+mod support;
+
+use grasp_model::MarginOptions;
+use grasp_transfer::{StepMargin, StepRecord, Stepper, TransferOptions};
+use support::{example_schedules, scene_and_schedule};
+
+/// At most this many steps of each schedule (every k-th step beyond it): the search from
+/// scratch costs 10 to 20 solves per direction and step, and a thinned path is a harder test
+/// of the predictions, not an easier one.
+const MAX_STEPS: usize = 30;
+
+/// Patches finer than this many elements a side are coarsened to it: the comparison is
+/// between two searches on the same grasp, and the grid sets only the cost of its solves
+/// (the fine-patch examples take seconds a solve near their margins).
+const MAX_GRID: usize = 8;
+
+/// Below this fraction of the load scale a margin counts as zero (the searches' constant).
+const ZERO_MARGIN: f64 = 1e-6;
+
+fn run(
+    scene: &grasp_model::Scene,
+    schedule: &grasp_transfer::Schedule,
+    from_scratch: bool,
+) -> Vec<StepRecord> {
+    let options = TransferOptions {
+        margins: true,
+        margins_from_scratch: from_scratch,
+        ..TransferOptions::default()
+    };
+    Stepper::new(scene, schedule, options)
+        .map(|r| r.unwrap())
+        .collect()
+}
+
+/// The difference between two margins of a step allowed by the brackets (module docs).
+fn allowed_n(a: &StepMargin, b: &StepMargin, load_scale_n: f64) -> f64 {
+    let tol = MarginOptions::default().relative_tolerance;
+    tol / (1.0 - tol) * a.smallest_n.max(b.smallest_n) + ZERO_MARGIN * load_scale_n
+}
+
+#[test]
+fn continued_margins_equal_the_search_from_scratch_along_every_example_hand_off() {
+    let mut compared = 0;
+    for (scene_name, schedule_name) in example_schedules() {
+        let (mut scene, mut schedule) = scene_and_schedule(&scene_name, &schedule_name);
+        for f in &mut scene.fingers {
+            f.patch.grid = f.patch.grid.map(|n| n.min(MAX_GRID));
+        }
+        let stride = schedule.times.len().div_ceil(MAX_STEPS);
+        schedule.times = schedule.times.iter().copied().step_by(stride).collect();
+        let clock = std::time::Instant::now();
+        let continued = run(&scene, &schedule, false);
+        let continued_s = clock.elapsed().as_secs_f64();
+        let scratch = run(&scene, &schedule, true);
+        let scratch_s = clock.elapsed().as_secs_f64() - continued_s;
+        assert_eq!(continued.len(), scratch.len(), "{schedule_name}");
+        let mut solves = (0, 0);
+        for (a, b) in continued.iter().zip(&scratch) {
+            let what = format!("{schedule_name} on {scene_name}, step {}", a.index);
+            let (ma, mb) = match (&a.margin, &b.margin) {
+                (Some(ma), Some(mb)) => (ma, mb),
+                (None, None) => continue,
+                other => panic!("{what}: one search has a margin, the other not: {other:?}"),
+            };
+            assert_eq!(ma.unresisted, mb.unresisted, "{what}");
+            assert_eq!(ma.bounded, mb.bounded, "{what}");
+            let allowed = allowed_n(ma, mb, a.solution.load_scale_n);
+            assert!(
+                (ma.smallest_n - mb.smallest_n).abs() <= allowed,
+                "{what}: continued {} N, from scratch {} N (allowed {allowed} N): {ma:?}, \
+                 {mb:?}",
+                ma.smallest_n,
+                mb.smallest_n
+            );
+            solves = (solves.0 + ma.solves, solves.1 + mb.solves);
+            compared += 1;
+        }
+        println!(
+            "{schedule_name}: {} steps, continued {} solves in {continued_s:.2} s, from \
+             scratch {} solves in {scratch_s:.2} s",
+            continued.len(),
+            solves.0,
+            solves.1
+        );
+    }
+    assert!(compared > 100, "{compared} steps compared");
+}
