@@ -20,12 +20,13 @@ use support::{example_schedules, scene_and_schedule};
 /// At most this many steps of each schedule (every k-th step beyond it): the search from
 /// scratch costs 10 to 20 solves per direction and step, and a thinned path is a harder test
 /// of the predictions, not an easier one.
-const MAX_STEPS: usize = 30;
+const MAX_STEPS: usize = 12;
 
 /// Patches finer than this many elements a side are coarsened to it: the comparison is
 /// between two searches on the same grasp, and the grid sets only the cost of its solves
-/// (the fine-patch examples take seconds a solve near their margins).
-const MAX_GRID: usize = 8;
+/// (the fine-patch examples take seconds a solve near their margins). The plates' 9 x 3
+/// patches stay as written.
+const MAX_GRID: usize = 9;
 
 /// Below this fraction of the load scale a margin counts as zero (the searches' constant).
 const ZERO_MARGIN: f64 = 1e-6;
