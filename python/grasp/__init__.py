@@ -10,6 +10,8 @@ corrected in ``docs/model.md``), called in-process:
 >>> sol.normal_forces_n, sol.tangential_forces_n         # per element: (N,), (N, 3)
 >>> run = grasp.transfer(scene_b, "examples/plate_transfer.schedule.json", mcap="out.mcap")
 >>> run.times_s, run.normal_forces_n                     # (T,), (T, F)
+>>> plan = grasp.plan(scene_c, releasing=["f1", "f2"], receiving=["f3", "f4"], max_rate=1.5)
+>>> plan["met"], plan["duration_s"]; grasp.transfer(scene_c, plan["schedule"])
 
 Units are SI and every name carries its unit (``_n`` newtons, ``_m`` metres, ``_pa``
 pascals, ``_s`` seconds). Bad scenes and schedules raise :class:`SceneError` /
@@ -26,6 +28,7 @@ from ._native import (
     Solution,
     Transfer,
     __version__,
+    plan,
     solve,
     transfer,
 )
@@ -38,6 +41,7 @@ __all__ = [
     "Solution",
     "Transfer",
     "__version__",
+    "plan",
     "solve",
     "transfer",
 ]

@@ -1,7 +1,7 @@
 """Type stubs of the native module (``grasp._native``); see the package docstring."""
 
 import os
-from typing import Any, Callable, Literal, Optional, Union
+from typing import Any, Callable, Dict, Literal, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -191,6 +191,32 @@ def transfer(
     """Runs a hand-off schedule (GIL released), writing the CLI's files; see the package docstring.
     ``progress(done, total)`` is called after each step; an exception it raises (or Ctrl-C) stops
     the run between steps."""
+
+def plan(
+    scene: Scene,
+    *,
+    releasing: Sequence[str],
+    receiving: Sequence[str] = (),
+    template: Optional[Source] = None,
+    min_slip_margin: float = 0.0,
+    min_load: float = 0.0,
+    max_load: Optional[float] = None,
+    max_rate: Optional[float] = None,
+    min_duration: float = 0.0,
+    max_duration: Optional[float] = None,
+    duration: Optional[float] = None,
+    objective: Literal["duration", "margin"] = "duration",
+    steps: Optional[int] = None,
+    keyframes: int = 5,
+    max_runs: int = 30,
+    solver: SolverName = "auto",
+    compliance: ComplianceName = "auto",
+) -> Dict[str, Any]:
+    """Plans a hand-off's load ramps (GIL released), as ``grasp plan`` does: the report as a
+    dict with ``met``, ``binding``, ``schedule`` (runs unchanged in :func:`transfer`),
+    ``margins``, ``template_margins``, ``duration_s``, ``runs`` and ``time_s``. Loads N, rates
+    N/s, times s. Raises :class:`GraspError` for constraints no schedule can meet, naming the
+    one that binds, and ``ValueError`` for arguments out of range."""
 
 # For the pure-Python readers and writers of the package (grasp.mujoco): the project's file
 # policy (grasp-io). `kind`: "mujoco_model", "mujoco_state", "mujoco_rollout", "material_map".

@@ -70,6 +70,10 @@ enum Command {
     Study(commands::study::Args),
     /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
     Transfer(commands::transfer::Args),
+    /// Plan a hand-off: the releasing and receiving fingers' load ramps that keep every
+    /// step's slip margin above a threshold, within load and rate limits, in the shortest
+    /// duration (or with the largest smallest margin); the schedule is written once checked.
+    Plan(commands::plan::Args),
     /// Benchmark table: the solver's cases (cube A grids, Hertz 41x41, both hand-offs warm
     /// and cold, the whole transfer command) with each solver, medians against targets.
     Bench(commands::bench::Args),
@@ -113,6 +117,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::Sweep(args) => commands::sweep::execute(args),
         Command::Study(args) => commands::study::execute(args),
         Command::Transfer(args) => commands::transfer::execute(args),
+        Command::Plan(args) => commands::plan::execute(args),
         Command::Bench(args) => commands::bench::execute(args),
         Command::Schema(args) => commands::schema::execute(args),
     }

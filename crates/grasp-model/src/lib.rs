@@ -157,7 +157,7 @@ pub mod closed_form {
 pub use program::cone_program::ConeProgram;
 pub use solve::contact_state::{ContactState, FingerState};
 pub use solve::grasp_solver::{solve, GraspSolver};
-pub use solve::sensitivity::Sensitivities;
+pub use solve::sensitivity::{LoadDirection, Sensitivities};
 pub use solve::step_inputs::StepInputs;
 pub use solver::options::{SolveOptions, SolverChoice};
 pub use solver::outcome::SolverKind;

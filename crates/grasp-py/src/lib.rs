@@ -20,6 +20,7 @@ mod inputs;
 mod json_value;
 mod keywords;
 mod outputs;
+mod plan;
 mod scene;
 mod solution;
 mod solve;
@@ -38,6 +39,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<transfer::Transfer>()?;
     m.add_function(wrap_pyfunction!(solve::solve, m)?)?;
     m.add_function(wrap_pyfunction!(transfer::transfer, m)?)?;
+    m.add_function(wrap_pyfunction!(plan::plan, m)?)?;
     // For the pure-Python writers and readers of the package (`grasp.mujoco`).
     m.add_function(wrap_pyfunction!(inputs::read_input, m)?)?;
     m.add_function(wrap_pyfunction!(inputs::check_input, m)?)?;

@@ -86,6 +86,7 @@ pub fn transfer(
         margins,
         margins_from_scratch: cold,
         margin_threshold_n: None,
+        sensitivities: false,
     };
     let (schedule, mut inputs) = load_schedule(py, scene, schedule)?;
     inputs.extend(&scene.inputs);
@@ -209,32 +210,41 @@ fn load_schedule(
     scene: &Scene,
     source: &Bound<'_, PyAny>,
 ) -> PyResult<(Schedule, RunInputs)> {
+    let (text, origin, base, mut inputs) = schedule_text(py, source)?;
+    let names = scene.scene.finger_names();
+    let schedule = Schedule::from_json_str(&text, &names, &base)
+        .map_err(|e| schedule_error(py, &origin, &e))?;
+    inputs.extend(&schedule.input_files);
+    Ok((schedule, inputs))
+}
+
+/// A schedule's JSON text from a path, a dict or JSON text: the text, where it came from
+/// (for messages), the folder its CSV paths are relative to, and the file read.
+pub(crate) fn schedule_text(
+    py: Python<'_>,
+    source: &Bound<'_, PyAny>,
+) -> PyResult<(String, String, PathBuf, RunInputs)> {
     let mut inputs = RunInputs::new();
-    let (text, origin, base) = if let Ok(d) = source.downcast::<PyDict>() {
+    if let Ok(d) = source.downcast::<PyDict>() {
         let bad = crate::json_value::non_finite_numbers(d.as_any());
         if !bad.is_empty() {
             let e = grasp_transfer::ScheduleError::Invalid(bad);
             return Err(crate::errors::schedule_error(py, "<dict>", &e));
         }
         let text: String = py.import("json")?.call_method1("dumps", (d,))?.extract()?;
-        (text, "<dict>".to_string(), PathBuf::new())
-    } else if let Some(t) = json_text(source)? {
-        (t, "<json>".to_string(), PathBuf::new())
-    } else {
-        let path: PathBuf = source.extract().map_err(|_| {
-            pyo3::exceptions::PyTypeError::new_err("schedule: expected a path, a dict or JSON text")
-        })?;
-        let (text, identity) = grasp_io::input_file::read_text(&path, SCHEDULE_FILE)
-            .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))?;
-        inputs.add(&path, identity);
-        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-        (text, path.display().to_string(), base)
-    };
-    let names = scene.scene.finger_names();
-    let schedule = Schedule::from_json_str(&text, &names, &base)
-        .map_err(|e| schedule_error(py, &origin, &e))?;
-    inputs.extend(&schedule.input_files);
-    Ok((schedule, inputs))
+        return Ok((text, "<dict>".to_string(), PathBuf::new(), inputs));
+    }
+    if let Some(t) = json_text(source)? {
+        return Ok((t, "<json>".to_string(), PathBuf::new(), inputs));
+    }
+    let path: PathBuf = source.extract().map_err(|_| {
+        pyo3::exceptions::PyTypeError::new_err("schedule: expected a path, a dict or JSON text")
+    })?;
+    let (text, identity) = grasp_io::input_file::read_text(&path, SCHEDULE_FILE)
+        .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))?;
+    inputs.add(&path, identity);
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    Ok((text, path.display().to_string(), base, inputs))
 }
 
 /// The text of `source` when it is a str holding JSON (first non-blank character `{`).

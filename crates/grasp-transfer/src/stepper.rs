@@ -24,8 +24,8 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use grasp_model::{
-    ContactState, Control, FingerState, GraspModel, GraspSolver, Scene, SceneError, Solution,
-    SolveOptions, SolverKind, SolverStats, StepInputs,
+    ContactState, Control, FingerState, GraspModel, GraspSolver, LoadDirection, Scene, SceneError,
+    Sensitivities, Solution, SolveOptions, SolverKind, SolverStats, StepInputs,
 };
 use serde::Serialize;
 
@@ -54,6 +54,11 @@ pub struct TransferOptions {
     /// With `margins`, the summary says when the smallest margin first fell below this many
     /// newtons.
     pub margin_threshold_n: Option<f64>,
+    /// Differentiate every solved step ([`GraspSolver::sensitivities`]: the finger forces'
+    /// derivatives with respect to the commanded loads and an extra wrench, from the KKT
+    /// system at the step's active set), kept in [`StepRecord::sensitivities`] (the
+    /// planner's linearisation).
+    pub sensitivities: bool,
 }
 
 impl Default for TransferOptions {
@@ -65,6 +70,7 @@ impl Default for TransferOptions {
             margins: false,
             margins_from_scratch: false,
             margin_threshold_n: None,
+            sensitivities: false,
         }
     }
 }
@@ -99,6 +105,10 @@ pub struct StepRecord {
     pub external_torque_nm: [f64; 3],
     /// The step's smallest disturbance margin, when asked for and the step solved.
     pub margin: Option<StepMargin>,
+    /// The step's sensitivities, when asked for and the step solved (`Err`: why there are
+    /// none, such as a solution Clarabel answered). Not logged.
+    #[serde(skip)]
+    pub sensitivities: Option<Result<Sensitivities, String>>,
 }
 
 impl StepRecord {
@@ -137,6 +147,13 @@ fn structure_of(commands: &[Command]) -> (StructureKey, Vec<f64>) {
     (key, loads)
 }
 
+/// A step's answer: the solution, and its margin and sensitivities when asked for.
+struct Solved {
+    solution: Solution,
+    margin: Option<StepMargin>,
+    sensitivities: Option<Result<Sensitivities, String>>,
+}
+
 /// Steps a schedule over a scene.
 pub struct Stepper<'a> {
     scene: &'a Scene,
@@ -162,6 +179,8 @@ pub struct Stepper<'a> {
     external_scale_n: f64,
     /// The margins' searches along the path, when margins are asked for.
     margin_path: Option<MarginPath>,
+    /// Extra columns of the sensitivities: loads moved together.
+    load_directions: Vec<LoadDirection>,
 }
 
 impl<'a> Stepper<'a> {
@@ -213,7 +232,15 @@ impl<'a> Stepper<'a> {
                 .fold(scene.object.weight, f64::max)
                 .max(schedule.external_scale()),
             margin_path: (options.margins && !options.margins_from_scratch).then(MarginPath::new),
+            load_directions: Vec::new(),
         }
+    }
+
+    /// With `sensitivities`, also differentiate along these combinations of commanded loads
+    /// (columns `loads:<name>`; [`GraspSolver::sensitivities_along`]).
+    pub fn with_load_directions(mut self, directions: Vec<LoadDirection>) -> Self {
+        self.load_directions = directions;
+        self
     }
 
     /// Number of steps of the schedule.
@@ -341,12 +368,17 @@ impl<'a> Stepper<'a> {
                 // Nothing holds the object: a reported outcome, not an error.
                 self.states.clear();
                 let sol = empty_grasp_solution(self.scene);
-                return Ok(self.record(k, (t, external), commands, (sol, None), start, false));
+                let solved = Solved {
+                    solution: sol,
+                    margin: None,
+                    sensitivities: None,
+                };
+                return Ok(self.record(k, (t, external), commands, solved, start, false));
             }
             self.build_program(t, &key, &commands)?;
         }
         let solved = self.solve_cached(&key, (&loads, &commands), external)?;
-        if solved.0.status.has_forces() {
+        if solved.solution.status.has_forces() {
             self.last_solved_s = Some(t);
         }
         Ok(self.record(k, (t, external), commands, solved, start, reused))
@@ -451,7 +483,7 @@ impl<'a> Stepper<'a> {
         key: &(StructureKey, u64),
         step: (&[f64], &[Command]),
         external: Option<ExternalWrench>,
-    ) -> Result<(Solution, Option<StepMargin>), TransferError> {
+    ) -> Result<Solved, TransferError> {
         let options = self.options;
         let Some(mut solver) = self.cache.remove(key) else {
             return Err(TransferError::Internal("the step's program is not cached"));
@@ -476,13 +508,22 @@ impl<'a> Stepper<'a> {
             }
             _ => None,
         };
-        self.cache.insert(key.clone(), solver);
         let sol = solved?;
+        let sensitivities = (options.sensitivities && sol.status.has_forces()).then(|| {
+            solver
+                .sensitivities_along(&sol, &self.load_directions)
+                .map_err(|e| e.to_string())
+        });
+        self.cache.insert(key.clone(), solver);
         let margin = margin.transpose()?;
         for f in state.fingers {
             self.states.insert(f.name.clone(), f);
         }
-        Ok((sol, margin))
+        Ok(Solved {
+            solution: sol,
+            margin,
+            sensitivities,
+        })
     }
 
     /// The record of step `k` at time `t` (s) with the scheduled external wrench.
@@ -491,10 +532,15 @@ impl<'a> Stepper<'a> {
         k: usize,
         (t, external): (f64, Option<ExternalWrench>),
         commands: Vec<Command>,
-        (solution, margin): (Solution, Option<StepMargin>),
+        solved: Solved,
         start: Instant,
         reused: bool,
     ) -> StepRecord {
+        let Solved {
+            solution,
+            margin,
+            sensitivities,
+        } = solved;
         let (external_force_n, external_torque_nm) =
             external.map_or(([0.0; 3], [0.0; 3]), |w| (w.force_n, w.torque_nm));
         if solution.status.has_forces() {
@@ -523,6 +569,7 @@ impl<'a> Stepper<'a> {
             external_force_n,
             external_torque_nm,
             margin,
+            sensitivities,
         }
     }
 }

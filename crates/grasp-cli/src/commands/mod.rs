@@ -4,6 +4,7 @@
 pub mod batch;
 pub mod bench;
 pub mod margin;
+pub mod plan;
 pub mod plot;
 pub mod schema;
 pub mod solve;

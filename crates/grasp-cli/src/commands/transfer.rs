@@ -231,7 +231,12 @@ impl OpenSinks {
     }
 }
 
-fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> Result<ExitCode> {
+pub(crate) fn run(
+    scene_path: &Path,
+    schedule_path: &Path,
+    out: &Outputs,
+    flags: Flags,
+) -> Result<ExitCode> {
     // Validate everything before any work: outputs, scene, memory, schedule.
     let plot_format = out
         .plot
@@ -251,6 +256,7 @@ fn run(scene_path: &Path, schedule_path: &Path, out: &Outputs, flags: Flags) -> 
         margins: flags.margins,
         margins_from_scratch: flags.cold,
         margin_threshold_n: flags.margin_threshold,
+        sensitivities: false,
     };
     let mut history = out.plot.as_ref().map(|_| ForceHistory::new(&names));
     let started = std::time::Instant::now();

@@ -7,3 +7,4 @@ pub mod force_history;
 pub mod label_placement;
 pub mod margin_plot;
 pub mod picture;
+pub mod plan_margins;

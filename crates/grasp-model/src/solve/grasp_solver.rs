@@ -15,7 +15,7 @@ use crate::scene::scene_format::ModelKind;
 use crate::solve::contact_state::ContactState;
 use crate::solve::convex_solve::solve_once;
 use crate::solve::readout::{enforce_invariant, failed};
-use crate::solve::sensitivity::Sensitivities;
+use crate::solve::sensitivity::{LoadDirection, Sensitivities};
 use crate::solve::sequential::solve_sequential;
 use crate::solve::solution::{Solution, SolveStatus, SolverStats};
 use crate::solve::step_inputs::StepInputs;
@@ -89,7 +89,18 @@ impl GraspSolver {
     /// and element forces with respect to an extra wrench on the object and to the commanded
     /// loads, at the active set (the KKT system's derivative, `solve/sensitivity.rs`).
     pub fn sensitivities(&mut self, solution: &Solution) -> Result<Sensitivities, ModelError> {
-        crate::solve::sensitivity::sensitivities(&mut self.main, &self.model, solution)
+        crate::solve::sensitivity::sensitivities(&mut self.main, &self.model, solution, &[])
+    }
+
+    /// [`GraspSolver::sensitivities`] with a column per [`LoadDirection`] besides (named
+    /// `loads:<name>`): commanded loads moved together, where single loads have no
+    /// derivative (the two jaws of a pinch).
+    pub fn sensitivities_along(
+        &mut self,
+        solution: &Solution,
+        directions: &[LoadDirection],
+    ) -> Result<Sensitivities, ModelError> {
+        crate::solve::sensitivity::sensitivities(&mut self.main, &self.model, solution, directions)
     }
 
     /// Solves with `inputs` (loads, extra wrench, approaches) from a fresh contact state (no

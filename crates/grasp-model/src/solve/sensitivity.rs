@@ -10,7 +10,10 @@
 //! - the commanded normal load of each force-controlled finger, in N per N;
 //! - `squeeze`: every commanded load scaled by a common factor `lambda` (a gripper squeezing
 //!   harder), derivative at `lambda = 1` in N per unit of `lambda`. It often exists where the
-//!   single loads' do not (raising one pad of a pinch alone leaves no equilibrium).
+//!   single loads' do not (raising one pad of a pinch alone leaves no equilibrium);
+//! - on request ([`LoadDirection`]), `loads:<name>`: the commanded loads of some fingers
+//!   moved together, each by its own rate (N per unit; a gripper's two jaws), derivative per
+//!   unit of the common parameter.
 //!
 //! The derivative holds while no element changes state. Elements whose projection input lies
 //! within [`NEAR_CHANGE`] of a boundary between stick, slip and separation are listed: there
@@ -46,8 +49,8 @@ const UNDEFINED: f64 = 1e-6;
 pub struct Parameter {
     /// Short name: `force_x`, `torque_z`, `force_e1`, `load:<finger>`, `squeeze`.
     pub name: String,
-    /// `force` (N at the centre of mass), `torque` (N m), `load` (N) or `squeeze` (the factor
-    /// of all commanded loads, dimensionless).
+    /// `force` (N at the centre of mass), `torque` (N m), `load` (N), `squeeze` (the factor
+    /// of all commanded loads, dimensionless) or `loads` (a [`LoadDirection`]'s parameter).
     pub kind: String,
     /// World direction of the force or torque axis (absent for loads).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -86,6 +89,16 @@ pub struct NearChange {
     pub transition: String,
     /// Distance from the boundary relative to the largest scaled force.
     pub distance_relative: f64,
+}
+
+/// A combination of commanded loads moved by one parameter: `dL_i = rate` for each named
+/// finger (N per unit of the parameter); fingers absent from the model are left out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadDirection {
+    /// Its parameter's name, after `loads:`.
+    pub name: String,
+    /// `(finger, dL/dparameter)` pairs, N per unit.
+    pub rates: Vec<(String, f64)>,
 }
 
 /// The sensitivities of one solution.
@@ -174,6 +187,7 @@ fn rhs_columns(
     model: &GraspModel,
     ps: &ProgramSolver,
     params: &mut [(Parameter, Option<nalgebra::Vector6<f64>>)],
+    directions: &[LoadDirection],
 ) -> DMatrix<f64> {
     let program = &ps.program;
     let fu = model.scales.element_force_n;
@@ -207,6 +221,20 @@ fn rhs_columns(
                     rhs[(row, c)] = program.equality_rhs[row];
                 }
             }
+            None if p.kind == "loads" => {
+                let d = directions
+                    .iter()
+                    .find(|d| p.name == format!("loads:{}", d.name));
+                for (name, rate) in d.map_or(&[][..], |d| &d.rates[..]) {
+                    let at = program
+                        .load_rows
+                        .iter()
+                        .find(|l| model.fingers[l.finger].name == *name);
+                    if let Some(l) = at {
+                        rhs[(l.row, c)] = rate / fu;
+                    }
+                }
+            }
             None => {
                 rhs[(program.load_rows[load].row, c)] = 1.0 / fu;
                 load += 1;
@@ -236,6 +264,7 @@ pub(crate) fn sensitivities(
     ps: &mut ProgramSolver,
     model: &GraspModel,
     solution: &Solution,
+    directions: &[LoadDirection],
 ) -> Result<Sensitivities, ModelError> {
     let iterate = match (solution.status.has_forces(), ps.last()) {
         (true, Some(it)) => it.clone(),
@@ -255,7 +284,17 @@ pub(crate) fn sensitivities(
         )));
     }
     let mut params = wrench_parameters(model);
-    let rhs = rhs_columns(model, ps, &mut params);
+    params.extend(directions.iter().map(|d| {
+        let p = Parameter {
+            name: format!("loads:{}", d.name),
+            kind: "loads".into(),
+            direction: None,
+            defined: true,
+            reason: None,
+        };
+        (p, None)
+    }));
+    let rhs = rhs_columns(model, ps, &mut params, directions);
     let mu = radius_coefficients(model, ps, solution);
     let scale = iterate.x.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let near = NEAR_CHANGE * scale.max(f64::MIN_POSITIVE);

@@ -1,0 +1,305 @@
+//! `grasp plan`: the load ramps of a hand-off planned to keep every step's slip margin, its
+//! schedule file written only once checked, a summary beside the template's.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use grasp_transfer::plan::{Objective, PlanOptions, PlanReport, Template, MARGIN_TOLERANCE};
+use grasp_transfer::{Schedule, ScheduleSpec};
+
+use crate::output::{self, ForceArg};
+use crate::pictures::picture;
+use crate::pictures::plan_margins::PlanMargins;
+use crate::solve_flags::SolveFlags;
+
+/// Plan a hand-off: the releasing and receiving fingers' load ramps that keep every step's
+/// slip margin, within load and rate limits, in the shortest duration.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file (JSON); the releasing fingers start from their loads in it.
+    pub scene: PathBuf,
+    /// Fingers that let go (force-controlled), comma-separated.
+    #[arg(long, value_delimiter = ',', required = true, value_name = "A,B")]
+    pub releasing: Vec<String>,
+    /// Fingers that take over (force-controlled, starting from 0 N), comma-separated.
+    #[arg(long, value_delimiter = ',', value_name = "C,D")]
+    pub receiving: Vec<String>,
+    /// Write the planned schedule here (JSON; `grasp transfer --schedule` runs it).
+    #[arg(long, value_name = "PLAN.schedule.json")]
+    pub out: PathBuf,
+    /// Start from this schedule (and compare with it); its other fingers' phases are kept.
+    #[arg(long, value_name = "SCHEDULE.json")]
+    pub template: Option<PathBuf>,
+    /// Smallest slip margin 1 - |Q|/(mu P) at every step, over the fingers carrying at least
+    /// 5 % of the load scale.
+    #[arg(long, default_value_t = 0.0, value_name = "X")]
+    pub min_slip_margin: f64,
+    /// Smallest load of a planned finger between its ends, N.
+    #[arg(long, default_value_t = 0.0, value_name = "N")]
+    pub min_load: f64,
+    /// Largest load of a planned finger, N [default: no limit].
+    #[arg(long, value_name = "N")]
+    pub max_load: Option<f64>,
+    /// Largest load rate of a planned finger, N/s (needed for the shortest duration).
+    #[arg(long, value_name = "N_PER_S")]
+    pub max_rate: Option<f64>,
+    /// Shortest duration allowed, s.
+    #[arg(long, default_value_t = 0.0, value_name = "S")]
+    pub min_duration: f64,
+    /// Longest duration allowed, s [default: no limit].
+    #[arg(long, value_name = "S")]
+    pub max_duration: Option<f64>,
+    /// Duration, s: fixed with `--objective margin`, the first guess otherwise [default: the
+    /// template's].
+    #[arg(long, value_name = "S")]
+    pub duration: Option<f64>,
+    /// What to optimise: the shortest duration, or the largest smallest slip margin.
+    #[arg(long, value_enum, default_value = "duration")]
+    pub objective: ObjectiveArg,
+    /// Steps after the first [default: the template's, or 60].
+    #[arg(long, value_name = "K")]
+    pub steps: Option<usize>,
+    /// Keyframes per finger, the ends included (2 to 20).
+    #[arg(long, default_value_t = 5, value_name = "K")]
+    pub keyframes: usize,
+    /// Most hand-off runs the planner may make, the final check included.
+    #[arg(long, default_value_t = 30, value_name = "N")]
+    pub max_runs: usize,
+    /// Write the report (margins along the plan and the template, keyframes, cost) as JSON.
+    #[arg(long, value_name = "F.json")]
+    pub report: Option<PathBuf>,
+    /// Plot the smallest slip margin along the plan beside the template's (.svg or .png).
+    #[arg(long, value_name = "F.svg|F.png")]
+    pub plot: Option<PathBuf>,
+    /// Replay the planned hand-off and write its MCAP log (as `grasp transfer --mcap`).
+    #[arg(long, value_name = "F.mcap")]
+    pub mcap: Option<PathBuf>,
+    /// Replay the planned hand-off and write its Rerun recording (as `grasp transfer --rrd`).
+    #[arg(long, value_name = "F.rrd")]
+    pub rrd: Option<PathBuf>,
+    #[command(flatten)]
+    pub force: ForceArg,
+    #[command(flatten)]
+    pub solve: SolveFlags,
+}
+
+/// `--objective`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug)]
+pub enum ObjectiveArg {
+    /// The shortest duration.
+    Duration,
+    /// The largest smallest slip margin.
+    Margin,
+}
+
+/// `grasp plan`.
+pub fn execute(args: Args) -> Result<ExitCode> {
+    let targets: Vec<&Path> = [Some(&args.out), args.report.as_ref(), args.plot.as_ref()]
+        .into_iter()
+        .flatten()
+        .map(PathBuf::as_path)
+        .collect();
+    let mut inputs = vec![args.scene.as_path()];
+    inputs.extend(args.template.as_deref());
+    let outs = output::claim(&targets, &inputs, args.force.force)?;
+    let plot_format = args
+        .plot
+        .as_deref()
+        .map(|p| picture::Format::of(p, "--plot"))
+        .transpose()?;
+    let scene = crate::load_scene::load_scene(&args.scene)?;
+    args.solve.check_memory(&scene, &args.scene)?;
+    let template = args
+        .template
+        .as_deref()
+        .map(|p| read_template(p, &scene.finger_names()))
+        .transpose()?;
+    let options = options(&args);
+    let report = grasp_transfer::plan(
+        &scene,
+        template
+            .as_ref()
+            .map(|(spec, schedule)| Template { spec, schedule }),
+        &options,
+    )?;
+    print!(
+        "{}",
+        crate::flag_names::in_flags(&summary(&report, &options))
+    );
+    if let Some(path) = &args.report {
+        outs.write(path, &serde_json::to_vec_pretty(&report)?)?;
+        println!("wrote report: {}", path.display());
+    }
+    if let (Some(path), Some(format)) = (&args.plot, plot_format) {
+        let title = args.scene.display().to_string();
+        let threshold = options.min_slip_margin;
+        let plot = PlanMargins {
+            report: &report,
+            threshold,
+            title: &title,
+        };
+        outs.write(path, &picture::render(&plot, format)?)?;
+        println!("wrote plot: {}", path.display());
+    }
+    if !report.met {
+        println!("no schedule written: the best one found does not keep every constraint");
+        return Ok(ExitCode::from(2));
+    }
+    let mut text = serde_json::to_string_pretty(&report.schedule)?;
+    text.push('\n');
+    outs.write(&args.out, text.as_bytes())?;
+    println!(
+        "wrote schedule: {}\n  run it: grasp transfer {} --schedule {}",
+        args.out.display(),
+        args.scene.display(),
+        args.out.display()
+    );
+    if args.mcap.is_none() && args.rrd.is_none() {
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!("replaying the planned hand-off:");
+    replay(&args)
+}
+
+/// The planned hand-off run by `grasp transfer` with the recordings asked for.
+fn replay(args: &Args) -> Result<ExitCode> {
+    let outputs = crate::commands::transfer::Outputs {
+        mcap: args.mcap.clone(),
+        rrd: args.rrd.clone(),
+        csv: None,
+        npz: None,
+        plot: None,
+        force: args.force.force,
+        live: None,
+    };
+    let flags = crate::commands::transfer::Flags {
+        keep_going: false,
+        cold: false,
+        min_squeeze: false,
+        margins: false,
+        margin_threshold: None,
+        solve: args.solve,
+    };
+    crate::commands::transfer::run(&args.scene, &args.out, &outputs, flags)
+}
+
+fn options(args: &Args) -> PlanOptions {
+    PlanOptions {
+        releasing: args.releasing.clone(),
+        receiving: args.receiving.clone(),
+        min_slip_margin: args.min_slip_margin,
+        min_load_n: args.min_load,
+        max_load_n: args.max_load.unwrap_or(f64::INFINITY),
+        max_rate_n_per_s: args.max_rate,
+        min_duration_s: args.min_duration,
+        max_duration_s: args.max_duration.unwrap_or(f64::INFINITY),
+        objective: match args.objective {
+            ObjectiveArg::Duration => Objective::Duration,
+            ObjectiveArg::Margin => Objective::Margin,
+        },
+        duration_s: args.duration,
+        steps: args.steps,
+        keyframes: args.keyframes,
+        max_runs: args.max_runs,
+        solve: args.solve.options(),
+        ..PlanOptions::default()
+    }
+}
+
+/// The template as written and resolved against the scene's fingers.
+fn read_template(path: &Path, names: &[String]) -> Result<(ScheduleSpec, Schedule)> {
+    let text = crate::limits::read_input(path, "template schedule")?;
+    let base = path.parent().map(PathBuf::from).unwrap_or_default();
+    let bad = || format!("{} is not a usable schedule", path.display());
+    let spec: ScheduleSpec = grasp_model::strict_json::from_str_strict(&text)
+        .map_err(|e| anyhow::anyhow!("{}: {}", e.path, e.message))
+        .with_context(bad)?;
+    let schedule = Schedule::from_spec(&spec, names, &base).with_context(bad)?;
+    Ok((spec, schedule))
+}
+
+/// `x` to four significant digits, round-off of 0 (below 1e-9) as 0.
+fn g4(x: f64) -> String {
+    if x.abs() < 1e-9 {
+        return "0".into();
+    }
+    let digits = (3 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    format!("{x:.digits$}")
+}
+
+/// The closing summary.
+fn summary(r: &PlanReport, o: &PlanOptions) -> String {
+    let mut s = String::new();
+    let receiving = match o.receiving.as_slice() {
+        [] => String::new(),
+        names => format!(", {} take over", names.join(", ")),
+    };
+    let (keys, steps) = (r.keyframes_s.len(), r.margins.len());
+    let who = o.releasing.join(", ");
+    let _ = writeln!(
+        s,
+        "planned: {who} let go{receiving}; {keys} keyframes, {steps} steps"
+    );
+    let _ = write!(s, "duration: {} s", g4(r.duration_s));
+    if let Some(t) = r.template_duration_s {
+        let change = 100.0 * (t - r.duration_s) / t;
+        let word = if change >= 0.0 { "shorter" } else { "longer" };
+        let _ = write!(s, " (template {} s: {} % {word})", g4(t), g4(change.abs()));
+    }
+    let at = |m: Option<&grasp_transfer::plan::SlipAtStep>| match m {
+        Some(m) => format!(
+            "{} ({} at t = {} s)",
+            g4(m.smallest.unwrap_or(f64::NAN)),
+            m.finger.as_deref().unwrap_or("-"),
+            g4(m.time_s)
+        ),
+        None => "no finger carries 5 % of the load scale".into(),
+    };
+    let _ = write!(s, "\nsmallest slip margin: {}", at(r.smallest()));
+    if r.template_margins.is_some() {
+        let _ = write!(s, "; template: {}", at(r.template_smallest()));
+    }
+    let _ = writeln!(s);
+    s.push_str(&constraints_line(r, o));
+    let _ = writeln!(
+        s,
+        "planning: {} runs, {} iterations, {} s; it stopped because {}",
+        r.runs,
+        r.iterations,
+        g4(r.time_s),
+        r.stopped.trim_start_matches("it ")
+    );
+    for n in &r.notes {
+        let _ = writeln!(s, "note: {n}");
+    }
+    s
+}
+
+/// "constraints: kept ..." or the binding one, with why.
+fn constraints_line(r: &PlanReport, o: &PlanOptions) -> String {
+    let Some(b) = &r.binding else {
+        let rate = o
+            .max_rate_n_per_s
+            .map_or(String::new(), |q| format!(", load rates <= {} N/s", g4(q)));
+        return format!(
+            "constraints: kept at every step (slip margin >= {} to within {}{rate})\n",
+            g4(o.min_slip_margin),
+            MARGIN_TOLERANCE
+        );
+    };
+    let who = b
+        .finger
+        .as_deref()
+        .map_or(String::new(), |f| format!(" of {f}"));
+    format!(
+        "binding constraint: {}{who} at t = {} s is {} against {} (short by {}): {}\n",
+        b.constraint,
+        g4(b.time_s),
+        g4(b.value),
+        g4(b.limit),
+        g4(b.short_by),
+        b.why
+    )
+}

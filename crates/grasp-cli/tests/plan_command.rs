@@ -1,0 +1,223 @@
+//! `grasp plan` as a user runs it: the planned schedule, re-run independently by `grasp
+//! transfer`, keeps every constraint at every step (checked on the transfer's CSV, not on the
+//! planner's report); a threshold no schedule near the template can keep is reported with the
+//! finger, time and reason; constraints no schedule can meet are refused by name.
+
+mod common;
+
+use common::{example, grasp, text, tmp};
+
+/// The coulomb plate: mu of every pad, and its load scale (the largest of the weight,
+/// 4.448 N, and the commanded loads, 8 N).
+const MU: f64 = 0.4;
+const LOAD_SCALE_N: f64 = 8.0;
+
+/// The template's steepest load rate: a smoothstep ramp of 8 N over 8 s peaks at 1.5 times
+/// the mean rate (d/du of 3u^2 - 2u^3 is 1.5 at u = 1/2), 1.5 N/s.
+const TEMPLATE_RATE: f64 = 1.5;
+
+/// The plan's stated tolerance on the margin (`MARGIN_TOLERANCE`).
+const MARGIN_TOLERANCE: f64 = 1e-3;
+
+/// Per step of a transfer CSV: (time s, per finger (normal N, friction N)).
+fn steps(csv: &str) -> Vec<(f64, Vec<(f64, f64)>)> {
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let fingers = ["f1", "f2", "f3", "f4"];
+    lines
+        .map(|l| {
+            let v: Vec<&str> = l.split(',').collect();
+            let num = |c: usize| v[c].parse::<f64>().unwrap_or(0.0);
+            let forces = fingers
+                .iter()
+                .map(|f| {
+                    let n = num(col(&format!("{f}_normal_force_n")));
+                    (n, num(col(&format!("{f}_friction_n"))))
+                })
+                .collect();
+            (num(col("time_s")), forces)
+        })
+        .collect()
+}
+
+/// The smallest slip margin over the fingers carrying at least 5 % of the load scale.
+fn smallest_margin(rows: &[(f64, Vec<(f64, f64)>)]) -> (f64, f64) {
+    let mut least = (f64::INFINITY, 0.0);
+    for (t, forces) in rows {
+        for &(p, q) in forces {
+            if p > 0.0 && (p * p + q * q).sqrt() >= 0.05 * LOAD_SCALE_N {
+                let m = 1.0 - q / (MU * p);
+                if m < least.0 {
+                    least = (m, *t);
+                }
+            }
+        }
+    }
+    least
+}
+
+/// Keyframes `(t, N)` of each finger's ramp in a schedule file.
+fn keyframes(schedule: &serde_json::Value) -> Vec<Vec<(f64, f64)>> {
+    let fingers = schedule["fingers"].as_object().unwrap();
+    fingers
+        .values()
+        .map(|phases| {
+            let k = phases[0]["ramp"]["keyframes"].as_array().unwrap();
+            k.iter()
+                .map(|kf| (kf[0].as_f64().unwrap(), kf[1].as_f64().unwrap()))
+                .collect()
+        })
+        .collect()
+}
+
+fn plan(out: &std::path::Path, extra: &[&str]) -> std::process::Output {
+    let template = example("plate_handoff_coulomb.schedule.json");
+    let mut args = vec![
+        "plan",
+        &example("plate_handoff_coulomb.json"),
+        "--releasing",
+        "f1,f2",
+        "--receiving",
+        "f3,f4",
+        "--template",
+        &template,
+        "--out",
+        out.to_str().unwrap(),
+    ]
+    .into_iter()
+    .map(String::from)
+    .collect::<Vec<_>>();
+    args.extend(extra.iter().map(|s| s.to_string()));
+    grasp(&args.iter().map(String::as_str).collect::<Vec<_>>())
+}
+
+#[test]
+fn a_plan_rerun_by_transfer_keeps_its_constraints_and_is_at_least_as_fast_as_its_template() {
+    let d = tmp("plan", "kept");
+    let (out, csv) = (d.join("plan.schedule.json"), d.join("plan.csv"));
+    let rate = TEMPLATE_RATE.to_string();
+    let o = plan(&out, &["--max-rate", &rate, "--min-slip-margin", "0"]);
+    let said = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{said}");
+    let schedule: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    // Rates, from the file's keyframes.
+    for ramp in keyframes(&schedule) {
+        for w in ramp.windows(2) {
+            let r = (w[1].1 - w[0].1).abs() / (w[1].0 - w[0].0);
+            assert!(
+                r <= TEMPLATE_RATE * (1.0 + 1e-6),
+                "rate {r} N/s in {ramp:?}"
+            );
+        }
+    }
+    // Margins, from an independent run of the file by `grasp transfer`.
+    let t = grasp(&[
+        "transfer",
+        &example("plate_handoff_coulomb.json"),
+        "--schedule",
+        out.to_str().unwrap(),
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(t.status.code(), Some(0), "{}", text(&t));
+    let rows = steps(&std::fs::read_to_string(&csv).unwrap());
+    let (least, at) = smallest_margin(&rows);
+    assert!(
+        least >= -MARGIN_TOLERANCE,
+        "slip margin {least} at t = {at} s"
+    );
+    // At least as fast as the 12 s template, and the summary says by how much.
+    let end = schedule["time"]["end"].as_f64().unwrap();
+    assert!(end <= 12.0, "{end} s");
+    let shorter = format!("{:.2} % shorter", 100.0 * (12.0 - end) / 12.0);
+    assert!(said.contains(&shorter), "{shorter} in {said}");
+}
+
+#[test]
+fn a_threshold_the_coulomb_plate_cannot_keep_is_reported_with_its_finger_time_and_reason() {
+    let d = tmp("plan", "binding");
+    let out = d.join("plan.schedule.json");
+    let o = plan(&out, &["--max-rate", "2", "--min-slip-margin", "0.1"]);
+    let said = text(&o);
+    // An outcome, not an error: exit 2, no schedule written.
+    assert_eq!(o.status.code(), Some(2), "{said}");
+    assert!(!out.exists());
+    assert!(
+        said.contains("binding constraint: slip margin of f"),
+        "{said}"
+    );
+    // The reason, from the last linearisation: no step of the program raises it (or its
+    // derivative is 0: a finger sliding at the friction limit).
+    let reasons = [
+        "finds no step that raises it",
+        "derivative with respect to every keyframe load is 0",
+    ];
+    assert!(reasons.iter().any(|r| said.contains(r)), "{said}");
+    // Independent evidence that the template breaks it too (the run's own CSV): a releasing
+    // finger at the friction limit while it carries more than 5 % of the load scale.
+    let csv = d.join("template.csv");
+    let t = grasp(&[
+        "transfer",
+        &example("plate_handoff_coulomb.json"),
+        "--schedule",
+        &example("plate_handoff_coulomb.schedule.json"),
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(t.status.code(), Some(0), "{}", text(&t));
+    let (least, _) = smallest_margin(&steps(&std::fs::read_to_string(&csv).unwrap()));
+    assert!(
+        least < 0.1 - MARGIN_TOLERANCE,
+        "template's smallest margin {least}"
+    );
+}
+
+#[test]
+fn constraints_no_schedule_can_meet_are_refused_with_the_binding_one_named() {
+    let d = tmp("plan", "refused");
+    let out = d.join("plan.schedule.json");
+    // f1 must fall 8 N; at 0.5 N/s that takes 16 s, longer than the fixed 4 s.
+    let o = plan(
+        &out,
+        &[
+            "--objective",
+            "margin",
+            "--duration",
+            "4",
+            "--max-rate",
+            "0.5",
+        ],
+    );
+    let said = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{said}");
+    assert!(
+        said.contains("load rate: f1 must fall from 8 N to 0 N"),
+        "{said}"
+    );
+    assert!(
+        said.contains("takes 16 s, longer than the 4 s allowed"),
+        "{said}"
+    );
+    // The shortest duration without a rate limit does not exist: said, with the fix.
+    let o = plan(&out, &[]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("--max-rate"), "{}", text(&o));
+    // Unknown fingers, named.
+    let o = grasp(&[
+        "plan",
+        &example("plate_handoff_coulomb.json"),
+        "--releasing",
+        "f9",
+        "--out",
+        out.to_str().unwrap(),
+        "--objective",
+        "margin",
+        "--duration",
+        "4",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("no finger named `f9`"), "{}", text(&o));
+    assert!(!out.exists());
+}

@@ -1,0 +1,160 @@
+//! A hand-off's load schedule as the planner's variables: each planned finger's commanded
+//! normal load at keyframes shared by all of them, linear in between, over a duration split
+//! into a fixed number of steps (the thesis's load ramps, section 4.2.2, with their values
+//! and their duration set free).
+//!
+//! Keyframes sit at fixed fractions of the duration, so a step keeps its place along the path
+//! when the duration changes: under an elastic or Coulomb model the quasi-static steps, and so
+//! the margins, depend on the loads alone, and the duration only on the load rates it allows.
+
+use std::collections::BTreeMap;
+
+use crate::schedule_spec::{KeyValue, PhaseSpec, RampPhase, ScheduleSpec, SpanSpec, TimeSpec};
+
+/// Fingers whose loads move together (a gripper's jaws): each carries its share of the
+/// group's load (the jaws of a pinch must, or no equilibrium is left).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadGroup {
+    /// `releasing` or `receiving` (the sensitivities' parameter `loads:<name>`).
+    pub name: String,
+    /// `(finger, share)`: the finger's load is its share times the group's.
+    pub members: Vec<(String, f64)>,
+}
+
+impl LoadGroup {
+    /// The largest share.
+    pub fn largest_share(&self) -> f64 {
+        self.members.iter().fold(0.0, |a, m| a.max(m.1))
+    }
+
+    /// The smallest share.
+    pub fn smallest_share(&self) -> f64 {
+        self.members.iter().fold(f64::INFINITY, |a, m| a.min(m.1))
+    }
+}
+
+/// Loads of the planned groups at shared keyframes, and the duration they span.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KeyframePath {
+    /// The planned groups, in the order of `loads_n`.
+    pub groups: Vec<LoadGroup>,
+    /// Keyframe times as fractions of the duration: `0` first, `1` last, increasing.
+    pub fractions: Vec<f64>,
+    /// `loads_n[g][k]`: group `g`'s load at keyframe `k`, N (each member's is its share of it).
+    pub loads_n: Vec<Vec<f64>>,
+    /// Duration of the hand-off, s.
+    pub duration_s: f64,
+    /// Steps after the first: the schedule's times are `duration * s / steps`, `s = 0..=steps`.
+    pub steps: usize,
+}
+
+impl KeyframePath {
+    /// Schedule time of step `s`, s.
+    pub fn time_s(&self, s: usize) -> f64 {
+        self.duration_s * s as f64 / self.steps as f64
+    }
+
+    /// The two keyframes around step `s` and their interpolation weights (`k`, `1 - w`),
+    /// (`k + 1`, `w`): group `g`'s load at the step is `sum w_k loads_n[g][k]`.
+    pub fn weights(&self, s: usize) -> [(usize, f64); 2] {
+        let tau = s as f64 / self.steps as f64;
+        let last = self.fractions.len() - 1;
+        let k = self.fractions[..last]
+            .iter()
+            .rposition(|&f| f <= tau)
+            .unwrap_or(0);
+        let span = self.fractions[k + 1] - self.fractions[k];
+        let w = ((tau - self.fractions[k]) / span).clamp(0.0, 1.0);
+        [(k, 1.0 - w), (k + 1, w)]
+    }
+
+    /// Group `i`'s load at step `s`, N.
+    pub fn load_n(&self, i: usize, s: usize) -> f64 {
+        self.weights(s)
+            .iter()
+            .map(|&(k, w)| w * self.loads_n[i][k])
+            .sum()
+    }
+
+    /// The schedule file of this path: every planned finger a linear ramp through its
+    /// keyframes (a finger at 0 N is released), `others` (the template's phases of the fingers
+    /// not planned) as they were.
+    pub fn to_spec(
+        &self,
+        description: String,
+        others: &BTreeMap<String, Vec<PhaseSpec>>,
+    ) -> ScheduleSpec {
+        // The duration in whole nanoseconds, so that the last step falls on the end.
+        let duration_s = round_time(self.duration_s);
+        let mut fingers = others.clone();
+        for (group, loads) in self.groups.iter().zip(&self.loads_n) {
+            for (name, share) in &group.members {
+                let keyframes = self
+                    .fractions
+                    .iter()
+                    .zip(loads)
+                    .map(|(f, &p)| (round_time(f * duration_s), KeyValue::Newtons(share * p)))
+                    .collect();
+                let ramp = RampPhase {
+                    keyframes,
+                    easing: Default::default(),
+                };
+                fingers.insert(name.clone(), vec![PhaseSpec::Ramp(ramp)]);
+            }
+        }
+        ScheduleSpec {
+            description: Some(description),
+            time: TimeSpec::Span(SpanSpec {
+                start: 0.0,
+                end: duration_s,
+                step: duration_s / self.steps as f64,
+            }),
+            fingers,
+            external: None,
+        }
+    }
+}
+
+/// `t` (s) rounded to the nanosecond: the schedule's times are whole nanoseconds in the logs.
+fn round_time(t: f64) -> f64 {
+    (t * 1e9).round() / 1e9
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn path() -> KeyframePath {
+        KeyframePath {
+            groups: vec![LoadGroup {
+                name: "releasing".into(),
+                members: vec![("a".into(), 1.0)],
+            }],
+            fractions: vec![0.0, 0.25, 1.0],
+            loads_n: vec![vec![8.0, 4.0, 0.0]],
+            duration_s: 8.0,
+            steps: 8,
+        }
+    }
+
+    #[test]
+    fn loads_are_linear_between_keyframes_and_exact_on_them() {
+        let p = path();
+        assert_eq!(p.load_n(0, 0), 8.0);
+        assert_eq!(p.load_n(0, 1), 6.0);
+        assert_eq!(p.load_n(0, 2), 4.0);
+        // 5 of the 6 steps from the second keyframe to the last: 4 N * (1 - 5/6).
+        assert!((p.load_n(0, 7) - 4.0 / 6.0).abs() < 1e-12);
+        assert_eq!(p.load_n(0, 8), 0.0);
+    }
+
+    #[test]
+    fn the_schedule_file_ramps_through_the_keyframes_at_their_times() {
+        let spec = path().to_spec("test".into(), &BTreeMap::new());
+        let PhaseSpec::Ramp(r) = &spec.fingers["a"][0] else {
+            panic!("a ramp")
+        };
+        let times: Vec<f64> = r.keyframes.iter().map(|k| k.0).collect();
+        assert_eq!(times, [0.0, 2.0, 8.0]);
+    }
+}

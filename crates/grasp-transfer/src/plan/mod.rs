@@ -1,0 +1,20 @@
+//! Planning a hand-off's load ramps: the keyframed loads of the releasing and receiving
+//! fingers that keep every step's slip margin above a threshold, within load bounds and
+//! load-rate limits, in the shortest duration (or with the largest smallest margin), found
+//! by a trust-region sequence of quadratic programs on the load sensitivities of every step.
+
+pub mod keyframe_path;
+pub mod plan_error;
+pub mod plan_options;
+pub mod plan_report;
+pub mod planner;
+pub mod slip_rows;
+pub mod starting_path;
+pub mod trust_region_qp;
+
+pub use keyframe_path::KeyframePath;
+pub use plan_error::PlanError;
+pub use plan_options::{Objective, PlanOptions};
+pub use plan_report::{Binding, PlanReport, SlipAtStep};
+pub use planner::{plan, MARGIN_TOLERANCE};
+pub use starting_path::Template;

@@ -1,0 +1,182 @@
+//! What the planner answers: the checked schedule, whether it keeps every constraint (else
+//! the one that binds: which, where, by how much), the slip margins along it beside the
+//! template's, and what the planning cost.
+
+use serde::Serialize;
+
+use crate::plan::keyframe_path::KeyframePath;
+use crate::plan::plan_options::PlanOptions;
+use crate::plan::planner::MARGIN_TOLERANCE;
+use crate::plan::slip_rows::carrying;
+use crate::schedule_spec::ScheduleSpec;
+use crate::stepper::StepRecord;
+
+/// The smallest slip margin of a step over its carrying fingers.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SlipAtStep {
+    /// Schedule time, s.
+    pub time_s: f64,
+    /// `1 - |Q| / (mu P)`, smallest over the fingers carrying at least 5 % of the load scale;
+    /// `None` when none does (or the step found no equilibrium).
+    pub smallest: Option<f64>,
+    /// The finger it belongs to.
+    pub finger: Option<String>,
+}
+
+/// A constraint the checked schedule does not keep.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Binding {
+    /// `slip margin`, `equilibrium` or `load rate`.
+    pub constraint: String,
+    /// The finger, where one is concerned.
+    pub finger: Option<String>,
+    /// Schedule time, s.
+    pub time_s: f64,
+    /// The value reached (a margin, or N/s).
+    pub value: f64,
+    /// The limit it should keep.
+    pub limit: f64,
+    /// How far short of the limit it falls.
+    pub short_by: f64,
+    /// Why the planner could not do better, as far as it knows.
+    pub why: String,
+}
+
+/// The planner's answer (forces N, times s).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlanReport {
+    /// True when the checked schedule keeps every constraint at every step.
+    pub met: bool,
+    /// Otherwise the constraint that binds.
+    pub binding: Option<Binding>,
+    /// The planned duration, s.
+    pub duration_s: f64,
+    /// The template's, s.
+    pub template_duration_s: Option<f64>,
+    /// The slip margins along the plan, re-run from its schedule file's text.
+    pub margins: Vec<SlipAtStep>,
+    /// Along the template.
+    pub template_margins: Option<Vec<SlipAtStep>>,
+    /// Keyframe times, s.
+    pub keyframes_s: Vec<f64>,
+    /// Per planned finger, its loads at the keyframes, N.
+    pub loads_n: Vec<(String, Vec<f64>)>,
+    /// Hand-off runs made (the check included).
+    pub runs: usize,
+    /// Trust-region iterations.
+    pub iterations: usize,
+    /// Why the iteration stopped.
+    pub stopped: String,
+    /// What the user should know (derivatives missing at some steps, say).
+    pub notes: Vec<String>,
+    /// Wall time of the planning, s.
+    pub time_s: f64,
+    /// The planned schedule file (`grasp transfer --schedule` runs it unchanged).
+    pub schedule: ScheduleSpec,
+}
+
+impl PlanReport {
+    /// The smallest slip margin along the plan, with its time and finger.
+    pub fn smallest(&self) -> Option<&SlipAtStep> {
+        smallest_of(&self.margins)
+    }
+
+    /// Along the template.
+    pub fn template_smallest(&self) -> Option<&SlipAtStep> {
+        self.template_margins.as_deref().and_then(smallest_of)
+    }
+}
+
+fn smallest_of(margins: &[SlipAtStep]) -> Option<&SlipAtStep> {
+    margins
+        .iter()
+        .filter(|m| m.smallest.is_some())
+        .min_by(|a, b| a.smallest.partial_cmp(&b.smallest).expect("finite margins"))
+}
+
+/// The smallest slip margin of every step of a run.
+pub fn smallest_margins(records: &[StepRecord]) -> Vec<SlipAtStep> {
+    records
+        .iter()
+        .map(|r| {
+            let sol = &r.solution;
+            let least = sol
+                .fingers
+                .iter()
+                .filter(|f| sol.status.has_forces() && carrying(f, sol.load_scale_n))
+                .map(|f| (1.0 - f.friction_utilization, &f.name))
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            SlipAtStep {
+                time_s: r.time_s,
+                smallest: least.map(|l| l.0),
+                finger: least.map(|l| l.1.clone()),
+            }
+        })
+        .collect()
+}
+
+/// The first constraint a checked run breaks: a step without equilibrium, a slip margin
+/// below the threshold by more than [`MARGIN_TOLERANCE`], a load rate above the limit.
+pub fn binding_row(
+    records: &[StepRecord],
+    path: &KeyframePath,
+    options: &PlanOptions,
+) -> Option<Binding> {
+    if let Some(r) = records.iter().find(|r| !r.solution.status.has_forces()) {
+        return Some(Binding {
+            constraint: "equilibrium".into(),
+            finger: None,
+            time_s: r.time_s,
+            value: 0.0,
+            limit: 0.0,
+            short_by: 0.0,
+            why: "the grasp has no equilibrium at this step".into(),
+        });
+    }
+    let worst = smallest_margins(records)
+        .into_iter()
+        .filter_map(|m| Some((m.smallest?, m)))
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    if let Some((m, at)) = worst.filter(|w| w.0 < options.min_slip_margin - MARGIN_TOLERANCE) {
+        return Some(Binding {
+            constraint: "slip margin".into(),
+            finger: at.finger,
+            time_s: at.time_s,
+            value: m,
+            limit: options.min_slip_margin,
+            short_by: options.min_slip_margin - m,
+            why: String::new(),
+        });
+    }
+    rate_binding(path, options)
+}
+
+/// The steepest keyframe span of the path, when it exceeds the rate limit (beyond 1e-6 of
+/// it: the program's own accuracy).
+fn rate_binding(path: &KeyframePath, options: &PlanOptions) -> Option<Binding> {
+    let limit = options.max_rate_n_per_s?;
+    let mut worst: Option<(f64, usize, usize)> = None;
+    for (i, loads) in path.loads_n.iter().enumerate() {
+        for k in 0..loads.len() - 1 {
+            let dt = (path.fractions[k + 1] - path.fractions[k]) * path.duration_s;
+            let rate = path.groups[i].largest_share() * (loads[k + 1] - loads[k]).abs() / dt;
+            if worst.is_none_or(|w| rate > w.0) {
+                worst = Some((rate, i, k));
+            }
+        }
+    }
+    let (rate, i, k) = worst.filter(|w| w.0 > limit * (1.0 + 1e-6))?;
+    Some(Binding {
+        constraint: "load rate".into(),
+        finger: path.groups[i]
+            .members
+            .iter()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .map(|m| m.0.clone()),
+        time_s: path.fractions[k] * path.duration_s,
+        value: rate,
+        limit,
+        short_by: rate - limit,
+        why: String::new(),
+    })
+}

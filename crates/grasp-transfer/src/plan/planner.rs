@@ -1,0 +1,335 @@
+//! The planner's loop: run the hand-off along the current keyframe path with the steps'
+//! load sensitivities, linearise the slip margins, take the trust-region program's step
+//! ([`crate::plan::trust_region_qp`]), run it, keep it if the merit fell as predicted
+//! (ratio test), else shrink the region; stop when the predicted gain is below the tolerance,
+//! the region collapses or the runs run out. The answer is re-run from its schedule file's
+//! text, as `grasp transfer` reads it, and checked before it is reported.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::time::Instant;
+
+use grasp_model::{GraspModel, LoadDirection, Scene};
+
+use crate::plan::keyframe_path::KeyframePath;
+use crate::plan::plan_error::PlanError;
+use crate::plan::plan_options::{Objective, PlanOptions};
+use crate::plan::plan_report::{binding_row, smallest_margins, Binding, PlanReport};
+use crate::plan::slip_rows::{load_directions, slip_rows, SlipRow};
+use crate::plan::starting_path::{starting_path, Template};
+use crate::plan::trust_region_qp::{qp_step, Pinned, VIOLATION_WEIGHT};
+use crate::schedule::Schedule;
+use crate::schedule_spec::{PhaseSpec, ScheduleSpec};
+use crate::stepper::{StepRecord, Stepper, TransferOptions};
+
+/// A planned schedule counts as keeping the slip-margin threshold when its smallest margin is
+/// at least the threshold minus this: the linearisation's error over the last step, which the
+/// planner's tolerance bounds (a margin is dimensionless, of order 1).
+pub const MARGIN_TOLERANCE: f64 = 1e-3;
+
+/// Relative change of the duration for the difference quotient of the margins with respect
+/// to it (viscoelastic pads only).
+const DURATION_STEP: f64 = 1e-2;
+
+/// The state of the search: the path, its run's rows, and the merit.
+struct Iterate {
+    path: KeyframePath,
+    rows: Vec<SlipRow>,
+    merit: f64,
+}
+
+/// The runs of one planning: the scene, its model, what the planned schedules keep.
+struct Runner<'a> {
+    scene: &'a Scene,
+    model: GraspModel,
+    others: BTreeMap<String, Vec<PhaseSpec>>,
+    options: &'a PlanOptions,
+    runs: usize,
+    notes: Vec<String>,
+}
+
+/// Plans the hand-off of `scene` (see the module); `template`: the user's schedule, the
+/// starting point and the comparison.
+pub fn plan(
+    scene: &Scene,
+    template: Option<Template<'_>>,
+    options: &PlanOptions,
+) -> Result<PlanReport, PlanError> {
+    let clock = Instant::now();
+    let names = scene.finger_names();
+    let problems = options.problems(&names);
+    if !problems.is_empty() {
+        return Err(PlanError::Options(problems));
+    }
+    let model =
+        GraspModel::from_scene_with(scene, options.solve.compliance).map_err(PlanError::Scene)?;
+    let mut runner = Runner {
+        scene,
+        model,
+        others: BTreeMap::new(),
+        options,
+        runs: 0,
+        notes: Vec::new(),
+    };
+    let template_margins = match &template {
+        Some(t) => {
+            runner.others = t.others(options);
+            Some(runner.run_schedule(t.schedule, None)?)
+        }
+        None => None,
+    };
+    let (path, pinned) = starting_path(
+        scene,
+        template.as_ref(),
+        template_margins.as_deref(),
+        options,
+    )?;
+    let (best, iterations, stopped) = runner.search(path, &pinned)?;
+    runner.verify(best, template_margins, (iterations, stopped), clock)
+}
+
+impl Runner<'_> {
+    /// Runs `schedule` (sensitivities on request), every step kept.
+    fn run_schedule(
+        &mut self,
+        schedule: &Schedule,
+        directions: Option<Vec<LoadDirection>>,
+    ) -> Result<Vec<StepRecord>, PlanError> {
+        self.runs += 1;
+        let options = TransferOptions {
+            keep_going: true,
+            sensitivities: directions.is_some(),
+            solve: self.options.solve,
+            ..TransferOptions::default()
+        };
+        Stepper::with_model(self.scene, &self.model, schedule, options)
+            .with_load_directions(directions.unwrap_or_default())
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(PlanError::Transfer)
+    }
+
+    /// The schedule file of `path`.
+    fn spec(&self, path: &KeyframePath) -> ScheduleSpec {
+        let receiving = match self.options.receiving.as_slice() {
+            [] => String::new(),
+            r => format!(", {} take over", r.join(", ")),
+        };
+        let what = format!(
+            "Planned hand-off (grasp plan): {} let go{receiving}; linear ramps through {} \
+             keyframes over {:.3} s.",
+            self.options.releasing.join(", "),
+            path.fractions.len(),
+            path.duration_s
+        );
+        path.to_spec(what, &self.others)
+    }
+
+    /// Runs `path` and linearises its slip margins (with the duration's quotient for
+    /// viscoelastic pads): the iterate, or `None` when a step found no equilibrium.
+    fn evaluate(
+        &mut self,
+        path: KeyframePath,
+        reference_s: f64,
+    ) -> Result<Option<Iterate>, PlanError> {
+        let records = self.run_path(&path, true)?;
+        if records.iter().any(|r| !r.solution.status.has_forces()) {
+            return Ok(None);
+        }
+        let mut rows = slip_rows(&path, &records, &mut self.notes);
+        if self.model.is_viscoelastic() {
+            let mut longer = path.clone();
+            longer.duration_s *= 1.0 + DURATION_STEP;
+            let shifted = self.run_path(&longer, false)?;
+            let dt = longer.duration_s - path.duration_s;
+            for row in &mut rows {
+                let other = shifted
+                    .get(row.step)
+                    .and_then(|r| r.solution.finger(&row.finger));
+                if let Some(f) = other {
+                    row.per_duration = (1.0 - f.friction_utilization - row.margin) / dt;
+                }
+            }
+        }
+        let merit = merit(&rows, path.duration_s / reference_s, self.options);
+        Ok(Some(Iterate { path, rows, merit }))
+    }
+
+    fn run_path(
+        &mut self,
+        path: &KeyframePath,
+        sensitivities: bool,
+    ) -> Result<Vec<StepRecord>, PlanError> {
+        let spec = self.spec(path);
+        let schedule = Schedule::from_spec(&spec, &self.scene.finger_names(), Path::new("."))
+            .map_err(PlanError::Schedule)?;
+        let directions = sensitivities.then(|| load_directions(path));
+        self.run_schedule(&schedule, directions)
+    }
+}
+
+/// The merit of rows at a duration `relative` to the reference: see [`PlanOptions::tolerance`].
+fn merit(rows: &[SlipRow], relative: f64, options: &PlanOptions) -> f64 {
+    let smallest = rows.iter().map(|r| r.margin).fold(1.0, f64::min);
+    match options.objective {
+        Objective::Duration => {
+            relative + VIOLATION_WEIGHT * (options.min_slip_margin - smallest).max(0.0)
+        }
+        Objective::Margin => -smallest,
+    }
+}
+
+impl Runner<'_> {
+    /// The trust-region iteration from `path`: the last accepted iterate, the iterations and
+    /// why it stopped.
+    fn search(
+        &mut self,
+        path: KeyframePath,
+        pinned: &Pinned,
+    ) -> Result<(Iterate, usize, String), PlanError> {
+        let start_s = path.duration_s;
+        let mut current = self
+            .evaluate(path, start_s)?
+            .ok_or(PlanError::StartHasNoEquilibrium)?;
+        let scale = current
+            .path
+            .loads_n
+            .iter()
+            .flatten()
+            .fold(0.0, |a: f64, &b| a.max(b));
+        let scale = scale.max(f64::MIN_POSITIVE);
+        let mut radius = 0.25 * scale;
+        let mut iterations = 0;
+        let stopped = loop {
+            if self.runs + 2 > self.options.max_runs {
+                break "it made the runs allowed (--max-runs)".to_string();
+            }
+            iterations += 1;
+            let base = merit(&current.rows, 1.0, self.options);
+            let step = qp_step(
+                &current.path,
+                &current.rows,
+                pinned,
+                self.options,
+                (radius, scale),
+            )
+            .map_err(PlanError::Program)?;
+            let predicted = base - step.predicted_merit;
+            if predicted < self.options.tolerance {
+                break format!(
+                    "it converged: the next step's predicted gain {} is below the tolerance {}",
+                    grasp_model::Readable(predicted.max(0.0)),
+                    grasp_model::Readable(self.options.tolerance)
+                );
+            }
+            let mut trial = current.path.clone();
+            trial.loads_n = step.loads_n;
+            trial.duration_s = step.duration_s;
+            let reference = current.path.duration_s;
+            let trial = self.evaluate(trial, reference)?;
+            let ratio = trial
+                .as_ref()
+                .map_or(f64::NEG_INFINITY, |t| (base - t.merit) / predicted);
+            match trial {
+                Some(t) if ratio > 0.1 => {
+                    if ratio > 0.75 {
+                        radius = (2.0 * radius).min(scale);
+                    }
+                    current = t;
+                }
+                _ => {
+                    radius /= 4.0;
+                    if radius < 1e-6 * scale {
+                        break "the trust region shrank below 1e-6 of the load scale".to_string();
+                    }
+                }
+            }
+        };
+        Ok((current, iterations, stopped))
+    }
+
+    /// Re-runs `best` from its schedule file's text, as `grasp transfer` reads it, and reports
+    /// what it keeps.
+    fn verify(
+        &mut self,
+        best: Iterate,
+        template: Option<Vec<StepRecord>>,
+        (iterations, stopped): (usize, String),
+        clock: Instant,
+    ) -> Result<PlanReport, PlanError> {
+        let spec = self.spec(&best.path);
+        let text = serde_json::to_string(&spec).map_err(|e| PlanError::Program(e.to_string()))?;
+        let schedule = Schedule::from_json_str(&text, &self.scene.finger_names(), Path::new("."))
+            .map_err(PlanError::Schedule)?;
+        let records = self.run_schedule(&schedule, None)?;
+        let mut binding = binding_row(&records, &best.path, self.options);
+        if let Some(b) = binding.as_mut().filter(|b| b.why.is_empty()) {
+            b.why = explain(b, &best, &stopped);
+        }
+        let template_duration_s = template
+            .as_ref()
+            .and_then(|t| Some(t.last()?.time_s - t.first()?.time_s));
+        Ok(PlanReport {
+            met: binding.is_none(),
+            binding,
+            duration_s: best.path.duration_s,
+            template_duration_s,
+            margins: smallest_margins(&records),
+            template_margins: template.as_deref().map(smallest_margins),
+            keyframes_s: best
+                .path
+                .fractions
+                .iter()
+                .map(|f| f * best.path.duration_s)
+                .collect(),
+            loads_n: finger_loads(&best.path),
+            runs: self.runs,
+            iterations,
+            stopped,
+            notes: std::mem::take(&mut self.notes),
+            time_s: clock.elapsed().as_secs_f64(),
+            schedule: spec,
+        })
+    }
+}
+
+/// Why the search stopped short of a binding constraint, from the last iterate's
+/// linearisation: a margin whose derivative with respect to every keyframe load is 0 (a
+/// finger sliding at the friction limit: no nearby change of the loads lifts it off), or a
+/// linearised program with no better step within the bounds and rates, or the runs ran out.
+fn explain(b: &Binding, best: &Iterate, stopped: &str) -> String {
+    let row = best
+        .rows
+        .iter()
+        .find(|r| Some(&r.finger) == b.finger.as_ref() && (r.time_s - b.time_s).abs() < 1e-9);
+    if b.time_s == 0.0 {
+        return "at the first step every planned load is fixed (the releasing fingers' loads \
+                in the template or the scene, the receiving ones' 0 N), so no schedule changes \
+                it"
+        .into();
+    }
+    let flat = row.is_some_and(|r| r.gradient.iter().all(|g| *g == 0.0) && r.per_duration == 0.0);
+    if flat {
+        return "its derivative with respect to every keyframe load is 0 there: the finger \
+                slides at the friction limit, and no nearby change of the loads lifts it off"
+            .into();
+    }
+    if stopped.contains("converged") {
+        return "the linearised program finds no step that raises it within the load bounds, \
+                rates and duration"
+            .into();
+    }
+    format!("the search stopped before it was met: {stopped}")
+}
+
+/// Each planned finger's loads at the keyframes, N.
+fn finger_loads(path: &KeyframePath) -> Vec<(String, Vec<f64>)> {
+    let groups = path.groups.iter().zip(&path.loads_n);
+    groups
+        .flat_map(|(g, loads)| {
+            let member = |(name, share): &(String, f64)| {
+                (name.clone(), loads.iter().map(|x| share * x).collect())
+            };
+            g.members.iter().map(member).collect::<Vec<_>>()
+        })
+        .collect()
+}

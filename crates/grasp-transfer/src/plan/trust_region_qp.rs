@@ -1,0 +1,273 @@
+//! One step of the planner: the quadratic program of the linearised hand-off (Nocedal and
+//! Wright, *Numerical Optimization*, 2nd ed., section 18.5, the elastic SL1QP form), solved
+//! with Clarabel.
+//!
+//! Variables `z = [x, T, w]`: the keyframe loads `x` (N), the duration `T` (s) and one scalar
+//! `w`. With the objective [`Objective::Duration`], `w >= 0` is the largest violation of the
+//! slip-margin threshold, and the program minimises `T / T0 + rho w`; with
+//! [`Objective::Margin`], `w` is the smallest linearised margin, maximised at a fixed `T`.
+//! Constraints: every slip row `m + g (x - x0) + g_T (T - T0) >= threshold - w` (or `>= w`),
+//! the fixed end keyframes, the load bounds, the trust region `|x - x0| <= radius`, the load
+//! rates `|x_{k+1} - x_k| <= rate (f_{k+1} - f_k) T` and the duration's bounds. A small
+//! proximal term `eps |x - x0|^2 / L^2` makes the program strictly convex.
+
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{
+    DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+};
+
+use crate::plan::keyframe_path::KeyframePath;
+use crate::plan::plan_options::{Objective, PlanOptions};
+use crate::plan::slip_rows::SlipRow;
+
+/// Weight of the violation in the duration objective (per unit of margin, against a duration
+/// relative to the current one): above the multipliers of the margin rows, so that a
+/// schedule meeting the threshold, when one exists nearby, is preferred to any shorter one.
+pub const VIOLATION_WEIGHT: f64 = 100.0;
+
+/// Weight of the proximal term, relative to the load scale squared.
+const PROXIMAL: f64 = 1e-3;
+
+/// The next point and the merit the linear model predicts for it.
+#[derive(Debug, Clone)]
+pub struct QpStep {
+    /// Keyframe loads, `[finger][keyframe]`, N.
+    pub loads_n: Vec<Vec<f64>>,
+    /// Duration, s.
+    pub duration_s: f64,
+    /// The merit the linearisation predicts at the new point.
+    pub predicted_merit: f64,
+}
+
+/// Which keyframe loads are fixed (`Some(value)`) and which free.
+pub type Pinned = Vec<Vec<Option<f64>>>;
+
+/// Rows of `A z + s = b` with `s` in a cone, built one at a time (triplets).
+#[derive(Default)]
+struct Rows {
+    triplets: Vec<(usize, usize, f64)>,
+    b: Vec<f64>,
+}
+
+impl Rows {
+    fn push(&mut self, entries: &[(usize, f64)], b: f64) {
+        let r = self.b.len();
+        self.triplets
+            .extend(entries.iter().map(|&(c, v)| (r, c, v)));
+        self.b.push(b);
+    }
+}
+
+/// The program's step from `path` with its `rows`, in a trust region of `radius_n` (loads
+/// of the order of `scale_n`).
+pub fn qp_step(
+    path: &KeyframePath,
+    rows: &[SlipRow],
+    pinned: &Pinned,
+    options: &PlanOptions,
+    (radius_n, scale_n): (f64, f64),
+) -> Result<QpStep, String> {
+    let (nf, nk) = (path.groups.len(), path.fractions.len());
+    let nx = nf * nk;
+    let (t_col, w_col, n) = (nx, nx + 1, nx + 2);
+    let x0: Vec<f64> = path.loads_n.iter().flatten().copied().collect();
+    let t0 = path.duration_s;
+    let (mut zero, mut nonneg) = (Rows::default(), Rows::default());
+    for (j, &x) in x0.iter().enumerate() {
+        match pinned[j / nk][j % nk] {
+            Some(v) => zero.push(&[(j, 1.0)], v),
+            None => {
+                let (hi, lo) = group_bounds(path, j / nk, options);
+                nonneg.push(&[(j, 1.0)], (x + radius_n).min(hi));
+                nonneg.push(&[(j, -1.0)], -(x - radius_n).max(lo));
+            }
+        }
+    }
+    duration_rows(&mut zero, &mut nonneg, path, options, t_col);
+    rate_rows(&mut nonneg, path, options, t_col);
+    margin_rows(&mut nonneg, rows, (&x0, t0), options, (t_col, w_col));
+    match options.objective {
+        Objective::Duration => nonneg.push(&[(w_col, -1.0)], 0.0),
+        Objective::Margin => nonneg.push(&[(w_col, 1.0)], 1.0),
+    }
+    let scale = scale_n.max(f64::MIN_POSITIVE);
+    let mut p = vec![(0..nx)
+        .map(|j| (j, j, PROXIMAL / (scale * scale)))
+        .collect::<Vec<_>>()];
+    p.push(vec![(t_col, t_col, PROXIMAL / (t0 * t0))]);
+    let p: Vec<_> = p.into_iter().flatten().collect();
+    let mut q = vec![0.0; n];
+    for (j, x) in x0.iter().enumerate() {
+        q[j] = -PROXIMAL / (scale * scale) * x;
+    }
+    q[t_col] = -PROXIMAL / t0;
+    match options.objective {
+        Objective::Duration => {
+            q[t_col] += 1.0 / t0;
+            q[w_col] = VIOLATION_WEIGHT;
+        }
+        Objective::Margin => q[w_col] = -1.0,
+    }
+    let z = solve(n, &p, &q, zero, nonneg)?;
+    // The fixed keyframes exactly, the free ones within their bounds; a load within
+    // round-off of 0 N is 0 N (released), not a load too small to command.
+    let loads_n = (0..nf)
+        .map(|i| {
+            (0..nk)
+                .map(|k| match pinned[i][k] {
+                    Some(v) => v,
+                    None => {
+                        let (hi, lo) = group_bounds(path, i, options);
+                        let x = z[i * nk + k].clamp(lo, hi);
+                        if x.abs() < 1e-9 * scale {
+                            0.0
+                        } else {
+                            x
+                        }
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let predicted_merit = match options.objective {
+        Objective::Duration => z[t_col] / t0 + VIOLATION_WEIGHT * z[w_col].max(0.0),
+        Objective::Margin => -z[w_col],
+    };
+    Ok(QpStep {
+        loads_n,
+        duration_s: z[t_col],
+        predicted_merit,
+    })
+}
+
+/// Group `g`'s load bounds `(largest, smallest)`, N: every member's within the options'.
+pub fn group_bounds(path: &KeyframePath, g: usize, options: &PlanOptions) -> (f64, f64) {
+    let group = &path.groups[g];
+    (
+        options.max_load_n / group.largest_share(),
+        options.min_load_n / group.smallest_share(),
+    )
+}
+
+/// The duration: fixed with the margin objective (or fixed bounds), else within its bounds
+/// and within half to twice the current one (its own trust region).
+fn duration_rows(
+    zero: &mut Rows,
+    nonneg: &mut Rows,
+    path: &KeyframePath,
+    options: &PlanOptions,
+    t_col: usize,
+) {
+    let t0 = path.duration_s;
+    if options.objective == Objective::Margin {
+        zero.push(&[(t_col, 1.0)], t0);
+        return;
+    }
+    nonneg.push(&[(t_col, 1.0)], options.max_duration_s.min(2.0 * t0));
+    nonneg.push(&[(t_col, -1.0)], -(options.min_duration_s.max(0.5 * t0)));
+}
+
+/// `|x_{k+1} - x_k| <= rate (f_{k+1} - f_k) T` for every planned finger and keyframe span.
+fn rate_rows(nonneg: &mut Rows, path: &KeyframePath, options: &PlanOptions, t_col: usize) {
+    let Some(rate) = options.max_rate_n_per_s else {
+        return;
+    };
+    let nk = path.fractions.len();
+    for (i, group) in path.groups.iter().enumerate() {
+        for k in 0..nk - 1 {
+            let span = rate * (path.fractions[k + 1] - path.fractions[k]) / group.largest_share();
+            let (a, b) = (i * nk + k, i * nk + k + 1);
+            nonneg.push(&[(b, 1.0), (a, -1.0), (t_col, -span)], 0.0);
+            nonneg.push(&[(b, -1.0), (a, 1.0), (t_col, -span)], 0.0);
+        }
+    }
+}
+
+/// The linearised slip rows: `-g x - g_T T -/+ w <= m - g x0 - g_T T0 - threshold`.
+fn margin_rows(
+    nonneg: &mut Rows,
+    rows: &[SlipRow],
+    (x0, t0): (&[f64], f64),
+    options: &PlanOptions,
+    (t_col, w_col): (usize, usize),
+) {
+    for r in rows {
+        let mut entries: Vec<(usize, f64)> = r
+            .gradient
+            .iter()
+            .enumerate()
+            .filter(|(_, g)| **g != 0.0)
+            .map(|(j, g)| (j, -g))
+            .collect();
+        entries.push((t_col, -r.per_duration));
+        let lin: f64 = r.gradient.iter().zip(x0).map(|(g, x)| g * x).sum::<f64>();
+        let constant = r.margin - lin - r.per_duration * t0;
+        match options.objective {
+            Objective::Duration => {
+                entries.push((w_col, -1.0));
+                nonneg.push(&entries, constant - options.min_slip_margin);
+            }
+            Objective::Margin => {
+                entries.push((w_col, 1.0));
+                nonneg.push(&entries, constant);
+            }
+        }
+    }
+}
+
+/// Solves `min z'Pz/2 + q'z` with `zero` rows equal and `nonneg` rows `<=`.
+fn solve(
+    n: usize,
+    p: &[(usize, usize, f64)],
+    q: &[f64],
+    zero: Rows,
+    nonneg: Rows,
+) -> Result<Vec<f64>, String> {
+    let (n_zero, n_nonneg) = (zero.b.len(), nonneg.b.len());
+    let mut triplets = zero.triplets;
+    triplets.extend(nonneg.triplets.iter().map(|&(r, c, v)| (r + n_zero, c, v)));
+    let b: Vec<f64> = zero.b.into_iter().chain(nonneg.b).collect();
+    let a = csc(n_zero + n_nonneg, n, &triplets);
+    let p = csc(n, n, p);
+    let cones = [
+        SupportedConeT::ZeroConeT(n_zero),
+        SupportedConeT::NonnegativeConeT(n_nonneg),
+    ];
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .max_iter(200)
+        .build()
+        .map_err(|e| e.to_string())?;
+    let mut solver =
+        DefaultSolver::new(&p, q, &a, &b, &cones, settings).map_err(|e| e.to_string())?;
+    solver.solve();
+    match solver.solution.status {
+        SolverStatus::Solved | SolverStatus::AlmostSolved => Ok(solver.solution.x.clone()),
+        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => Err(
+            "the bounds, rates and duration admit no schedule (the program is infeasible)".into(),
+        ),
+        other => Err(format!("the step's program stopped with status {other:?}")),
+    }
+}
+
+/// A compressed-column matrix from triplets (duplicates summed).
+fn csc(m: usize, n: usize, triplets: &[(usize, usize, f64)]) -> CscMatrix<f64> {
+    let mut sorted = triplets.to_vec();
+    sorted.sort_by_key(|&(r, c, _)| (c, r));
+    let (mut colptr, mut rowval, mut nzval) = (vec![0usize; n + 1], Vec::new(), Vec::new());
+    let mut last: Option<(usize, usize)> = None;
+    for (r, c, v) in sorted {
+        if last == Some((r, c)) {
+            *nzval.last_mut().expect("a previous entry") += v;
+            continue;
+        }
+        rowval.push(r);
+        nzval.push(v);
+        colptr[c + 1] += 1;
+        last = Some((r, c));
+    }
+    for c in 0..n {
+        colptr[c + 1] += colptr[c];
+    }
+    CscMatrix::new(m, n, colptr, rowval, nzval)
+}

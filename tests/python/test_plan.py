@@ -1,0 +1,53 @@
+"""grasp.plan: the planned schedule, run by grasp.transfer, keeps its constraints (checked on
+the run's own force histories), equals the CLI's plan of the same question, and constraints
+no schedule can meet raise GraspError naming the binding one by its keyword."""
+
+import json
+
+import numpy as np
+import pytest
+
+import grasp
+from conftest import EXAMPLES
+
+SCENE = EXAMPLES / "plate_handoff_coulomb.json"
+TEMPLATE = EXAMPLES / "plate_handoff_coulomb.schedule.json"
+MU = 0.4  # every pad of the plate
+LOAD_SCALE_N = 8.0  # the largest of the weight (4.448 N) and the commanded loads
+MARGIN_TOLERANCE = 1e-3  # the planner's stated tolerance on a margin
+
+
+def test_the_plan_run_by_transfer_keeps_its_margin_and_rates(tmp_path, run_cli):
+    scene = grasp.Scene(SCENE)
+    plan = grasp.plan(
+        scene, releasing=["f1", "f2"], receiving=["f3", "f4"], template=TEMPLATE, max_rate=1.5
+    )
+    assert plan["met"] and plan["binding"] is None
+    run = grasp.transfer(scene, plan["schedule"])
+    p = run.normal_forces_n
+    q = np.linalg.norm(run.tangential_forces_n, axis=2)
+    carrying = (p > 0) & (np.hypot(p, q) >= 0.05 * LOAD_SCALE_N)
+    margins = 1 - q[carrying] / (MU * p[carrying])
+    assert margins.min() >= -MARGIN_TOLERANCE
+    assert run.times_s[-1] == pytest.approx(plan["duration_s"], abs=1e-9)
+    assert plan["duration_s"] <= 12.0
+    # The CLI plans the same schedule from the same question.
+    out = tmp_path / "plan.schedule.json"
+    proc = run_cli(
+        "plan", SCENE, "--releasing", "f1,f2", "--receiving", "f3,f4",
+        "--template", TEMPLATE, "--max-rate", "1.5", "--out", out,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(out.read_text()) == plan["schedule"]
+
+
+def test_constraints_no_schedule_meets_raise_with_the_keyword_named():
+    scene = grasp.Scene(SCENE)
+    with pytest.raises(grasp.GraspError, match=r"max_rate= 0\.5 N/s that takes 16 s"):
+        grasp.plan(
+            scene, releasing=["f1", "f2"], objective="margin", duration=4.0, max_rate=0.5
+        )
+    with pytest.raises(ValueError, match="objective="):
+        grasp.plan(scene, releasing=["f1", "f2"])
+    with pytest.raises(ValueError, match="objective="):
+        grasp.plan(scene, releasing=["f1"], objective="fastest")
