@@ -15,6 +15,6 @@ pub mod trust_region_qp;
 pub use keyframe_path::KeyframePath;
 pub use plan_error::PlanError;
 pub use plan_options::{Objective, PlanOptions};
-pub use plan_report::{Binding, PlanReport, SlipAtStep};
-pub use planner::{plan, MARGIN_TOLERANCE};
+pub use plan_report::{Binding, PlanReport, SlipAtStep, MARGIN_TOLERANCE};
+pub use planner::plan;
 pub use starting_path::Template;

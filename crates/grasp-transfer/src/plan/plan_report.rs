@@ -6,10 +6,14 @@ use serde::Serialize;
 
 use crate::plan::keyframe_path::KeyframePath;
 use crate::plan::plan_options::PlanOptions;
-use crate::plan::planner::MARGIN_TOLERANCE;
 use crate::plan::slip_rows::carrying;
 use crate::schedule_spec::ScheduleSpec;
 use crate::stepper::StepRecord;
+
+/// A planned schedule counts as keeping the slip-margin threshold when its smallest margin is
+/// at least the threshold minus this: the linearisation's error over the last step, which the
+/// planner's tolerance bounds (a margin is dimensionless, of order 1).
+pub const MARGIN_TOLERANCE: f64 = 1e-3;
 
 /// The smallest slip margin of a step over its carrying fingers.
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -22,11 +22,6 @@ use crate::schedule::Schedule;
 use crate::schedule_spec::{PhaseSpec, ScheduleSpec};
 use crate::stepper::{StepRecord, Stepper, TransferOptions};
 
-/// A planned schedule counts as keeping the slip-margin threshold when its smallest margin is
-/// at least the threshold minus this: the linearisation's error over the last step, which the
-/// planner's tolerance bounds (a margin is dimensionless, of order 1).
-pub const MARGIN_TOLERANCE: f64 = 1e-3;
-
 /// Relative change of the duration for the difference quotient of the margins with respect
 /// to it (viscoelastic pads only).
 const DURATION_STEP: f64 = 1e-2;
