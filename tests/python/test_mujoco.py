@@ -735,11 +735,8 @@ def test_mujoco_a_state_file_gives_the_keyframes_scene(pinch, tmp_path):
     assert json.loads((tmp_path / "s.json").read_text())["fingers"] == g.scene_dict["fingers"]
 
 
-def test_mujoco_readme_section_shows_the_commands_and_the_pinch_table(pinch):
-    text = (ROOT / "README.md").read_text()
-    assert "## From MuJoCo" in text, "README.md has no 'From MuJoCo' section"
-    section = text[text.index("## From MuJoCo"):]
-    section = section[:section.index("\n## ", 3)] if "\n## " in section[3:] else section
+def test_mujoco_guide_chapter_shows_the_commands_and_the_pinch_table(pinch):
+    section = (ROOT / "docs" / "guide" / "mujoco.md").read_text()
     assert "python -m grasp.mujoco scene examples/mujoco/pinch.xml" in section
     assert "python -m grasp.mujoco handoff examples/mujoco/handoff.xml" in section
     _, _, g = pinch
@@ -754,7 +751,7 @@ def test_mujoco_handoff_flags_held_steps_the_elastic_model_cannot_hold(handoff):
     # The flagging rule on a made-up replay of the real hand-off: every step MuJoCo held is
     # flagged where the elastic model found no equilibrium or a margin below the threshold, and
     # no step MuJoCo did not hold is (the full replay with margins takes over a minute: the
-    # README's run flags t = 1.4-1.6 s; here the rule itself is what is checked).
+    # guide's run (docs/guide/mujoco.md) flags t = 1.4-1.6 s; here the rule itself is what is checked).
     from types import SimpleNamespace
 
     n = len(handoff.times_s)

@@ -630,18 +630,20 @@ fn a_scene_lists_every_structural_problem_with_a_fix() {
     );
 }
 
-/// The README's commented scene pasted as is: the error says JSON has no comments.
+/// The guide's commented scene (docs/guide/scenes.md) pasted as is: the error says JSON has no
+/// comments.
 #[test]
 fn a_commented_scene_is_told_json_has_no_comments() {
     let dir = tmp("comments");
-    let readme =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../README.md"))
-            .unwrap();
-    let start = readme.find("## Scenes (SI units)").unwrap();
-    let block = &readme[start..];
+    let guide = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/guide/scenes.md"),
+    )
+    .unwrap();
+    let start = guide.find("## Scenes (SI units)").unwrap();
+    let block = &guide[start..];
     let body = &block[block.find("```json\n").unwrap() + 8..];
     let body = &body[..body.find("```").unwrap()];
-    assert!(body.contains("//"), "the README's example has comments");
+    assert!(body.contains("//"), "the guide's example has comments");
     let scene = dir.join("pasted.json");
     std::fs::write(&scene, body).unwrap();
     let o = grasp(&["solve", scene.to_str().unwrap()]);
