@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the disturbance margins committed in docs/margins/ (summarised in README): each
+# Regenerates the disturbance margins committed in docs/margins/ (summarised in docs/guide/margins.md): each
 # thesis example under its own (energy) model and under the coulomb model, and the hand-offs'
 # least safe steps.
 set -euo pipefail

@@ -3,7 +3,7 @@
 1. the pinch: simulates examples/mujoco/pinch.xml from its keyframe "start" for 1 s (the motor
    squeezing 10 N) and writes the state reached into its keyframe "grasped";
 2. `python -m grasp.mujoco scene` of the pinch at "grasped": examples/mujoco/pinch.json and the
-   side-by-side report pinch.report.json (its table is printed, as the README shows it);
+   side-by-side report pinch.report.json (its table is printed, as docs/guide/mujoco.md shows it);
 3. `python -m grasp.mujoco handoff` of examples/mujoco/handoff.xml driven by
    handoff_controller.py:control (1600 steps of 1 ms, every 10th recorded):
    examples/mujoco/handoff.json, handoff.schedule.json, handoff.csv;

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the grid-refinement studies committed in docs/study/ (tables shown in README):
+# Regenerates the grid-refinement studies committed in docs/study/ (tables shown in docs/guide/solving.md):
 # Hertz against the closed form, cube A against its finest grid.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The peer measurement of issue 21: frictionless Hertz on an n x n grid, solved by tamaas.
+"""The peer measurement of the fine-patch cases: frictionless Hertz on an n x n grid, solved by tamaas.
 
 `grasp bench` runs this script (compiled into the binary, fed on standard input) beside its
 own `hertz_<n>x<n>_fft` cases; it also runs alone:

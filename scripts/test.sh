@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The project's whole test command (README "Test"; .ci/run calls exactly this).
+# The project's whole test command (README "The two commands"; .ci/run calls exactly this).
 # 1. installs the independent checker (Python package rerun-sdk==0.36.3, for `rerun rrd verify`
 #    and `rerun mcap check`) into a cached virtualenv;
 # 2. checks formatting, ARCHITECTURE.md's generated parts (scripts/architecture.py) and lints (clippy), builds

@@ -180,7 +180,7 @@ fn cattaneo_stick_radius_and_hertz_pressure() {
 
 /// Cattaneo-Mindlin on a fine grid (256 x 256, element 0.0094 a, on the FFT compliance):
 /// under the coulomb model, P then Q = 0.6 mu P, the stick radius is within one element of
-/// `a (1 - Q/(mu P))^(1/3)` (issue 21; the stick set is a union of whole elements), Q is
+/// `a (1 - Q/(mu P))^(1/3)` (the stick set is a union of whole elements), Q is
 /// carried to 1e-6 (the solver's tolerance on the load), and the peak pressure is within
 /// 0.2 % of Hertz (the accuracy this grid gives the normal problem,
 /// tests/hertz_sphere_on_flat.rs).

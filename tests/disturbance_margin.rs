@@ -1,4 +1,4 @@
-//! Disturbance margins (issue 13) against closed forms and an independent computation:
+//! Disturbance margins against closed forms and an independent computation:
 //!
 //! - a two-finger pinch of a block (flat pads, commanded loads `P`, weight `W`) under a
 //!   vertical force: the margin downwards is `2 mu P - W`, upwards `2 mu P + W` (friction

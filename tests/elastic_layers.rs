@@ -1,4 +1,4 @@
-//! Fingertip pads that are elastic layers bonded to a rigid core (issue 22): the thick limit
+//! Fingertip pads that are elastic layers bonded to a rigid core: the thick limit
 //! (the half-space), the thin limits (a Winkler foundation of stiffness `M / h` normally and
 //! `G / h` tangentially for a compressible layer, the squeeze film of a thin incompressible
 //! one), and agreement of the dense and FFT compliances with layers on both bodies.
@@ -301,7 +301,8 @@ fn dense_and_fft_agree_with_layers_on_both_bodies() {
     assert!(worst <= 1e-8 * 6.0);
 }
 
-/// The issue's own figures (issue 22, computed outside this project): a rigid sphere of radius
+/// The reference pad's figures (computed outside this project, given with the layered-pad
+/// work as what it must reproduce): a rigid sphere of radius
 /// 10 mm pressed with 2 N into a 1 mm pad (E 1 MPa, nu 0.45) on a rigid base has a contact
 /// radius about 20 % smaller, a peak pressure about 1.9 times higher and an approach about
 /// three times smaller than Hertz's (the half-space pad). 61 x 61 over 5.5 mm (2.4 Hertz
@@ -309,7 +310,7 @@ fn dense_and_fft_agree_with_layers_on_both_bodies() {
 /// of the radius (one element, 0.09 mm, 4 % of it): ratio of radii in [0.75, 0.85], of peak
 /// pressures in [1.8, 2.0], of approaches in [0.28, 0.38].
 #[test]
-fn the_issues_pad_example() {
+fn the_reference_pad_matches_its_outside_figures() {
     let pad = |h: Option<f64>| material(1e6, 0.45, h);
     let solve_with = |h| {
         let scene = pad_scene(&pad(h), "0.01", 2.0, 0.0, 0.0055, 61, 0.0);

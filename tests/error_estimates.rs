@@ -1,4 +1,4 @@
-//! Error against run time (issue 4): the Richardson estimate of the discretisation error is of
+//! Error against run time: the Richardson estimate of the discretisation error is of
 //! the size of the true error, refinement studies measure against closed forms or the finest
 //! grid, and undersized patches are flagged and grown (thesis section 2.2.1).
 

@@ -20,7 +20,7 @@ use std::sync::OnceLock;
 use grasp_transfer::sinks::{state_code, PATCHES_TOPIC, PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC};
 use grasp_transfer::{McapSink, RerunSink, Sink, StepRecord, TransferOptions};
 
-/// The bound of the issue (issue 21, item 5): each file of a 200-step hand-off with two
+/// The size bound of fine-patch recordings: each file of a 200-step hand-off with two
 /// 128 x 128 patches at most 100 MB.
 const FILE_LIMIT_BYTES: f64 = 100e6;
 const FULL_RUN_ELEMENT_STEPS: f64 = 200.0 * 2.0 * 128.0 * 128.0;

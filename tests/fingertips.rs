@@ -1,4 +1,4 @@
-//! Fingertips as shapes (issue 11, item 3): `tip: {sphere | cylinder | flat}`. Crossed
+//! Fingertips as shapes: `tip: {sphere | cylinder | flat}`. Crossed
 //! cylinders of equal radius are a sphere near a plane (Johnson, *Contact Mechanics*, 4.2: the
 //! gap is `x^2/2R + y^2/2R` either way), a cylindrical tip turned a quarter turn gives the
 //! transposed pressure map, a sphere written as `tip` equals `tip_radius`, and every misuse is

@@ -1,4 +1,4 @@
-//! Margins in hand-offs and scheduled external loads (issue 13):
+//! Margins in hand-offs and scheduled external loads:
 //!
 //! - a scheduled downward pull on a coulomb pinch makes the grasp fail (no equilibrium, or a
 //!   finger sliding as a whole) at the step where the pull crosses the margin that

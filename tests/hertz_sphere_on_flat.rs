@@ -70,7 +70,7 @@ fn error_shrinks_as_the_grid_is_refined() {
     }
 }
 
-/// Fine grids on the FFT compliance operator (issue 21): at 128x128 and 256x256 over a patch
+/// Fine grids on the FFT compliance operator: at 128x128 and 256x256 over a patch
 /// of 2.4 a (the automatic choice takes the FFT path above 64x64), the peak pressure within
 /// 0.2 % of Hertz's p0 (the 31x31 dense grid is already within 1 %; the error falls roughly
 /// with the element size), the contact radius within one element of Hertz's a (from the loaded
@@ -142,7 +142,7 @@ fn fine_patches_give_the_same_bits_on_one_thread_as_on_four() {
 }
 
 /// What needs matrix entries is refused on an FFT patch too large to write out, with the
-/// option that changes it (issue 21): the sensitivities (a dense system over the free
+/// option that changes it: the sensitivities (a dense system over the free
 /// directions), Clarabel, and a dense matrix forced on a grid whose blocks cannot fit.
 #[test]
 fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {

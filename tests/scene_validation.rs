@@ -117,7 +117,7 @@ fn every_problem_is_reported_at_once() {
     assert!(e.to_string().contains("3 problem(s)"));
 }
 
-/// Every missing field at once, each with its own fix (issue 36: a scene missing
+/// Every missing field at once, each with its own fix (a scene missing
 /// `object.weight` and `fingers[1].normal` reported only the first, without a fix): the
 /// fields a scene needs unless it derives them (a finger's frame without `place`, the
 /// object's weight and centre of mass without a density) as well as the always required.
@@ -430,7 +430,7 @@ fn set(v: &mut Value, ptr: &str, value: Value) {
     }
 }
 
-/// A layer thickness (issue 22) that is not a thickness: zero, negative, not finite, or out of
+/// A layer thickness that is not a thickness: zero, negative, not finite, or out of
 /// the physical range (a micrometre to a metre; millimetres typed as metres land above it).
 #[test]
 fn layer_thickness_outside_its_range() {
@@ -496,7 +496,7 @@ fn unresolved_and_half_space_like_layers_are_warned_about() {
     );
 }
 
-/// Relaxation laws and approach control (issue 26): fractions outside `[0, 1)` or summing to
+/// Relaxation laws and approach control: fractions outside `[0, 1)` or summing to
 /// 1 or more, times out of range, a long-term modulus above the instantaneous one, and an
 /// approach out of range are named with the fix.
 #[test]
@@ -531,7 +531,7 @@ fn relaxation_laws_and_approaches_out_of_range() {
     assert_problem(&v, "fingers[1].control.approach_m", "outside");
 }
 
-/// Unbounded work (issue 36): inputs whose cost grows without bound are refused with the
+/// Unbounded work: inputs whose cost grows without bound are refused with the
 /// bound named. A Prony series of more than 32 terms (its stepping costs the square of the
 /// count: 10,000 terms ran 236 s), a patch side of more than 1024 elements (a 1 x 1,048,576
 /// strip passed the element count and ran for minutes), a bonded layer's Poisson's ratio

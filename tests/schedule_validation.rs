@@ -372,7 +372,7 @@ fn a_bad_external_csv_is_one_problem() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Approach ramps and holds (issue 26): a bad approach or duration is named with the fix; a
+/// Approach ramps and holds: a bad approach or duration is named with the fix; a
 /// hold keeps the phase before's last command for its duration, then the next phase runs.
 #[test]
 fn approach_ramps_and_holds() {
@@ -387,7 +387,7 @@ fn approach_ramps_and_holds() {
     v["fingers"] =
         json!({"f1": [{"approach": {"keyframes": [[0, 0.001]]}}, {"hold": {"duration_s": -2}}]});
     assert_problem(&v, "fingers.f1[1].hold.duration_s", "is -2 s");
-    // The fix names the range, its upper bound included (issue 36).
+    // The fix names the range, its upper bound included.
     v["fingers"]["f1"][1]["hold"]["duration_s"] = json!(2e9);
     assert_problem(&v, "fingers.f1[1].hold.duration_s", "in (0, 1e9]");
     let v = json!({"time": {"start": 0, "end": 4, "step": 0.5},

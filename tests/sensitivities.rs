@@ -1,4 +1,4 @@
-//! Sensitivities from the KKT system at the active set (issue 13) against central finite
+//! Sensitivities from the KKT system at the active set against central finite
 //! differences of full solves, on the thesis's five static grasps and a hand-off scene (energy
 //! model as written, and the coulomb model of the same grasps); `layered_pad_*` adds the padded
 //! pinch. Not every bundled example: each column is two full solves per parameter, and a patch
@@ -260,7 +260,7 @@ fn coulomb_model_sensitivities_match_finite_differences_on_the_thesis_grasps_and
     );
 }
 
-/// Layered pads (issue 22) on both models: the padded pinch (1 mm pads, the KKT system over
+/// Layered pads on both models: the padded pinch (1 mm pads, the KKT system over
 /// the layered compliance with its normal/tangential coupling) on 11 x 11 grids (elements of
 /// 0.55 mm: the dense path, whose matrices the sensitivities need). Step 1e-5 of the scales:
 /// at 1e-4 the differences' `O(h^2)` truncation on the couples' element forces reached

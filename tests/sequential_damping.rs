@@ -1,4 +1,4 @@
-//! The sequential (coulomb) solve does not give up early (issue 9, item 5). On the fixture
+//! The sequential (coulomb) solve does not give up early. On the fixture
 //! grasp the plain fixed-point iteration `F <- T(F)` from the energy model's forces (the
 //! solver with `min_relaxation = 1`) reaches an iterate whose Tresca program has no solution,
 //! which the earlier code reported as "cannot hold"; the damped iteration backs off towards

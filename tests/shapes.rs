@@ -1,4 +1,4 @@
-//! Object shapes (issue 11): fingers placed on boxes, spheres, cylinders, capsules and meshes
+//! Object shapes: fingers placed on boxes, spheres, cylinders, capsules and meshes
 //! get the frames and radii computed here by hand; a refined sphere mesh converges to the
 //! sphere; mass properties match closed forms; every shape check is an error or warning that
 //! names the finger; and a scene written with a shape solves exactly like the same grasp
@@ -475,7 +475,7 @@ fn a_scene_written_with_a_shape_solves_like_its_explicit_frames() {
 }
 
 // ---------------------------------------------------------------------------------------
-// Mesh geometry (issue 24, item 11): flat faces give their exact normal, the curvature fit
+// Mesh geometry: flat faces give their exact normal, the curvature fit
 // does not blur across sharp edges, contacts on sharp edges are refused and patches over
 // them warned of as on the primitives, open meshes refuse a density and are warned of.
 
@@ -1027,7 +1027,7 @@ fn a_box_stored_in_single_precision_still_has_flat_faces() {
 
 /// A ray aimed at an edge or a corner of the box (posed off the origin) is refused alike by
 /// the primitive and by every tessellation of it: "lands on an edge" / "a corner", where
-/// the normal is not defined (issue 36: the mesh box once accepted the ray with a warning).
+/// the normal is not defined (the mesh box once accepted the ray with a warning).
 #[test]
 fn rays_onto_a_mesh_boxs_edge_or_corner_are_refused_as_on_the_primitive() {
     let primitive = posed(json!({"box": {"size": HALF.map(|h| 2.0 * h)}}));

@@ -1,4 +1,4 @@
-//! Nonsense that used to pass as an answer (issue 36): a contact pressed beyond the small
+//! Nonsense that used to pass as an answer: a contact pressed beyond the small
 //! strains of linear elasticity is warned about, naming the finger, its compression and the
 //! limit, for force- and position-controlled fingers alike; and "solved" means the usual
 //! residuals (within 1e-6), or the answer says reduced accuracy with the residual named.

@@ -1,4 +1,4 @@
-//! The native solver against Clarabel (issue 9): the same status and the same element forces,
+//! The native solver against Clarabel: the same status and the same element forces,
 //! within 1e-8 of the load scale, on every example scene and on 240 seeded random grasps (3-D
 //! and planar, held and force-controlled, coupled and uncoupled materials, flat and curved
 //! tips, frictionless fingers, energy and coulomb, some without equilibrium). The stability
@@ -259,7 +259,7 @@ fn native_and_clarabel_agree_on_240_random_grasps() {
     );
 }
 
-/// The native solver on the dense compliance and on the FFT operator (issue 21): the same
+/// The native solver on the dense compliance and on the FFT operator: the same
 /// status and element forces within [`SOLVER_AGREEMENT`] (1e-8) of the load scale. Both are
 /// solved to the default tolerance with the same sequential tolerance; the two discretise the
 /// same operator (their products agree to 1e-12, `compliance_operator` tests), so what is

@@ -1,7 +1,7 @@
-//! Numerical stability on stiff and extreme cases (issue 4). Every case either solves with
+//! Numerical stability on stiff and extreme cases. Every case either solves with
 //! equilibrium residual below 1e-8 of the load scale, cones satisfied and no NaN, or returns a
 //! named outcome with a reason; a panic anywhere fails the case by name. Every case is also
-//! solved by the native solver alone and by Clarabel, which must agree (issue 9; see
+//! solved by the native solver alone and by Clarabel, which must agree (see
 //! `support::native_agrees_with_clarabel`). Cases are built from fixed seeds; each class
 //! prints a summary line of how many cases ran, how they ended and how the solvers agreed.
 
@@ -543,7 +543,7 @@ fn results_do_not_depend_on_the_choice_of_units() {
 
 /// A spherical tip of radius `r` on a flat (steel on steel), one held finger under the
 /// weight `w`, friction `mu`, patch a fixed 0.2 mm: at small loads the contact covers a
-/// fraction of one element, at large ones the whole patch (issue 10: curved tips at tiny
+/// fraction of one element, at large ones the whole patch (curved tips at tiny
 /// loads).
 fn sphere_on_flat(w: f64, mu: f64) -> Value {
     json!({"object": {"weight": w, "center_of_mass": [0, 0, 0.02], "material": elastic(210e9, 0.3)},

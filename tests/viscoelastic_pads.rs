@@ -1,4 +1,4 @@
-//! Viscoelastic pads and position control (issue 26): a rigid sphere on a viscoelastic pad
+//! Viscoelastic pads and position control: a rigid sphere on a viscoelastic pad
 //! (the pad a half-space) against Lee and Radok's closed forms, the limits of the time
 //! stepping, and a held pinch that relaxes until it slips.
 //!

@@ -14,9 +14,8 @@ copy of `examples/` (never in the checkout), as a reader would paste it from the
   `--out`, `--report`, `--save-rollout`; `"out/..."` in Python) must exist afterwards and not be empty;
 - an HTML comment on the line before a block marks it: `<!-- doc-test: skip: REASON -->` (it
   cannot run here: a desktop viewer, a cluster; the reason shows in the test report) or
-  `<!-- doc-test: long -->` (over about 20 s; it runs all the same). Two commands of the README's
-  first block are left out with their reason (LEFT_OUT below): the test command itself, and
-  `cargo bench` (see its reason).
+  `<!-- doc-test: long -->` (over about 20 s; it runs all the same). One command of the README's
+  first block is left out with its reason (LEFT_OUT below): the test command itself.
 """
 
 import os

@@ -34,7 +34,7 @@ def test_another_thread_runs_while_a_solve_is_in_progress(cube_a_dict):
 
 
 def test_a_long_solve_answers_ctrl_c_at_once():
-    # Issue 36: a long solve answered Ctrl-C only when it returned (over a minute). The solve
+    # A long solve answered Ctrl-C only when it returned (over a minute). The solve
     # now runs beside the caller, who looks for signals every 0.1 s: a signal handler's
     # exception (Ctrl-C's KeyboardInterrupt) arrives within a fraction of the solve.
     scene_dict = json.loads((EXAMPLES / "hertz_sphere_on_flat.json").read_text())

@@ -1,4 +1,4 @@
-"""Layered pads from Python (issue 22): a material's layer_thickness_m round-trips through
+"""Layered pads from Python: a material's layer_thickness_m round-trips through
 grasp.Scene, a bad one is a SceneError naming the field, the warnings of an unresolved layer
 reach the solution, and the padded pinch is stiffer than its half-space twin (smaller contact,
 higher peak pressure) with the same resultants."""

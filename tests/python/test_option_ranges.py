@@ -1,4 +1,4 @@
-"""Numbers from Python that cannot crash, hang or run away (issue 24, items 1 and 13).
+"""Numbers from Python that cannot crash, hang or run away.
 
 - `grasp.solve`'s options go through the library's own check (`SolveOptions::validate`, the
   one the CLI calls): out-of-range and non-finite tolerances are a ValueError naming the

@@ -1,4 +1,4 @@
-"""Python outputs keep the CLI's rules (issue 24 item 10): one output policy (the same Rust
+"""Python outputs keep the CLI's rules: one output policy (the same Rust
 code as the CLI's). Threads writing the same outputs never mix them; targets that are links
 (dangling ones too), devices or inputs of the run are refused even with overwrite=True; a
 planted link at the old predictable temporary name redirects nothing; a run of the CLI holding

@@ -1,4 +1,4 @@
-"""The peer of issue 21 (tamaas, scripts/peer-hertz.py): its Hertz answer against the closed
+"""The peer of the fine-patch cases (tamaas, scripts/peer-hertz.py): its Hertz answer against the closed
 form, its message when missing, and `grasp bench`'s peer rows (with the peer, and without it:
 the bench goes on and says how to install it). The checker tamaas is installed by
 scripts/install-checkers.sh; under scripts/test.sh (GRASP_REQUIRE_CHECKERS=1) a missing one

@@ -53,7 +53,7 @@ def test_every_problem_is_listed(cube_a_dict):
 
 
 def test_non_finite_numbers_in_a_dict_are_named_by_their_path(cube_a_dict):
-    # Issue 36: NaN, infinities and 1e400 (read by Python as infinity) from Python objects
+    # NaN, infinities and 1e400 (read by Python as infinity) from Python objects
     # once gave "line 1, column 308: expected value" in a text the user never wrote.
     cube_a_dict["object"]["weight"] = float("nan")
     cube_a_dict["fingers"][1]["material"]["youngs_modulus"] = float("inf")

@@ -67,7 +67,7 @@ def test_native_and_clarabel_agree_to_1e_8_of_the_load():
 
 
 def test_dense_and_fft_compliance_agree_and_say_which_ran():
-    # Issue 21: the FFT operator discretises the same operator as the dense matrix (products
+    # The FFT operator discretises the same operator as the dense matrix (products
     # equal to 1e-12), so the native solver's answers agree to its tolerance; 1e-8 of the load,
     # as in tests/solver_equivalence.rs.
     scene = grasp.Scene(EXAMPLES / "cube_a.json")

@@ -86,7 +86,7 @@ def test_schedule_from_dict_and_errors():
         grasp.transfer(scene, spec)
     assert [p["path"] for p in e.value.problems] == ["fingers.nope"]
     assert "f1" in e.value.problems[0]["fix"]
-    # Non-finite numbers from Python objects are named by their path (issue 36).
+    # Non-finite numbers from Python objects are named by their path.
     spec = json.loads(SCHEDULE.read_text())
     spec["time"]["end"] = float("inf")
     with pytest.raises(grasp.ScheduleError) as e:
@@ -104,7 +104,7 @@ def test_cold_runs_reach_the_same_forces_with_more_iterations():
 
 
 def test_dense_and_fft_compliance_give_the_same_hand_off():
-    # Issue 21: compliance= on grasp.transfer as on grasp.solve. The two paths discretise the
+    # Compliance= on grasp.transfer as on grasp.solve. The two paths discretise the
     # same operator, so every step's forces agree to the solver's tolerance; 1e-8 of the load,
     # as in tests/solver_equivalence.rs. A bad value is a ValueError naming the keyword.
     scene = grasp.Scene(SCENE)
@@ -119,7 +119,7 @@ def test_dense_and_fft_compliance_give_the_same_hand_off():
 
 
 def test_progress_is_called_after_each_step_and_can_stop_the_run(tmp_path):
-    # Issue 36: progress on long runs, and a way to stop them (Ctrl-C is looked for at the
+    # Progress on long runs, and a way to stop them (Ctrl-C is looked for at the
     # same place, between steps).
     scene = grasp.Scene(SCENE)
     seen = []

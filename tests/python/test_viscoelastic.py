@@ -1,4 +1,4 @@
-"""Viscoelastic pads from Python (issue 26): grasp.solve answers a viscoelastic scene at t = 0+,
+"""Viscoelastic pads from Python: grasp.solve answers a viscoelastic scene at t = 0+,
 at a later time, or fully relaxed, as `grasp solve` does; bad times are ValueErrors naming the
 keyword."""
 
@@ -26,7 +26,7 @@ def test_bad_times_name_the_keyword(run_cli, tmp_path):
         grasp.solve(scene, at_time=-1.0)
     with pytest.raises(ValueError, match="long_term"):
         grasp.solve(scene, at_time=1.0, long_term=True)
-    # Issue 36: True was read as 1 s; 1e300 was written out in 301 digits.
+    # True was read as 1 s; 1e300 was written out in 301 digits.
     with pytest.raises(TypeError, match="at_time= is a bool"):
         grasp.solve(scene, at_time=True)
     with pytest.raises(ValueError) as e:
@@ -40,7 +40,7 @@ def test_bad_times_name_the_keyword(run_cli, tmp_path):
     assert cli["time"] == {"at_s": 3.0}
     py = grasp.solve(scene, at_time=3.0).to_dict()
     assert [f["normal_force_n"] for f in py["fingers"]] == [f["normal_force_n"] for f in cli["fingers"]]
-    # The solved time too (issue 36: to_dict lacked it), and the whole answer but its timings.
+    # The solved time too (to_dict lacked it), and the whole answer but its timings.
     assert py["time"] == {"at_s": 3.0}
     assert grasp.solve(scene, long_term=True).to_dict()["time"] == "long_term"
     assert grasp.solve(scene).to_dict()["time"] == "instantaneous"
@@ -49,7 +49,7 @@ def test_bad_times_name_the_keyword(run_cli, tmp_path):
 
 
 def test_a_time_on_an_elastic_scene_is_warned_about():
-    # As the CLI's note (issue 36): the time changes nothing on an elastic scene.
+    # As the CLI's note: the time changes nothing on an elastic scene.
     cube = grasp.Scene(EXAMPLES / "cube_a.json")
     with pytest.warns(UserWarning, match="the scene is elastic"):
         timed = grasp.solve(cube, at_time=1.0)

@@ -84,7 +84,7 @@ pub fn example_scenes() -> Vec<String> {
         .collect()
 }
 
-/// Schedules that drive a scene whose name is not a prefix of theirs (README: the coulomb
+/// Schedules that drive a scene whose name is not a prefix of theirs (docs/guide/margins.md: the coulomb
 /// plate hand-off with a task-induced load).
 const SCHEDULE_SCENES: [(&str, &str); 2] = [
     ("plate_bump.schedule.json", "plate_handoff_coulomb.json"),
@@ -215,7 +215,7 @@ pub fn element_force_difference_n(a: &Solution, b: &Solution) -> f64 {
     d
 }
 
-/// Agreement required of the native solver and Clarabel (issue 9): element forces within
+/// Agreement required of the native solver and Clarabel: element forces within
 /// `1e-8` of the load scale, the same status.
 pub const SOLVER_AGREEMENT: f64 = 1e-8;
 

@@ -1,5 +1,5 @@
-//! The benchmark cases: which bundled scene, which patch grid, what is timed, and the target
-//! of issue 9 where there is one. Scenes are compiled in from `examples/`, so `grasp bench`
+//! The benchmark cases: which bundled scene, which patch grid, what is timed, and the
+//! performance target where there is one. Scenes are compiled in from `examples/`, so `grasp bench`
 //! runs anywhere.
 
 use std::path::Path;
@@ -28,7 +28,7 @@ pub enum CaseKind {
     Margins,
 }
 
-/// A target of issue 9: the case's time must not exceed `limit_s`.
+/// A performance target: the case's time must not exceed `limit_s`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Target {
     /// Largest acceptable median, s (per solve, per one-shot or per step, as the case times).
@@ -46,7 +46,7 @@ pub struct Case {
     pub scene: &'static str,
     /// Patch grid given to every finger, or `None` for the scene's own.
     pub grid: Option<[usize; 2]>,
-    /// Target median, where issue 9 sets one.
+    /// Target median, where one is set.
     pub target: Option<Target>,
     /// Part of `--quick` (the CI smoke run): the cases that take well under a second.
     pub quick: bool,
@@ -150,7 +150,7 @@ pub const CASES: [Case; 11] = [
     ),
 ];
 
-/// The fine-patch cases of issue 21, on the FFT compliance (the automatic choice above 1,024
+/// The fine-patch cases, on the FFT compliance (the automatic choice above 1,024
 /// unknowns a patch), native solver only (Clarabel needs the matrices these grids do not
 /// store). One-shot cases time the model build and one solve together; the hand-offs time
 /// every step (the Cattaneo case's two steps: the normal load, then the tangential force).
@@ -215,10 +215,10 @@ pub const FFT_CASES: [Case; 7] = [
     ),
 ];
 
-/// The layered-pad cases of issue 22: the padded pinch (`pad_pinch`, 1 mm pads) and its twin
+/// The layered-pad cases: the padded pinch (`pad_pinch`, 1 mm pads) and its twin
 /// with half-space pads of the same silicone (`pad_pinch_halfspace`), model build and one solve
 /// timed together, on the FFT path (64 x 64 a finger) and the dense one (18 x 18, 972 unknowns
-/// a finger), automatic compliance. Issue 22's target is a ratio, a layered patch at most 1.5x
+/// a finger), automatic compliance. The target is a ratio, a layered patch at most 1.5x
 /// the half-space one on the same path: `grasp bench` prints it as a derived row
 /// ([`LAYER_PAIRS`]).
 pub const LAYER_CASES: [Case; 8] = [
@@ -254,7 +254,7 @@ pub const LAYER_CASES: [Case; 8] = [
         None,
         true,
     ),
-    // Issue 26: the padded cylinder hand-off with relaxing pads and with elastic ones (the same
+    // The padded cylinder hand-off with relaxing pads and with elastic ones (the same
     // grids: A's patches on the FFT path, B's dense), the same 41-step schedule, per step.
     case(
         "viscous_handoff_warm",
@@ -311,7 +311,7 @@ pub const LAYER_PAIRS: [(&str, &str, f64); 4] = [
 pub const MARGIN_PAIRS: [(&str, &str, f64); 1] =
     [("coulomb_handoff_margins", "coulomb_handoff_warm", 20.0)];
 
-/// The cases the peer library solves too, in the same run (`grasp bench`; issue 21 asks for
+/// The cases the peer library solves too, in the same run (`grasp bench`; the fine-patch work compares
 /// the time ratio at these two grids; the peer's time grows past a minute above them).
 pub const PEER_CASES: [&str; 2] = ["hertz_128x128_fft", "hertz_256x256_fft"];
 

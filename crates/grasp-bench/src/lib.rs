@@ -1,10 +1,10 @@
-//! The benchmark cases of the project (issue 9's table) and how they are measured, shared by
+//! The benchmark cases of the project (the benchmark table) and how they are measured, shared by
 //! the `grasp bench` command (a table with both solvers side by side) and `cargo bench -p
 //! grasp-bench` (divan). Data flow: [`case`] names a case and prepares its inputs from the
 //! bundled example scenes; [`sample`] runs a prepared case once and says what it cost;
 //! [`statistics`] folds repeated samples (median, spread, growth exponent); [`peak_memory`]
-//! reads the process's resident memory (Linux `/proc`); [`peer`] runs the peer library of
-//! issue 21 (tamaas, through `scripts/peer-hertz.py`) on a Hertz case's grid;
+//! reads the process's resident memory (Linux `/proc`); [`peer`] runs the peer library
+//! (tamaas, through `scripts/peer-hertz.py`) on a Hertz case's grid;
 //! [`output_writing`] times writing a fine patch's solution in each output format;
 //! [`mod@thread_scaling`] times a case on one thread and on every core.
 

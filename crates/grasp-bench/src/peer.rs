@@ -1,4 +1,4 @@
-//! The peer measurement of issue 21: an FFT boundary-element library (tamaas, from PyPI)
+//! The peer measurement: an FFT boundary-element library (tamaas, from PyPI)
 //! solving the same frictionless Hertz grid as a `hertz_<n>x<n>_fft` case, in the same bench
 //! run. `scripts/peer-hertz.py` is compiled in and fed to the peer's Python on standard
 //! input (so the bench runs anywhere, like its bundled scenes); the problem's numbers are read

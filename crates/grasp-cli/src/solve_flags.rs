@@ -16,7 +16,7 @@ pub struct SolveFlags {
     #[arg(long, default_value = "auto", value_name = "auto|native|clarabel")]
     pub solver: SolverChoice,
     /// Patch compliance: `auto` (dense up to 1,024 unknowns a patch (32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D), the FFT operator above),
-    /// `dense` or `fft` (matrix-free, native solver; see README "Fine patches").
+    /// `dense` or `fft` (matrix-free, native solver; see docs/guide/solving.md, "Fine patches").
     #[arg(long, default_value = "auto", value_name = "auto|dense|fft")]
     pub compliance: ComplianceChoice,
     #[command(flatten)]

@@ -1,4 +1,4 @@
-//! `grasp batch` and `grasp sweep` (issue 12): bad lines become `invalid` lines and the batch
+//! `grasp batch` and `grasp sweep`: bad lines become `invalid` lines and the batch
 //! goes on; a resumed run (after an interruption that left half a line) ends equal to one
 //! uninterrupted run; shards merged equal one unsharded run and a missing shard is named; the
 //! output does not depend on the number of threads; `sweep --run` equals `sweep` then `batch`;
@@ -109,7 +109,7 @@ fn bad_lines_are_lines_and_threads_do_not_change_the_output() {
 
 /// Scenes that each fit `--max-memory` but not two at once (cube A's estimate is 1.0 MiB, the
 /// limit 1.5 MiB) run one after the other on four workers: every scene is solved, the output
-/// equal to one worker's (issue 36: the workers once ran them all at once and the batch
+/// equal to one worker's (the workers once ran them all at once and the batch
 /// aborted out of memory; `memory_budget.rs` tests that the admitted bytes never exceed the
 /// limit).
 #[test]

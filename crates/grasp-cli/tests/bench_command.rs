@@ -1,5 +1,5 @@
 //! `grasp bench` runs and prints a well-formed table (a smoke run on the quick cases with the
-//! native solver; the full table is in the README). Timings are not asserted: speed targets
+//! native solver; the full table is in docs/benchmarks.md). Timings are not asserted: speed targets
 //! belong to the benchmark itself, not to tests. What is asserted holds on any machine: the
 //! rows and columns are there, each timed median lies inside its range, a warm step needs no
 //! more iterations than a cold one, and a bad case name is refused with the list of names.

@@ -156,7 +156,7 @@ fn memory_does_not_grow_with_the_number_of_steps() {
     );
 }
 
-/// `--compliance` (issue 21): the memory estimate is that of the path that runs. A 128x128
+/// `--compliance`: the memory estimate is that of the path that runs. A 128x128
 /// patch on cube A's first finger is refused on the dense path within 1 GiB, naming the flag
 /// that avoids it; a small scene solved on the FFT path says so in its time line and its JSON,
 /// with the same finger forces as the dense path (to 1e-8 of the load).

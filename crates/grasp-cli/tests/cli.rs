@@ -738,8 +738,8 @@ fn svg_circles(svg: &str) -> Vec<SvgCircle> {
         .collect()
 }
 
-/// Bad times and thresholds of the viscoelastic flags are refused naming the flag and the fix
-/// (issue 26), before anything runs.
+/// Bad times and thresholds of the viscoelastic flags are refused naming the flag and the fix,
+/// before anything runs.
 #[test]
 fn bad_viscoelastic_flags_name_the_flag() {
     let scene = example("plate_hold_viscoelastic.json");
@@ -771,7 +771,7 @@ fn bad_viscoelastic_flags_name_the_flag() {
     }
 }
 
-/// The long runs' progress bars (issue 36: hand-offs, batches, margins, a viscoelastic
+/// The long runs' progress bars (hand-offs, batches, margins, a viscoelastic
 /// history, studies) are drawn on a terminal's standard error only: piped, as here, standard
 /// error carries no bar, with or without `--quiet`, and the run's answer is the same.
 #[test]

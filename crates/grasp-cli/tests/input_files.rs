@@ -1,4 +1,4 @@
-//! Every file the CLI reads is a regular file within a size limit (issue 24 item 2): scenes,
+//! Every file the CLI reads is a regular file within a size limit: scenes,
 //! schedules, CSV profiles, direction files, meshes, batch inputs and their folder entries,
 //! shard outputs to merge. Each reader is given a device (`/dev/zero`, directly and through a
 //! link), a FIFO (which would block a reader that opens it), a folder and, where it applies, a

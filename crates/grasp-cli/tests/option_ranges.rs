@@ -1,4 +1,4 @@
-//! Every number a command takes as a flag is range-checked before any work (issue 24, item 1):
+//! Every number a command takes as a flag is range-checked before any work:
 //! out-of-range, non-finite and overflowing values of every f64 and count flag of `solve`,
 //! `margin`, `study`, `bench`, `plot` and `transfer` exit 1 at once, naming the flag, the value
 //! in readable form (no 309-digit numbers) and the range; the library's ranges

@@ -1,4 +1,4 @@
-//! Fault tests of the outputs (README "Hand-offs": nothing the user has is lost): a failing
+//! Fault tests of the outputs (docs/guide/outputs.md, "Your files are never lost": nothing the user has is lost): a failing
 //! run keeps the old files with and without `--force`, an interrupt removes the temporary
 //! files, a full disk names the file and the cause, and targets that cannot be written safely
 //! (a folder, a symlink, a device, a pipe, the same file twice, an input) are refused up front.

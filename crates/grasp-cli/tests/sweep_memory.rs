@@ -1,4 +1,4 @@
-//! `grasp sweep` makes its variants one at a time (issue 24 item 3): writing 100,000 variants
+//! `grasp sweep` makes its variants one at a time: writing 100,000 variants
 //! of the Hertz scene (about 50 MB of JSONL) stays under 100 MiB of peak memory, where holding
 //! them (each variant a JSON value of a few kB, and its line) took several hundred MB. The
 //! peak is the kernel's maximum resident set of the finished child (`getrusage`); this file

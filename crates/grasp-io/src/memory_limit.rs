@@ -242,7 +242,7 @@ mod tests {
         );
     }
 
-    /// A limit above the machine's memory is cut to it (issue 36: 8 fingers of 1024 x 1024,
+    /// A limit above the machine's memory is cut to it (8 fingers of 1024 x 1024,
     /// an estimated 49.6 GiB, were accepted on a 23 GiB machine with `--max-memory 1T`).
     #[test]
     fn no_limit_makes_room_the_machine_does_not_have() {

@@ -22,10 +22,10 @@ use crate::solution::Solution;
 /// - `tolerance`: relative tolerance of the scaled program, in [1e-14, 1e-2] (below, round-off
 ///   exceeds it; above, an answer is no solution).
 /// - `compliance`: `"auto"` (dense up to 1,024 unknowns a patch (32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D), the FFT operator above),
-///   `"dense"` or `"fft"` (matrix-free, native solver; README "Fine patches").
+///   `"dense"` or `"fft"` (matrix-free, native solver; docs/guide/solving.md, "Fine patches").
 /// - `at_time`: a viscoelastic scene's state this many seconds (in (0, 1e9]) after its loads
 ///   and approaches were applied as a step at t = 0; `long_term=True`: its fully relaxed
-///   state; neither: the instantaneous response (README "Viscoelastic pads").
+///   state; neither: the instantaneous response (docs/guide/pads.md, "Viscoelastic pads").
 ///
 /// A grasp without equilibrium is a solution with status `"no_equilibrium"`, not an
 /// exception. The GIL is released while the model is built and solved.

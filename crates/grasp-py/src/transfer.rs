@@ -36,7 +36,7 @@ use crate::solution::{tangents_by_name, Solution, Tangents};
 ///   refused while this one runs.
 /// - `solver`: `"auto"`, `"native"` or `"clarabel"`; `cold=True` starts every step cold (and
 ///   searches every step's margins from scratch).
-/// - `compliance`: `"auto"`, `"dense"` or `"fft"`, as in `solve` (README "Fine patches").
+/// - `compliance`: `"auto"`, `"dense"` or `"fft"`, as in `solve` (docs/guide/solving.md, "Fine patches").
 /// - `keep_going`: continue past a step without equilibrium (default: stop there).
 /// - `margins`: compute each step's smallest disturbance margin (costly).
 /// - `keep_solutions`: keep every step's full solution for `step(i)` (default); refused

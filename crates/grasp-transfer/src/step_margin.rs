@@ -1,4 +1,4 @@
-//! The disturbance margin of one hand-off step (issue 13): the smallest, over the axis
+//! The disturbance margin of one hand-off step: the smallest, over the axis
 //! directions of force and couple, of the margins of [`grasp_model::disturbance_margins`], continued from
 //! the contact state at the start of the step.
 

@@ -1,12 +1,12 @@
-//! `grasp bench`: the benchmark table of issue 9, both solvers side by side. Each case runs
+//! `grasp bench`: the benchmark table, both solvers side by side. Each case runs
 //! once to read its peak memory, then again until `--min-time` has passed (at least twice, at
 //! most 50 times); the table gives the median and the range of those timing runs, against the
 //! case's target. Derived rows: warm/cold iteration ratios of both hand-offs, the growth
 //! exponent of solve time against unknowns over the cube A series, the whole `grasp
 //! transfer` command with MCAP, Rerun and CSV outputs (a child process, timed from outside),
-//! the batch runner's throughput on one thread and on every core (issue 12), and the time to
+//! the batch runner's throughput on one thread and on every core, and the time to
 //! write a fine patch's solution in each output format ([`outputs`]). Beside the
-//! Hertz FFT cases of issue 21, the peer library (tamaas, `scripts/peer-hertz.py`) solves the
+//! Hertz FFT cases, the peer library (tamaas, `scripts/peer-hertz.py`) solves the
 //! same grid in the same run: a row with its time and error, and the ratio of its time to ours.
 
 use std::fmt::Write as _;
@@ -130,7 +130,7 @@ pub struct Flags {
     /// Only the quick cases, 1 to 3 timing runs each, the whole command once, 200 batch
     /// variants (the CI smoke run).
     pub quick: bool,
-    /// Print a Markdown table (for the README) instead of aligned text.
+    /// Print a Markdown table (for docs/benchmarks.md) instead of aligned text.
     pub markdown: bool,
     /// Solvers, one column group each.
     pub solvers: Vec<SolverChoice>,
@@ -295,7 +295,7 @@ fn derived_rows(all: &[Measured], solvers: &[SolverChoice]) -> Vec<Row> {
         rows.extend(layer_ratio_rows(all, solver));
         let series: Vec<(f64, f64)> = all
             .iter()
-            // The dense series (issue 9's cases); the FFT case grows differently.
+            // The dense series (the solver cases); the FFT case grows differently.
             .filter(|m| m.solver == solver && m.case.name.starts_with("cube_a_"))
             .filter(|m| CASES.iter().any(|c| c.name == m.case.name))
             .map(|m| (m.first.unknowns as f64, m.median_solve_s))
@@ -317,7 +317,7 @@ fn derived_rows(all: &[Measured], solvers: &[SolverChoice]) -> Vec<Row> {
     rows
 }
 
-/// Issue 22's ratios: a layered pad's time (model build and solve) over the half-space pad's
+/// The layered-pad ratios: a layered pad's time (model build and solve) over the half-space pad's
 /// on the same path, target at most [`LAYER_PAIRS`]' bound; and the margins of a hand-off's
 /// steps over the stepping, target at most [`MARGIN_PAIRS`]' bound.
 fn layer_ratio_rows(all: &[Measured], solver: SolverChoice) -> Vec<Row> {
@@ -628,7 +628,7 @@ fn batch_rate(
     Ok(n as f64 / wall)
 }
 
-/// Batch throughput (issue 12): 1,000 variants of cube A (mu x weight grid; 200 when quick)
+/// Batch throughput: 1,000 variants of cube A (mu x weight grid; 200 when quick)
 /// solved by `grasp batch`'s runner in-process, on one thread and on every core, output
 /// discarded; rows: the median scenes per second of each over [`BATCH_ROUNDS`] alternating
 /// runs, and the ratio of the medians against its >= 1.8x target.

@@ -1,4 +1,4 @@
-//! Disturbance margins (issue 13): for each direction of an extra wrench on the object, the
+//! Disturbance margins: for each direction of an extra wrench on the object, the
 //! largest magnitude the grasp can take while it still holds in the scene's model.
 //!
 //! A direction is a unit vector `(f, t)` of the scaled wrench space; magnitude `s` (N) means a

@@ -1,5 +1,5 @@
 //! The inverse of a circulant approximation of the patch compliance: the preconditioner of the
-//! conjugate-gradient solves over an FFT patch ([`crate::solver`], issue 21).
+//! conjugate-gradient solves over an FFT patch ([`crate::solver`]).
 //!
 //! Each block of the compliance is a Toeplitz (convolution) operator on the grid; Strang's
 //! circulant approximation keeps the kernel's offsets up to half the grid and wraps them

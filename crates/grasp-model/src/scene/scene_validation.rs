@@ -2,7 +2,7 @@
 //! JSON path and the fix (the object, each finger, the memory the dense patches need, the
 //! reach of the contacts, a planar scene's plane). Every number is checked against the
 //! physical range a grasp can have ([`crate::scene::limits`], stated in the JSON Schema and the
-//! README): outside it the input is a unit mistake or garbage, and a solve would overflow. A
+//! guide, docs/guide/scenes.md): outside it the input is a unit mistake or garbage, and a solve would overflow. A
 //! direction that is zero or not finite is refused.
 
 use crate::error::SceneError;

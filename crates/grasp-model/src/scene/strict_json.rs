@@ -66,7 +66,7 @@ fn syntax_error(text: &str, e: &serde_json::Error) -> JsonError {
             path: format!("line {line}, column {column}"),
             message: format!(
                 "JSON has no comments, and `{mark}` at line {line} column {column} starts one; \
-                 remove every comment (the README's commented example shows alternatives: keep \
+                 remove every comment (the commented example in docs/guide/scenes.md shows alternatives: keep \
                  one, delete the rest)"
             ),
         },

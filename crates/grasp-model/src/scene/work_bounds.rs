@@ -202,7 +202,7 @@ mod tests {
 
     #[test]
     fn a_1024_by_1024_fft_patch_is_estimated_below_two_gigabytes() {
-        // Issue 21: a frictionless 1024 x 1024 patch within 2 GB; with friction (three
+        // A frictionless 1024 x 1024 patch within 2 GB; with friction (three
         // unknowns an element) still far below the dense path's 8 (3 N)^2 8 bytes.
         let e = estimate_memory_bytes_with(&scene([1024, 1024], 0.0), |_| true);
         assert!(e < 2 << 30, "{e} bytes");

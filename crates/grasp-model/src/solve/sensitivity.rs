@@ -1,4 +1,4 @@
-//! Sensitivities of a solved grasp (issue 13): the derivatives of every finger's normal and
+//! Sensitivities of a solved grasp: the derivatives of every finger's normal and
 //! friction force, and of every element's force, with respect to an extra wrench on the
 //! object and to each force-controlled finger's commanded load, from the KKT system at the
 //! solution's active set (`solver::native::newton::kkt_derivative`), not from finite differences.

@@ -87,7 +87,7 @@ pub struct FingersMessage {
     pub iterations: u32,
     /// Reduced matrices factorised by the native solver in the step.
     pub factorizations: u32,
-    /// The form of the patch compliances: `dense`, `fft` or `mixed` (README "Fine patches").
+    /// The form of the patch compliances: `dense`, `fft` or `mixed` (docs/guide/solving.md, "Fine patches").
     pub compliance: String,
     /// Conjugate-gradient iterations of the FFT path in the step (0 on the dense path).
     pub inner_iterations: u32,

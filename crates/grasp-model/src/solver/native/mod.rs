@@ -1,5 +1,5 @@
 //! The native solver: a semismooth Newton method for the grasp program that exploits its
-//! structure (model.md; issue 9). Each finger's compliance block is dense but fixed, fingers
+//! structure (model.md). Each finger's compliance block is dense but fixed, fingers
 //! couple only through the `m <= 6 + fingers` equality rows, and every element has one small
 //! cone; so each Newton step factorises one reduced matrix per finger (faer's dense Cholesky,
 //! cached while the stick / slip / separation pattern stays the same) and solves an `m x m`

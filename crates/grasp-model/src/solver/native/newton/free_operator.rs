@@ -1,6 +1,6 @@
 //! The reduced Newton matrix of one FFT finger over its free directions, as an operator, with
 //! its preconditioner: what the conjugate-gradient solves of [`super::reduced_iterative`] and
-//! [`super::projected_step`] apply (issue 21).
+//! [`super::projected_step`] apply.
 //!
 //! Over the free directions `d_a` the system matrix is the one of [`super::reduced_factor`],
 //!

@@ -1,6 +1,6 @@
 //! The derivative of the program's solution with respect to its equality right-hand side `e`
 //! (loads and external wrench), by the implicit function theorem on the KKT conditions at the
-//! solution's active set (issue 13; Dontchev & Rockafellar, *Implicit Functions and Solution
+//! solution's active set (Dontchev & Rockafellar, *Implicit Functions and Solution
 //! Mappings*, 2.E, for the semismooth case).
 //!
 //! At a KKT point the natural residual `Phi_k = x_k - Proj_{K_k}(x_k - gamma y_k)` vanishes

@@ -2,7 +2,7 @@
 //! all fingers and the equality rows solved at once by projected preconditioned conjugate
 //! gradients (Gould, Hribar and Nocedal, "On the solution of equality constrained quadratic
 //! programming problems arising in optimization", SIAM J. Sci. Comput. 23, 2001, algorithm
-//! II with residual update), one operator product per finger and iteration (issue 21).
+//! II with residual update), one operator product per finger and iteration.
 //!
 //! The step solves, over the free directions `xi` of all fingers (`M` block diagonal,
 //! [`super::free_operator`]; `A = [Et_1 .. Et_k]`, the equality rows over them):

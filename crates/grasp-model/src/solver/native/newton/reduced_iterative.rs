@@ -1,5 +1,5 @@
 //! The reduced Newton system of one finger solved by preconditioned conjugate gradients, for a
-//! finger whose compliance is the FFT operator (no matrix to factorise; issue 21), in the
+//! finger whose compliance is the FFT operator (no matrix to factorise), in the
 //! Schur-complement form the dense fingers use: this is the path of a finger beside dense ones
 //! (when every finger is an FFT one, [`super::projected_step`] solves all of them with the
 //! equality rows at once).
