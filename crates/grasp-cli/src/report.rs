@@ -16,9 +16,9 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
     };
     let _ = writeln!(
         s,
-        "{}: {} fingers, {} scene, {} unknowns, {} equality + {} cone rows",
+        "{}: {}, {} scene, {} unknowns, {} equality + {} cone rows",
         scene.display(),
-        model.fingers().len(),
+        count(model.fingers().len() as u64, "finger", "fingers"),
         planar,
         sol.solver.unknowns,
         sol.solver.equality_rows,
@@ -31,15 +31,18 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
     let _ = writeln!(s, "model: {kind}");
     let _ = writeln!(s, "status: {status}");
     if let Some(q) = &sol.sequential {
-        let _ =
-            writeln!(
+        let _ = writeln!(
             s,
-            "sequential solve: {} convex solves, last change of an element normal force {:.2e} N \
+            "sequential solve: {}, last change of an element normal force {:.2e} N \
              (tolerance {:.2e} N), {}",
-            q.iterations,
+            count(q.iterations, "convex solve", "convex solves"),
             q.last_change_n,
             q.tolerance_n,
-            if q.converged { "converged" } else { "not converged" }
+            if q.converged {
+                "converged"
+            } else {
+                "not converged"
+            }
         );
     }
     if let Some(r) = &sol.reason {
@@ -75,13 +78,7 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
                 f.friction_utilization,
                 f.contact_area_m2,
                 f.peak_pressure_pa,
-                match f.off_surface_count {
-                    0 => format!("{}/{}/{}", f.stick_count, f.slip_count, f.separated_count),
-                    off => format!(
-                        "{}/{}/{} +{off} off",
-                        f.stick_count, f.slip_count, f.separated_count
-                    ),
-                }
+                state_counts(f)
             );
         }
         if let Some(d) = &sol.rigid_displacement {
@@ -125,28 +122,55 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
     s
 }
 
+/// A finger's element counts, `stick/slip/separated`, then the elements off the surface. A
+/// frictionless finger's elements in contact neither stick nor slip (there is no friction to
+/// hold them or to be overcome): they are counted apart, `-/-/sep +n frictionless`.
+fn state_counts(f: &grasp_model::FingerSolution) -> String {
+    let mut cell = match f.friction_coefficient > 0.0 {
+        true => format!("{}/{}/{}", f.stick_count, f.slip_count, f.separated_count),
+        false => format!(
+            "-/-/{} +{} frictionless",
+            f.separated_count,
+            f.stick_count + f.slip_count
+        ),
+    };
+    if f.off_surface_count > 0 {
+        cell.push_str(&format!(" +{} off", f.off_surface_count));
+    }
+    cell
+}
+
+/// `n` and its noun, singular for one: `1 Newton step`, `7 Newton steps`.
+pub fn count(n: impl Into<u64>, singular: &str, plural: &str) -> String {
+    let n = n.into();
+    format!("{n} {}", if n == 1 { singular } else { plural })
+}
+
 /// Which solver answered, its time and iterations, in words.
 pub fn solver_words(st: &grasp_model::SolverStats) -> String {
     use grasp_model::CompliancePath;
     match (st.solver, st.compliance) {
         (grasp_model::SolverKind::Native, CompliancePath::Dense) => format!(
-            "native solver {:.1} ms, {} Newton steps, {} factorizations",
+            "native solver {:.1} ms, {}, {}",
             st.solver_time_s * 1e3,
-            st.iterations,
-            st.factorizations
+            count(st.iterations, "Newton step", "Newton steps"),
+            count(st.factorizations, "factorization", "factorizations")
         ),
         (grasp_model::SolverKind::Native, path) => format!(
-            "native solver, {path} compliance, {:.1} ms, {} Newton steps, {} reduced systems, \
-             {} conjugate-gradient iterations",
+            "native solver, {path} compliance, {:.1} ms, {}, {}, {}",
             st.solver_time_s * 1e3,
-            st.iterations,
-            st.factorizations,
-            st.inner_iterations
+            count(st.iterations, "Newton step", "Newton steps"),
+            count(st.factorizations, "reduced system", "reduced systems"),
+            count(
+                st.inner_iterations,
+                "conjugate-gradient iteration",
+                "conjugate-gradient iterations"
+            )
         ),
         (grasp_model::SolverKind::Clarabel, _) => format!(
-            "Clarabel {:.1} ms, {} iterations",
+            "Clarabel {:.1} ms, {}",
             st.solver_time_s * 1e3,
-            st.iterations
+            count(st.iterations, "iteration", "iterations")
         ),
     }
 }
@@ -342,4 +366,16 @@ pub fn hertz_table(scene: &grasp_model::Scene) -> anyhow::Result<String> {
         );
     }
     Ok(o)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::count;
+
+    #[test]
+    fn one_of_a_kind_is_singular() {
+        assert_eq!(count(1u32, "Newton step", "Newton steps"), "1 Newton step");
+        assert_eq!(count(0u32, "Newton step", "Newton steps"), "0 Newton steps");
+        assert_eq!(count(7u32, "program", "programs"), "7 programs");
+    }
 }

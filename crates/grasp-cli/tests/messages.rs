@@ -1,4 +1,4 @@
-//! Messages as a user reads them (issue 24, item 13): numbers in exponent form when extreme
+//! Messages as a user reads them: numbers in exponent form when extreme
 //! (1e308 is not written as 309 digits), a nested shape error at its full path
 //! (`object.shape.mesh.unit: unknown variant`, not `mesh.unitunknown`), a mesh vertex that is
 //! not finite refused at the mesh file (not reported as a ray starting inside the object), and
@@ -131,4 +131,31 @@ fn a_bad_external_load_column_is_one_problem() {
         "{all}"
     );
     assert!(p[0].contains("(columns: `t_s`, `fz_n`, `ty_nm`)"), "{all}");
+}
+
+/// The help shows the solve tolerance's default as it is written everywhere else, `1e-10`
+/// (not `0.0000000001`, ten digits to count).
+#[test]
+fn the_tolerance_default_is_shown_in_exponent_form() {
+    let o = grasp(&["solve", "--help"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let help = text(&o);
+    assert!(help.contains("[default: 1e-10]"), "{help}");
+    assert!(!help.contains("0.0000000001"), "{help}");
+}
+
+/// A frictionless finger's elements in contact neither stick nor slip: the table counts them
+/// apart (they were counted as slipping), and one finger is "1 finger".
+#[test]
+fn a_frictionless_finger_is_counted_neither_stick_nor_slip() {
+    let o = grasp(&["solve", &example("hertz_sphere_on_flat.json")]);
+    assert!(o.status.success(), "{}", text(&o));
+    let out = text(&o);
+    assert!(out.contains(": 1 finger, 3-D scene"), "{out}");
+    let row = out
+        .lines()
+        .find(|l| l.starts_with("tip ") || l.split_whitespace().next() == Some("tip"))
+        .unwrap_or_else(|| panic!("no row of finger tip:\n{out}"));
+    assert!(row.contains("-/-/"), "{row}");
+    assert!(row.contains(" frictionless"), "{row}");
 }

@@ -294,8 +294,10 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
         n = len(rollout)
         spans = [(0, first - 1)] if first > 0 else []
         spans += [(last + 1, n - 1)] if last < n - 1 else []
+        # "state 0", "states 0..3", "states 0, 150": one state is named in the singular.
+        noun = "state" if len(spans) == 1 and spans[0][0] == spans[0][1] else "states"
         spans = ", ".join(str(a) if a == b else f"{a}..{b}" for a, b in spans)
-        warnings.append(f"states {spans} left out: no contact carries load there "
+        warnings.append(f"{noun} {spans} left out: no contact carries load there "
                         f"(t = {rollout.time[first]:.6g} to {rollout.time[last]:.6g} s kept)")
         keep = slice(first, last + 1)
         rollout = rollout.rows(keep)

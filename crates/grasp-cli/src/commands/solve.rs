@@ -34,7 +34,7 @@ pub struct Args {
     pub force: ForceArg,
     /// Solver tolerance on the scaled program (feasibility and gap), in [1e-14, 1e-2]: below
     /// 1e-14 round-off exceeds it, above 1e-2 an answer is no solution.
-    #[arg(long, default_value_t = 1e-10, value_name = "TOL")]
+    #[arg(long, default_value = "1e-10", value_name = "TOL")]
     pub tolerance: f64,
     /// Also estimate the discretisation error from a solve on grids half as fine
     /// (Richardson, order 1) and report its extra cost.
@@ -243,8 +243,9 @@ fn sensitivities_of(
 fn time_line(model: &GraspModel, timed: &TimedSolution) -> String {
     match model.is_viscoelastic() {
         true => format!(
-            "viscoelastic: {} ({} programs stepped through the history)",
-            timed.time, timed.steps
+            "viscoelastic: {} ({} stepped through the history)",
+            timed.time,
+            crate::report::count(timed.steps as u64, "program", "programs")
         ),
         false => format!(
             "the scene is elastic (no material has a relaxation law): {} is the \
