@@ -176,3 +176,33 @@ def test_documented_block_runs(block, scratch, grasp_bin):
             check_written(scratch, written_files(cmd))
     print(f"{block.id}: {block.lang} block ran in {time.monotonic() - started:.1f} s"
           + (" (marked long)" if block.marker == "long" else ""))
+
+
+def slug(heading):
+    """GitHub's anchor of a Markdown heading: lower case, punctuation dropped, spaces as hyphens."""
+    text = re.sub(r"[^\w\- ]", "", heading.strip().lower())
+    return text.replace(" ", "-")
+
+
+def anchors(path):
+    text = re.sub(r"```.*?```", "", path.read_text(), flags=re.S)
+    return {slug(m.group(1)) for m in re.finditer(r"^#+ (.*)$", text, re.M)}
+
+
+def test_the_documents_links_resolve():
+    # Every relative link of the README, the guide and the benchmarks names a file of the
+    # checkout, and every #anchor a heading of its file (links into the old long README broke
+    # when its sections moved into the guide).
+    broken = []
+    for path in DOCUMENTS:
+        text = re.sub(r"```.*?```", "", path.read_text(), flags=re.S)
+        for target in re.findall(r"\]\(([^)\s]+)\)", text):
+            if re.match(r"[a-z]+:", target):
+                continue
+            file, _, anchor = target.partition("#")
+            dest = (path.parent / file).resolve() if file else path
+            if not dest.exists():
+                broken.append(f"{path.relative_to(ROOT)}: {target}: no such file")
+            elif anchor and dest.suffix == ".md" and anchor not in anchors(dest):
+                broken.append(f"{path.relative_to(ROOT)}: {target}: no such heading")
+    assert not broken, "\n".join(broken)
