@@ -88,6 +88,8 @@ fn an_unknown_case_is_refused_with_the_list_of_cases() {
         stderr.contains("--case cube_z") && stderr.contains("cube_a_5x5"),
         "{stderr}"
     );
+    // As every command's errors: `error: ...`, not Rust's `Error: ...` of a returned `Err`.
+    assert!(stderr.starts_with("error: --case cube_z"), "{stderr}");
 }
 
 #[test]
