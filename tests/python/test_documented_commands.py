@@ -29,7 +29,7 @@ import time
 
 import pytest
 
-from conftest import ROOT
+from conftest import ROOT, checker
 
 DOCUMENTS = [ROOT / "README.md", *sorted((ROOT / "docs" / "guide").glob("*.md")), ROOT / "docs" / "benchmarks.md"]
 MARKER = re.compile(r"<!--\s*doc-test:\s*(skip|long)\s*(?::\s*(.*?))?\s*-->")
@@ -149,6 +149,10 @@ def environment(grasp_bin, folder):
 def test_documented_block_runs(block, scratch, grasp_bin):
     if block.marker == "skip":
         pytest.skip(f"{block.id}: {block.reason}")
+    if "grasp.mujoco" in block.body or "[mujoco]" in block.body:
+        # The optional extra: installed by scripts/install-checkers.sh, where its absence fails.
+        checker("mujoco", "the MuJoCo blocks need the optional extra: pip install '.[mujoco]'")
+        checker("rerun", "the MuJoCo blocks need the optional extra: pip install '.[mujoco]'")
     env = environment(grasp_bin, scratch)
     started = time.monotonic()
     if block.lang == "python":
