@@ -1078,3 +1078,13 @@ def test_mujoco_long_runs_report_progress_on_a_terminal_only(tmp_path):
                     "--out", tmp_path / "s.json")
     assert proc.returncode == 0, proc.stderr
     assert "\r" not in proc.stderr
+
+
+def test_mujoco_table_counts_a_frictionless_fingers_elements_apart():
+    # As the CLI's table: elements of a frictionless finger (condim 1) neither stick nor slip.
+    from grasp.mujoco._report import state_counts
+
+    g = {"stick_count": 3, "slip_count": 5, "separated_count": 2}
+    assert state_counts(g, 0.8) == "3/5/2"
+    assert state_counts(g, 0.0) == "-/-/2 +8 frictionless"
+    assert state_counts(None, 0.0) == "-"

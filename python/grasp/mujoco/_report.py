@@ -27,6 +27,16 @@ def fmt(x, spec=".4f"):
     return "-" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, spec)
 
 
+def state_counts(g, mu):
+    """A finger's element counts as the CLI prints them: `stick/slip/separated`; a frictionless
+    finger's elements in contact neither stick nor slip, so they are counted apart."""
+    if g is None:
+        return "-"
+    if mu > 0:
+        return f"{g['stick_count']}/{g['slip_count']}/{g['separated_count']}"
+    return f"-/-/{g['separated_count']} +{g['stick_count'] + g['slip_count']} frictionless"
+
+
 class Report:
     """MuJoCo's grasp beside this project's answer for the same scene."""
 
@@ -110,7 +120,7 @@ class Report:
                 fmt(m["friction_utilisation"], ".3f"),
                 fmt(g and g["normal_force_n"]), fmt(g and g["tangential_magnitude_n"]),
                 fmt(g and g["friction_utilization"], ".3f"),
-                "-" if g is None else f"{g['stick_count']}/{g['slip_count']}/{g['separated_count']}"])
+                state_counts(g, m["mu"])])
         d = self.to_dict()
         tot = d["totals"]
         body.append(["total", "", fmt(tot["mujoco_normal_force_n"]),
