@@ -26,7 +26,15 @@ pub enum CaseKind {
     /// A whole warm hand-off with every step's smallest disturbance margin (`grasp transfer
     /// --margins`): the margins' time per step (the stepping's own is not counted).
     Margins,
+    /// The planner on the hand-off (`grasp plan`, its template the case's schedule, the
+    /// question [`PLAN_QUESTION`]): the whole planning, checked schedule included; its
+    /// iterations column counts hand-off runs.
+    Plan,
 }
+
+/// The planning case's question: releasing and receiving fingers and the rate limit (N/s),
+/// the plate hand-off's (its template's steepest rate).
+pub const PLAN_QUESTION: (&[&str], &[&str], f64) = (&["f1", "f2"], &["f3", "f4"], 1.5);
 
 /// A performance target: the case's time must not exceed `limit_s`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -74,11 +82,11 @@ const fn case(
     }
 }
 
-use CaseKind::{HandOff, Margins, OneShot, Solve};
+use CaseKind::{HandOff, Margins, OneShot, Plan, Solve};
 
 /// Every case, in table order. The cube A series (5x5 to 16x16 per finger) also gives the
 /// growth exponent of solve time against unknowns.
-pub const CASES: [Case; 11] = [
+pub const CASES: [Case; 12] = [
     case("cube_a_5x5", Solve, "cube_a", None, Some(1e-3), true),
     case("cube_a_8x8", Solve, "cube_a", Some([8, 8]), None, true),
     case("cube_a_12x12", Solve, "cube_a", Some([12, 12]), None, false),
@@ -139,6 +147,15 @@ pub const CASES: [Case; 11] = [
         None,
         None,
         false,
+    ),
+    // The planning bound: at most 5 s (and 30 runs) for the plate hand-off.
+    case(
+        "coulomb_handoff_plan",
+        Plan,
+        "plate_handoff_coulomb",
+        None,
+        Some(5.0),
+        true,
     ),
     case(
         "hertz_21x21",
@@ -397,13 +414,13 @@ impl Case {
             }
         }
         let schedule = match (self.kind, schedule_text) {
-            (HandOff { .. } | Margins, Some(text)) => {
+            (HandOff { .. } | Margins | Plan, Some(text)) => {
                 let names = scene.finger_names();
                 let s = Schedule::from_json_str(text, &names, Path::new("."))
                     .map_err(|e| err(e.to_string()))?;
                 Some(s)
             }
-            (HandOff { .. } | Margins, None) => {
+            (HandOff { .. } | Margins | Plan, None) => {
                 return Err(err("a hand-off needs a schedule".into()))
             }
             _ => None,

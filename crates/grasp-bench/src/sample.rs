@@ -186,6 +186,49 @@ fn hand_off(p: &Prepared, warm: bool, margins: bool) -> Result<Sample, BenchErro
     Ok(s)
 }
 
+/// The planner on the case's hand-off ([`crate::case::PLAN_QUESTION`], the schedule as its
+/// template): its time, its runs as iterations, and how far the checked plan falls short of
+/// its margin threshold as the error (0: kept).
+fn plan(p: &Prepared) -> Result<Sample, BenchError> {
+    use grasp_transfer::plan::{PlanOptions, Template};
+    let (releasing, receiving, rate) = crate::case::PLAN_QUESTION;
+    let text = crate::case::bundled(p.case.scene).and_then(|b| b.1);
+    let text = text.ok_or_else(|| run_err(p, "no schedule".into()))?;
+    let spec = grasp_model::strict_json::from_str_strict(text)
+        .map_err(|e| run_err(p, format!("{}: {}", e.path, e.message)))?;
+    let schedule = p
+        .schedule
+        .as_ref()
+        .ok_or_else(|| run_err(p, "no schedule".into()))?;
+    let options = PlanOptions {
+        releasing: releasing.iter().map(|s| s.to_string()).collect(),
+        receiving: receiving.iter().map(|s| s.to_string()).collect(),
+        max_rate_n_per_s: Some(rate),
+        solve: p.transfer_options(true).solve,
+        ..PlanOptions::default()
+    };
+    let t0 = Instant::now();
+    let template = Template {
+        spec: &spec,
+        schedule,
+    };
+    let report = grasp_transfer::plan(&p.scene, Some(template), &options)
+        .map_err(|e| run_err(p, e.to_string()))?;
+    Ok(Sample {
+        time_s: t0.elapsed().as_secs_f64(),
+        solve_s: 0.0,
+        build_s: 0.0,
+        unknowns: 0,
+        iterations: report.runs as f64,
+        inner_iterations: 0.0,
+        factorizations: 0.0,
+        steps: report.margins.len(),
+        fallbacks: 0,
+        peak_memory_bytes: None,
+        error: report.binding.map_or(0.0, |b| b.short_by),
+    })
+}
+
 impl Prepared {
     /// Runs the case once and measures it; with `memory`, also its peak memory from the start
     /// of this run (three reads of `/proc`, outside the timed part, but leave it off for
@@ -213,6 +256,7 @@ impl Prepared {
             }
             CaseKind::HandOff { warm } => hand_off(self, warm, false)?,
             CaseKind::Margins => hand_off(self, true, true)?,
+            CaseKind::Plan => plan(self)?,
         };
         sample.peak_memory_bytes = match base {
             Some(b) => peak_memory::peak_rss_bytes().map(|p| p.saturating_sub(b)),

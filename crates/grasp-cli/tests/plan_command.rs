@@ -133,6 +133,13 @@ fn a_plan_rerun_by_transfer_keeps_its_constraints_and_is_at_least_as_fast_as_its
     assert!(end <= 12.0, "{end} s");
     let shorter = format!("{:.2} % shorter", 100.0 * (12.0 - end) / 12.0);
     assert!(said.contains(&shorter), "{shorter} in {said}");
+    // Within the planning budget: at most 30 runs of the hand-off (the time is the bench's).
+    let runs: usize = said
+        .split("planning: ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next()?.parse().ok())
+        .expect("the summary's planning line");
+    assert!(runs <= 30, "{runs} runs");
 }
 
 #[test]

@@ -196,6 +196,7 @@ fn per(case: &Case) -> &'static str {
         CaseKind::OneShot => "build + solve",
         CaseKind::HandOff { .. } => "per step",
         CaseKind::Margins => "margins per step",
+        CaseKind::Plan => "whole plan (runs)",
     }
 }
 
@@ -800,10 +801,11 @@ fn run(flags: Flags) -> Result<ExitCode> {
     print!("{}", render(&rows, flags.markdown));
     println!(
         "\n(release build, this machine; times are medians of the timing runs; iterations: \
-         Newton steps (native) or interior-point iterations (Clarabel) per solve or step; \
+         Newton steps (native) or interior-point iterations (Clarabel) per solve or step (the plan: hand-off runs); \
          peak MiB: resident memory above the start of the case's first run; error: Hertz \
          peak-pressure error for hertz_*, the stick radius's error in elements against \
-         Cattaneo's for cattaneo_*, else the worst relative residual)"
+         Cattaneo's for cattaneo_*, how far the plan's margin falls short for the plan, else the \
+         worst relative residual)"
     );
     for note in &notes {
         println!("{note}");
