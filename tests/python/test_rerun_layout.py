@@ -1,6 +1,7 @@
 """The default layout a `grasp transfer --rrd` recording opens on equals the one Rerun's own
-Python blueprint API writes for the same description (3-D view of `/world` beside the force
-plots): the two blueprint stores, printed by the rerun CLI and with their random ids replaced
+Python blueprint API writes for the same description (3-D view of `/world` above each finger's
+patch seen flat, pressure and state, with their key, beside the force plots): the two
+blueprint stores, printed by the rerun CLI and with their random ids replaced
 by what they name, hold the same rows. The layout is built by hand in Rust (fixed ids, so the
 file stays deterministic); this is the independent check that it is what the SDK would send.
 """
@@ -32,7 +33,7 @@ def blueprint_rows(path):
         cells = [c.strip() for c in line.strip("│ ").split("┆")]
         if cells and cells[0] == "RowId":
             header = cells
-        elif header and cells and cells[0].startswith("row_") and re.match(r"/(view|container|viewport)", entity):
+        elif header and cells and cells[0].startswith("row_") and re.match(r"/(view|container|viewport|time_panel)", entity):
             rows[entity] = {k: v for k, v in zip(header, cells) if ":" in k}
     return rows
 
@@ -71,16 +72,26 @@ def rename(text, names):
     return re.sub(UUID, lambda m: names.get(m.group(0), "?"), text)
 
 
-def python_layout(path, margins):
+def python_layout(path, margins, fingers):
     import rerun.blueprint as rrb
 
     plots = [rrb.TimeSeriesView(origin="/plots/normal_force", name="normal force [N]"),
              rrb.TimeSeriesView(origin="/plots/friction", name="friction force [N]")]
     if margins:
         plots.append(rrb.TimeSeriesView(origin="/plots/margin", name="smallest margin [N]"))
+    patches = []
+    for finger in fingers:
+        patches += [rrb.TensorView(origin=f"/patches/{finger}/pressure", name=f"{finger} pressure [kPa]"),
+                    rrb.Spatial2DView(origin=f"/patches/{finger}/state", name=f"{finger} stick / slip")]
+    if patches:
+        patches.append(rrb.TextDocumentView(origin="/patches/key", name="key"))
+        left = rrb.Vertical(rrb.Spatial3DView(origin="/world", name="hand-off"), rrb.Grid(*patches, name="patches"),
+                            row_shares=[3, 2], name="hand-off and patches")
+    else:
+        left = rrb.Spatial3DView(origin="/world", name="hand-off")
     rrb.Blueprint(
-        rrb.Horizontal(rrb.Spatial3DView(origin="/world", name="hand-off"), rrb.Vertical(*plots, name="forces"),
-                       column_shares=[3, 2]),
+        rrb.Horizontal(left, rrb.Vertical(*plots, name="forces"), column_shares=[3, 2]),
+        rrb.TimePanel(timeline="schedule_time"),
         auto_layout=False, auto_views=False,
     ).save("grasp", str(path))
 
@@ -92,8 +103,13 @@ def test_the_recording_opens_on_the_layout_rerun_would_write(run_cli, tmp_path, 
             "--rrd", rrd] + (["--margins"] if margins else [])
     done = run_cli(*args)
     assert done.returncode == 0, done.stderr
-    python_layout(tmp_path / "ref.rbl", margins)
+    # Every finger of the cylinder hand-off has a patch small enough for flat views.
+    fingers = ["a1", "a2", "b1", "b2"]
+    python_layout(tmp_path / "ref.rbl", margins, fingers)
     ours, ref = normalised(blueprint_rows(rrd)), normalised(blueprint_rows(tmp_path / "ref.rbl"))
-    assert len(ref) == 2 * (3 + margins) + 3, ref.keys()
+    # Two rows a view (its contents and itself); containers: forces, patches, the left column,
+    # the root; the viewport.
+    views = 3 + margins + 2 * len(fingers) + 1
+    assert len(ref) == 2 * views + 4 + 1 + 1, ref.keys()  # and the time panel
     assert ours == ref
     assert "?" not in repr(ours)

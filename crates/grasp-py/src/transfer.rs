@@ -111,6 +111,7 @@ pub fn transfer(
             &outputs,
             files,
             (keep_solutions, progress.as_ref()),
+            &recording_name(&scene.origin),
         )
     });
     let kept = run.map_err(|e| match e {
@@ -203,6 +204,16 @@ fn check_memory(
     )))
 }
 
+/// The recording's name: the scene file's stem (`scene` for a dict or JSON text).
+fn recording_name(origin: &str) -> String {
+    match origin {
+        "<dict>" | "<json>" => "scene".into(),
+        path => Path::new(path)
+            .file_stem()
+            .map_or("scene".into(), |s| s.to_string_lossy().into_owned()),
+    }
+}
+
 /// The schedule resolved against the scene, and the files read for it (the schedule file,
 /// its CSV profiles).
 fn load_schedule(
@@ -290,11 +301,13 @@ fn run_transfer(
     outputs: &OutputSet,
     files: OutputPaths<'_>,
     (keep_solutions, progress): (bool, Option<&Py<PyAny>>),
+    recording_name: &str,
 ) -> Result<Kept, RunError> {
     let mut open = OutputFiles::open(outputs, files).map_err(|e| match e {
         OpenError::Output(e) => RunError::Output(e),
         OpenError::Sink(e) => RunError::Driver(e.to_string()),
     })?;
+    open.name_recording(recording_name);
     let names = scene.finger_names();
     let mut histories = Histories::new(names);
     let mut records = keep_solutions.then(Vec::new);

@@ -100,6 +100,13 @@ impl OutputFiles {
         v
     }
 
+    /// Names the recording, when there is one (the viewer lists it by this name).
+    pub fn name_recording(&mut self, name: &str) {
+        if let Some(s) = self.rrd.as_mut() {
+            s.set_recording_name(name);
+        }
+    }
+
     /// Adds another output of the run (a picture), committed and removed with the files.
     pub fn add_pending(&mut self, output: PendingOutput) {
         self.pending.push(output);

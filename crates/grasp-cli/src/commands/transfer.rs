@@ -210,19 +210,24 @@ struct OpenSinks {
 }
 
 impl OpenSinks {
-    fn create(out: &Outputs, outs: &Claimed) -> Result<OpenSinks> {
+    /// The sinks of `out`, the recordings named `name` (the scene's file stem).
+    fn create(out: &Outputs, outs: &Claimed, name: &str) -> Result<OpenSinks> {
         let paths = OutputPaths {
             mcap: out.mcap.as_deref(),
             rrd: out.rrd.as_deref(),
             csv: out.csv.as_deref(),
             npz: out.npz.as_deref(),
         };
-        let files = OutputFiles::open(outs.set(), paths)?;
-        let live = match &out.live {
+        let mut files = OutputFiles::open(outs.set(), paths)?;
+        files.name_recording(name);
+        let mut live = match &out.live {
             Some(Live::Connect(url)) => Some(RerunSink::connect(url)?),
             Some(Live::Spawn) => Some(RerunSink::spawn()?),
             None => None,
         };
+        if let Some(l) = live.as_mut() {
+            l.set_recording_name(name);
+        }
         Ok(OpenSinks { files, live })
     }
 
@@ -247,7 +252,10 @@ pub(crate) fn run(
     let (scene, schedule) = load_inputs(scene_path, schedule_path, &flags.solve)?;
     outs.refuse_inputs_read()?;
     let names = scene.finger_names();
-    let mut open = OpenSinks::create(out, &outs)?;
+    let stem = scene_path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned());
+    let mut open = OpenSinks::create(out, &outs, stem.as_deref().unwrap_or("scene"))?;
     let bar = crate::progress::bar(schedule.times.len(), "steps");
     let options = TransferOptions {
         keep_going: flags.keep_going,

@@ -7,6 +7,7 @@ mod foxglove_scene;
 mod mcap_log;
 mod npz_steps;
 mod patch_maps_message;
+mod patch_views;
 mod rerun_grid_maps;
 mod rerun_layout;
 mod rerun_log;

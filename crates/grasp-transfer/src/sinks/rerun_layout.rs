@@ -1,29 +1,33 @@
 //! The default layout (a Rerun *blueprint*) a recording opens on: the 3-D view of the object,
-//! fingers, force arrows and patch maps on the left; the force histories stacked on the right.
+//! fingers, force arrows and patch maps with, below it, every finger's patch seen flat
+//! (pressure with its colour bar, and stick / slip / separated, with their key); the force
+//! histories stacked on the right.
 //!
 //! ```text
 //! +----------------------------+----------------------+
 //! |                            | normal force [N]     |
 //! |  hand-off (world/**)       +----------------------+
 //! |                            | friction force [N]   |
-//! |                            +----------------------+
-//! |                            | smallest margin [N]  |  (only when margins are logged)
+//! +----------------------------+----------------------+
+//! | f1 pressure | f1 state | ..| smallest margin [N]  |  (only when margins are logged)
+//! | key         | ...          |                      |
 //! +----------------------------+----------------------+
 //! ```
 //!
-//! Built as blueprint chunks by hand (the same archetypes the SDK's `rerun::blueprint` API
-//! logs), because that API draws random view and container ids and stamps wall-clock times:
-//! here every id is fixed, so the layout's bytes are the same from run to run (up to Rerun's
+//! (the patches' grid only for fingers with flat views, [`super::patch_views`]). Built as
+//! blueprint chunks by hand (the same archetypes the SDK's `rerun::blueprint` API logs),
+//! because that API draws random view and container ids and stamps wall-clock times: here
+//! every id is fixed, so the layout's bytes are the same from run to run (up to Rerun's
 //! footer, see `rerun_log`). The user can still rearrange the views; the viewer keeps this
 //! layout as the application's default.
 
 use rerun::blueprint::components::{
     AutoLayout, AutoViews, ColumnShare, ContainerKind, IncludedContent, QueryExpression,
-    RootContainer, ViewClass,
+    RootContainer, RowShare, ViewClass,
 };
 use rerun::external::re_log_types::BlueprintActivationCommand;
 use rerun::external::re_sdk_types::blueprint::archetypes::{
-    ContainerBlueprint, ViewBlueprint, ViewContents, ViewportBlueprint,
+    ContainerBlueprint, TimePanelBlueprint, ViewBlueprint, ViewContents, ViewportBlueprint,
 };
 use rerun::external::re_sdk_types::datatypes::{Bool, Float32, Uuid};
 use rerun::external::re_tuid::Tuid;
@@ -32,6 +36,9 @@ use rerun::{AsComponents, TimeCell, TimePoint};
 
 /// Application id the recording and its layout share (the viewer pairs them by it).
 pub const APPLICATION_ID: &str = "grasp";
+
+/// The timeline the layout opens on: the schedule's time (the recording also has `step`).
+pub const TIMELINE: &str = "schedule_time";
 
 /// Store id of the layout (fixed, like the recording's).
 const LAYOUT_ID: &str = "grasp-transfer-layout";
@@ -44,22 +51,29 @@ const ID_ORIGIN_NS: u64 = 1_672_531_200_000_000_000;
 const WORLD_COLUMN_SHARE: f32 = 3.0;
 const PLOTS_COLUMN_SHARE: f32 = 2.0;
 
+/// Share of the left column's height given to the 3-D view (the patches' grid takes the rest).
+const WORLD_ROW_SHARE: f32 = 3.0;
+const PATCHES_ROW_SHARE: f32 = 2.0;
+
 /// One view of the layout: its class, title and the entity subtree it shows.
 struct ViewSpec {
     id: u128,
     class: &'static str,
-    name: &'static str,
-    origin: &'static str,
+    name: String,
+    origin: String,
 }
 
-/// The views, in the order they are stacked.
-fn views(margins: bool) -> Vec<ViewSpec> {
-    let view = |id, class, name, origin| ViewSpec {
+fn view(id: u128, class: &'static str, name: &str, origin: &str) -> ViewSpec {
+    ViewSpec {
         id,
         class,
-        name,
-        origin,
-    };
+        name: name.into(),
+        origin: origin.into(),
+    }
+}
+
+/// The 3-D view and the plots, in the order they are stacked.
+fn views(margins: bool) -> Vec<ViewSpec> {
     let mut v = vec![
         view(0x10, "3D", "hand-off", "/world"),
         view(
@@ -81,8 +95,35 @@ fn views(margins: bool) -> Vec<ViewSpec> {
     v
 }
 
+/// Per finger with flat views, its pressure and state views, then the key.
+fn patch_views(flat: &[String]) -> Vec<ViewSpec> {
+    let mut v = Vec::new();
+    for (i, name) in flat.iter().enumerate() {
+        let id = 0x100 + 2 * i as u128;
+        let origin = |part: &str| format!("/patches/{name}/{part}");
+        v.push(view(
+            id,
+            "Tensor",
+            &format!("{name} pressure [kPa]"),
+            &origin("pressure"),
+        ));
+        v.push(view(
+            id + 1,
+            "2D",
+            &format!("{name} stick / slip"),
+            &origin("state"),
+        ));
+    }
+    if !flat.is_empty() {
+        v.push(view(0xff, "TextDocument", "key", "/patches/key"));
+    }
+    v
+}
+
 const ROOT_ID: u128 = 0x1;
 const PLOTS_ID: u128 = 0x2;
+const LEFT_ID: u128 = 0x3;
+const PATCHES_ID: u128 = 0x4;
 
 fn uuid(id: u128) -> Uuid {
     Uuid {
@@ -110,34 +151,59 @@ fn container_path(id: u128) -> String {
     format!("container/{}", uuid_text(id))
 }
 
-/// The layout's rows: (entity path, archetype), children before their containers.
-fn layout_rows(margins: bool) -> Vec<(String, Box<dyn AsComponents>)> {
-    let views = views(margins);
-    let mut rows: Vec<(String, Box<dyn AsComponents>)> = Vec::new();
-    for v in &views {
-        let contents = ViewContents::new([QueryExpression("$origin/**".into())]);
-        rows.push((
+/// A view's two rows: its contents (`$origin/**`) and its blueprint.
+fn view_rows(v: &ViewSpec) -> [(String, Box<dyn AsComponents>); 2] {
+    let contents = ViewContents::new([QueryExpression("$origin/**".into())]);
+    let blueprint = ViewBlueprint::new(ViewClass(v.class.into()))
+        .with_display_name(v.name.as_str())
+        .with_space_origin(v.origin.as_str());
+    [
+        (
             format!("{}/ViewContents", view_path(v.id)),
             Box::new(contents),
-        ));
-        let view = ViewBlueprint::new(ViewClass(v.class.into()))
-            .with_display_name(v.name)
-            .with_space_origin(v.origin);
-        rows.push((view_path(v.id), Box::new(view)));
+        ),
+        (view_path(v.id), Box::new(blueprint)),
+    ]
+}
+
+fn included(paths: impl IntoIterator<Item = String>) -> Vec<IncludedContent> {
+    paths
+        .into_iter()
+        .map(|p| IncludedContent(p.as_str().into()))
+        .collect()
+}
+
+/// The layout's rows: (entity path, archetype), children before their containers; `flat`:
+/// the fingers whose patches have flat views.
+fn layout_rows(margins: bool, flat: &[String]) -> Vec<(String, Box<dyn AsComponents>)> {
+    let views = views(margins);
+    let patches = patch_views(flat);
+    let mut rows: Vec<(String, Box<dyn AsComponents>)> = Vec::new();
+    for v in views.iter().chain(&patches) {
+        rows.extend(view_rows(v));
     }
     let plots = ContainerBlueprint::new(ContainerKind::Vertical)
         .with_display_name("forces")
-        .with_contents(
-            views[1..]
-                .iter()
-                .map(|v| IncludedContent(view_path(v.id).as_str().into())),
-        );
+        .with_contents(included(views[1..].iter().map(|v| view_path(v.id))));
     rows.push((container_path(PLOTS_ID), Box::new(plots)));
+    let mut left = view_path(views[0].id);
+    if !patches.is_empty() {
+        let grid = ContainerBlueprint::new(ContainerKind::Grid)
+            .with_display_name("patches")
+            .with_contents(included(patches.iter().map(|v| view_path(v.id))));
+        rows.push((container_path(PATCHES_ID), Box::new(grid)));
+        let column = ContainerBlueprint::new(ContainerKind::Vertical)
+            .with_display_name("hand-off and patches")
+            .with_contents(included([left, container_path(PATCHES_ID)]))
+            .with_row_shares([
+                RowShare(Float32(WORLD_ROW_SHARE)),
+                RowShare(Float32(PATCHES_ROW_SHARE)),
+            ]);
+        rows.push((container_path(LEFT_ID), Box::new(column)));
+        left = container_path(LEFT_ID);
+    }
     let root = ContainerBlueprint::new(ContainerKind::Horizontal)
-        .with_contents([
-            IncludedContent(view_path(views[0].id).as_str().into()),
-            IncludedContent(container_path(PLOTS_ID).as_str().into()),
-        ])
+        .with_contents(included([left, container_path(PLOTS_ID)]))
         .with_col_shares([
             ColumnShare(Float32(WORLD_COLUMN_SHARE)),
             ColumnShare(Float32(PLOTS_COLUMN_SHARE)),
@@ -148,13 +214,20 @@ fn layout_rows(margins: bool) -> Vec<(String, Box<dyn AsComponents>)> {
         .with_auto_layout(AutoLayout(Bool(false)))
         .with_auto_views(AutoViews(Bool(false)));
     rows.push(("viewport".to_owned(), Box::new(viewport)));
+    // Plots against the schedule's time (s), not the step index.
+    let time = TimePanelBlueprint::new().with_timeline(TIMELINE);
+    rows.push(("time_panel".to_owned(), Box::new(time)));
     rows
 }
 
 /// The layout as the messages of its own blueprint store, and the command that makes it the
 /// active and default layout of the application (pass both to
-/// `RecordingStream::send_blueprint`). `margins` adds the smallest-margin plot.
-pub fn layout_messages(margins: bool) -> Result<(Vec<LogMsg>, BlueprintActivationCommand), String> {
+/// `RecordingStream::send_blueprint`). `margins` adds the smallest-margin plot; `flat` names
+/// the fingers whose patches have flat views.
+pub fn layout_messages(
+    margins: bool,
+    flat: &[String],
+) -> Result<(Vec<LogMsg>, BlueprintActivationCommand), String> {
     let (rec, storage) = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
         .recording_id(LAYOUT_ID)
         .blueprint()
@@ -165,7 +238,7 @@ pub fn layout_messages(margins: bool) -> Result<(Vec<LogMsg>, BlueprintActivatio
     let time: TimePoint = [("blueprint", TimeCell::from_sequence(0))]
         .into_iter()
         .collect();
-    for (i, (path, arch)) in layout_rows(margins).into_iter().enumerate() {
+    for (i, (path, arch)) in layout_rows(margins, flat).into_iter().enumerate() {
         let n = 2 * i as u64 + 1;
         let chunk_id = ChunkId::from_tuid(Tuid::from_nanos_and_inc(ID_ORIGIN_NS, n));
         let row_id = RowId::from_tuid(Tuid::from_nanos_and_inc(ID_ORIGIN_NS, n + 1));
@@ -222,12 +295,15 @@ mod tests {
 
     #[test]
     fn every_view_is_placed_once_and_the_margin_plot_only_when_asked() {
-        for margins in [false, true] {
-            let rows = layout_rows(margins);
+        let two = ["f1".to_string(), "f2".to_string()];
+        for (margins, flat) in [(false, &[][..]), (true, &[][..]), (false, &two[..])] {
+            let rows = layout_rows(margins, flat);
             let views = rows.iter().filter(|(p, _)| p.matches('/').count() == 1);
             let n_views = views.filter(|(p, _)| p.starts_with("view/")).count();
-            assert_eq!(n_views, 3 + usize::from(margins));
-            assert_eq!(rows.last().map(|r| r.0.as_str()), Some("viewport"));
+            // Per finger with flat views, two; and the key.
+            let patches = 2 * flat.len() + usize::from(!flat.is_empty());
+            assert_eq!(n_views, 3 + usize::from(margins) + patches);
+            assert_eq!(rows.last().map(|r| r.0.as_str()), Some("time_panel"));
         }
     }
 
@@ -244,8 +320,9 @@ mod tests {
                 })
                 .collect()
         };
-        let a = layout_messages(true).unwrap();
-        let b = layout_messages(true).unwrap();
+        let flat = ["f1".to_string()];
+        let a = layout_messages(true, &flat).unwrap();
+        let b = layout_messages(true, &flat).unwrap();
         assert_eq!(content(&a.0), content(&b.0));
         assert_eq!(a.1.blueprint_id, b.1.blueprint_id);
         let announcements = a.0.iter().filter(|m| matches!(m, LogMsg::SetStoreInfo(_)));

@@ -53,6 +53,7 @@ use rerun::{
 
 use super::element_maps::is_compact;
 use super::fingertip_drawing::{tip_drawings, z_to, TipDrawing};
+use super::patch_views::{has_flat_views, pressure_tensor, state_image, state_key};
 use super::rerun_grid_maps::{cleared_map, patch_pose, pressure_map, state_map, state_rgb};
 use super::rerun_layout::{layout_messages, APPLICATION_ID};
 use super::{io_err, RunInfo, Sink};
@@ -79,6 +80,8 @@ pub struct RerunSink {
     live: bool,
     /// The default layout has been sent (at `begin`).
     layout_sent: bool,
+    /// The recording's name in the viewer (the scene's), when given.
+    recording_name: Option<String>,
 }
 
 /// Longest wait for a live viewer or server to take the last rows when a run ends.
@@ -184,6 +187,7 @@ impl RerunSink {
             flush_every,
             live,
             layout_sent: false,
+            recording_name: None,
         }
     }
 
@@ -203,14 +207,20 @@ impl RerunSink {
         Ok(())
     }
 
-    /// Sends the default layout ([`layout_messages`]) once; `margins` adds the margin plot.
-    fn send_layout(&mut self, margins: bool) -> Result<(), TransferError> {
+    /// Names the recording (the viewer lists it by this name; the scene's file, say).
+    pub fn set_recording_name(&mut self, name: &str) {
+        self.recording_name = Some(name.to_string());
+    }
+
+    /// Sends the default layout ([`layout_messages`]) once; `margins` adds the margin plot,
+    /// `flat` the fingers whose patches have flat views.
+    fn send_layout(&mut self, margins: bool, flat: &[String]) -> Result<(), TransferError> {
         let Some(rec) = &self.rec else {
             return Err(io_err("rerun", &self.path, "already finished"));
         };
         if !self.layout_sent {
             let (msgs, activation) =
-                layout_messages(margins).map_err(|e| io_err("rerun", &self.path, e))?;
+                layout_messages(margins, flat).map_err(|e| io_err("rerun", &self.path, e))?;
             rec.send_blueprint(msgs, activation);
             self.layout_sent = true;
         }
@@ -353,6 +363,12 @@ impl RerunSink {
         let name = &fm.name();
         self.log_forces(fm, f, scale)?;
         self.log_patch(fm, f, p_max)?;
+        if has_flat_views(fm) {
+            let name = fm.name();
+            let pressure = pressure_tensor(fm, f, p_max);
+            self.send(format!("patches/{name}/pressure"), &pressure)?;
+            self.send(format!("patches/{name}/state"), &state_image(fm, f))?;
+        }
         self.send(
             format!("plots/normal_force/{name}"),
             &Scalars::new([f.normal_force_n]),
@@ -465,6 +481,11 @@ impl RerunSink {
                 false => self.send(path, &Points3D::new(none))?,
             }
         }
+        if has_flat_views(fm) {
+            for part in ["pressure", "state"] {
+                self.send(format!("patches/{name}/{part}"), &rerun::Clear::flat())?;
+            }
+        }
         self.send(format!("plots/normal_force/{name}"), &Scalars::new([0.0]))?;
         self.send(format!("plots/friction/{name}"), &Scalars::new([0.0]))
     }
@@ -472,8 +493,21 @@ impl RerunSink {
 
 impl Sink for RerunSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
-        self.send_layout(run.margins)?;
         let g = run.model;
+        let flat: Vec<String> = g
+            .fingers()
+            .iter()
+            .filter(|f| has_flat_views(f))
+            .map(|f| f.name().to_string())
+            .collect();
+        self.send_layout(run.margins, &flat)?;
+        if let Some(name) = self.recording_name.clone() {
+            let info = rerun::RecordingInfo::update_fields().with_name(name);
+            self.send("__properties", &info)?;
+        }
+        if !flat.is_empty() {
+            self.send("patches/key", &state_key())?;
+        }
         let (lo, hi) = super::contact_bounds(g);
         let (size, m_per_n) = super::drawing_scale(g);
         self.arrow_m_per_n = m_per_n as f32;
@@ -531,7 +565,7 @@ impl Sink for RerunSink {
         let scale = self.arrow_m_per_n as f64;
         self.time = [
             (
-                "schedule_time",
+                super::rerun_layout::TIMELINE,
                 TimeCell::from_duration_nanos((r.time_s * 1e9).round() as i64),
             ),
             ("step", TimeCell::from_sequence(r.index as i64)),
