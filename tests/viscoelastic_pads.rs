@@ -276,7 +276,7 @@ fn halving_the_step_shows_second_order() {
             .unwrap();
         let p0 = first.fingers[0].normal_force_n;
         state.advance_time_step(&model, &first);
-        let m = model.for_time_step(dt);
+        let m = model.for_time_step(dt).unwrap();
         let mut solver = GraspSolver::new(&m, SolveOptions::default());
         let mut p = p0;
         for _ in 0..(2.0 / dt).round() as usize {

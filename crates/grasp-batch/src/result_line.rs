@@ -17,7 +17,8 @@ pub enum ResultStatus {
     NoEquilibrium,
     /// The solver gave no answer.
     NoConvergence,
-    /// The scene is not usable: see `problems`.
+    /// The scene is not usable, or its solve did not fit in the memory there is: see
+    /// `problems`.
     Invalid,
 }
 

@@ -11,6 +11,7 @@ use std::time::Instant;
 use grasp_io::{MemoryLimit, RunInputs};
 
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, StepInputs};
+use grasp_model::{InputProblem, ModelError, OutOfMemory};
 use rayon::prelude::*;
 
 use crate::memory_budget::MemoryBudget;
@@ -116,6 +117,12 @@ pub fn solve_line(
                             Ok(sol) => {
                                 let t = clock.elapsed().as_secs_f64();
                                 ResultLine::of_solution(id, index, of, &sol, t)
+                            }
+                            // Too little memory for the solve: the scene fails, the batch
+                            // goes on.
+                            Err(ModelError::OutOfMemory(e)) => {
+                                let p = InputProblem::new(".", e.message(), OutOfMemory::FIX);
+                                ResultLine::invalid(id, index, of, vec![p])
                             }
                             Err(e) => {
                                 let mut l = ResultLine::invalid(id, index, of, Vec::new());

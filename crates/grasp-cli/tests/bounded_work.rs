@@ -208,3 +208,89 @@ fn the_compliance_flag_picks_the_path_and_its_memory_estimate() {
         assert!((a - b).abs() <= 1e-8, "{a} vs {b}");
     }
 }
+
+/// The address space `grasp` is run in below: 250 MiB (`ulimit -v`, which `malloc` cannot
+/// exceed). Measured: the process with its worker threads starts and solves the small
+/// examples in it, while the 512 x 512 Hertz patch needs about 600 MiB (solved at 600 MiB, not
+/// at 550 MiB; its kernel table alone is 48 MiB, the solve's vectors about 200 MiB).
+const ADDRESS_SPACE_KIB: u32 = 250_000;
+
+/// Runs `grasp args` in an address space of [`ADDRESS_SPACE_KIB`].
+fn grasp_in_small_address_space(args: &[&str]) -> std::process::Output {
+    Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v {ADDRESS_SPACE_KIB} && exec \"$0\" \"$@\""
+        ))
+        .arg(env!("CARGO_BIN_EXE_grasp"))
+        .args(args)
+        .output()
+        .expect("run grasp under sh")
+}
+
+/// The Hertz example on a `side x side` grid, as a scene value.
+fn hertz_on_grid(side: usize) -> serde_json::Value {
+    let text = std::fs::read_to_string(example("hertz_sphere_on_flat.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["fingers"][0]["patch"]["grid"] = serde_json::json!([side, side]);
+    v
+}
+
+/// An allocation the system refuses is a reported failure, never an abort (exit 134): in an
+/// address space too small for a fine patch, `grasp solve` exits 1 saying what did not fit and
+/// the fix, and `grasp batch` (two workers; `--max-memory` high enough for the estimate guard to
+/// admit the scene, so the real allocation is what fails) records the fine scene as invalid
+/// with the memory reason and solves the small scenes around it.
+#[test]
+fn a_refused_allocation_fails_its_scene_and_the_batch_goes_on() {
+    let dir = tmp("refused");
+    let fine = dir.join("hertz_512.json");
+    std::fs::write(&fine, hertz_on_grid(512).to_string()).unwrap();
+    let o = grasp_in_small_address_space(&["solve", fine.to_str().unwrap(), "--max-memory", "4G"]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    assert!(
+        t.contains("error: ") && t.contains("not enough memory for") && t.contains("coarser grid"),
+        "{t}"
+    );
+    let cube = std::fs::read_to_string(example("cube_a.json")).unwrap();
+    let lines = [
+        serde_json::json!({"id": "hertz", "scene": hertz_on_grid(21)}),
+        serde_json::json!({"id": "fine", "scene": hertz_on_grid(512)}),
+        serde_json::json!({"id": "cube", "scene": serde_json::from_str::<serde_json::Value>(&cube).unwrap()}),
+    ];
+    let input = dir.join("mix.jsonl");
+    let text_lines: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    std::fs::write(&input, text_lines.join("\n") + "\n").unwrap();
+    let out = dir.join("out.jsonl");
+    let o = grasp_in_small_address_space(&[
+        "batch",
+        input.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--max-memory",
+        "4G",
+        "--jobs",
+        "2",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let results: Vec<serde_json::Value> = std::fs::read_to_string(&out)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let status = |i: usize| results[i]["status"].as_str().unwrap().to_string();
+    assert_eq!(results.len(), 3);
+    assert_eq!((status(0), status(2)), ("solved".into(), "solved".into()));
+    assert_eq!(status(1), "invalid", "{}", results[1]);
+    let reason = results[1]["reason"].as_str().unwrap();
+    assert!(reason.contains("not enough memory for"), "{reason}");
+    assert!(
+        results[1]["problems"][0]["fix"]
+            .as_str()
+            .unwrap()
+            .contains("coarser grid"),
+        "{}",
+        results[1]
+    );
+}

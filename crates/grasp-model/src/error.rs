@@ -52,6 +52,50 @@ pub fn format_problems(what: &str, p: &[InputProblem]) -> String {
     s
 }
 
+/// An allocation the system refused (a memory or address-space limit), reported instead of
+/// aborting the process: what it was for and how many bytes it needed.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("not enough memory for {what} ({}); fix: {}", mebibytes(*bytes), OutOfMemory::FIX)]
+pub struct OutOfMemory {
+    /// What the memory was for, e.g. `the 512 x 512 influence spectra of finger `tip``.
+    pub what: String,
+    /// Bytes needed.
+    pub bytes: u64,
+}
+
+impl OutOfMemory {
+    /// What to do about it.
+    pub const FIX: &'static str = "use a coarser grid, or free memory or raise the memory \
+                                   limit (fewer scenes at once in a batch: --jobs)";
+
+    /// `bytes` refused for `what`.
+    pub fn new(what: impl Into<String>, bytes: u64) -> Self {
+        OutOfMemory {
+            what: what.into(),
+            bytes,
+        }
+    }
+
+    /// The same failure said of `what`, which needs `bytes` in all.
+    pub fn named(self, what: impl Into<String>, bytes: u64) -> Self {
+        OutOfMemory::new(what, bytes.max(self.bytes))
+    }
+
+    /// What failed, without the fix: `not enough memory for ... (N MiB)`.
+    pub fn message(&self) -> String {
+        format!(
+            "not enough memory for {} ({})",
+            self.what,
+            mebibytes(self.bytes)
+        )
+    }
+}
+
+/// Bytes as MiB with one decimal.
+fn mebibytes(bytes: u64) -> String {
+    format!("{:.1} MiB", bytes as f64 / (1u64 << 20) as f64)
+}
+
 /// A scene that cannot be used.
 #[derive(Debug, Clone, thiserror::Error)]
 pub enum SceneError {
@@ -66,6 +110,15 @@ pub enum SceneError {
     /// The scene parsed but some values are unusable; every problem found is listed.
     #[error("{}", format_problems("scene", .0))]
     Invalid(Vec<InputProblem>),
+    /// The model of a valid scene could not be built in the memory there is.
+    #[error("{path}: {source}")]
+    OutOfMemory {
+        /// JSON path of the finger's grid whose buffers were refused.
+        path: String,
+        /// What was refused.
+        #[source]
+        source: OutOfMemory,
+    },
 }
 
 impl SceneError {
@@ -78,6 +131,11 @@ impl SceneError {
                 fix: "correct the JSON (see `grasp schema`)".into(),
             }],
             SceneError::Invalid(p) => p.clone(),
+            SceneError::OutOfMemory { path, source } => vec![InputProblem {
+                path: path.clone(),
+                message: source.message(),
+                fix: OutOfMemory::FIX.into(),
+            }],
         }
     }
 }
@@ -138,6 +196,9 @@ pub enum ModelError {
     /// An option outside its range.
     #[error(transparent)]
     Option(#[from] OptionError),
+    /// The solve's working memory could not be had.
+    #[error(transparent)]
+    OutOfMemory(#[from] OutOfMemory),
     /// A scene derived from the caller's (a coarser grid, a grown patch) is not usable.
     #[error("{context}: {source}")]
     DerivedScene {

@@ -28,7 +28,8 @@
 //! | `analysis/` | many solves: disturbance margins, refinement studies, patch sizing | all of the above |
 //!
 //! `error.rs` (one [`InputProblem`] type for every input), `problem_list.rs` (the one
-//! collector of an input's problems, [`ProblemList`]) and [`option_names`] (how messages name
+//! collector of an input's problems, [`ProblemList`]), `allocation.rs` (the large buffers
+//! allocated fallibly: [`OutOfMemory`] instead of an abort) and [`option_names`] (how messages name
 //! options) sit below them all. The folders are private: this page is the crate's whole
 //! face, its names grouped below in data-flow order, so a file can move without breaking a caller.
 //!
@@ -83,6 +84,7 @@
 
 #![warn(missing_docs)]
 
+mod allocation;
 mod analysis;
 mod error;
 mod geometry;
@@ -184,6 +186,6 @@ pub use analysis::relaxation::{solve_at, solve_at_reporting, TimePoint, TimedSol
 pub use analysis::solution_record::SolutionRecord;
 
 // ---- Errors and messages ----
-pub use error::{format_problems, InputProblem, ModelError, OptionError, SceneError};
+pub use error::{format_problems, InputProblem, ModelError, OptionError, OutOfMemory, SceneError};
 pub use number_text::{readable, Readable};
 pub use problem_list::{ProblemList, MAX_LISTED_PROBLEMS};

@@ -50,8 +50,12 @@ fn with_problems<E: pyo3::PyTypeInfo>(
     err
 }
 
-/// A `grasp.SceneError` from the model's error.
+/// A `grasp.SceneError` from the model's error; Python's `MemoryError` when the scene is
+/// valid but its model did not fit in memory (what did not fit, and the fix).
 pub fn scene_error(py: Python<'_>, origin: &str, e: &grasp_model::SceneError) -> PyErr {
+    if let grasp_model::SceneError::OutOfMemory { .. } = e {
+        return pyo3::exceptions::PyMemoryError::new_err(format!("{origin}: {e}"));
+    }
     with_problems::<SceneError>(
         py,
         format!("{origin} is not a usable scene: {e}"),

@@ -418,7 +418,8 @@ impl<'a> Stepper<'a> {
             .ok_or(TransferError::Internal(
                 "a step's active fingers are not in the scene",
             ))?
-            .for_time_step(f64::from_bits(key.1));
+            .for_time_step(f64::from_bits(key.1))
+            .map_err(grasp_model::ModelError::from)?;
         let solver = GraspSolver::new(model, self.step_solve_options());
         if !self.options.warm_start {
             self.cache.clear();

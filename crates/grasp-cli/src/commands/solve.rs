@@ -5,7 +5,7 @@ use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::Instant;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use grasp_model::{solve_at_reporting, TimePoint, TimedSolution};
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, StepInputs};
 
@@ -145,8 +145,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         };
         (a.scene, model, a.solution, 0.0, sens)
     } else {
-        let model = GraspModel::from_scene_with(&scene_obj, solve.compliance)
-            .with_context(|| format!("{} is not a usable scene", scene.display()))?;
+        let model = crate::load_scene::model_of(&scene_obj, solve.compliance, &scene)?;
         let model = Arc::new(model);
         let build_s = t0.elapsed().as_secs_f64();
         // The solve's time covers the program assembly (GraspSolver::new) too.

@@ -93,7 +93,7 @@ pub fn solve_at_reporting(
     let seconds = match time {
         TimePoint::At { seconds } if model.is_viscoelastic() => seconds,
         TimePoint::LongTerm if model.is_viscoelastic() => {
-            let relaxed = model.for_time_step(f64::INFINITY);
+            let relaxed = model.for_time_step(f64::INFINITY)?;
             let solution = GraspSolver::new(relaxed, options).solve(&inputs)?;
             return Ok(TimedSolution {
                 solution,
@@ -127,7 +127,7 @@ pub fn solve_at_reporting(
     let n = steps_of_history.len();
     for dt in steps_of_history {
         if stepped.as_ref().is_none_or(|s| s.0 != dt.to_bits()) {
-            let s = GraspSolver::new(model.for_time_step(dt), options);
+            let s = GraspSolver::new(model.for_time_step(dt)?, options);
             stepped = Some((dt.to_bits(), s));
         }
         let (_, solver) = stepped.as_mut().expect("set above");

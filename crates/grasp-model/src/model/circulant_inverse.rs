@@ -22,6 +22,7 @@ use realfft::num_complex::Complex;
 
 use super::grid_fft::GridFft;
 use super::influence::{Block, KernelTable};
+use crate::error::OutOfMemory;
 
 /// Entries of a Hermitian `3 x 3` matrix kept per frequency, upper triangle: `(row, col)`.
 const ENTRIES: [(usize, usize); 6] = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
@@ -65,21 +66,25 @@ fn needed(n_tangential: usize, coupled: bool) -> [bool; 6] {
 
 impl CirculantInverse {
     /// The inverse for the offsets' entries `table` ([`KernelTable`], on its grid), with
-    /// `1 + n_tangential` components.
-    pub fn new(table: &KernelTable, n_tangential: usize, coupled: bool) -> Self {
+    /// `1 + n_tangential` components; [`OutOfMemory`] when its spectra cannot be allocated.
+    pub fn new(
+        table: &KernelTable,
+        n_tangential: usize,
+        coupled: bool,
+    ) -> Result<Self, OutOfMemory> {
         let grid = table.grid();
         let fft = GridFft::new((grid.nx, grid.ny), (grid.nx, grid.ny));
         let need = needed(n_tangential, coupled);
         let spectra: Vec<Vec<Complex<f64>>> = (0..ENTRIES.len())
             .map(|e| match need[e] {
                 true => wrapped_spectrum(&fft, table, |a, b| kernel(e, a, b)),
-                false => Vec::new(),
+                false => Ok(Vec::new()),
             })
-            .collect();
+            .collect::<Result<_, _>>()?;
         let mut inverse = vec![Vec::new(); ENTRIES.len()];
         for (e, inv) in inverse.iter_mut().enumerate() {
             if need[e] {
-                *inv = vec![Complex::default(); fft.spectrum_len()];
+                *inv = crate::allocation::filled(fft.spectrum_len(), Complex::default())?;
             }
         }
         let dim = 1 + n_tangential;
@@ -97,12 +102,12 @@ impl CirculantInverse {
                 }
             }
         }
-        CirculantInverse {
+        Ok(CirculantInverse {
             dim,
             elements: grid.len(),
             fft,
             inverse,
-        }
+        })
     }
 
     #[cfg(test)]
@@ -112,7 +117,6 @@ impl CirculantInverse {
         entries * std::mem::size_of::<Complex<f64>>()
     }
 
-    #[cfg(test)]
     /// Bytes [`CirculantInverse::new`] keeps for a grid, before building it.
     pub fn memory_estimate_bytes(
         grid: &super::influence::GridSpec,
@@ -169,11 +173,11 @@ fn wrapped_spectrum(
     fft: &GridFft,
     table: &KernelTable,
     value: impl Fn(&[f64; 6], &[f64; 6]) -> f64,
-) -> Vec<Complex<f64>> {
+) -> Result<Vec<Complex<f64>>, OutOfMemory> {
     let (nx, ny) = (table.grid().nx, table.grid().ny);
     // Table index of periodic index `i` of a side of `n` elements (offset `i` or `i - n`).
     let slot = |i: usize, n: usize| if i <= n / 2 { i + n - 1 } else { i - 1 };
-    let mut wrapped = vec![0.0; nx * ny];
+    let mut wrapped = crate::allocation::filled(nx * ny, 0.0)?;
     for i in 0..nx {
         let (a, ma) = (slot(i, nx), 2 * nx - 2 - slot(i, nx));
         for j in 0..ny {
@@ -312,13 +316,13 @@ mod tests {
                     hx: 1.2e-4,
                     hy: 0.9e-4,
                 };
-                let table = KernelTable::half_space(&grid, pair);
+                let table = KernelTable::half_space(&grid, pair).unwrap();
                 for nt in 0..=2 {
                     let dim = 1 + nt;
                     let dense = patch_compliance(&table, nt);
                     let circ = strang_from_dense(&dense, &grid, dim);
                     let coupled = !pair.uncoupled() && nt > 0;
-                    let inv = CirculantInverse::new(&table, nt, coupled);
+                    let inv = CirculantInverse::new(&table, nt, coupled).unwrap();
                     let v =
                         DVector::from_fn(dim * grid.len(), |i, _| ((i * 7 + 3) % 11) as f64 - 5.0);
                     let cv = &circ * &v;
@@ -340,9 +344,9 @@ mod tests {
             hy: 1e-4,
         };
         let pair = PairConstants::new(&elastic(5e6, 0.45), &elastic(210e9, 0.3));
-        let table = KernelTable::half_space(&grid, &pair);
+        let table = KernelTable::half_space(&grid, &pair).unwrap();
         for nt in 0..=2 {
-            let inv = CirculantInverse::new(&table, nt, nt > 0);
+            let inv = CirculantInverse::new(&table, nt, nt > 0).unwrap();
             let want = CirculantInverse::memory_estimate_bytes(&grid, nt, nt > 0);
             assert_eq!(inv.memory_bytes(), want);
         }

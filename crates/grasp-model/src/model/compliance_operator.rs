@@ -24,6 +24,7 @@ use realfft::num_complex::Complex;
 use super::circulant_inverse::CirculantInverse;
 use super::grid_fft::GridFft;
 use super::influence::{Block, GridSpec, KernelTable};
+use crate::error::OutOfMemory;
 
 /// One term of an output component: the source component, the kernel and whether it is read
 /// conjugated (the transposed block).
@@ -63,8 +64,9 @@ impl std::fmt::Debug for ComplianceOperator {
 impl ComplianceOperator {
     /// The operator of the offsets' entries `table` (its grid's), truncated to the first
     /// `1 + n_tangential` components as [`super::influence::patch_compliance`] is (model.md,
-    /// patch compliance; Johnson 3.22c and 3.86a-c for half-spaces).
-    pub fn new(table: &KernelTable, n_tangential: usize) -> Self {
+    /// patch compliance; Johnson 3.22c and 3.86a-c for half-spaces); [`OutOfMemory`] when its
+    /// spectra cannot be allocated.
+    pub fn new(table: &KernelTable, n_tangential: usize) -> Result<Self, OutOfMemory> {
         let grid = table.grid();
         let coupled = table.coupled() && n_tangential > 0;
         let mut op = ComplianceOperator {
@@ -75,11 +77,11 @@ impl ComplianceOperator {
             spectra: vec![Vec::new(); 6],
             diagonal: [0.0; 3],
             abs_sums: [0.0; 6],
-            preconditioner: CirculantInverse::new(table, n_tangential, coupled),
+            preconditioner: CirculantInverse::new(table, n_tangential, coupled)?,
             written_out: OnceLock::new(),
         };
-        op.build_spectra(table);
-        op
+        op.build_spectra(table)?;
+        Ok(op)
     }
 
     /// Elements of the patch.
@@ -137,7 +139,6 @@ impl ComplianceOperator {
         entries * std::mem::size_of::<Complex<f64>>() + self.preconditioner.memory_bytes()
     }
 
-    #[cfg(test)]
     /// Bytes [`ComplianceOperator::new`] keeps for a grid, before building it: one spectrum
     /// of `2 nx (ny + 1)` complex numbers per block needed, and the preconditioner's.
     pub fn memory_estimate_bytes(grid: &GridSpec, n_tangential: usize, coupled: bool) -> usize {
@@ -157,7 +158,7 @@ impl ComplianceOperator {
         self.preconditioner.apply(v, out, factor)
     }
 
-    fn build_spectra(&mut self, table: &KernelTable) {
+    fn build_spectra(&mut self, table: &KernelTable) -> Result<(), OutOfMemory> {
         let sym = |block: Block| {
             move |a: &[f64; 6], b: &[f64; 6]| 0.5 * (a[block as usize] + b[block as usize])
         };
@@ -168,20 +169,21 @@ impl ComplianceOperator {
             centre[Block::T11 as usize],
             centre[Block::T22 as usize],
         ];
-        self.set(Block::Nn, table, sym(Block::Nn));
+        self.set(Block::Nn, table, sym(Block::Nn))?;
         if self.n_tangential >= 1 {
-            self.set(Block::T11, table, sym(Block::T11));
+            self.set(Block::T11, table, sym(Block::T11))?;
             if self.coupled {
-                self.set(Block::N1, table, plain(Block::N1));
+                self.set(Block::N1, table, plain(Block::N1))?;
             }
         }
         if self.n_tangential >= 2 {
-            self.set(Block::T22, table, sym(Block::T22));
-            self.set(Block::T12, table, plain(Block::T12));
+            self.set(Block::T22, table, sym(Block::T22))?;
+            self.set(Block::T12, table, plain(Block::T12))?;
             if self.coupled {
-                self.set(Block::N2, table, plain(Block::N2));
+                self.set(Block::N2, table, plain(Block::N2))?;
             }
         }
+        Ok(())
     }
 
     /// The spectrum of the kernel `value(K(d), K(-d))` placed on the padded grid with
@@ -191,11 +193,11 @@ impl ComplianceOperator {
         block: Block,
         table: &KernelTable,
         value: impl Fn(&[f64; 6], &[f64; 6]) -> f64,
-    ) {
+    ) -> Result<(), OutOfMemory> {
         let (nx, ny) = (self.grid.nx, self.grid.ny);
         let wy = 2 * ny - 1;
         let (px, py) = (self.fft.px, self.fft.py);
-        let mut padded = vec![0.0; px * py];
+        let mut padded = crate::allocation::filled(px * py, 0.0)?;
         let mut abs_sum = 0.0;
         for a in 0..2 * nx - 1 {
             let row = (a + px + 1 - nx) % px;
@@ -207,7 +209,8 @@ impl ComplianceOperator {
             }
         }
         self.abs_sums[block as usize] = abs_sum;
-        self.spectra[block as usize] = self.fft.transform(&mut padded, px);
+        self.spectra[block as usize] = self.fft.transform(&mut padded, px)?;
+        Ok(())
     }
 
     /// The terms of output component `r`.
@@ -274,7 +277,7 @@ mod tests {
 
     /// The half-space table of `pair` on `grid`.
     fn half_space(grid: &GridSpec, pair: &PairConstants) -> KernelTable {
-        KernelTable::half_space(grid, pair)
+        KernelTable::half_space(grid, pair).unwrap()
     }
 
     fn elastic(e: f64, nu: f64) -> Material {
@@ -332,7 +335,7 @@ mod tests {
                 for nt in 0..=2 {
                     let table = half_space(&grid, pair);
                     let dense = patch_compliance(&table, nt);
-                    let op = ComplianceOperator::new(&table, nt);
+                    let op = ComplianceOperator::new(&table, nt).unwrap();
                     let v: Vec<f64> = (0..op.len()).map(|_| lcg(&mut seed) - 0.5).collect();
                     let mut got = vec![0.0; op.len()];
                     op.apply(&v, &mut got);
@@ -368,7 +371,7 @@ mod tests {
         let pair = PairConstants::new(&elastic(2e6, 0.49), &elastic(200e9, 0.25));
         let table = half_space(&grid, &pair);
         let dense = patch_compliance(&table, 2);
-        let op = ComplianceOperator::new(&table, 2);
+        let op = ComplianceOperator::new(&table, 2).unwrap();
         let mut e = vec![0.0; op.len()];
         let mut got = vec![0.0; op.len()];
         for col in [0, 7, grid.len() + 3, 2 * grid.len() + 19] {
@@ -401,7 +404,7 @@ mod tests {
         let pair = PairConstants::new(&elastic(5e6, 0.45), &elastic(210e9, 0.3));
         let mut seed = 0x853c49e6748fea9b;
         for nt in [0, 2] {
-            let op = ComplianceOperator::new(&half_space(&grid, &pair), nt);
+            let op = ComplianceOperator::new(&half_space(&grid, &pair), nt).unwrap();
             assert!(op.fft.parallel());
             let v: Vec<f64> = (0..op.len()).map(|_| lcg(&mut seed) - 0.5).collect();
             let mut got = vec![0.0; op.len()];
@@ -417,7 +420,7 @@ mod tests {
                 .zip(&alone)
                 .all(|(a, b)| a.to_bits() == b.to_bits()));
         }
-        let op = ComplianceOperator::new(&half_space(&grid, &pair), 0);
+        let op = ComplianceOperator::new(&half_space(&grid, &pair), 0).unwrap();
         let loaded = [0, 77, 8000, 12345, grid.len() - 1];
         let mut v = vec![0.0; op.len()];
         for (i, &k) in loaded.iter().enumerate() {
@@ -458,7 +461,7 @@ mod tests {
         };
         let pair = PairConstants::new(&elastic(5e6, 0.45), &elastic(210e9, 0.3));
         for nt in 0..=2 {
-            let op = ComplianceOperator::new(&half_space(&grid, &pair), nt);
+            let op = ComplianceOperator::new(&half_space(&grid, &pair), nt).unwrap();
             assert_eq!(
                 op.memory_bytes(),
                 ComplianceOperator::memory_estimate_bytes(&grid, nt, !pair.uncoupled())

@@ -9,6 +9,7 @@ use super::influence::{BlockKernels, GridSpec, KernelTable, PairConstants, Recta
 use super::layer_green_function::normal_at_source;
 use super::layer_kernels::{body_constants, LayerKernels, Side};
 use super::material::Material;
+use crate::error::OutOfMemory;
 
 /// The wavenumber, times the contact radius, at which
 /// [`ContactPair::contact_radius_estimate_m`] reads a layer's compliance (fitted to two solved
@@ -60,10 +61,10 @@ impl ContactPair {
     /// The compliance entries of every offset of `grid` (m/N): the half-space kernels of the
     /// pair plus each layer's correction. Without layers exactly
     /// [`KernelTable::half_space`].
-    pub fn kernel_table(&self, grid: &GridSpec) -> KernelTable {
-        let mut table = KernelTable::half_space(grid, &self.constants);
+    pub fn kernel_table(&self, grid: &GridSpec) -> Result<KernelTable, OutOfMemory> {
+        let mut table = KernelTable::half_space(grid, &self.constants)?;
         if !self.is_layered() {
-            return table;
+            return Ok(table);
         }
         for (layer, side) in [
             (self.finger_layer, Side::Finger),
@@ -73,22 +74,22 @@ impl ContactPair {
                 LayerKernels::new(&l, grid).add_to(&mut table, side);
             }
         }
-        table
+        Ok(table)
     }
 
     /// The compliance entries of one body of the pair alone on `grid` (m/N; the other body
     /// rigid): its half-space kernels plus its layer's correction, the coupling with its side's
     /// sign. The pair's table is the sum of its two bodies' (to round-off).
-    pub fn body_table(&self, grid: &GridSpec, side: Side) -> KernelTable {
+    pub fn body_table(&self, grid: &GridSpec, side: Side) -> Result<KernelTable, OutOfMemory> {
         let (material, layer) = match side {
             Side::Finger => (&self.finger_material, self.finger_layer),
             Side::Object => (&self.object_material, self.object_layer),
         };
-        let mut table = KernelTable::half_space(grid, &body_constants(material, side));
+        let mut table = KernelTable::half_space(grid, &body_constants(material, side))?;
         if let Some(l) = layer {
             LayerKernels::new(&l, grid).add_to(&mut table, side);
         }
-        table
+        Ok(table)
     }
 
     /// The pair's normal surface compliance for a pressure wave of wavenumber `k_per_m`, m/Pa:
@@ -224,7 +225,7 @@ mod tests {
                 hx: 1e-4 * (0.3 + lcg(&mut seed)),
                 hy: 1e-4 * (0.3 + lcg(&mut seed)),
             };
-            let table = pair.kernel_table(&grid);
+            let table = pair.kernel_table(&grid).expect("a small table");
             for nt in 0..=2 {
                 let c = patch_compliance(&table, nt);
                 let asym = (&c - c.transpose()).abs().max();

@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use nalgebra::Vector3;
 
-use crate::error::{ModelError, SceneError};
+use crate::error::{ModelError, OutOfMemory, SceneError};
 use crate::geometry::contact_frame::ContactFrame;
 use crate::geometry::surface_texture::texture_heights_m;
 use crate::geometry::texture_spec::GapSpec;
@@ -451,7 +451,35 @@ impl GraspModel {
                     .layer_warnings(&f.patch.grid, &format!("fingers[{i}]"), &f.name);
             object.scene_warnings.extend(warnings);
         }
-        Ok(Self::from_parts(fingers, object))
+        let model = Self::from_parts(fingers, object);
+        // The program's assembly and the solve allocate ordinarily: check they will fit.
+        crate::allocation::check_room(model.solve_bytes(), || model.solve_memory_name()).map_err(
+            |source| SceneError::OutOfMemory {
+                path: "fingers".into(),
+                source,
+            },
+        )?;
+        Ok(model)
+    }
+
+    /// Bytes a solve of this model works in besides the model: the conjugate-gradient and
+    /// Newton vectors of the unknowns and the equality columns (`8 (FFT_VECTORS +
+    /// FFT_VECTORS_PER_ROW m)` per unknown, as the work-bounds estimate counts them) and the
+    /// solution's element records ([`ELEMENT_RECORD_BYTES`] each).
+    pub fn solve_bytes(&self) -> u64 {
+        use crate::scene::work_bounds::{FFT_VECTORS, FFT_VECTORS_PER_ROW};
+        let rows = (self.equilibrium_rows() + self.fingers.len()) as u64;
+        let vectors = 8 * (FFT_VECTORS + FFT_VECTORS_PER_ROW * rows);
+        let elements: usize = self.fingers.iter().map(|f| f.patch.len()).sum();
+        (self.n_unknowns() as u64).saturating_mul(vectors) + elements as u64 * ELEMENT_RECORD_BYTES
+    }
+
+    /// What [`GraspModel::solve_bytes`] are for, in an out-of-memory message.
+    pub fn solve_memory_name(&self) -> String {
+        format!(
+            "the solve's working vectors and its solution ({} unknowns)",
+            self.n_unknowns()
+        )
     }
 
     /// The model of the fingers `active` (index into this model's fingers, with the control
@@ -484,12 +512,12 @@ impl GraspModel {
     /// viscoelastic contact's compliance is its compliance over the step
     /// (`ViscousContact::step_compliance`; `dt_s = 0` gives the instantaneous one, this
     /// model's), the elastic fingers' are shared. This model itself when nothing relaxes.
-    pub fn for_time_step(&self, dt_s: f64) -> GraspModel {
+    pub fn for_time_step(&self, dt_s: f64) -> Result<GraspModel, OutOfMemory> {
         if !self.is_viscoelastic() {
-            return GraspModel {
+            return Ok(GraspModel {
                 time_step_s: dt_s,
                 ..self.clone()
-            };
+            });
         }
         let fingers = self
             .fingers
@@ -497,15 +525,15 @@ impl GraspModel {
             .map(|f| {
                 let mut f = f.clone();
                 if let Some(v) = &f.viscous {
-                    f.compliance_m_per_n = v.step_compliance(dt_s);
+                    f.compliance_m_per_n = v.step_compliance(dt_s)?;
                 }
-                f
+                Ok(f)
             })
-            .collect();
-        GraspModel {
+            .collect::<Result<_, OutOfMemory>>()?;
+        Ok(GraspModel {
             time_step_s: dt_s,
             ..Self::from_parts(fingers, self.object.clone())
-        }
+        })
     }
 
     /// Offsets, reference point, external wrench, scales and equilibrium map of `fingers` (at
@@ -744,20 +772,8 @@ fn finger_model(
     let grid = patch.grid;
     let fft = uses_fft(compliance, grid.len().saturating_mul(1 + n_tangential));
     let relaxation = (f.material.relaxation(), object.relaxation.as_ref());
-    let (compliance_m_per_n, viscous) = match relaxation {
-        (None, None) => (
-            PatchCompliance::build(&grid, &contact, n_tangential, compliance),
-            None,
-        ),
-        laws => {
-            let table = Arc::new(contact.kernel_table(&grid));
-            let viscous = ViscousContact::new(&contact, &table, (&grid, n_tangential, fft), laws);
-            (
-                PatchCompliance::from_table(&table, n_tangential, fft),
-                viscous.map(Arc::new),
-            )
-        }
-    };
+    let (compliance_m_per_n, viscous) =
+        finger_compliance((i, f), &contact, (&grid, n_tangential, fft), relaxation)?;
     let control = match (f.control.normal_load_n(), f.control.approach_m()) {
         (Some(p), _) => Control::NormalLoad { newtons: p },
         (None, Some(d)) => Control::Approach { metres: d },
@@ -778,6 +794,54 @@ fn finger_model(
         exact_gaps,
     };
     Ok((finger, gap_warning))
+}
+
+/// Bytes of one element's record in a solution (at least `size_of::<ElementSolution>()`, a
+/// test of the solution checks it).
+pub const ELEMENT_RECORD_BYTES: u64 = 192;
+
+/// Finger `i`'s patch compliance (and its viscoelastic bodies'), built once the memory it
+/// takes is known to be there ([`crate::allocation::check_room`]) and from fallibly allocated
+/// tables and spectra: a refusal is [`SceneError::OutOfMemory`] at the finger's grid, naming
+/// the grid and what the compliance holds in all (the kernel table and the FFT operator's
+/// spectra, or the dense matrix).
+fn finger_compliance(
+    (i, f): (usize, &FingerSpec),
+    contact: &ContactPair,
+    (grid, n_tangential, fft): (&crate::model::influence::GridSpec, usize, bool),
+    laws: (Option<&RelaxationSpec>, Option<&RelaxationSpec>),
+) -> Result<(PatchCompliance, Option<Arc<ViscousContact>>), SceneError> {
+    let (nx, ny) = (grid.nx, grid.ny);
+    let table = 48 * (2 * nx as u64 - 1) * (2 * ny as u64 - 1);
+    let (what, held) = match fft {
+        true => (
+            "influence spectra",
+            crate::model::compliance_operator::ComplianceOperator::memory_estimate_bytes(
+                grid,
+                n_tangential,
+                true,
+            ) as u64,
+        ),
+        false => ("compliance matrix", {
+            let n = (nx * ny * (1 + n_tangential)) as u64;
+            8 * n * n
+        }),
+    };
+    let what = format!("the {nx} x {ny} {what} of finger `{}`", f.name);
+    let refused = |e: OutOfMemory| SceneError::OutOfMemory {
+        path: format!("fingers[{i}].patch.grid"),
+        source: e.named(what.clone(), table + held),
+    };
+    crate::allocation::check_room(table + held, String::new).map_err(refused)?;
+    let built = match laws {
+        (None, None) => PatchCompliance::build(grid, contact, n_tangential, fft).map(|c| (c, None)),
+        laws => contact.kernel_table(grid).map(Arc::new).and_then(|table| {
+            let viscous = ViscousContact::new(contact, &table, (grid, n_tangential, fft), laws)?;
+            let c = PatchCompliance::from_table(&table, n_tangential, fft)?;
+            Ok((c, viscous.map(Arc::new)))
+        }),
+    };
+    built.map_err(refused)
 }
 
 /// How finger `f`'s smooth gap is computed: its own `gap`, else the scene's, else exact with

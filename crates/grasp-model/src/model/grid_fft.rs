@@ -26,6 +26,8 @@ use realfft::num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use rustfft::{Fft, FftPlanner};
 
+use crate::error::OutOfMemory;
+
 /// Transform grids of at least this many points (256 x 256) transform on all cores.
 const PARALLEL_POINTS: usize = 256 * 256;
 
@@ -63,6 +65,19 @@ fn take<T: Copy + Default>(pool: &Mutex<Vec<Vec<T>>>, len: usize) -> Vec<T> {
         .unwrap_or_default();
     b.resize(len, T::default());
     b
+}
+
+/// [`take`], or [`OutOfMemory`] when the buffer cannot be grown to `len`.
+fn try_take<T: Copy + Default>(
+    pool: &Mutex<Vec<Vec<T>>>,
+    len: usize,
+) -> Result<Vec<T>, OutOfMemory> {
+    let mut b = take(pool, 0);
+    let bytes = (len as u64).saturating_mul(std::mem::size_of::<T>() as u64);
+    b.try_reserve_exact(len)
+        .map_err(|_| OutOfMemory::new("a buffer", bytes))?;
+    b.resize(len, T::default());
+    Ok(b)
 }
 
 /// Gives a buffer back to `pool`.
@@ -239,18 +254,23 @@ impl GridFft {
     }
 
     /// The 2-D spectrum of a real array on the transform grid (`px x py`, row-major; its
-    /// rows from `nonzero_rows` on are zero and not read), in the transposed layout.
-    pub fn transform(&self, padded: &mut [f64], nonzero_rows: usize) -> Vec<Complex<f64>> {
+    /// rows from `nonzero_rows` on are zero and not read), in the transposed layout;
+    /// [`OutOfMemory`] when the spectrum cannot be allocated.
+    pub fn transform(
+        &self,
+        padded: &mut [f64],
+        nonzero_rows: usize,
+    ) -> Result<Vec<Complex<f64>>, OutOfMemory> {
         let (px, py, hy) = (self.px, self.py, self.hy);
-        let mut rows = take(&self.buffers, nonzero_rows * hy);
+        let mut rows = try_take(&self.buffers, nonzero_rows * hy)?;
         self.row_spectra(padded, (py, py), &mut rows);
-        let mut spectrum = vec![Complex::default(); hy * px];
+        let mut spectrum = crate::allocation::filled(hy * px, Complex::default())?;
         self.each_chunk(&mut spectrum, TILE * px, 1, |s, k, cols| {
             self.gather_columns(&rows, nonzero_rows, k * TILE, cols);
             self.forward.process_with_scratch(cols, &mut s.fft);
         });
         give(&self.buffers, rows);
-        spectrum
+        Ok(spectrum)
     }
 
     /// The tile `k` of frequencies of every output component with terms: the sources' columns

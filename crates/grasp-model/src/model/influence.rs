@@ -13,6 +13,7 @@ use std::f64::consts::PI;
 
 use nalgebra::DMatrix;
 
+use crate::error::OutOfMemory;
 use crate::model::material::Material;
 
 /// `a ln(b)` with the convention `0 ln(0) = 0` (and `0 ln(b) = 0` for any `b`).
@@ -190,11 +191,12 @@ pub struct KernelTable {
 
 impl KernelTable {
     /// The half-space table of a pair of materials: the exact rectangle integrals of
-    /// [`offset_table`] through [`BlockKernels`] (model.md's table; Johnson 3.22c, 3.86a-c).
-    pub fn half_space(grid: &GridSpec, pair: &PairConstants) -> Self {
+    /// [`offset_table`] through [`BlockKernels`] (model.md's table; Johnson 3.22c, 3.86a-c);
+    /// [`OutOfMemory`] when its `(2 nx - 1)(2 ny - 1)` entries cannot be allocated.
+    pub fn half_space(grid: &GridSpec, pair: &PairConstants) -> Result<Self, OutOfMemory> {
         let kernels = BlockKernels::new(grid, pair);
         let (wx, wy) = (2 * grid.nx - 1, 2 * grid.ny - 1);
-        let mut values = vec![[0.0; 6]; wx * wy];
+        let mut values = crate::allocation::filled(wx * wy, [0.0; 6])?;
         // Row `a` of offsets, each entry from its own rectangle integrals: the same on any
         // thread, so the table's bits do not depend on the threads.
         let row = |(a, out): (usize, &mut [[f64; 6]])| {
@@ -216,11 +218,11 @@ impl KernelTable {
         } else {
             values.chunks_mut(wy).enumerate().for_each(row);
         }
-        KernelTable {
+        Ok(KernelTable {
             grid: *grid,
             values,
             coupled: !pair.uncoupled(),
-        }
+        })
     }
 
     /// The grid the table belongs to.
@@ -608,7 +610,7 @@ mod tests {
             };
             for ntan in 0..=2 {
                 let c = patch_compliance(
-                    &KernelTable::half_space(&grid, &PairConstants::new(&f, &o)),
+                    &KernelTable::half_space(&grid, &PairConstants::new(&f, &o)).unwrap(),
                     ntan,
                 );
                 let asym = (&c - c.transpose()).abs().max();
@@ -653,7 +655,7 @@ mod tests {
             hy: 1e-3,
         };
         let n = grid.len();
-        let c = patch_compliance(&KernelTable::half_space(&grid, &pair), 2);
+        let c = patch_compliance(&KernelTable::half_space(&grid, &pair).unwrap(), 2);
         let (k, j) = (grid.index(40, 2), grid.index(0, 0));
         let (x, y): (f64, f64) = (40.0e-3, 2.0e-3);
         let r = x.hypot(y);
@@ -701,7 +703,7 @@ mod tests {
             hx: 1e-3,
             hy: 1e-3,
         };
-        let c = patch_compliance(&KernelTable::half_space(&grid, &equal), 2);
+        let c = patch_compliance(&KernelTable::half_space(&grid, &equal).unwrap(), 2);
         let n = grid.len();
         assert_eq!(c.view((0, n), (n, 2 * n)).abs().max(), 0.0);
         // Swapping finger and object flips the sign of the coupling (a difference, not a sum).

@@ -254,7 +254,7 @@ mod tests {
     /// before).
     fn correction_table(l: &ElasticLayer, grid: &GridSpec, side: Side) -> KernelTable {
         let pair = body_constants(&l.material(), side);
-        let before = KernelTable::half_space(grid, &pair);
+        let before = KernelTable::half_space(grid, &pair).unwrap();
         let mut out = before.clone();
         LayerKernels::new(l, grid).add_to(&mut out, side);
         for a in 0..2 * grid.nx - 1 {
@@ -339,7 +339,8 @@ mod tests {
                 hy,
             };
             let table = correction_table(&l, &grid, Side::Object);
-            let own = KernelTable::half_space(&grid, &body_constants(&l.material(), Side::Object));
+            let own = KernelTable::half_space(&grid, &body_constants(&l.material(), Side::Object))
+                .unwrap();
             let scale = own.centre()[0];
             for (di, dj) in [
                 (0_isize, 0_isize),
@@ -382,7 +383,8 @@ mod tests {
                     hx: 1e-4,
                     hy: 0.95e-4,
                 };
-                let own = KernelTable::half_space(&grid, &body_constants(&l.material(), side));
+                let own =
+                    KernelTable::half_space(&grid, &body_constants(&l.material(), side)).unwrap();
                 let mut total = own.clone();
                 LayerKernels::new(&l, &grid).add_to(&mut total, side);
                 let cutoff = cutoff_thicknesses(nu);

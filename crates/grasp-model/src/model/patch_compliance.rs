@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 use super::compliance_operator::ComplianceOperator;
 use super::contact_pair::ContactPair;
 use super::influence::{patch_compliance, GridSpec, KernelTable};
+use crate::error::OutOfMemory;
 use crate::scene::scene_format::{FingerSpec, Scene};
 use crate::scene::work_bounds::finger_unknowns;
 
@@ -131,20 +132,24 @@ impl PatchCompliance {
         grid: &GridSpec,
         pair: &ContactPair,
         n_tangential: usize,
-        choice: ComplianceChoice,
-    ) -> Self {
-        let table = pair.kernel_table(grid);
-        let fft = uses_fft(choice, grid.len().saturating_mul(1 + n_tangential));
+        fft: bool,
+    ) -> Result<Self, OutOfMemory> {
+        let table = pair.kernel_table(grid)?;
         Self::from_table(&table, n_tangential, fft)
     }
 
     /// The compliance of the offsets' entries `table` with `n_tangential` tangential
-    /// components: the FFT operator when `fft`, else the dense matrix.
-    pub fn from_table(table: &KernelTable, n_tangential: usize, fft: bool) -> Self {
-        match fft {
-            true => PatchCompliance::Fft(Arc::new(ComplianceOperator::new(table, n_tangential))),
+    /// components: the FFT operator when `fft`, else the dense matrix; [`OutOfMemory`] when
+    /// the operator's spectra cannot be allocated (a dense matrix is bounded by validation).
+    pub fn from_table(
+        table: &KernelTable,
+        n_tangential: usize,
+        fft: bool,
+    ) -> Result<Self, OutOfMemory> {
+        Ok(match fft {
+            true => PatchCompliance::Fft(Arc::new(ComplianceOperator::new(table, n_tangential)?)),
             false => PatchCompliance::Dense(Arc::new(patch_compliance(table, n_tangential))),
-        }
+        })
     }
 
     /// True for the FFT operator.

@@ -15,6 +15,7 @@ use super::influence::{GridSpec, KernelTable};
 use super::layer_kernels::Side;
 use super::patch_compliance::PatchCompliance;
 use super::viscoelasticity::{CreepFunction, RelaxationLaw};
+use crate::error::OutOfMemory;
 use crate::scene::scene_format::RelaxationSpec;
 
 /// One viscoelastic body of a contact.
@@ -48,7 +49,7 @@ impl ViscousContact {
         pair_table: &Arc<KernelTable>,
         (grid, n_tangential, fft): (&GridSpec, usize, bool),
         (finger, object): (Option<&RelaxationSpec>, Option<&RelaxationSpec>),
-    ) -> Option<Self> {
+    ) -> Result<Option<Self>, OutOfMemory> {
         let modulus = |m: &super::material::Material| match *m {
             super::material::Material::Elastic {
                 youngs_modulus_pa, ..
@@ -66,24 +67,24 @@ impl ViscousContact {
             else {
                 continue;
             };
-            let table = pair.body_table(grid, side);
+            let table = pair.body_table(grid, side)?;
             bodies.push(ViscousBody {
                 creep: law.creep(),
-                compliance_m_per_n: PatchCompliance::from_table(&table, n_tangential, fft),
+                compliance_m_per_n: PatchCompliance::from_table(&table, n_tangential, fft)?,
                 table: Arc::new(table),
             });
         }
-        (!bodies.is_empty()).then(|| ViscousContact {
+        Ok((!bodies.is_empty()).then(|| ViscousContact {
             bodies,
             pair_table: Arc::clone(pair_table),
             n_tangential,
             fft,
-        })
+        }))
     }
 
     /// The pair's compliance over a step of `dt_s` seconds (`f64::INFINITY`: fully relaxed):
     /// the pair's entries plus `(alpha_b(dt) - 1)` times each viscoelastic body's.
-    pub fn step_compliance(&self, dt_s: f64) -> PatchCompliance {
+    pub fn step_compliance(&self, dt_s: f64) -> Result<PatchCompliance, OutOfMemory> {
         let mut table = (*self.pair_table).clone();
         for b in &self.bodies {
             table.add_scaled(b.creep.step(dt_s).alpha - 1.0, &b.table);

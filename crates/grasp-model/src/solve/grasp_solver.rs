@@ -126,6 +126,7 @@ impl GraspSolver {
         if !state.matches(&model) {
             return Err(ModelError::StateMismatch);
         }
+        crate::allocation::check_room(model.solve_bytes(), || model.solve_memory_name())?;
         let clock = Instant::now();
         let mut sol = self.dispatch(&model, inputs, state, clock)?;
         enforce_invariant(&mut sol);

@@ -399,6 +399,14 @@ fn is_zero(n: &usize) -> bool {
 mod tests {
     use super::*;
 
+    /// The model counts each element's record at `ELEMENT_RECORD_BYTES` when it checks that a
+    /// solve fits in memory: no fewer than the record takes.
+    #[test]
+    fn element_records_are_counted_whole() {
+        let counted = crate::model::grasp_model::ELEMENT_RECORD_BYTES as usize;
+        assert!(std::mem::size_of::<ElementSolution>() <= counted);
+    }
+
     /// `as_str` is the serde name of each status (the JSON output and the Python package
     /// must say the same).
     #[test]
