@@ -79,8 +79,26 @@ def test_python_arrays_equal_the_cli_json(run_cli, tmp_path):
         for mine, theirs in zip(sol.fingers, written["fingers"]):
             assert "elements" not in mine and "element_fields" not in mine
             assert mine["normal_force_n"] == theirs["normal_force_n"]
-        # The same text but for the times measured anew.
+        # The same text but for the times measured anew; `to_dict` (built without a JSON
+        # value in between) the same object as that text read back.
         assert without_times(json.loads(sol.to_json())) == without_times(written)
+        assert without_times(sol.to_dict()) == without_times(written)
+
+
+def test_to_dict_leaves_the_garbage_collector_as_it_was():
+    """`to_dict` pauses Python's cyclic collector while it builds the dict: afterwards the
+    collector is on or off as the caller had it."""
+    import gc
+    sol = grasp.solve(grasp.Scene(EXAMPLES / "cube_a.json"))
+    assert gc.isenabled()
+    sol.to_dict()
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        sol.to_dict()
+        assert not gc.isenabled()
+    finally:
+        gc.enable()
 
 
 def without_times(v):

@@ -21,6 +21,7 @@ mod json_value;
 mod keywords;
 mod outputs;
 mod plan;
+mod python_serializer;
 mod scene;
 mod solution;
 mod solve;
