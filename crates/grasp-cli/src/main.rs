@@ -28,6 +28,7 @@ mod pictures;
 mod progress;
 mod report;
 mod solution_files;
+mod solve_display;
 mod solve_flags;
 mod stdout;
 

@@ -30,7 +30,8 @@ pub fn bar(len: usize, what: &str) -> ProgressBar {
 }
 
 /// A spinner with the elapsed time for one long piece of work that cannot count its steps (a
-/// fine patch's solve: its Newton steps are not known ahead), `what` after it; redrawn ten
+/// fine patch's solve, whose message `crate::solve_display` keeps up to date), `what` after
+/// it; redrawn ten
 /// times a second by its own thread, hidden with `--quiet` (and off a terminal).
 pub fn spinner(what: &str) -> ProgressBar {
     if QUIET.load(Ordering::Relaxed) {

@@ -163,6 +163,7 @@ pub use solve::sensitivity::{LoadDirection, Sensitivities};
 pub use solve::step_inputs::StepInputs;
 pub use solver::options::{SolveOptions, SolverChoice};
 pub use solver::outcome::SolverKind;
+pub use solver::solve_progress::SolveProgress;
 
 // ---- The solution ----
 pub use solve::element_columns::{is_columnar, COLUMNS_ABOVE_ELEMENTS};

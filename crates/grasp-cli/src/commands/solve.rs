@@ -12,6 +12,7 @@ use grasp_model::{GraspModel, GraspSolver, SolveOptions, StepInputs};
 use crate::load_scene::load_scene;
 use crate::output::{self, ForceArg};
 use crate::report;
+use crate::solve_display::SolveDisplay;
 use crate::solve_flags::SolveFlags;
 
 /// Solve one grasp: normal and friction forces of every finger, element by element.
@@ -145,20 +146,23 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         };
         (a.scene, model, a.solution, 0.0, sens)
     } else {
+        let mut display = match time {
+            TimePoint::Instantaneous => long_solve_display(&scene_obj),
+            _ => None,
+        };
         let model = crate::load_scene::model_of(&scene_obj, solve.compliance, &scene)?;
         let model = Arc::new(model);
         let build_s = t0.elapsed().as_secs_f64();
         // The solve's time covers the program assembly (GraspSolver::new) too.
         let (solution, sens) = match time {
             TimePoint::Instantaneous => {
-                let spinner = (model.n_unknowns() > LONG_SOLVE_UNKNOWNS).then(|| {
-                    crate::progress::spinner(&format!("solving {} unknowns", model.n_unknowns()))
-                });
                 let mut solver = GraspSolver::new(Arc::clone(&model), options);
-                let solution = solver.solve(&StepInputs::of_scene(&model));
-                if let Some(s) = spinner {
-                    s.finish_and_clear();
+                if let Some(d) = &mut display {
+                    solver.set_progress(d.progress());
+                    d.solving();
                 }
+                let solution = solver.solve(&StepInputs::of_scene(&model));
+                drop(display);
                 let solution = solution?;
                 let sens = match sensitivities {
                     true => sensitivities_of(&mut solver, &solution)?,
@@ -219,9 +223,21 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     })
 }
 
-/// Solves of more unknowns than this show a spinner on a terminal (about a second and more on
-/// two cores: a 256 x 256 frictionless patch).
-const LONG_SOLVE_UNKNOWNS: usize = 65_536;
+/// The display of a solve of `scene` when it is long (on a terminal, without `--quiet`): its
+/// unknowns and its largest patch's grid.
+fn long_solve_display(scene: &grasp_model::Scene) -> Option<SolveDisplay> {
+    let unknowns = scene
+        .fingers
+        .iter()
+        .map(|f| grasp_model::finger_unknowns(scene, f))
+        .fold(0u64, u64::saturating_add);
+    let largest = scene
+        .fingers
+        .iter()
+        .map(|f| f.patch.grid)
+        .max_by_key(|g| g[0].saturating_mul(g[1]))?;
+    SolveDisplay::start(usize::try_from(unknowns).unwrap_or(usize::MAX), largest)
+}
 
 /// The sensitivities of `solution` (this solver's last answer) with their time, s; `None`
 /// without forces.

@@ -23,6 +23,7 @@ use crate::solver::clarabel::ClarabelForm;
 use crate::solver::options::{SolveOptions, SolverChoice};
 use crate::solver::outcome::SolverKind;
 use crate::solver::program_solver::ProgramSolver;
+use crate::solver::solve_progress::SolveProgress;
 
 /// A solver for one model: the assembled program and, after the first solve, the solver
 /// workspaces (factorisations, Clarabel's KKT structure) and the last solution, reused while
@@ -57,6 +58,13 @@ impl GraspSolver {
             options,
             pending_assembly_s: clock.elapsed().as_secs_f64(),
         }
+    }
+
+    /// Reports the native solver's Newton steps and conjugate-gradient iterations to
+    /// `progress` as this solver's solves go (a display reads it from another thread; the
+    /// solver only stores counters, once per Newton step).
+    pub fn set_progress(&mut self, progress: Arc<SolveProgress>) {
+        self.main.progress = Some(progress);
     }
 
     /// The model this solver was built for.

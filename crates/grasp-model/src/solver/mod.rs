@@ -1,7 +1,7 @@
 //! Solvers of one convex program: the options of a solve, the solver-neutral outcome and the
 //! point of a solution (`iterate`), the program with its workspaces (`program_solver`),
-//! Clarabel (the reference), the native semismooth Newton solver (`native`), and the warm
-//! start's prediction (`predictor`).
+//! Clarabel (the reference), the native semismooth Newton solver (`native`), the warm
+//! start's prediction (`predictor`) and the progress a solve reports (`solve_progress`).
 
 pub mod clarabel;
 pub(crate) mod iterate;
@@ -10,3 +10,4 @@ pub mod options;
 pub mod outcome;
 pub(crate) mod predictor;
 pub(crate) mod program_solver;
+pub mod solve_progress;

@@ -10,6 +10,7 @@
 //! - `auto`: the native solver, falling back to Clarabel's answer when it does not converge
 //!   (the run says why).
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use crate::error::ModelError;
@@ -21,6 +22,7 @@ use crate::solver::native::native_result::{NativeResult, NativeStatus};
 use crate::solver::native::newton::semismooth_newton::Limits;
 use crate::solver::native::NativeSolver;
 use crate::solver::options::{SolveOptions, SolverChoice};
+use crate::solver::solve_progress::SolveProgress;
 
 use crate::solver::clarabel::{self, ClarabelWorkspace};
 use crate::solver::outcome::{ConvexOutcome, ConvexRun, SolverKind, Start, MAX_NEWTON_ITERATIONS};
@@ -36,6 +38,8 @@ pub(crate) struct ProgramSolver {
     last: Option<Iterate>,
     /// The last few solutions with their data, for the prediction.
     trail: Trail,
+    /// Told the native solver's counts as it goes, when given.
+    pub progress: Option<Arc<SolveProgress>>,
 }
 
 impl ProgramSolver {
@@ -46,6 +50,7 @@ impl ProgramSolver {
             clarabel: None,
             last: None,
             trail: Trail::default(),
+            progress: None,
         }
     }
 
@@ -136,6 +141,7 @@ impl ProgramSolver {
         let limits = Limits {
             tolerance: options.tolerance,
             max_iterations: options.max_iterations.min(MAX_NEWTON_ITERATIONS),
+            progress: self.progress.as_deref(),
         };
         let predicted = match start {
             Start::Last => self.trail.predict(data),

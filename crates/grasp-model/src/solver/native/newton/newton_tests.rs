@@ -69,6 +69,7 @@ fn one_newton_step_solves_a_statically_determinate_pad() {
         let limits = Limits {
             tolerance: 1e-12,
             max_iterations: 10,
+            progress: None,
         };
         let result = native.solve(&program, &[], limits);
         assert_eq!(result.status, NativeStatus::Converged, "c = {c}");
@@ -101,6 +102,7 @@ fn linearisation_classifies_free_and_fixed_directions() {
     let limits = Limits {
         tolerance: 1e-12,
         max_iterations: 10,
+        progress: None,
     };
     let solved = native.solve(&program, &[], limits).iterate;
     let blocks = native.blocks();
@@ -176,6 +178,7 @@ fn a_start_at_the_answer_takes_no_step() {
     let limits = Limits {
         tolerance: 1e-12,
         max_iterations: 10,
+        progress: None,
     };
     let answer: Iterate = native.solve(&program, &[], limits).iterate;
     let again = native.solve(&program, &[&answer], limits);
@@ -235,6 +238,7 @@ fn a_rough_pad_slips_on_its_lighter_element_and_sticks_on_the_other() {
     let limits = Limits {
         tolerance: 1e-12,
         max_iterations: 30,
+        progress: None,
     };
     let result = native.solve(&program, &[], limits);
     assert_eq!(result.status, NativeStatus::Converged);

@@ -14,6 +14,7 @@ use crate::solver::iterate::Iterate;
 use crate::solver::native::finger_block::FingerBlockData;
 use crate::solver::native::interior::interior_point;
 use crate::solver::native::native_result::{Counts, NativeResult, NativeStatus};
+use crate::solver::solve_progress::SolveProgress;
 
 use super::linearisation::{cold_pattern, linearise, residual_norms, FingerLinearisation};
 use super::newton_step::{chord_linearisations, newton_step, FactorCache, Step};
@@ -59,13 +60,24 @@ struct State {
     y: Vec<f64>,
 }
 
-/// Limits of one solve.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Limits {
+/// Limits of one solve, and where it reports its progress.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Limits<'p> {
     /// Relative tolerance of the natural residual and of the equality rows.
     pub tolerance: f64,
     /// Newton iterations (the cold start's all-stick step included).
     pub max_iterations: u32,
+    /// Told the counts once per Newton step, when given.
+    pub progress: Option<&'p SolveProgress>,
+}
+
+impl Limits<'_> {
+    /// Tells the progress (if any) the work `counts` done so far.
+    fn report(&self, counts: &Counts) {
+        if let Some(p) = self.progress {
+            p.note(counts.newton_steps, counts.inner_iterations);
+        }
+    }
 }
 
 /// `y = P x + q + E' lambda`.
@@ -168,6 +180,9 @@ pub(crate) fn run(
     starts: &[&Iterate],
     limits: Limits,
 ) -> NativeResult {
+    if let Some(p) = limits.progress {
+        p.begin_program();
+    }
     let mut states = starts.iter().filter_map(|it| state_of(blocks, program, it));
     let start = match starts.len() {
         0 | 1 => states.next(),
@@ -365,6 +380,7 @@ fn descend(
     let mut history: Vec<f64> = Vec::with_capacity(WINDOW);
     let mut previous: Option<Vec<u64>> = None;
     loop {
+        limits.report(counts);
         let lins = linearise_all(blocks, program, &s);
         let pattern = free_pattern(&lins);
         let settling = cold && previous.as_ref().is_none_or(|p| *p != pattern);
