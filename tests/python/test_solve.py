@@ -116,3 +116,31 @@ def test_timings_and_repr():
     assert 0 < sol.solve_time_s < 10 and 0 < sol.build_time_s < 10
     assert sol.solver["iterations"] > 0 and sol.solver["unknowns"] > 0
     assert repr(sol).startswith("Solution(solved: f1 ")
+
+
+def test_a_scene_too_large_for_the_address_space_is_a_memory_error_not_an_abort():
+    """In a 300 MiB address space (`ulimit -v`; a 512 x 512 patch needs about 600 MiB to
+    solve, measured) the fine scene raises MemoryError naming what did not fit and the fix, and
+    the same process goes on to solve the small scene: the refused allocation is reported,
+    not an abort of the interpreter (exit 134)."""
+    import subprocess
+    import sys
+    script = f"""
+import json, grasp
+scene = json.loads(open({str(EXAMPLES / "hertz_sphere_on_flat.json")!r}).read())
+fine = json.loads(json.dumps(scene))
+fine["fingers"][0]["patch"]["grid"] = [512, 512]
+try:
+    grasp.solve(grasp.Scene(fine))
+    print("fine solved")
+except MemoryError as e:
+    print("MemoryError:", e)
+print("small", grasp.solve(grasp.Scene(scene)).status)
+"""
+    proc = subprocess.run(["sh", "-c", 'ulimit -v 300000 && exec "$0" -c "$1"', sys.executable,
+                           script], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.splitlines()
+    assert lines[0].startswith("MemoryError: ") and "not enough memory for" in lines[0], lines
+    assert "coarser grid" in lines[0], lines
+    assert lines[1] == "small solved", lines
