@@ -92,6 +92,15 @@ fn main() -> ExitCode {
         }
     };
     progress::set_quiet(cli.quiet);
+    // The solves' worker threads, started here so that a process too small for their stacks
+    // (an address-space limit) is told so, rather than panicking at the first parallel loop.
+    if let Err(e) = rayon::ThreadPoolBuilder::new().build_global() {
+        eprintln!(
+            "error: cannot start the worker threads ({e}); fix: free memory or raise the \
+             memory limit (ulimit -v)"
+        );
+        return ExitCode::from(1);
+    }
     if let Err(e) = output::install_signal_cleanup() {
         eprintln!("error: {e:#}");
         return ExitCode::from(1);

@@ -24,11 +24,19 @@ pub fn filled<T: Clone>(len: usize, value: T) -> Result<Vec<T>, OutOfMemory> {
 /// vectors) allocated ordinarily around the large ones.
 pub const HEADROOM_BYTES: u64 = 16 << 20;
 
+/// Needs smaller than this are not checked by [`check_room`]: a check costs two system calls,
+/// which a batch of many small scenes or a hand-off's many steps would pay for nothing.
+pub const CHECKED_ABOVE_BYTES: u64 = 8 << 20;
+
 /// Checks that `bytes` and [`HEADROOM_BYTES`] more can be allocated now (reserved and given
 /// back at once, never touched, so it costs no memory), or [`OutOfMemory`] for `what` (of
 /// `bytes`): taken before building a finger's compliance and before the many vectors of a
-/// solve, which are allocated ordinarily, so that they find the room they need.
+/// solve, which are allocated ordinarily, so that they find the room they need. Needs up to
+/// [`CHECKED_ABOVE_BYTES`] pass unchecked.
 pub fn check_room(bytes: u64, what: impl FnOnce() -> String) -> Result<(), OutOfMemory> {
+    if bytes <= CHECKED_ABOVE_BYTES {
+        return Ok(());
+    }
     let mut probe: Vec<u8> = Vec::new();
     let with_headroom = bytes.saturating_add(HEADROOM_BYTES);
     match usize::try_from(with_headroom).map(|len| probe.try_reserve_exact(len)) {
@@ -57,5 +65,6 @@ mod tests {
         assert!(e.to_string().contains("the test's vectors"), "{e}");
         assert_eq!(filled(3, 1.5f64).unwrap(), vec![1.5; 3]);
         assert!(check_room(1 << 20, String::new).is_ok());
+        assert!(check_room(CHECKED_ABOVE_BYTES + 1, String::new).is_ok());
     }
 }

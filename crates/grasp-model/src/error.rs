@@ -209,3 +209,35 @@ pub enum ModelError {
         source: SceneError,
     },
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A model refused its memory is one problem at the finger's grid: the message says what
+    /// and how much (in MiB), the fix says what to do.
+    #[test]
+    fn out_of_memory_is_one_problem_at_its_grid_with_the_fix() {
+        let e = SceneError::OutOfMemory {
+            path: "fingers[1].patch.grid".into(),
+            source: OutOfMemory::new("a buffer", 8 << 20).named("the spectra of `b`", 3 << 20),
+        };
+        let p = e.problems();
+        assert_eq!(p.len(), 1);
+        assert_eq!(p[0].path, "fingers[1].patch.grid");
+        // The larger of the failed allocation and the named need.
+        assert_eq!(
+            p[0].message,
+            "not enough memory for the spectra of `b` (8.0 MiB)"
+        );
+        assert_eq!(p[0].fix, OutOfMemory::FIX);
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "fingers[1].patch.grid: {}; fix: {}",
+                p[0].message,
+                OutOfMemory::FIX
+            )
+        );
+    }
+}
