@@ -66,7 +66,7 @@ pub struct OutOfMemory {
 impl OutOfMemory {
     /// What to do about it.
     pub const FIX: &'static str = "use a coarser grid, or free memory or raise the memory \
-                                   limit (fewer scenes at once in a batch: --jobs)";
+                                   limit (or solve fewer scenes at once)";
 
     /// `bytes` refused for `what`.
     pub fn new(what: impl Into<String>, bytes: u64) -> Self {

@@ -465,7 +465,7 @@ impl GraspModel {
     /// Bytes a solve of this model works in besides the model: the conjugate-gradient and
     /// Newton vectors of the unknowns and the equality columns (`8 (FFT_VECTORS +
     /// FFT_VECTORS_PER_ROW m)` per unknown, as the work-bounds estimate counts them) and the
-    /// solution's element records ([`ELEMENT_RECORD_BYTES`] each).
+    /// solution's element records (192 bytes each, `ELEMENT_RECORD_BYTES`).
     pub fn solve_bytes(&self) -> u64 {
         use crate::scene::work_bounds::{FFT_VECTORS, FFT_VECTORS_PER_ROW};
         let rows = (self.equilibrium_rows() + self.fingers.len()) as u64;
