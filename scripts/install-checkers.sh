@@ -8,14 +8,15 @@
 #   mcap (an independent MCAP reader);
 # - mujoco (grasp.mujoco's optional dependency, pinned: its tests compare with MuJoCo's own numbers);
 # - tamaas (the FFT boundary-element peer of `grasp bench`'s Hertz FFT cases, run through
-#   scripts/peer-hertz.py; pinned, its times are compared with ours).
+#   scripts/peer-hertz.py; pinned, its times are compared with ours);
+# - mypy (the type check of the package's stubs, tests/python/test_type_stubs.py).
 set -euo pipefail
 venv="$HOME/.cache/grasp-venv"
-want_rerun="0.36.3" want_pytest="9.2.0" want_ray="2.40.0" want_foxglove="0.30.3" want_mcap="1.6.0" want_mujoco="4.0.0" want_tamaas="2.9.0"
-if [ -x "$venv/bin/rerun" ] && CI=1 "$venv/bin/python" - "$want_rerun" "$want_pytest" "$want_ray" "$want_foxglove" "$want_mcap" "$want_mujoco" "$want_tamaas" 2>/dev/null <<'PY'
+want_rerun="0.36.3" want_pytest="9.2.0" want_ray="2.40.0" want_foxglove="0.30.3" want_mcap="1.6.0" want_mujoco="4.0.0" want_tamaas="2.9.0" want_mypy="1.13.0"
+if [ -x "$venv/bin/rerun" ] && CI=1 "$venv/bin/python" - "$want_rerun" "$want_pytest" "$want_ray" "$want_foxglove" "$want_mcap" "$want_mujoco" "$want_tamaas" "$want_mypy" 2>/dev/null <<'PY'
 import sys
 from importlib.metadata import version
-want = dict(zip(["rerun-sdk", "pytest", "ray", "foxglove-sdk", "mcap", "mujoco", "tamaas"], sys.argv[1:]))
+want = dict(zip(["rerun-sdk", "pytest", "ray", "foxglove-sdk", "mcap", "mujoco", "tamaas", "mypy"], sys.argv[1:]))
 sys.exit(0 if all(version(k) == v for k, v in want.items()) else 1)
 PY
 then
@@ -24,5 +25,6 @@ fi
 [ -x "$venv/bin/pip" ] || python3 -m venv "$venv"
 "$venv/bin/pip" install --quiet --disable-pip-version-check \
   "rerun-sdk==$want_rerun" "pytest==$want_pytest" "ray==$want_ray" \
-  "foxglove-sdk==$want_foxglove" "mcap==$want_mcap" "mujoco==$want_mujoco" "tamaas==$want_tamaas"
+  "foxglove-sdk==$want_foxglove" "mcap==$want_mcap" "mujoco==$want_mujoco" "tamaas==$want_tamaas" \
+  "mypy==$want_mypy"
 CI=1 "$venv/bin/rerun" --version

@@ -11,7 +11,7 @@ __version__: str
 Model = Literal["energy", "coulomb"]
 SolverName = Literal["auto", "native", "clarabel"]
 ComplianceName = Literal["auto", "dense", "fft"]
-Source = Union[str, "os.PathLike[str]", dict]
+Source = Union[str, "os.PathLike[str]", dict[str, Any]]
 
 class SceneError(ValueError):
     """A scene that cannot be used; ``problems``: list of {path, message, fix}."""
@@ -35,7 +35,7 @@ class Scene:
     @staticmethod
     def from_json(text: str) -> "Scene": ...
     @staticmethod
-    def from_dict(d: dict) -> "Scene":
+    def from_dict(d: dict[str, Any]) -> "Scene":
         """The scene of a dict. A finger's texture heights may be a NumPy array instead of a
         file: ``"texture": {"heights": {"array": a, "pixel_m": [dx, dy]}}`` (heights in
         metres, rows of ``a`` along ``t1``, its centre on the contact point); ``to_dict()``
