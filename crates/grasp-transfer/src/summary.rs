@@ -22,7 +22,8 @@ pub struct TransferSummary {
     pub failed_step_count: usize,
     /// Fingers loaded at the first successful step and unloaded at the last.
     pub releasing: Vec<String>,
-    /// Fingers unloaded at the first successful step and loaded at the last.
+    /// Fingers loaded at the last successful step (those holding the object at the end,
+    /// touching it from the start or not).
     pub receiving: Vec<String>,
     /// First time the receiving fingers carry at least as much normal force as the releasing
     /// ones, s.
@@ -490,11 +491,12 @@ impl SummaryAccumulator {
     }
 }
 
-/// Releasing (loaded first, unloaded last) and receiving (unloaded first, loaded last) finger
-/// indices, scene order.
+/// Releasing (loaded first, unloaded last) and receiving (loaded last: the fingers that hold
+/// the object at the end, whether they touched it from the start, as a position-held gripper
+/// waiting for the load does, or not) finger indices, scene order.
 fn split(first: &[bool], last: &[bool]) -> (Vec<usize>, Vec<usize>) {
     let rel = (0..first.len()).filter(|&i| first[i] && !last[i]).collect();
-    let rec = (0..first.len()).filter(|&i| !first[i] && last[i]).collect();
+    let rec = (0..first.len()).filter(|&i| last[i]).collect();
     (rel, rec)
 }
 
@@ -505,7 +507,7 @@ fn split_mask(first: &[bool], mask: usize, rel: &mut Vec<usize>, rec: &mut Vec<u
     for (i, &f) in first.iter().enumerate() {
         match (f, mask >> i & 1 == 1) {
             (true, false) => rel.push(i),
-            (false, true) => rec.push(i),
+            (_, true) => rec.push(i),
             _ => {}
         }
     }

@@ -366,19 +366,24 @@ const SLIP_MARGIN_ROUND_OFF: f64 = 1e-9;
 fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) -> String {
     let mut o = String::new();
     let _ = writeln!(o, "steps: {done} of {planned}");
-    let _ = writeln!(o, "releasing fingers: {}", list(&s.releasing));
-    let _ = writeln!(o, "receiving fingers: {}", list(&s.receiving));
-    let t = |x: Option<f64>| x.map_or("never".to_string(), |v| format!("t = {v:.3} s"));
-    let _ = writeln!(
-        o,
-        "receiving fingers carry half the load: {}",
-        t(s.half_transfer_time_s)
-    );
-    let _ = writeln!(
-        o,
-        "receiving fingers carry all the load:  {}",
-        t(s.full_transfer_time_s)
-    );
+    if s.releasing.is_empty() {
+        // A hold, or a run in which no finger lets go: no hand-off to time.
+        let _ = writeln!(o, "hand-off: none (no finger lets go during the run)");
+    } else {
+        let _ = writeln!(o, "releasing fingers: {}", list(&s.releasing));
+        let _ = writeln!(o, "receiving fingers: {}", list(&s.receiving));
+        let t = |x: Option<f64>| x.map_or("never".to_string(), |v| format!("t = {v:.3} s"));
+        let _ = writeln!(
+            o,
+            "receiving fingers carry half the load: {}",
+            t(s.half_transfer_time_s)
+        );
+        let _ = writeln!(
+            o,
+            "receiving fingers carry all the load:  {}",
+            t(s.full_transfer_time_s)
+        );
+    }
     let _ = writeln!(
         o,
         "peak squeeze (sum of normal forces): {:.4} N at t = {:.3} s",
