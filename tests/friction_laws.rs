@@ -173,6 +173,44 @@ fn coulomb_cannot_hold_names_the_finger_lacking_grip() {
     // The floor is named first: it carries most of the slip of the escape motion (the block
     // also tips about the floor, so the pusher's contact slides a little as well).
     assert!(reason.contains("lacking grip: floor ("), "{reason}");
+    // The floor is held (position-controlled): its grip comes from pressing it in.
+    assert!(
+        reason.contains("press the position-controlled fingers lacking grip in further"),
+        "{reason}"
+    );
+}
+
+/// The fix a "cannot hold" names follows the control of the fingers lacking grip: a
+/// force-controlled pinch is told to raise its normal load, a position-controlled one to
+/// press in further (its load is the model's answer to the approach).
+#[test]
+fn cannot_hold_names_the_fix_the_fingers_control_allows() {
+    // The coulomb plate at 2 N a finger (each pair needs W / (2 mu) = 5.56 N).
+    let mut forced = example_json("plate_handoff_coulomb.json");
+    for f in forced["fingers"].as_array_mut().unwrap() {
+        if f["control"]["normal_load"].as_f64().unwrap() > 0.0 {
+            f["control"]["normal_load"] = json!(2.0);
+        }
+    }
+    let s = solve_json(&forced);
+    assert_eq!(s.status, SolveStatus::NoEquilibrium);
+    let reason = s.reason.unwrap();
+    assert!(
+        reason.contains("raise the normal load of the fingers lacking grip"),
+        "{reason}"
+    );
+    // The viscoelastic hold's pair pressed in by 1 um: too little squeeze for the weight.
+    let mut pressed = example_json("plate_hold_viscoelastic.json");
+    for f in pressed["fingers"].as_array_mut().unwrap() {
+        f["control"]["approach_m"] = json!(1e-6);
+    }
+    let s = solve_json(&pressed);
+    assert_eq!(s.status, SolveStatus::NoEquilibrium);
+    let reason = s.reason.unwrap();
+    assert!(
+        reason.contains("press the position-controlled fingers lacking grip in further"),
+        "{reason}"
+    );
 }
 
 /// With the iteration limit at one convex solve, a cold-started coulomb step whose normal

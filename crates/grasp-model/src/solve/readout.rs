@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use nalgebra::{DVector, Vector3};
 
-use crate::model::grasp_model::{FingerModel, GraspModel};
+use crate::model::grasp_model::{Control, FingerModel, GraspModel};
 use crate::option_names;
 use crate::program::cone_program::{ConeProgram, LoadRow};
 use crate::solve::patch_check::patch_warnings;
@@ -188,8 +188,24 @@ pub(crate) fn cannot_hold_reason(
     if let Some(d) = escape_motion(model, program, cert).along {
         s.push_str(&format!("; the object would slide along {}", fmt3(&d)));
     }
-    s.push_str("; raise the normal load of the fingers lacking grip (or mu)");
+    s.push_str(grip_fix(model, &sliding));
     s
+}
+
+/// How to give the fingers lacking grip more of it: a force-controlled finger's load, a
+/// position-controlled one's approach (its load is the model's answer to it).
+fn grip_fix(model: &GraspModel, sliding: &[(String, f64)]) -> &'static str {
+    let positioned = sliding.iter().any(|(name, _)| {
+        model.fingers.iter().any(|f| {
+            f.name == *name && matches!(f.control, Control::Approach { .. } | Control::Held)
+        })
+    });
+    if positioned {
+        "; press the position-controlled fingers lacking grip in further (a larger approach), \
+         or raise the normal load of the force-controlled ones (or mu)"
+    } else {
+        "; raise the normal load of the fingers lacking grip (or mu)"
+    }
 }
 
 /// Resultants and element fields of finger `i` from its elements' checks.
