@@ -275,9 +275,16 @@ fn failure_words(m: &DirectionMargin) -> String {
         None => "holds up to the cap".into(),
         Some(Failure::Slides { finger }) => format!("{finger} slides"),
         Some(Failure::NoEquilibrium { .. }) => "no equilibrium".into(),
-        Some(Failure::NoConvergence { .. }) => "no convergence".into(),
+        // The grasp's limit, where the program turns degenerate and the solves stall: the
+        // table's note says so (it is not the solver breaking down elsewhere).
+        Some(Failure::NoConvergence { .. }) => "limit (solves stall)".into(),
     }
 }
+
+/// The note under a table with a direction whose trials stopped converging.
+const STALL_NOTE: &str = "limit (solves stall): past this magnitude the solves no longer \
+    converge, as they do at the edge of equilibrium where the program turns degenerate; the \
+    grasp counts as failing there, so such a margin can come out up to 0.1 % low";
 
 /// The report as a table.
 fn table(scene: &Path, r: &MarginReport) -> String {
@@ -324,6 +331,10 @@ fn table(scene: &Path, r: &MarginReport) -> String {
             let _ = writeln!(s, "#{i} stopped early: {note}");
         }
     }
+    let stalled = |m: &DirectionMargin| matches!(m.failure, Some(Failure::NoConvergence { .. }));
+    if r.directions.iter().any(stalled) {
+        let _ = writeln!(s, "{STALL_NOTE}");
+    }
     if !r.sliding_undisturbed.is_empty() {
         let _ = writeln!(
             s,
@@ -360,4 +371,43 @@ fn table(scene: &Path, r: &MarginReport) -> String {
         r.time_s * 1e3
     );
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A report of two directions: one failing where its solves stall, one by sliding.
+    fn report(stall: bool) -> MarginReport {
+        let direction = |failure: serde_json::Value, force: [f64; 3]| {
+            serde_json::json!({"direction": {"force": force, "torque": [0.0, 0.0, 0.0]},
+                "margin_n": 1.5, "fails_at_n": 1.51, "force_n": force,
+                "torque_nm": [0.0, 0.0, 0.0], "bounded": true, "failing_finger": "a",
+                "failure": failure, "solves": 12, "time_s": 0.01})
+        };
+        let first = match stall {
+            true => serde_json::json!({"kind": "no_convergence", "reason": "stalled"}),
+            false => serde_json::json!({"kind": "slides", "finger": "a"}),
+        };
+        let slides = serde_json::json!({"kind": "slides", "finger": "b"});
+        serde_json::from_value(serde_json::json!({"model": "energy", "length_m": 0.02,
+            "load_scale_n": 10.0, "sliding_undisturbed": [],
+            "directions": [direction(first, [1.0, 0.0, 0.0]), direction(slides, [0.0, 1.0, 0.0])],
+            "smallest": 0, "unresisted": [], "solves": 24, "time_s": 0.02}))
+        .expect("a report")
+    }
+
+    #[test]
+    fn a_stall_at_the_limit_is_named_as_the_limit_and_explained_once() {
+        let with = table(Path::new("s.json"), &report(true));
+        assert!(with.contains("limit (solves stall)"), "{with}");
+        assert!(!with.contains("no convergence"), "{with}");
+        assert_eq!(
+            with.matches("past this magnitude the solves no longer")
+                .count(),
+            1
+        );
+        let without = table(Path::new("s.json"), &report(false));
+        assert!(!without.contains("solves stall"), "{without}");
+    }
 }
