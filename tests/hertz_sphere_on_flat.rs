@@ -157,6 +157,20 @@ fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {
         Err(ModelError::Derivative(m)) => assert!(m.contains("`SolveOptions::compliance`"), "{m}"),
         other => panic!("sensitivities on a 128x128 FFT patch: {other:?}"),
     }
+    // At 256 x 256 the dense path would need 32 GiB as well: the grid is too fine, said so
+    // instead of sending the caller to a dense compliance it cannot afford.
+    let fine = GraspModel::from_scene(&scene(256, 2.4)).unwrap();
+    let mut solver = GraspSolver::new(&fine, SolveOptions::default());
+    let sol = solver
+        .solve(&grasp_model::StepInputs::of_scene(&fine))
+        .unwrap();
+    match solver.sensitivities(&sol) {
+        Err(ModelError::Derivative(m)) => {
+            assert!(m.contains("the grid is too fine"), "{m}");
+            assert!(!m.contains("to dense"), "{m}");
+        }
+        other => panic!("sensitivities on a 256x256 FFT patch: {other:?}"),
+    }
     let clarabel = SolveOptions {
         solver: SolverChoice::Clarabel,
         ..SolveOptions::default()

@@ -26,8 +26,11 @@ const WIDTH: u32 = 800;
 /// A short label of a direction: its nonzero components (`F[...]` in N, `T[...]` in N m).
 pub fn label(d: &WrenchDirection) -> String {
     let part = |v: &[f64; 3], unit: &str| -> Option<String> {
-        (v.iter().any(|c| c.abs() > 1e-12))
-            .then(|| format!("{unit}[{:+.2},{:+.2},{:+.2}]", v[0], v[1], v[2]))
+        (v.iter().any(|c| c.abs() > 1e-12)).then(|| {
+            // A component that rounds to zero prints as +0.00, never -0.00.
+            let c = |x: f64| if x.abs() < 0.005 { 0.0 } else { x };
+            format!("{unit}[{:+.2},{:+.2},{:+.2}]", c(v[0]), c(v[1]), c(v[2]))
+        })
     };
     [part(&d.force, "F"), part(&d.torque, "T")]
         .into_iter()
@@ -285,6 +288,15 @@ fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &MarginReport) -> 
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_label_never_shows_minus_zero() {
+        let d = WrenchDirection {
+            force: [-0.0, -1.0, -1e-9],
+            torque: [0.0; 3],
+        };
+        assert_eq!(super::label(&d), "F[+0.00,-1.00,+0.00]");
+    }
+
     use super::*;
 
     /// A panel axis along a world axis is named by it (with its sign); any other by its

@@ -36,6 +36,10 @@ use crate::solver::program_solver::ProgramSolver;
 /// wrenches exceeds this fraction of it (smaller parts are round-off of the row reduction).
 const UNRESISTED_FRACTION: f64 = 1e-9;
 
+/// Largest dense system (GiB) a message still offers as the way out: beyond it the grid is
+/// too fine for the dense path as well.
+const DENSE_WITHIN_REACH_GIB: f64 = 4.0;
+
 /// Distance (relative to the largest scaled force) of an element's projection input from a
 /// state boundary below which the element is reported as about to change state.
 pub const NEAR_CHANGE: f64 = 1e-6;
@@ -275,12 +279,22 @@ pub(crate) fn sensitivities(
             && f.n_unknowns() > crate::model::patch_compliance::MATERIALISED_UNKNOWNS
     }) {
         // The derivative's system is dense in the free directions (n_free^2 entries).
+        let n = f.n_unknowns();
+        let gib = (n as f64).powi(2) * 8.0 / (1u64 << 30) as f64;
+        let fix = if gib <= DENSE_WITHIN_REACH_GIB {
+            format!(
+                "set `{}` to dense for them",
+                crate::option_names::COMPLIANCE
+            )
+        } else {
+            "the grid is too fine for them (a dense compliance would hold as much): coarsen \
+             its `patch.grid`"
+                .to_string()
+        };
         return Err(ModelError::Derivative(format!(
-            "finger `{}` has {} unknowns on the FFT compliance, too many for the dense system \
-             of the derivative: sensitivities need `{}` dense (or a coarser grid)",
-            f.name,
-            f.n_unknowns(),
-            crate::option_names::COMPLIANCE
+            "finger `{}` has {n} unknowns on the FFT compliance, too many for the dense system \
+             of the derivative ({gib:.1} GiB); sensitivities need a matrix: {fix}",
+            f.name
         )));
     }
     let mut params = wrench_parameters(model);

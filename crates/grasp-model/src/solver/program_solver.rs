@@ -174,7 +174,8 @@ impl ProgramSolver {
             // Clarabel needs the matrices: the stall is the outcome.
             let reason = format!(
                 "no convergence: {why}; Clarabel cannot take over a model with the FFT \
-                 compliance (set `{}` to dense for it)",
+                 compliance (setting `{}` to dense lets it, for patches of up to about 20,000 \
+                 unknowns)",
                 option_names::COMPLIANCE
             );
             let failed = ConvexOutcome::Failed { reason };
