@@ -169,7 +169,7 @@ fn draw_history<DB: DrawingBackend>(
     root.fill(&WHITE).map_err(draw_err)?;
     let mut chart = ChartBuilder::on(root)
         .caption(
-            format!("Forces during the hand-off: {title}"),
+            format!("Normal and friction forces along the schedule: {title}"),
             ("sans-serif", 16),
         )
         .margin(12)
