@@ -140,6 +140,22 @@ fn state_counts(f: &grasp_model::FingerSolution) -> String {
     cell
 }
 
+/// `x` to `digits` significant digits, in plain decimals from 1e-3 to 1e6 and in exponent form
+/// outside (a margin of 2.5385 N, not 2.53853e0; one of 4.3e-9 N stays readable).
+pub fn significant(x: f64, digits: usize) -> String {
+    let digits = digits.max(1);
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let a = x.abs();
+    if (1e-3..1e6).contains(&a) {
+        let decimals = (digits as i32 - 1 - a.log10().floor() as i32).max(0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.*e}", digits - 1)
+    }
+}
+
 /// `n` and its noun, singular for one: `1 Newton step`, `7 Newton steps`.
 pub fn count(n: impl Into<u64>, singular: &str, plural: &str) -> String {
     let n = n.into();
@@ -370,6 +386,17 @@ pub fn hertz_table(scene: &grasp_model::Scene) -> anyhow::Result<String> {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn significant_digits_are_plain_in_the_usual_range() {
+        use super::significant;
+        assert_eq!(significant(2.538531, 5), "2.5385");
+        assert_eq!(significant(0.0170589, 5), "0.017059");
+        assert_eq!(significant(4448.0, 5), "4448.0");
+        assert_eq!(significant(25.7943, 5), "25.794");
+        assert_eq!(significant(5.1381e-4, 5), "5.1381e-4");
+        assert_eq!(significant(0.0, 5), "0");
+    }
+
     use super::count;
 
     #[test]

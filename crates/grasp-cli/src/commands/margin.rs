@@ -310,9 +310,9 @@ fn table(scene: &Path, r: &MarginReport) -> String {
     for (i, m) in r.directions.iter().enumerate() {
         let torque = m.torque_nm.iter().map(|v| v * v).sum::<f64>().sqrt();
         let margin = if m.bounded {
-            format!("{:.5e}", m.margin_n)
+            crate::report::significant(m.margin_n, 5)
         } else {
-            format!(">{:.3e}", m.margin_n)
+            format!(">{}", crate::report::significant(m.margin_n, 4))
         };
         let _ = writeln!(
             s,
@@ -356,8 +356,8 @@ fn table(scene: &Path, r: &MarginReport) -> String {
     let w = &r.directions[r.smallest];
     let _ = writeln!(
         s,
-        "smallest margin: {:.5e} N along #{} {} ({}, first to fail: {})",
-        w.margin_n,
+        "smallest margin: {} N along #{} {} ({}, first to fail: {})",
+        crate::report::significant(w.margin_n, 5),
         r.smallest,
         label(&w.direction),
         failure_words(w),

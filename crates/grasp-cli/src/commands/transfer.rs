@@ -413,12 +413,12 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
     if let Some(l) = &s.least_safe_step {
         let _ = writeln!(
             o,
-            "least safe step: {} (t = {:.3} s), smallest disturbance margin {}{:.4e} N along {} \
+            "least safe step: {} (t = {:.3} s), smallest disturbance margin {}{} N along {} \
              (first to fail: {})",
             l.step,
             l.time_s,
             if l.bounded { "" } else { ">" },
-            l.margin_n,
+            crate::report::significant(l.margin_n, 5),
             crate::pictures::margin_plot::label(&l.direction),
             l.failing_finger.as_deref().unwrap_or("-"),
         );
@@ -426,8 +426,11 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
     if let Some(c) = &s.margin_below_threshold {
         let _ = writeln!(
             o,
-            "smallest disturbance margin below {:.4e} N: first at step {} (t = {:.3} s), {:.4e} N",
-            c.threshold_n, c.step, c.time_s, c.margin_n
+            "smallest disturbance margin below {} N: first at step {} (t = {:.3} s), {} N",
+            crate::report::significant(c.threshold_n, 5),
+            c.step,
+            c.time_s,
+            crate::report::significant(c.margin_n, 5)
         );
     }
     for h in &s.held_relaxation {
