@@ -76,6 +76,13 @@ def test_library_option_names_reach_python_as_keywords(cube_a_dict):
     message = str(e.value)
     assert "set `compliance=` to dense" in message, message
     assert "SolveOptions" not in message, message
+    # A scene problem (a dense compliance too large for a 100 x 100 patch with friction)
+    # names the keyword too, in the message and in its problems' fix.
+    cube_a_dict["fingers"][0]["patch"]["grid"] = [100, 100]
+    with pytest.raises(grasp.SceneError) as e:
+        grasp.solve(grasp.Scene(cube_a_dict), compliance="dense")
+    assert "SolveOptions" not in str(e.value), str(e.value)
+    assert any("`compliance=`" in p["fix"] for p in e.value.problems), e.value.problems
 
 
 def test_extreme_scene_numbers_are_quoted_in_exponent_form(cube_a_dict):

@@ -37,13 +37,15 @@ fn with_problems<E: pyo3::PyTypeInfo>(
     message: String,
     problems: &[InputProblem],
 ) -> PyErr {
-    let err = PyErr::from_type(py.get_type::<E>(), message);
+    // The library names options as its Rust API spells them: here, as keyword arguments.
+    let words = crate::keywords::in_keywords;
+    let err = PyErr::from_type(py.get_type::<E>(), words(&message));
     let list = PyList::empty(py);
     for p in problems {
         let d = PyDict::new(py);
         let _ = d.set_item("path", &p.path);
-        let _ = d.set_item("message", &p.message);
-        let _ = d.set_item("fix", &p.fix);
+        let _ = d.set_item("message", words(&p.message));
+        let _ = d.set_item("fix", words(&p.fix));
         let _ = list.append(d);
     }
     let _ = err.value(py).setattr("problems", list);

@@ -727,7 +727,8 @@ fn check_dense_bytes(scene: &Scene, compliance: ComplianceChoice) -> Result<(), 
     Err(SceneError::Invalid(vec![crate::error::InputProblem {
         path: "fingers".into(),
         message: format!(
-            "the dense patch compliance blocks need {:.1} GiB, more than {:.0} GiB",
+            "the dense patch compliance blocks alone need {:.1} GiB (a whole solve needs \
+             several times that), more than the {:.0} GiB allowed them",
             bytes / 1073741824.0,
             MAX_COMPLIANCE_BYTES / 1073741824.0
         ),
