@@ -231,6 +231,31 @@ pub struct MarginReport {
     pub time_s: f64,
 }
 
+impl MarginReport {
+    /// The report of `margins` (one per direction) found for `model` since `clock` started,
+    /// the undisturbed solve counted among the solves.
+    pub(crate) fn of(
+        model: &GraspModel,
+        length_m: f64,
+        sliding_undisturbed: Vec<String>,
+        margins: Vec<DirectionMargin>,
+        clock: Instant,
+    ) -> MarginReport {
+        let (unresisted, smallest) = unresisted_and_smallest(&margins);
+        MarginReport {
+            model: model.kind(),
+            length_m,
+            load_scale_n: model.scales.load_n,
+            solves: 1 + margins.iter().map(|m| m.solves).sum::<u32>(),
+            sliding_undisturbed,
+            directions: margins,
+            smallest,
+            unresisted,
+            time_s: clock.elapsed().as_secs_f64(),
+        }
+    }
+}
+
 /// The 12 axis directions in 3-D (force `+-x, +-y, +-z`, then torque), the 6 in-plane ones of
 /// a planar scene (force `+-e1, +-e2`, torque `+-p`).
 pub fn axis_directions(model: &GraspModel) -> Vec<WrenchDirection> {
@@ -682,18 +707,13 @@ pub fn disturbance_margins_reporting(
             })
             .collect::<Result<_, _>>()?,
     };
-    let (unresisted, smallest) = unresisted_and_smallest(&margins);
-    Ok(MarginReport {
-        model: model.kind(),
+    Ok(MarginReport::of(
+        model,
         length_m,
-        load_scale_n: model.scales.load_n,
-        solves: 1 + margins.iter().map(|m| m.solves).sum::<u32>(),
         sliding_undisturbed,
-        directions: margins,
-        smallest,
-        unresisted,
-        time_s: clock.elapsed().as_secs_f64(),
-    })
+        margins,
+        clock,
+    ))
 }
 
 /// The margin along `d` of a grasp that fails undisturbed (`f`): 0, with that failure.

@@ -41,8 +41,8 @@ use nalgebra::Vector3;
 
 use crate::analysis::load_fixed_directions::LoadFixedDirections;
 use crate::analysis::margin::{
-    failing_undisturbed, holds, sliding_fingers, unresisted_and_smallest, DirectionMargin, Fails,
-    Failure, Held, MarginOptions, MarginReport, Search, WrenchDirection, ZERO_MARGIN,
+    failing_undisturbed, holds, sliding_fingers, DirectionMargin, Fails, Failure, Held,
+    MarginOptions, MarginReport, Search, WrenchDirection, ZERO_MARGIN,
 };
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
@@ -179,18 +179,13 @@ impl MarginTracker {
                     .collect::<Result<_, _>>()?
             }
         };
-        let (unresisted, smallest) = unresisted_and_smallest(&margins);
-        Ok(MarginReport {
-            model: model.kind(),
+        Ok(MarginReport::of(
+            model,
             length_m,
-            load_scale_n: model.scales.load_n,
-            solves: 1 + margins.iter().map(|m| m.solves).sum::<u32>(),
             sliding_undisturbed,
-            directions: margins,
-            smallest,
-            unresisted,
-            time_s: clock.elapsed().as_secs_f64(),
-        })
+            margins,
+            clock,
+        ))
     }
 
     /// Drops the solvers unless they were built for `model` and `solve_options`.

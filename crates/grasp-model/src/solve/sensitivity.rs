@@ -274,40 +274,9 @@ pub(crate) fn sensitivities(
         (true, Some(it)) => it.clone(),
         _ => return Err(ModelError::NoSolution),
     };
-    if let Some(f) = model.fingers.iter().find(|f| {
-        f.compliance_m_per_n.is_fft()
-            && f.n_unknowns() > crate::model::patch_compliance::MATERIALISED_UNKNOWNS
-    }) {
-        // The derivative's system is dense in the free directions (n_free^2 entries).
-        let n = f.n_unknowns();
-        let gib = (n as f64).powi(2) * 8.0 / (1u64 << 30) as f64;
-        let fix = if gib <= DENSE_WITHIN_REACH_GIB {
-            format!(
-                "set `{}` to dense for them",
-                crate::option_names::COMPLIANCE
-            )
-        } else {
-            "the grid is too fine for them (a dense compliance would hold as much): coarsen \
-             its `patch.grid`"
-                .to_string()
-        };
-        return Err(ModelError::Derivative(format!(
-            "finger `{}` has {n} unknowns on the FFT compliance, too many for the dense system \
-             of the derivative ({gib:.1} GiB); sensitivities need a matrix: {fix}",
-            f.name
-        )));
-    }
+    refuse_fine_fft(model)?;
     let mut params = wrench_parameters(model);
-    params.extend(directions.iter().map(|d| {
-        let p = Parameter {
-            name: format!("loads:{}", d.name),
-            kind: "loads".into(),
-            direction: None,
-            defined: true,
-            reason: None,
-        };
-        (p, None)
-    }));
+    params.extend(directions.iter().map(load_direction_parameter));
     let rhs = rhs_columns(model, ps, &mut params, directions);
     let mu = radius_coefficients(model, ps, solution);
     let scale = iterate.x.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
@@ -354,6 +323,47 @@ pub(crate) fn sensitivities(
         near_changes,
         notes: notes(model),
     })
+}
+
+/// Refuses a finger on the FFT compliance too large for the derivative's dense system, with
+/// the way out: a dense compliance where it fits, a coarser grid where it does not.
+fn refuse_fine_fft(model: &GraspModel) -> Result<(), ModelError> {
+    let Some(f) = model.fingers.iter().find(|f| {
+        f.compliance_m_per_n.is_fft()
+            && f.n_unknowns() > crate::model::patch_compliance::MATERIALISED_UNKNOWNS
+    }) else {
+        return Ok(());
+    };
+    // The derivative's system is dense in the free directions (n_free^2 entries).
+    let n = f.n_unknowns();
+    let gib = (n as f64).powi(2) * 8.0 / (1u64 << 30) as f64;
+    let fix = if gib <= DENSE_WITHIN_REACH_GIB {
+        format!(
+            "set `{}` to dense for them",
+            crate::option_names::COMPLIANCE
+        )
+    } else {
+        "the grid is too fine for them (a dense compliance would hold as much): coarsen \
+             its `patch.grid`"
+            .to_string()
+    };
+    Err(ModelError::Derivative(format!(
+        "finger `{}` has {n} unknowns on the FFT compliance, too many for the dense system \
+             of the derivative ({gib:.1} GiB); sensitivities need a matrix: {fix}",
+        f.name
+    )))
+}
+
+/// The parameter column of a [`LoadDirection`] (`loads:<name>`).
+fn load_direction_parameter(d: &LoadDirection) -> (Parameter, Option<nalgebra::Vector6<f64>>) {
+    let p = Parameter {
+        name: format!("loads:{}", d.name),
+        kind: "loads".into(),
+        direction: None,
+        defined: true,
+        reason: None,
+    };
+    (p, None)
 }
 
 /// One finger's derivatives from `dx(row, column)` (N per parameter unit).

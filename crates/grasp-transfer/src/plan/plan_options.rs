@@ -79,6 +79,13 @@ impl PlanOptions {
     /// Every problem of the options against the scene's finger names, as `(option, problem
     /// and fix)`.
     pub fn problems(&self, finger_names: &[String]) -> Vec<(String, String)> {
+        let mut out = self.finger_problems(finger_names);
+        out.extend(self.range_problems());
+        out
+    }
+
+    /// The planned fingers: named in the scene, at least one releasing, none in both lists.
+    fn finger_problems(&self, finger_names: &[String]) -> Vec<(String, String)> {
         let mut out = Vec::new();
         let mut say = |o: &str, m: String| out.push((o.to_string(), m));
         for (option, list) in [
@@ -104,6 +111,13 @@ impl PlanOptions {
                 format!("`{both}` is also releasing; a finger is one or the other"),
             );
         }
+        out
+    }
+
+    /// The numbers: each within its range, and the objective given what it needs.
+    fn range_problems(&self) -> Vec<(String, String)> {
+        let mut out = Vec::new();
+        let mut say = |o: &str, m: String| out.push((o.to_string(), m));
         if !(0.0..1.0).contains(&self.min_slip_margin) {
             say(
                 "min-slip-margin",
