@@ -87,6 +87,7 @@ pub fn transfer(
         margins_from_scratch: cold,
         margin_threshold_n: None,
         sensitivities: false,
+        ..TransferOptions::default()
     };
     let (schedule, mut inputs) = load_schedule(py, scene, schedule)?;
     inputs.extend(&scene.inputs);

@@ -35,16 +35,17 @@ pub struct StepMargin {
 }
 
 /// The margin of the step grasp `model` under the step's `inputs` (its loads, approaches and
-/// external wrench) from `state`, the contact state at the start of the step.
+/// external wrench) from `state`, the contact state at the start of the step, searched with
+/// `options`.
 pub fn step_margin(
     model: &GraspModel,
     inputs: &StepInputs,
     state: &ContactState,
     solve: SolveOptions,
+    options: &MarginOptions,
 ) -> Result<StepMargin, ModelError> {
     let dirs = axis_directions(model);
-    let options = MarginOptions::default();
-    let r = disturbance_margins(model, inputs, state, solve, &dirs, &options)?;
+    let r = disturbance_margins(model, inputs, state, solve, &dirs, options)?;
     Ok(smallest_of(&r))
 }
 
@@ -54,6 +55,8 @@ pub fn step_margin(
 pub struct MarginPath {
     /// The tracker, made at the first step (its directions are the first step's model's).
     tracker: Option<MarginTracker>,
+    /// The options of its searches.
+    options: MarginOptions,
 }
 
 impl Default for MarginPath {
@@ -63,9 +66,17 @@ impl Default for MarginPath {
 }
 
 impl MarginPath {
-    /// A path before its first step.
+    /// A path before its first step, searched with the default options.
     pub fn new() -> Self {
-        MarginPath { tracker: None }
+        Self::with_options(MarginOptions::default())
+    }
+
+    /// A path before its first step, searched with `options`.
+    pub fn with_options(options: MarginOptions) -> Self {
+        MarginPath {
+            tracker: None,
+            options,
+        }
     }
 
     /// The margin of the next step: as [`step_margin`], from the last step's margins.
@@ -78,10 +89,9 @@ impl MarginPath {
     ) -> Result<StepMargin, ModelError> {
         let tracker = match &mut self.tracker {
             Some(t) => t,
-            None => self.tracker.insert(MarginTracker::new(
-                axis_directions(model),
-                MarginOptions::default(),
-            )?),
+            None => self
+                .tracker
+                .insert(MarginTracker::new(axis_directions(model), self.options)?),
         };
         Ok(smallest_of(&tracker.margins(model, inputs, state, solve)?))
     }

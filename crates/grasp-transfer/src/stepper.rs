@@ -24,8 +24,8 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use grasp_model::{
-    ContactState, Control, FingerState, GraspModel, GraspSolver, LoadDirection, Scene, SceneError,
-    Sensitivities, Solution, SolveOptions, SolverKind, SolverStats, StepInputs,
+    ContactState, Control, FingerState, GraspModel, GraspSolver, LoadDirection, MarginOptions,
+    Scene, SceneError, Sensitivities, Solution, SolveOptions, SolverKind, SolverStats, StepInputs,
 };
 use serde::Serialize;
 
@@ -54,6 +54,9 @@ pub struct TransferOptions {
     /// With `margins`, the summary says when the smallest margin first fell below this many
     /// newtons.
     pub margin_threshold_n: Option<f64>,
+    /// With `margins`, the options of the margins' search (its bisection tolerance above all;
+    /// the default's is 1e-3 of the margin).
+    pub margin_options: MarginOptions,
     /// Differentiate every solved step ([`GraspSolver::sensitivities`]: the finger forces'
     /// derivatives with respect to the commanded loads and an extra wrench, from the KKT
     /// system at the step's active set), kept in [`StepRecord::sensitivities`] (the
@@ -70,6 +73,7 @@ impl Default for TransferOptions {
             margins: false,
             margins_from_scratch: false,
             margin_threshold_n: None,
+            margin_options: MarginOptions::default(),
             sensitivities: false,
         }
     }
@@ -231,7 +235,8 @@ impl<'a> Stepper<'a> {
                 .map(|r| r.force.iter().map(|c| c * c).sum::<f64>().sqrt())
                 .fold(scene.object.weight, f64::max)
                 .max(schedule.external_scale()),
-            margin_path: (options.margins && !options.margins_from_scratch).then(MarginPath::new),
+            margin_path: (options.margins && !options.margins_from_scratch)
+                .then(|| MarginPath::with_options(options.margin_options)),
             load_directions: Vec::new(),
         }
     }
@@ -504,9 +509,13 @@ impl<'a> Stepper<'a> {
             (Ok(sol), Some(b), Some(path)) if sol.status.has_forces() => {
                 Some(path.step_margin(&model, &inputs, &b, options.solve))
             }
-            (Ok(sol), Some(b), None) if sol.status.has_forces() => {
-                Some(step_margin(&model, &inputs, &b, options.solve))
-            }
+            (Ok(sol), Some(b), None) if sol.status.has_forces() => Some(step_margin(
+                &model,
+                &inputs,
+                &b,
+                options.solve,
+                &options.margin_options,
+            )),
             _ => None,
         };
         let sol = solved?;

@@ -265,6 +265,7 @@ pub(crate) fn run(
         margins_from_scratch: flags.cold,
         margin_threshold_n: flags.margin_threshold,
         sensitivities: false,
+        ..TransferOptions::default()
     };
     let mut history = out.plot.as_ref().map(|_| ForceHistory::new(&names));
     let started = std::time::Instant::now();
