@@ -199,6 +199,7 @@ def plan(
     receiving: Sequence[str] = (),
     template: Optional[Source] = None,
     min_slip_margin: float = 0.0,
+    min_margin: Optional[float] = None,
     min_load: float = 0.0,
     max_load: Optional[float] = None,
     max_rate: Optional[float] = None,

@@ -51,3 +51,22 @@ def test_constraints_no_schedule_meets_raise_with_the_keyword_named():
         grasp.plan(scene, releasing=["f1", "f2"])
     with pytest.raises(ValueError, match="objective="):
         grasp.plan(scene, releasing=["f1"], objective="fastest")
+
+
+def test_a_disturbance_margin_threshold_is_kept_and_named_by_its_keyword():
+    scene = grasp.Scene(SCENE)
+    # Few steps and runs: each run's margins cost seconds.
+    plan = grasp.plan(
+        scene, releasing=["f1", "f2"], receiving=["f3", "f4"], objective="margin",
+        duration=8.0, steps=4, max_runs=5, min_margin=0.5,
+    )
+    assert plan["met"], plan["binding"]
+    along = [m["disturbance_n"] for m in plan["margins"]]
+    assert len(along) == 5
+    # The planner's tolerance on a disturbance margin: 2e-3 of the threshold.
+    assert min(along) >= 0.5 * (1 - 2e-3)
+    # grasp.transfer's own margins along the schedule are the ones the plan reports.
+    run = grasp.transfer(scene, plan["schedule"], margins=True)
+    assert run.smallest_margins_n == pytest.approx(along, rel=1e-12)
+    with pytest.raises(ValueError, match="min_margin="):
+        grasp.plan(scene, releasing=["f1", "f2"], max_rate=1.5, min_margin=0.0)

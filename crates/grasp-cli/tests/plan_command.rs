@@ -1,7 +1,9 @@
 //! `grasp plan` as a user runs it: the planned schedule, re-run independently by `grasp
 //! transfer`, keeps every constraint at every step (checked on the transfer's CSV, not on the
 //! planner's report); a threshold no schedule near the template can keep is reported with the
-//! finger, time and reason; constraints no schedule can meet are refused by name.
+//! finger, time and reason; a disturbance-margin threshold is kept when re-run by `grasp
+//! transfer --margins`, and one above the grasp's best is refused as binding; constraints no
+//! schedule can meet are refused by name.
 
 mod common;
 
@@ -227,4 +229,114 @@ fn constraints_no_schedule_can_meet_are_refused_with_the_binding_one_named() {
     assert_eq!(o.status.code(), Some(1));
     assert!(text(&o).contains("no finger named `f9`"), "{}", text(&o));
     assert!(!out.exists());
+}
+
+/// The plan's stated tolerance on the disturbance margin, relative (`DISTURBANCE_TOLERANCE`:
+/// the margins' bisection bracket, 1e-3 of a margin, plus the linearisation's error).
+const DISTURBANCE_TOLERANCE: f64 = 2e-3;
+
+/// The smallest disturbance margin of a `grasp transfer --margins` CSV (its
+/// `smallest_margin_n` column) and its time.
+fn smallest_disturbance(csv: &str) -> (f64, f64) {
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let (t, m) = (col("time_s"), col("smallest_margin_n"));
+    lines
+        .map(|l| {
+            let v: Vec<&str> = l.split(',').collect();
+            (v[m].parse::<f64>().unwrap(), v[t].parse::<f64>().unwrap())
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .expect("steps")
+}
+
+/// `grasp transfer --margins` of the coulomb plate along `schedule`: its CSV's smallest
+/// disturbance margin and time.
+fn rerun_margins(schedule: &std::path::Path, csv: &std::path::Path) -> (f64, f64) {
+    let t = grasp(&[
+        "transfer",
+        &example("plate_handoff_coulomb.json"),
+        "--schedule",
+        schedule.to_str().unwrap(),
+        "--margins",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--force",
+    ]);
+    assert_eq!(t.status.code(), Some(0), "{}", text(&t));
+    smallest_disturbance(&std::fs::read_to_string(csv).unwrap())
+}
+
+#[test]
+fn a_disturbance_margin_threshold_is_kept_when_the_plan_is_rerun_by_transfer() {
+    let d = tmp("plan", "disturbance");
+    let (free, kept, csv) = (
+        d.join("free.schedule.json"),
+        d.join("kept.schedule.json"),
+        d.join("run.csv"),
+    );
+    // 12 steps keep each run's margins to a few seconds.
+    let base = ["--max-rate", "1.5", "--steps", "12"];
+    let o = plan(&free, &base);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let (m0, _) = rerun_margins(&free, &csv);
+    // A threshold the plan without it breaks: 10 % above its smallest margin.
+    let threshold = 1.1 * m0;
+    let arg = format!("{threshold}");
+    let mut extra = base.to_vec();
+    extra.extend(["--min-margin", &arg, "--max-runs", "12"]);
+    let o = plan(&kept, &extra);
+    let said = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{said}");
+    assert!(said.contains("disturbance margin >= "), "{said}");
+    // Independent check: `grasp transfer --margins` of the written schedule.
+    let (least, at) = rerun_margins(&kept, &csv);
+    assert!(
+        least >= threshold * (1.0 - DISTURBANCE_TOLERANCE),
+        "smallest disturbance margin {least} N at t = {at} s against {threshold} N \
+         (without the constraint: {m0} N)"
+    );
+}
+
+#[test]
+fn a_disturbance_margin_above_the_grasps_best_is_refused_with_the_constraint_named() {
+    let d = tmp("plan", "disturbance-refused");
+    let out = d.join("plan.schedule.json");
+    // Loads at most 10 N, mu 0.4: friction resists at most 16 N in all, far below 100 N; the
+    // first step's loads are fixed besides.
+    let o = grasp(&[
+        "plan",
+        &example("plate_handoff_coulomb.json"),
+        "--releasing",
+        "f1,f2",
+        "--receiving",
+        "f3,f4",
+        "--objective",
+        "margin",
+        "--duration",
+        "8",
+        "--steps",
+        "6",
+        "--max-load",
+        "10",
+        "--min-margin",
+        "100",
+        "--max-runs",
+        "5",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let said = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{said}");
+    assert!(!out.exists());
+    assert!(
+        said.contains("binding constraint: disturbance margin"),
+        "{said}"
+    );
+    assert!(said.contains("against 100.0 N"), "{said}");
+    // A threshold that is no number of newtons is refused before any run, by its name.
+    let o = plan(&out, &["--max-rate", "1.5", "--min-margin", "0"]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("min-margin"), "{}", text(&o));
 }

@@ -14,8 +14,10 @@ use crate::scene::Scene;
 /// Plans the hand-off of `scene`: the loads of the `releasing` fingers (down to 0 N) and of
 /// the `receiving` ones (up from 0 N), keyframed and linear in between, that keep every
 /// step's slip margin `1 - |Q|/(mu P)` at least `min_slip_margin` over the fingers carrying
-/// 5 % of the load scale, each planned load within `[min_load, max_load]` N and its rate within
-/// `max_rate` N/s, the duration within `[min_duration, max_duration]` s.
+/// 5 % of the load scale, with `min_margin` (N) every step's smallest disturbance margin at
+/// least that (as `grasp.transfer(..., margins=True)` finds it; several times the planning's
+/// cost), each planned load within `[min_load, max_load]` N and its rate within `max_rate`
+/// N/s, the duration within `[min_duration, max_duration]` s.
 ///
 /// - `objective`: `"duration"` (the shortest; needs `max_rate`) or `"margin"` (the largest
 ///   smallest margin at the fixed `duration`).
@@ -29,7 +31,7 @@ use crate::scene::Scene;
 /// constraints no schedule can meet (named) and bad arguments (`ValueError`).
 #[pyfunction]
 #[pyo3(signature = (scene, *, releasing, receiving=Vec::new(), template=None,
-                    min_slip_margin=0.0, min_load=0.0, max_load=None, max_rate=None,
+                    min_slip_margin=0.0, min_margin=None, min_load=0.0, max_load=None, max_rate=None,
                     min_duration=0.0, max_duration=None, duration=None, objective="duration",
                     steps=None, keyframes=5, max_runs=30, solver="auto", compliance="auto"))]
 #[allow(clippy::too_many_arguments)]
@@ -40,6 +42,7 @@ pub fn plan(
     receiving: Vec<String>,
     template: Option<&Bound<'_, PyAny>>,
     min_slip_margin: f64,
+    min_margin: Option<f64>,
     min_load: f64,
     max_load: Option<f64>,
     max_rate: Option<f64>,
@@ -68,6 +71,7 @@ pub fn plan(
         releasing,
         receiving,
         min_slip_margin,
+        min_margin_n: min_margin,
         min_load_n: min_load,
         max_load_n: max_load.unwrap_or(f64::INFINITY),
         max_rate_n_per_s: max_rate,
@@ -109,6 +113,7 @@ fn in_keywords(text: &str) -> String {
         "template",
         "max-runs",
         "min-slip-margin",
+        "min-margin",
     ];
     flags.iter().fold(text.to_string(), |t, f| {
         t.replace(&format!("--{f}"), &format!("{}=", f.replace('-', "_")))

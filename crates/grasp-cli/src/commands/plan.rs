@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use grasp_transfer::plan::{Objective, PlanOptions, PlanReport, Template, MARGIN_TOLERANCE};
+use grasp_transfer::plan::{
+    Objective, PlanOptions, PlanReport, Template, DISTURBANCE_TOLERANCE, MARGIN_TOLERANCE,
+};
 use grasp_transfer::{Schedule, ScheduleSpec};
 
 use crate::output::{self, ForceArg};
@@ -36,6 +38,11 @@ pub struct Args {
     /// 5 % of the load scale.
     #[arg(long, default_value_t = 0.0, value_name = "X")]
     pub min_slip_margin: f64,
+    /// Smallest disturbance margin at every step, N: the smallest, over the axis directions of
+    /// force and couple, of the extra wrench the grasp resists (as `grasp transfer --margins`
+    /// finds it; several times the planning's cost) [default: not constrained].
+    #[arg(long, value_name = "NEWTONS")]
+    pub min_margin: Option<f64>,
     /// Smallest load of a planned finger between its ends, N.
     #[arg(long, default_value_t = 0.0, value_name = "N")]
     pub min_load: f64,
@@ -178,8 +185,8 @@ fn replay(args: &Args) -> Result<ExitCode> {
         keep_going: false,
         cold: false,
         min_squeeze: false,
-        margins: false,
-        margin_threshold: None,
+        margins: args.min_margin.is_some(),
+        margin_threshold: args.min_margin,
         solve: args.solve,
     };
     crate::commands::transfer::run(&args.scene, &args.out, &outputs, flags)
@@ -190,6 +197,7 @@ fn options(args: &Args) -> PlanOptions {
         releasing: args.releasing.clone(),
         receiving: args.receiving.clone(),
         min_slip_margin: args.min_slip_margin,
+        min_margin_n: args.min_margin,
         min_load_n: args.min_load,
         max_load_n: args.max_load.unwrap_or(f64::INFINITY),
         max_rate_n_per_s: args.max_rate,
@@ -248,7 +256,7 @@ fn summary(r: &PlanReport, o: &PlanOptions) -> String {
         let word = if change >= 0.0 { "shorter" } else { "longer" };
         let _ = write!(s, " (template {} s: {} % {word})", g4(t), g4(change.abs()));
     }
-    let at = |m: Option<&grasp_transfer::plan::SlipAtStep>| match m {
+    let at = |m: Option<&grasp_transfer::plan::MarginsAtStep>| match m {
         Some(m) => format!(
             "{} ({} at t = {} s)",
             g4(m.smallest.unwrap_or(f64::NAN)),
@@ -262,6 +270,17 @@ fn summary(r: &PlanReport, o: &PlanOptions) -> String {
         let _ = write!(s, "; template: {}", at(r.template_smallest()));
     }
     let _ = writeln!(s);
+    if o.min_margin_n.is_some() {
+        let _ = write!(
+            s,
+            "smallest disturbance margin: {}",
+            disturbance_at(&r.margins)
+        );
+        if let Some(t) = &r.template_margins {
+            let _ = write!(s, "; template: {}", disturbance_at(t));
+        }
+        let _ = writeln!(s);
+    }
     s.push_str(&constraints_line(r, o));
     let _ = writeln!(
         s,
@@ -277,24 +296,45 @@ fn summary(r: &PlanReport, o: &PlanOptions) -> String {
     s
 }
 
+/// The smallest disturbance margin along a run, with its time: "2.5 N at t = 1.2 s".
+fn disturbance_at(margins: &[grasp_transfer::plan::MarginsAtStep]) -> String {
+    let least = margins
+        .iter()
+        .filter_map(|m| Some((m.disturbance_n?, m.time_s)))
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    match least {
+        Some((n, t)) => format!("{} N at t = {} s", g4(n), g4(t)),
+        None => "none (no step solved)".into(),
+    }
+}
+
 /// "constraints: kept ..." or the binding one, with why.
 fn constraints_line(r: &PlanReport, o: &PlanOptions) -> String {
     let Some(b) = &r.binding else {
         let rate = o
             .max_rate_n_per_s
             .map_or(String::new(), |q| format!(", load rates <= {} N/s", g4(q)));
+        let disturbance = o.min_margin_n.map_or(String::new(), |n| {
+            let within = 100.0 * DISTURBANCE_TOLERANCE;
+            format!(", disturbance margin >= {} N to within {within} %", g4(n))
+        });
         return format!(
-            "constraints: kept at every step (slip margin >= {} to within {}{rate})\n",
+            "constraints: kept at every step (slip margin >= {} to within {}{disturbance}{rate})\n",
             g4(o.min_slip_margin),
             MARGIN_TOLERANCE
         );
     };
+    let disturbance = b.constraint == "disturbance margin";
     let who = b
         .finger
         .as_deref()
-        .map_or(String::new(), |f| format!(" of {f}"));
+        .map_or(String::new(), |f| match disturbance {
+            true => format!(" (first to fail: {f})"),
+            false => format!(" of {f}"),
+        });
+    let unit = if disturbance { " N" } else { "" };
     format!(
-        "binding constraint: {}{who} at t = {} s is {} against {} (short by {}): {}\n",
+        "binding constraint: {}{who} at t = {} s is {}{unit} against {}{unit} (short by {}{unit}): {}\n",
         b.constraint,
         g4(b.time_s),
         g4(b.value),

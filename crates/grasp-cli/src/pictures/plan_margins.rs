@@ -4,7 +4,7 @@
 //! [`crate::pictures::picture`]).
 
 use anyhow::Result;
-use grasp_transfer::plan::{PlanReport, SlipAtStep};
+use grasp_transfer::plan::{MarginsAtStep, PlanReport};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -27,7 +27,7 @@ impl Picture for PlanMargins<'_> {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
         let r = self.report;
-        let span = |m: &[SlipAtStep]| m.last().map_or(0.0, |s| s.time_s);
+        let span = |m: &[MarginsAtStep]| m.last().map_or(0.0, |s| s.time_s);
         let template = r.template_margins.as_deref().unwrap_or(&[]);
         let t1 = span(&r.margins).max(span(template)).max(1e-9);
         let values = r.margins.iter().chain(template).filter_map(|m| m.smallest);
@@ -52,7 +52,7 @@ impl Picture for PlanMargins<'_> {
             .map_err(draw_err)?;
         let plan = ShapeStyle::from(&RGBColor(31, 119, 180)).stroke_width(2);
         let old = ShapeStyle::from(&RGBColor(150, 150, 150)).stroke_width(2);
-        let line = |m: &[SlipAtStep]| -> Vec<(f64, f64)> {
+        let line = |m: &[MarginsAtStep]| -> Vec<(f64, f64)> {
             m.iter()
                 .filter_map(|s| Some((s.time_s, s.smallest?)))
                 .collect()

@@ -76,6 +76,20 @@ impl KeyframePath {
             .sum()
     }
 
+    /// `dm/dx` over the keyframe loads (`x[g * K + k]`) of a quantity `m` at step `s`, from
+    /// `dm/dL_g`, its derivatives in each group's load there (the chain rule through
+    /// [`Self::weights`]).
+    pub fn gradient(&self, s: usize, per_load: &[f64]) -> Vec<f64> {
+        let k_count = self.fractions.len();
+        let mut g = vec![0.0; self.groups.len() * k_count];
+        for (i, d) in per_load.iter().enumerate() {
+            for (k, w) in self.weights(s) {
+                g[i * k_count + k] += w * d;
+            }
+        }
+        g
+    }
+
     /// The schedule file of this path: every planned finger a linear ramp through its
     /// keyframes (a finger at 0 N is released), `others` (the template's phases of the fingers
     /// not planned) as they were.

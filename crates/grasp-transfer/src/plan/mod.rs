@@ -1,9 +1,12 @@
 //! Planning a hand-off's load ramps: the keyframed loads of the releasing and receiving
-//! fingers that keep every step's slip margin above a threshold, within load bounds and
+//! fingers that keep every step's slip margin (and, on request, its disturbance margin) above
+//! a threshold, within load bounds and
 //! load-rate limits, in the shortest duration (or with the largest smallest margin), found
 //! by a trust-region sequence of quadratic programs on the load sensitivities of every step.
 
+pub mod disturbance_rows;
 pub mod keyframe_path;
+pub mod margin_row;
 pub mod plan_error;
 pub mod plan_options;
 pub mod plan_report;
@@ -15,6 +18,8 @@ pub mod trust_region_qp;
 pub use keyframe_path::KeyframePath;
 pub use plan_error::PlanError;
 pub use plan_options::{Objective, PlanOptions};
-pub use plan_report::{Binding, PlanReport, SlipAtStep, MARGIN_TOLERANCE};
+pub use plan_report::{
+    Binding, MarginsAtStep, PlanReport, DISTURBANCE_TOLERANCE, MARGIN_TOLERANCE,
+};
 pub use planner::plan;
 pub use starting_path::Template;

@@ -23,6 +23,10 @@ pub struct PlanOptions {
     /// Smallest slip margin `1 - |Q| / (mu P)` at every step, over the fingers carrying at
     /// least 5 % of the load scale (`--min-slip-margin`, in `[0, 1)`).
     pub min_slip_margin: f64,
+    /// Smallest disturbance margin at every step, N (`--min-margin`): the smallest, over the
+    /// axis directions of force and couple, of the wrench the grasp resists on top of the
+    /// step's loads (`grasp transfer --margins`); `None`: not constrained.
+    pub min_margin_n: Option<f64>,
     /// Smallest commanded load of a planned finger between its ends, N (`--min-load`).
     pub min_load_n: f64,
     /// Largest commanded load of a planned finger, N (`--max-load`).
@@ -59,6 +63,7 @@ impl Default for PlanOptions {
             releasing: Vec::new(),
             receiving: Vec::new(),
             min_slip_margin: 0.0,
+            min_margin_n: None,
             min_load_n: 0.0,
             max_load_n: f64::INFINITY,
             max_rate_n_per_s: None,
@@ -125,6 +130,15 @@ impl PlanOptions {
                     "{} is outside [0, 1): 1 - |Q|/(mu P) is below 1",
                     self.min_slip_margin
                 ),
+            );
+        }
+        if self
+            .min_margin_n
+            .is_some_and(|n| !(n > 0.0 && n.is_finite()))
+        {
+            say(
+                "min-margin",
+                "must be a positive number of newtons (a disturbance the grasp resists)".into(),
             );
         }
         if !(self.min_load_n >= 0.0 && self.min_load_n < self.max_load_n) {

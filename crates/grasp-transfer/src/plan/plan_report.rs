@@ -1,6 +1,6 @@
 //! What the planner answers: the checked schedule, whether it keeps every constraint (else
-//! the one that binds: which, where, by how much), the slip margins along it beside the
-//! template's, and what the planning cost.
+//! the one that binds: which, where, by how much), the slip margins (and the disturbance
+//! margins, when constrained) along it beside the template's, and what the planning cost.
 
 use serde::Serialize;
 
@@ -15,9 +15,17 @@ use crate::stepper::StepRecord;
 /// planner's tolerance bounds (a margin is dimensionless, of order 1).
 pub const MARGIN_TOLERANCE: f64 = 1e-3;
 
-/// The smallest slip margin of a step over its carrying fingers.
+/// A planned schedule counts as keeping the disturbance-margin threshold `N` when its smallest
+/// disturbance margin is at least `N (1 - DISTURBANCE_TOLERANCE)`: the margin read is the
+/// lower end of a bisection bracket 1e-3 of it wide (`grasp transfer --margins`), and the
+/// linearisation's error over the last step is bounded as the slip margin's is
+/// ([`MARGIN_TOLERANCE`], here relative to the threshold).
+pub const DISTURBANCE_TOLERANCE: f64 = 2e-3;
+
+/// The smallest slip margin of a step over its carrying fingers, and its smallest disturbance
+/// margin when that is constrained.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct SlipAtStep {
+pub struct MarginsAtStep {
     /// Schedule time, s.
     pub time_s: f64,
     /// `1 - |Q| / (mu P)`, smallest over the fingers carrying at least 5 % of the load scale;
@@ -25,18 +33,22 @@ pub struct SlipAtStep {
     pub smallest: Option<f64>,
     /// The finger it belongs to.
     pub finger: Option<String>,
+    /// The smallest disturbance margin over the axis directions, N (`grasp transfer
+    /// --margins`), when `--min-margin` is given and the step solved.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub disturbance_n: Option<f64>,
 }
 
 /// A constraint the checked schedule does not keep.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Binding {
-    /// `slip margin`, `equilibrium` or `load rate`.
+    /// `slip margin`, `disturbance margin`, `equilibrium` or `load rate`.
     pub constraint: String,
     /// The finger, where one is concerned.
     pub finger: Option<String>,
     /// Schedule time, s.
     pub time_s: f64,
-    /// The value reached (a margin, or N/s).
+    /// The value reached (a slip margin, a disturbance margin in N, or N/s).
     pub value: f64,
     /// The limit it should keep.
     pub limit: f64,
@@ -58,9 +70,9 @@ pub struct PlanReport {
     /// The template's, s.
     pub template_duration_s: Option<f64>,
     /// The slip margins along the plan, re-run from its schedule file's text.
-    pub margins: Vec<SlipAtStep>,
+    pub margins: Vec<MarginsAtStep>,
     /// Along the template.
-    pub template_margins: Option<Vec<SlipAtStep>>,
+    pub template_margins: Option<Vec<MarginsAtStep>>,
     /// Keyframe times, s.
     pub keyframes_s: Vec<f64>,
     /// Per planned finger, its loads at the keyframes, N.
@@ -81,17 +93,17 @@ pub struct PlanReport {
 
 impl PlanReport {
     /// The smallest slip margin along the plan, with its time and finger.
-    pub fn smallest(&self) -> Option<&SlipAtStep> {
+    pub fn smallest(&self) -> Option<&MarginsAtStep> {
         smallest_of(&self.margins)
     }
 
     /// Along the template.
-    pub fn template_smallest(&self) -> Option<&SlipAtStep> {
+    pub fn template_smallest(&self) -> Option<&MarginsAtStep> {
         self.template_margins.as_deref().and_then(smallest_of)
     }
 }
 
-fn smallest_of(margins: &[SlipAtStep]) -> Option<&SlipAtStep> {
+fn smallest_of(margins: &[MarginsAtStep]) -> Option<&MarginsAtStep> {
     margins
         .iter()
         .filter(|m| m.smallest.is_some())
@@ -99,7 +111,7 @@ fn smallest_of(margins: &[SlipAtStep]) -> Option<&SlipAtStep> {
 }
 
 /// The smallest slip margin of every step of a run.
-pub fn smallest_margins(records: &[StepRecord]) -> Vec<SlipAtStep> {
+pub fn smallest_margins(records: &[StepRecord]) -> Vec<MarginsAtStep> {
     records
         .iter()
         .map(|r| {
@@ -110,17 +122,19 @@ pub fn smallest_margins(records: &[StepRecord]) -> Vec<SlipAtStep> {
                 .filter(|f| sol.status.has_forces() && carrying(f, sol.load_scale_n))
                 .map(|f| (1.0 - f.friction_utilization, &f.name))
                 .min_by(|a, b| a.0.total_cmp(&b.0));
-            SlipAtStep {
+            MarginsAtStep {
                 time_s: r.time_s,
                 smallest: least.map(|l| l.0),
                 finger: least.map(|l| l.1.clone()),
+                disturbance_n: r.margin.as_ref().map(|m| m.smallest_n),
             }
         })
         .collect()
 }
 
 /// The first constraint a checked run breaks: a step without equilibrium, a slip margin
-/// below the threshold by more than [`MARGIN_TOLERANCE`], a load rate above the limit.
+/// below the threshold by more than [`MARGIN_TOLERANCE`], a disturbance margin below its
+/// threshold by more than [`DISTURBANCE_TOLERANCE`] of it, a load rate above the limit.
 pub fn binding_row(
     records: &[StepRecord],
     path: &KeyframePath,
@@ -152,7 +166,24 @@ pub fn binding_row(
             why: String::new(),
         });
     }
-    rate_binding(path, options)
+    disturbance_binding(records, options).or_else(|| rate_binding(path, options))
+}
+
+/// The step with the smallest disturbance margin, when it is below the threshold by more
+/// than [`DISTURBANCE_TOLERANCE`] of it.
+fn disturbance_binding(records: &[StepRecord], options: &PlanOptions) -> Option<Binding> {
+    let limit = options.min_margin_n?;
+    let with_margin = records.iter().filter_map(|r| Some((r, r.margin.as_ref()?)));
+    let (r, m) = with_margin.min_by(|a, b| a.1.smallest_n.total_cmp(&b.1.smallest_n))?;
+    (m.smallest_n < limit * (1.0 - DISTURBANCE_TOLERANCE)).then(|| Binding {
+        constraint: "disturbance margin".into(),
+        finger: m.failing_finger.clone(),
+        time_s: r.time_s,
+        value: m.smallest_n,
+        limit,
+        short_by: limit - m.smallest_n,
+        why: String::new(),
+    })
 }
 
 /// The steepest keyframe span of the path, when it exceeds the rate limit (beyond 1e-6 of

@@ -9,13 +9,15 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 
-use grasp_model::{GraspModel, LoadDirection, Scene};
+use grasp_model::{GraspModel, LoadDirection, MarginOptions, Scene};
 
+use crate::plan::disturbance_rows::{difference_options, disturbance_rows, load_step_n, raised};
 use crate::plan::keyframe_path::KeyframePath;
+use crate::plan::margin_row::{MarginRow, RowKind};
 use crate::plan::plan_error::PlanError;
 use crate::plan::plan_options::{Objective, PlanOptions};
 use crate::plan::plan_report::{binding_row, smallest_margins, Binding, PlanReport};
-use crate::plan::slip_rows::{load_directions, slip_rows, SlipRow};
+use crate::plan::slip_rows::{load_directions, slip_rows};
 use crate::plan::starting_path::{starting_path, Template};
 use crate::plan::trust_region_qp::{qp_step, Pinned, VIOLATION_WEIGHT};
 use crate::schedule::Schedule;
@@ -29,7 +31,7 @@ const DURATION_STEP: f64 = 1e-2;
 /// The state of the search: the path, its run's rows, and the merit.
 struct Iterate {
     path: KeyframePath,
-    rows: Vec<SlipRow>,
+    rows: Vec<MarginRow>,
     merit: f64,
 }
 
@@ -69,7 +71,7 @@ pub fn plan(
     let template_margins = match &template {
         Some(t) => {
             runner.others = t.others(options);
-            Some(runner.run_schedule(t.schedule, None)?)
+            Some(runner.run_schedule(t.schedule, None, runner.check_margins())?)
         }
         None => None,
     };
@@ -84,16 +86,19 @@ pub fn plan(
 }
 
 impl Runner<'_> {
-    /// Runs `schedule` (sensitivities on request), every step kept.
+    /// Runs `schedule` (sensitivities and margins on request), every step kept.
     fn run_schedule(
         &mut self,
         schedule: &Schedule,
         directions: Option<Vec<LoadDirection>>,
+        margins: Option<MarginOptions>,
     ) -> Result<Vec<StepRecord>, PlanError> {
         self.runs += 1;
         let options = TransferOptions {
             keep_going: true,
             sensitivities: directions.is_some(),
+            margins: margins.is_some(),
+            margin_options: margins.unwrap_or_default(),
             solve: self.options.solve,
             ..TransferOptions::default()
         };
@@ -119,58 +124,121 @@ impl Runner<'_> {
         path.to_spec(what, &self.others)
     }
 
-    /// Runs `path` and linearises its slip margins (with the duration's quotient for
-    /// viscoelastic pads): the iterate, or `None` when a step found no equilibrium.
+    /// Runs `path` and linearises its margins (with the duration's quotient for viscoelastic
+    /// pads): the iterate, or `None` when a step found no equilibrium.
     fn evaluate(
         &mut self,
         path: KeyframePath,
         reference_s: f64,
     ) -> Result<Option<Iterate>, PlanError> {
-        let records = self.run_path(&path, true)?;
+        let margins = self.options.min_margin_n.map(|_| difference_options());
+        let records = self.run_path(&path, true, margins)?;
         if records.iter().any(|r| !r.solution.status.has_forces()) {
             return Ok(None);
         }
         let mut rows = slip_rows(&path, &records, &mut self.notes);
+        if let Some(threshold_n) = self.options.min_margin_n {
+            let step_n = load_step_n(&path);
+            let raised_runs = (0..path.groups.len())
+                .map(|g| self.run_path(&raised(&path, g, step_n), false, margins))
+                .collect::<Result<Vec<_>, _>>()?;
+            let scales = (step_n, threshold_n);
+            rows.extend(disturbance_rows(
+                &path,
+                &records,
+                &raised_runs,
+                scales,
+                &mut self.notes,
+            ));
+        }
         if self.model.is_viscoelastic() {
-            let mut longer = path.clone();
-            longer.duration_s *= 1.0 + DURATION_STEP;
-            let shifted = self.run_path(&longer, false)?;
-            let dt = longer.duration_s - path.duration_s;
-            for row in &mut rows {
-                let other = shifted
-                    .get(row.step)
-                    .and_then(|r| r.solution.finger(&row.finger));
-                if let Some(f) = other {
-                    row.per_duration = (1.0 - f.friction_utilization - row.margin) / dt;
-                }
-            }
+            self.add_per_duration(&path, &mut rows, margins)?;
         }
         let merit = merit(&rows, path.duration_s / reference_s, self.options);
         Ok(Some(Iterate { path, rows, merit }))
+    }
+
+    /// Each row's derivative in the duration, from a run of `path` stretched by
+    /// [`DURATION_STEP`] (viscoelastic pads relax with time).
+    fn add_per_duration(
+        &mut self,
+        path: &KeyframePath,
+        rows: &mut [MarginRow],
+        margins: Option<MarginOptions>,
+    ) -> Result<(), PlanError> {
+        let mut longer = path.clone();
+        longer.duration_s *= 1.0 + DURATION_STEP;
+        let shifted = self.run_path(&longer, false, margins)?;
+        let dt = longer.duration_s - path.duration_s;
+        for row in rows {
+            let Some(step) = shifted.get(row.step) else {
+                continue;
+            };
+            let other = match row.kind {
+                RowKind::Slip => step
+                    .solution
+                    .finger(&row.finger)
+                    .map(|f| 1.0 - f.friction_utilization),
+                RowKind::Disturbance => step
+                    .margin
+                    .as_ref()
+                    .zip(self.options.min_margin_n)
+                    .map(|(m, n)| m.smallest_n / n),
+            };
+            if let Some(m) = other {
+                row.per_duration = (m - row.margin) / dt;
+            }
+        }
+        Ok(())
+    }
+
+    /// The runs one evaluation makes: the path, one raised run per group with a
+    /// disturbance-margin threshold, one stretched run with viscoelastic pads.
+    fn runs_per_evaluation(&self, groups: usize) -> usize {
+        let raised = if self.options.min_margin_n.is_some() {
+            groups
+        } else {
+            0
+        };
+        1 + raised + usize::from(self.model.is_viscoelastic())
+    }
+
+    /// The margin options of a checking run: those of `grasp transfer --margins` when a
+    /// disturbance margin is constrained, else none.
+    fn check_margins(&self) -> Option<MarginOptions> {
+        self.options.min_margin_n.map(|_| MarginOptions::default())
     }
 
     fn run_path(
         &mut self,
         path: &KeyframePath,
         sensitivities: bool,
+        margins: Option<MarginOptions>,
     ) -> Result<Vec<StepRecord>, PlanError> {
         let spec = self.spec(path);
         let schedule = Schedule::from_spec(&spec, &self.scene.finger_names(), Path::new("."))
             .map_err(PlanError::Schedule)?;
         let directions = sensitivities.then(|| load_directions(path));
-        self.run_schedule(&schedule, directions)
+        self.run_schedule(&schedule, directions, margins)
     }
 }
 
-/// The merit of rows at a duration `relative` to the reference: see [`PlanOptions::tolerance`].
-fn merit(rows: &[SlipRow], relative: f64, options: &PlanOptions) -> f64 {
-    let smallest = rows.iter().map(|r| r.margin).fold(1.0, f64::min);
-    match options.objective {
-        Objective::Duration => {
-            relative + VIOLATION_WEIGHT * (options.min_slip_margin - smallest).max(0.0)
+/// The merit of rows at a duration `relative` to the reference: see [`PlanOptions::tolerance`],
+/// plus 100 times the largest violation of the disturbance rows (each kept at least 1).
+fn merit(rows: &[MarginRow], relative: f64, options: &PlanOptions) -> f64 {
+    let least = |kind: RowKind| {
+        let of_kind = rows.iter().filter(|r| r.kind == kind);
+        of_kind.map(|r| r.margin).fold(f64::INFINITY, f64::min)
+    };
+    let slip = least(RowKind::Slip).min(1.0);
+    let disturbance = VIOLATION_WEIGHT * (1.0 - least(RowKind::Disturbance)).max(0.0);
+    disturbance
+        + match options.objective {
+            Objective::Duration => {
+                relative + VIOLATION_WEIGHT * (options.min_slip_margin - slip).max(0.0)
+            }
+            Objective::Margin => -slip,
         }
-        Objective::Margin => -smallest,
-    }
 }
 
 impl Runner<'_> {
@@ -195,7 +263,8 @@ impl Runner<'_> {
         let mut radius = 0.25 * scale;
         let mut iterations = 0;
         let stopped = loop {
-            if self.runs + 2 > self.options.max_runs {
+            let per_evaluation = self.runs_per_evaluation(current.path.groups.len());
+            if self.runs + per_evaluation + 1 > self.options.max_runs {
                 break "it made the runs allowed (--max-runs)".to_string();
             }
             iterations += 1;
@@ -255,7 +324,7 @@ impl Runner<'_> {
         let text = serde_json::to_string(&spec).map_err(|e| PlanError::Program(e.to_string()))?;
         let schedule = Schedule::from_json_str(&text, &self.scene.finger_names(), Path::new("."))
             .map_err(PlanError::Schedule)?;
-        let records = self.run_schedule(&schedule, None)?;
+        let records = self.run_schedule(&schedule, None, self.check_margins())?;
         let mut binding = binding_row(&records, &best.path, self.options);
         if let Some(b) = binding.as_mut().filter(|b| b.why.is_empty()) {
             b.why = explain(b, &best, &stopped);
@@ -292,10 +361,14 @@ impl Runner<'_> {
 /// finger sliding at the friction limit: no nearby change of the loads lifts it off), or a
 /// linearised program with no better step within the bounds and rates, or the runs ran out.
 fn explain(b: &Binding, best: &Iterate, stopped: &str) -> String {
-    let row = best
-        .rows
-        .iter()
-        .find(|r| Some(&r.finger) == b.finger.as_ref() && (r.time_s - b.time_s).abs() < 1e-9);
+    let disturbance = b.constraint == "disturbance margin";
+    let row = best.rows.iter().find(|r| {
+        let same_row = match r.kind {
+            RowKind::Disturbance => disturbance,
+            RowKind::Slip => !disturbance && Some(&r.finger) == b.finger.as_ref(),
+        };
+        same_row && (r.time_s - b.time_s).abs() < 1e-9
+    });
     if b.time_s == 0.0 {
         return "at the first step every planned load is fixed (the releasing fingers' loads \
                 in the template or the scene, the receiving ones' 0 N), so no schedule changes \
@@ -303,6 +376,11 @@ fn explain(b: &Binding, best: &Iterate, stopped: &str) -> String {
         .into();
     }
     let flat = row.is_some_and(|r| r.gradient.iter().all(|g| *g == 0.0) && r.per_duration == 0.0);
+    if flat && disturbance {
+        return "its difference quotient in every keyframe load is 0 there: raising the \
+                planned loads does not move the grasp's weakest direction"
+            .into();
+    }
     if flat {
         return "its derivative with respect to every keyframe load is 0 there: the finger \
                 slides at the friction limit, and no nearby change of the loads lifts it off"

@@ -7,31 +7,13 @@
 use grasp_model::{Sensitivities, Solution};
 
 use crate::plan::keyframe_path::{KeyframePath, LoadGroup};
+use crate::plan::margin_row::{MarginRow, RowKind};
 use crate::stepper::StepRecord;
 
 /// A finger counts in the slip-margin constraint at a step while its contact force (normal and
 /// friction together) is at least this fraction of the step's load scale: a finger letting go
 /// may slide as it leaves.
 pub const CARRYING_FRACTION: f64 = 0.05;
-
-/// One finger's slip margin at one step, with its gradient.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SlipRow {
-    /// Step index.
-    pub step: usize,
-    /// Schedule time, s.
-    pub time_s: f64,
-    /// The finger.
-    pub finger: String,
-    /// `1 - |Q| / (mu P)` at the step.
-    pub margin: f64,
-    /// `dm / dx` over the path's keyframe loads, `x[g * K + k]` for group `g` and keyframe
-    /// `k`, per N.
-    pub gradient: Vec<f64>,
-    /// `dm / dT` (duration, per s): nonzero only where time matters (viscoelastic pads),
-    /// filled by a difference of two runs.
-    pub per_duration: f64,
-}
 
 /// True when finger `f` of a solution counts at its step: frictional, and carrying at least
 /// [`CARRYING_FRACTION`] of the load scale.
@@ -49,7 +31,7 @@ pub fn slip_rows(
     path: &KeyframePath,
     records: &[StepRecord],
     notes: &mut Vec<String>,
-) -> Vec<SlipRow> {
+) -> Vec<MarginRow> {
     let mut rows = Vec::new();
     for r in records {
         let sol = &r.solution;
@@ -72,12 +54,13 @@ pub fn slip_rows(
                 || vec![0.0; path.groups.len()],
                 |s| margin_per_load(sol, s, fi, &path.groups),
             );
-            rows.push(SlipRow {
+            rows.push(MarginRow {
+                kind: RowKind::Slip,
                 step: r.index,
                 time_s: r.time_s,
                 finger: f.name.clone(),
                 margin: 1.0 - f.friction_utilization,
-                gradient: chain(path, r.index, &per_load),
+                gradient: path.gradient(r.index, &per_load),
                 per_duration: 0.0,
             });
         }
@@ -117,19 +100,8 @@ fn margin_per_load(
         .collect()
 }
 
-/// `dm/dx` from `dm/dL` at step `s`: each planned finger's load is its keyframes' weighted sum.
-fn chain(path: &KeyframePath, s: usize, per_load: &[f64]) -> Vec<f64> {
-    let k_count = path.fractions.len();
-    let mut g = vec![0.0; path.groups.len() * k_count];
-    for (i, d) in per_load.iter().enumerate() {
-        for (k, w) in path.weights(s) {
-            g[i * k_count + k] += w * d;
-        }
-    }
-    g
-}
-
-fn note_once(notes: &mut Vec<String>, note: String) {
+/// Adds `note` unless it is there already (at most 8 notes).
+pub(crate) fn note_once(notes: &mut Vec<String>, note: String) {
     if notes.len() < 8 && !notes.contains(&note) {
         notes.push(note);
     }

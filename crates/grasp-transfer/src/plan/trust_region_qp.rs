@@ -2,11 +2,14 @@
 //! Wright, *Numerical Optimization*, 2nd ed., section 18.5, the elastic SL1QP form), solved
 //! with Clarabel.
 //!
-//! Variables `z = [x, T, w]`: the keyframe loads `x` (N), the duration `T` (s) and one scalar
-//! `w`. With the objective [`Objective::Duration`], `w >= 0` is the largest violation of the
-//! slip-margin threshold, and the program minimises `T / T0 + rho w`; with
-//! [`Objective::Margin`], `w` is the smallest linearised margin, maximised at a fixed `T`.
+//! Variables `z = [x, T, w, v]`: the keyframe loads `x` (N), the duration `T` (s) and two
+//! scalars. With the objective [`Objective::Duration`], `w >= 0` is the largest violation of
+//! the slip-margin threshold, and the program minimises `T / T0 + rho w + rho v`; with
+//! [`Objective::Margin`], `w` is the smallest linearised slip margin, and the program
+//! maximises `w - rho v` at a fixed `T`. `v >= 0` is the largest violation of the
+//! disturbance-margin rows (each the margin over its threshold, kept at least 1).
 //! Constraints: every slip row `m + g (x - x0) + g_T (T - T0) >= threshold - w` (or `>= w`),
+//! every disturbance row `m + g (x - x0) + g_T (T - T0) >= 1 - v`,
 //! the fixed end keyframes, the load bounds, the trust region `|x - x0| <= radius`, the load
 //! rates `|x_{k+1} - x_k| <= rate (f_{k+1} - f_k) T` and the duration's bounds. A small
 //! proximal term `eps |x - x0|^2 / L^2` makes the program strictly convex.
@@ -17,8 +20,8 @@ use clarabel::solver::{
 };
 
 use crate::plan::keyframe_path::KeyframePath;
+use crate::plan::margin_row::{MarginRow, RowKind};
 use crate::plan::plan_options::{Objective, PlanOptions};
-use crate::plan::slip_rows::SlipRow;
 
 /// Weight of the violation in the duration objective (per unit of margin, against a duration
 /// relative to the current one): above the multipliers of the margin rows, so that a
@@ -62,14 +65,14 @@ impl Rows {
 /// of the order of `scale_n`).
 pub fn qp_step(
     path: &KeyframePath,
-    rows: &[SlipRow],
+    rows: &[MarginRow],
     pinned: &Pinned,
     options: &PlanOptions,
     (radius_n, scale_n): (f64, f64),
 ) -> Result<QpStep, String> {
     let (nf, nk) = (path.groups.len(), path.fractions.len());
     let nx = nf * nk;
-    let (t_col, w_col, n) = (nx, nx + 1, nx + 2);
+    let (t_col, w_col, v_col, n) = (nx, nx + 1, nx + 2, nx + 3);
     let x0: Vec<f64> = path.loads_n.iter().flatten().copied().collect();
     let t0 = path.duration_s;
     let (mut zero, mut nonneg) = (Rows::default(), Rows::default());
@@ -85,11 +88,12 @@ pub fn qp_step(
     }
     duration_rows(&mut zero, &mut nonneg, path, options, t_col);
     rate_rows(&mut nonneg, path, options, t_col);
-    margin_rows(&mut nonneg, rows, (&x0, t0), options, (t_col, w_col));
+    margin_rows(&mut nonneg, rows, (&x0, t0), options, (t_col, w_col, v_col));
     match options.objective {
         Objective::Duration => nonneg.push(&[(w_col, -1.0)], 0.0),
         Objective::Margin => nonneg.push(&[(w_col, 1.0)], 1.0),
     }
+    nonneg.push(&[(v_col, -1.0)], 0.0);
     let scale = scale_n.max(f64::MIN_POSITIVE);
     let mut p = vec![(0..nx)
         .map(|j| (j, j, PROXIMAL / (scale * scale)))
@@ -108,6 +112,7 @@ pub fn qp_step(
         }
         Objective::Margin => q[w_col] = -1.0,
     }
+    q[v_col] = VIOLATION_WEIGHT;
     let z = solve(n, &p, &q, zero, nonneg)?;
     // The fixed keyframes exactly, the free ones within their bounds; a load within
     // round-off of 0 N is 0 N (released), not a load too small to command.
@@ -129,10 +134,11 @@ pub fn qp_step(
                 .collect()
         })
         .collect();
-    let predicted_merit = match options.objective {
-        Objective::Duration => z[t_col] / t0 + VIOLATION_WEIGHT * z[w_col].max(0.0),
-        Objective::Margin => -z[w_col],
-    };
+    let predicted_merit = VIOLATION_WEIGHT * z[v_col].max(0.0)
+        + match options.objective {
+            Objective::Duration => z[t_col] / t0 + VIOLATION_WEIGHT * z[w_col].max(0.0),
+            Objective::Margin => -z[w_col],
+        };
     Ok(QpStep {
         loads_n,
         duration_s: z[t_col],
@@ -183,13 +189,15 @@ fn rate_rows(nonneg: &mut Rows, path: &KeyframePath, options: &PlanOptions, t_co
     }
 }
 
-/// The linearised slip rows: `-g x - g_T T -/+ w <= m - g x0 - g_T T0 - threshold`.
+/// The linearised rows: `-g x - g_T T - w <= m - g x0 - g_T T0 - threshold` for a slip row
+/// (`+ w <= m - ...` with the margin objective), `-g x - g_T T - v <= m - ... - 1` for a
+/// disturbance row.
 fn margin_rows(
     nonneg: &mut Rows,
-    rows: &[SlipRow],
+    rows: &[MarginRow],
     (x0, t0): (&[f64], f64),
     options: &PlanOptions,
-    (t_col, w_col): (usize, usize),
+    (t_col, w_col, v_col): (usize, usize, usize),
 ) {
     for r in rows {
         let mut entries: Vec<(usize, f64)> = r
@@ -202,16 +210,13 @@ fn margin_rows(
         entries.push((t_col, -r.per_duration));
         let lin: f64 = r.gradient.iter().zip(x0).map(|(g, x)| g * x).sum::<f64>();
         let constant = r.margin - lin - r.per_duration * t0;
-        match options.objective {
-            Objective::Duration => {
-                entries.push((w_col, -1.0));
-                nonneg.push(&entries, constant - options.min_slip_margin);
-            }
-            Objective::Margin => {
-                entries.push((w_col, 1.0));
-                nonneg.push(&entries, constant);
-            }
-        }
+        let (column, sign, threshold) = match (r.kind, options.objective) {
+            (RowKind::Disturbance, _) => (v_col, -1.0, 1.0),
+            (RowKind::Slip, Objective::Duration) => (w_col, -1.0, options.min_slip_margin),
+            (RowKind::Slip, Objective::Margin) => (w_col, 1.0, 0.0),
+        };
+        entries.push((column, sign));
+        nonneg.push(&entries, constant - threshold);
     }
 }
 
