@@ -280,8 +280,8 @@ impl Runner<'_> {
             let predicted = base - step.predicted_merit;
             if predicted < self.options.tolerance {
                 break format!(
-                    "it converged: the next step's predicted gain {} is below the tolerance {}",
-                    grasp_model::Readable(predicted.max(0.0)),
+                    "it converged: the next step's predicted gain {:.2e} is below the tolerance {}",
+                    predicted.max(0.0),
                     grasp_model::Readable(self.options.tolerance)
                 );
             }
