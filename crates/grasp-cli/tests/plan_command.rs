@@ -73,6 +73,17 @@ fn keyframes(schedule: &serde_json::Value) -> Vec<Vec<(f64, f64)>> {
         .collect()
 }
 
+/// `grasp transfer` of the coulomb plate along `schedule`, its CSV written to `csv`; it must
+/// succeed.
+fn transfer_csv(schedule: &str, csv: &std::path::Path, extra: &[&str]) {
+    let scene = example("plate_handoff_coulomb.json");
+    let mut args = vec!["transfer", &scene, "--schedule", schedule];
+    args.extend(["--csv", csv.to_str().unwrap()]);
+    args.extend(extra);
+    let t = grasp(&args);
+    assert_eq!(t.status.code(), Some(0), "{}", text(&t));
+}
+
 fn plan(out: &std::path::Path, extra: &[&str]) -> std::process::Output {
     let template = example("plate_handoff_coulomb.schedule.json");
     let mut args = vec![
@@ -115,15 +126,7 @@ fn a_plan_rerun_by_transfer_keeps_its_constraints_and_is_at_least_as_fast_as_its
         }
     }
     // Margins, from an independent run of the file by `grasp transfer`.
-    let t = grasp(&[
-        "transfer",
-        &example("plate_handoff_coulomb.json"),
-        "--schedule",
-        out.to_str().unwrap(),
-        "--csv",
-        csv.to_str().unwrap(),
-    ]);
-    assert_eq!(t.status.code(), Some(0), "{}", text(&t));
+    transfer_csv(out.to_str().unwrap(), &csv, &[]);
     let rows = steps(&std::fs::read_to_string(&csv).unwrap());
     let (least, at) = smallest_margin(&rows);
     assert!(
@@ -167,15 +170,7 @@ fn a_threshold_the_coulomb_plate_cannot_keep_is_reported_with_its_finger_time_an
     // Independent evidence that the template breaks it too (the run's own CSV): a releasing
     // finger at the friction limit while it carries more than 5 % of the load scale.
     let csv = d.join("template.csv");
-    let t = grasp(&[
-        "transfer",
-        &example("plate_handoff_coulomb.json"),
-        "--schedule",
-        &example("plate_handoff_coulomb.schedule.json"),
-        "--csv",
-        csv.to_str().unwrap(),
-    ]);
-    assert_eq!(t.status.code(), Some(0), "{}", text(&t));
+    transfer_csv(&example("plate_handoff_coulomb.schedule.json"), &csv, &[]);
     let (least, _) = smallest_margin(&steps(&std::fs::read_to_string(&csv).unwrap()));
     assert!(
         least < 0.1 - MARGIN_TOLERANCE,
@@ -254,17 +249,7 @@ fn smallest_disturbance(csv: &str) -> (f64, f64) {
 /// `grasp transfer --margins` of the coulomb plate along `schedule`: its CSV's smallest
 /// disturbance margin and time.
 fn rerun_margins(schedule: &std::path::Path, csv: &std::path::Path) -> (f64, f64) {
-    let t = grasp(&[
-        "transfer",
-        &example("plate_handoff_coulomb.json"),
-        "--schedule",
-        schedule.to_str().unwrap(),
-        "--margins",
-        "--csv",
-        csv.to_str().unwrap(),
-        "--force",
-    ]);
-    assert_eq!(t.status.code(), Some(0), "{}", text(&t));
+    transfer_csv(schedule.to_str().unwrap(), csv, &["--margins", "--force"]);
     smallest_disturbance(&std::fs::read_to_string(csv).unwrap())
 }
 
