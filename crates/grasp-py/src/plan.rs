@@ -11,24 +11,75 @@ use crate::errors::{grasp_error, schedule_error};
 use crate::json_value::serialize_to_py;
 use crate::scene::Scene;
 
-/// Plans the hand-off of `scene`: the loads of the `releasing` fingers (down to 0 N) and of
-/// the `receiving` ones (up from 0 N), keyframed and linear in between, that keep every
-/// step's slip margin `1 - |Q|/(mu P)` at least `min_slip_margin` over the fingers carrying
-/// 5 % of the load scale, with `min_margin` (N) every step's smallest disturbance margin at
-/// least that (as `grasp.transfer(..., margins=True)` finds it; several times the planning's
-/// cost), each planned load within `[min_load, max_load]` N and its rate within `max_rate`
-/// N/s, the duration within `[min_duration, max_duration]` s.
+/// Plans a hand-off's load ramps, as `grasp plan` does.
 ///
-/// - `objective`: `"duration"` (the shortest; needs `max_rate`) or `"margin"` (the largest
-///   smallest margin at the fixed `duration`).
-/// - `template`: a schedule (path, dict or JSON text) to start from and compare with.
-/// - `keyframes`, `steps`, `max_runs`: the path's keyframes (ends included), its steps
-///   (default: the template's, or 60) and the most hand-off runs allowed.
+/// The loads of the `releasing` fingers (down to 0 N) and of the `receiving` ones (up from
+/// 0 N), keyframed and linear in between, that keep every step's slip margin
+/// `1 - |Q|/(mu P)` at least `min_slip_margin` over the fingers carrying 5 % of the load
+/// scale, each planned load within `[min_load, max_load]` and its rate within `max_rate`,
+/// the duration within `[min_duration, max_duration]`; with `min_margin`, every step's
+/// smallest disturbance margin at least that. The GIL is released while it runs.
 ///
-/// Returns the report as a dict: `met` (every constraint kept by the checked schedule),
-/// `binding` (the one not kept: which, where, by how much, why), `schedule`, `margins` and
-/// `template_margins` (per step), `duration_s`, `runs`, `time_s`. Raises `GraspError` for
-/// constraints no schedule can meet (named) and bad arguments (`ValueError`).
+/// Parameters
+/// ----------
+/// scene : Scene
+///     The validated grasp (SI units), from `grasp.Scene`.
+/// releasing : sequence of str
+///     The fingers that let go (their loads ramp down to 0 N).
+/// receiving : sequence of str, default ()
+///     The fingers that take the object (their loads ramp up from 0 N).
+/// template : str, os.PathLike or dict, optional
+///     A schedule (path, dict or JSON text) to start from and compare with.
+/// min_slip_margin : float, default 0.0
+///     The smallest slip margin allowed at any step (dimensionless, in [0, 1)).
+/// min_margin : float, optional
+///     The smallest disturbance margin allowed at any step, N: the smallest, over the axis
+///     directions of force and couple, of the extra wrench the grasp resists, as
+///     `transfer(..., margins=True)` finds it (default: not constrained; several times the
+///     planning's cost).
+/// min_load, max_load : float, optional
+///     The range of every planned load, N (default: 0 N and no upper bound).
+/// max_rate : float, optional
+///     The fastest a planned load may change, N/s (needed by `objective="duration"`).
+/// min_duration, max_duration : float, optional
+///     The range of the hand-off's duration, s (default: 0 s and no upper bound).
+/// duration : float, optional
+///     The fixed duration, s, of `objective="margin"`.
+/// objective : {"duration", "margin"}, default "duration"
+///     `"duration"`: the shortest hand-off; `"margin"`: the largest smallest margin at the
+///     fixed `duration`.
+/// steps : int, optional
+///     Steps of the planned schedule (default: the template's, or 60).
+/// keyframes : int, default 5
+///     Keyframes of each load's path, its ends included.
+/// max_runs : int, default 30
+///     The most hand-off runs the search may make.
+/// solver : {"auto", "native", "clarabel"}, default "auto"
+///     The solver of every run, as in `solve`.
+/// compliance : {"auto", "dense", "fft"}, default "auto"
+///     As in `solve`.
+///
+/// Returns
+/// -------
+/// dict
+///     The report: `met` (every constraint kept by the checked schedule), `binding` (the one
+///     not kept: which, where, by how much, why), `schedule` (runs unchanged in
+///     `transfer`), `margins` and `template_margins` (per step: the smallest slip margin, and
+///     `disturbance_n` with `min_margin`), `duration_s`, `runs` and `time_s`.
+///
+/// Raises
+/// ------
+/// ValueError
+///     An argument out of range or misspelt (each line names the keyword).
+/// ScheduleError
+///     The template is not a valid schedule for the scene.
+/// GraspError
+///     Constraints no schedule can meet (the one that binds is named), or a run failed.
+///
+/// Examples
+/// --------
+/// >>> plan = grasp.plan(scene, releasing=["f1", "f2"], receiving=["f3", "f4"], max_rate=1.5)
+/// >>> plan["met"], plan["duration_s"]
 #[pyfunction]
 #[pyo3(signature = (scene, *, releasing, receiving=Vec::new(), template=None,
                     min_slip_margin=0.0, min_margin=None, min_load=0.0, max_load=None, max_rate=None,

@@ -11,11 +11,31 @@ use crate::errors::{grasp_error, scene_error};
 
 /// A validated grasp scene (SI units: m, N, Pa).
 ///
-/// `Scene(source)` takes a path (str or os.PathLike) to a scene file, a dict of the scene
-/// format, or the JSON text of one (a str whose first non-blank character is `{`). Files the
-/// scene names (a mesh, a texture's height map) are read relative to the scene file's folder
-/// (the working folder for a dict or text); in a dict a texture's heights may be a NumPy
-/// array: `{"heights": {"array": a, "pixel_m": [dx, dy]}}`.
+/// The scene format is docs/scene.schema.json (docs/guide/scenes.md). Validation runs once,
+/// here, and reports every problem found.
+///
+/// Parameters
+/// ----------
+/// source : str, os.PathLike or dict
+///     A path to a scene file, a dict of the scene format, or the JSON text of one (a str
+///     whose first non-blank character is `{`). Files the scene names (a mesh, a texture's
+///     height map) are read relative to the scene file's folder (the working folder for a
+///     dict or text); in a dict a texture's heights may be a NumPy array:
+///     `{"heights": {"array": a, "pixel_m": [dx, dy]}}` (heights and pixels in m).
+///
+/// Raises
+/// ------
+/// SceneError
+///     The scene is not valid: `problems` lists each (its JSON path, what is wrong, the fix).
+/// OSError
+///     The file cannot be read (missing, not a regular file, larger than 64 MiB).
+/// TypeError
+///     `source` is neither a path, a dict nor JSON text.
+///
+/// Examples
+/// --------
+/// >>> scene = grasp.Scene("examples/cube_a.json")
+/// >>> scene.finger_names, scene.model
 #[pyclass(module = "grasp", frozen)]
 pub struct Scene {
     pub(crate) scene: grasp_model::Scene,
@@ -48,8 +68,24 @@ impl Scene {
         }
     }
 
-    /// The scene in the file at `path` (JSON; a regular file of at most 64 MiB, its mesh
-    /// files relative to its folder).
+    /// The scene in a file.
+    ///
+    /// Parameters
+    /// ----------
+    /// path : str or os.PathLike
+    ///     A JSON scene file: a regular file of at most 64 MiB; the files it names (meshes,
+    ///     height maps) are read relative to its folder.
+    ///
+    /// Returns
+    /// -------
+    /// Scene
+    ///
+    /// Raises
+    /// ------
+    /// SceneError
+    ///     The scene is not valid (`problems`: path, message, fix of each).
+    /// OSError
+    ///     The file, or one it names, cannot be read.
     #[staticmethod]
     fn from_file(py: Python<'_>, path: PathBuf) -> PyResult<Scene> {
         let origin = path.display().to_string();
@@ -69,16 +105,46 @@ impl Scene {
     }
 
     /// The scene given as JSON text.
+    ///
+    /// Parameters
+    /// ----------
+    /// text : str
+    ///     The scene as JSON; the files it names are read relative to the working folder.
+    ///
+    /// Returns
+    /// -------
+    /// Scene
+    ///
+    /// Raises
+    /// ------
+    /// SceneError
+    ///     The text is not JSON, or the scene is not valid (`problems`: path, message, fix).
     #[staticmethod]
     fn from_json(py: Python<'_>, text: &str) -> PyResult<Scene> {
         let arrays = grasp_io::scene_file::HeightArrays::new();
         Scene::parse(py, text, "<json>".into(), std::path::Path::new(""), &arrays)
     }
 
-    /// The scene given as a dict (as `json.load` returns it). A finger's texture heights may
-    /// be a NumPy array instead of a file: `"texture": {"heights": {"array": a, "pixel_m":
-    /// [dx, dy]}}` (heights in metres, rows of `a` along `t1`, the array's centre on the
-    /// contact point); `to_dict()` then shows `"file": "<array>"` in its place.
+    /// The scene given as a dict.
+    ///
+    /// Parameters
+    /// ----------
+    /// d : dict
+    ///     The scene format as `json.load` returns it. A finger's texture heights may be a
+    ///     NumPy array instead of a file: `"texture": {"heights": {"array": a, "pixel_m":
+    ///     [dx, dy]}}` (heights in m, rows of `a` along `t1`, the array's centre on the
+    ///     contact point; pixel sizes in m); `to_dict()` then shows `"file": "<array>"` in
+    ///     its place.
+    ///
+    /// Returns
+    /// -------
+    /// Scene
+    ///
+    /// Raises
+    /// ------
+    /// SceneError
+    ///     The scene is not valid, or holds a NaN or infinite number (`problems`: path,
+    ///     message, fix of each).
     #[staticmethod]
     fn from_dict(py: Python<'_>, d: &Bound<'_, PyDict>) -> PyResult<Scene> {
         let origin = "<dict>";
@@ -138,10 +204,27 @@ impl Scene {
             .map_or_else(Vec::new, |r| r.warnings.clone())
     }
 
-    /// The texture heights `h` (m, a peak positive, toward the other body) of the finger
-    /// named `finger` at its patch's element centres: an array of shape `(nx, ny)`, rows
-    /// along `t1` (element `(i, j)` centred at `((i + 1/2) Lx/nx - Lx/2, (j + 1/2) Ly/ny -
-    /// Ly/2)` from the contact point); None for a finger without a texture.
+    /// The texture heights of a finger at its patch's element centres.
+    ///
+    /// Parameters
+    /// ----------
+    /// finger : str
+    ///     The finger's name (one of `finger_names`).
+    ///
+    /// Returns
+    /// -------
+    /// numpy.ndarray or None
+    ///     Heights `h`, m (a peak positive, toward the other body), shape `(nx, ny)`, rows
+    ///     along `t1`: element `(i, j)` is centred at `((i + 1/2) Lx/nx - Lx/2,
+    ///     (j + 1/2) Ly/ny - Ly/2)` from the contact point. None for a finger without a
+    ///     texture.
+    ///
+    /// Raises
+    /// ------
+    /// ValueError
+    ///     The scene has no finger of that name.
+    /// GraspError
+    ///     The height map cannot be sampled at the element centres.
     fn texture_heights_m<'py>(
         &self,
         py: Python<'py>,
@@ -171,11 +254,21 @@ impl Scene {
     }
 
     /// The scene as a dict (directions normalised, as validated).
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     The scene format, SI units; `Scene(d)` reads it back.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         crate::json_value::serialize_to_py(py, &self.scene)
     }
 
     /// The scene as JSON text (directions normalised, as validated).
+    ///
+    /// Returns
+    /// -------
+    /// str
+    ///     The scene format, pretty-printed; `Scene(text)` reads it back.
     fn to_json(&self) -> PyResult<String> {
         serde_json::to_string_pretty(&self.scene).map_err(grasp_error)
     }

@@ -198,11 +198,22 @@ impl Solution {
     }
 
     /// The whole solution as a dict, field for field the JSON of `grasp solve --json`.
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     Status, residuals, solver report and every finger with its elements (SI units,
+    ///     names carry them: `normal_force_n`, `pressure_pa`, `gap_m`, ...).
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         serialize_to_py(py, &self.record())
     }
 
     /// The whole solution as JSON text, the same as `grasp solve --json` writes.
+    ///
+    /// Returns
+    /// -------
+    /// str
+    ///     The JSON of `to_dict`.
     fn to_json(&self) -> PyResult<String> {
         let mut text = Vec::new();
         grasp_io::write_solution_json(&mut text, &self.record())
@@ -210,12 +221,26 @@ impl Solution {
         String::from_utf8(text).map_err(crate::errors::grasp_error)
     }
 
-    /// One finger's element fields as NumPy arrays, by field name, as `grasp solve --npz`
-    /// writes them (`index` int64 `(N, 2)`, `local_m` `(N, 2)`, `position_m` `(N, 3)`,
-    /// `normal_force_n`, `pressure_pa`, `gap_m` `(N,)`, `tangential_force_n`, `traction_pa`,
-    /// `slip_m`, `step_slip_m` along `[t1, t2]` `(N, 2)`, `state` strings `(N,)`,
-    /// `viscous_displacement_m` `(N, 3)` on a viscoelastic contact), element order
-    /// `k = i ny + j`. Raises `KeyError` for a name not in `finger_names`.
+    /// One finger's element fields as NumPy arrays, as `grasp solve --npz` writes them.
+    ///
+    /// Parameters
+    /// ----------
+    /// finger : str
+    ///     The finger's name (one of `finger_names`).
+    ///
+    /// Returns
+    /// -------
+    /// dict of str to numpy.ndarray
+    ///     By field name, element order `k = i ny + j`: `index` int64 `(N, 2)`, `local_m`
+    ///     `(N, 2)`, `position_m` `(N, 3)`, `normal_force_n`, `pressure_pa`, `gap_m` `(N,)`,
+    ///     `tangential_force_n` (N), `traction_pa`, `slip_m`, `step_slip_m` (m) along
+    ///     `[t1, t2]` `(N, 2)`, `state` strings `(N,)`, and `viscous_displacement_m` `(N, 3)`
+    ///     on a viscoelastic contact.
+    ///
+    /// Raises
+    /// ------
+    /// KeyError
+    ///     `finger` is not in `finger_names`.
     fn element_fields<'py>(&self, py: Python<'py>, finger: &str) -> PyResult<Bound<'py, PyDict>> {
         let f = self.solution.finger(finger).ok_or_else(|| {
             pyo3::exceptions::PyKeyError::new_err(format!(
@@ -226,9 +251,34 @@ impl Solution {
         crate::element_fields::element_fields(py, &f.elements)
     }
 
-    /// Writes every finger's element fields to the `.npz` file `path`, as `grasp solve --npz`
-    /// does (`numpy.load(path)["f1/pressure_pa"]`); an existing file is replaced only with
-    /// `overwrite=True`, and the folder must exist.
+    /// Writes every finger's element fields to a `.npz` file, as `grasp solve --npz` does.
+    ///
+    /// Read it back with `numpy.load(path)["f1/pressure_pa"]` (the fields of
+    /// `element_fields`, under `<finger>/`).
+    ///
+    /// Parameters
+    /// ----------
+    /// path : str or os.PathLike
+    ///     The file to write; its folder must exist.
+    /// overwrite : bool, default False
+    ///     Replace an existing file.
+    ///
+    /// Returns
+    /// -------
+    /// None
+    ///
+    /// Raises
+    /// ------
+    /// FileExistsError
+    ///     The file exists and `overwrite` is False.
+    /// FileNotFoundError
+    ///     The folder does not exist.
+    /// ValueError
+    ///     The path is not a file one may write (a folder, a link, a device).
+    /// GraspError
+    ///     Another run is writing the file.
+    /// OSError
+    ///     The file system refused the write.
     #[pyo3(signature = (path, *, overwrite=false))]
     fn to_npz(&self, py: Python<'_>, path: std::path::PathBuf, overwrite: bool) -> PyResult<()> {
         let targets = [("path", path.as_path())];

@@ -13,22 +13,6 @@ use crate::errors::{grasp_error, scene_error};
 use crate::scene::{parse_model, Scene};
 use crate::solution::Solution;
 
-/// Solves `scene` and returns its `Solution` (thesis chapter 3: minimum complementary energy
-/// over the friction cones; `model="coulomb"`: the sequential Tresca fixed point of
-/// model.md).
-///
-/// - `model`: `"energy"` or `"coulomb"`; default: the scene's own `model`.
-/// - `solver`: `"auto"` (native, falling back to Clarabel), `"native"` or `"clarabel"`.
-/// - `tolerance`: relative tolerance of the scaled program, in [1e-14, 1e-2] (below, round-off
-///   exceeds it; above, an answer is no solution).
-/// - `compliance`: `"auto"` (dense up to 1,024 unknowns a patch (32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D), the FFT operator above),
-///   `"dense"` or `"fft"` (matrix-free, native solver; docs/guide/solving.md, "Fine patches").
-/// - `at_time`: a viscoelastic scene's state this many seconds (in (0, 1e9]) after its loads
-///   and approaches were applied as a step at t = 0; `long_term=True`: its fully relaxed
-///   state; neither: the instantaneous response (docs/guide/pads.md, "Viscoelastic pads").
-///
-/// A grasp without equilibrium is a solution with status `"no_equilibrium"`, not an
-/// exception. The GIL is released while the model is built and solved.
 /// The `compliance=` keyword's value (`ValueError` naming the keyword otherwise).
 pub(crate) fn compliance_choice(compliance: &str) -> PyResult<ComplianceChoice> {
     ComplianceChoice::from_str(compliance).map_err(|e| {
@@ -36,6 +20,64 @@ pub(crate) fn compliance_choice(compliance: &str) -> PyResult<ComplianceChoice> 
     })
 }
 
+/// Solves one grasp, as `grasp solve` does.
+///
+/// The scene's loads are balanced by contact forces that minimise the complementary energy
+/// over the friction cones (thesis chapter 3); `model="coulomb"` runs the sequential Tresca
+/// fixed point of docs/model.md instead. The GIL is released while the model is built and
+/// solved, and Ctrl-C stops the call.
+///
+/// Parameters
+/// ----------
+/// scene : Scene
+///     The validated grasp (SI units), from `grasp.Scene`.
+/// model : {"energy", "coulomb"}, optional
+///     The contact model; default: the scene's own `model`.
+/// solver : {"auto", "native", "clarabel"}, default "auto"
+///     `"auto"`: the native semismooth Newton solver, falling back to Clarabel.
+/// tolerance : float, default 1e-10
+///     Relative tolerance of the scaled program (dimensionless), in [1e-14, 1e-2].
+/// compliance : {"auto", "dense", "fft"}, default "auto"
+///     How the patches' influence coefficients are held: `"auto"` is dense up to 1,024
+///     unknowns a patch (32x32 frictionless, 22x22 planar, 18x18 with friction in 3-D) and
+///     the FFT operator above; `"fft"` is matrix-free, native solver only
+///     (docs/guide/solving.md, "Fine patches").
+/// at_time : float, optional
+///     For a viscoelastic scene: the state this many seconds (in (0, 1e9] s) after its
+///     loads and approaches were applied as a step at t = 0. Default: the instantaneous
+///     response (t = 0+).
+/// long_term : bool, default False
+///     For a viscoelastic scene: its fully relaxed state (docs/guide/pads.md).
+///
+/// Returns
+/// -------
+/// Solution
+///     Element forces (N), pressures (Pa), gaps and slips (m), states, finger resultants and
+///     the solver's report. A grasp that cannot hold is a solution whose `status` is
+///     `"no_equilibrium"` (with its `reason`), not an exception.
+///
+/// Raises
+/// ------
+/// ValueError
+///     An option out of range or misspelt (the message names the keyword), or both
+///     `at_time` and `long_term=True`.
+/// TypeError
+///     `at_time` is not a number.
+/// SceneError
+///     The scene with `model=` is not valid, or its model cannot be built (`problems` lists
+///     each with its JSON path and fix).
+/// MemoryError
+///     The scene's model does not fit in memory (what did not fit, and the fix).
+/// GraspError
+///     The library refused the solve (the message says why, and the fix), or its working
+///     memory could not be had.
+/// UserWarning
+///     Warned, not raised: `at_time` or `long_term` given for an elastic scene.
+///
+/// Examples
+/// --------
+/// >>> sol = grasp.solve(grasp.Scene("examples/cube_a.json"))
+/// >>> sol.status, sol.finger_normal_forces_n
 #[pyfunction]
 #[pyo3(signature = (scene, *, model=None, solver="auto", tolerance=1e-10, compliance="auto", at_time=None, long_term=false))]
 #[allow(clippy::too_many_arguments)]

@@ -24,30 +24,83 @@ use crate::outputs::{claim, output_error};
 use crate::scene::Scene;
 use crate::solution::{tangents_by_name, Solution, Tangents};
 
-/// Runs the load schedule `schedule` (a path, a dict or JSON text of the schedule format of
-/// `grasp schema --schedule`) over `scene`, step by step, each step warm-started from the
-/// previous one (thesis section 4.2.2: the releasing fingers' normal forces ramped down).
+/// Runs a hand-off: a load schedule over a scene, step by step, as `grasp transfer` does.
 ///
-/// - `mcap`, `rrd`, `csv`, `npz`: paths of the files to write, the same as `grasp transfer`'s
-///   (`npz`: every step's element fields, `step_<k>/<finger>/<field>`), with
-///   the CLI's rules: existing files are replaced only with `overwrite=True` (never a folder,
-///   a link, a device or an input of the run); files appear only when the run completes (with
-///   a failed step: only with `keep_going=True`); a second run writing the same file is
-///   refused while this one runs.
-/// - `solver`: `"auto"`, `"native"` or `"clarabel"`; `cold=True` starts every step cold (and
-///   searches every step's margins from scratch).
-/// - `compliance`: `"auto"`, `"dense"` or `"fft"`, as in `solve` (docs/guide/solving.md, "Fine patches").
-/// - `keep_going`: continue past a step without equilibrium (default: stop there).
-/// - `margins`: compute each step's smallest disturbance margin (costly).
-/// - `keep_solutions`: keep every step's full solution for `step(i)` (default); refused
-///   before the run when that needs more than `max_memory` bytes (default: a quarter of the
-///   machine's memory). With `False` only the histories and the last step are kept.
-/// - `progress`: a callable `progress(done, total)` called after each step (a `tqdm`'s
-///   `update` wrapped, say); an exception it raises stops the run, as Ctrl-C does between
-///   steps (no output file is written then).
+/// Each step is warm-started from the previous one (thesis section 4.2.2: the releasing
+/// fingers' normal forces ramped down while the others take the load). The GIL is released
+/// while the driver runs; Ctrl-C stops the run between steps.
 ///
-/// CSV paths inside a schedule file are read relative to its folder (to the working folder
-/// for a dict or JSON text).
+/// Parameters
+/// ----------
+/// scene : Scene
+///     The validated grasp (SI units), from `grasp.Scene`.
+/// schedule : str, os.PathLike or dict
+///     The load schedule: a path to a schedule file, a dict, or its JSON text (the format of
+///     docs/schedule.schema.json: times in s, loads in N, approaches in m). CSV paths inside
+///     a schedule file are read relative to its folder (to the working folder for a dict or
+///     JSON text).
+/// mcap, rrd, csv, npz : str or os.PathLike, optional
+///     Files to write, the same as `grasp transfer`'s: a Foxglove MCAP, a Rerun recording,
+///     the per-step CSV, and every step's element fields (`step_<k>/<finger>/<field>`). An
+///     existing file is replaced only with `overwrite=True` (never a folder, a link, a device
+///     or an input of the run); files appear only when the run completes (after a failed
+///     step: only with `keep_going=True`); a second run writing the same file is refused
+///     while this one runs.
+/// solver : {"auto", "native", "clarabel"}, default "auto"
+///     The solver of every step, as in `solve`.
+/// cold : bool, default False
+///     Start every step cold (and search every step's margins from scratch).
+/// keep_going : bool, default False
+///     Continue past a step without equilibrium (default: stop there).
+/// margins : bool, default False
+///     Compute each step's smallest disturbance margin, N (costly: a search per step).
+/// overwrite : bool, default False
+///     Replace existing output files.
+/// keep_solutions : bool, default True
+///     Keep every step's full solution for `Transfer.step`; with False only the histories
+///     and the last step are kept.
+/// max_memory : int, optional
+///     The most memory, bytes (in [1, 2**64 - 1]), the kept solutions may take; the run is
+///     refused before it starts when they need more. Default: a quarter of the machine's
+///     memory.
+/// compliance : {"auto", "dense", "fft"}, default "auto"
+///     As in `solve` (docs/guide/solving.md, "Fine patches").
+/// progress : callable, optional
+///     `progress(done, total)`, called after each step (a `tqdm`'s `update` wrapped, say);
+///     an exception it raises stops the run, and no output file is written then.
+///
+/// Returns
+/// -------
+/// Transfer
+///     The force histories, time x finger (N, s), each step's status, the closing summary,
+///     the files written, and the steps' full solutions (`Transfer.step`).
+///
+/// Raises
+/// ------
+/// ScheduleError
+///     The schedule is not valid for the scene (`problems` lists each with its JSON path and
+///     fix).
+/// ValueError
+///     An option out of range or misspelt (the message names the keyword), or an output
+///     that may not be written (a folder, a link, an input of the run, one path twice).
+/// TypeError
+///     `progress` is not callable, or `max_memory` is not an int.
+/// FileExistsError
+///     An output exists and `overwrite` is False.
+/// FileNotFoundError
+///     An output's folder does not exist.
+/// GraspError
+///     The kept solutions would exceed `max_memory`, another run is writing an output, or
+///     the driver failed (the message says why, and the fix).
+/// KeyboardInterrupt
+///     Ctrl-C during the run (no output is written); whatever `progress` raised propagates
+///     the same way.
+///
+/// Examples
+/// --------
+/// >>> run = grasp.transfer(grasp.Scene("examples/plate_transfer.json"),
+/// ...                      "examples/plate_transfer.schedule.json", mcap="out.mcap")
+/// >>> run.times_s, run.normal_forces_n
 #[pyfunction]
 #[pyo3(signature = (scene, schedule, *, mcap=None, rrd=None, csv=None, npz=None, solver="auto",
                     cold=false, keep_going=false, margins=false, overwrite=false,
@@ -463,8 +516,22 @@ impl Transfer {
         self.written.clone()
     }
 
-    /// The full solution of step `index` (element arrays included); with
-    /// `keep_solutions=False` only the last step's (`step(-1)`).
+    /// The full solution of one step, element arrays included.
+    ///
+    /// Parameters
+    /// ----------
+    /// index : int
+    ///     The step, from 0 (negative counts from the end: `step(-1)` is the last). With
+    ///     `keep_solutions=False` only the last step is kept.
+    ///
+    /// Returns
+    /// -------
+    /// Solution
+    ///
+    /// Raises
+    /// ------
+    /// IndexError
+    ///     No such step, or a step not kept (`keep_solutions=False`).
     fn step(&self, index: isize) -> PyResult<Solution> {
         let n = self.histories.len() as isize;
         let i = if index < 0 { index + n } else { index };

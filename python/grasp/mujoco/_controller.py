@@ -48,7 +48,25 @@ def import_module(module):
 
 
 def load_controller(spec):
-    """``MODULE:FN`` (a dotted module on the path, or a .py file) -> FN(model, data)."""
+    """The controller function named by ``MODULE:FN``.
+
+    Parameters
+    ----------
+    spec : str or callable
+        ``MODULE:FN``: a dotted module on the Python path, or a .py file, and the name of a
+        function ``FN(model, data)`` in it; a callable is returned as it is.
+
+    Returns
+    -------
+    callable
+        ``FN(model, data)``, which sets ``data.ctrl`` (and anything else) before a step.
+
+    Raises
+    ------
+    ControllerError
+        ``spec`` is not ``MODULE:FN``, its module cannot be imported (or exits), or it has no
+        function ``FN``.
+    """
     if callable(spec):
         return spec
     if not isinstance(spec, str) or ":" not in spec:
@@ -91,12 +109,43 @@ def check_run(model, steps, every):
 
 def simulate(model: "mujoco.MjModel", data: "mujoco.MjData", controller: Union[str, Callable], steps: int,
              every: int = 1, progress: Optional[Callable[[int, int], object]] = None) -> Rollout:
-    """Runs ``steps`` MuJoCo steps from the state of ``data``; before each step
-    ``controller(model, data)`` sets the controls. Records the state (with its controls and
-    the solver's warm start, so ``mj_forward`` there gives the forces ``mj_step`` used) every
-    ``every`` steps, the first and the last state included (at most 1,000,000 steps and
-    1,000,000 states, 1 GiB). ``progress(done, steps)`` is called after each step. Returns a
-    :class:`Rollout`."""
+    """Runs MuJoCo under a controller and records the states.
+
+    Before each step ``controller(model, data)`` sets the controls. The state (with its
+    controls and the solver's warm start, so ``mj_forward`` there gives the forces ``mj_step``
+    used) is recorded every ``every`` steps, the first and the last state included.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The model to step.
+    data : mujoco.MjData
+        The state to start from; it is stepped in place.
+    controller : str or callable
+        ``MODULE:FN`` (see :func:`load_controller`) or a function ``FN(model, data)``.
+    steps : int
+        MuJoCo steps to run (of the model's timestep, s), in [1, 1,000,000].
+    every : int, default 1
+        Record every ``every``-th state (at most 1,000,000 states and 1 GiB recorded).
+    progress : callable, optional
+        ``progress(done, steps)``, called after each step.
+
+    Returns
+    -------
+    Rollout
+        The recorded states (times in s, MuJoCo's layouts).
+
+    Raises
+    ------
+    MujocoNotInstalled
+        ``mujoco`` cannot be imported.
+    StateError
+        ``steps`` or ``every`` out of range, a state that is not finite, or MuJoCo warned.
+    ControllerError
+        The controller cannot be loaded, raised, or called ``sys.exit``.
+    TypeError
+        ``progress`` is not callable.
+    """
     mujoco = require_mujoco()
     steps, every, n = check_run(model, steps, every)
     if progress is not None and not callable(progress):

@@ -78,7 +78,39 @@ class StepFinger:
 @dataclass
 class Handoff:
     """A scene, a schedule and its CSV profile made from a MuJoCo rollout, with MuJoCo's
-    per-step finger forces (``normal_forces_n``: steps x fingers, N)."""
+    per-step finger forces (made by :func:`schedule_from_rollout`).
+
+    Attributes
+    ----------
+    scene_dict, schedule_dict : dict
+        The scene and schedule formats (SI units).
+    profile_csv : str
+        The CSV profile the schedule reads (loads in N per time in s).
+    finger_names : list of str
+        The scene's fingers: the columns of the arrays.
+    times_s : numpy.ndarray
+        The rollout's times, s, shape ``(T,)``.
+    normal_forces_n : numpy.ndarray
+        MuJoCo's finger normal forces, N, shape ``(T, F)``.
+    friction_forces_n : numpy.ndarray
+        MuJoCo's finger friction forces, world frame, N, shape ``(T, F, 3)``.
+    external_n : numpy.ndarray
+        The external force (N) and couple (N m) at the centre of mass, scene frame, ``(T, 6)``.
+    mujoco_held : numpy.ndarray
+        Whether MuJoCo held the object at each step, bool, ``(T,)``.
+    slip_speeds_m_per_s : numpy.ndarray
+        The fastest sliding speed of MuJoCo's contacts at each step, m/s, ``(T,)``.
+    steps : list of dict
+        Per step, MuJoCo's forces per finger.
+    contact_drift_m : dict
+        Per finger, how far its contact drifted on the object over the rollout, m.
+    warnings : list of str
+        The approximations made.
+    files : dict
+        Extra files beside the scene (a mesh's OBJ), by name.
+    hold_speed_m_per_s : float
+        MuJoCo holds the object when its contacts slide slower than this, m/s.
+    """
 
     scene_dict: dict
     schedule_dict: dict
@@ -99,12 +131,24 @@ class Handoff:
 
     @property
     def scene(self):
+        """The scene as a :class:`grasp.Scene` (validated)."""
         if self._scene is None:
             self._scene = load_scene(self.scene_dict, self.files)
         return self._scene
 
     def outputs(self, prefix):
-        """{path: text} of PREFIX.json, PREFIX.schedule.json, PREFIX.csv (and a mesh)."""
+        """The files :meth:`write` writes.
+
+        Parameters
+        ----------
+        prefix : str or os.PathLike
+            The path of the files without their suffixes.
+
+        Returns
+        -------
+        dict of str to str
+            ``{path: text}`` of PREFIX.json, PREFIX.schedule.json, PREFIX.csv (and a mesh).
+        """
         prefix = os.fspath(prefix)
         folder, stem = os.path.split(prefix)
         schedule = json.loads(json.dumps(self.schedule_dict))
@@ -120,18 +164,77 @@ class Handoff:
         return outs
 
     def write(self, prefix, overwrite=False, inputs=()):
-        """Writes PREFIX.json (scene), PREFIX.schedule.json and PREFIX.csv, all or nothing."""
+        """Writes PREFIX.json (scene), PREFIX.schedule.json and PREFIX.csv, all or nothing.
+
+        Parameters
+        ----------
+        prefix : str or os.PathLike
+            The path of the files without their suffixes; its folder must exist.
+        overwrite : bool, default False
+            Replace existing files.
+        inputs : sequence of path, default ()
+            Files the run read (never replaced).
+
+        Returns
+        -------
+        list of str
+            The paths written.
+
+        Raises
+        ------
+        SceneError
+            The scene is not valid (checked before anything is written).
+        FileExistsError
+            A file exists and ``overwrite`` is False.
+        ValueError
+            A path that may not be written (a folder, a link, an input of the run).
+        """
         self.scene  # validated before anything is written
         return write_all(self.outputs(prefix), overwrite, inputs)
 
     def replay(self, mcap=None, rrd=None, csv=None, margins=False, threshold_n=None, solver="auto",
                overwrite=False, inputs=(), also=None, progress=None):
-        """Runs the schedule with ``grasp.transfer`` (``keep_going``: every step is solved) and
-        writes its MCAP / Rerun (merged with MuJoCo's forces) / CSV, and the files of ``also``
-        ({path: text or bytes}), all or nothing; returns a :class:`HandoffReplay` listing the
-        steps where MuJoCo held but the elastic model found no equilibrium, or a smallest
-        margin below ``threshold_n``. ``progress(done, total)`` is called after each step
-        (``grasp.transfer``'s)."""
+        """Runs the schedule with ``grasp.transfer`` and writes its files, all or nothing.
+
+        Every step is solved (``keep_going=True``); the Rerun recording is merged with MuJoCo's
+        forces.
+
+        Parameters
+        ----------
+        mcap, rrd, csv : str or os.PathLike, optional
+            The files to write, as ``grasp.transfer``'s.
+        margins : bool, default False
+            Compute each step's smallest disturbance margin, N.
+        threshold_n : float, optional
+            Flag the steps whose smallest margin is below this, N.
+        solver : {"auto", "native", "clarabel"}, default "auto"
+            As in ``grasp.solve``.
+        overwrite : bool, default False
+            Replace existing files.
+        inputs : sequence of path, default ()
+            Files the run read (never replaced).
+        also : dict, optional
+            More files to write with them, ``{path: text or bytes}``.
+        progress : callable, optional
+            ``progress(done, total)``, called after each step.
+
+        Returns
+        -------
+        HandoffReplay
+            The replay, with the steps where MuJoCo held but the elastic model found no
+            equilibrium, or a margin below ``threshold_n``.
+
+        Raises
+        ------
+        ScheduleError
+            The schedule is not valid for the scene.
+        MujocoError
+            ``threshold_n`` is not a number in [0, 1e7] N.
+        FileExistsError
+            A file exists and ``overwrite`` is False.
+        ValueError
+            A path that may not be written (a folder, a link, an input of the run).
+        """
         import grasp
 
         threshold_n = check_threshold(threshold_n)
@@ -167,7 +270,18 @@ class Handoff:
 
 
 class HandoffReplay:
-    """The elastic replay of a MuJoCo hand-off beside MuJoCo's run."""
+    """The elastic replay of a MuJoCo hand-off beside MuJoCo's run (made by
+    :meth:`Handoff.replay`).
+
+    Parameters
+    ----------
+    handoff : Handoff
+        MuJoCo's side.
+    run : grasp.Transfer
+        The elastic model's run of its schedule.
+    threshold_n : float or None
+        Steps whose smallest margin is below this, N, are flagged.
+    """
 
     def __init__(self, handoff, run, threshold_n):
         self.handoff = handoff
@@ -177,7 +291,8 @@ class HandoffReplay:
     @property
     def flagged_steps(self):
         """Steps where MuJoCo held the object but the elastic model found no equilibrium, or a
-        smallest margin below the threshold: [(step, time s, why)]."""
+        smallest margin below the threshold: ``[(step, time s, why)]``.
+        """
         out = []
         margins = self.run.smallest_margins_n
         for i, (status, held) in enumerate(zip(self.run.statuses, self.handoff.mujoco_held)):
@@ -190,6 +305,14 @@ class HandoffReplay:
         return out
 
     def to_dict(self):
+        """The replay's comparison as a dict of JSON values.
+
+        Returns
+        -------
+        dict
+            Steps held and solved, flagged steps, the largest load and friction differences (N),
+            contact drift (m), the fastest slip (m/s) and the run's summary.
+        """
         h, run = self.handoff, self.run
         ok = [s in ("solved", "reduced_accuracy") for s in run.statuses]
         return {
@@ -207,8 +330,14 @@ class HandoffReplay:
         }
 
     def friction_differences(self):
-        """Per finger, the largest difference between the elastic model's friction force and
-        MuJoCo's (N, vector difference) over the steps the elastic model solved, and its step."""
+        """Per finger, the largest difference between the elastic model's friction force and MuJoCo's.
+
+        Returns
+        -------
+        dict
+            ``{finger: {"largest_n", "step", "time_s"}}``: the vector difference, N, over the steps
+            the elastic model solved, and where it is.
+        """
         q = np.nan_to_num(self.run.tangential_forces_n)
         ok = np.array([s in ("solved", "reduced_accuracy") for s in self.run.statuses])
         diff = np.linalg.norm(q - self.handoff.friction_forces_n, axis=2)
@@ -220,6 +349,12 @@ class HandoffReplay:
         return out
 
     def summary_text(self):
+        """The comparison in a few lines of text.
+
+        Returns
+        -------
+        str
+        """
         d = self.to_dict()
         s = d["summary"]
         lines = [f"{d['steps']} steps: MuJoCo held the object in {d['mujoco_held_steps']} (contacts sliding slower than "
@@ -254,10 +389,49 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
                           patch: Optional[dict] = None, contact_model: str = "coulomb",
                           hold_speed_m_per_s: float = HOLD_SPEED_M_PER_S, description: Optional[str] = None,
                           mesh_name: Optional[str] = None) -> "Handoff":
-    """A scene plus a load schedule from a MuJoCo rollout (a :class:`Rollout`, an .npz path, or
-    a dict of arrays: time, qpos, qvel, and optionally ctrl, act, qacc_warmstart, mocap_pos,
-    mocap_quat). ``mj_forward`` runs at every row. Returns a :class:`Handoff`: ``write(PREFIX)``
-    writes PREFIX.json, PREFIX.schedule.json and PREFIX.csv; ``replay(...)`` runs it."""
+    """A scene plus a load schedule from a MuJoCo rollout.
+
+    ``mj_forward`` runs at every row; each finger's normal force becomes its load profile and
+    MuJoCo's contact forces on the object the schedule's external load.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+    rollout : Rollout, dict, str or os.PathLike
+        A :class:`Rollout`, an .npz path, or a dict of arrays: time (s), qpos, qvel, and
+        optionally ctrl, act, qacc_warmstart, mocap_pos, mocap_quat.
+    object_body : str or int
+        The grasped body, by name or id.
+    materials : dict, str or os.PathLike, optional
+        ``{geom or body name: material}`` (a dict or a JSON file), as in :func:`scene_from`.
+    patch : dict, optional
+        ``{"grid": [nx, ny], "margin_m": m, "size": [a, b]}`` (sizes in m).
+    contact_model : {"energy", "coulomb"}, default "coulomb"
+        The scene's contact model.
+    hold_speed_m_per_s : float, default HOLD_SPEED_M_PER_S
+        MuJoCo holds the object when its contacts slide slower than this, m/s.
+    description : str, optional
+        The scene's description.
+    mesh_name : str, optional
+        The file name of an object mesh written beside the scene.
+
+    Returns
+    -------
+    Handoff
+        ``write(PREFIX)`` writes PREFIX.json, PREFIX.schedule.json and PREFIX.csv;
+        ``replay(...)`` runs it.
+
+    Raises
+    ------
+    MujocoNotInstalled
+        ``mujoco`` cannot be imported.
+    StateError
+        The rollout cannot be read or does not fit the model.
+    NoContactError
+        The body is held by no contact in any state.
+    UnknownBodyError, MaterialMapError, ContactGeometryError, MujocoError
+        As in :func:`scene_from`.
+    """
     mujoco = require_mujoco()
     check_choice("contact_model", contact_model, MODELS)
     opts = patch_options(patch)

@@ -38,7 +38,19 @@ def state_counts(g, mu):
 
 
 class Report:
-    """MuJoCo's grasp beside this project's answer for the same scene."""
+    """MuJoCo's grasp beside this project's answer for the same scene (made by :func:`compare`).
+
+    Parameters
+    ----------
+    grasp_state : MujocoGrasp
+        MuJoCo's side.
+    solution : grasp.Solution
+        The elastic model's answer for its scene.
+    margin_n : float or None
+        The smallest disturbance margin, N (None when not computed).
+    hold_speed_m_per_s : float, default HOLD_SPEED_M_PER_S
+        MuJoCo holds the object when its contacts slide slower than this, m/s.
+    """
 
     def __init__(self, grasp_state, solution, margin_n, hold_speed_m_per_s=HOLD_SPEED_M_PER_S):
         self.grasp = grasp_state
@@ -48,18 +60,28 @@ class Report:
 
     @property
     def mujoco_slip_speed_m_per_s(self):
+        """The fastest sliding speed of MuJoCo's contacts, m/s."""
         return max(f.slip_speed_m_per_s for f in self.grasp.fingers)
 
     @property
     def mujoco_holds(self):
+        """True when MuJoCo's fingers carry load and slide slower than ``hold_speed_m_per_s``."""
         loaded = any(f.normal_force_n > 0 for f in self.grasp.fingers)
         return bool(loaded and self.mujoco_slip_speed_m_per_s < self.hold_speed_m_per_s)
 
     @property
     def grasp_holds(self):
+        """True when the elastic model found an equilibrium (solved, or to reduced accuracy)."""
         return self.solution.status in ("solved", "reduced_accuracy")
 
     def rows(self):
+        """One row per finger: MuJoCo's forces beside the elastic model's.
+
+        Returns
+        -------
+        list of dict
+            ``{"name", "mujoco": {...}, "grasp": {...} or None}`` (N, m, Pa, m^2, N m).
+        """
         ours = {f["name"]: f for f in (self.solution.fingers if self.solution.has_forces else [])}
         out = []
         for f in self.grasp.fingers:
@@ -76,6 +98,14 @@ class Report:
         return out
 
     def to_dict(self):
+        """The whole report as a dict of JSON values (what :meth:`write` writes).
+
+        Returns
+        -------
+        dict
+            ``object`` (weight, centre of mass, unbalanced forces), ``fingers`` (:meth:`rows`),
+            ``totals``, ``holds``, ``smallest_margin_n`` and ``warnings``.
+        """
         g = self.grasp
         rows = self.rows()
         return {
@@ -108,7 +138,17 @@ class Report:
         }
 
     def table(self, markdown=False):
-        """The side-by-side table (text, or Markdown for a README)."""
+        """The side-by-side table.
+
+        Parameters
+        ----------
+        markdown : bool, default False
+            A Markdown table (for a README) instead of aligned text.
+
+        Returns
+        -------
+        str
+        """
         # Friction |Q| and utilisation |Q| / (mu P) are spelled out: a '|' would split a Markdown cell.
         head = ["finger", "contacts", "MuJoCo P [N]", "MuJoCo friction [N]", "MuJoCo utilisation",
                 "grasp P [N]", "grasp friction [N]", "grasp utilisation", "stick/slip/sep"]
@@ -140,6 +180,12 @@ class Report:
         return "\n".join(lines)
 
     def summary_line(self):
+        """One line: whether MuJoCo and the elastic model hold, and the smallest margin.
+
+        Returns
+        -------
+        str
+        """
         h = self.to_dict()["holds"]
         mj = (f"MuJoCo {'holds' if h['mujoco'] else 'does not hold'} (contacts slide at up to "
               f"{1e3 * h['mujoco_slip_speed_m_per_s']:.3g} mm/s)")
@@ -149,12 +195,44 @@ class Report:
         return f"{mj}; {ours}{margin}"
 
     def to_json(self):
+        """The report as JSON text (NaN and infinities as null).
+
+        Returns
+        -------
+        str
+        """
         return json.dumps(finite(self.to_dict()), indent=2, allow_nan=False) + "\n"
 
     def write(self, json_path=None, rrd=None, overwrite=False, inputs=(), also=None):
-        """Writes the report's JSON and/or its Rerun recording (the project's recording of the
-        scene merged with MuJoCo's forces), and the files of ``also`` ({path: text or bytes}),
-        all or nothing; returns the paths written."""
+        """Writes the report's JSON and/or its Rerun recording, all or nothing.
+
+        Parameters
+        ----------
+        json_path : str or os.PathLike, optional
+            The JSON of :meth:`to_dict`.
+        rrd : str or os.PathLike, optional
+            The project's recording of the scene merged with MuJoCo's forces.
+        overwrite : bool, default False
+            Replace existing files.
+        inputs : sequence of path, default ()
+            Files the run read (never replaced).
+        also : dict, optional
+            More files to write with them, ``{path: text or bytes}``.
+
+        Returns
+        -------
+        list of str
+            The paths written.
+
+        Raises
+        ------
+        FileExistsError
+            A file exists and ``overwrite`` is False.
+        ValueError
+            A path that may not be written (a folder, a link, an input of the run).
+        MujocoNotInstalled
+            ``rrd`` is asked for without ``rerun-sdk``.
+        """
         targets = [p for p in (json_path, rrd) if p is not None] + list(also or {})
         check_targets(targets, overwrite, inputs)
         outs = dict(also or {})
@@ -202,9 +280,29 @@ def compare(grasp_state: "MujocoGrasp", margins: bool = True, solver: str = "aut
             hold_speed_m_per_s: float = HOLD_SPEED_M_PER_S) -> Report:
     """Solves the scene of a :class:`MujocoGrasp` and puts it beside MuJoCo's forces.
 
-    ``margins``: also find the smallest disturbance margin over the axis directions (one
-    ``grasp.transfer`` step with ``margins=True``; seconds on fine grids). Returns a
-    :class:`Report` (``table()``, ``to_dict()``, ``write(json_path=, rrd=)``).
+    Parameters
+    ----------
+    grasp_state : MujocoGrasp
+        From :func:`scene_from`.
+    margins : bool, default True
+        Also find the smallest disturbance margin, N, over the axis directions (one
+        ``grasp.transfer`` step with ``margins=True``; seconds on fine grids).
+    solver : {"auto", "native", "clarabel"}, default "auto"
+        As in ``grasp.solve``.
+    hold_speed_m_per_s : float, default HOLD_SPEED_M_PER_S
+        MuJoCo holds the object when its contacts slide slower than this, m/s.
+
+    Returns
+    -------
+    Report
+        ``table()``, ``to_dict()``, ``write(json_path=, rrd=)``.
+
+    Raises
+    ------
+    SceneError
+        The scene made from MuJoCo is not valid.
+    ValueError
+        ``solver`` is not one of the choices.
     """
     import grasp
 

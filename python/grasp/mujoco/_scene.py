@@ -57,7 +57,35 @@ def check_choice(name, value, choices):
 
 @dataclass
 class MujocoFinger:
-    """One finger as MuJoCo sees it (world frame, N, m)."""
+    """One finger as MuJoCo sees it (world frame, N, m).
+
+    Attributes
+    ----------
+    name : str
+        The scene's finger name.
+    body : str
+        MuJoCo's body that touches the object.
+    object_geom : str
+        The object's geom it touches.
+    geoms : list of str
+        The body's geoms in contact.
+    contact_count : int
+        MuJoCo's contacts of the finger.
+    normal_force_n : float
+        MuJoCo's total normal force, N.
+    friction_force_n : numpy.ndarray
+        MuJoCo's total friction force, world frame, N, shape ``(3,)``.
+    center_of_pressure_m : numpy.ndarray
+        The centre of MuJoCo's normal forces, m, shape ``(3,)``.
+    normal : numpy.ndarray
+        The unit contact normal into the object, shape ``(3,)``.
+    mu : float
+        MuJoCo's combined sliding friction coefficient.
+    slip_speed_m_per_s : float
+        The fastest relative sliding speed of the finger's contacts, m/s.
+    points_m : numpy.ndarray
+        MuJoCo's contact points, m, shape ``(contact_count, 3)``.
+    """
 
     name: str
     body: str
@@ -74,11 +102,17 @@ class MujocoFinger:
 
     @property
     def friction_utilisation(self):
-        """|Q| / (mu P) of MuJoCo's forces (nan without friction or load)."""
+        """|Q| / (mu P) of MuJoCo's forces (dimensionless; NaN without friction or load)."""
         denom = self.mu * self.normal_force_n
         return float(np.linalg.norm(self.friction_force_n) / denom) if denom > 0 else float("nan")
 
     def to_dict(self):
+        """The finger as a dict of JSON values (the ``mujoco`` side of a report's row).
+
+        Returns
+        -------
+        dict
+        """
         return {
             "name": self.name, "body": self.body, "object_geom": self.object_geom, "geoms": self.geoms,
             "contacts": self.contact_count, "normal_force_n": self.normal_force_n,
@@ -209,7 +243,35 @@ def couple_as_forces(torque, center, arm_m):
 
 @dataclass
 class MujocoGrasp:
-    """A grasp scene made from a MuJoCo state, with MuJoCo's side of it."""
+    """A grasp scene made from a MuJoCo state, with MuJoCo's side of it.
+
+    Attributes
+    ----------
+    scene_dict : dict
+        The scene format (SI units); :attr:`scene` validates it.
+    fingers : list of MujocoFinger
+        MuJoCo's forces per finger, scene order.
+    weight_n : float
+        The object's weight, N.
+    center_of_mass_m : numpy.ndarray
+        The object's centre of mass, m, shape ``(3,)``.
+    gravity : numpy.ndarray
+        MuJoCo's gravity, m/s^2, shape ``(3,)``.
+    unbalanced_force_n, unbalanced_torque_nm : numpy.ndarray
+        What MuJoCo's contact forces leave unbalanced on the object, N and N m.
+    object_speed_m_per_s : float
+        The object's speed at the state, m/s.
+    inertial_force_n : numpy.ndarray
+        ``m a`` of the object from MuJoCo's accelerations, N.
+    control : str
+        ``"mujoco-force"`` or ``"held"``: how the scene's fingers are controlled.
+    warnings : list of str
+        The approximations made.
+    files : dict
+        Extra files beside the scene (a mesh's OBJ), by name.
+    mujoco_version : str
+        The version of MuJoCo that made it.
+    """
 
     scene_dict: dict
     fingers: list
@@ -235,13 +297,31 @@ class MujocoGrasp:
 
     @property
     def finger_names(self):
+        """The scene's finger names, scene order."""
         return [f.name for f in self.fingers]
 
     def to_json(self):
+        """The scene as JSON text.
+
+        Returns
+        -------
+        str
+        """
         return json.dumps(self.scene_dict, indent=2) + "\n"
 
     def outputs(self, path):
-        """{path: text} of the scene file and a mesh beside it."""
+        """The files :meth:`write` writes.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The scene file.
+
+        Returns
+        -------
+        dict of str to str
+            ``{path: text}`` of the scene file and a mesh beside it.
+        """
         folder = os.path.dirname(os.path.abspath(path))
         outs = {os.fspath(path): self.to_json()}
         for name, text in self.files.items():
@@ -249,7 +329,29 @@ class MujocoGrasp:
         return outs
 
     def write(self, path, overwrite=False):
-        """Writes the scene (and a mesh beside it) all or nothing; returns the paths written."""
+        """Writes the scene (and a mesh beside it), all or nothing.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The scene file; its folder must exist.
+        overwrite : bool, default False
+            Replace existing files.
+
+        Returns
+        -------
+        list of str
+            The paths written.
+
+        Raises
+        ------
+        SceneError
+            The scene is not valid (checked before anything is written).
+        FileExistsError
+            A file exists and ``overwrite`` is False.
+        ValueError
+            A path that may not be written (a folder, a link, an input of the run).
+        """
         from ._files import write_all
 
         self.scene  # validated before anything is written
@@ -385,22 +487,59 @@ def scene_from(model: "mujoco.MjModel", data: "mujoco.MjData", object_body: Unio
     """A grasp scene from a MuJoCo state.
 
     Runs ``mj_forward`` at the state of ``data``, takes every active contact between
-    ``object_body`` (a name or id) and another body, and makes one finger per (object geom,
-    other body) pair: its contact point the centre of pressure of MuJoCo's normal forces (a flat
-    pair: the centre of the points' spread, which is the pad), its normal the common contact
-    normal into the object, its patch the points' spread plus ``patch["margin_m"]`` (flat pairs)
-    or 2.4 Hertz semi-axes at MuJoCo's normal force (curved pairs), its friction MuJoCo's
-    combined sliding friction. The object's weight is ``body_mass |gravity|`` at its centre of
-    mass (``data.xipos``), its shape its geom's (box, sphere, cylinder, capsule, mesh). With
-    that shape (exact gaps) a box, cylinder or capsule fingertip geom is the scene's
-    ``tip.shape``: the solid as MuJoCo poses it, moved back out of the object along the normal
-    by MuJoCo's overlap (a pad's real edges wherever MuJoCo's points lie on it); without it a
-    box is a flat pad of its size. A sphere is ``tip.sphere``; a mesh is taken flat.
+    ``object_body`` and another body, and makes one finger per (object geom, other body) pair:
+    its contact point the centre of pressure of MuJoCo's normal forces (a flat pair: the centre
+    of the points' spread, which is the pad), its normal the common contact normal into the
+    object, its patch the points' spread plus ``patch["margin_m"]`` (flat pairs) or 2.4 Hertz
+    semi-axes at MuJoCo's normal force (curved pairs), its friction MuJoCo's combined sliding
+    friction. The object's weight is ``body_mass |gravity|`` at its centre of mass
+    (``data.xipos``), its shape its geom's (box, sphere, cylinder, capsule, mesh). With that
+    shape (exact gaps) a box, cylinder or capsule fingertip geom is the scene's ``tip.shape``:
+    the solid as MuJoCo poses it, moved back out of the object along the normal by MuJoCo's
+    overlap; without it a box is a flat pad of its size. A sphere is ``tip.sphere``; a mesh is
+    taken flat.
 
-    ``materials``: {geom or body name: material} (dict or JSON path); unnamed geoms get the
-    default (rubber) with a warning. ``control``: "mujoco-force" (each finger force-controlled
-    at MuJoCo's normal force) or "held". ``contact_model``: "energy" or "coulomb". ``patch``:
-    {"grid": [nx, ny], "margin_m": m, "size": [a, b]}. Returns a :class:`MujocoGrasp`.
+    Parameters
+    ----------
+    model : mujoco.MjModel
+    data : mujoco.MjData
+        The state (``mj_forward`` is run on it).
+    object_body : str or int
+        The grasped body, by name or id (a free body with mass).
+    materials : dict, str or os.PathLike, optional
+        ``{geom or body name: material}`` (a dict or a JSON file; moduli in Pa); unnamed geoms
+        get the default (rubber) with a warning.
+    patch : dict, optional
+        ``{"grid": [nx, ny], "margin_m": m, "size": [a, b]}`` (sizes in m).
+    control : {"mujoco-force", "held"}, default "mujoco-force"
+        Each finger force-controlled at MuJoCo's normal force, or held in place.
+    contact_model : {"energy", "coulomb"}, default "energy"
+        The scene's contact model.
+    description : str, optional
+        The scene's description.
+    mesh_name : str, optional
+        The file name of an object mesh written beside the scene.
+
+    Returns
+    -------
+    MujocoGrasp
+
+    Raises
+    ------
+    MujocoNotInstalled
+        ``mujoco`` cannot be imported.
+    UnknownBodyError
+        ``object_body`` is not a body that can be grasped.
+    NoContactError
+        The body touches nothing at the state.
+    MaterialMapError
+        The material map names what the model lacks, or is malformed.
+    ContactGeometryError
+        A contact whose geometry the model cannot represent.
+    StateError
+        MuJoCo warned at the state.
+    MujocoError
+        Another option out of range (its message names it and the fix).
     """
     mujoco = require_mujoco()
     check_choice("control", control, CONTROLS)

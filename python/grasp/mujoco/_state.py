@@ -16,7 +16,25 @@ from ._npz import load_npy, load_npz, reason
 
 
 def load_model(path):
-    """An MjModel from an MJCF (.xml) or binary (.mjb) file; ModelLoadError otherwise."""
+    """A MuJoCo model from a file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An MJCF (.xml) or binary (.mjb) model file; the files it names (meshes, textures,
+        includes) are checked as inputs too.
+
+    Returns
+    -------
+    mujoco.MjModel
+
+    Raises
+    ------
+    MujocoNotInstalled
+        ``mujoco`` cannot be imported.
+    ModelLoadError
+        The file, or one it names, cannot be read, or MuJoCo cannot compile it.
+    """
     mujoco = require_mujoco()
     p = os.fspath(path)
     # A regular file within the limit (never a FIFO or /dev/zero) before MuJoCo opens it, and
@@ -120,8 +138,30 @@ def state_name(model, keyframe, qpos):
 
 
 def load_state(model, keyframe=None, qpos=None):
-    """An MjData at a keyframe (name or index), at a state file (qpos, optionally qvel, ctrl,
-    act), or at the model's initial state; ``mj_forward`` is left to the caller."""
+    """A MuJoCo state of ``model``; ``mj_forward`` is left to the caller.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The model the state belongs to.
+    keyframe : str or int, optional
+        A keyframe of the model, by name or index.
+    qpos : str, os.PathLike or array_like, optional
+        A state file (.json or .npz: ``qpos``, optionally ``qvel``, ``ctrl``, ``act``,
+        ``time`` in s; .npy or .txt: ``qpos`` alone) or the ``qpos`` vector itself. Neither: the model's initial state.
+
+    Returns
+    -------
+    mujoco.MjData
+
+    Raises
+    ------
+    MujocoNotInstalled
+        ``mujoco`` cannot be imported.
+    StateError
+        Both a keyframe and ``qpos``; no such keyframe; a state file that cannot be read, has
+        unknown entries, the wrong lengths or numbers that are not finite.
+    """
     mujoco = require_mujoco()
     if keyframe is not None and qpos is not None:
         raise StateError("both a keyframe and a qpos file are given", "give one of them")
@@ -153,7 +193,19 @@ ROLLOUT_KEYS = ("time", "qpos", "qvel", "ctrl", "act", "qacc_warmstart", "mocap_
 
 @dataclass
 class Rollout:
-    """States of a MuJoCo run, one row per recorded step (SI units, MuJoCo's layouts)."""
+    """States of a MuJoCo run, one row per recorded step (SI units, MuJoCo's layouts).
+
+    Attributes
+    ----------
+    time : numpy.ndarray
+        Simulation times, s, shape ``(T,)``, strictly increasing.
+    qpos, qvel, ctrl, act, qacc_warmstart : numpy.ndarray
+        MuJoCo's state vectors per row, shapes ``(T, nq)``, ``(T, nv)``, ``(T, nu)``,
+        ``(T, na)``, ``(T, nv)`` (m and rad, m/s and rad/s, the actuators' units).
+    mocap_pos, mocap_quat : numpy.ndarray
+        Mocap bodies' positions (m) and orientations, shapes ``(T, nmocap, 3)`` and
+        ``(T, nmocap, 4)``.
+    """
 
     time: np.ndarray
     qpos: np.ndarray
@@ -169,44 +221,130 @@ class Rollout:
 
     @staticmethod
     def row_bytes(model):
-        """Bytes of one state of ``model`` in a rollout."""
+        """Bytes of one state of ``model`` in a rollout.
+
+        Parameters
+        ----------
+        model : mujoco.MjModel
+
+        Returns
+        -------
+        int
+        """
         return 8 * (1 + model.nq + 2 * model.nv + model.nu + model.na + 7 * model.nmocap)
 
     @staticmethod
     def empty(model, n):
-        """A rollout of ``n`` states of ``model``, all zero, to be filled by ``store``."""
+        """A rollout of ``n`` states of ``model``, all zero, to be filled by :meth:`store`.
+
+        Parameters
+        ----------
+        model : mujoco.MjModel
+        n : int
+            The number of states.
+
+        Returns
+        -------
+        Rollout
+        """
         data = require_mujoco().MjData(model)
         return Rollout(**{k: np.zeros((n, *np.shape(getattr(data, k)))) for k in ROLLOUT_KEYS})
 
     def store(self, i, data):
-        """Puts the state of ``data`` into row ``i``."""
+        """Puts the state of ``data`` into row ``i``.
+
+        Parameters
+        ----------
+        i : int
+            The row.
+        data : mujoco.MjData
+            The state to store.
+
+        Returns
+        -------
+        None
+        """
         for k in ROLLOUT_KEYS:
             getattr(self, k)[i] = getattr(data, k)
 
     @staticmethod
     def record(model, data):
-        """{name: value} of the state of ``data`` (a row for ``from_rows``)."""
+        """The state of ``data`` as a row for :meth:`from_rows`.
+
+        Parameters
+        ----------
+        model : mujoco.MjModel
+        data : mujoco.MjData
+
+        Returns
+        -------
+        dict
+            ``{name: value}``: ``time`` (s) and copies of the state vectors.
+        """
         return {k: np.array(getattr(data, k), dtype=float).copy() if k != "time" else float(data.time)
                 for k in ROLLOUT_KEYS}
 
     @staticmethod
     def from_rows(rows):
-        """A rollout of the rows of ``record``."""
+        """A rollout of the rows of :meth:`record`.
+
+        Parameters
+        ----------
+        rows : sequence of dict
+            Rows as :meth:`record` returns them, in time order.
+
+        Returns
+        -------
+        Rollout
+        """
         return Rollout(**{k: np.array([r[k] for r in rows], dtype=float) for k in ROLLOUT_KEYS})
 
     def arrays(self):
-        """{name: array} of the rollout (what ``load`` and ``save`` take)."""
+        """The rollout's arrays by name (what :meth:`load` and :meth:`save` take).
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+        """
         return {k: getattr(self, k) for k in ROLLOUT_KEYS}
 
     def save(self, path):
-        """Writes the rollout as .npz (the format ``--rollout`` reads)."""
+        """Writes the rollout as .npz (the format ``--rollout`` and :meth:`load` read).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file to write (replaced if it exists).
+
+        Returns
+        -------
+        None
+        """
         np.savez(path, **{k: getattr(self, k) for k in ROLLOUT_KEYS})
 
     @staticmethod
     def load(source, model):
-        """A rollout from an .npz path or a dict of arrays: ``time`` (T,) strictly increasing,
-        ``qpos`` (T, nq) and ``qvel`` (T, nv) required; ``ctrl``, ``act``, ``qacc_warmstart``,
-        ``mocap_pos``, ``mocap_quat`` optional (the model's defaults)."""
+        """A rollout from an .npz file or a dict of arrays.
+
+        Parameters
+        ----------
+        source : str, os.PathLike or dict
+            An .npz path or a dict of arrays: ``time`` (T,) in s, finite, >= 0 and strictly
+            increasing, ``qpos`` (T, nq) and ``qvel`` (T, nv) required; ``ctrl``, ``act``,
+            ``qacc_warmstart``, ``mocap_pos``, ``mocap_quat`` optional (the model's defaults).
+        model : mujoco.MjModel
+            The model the states belong to (it gives the shapes).
+
+        Returns
+        -------
+        Rollout
+
+        Raises
+        ------
+        StateError
+            The file cannot be read; an unknown or missing array, a wrong shape, a number that is
+            not finite, times that do not increase, or more states than a schedule may have.
+        """
         src = os.fspath(source) if isinstance(source, (str, os.PathLike)) else "rollout"
         if isinstance(source, (str, os.PathLike)):
             raw = read_input(source, "mujoco_rollout", StateError)
@@ -246,11 +384,33 @@ class Rollout:
         return Rollout(**out)
 
     def rows(self, index):
-        """The rollout's rows ``index`` (a slice or index array)."""
+        """Some of the rollout's rows.
+
+        Parameters
+        ----------
+        index : slice or array_like of int
+            The rows to keep.
+
+        Returns
+        -------
+        Rollout
+        """
         return Rollout(**{k: np.asarray(getattr(self, k))[index] for k in ROLLOUT_KEYS})
 
     def apply(self, data, i):
-        """Puts row ``i`` into ``data`` (``mj_forward`` left to the caller)."""
+        """Puts row ``i`` into ``data`` (``mj_forward`` is left to the caller).
+
+        Parameters
+        ----------
+        data : mujoco.MjData
+            The state to overwrite.
+        i : int
+            The row.
+
+        Returns
+        -------
+        None
+        """
         data.time = float(self.time[i])
         for k in ROLLOUT_KEYS[1:]:
             target = getattr(data, k)
