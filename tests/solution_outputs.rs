@@ -170,14 +170,15 @@ fn the_npz_archive_holds_every_field_bit_for_bit() {
     assert_eq!(&index[..4], [0, 0, 0, 1]);
     let state: Vec<u8> = read("tip/state").into_vec().unwrap();
     let names = read("state_names");
-    assert_eq!(names.dtype().descr(), "'<U11'");
+    assert_eq!(names.dtype().descr(), "'<U12'");
     let want: Vec<u8> = e
         .iter()
         .map(|e| match e.state.as_str() {
             "stick" => 0,
             "slip" => 1,
             "separated" => 2,
-            _ => 3,
+            "off_surface" => 3,
+            _ => 4,
         })
         .collect();
     assert_eq!(state, want);

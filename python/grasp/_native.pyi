@@ -113,7 +113,8 @@ class Solution:
     def slips_m(self) -> npt.NDArray[np.float64]: ...
     @property
     def states(self) -> npt.NDArray[np.str_]:
-        """"stick", "slip" or "separated", shape (N,)."""
+        """"stick", "slip", "separated", "off_surface" or "frictionless" (in contact on a
+        frictionless finger: neither stick nor slip), shape (N,)."""
     def to_dict(self) -> dict[str, Any]:
         """The JSON of ``grasp solve --json``, as a dict."""
     def to_json(self) -> str: ...

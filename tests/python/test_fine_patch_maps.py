@@ -14,7 +14,7 @@ from conftest import EXAMPLES, checker
 
 mcap_reader = checker("mcap.reader", reason="mcap is installed by scripts/install-checkers.sh")
 
-STATE_CODES = {"stick": 0, "slip": 1, "separated": 2}
+STATE_CODES = {"stick": 0, "slip": 1, "separated": 2, "off_surface": 3, "frictionless": 4}
 
 
 def decoded(text, dtype):

@@ -40,7 +40,7 @@ def test_cli_npz_equals_cli_json_exactly(run_cli, tmp_path):
         arrays = np.load(out_npz)
         names = [f["name"] for f in written["fingers"]]
         assert sorted(arrays.files) == sorted(["state_names"] + [f"{n}/{f}" for n in names for f in FIELDS])
-        assert list(arrays["state_names"]) == ["stick", "slip", "separated", "off_surface"]
+        assert list(arrays["state_names"]) == ["stick", "slip", "separated", "off_surface", "frictionless"]
         for finger in written["fingers"]:
             fine = len(element_records(finger)) > 64 * 64
             assert ("element_fields" in finger) == fine and ("elements" in finger) != fine

@@ -124,14 +124,14 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
 
 /// A finger's element counts, `stick/slip/separated`, then the elements off the surface. A
 /// frictionless finger's elements in contact neither stick nor slip (there is no friction to
-/// hold them or to be overcome): they are counted apart, `-/-/sep +n frictionless`.
+/// hold them or to be overcome; their state is `frictionless`): they are counted apart,
+/// `-/-/sep +n frictionless`.
 fn state_counts(f: &grasp_model::FingerSolution) -> String {
     let mut cell = match f.friction_coefficient > 0.0 {
         true => format!("{}/{}/{}", f.stick_count, f.slip_count, f.separated_count),
         false => format!(
             "-/-/{} +{} frictionless",
-            f.separated_count,
-            f.stick_count + f.slip_count
+            f.separated_count, f.frictionless_count
         ),
     };
     if f.off_surface_count > 0 {

@@ -8,7 +8,7 @@
 //! `slip_m`, `step_slip_m` float64 `(N, 2)`; `position_m` float64 `(N, 3)`; `normal_force_n`,
 //! `pressure_pa`, `gap_m` float64 `(N,)`; `state` uint8 `(N,)`, the code of each element's
 //! state, whose name is `state_names[code]` (the archive's one array without a finger:
-//! `["stick", "slip", "separated", "off_surface"]`, unicode); `viscous_displacement_m` float64
+//! `["stick", "slip", "separated", "off_surface", "frictionless"]`, unicode); `viscous_displacement_m` float64
 //! `(N, 3)` on a viscoelastic contact. Every float is the solution's own float64, bit for
 //! bit. The archive is the same for the same solution (entries dated 1980-01-01, the zip
 //! format's zero).
@@ -27,15 +27,16 @@ use zip::{CompressionMethod, DateTime, ZipWriter};
 const ZIP64_ABOVE_BYTES: u64 = u32::MAX as u64 / 2;
 
 /// The element states by their code in the `state` arrays.
-const STATE_NAMES: [ElementState; 4] = [
+const STATE_NAMES: [ElementState; 5] = [
     ElementState::Stick,
     ElementState::Slip,
     ElementState::Separated,
     ElementState::OffSurface,
+    ElementState::Frictionless,
 ];
 
-/// Widest state name (`"off_surface"`), the unicode width of `state_names`.
-const STATE_WIDTH: usize = 11;
+/// Widest state name (`"frictionless"`), the unicode width of `state_names`.
+const STATE_WIDTH: usize = 12;
 
 /// The code of `state` in the `state` arrays: its place in [`STATE_NAMES`].
 fn state_code(state: ElementState) -> u8 {

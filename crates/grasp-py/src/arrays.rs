@@ -30,14 +30,14 @@ pub fn str_array<'py>(py: Python<'py>, items: &[&str]) -> PyResult<Bound<'py, Py
     np.call_method1("array", (PyList::new(py, items)?, "str"))
 }
 
-/// The elements' state names as a NumPy string array (dtype `<U11`), made from their codes:
-/// the four names indexed by an int64 array of codes, so no Python string is made per element.
+/// The elements' state names as a NumPy string array (dtype `<U12`), made from their codes:
+/// the five names indexed by an int64 array of codes, so no Python string is made per element.
 pub fn state_array<'py>(
     py: Python<'py>,
     states: impl Iterator<Item = ElementState>,
 ) -> PyResult<Bound<'py, PyAny>> {
     use ElementState::*;
-    let all = [Stick, Slip, Separated, OffSurface];
+    let all = [Stick, Slip, Separated, OffSurface, Frictionless];
     let codes: Vec<i64> = states
         .map(|s| all.iter().position(|a| *a == s).unwrap_or(0) as i64)
         .collect();

@@ -190,7 +190,8 @@ impl Solution {
         float_array(py, &v, &[v.len() / 2, 2])
     }
 
-    /// Element states `"stick"`, `"slip"`, `"separated"` or `"off_surface"`, shape `(N,)`.
+    /// Element states, shape `(N,)`: `"stick"`, `"slip"`, `"separated"`, `"off_surface"`, or
+    /// `"frictionless"` (in contact on a frictionless finger: neither stick nor slip).
     #[getter]
     fn states<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let states = self.solution.fingers.iter().flat_map(|f| &f.elements);

@@ -34,7 +34,7 @@ def state_counts(g, mu):
         return "-"
     if mu > 0:
         return f"{g['stick_count']}/{g['slip_count']}/{g['separated_count']}"
-    return f"-/-/{g['separated_count']} +{g['stick_count'] + g['slip_count']} frictionless"
+    return f"-/-/{g['separated_count']} +{g.get('frictionless_count', 0)} frictionless"
 
 
 class Report:
@@ -93,7 +93,7 @@ class Report:
                     k: g[k] for k in ("normal_force_n", "tangential_force_n", "tangential_magnitude_n",
                                       "friction_utilization", "stick_count", "slip_count", "separated_count",
                                       "center_of_pressure_m", "peak_pressure_pa", "contact_area_m2",
-                                      "torsional_moment_nm")},
+                                      "torsional_moment_nm")} | {"frictionless_count": g.get("frictionless_count", 0)},
             })
         return out
 

@@ -9,6 +9,7 @@
 
 use anyhow::Result;
 use grasp_model::{GraspModel, Scene, Solution};
+use grasp_transfer::sinks::{FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
 use nalgebra::Vector3;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -20,8 +21,14 @@ use crate::pictures::picture::{draw_err as plot_err, Picture};
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 const AXES: [&str; 3] = ["x", "y", "z"];
-const NORMAL: RGBColor = RGBColor(31, 100, 200);
-const FRICTION: RGBColor = RGBColor(240, 140, 20);
+/// The arrows' colours: the key of every output (`grasp_transfer::sinks`).
+const NORMAL: RGBColor = key_colour(NORMAL_FORCE_RGB);
+const FRICTION: RGBColor = key_colour(FRICTION_FORCE_RGB);
+
+/// A colour of the key as plotters'.
+const fn key_colour([r, g, b]: [u8; 3]) -> RGBColor {
+    RGBColor(r, g, b)
+}
 
 /// What a view draws, in world coordinates.
 struct Drawing<'a> {

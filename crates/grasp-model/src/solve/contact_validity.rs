@@ -103,7 +103,12 @@ fn largest_contact_slope(patch: &Patch, fs: &FingerSolution) -> f64 {
     fs.elements
         .iter()
         .enumerate()
-        .filter(|(_, e)| matches!(e.state, ElementState::Stick | ElementState::Slip))
+        .filter(|(_, e)| {
+            matches!(
+                e.state,
+                ElementState::Stick | ElementState::Slip | ElementState::Frictionless
+            )
+        })
         .map(|(k, _)| patch.gap_slope_at(k))
         .fold(0.0, f64::max)
 }

@@ -222,7 +222,7 @@ fn finger_solution(
     let mu = if f.n_tangential == 0 { 0.0 } else { mu_at_load };
     let mut elements = Vec::with_capacity(ne);
     let (mut p, mut q, mut torsion, mut cx, mut cy) = (0.0, Vector3::zeros(), 0.0, 0.0, 0.0);
-    let (mut counts, mut peak, mut boundary) = ([0usize; 4], 0.0_f64, 0.0);
+    let (mut counts, mut peak, mut boundary) = ([0usize; 5], 0.0_f64, 0.0);
     for (k, c) in checks.iter().enumerate() {
         let fk = x_n[f.offset + k];
         let g = tangential(x_n, f.offset, ne, f.n_tangential, k);
@@ -284,6 +284,7 @@ fn finger_solution(
         approach_m,
         stick_count: counts[ElementState::Stick as usize],
         slip_count: counts[ElementState::Slip as usize],
+        frictionless_count: counts[ElementState::Frictionless as usize],
         separated_count: counts[ElementState::Separated as usize],
         off_surface_count: counts[ElementState::OffSurface as usize],
         elements,

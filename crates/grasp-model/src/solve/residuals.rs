@@ -94,7 +94,7 @@ pub(crate) struct ElementCheck {
     pub slip_m: [f64; 2],
     /// This step's slip (`slip_m` less the slip memory), m.
     pub step_slip_m: [f64; 2],
-    /// Stick, slip or separation.
+    /// Stick, slip, separation or frictionless contact.
     pub state: ElementState,
 }
 
@@ -274,8 +274,8 @@ impl Element {
         }
     }
 
-    /// Stick, slip or separation, in the program's units: primal slack against dual slack,
-    /// the larger one says which side of each complementarity is active.
+    /// Stick, slip, separation or frictionless contact, in the program's units: primal slack
+    /// against dual slack, the larger one says which side of each complementarity is active.
     fn state(
         &self,
         i: usize,
@@ -297,7 +297,9 @@ impl Element {
             ElementState::OffSurface
         } else if fk < opening.max(CONTACT_FORCE_FLOOR_FU) {
             ElementState::Separated
-        } else if self.n_tangential == 0 || wn > radius - gn {
+        } else if self.n_tangential == 0 {
+            ElementState::Frictionless
+        } else if wn > radius - gn {
             ElementState::Slip
         } else {
             ElementState::Stick
@@ -340,9 +342,12 @@ impl Element {
                 r.compatibility_relative = r.compatibility_relative.max(gap.abs() / du);
                 r.stick_motion_relative = r.stick_motion_relative.max(wn / du);
             }
+            ElementState::Frictionless => {
+                r.compatibility_relative = r.compatibility_relative.max(opening.abs() / du);
+            }
             ElementState::Slip => {
                 r.compatibility_relative = r.compatibility_relative.max(opening.abs() / du);
-                if self.n_tangential > 0 && gn > 0.0 && wn > SLIP_DIRECTION_FLOOR * du {
+                if gn > 0.0 && wn > SLIP_DIRECTION_FLOOR * du {
                     let cos = (wk[0] * g[0] + wk[1] * g[1]) / (wn * gn);
                     r.slip_direction_error = r.slip_direction_error.max(1.0 + cos);
                 }

@@ -50,25 +50,28 @@ impl SolveStatus {
 pub enum ElementState {
     /// In contact, friction force inside the cone, no relative tangential motion.
     Stick,
-    /// In contact, friction force on the cone, sliding opposite to it. Contact elements of a
-    /// frictionless finger are counted here (nothing resists their sliding).
+    /// In contact, friction force on the cone, sliding opposite to it.
     Slip,
     /// Not carrying load.
     Separated,
     /// Facing no surface (exact gaps: beyond an edge of the object, past a thin part's
     /// silhouette, beyond the fingertip's rim): it can carry nothing.
     OffSurface,
+    /// In contact on a frictionless finger (`mu = 0`, no tangential unknowns): it carries a
+    /// normal force and no friction, so it neither sticks nor slips.
+    Frictionless,
 }
 
 impl ElementState {
     /// The state as the JSON output writes it (`"stick"`, `"slip"`, `"separated"`,
-    /// `"off_surface"`).
+    /// `"off_surface"`, `"frictionless"`).
     pub fn as_str(&self) -> &'static str {
         match self {
             ElementState::Stick => "stick",
             ElementState::Slip => "slip",
             ElementState::Separated => "separated",
             ElementState::OffSurface => "off_surface",
+            ElementState::Frictionless => "frictionless",
         }
     }
 }
@@ -144,6 +147,10 @@ pub struct FingerSolution {
     pub stick_count: usize,
     /// Elements in slip.
     pub slip_count: usize,
+    /// Elements in contact on a frictionless finger, which neither stick nor slip (absent
+    /// when none: a finger with friction has none).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub frictionless_count: usize,
     /// Elements separated.
     pub separated_count: usize,
     /// Elements facing no surface (exact gaps past an edge or a rim; absent when none).
@@ -421,7 +428,7 @@ mod tests {
     #[test]
     fn element_state_names_are_the_serde_names() {
         use ElementState::*;
-        for s in [Stick, Slip, Separated, OffSurface] {
+        for s in [Stick, Slip, Separated, OffSurface, Frictionless] {
             assert_eq!(serde_json::to_value(s).unwrap(), s.as_str());
         }
     }

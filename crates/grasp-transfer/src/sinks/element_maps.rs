@@ -25,18 +25,20 @@ pub fn is_compact(elements: usize) -> bool {
     elements > COMPACT_ABOVE_ELEMENTS
 }
 
-/// The state's code in the maps: 0 stick, 1 slip, 2 separated, 3 off the surface.
+/// The state's code in the maps: 0 stick, 1 slip, 2 separated, 3 off the surface, 4 in
+/// contact on a frictionless finger.
 pub fn state_code(s: ElementState) -> u8 {
     match s {
         ElementState::Stick => 0,
         ElementState::Slip => 1,
         ElementState::Separated => 2,
         ElementState::OffSurface => 3,
+        ElementState::Frictionless => 4,
     }
 }
 
 /// The names of the state codes, by code.
-pub const STATE_NAMES: [&str; 4] = ["stick", "slip", "separated", "off_surface"];
+pub const STATE_NAMES: [&str; 5] = ["stick", "slip", "separated", "off_surface", "frictionless"];
 
 /// One finger's element fields as flat arrays in element order (`k = i ny + j`); two-component
 /// fields interleaved (`[t1 of k, t2 of k]` at `2k`, `2k + 1`).
@@ -134,6 +136,7 @@ mod tests {
             ElementState::Slip,
             ElementState::Separated,
             ElementState::OffSurface,
+            ElementState::Frictionless,
         ];
         for s in all {
             let name = serde_json::to_value(s).unwrap();

@@ -9,6 +9,7 @@
 use nalgebra::{UnitQuaternion, Vector3};
 use serde_json::{json, Value};
 
+use super::colour_key::{unit_rgb, FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
 use super::fingertip_drawing::{tip_drawings, z_to, TipDrawing};
 use super::RunInfo;
 use crate::stepper::StepRecord;
@@ -145,12 +146,18 @@ pub fn forces_update(run: &RunInfo, r: &StepRecord, m_per_n: f64, size_m: f64) -
         };
         let cop = Vector3::from(f.center_of_pressure_m);
         let normal = model.frame().normal * f.normal_force_n;
-        arrows.extend(arrow(&cop, &normal, m_per_n, [0.2, 0.4, 0.9], size_m));
+        arrows.extend(arrow(
+            &cop,
+            &normal,
+            m_per_n,
+            unit_rgb(NORMAL_FORCE_RGB),
+            size_m,
+        ));
         arrows.extend(arrow(
             &cop,
             &Vector3::from(f.tangential_force_n),
             m_per_n,
-            [0.95, 0.55, 0.1],
+            unit_rgb(FRICTION_FORCE_RGB),
             size_m,
         ));
     }

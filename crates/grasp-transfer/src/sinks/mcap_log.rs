@@ -147,7 +147,8 @@ impl FingersMessage {
                         Command::Approach(d) => ("approach", 0.0, d),
                     };
                     let f = r.solution.finger(&c.name);
-                    let contact = f.map_or(0, |f| f.stick_count + f.slip_count);
+                    let contact =
+                        f.map_or(0, |f| f.stick_count + f.slip_count + f.frictionless_count);
                     FingerMessage {
                         name: c.name.clone(),
                         control: control.into(),
@@ -219,7 +220,7 @@ fn patches_schema() -> serde_json::Value {
                     "position_m": v3, "normal_force_n": num, "tangential_force_n": v2,
                     "pressure_pa": num, "gap_m": num, "slip_m": v2, "step_slip_m": v2,
                     "viscous_displacement_m": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},
-                    "state": {"type": "string", "enum": ["stick", "slip", "separated", "off_surface"]}
+                    "state": {"type": "string", "enum": ["stick", "slip", "separated", "off_surface", "frictionless"]}
                 }}}
             }}}
         }

@@ -1,5 +1,6 @@
 //! Log sinks of a hand-off, each optional and independent: MCAP, Rerun, CSV, NumPy `.npz`.
 
+mod colour_key;
 mod csv_history;
 mod element_maps;
 mod fingertip_drawing;
@@ -12,6 +13,9 @@ mod rerun_grid_maps;
 mod rerun_layout;
 mod rerun_log;
 
+pub use colour_key::{
+    state_rgb, unit_rgb, FORCE_KEY, FRICTION_FORCE_RGB, NORMAL_FORCE_RGB, STATE_KEY,
+};
 pub use csv_history::CsvSink;
 pub use element_maps::{is_compact, state_code, ElementMaps, COMPACT_ABOVE_ELEMENTS, STATE_NAMES};
 pub use fingertip_drawing::{tip_drawings, TipDrawing, LARGEST_DRAWN};

@@ -65,7 +65,7 @@ pub fn patch_maps_schema() -> serde_json::Value {
                 "slip_m": f32s("accumulated slip along [t1, t2], m (2N values, interleaved)"),
                 "step_slip_m": f32s("this step's slip along [t1, t2], m (2N values, interleaved)"),
                 "state": {"type": "string", "contentEncoding": "base64",
-                          "description": "uint8 per element: 0 stick, 1 slip, 2 separated, 3 off the surface"}
+                          "description": "uint8 per element: 0 stick, 1 slip, 2 separated, 3 off the surface, 4 in contact without friction (a frictionless finger)"}
             }}}
         }
     })

@@ -16,8 +16,8 @@ use grasp_model::{FingerModel, FingerSolution};
 use rerun::datatypes::{TensorBuffer, TensorData};
 use rerun::{Image, Tensor, TextDocument};
 
+use super::colour_key::{state_rgb, FORCE_KEY, STATE_KEY};
 use super::element_maps::raster;
-use super::rerun_grid_maps::state_rgb;
 
 /// Patches with more elements than this (256 x 256) get no flat views: their maps would add
 /// 7 bytes an element a step to the recording, and the 3-D view shows them as images already.
@@ -55,9 +55,10 @@ pub fn state_image(fm: &FingerModel, f: &FingerSolution) -> Image {
 
 /// The key of the state maps' colours (static, at `patches/key`).
 pub fn state_key() -> TextDocument {
-    TextDocument::from_markdown(
+    TextDocument::from_markdown(format!(
         "**Patches, seen from the object.** Left of each pair: pressure in kPa (colour bar: \
-         0 to the step's largest pressure of any finger). Right: element state, \
-         green = stick, orange = slip, grey = separated. `t1` points right, `t2` up.",
-    )
+         0 to the step's largest pressure of any finger). Right: element state, {STATE_KEY}. \
+         `t1` points right, `t2` up. In the 3-D view the same state colours sit behind each \
+         patch, and the arrows are {FORCE_KEY}."
+    ))
 }

@@ -16,23 +16,13 @@
 //! Rerun's compression. Images are built with [`super::element_maps::raster`]: `t1` to the
 //! right, `t2` up, so the picture is the patch seen from the object's side.
 
-use grasp_model::{ElementState, FingerModel, FingerSolution};
+use grasp_model::{FingerModel, FingerSolution};
 use nalgebra::Vector3;
 use rerun::components::Colormap;
 use rerun::{ChannelDatatype, ColorModel, GridMap, Transform3D};
 
+use super::colour_key::state_rgb;
 use super::element_maps::raster;
-
-/// The colour of an element state (stick green, slip orange, separated grey, off the surface
-/// near-black), RGB.
-pub fn state_rgb(s: ElementState) -> [u8; 3] {
-    match s {
-        ElementState::Stick => [60, 180, 75],
-        ElementState::Slip => [245, 130, 48],
-        ElementState::Separated => [128, 128, 128],
-        ElementState::OffSurface => [40, 40, 48],
-    }
-}
 
 /// Grid cells to the world: the patch's lower-left corner (m) and the columns `hx t1`, `hy t2`
 /// (m a cell) and `normal` (unit); cell `(x, y)` lies at `corner + x c0 + y c1`.

@@ -8,8 +8,8 @@
 //!   of pressure, scaled by `arrow_m_per_n`;
 //! - `world/patches/<name>/pressure`: elements coloured by pressure (dark blue to yellow,
 //!   relative to the step's largest pressure);
-//! - `world/patches/<name>/state`: elements coloured by state (stick green, slip orange,
-//!   separated grey);
+//! - `world/patches/<name>/state`: elements coloured by state (the colour key of
+//!   [`super::colour_key`]);
 //!
 //!   both one point an element for patches of up to
 //!   [`COMPACT_ABOVE_ELEMENTS`](super::element_maps::COMPACT_ABOVE_ELEMENTS) elements, and
@@ -51,10 +51,11 @@ use rerun::{
     RecordingStream, Scalars, SerializedComponentBatch, SeriesLines, TimeCell, TimePoint,
 };
 
+use super::colour_key::{state_rgb, FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
 use super::element_maps::is_compact;
 use super::fingertip_drawing::{tip_drawings, z_to, TipDrawing};
 use super::patch_views::{has_flat_views, pressure_tensor, state_image, state_key};
-use super::rerun_grid_maps::{cleared_map, patch_pose, pressure_map, state_map, state_rgb};
+use super::rerun_grid_maps::{cleared_map, patch_pose, pressure_map, state_map};
 use super::rerun_layout::{layout_messages, APPLICATION_ID};
 use super::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
@@ -101,6 +102,11 @@ const ID_ORIGIN_NS: u64 = 1_704_067_200_000_000_000;
 
 fn v3(v: &nalgebra::Vector3<f64>) -> [f32; 3] {
     [v.x as f32, v.y as f32, v.z as f32]
+}
+
+/// A colour of the key as Rerun's.
+fn rgb_colour([r, g, b]: [u8; 3]) -> Color {
+    Color::from_rgb(r, g, b)
 }
 
 /// A perceptually ordered colour ramp (dark blue, teal, yellow) for `u in [0, 1]`.
@@ -407,14 +413,14 @@ impl RerunSink {
             format!("world/forces/{name}/normal"),
             &Arrows3D::from_vectors([v3(&pn)])
                 .with_origins([v3(&(cop - pn))])
-                .with_colors([Color::from_rgb(220, 60, 60)]),
+                .with_colors([rgb_colour(NORMAL_FORCE_RGB)]),
         )?;
         let q = nalgebra::Vector3::from(f.tangential_force_n) * scale;
         self.send(
             format!("world/forces/{name}/friction"),
             &Arrows3D::from_vectors([v3(&q)])
                 .with_origins([v3(&cop)])
-                .with_colors([Color::from_rgb(60, 120, 230)]),
+                .with_colors([rgb_colour(FRICTION_FORCE_RGB)]),
         )
     }
 
@@ -455,10 +461,7 @@ impl RerunSink {
         self.send(
             format!("world/patches/{name}/state"),
             &Points3D::new(pos_state)
-                .with_colors(f.elements.iter().map(|e| {
-                    let [r, g, b] = state_rgb(e.state);
-                    Color::from_rgb(r, g, b)
-                }))
+                .with_colors(f.elements.iter().map(|e| rgb_colour(state_rgb(e.state))))
                 .with_radii(std::iter::repeat_n(0.6 * h as f32, f.elements.len())),
         )
     }
