@@ -113,3 +113,30 @@ def test_the_recording_opens_on_the_layout_rerun_would_write(run_cli, tmp_path, 
     assert len(ref) == 2 * views + 4 + 1 + 1, ref.keys()  # and the time panel
     assert ours == ref
     assert "?" not in repr(ours)
+
+
+def plot_names(path):
+    """The series names the recording gives its force plots (the rerun CLI's print)."""
+    out = subprocess.run([rerun_cli(), "rrd", "print", "-vvv", str(path)], capture_output=True, text=True, env=ENV)
+    assert out.returncode == 0, out.stderr
+    return set(re.findall(r"\[(\w+ (?:normal|friction) force \[N\](?: \([^)]*\))?)\]", out.stdout))
+
+
+def test_symmetric_fingers_plots_say_their_curves_coincide(run_cli, tmp_path):
+    """Fingers with identical curves (one hidden behind the other) say so in the recording's
+    plot legends, the same groups as the SVG's note names: the plate's pairs f1 = f2 and
+    f3 = f4 among them; a finger with a curve of its own says nothing."""
+    for scene in ["plate_transfer", "disc_transfer"]:
+        rrd, svg = tmp_path / f"{scene}.rrd", tmp_path / f"{scene}.svg"
+        done = run_cli("transfer", EXAMPLES / f"{scene}.json", "--schedule", EXAMPLES / f"{scene}.schedule.json",
+                       "--rrd", rrd, "--plot", svg)
+        assert done.returncode == 0, done.stderr
+        note = re.search(r">\s*([^<>]*?): identical curves", svg.read_text())
+        groups = [g.split(" = ") for g in note.group(1).split(", ")] if note else []
+        if scene == "plate_transfer":
+            assert groups == [["f1", "f2"], ["f3", "f4"]]
+        expected = {f"{f} {what} force [N] ({' = '.join(g)}: identical curves)"
+                    for g in groups for f in g for what in ["normal", "friction"]}
+        names = plot_names(rrd)
+        assert names, "no plot names in the recording"
+        assert {n for n in names if "identical" in n} == expected

@@ -5,6 +5,7 @@
 //! finger shows.
 
 use anyhow::Result;
+use grasp_transfer::sinks::IdenticalCurves;
 use grasp_transfer::StepRecord;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -61,37 +62,6 @@ fn draw_markers<DB: DrawingBackend>(
     Ok(())
 }
 
-/// "f1 = f2, f3 = f4: identical curves" for fingers whose normal and friction forces agree at
-/// every step to 1e-9 of the largest force `fmax` (a symmetric pair): each group drawn on top
-/// of the other's lines, which the note and the staggered markers make visible.
-fn same_curves_note(hist: &ForceHistory, fmax: f64) -> Option<String> {
-    let n = hist.names.len();
-    let same = |a: usize, b: usize| {
-        hist.points.iter().all(|(_, f)| {
-            (f[a][0] - f[b][0]).abs() <= 1e-9 * fmax && (f[a][1] - f[b][1]).abs() <= 1e-9 * fmax
-        })
-    };
-    let mut grouped = vec![false; n];
-    let mut groups = Vec::new();
-    for a in 0..n {
-        if grouped[a] {
-            continue;
-        }
-        let members: Vec<usize> = (a..n).filter(|&b| !grouped[b] && same(a, b)).collect();
-        if members.len() > 1 {
-            members.iter().for_each(|&b| grouped[b] = true);
-            let names: Vec<&str> = members.iter().map(|&b| hist.names[b].as_str()).collect();
-            groups.push(names.join(" = "));
-        }
-    }
-    (!groups.is_empty() && !hist.points.is_empty()).then(|| {
-        format!(
-            "{}: identical curves (markers staggered)",
-            groups.join(", ")
-        )
-    })
-}
-
 /// What the plot needs of a run, gathered step by step: the first and last step times and,
 /// per step with forces, every finger's normal and friction force (2 numbers per finger and
 /// step).
@@ -100,6 +70,8 @@ pub struct ForceHistory {
     span: Option<(f64, f64)>,
     /// `(time s, [P, |Q|] per finger in scene order)` of every step with forces.
     points: Vec<(f64, Vec<[f64; 2]>)>,
+    /// The fingers whose curves coincide (a symmetric pair), for the note.
+    same: IdenticalCurves,
 }
 
 impl ForceHistory {
@@ -109,6 +81,7 @@ impl ForceHistory {
             names: names.to_vec(),
             span: None,
             points: Vec::new(),
+            same: IdenticalCurves::new(names),
         }
     }
 
@@ -127,7 +100,8 @@ impl ForceHistory {
                     .finger(n)
                     .map_or([0.0, 0.0], |f| [f.normal_force_n, f.tangential_magnitude_n])
             })
-            .collect();
+            .collect::<Vec<_>>();
+        self.same.push(&forces);
         self.points.push((r.time_s, forces));
     }
 
@@ -211,7 +185,8 @@ fn draw_history<DB: DrawingBackend>(
             });
     }
     draw_markers(&mut chart, hist)?;
-    if let Some(note) = same_curves_note(hist, fmax) {
+    // Symmetric fingers: one curve lies on the other; the note names them.
+    if let Some(note) = hist.same.note().map(|n| format!("{n} (markers staggered)")) {
         let (x, y) = chart.backend_coord(&(t0, fmax * 1.05));
         root.draw(&Text::new(note, (x + 8, y + 6), ("sans-serif", 13)))
             .map_err(draw_err)?;

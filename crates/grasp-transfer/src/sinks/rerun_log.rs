@@ -15,7 +15,8 @@
 //!   [`COMPACT_ABOVE_ELEMENTS`](super::element_maps::COMPACT_ABOVE_ELEMENTS) elements, and
 //!   images on the patch's plane (`GridMap`s, with a static `Transform3D` at
 //!   `world/patches/<name>`) for larger ones ([`super::rerun_grid_maps`]);
-//! - `plots/normal_force/<name>`, `plots/friction/<name>`: time series in newtons;
+//! - `plots/normal_force/<name>`, `plots/friction/<name>`: time series in newtons (fingers
+//!   whose curves coincide, a symmetric pair, say so in their legend names);
 //! - `plots/margin/smallest`: the step's smallest disturbance margin, N (with `--margins`);
 //! - `plots/viscous_displacement/<name>`: on a viscoelastic contact, the largest normal
 //!   displacement its history added at the step, m (the creep or relaxation under way);
@@ -54,6 +55,7 @@ use rerun::{
 use super::colour_key::{state_rgb, FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
 use super::element_maps::is_compact;
 use super::fingertip_drawing::{tip_drawings, z_to, TipDrawing};
+use super::identical_curves::IdenticalCurves;
 use super::patch_views::{has_flat_views, pressure_tensor, state_image, state_key};
 use super::rerun_grid_maps::{cleared_map, patch_pose, pressure_map, state_map};
 use super::rerun_layout::{layout_messages, APPLICATION_ID};
@@ -83,6 +85,8 @@ pub struct RerunSink {
     layout_sent: bool,
     /// The recording's name in the viewer (the scene's), when given.
     recording_name: Option<String>,
+    /// The fingers whose force curves coincide so far (set at `begin`).
+    same: Option<IdenticalCurves>,
 }
 
 /// Longest wait for a live viewer or server to take the last rows when a run ends.
@@ -194,6 +198,7 @@ impl RerunSink {
             live,
             layout_sent: false,
             recording_name: None,
+            same: None,
         }
     }
 
@@ -210,6 +215,29 @@ impl RerunSink {
             rec.send_chunk(b.build().map_err(|e| io_err("rerun", &self.path, e))?);
         }
         self.steps_since_flush = 0;
+        Ok(())
+    }
+
+    /// Symmetric fingers' curves lie on each other: their plot legends say so, as the SVG's
+    /// note does ("f1 normal force [N] (f1 = f2: identical curves)"), static, replacing the
+    /// names logged at `begin`.
+    fn note_identical_curves(&mut self) -> Result<(), TransferError> {
+        let Some(same) = self.same.take() else {
+            return Ok(());
+        };
+        self.time = TimePoint::default();
+        for group in same.groups() {
+            let note = format!("{}: identical curves", group.join(" = "));
+            for name in &group {
+                for (plot, what) in [("normal_force", "normal"), ("friction", "friction")] {
+                    self.send(
+                        format!("plots/{plot}/{name}"),
+                        &SeriesLines::new()
+                            .with_names([format!("{name} {what} force [N] ({note})")]),
+                    )?;
+                }
+            }
+        }
         Ok(())
     }
 
@@ -504,6 +532,8 @@ impl Sink for RerunSink {
             .map(|f| f.name().to_string())
             .collect();
         self.send_layout(run.margins, &flat)?;
+        let names: Vec<String> = g.fingers().iter().map(|f| f.name().to_string()).collect();
+        self.same = Some(IdenticalCurves::new(&names));
         if let Some(name) = self.recording_name.clone() {
             let info = rerun::RecordingInfo::update_fields().with_name(name);
             self.send("__properties", &info)?;
@@ -592,6 +622,23 @@ impl Sink for RerunSink {
         if let Some(m) = &r.margin {
             self.send("plots/margin/smallest", &Scalars::new([m.smallest_n]))?;
         }
+        if let Some(same) = self
+            .same
+            .as_mut()
+            .filter(|_| r.solution.status.has_forces())
+        {
+            let forces: Vec<[f64; 2]> = run
+                .model
+                .fingers()
+                .iter()
+                .map(|fm| {
+                    r.solution
+                        .finger(fm.name())
+                        .map_or([0.0; 2], |f| [f.normal_force_n, f.tangential_magnitude_n])
+                })
+                .collect();
+            same.push(&forces);
+        }
         self.steps_since_flush += 1;
         if self.steps_since_flush >= self.flush_every {
             self.send_pending()?;
@@ -601,6 +648,7 @@ impl Sink for RerunSink {
 
     fn finish(&mut self) -> Result<(), TransferError> {
         if self.rec.is_some() {
+            self.note_identical_curves()?;
             self.send_pending()?;
         }
         if let Some(rec) = self.rec.take() {
