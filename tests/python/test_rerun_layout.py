@@ -115,6 +115,18 @@ def test_the_recording_opens_on_the_layout_rerun_would_write(run_cli, tmp_path, 
     assert "?" not in repr(ours)
 
 
+def test_a_margin_recording_has_no_empty_patch_views(run_cli, tmp_path):
+    """`grasp margin --rrd` logs no step: its layout has no patch grid (nothing would fill it),
+    only the 3-D view with the wrench surface beside the plots."""
+    rrd = tmp_path / "m.rrd"
+    done = run_cli("margin", EXAMPLES / "box_pinch.json", "--rrd", rrd)
+    assert done.returncode == 0, done.stderr
+    python_layout(tmp_path / "ref.rbl", False, [])
+    ours = normalised(blueprint_rows(rrd))
+    assert ours == normalised(blueprint_rows(tmp_path / "ref.rbl"))
+    assert "/patches" not in repr(ours)
+
+
 def plot_names(path):
     """The series names the recording gives its force plots (the rerun CLI's print)."""
     out = subprocess.run([rerun_cli(), "rrd", "print", "-vvv", str(path)], capture_output=True, text=True, env=ENV)

@@ -239,6 +239,7 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
         };
         let pending = outs.create(out)?;
         let mut sink = RerunSink::create_as(&pending.write_path(), out)?;
+        sink.without_steps();
         sink.begin(&run)?;
         sink.log_wrench_surface(&run, &report)?;
         sink.finish()?;

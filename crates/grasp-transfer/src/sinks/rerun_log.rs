@@ -85,6 +85,9 @@ pub struct RerunSink {
     layout_sent: bool,
     /// The recording's name in the viewer (the scene's), when given.
     recording_name: Option<String>,
+    /// Steps will be logged (a hand-off): the layout has the patches' flat views. False for a
+    /// static recording ([`RerunSink::without_steps`]).
+    steps: bool,
     /// The fingers whose force curves coincide so far (set at `begin`).
     same: Option<IdenticalCurves>,
 }
@@ -198,6 +201,7 @@ impl RerunSink {
             live,
             layout_sent: false,
             recording_name: None,
+            steps: true,
             same: None,
         }
     }
@@ -239,6 +243,12 @@ impl RerunSink {
             }
         }
         Ok(())
+    }
+
+    /// A recording of no steps (`grasp margin`'s wrench surface): no patch has anything to
+    /// show, so the layout has no patch views and no key (call before `begin`).
+    pub fn without_steps(&mut self) {
+        self.steps = false;
     }
 
     /// Names the recording (the viewer lists it by this name; the scene's file, say).
@@ -528,7 +538,7 @@ impl Sink for RerunSink {
         let flat: Vec<String> = g
             .fingers()
             .iter()
-            .filter(|f| has_flat_views(f))
+            .filter(|f| self.steps && has_flat_views(f))
             .map(|f| f.name().to_string())
             .collect();
         self.send_layout(run.margins, &flat)?;
