@@ -62,7 +62,9 @@ def test_a_live_stream_carries_what_the_file_holds(run_cli, tmp_path):
         except subprocess.TimeoutExpired:
             server.kill()
     file_rows = rows_by_entity(tmp_path / "file.rrd")
-    assert file_rows["/plots/normal_force/f1"] == 201  # the series name, then one row per step
+    # The series name, one row per step, and the name again with the note that f1's curve is
+    # f2's (logged at the end).
+    assert file_rows["/plots/normal_force/f1"] == 202
     assert rows_by_entity(live) == file_rows
 
 
