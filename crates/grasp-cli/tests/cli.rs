@@ -707,6 +707,93 @@ fn hand_off_plots_show_every_finger() {
     }
 }
 
+/// A hand-off plot's legend sits beside the curves, not over them: its box (the one rectangle
+/// drawn with a black border) lies right of every line that is not inside it.
+#[test]
+fn hand_off_plot_legend_sits_beside_the_curves() {
+    let dir = tmp("hand-off-legend");
+    let svg = dir.join("plate.svg");
+    let o = grasp(&[
+        "transfer",
+        &example("plate_transfer.json"),
+        "--schedule",
+        &example("plate_transfer.schedule.json"),
+        "--plot",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let attr = |line: &str, name: &str| -> f64 {
+        let key = format!(" {name}=\"");
+        let start = line.find(&key).unwrap() + key.len();
+        line[start..].split('"').next().unwrap().parse().unwrap()
+    };
+    let boxes: Vec<[f64; 4]> = text
+        .lines()
+        .filter(|l| l.trim_start().starts_with("<rect") && l.contains("stroke=\"#000000\""))
+        .map(|l| {
+            [
+                attr(l, "x"),
+                attr(l, "y"),
+                attr(l, "width"),
+                attr(l, "height"),
+            ]
+        })
+        .collect();
+    assert_eq!(boxes.len(), 1, "one legend box: {boxes:?}");
+    let [x, y, w, h] = boxes[0];
+    let inside = |p: (f64, f64)| p.0 >= x && p.0 <= x + w && p.1 >= y && p.1 <= y + h;
+    let lines = text
+        .lines()
+        .filter(|l| l.trim_start().starts_with("<polyline"));
+    let mut curves = 0;
+    for l in lines {
+        let start = l.find(" points=\"").unwrap() + 9;
+        let points: Vec<(f64, f64)> = l[start..]
+            .split('"')
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .map(|p| {
+                let (a, b) = p.split_once(',').unwrap();
+                (a.parse().unwrap(), b.parse().unwrap())
+            })
+            .collect();
+        if points.iter().all(|&p| inside(p)) {
+            continue; // a legend entry's sample line
+        }
+        curves += 1;
+        assert!(
+            points.iter().all(|p| p.0 < x),
+            "a line reaches under the legend: {l}"
+        );
+    }
+    assert!(curves >= 8, "{curves} lines outside the legend");
+}
+
+/// A scene whose gravity lies along an axis is drawn with the weight pointing down the page:
+/// both views are onto a plane that holds gravity's axis as the vertical (the cylinder
+/// hand-off, gravity -z, was drawn onto z-x, its weight pointing left).
+#[test]
+fn force_diagrams_draw_gravity_down_the_page() {
+    let dir = tmp("gravity-down");
+    let svg = dir.join("cylinder.svg");
+    let o = grasp(&[
+        "plot",
+        &example("cylinder_handoff.json"),
+        "--out",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let views: Vec<&str> = text
+        .match_indices("view onto ")
+        .map(|(i, _)| text[i..].split('<').next().unwrap().trim())
+        .collect();
+    assert_eq!(views.len(), 2, "{views:?}");
+    assert!(views.iter().all(|v| v.ends_with("-z [m]")), "{views:?}");
+}
+
 struct SvgCircle {
     x: f64,
     y: f64,

@@ -13,6 +13,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::output::{self, ForceArg};
+use crate::pictures::legend::{legend_beside, Sample, LEGEND_COLUMN_PX};
 use crate::pictures::picture::{self, draw_err, Picture};
 use crate::solve_flags::SolveFlags;
 
@@ -289,7 +290,7 @@ struct StudyPlot<'a> {
 
 impl Picture for StudyPlot<'_> {
     fn size(&self) -> (u32, u32) {
-        (700, 460)
+        (860, 460)
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
@@ -338,6 +339,7 @@ fn draw_study<DB: DrawingBackend>(
             ("sans-serif", 15),
         )
         .margin(12)
+        .margin_right(LEGEND_COLUMN_PX)
         .x_label_area_size(40)
         .y_label_area_size(64)
         .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
@@ -350,6 +352,7 @@ fn draw_study<DB: DrawingBackend>(
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .draw()
         .map_err(draw_err)?;
+    let mut legend = Vec::new();
     for (k, (label, color)) in [(e1, RGBColor(214, 39, 40)), (e2, RGBColor(31, 119, 180))]
         .into_iter()
         .enumerate()
@@ -357,35 +360,38 @@ fn draw_study<DB: DrawingBackend>(
         if label.is_empty() {
             continue;
         }
+        let sample = Sample {
+            color,
+            dashed: false,
+            marker: Some(true),
+        };
+        legend.push((label.to_owned(), sample));
         let series: Vec<(f64, f64, &StudyRow)> = pts
             .iter()
             .filter_map(|p| if k == 0 { Some(p.1) } else { p.2 }.map(|v| (p.0, v, p.3)))
             .collect();
         chart
             .draw_series(LineSeries::new(series.iter().map(|p| (p.0, p.1)), &color))
-            .map_err(draw_err)?
-            .label(label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+            .map_err(draw_err)?;
         for (t, v, r) in &series {
-            let grid = format!("{}x{}", r.grid[0], r.grid[1]);
             chart
                 .draw_series(std::iter::once(Circle::new((*t, *v), 3, color.filled())))
                 .map_err(draw_err)?;
-            chart
-                .draw_series(std::iter::once(Text::new(
-                    grid,
-                    (*t, *v),
-                    ("sans-serif", 10),
-                )))
-                .map_err(draw_err)?;
+            // Each run's grid once, beside its first error's point (the second error's point
+            // is at the same time, straight above or below it).
+            if k == 0 {
+                let grid = format!("{}x{}", r.grid[0], r.grid[1]);
+                chart
+                    .draw_series(std::iter::once(Text::new(
+                        grid,
+                        (*t, *v),
+                        ("sans-serif", 10),
+                    )))
+                    .map_err(draw_err)?;
+            }
         }
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE)
-        .border_style(BLACK)
-        .draw()
-        .map_err(draw_err)?;
+    legend_beside(root, chart.plotting_area().get_pixel_range(), &legend)?;
     Ok(())
 }
 
@@ -426,5 +432,23 @@ mod tests {
         };
         // The 9x9 label sits at the 9x9 point, right of the 3x3 one (larger wall time).
         assert!(label("9x9") > label("3x3"), "{svg}");
+    }
+
+    /// With two errors per run, each run's grid label is printed once, not once per error.
+    #[test]
+    fn each_grid_label_is_printed_once_with_two_errors() {
+        let mut rows = [row(3, 1e-2), row(9, 1e-3)];
+        rows[0].error_2 = Some(2e-2);
+        rows[1].error_2 = Some(3e-3);
+        let chart = StudyPlot {
+            rows: &rows,
+            errors: ("force error", "pressure error"),
+            title: "t",
+        };
+        let svg =
+            String::from_utf8(picture::render(&chart, picture::Format::Svg).unwrap()).unwrap();
+        for grid in ["3x3", "9x9"] {
+            assert_eq!(svg.matches(grid).count(), 1, "{grid}: {svg}");
+        }
     }
 }

@@ -1,6 +1,7 @@
 //! `grasp plot`: the force diagram of one solve (SVG or PNG, drawn with plotters). Two orthographic
-//! views (the coordinate planes that show the contacts best): the object's outline (its shape's
-//! silhouette, or the box around the contacts), each finger's contact point and name, its
+//! views (the coordinate planes that show the contacts best, gravity down the page when it
+//! lies along an axis): the object's outline (its shape's silhouette, or the box around the
+//! contacts), each finger's contact point and name (at its normal arrow's tail), its
 //! normal force (blue) and friction force (orange) as arrows pushing on the object at the
 //! centre of pressure, its friction cone (grey, half-angle `atan(mu)` about the normal), and
 //! the weight at the centre of mass (black). Arrows: the load scale drawn as 0.3 of the scene.
@@ -70,12 +71,12 @@ impl Picture for ForceDiagram<'_> {
         let mut reach = points.clone();
         reach.extend(arrow_ends(&d));
         let (lo, hi) = bounds(&reach);
-        let [a, b, c] = view_axes(model);
+        let [first, second] = view_axes(model, scene.object.gravity);
         root.fill(&WHITE).map_err(plot_err)?;
         let (head, body) = root.split_vertically(80);
         header(&head, self.title, solution)?;
         let (left, right) = body.split_horizontally(550);
-        for (area, (u, v)) in [(&left, (a, b)), (&right, (a, c))] {
+        for (area, (u, v)) in [(&left, first), (&right, second)] {
             view(area, &d, &points, (u, v), (lo, hi))?;
         }
         Ok(())
@@ -135,15 +136,24 @@ fn bounds(points: &[Vector3<f64>]) -> (Vector3<f64>, Vector3<f64>) {
         .fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)))
 }
 
-/// The axes of the two views: `[a, b, c]` draws (a, b) and (a, c), `a` the axis along which
-/// the contacts spread most, `b` the next.
-fn view_axes(model: &GraspModel) -> [usize; 3] {
+/// The axes `(across, up the page)` of the two views. Gravity along a coordinate axis (within
+/// about 25 degrees) is drawn down the page in both views: the views are onto that axis and
+/// each other one, the one the contacts spread along most first. Otherwise `[a, b, c]`, `a`
+/// the axis along which the contacts spread most, `b` the next, draws (a, b) and (a, c).
+fn view_axes(model: &GraspModel, gravity: [f64; 3]) -> [(usize, usize); 2] {
     let pts: Vec<Vector3<f64>> = model.fingers().iter().map(|f| f.frame().origin_m).collect();
     let (lo, hi) = bounds(&pts);
     let spread = hi - lo;
     let mut order = [0, 1, 2];
     order.sort_by(|&i, &j| spread[j].total_cmp(&spread[i]).then(i.cmp(&j)));
-    order
+    match gravity_axis(gravity) {
+        Some(k) => {
+            let mut across = order.into_iter().filter(|&i| i != k);
+            let (u1, u2) = (across.next().unwrap_or(0), across.next().unwrap_or(1));
+            [(u1, k), (u2, k)]
+        }
+        None => [(order[0], order[1]), (order[0], order[2])],
+    }
 }
 
 fn header<DB: DrawingBackend>(
@@ -196,11 +206,22 @@ fn view<DB: DrawingBackend>(
     (u, v): (usize, usize),
     (lo, hi): (Vector3<f64>, Vector3<f64>),
 ) -> Result<()> {
-    let (cu, cv) = ((lo[u] + hi[u]) / 2.0, (lo[v] + hi[v]) / 2.0);
+    // Gravity along +v would point up the page: the page's up is then -v.
+    let s = if d.scene.object.gravity[v] > 0.0 && gravity_axis(d.scene.object.gravity) == Some(v) {
+        -1.0
+    } else {
+        1.0
+    };
+    let up = if s < 0.0 {
+        format!("-{}", AXES[v])
+    } else {
+        AXES[v].to_owned()
+    };
+    let (cu, cv) = ((lo[u] + hi[u]) / 2.0, s * (lo[v] + hi[v]) / 2.0);
     let half = 0.5 * (hi[u] - lo[u]).max(hi[v] - lo[v]).max(1e-3) * 1.1;
     let mut chart = ChartBuilder::on(area)
         .caption(
-            format!("view onto {}-{} [m]", AXES[u], AXES[v]),
+            format!("view onto {}-{up} [m]", AXES[u]),
             ("sans-serif", 15),
         )
         .margin(12)
@@ -211,11 +232,11 @@ fn view<DB: DrawingBackend>(
     chart
         .configure_mesh()
         .x_desc(AXES[u])
-        .y_desc(AXES[v])
+        .y_desc(up.as_str())
         .max_light_lines(0)
         .draw()
         .map_err(plot_err)?;
-    let p2 = |p: &Vector3<f64>| (p[u], p[v]);
+    let p2 = |p: &Vector3<f64>| (p[u], s * p[v]);
     let hull = convex_hull(outline.iter().map(p2).collect());
     chart
         .draw_series(std::iter::once(Polygon::new(
@@ -230,11 +251,20 @@ fn view<DB: DrawingBackend>(
     draw_names(area, &chart, d, &p2)
 }
 
+/// The coordinate axis `gravity` points along (within about 25 degrees), if any.
+fn gravity_axis(gravity: [f64; 3]) -> Option<usize> {
+    let g = Vector3::from(gravity);
+    (0..3)
+        .max_by(|&i, &j| g[i].abs().total_cmp(&g[j].abs()))
+        .filter(|&k| g.norm() > 0.0 && g[k].abs() >= 0.9 * g.norm())
+}
+
 /// Size of the finger names, px.
 const NAME_PX: u32 = 13;
 
-/// Each finger's name near its contact, outside the object along the normal where that spot
-/// is free, else at the nearest free spot ([`place_labels`]: no two names overlap, and none
+/// Each finger's name at the tail of its normal-force arrow (outside the object along the
+/// normal, so each arrow says whose it is; an unloaded finger's beside its contact) where that
+/// spot is free, else at the nearest free spot ([`place_labels`]: no two names overlap, and none
 /// covers a contact point or the centre of mass), with a thin line back to the contact when it
 /// had to move.
 fn draw_names<DB: DrawingBackend>(
@@ -260,9 +290,9 @@ fn draw_names<DB: DrawingBackend>(
     let mut names = Vec::new();
     for f in &d.solution.fingers {
         if let Some(m) = d.model.fingers().iter().find(|m| m.name() == f.name) {
-            let anchor = px(p2(
-                &(m.frame().origin_m - m.frame().normal * (0.35 * d.cone_m))
-            ));
+            let cop = Vector3::from(f.center_of_pressure_m);
+            let reach = (f.normal_force_n * d.m_per_n + 0.1 * d.cone_m).max(0.35 * d.cone_m);
+            let anchor = px(p2(&(cop - m.frame().normal * reach)));
             let (w, h) = area.estimate_text_size(&f.name, &font).map_err(plot_err)?;
             names.push((f.name.as_str(), px(p2(&m.frame().origin_m)), anchor, (w, h)));
         }

@@ -11,6 +11,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use crate::pictures::legend::{legend_beside, Sample, LEGEND_COLUMN_PX};
 use crate::pictures::picture::{draw_err, Picture};
 
 const COLORS: [RGBColor; 8] = [
@@ -119,7 +120,7 @@ pub struct HistoryPlot<'a> {
 
 impl Picture for HistoryPlot<'_> {
     fn size(&self) -> (u32, u32) {
-        (900, 500)
+        (1060, 500)
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
@@ -147,6 +148,7 @@ fn draw_history<DB: DrawingBackend>(
             ("sans-serif", 16),
         )
         .margin(12)
+        .margin_right(LEGEND_COLUMN_PX)
         .x_label_area_size(40)
         .y_label_area_size(60)
         .build_cartesian_2d(t0..t1, 0.0..fmax * 1.05)
@@ -160,29 +162,25 @@ fn draw_history<DB: DrawingBackend>(
         .map_err(draw_err)?;
     // Every line first, then every marker on top: a finger whose curves lie under another's
     // still shows its markers, which sit at different times for different fingers.
+    let mut legend = Vec::new();
     for (i, name) in hist.names.iter().enumerate() {
         let color = COLORS[i % COLORS.len()];
         let style = ShapeStyle::from(&color).stroke_width(2);
         let series = |pick: usize| hist.points.iter().map(move |(t, f)| (*t, f[i][pick]));
         chart
             .draw_series(LineSeries::new(series(0), style))
-            .map_err(draw_err)?
-            .label(format!("{name} normal P"))
-            .legend(move |(x, y)| {
-                EmptyElement::at((x, y))
-                    + PathElement::new(vec![(0, 0), (20, 0)], style)
-                    + Circle::new((10, 0), MARKER_PX, style.filled())
-            });
+            .map_err(draw_err)?;
         chart
             .draw_series(DashedLineSeries::new(series(1), 6, 4, style))
-            .map_err(draw_err)?
-            .label(format!("{name} friction |Q|"))
-            .legend(move |(x, y)| {
-                EmptyElement::at((x, y))
-                    + PathElement::new(vec![(0, 0), (8, 0)], style)
-                    + PathElement::new(vec![(12, 0), (20, 0)], style)
-                    + Circle::new((10, 0), MARKER_PX, color.stroke_width(2))
-            });
+            .map_err(draw_err)?;
+        for (what, dashed, filled) in [("normal P", false, true), ("friction |Q|", true, false)] {
+            let sample = Sample {
+                color,
+                dashed,
+                marker: Some(filled),
+            };
+            legend.push((format!("{name} {what}"), sample));
+        }
     }
     draw_markers(&mut chart, hist)?;
     // Symmetric fingers: one curve lies on the other; the note names them.
@@ -191,11 +189,6 @@ fn draw_history<DB: DrawingBackend>(
         root.draw(&Text::new(note, (x + 8, y + 6), ("sans-serif", 13)))
             .map_err(draw_err)?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(draw_err)?;
+    legend_beside(root, chart.plotting_area().get_pixel_range(), &legend)?;
     Ok(())
 }

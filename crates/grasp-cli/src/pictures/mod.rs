@@ -5,6 +5,7 @@ pub mod font;
 pub mod force_diagram;
 pub mod force_history;
 pub mod label_placement;
+pub mod legend;
 pub mod margin_plot;
 pub mod picture;
 pub mod plan_margins;

@@ -8,6 +8,7 @@ use grasp_transfer::plan::{MarginsAtStep, PlanReport};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use crate::pictures::legend::{legend_beside, Sample, LEGEND_COLUMN_PX};
 use crate::pictures::picture::{draw_err, Picture};
 
 /// The plot of one plan.
@@ -22,7 +23,7 @@ pub struct PlanMargins<'a> {
 
 impl Picture for PlanMargins<'_> {
     fn size(&self) -> (u32, u32) {
-        (900, 500)
+        (1060, 500)
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
@@ -39,6 +40,7 @@ impl Picture for PlanMargins<'_> {
                 ("sans-serif", 16),
             )
             .margin(12)
+            .margin_right(LEGEND_COLUMN_PX)
             .x_label_area_size(40)
             .y_label_area_size(60)
             .build_cartesian_2d(0.0..t1, low - 0.05..1.05)
@@ -57,6 +59,7 @@ impl Picture for PlanMargins<'_> {
                 .filter_map(|s| Some((s.time_s, s.smallest?)))
                 .collect()
         };
+        let mut legend = Vec::new();
         for (points, style, name) in [
             (line(template), old, "template"),
             (line(&r.margins), plan, "plan"),
@@ -66,24 +69,25 @@ impl Picture for PlanMargins<'_> {
             }
             chart
                 .draw_series(LineSeries::new(points, style))
-                .map_err(draw_err)?
-                .label(name)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+                .map_err(draw_err)?;
+            legend.push((name.to_owned(), sample(style.color, false)));
         }
         let red = ShapeStyle::from(&RGBColor(214, 39, 40)).stroke_width(1);
         let limit = [(0.0, self.threshold), (t1, self.threshold)];
         chart
             .draw_series(DashedLineSeries::new(limit, 6, 4, red))
-            .map_err(draw_err)?
-            .label("threshold")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], red));
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerLeft)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
             .map_err(draw_err)?;
+        legend.push(("threshold".to_owned(), sample(red.color, true)));
+        legend_beside(root, chart.plotting_area().get_pixel_range(), &legend)?;
         Ok(())
+    }
+}
+
+/// A legend sample of a line of colour `c`, no marker.
+fn sample(c: RGBAColor, dashed: bool) -> Sample {
+    Sample {
+        color: RGBColor(c.0, c.1, c.2),
+        dashed,
+        marker: None,
     }
 }
