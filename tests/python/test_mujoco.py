@@ -1086,5 +1086,7 @@ def test_mujoco_table_counts_a_frictionless_fingers_elements_apart():
 
     g = {"stick_count": 3, "slip_count": 5, "separated_count": 2}
     assert state_counts(g, 0.8) == "3/5/2"
-    assert state_counts(g, 0.0) == "-/-/2 +8 frictionless"
+    # The model counts them apart itself (state "frictionless"), not as stick or slip.
+    frictionless = {"stick_count": 0, "slip_count": 0, "separated_count": 2, "frictionless_count": 8}
+    assert state_counts(frictionless, 0.0) == "-/-/2 +8 frictionless"
     assert state_counts(None, 0.0) == "-"
