@@ -41,12 +41,14 @@ fn strokes(svg: &str, color: &str) -> usize {
 #[test]
 fn the_diagram_shows_every_finger_force_in_both_views() {
     // (scene, fingers, normal arrows, friction arrows) over both views; a force along a
-    // view's line of sight is not drawn there. Cube A: views y-z and y-x; f1, f2 push along
-    // y (both views), f3 along z (y-z only); every friction force has components in both.
-    // Box pinch: views y-x and y-z; both jaws push along y, their friction is vertical (y-z).
+    // view's line of sight is not drawn there. Gravity is -z, so both views hold z upright:
+    // y-z and x-z (the contacts spread most along y). Cube A: f1, f2 push along y (y-z only),
+    // f3 along z (both); f1's and f2's friction has x and z components, f3's x and y: each
+    // shows in both views. Box pinch: both jaws push along y (y-z only), their friction is
+    // vertical (both views).
     let cases = [
-        ("cube_a.json", ["f1", "f2", "f3"].as_slice(), 5, 6),
-        ("box_pinch.json", ["left", "right"].as_slice(), 4, 2),
+        ("cube_a.json", ["f1", "f2", "f3"].as_slice(), 4, 6),
+        ("box_pinch.json", ["left", "right"].as_slice(), 2, 4),
     ];
     let dir = out_dir("content");
     for (scene, fingers, normal, friction) in cases {
@@ -125,8 +127,8 @@ fn a_png_diagram_is_the_same_picture_rasterised() {
     assert_eq!((info.width, info.height), (1100, 620));
     assert_eq!(info.color_type, png::ColorType::Rgb);
     // The arrows are drawn in the diagram's blue (normal) and orange (friction), 2 px wide:
-    // cube A's three fingers each carry both in both views, so each colour covers many
-    // pixels; the background is white.
+    // cube A shows four normal and six friction arrows over its two views, so each colour
+    // covers many pixels; the background is white.
     let blue = pixels_of(&rgb, [31, 100, 200]);
     let orange = pixels_of(&rgb, [240, 140, 20]);
     assert!(blue > 200 && orange > 50, "blue {blue}, orange {orange}");
