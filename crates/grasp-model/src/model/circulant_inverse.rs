@@ -127,6 +127,11 @@ impl CirculantInverse {
         kept * grid.nx * (grid.ny / 2 + 1) * std::mem::size_of::<Complex<f64>>()
     }
 
+    /// Frees the transforms' work buffers ([`GridFft::release_work`]).
+    pub fn release_work(&self) {
+        self.fft.release_work();
+    }
+
     /// `out = factor C_circ^-1 v` (component-major like the compliance's unknowns), N/m
     /// times m.
     pub fn apply(&self, v: &[f64], out: &mut [f64], factor: f64) {

@@ -151,6 +151,13 @@ impl ComplianceOperator {
             + CirculantInverse::memory_estimate_bytes(grid, n_tangential, coupled)
     }
 
+    /// Frees the work buffers its products and its preconditioner's keep between uses (a
+    /// solve's, while its answer is read out; the next product allocates them again).
+    pub fn release_work(&self) {
+        self.fft.release_work();
+        self.preconditioner.release_work();
+    }
+
     /// `out = factor C_circ^-1 v`: the inverse of the operator's circulant approximation
     /// ([`CirculantInverse`]), N/m times m, scaled in the same pass; a preconditioner for
     /// systems in this operator.

@@ -148,6 +148,16 @@ impl GridFft {
         }
     }
 
+    /// Frees the work buffers kept between products (the next product allocates them again).
+    pub fn release_work(&self) {
+        if let Ok(mut b) = self.buffers.lock() {
+            *b = Vec::new();
+        }
+        if let Ok(mut s) = self.scratch.lock() {
+            *s = Vec::new();
+        }
+    }
+
     /// Entries of a spectrum, `hy px`.
     pub fn spectrum_len(&self) -> usize {
         self.hy * self.px
@@ -269,7 +279,9 @@ impl GridFft {
             self.gather_columns(&rows, nonzero_rows, k * TILE, cols);
             self.forward.process_with_scratch(cols, &mut s.fft);
         });
-        give(&self.buffers, rows);
+        // Not kept: a kernel's rows are the whole transform grid's (four times a product's),
+        // and a model transforms its kernels once.
+        drop(rows);
         Ok(spectrum)
     }
 

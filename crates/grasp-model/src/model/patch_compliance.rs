@@ -152,6 +152,13 @@ impl PatchCompliance {
         })
     }
 
+    /// Frees the FFT operator's work buffers ([`ComplianceOperator::release_work`]).
+    pub fn release_work(&self) {
+        if let PatchCompliance::Fft(op) = self {
+            op.release_work();
+        }
+    }
+
     /// True for the FFT operator.
     pub fn is_fft(&self) -> bool {
         matches!(self, PatchCompliance::Fft(_))

@@ -198,6 +198,8 @@ fn finger_kinematics(
     let range = f.offset..f.offset + f.n_unknowns();
     let mut u = vec![0.0; range.len()];
     f.compliance_m_per_n.apply(&x_n[range.clone()], &mut u);
+    // The answer's elements are read out next: the operator's work buffers are not kept.
+    f.compliance_m_per_n.release_work();
     let compression = (0..ne)
         .filter(|&k| x_n[f.offset + k] > 0.0)
         .map(|k| u[k])
