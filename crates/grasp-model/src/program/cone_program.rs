@@ -31,6 +31,8 @@
 //! `q`: the sequential solve changes them in place through the `set_*` methods, and each backend
 //! notices by itself what changed since its last solve.
 
+use std::sync::Arc;
+
 use nalgebra::DMatrix;
 
 use crate::model::equilibrium::{MotionPlane, RowReduction, Wrench};
@@ -118,8 +120,9 @@ pub struct ConeProgram {
     pub(crate) offset_m: Vec<f64>,
     /// Per unknown, the slip memory `m` (m; zero on the normal unknowns).
     memory_m: Vec<f64>,
-    /// Equality matrix `E` (`m x n`): reduced equilibrium rows, then load rows.
-    pub(crate) equality: DMatrix<f64>,
+    /// Equality matrix `E` (`m x n`): reduced equilibrium rows, then load rows; shared with
+    /// the native solver's finger blocks (it holds a column per unknown).
+    pub(crate) equality: Arc<DMatrix<f64>>,
     /// Right-hand side `e` (for the loads last set).
     pub(crate) equality_rhs: Vec<f64>,
     /// Reduction of the equilibrium rows.
@@ -172,7 +175,7 @@ impl ConeProgram {
             offset_m: vec![0.0; model.n_unknowns],
             memory_m: vec![0.0; model.n_unknowns],
             equality_rhs: vec![0.0; equality.nrows()],
-            equality,
+            equality: Arc::new(equality),
             reduction,
             load_rows,
             external_wrench: model.external_wrench,

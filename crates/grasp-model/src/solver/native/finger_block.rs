@@ -9,14 +9,17 @@
 //! grid) can replace the stored matrix here without touching the solver's strategy.
 
 use std::borrow::Cow;
+use std::sync::Arc;
 
 use faer::Mat;
+use nalgebra::DMatrix;
 
 use crate::model::patch_compliance::{PatchCompliance, MATERIALISED_UNKNOWNS};
 
 use crate::program::cone_program::{BlockCone, FingerBlock};
 
 use super::cones::element_cone::ElementCone;
+use super::parallel_vectors::{each_chunk, map_indices_coarse, VectorPool, CHUNK, PARALLEL_LEN};
 
 /// One finger's constant data.
 #[derive(Debug, Clone)]
@@ -32,8 +35,9 @@ pub(crate) struct FingerBlockData {
     c: PatchCompliance,
     /// `1 / Cu`: `P_i = scale C_i`.
     pub scale: f64,
-    /// `E_i`, the finger's columns of the equality matrix.
-    e: Mat<f64>,
+    /// The program's equality matrix (shared, not copied), whose columns `offset..offset +
+    /// n_i` are `E_i`.
+    e: Arc<DMatrix<f64>>,
     /// Step of the natural residual `x - Proj(x - gamma y)`: `1 / ||P_i||_inf` (the largest
     /// absolute row sum, Gershgorin's bound on the largest eigenvalue `L` of `P_i`), so that
     /// `gamma y` is a force like `x` and `gamma <= 1 / L`, which makes the forward-backward
@@ -41,20 +45,25 @@ pub(crate) struct FingerBlockData {
     pub gamma: f64,
     /// Per element: in contact at a cold start ([`crate::solver::native::newton::cold_start`]).
     pub cold_contact: Vec<bool>,
+    /// Local work vectors kept from one product, and one Newton step, to the next (a fresh
+    /// allocation of a long vector faults its pages in again).
+    pub work: VectorPool,
 }
 
 impl FingerBlockData {
-    /// The finger's block: `compliance` (m/N, shared) with its `scale`, and a copy of the
-    /// columns `offset..offset + n_i` of `equality` (`m x n`).
+    /// The finger's block: `compliance` (m/N, shared) with its `scale`, and the columns
+    /// `offset..offset + n_i` of the program's `equality` (`m x n`, shared).
     pub fn new(
         block: &FingerBlock,
         compliance: &PatchCompliance,
         scale: f64,
-        equality: &nalgebra::DMatrix<f64>,
+        equality: &Arc<DMatrix<f64>>,
         cold_contact: Vec<bool>,
     ) -> Self {
-        let n = block.len();
-        let e = Mat::from_fn(equality.nrows(), n, |r, c| equality[(r, block.offset + c)]);
+        debug_assert!(
+            equality.ncols() >= block.offset + block.len(),
+            "equality columns"
+        );
         let row_sum = scale * compliance.row_sum_bound();
         FingerBlockData {
             offset: block.offset,
@@ -62,10 +71,18 @@ impl FingerBlockData {
             dim: 1 + block.n_tangential,
             c: compliance.clone(),
             scale,
-            e,
+            e: Arc::clone(equality),
             gamma: if row_sum > 0.0 { 1.0 / row_sum } else { 1.0 },
             cold_contact,
+            work: VectorPool::default(),
         }
+    }
+
+    /// Frees the work vectors kept between Newton steps and products (its own and its
+    /// compliance operator's).
+    pub fn release_work(&self) {
+        self.work.clear();
+        self.c.release_work();
     }
 
     /// Unknowns of the block.
@@ -81,6 +98,12 @@ impl FingerBlockData {
     /// Rows `m` of the equality matrix.
     pub fn equality_rows(&self) -> usize {
         self.e.nrows()
+    }
+
+    /// Column `c` of `E_i` (`m` entries).
+    fn equality_column(&self, c: usize) -> &[f64] {
+        let m = self.e.nrows();
+        &self.e.as_slice()[(self.offset + c) * m..(self.offset + c + 1) * m]
     }
 
     /// True when `C_i` is the FFT operator (reduced systems are solved by conjugate
@@ -128,12 +151,14 @@ impl FingerBlockData {
 
     /// `E_i` (`m x n_i`).
     pub fn equality_matrix(&self) -> faer::MatRef<'_, f64> {
-        self.e.as_ref()
+        let m = self.e.nrows();
+        let columns = &self.e.as_slice()[self.offset * m..(self.offset + self.len()) * m];
+        faer::MatRef::from_column_major_slice(columns, m, self.len())
     }
 
     /// `E_i[r, c]`.
     pub fn equality(&self, r: usize, c: usize) -> f64 {
-        self.e[(r, c)]
+        self.e[(r, self.offset + c)]
     }
 
     /// `out = P_i v` (local vectors): a sum of columns, which vectorises at every size (the
@@ -167,11 +192,12 @@ impl FingerBlockData {
                 if support.iter().all(|&c| v[c] == 0.0) {
                     return;
                 }
-                let mut cv = vec![0.0; v.len()];
+                let mut cv = self.work.take(v.len());
                 op.apply(v, &mut cv);
-                for (o, x) in out.iter_mut().zip(cv) {
+                for (o, x) in out.iter_mut().zip(&cv) {
                     *o += self.scale * x;
                 }
+                self.work.give(cv);
             }
         }
     }
@@ -192,22 +218,37 @@ impl FingerBlockData {
         }
     }
 
-    /// `out += E_i' lambda` (local vector).
+    /// `out += E_i' lambda` (local vector), on all cores for a long one.
     pub fn add_equality_transpose(&self, lambda: &[f64], out: &mut [f64]) {
-        for (c, o) in out.iter_mut().enumerate() {
-            let col = self.e.col(c);
-            *o += col.iter().zip(lambda).map(|(a, b)| a * b).sum::<f64>();
-        }
+        each_chunk(out, |s, chunk| {
+            for (c, o) in (s..).zip(chunk.iter_mut()) {
+                let col = self.equality_column(c);
+                *o += col.iter().zip(lambda).map(|(a, b)| a * b).sum::<f64>();
+            }
+        });
     }
 
-    /// `out += E_i v` (`out` of length `m`).
+    /// `out += E_i v` (`out` of length `m`). A long `v` is summed on all cores, a partial sum
+    /// per [`CHUNK`] of its entries added to `out` in order (the same bits on any number of
+    /// threads).
     pub fn add_equality(&self, v: &[f64], out: &mut [f64]) {
-        for (c, &vc) in v.iter().enumerate() {
-            if vc != 0.0 {
-                for (o, a) in out.iter_mut().zip(self.e.col(c).iter()) {
-                    *o += a * vc;
+        let add = |range: std::ops::Range<usize>, out: &mut [f64]| {
+            for c in range.filter(|&c| v[c] != 0.0) {
+                for (o, a) in out.iter_mut().zip(self.equality_column(c)) {
+                    *o += a * v[c];
                 }
             }
+        };
+        if v.len() < PARALLEL_LEN {
+            return add(0..v.len(), out);
+        }
+        let parts = map_indices_coarse(v.len().div_ceil(CHUNK), v.len(), |k| {
+            let mut part = vec![0.0; out.len()];
+            add(k * CHUNK..((k + 1) * CHUNK).min(v.len()), &mut part);
+            part
+        });
+        for part in parts {
+            out.iter_mut().zip(part).for_each(|(o, p)| *o += p);
         }
     }
 

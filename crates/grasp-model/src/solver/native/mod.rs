@@ -96,6 +96,11 @@ impl NativeSolver {
         starts: &[&Iterate],
         limits: Limits,
     ) -> NativeResult {
-        semismooth_newton::run(&self.blocks, &mut self.caches, program, starts, limits)
+        let result =
+            semismooth_newton::run(&self.blocks, &mut self.caches, program, starts, limits);
+        // The work vectors are kept from one Newton step to the next, not while the answer is
+        // read out.
+        self.blocks.iter().for_each(FingerBlockData::release_work);
+        result
     }
 }

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 pub(crate) const CHUNK: usize = 4096;
 
 /// Vectors at least this long are updated on all cores.
-const PARALLEL_LEN: usize = 8 * CHUNK;
+pub(crate) const PARALLEL_LEN: usize = 8 * CHUNK;
 
 /// `f(start, chunk)` for every [`CHUNK`]-long piece of `out` (`start`: its first index), on
 /// all cores for a long vector.
@@ -80,6 +80,11 @@ pub(crate) fn max_abs(a: &[f64]) -> f64 {
     }
 }
 
+/// Vectors a [`VectorPool`] keeps at most: a Newton step of the FFT path uses about a dozen
+/// at once (the conjugate gradients' seven, the equality columns and their preconditioned
+/// copies, the operator's two), one per free direction or per unknown.
+const KEPT_VECTORS: usize = 16;
+
 /// Work vectors kept between uses (a fresh allocation of a long vector faults in new pages
 /// at every use).
 #[derive(Debug, Default)]
@@ -108,10 +113,17 @@ impl VectorPool {
         v
     }
 
+    /// Frees the kept vectors.
+    pub fn clear(&self) {
+        if let Ok(mut k) = self.kept.lock() {
+            *k = Vec::new();
+        }
+    }
+
     /// Keeps `v` for a later [`VectorPool::take`].
     pub fn give(&self, v: Vec<f64>) {
         if let Ok(mut k) = self.kept.lock() {
-            if k.len() < 4 {
+            if k.len() < KEPT_VECTORS {
                 k.push(v);
             }
         }

@@ -20,7 +20,7 @@
 //! diagonal. Both parts are symmetric positive definite, so the preconditioner is.
 
 use crate::solver::native::finger_block::FingerBlockData;
-use crate::solver::native::parallel_vectors::{each_chunk, map_indices, VectorPool};
+use crate::solver::native::parallel_vectors::{each_chunk, map_indices};
 
 use super::linearisation::Direction;
 
@@ -117,8 +117,6 @@ impl Directions {
 /// `M` and its preconditioner for one finger's free directions.
 #[derive(Debug, Clone)]
 pub(crate) struct FreeOperator {
-    /// The free directions.
-    pub free: Vec<Direction>,
     /// `beta_a` per free direction.
     beta: Vec<f64>,
     /// `1 / M[a, a]`.
@@ -130,8 +128,6 @@ pub(crate) struct FreeOperator {
     any_circulant: bool,
     /// `D_F`.
     directions: Directions,
-    /// Local vectors for the products.
-    work: VectorPool,
 }
 
 impl FreeOperator {
@@ -151,32 +147,30 @@ impl FreeOperator {
         let inverse_diagonal = map_indices(free.len(), |a| 1.0 / (compliance_part[a] + beta[a]));
         let circulant = map_indices(free.len(), |a| beta[a] <= compliance_part[a]);
         FreeOperator {
-            free: free.to_vec(),
             beta,
             inverse_diagonal,
             any_circulant: circulant.iter().any(|c| *c),
             circulant,
             directions: Directions::new(block, free),
-            work: VectorPool::default(),
         }
     }
 
     /// Free directions, the length of the vectors it applies to.
     pub fn len(&self) -> usize {
-        self.free.len()
+        self.beta.len()
     }
 
     /// `out = M p`.
     pub fn apply(&self, block: &FingerBlockData, p: &[f64], out: &mut [f64]) {
-        let mut full = self.work.take(block.len());
+        let mut full = block.work.take(block.len());
         self.directions.scatter(p, |_| true, &mut full);
-        let mut pfull = self.work.take(block.len());
+        let mut pfull = block.work.take(block.len());
         block.apply(&full, &mut pfull);
         let all = (|_| true, |_| 0.0);
         self.directions
             .gather(&pfull, all, |a| self.beta[a] * p[a], out);
-        self.work.give(full);
-        self.work.give(pfull);
+        block.work.give(full);
+        block.work.give(pfull);
     }
 
     /// `z = D_F' Pc^-1 D_F r` on the circulant-preconditioned directions, `r / M[a, a]` on
@@ -184,28 +178,32 @@ impl FreeOperator {
     pub fn precondition(&self, block: &FingerBlockData, r: &[f64], z: &mut [f64]) {
         let circulant = |a: usize| self.circulant[a];
         let diagonal = |a: usize| r[a] * self.inverse_diagonal[a];
-        let mut full = self.work.take(block.len());
-        let mut back = self.work.take(block.len());
+        let mut full = block.work.take(block.len());
+        let mut back = block.work.take(block.len());
         if self.any_circulant {
             self.directions.scatter(r, circulant, &mut full);
             block.precondition(&full, &mut back);
         }
         self.directions
             .gather(&back, (circulant, diagonal), |_| 0.0, z);
-        self.work.give(full);
-        self.work.give(back);
+        block.work.give(full);
+        block.work.give(back);
     }
 
-    /// `Et' = D_F' E_i'` as columns (one per equality row, each of length `n_free`).
-    pub fn equality_columns(&self, block: &FingerBlockData) -> Vec<Vec<f64>> {
+    /// `Et' = D_F' E_i'` as columns (one per equality row, each of length `n_free`), for the
+    /// free directions `free` the operator was made with.
+    pub fn equality_columns(block: &FingerBlockData, free: &[Direction]) -> Vec<Vec<f64>> {
         (0..block.equality_rows())
             .map(|r| {
-                map_indices(self.free.len(), |a| {
-                    let d = &self.free[a];
-                    (0..block.dim)
-                        .map(|c| d.dir[c] * block.equality(r, block.index(d.element, c)))
-                        .sum()
-                })
+                let mut col = block.work.take(free.len());
+                each_chunk(&mut col, |s, chunk| {
+                    for (d, o) in free[s..].iter().zip(chunk.iter_mut()) {
+                        *o = (0..block.dim)
+                            .map(|c| d.dir[c] * block.equality(r, block.index(d.element, c)))
+                            .sum();
+                    }
+                });
+                col
             })
             .collect()
     }

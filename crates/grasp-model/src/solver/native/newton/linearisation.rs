@@ -63,6 +63,10 @@ impl FingerLinearisation {
         old_fixed: &[Direction],
         tolerance: f64,
     ) -> Option<Self> {
+        if self.residuals.is_empty() {
+            // Linearised without its elements' residuals ([`linearise_keeping`]).
+            return None;
+        }
         let close = |a: &[Direction], b: &[Direction]| {
             a.len() == b.len()
                 && a.iter().zip(b).all(|(x, y)| {
@@ -117,10 +121,25 @@ pub(crate) fn linearise(
     x: &[f64],
     y: &[f64],
 ) -> FingerLinearisation {
+    linearise_keeping(block, cone, (x, y), true)
+}
+
+/// [`linearise`], keeping every element's residual only when `residuals` (a chord step
+/// reads them, [`FingerLinearisation::with_directions_of`]; the projected step of the FFT
+/// path, which keeps no factors, does not: a vector of three per element saved).
+pub(crate) fn linearise_keeping(
+    block: &FingerBlockData,
+    cone: &BlockCone,
+    (x, y): (&[f64], &[f64]),
+    residuals: bool,
+) -> FingerLinearisation {
     let parts = for_element_chunks(block.elements, |range| {
         let mut lin = FingerLinearisation::default();
         for k in range {
             linearise_element(block, cone, (x, y), k, &mut lin);
+        }
+        if !residuals {
+            lin.residuals = Vec::new();
         }
         lin
     });
@@ -128,7 +147,7 @@ pub(crate) fn linearise(
     let mut lin = FingerLinearisation {
         free: Vec::with_capacity(total(|p| p.free.len())),
         fixed: Vec::with_capacity(total(|p| p.fixed.len())),
-        residuals: Vec::with_capacity(block.elements),
+        residuals: Vec::with_capacity(total(|p| p.residuals.len())),
         ..FingerLinearisation::default()
     };
     for part in parts {
@@ -186,21 +205,49 @@ fn linearise_element(
     }
 }
 
-/// The residual norms of one finger at a trial point (no Jacobian): `(sum of squares, max)`.
+/// The residual norms of one finger at a point (no Jacobian): `(sum of squares, max)`.
 pub(crate) fn residual_norms(
     block: &FingerBlockData,
     cone: &BlockCone,
     x: &[f64],
     y: &[f64],
 ) -> (f64, f64) {
+    norms_at(block, cone, |k| (block.gather(x, k), block.gather(y, k)))
+}
+
+/// [`residual_norms`] at the trial point `(x + t dx, y + t dy)`, each entry formed where it is
+/// used (no trial vectors).
+pub(crate) fn residual_norms_along(
+    block: &FingerBlockData,
+    cone: &BlockCone,
+    (x, dx): (&[f64], &[f64]),
+    (y, dy): (&[f64], &[f64]),
+    t: f64,
+) -> (f64, f64) {
+    let along = |v: &[f64], dv: &[f64], k: usize| {
+        let (a, b) = (block.gather(v, k), block.gather(dv, k));
+        [a[0] + t * b[0], a[1] + t * b[1], a[2] + t * b[2]]
+    };
+    norms_at(block, cone, |k| (along(x, dx, k), along(y, dy, k)))
+}
+
+/// The residual norms of one finger whose element `k` has the forces and duals `point(k)`.
+fn norms_at(
+    block: &FingerBlockData,
+    cone: &BlockCone,
+    point: impl Fn(usize) -> ([f64; 3], [f64; 3]) + Sync + Send,
+) -> (f64, f64) {
     let d = block.dim;
     let parts = for_element_chunks(block.elements, |range| {
         let (mut sq, mut max) = (0.0, 0.0_f64);
         for k in range {
-            let xk = block.gather(x, k);
-            let p = block
-                .element_cone(cone, k)
-                .project(projection_input(block, x, y, k), d);
+            let (xk, yk) = point(k);
+            let v = [
+                xk[0] - block.gamma * yk[0],
+                xk[1] - block.gamma * yk[1],
+                xk[2] - block.gamma * yk[2],
+            ];
+            let p = block.element_cone(cone, k).project(v, d);
             for (c, &xc) in xk.iter().enumerate().take(d) {
                 let f = xc - p.point[c];
                 sq += f * f;

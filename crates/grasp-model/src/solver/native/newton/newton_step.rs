@@ -18,6 +18,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::solver::native::finger_block::FingerBlockData;
 use crate::solver::native::native_result::Counts;
+use crate::solver::native::parallel_vectors::{each_chunk, map_indices};
 
 use super::linearisation::FingerLinearisation;
 use super::reduced_factor::key_of;
@@ -68,18 +69,19 @@ pub(crate) const CHORD_TOLERANCE: f64 = 1e-3;
 
 /// The linearisations with, per finger, the directions of its most recent cached factor where
 /// they are within [`CHORD_TOLERANCE`] of the new ones (same pattern): such fingers need no
-/// new factorisation this step.
+/// new factorisation this step. The others' linearisations are handed back as they came (no
+/// copy: an FFT patch's holds a direction per element).
 pub(crate) fn chord_linearisations(
-    lins: &[FingerLinearisation],
+    lins: Vec<FingerLinearisation>,
     caches: &[FactorCache],
 ) -> Vec<FingerLinearisation> {
-    lins.iter()
+    lins.into_iter()
         .zip(caches)
         .map(|(lin, cache)| {
             cache
                 .first()
                 .and_then(|f| lin.with_directions_of(f.free(), f.fixed(), CHORD_TOLERANCE))
-                .unwrap_or_else(|| lin.clone())
+                .unwrap_or(lin)
         })
         .collect()
 }
@@ -135,7 +137,8 @@ pub(crate) fn first_half(
 /// right-hand side `r_i = -phi_a / (gamma theta_a) - d_a' P_i z_i` (in `g`) and `E_i z_i`.
 pub(crate) fn fixed_part(block: &FingerBlockData, lin: &FingerLinearisation) -> FingerHalf {
     let n = block.len();
-    let mut z = vec![0.0; n];
+    let mut z = block.work.take(n);
+    each_chunk(&mut z, |_, c| c.fill(0.0));
     let mut support = Vec::new();
     for d in &lin.fixed {
         if d.phi != 0.0 {
@@ -148,20 +151,23 @@ pub(crate) fn fixed_part(block: &FingerBlockData, lin: &FingerLinearisation) -> 
             }
         }
     }
-    support.sort_unstable();
-    support.dedup();
-    let mut pz = vec![0.0; n];
+    // A dense block sums the support's columns, each once; the FFT operator applies itself
+    // to `z` whole, and needs no order.
+    if !block.is_fft() {
+        support.sort_unstable();
+        support.dedup();
+    }
+    let mut pz = block.work.take(n);
+    pz.fill(0.0);
     block.apply_columns(&z, &support, &mut pz);
-    let g: Vec<f64> = lin
-        .free
-        .iter()
-        .map(|d| {
-            let ppz: f64 = (0..block.dim)
-                .map(|c| d.dir[c] * pz[block.index(d.element, c)])
-                .sum();
-            -d.phi / (block.gamma * d.theta) - ppz
-        })
-        .collect();
+    let g = map_indices(lin.free.len(), |a| {
+        let d = &lin.free[a];
+        let ppz: f64 = (0..block.dim)
+            .map(|c| d.dir[c] * pz[block.index(d.element, c)])
+            .sum();
+        -d.phi / (block.gamma * d.theta) - ppz
+    });
+    block.work.give(pz);
     let mut e_z = vec![0.0; block.equality_rows()];
     block.add_equality(&z, &mut e_z);
     FingerHalf { z, g, e_z }
@@ -279,11 +285,11 @@ pub(crate) fn finish_finger(
             dx[block.index(d.element, c)] += d.dir[c] * v;
         }
     }
-    let mut dy = vec![0.0; dx.len()];
-    block.apply(&dx, &mut dy);
-    block.add_equality_transpose(&step.dlambda, &mut dy);
+    let r = block.offset..block.offset + dx.len();
+    let dy = &mut step.dy[r.clone()];
+    block.apply(&dx, dy);
+    block.add_equality_transpose(&step.dlambda, dy);
     block.add_equality(&dx, &mut step.e_dx);
-    let o = block.offset;
-    step.dx[o..o + dx.len()].copy_from_slice(&dx);
-    step.dy[o..o + dy.len()].copy_from_slice(&dy);
+    step.dx[r].copy_from_slice(&dx);
+    block.work.give(dx);
 }

@@ -47,6 +47,13 @@ struct Projected<'a> {
     k_null: DMatrix<f64>,
 }
 
+/// A vector of `len` zeros, from `block`'s kept vectors.
+fn zeroed(block: &FingerBlockData, len: usize) -> Vec<f64> {
+    let mut v = block.work.take(len);
+    each_chunk(&mut v, |_, c| c.fill(0.0));
+    v
+}
+
 fn dot_split(a: &Split, b: &Split) -> f64 {
     a.iter().zip(b).map(|(x, y)| dot(x, y)).sum()
 }
@@ -69,17 +76,17 @@ impl<'a> Projected<'a> {
             .zip(lins)
             .map(|(b, l)| FreeOperator::new(b, &l.free))
             .collect();
-        let et: Vec<_> = ops
+        let et: Vec<_> = blocks
             .iter()
-            .zip(blocks)
-            .map(|(o, b)| o.equality_columns(b))
+            .zip(lins)
+            .map(|(b, l)| FreeOperator::equality_columns(b, &l.free))
             .collect();
         let y: Vec<Vec<Vec<f64>>> = (0..ops.len())
             .map(|i| {
                 let cols = &et[i];
                 cols.iter()
                     .map(|col| {
-                        let mut out = vec![0.0; col.len()];
+                        let mut out = zeroed(&blocks[i], col.len());
                         if col.iter().any(|v| *v != 0.0) {
                             ops[i].precondition(&blocks[i], col, &mut out);
                         }
@@ -140,9 +147,23 @@ impl<'a> Projected<'a> {
         self.per_finger(out, |i, o| self.ops[i].apply(&self.blocks[i], &v[i], o));
     }
 
-    /// Zero vectors, one per finger.
+    /// Zero vectors, one per finger, from the fingers' kept vectors.
     fn zeros(&self) -> Split {
-        self.ops.iter().map(|o| vec![0.0; o.len()]).collect()
+        (self.blocks.iter().zip(&self.ops))
+            .map(|(b, o)| zeroed(b, o.len()))
+            .collect()
+    }
+
+    /// Keeps the vectors of `v` for the fingers' next use (this step's or the next one's).
+    fn keep(&self, v: Split) {
+        self.blocks.iter().zip(v).for_each(|(b, x)| b.work.give(x));
+    }
+
+    /// Keeps the step's columns (`Et'` and `G^-1 Et'`) for the next step.
+    fn keep_columns(self) {
+        for (b, (et, y)) in self.blocks.iter().zip(self.et.into_iter().zip(self.y)) {
+            et.into_iter().chain(y).for_each(|c| b.work.give(c));
+        }
     }
 
     /// `out += scale cols w` per finger (`cols`: `et` or `y`), in one pass.
@@ -222,7 +243,12 @@ fn solve(
         return (None, 0);
     }
     let start = rg.max(0.0).sqrt();
-    let mut d: Split = g.iter().map(|v| v.iter().map(|x| -x).collect()).collect();
+    let mut d = p.zeros();
+    for (di, gi) in d.iter_mut().zip(&g) {
+        each_chunk(di, |s, c| {
+            c.iter_mut().zip(&gi[s..]).for_each(|(x, y)| *x = -y)
+        });
+    }
     let n: usize = xi.iter().map(Vec::len).sum();
     let max = CG_ITERATIONS_PER_ROOT * ((n as f64).sqrt().ceil() as usize).max(1);
     let mut its = 0;
@@ -255,6 +281,7 @@ fn solve(
             });
         }
     }
+    [res, g, g_new, md, d].into_iter().for_each(|v| p.keep(v));
     let reached = rg.max(0.0).sqrt();
     let enough = CG_ACCEPTABLE.max(relative) * start;
     let converged = reached.is_finite() && (reached <= enough || below_floor);
@@ -276,7 +303,7 @@ pub(crate) fn projected_step(
     (relative, floor): (f64, f64),
 ) -> Option<Step> {
     let m = e_res.len();
-    let halves: Vec<FingerHalf> = blocks
+    let mut halves: Vec<FingerHalf> = blocks
         .iter()
         .zip(lins)
         .map(|(b, l)| fixed_part(b, l))
@@ -289,13 +316,22 @@ pub(crate) fn projected_step(
     counts.factorisations += blocks.len() as u32;
     let unreachable = &p.k_null * &rhs;
     let xi0 = p.particular(&(-&rhs));
-    let r: Split = halves.iter().map(|h| h.g.clone()).collect();
+    let r: Split = halves
+        .iter_mut()
+        .map(|h| std::mem::take(&mut h.g))
+        .collect();
     let (solved, its) = solve(&p, &r, xi0, (relative.max(CG_TOLERANCE), floor));
+    p.keep(r);
     counts.inner_iterations += its;
-    let (xi, dlambda) = solved?;
+    let Some((xi, dlambda)) = solved else {
+        p.keep_columns();
+        return None;
+    };
     let mut step = Step::new(n, &dlambda, &unreachable);
     for (((block, lin), half), x) in blocks.iter().zip(lins).zip(halves).zip(&xi) {
         finish_finger(block, lin, half.z, x, &mut step);
     }
+    p.keep(xi);
+    p.keep_columns();
     Some(step)
 }

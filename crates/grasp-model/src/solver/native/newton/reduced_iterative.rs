@@ -42,7 +42,9 @@ pub(crate) const CG_ACCEPTABLE: f64 = 1e-8;
 pub(crate) struct ReducedIterative {
     /// The free directions it was built for (`element`, `dir`, `theta` bits).
     key: Vec<u64>,
-    /// `M` over the free directions it was built for, with its preconditioner.
+    /// The free directions it was built for.
+    pub free: Vec<Direction>,
+    /// `M` over them, with its preconditioner.
     pub op: FreeOperator,
     /// The linearisation's fixed directions it was built with, for chord steps.
     pub fixed: Vec<Direction>,
@@ -66,6 +68,7 @@ impl ReducedIterative {
     ) -> Option<Self> {
         let mut system = ReducedIterative {
             key,
+            free: free.to_vec(),
             op: FreeOperator::new(block, free),
             fixed: fixed.to_vec(),
             et: Vec::new(),
@@ -73,7 +76,7 @@ impl ReducedIterative {
             schur: DMatrix::zeros(0, 0),
             iterations: 0,
         };
-        let et = system.op.equality_columns(block);
+        let et = FreeOperator::equality_columns(block, free);
         for col in &et {
             let u = match col.iter().any(|v| *v != 0.0) {
                 true => {

@@ -57,7 +57,7 @@ impl ReducedSystem {
     pub fn free(&self) -> &[Direction] {
         match self {
             ReducedSystem::Factor(f) => &f.free,
-            ReducedSystem::Iterative(s) => &s.op.free,
+            ReducedSystem::Iterative(s) => &s.free,
         }
     }
 

@@ -16,7 +16,11 @@ use crate::solver::native::interior::interior_point;
 use crate::solver::native::native_result::{Counts, NativeResult, NativeStatus};
 use crate::solver::solve_progress::SolveProgress;
 
-use super::linearisation::{cold_pattern, linearise, residual_norms, FingerLinearisation};
+use crate::solver::native::parallel_vectors::each_chunk;
+
+use super::linearisation::{
+    cold_pattern, linearise_keeping, residual_norms, residual_norms_along, FingerLinearisation,
+};
 use super::newton_step::{chord_linearisations, newton_step, FactorCache, Step};
 use super::projected_step::projected_step;
 use super::reduced_iterative::CG_TOLERANCE;
@@ -113,17 +117,20 @@ fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0_f64, |a, b| a.max(b.abs()))
 }
 
+/// Every finger's linearisation at `s`; without the elements' residuals when every finger is
+/// an FFT one (their steps are projected ones, which keep no factors for chord steps).
 fn linearise_all(
     blocks: &[FingerBlockData],
     program: &ConeProgram,
     s: &State,
 ) -> Vec<FingerLinearisation> {
+    let residuals = !blocks.iter().all(FingerBlockData::is_fft);
     blocks
         .iter()
         .zip(&program.blocks)
         .map(|(b, pb)| {
             let r = b.offset..b.offset + b.len();
-            linearise(b, &pb.cone, &s.x[r.clone()], &s.y[r])
+            linearise_keeping(b, &pb.cone, (&s.x[r.clone()], &s.y[r]), residuals)
         })
         .collect()
 }
@@ -137,12 +144,11 @@ fn trial(
     e_res: &[f64],
     t: f64,
 ) -> (f64, f64, f64) {
-    let xt: Vec<f64> = s.x.iter().zip(&step.dx).map(|(a, b)| a + t * b).collect();
-    let yt: Vec<f64> = s.y.iter().zip(&step.dy).map(|(a, b)| a + t * b).collect();
     let (mut sq, mut max) = (0.0, 0.0_f64);
     for (b, pb) in blocks.iter().zip(&program.blocks) {
         let r = b.offset..b.offset + b.len();
-        let (q, m) = residual_norms(b, &pb.cone, &xt[r.clone()], &yt[r]);
+        let (x, dx) = (&s.x[r.clone()], &step.dx[r.clone()]);
+        let (q, m) = residual_norms_along(b, &pb.cone, (x, dx), (&s.y[r.clone()], &step.dy[r]), t);
         sq += q;
         max = max.max(m);
     }
@@ -158,16 +164,17 @@ fn trial(
     )
 }
 
+/// `v <- v + t dv`, on all cores for a long vector.
+fn add_along(v: &mut [f64], dv: &[f64], t: f64) {
+    each_chunk(v, |s, c| {
+        c.iter_mut().zip(&dv[s..]).for_each(|(a, b)| *a += t * b)
+    });
+}
+
 fn apply(s: &mut State, step: &Step, t: f64) {
-    for (a, b) in s.x.iter_mut().zip(&step.dx) {
-        *a += t * b;
-    }
-    for (a, b) in s.y.iter_mut().zip(&step.dy) {
-        *a += t * b;
-    }
-    for (a, b) in s.lambda.iter_mut().zip(&step.dlambda) {
-        *a += t * b;
-    }
+    add_along(&mut s.x, &step.dx, t);
+    add_along(&mut s.y, &step.dy, t);
+    add_along(&mut s.lambda, &step.dlambda, t);
 }
 
 /// Runs the iteration from the candidate in `starts` with the smallest merit (none: cold);
@@ -405,7 +412,7 @@ fn descend(
         // Near the solution the directions barely turn: reuse the cached factors (chord step).
         let near = res_max <= CHORD_RESIDUAL * max_abs(&s.x).max(1.0);
         let step_lins = match near {
-            true => chord_linearisations(&lins, caches),
+            true => chord_linearisations(lins, caches),
             false => lins,
         };
         let n = program.n_unknowns;
