@@ -23,7 +23,6 @@ mod commands;
 mod flag_names;
 mod limits;
 mod load_scene;
-mod long_vectors;
 mod output;
 mod pictures;
 mod progress;
@@ -84,7 +83,6 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    long_vectors::return_long_vectors_to_the_system();
     // A usage error is bad input: exit 1 (clap's own code, 2, means an outcome here).
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
