@@ -43,6 +43,24 @@ fn state_code(state: ElementState) -> u8 {
     STATE_NAMES.iter().position(|s| *s == state).unwrap_or(0) as u8
 }
 
+/// Bytes of an array's data written to the archive at a time.
+const BUFFER_BYTES: usize = 1 << 16;
+
+/// The `.npy` header (magic, version, the dictionary of dtype, order and `shape`) of an array
+/// of `T` in NumPy's default little-endian type, as npyz writes it: its writer writes the
+/// header when it begins, and dropped before any value, writes nothing more (an unfinished
+/// writer's drop reports nothing).
+fn npy_header<T: npyz::AutoSerialize>(shape: &[u64]) -> std::io::Result<Vec<u8>> {
+    let mut header = Vec::new();
+    let writer = npyz::WriteOptions::<T>::new()
+        .default_dtype()
+        .shape(shape)
+        .writer(&mut header)
+        .begin_nd()?;
+    drop(writer);
+    Ok(header)
+}
+
 /// An `.npz` archive being written into `W`.
 pub struct NpzArchive<W: Write + Seek> {
     zip: ZipWriter<W>,
@@ -68,9 +86,11 @@ impl<W: Write + Seek> NpzArchive<W> {
         for f in &solution.fingers {
             let p = format!("{prefix}{}/", f.name);
             let e = f.elements.as_slice();
-            let n = e.len() as u64;
-            let index = e.iter().flat_map(|e| e.index.map(|i| i as i64));
-            self.array(&format!("{p}index"), &[n, 2], index)?;
+            self.entries::<i64, 2>(&format!("{p}index"), e, |e, out| {
+                e.index
+                    .iter()
+                    .for_each(|&i| out.extend_from_slice(&(i as i64).to_le_bytes()))
+            })?;
             self.floats(&format!("{p}local_m"), e, |e| e.local_m)?;
             self.floats(&format!("{p}position_m"), e, |e| e.position_m)?;
             self.floats(&format!("{p}normal_force_n"), e, |e| [e.normal_force_n])?;
@@ -82,8 +102,9 @@ impl<W: Write + Seek> NpzArchive<W> {
             self.floats(&format!("{p}gap_m"), e, |e| [e.gap_m])?;
             self.floats(&format!("{p}slip_m"), e, |e| e.slip_m)?;
             self.floats(&format!("{p}step_slip_m"), e, |e| e.step_slip_m)?;
-            let codes = e.iter().map(|e| state_code(e.state));
-            self.array(&format!("{p}state"), &[n], codes)?;
+            self.entries::<u8, 1>(&format!("{p}state"), e, |e, out| {
+                out.push(state_code(e.state))
+            })?;
             if e.iter().any(|e| e.viscous_displacement_m.is_some()) {
                 self.floats(&format!("{p}viscous_displacement_m"), e, |e| {
                     e.viscous_displacement_m.unwrap_or([f64::NAN; 3])
@@ -100,9 +121,34 @@ impl<W: Write + Seek> NpzArchive<W> {
         elements: &[ElementSolution],
         field: impl Fn(&ElementSolution) -> [f64; C],
     ) -> std::io::Result<()> {
+        self.entries::<f64, C>(name, elements, |e, out| {
+            field(e)
+                .iter()
+                .for_each(|v| out.extend_from_slice(&v.to_le_bytes()))
+        })
+    }
+
+    /// Adds an array `name` of `C` values of `T` per element (shape `(N,)` for one, `(N, C)`
+    /// otherwise), `put` appending an element's little-endian bytes: NumPy's header from
+    /// npyz, then the data a buffer at a time (not a write per value).
+    fn entries<T: npyz::AutoSerialize, const C: usize>(
+        &mut self,
+        name: &str,
+        elements: &[ElementSolution],
+        put: impl Fn(&ElementSolution, &mut Vec<u8>),
+    ) -> std::io::Result<()> {
         let n = elements.len() as u64;
         let shape: &[u64] = if C == 1 { &[n] } else { &[n, C as u64] };
-        self.array(name, shape, elements.iter().flat_map(field))
+        let value = std::mem::size_of::<T>();
+        self.start(name, n * (C * value) as u64)?;
+        self.zip.write_all(&npy_header::<T>(shape)?)?;
+        let mut bytes = Vec::with_capacity(BUFFER_BYTES);
+        for chunk in elements.chunks((BUFFER_BYTES / (C * value)).max(1)) {
+            bytes.clear();
+            chunk.iter().for_each(|e| put(e, &mut bytes));
+            self.zip.write_all(&bytes)?;
+        }
+        Ok(())
     }
 
     /// Adds an array `name` of `shape` holding `values` (row-major), of `T`'s NumPy type.
