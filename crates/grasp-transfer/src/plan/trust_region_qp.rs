@@ -95,24 +95,7 @@ pub fn qp_step(
     }
     nonneg.push(&[(v_col, -1.0)], 0.0);
     let scale = scale_n.max(f64::MIN_POSITIVE);
-    let mut p = vec![(0..nx)
-        .map(|j| (j, j, PROXIMAL / (scale * scale)))
-        .collect::<Vec<_>>()];
-    p.push(vec![(t_col, t_col, PROXIMAL / (t0 * t0))]);
-    let p: Vec<_> = p.into_iter().flatten().collect();
-    let mut q = vec![0.0; n];
-    for (j, x) in x0.iter().enumerate() {
-        q[j] = -PROXIMAL / (scale * scale) * x;
-    }
-    q[t_col] = -PROXIMAL / t0;
-    match options.objective {
-        Objective::Duration => {
-            q[t_col] += 1.0 / t0;
-            q[w_col] = VIOLATION_WEIGHT;
-        }
-        Objective::Margin => q[w_col] = -1.0,
-    }
-    q[v_col] = VIOLATION_WEIGHT;
+    let (p, q) = objective(&x0, t0, scale, options.objective, (t_col, w_col, v_col));
     let z = solve(n, &p, &q, zero, nonneg)?;
     // The fixed keyframes exactly, the free ones within their bounds; a load within
     // round-off of 0 N is 0 N (released), not a load too small to command.
@@ -144,6 +127,33 @@ pub fn qp_step(
         duration_s: z[t_col],
         predicted_merit,
     })
+}
+
+/// The objective `z'Pz/2 + q'z` (P as triplets): the proximal term around `(x0, t0)` (loads
+/// relative to `scale`), then the duration relative to `t0` plus the weighted violations, or
+/// the smallest slip margin negated plus the weighted disturbance violation.
+fn objective(
+    x0: &[f64],
+    t0: f64,
+    scale: f64,
+    kind: Objective,
+    (t_col, w_col, v_col): (usize, usize, usize),
+) -> (Vec<(usize, usize, f64)>, Vec<f64>) {
+    let per_load = PROXIMAL / (scale * scale);
+    let mut p: Vec<_> = (0..x0.len()).map(|j| (j, j, per_load)).collect();
+    p.push((t_col, t_col, PROXIMAL / (t0 * t0)));
+    let mut q: Vec<f64> = x0.iter().map(|x| -per_load * x).collect();
+    q.resize(v_col + 1, 0.0);
+    q[t_col] = -PROXIMAL / t0;
+    match kind {
+        Objective::Duration => {
+            q[t_col] += 1.0 / t0;
+            q[w_col] = VIOLATION_WEIGHT;
+        }
+        Objective::Margin => q[w_col] = -1.0,
+    }
+    q[v_col] = VIOLATION_WEIGHT;
+    (p, q)
 }
 
 /// Group `g`'s load bounds `(largest, smallest)`, N: every member's within the options'.
