@@ -237,21 +237,7 @@ fn finger_solution(
         cy += fk * y;
         peak = peak.max(fk / area);
         counts[c.state as usize] += 1;
-        let pos = f.element_point(k);
-        elements.push(ElementSolution {
-            index: [k / f.patch.grid.ny, k % f.patch.grid.ny],
-            local_m: [x, y],
-            position_m: [pos.x, pos.y, pos.z],
-            normal_force_n: fk,
-            tangential_force_n: g,
-            pressure_pa: fk / area,
-            traction_pa: [g[0] / area, g[1] / area],
-            gap_m: c.gap_m,
-            slip_m: c.slip_m,
-            step_slip_m: c.step_slip_m,
-            state: c.state,
-            viscous_displacement_m: None,
-        });
+        elements.push(element_solution(f, k, (fk, g), c));
     }
     // An unloaded finger (solver noise only) has no centre of pressure: its contact point.
     let loaded = p > LOADED_FRACTION * model.scales.load_n;
@@ -288,6 +274,32 @@ fn finger_solution(
         separated_count: counts[ElementState::Separated as usize],
         off_surface_count: counts[ElementState::OffSurface as usize],
         elements,
+    }
+}
+
+/// Element `k` of finger `f`: its normal force `fk` (N) and friction `g` (N, `[t1, t2]`),
+/// their tractions (Pa) and its check's gap, slip and state.
+fn element_solution(
+    f: &FingerModel,
+    k: usize,
+    (fk, g): (f64, [f64; 2]),
+    c: &ElementCheck,
+) -> ElementSolution {
+    let area = f.patch.element_area_m2();
+    let pos = f.element_point(k);
+    ElementSolution {
+        index: [k / f.patch.grid.ny, k % f.patch.grid.ny],
+        local_m: f.patch.centres_m[k],
+        position_m: [pos.x, pos.y, pos.z],
+        normal_force_n: fk,
+        tangential_force_n: g,
+        pressure_pa: fk / area,
+        traction_pa: [g[0] / area, g[1] / area],
+        gap_m: c.gap_m,
+        slip_m: c.slip_m,
+        step_slip_m: c.step_slip_m,
+        state: c.state,
+        viscous_displacement_m: None,
     }
 }
 
