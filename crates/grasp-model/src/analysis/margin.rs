@@ -23,6 +23,14 @@
 //! [`MarginOptions::max_factor`] times the load scale: unbounded), then bisection narrows the
 //! bracket to [`MarginOptions::relative_tolerance`]. Directions run in parallel; each is
 //! deterministic.
+//!
+//! No trial is solved at or beyond the direction's load capacity
+//! ([`crate::analysis::load_capacity`]), the magnitude from which no contact forces within the
+//! friction cones balance the load: a proof that no model holds there replaces the solves that
+//! would stall at the edge of equilibrium. The growth stops at the capacity, and a bracket
+//! ending there is probed first just below it ([`CAPACITY_PROBE`]). Where no capacity is
+//! sought (a fine patch, a load-dependent friction coefficient, a held finger the proof cannot
+//! bound) the search is as above.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -30,6 +38,7 @@ use std::time::Instant;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
+use crate::analysis::load_capacity::LoadCapacity;
 use crate::error::{ModelError, OptionError};
 use crate::model::equilibrium::MotionPlane;
 use crate::model::grasp_model::GraspModel;
@@ -72,6 +81,11 @@ const MAX_GROWTH_STEPS: u32 = 200;
 /// Largest number of bisection steps along one direction (geometric, then arithmetic: about
 /// 35 narrow the widest bracket to the finest tolerance).
 const MAX_BISECTION_STEPS: u32 = 200;
+
+/// Where a bracket whose upper end is the load capacity `c` is probed first, as a fraction of
+/// the tolerance below it: `c (1 - 0.9 tol)`. When the grasp holds there (the margin is the
+/// capacity, as where the fingers can only all slip together), the bracket is done in one solve.
+pub(crate) const CAPACITY_PROBE: f64 = 0.9;
 
 /// A direction of disturbance: a unit vector of the scaled wrench space.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -446,6 +460,9 @@ pub(crate) struct Search<'a> {
     pub(crate) length_m: f64,
     pub(crate) solves: u32,
     pub(crate) exempt: &'a [String],
+    /// The magnitude from which no equilibrium exists, N ([`LoadCapacity`]; infinite when
+    /// unknown): trials there fail without a solve.
+    pub(crate) capacity_n: f64,
 }
 
 /// The largest magnitude known to hold, N, with the contact state and solution there.
@@ -476,11 +493,49 @@ impl Search<'_> {
         s: f64,
         state: &ContactState,
     ) -> Result<Result<(ContactState, Solution), Failure>, ModelError> {
+        if s >= self.capacity_n {
+            return Ok(Err(self.beyond_capacity(s)));
+        }
         let inputs = self.inputs_at(s);
         let mut next = state.clone();
         let sol = self.solver.solve_step(&inputs, &mut next)?;
         self.solves += 1;
         Ok(holds(self.model, &sol, self.exempt).map(|()| (next, sol)))
+    }
+
+    /// The failure of a trial at `s` N at or beyond the load capacity.
+    fn beyond_capacity(&self, s: f64) -> Failure {
+        Failure::NoEquilibrium {
+            reason: format!(
+                "no equilibrium: no contact forces within the friction cones balance {} N \
+                 along this direction (the contacts resist at most {} N along it with the \
+                 commanded loads)",
+                Readable(s),
+                Readable(self.capacity_n)
+            ),
+        }
+    }
+
+    /// A certificate of the load capacity along the direction at this step, searched up to
+    /// `cap_n` N (`None`: none sought or found, see [`LoadCapacity::find`]).
+    pub(crate) fn find_capacity(&self, cap_n: f64) -> Option<LoadCapacity> {
+        let (force, torque) = self.wrench_per_newton();
+        LoadCapacity::find(self.model, self.inputs, (&force, &torque), cap_n)
+    }
+
+    /// Takes the capacity that `certificate` proves at this step.
+    pub(crate) fn bound_by(&mut self, certificate: &mut LoadCapacity) {
+        let (force, torque) = self.wrench_per_newton();
+        self.capacity_n = certificate.bound_n(self.model, self.inputs, (&force, &torque));
+    }
+
+    /// The disturbance per newton of magnitude: force (N) and couple (N m).
+    pub(crate) fn wrench_per_newton(&self) -> (Vector3<f64>, Vector3<f64>) {
+        let d = &self.direction;
+        (
+            Vector3::from(d.force),
+            Vector3::from(d.torque) * self.length_m,
+        )
     }
 
     /// Grows the magnitude from `held` (the step doubling from [`INITIAL_STEP`] of the load
@@ -496,7 +551,7 @@ impl Search<'_> {
             if held.s >= cap || cap.is_nan() {
                 return Ok((None, None));
             }
-            let s = (held.s + step).min(cap);
+            let s = (held.s + step).min(cap).min(self.capacity_n);
             match self.trial(s, &held.state)? {
                 Ok((state, sol)) => (*held, step) = (Held { s, state, sol }, 2.0 * step),
                 Err(f) => return Ok((Some((s, f)), None)),
@@ -520,6 +575,20 @@ impl Search<'_> {
         tolerance: f64,
     ) -> Result<Option<String>, ModelError> {
         let zero = ZERO_MARGIN * self.model.scales.load_n;
+        // Failed at the capacity without a solve: the margin is most often just below it.
+        let below = self.capacity_n * (1.0 - CAPACITY_PROBE * tolerance);
+        if fails.0 >= self.capacity_n && held.s < below && below > zero {
+            match self.trial(below, &held.state)? {
+                Ok((state, sol)) => {
+                    *held = Held {
+                        s: below,
+                        state,
+                        sol,
+                    }
+                }
+                Err(g) => *fails = (below, g),
+            }
+        }
         // Failed at the first step: is the direction resisted at all? (One solve, not a
         // bisection down to zero: commanded loads leave some directions unresisted.)
         if held.s == 0.0 {
@@ -587,8 +656,12 @@ fn along(
         length_m,
         solves: 0,
         exempt,
+        capacity_n: f64::INFINITY,
     };
     let cap = options.max_factor * model.scales.load_n;
+    if let Some(mut certificate) = search.find_capacity(cap) {
+        search.bound_by(&mut certificate);
+    }
     let mut held = Held {
         s: 0.0,
         state: base.0.clone(),

@@ -1,7 +1,9 @@
-//! Analyses built on many solves: disturbance margins (of one grasp, and along a loading path), grid-refinement studies, patch
+//! Analyses built on many solves: disturbance margins (of one grasp, and along a loading path;
+//! the load capacity that bounds them), grid-refinement studies, patch
 //! sizing, the state at a time of a viscoelastic scene, and the record a solution's JSON file
 //! holds.
 
+pub mod load_capacity;
 pub mod load_fixed_directions;
 pub mod margin;
 pub mod margin_tracker;

@@ -218,7 +218,7 @@ impl ClarabelForm {
     }
 
     /// Everything but `P` (left empty), from the program alone, Tresca radii at least `floor`.
-    fn constraints(program: &ConeProgram, floor: f64) -> ClarabelForm {
+    pub(crate) fn constraints(program: &ConeProgram, floor: f64) -> ClarabelForm {
         let n = program.n_unknowns;
         let mut rows = Rows::equality(program);
         let n_zero = rows.row;
