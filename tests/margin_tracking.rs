@@ -40,9 +40,19 @@ fn run(
     schedule: &grasp_transfer::Schedule,
     from_scratch: bool,
 ) -> Vec<StepRecord> {
+    run_with(scene, schedule, from_scratch, MarginOptions::default())
+}
+
+fn run_with(
+    scene: &grasp_model::Scene,
+    schedule: &grasp_transfer::Schedule,
+    from_scratch: bool,
+    margin_options: MarginOptions,
+) -> Vec<StepRecord> {
     let options = TransferOptions {
         margins: true,
         margins_from_scratch: from_scratch,
+        margin_options,
         ..TransferOptions::default()
     };
     Stepper::new(scene, schedule, options)
@@ -102,6 +112,57 @@ fn continued_margins_equal_the_search_from_scratch_along_every_example_hand_off(
             solves.0,
             solves.1
         );
+    }
+    assert!(compared > 100, "{compared} steps compared");
+}
+
+/// The load capacity only spares solves: with it and without it (every trial solved, as the
+/// search was before it) the continued search finds the same margins to the bisection's
+/// tolerance at every step of every bundled example hand-off (module docs), and it never
+/// costs more solves in all.
+#[test]
+fn the_load_capacity_changes_no_margin_along_any_example_hand_off() {
+    let without = MarginOptions {
+        load_capacity: false,
+        ..MarginOptions::default()
+    };
+    let mut compared = 0;
+    for (scene_name, schedule_name) in example_schedules() {
+        let (mut scene, mut schedule) = scene_and_schedule(&scene_name, &schedule_name);
+        for f in &mut scene.fingers {
+            if f.patch.grid[0] * f.patch.grid[1] > MAX_ELEMENTS {
+                f.patch.grid = f.patch.grid.map(|n| n.min(COARSE_GRID));
+            }
+        }
+        let stride = schedule.times.len().div_ceil(MAX_STEPS);
+        schedule.times = schedule.times.iter().copied().step_by(stride).collect();
+        let bounded = run(&scene, &schedule, false);
+        let solved = run_with(&scene, &schedule, false, without);
+        let mut solves = (0, 0);
+        for (a, b) in bounded.iter().zip(&solved) {
+            let what = format!("{schedule_name} on {scene_name}, step {}", a.index);
+            let (Some(ma), Some(mb)) = (&a.margin, &b.margin) else {
+                assert_eq!(a.margin.is_some(), b.margin.is_some(), "{what}");
+                continue;
+            };
+            assert_eq!(ma.bounded, mb.bounded, "{what}");
+            let allowed = allowed_n(ma, mb, a.solution.load_scale_n);
+            assert!(
+                (ma.smallest_n - mb.smallest_n).abs() <= allowed,
+                "{what}: with the capacity {} N, without {} N (allowed {allowed} N)",
+                ma.smallest_n,
+                mb.smallest_n
+            );
+            solves = (solves.0 + ma.solves, solves.1 + mb.solves);
+            compared += 1;
+        }
+        println!(
+            "{schedule_name}: {} steps, {} solves with the load capacity, {} without",
+            bounded.len(),
+            solves.0,
+            solves.1
+        );
+        assert!(solves.0 <= solves.1, "{schedule_name}: {solves:?}");
     }
     assert!(compared > 100, "{compared} steps compared");
 }

@@ -269,12 +269,28 @@ fn a_disturbance_margin_threshold_is_kept_when_the_plan_is_rerun_by_transfer() {
     // A threshold the plan without it breaks: 10 % above its smallest margin.
     let threshold = 1.1 * m0;
     let arg = format!("{threshold}");
+    let svg = d.join("kept.svg");
     let mut extra = base.to_vec();
     extra.extend(["--min-margin", &arg, "--max-runs", "12"]);
+    extra.extend(["--plot", svg.to_str().unwrap()]);
     let o = plan(&kept, &extra);
     let said = text(&o);
     assert_eq!(o.status.code(), Some(0), "{said}");
     assert!(said.contains("disturbance margin >= "), "{said}");
+    // The plot shows the margin the plan kept beside the slip margin, each with its threshold.
+    let drawn = std::fs::read_to_string(&svg).unwrap();
+    for caption in [
+        "Smallest slip margin",
+        "Smallest disturbance margin",
+        "margin [N]",
+    ] {
+        assert!(drawn.contains(caption), "the plot lacks {caption:?}");
+    }
+    assert_eq!(
+        drawn.matches("\nthreshold\n").count(),
+        2,
+        "one threshold per panel"
+    );
     // Independent check: `grasp transfer --margins` of the written schedule.
     let (least, at) = rerun_margins(&kept, &csv);
     assert!(

@@ -77,7 +77,8 @@ pub struct Args {
     /// Write the report (margins along the plan and the template, keyframes, cost) as JSON.
     #[arg(long, value_name = "F.json")]
     pub report: Option<PathBuf>,
-    /// Plot the smallest slip margin along the plan beside the template's (.svg or .png).
+    /// Plot the smallest slip margin along the plan beside the template's (.svg or .png); with
+    /// --min-margin, the smallest disturbance margin too.
     #[arg(long, value_name = "F.svg|F.png")]
     pub plot: Option<PathBuf>,
     /// Replay the planned hand-off and write its MCAP log (as `grasp transfer --mcap`).
@@ -145,6 +146,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         let plot = PlanMargins {
             report: &report,
             threshold,
+            min_margin_n: options.min_margin_n,
             title: &title,
         };
         outs.write(path, &picture::render(&plot, format)?)?;

@@ -121,6 +121,11 @@ pub struct MarginOptions {
     /// Magnitudes above this multiple of the load scale count as unbounded (in
     /// `MAX_FACTOR_RANGE`).
     pub max_factor: f64,
+    /// Bound each direction's search by its load capacity ([`crate::analysis::load_capacity`];
+    /// default). `false` solves every trial, as the search did before the capacity: the same
+    /// margins to the tolerance, at the cost of the stalling solves past the edge of
+    /// equilibrium (for comparison).
+    pub load_capacity: bool,
 }
 
 impl MarginOptions {
@@ -160,6 +165,7 @@ impl Default for MarginOptions {
             length_m: None,
             relative_tolerance: 1e-3,
             max_factor: 1e3,
+            load_capacity: true,
         }
     }
 }
@@ -659,7 +665,11 @@ fn along(
         capacity_n: f64::INFINITY,
     };
     let cap = options.max_factor * model.scales.load_n;
-    if let Some(mut certificate) = search.find_capacity(cap) {
+    if let Some(mut certificate) = options
+        .load_capacity
+        .then(|| search.find_capacity(cap))
+        .flatten()
+    {
         search.bound_by(&mut certificate);
     }
     let mut held = Held {

@@ -257,7 +257,9 @@ fn continue_along(
         capacity_n: f64::INFINITY,
     };
     let cap = shared.options.max_factor * model.scales.load_n;
-    bound(&mut track.capacity, &mut search, cap);
+    if shared.options.load_capacity {
+        bound(&mut track.capacity, &mut search, cap);
+    }
     let base = Held {
         s: 0.0,
         state: shared.base.0.clone(),
