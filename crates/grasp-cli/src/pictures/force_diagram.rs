@@ -5,8 +5,8 @@
 //! normal force (blue) and friction force (orange) as arrows pushing on the object at the
 //! centre of pressure, its friction cone (grey, half-angle `atan(mu)` about the normal), and
 //! the weight at the centre of mass (black). Arrows: the load scale drawn as 0.3 of the scene.
-//! The names are placed so that none covers another (a thin line leads back to a contact whose
-//! name had to move).
+//! The names are placed so that none covers another or an arrow (a thin line leads back to the
+//! arrow's tail when a name had to move).
 
 use anyhow::Result;
 use grasp_model::{GraspModel, Scene, Solution};
@@ -262,11 +262,11 @@ fn gravity_axis(gravity: [f64; 3]) -> Option<usize> {
 /// Size of the finger names, px.
 const NAME_PX: u32 = 13;
 
-/// Each finger's name at the tail of its normal-force arrow (outside the object along the
-/// normal, so each arrow says whose it is; an unloaded finger's beside its contact) where that
-/// spot is free, else at the nearest free spot ([`place_labels`]: no two names overlap, and none
-/// covers a contact point or the centre of mass), with a thin line back to the contact when it
-/// had to move.
+/// Each finger's name just beyond the tail of its normal-force arrow (outside the object along
+/// the normal, so each arrow says whose it is; an unloaded finger's just beyond its contact)
+/// where that spot is free, else at the nearest free spot ([`place_labels`]: no two names
+/// overlap, and none covers a contact point, the centre of mass or an arrow), with a thin line
+/// back to the arrow's tail when it had to move.
 fn draw_names<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     chart: &Chart<DB>,
@@ -276,8 +276,8 @@ fn draw_names<DB: DrawingBackend>(
     let font = TextStyle::from(("sans-serif", NAME_PX).into_font());
     let base = area.get_base_pixel();
     // Pixels of this area (the backend's, shifted to the area's corner).
-    let px = |p: (f64, f64)| {
-        let (x, y) = chart.backend_coord(&p);
+    let px = |p: &Vector3<f64>| {
+        let (x, y) = chart.backend_coord(&p2(p));
         (f64::from(x - base.0), f64::from(y - base.1))
     };
     let (xs, ys) = chart.plotting_area().get_pixel_range();
@@ -289,39 +289,39 @@ fn draw_names<DB: DrawingBackend>(
     };
     let mut names = Vec::new();
     for f in &d.solution.fingers {
-        if let Some(m) = d.model.fingers().iter().find(|m| m.name() == f.name) {
-            let cop = Vector3::from(f.center_of_pressure_m);
-            let reach = (f.normal_force_n * d.m_per_n + 0.1 * d.cone_m).max(0.35 * d.cone_m);
-            let anchor = px(p2(&(cop - m.frame().normal * reach)));
-            let (w, h) = area.estimate_text_size(&f.name, &font).map_err(plot_err)?;
-            names.push((f.name.as_str(), px(p2(&m.frame().origin_m)), anchor, (w, h)));
+        let (w, h) = area.estimate_text_size(&f.name, &font).map_err(plot_err)?;
+        let size = (f64::from(w), f64::from(h));
+        if let Some((tail, anchor)) = name_spot(d, f, &px, size) {
+            names.push((f.name.as_str(), tail, anchor, size));
         }
     }
     let anchors: Vec<(f64, f64)> = names.iter().map(|n| n.2).collect();
-    let sizes: Vec<(f64, f64)> = names
-        .iter()
-        .map(|n| (f64::from(n.3 .0), f64::from(n.3 .1)))
-        .collect();
-    // The contact points and the centre of mass stay uncovered.
+    let sizes: Vec<(f64, f64)> = names.iter().map(|n| n.3).collect();
+    // The contact points, the centre of mass and the arrows stay uncovered.
     let dot = |p: (f64, f64)| LabelBox {
         x: p.0 - 4.0,
         y: p.1 - 4.0,
         w: 8.0,
         h: 8.0,
     };
-    let mut dots: Vec<LabelBox> = names.iter().map(|n| dot(n.1)).collect();
-    dots.push(dot(px(p2(&d.model.center_of_mass_m()))));
-    let boxes = place_labels(&anchors, &sizes, bounds, 3.0, &dots);
-    for ((name, contact, anchor, _), b) in names.iter().zip(&boxes) {
+    let mut keep_clear: Vec<LabelBox> = d
+        .model
+        .fingers()
+        .iter()
+        .map(|m| dot(px(&m.frame().origin_m)))
+        .collect();
+    keep_clear.push(dot(px(&d.model.center_of_mass_m())));
+    for (a, b) in arrow_segments(d, &px) {
+        keep_clear.extend(segment_boxes(a, b));
+    }
+    let boxes = place_labels(&anchors, &sizes, bounds, 3.0, &keep_clear);
+    for ((name, tail, anchor, _), b) in names.iter().zip(&boxes) {
         let centre = (b.x + b.w / 2.0, b.y + b.h / 2.0);
         if (centre.0 - anchor.0).hypot(centre.1 - anchor.1) > b.h {
-            let edge = (
-                contact.0.clamp(b.x, b.x + b.w),
-                contact.1.clamp(b.y, b.y + b.h),
-            );
+            let edge = (tail.0.clamp(b.x, b.x + b.w), tail.1.clamp(b.y, b.y + b.h));
             let at = |p: (f64, f64)| (p.0.round() as i32, p.1.round() as i32);
             area.draw(&PathElement::new(
-                vec![at(*contact), at(edge)],
+                vec![at(*tail), at(edge)],
                 RGBColor(150, 150, 150),
             ))
             .map_err(plot_err)?;
@@ -331,6 +331,75 @@ fn draw_names<DB: DrawingBackend>(
             .map_err(plot_err)?;
     }
     Ok(())
+}
+
+/// Where finger `f`'s name goes, in pixels: its normal arrow's tail (its contact when
+/// unloaded) and the centre of a box of `size` just beyond it, outward along the arrow (along
+/// the normal when the arrow is too short to show a direction; to the right when the normal
+/// points along the view).
+fn name_spot(
+    d: &Drawing,
+    f: &grasp_model::FingerSolution,
+    px: &dyn Fn(&Vector3<f64>) -> (f64, f64),
+    (w, h): (f64, f64),
+) -> Option<((f64, f64), (f64, f64))> {
+    let m = d.model.fingers().iter().find(|m| m.name() == f.name)?;
+    let (n, cop) = (m.frame().normal, Vector3::from(f.center_of_pressure_m));
+    let head = px(&cop);
+    let tail = px(&(cop - n * (f.normal_force_n * d.m_per_n)));
+    let unit = |(x, y): (f64, f64)| {
+        let len = x.hypot(y);
+        (len > 2.0).then(|| (x / len, y / len))
+    };
+    let out = unit((tail.0 - head.0, tail.1 - head.1))
+        .or_else(|| {
+            let far = px(&(cop - n * d.cone_m));
+            unit((far.0 - head.0, far.1 - head.1))
+        })
+        .unwrap_or((1.0, 0.0));
+    // From the box's centre to its edge along `out`, and a gap of 4 px.
+    let reach = (0.5 * w / out.0.abs().max(1e-9)).min(0.5 * h / out.1.abs().max(1e-9)) + 4.0;
+    Some((tail, (tail.0 + out.0 * reach, tail.1 + out.1 * reach)))
+}
+
+/// The drawn arrows as pixel segments: each finger's normal and friction arrow (tail to head)
+/// and the weight.
+fn arrow_segments(
+    d: &Drawing,
+    px: &dyn Fn(&Vector3<f64>) -> (f64, f64),
+) -> Vec<((f64, f64), (f64, f64))> {
+    let mut segments = Vec::new();
+    for f in &d.solution.fingers {
+        if let Some(m) = d.model.fingers().iter().find(|m| m.name() == f.name) {
+            let cop = Vector3::from(f.center_of_pressure_m);
+            let normal = m.frame().normal * (f.normal_force_n * d.m_per_n);
+            let friction = Vector3::from(f.tangential_force_n) * d.m_per_n;
+            segments.push((px(&(cop - normal)), px(&cop)));
+            segments.push((px(&(cop - friction)), px(&cop)));
+        }
+    }
+    let com = d.model.center_of_mass_m();
+    let o = &d.scene.object;
+    if let Some(down) = Vector3::from(o.gravity).try_normalize(0.0) {
+        segments.push((px(&com), px(&(com + down * (o.weight * d.m_per_n)))));
+    }
+    segments
+}
+
+/// Small boxes (4 px) every 3 px along the segment from `a` to `b`, pixels.
+fn segment_boxes(a: (f64, f64), b: (f64, f64)) -> Vec<LabelBox> {
+    let n = ((b.0 - a.0).hypot(b.1 - a.1) / 3.0).ceil().max(1.0) as usize;
+    (0..=n)
+        .map(|i| {
+            let s = i as f64 / n as f64;
+            LabelBox {
+                x: a.0 + s * (b.0 - a.0) - 2.0,
+                y: a.1 + s * (b.1 - a.1) - 2.0,
+                w: 4.0,
+                h: 4.0,
+            }
+        })
+        .collect()
 }
 
 fn draw_weight<DB: DrawingBackend>(
@@ -518,6 +587,67 @@ mod tests {
             }
         }
         out
+    }
+
+    /// The arrows as the SVG draws them (strokes of width 2 in the arrows' colours, shafts
+    /// and heads): their segments, pixels.
+    fn arrow_strokes(svg: &str) -> Vec<((f64, f64), (f64, f64))> {
+        let stroke = |c: RGBColor| format!("stroke=\"#{:02X}{:02X}{:02X}\"", c.0, c.1, c.2);
+        let colours = [stroke(NORMAL), stroke(FRICTION), stroke(BLACK)];
+        let mut out = Vec::new();
+        for line in svg.lines().filter(|l| l.starts_with("<polyline")) {
+            if !line.contains("stroke-width=\"2\"") || !colours.iter().any(|c| line.contains(c)) {
+                continue;
+            }
+            let points = line
+                .split("points=\"")
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap();
+            let xy: Vec<(f64, f64)> = points
+                .split_whitespace()
+                .map(|p| {
+                    let (x, y) = p.split_once(',').unwrap();
+                    (x.parse().unwrap(), y.parse().unwrap())
+                })
+                .collect();
+            out.extend(xy.windows(2).map(|w| (w[0], w[1])));
+        }
+        out
+    }
+
+    /// Whether the segment passes through the box's interior (sampled every 0.25 px).
+    fn crosses(b: &LabelBox, (a, e): ((f64, f64), (f64, f64))) -> bool {
+        let n = ((e.0 - a.0).hypot(e.1 - a.1) * 4.0).ceil().max(1.0) as usize;
+        (0..=n).any(|i| {
+            let s = i as f64 / n as f64;
+            let (x, y) = (a.0 + s * (e.0 - a.0), a.1 + s * (e.1 - a.1));
+            x > b.x && x < b.x + b.w && y > b.y && y < b.y + b.h
+        })
+    }
+
+    /// Each finger's name sits clear of every arrow: none is written across a shaft (before,
+    /// the mug's names lay on its arrows), and a loaded finger's name stays near its normal
+    /// arrow's tail.
+    #[test]
+    fn finger_names_sit_clear_of_the_arrows() {
+        for example in [
+            "mug_power_grasp.json",
+            "cube_a.json",
+            "plate_four_fingers.json",
+            "sphere_three_fingers.json",
+            "cylinder_handoff.json",
+        ] {
+            let (svg, names) = diagram_svg(example);
+            let strokes = arrow_strokes(&svg);
+            assert!(!strokes.is_empty(), "{example}: no arrows found");
+            for (name, b) in name_boxes(&svg, &names) {
+                let hit = strokes.iter().find(|s| crosses(&b, **s));
+                assert!(hit.is_none(), "{example}: `{name}` {b:?} lies on {hit:?}");
+            }
+        }
     }
 
     /// The mug's six fingers sit close together (before, "little" overprinted "ring" and
