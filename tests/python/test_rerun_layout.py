@@ -72,8 +72,15 @@ def rename(text, names):
     return re.sub(UUID, lambda m: names.get(m.group(0), "?"), text)
 
 
-def python_layout(path, margins, fingers):
+def python_layout(path, margins, fingers, steps=True):
     import rerun.blueprint as rrb
+
+    if not steps:
+        # Nothing to plot and no patch to show: the 3-D view alone.
+        rrb.Blueprint(rrb.Horizontal(rrb.Spatial3DView(origin="/world", name="grasp")),
+                      rrb.TimePanel(timeline="schedule_time"),
+                      auto_layout=False, auto_views=False).save("grasp", str(path))
+        return
 
     plots = [rrb.TimeSeriesView(origin="/plots/normal_force", name="normal force [N]"),
              rrb.TimeSeriesView(origin="/plots/friction", name="friction force [N]")]
@@ -115,16 +122,25 @@ def test_the_recording_opens_on_the_layout_rerun_would_write(run_cli, tmp_path, 
     assert "?" not in repr(ours)
 
 
-def test_a_margin_recording_has_no_empty_patch_views(run_cli, tmp_path):
-    """`grasp margin --rrd` logs no step: its layout has no patch grid (nothing would fill it),
-    only the 3-D view with the wrench surface beside the plots."""
+def test_a_margin_recording_has_no_empty_views(run_cli, tmp_path):
+    """`grasp margin --rrd` logs no step: its layout has no patch grid and no force plots
+    (nothing would fill them), only the 3-D view with the wrench surface; the recording logs
+    nothing under `/plots` or `/patches` and is named after the scene."""
     rrd = tmp_path / "m.rrd"
     done = run_cli("margin", EXAMPLES / "box_pinch.json", "--rrd", rrd)
     assert done.returncode == 0, done.stderr
-    python_layout(tmp_path / "ref.rbl", False, [])
+    python_layout(tmp_path / "ref.rbl", False, [], steps=False)
     ours = normalised(blueprint_rows(rrd))
     assert ours == normalised(blueprint_rows(tmp_path / "ref.rbl"))
-    assert "/patches" not in repr(ours)
+    assert "/patches" not in repr(ours) and "/plots" not in repr(ours)
+    out = subprocess.run([rerun_cli(), "rrd", "print", str(rrd)], capture_output=True, text=True, env=ENV)
+    assert out.returncode == 0, out.stderr
+    entities = set(re.findall(r" - (/\S+) - ", out.stdout))
+    assert any(e.startswith("/world/margin/") for e in entities), entities
+    assert not any(e.startswith(("/plots", "/patches")) for e in entities), entities
+    verbose = subprocess.run([rerun_cli(), "rrd", "print", "-vvv", str(rrd)], capture_output=True, text=True, env=ENV)
+    assert "box_pinch margins" in verbose.stdout
+    assert not re.search(r"smallest margin [0-9.]+e", verbose.stdout)
 
 
 def plot_names(path):

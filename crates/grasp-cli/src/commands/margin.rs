@@ -240,6 +240,8 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
         let pending = outs.create(out)?;
         let mut sink = RerunSink::create_as(&pending.write_path(), out)?;
         sink.without_steps();
+        let stem = scene_path.file_stem().map(|s| s.to_string_lossy());
+        sink.set_recording_name(&format!("{} margins", stem.as_deref().unwrap_or("scene")));
         sink.begin(&run)?;
         sink.log_wrench_surface(&run, &report)?;
         sink.finish()?;

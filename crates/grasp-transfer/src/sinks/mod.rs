@@ -25,7 +25,7 @@ pub use identical_curves::IdenticalCurves;
 pub use mcap_log::{FingerMessage, FingersMessage, McapSink, FINGERS_TOPIC, PATCHES_TOPIC};
 pub use npz_steps::NpzSink;
 pub use patch_maps_message::{PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC};
-pub use rerun_layout::layout_messages;
+pub use rerun_layout::{layout_messages, LayoutContent};
 pub use rerun_log::{RerunSink, FLUSH_EVERY_STEPS};
 
 use grasp_model::{GraspModel, Scene};

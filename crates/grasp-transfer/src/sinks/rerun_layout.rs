@@ -14,7 +14,9 @@
 //! +----------------------------+----------------------+
 //! ```
 //!
-//! (the patches' grid only for fingers with flat views, [`super::patch_views`]). Built as
+//! (the patches' grid only for fingers with flat views, [`super::patch_views`]). A recording of
+//! no steps (`grasp margin --rrd`, the wrench surface) has nothing to plot: its layout is the
+//! 3-D view alone. Built as
 //! blueprint chunks by hand (the same archetypes the SDK's `rerun::blueprint` API logs),
 //! because that API draws random view and container ids and stamps wall-clock times: here
 //! every id is fixed, so the layout's bytes are the same from run to run (up to Rerun's
@@ -72,8 +74,24 @@ fn view(id: u128, class: &'static str, name: &str, origin: &str) -> ViewSpec {
     }
 }
 
-/// The 3-D view and the plots, in the order they are stacked.
-fn views(margins: bool) -> Vec<ViewSpec> {
+/// What a recording holds, so that its layout has a view for each part and none left empty.
+#[derive(Clone, Copy, Debug)]
+pub struct LayoutContent<'a> {
+    /// Steps are logged (a hand-off): the force plots. Without steps (a grasp's wrench
+    /// surface) the layout is the 3-D view alone.
+    pub steps: bool,
+    /// The smallest margin is logged at each step: its plot.
+    pub margins: bool,
+    /// The fingers whose patches have flat views.
+    pub flat: &'a [String],
+}
+
+/// The 3-D view and the plots, in the order they are stacked (the 3-D view alone without
+/// steps).
+fn views(steps: bool, margins: bool) -> Vec<ViewSpec> {
+    if !steps {
+        return vec![view(0x10, "3D", "grasp", "/world")];
+    }
     let mut v = vec![
         view(0x10, "3D", "hand-off", "/world"),
         view(
@@ -173,19 +191,21 @@ fn included(paths: impl IntoIterator<Item = String>) -> Vec<IncludedContent> {
         .collect()
 }
 
-/// The layout's rows: (entity path, archetype), children before their containers; `flat`:
-/// the fingers whose patches have flat views.
-fn layout_rows(margins: bool, flat: &[String]) -> Vec<(String, Box<dyn AsComponents>)> {
-    let views = views(margins);
-    let patches = patch_views(flat);
+/// The layout's rows: (entity path, archetype), children before their containers.
+fn layout_rows(content: LayoutContent) -> Vec<(String, Box<dyn AsComponents>)> {
+    let views = views(content.steps, content.margins);
+    let patches = patch_views(content.flat);
     let mut rows: Vec<(String, Box<dyn AsComponents>)> = Vec::new();
     for v in views.iter().chain(&patches) {
         rows.extend(view_rows(v));
     }
-    let plots = ContainerBlueprint::new(ContainerKind::Vertical)
-        .with_display_name("forces")
-        .with_contents(included(views[1..].iter().map(|v| view_path(v.id))));
-    rows.push((container_path(PLOTS_ID), Box::new(plots)));
+    let has_plots = views.len() > 1;
+    if has_plots {
+        let plots = ContainerBlueprint::new(ContainerKind::Vertical)
+            .with_display_name("forces")
+            .with_contents(included(views[1..].iter().map(|v| view_path(v.id))));
+        rows.push((container_path(PLOTS_ID), Box::new(plots)));
+    }
     let mut left = view_path(views[0].id);
     if !patches.is_empty() {
         let grid = ContainerBlueprint::new(ContainerKind::Grid)
@@ -202,12 +222,15 @@ fn layout_rows(margins: bool, flat: &[String]) -> Vec<(String, Box<dyn AsCompone
         rows.push((container_path(LEFT_ID), Box::new(column)));
         left = container_path(LEFT_ID);
     }
-    let root = ContainerBlueprint::new(ContainerKind::Horizontal)
-        .with_contents(included([left, container_path(PLOTS_ID)]))
-        .with_col_shares([
-            ColumnShare(Float32(WORLD_COLUMN_SHARE)),
-            ColumnShare(Float32(PLOTS_COLUMN_SHARE)),
-        ]);
+    let root = match has_plots {
+        true => ContainerBlueprint::new(ContainerKind::Horizontal)
+            .with_contents(included([left, container_path(PLOTS_ID)]))
+            .with_col_shares([
+                ColumnShare(Float32(WORLD_COLUMN_SHARE)),
+                ColumnShare(Float32(PLOTS_COLUMN_SHARE)),
+            ]),
+        false => ContainerBlueprint::new(ContainerKind::Horizontal).with_contents(included([left])),
+    };
     rows.push((container_path(ROOT_ID), Box::new(root)));
     let viewport = ViewportBlueprint::new()
         .with_root_container(RootContainer(uuid(ROOT_ID)))
@@ -222,11 +245,9 @@ fn layout_rows(margins: bool, flat: &[String]) -> Vec<(String, Box<dyn AsCompone
 
 /// The layout as the messages of its own blueprint store, and the command that makes it the
 /// active and default layout of the application (pass both to
-/// `RecordingStream::send_blueprint`). `margins` adds the smallest-margin plot; `flat` names
-/// the fingers whose patches have flat views.
+/// `RecordingStream::send_blueprint`): a view for each part of `content`.
 pub fn layout_messages(
-    margins: bool,
-    flat: &[String],
+    content: LayoutContent,
 ) -> Result<(Vec<LogMsg>, BlueprintActivationCommand), String> {
     let (rec, storage) = rerun::RecordingStreamBuilder::new(APPLICATION_ID)
         .recording_id(LAYOUT_ID)
@@ -238,7 +259,7 @@ pub fn layout_messages(
     let time: TimePoint = [("blueprint", TimeCell::from_sequence(0))]
         .into_iter()
         .collect();
-    for (i, (path, arch)) in layout_rows(margins, flat).into_iter().enumerate() {
+    for (i, (path, arch)) in layout_rows(content).into_iter().enumerate() {
         let n = 2 * i as u64 + 1;
         let chunk_id = ChunkId::from_tuid(Tuid::from_nanos_and_inc(ID_ORIGIN_NS, n));
         let row_id = RowId::from_tuid(Tuid::from_nanos_and_inc(ID_ORIGIN_NS, n + 1));
@@ -293,18 +314,39 @@ mod tests {
         assert_eq!(uuid(id).bytes[15], 0x77);
     }
 
+    fn view_count(content: LayoutContent) -> usize {
+        let rows = layout_rows(content);
+        assert_eq!(rows.last().map(|r| r.0.as_str()), Some("time_panel"));
+        let views = rows.iter().filter(|(p, _)| p.matches('/').count() == 1);
+        views.filter(|(p, _)| p.starts_with("view/")).count()
+    }
+
     #[test]
     fn every_view_is_placed_once_and_the_margin_plot_only_when_asked() {
         let two = ["f1".to_string(), "f2".to_string()];
         for (margins, flat) in [(false, &[][..]), (true, &[][..]), (false, &two[..])] {
-            let rows = layout_rows(margins, flat);
-            let views = rows.iter().filter(|(p, _)| p.matches('/').count() == 1);
-            let n_views = views.filter(|(p, _)| p.starts_with("view/")).count();
+            let steps = true;
+            let n_views = view_count(LayoutContent {
+                steps,
+                margins,
+                flat,
+            });
             // Per finger with flat views, two; and the key.
             let patches = 2 * flat.len() + usize::from(!flat.is_empty());
             assert_eq!(n_views, 3 + usize::from(margins) + patches);
-            assert_eq!(rows.last().map(|r| r.0.as_str()), Some("time_panel"));
         }
+    }
+
+    #[test]
+    fn a_recording_of_no_steps_has_the_3d_view_alone() {
+        let content = LayoutContent {
+            steps: false,
+            margins: false,
+            flat: &[],
+        };
+        assert_eq!(view_count(content), 1);
+        let rows = layout_rows(content);
+        assert!(!rows.iter().any(|(p, _)| *p == container_path(PLOTS_ID)));
     }
 
     #[test]
@@ -321,8 +363,13 @@ mod tests {
                 .collect()
         };
         let flat = ["f1".to_string()];
-        let a = layout_messages(true, &flat).unwrap();
-        let b = layout_messages(true, &flat).unwrap();
+        let layout = LayoutContent {
+            steps: true,
+            margins: true,
+            flat: &flat,
+        };
+        let a = layout_messages(layout).unwrap();
+        let b = layout_messages(layout).unwrap();
         assert_eq!(content(&a.0), content(&b.0));
         assert_eq!(a.1.blueprint_id, b.1.blueprint_id);
         let announcements = a.0.iter().filter(|m| matches!(m, LogMsg::SetStoreInfo(_)));

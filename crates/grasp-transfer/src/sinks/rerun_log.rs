@@ -58,7 +58,7 @@ use super::fingertip_drawing::{tip_drawings, z_to, TipDrawing};
 use super::identical_curves::IdenticalCurves;
 use super::patch_views::{has_flat_views, pressure_tensor, state_image, state_key};
 use super::rerun_grid_maps::{cleared_map, patch_pose, pressure_map, state_map};
-use super::rerun_layout::{layout_messages, APPLICATION_ID};
+use super::rerun_layout::{layout_messages, LayoutContent, APPLICATION_ID};
 use super::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::stepper::StepRecord;
@@ -109,6 +109,24 @@ const ID_ORIGIN_NS: u64 = 1_704_067_200_000_000_000;
 
 fn v3(v: &nalgebra::Vector3<f64>) -> [f32; 3] {
     [v.x as f32, v.y as f32, v.z as f32]
+}
+
+/// A force in N for a label: four significant digits in fixed notation (`3.342`, `1234`,
+/// `0.01250`), without the sign of a value that rounds to zero.
+fn newtons(v: f64) -> String {
+    let decimals = match v.abs() {
+        a if a >= 1000.0 => 0,
+        a if a > 0.0 => (3 - a.log10().floor() as i64).clamp(0, 9) as usize,
+        _ => 3,
+    };
+    let s = format!("{v:.decimals$}");
+    match s
+        .trim_start_matches('-')
+        .trim_matches(|c| c == '0' || c == '.')
+    {
+        "" => s.trim_start_matches('-').to_owned(),
+        _ => s,
+    }
 }
 
 /// A colour of the key as Rerun's.
@@ -245,8 +263,9 @@ impl RerunSink {
         Ok(())
     }
 
-    /// A recording of no steps (`grasp margin`'s wrench surface): no patch has anything to
-    /// show, so the layout has no patch views and no key (call before `begin`).
+    /// A recording of no steps (`grasp margin`'s wrench surface): no patch and no plot has
+    /// anything to show, so the layout is the 3-D view alone, without patch views, key or
+    /// force plots (call before `begin`).
     pub fn without_steps(&mut self) {
         self.steps = false;
     }
@@ -256,15 +275,15 @@ impl RerunSink {
         self.recording_name = Some(name.to_string());
     }
 
-    /// Sends the default layout ([`layout_messages`]) once; `margins` adds the margin plot,
-    /// `flat` the fingers whose patches have flat views.
-    fn send_layout(&mut self, margins: bool, flat: &[String]) -> Result<(), TransferError> {
+    /// Sends the default layout ([`layout_messages`]) once, with a view for each part of
+    /// `content`.
+    fn send_layout(&mut self, content: LayoutContent) -> Result<(), TransferError> {
         let Some(rec) = &self.rec else {
             return Err(io_err("rerun", &self.path, "already finished"));
         };
         if !self.layout_sent {
             let (msgs, activation) =
-                layout_messages(margins, flat).map_err(|e| io_err("rerun", &self.path, e))?;
+                layout_messages(content).map_err(|e| io_err("rerun", &self.path, e))?;
             rec.send_blueprint(msgs, activation);
             self.layout_sent = true;
         }
@@ -385,8 +404,8 @@ impl RerunSink {
                 &Points3D::new([v3(&tip)])
                     .with_colors([colour(report.smallest, d.bounded)])
                     .with_labels([format!(
-                        "smallest margin {:.3e} N (first: {who})",
-                        d.margin_n
+                        "smallest margin {} N (first: {who})",
+                        newtons(d.margin_n)
                     )]),
             )?;
         }
@@ -541,7 +560,11 @@ impl Sink for RerunSink {
             .filter(|f| self.steps && has_flat_views(f))
             .map(|f| f.name().to_string())
             .collect();
-        self.send_layout(run.margins, &flat)?;
+        self.send_layout(LayoutContent {
+            steps: self.steps,
+            margins: run.margins,
+            flat: &flat,
+        })?;
         let names: Vec<String> = g.fingers().iter().map(|f| f.name().to_string()).collect();
         self.same = Some(IdenticalCurves::new(&names));
         if let Some(name) = self.recording_name.clone() {
@@ -592,6 +615,9 @@ impl Sink for RerunSink {
                     .with_colors([Color::from_rgb(150, 150, 160)])
                     .with_labels([f.name()]),
             )?;
+            if !self.steps {
+                continue;
+            }
             self.send(
                 format!("plots/normal_force/{}", f.name()),
                 &SeriesLines::new().with_names([format!("{} normal force [N]", f.name())]),
@@ -746,5 +772,20 @@ fn reachable(url: &str) -> Result<(), String> {
         false => Err(format!(
             "no Rerun viewer or server listens at {host_port}; {hint}"
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::newtons;
+
+    #[test]
+    fn a_label_force_reads_in_fixed_notation_with_four_digits() {
+        assert_eq!(newtons(3.342_24), "3.342");
+        assert_eq!(newtons(0.012_5), "0.01250");
+        assert_eq!(newtons(123.44), "123.4");
+        assert_eq!(newtons(4448.2), "4448");
+        assert_eq!(newtons(0.0), "0.000");
+        assert_eq!(newtons(-1e-15), "0.000000000");
     }
 }
