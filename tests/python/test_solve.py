@@ -144,3 +144,18 @@ print("small", grasp.solve(grasp.Scene(scene)).status)
     assert lines[0].startswith("MemoryError: ") and "not enough memory for" in lines[0], lines
     assert "coarser grid" in lines[0], lines
     assert lines[1] == "small solved", lines
+
+
+def test_a_dense_compliance_too_large_gives_the_command_lines_estimate(run_cli):
+    """Forcing the dense compliance on a fine grid is refused in Python with the same estimate
+    of a whole solve's memory as the command line's memory check gives for the same scene."""
+    import re
+
+    scene = EXAMPLES / "plate_transfer_fine.json"
+    done = run_cli("solve", scene, "--compliance", "dense")
+    cli = re.search(r"needs an estimated ([0-9.]+ GiB) of memory", done.stderr)
+    assert done.returncode != 0 and cli, done.stderr
+    with pytest.raises(grasp.SceneError) as err:
+        grasp.solve(grasp.Scene(scene), compliance="dense")
+    assert f"needs an estimated {cli.group(1)} of memory" in str(err.value)
+    assert "`compliance=`" in str(err.value)

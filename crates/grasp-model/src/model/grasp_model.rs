@@ -724,11 +724,16 @@ fn check_dense_bytes(scene: &Scene, compliance: ComplianceChoice) -> Result<(), 
     if bytes <= MAX_COMPLIANCE_BYTES {
         return Ok(());
     }
+    // The whole solve's estimate, the one the command line's memory check gives.
+    let whole = crate::scene::work_bounds::estimate_memory_bytes_with(scene, |f| {
+        takes_fft(scene, f, compliance)
+    }) as f64;
     Err(SceneError::Invalid(vec![crate::error::InputProblem {
         path: "fingers".into(),
         message: format!(
-            "the dense patch compliance blocks alone need {:.1} GiB (a whole solve needs \
-             several times that), more than the {:.0} GiB allowed them",
+            "a solve needs an estimated {:.1} GiB of memory, its dense patch compliance blocks \
+             alone {:.1} GiB, more than the {:.0} GiB allowed them",
+            whole / 1073741824.0,
             bytes / 1073741824.0,
             MAX_COMPLIANCE_BYTES / 1073741824.0
         ),
