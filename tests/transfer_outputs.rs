@@ -561,6 +561,7 @@ fn held_relaxation(
                     to_n: p,
                     to_time_s: r.time_s,
                     fraction,
+                    position_controlled: matches!(c, Command::Approach(_)),
                 });
             }
         }

@@ -89,6 +89,9 @@ pub struct HeldRelaxation {
     pub to_time_s: f64,
     /// `1 - to / from`.
     pub fraction: f64,
+    /// The unchanged command was an approach (a position-controlled finger pressed in by a
+    /// fixed depth), not a hold.
+    pub position_controlled: bool,
 }
 
 /// When the smallest disturbance margin first fell below a threshold.
@@ -310,6 +313,7 @@ impl SummaryAccumulator {
                     to_n: p,
                     to_time_s: r.time_s,
                     fraction,
+                    position_controlled: matches!(c.command, Command::Approach(_)),
                 });
             }
         }

@@ -193,21 +193,30 @@ fn pool_threads(jobs: Option<usize>) -> usize {
 }
 
 fn summary_text(s: &BatchSummary, shard: Shard, threads: usize) -> String {
+    use crate::report::count;
     let mut o = format!(
-        "batch: {} scenes in the input, {} in shard {}/{}",
-        s.scenes, s.in_shard, shard.index, shard.count
+        "batch: {} in the input, {} in shard {}/{}",
+        count(s.scenes as u64, "scene", "scenes"),
+        s.in_shard,
+        shard.index,
+        shard.count
     );
     if s.resumed > 0 {
         o.push_str(&format!(", {} already in the output (resumed)", s.resumed));
     }
     let n = s.solved + s.no_equilibrium + s.no_convergence + s.invalid;
     o.push_str(&format!(
-        "\nresults: {n} lines: solved {}, no equilibrium {}, no convergence {}, invalid {}\n",
-        s.solved, s.no_equilibrium, s.no_convergence, s.invalid
+        "\nresults: {}: solved {}, no equilibrium {}, no convergence {}, invalid {}\n",
+        count(n as u64, "line", "lines"),
+        s.solved,
+        s.no_equilibrium,
+        s.no_convergence,
+        s.invalid
     ));
     o.push_str(&format!(
-        "time: {:.3} s wall on {threads} threads ({:.1} scenes/s), {:.3} s of solves\n",
+        "time: {:.3} s wall on {} ({:.1} scenes/s), {:.3} s of solves\n",
         s.wall_time_s,
+        count(threads as u64, "thread", "threads"),
         n as f64 / s.wall_time_s.max(1e-9),
         s.solve_time_s
     ));

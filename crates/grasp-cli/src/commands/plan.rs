@@ -286,9 +286,9 @@ fn summary(r: &PlanReport, o: &PlanOptions) -> String {
     s.push_str(&constraints_line(r, o));
     let _ = writeln!(
         s,
-        "planning: {} runs, {} iterations, {} s; it stopped because {}",
-        r.runs,
-        r.iterations,
+        "planning: {}, {}, {} s; it stopped because {}",
+        crate::report::count(r.runs as u64, "run", "runs"),
+        crate::report::count(r.iterations as u64, "iteration", "iterations"),
         g4(r.time_s),
         r.stopped.trim_start_matches("it ")
     );

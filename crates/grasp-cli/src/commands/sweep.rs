@@ -88,6 +88,10 @@ fn sweep(scene_path: &Path, vary: &[String], run_it: bool, flags: &Flags) -> Res
     w.flush()?;
     drop(w);
     outs.commit(vec![pending])?;
-    println!("{} variants; wrote {}", sweep.len(), flags.out.display());
+    println!(
+        "{}; wrote {}",
+        crate::report::count(sweep.len() as u64, "variant", "variants"),
+        flags.out.display()
+    );
     Ok(ExitCode::SUCCESS)
 }

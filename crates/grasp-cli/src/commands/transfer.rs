@@ -15,6 +15,7 @@ use grasp_transfer::{
 use crate::output::{self, ForceArg, Outputs as Claimed};
 use crate::pictures::force_history::ForceHistory;
 use crate::pictures::picture;
+use crate::report::count;
 use crate::solve_flags::SolveFlags;
 
 /// Replay a hand-off: step a load schedule, log every step to MCAP / Rerun / CSV.
@@ -434,19 +435,7 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
             crate::report::significant(c.margin_n, 5)
         );
     }
-    for h in &s.held_relaxation {
-        let _ = writeln!(
-            o,
-            "held finger {}: normal force fell {:.2} % under one command, {:.5} N (t = {:.3} s) \
-             -> {:.5} N (t = {:.3} s)",
-            h.finger,
-            100.0 * h.fraction,
-            h.from_n,
-            h.from_time_s,
-            h.to_n,
-            h.to_time_s
-        );
-    }
+    held_lines(s, &mut o);
     if s.failed_step_count == 0 {
         let _ = writeln!(o, "failed steps: none");
     } else {
@@ -458,19 +447,22 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
     if let Some(q) = &s.sequential {
         let _ = writeln!(
             o,
-            "sequential solves: {} convex solves, at most {} in a step, {} of {done} steps \
-             warm-started, {} cold restarts",
-            q.convex_solves, q.most_in_a_step, q.warm_started_steps, q.cold_restarts
+            "sequential solves: {}, at most {} in a step, {} of {} warm-started, {}",
+            count(q.convex_solves, "convex solve", "convex solves"),
+            q.most_in_a_step,
+            q.warm_started_steps,
+            count(done as u64, "step", "steps"),
+            count(q.cold_restarts as u64, "cold restart", "cold restarts")
         );
     }
     let steps = done.max(1) as f64;
     let _ = writeln!(
         o,
-        "solver: native answered {} steps, Clarabel {}; {} warm steps (started from the \
-         previous one); {:.2} iterations and {:.2} factorizations per step",
-        s.answered_by_native,
+        "solver: native answered {}, Clarabel {}; {} (started from the previous one); {:.2} \
+         iterations and {:.2} factorizations per step",
+        count(s.answered_by_native as u64, "step", "steps"),
         s.answered_by_clarabel,
-        s.warm_steps,
+        count(s.warm_steps as u64, "warm step", "warm steps"),
         s.total_iterations as f64 / steps,
         s.total_factorizations as f64 / steps
     );
@@ -485,8 +477,8 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
     if let Some(why) = &s.fallbacks.first_reason {
         let _ = writeln!(
             o,
-            "solver fallbacks: {} steps handed to Clarabel; first: {why}",
-            s.fallbacks.steps
+            "solver fallbacks: {} handed to Clarabel; first: {why}",
+            count(s.fallbacks.steps as u64, "step", "steps")
         );
     }
     let _ = writeln!(
@@ -496,20 +488,42 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
     );
     let margins = match s.least_safe_step {
         Some(_) => format!(
-            "; margins {:.3} s ({} solves)",
-            s.margin_cost.wall_time_s, s.margin_cost.solves
+            "; margins {:.3} s ({})",
+            s.margin_cost.wall_time_s,
+            count(s.margin_cost.solves, "solve", "solves")
         ),
         None => String::new(),
     };
     let _ = writeln!(
         o,
-        "time: stepping {:.3} s ({:.2} ms per step, {} iterations){margins}; the whole run {:.3} s",
+        "time: stepping {:.3} s ({:.2} ms per step, {}){margins}; the whole run {:.3} s",
         s.total_wall_time_s,
         1e3 * s.total_wall_time_s / done.max(1) as f64,
-        s.total_iterations,
+        count(s.total_iterations, "iteration", "iterations"),
         run_s
     );
     o
+}
+
+/// Per held or position-controlled finger whose force fell under one command, a line.
+fn held_lines(s: &TransferSummary, o: &mut String) {
+    for h in &s.held_relaxation {
+        let _ = writeln!(
+            o,
+            "{} {}: normal force fell {:.2} % under one command, {:.5} N (t = {:.3} s) \
+             -> {:.5} N (t = {:.3} s)",
+            match h.position_controlled {
+                true => "position-controlled finger",
+                false => "held finger",
+            },
+            h.finger,
+            100.0 * h.fraction,
+            h.from_n,
+            h.from_time_s,
+            h.to_n,
+            h.to_time_s
+        );
+    }
 }
 
 fn squeeze_text(o: &SqueezeOutcome) -> String {
