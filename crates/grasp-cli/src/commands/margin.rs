@@ -319,11 +319,11 @@ fn table(scene: &Path, r: &MarginReport) -> String {
         };
         let _ = writeln!(
             s,
-            "{:<4}{:<44}{:>14}{:>14.4e}{:>12}  {:<22}{:>8}",
+            "{:<4}{:<44}{:>14}{:>14}{:>12}  {:<22}{:>8}",
             i,
             label(&m.direction),
             margin,
-            torque,
+            crate::report::significant(torque, 5),
             m.failing_finger.as_deref().unwrap_or("-"),
             failure_words(m),
             m.solves
@@ -368,9 +368,9 @@ fn table(scene: &Path, r: &MarginReport) -> String {
     );
     let _ = writeln!(
         s,
-        "cost: {} solves in {:.1} ms (directions in parallel; each a warm-started step from the \
-         last magnitude that held)",
-        r.solves,
+        "cost: {} in {:.1} ms (directions in parallel; each a warm-started step from the last \
+         magnitude that held)",
+        crate::report::count(r.solves as u64, "solve", "solves"),
         r.time_s * 1e3
     );
     s

@@ -199,7 +199,7 @@ fn polar_panel<DB: DrawingBackend>(
             .map_err(draw_err)?;
     }
     let rim = Text::new(
-        format!("{r_max:.3e} N"),
+        format!("{} N", crate::report::significant(r_max, 4)),
         (0.1, 1.06),
         ("sans-serif", 11)
             .into_font()
@@ -279,7 +279,11 @@ fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &MarginReport) -> 
             fill.filled(),
         ))
         .map_err(draw_err)?;
-        let value = format!("{}{:.3e}", if d.bounded { "" } else { ">" }, d.margin_n);
+        let value = format!(
+            "{}{}",
+            if d.bounded { "" } else { ">" },
+            crate::report::significant(d.margin_n, 4)
+        );
         area.draw(&Text::new(value, (end + 4, mid), after.clone()))
             .map_err(draw_err)?;
     }
