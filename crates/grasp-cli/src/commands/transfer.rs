@@ -404,8 +404,10 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
         Some(m) => {
             let _ = writeln!(
                 o,
-                "smallest slip margin 1 - |Q|/(mu P): {:.2e} ({} at t = {:.3} s)",
-                m.margin, m.finger, m.time_s
+                "smallest slip margin 1 - |Q|/(mu P): {} ({} at t = {:.3} s)",
+                crate::report::significant(m.margin, 3),
+                m.finger,
+                m.time_s
             );
         }
         None => {
