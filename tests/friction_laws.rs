@@ -211,6 +211,8 @@ fn cannot_hold_names_the_fix_the_fingers_control_allows() {
         reason.contains("press the position-controlled fingers lacking grip in further"),
         "{reason}"
     );
+    // Every finger lacking grip is position-controlled: no advice for force-controlled ones.
+    assert!(!reason.contains("normal load"), "{reason}");
 }
 
 /// With the iteration limit at one convex solve, a cold-started coulomb step whose normal

@@ -193,18 +193,25 @@ pub(crate) fn cannot_hold_reason(
 }
 
 /// How to give the fingers lacking grip more of it: a force-controlled finger's load, a
-/// position-controlled one's approach (its load is the model's answer to it).
+/// position-controlled one's approach (its load is the model's answer to it); only the advice
+/// that fits the fingers named.
 fn grip_fix(model: &GraspModel, sliding: &[(String, f64)]) -> &'static str {
-    let positioned = sliding.iter().any(|(name, _)| {
+    let positioned = |name: &String| {
         model.fingers.iter().any(|f| {
             f.name == *name && matches!(f.control, Control::Approach { .. } | Control::Held)
         })
-    });
-    if positioned {
-        "; press the position-controlled fingers lacking grip in further (a larger approach), \
-         or raise the normal load of the force-controlled ones (or mu)"
-    } else {
-        "; raise the normal load of the fingers lacking grip (or mu)"
+    };
+    let some = sliding.iter().filter(|(name, _)| positioned(name)).count();
+    match (some, sliding.len() - some) {
+        (0, _) => "; raise the normal load of the fingers lacking grip (or mu)",
+        (_, 0) => {
+            "; press the position-controlled fingers lacking grip in further (a larger \
+             approach), or raise mu"
+        }
+        _ => {
+            "; press the position-controlled fingers lacking grip in further (a larger \
+             approach), or raise the normal load of the force-controlled ones (or mu)"
+        }
     }
 }
 
