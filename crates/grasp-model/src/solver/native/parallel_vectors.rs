@@ -50,11 +50,6 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     })
 }
 
-/// `[f(0), .., f(len - 1)]`, on all cores for a long vector.
-pub(crate) fn map_indices<T: Send>(len: usize, f: impl Fn(usize) -> T + Sync + Send) -> Vec<T> {
-    map_indices_coarse(len, len, f)
-}
-
 /// `[f(0), .., f(n - 1)]` for `n` pieces of work over `len` entries in all: on all cores when
 /// `len` is long.
 pub(crate) fn map_indices_coarse<T: Send>(
@@ -66,6 +61,27 @@ pub(crate) fn map_indices_coarse<T: Send>(
         (0..n).into_par_iter().map(f).collect()
     } else {
         (0..n).map(f).collect()
+    }
+}
+
+/// `out = [f(0), .., f(len - 1)]` in `out`'s own storage (no new vector: its pages are not
+/// faulted in again), on all cores for a long vector.
+pub(crate) fn fill_indices<T: Send + Copy + Default>(
+    out: &mut Vec<T>,
+    len: usize,
+    f: impl Fn(usize) -> T + Sync + Send,
+) {
+    out.truncate(len);
+    out.resize(len, T::default());
+    let run = |(k, c): (usize, &mut [T])| {
+        for (i, o) in c.iter_mut().enumerate() {
+            *o = f(k * CHUNK + i);
+        }
+    };
+    if len >= PARALLEL_LEN {
+        out.par_chunks_mut(CHUNK).enumerate().for_each(run);
+    } else {
+        out.chunks_mut(CHUNK).enumerate().for_each(run);
     }
 }
 

@@ -20,7 +20,7 @@
 //! diagonal. Both parts are symmetric positive definite, so the preconditioner is.
 
 use crate::solver::native::finger_block::FingerBlockData;
-use crate::solver::native::parallel_vectors::{each_chunk, map_indices};
+use crate::solver::native::parallel_vectors::{each_chunk, fill_indices};
 
 use super::linearisation::Direction;
 
@@ -39,9 +39,17 @@ struct Directions {
 }
 
 impl Directions {
-    fn new(block: &FingerBlockData, free: &[Direction]) -> Self {
-        let mut starts = Vec::with_capacity(free.len() + 1);
-        let mut by_direction = Vec::with_capacity(free.len());
+    /// `D_F` of `free` in the vectors of `spare` (their storage reused: no pages faulted in
+    /// afresh at every Newton step).
+    fn reusing(block: &FingerBlockData, free: &[Direction], spare: Self) -> Self {
+        let Directions {
+            mut starts,
+            mut by_direction,
+            mut unknown_starts,
+            mut by_unknown,
+        } = spare;
+        starts.clear();
+        by_direction.clear();
         for d in free {
             starts.push(by_direction.len());
             for c in (0..block.dim).filter(|&c| d.dir[c] != 0.0) {
@@ -49,21 +57,27 @@ impl Directions {
             }
         }
         starts.push(by_direction.len());
-        let mut unknown_starts = vec![0; block.len() + 1];
+        let n = block.len();
+        unknown_starts.clear();
+        unknown_starts.resize(n + 1, 0);
         for &(i, _) in &by_direction {
             unknown_starts[i + 1] += 1;
         }
-        for i in 0..block.len() {
+        for i in 0..n {
             unknown_starts[i + 1] += unknown_starts[i];
         }
-        let mut fill = unknown_starts.clone();
-        let mut by_unknown = vec![(0, 0.0); by_direction.len()];
+        // Each unknown's start serves as its fill cursor, which ends at the next unknown's
+        // start: the starts are then shifted back by one.
+        by_unknown.clear();
+        by_unknown.resize(by_direction.len(), (0, 0.0));
         for a in 0..free.len() {
             for &(i, coef) in &by_direction[starts[a]..starts[a + 1]] {
-                by_unknown[fill[i]] = (a, coef);
-                fill[i] += 1;
+                by_unknown[unknown_starts[i]] = (a, coef);
+                unknown_starts[i] += 1;
             }
         }
+        unknown_starts.copy_within(0..n, 1);
+        unknown_starts[0] = 0;
         Directions {
             starts,
             by_direction,
@@ -115,7 +129,7 @@ impl Directions {
 }
 
 /// `M` and its preconditioner for one finger's free directions.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub(crate) struct FreeOperator {
     /// `beta_a` per free direction.
     beta: Vec<f64>,
@@ -133,25 +147,42 @@ pub(crate) struct FreeOperator {
 impl FreeOperator {
     /// The operator of `block` over `free`.
     pub fn new(block: &FingerBlockData, free: &[Direction]) -> Self {
-        let beta = map_indices(free.len(), |a| {
+        Self::reusing(block, free, Self::default())
+    }
+
+    /// [`FreeOperator::new`] in the vectors of `spare` (an operator no longer needed: a
+    /// Newton step's operator reuses the last one's storage).
+    pub fn reusing(block: &FingerBlockData, free: &[Direction], spare: Self) -> Self {
+        let FreeOperator {
+            mut beta,
+            inverse_diagonal: mut diagonal,
+            mut circulant,
+            directions,
+            ..
+        } = spare;
+        fill_indices(&mut beta, free.len(), |a| {
             (1.0 - free[a].theta) / (block.gamma * free[a].theta)
         });
-        // The compliance's part of `M[a, a]`, `d_a' P_i[k_a, k_a] d_a`.
-        let compliance_part = map_indices(free.len(), |a| {
+        // The compliance's part of `M[a, a]`, `d_a' P_i[k_a, k_a] d_a`, then `1 / M[a, a]`.
+        fill_indices(&mut diagonal, free.len(), |a| {
             let d = &free[a];
             let p: f64 = (0..block.dim)
                 .map(|c| d.dir[c] * d.dir[c] * block.compliance_diagonal(c * block.elements))
                 .sum();
             block.scale * p
         });
-        let inverse_diagonal = map_indices(free.len(), |a| 1.0 / (compliance_part[a] + beta[a]));
-        let circulant = map_indices(free.len(), |a| beta[a] <= compliance_part[a]);
+        fill_indices(&mut circulant, free.len(), |a| beta[a] <= diagonal[a]);
+        each_chunk(&mut diagonal, |s, c| {
+            for (v, b) in c.iter_mut().zip(&beta[s..]) {
+                *v = 1.0 / (*v + b);
+            }
+        });
         FreeOperator {
             beta,
-            inverse_diagonal,
+            inverse_diagonal: diagonal,
             any_circulant: circulant.iter().any(|c| *c),
             circulant,
-            directions: Directions::new(block, free),
+            directions: Directions::reusing(block, free, directions),
         }
     }
 

@@ -133,29 +133,51 @@ pub(crate) fn linearise_keeping(
     (x, y): (&[f64], &[f64]),
     residuals: bool,
 ) -> FingerLinearisation {
-    let parts = for_element_chunks(block.elements, |range| {
-        let mut lin = FingerLinearisation::default();
-        for k in range {
-            linearise_element(block, cone, (x, y), k, &mut lin);
-        }
-        if !residuals {
-            lin.residuals = Vec::new();
-        }
-        lin
-    });
-    let total = |f: fn(&FingerLinearisation) -> usize| parts.iter().map(f).sum::<usize>();
+    let spare = FingerLinearisation::default();
+    linearise_reusing(block, cone, (x, y), residuals, spare)
+}
+
+/// Chunks of elements linearised at once before they are appended to the finger's
+/// directions: the chunks' own vectors stay a few megabytes (they were a second copy of the
+/// whole linearisation) and their memory is reused from one wave to the next.
+const WAVE: usize = 32;
+
+/// [`linearise_keeping`] into the vectors of `spare` (a linearisation no longer needed: its
+/// storage is reused, so a Newton step does not fault in its directions afresh). The
+/// elements are linearised in chunks of [`CHUNK`] on all cores, [`WAVE`] chunks at a time,
+/// and appended in chunk order: the same directions and sums on any number of threads.
+pub(crate) fn linearise_reusing(
+    block: &FingerBlockData,
+    cone: &BlockCone,
+    (x, y): (&[f64], &[f64]),
+    residuals: bool,
+    spare: FingerLinearisation,
+) -> FingerLinearisation {
     let mut lin = FingerLinearisation {
-        free: Vec::with_capacity(total(|p| p.free.len())),
-        fixed: Vec::with_capacity(total(|p| p.fixed.len())),
-        residuals: Vec::with_capacity(total(|p| p.residuals.len())),
-        ..FingerLinearisation::default()
+        residual_sq: 0.0,
+        residual_max: 0.0,
+        ..spare
     };
-    for part in parts {
-        lin.free.extend_from_slice(&part.free);
-        lin.fixed.extend_from_slice(&part.fixed);
-        lin.residuals.extend_from_slice(&part.residuals);
-        lin.residual_sq += part.residual_sq;
-        lin.residual_max = lin.residual_max.max(part.residual_max);
+    lin.free.clear();
+    lin.fixed.clear();
+    lin.residuals.clear();
+    let chunks = block.elements.div_ceil(CHUNK);
+    for wave in (0..chunks).step_by(WAVE) {
+        let parts = map_indices_coarse(WAVE.min(chunks - wave), block.elements, |c| {
+            let mut part = FingerLinearisation::default();
+            let first = (wave + c) * CHUNK;
+            for k in first..(first + CHUNK).min(block.elements) {
+                linearise_element(block, cone, (x, y), (k, residuals), &mut part);
+            }
+            part
+        });
+        for part in parts {
+            lin.free.extend_from_slice(&part.free);
+            lin.fixed.extend_from_slice(&part.fixed);
+            lin.residuals.extend_from_slice(&part.residuals);
+            lin.residual_sq += part.residual_sq;
+            lin.residual_max = lin.residual_max.max(part.residual_max);
+        }
     }
     lin
 }
@@ -170,12 +192,13 @@ fn for_element_chunks<T: Send>(
     map_indices_coarse(elements.div_ceil(CHUNK), elements, |c| f(range(c)))
 }
 
-/// Element `k`'s natural residual and Newton directions, appended to `lin`.
+/// Element `k`'s natural residual (kept when `keep`) and Newton directions, appended to
+/// `lin`.
 fn linearise_element(
     block: &FingerBlockData,
     cone: &BlockCone,
     (x, y): (&[f64], &[f64]),
-    k: usize,
+    (k, keep): (usize, bool),
     lin: &mut FingerLinearisation,
 ) {
     let d = block.dim;
@@ -184,7 +207,9 @@ fn linearise_element(
     let p = block.element_cone(cone, k).project(v, d);
     let mut phi = [xk[0] - p.point[0], xk[1] - p.point[1], xk[2] - p.point[2]];
     phi[d..].fill(0.0);
-    lin.residuals.push(phi);
+    if keep {
+        lin.residuals.push(phi);
+    }
     for &f in phi.iter().take(d) {
         lin.residual_sq += f * f;
         lin.residual_max = lin.residual_max.max(f.abs());

@@ -18,8 +18,9 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::solver::native::finger_block::FingerBlockData;
 use crate::solver::native::native_result::Counts;
-use crate::solver::native::parallel_vectors::{each_chunk, map_indices};
+use crate::solver::native::parallel_vectors::each_chunk;
 
+use super::free_operator::FreeOperator;
 use super::linearisation::FingerLinearisation;
 use super::reduced_factor::key_of;
 use super::reduced_system::ReducedSystem;
@@ -41,16 +42,37 @@ pub(crate) struct Step {
 
 impl Step {
     /// A step of `n` unknowns with these multipliers and unreachable part, its `dx`, `dy` and
-    /// `E dx` still zero (the fingers' parts are written by [`finish_finger`]).
-    pub fn new(n: usize, dlambda: &DVector<f64>, unreachable: &DVector<f64>) -> Self {
+    /// `E dx` still zero (the fingers' parts are written by [`finish_finger`]), in the long
+    /// vectors of `spare` (the last step's, zeroed on all cores: no pages faulted in afresh).
+    pub fn reusing(
+        spare: Option<Step>,
+        n: usize,
+        dlambda: &DVector<f64>,
+        unreachable: &DVector<f64>,
+    ) -> Self {
+        let (mut dx, mut dy) = spare.map(|s| (s.dx, s.dy)).unwrap_or_default();
+        for v in [&mut dx, &mut dy] {
+            v.truncate(n);
+            each_chunk(v, |_, c| c.fill(0.0));
+            v.resize(n, 0.0);
+        }
         Step {
-            dx: vec![0.0; n],
+            dx,
             dlambda: dlambda.iter().copied().collect(),
-            dy: vec![0.0; n],
+            dy,
             e_dx: vec![0.0; dlambda.len()],
             unreachable: unreachable.iter().copied().collect(),
         }
     }
+}
+
+/// The long vectors a Newton iteration keeps from one step to the next, freed when it ends:
+/// the last step's, its linearisations' and (FFT path) its free operators'.
+#[derive(Default)]
+pub(crate) struct StepSpace {
+    pub step: Option<Step>,
+    pub lins: Vec<FingerLinearisation>,
+    pub ops: Vec<FreeOperator>,
 }
 
 /// Per-finger cache of reduced systems (most recent first).
@@ -158,14 +180,16 @@ pub(crate) fn fixed_part(block: &FingerBlockData, lin: &FingerLinearisation) -> 
         support.dedup();
     }
     let mut pz = block.work.take(n);
-    pz.fill(0.0);
+    each_chunk(&mut pz, |_, c| c.fill(0.0));
     block.apply_columns(&z, &support, &mut pz);
-    let g = map_indices(lin.free.len(), |a| {
-        let d = &lin.free[a];
-        let ppz: f64 = (0..block.dim)
-            .map(|c| d.dir[c] * pz[block.index(d.element, c)])
-            .sum();
-        -d.phi / (block.gamma * d.theta) - ppz
+    let mut g = block.work.take(lin.free.len());
+    each_chunk(&mut g, |s, c| {
+        for (d, o) in lin.free[s..].iter().zip(c.iter_mut()) {
+            let ppz: f64 = (0..block.dim)
+                .map(|c| d.dir[c] * pz[block.index(d.element, c)])
+                .sum();
+            *o = -d.phi / (block.gamma * d.theta) - ppz;
+        }
     });
     block.work.give(pz);
     let mut e_z = vec![0.0; block.equality_rows()];
@@ -203,7 +227,7 @@ pub(crate) fn newton_step(
     lins: &[FingerLinearisation],
     caches: &mut [FactorCache],
     e_res: &[f64],
-    n: usize,
+    (n, spare): (usize, Option<Step>),
     counts: &mut Counts,
 ) -> Option<Step> {
     let m = e_res.len();
@@ -251,7 +275,7 @@ pub(crate) fn newton_step(
         halves.push(half);
     }
     let (dlambda, unreachable) = solve_schur(s, rhs);
-    let mut step = Step::new(n, &dlambda, &unreachable);
+    let mut step = Step::reusing(spare, n, &dlambda, &unreachable);
     for (((block, lin), cache), half) in blocks.iter().zip(lins).zip(caches.iter()).zip(halves) {
         second_half(block, lin, &cache[0], half, &mut step);
     }

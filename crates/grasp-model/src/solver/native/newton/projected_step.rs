@@ -28,7 +28,7 @@ use crate::solver::native::parallel_vectors::{dot, each_chunk, max_abs};
 
 use super::free_operator::FreeOperator;
 use super::linearisation::FingerLinearisation;
-use super::newton_step::{finish_finger, fixed_part, FingerHalf, Step, SCHUR_CUTOFF};
+use super::newton_step::{finish_finger, fixed_part, FingerHalf, Step, StepSpace, SCHUR_CUTOFF};
 use super::reduced_iterative::{CG_ACCEPTABLE, CG_ITERATIONS_PER_ROOT, CG_TOLERANCE};
 
 /// One vector per finger (its free directions).
@@ -70,11 +70,19 @@ fn add_scaled(x: &mut Split, alpha: f64, y: &Split) {
 }
 
 impl<'a> Projected<'a> {
-    fn new(blocks: &'a [FingerBlockData], lins: &[FingerLinearisation], m: usize) -> Self {
+    /// The projection at `lins`, its operators made in the storage of `spare` (the last
+    /// step's).
+    fn new(
+        blocks: &'a [FingerBlockData],
+        lins: &[FingerLinearisation],
+        m: usize,
+        spare: Vec<FreeOperator>,
+    ) -> Self {
+        let mut spare = spare.into_iter();
         let ops: Vec<FreeOperator> = blocks
             .iter()
             .zip(lins)
-            .map(|(b, l)| FreeOperator::new(b, &l.free))
+            .map(|(b, l)| FreeOperator::reusing(b, &l.free, spare.next().unwrap_or_default()))
             .collect();
         let et: Vec<_> = blocks
             .iter()
@@ -159,11 +167,13 @@ impl<'a> Projected<'a> {
         self.blocks.iter().zip(v).for_each(|(b, x)| b.work.give(x));
     }
 
-    /// Keeps the step's columns (`Et'` and `G^-1 Et'`) for the next step.
-    fn keep_columns(self) {
+    /// Keeps the step's columns (`Et'` and `G^-1 Et'`) for the next step, and hands back
+    /// its operators (whose storage the next step's reuse).
+    fn keep_columns(self) -> Vec<FreeOperator> {
         for (b, (et, y)) in self.blocks.iter().zip(self.et.into_iter().zip(self.y)) {
             et.into_iter().chain(y).for_each(|c| b.work.give(c));
         }
+        self.ops
     }
 
     /// `out += scale cols w` per finger (`cols`: `et` or `y`), in one pass.
@@ -293,12 +303,13 @@ fn solve(
 /// with equality residual `e_res = E x - e`, its free rows solved to `relative` (at least
 /// [`CG_TOLERANCE`]) of their start or to `floor` (force units of the scaled program, 0 for
 /// none): an inexact Newton step when `relative` is above [`CG_TOLERANCE`]. `None` when the
-/// conjugate gradients fail.
+/// conjugate gradients fail. The step and its operators are made in the storage `space`
+/// keeps (the last step's), and the operators left there for the next.
 pub(crate) fn projected_step(
     blocks: &[FingerBlockData],
     lins: &[FingerLinearisation],
     e_res: &[f64],
-    n: usize,
+    (n, space): (usize, &mut StepSpace),
     counts: &mut Counts,
     (relative, floor): (f64, f64),
 ) -> Option<Step> {
@@ -312,7 +323,7 @@ pub(crate) fn projected_step(
     for h in &halves {
         rhs += DVector::from_column_slice(&h.e_z);
     }
-    let p = Projected::new(blocks, lins, m);
+    let p = Projected::new(blocks, lins, m, std::mem::take(&mut space.ops));
     counts.factorisations += blocks.len() as u32;
     let unreachable = &p.k_null * &rhs;
     let xi0 = p.particular(&(-&rhs));
@@ -324,14 +335,14 @@ pub(crate) fn projected_step(
     p.keep(r);
     counts.inner_iterations += its;
     let Some((xi, dlambda)) = solved else {
-        p.keep_columns();
+        space.ops = p.keep_columns();
         return None;
     };
-    let mut step = Step::new(n, &dlambda, &unreachable);
+    let mut step = Step::reusing(space.step.take(), n, &dlambda, &unreachable);
     for (((block, lin), half), x) in blocks.iter().zip(lins).zip(halves).zip(&xi) {
         finish_finger(block, lin, half.z, x, &mut step);
     }
     p.keep(xi);
-    p.keep_columns();
+    space.ops = p.keep_columns();
     Some(step)
 }

@@ -19,9 +19,9 @@ use crate::solver::solve_progress::SolveProgress;
 use crate::solver::native::parallel_vectors::each_chunk;
 
 use super::linearisation::{
-    cold_pattern, linearise_keeping, residual_norms, residual_norms_along, FingerLinearisation,
+    cold_pattern, linearise_reusing, residual_norms, residual_norms_along, FingerLinearisation,
 };
-use super::newton_step::{chord_linearisations, newton_step, FactorCache, Step};
+use super::newton_step::{chord_linearisations, newton_step, FactorCache, Step, StepSpace};
 use super::projected_step::projected_step;
 use super::reduced_iterative::CG_TOLERANCE;
 
@@ -92,16 +92,33 @@ pub(crate) fn dual_of(
     lambda: &[f64],
 ) -> Vec<f64> {
     let mut y = program.q.clone();
+    add_dual(blocks, x, lambda, &mut y);
+    y
+}
+
+/// [`dual_of`] written into `y` (no new vector).
+fn dual_into(
+    blocks: &[FingerBlockData],
+    program: &ConeProgram,
+    (x, lambda): (&[f64], &[f64]),
+    y: &mut [f64],
+) {
+    each_chunk(y, |s, c| c.copy_from_slice(&program.q[s..s + c.len()]));
+    add_dual(blocks, x, lambda, y);
+}
+
+/// `y += P x + E' lambda`, each finger's part formed in one of its kept vectors.
+fn add_dual(blocks: &[FingerBlockData], x: &[f64], lambda: &[f64], y: &mut [f64]) {
     for b in blocks {
         let r = b.offset..b.offset + b.len();
-        let mut py = vec![0.0; b.len()];
+        let mut py = b.work.take(b.len());
         b.apply(&x[r.clone()], &mut py);
         b.add_equality_transpose(lambda, &mut py);
-        for (t, v) in y[r].iter_mut().zip(py) {
-            *t += v;
-        }
+        each_chunk(&mut y[r], |s, c| {
+            c.iter_mut().zip(&py[s..]).for_each(|(t, v)| *t += v)
+        });
+        b.work.give(py);
     }
-    y
 }
 
 /// `E x - e`.
@@ -117,20 +134,24 @@ fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0_f64, |a, b| a.max(b.abs()))
 }
 
-/// Every finger's linearisation at `s`; without the elements' residuals when every finger is
-/// an FFT one (their steps are projected ones, which keep no factors for chord steps).
+/// Every finger's linearisation at `s`, in the storage of `spare` (the last step's); without
+/// the elements' residuals when every finger is an FFT one (their steps are projected ones,
+/// which keep no factors for chord steps).
 fn linearise_all(
     blocks: &[FingerBlockData],
     program: &ConeProgram,
     s: &State,
+    spare: Vec<FingerLinearisation>,
 ) -> Vec<FingerLinearisation> {
     let residuals = !blocks.iter().all(FingerBlockData::is_fft);
+    let mut spare = spare.into_iter();
     blocks
         .iter()
         .zip(&program.blocks)
         .map(|(b, pb)| {
             let r = b.offset..b.offset + b.len();
-            linearise_keeping(b, &pb.cone, (&s.x[r.clone()], &s.y[r]), residuals)
+            let kept = spare.next().unwrap_or_default();
+            linearise_reusing(b, &pb.cone, (&s.x[r.clone()], &s.y[r]), residuals, kept)
         })
         .collect()
 }
@@ -247,21 +268,21 @@ fn newton_iteration(
     // The cold start's all-stick step counts against the iteration's steps.
     let first = counts.newton_steps;
     let cold = start.is_none();
+    let mut space = StepSpace::default();
     let s = match start {
         Some(s) => s,
-        None => match all_stick_start(blocks, caches, program, &mut counts) {
+        None => match all_stick_start(blocks, caches, program, &mut counts, &mut space) {
             Ok(s) => s,
             Err(s) => return stalled(s, counts, NOT_POSITIVE_DEFINITE),
         },
     };
     match descend(
-        blocks,
-        caches,
-        program,
+        (blocks, caches, program),
         s,
         limits,
         &mut counts,
         (first, cold),
+        &mut space,
     ) {
         Descent::Converged(s) => {
             NativeResult::after(NativeStatus::Converged, s.x, s.lambda, counts)
@@ -280,13 +301,16 @@ const NOT_POSITIVE_DEFINITE: &str = "a reduced matrix is not positive definite, 
 /// compliance is the FFT operator ([`projected_step`]), else (or when those do not converge)
 /// through the Schur complement of the fingers' reduced systems ([`newton_step`]).
 /// `natural_tolerance` is the natural residual the iteration aims at (0 for none): the
-/// projected gradients stop once their error moves it by at most [`CG_SHARE`] of that.
+/// projected gradients stop once their error moves it by at most [`CG_SHARE`] of that. The
+/// step is made in the storage `space` keeps.
 fn step_of(
-    blocks: &[FingerBlockData],
-    lins: &[FingerLinearisation],
-    caches: &mut [FactorCache],
+    (blocks, lins, caches): (
+        &[FingerBlockData],
+        &[FingerLinearisation],
+        &mut [FactorCache],
+    ),
     e_res: &[f64],
-    n: usize,
+    (n, space): (usize, &mut StepSpace),
     counts: &mut Counts,
     (natural_tolerance, relative): (f64, f64),
 ) -> Option<Step> {
@@ -298,11 +322,12 @@ fn step_of(
             true => CG_SHARE * natural_tolerance / gamma_max,
             false => 0.0,
         };
-        if let Some(step) = projected_step(blocks, lins, e_res, n, counts, (relative, floor)) {
+        let tolerances = (relative, floor);
+        if let Some(step) = projected_step(blocks, lins, e_res, (n, space), counts, tolerances) {
             return Some(step);
         }
     }
-    newton_step(blocks, lins, caches, e_res, n, counts)
+    newton_step(blocks, lins, caches, e_res, (n, space.step.take()), counts)
 }
 
 /// The cold start: from `x = 0`, `lambda = 0` the all-stick step (every element in contact
@@ -313,6 +338,7 @@ fn all_stick_start(
     caches: &mut [FactorCache],
     program: &ConeProgram,
     counts: &mut Counts,
+    space: &mut StepSpace,
 ) -> Result<State, State> {
     let n = program.n_unknowns;
     let mut s = State {
@@ -326,11 +352,22 @@ fn all_stick_start(
         .collect();
     let e_res = equality_residual(blocks, program, &s.x);
     counts.newton_steps += 1;
-    match step_of(blocks, &lins, caches, &e_res, n, counts, (0.0, FORCING_MAX)) {
-        Some(step) => apply(&mut s, &step, 1.0),
+    let tolerances = (0.0, FORCING_MAX);
+    match step_of(
+        (blocks, &lins, caches),
+        &e_res,
+        (n, space),
+        counts,
+        tolerances,
+    ) {
+        Some(step) => {
+            apply(&mut s, &step, 1.0);
+            space.step = Some(step);
+        }
         None => return Err(s),
     }
-    s.y = dual_of(blocks, program, &s.x, &s.lambda);
+    space.lins = lins;
+    dual_into(blocks, program, (&s.x, &s.lambda), &mut s.y);
     Ok(s)
 }
 
@@ -376,19 +413,18 @@ impl Tolerances {
 /// worse last residual (the plate hand-off on 64 x 64 patches: 0.90 steps and 5.4e-9 instead
 /// of 0.65 and 6.9e-11).
 fn descend(
-    blocks: &[FingerBlockData],
-    caches: &mut [FactorCache],
-    program: &ConeProgram,
+    (blocks, caches, program): (&[FingerBlockData], &mut [FactorCache], &ConeProgram),
     mut s: State,
     limits: Limits,
     counts: &mut Counts,
     (first, cold): (u32, bool),
+    space: &mut StepSpace,
 ) -> Descent {
     let mut history: Vec<f64> = Vec::with_capacity(WINDOW);
     let mut previous: Option<Vec<u64>> = None;
     loop {
         limits.report(counts);
-        let lins = linearise_all(blocks, program, &s);
+        let lins = linearise_all(blocks, program, &s, std::mem::take(&mut space.lins));
         let pattern = free_pattern(&lins);
         let settling = cold && previous.as_ref().is_none_or(|p| *p != pattern);
         previous = Some(pattern);
@@ -421,16 +457,15 @@ fn descend(
             false => CG_TOLERANCE,
         };
         let Some(step) = step_of(
-            blocks,
-            &step_lins,
-            caches,
+            (blocks, &step_lins, caches),
             &e_res,
-            n,
+            (n, &mut *space),
             counts,
             (TARGET * tol.x, forcing),
         ) else {
             return Descent::Singular(s);
         };
+        space.lins = step_lins;
         if max_abs(&step.unreachable) > tol.e {
             // No free direction can meet the equality rows: the contacts must change in a way
             // the joint step cannot see.
@@ -440,9 +475,10 @@ fn descend(
             return Descent::Stalled(s);
         };
         apply(&mut s, &step, t);
+        space.step = Some(step);
         if t < 1.0 {
             // Keep y exact: the update accumulates round-off over many damped steps.
-            s.y = dual_of(blocks, program, &s.x, &s.lambda);
+            dual_into(blocks, program, (&s.x, &s.lambda), &mut s.y);
         }
     }
 }
