@@ -34,6 +34,7 @@
 use std::sync::Arc;
 
 use nalgebra::DMatrix;
+use rayon::prelude::*;
 
 use crate::model::equilibrium::{MotionPlane, RowReduction, Wrench};
 use crate::model::grasp_model::GraspModel;
@@ -314,18 +315,49 @@ impl ConeProgram {
 fn equilibrium_matrix(model: &GraspModel) -> DMatrix<f64> {
     let rows = model.equilibrium.rows();
     let mut e_hat = DMatrix::<f64>::zeros(rows, model.n_unknowns);
+    if rows == 0 {
+        return e_hat;
+    }
+    let columns = e_hat.as_mut_slice();
     for (i, f) in model.fingers.iter().enumerate() {
         let ne = f.patch.len();
-        for c in 0..=f.n_tangential {
-            for k in 0..ne {
-                let col = model.equilibrium.apply(&model.unit_wrench(i, k, c));
-                for (r, v) in col.iter().enumerate() {
-                    e_hat[(r, f.offset + c * ne + k)] = *v;
-                }
-            }
-        }
+        let block = &mut columns[f.offset * rows..(f.offset + (f.n_tangential + 1) * ne) * rows];
+        // Column `c ne + k` is unknown `(k, c)`'s wrench: each column on its own (a fine
+        // patch's million on all cores).
+        block
+            .par_chunks_mut(rows)
+            .with_min_len(COLUMNS_PER_TASK)
+            .enumerate()
+            .for_each(|(j, col)| {
+                let w = model
+                    .equilibrium
+                    .apply(&model.unit_wrench(i, j % ne, j / ne));
+                col.copy_from_slice(&w);
+            });
     }
     e_hat
+}
+
+/// Columns of the equality rows one task forms.
+const COLUMNS_PER_TASK: usize = 4096;
+
+/// `a b` for a `b` with many columns: per [`COLUMNS_PER_TASK`] of them on all cores (each
+/// column's product is the same arithmetic as in the whole product).
+fn times_columns(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
+    let (rows, n) = (a.nrows(), b.ncols());
+    if rows == 0 || n < 2 * COLUMNS_PER_TASK {
+        return a * b;
+    }
+    let mut out = DMatrix::<f64>::zeros(rows, n);
+    let chunk = rows * COLUMNS_PER_TASK;
+    out.as_mut_slice()
+        .par_chunks_mut(chunk)
+        .enumerate()
+        .for_each(|(c, part)| {
+            let product = a * b.columns(c * COLUMNS_PER_TASK, part.len() / rows);
+            part.copy_from_slice(product.as_slice());
+        });
+    out
 }
 
 /// `E`: the reduced equilibrium rows `U' E_hat`, then one load row per force-controlled
@@ -335,7 +367,7 @@ fn equality_matrix(
     reduction: &RowReduction,
     e_hat: &DMatrix<f64>,
 ) -> (DMatrix<f64>, Vec<LoadRow>) {
-    let e_red = reduction.basis.transpose() * e_hat;
+    let e_red = times_columns(&reduction.basis.transpose(), e_hat);
     let r_eq = e_red.nrows();
     let fc = model.force_controlled();
     let mut e = DMatrix::<f64>::zeros(r_eq + fc.len(), model.n_unknowns);
