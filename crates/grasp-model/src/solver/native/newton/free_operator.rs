@@ -20,7 +20,9 @@
 //! diagonal. Both parts are symmetric positive definite, so the preconditioner is.
 
 use crate::solver::native::finger_block::FingerBlockData;
-use crate::solver::native::parallel_vectors::{each_chunk, fill_indices};
+use rayon::prelude::*;
+
+use crate::solver::native::parallel_vectors::{each_chunk, fill_indices, CHUNK, PARALLEL_LEN};
 
 use super::linearisation::Direction;
 
@@ -57,27 +59,13 @@ impl Directions {
             }
         }
         starts.push(by_direction.len());
-        let n = block.len();
-        unknown_starts.clear();
-        unknown_starts.resize(n + 1, 0);
-        for &(i, _) in &by_direction {
-            unknown_starts[i + 1] += 1;
+        let by_unknown_parts = (&mut unknown_starts, &mut by_unknown);
+        let sorted = || free.par_windows(2).all(|w| w[0].element <= w[1].element);
+        if block.len() >= PARALLEL_LEN && sorted() {
+            by_unknown_sorted(block, free, by_direction.len(), by_unknown_parts);
+        } else {
+            by_unknown_serial(block.len(), (&starts, &by_direction), by_unknown_parts);
         }
-        for i in 0..n {
-            unknown_starts[i + 1] += unknown_starts[i];
-        }
-        // Each unknown's start serves as its fill cursor, which ends at the next unknown's
-        // start: the starts are then shifted back by one.
-        by_unknown.clear();
-        by_unknown.resize(by_direction.len(), (0, 0.0));
-        for a in 0..free.len() {
-            for &(i, coef) in &by_direction[starts[a]..starts[a + 1]] {
-                by_unknown[unknown_starts[i]] = (a, coef);
-                unknown_starts[i] += 1;
-            }
-        }
-        unknown_starts.copy_within(0..n, 1);
-        unknown_starts[0] = 0;
         Directions {
             starts,
             by_direction,
@@ -126,6 +114,103 @@ impl Directions {
             }
         });
     }
+}
+
+/// `D_F` by unknown (`unknown_starts`, `by_unknown`) from `D_F` by direction, one entry at a
+/// time: each unknown's start serves as its fill cursor, which ends at the next unknown's
+/// start, and the starts are then shifted back by one.
+fn by_unknown_serial(
+    n: usize,
+    (starts, by_direction): (&[usize], &[(usize, f64)]),
+    (unknown_starts, by_unknown): (&mut Vec<usize>, &mut Vec<(usize, f64)>),
+) {
+    fill_indices(unknown_starts, n + 1, |_| 0);
+    for &(i, _) in by_direction {
+        unknown_starts[i + 1] += 1;
+    }
+    for i in 0..n {
+        unknown_starts[i + 1] += unknown_starts[i];
+    }
+    fill_indices(by_unknown, by_direction.len(), |_| (0, 0.0));
+    for a in 0..starts.len() - 1 {
+        for &(i, coef) in &by_direction[starts[a]..starts[a + 1]] {
+            by_unknown[unknown_starts[i]] = (a, coef);
+            unknown_starts[i] += 1;
+        }
+    }
+    unknown_starts.copy_within(0..n, 1);
+    unknown_starts[0] = 0;
+}
+
+/// `f(unknown, direction, coefficient)` for the entries of `D_F` of the unknowns
+/// `range` (local indices), in order of unknown and then of direction, for `free` sorted by
+/// element (an unknown's entries are those of its element's directions, found by bisection).
+fn each_entry(
+    block: &FingerBlockData,
+    free: &[Direction],
+    range: std::ops::Range<usize>,
+    mut f: impl FnMut(usize, usize, f64),
+) {
+    let e = block.elements.max(1);
+    let mut i = range.start;
+    while i < range.end {
+        let c = i / e;
+        let (first, last) = (i - c * e, range.end.min((c + 1) * e) - c * e);
+        let mut a = free.partition_point(|d| d.element < first);
+        while a < free.len() && free[a].element < last {
+            let d = &free[a];
+            if d.dir[c] != 0.0 {
+                f(block.index(d.element, c), a, d.dir[c]);
+            }
+            a += 1;
+        }
+        i = (c + 1) * e;
+    }
+}
+
+/// [`by_unknown_serial`]'s arrays for `free` sorted by element (`entries` in all), on all
+/// cores: per [`CHUNK`] of unknowns, their counts, then (after the starts' running sum) their
+/// entries in their own part of `by_unknown`. The same arrays.
+fn by_unknown_sorted(
+    block: &FingerBlockData,
+    free: &[Direction],
+    entries: usize,
+    (unknown_starts, by_unknown): (&mut Vec<usize>, &mut Vec<(usize, f64)>),
+) {
+    let n = block.len();
+    fill_indices(unknown_starts, n + 1, |_| 0);
+    unknown_starts[1..]
+        .par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(j, counts)| {
+            let first = j * CHUNK;
+            each_entry(block, free, first..first + counts.len(), |i, _, _| {
+                counts[i - first] += 1
+            });
+        });
+    for i in 0..n {
+        unknown_starts[i + 1] += unknown_starts[i];
+    }
+    fill_indices(by_unknown, entries, |_| (0, 0.0));
+    let mut parts = Vec::with_capacity(n.div_ceil(CHUNK));
+    let mut rest = by_unknown.as_mut_slice();
+    for j in 0..n.div_ceil(CHUNK) {
+        let (from, to) = (
+            unknown_starts[j * CHUNK],
+            unknown_starts[((j + 1) * CHUNK).min(n)],
+        );
+        let (part, tail) = std::mem::take(&mut rest).split_at_mut(to - from);
+        parts.push(part);
+        rest = tail;
+    }
+    parts.into_par_iter().enumerate().for_each(|(j, part)| {
+        let first = j * CHUNK;
+        let mut at = 0;
+        each_entry(block, free, first..(first + CHUNK).min(n), |_, a, coef| {
+            part[at] = (a, coef);
+            at += 1;
+        });
+    });
 }
 
 /// `M` and its preconditioner for one finger's free directions.
