@@ -121,8 +121,9 @@ pub struct MarginOptions {
     /// Magnitudes above this multiple of the load scale count as unbounded (in
     /// `MAX_FACTOR_RANGE`).
     pub max_factor: f64,
-    /// Bound each direction's search by its load capacity ([`crate::analysis::load_capacity`];
-    /// default). `false` solves every trial, as the search did before the capacity: the same
+    /// Bound each direction's search by its load capacity, the magnitude from which no contact
+    /// forces within the friction cones balance the load, proved by a Farkas certificate
+    /// (default). `false` solves every trial, as the search did before the capacity: the same
     /// margins to the tolerance, at the cost of the stalling solves past the edge of
     /// equilibrium (for comparison).
     pub load_capacity: bool,
