@@ -60,6 +60,23 @@ fn run_with(
         .collect()
 }
 
+/// An example hand-off with its patches coarsened to [`COARSE_GRID`] above [`MAX_ELEMENTS`]
+/// and at most [`MAX_STEPS`] of its steps.
+fn thinned(
+    scene_name: &str,
+    schedule_name: &str,
+) -> (grasp_model::Scene, grasp_transfer::Schedule) {
+    let (mut scene, mut schedule) = scene_and_schedule(scene_name, schedule_name);
+    for f in &mut scene.fingers {
+        if f.patch.grid[0] * f.patch.grid[1] > MAX_ELEMENTS {
+            f.patch.grid = f.patch.grid.map(|n| n.min(COARSE_GRID));
+        }
+    }
+    let stride = schedule.times.len().div_ceil(MAX_STEPS);
+    schedule.times = schedule.times.iter().copied().step_by(stride).collect();
+    (scene, schedule)
+}
+
 /// The difference between two margins of a step allowed by the brackets (module docs).
 fn allowed_n(a: &StepMargin, b: &StepMargin, load_scale_n: f64) -> f64 {
     let tol = MarginOptions::default().relative_tolerance;
@@ -70,14 +87,7 @@ fn allowed_n(a: &StepMargin, b: &StepMargin, load_scale_n: f64) -> f64 {
 fn continued_margins_equal_the_search_from_scratch_along_every_example_hand_off() {
     let mut compared = 0;
     for (scene_name, schedule_name) in example_schedules() {
-        let (mut scene, mut schedule) = scene_and_schedule(&scene_name, &schedule_name);
-        for f in &mut scene.fingers {
-            if f.patch.grid[0] * f.patch.grid[1] > MAX_ELEMENTS {
-                f.patch.grid = f.patch.grid.map(|n| n.min(COARSE_GRID));
-            }
-        }
-        let stride = schedule.times.len().div_ceil(MAX_STEPS);
-        schedule.times = schedule.times.iter().copied().step_by(stride).collect();
+        let (scene, schedule) = thinned(&scene_name, &schedule_name);
         let clock = std::time::Instant::now();
         let continued = run(&scene, &schedule, false);
         let continued_s = clock.elapsed().as_secs_f64();
@@ -128,14 +138,7 @@ fn the_load_capacity_changes_no_margin_along_any_example_hand_off() {
     };
     let mut compared = 0;
     for (scene_name, schedule_name) in example_schedules() {
-        let (mut scene, mut schedule) = scene_and_schedule(&scene_name, &schedule_name);
-        for f in &mut scene.fingers {
-            if f.patch.grid[0] * f.patch.grid[1] > MAX_ELEMENTS {
-                f.patch.grid = f.patch.grid.map(|n| n.min(COARSE_GRID));
-            }
-        }
-        let stride = schedule.times.len().div_ceil(MAX_STEPS);
-        schedule.times = schedule.times.iter().copied().step_by(stride).collect();
+        let (scene, schedule) = thinned(&scene_name, &schedule_name);
         let bounded = run(&scene, &schedule, false);
         let solved = run_with(&scene, &schedule, false, without);
         let mut solves = (0, 0);
