@@ -39,6 +39,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::analysis::load_capacity::LoadCapacity;
+use crate::analysis::trial_forces::TrialForces;
 use crate::error::{ModelError, OptionError};
 use crate::model::equilibrium::MotionPlane;
 use crate::model::grasp_model::GraspModel;
@@ -86,6 +87,10 @@ const MAX_BISECTION_STEPS: u32 = 200;
 /// the tolerance below it: `c (1 - 0.9 tol)`. When the grasp holds there (the margin is the
 /// capacity, as where the fingers can only all slip together), the bracket is done in one solve.
 pub(crate) const CAPACITY_PROBE: f64 = 0.9;
+
+/// A guided trial's least step above the largest magnitude that held, as a fraction of the
+/// tolerance: a failure there leaves a bracket within the tolerance.
+pub(crate) const CHECK_STEP: f64 = 0.99;
 
 /// A direction of disturbance: a unit vector of the scaled wrench space.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -444,6 +449,22 @@ pub fn holds(model: &GraspModel, sol: &Solution, exempt: &[String]) -> Result<()
     Ok(())
 }
 
+/// The largest friction utilisation `|Q|/(mu P)` of the loaded frictional fingers of `sol`
+/// not in `exempt` (coulomb model; `None` for others, or with no such finger).
+pub(crate) fn utilisation_of(model: &GraspModel, sol: &Solution, exempt: &[String]) -> Option<f64> {
+    if model.kind() != ModelKind::Coulomb {
+        return None;
+    }
+    let loaded = LOADED_FRACTION * sol.load_scale_n;
+    let judged = sol.fingers.iter().zip(&model.fingers).filter(|(f, fm)| {
+        fm.n_tangential > 0 && f.normal_force_n > loaded && !exempt.contains(&f.name)
+    });
+    judged
+        .map(|(f, _)| f.friction_utilization)
+        .filter(|u| u.is_finite())
+        .reduce(f64::max)
+}
+
 /// The loaded frictional finger with the highest friction utilisation.
 pub(crate) fn most_utilised(model: &GraspModel, sol: &Solution) -> Option<String> {
     let loaded = LOADED_FRACTION * sol.load_scale_n;
@@ -470,6 +491,16 @@ pub(crate) struct Search<'a> {
     /// The magnitude from which no equilibrium exists, N ([`LoadCapacity`]; infinite when
     /// unknown): trials there fail without a solve.
     pub(crate) capacity_n: f64,
+    /// The forces of the last trials solved along the direction, the first input of the next
+    /// trial's Tresca iteration instead of its start state's ([`TrialForces`]).
+    pub(crate) trial_forces: TrialForces,
+    /// Whether trials take and keep [`Search::trial_forces`] (not: the start state's forces,
+    /// as the search from scratch takes them), and the narrowing is guided by
+    /// [`Search::utilisation`].
+    pub(crate) guessing: bool,
+    /// The magnitudes that held (N) with the largest friction utilisation of the fingers
+    /// judged by sliding there ([`utilisation_of`]), in the order tried.
+    pub(crate) utilisation: Vec<(f64, f64)>,
 }
 
 /// The largest magnitude known to hold, N, with the contact state and solution there.
@@ -505,9 +536,82 @@ impl Search<'_> {
         }
         let inputs = self.inputs_at(s);
         let mut next = state.clone();
+        self.start_from_guess(s, &mut next);
         let sol = self.solver.solve_step(&inputs, &mut next)?;
         self.solves += 1;
-        Ok(holds(self.model, &sol, self.exempt).map(|()| (next, sol)))
+        if self.guessing && sol.status.has_forces() {
+            let forces = sol.fingers.iter();
+            let forces = forces.map(|f| f.elements.iter().map(|e| e.normal_force_n).collect());
+            self.trial_forces.push(s, forces.collect());
+        }
+        let held = holds(self.model, &sol, self.exempt);
+        if held.is_ok() {
+            self.note_held(s, &sol);
+        }
+        Ok(held.map(|()| (next, sol)))
+    }
+
+    /// The next trial in the bracket `(lo, hi)` N when guided: half a tolerance above where
+    /// sliding is predicted ([`Search::sliding_predicted_at`]), at least a tolerance above `lo`
+    /// (so that a failure there closes the bracket) and at most twice `lo` (the line through
+    /// two magnitudes far below the margin says little); a tolerance below `hi` when the
+    /// prediction is at or beyond `hi`, which failed (a line through magnitudes that held
+    /// reaches 1 late where the utilisation bends up), so that holding there closes the
+    /// bracket; `None` when that is not inside it.
+    pub(crate) fn guided_point(&self, lo: f64, hi: f64, tolerance: f64) -> Option<f64> {
+        let root = self.sliding_predicted_at()?;
+        let t = (root * (1.0 + 0.5 * tolerance)).max(lo * (1.0 + CHECK_STEP * tolerance));
+        let t = if t >= hi {
+            hi * (1.0 - CHECK_STEP * tolerance)
+        } else {
+            t.min(2.0 * lo)
+        };
+        (t > lo && t < hi).then_some(t)
+    }
+
+    /// Records the utilisation at `s` N, where `sol` held (when guided).
+    pub(crate) fn note_held(&mut self, s: f64, sol: &Solution) {
+        if let Some(u) = utilisation_of(self.model, sol, self.exempt).filter(|_| self.guessing) {
+            self.utilisation.push((s, u));
+        }
+    }
+
+    /// Where the line through the utilisation at the two largest magnitudes that held reaches
+    /// 1, the utilisation of a finger sliding as a whole in the plane (a guess in 3-D, where
+    /// slip directions can differ); `None` unless guided, with two such magnitudes, the
+    /// utilisation rising between them, and the root beyond them.
+    pub(crate) fn sliding_predicted_at(&self) -> Option<f64> {
+        let mut top = self.utilisation.iter().filter(|p| p.0 > 0.0 || p.1 > 0.0);
+        let first = top.next()?;
+        let (a, b) = top.fold((first, first), |(a, b), p| {
+            if p.0 > b.0 {
+                (b, p)
+            } else if p.0 > a.0 && p.0 < b.0 {
+                (p, b)
+            } else {
+                (a, b)
+            }
+        });
+        let rise = (b.1 - a.1) / (b.0 - a.0);
+        let root = b.0 + (1.0 - b.1) / rise;
+        (b.0 > a.0 && rise > 0.0 && root.is_finite() && root > b.0).then_some(root)
+    }
+
+    /// Puts the forces [`Search::trial_forces`] predicts at magnitude `s` (N) into `state`
+    /// as its last forces, the sequential solve's first input (the start only: its slip
+    /// memory, which sets the answer, stays).
+    fn start_from_guess(&self, s: f64, state: &mut ContactState) {
+        let Some(guess) = self.trial_forces.at(s).filter(|_| self.guessing) else {
+            return;
+        };
+        for (f, g) in state.fingers.iter_mut().zip(guess) {
+            if f.normal_forces_n
+                .as_ref()
+                .is_some_and(|v| v.len() == g.len())
+            {
+                f.normal_forces_n = Some(g);
+            }
+        }
     }
 
     /// The failure of a trial at `s` N at or beyond the load capacity.
@@ -610,10 +714,16 @@ impl Search<'_> {
                 Err(g) => *fails = (zero, g),
             }
         }
-        let mut steps = 0;
+        let (mut steps, mut bisect) = (0, false);
         while fails.0 - held.s > tolerance * fails.0 && fails.0 > zero {
+            let width = fails.0 - held.s;
+            let guided = self
+                .guided_point(held.s, fails.0, tolerance)
+                .filter(|_| !bisect);
             // Geometric while the bracket spans more than a factor 2, then arithmetic.
-            let mid = if held.s > 0.0 && fails.0 > 2.0 * held.s {
+            let mid = if let Some(t) = guided {
+                t
+            } else if held.s > 0.0 && fails.0 > 2.0 * held.s {
                 (held.s * fails.0).sqrt()
             } else {
                 0.5 * (held.s + fails.0)
@@ -628,6 +738,8 @@ impl Search<'_> {
                     Ok((state, sol)) => *held = Held { s: mid, state, sol },
                     Err(g) => *fails = (mid, g),
                 }
+                // A guided trial that did not halve the bracket is followed by a bisection.
+                bisect = guided.is_some() && fails.0 - held.s > 0.5 * width;
                 continue;
             };
             return Ok(Some(format!(
@@ -664,6 +776,9 @@ fn along(
         solves: 0,
         exempt,
         capacity_n: f64::INFINITY,
+        trial_forces: TrialForces::default(),
+        guessing: false,
+        utilisation: Vec::new(),
     };
     let cap = options.max_factor * model.scales.load_n;
     if let Some(mut certificate) = options

@@ -10,14 +10,20 @@
 //!
 //! - **prediction**: the margins of the last three steps extrapolated by the parabola through
 //!   them (two: the line; one: itself), the last margin alone when the extrapolation moves it
-//!   by more than half;
+//!   by more than [`PREDICTION_REACH`] of it;
 //! - **check**: a trial at the prediction, then one a tolerance above it when it held (below
 //!   it when it failed): two solves when the prediction is within a tolerance of the margin.
 //!   A prediction at or beyond the load capacity ([`crate::analysis::load_capacity`]) is
 //!   checked just below the capacity instead, where one solve settles it;
 //! - **fallback**: from the end that was wrong the bracket walks on, in steps of a tolerance
 //!   three times, then growing fourfold, until it holds the margin, and the bisection of the search from
-//!   scratch narrows it. The first step, a step after one whose grasp failed undisturbed, a
+//!   scratch narrows it. In the coulomb model the walk upwards and the bisection are guided:
+//!   the line through the largest friction utilisation `|Q|/(mu P)` of the judged fingers at
+//!   the two largest magnitudes that held (the step's undisturbed state among them) reaches 1,
+//!   a finger sliding as a whole, near the margin; the next trial goes half a tolerance above
+//!   it (at most twice the magnitude that held; a tolerance below the failing end when the
+//!   line reaches 1 beyond it), and a guided trial that did not halve the bracket is followed
+//!   by a bisection (`Search::guided_point`). The first step, a step after one whose grasp failed undisturbed, a
 //!   direction unresisted or unbounded at the last step, and a prediction above 100 times the
 //!   load scale run the search from scratch (with a fresh solver, as it does: the same trials,
 //!   the same answers). Whether a direction is resisted at all is decided at the edge of
@@ -26,8 +32,11 @@
 //! - **kept**: each direction's load-capacity certificate, found by Clarabel at the first step
 //!   of a model and kept while the model is (its bound at a step costs two right-hand sides),
 //!   found anew after a step where a solve failed below its bound;
-//! - **shared**: the step's undisturbed solve (from a fresh solver, as the search from
-//!   scratch makes it, so that both start from the same contact state), and the directions that only the commanded
+//! - **started**: each trial's Tresca iteration from the forces of the direction's last two
+//!   trials, extrapolated to its magnitude ([`crate::analysis::trial_forces`]), instead of its
+//!   start state's (the start state's slip memory, which sets the answer, stays);
+//! - **shared**: the step's undisturbed solve (its solver kept from step to step, warm), and
+//!   the directions that only the commanded
 //!   loads could balance ([`crate::analysis::load_fixed_directions`], once per model): a
 //!   disturbance along one of them is unresisted without a solve (the search from scratch
 //!   finds the same, margin 0, with one solve that certifies no equilibrium).
@@ -50,6 +59,7 @@ use crate::analysis::margin::{
     failing_undisturbed, holds, sliding_fingers, DirectionMargin, Fails, Failure, Held,
     MarginOptions, MarginReport, Search, WrenchDirection, CAPACITY_PROBE, ZERO_MARGIN,
 };
+use crate::analysis::trial_forces::TrialForces;
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
 use crate::scene::scene_format::ModelKind;
@@ -70,6 +80,11 @@ const CHECK_WIDTH: f64 = 0.99;
 /// others (a failure), so holding stops being monotone in the magnitude and any search's
 /// answer depends on where it tries. The search from scratch's own trials are taken.
 const LARGE_MARGIN_FACTOR: f64 = 100.0;
+
+/// Largest move of a prediction from the last margin, as a fraction of it: a margin that
+/// grows fast (a receiving finger taking the load) is followed by the parabola up to doubling
+/// (on the coulomb plate hand-off 1,878 solves where half took 1,911).
+const PREDICTION_REACH: f64 = 1.0;
 
 /// Growth of the walking step after each trial that did not bracket the margin, once the
 /// first [`EVEN_WALK_STEPS`] have not.
@@ -102,6 +117,8 @@ enum Seen {
 struct Track {
     solver: Option<GraspSolver>,
     capacity: Capacity,
+    /// The forces of the direction's last solved trials ([`TrialForces`]).
+    trial_forces: TrialForces,
     last: Vec<Seen>,
 }
 
@@ -143,6 +160,8 @@ pub struct MarginTracker {
     /// That model's directions fixed by the commanded loads.
     fixed: LoadFixedDirections,
     tracks: Vec<Track>,
+    /// The solver of the steps' undisturbed solves, kept (warm-started) from step to step.
+    base_solver: Option<GraspSolver>,
 }
 
 impl MarginTracker {
@@ -160,6 +179,7 @@ impl MarginTracker {
             built_for: None,
             fixed: LoadFixedDirections::none(),
             tracks,
+            base_solver: None,
         })
     }
 
@@ -179,8 +199,10 @@ impl MarginTracker {
         self.keep_solvers_of(model, solve_options);
         let length_m = self.options.length_m.unwrap_or(model.scales.length_m);
         let mut base_state = state.clone();
-        let base = GraspSolver::new(Arc::clone(model), solve_options)
-            .solve_step(inputs, &mut base_state)?;
+        let base_solver = self
+            .base_solver
+            .get_or_insert_with(|| GraspSolver::new(Arc::clone(model), solve_options));
+        let base = base_solver.solve_step(inputs, &mut base_state)?;
         let sliding_undisturbed = match model.kind() {
             ModelKind::Coulomb if base.status.has_forces() => sliding_fingers(&base),
             _ => Vec::new(),
@@ -226,6 +248,7 @@ impl MarginTracker {
         if !same {
             self.fixed = LoadFixedDirections::of(model);
             self.built_for = Some((Arc::clone(model), solve_options));
+            self.base_solver = None;
             for t in &mut self.tracks {
                 t.solver = None;
                 t.capacity = Capacity::Unknown;
@@ -255,7 +278,11 @@ fn continue_along(
         solves: 0,
         exempt: shared.exempt,
         capacity_n: f64::INFINITY,
+        trial_forces: std::mem::take(&mut track.trial_forces),
+        guessing: true,
+        utilisation: Vec::new(),
     };
+    search.note_held(0.0, shared.base.1);
     let cap = shared.options.max_factor * model.scales.load_n;
     if shared.options.load_capacity {
         bound(&mut track.capacity, &mut search, cap);
@@ -284,6 +311,7 @@ fn continue_along(
         _ => false,
     };
     let m = search.finish(held, hi, note, clock);
+    track.trial_forces = std::mem::take(&mut search.trial_forces);
     if loose && matches!(track.capacity, Capacity::Known(_)) {
         track.capacity = Capacity::Unknown;
     }
@@ -320,7 +348,7 @@ fn seen(m: &DirectionMargin) -> Seen {
 
 /// The prediction of this step from the last ones (newest last): three margins extrapolated
 /// by their parabola, two by their line (steps taken as equally spaced), unless that moves the
-/// last by more than half of it; else the last.
+/// last by more than [`PREDICTION_REACH`] of it; else the last.
 fn prediction(last: &[Seen]) -> Option<Seen> {
     let p = match last {
         [.., Seen::Margin(a), Seen::Margin(b), Seen::Margin(c)] => 3.0 * (c - b) + a,
@@ -331,7 +359,11 @@ fn prediction(last: &[Seen]) -> Option<Seen> {
     let Some(Seen::Margin(c)) = last.last() else {
         return None;
     };
-    Some(Seen::Margin(if (p - c).abs() <= 0.5 * c { p } else { *c }))
+    Some(Seen::Margin(if (p - c).abs() <= PREDICTION_REACH * c {
+        p
+    } else {
+        *c
+    }))
 }
 
 /// A fresh solver for `search` (no warm start from other steps), as the search from scratch
@@ -339,6 +371,9 @@ fn prediction(last: &[Seen]) -> Option<Seen> {
 fn start_afresh(search: &mut Search<'_>) {
     let model = Arc::clone(search.solver.shared_model());
     *search.solver = GraspSolver::new(model, *search.solver.options());
+    search.guessing = false;
+    search.trial_forces = TrialForces::default();
+    search.utilisation.clear();
 }
 
 /// The search from scratch ([`crate::disturbance_margins`]'s): growth from `held`, then
@@ -391,7 +426,7 @@ fn around(
         return from_scratch(search, base, options);
     }
     let (mut held, mut fails) = match search.trial(lo, &base.state)? {
-        Ok((state, sol)) => match walk_up(search, Held { s: lo, state, sol }, hi, cap)? {
+        Ok((state, sol)) => match walk_up(search, Held { s: lo, state, sol }, hi, (cap, tol))? {
             (held, Some(fails)) => (held, fails),
             (held, None) => return Ok((held, None, None)),
         },
@@ -407,14 +442,15 @@ fn around(
 }
 
 /// From `held`, trials at `first` N and on upwards (the step `first - held` for
-/// [`EVEN_WALK_STEPS`] steps, then each four times the last, never past the capacity) until one
-/// fails (`Some`) or the grasp holds at `cap` (`None`); past [`MAX_WALK_STEPS`], the growth of
-/// the search from scratch.
+/// [`EVEN_WALK_STEPS`] steps, then each four times the last, never past the capacity; where
+/// the utilisation predicts sliding, just above it instead, [`Search::guided_point`]) until
+/// one fails (`Some`) or the grasp holds at `cap` (`None`); past [`MAX_WALK_STEPS`], the
+/// growth of the search from scratch. `tol`: the relative tolerance.
 fn walk_up(
     search: &mut Search<'_>,
     mut held: Held,
     first: f64,
-    cap: f64,
+    (cap, tol): (f64, f64),
 ) -> Result<(Held, Option<Fails>), ModelError> {
     let (mut s, mut step) = (first, first - held.s);
     for k in 0..MAX_WALK_STEPS {
@@ -428,7 +464,8 @@ fn walk_up(
         if k + 1 >= EVEN_WALK_STEPS {
             step *= WALK_GROWTH;
         }
-        s = (s + step).min(cap).min(search.capacity_n);
+        let guided = search.guided_point(held.s, f64::INFINITY, tol);
+        s = guided.unwrap_or(s + step).min(cap).min(search.capacity_n);
     }
     let (hi, _) = search.grow(&mut held, cap)?;
     Ok((held, hi))

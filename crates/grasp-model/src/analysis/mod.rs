@@ -11,3 +11,4 @@ pub mod patch_sizing;
 pub mod refinement;
 pub mod relaxation;
 pub mod solution_record;
+pub mod trial_forces;
