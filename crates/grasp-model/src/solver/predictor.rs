@@ -99,10 +99,11 @@ impl Trail {
         if rest.is_empty() || now.len() != n || rest.iter().any(|(d, _)| d.len() != n) {
             return true;
         }
-        let g = DMatrix::from_fn(n, rest.len(), |r, j| rest[j].0[r] - base[r]);
-        let rhs = DVector::from_iterator(n, now.iter().zip(base).map(|(a, b)| a - b));
-        let norm = rhs.norm();
-        norm.is_finite() && projection_residual(&g, &rhs) > OFF_HULL_MARGIN * ON_LINE * norm
+        let change = |d: &[f64]| -> Vec<f64> { d.iter().zip(base).map(|(a, b)| a - b).collect() };
+        let rhs = change(now);
+        let norm = rhs.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let columns = rest.iter().map(|(d, _)| change(d)).collect();
+        norm.is_finite() && projection_residual(columns, &rhs) > OFF_HULL_MARGIN * ON_LINE * norm
     }
 }
 
@@ -145,7 +146,9 @@ pub(crate) fn affine_coefficients(
         return None;
     }
     let norm = rhs.norm();
-    if norm == 0.0 || projection_residual(&g, &rhs) > OFF_HULL_MARGIN * ON_LINE * norm {
+    if norm == 0.0
+        || projection_residual(columns_of(&g), rhs.as_slice()) > OFF_HULL_MARGIN * ON_LINE * norm
+    {
         return None;
     }
     decomposition_coefficients(g, &rhs)
@@ -177,31 +180,37 @@ const OFF_HULL_MARGIN: f64 = 1.001;
 /// reorthogonalisation (Golub and Van Loan, section 5.2.8): a few dot products, so that the
 /// common case of a margin trial or a change of contact pattern, data off the remembered
 /// points' hull, is refused before the singular value decomposition.
-fn projection_residual(g: &DMatrix<f64>, rhs: &DVector<f64>) -> f64 {
-    let mut basis: Vec<DVector<f64>> = Vec::with_capacity(g.ncols());
-    for j in 0..g.ncols() {
-        let mut q = g.column(j).into_owned();
+fn projection_residual(mut columns: Vec<Vec<f64>>, rhs: &[f64]) -> f64 {
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let remove = |v: &mut [f64], basis: &[Vec<f64>]| {
         for _ in 0..2 {
-            for b in &basis {
-                let d = b.dot(&q);
-                q.axpy(-d, b, 1.0);
+            for b in basis {
+                let d = dot(b, v);
+                v.iter_mut().zip(b).for_each(|(x, y)| *x -= d * y);
             }
         }
-        let after = q.norm();
+    };
+    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(columns.len());
+    for mut q in columns.drain(..) {
+        remove(&mut q, &basis);
+        let after = dot(&q, &q).sqrt();
         // Every direction is kept, however small: the span is then at least the one the
         // decomposition keeps, so the residual at most its residual (to round-off).
         if after > 0.0 {
-            basis.push(q / after);
+            q.iter_mut().for_each(|x| *x /= after);
+            basis.push(q);
         }
     }
-    let mut r = rhs.clone();
-    for _ in 0..2 {
-        for b in &basis {
-            let d = b.dot(&r);
-            r.axpy(-d, b, 1.0);
-        }
-    }
-    r.norm()
+    let mut r = rhs.to_vec();
+    remove(&mut r, &basis);
+    dot(&r, &r).sqrt()
+}
+
+/// The columns of `g`.
+fn columns_of(g: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    g.column_iter()
+        .map(|c| c.iter().copied().collect())
+        .collect()
 }
 
 /// `base + sum_j c_j (others_j - base)`.
@@ -304,7 +313,8 @@ mod tests {
             let on = &g * &c;
             let rhs = &on + noise * (off * on.norm());
             let norm = rhs.norm();
-            let by_projection = projection_residual(&g, &rhs) > OFF_HULL_MARGIN * ON_LINE * norm;
+            let by_projection = projection_residual(columns_of(&g), rhs.as_slice())
+                > OFF_HULL_MARGIN * ON_LINE * norm;
             let decomposed = decomposition_coefficients(g, &rhs);
             assert!(
                 !(by_projection && decomposed.is_some()),
