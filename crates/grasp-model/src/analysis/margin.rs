@@ -569,9 +569,13 @@ impl Search<'_> {
         (t > lo && t < hi).then_some(t)
     }
 
-    /// Records the utilisation at `s` N, where `sol` held (when guided).
+    /// Records the utilisation at `s` N, where `sol` held (when guided, in a planar scene:
+    /// in 3-D a finger's elements can slide in different directions, its utilisation stays
+    /// below 1, and guided trials land at the edge where solves cost more; on the MuJoCo
+    /// hand-off, 3-D, they cost half as much again, for no fewer solves).
     pub(crate) fn note_held(&mut self, s: f64, sol: &Solution) {
-        if let Some(u) = utilisation_of(self.model, sol, self.exempt).filter(|_| self.guessing) {
+        let guided = self.guessing && self.model.plane().is_some();
+        if let Some(u) = utilisation_of(self.model, sol, self.exempt).filter(|_| guided) {
             self.utilisation.push((s, u));
         }
     }

@@ -17,7 +17,7 @@
 //!   checked just below the capacity instead, where one solve settles it;
 //! - **fallback**: from the end that was wrong the bracket walks on, in steps of a tolerance
 //!   three times, then growing fourfold, until it holds the margin, and the bisection of the search from
-//!   scratch narrows it. In the coulomb model the walk upwards and the bisection are guided:
+//!   scratch narrows it. In a planar coulomb scene the walk upwards and the bisection are guided:
 //!   the line through the largest friction utilisation `|Q|/(mu P)` of the judged fingers at
 //!   the two largest magnitudes that held (the step's undisturbed state among them) reaches 1,
 //!   a finger sliding as a whole, near the margin; the next trial goes half a tolerance above
