@@ -57,18 +57,18 @@ struct Scratch {
 }
 
 /// A buffer of `len` from `pool` (its contents arbitrary), or a new one.
-fn take<T: Copy + Default>(pool: &Mutex<Vec<Vec<T>>>, len: usize) -> Vec<T> {
+fn take<T: Copy + Default + Send + Sync>(pool: &Mutex<Vec<Vec<T>>>, len: usize) -> Vec<T> {
     let mut b = pool
         .lock()
         .ok()
         .and_then(|mut p| p.pop())
         .unwrap_or_default();
-    b.resize(len, T::default());
+    crate::allocation::resize_on_all_cores(&mut b, len, T::default());
     b
 }
 
 /// [`take`], or [`OutOfMemory`] when the buffer cannot be grown to `len`.
-fn try_take<T: Copy + Default>(
+fn try_take<T: Copy + Default + Send + Sync>(
     pool: &Mutex<Vec<Vec<T>>>,
     len: usize,
 ) -> Result<Vec<T>, OutOfMemory> {
@@ -76,7 +76,7 @@ fn try_take<T: Copy + Default>(
     let bytes = (len as u64).saturating_mul(std::mem::size_of::<T>() as u64);
     b.try_reserve_exact(len)
         .map_err(|_| OutOfMemory::new("a buffer", bytes))?;
-    b.resize(len, T::default());
+    crate::allocation::resize_on_all_cores(&mut b, len, T::default());
     Ok(b)
 }
 

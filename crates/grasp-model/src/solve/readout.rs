@@ -11,6 +11,7 @@
 use std::time::Instant;
 
 use nalgebra::{DVector, Vector3};
+use rayon::prelude::*;
 
 use crate::model::grasp_model::{Control, FingerModel, GraspModel};
 use crate::option_names;
@@ -23,6 +24,7 @@ use crate::solve::solution::{
     ElementSolution, ElementState, FingerSolution, RigidDisplacement, Solution, SolveStatus,
     SolverStats, LOADED_FRACTION,
 };
+use crate::solver::native::parallel_vectors::PARALLEL_LEN;
 use crate::solver::outcome::Certificate;
 
 /// Largest equilibrium and cone residual (relative to the load and the element force unit) of
@@ -227,7 +229,6 @@ fn finger_solution(
     let ne = f.patch.len();
     let area = f.patch.element_area_m2();
     let mu = if f.n_tangential == 0 { 0.0 } else { mu_at_load };
-    let mut elements = Vec::with_capacity(ne);
     let (mut p, mut q, mut torsion, mut cx, mut cy) = (0.0, Vector3::zeros(), 0.0, 0.0, 0.0);
     let (mut counts, mut peak, mut boundary) = ([0usize; 5], 0.0_f64, 0.0);
     for (k, c) in checks.iter().enumerate() {
@@ -244,8 +245,16 @@ fn finger_solution(
         cy += fk * y;
         peak = peak.max(fk / area);
         counts[c.state as usize] += 1;
-        elements.push(element_solution(f, k, (fk, g), c));
     }
+    let element = |(k, c): (usize, &ElementCheck)| {
+        let g = tangential(x_n, f.offset, ne, f.n_tangential, k);
+        element_solution(f, k, (x_n[f.offset + k], g), c)
+    };
+    // Each element's fields are its own: built on all cores for a fine patch.
+    let elements: Vec<ElementSolution> = match ne >= PARALLEL_LEN {
+        true => checks.par_iter().enumerate().map(element).collect(),
+        false => checks.iter().enumerate().map(element).collect(),
+    };
     // An unloaded finger (solver noise only) has no centre of pressure: its contact point.
     let loaded = p > LOADED_FRACTION * model.scales.load_n;
     let cop = if loaded {
@@ -334,7 +343,10 @@ pub(crate) fn build_solution(
     solved_with: &SolvedWith<'_>,
 ) -> Solution {
     let s = model.scales;
-    let x_n: Vec<f64> = x_scaled.iter().map(|v| v * s.element_force_n).collect();
+    let x_n: Vec<f64> = match x_scaled.len() >= PARALLEL_LEN {
+        true => x_scaled.par_iter().map(|v| v * s.element_force_n).collect(),
+        false => x_scaled.iter().map(|v| v * s.element_force_n).collect(),
+    };
     let (t_o, theta) = rigid_from_multipliers(model, program, multipliers);
     // The program's approach of each force-controlled finger; the others' is in the offsets
     // and reported as commanded.

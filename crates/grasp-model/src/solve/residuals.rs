@@ -13,10 +13,12 @@
 //!   `w_k - m_k` (`m_k`: slip memory), zero in stick and opposite `G_k` in slip.
 
 use nalgebra::Vector3;
+use rayon::prelude::*;
 
 use crate::model::equilibrium::Wrench;
 use crate::model::grasp_model::{FingerModel, GraspModel};
 use crate::solve::solution::{ElementState, Residuals};
+use crate::solver::native::parallel_vectors::{CHUNK, PARALLEL_LEN};
 
 /// The slip direction of an element is checked against its friction force only when the slip
 /// exceeds this many displacement units `Fu Cu` (a shorter slip has no direction worth the
@@ -144,17 +146,20 @@ pub(crate) fn check_contacts(
         .map(|(i, f)| {
             let (gap, w, compression) = finger_kinematics(model, f, i, x_n, motion);
             compression_m.push(compression);
-            (0..f.patch.len())
-                .map(|k| {
-                    Element::of(f, x_n, k, gap[k], w[k]).check(
-                        i,
-                        solved_with,
-                        model,
-                        mu_at_load[i],
-                        &mut r,
-                    )
-                })
-                .collect()
+            let mut checks = Vec::new();
+            let parts = fill_indices_folding(&mut checks, f.patch.len(), r, |k, part| {
+                Element::of(f, x_n, k, gap[k], w[k]).check(
+                    i,
+                    solved_with,
+                    model,
+                    mu_at_load[i],
+                    part,
+                )
+            });
+            parts
+                .iter()
+                .for_each(|part| fold_element_residuals(&mut r, part));
+            checks
         })
         .collect();
     ContactCheck {
@@ -162,6 +167,50 @@ pub(crate) fn check_contacts(
         residuals: r,
         compression_m,
     }
+}
+
+/// `out = [f(0, r_0), .., f(len - 1, r_c)]` with `f` folding its element's residuals into its
+/// chunk's copy `r_c` of `start`, chunk by chunk ([`CHUNK`] elements) on all cores for many
+/// elements; the chunks' residuals in chunk order. The largest of the chunks' residuals is the
+/// one pass's: a maximum does not depend on the order its terms are taken in.
+fn fill_indices_folding(
+    out: &mut Vec<ElementCheck>,
+    len: usize,
+    start: Residuals,
+    f: impl Fn(usize, &mut Residuals) -> ElementCheck + Sync + Send,
+) -> Vec<Residuals> {
+    let blank = ElementCheck {
+        gap_m: 0.0,
+        slip_m: [0.0; 2],
+        step_slip_m: [0.0; 2],
+        state: ElementState::Separated,
+    };
+    out.clear();
+    crate::allocation::resize_on_all_cores(out, len, blank);
+    let run = |(c, chunk): (usize, &mut [ElementCheck])| {
+        let mut part = start;
+        for (k, o) in chunk.iter_mut().enumerate() {
+            *o = f(c * CHUNK + k, &mut part);
+        }
+        part
+    };
+    if len >= PARALLEL_LEN {
+        out.par_chunks_mut(CHUNK).enumerate().map(run).collect()
+    } else {
+        out.chunks_mut(CHUNK).enumerate().map(run).collect()
+    }
+}
+
+/// Folds the element residuals of `part` into `r` (each the larger of the two).
+fn fold_element_residuals(r: &mut Residuals, part: &Residuals) {
+    r.cone_violation_relative = r.cone_violation_relative.max(part.cone_violation_relative);
+    r.penetration_relative = r.penetration_relative.max(part.penetration_relative);
+    r.compatibility_relative = r.compatibility_relative.max(part.compatibility_relative);
+    r.complementarity_relative = r
+        .complementarity_relative
+        .max(part.complementarity_relative);
+    r.stick_motion_relative = r.stick_motion_relative.max(part.stick_motion_relative);
+    r.slip_direction_error = r.slip_direction_error.max(part.slip_direction_error);
 }
 
 /// Equilibrium residuals of forces `x_n` (N) under `external` (N, N m); the element residuals
@@ -211,18 +260,20 @@ fn finger_kinematics(
         translation_o_m,
         rotation_rad,
     } = motion.rigid;
-    let mut g = Vec::with_capacity(ne);
-    let mut w = Vec::with_capacity(ne);
-    for k in 0..ne {
+    let element = |k: usize| {
         let p = f.element_point(k);
         let delta = translation_o_m + rotation_rad.cross(&(p - model.reference_point_m));
-        g.push(f.patch.gap_m[k] + u[k] + f.frame.normal.dot(&delta) - motion.approach_m[i]);
+        let gap = f.patch.gap_m[k] + u[k] + f.frame.normal.dot(&delta) - motion.approach_m[i];
         let mut wk = [f.frame.t1.dot(&delta), f.frame.t2.dot(&delta)];
         for (c, wc) in wk.iter_mut().enumerate().take(f.n_tangential) {
             *wc += u[(c + 1) * ne + k];
         }
-        w.push(wk);
-    }
+        (gap, wk)
+    };
+    let (g, w) = match ne >= PARALLEL_LEN {
+        true => (0..ne).into_par_iter().map(element).unzip(),
+        false => (0..ne).map(element).unzip(),
+    };
     (g, w, compression)
 }
 

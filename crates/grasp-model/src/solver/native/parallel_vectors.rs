@@ -66,13 +66,13 @@ pub(crate) fn map_indices_coarse<T: Send>(
 
 /// `out = [f(0), .., f(len - 1)]` in `out`'s own storage (no new vector: its pages are not
 /// faulted in again), on all cores for a long vector.
-pub(crate) fn fill_indices<T: Send + Copy + Default>(
+pub(crate) fn fill_indices<T: Send + Sync + Copy + Default>(
     out: &mut Vec<T>,
     len: usize,
     f: impl Fn(usize) -> T + Sync + Send,
 ) {
     out.truncate(len);
-    out.resize(len, T::default());
+    crate::allocation::resize_on_all_cores(out, len, T::default());
     let run = |(k, c): (usize, &mut [T])| {
         for (i, o) in c.iter_mut().enumerate() {
             *o = f(k * CHUNK + i);
@@ -125,7 +125,7 @@ impl VectorPool {
             .ok()
             .and_then(|mut k| k.pop())
             .unwrap_or_default();
-        v.resize(len, 0.0);
+        crate::allocation::resize_on_all_cores(&mut v, len, 0.0);
         v
     }
 
