@@ -370,18 +370,39 @@ fn equality_matrix(
     let e_red = times_columns(&reduction.basis.transpose(), e_hat);
     let r_eq = e_red.nrows();
     let fc = model.force_controlled();
-    let mut e = DMatrix::<f64>::zeros(r_eq + fc.len(), model.n_unknowns);
-    e.rows_mut(0, r_eq).copy_from(&e_red);
-    let mut load_rows = Vec::with_capacity(fc.len());
-    for (j, &i) in fc.iter().enumerate() {
-        let f = &model.fingers[i];
-        for k in 0..f.patch.len() {
-            e[(r_eq + j, f.offset + k)] = 1.0;
-        }
-        load_rows.push(LoadRow {
+    let rows = r_eq + fc.len();
+    let load_rows: Vec<LoadRow> = fc
+        .iter()
+        .enumerate()
+        .map(|(j, &i)| LoadRow {
             finger: i,
             row: r_eq + j,
-        });
+        })
+        .collect();
+    // Per load row, the columns of its finger's normal unknowns.
+    let loads: Vec<(usize, std::ops::Range<usize>)> = load_rows
+        .iter()
+        .map(|l| {
+            let f = &model.fingers[l.finger];
+            (l.row, f.offset..f.offset + f.patch.len())
+        })
+        .collect();
+    let mut e = DMatrix::<f64>::zeros(rows, model.n_unknowns);
+    if rows > 0 {
+        // Column by column (a fine patch's million on all cores): the reduced equilibrium
+        // rows' entries, then a 1 in the load row of a force-controlled normal unknown.
+        e.as_mut_slice()
+            .par_chunks_mut(rows)
+            .with_min_len(COLUMNS_PER_TASK)
+            .enumerate()
+            .for_each(|(j, col)| {
+                col[..r_eq].copy_from_slice(&e_red.as_slice()[j * r_eq..(j + 1) * r_eq]);
+                for (row, columns) in &loads {
+                    if columns.contains(&j) {
+                        col[*row] = 1.0;
+                    }
+                }
+            });
     }
     (e, load_rows)
 }
