@@ -81,12 +81,6 @@ impl CirculantInverse {
                 false => Ok(Vec::new()),
             })
             .collect::<Result<_, _>>()?;
-        let mut inverse = vec![Vec::new(); ENTRIES.len()];
-        for (e, inv) in inverse.iter_mut().enumerate() {
-            if need[e] {
-                *inv = crate::allocation::filled(fft.spectrum_len(), Complex::default())?;
-            }
-        }
         let dim = 1 + n_tangential;
         // The floor of every frequency's pivots: a fraction of the largest diagonal entry over
         // all of them (a block that is zero at one frequency is then not inverted to 1e308).
@@ -94,14 +88,16 @@ impl CirculantInverse {
             .flat_map(|f| (0..dim).map(move |c| (f, c)))
             .map(|(f, c)| spectra[c][f].re.abs())
             .fold(0.0, f64::max);
-        for f in 0..fft.spectrum_len() {
-            let inv = invert(&hermitian_at(&spectra, f, dim), dim, PIVOT_FLOOR * scale);
-            for (entry, &(r, c)) in inverse.iter_mut().zip(&ENTRIES) {
-                if let Some(slot) = entry.get_mut(f) {
-                    *slot = inv[r][c];
-                }
+        let mut inverse = vec![Vec::new(); ENTRIES.len()];
+        for (e, inv) in inverse.iter_mut().enumerate() {
+            if need[e] {
+                *inv = crate::allocation::filled(fft.spectrum_len(), Complex::default())?;
             }
         }
+        let parallel = fft.parallel();
+        invert_all(&mut inverse, parallel, |f| {
+            invert(&hermitian_at(&spectra, f, dim), dim, PIVOT_FLOOR * scale)
+        });
         Ok(CirculantInverse {
             dim,
             elements: grid.len(),
@@ -147,6 +143,44 @@ impl CirculantInverse {
     }
 }
 
+/// Frequencies one task inverts.
+const FREQUENCIES: usize = 4096;
+
+/// Per frequency `f`, the kept entries (the non-empty vectors of `inverse`, per [`ENTRIES`]
+/// index) of the matrix `inverse_at(f)`: per [`FREQUENCIES`] of them on all cores when
+/// `parallel` (each frequency on its own, so the same bits on any number of threads).
+fn invert_all(
+    inverse: &mut [Vec<Complex<f64>>],
+    parallel: bool,
+    inverse_at: impl Fn(usize) -> [[Complex<f64>; 3]; 3] + Sync + Send,
+) {
+    let len = inverse.iter().map(Vec::len).max().unwrap_or(0);
+    // Per task, each kept entry's slots over its frequencies.
+    let mut tasks: Vec<Vec<(usize, &mut [Complex<f64>])>> =
+        (0..len.div_ceil(FREQUENCIES)).map(|_| Vec::new()).collect();
+    for (e, inv) in inverse.iter_mut().enumerate() {
+        for (task, part) in tasks.iter_mut().zip(inv.chunks_mut(FREQUENCIES)) {
+            task.push((e, part));
+        }
+    }
+    let run = |(k, mut parts): (usize, Vec<(usize, &mut [Complex<f64>])>)| {
+        let n = parts.first().map_or(0, |p| p.1.len());
+        for i in 0..n {
+            let m = inverse_at(k * FREQUENCIES + i);
+            for (e, part) in parts.iter_mut() {
+                let (r, c) = ENTRIES[*e];
+                part[i] = m[r][c];
+            }
+        }
+    };
+    if parallel {
+        use rayon::prelude::*;
+        tasks.into_par_iter().enumerate().for_each(run);
+    } else {
+        tasks.into_iter().enumerate().for_each(run);
+    }
+}
+
 /// The [`ENTRIES`] index holding `(r, c)` and whether it is read conjugated (the lower
 /// triangle).
 fn entry_of(r: usize, c: usize) -> Option<(usize, bool)> {
@@ -177,18 +211,24 @@ fn kernel(e: usize, at: &[f64; 6], mirror: &[f64; 6]) -> f64 {
 fn wrapped_spectrum(
     fft: &GridFft,
     table: &KernelTable,
-    value: impl Fn(&[f64; 6], &[f64; 6]) -> f64,
+    value: impl Fn(&[f64; 6], &[f64; 6]) -> f64 + Sync + Send,
 ) -> Result<Vec<Complex<f64>>, OutOfMemory> {
     let (nx, ny) = (table.grid().nx, table.grid().ny);
     // Table index of periodic index `i` of a side of `n` elements (offset `i` or `i - n`).
     let slot = |i: usize, n: usize| if i <= n / 2 { i + n - 1 } else { i - 1 };
     let mut wrapped = crate::allocation::filled(nx * ny, 0.0)?;
-    for i in 0..nx {
+    let row = |(i, out): (usize, &mut [f64])| {
         let (a, ma) = (slot(i, nx), 2 * nx - 2 - slot(i, nx));
-        for j in 0..ny {
+        for (j, o) in out.iter_mut().enumerate() {
             let (b, mb) = (slot(j, ny), 2 * ny - 2 - slot(j, ny));
-            wrapped[i * ny + j] = value(table.at(a, b), table.at(ma, mb));
+            *o = value(table.at(a, b), table.at(ma, mb));
         }
+    };
+    if fft.parallel() && ny > 0 {
+        use rayon::prelude::*;
+        wrapped.par_chunks_mut(ny).enumerate().for_each(row);
+    } else if ny > 0 {
+        wrapped.chunks_mut(ny).enumerate().for_each(row);
     }
     fft.transform(&mut wrapped, nx)
 }

@@ -199,20 +199,35 @@ impl ComplianceOperator {
         &mut self,
         block: Block,
         table: &KernelTable,
-        value: impl Fn(&[f64; 6], &[f64; 6]) -> f64,
+        value: impl Fn(&[f64; 6], &[f64; 6]) -> f64 + Sync + Send,
     ) -> Result<(), OutOfMemory> {
         let (nx, ny) = (self.grid.nx, self.grid.ny);
         let wy = 2 * ny - 1;
         let (px, py) = (self.fft.px, self.fft.py);
         let mut padded = crate::allocation::filled(px * py, 0.0)?;
+        // Padded row `(a + px + 1 - nx) % px` holds table row `a` (px = 2 nx: every row but
+        // one), each row on its own, on all cores for a large grid.
+        let fill = |(row, out): (usize, &mut [f64])| {
+            let a = (row + nx - 1) % px;
+            if a < 2 * nx - 1 {
+                for b in 0..wy {
+                    let col = (b + py + 1 - ny) % py;
+                    out[col] = value(table.at(a, b), table.at(2 * nx - 2 - a, 2 * ny - 2 - b));
+                }
+            }
+        };
+        if self.fft.parallel() {
+            use rayon::prelude::*;
+            padded.par_chunks_mut(py).enumerate().for_each(fill);
+        } else {
+            padded.chunks_mut(py).enumerate().for_each(fill);
+        }
+        // The sum in the table's order, as it was taken when the rows were filled in turn.
         let mut abs_sum = 0.0;
         for a in 0..2 * nx - 1 {
-            let row = (a + px + 1 - nx) % px;
+            let row = &padded[((a + px + 1 - nx) % px) * py..][..py];
             for b in 0..wy {
-                let col = (b + py + 1 - ny) % py;
-                let k = value(table.at(a, b), table.at(2 * nx - 2 - a, 2 * ny - 2 - b));
-                abs_sum += k.abs();
-                padded[row * py + col] = k;
+                abs_sum += row[(b + py + 1 - ny) % py].abs();
             }
         }
         self.abs_sums[block as usize] = abs_sum;
