@@ -314,7 +314,7 @@ impl ConeProgram {
 /// unit force in unknown `j` (thesis eqs. 48-49).
 fn equilibrium_matrix(model: &GraspModel) -> DMatrix<f64> {
     let rows = model.equilibrium.rows();
-    let mut e_hat = DMatrix::<f64>::zeros(rows, model.n_unknowns);
+    let mut e_hat = zeros(rows, model.n_unknowns);
     if rows == 0 {
         return e_hat;
     }
@@ -338,6 +338,14 @@ fn equilibrium_matrix(model: &GraspModel) -> DMatrix<f64> {
     e_hat
 }
 
+/// A `rows x cols` zero matrix, its zeros written on all cores for a wide one (the first write
+/// of a fine patch's equality rows, tens of megabytes, is where their pages are mapped).
+fn zeros(rows: usize, cols: usize) -> DMatrix<f64> {
+    let mut v = Vec::new();
+    crate::allocation::resize_on_all_cores(&mut v, rows * cols, 0.0);
+    DMatrix::from_vec(rows, cols, v)
+}
+
 /// Columns of the equality rows one task forms.
 const COLUMNS_PER_TASK: usize = 4096;
 
@@ -348,7 +356,7 @@ fn times_columns(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
     if rows == 0 || n < 2 * COLUMNS_PER_TASK {
         return a * b;
     }
-    let mut out = DMatrix::<f64>::zeros(rows, n);
+    let mut out = zeros(rows, n);
     let chunk = rows * COLUMNS_PER_TASK;
     out.as_mut_slice()
         .par_chunks_mut(chunk)
@@ -387,7 +395,7 @@ fn equality_matrix(
             (l.row, f.offset..f.offset + f.patch.len())
         })
         .collect();
-    let mut e = DMatrix::<f64>::zeros(rows, model.n_unknowns);
+    let mut e = zeros(rows, model.n_unknowns);
     if rows > 0 {
         // Column by column (a fine patch's million on all cores): the reduced equilibrium
         // rows' entries, then a 1 in the load row of a force-controlled normal unknown.
