@@ -85,6 +85,28 @@ pub(crate) fn fill_indices<T: Send + Sync + Copy + Default>(
     }
 }
 
+/// Appends `parts` to `dst` in their order, copied on all cores when they are long together
+/// (`blank` fills the new entries before the copies overwrite them).
+pub(crate) fn append_in_order<T: Copy + Send + Sync>(dst: &mut Vec<T>, parts: &[&[T]], blank: T) {
+    let start = dst.len();
+    let total: usize = parts.iter().map(|p| p.len()).sum();
+    if total < PARALLEL_LEN {
+        parts.iter().for_each(|p| dst.extend_from_slice(p));
+        return;
+    }
+    crate::allocation::resize_on_all_cores(dst, start + total, blank);
+    let mut rest = &mut dst[start..];
+    let mut pairs = Vec::with_capacity(parts.len());
+    for p in parts {
+        let (head, tail) = std::mem::take(&mut rest).split_at_mut(p.len());
+        pairs.push((head, *p));
+        rest = tail;
+    }
+    pairs
+        .into_par_iter()
+        .for_each(|(d, s)| d.copy_from_slice(s));
+}
+
 /// `max |a_i|` (0 for an empty vector).
 pub(crate) fn max_abs(a: &[f64]) -> f64 {
     if a.len() >= PARALLEL_LEN {
@@ -167,6 +189,19 @@ mod tests {
         let exact: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
         assert!((here - exact).abs() <= 1e-13 * exact);
         assert_eq!(max_abs(&[-3.0, 2.0]), 3.0);
+    }
+
+    /// Parts appended in order, short and long, after what the vector held.
+    #[test]
+    fn parts_are_appended_in_order() {
+        for n in [3, PARALLEL_LEN] {
+            let a: Vec<usize> = (0..n).collect();
+            let b: Vec<usize> = (n..3 * n).collect();
+            let mut v = vec![usize::MAX];
+            append_in_order(&mut v, &[&a, &[], &b], 0);
+            assert_eq!(v[0], usize::MAX);
+            assert!(v[1..].iter().enumerate().all(|(i, x)| *x == i) && v.len() == 3 * n + 1);
+        }
     }
 
     /// Chunks cover every index once, with their start.

@@ -50,15 +50,7 @@ impl Directions {
             mut unknown_starts,
             mut by_unknown,
         } = spare;
-        starts.clear();
-        by_direction.clear();
-        for d in free {
-            starts.push(by_direction.len());
-            for c in (0..block.dim).filter(|&c| d.dir[c] != 0.0) {
-                by_direction.push((block.index(d.element, c), d.dir[c]));
-            }
-        }
-        starts.push(by_direction.len());
+        by_direction_into(block, free, (&mut starts, &mut by_direction));
         let by_unknown_parts = (&mut unknown_starts, &mut by_unknown);
         let sorted = || free.par_windows(2).all(|w| w[0].element <= w[1].element);
         if block.len() >= PARALLEL_LEN && sorted() {
@@ -192,17 +184,7 @@ fn by_unknown_sorted(
         unknown_starts[i + 1] += unknown_starts[i];
     }
     fill_indices(by_unknown, entries, |_| (0, 0.0));
-    let mut parts = Vec::with_capacity(n.div_ceil(CHUNK));
-    let mut rest = by_unknown.as_mut_slice();
-    for j in 0..n.div_ceil(CHUNK) {
-        let (from, to) = (
-            unknown_starts[j * CHUNK],
-            unknown_starts[((j + 1) * CHUNK).min(n)],
-        );
-        let (part, tail) = std::mem::take(&mut rest).split_at_mut(to - from);
-        parts.push(part);
-        rest = tail;
-    }
+    let parts = parts_by_chunk(by_unknown, unknown_starts);
     parts.into_par_iter().enumerate().for_each(|(j, part)| {
         let first = j * CHUNK;
         let mut at = 0;
@@ -210,6 +192,66 @@ fn by_unknown_sorted(
             part[at] = (a, coef);
             at += 1;
         });
+    });
+}
+
+/// `entries` cut at the starts of every [`CHUNK`]-th row of `starts` (`n + 1` of them for `n`
+/// rows): per chunk of rows, its entries.
+fn parts_by_chunk<'e>(
+    entries: &'e mut [(usize, f64)],
+    starts: &[usize],
+) -> Vec<&'e mut [(usize, f64)]> {
+    let n = starts.len().saturating_sub(1);
+    let mut parts = Vec::with_capacity(n.div_ceil(CHUNK));
+    let mut rest = entries;
+    for j in 0..n.div_ceil(CHUNK) {
+        let (from, to) = (starts[j * CHUNK], starts[((j + 1) * CHUNK).min(n)]);
+        let (part, tail) = std::mem::take(&mut rest).split_at_mut(to - from);
+        parts.push(part);
+        rest = tail;
+    }
+    parts
+}
+
+/// `D_F` by direction (`starts`, `by_direction`): each direction's nonzero components in
+/// order. Many directions are written on all cores, per [`CHUNK`] of them in their own part
+/// (after the starts' running sum): the same arrays.
+fn by_direction_into(
+    block: &FingerBlockData,
+    free: &[Direction],
+    (starts, by_direction): (&mut Vec<usize>, &mut Vec<(usize, f64)>),
+) {
+    fn components(dim: usize, d: &Direction) -> impl Iterator<Item = usize> + '_ {
+        (0..dim).filter(move |&c| d.dir[c] != 0.0)
+    }
+    let entries = |d| components(block.dim, d);
+    if free.len() < PARALLEL_LEN {
+        starts.clear();
+        by_direction.clear();
+        for d in free {
+            starts.push(by_direction.len());
+            by_direction.extend(entries(d).map(|c| (block.index(d.element, c), d.dir[c])));
+        }
+        starts.push(by_direction.len());
+        return;
+    }
+    fill_indices(starts, free.len() + 1, |a| match a {
+        0 => 0,
+        _ => entries(&free[a - 1]).count(),
+    });
+    for a in 0..free.len() {
+        starts[a + 1] += starts[a];
+    }
+    fill_indices(by_direction, starts[free.len()], |_| (0, 0.0));
+    let parts = parts_by_chunk(by_direction, starts);
+    parts.into_par_iter().enumerate().for_each(|(j, part)| {
+        let mut at = 0;
+        for d in &free[j * CHUNK..((j + 1) * CHUNK).min(free.len())] {
+            for c in entries(d) {
+                part[at] = (block.index(d.element, c), d.dir[c]);
+                at += 1;
+            }
+        }
     });
 }
 

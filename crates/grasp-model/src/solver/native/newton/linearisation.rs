@@ -22,7 +22,7 @@
 
 use crate::program::cone_program::BlockCone;
 use crate::solver::native::finger_block::FingerBlockData;
-use crate::solver::native::parallel_vectors::{map_indices_coarse, CHUNK};
+use crate::solver::native::parallel_vectors::{append_in_order, map_indices_coarse, CHUNK};
 
 /// One Jacobian direction of one element.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -171,10 +171,19 @@ pub(crate) fn linearise_reusing(
             }
             part
         });
-        for part in parts {
-            lin.free.extend_from_slice(&part.free);
-            lin.fixed.extend_from_slice(&part.fixed);
-            lin.residuals.extend_from_slice(&part.residuals);
+        let blank = Direction {
+            element: 0,
+            dir: [0.0; 3],
+            theta: 0.0,
+            phi: 0.0,
+        };
+        let free: Vec<&[Direction]> = parts.iter().map(|p| p.free.as_slice()).collect();
+        append_in_order(&mut lin.free, &free, blank);
+        let fixed: Vec<&[Direction]> = parts.iter().map(|p| p.fixed.as_slice()).collect();
+        append_in_order(&mut lin.fixed, &fixed, blank);
+        let residuals: Vec<&[[f64; 3]]> = parts.iter().map(|p| p.residuals.as_slice()).collect();
+        append_in_order(&mut lin.residuals, &residuals, [0.0; 3]);
+        for part in &parts {
             lin.residual_sq += part.residual_sq;
             lin.residual_max = lin.residual_max.max(part.residual_max);
         }
