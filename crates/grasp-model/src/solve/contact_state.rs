@@ -159,7 +159,9 @@ impl ContactState {
                     normal_load_n,
                 });
             }
-            fs.normal_forces_n = Some(f.elements.iter().map(|e| e.normal_force_n).collect());
+            fs.normal_forces_n = Some(crate::solve::solution::element_values(&f.elements, |e| {
+                e.normal_force_n
+            }));
             fs.normal_load_n = Some(f.normal_force_n);
             if memory && fm.n_tangential > 0 {
                 for (m, e) in fs.slip_memory_m.iter_mut().zip(&f.elements) {

@@ -369,7 +369,7 @@ impl Solution {
                 f.approach_m,
             ]) && fin(&f.tangential_force_n)
                 && fin(&f.center_of_pressure_m)
-                && f.elements.iter().all(|e| {
+                && all_elements(&f.elements, |e| {
                     fin(&[e.normal_force_n, e.pressure_pa, e.gap_m])
                         && fin(&e.tangential_force_n)
                         && fin(&e.traction_pa)
@@ -401,6 +401,33 @@ impl Solution {
 fn is_zero(n: &usize) -> bool {
     *n == 0
 }
+
+/// True when `test` holds for every element, the elements of a fine patch tested on all cores.
+fn all_elements(
+    elements: &[ElementSolution],
+    test: impl Fn(&ElementSolution) -> bool + Sync + Send,
+) -> bool {
+    use rayon::prelude::*;
+    match elements.len() >= PARALLEL_ELEMENTS {
+        true => elements.par_iter().all(test),
+        false => elements.iter().all(test),
+    }
+}
+
+/// `[value(e) for e in elements]`, the elements of a fine patch read on all cores.
+pub(crate) fn element_values(
+    elements: &[ElementSolution],
+    value: impl Fn(&ElementSolution) -> f64 + Sync + Send,
+) -> Vec<f64> {
+    use rayon::prelude::*;
+    match elements.len() >= PARALLEL_ELEMENTS {
+        true => elements.par_iter().map(value).collect(),
+        false => elements.iter().map(value).collect(),
+    }
+}
+
+/// Elements from which [`all_elements`] and [`element_values`] work on all cores.
+const PARALLEL_ELEMENTS: usize = 1 << 15;
 
 #[cfg(test)]
 mod tests {

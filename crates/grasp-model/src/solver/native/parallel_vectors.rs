@@ -107,6 +107,15 @@ pub(crate) fn append_in_order<T: Copy + Send + Sync>(dst: &mut Vec<T>, parts: &[
         .for_each(|(d, s)| d.copy_from_slice(s));
 }
 
+/// A copy of `v`, written on all cores when it is long (its new pages mapped there).
+pub(crate) fn copy_of(v: &[f64]) -> Vec<f64> {
+    if v.len() >= PARALLEL_LEN {
+        v.par_iter().copied().collect()
+    } else {
+        v.to_vec()
+    }
+}
+
 /// `max |a_i|` (0 for an empty vector).
 pub(crate) fn max_abs(a: &[f64]) -> f64 {
     if a.len() >= PARALLEL_LEN {
@@ -189,6 +198,7 @@ mod tests {
         let exact: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
         assert!((here - exact).abs() <= 1e-13 * exact);
         assert_eq!(max_abs(&[-3.0, 2.0]), 3.0);
+        assert_eq!(copy_of(&b), b);
     }
 
     /// Parts appended in order, short and long, after what the vector held.

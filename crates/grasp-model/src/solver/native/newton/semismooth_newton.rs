@@ -16,7 +16,7 @@ use crate::solver::native::interior::interior_point;
 use crate::solver::native::native_result::{Counts, NativeResult, NativeStatus};
 use crate::solver::solve_progress::SolveProgress;
 
-use crate::solver::native::parallel_vectors::each_chunk;
+use crate::solver::native::parallel_vectors::{copy_of, each_chunk, max_abs};
 
 use super::linearisation::{
     cold_pattern, linearise_reusing, residual_norms, residual_norms_along, FingerLinearisation,
@@ -91,7 +91,7 @@ pub(crate) fn dual_of(
     x: &[f64],
     lambda: &[f64],
 ) -> Vec<f64> {
-    let mut y = program.q.clone();
+    let mut y = copy_of(&program.q);
     add_dual(blocks, x, lambda, &mut y);
     y
 }
@@ -128,10 +128,6 @@ fn equality_residual(blocks: &[FingerBlockData], program: &ConeProgram, x: &[f64
         b.add_equality(&x[b.offset..b.offset + b.len()], &mut r);
     }
     r
-}
-
-fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(0.0_f64, |a, b| a.max(b.abs()))
 }
 
 /// Every finger's linearisation at `s`, in the storage of `spare` (the last step's); without
@@ -235,7 +231,7 @@ fn state_of(blocks: &[FingerBlockData], program: &ConeProgram, it: &Iterate) -> 
     let fits = it.x.len() == program.n_unknowns && it.lambda.len() == program.equality_rows();
     fits.then(|| State {
         y: dual_of(blocks, program, &it.x, &it.lambda),
-        x: it.x.clone(),
+        x: copy_of(&it.x),
         lambda: it.lambda.clone(),
     })
 }
@@ -344,7 +340,7 @@ fn all_stick_start(
     let mut s = State {
         x: vec![0.0; n],
         lambda: vec![0.0; program.equality_rows()],
-        y: program.q.clone(),
+        y: copy_of(&program.q),
     };
     let lins: Vec<_> = blocks
         .iter()
