@@ -146,6 +146,10 @@ impl CirculantInverse {
 /// Frequencies one task inverts.
 const FREQUENCIES: usize = 4096;
 
+/// One task's slots: per kept entry (its [`ENTRIES`] index), its values over the task's
+/// frequencies.
+type TaskSlots<'i> = Vec<(usize, &'i mut [Complex<f64>])>;
+
 /// Per frequency `f`, the kept entries (the non-empty vectors of `inverse`, per [`ENTRIES`]
 /// index) of the matrix `inverse_at(f)`: per [`FREQUENCIES`] of them on all cores when
 /// `parallel` (each frequency on its own, so the same bits on any number of threads).
@@ -156,14 +160,13 @@ fn invert_all(
 ) {
     let len = inverse.iter().map(Vec::len).max().unwrap_or(0);
     // Per task, each kept entry's slots over its frequencies.
-    let mut tasks: Vec<Vec<(usize, &mut [Complex<f64>])>> =
-        (0..len.div_ceil(FREQUENCIES)).map(|_| Vec::new()).collect();
+    let mut tasks: Vec<TaskSlots> = (0..len.div_ceil(FREQUENCIES)).map(|_| Vec::new()).collect();
     for (e, inv) in inverse.iter_mut().enumerate() {
         for (task, part) in tasks.iter_mut().zip(inv.chunks_mut(FREQUENCIES)) {
             task.push((e, part));
         }
     }
-    let run = |(k, mut parts): (usize, Vec<(usize, &mut [Complex<f64>])>)| {
+    let run = |(k, mut parts): (usize, TaskSlots)| {
         let n = parts.first().map_or(0, |p| p.1.len());
         for i in 0..n {
             let m = inverse_at(k * FREQUENCIES + i);
