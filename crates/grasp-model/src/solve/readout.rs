@@ -333,6 +333,36 @@ fn set_viscous_displacement(f: &FingerModel, offset_m: &[f64], d: f64, fs: &mut 
     }
 }
 
+/// The approach (m) of each force-controlled finger found by the program (0 for the others),
+/// and every finger's approach as reported: the found one, else the commanded one (in the
+/// offsets).
+fn approaches_m(
+    model: &GraspModel,
+    program: &ConeProgram,
+    multipliers: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
+    let mut found = vec![0.0; model.fingers.len()];
+    let mut approach = program.approach_m.clone();
+    for &LoadRow { finger: i, row } in &program.load_rows {
+        found[i] = -multipliers[row] * model.scales.displacement_m();
+        approach[i] = found[i];
+    }
+    (found, approach)
+}
+
+/// The friction law's coefficient at each finger's load `P_i` (N) from the element normal
+/// forces `x_n` (N): equal to the frozen one at a fixed point.
+fn mu_at_loads(model: &GraspModel, x_n: &[f64]) -> Vec<f64> {
+    let load = |f: &crate::model::grasp_model::FingerModel| -> f64 {
+        x_n[f.offset..f.offset + f.patch.len()].iter().sum()
+    };
+    model
+        .fingers
+        .iter()
+        .map(|f| f.friction.mu_at(load(f)))
+        .collect()
+}
+
 /// Builds the SI solution from the scaled forces `x` and equality multipliers.
 pub(crate) fn build_solution(
     model: &GraspModel,
@@ -348,23 +378,8 @@ pub(crate) fn build_solution(
         false => x_scaled.iter().map(|v| v * s.element_force_n).collect(),
     };
     let (t_o, theta) = rigid_from_multipliers(model, program, multipliers);
-    // The program's approach of each force-controlled finger; the others' is in the offsets
-    // and reported as commanded.
-    let mut found = vec![0.0; model.fingers.len()];
-    let mut approach = program.approach_m.clone();
-    for &LoadRow { finger: i, row } in &program.load_rows {
-        found[i] = -multipliers[row] * s.displacement_m();
-        approach[i] = found[i];
-    }
-    // The law's coefficient at each finger's load (equal to the frozen one at a fixed point).
-    let mu_at_load: Vec<f64> = model
-        .fingers
-        .iter()
-        .map(|f| {
-            let p: f64 = x_n[f.offset..f.offset + f.patch.len()].iter().sum();
-            f.friction.mu_at(p)
-        })
-        .collect();
+    let (found, approach) = approaches_m(model, program, multipliers);
+    let mu_at_load = mu_at_loads(model, &x_n);
     let motion = StepMotion {
         rigid: RigidMotion {
             translation_o_m: t_o,
