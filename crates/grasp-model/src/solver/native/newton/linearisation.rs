@@ -162,6 +162,20 @@ pub(crate) fn linearise_reusing(
     lin.fixed.clear();
     lin.residuals.clear();
     let chunks = block.elements.div_ceil(CHUNK);
+    if chunks <= 1 {
+        // One chunk: straight into the kept vectors (the same order and sums, no chunk's own
+        // vectors to allocate, grow and copy: on a small patch these were a tenth of a
+        // Newton step).
+        let directions = block.dim * block.elements;
+        lin.free.reserve(directions);
+        lin.fixed.reserve(directions);
+        lin.residuals
+            .reserve(if residuals { block.elements } else { 0 });
+        for k in 0..block.elements {
+            linearise_element(block, cone, (x, y), (k, residuals), &mut lin);
+        }
+        return lin;
+    }
     for wave in (0..chunks).step_by(WAVE) {
         let parts = map_indices_coarse(WAVE.min(chunks - wave), block.elements, |c| {
             let mut part = FingerLinearisation::default();
