@@ -6,7 +6,8 @@ use std::sync::Arc;
 
 use grasp_model::{axis_directions, disturbance_margins, MarginOptions, WrenchDirection};
 use grasp_model::{
-    ContactState, GraspModel, MarginReport, MarginTracker, ModelError, SolveOptions, StepInputs,
+    ContactState, GraspModel, MarginReport, MarginTracker, ModelError, Solution, SolveOptions,
+    StepInputs,
 };
 use serde::Serialize;
 
@@ -79,12 +80,15 @@ impl MarginPath {
         }
     }
 
-    /// The margin of the next step: as [`step_margin`], from the last step's margins.
+    /// The margin of the next step: as [`step_margin`], from the last step's margins and the
+    /// step's own undisturbed solve `solved` (the contact state after
+    /// [`grasp_model::GraspSolver::solve_step`] from the step's start state, before
+    /// [`ContactState::advance_time_step`], and its solution).
     pub fn step_margin(
         &mut self,
         model: &Arc<GraspModel>,
         inputs: &StepInputs,
-        state: &ContactState,
+        solved: (&ContactState, &Solution),
         solve: SolveOptions,
     ) -> Result<StepMargin, ModelError> {
         let tracker = match &mut self.tracker {
@@ -93,7 +97,9 @@ impl MarginPath {
                 .tracker
                 .insert(MarginTracker::new(axis_directions(model), self.options)?),
         };
-        Ok(smallest_of(&tracker.margins(model, inputs, state, solve)?))
+        Ok(smallest_of(
+            &tracker.margins_of_solved(model, inputs, solved, solve)?,
+        ))
     }
 }
 

@@ -498,18 +498,23 @@ impl<'a> Stepper<'a> {
         let mut state = self.contact_state_of(&model);
         let inputs = self.step_inputs(&model, step, external);
         state.prepare_time_step(&model);
-        let before = options.margins.then(|| state.clone());
+        // A continued search starts its trials where the step's solve left the state, before
+        // time moves on (no second solve of the step); one from scratch solves the step again
+        // from its start.
+        let continued = options.margins && self.margin_path.is_some();
+        let before = (options.margins && !continued).then(|| state.clone());
         let solved = solver.solve_step(&inputs, &mut state);
+        let after = continued.then(|| state.clone());
         if let Ok(sol) = &solved {
             if sol.status.has_forces() {
                 state.advance_time_step(&model, sol);
             }
         }
-        let margin = match (&solved, before, &mut self.margin_path) {
-            (Ok(sol), Some(b), Some(path)) if sol.status.has_forces() => {
-                Some(path.step_margin(&model, &inputs, &b, options.solve))
+        let margin = match (&solved, &mut self.margin_path, before, after) {
+            (Ok(sol), Some(path), _, Some(after)) if sol.status.has_forces() => {
+                Some(path.step_margin(&model, &inputs, (&after, sol), options.solve))
             }
-            (Ok(sol), Some(b), None) if sol.status.has_forces() => Some(step_margin(
+            (Ok(sol), None, Some(b), _) if sol.status.has_forces() => Some(step_margin(
                 &model,
                 &inputs,
                 &b,

@@ -954,12 +954,12 @@ pub(crate) fn unresisted_and_smallest(margins: &[DirectionMargin]) -> (Vec<usize
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A block pinched along x by two flat steel pads (commanded load 10 N each, mu 0.5),
     /// weight 4 N: downwards it takes `2 mu P - W = 6 N` more (the pads' friction capacity).
-    fn pinch() -> GraspModel {
+    pub(crate) fn pinch() -> GraspModel {
         let finger = |name: &str, x: f64, nx: f64| {
             serde_json::json!({
                 "name": name, "contact_point": [x, 0.0, 0.0], "normal": [nx, 0.0, 0.0],
@@ -979,7 +979,7 @@ mod tests {
         GraspModel::from_scene(&scene).unwrap()
     }
 
-    const DOWN: WrenchDirection = WrenchDirection {
+    pub(crate) const DOWN: WrenchDirection = WrenchDirection {
         force: [0.0, 0.0, -1.0],
         torque: [0.0; 3],
     };

@@ -35,7 +35,8 @@
 //! - **started**: each trial's Tresca iteration from the forces of the direction's last two
 //!   trials, extrapolated to its magnitude ([`crate::analysis::trial_forces`]), instead of its
 //!   start state's (the start state's slip memory, which sets the answer, stays);
-//! - **shared**: the step's undisturbed solve (its solver kept from step to step, warm), and
+//! - **shared**: the step's undisturbed solve (its solver kept from step to step, warm; or
+//!   the hand-off's own solve of the step, [`MarginTracker::margins_of_solved`]), and
 //!   the directions that only the commanded
 //!   loads could balance ([`crate::analysis::load_fixed_directions`], once per model): a
 //!   disturbance along one of them is unresisted without a solve (the search from scratch
@@ -193,21 +194,52 @@ impl MarginTracker {
         state: &ContactState,
         solve_options: SolveOptions,
     ) -> Result<MarginReport, ModelError> {
-        use rayon::prelude::*;
         solve_options.validate()?;
         let clock = Instant::now();
         self.keep_solvers_of(model, solve_options);
-        let length_m = self.options.length_m.unwrap_or(model.scales.length_m);
         let mut base_state = state.clone();
         let base_solver = self
             .base_solver
             .get_or_insert_with(|| GraspSolver::new(Arc::clone(model), solve_options));
         let base = base_solver.solve_step(inputs, &mut base_state)?;
+        let solved = (&base_state, &base);
+        self.margins_beyond(model, inputs, solved, solve_options, clock)
+    }
+
+    /// [`MarginTracker::margins`] of a step whose undisturbed solve the caller has made:
+    /// `solved` is the contact state after [`GraspSolver::solve_step`] of `inputs` from the
+    /// step's start state (before [`ContactState::advance_time_step`]) and its solution,
+    /// solved with `solve_options` (a hand-off's own step: its margins then cost no second
+    /// solve of the step).
+    pub fn margins_of_solved(
+        &mut self,
+        model: &Arc<GraspModel>,
+        inputs: &StepInputs,
+        solved: (&ContactState, &Solution),
+        solve_options: SolveOptions,
+    ) -> Result<MarginReport, ModelError> {
+        solve_options.validate()?;
+        let clock = Instant::now();
+        self.keep_solvers_of(model, solve_options);
+        self.margins_beyond(model, inputs, solved, solve_options, clock)
+    }
+
+    /// The margins from the step's undisturbed state and solution `(base_state, base)`.
+    fn margins_beyond(
+        &mut self,
+        model: &Arc<GraspModel>,
+        inputs: &StepInputs,
+        (base_state, base): (&ContactState, &Solution),
+        solve_options: SolveOptions,
+        clock: Instant,
+    ) -> Result<MarginReport, ModelError> {
+        use rayon::prelude::*;
+        let length_m = self.options.length_m.unwrap_or(model.scales.length_m);
         let sliding_undisturbed = match model.kind() {
-            ModelKind::Coulomb if base.status.has_forces() => sliding_fingers(&base),
+            ModelKind::Coulomb if base.status.has_forces() => sliding_fingers(base),
             _ => Vec::new(),
         };
-        let margins: Vec<DirectionMargin> = match holds(model, &base, &sliding_undisturbed) {
+        let margins: Vec<DirectionMargin> = match holds(model, base, &sliding_undisturbed) {
             Err(f) => {
                 self.tracks.iter_mut().for_each(|t| t.last.clear());
                 let dirs = self.directions.iter();
@@ -221,7 +253,7 @@ impl MarginTracker {
                     options: &self.options,
                     length_m,
                     exempt: &sliding_undisturbed,
-                    base: (&base_state, &base),
+                    base: (base_state, base),
                     fixed: &self.fixed,
                 };
                 let pairs = self.tracks.par_iter_mut().zip(self.directions.par_iter());
@@ -499,4 +531,56 @@ fn walk_down(
         };
     }
     Ok((base, fails))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::margin::tests::{pinch, DOWN};
+
+    /// A step solved by the caller (a hand-off's own solve) gives the margins of the step
+    /// solved by the tracker itself, bit for bit (the same inputs and start state, fresh
+    /// solvers: the same undisturbed solution), at two successive steps (the second continued
+    /// from the first); and the downward margin brackets the pads' friction capacity, the
+    /// closed form `2 mu P - W = 6 N`, to the bisection's relative tolerance.
+    #[test]
+    fn a_step_solved_by_the_caller_gives_the_margins_of_a_step_solved_here() {
+        let model = Arc::new(pinch());
+        let solve = SolveOptions::default();
+        let options = MarginOptions::default();
+        let directions = vec![
+            DOWN,
+            WrenchDirection::of_wrench([1.0, 0.0, 0.0], [0.0; 3], 1.0).unwrap(),
+        ];
+        let mut itself = MarginTracker::new(directions.clone(), options).unwrap();
+        let mut given = MarginTracker::new(directions, options).unwrap();
+        let mut stepper = GraspSolver::new(Arc::clone(&model), solve);
+        let start = ContactState::new(&model);
+        let inputs = StepInputs::of_scene(&model);
+        for step in 0..2 {
+            let mut after = start.clone();
+            let sol = stepper.solve_step(&inputs, &mut after).unwrap();
+            let a = itself.margins(&model, &inputs, &start, solve).unwrap();
+            let b = given
+                .margins_of_solved(&model, &inputs, (&after, &sol), solve)
+                .unwrap();
+            for (x, y) in a.directions.iter().zip(&b.directions) {
+                assert_eq!(
+                    (x.margin_n, x.fails_at_n, x.solves),
+                    (y.margin_n, y.fails_at_n, y.solves),
+                    "step {step}"
+                );
+            }
+            let down = &b.directions[0];
+            let fails = down.fails_at_n.unwrap();
+            assert!(
+                down.margin_n <= 6.0 * (1.0 + 1e-9) && fails >= 6.0 * (1.0 - 1e-9),
+                "step {step}: {down:?}"
+            );
+            assert!(
+                fails - down.margin_n <= options.relative_tolerance * fails,
+                "step {step}: {down:?}"
+            );
+        }
+    }
 }

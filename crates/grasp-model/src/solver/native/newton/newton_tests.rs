@@ -187,6 +187,50 @@ fn a_start_at_the_answer_takes_no_step() {
     assert_eq!(again.iterate, answer);
 }
 
+/// A start with numbers that are not finite (an interior-point answer that lost positive
+/// definiteness, say) is never reported converged: its residuals are not finite, and the
+/// iteration starts again from scratch, converging to the statics answer (to 1e-9 of `W`:
+/// the solver's tolerance on a 2-element problem), or stalls; either way no NaN is an answer.
+#[test]
+fn a_start_with_numbers_that_are_not_finite_is_never_converged() {
+    let model = pad(-1e-4);
+    let program = program_of(&model);
+    let mut native = NativeSolver::new(&model, &program);
+    let limits = Limits {
+        tolerance: 1e-12,
+        max_iterations: 10,
+        progress: None,
+    };
+    let answer: Iterate = native.solve(&program, &[], limits).iterate;
+    for bad in [f64::NAN, f64::INFINITY] {
+        let mut start = answer.clone();
+        start.x[0] = bad;
+        let r = native.solve(&program, &[&start], limits);
+        let finite = r
+            .iterate
+            .x
+            .iter()
+            .chain(&r.iterate.lambda)
+            .all(|v| v.is_finite());
+        assert!(
+            r.status != NativeStatus::Converged || finite,
+            "{bad}: {r:?}"
+        );
+        if r.status == NativeStatus::Converged {
+            let [left, right] = statics(-1e-4);
+            let fu = model.scales.element_force_n;
+            assert!(
+                (r.iterate.x[0] * fu - left).abs() < 1e-9 * WEIGHT_N,
+                "{bad}: {r:?}"
+            );
+            assert!(
+                (r.iterate.x[1] * fu - right).abs() < 1e-9 * WEIGHT_N,
+                "{bad}: {r:?}"
+            );
+        }
+    }
+}
+
 /// Coefficient of friction of the rough pad.
 const MU: f64 = 0.2;
 

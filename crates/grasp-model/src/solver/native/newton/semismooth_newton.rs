@@ -429,6 +429,12 @@ fn descend(
         let tol = Tolerances::at(limits, program, &s);
         let psi = lins.iter().map(|l| l.residual_sq).sum::<f64>()
             + e_res.iter().map(|v| v * v).sum::<f64>();
+        if !psi.is_finite() {
+            // Not a point the iteration can judge (a start or an interior-point answer with
+            // numbers that are not finite, or an overflow): the maxima below would skip its
+            // NaNs and read it as converged.
+            return Descent::Stalled(s);
+        }
         // Aim at TARGET of the tolerance (one more quadratic step, usually without a new
         // factorisation); accept the tolerance itself once progress stalls at round-off.
         let e_max = max_abs(&e_res);
