@@ -250,6 +250,16 @@ fn same_layout(a: &Iterate, b: &Iterate) -> bool {
 mod tests {
     use super::*;
 
+    /// Deterministic draws uniform in `[-0.5, 0.5)` (xorshift64 from `seed`).
+    fn uniform_draws(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        }
+    }
+
     fn it(x: &[f64], l: &[f64]) -> Iterate {
         Iterate {
             x: x.to_vec(),
@@ -310,13 +320,7 @@ mod tests {
     /// decomposition itself (the independent computation), not a recorded answer.
     #[test]
     fn the_projection_refuses_only_what_the_decomposition_refuses() {
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut draw = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut draw = uniform_draws(0x2545_f491_4f6c_dd1d_u64);
         let (mut accepted, mut refused_first) = (0, 0);
         for case in 0..600 {
             let cols = 1 + case % 3;
@@ -355,13 +359,7 @@ mod tests {
     /// of the refusals (so the check is not vacuous).
     #[test]
     fn the_sampled_rows_refuse_only_what_all_the_rows_refuse() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut draw = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut draw = uniform_draws(0x9e37_79b9_7f4a_7c15_u64);
         let (mut refused, mut by_sample) = (0, 0);
         for case in 0..600 {
             let mut t = Trail::default();

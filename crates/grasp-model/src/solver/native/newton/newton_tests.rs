@@ -169,19 +169,27 @@ fn reduced_factor_reproduces_the_block_and_the_equality_rows() {
     }
 }
 
+/// The limits of the pad's solves: a tight tolerance, a few steps.
+const LIMITS: Limits = Limits {
+    tolerance: 1e-12,
+    max_iterations: 10,
+    progress: None,
+};
+
+/// The pad with its centre of mass at `x = -1e-4` m, its program and a native solver.
+fn pad_and_solver() -> (GraspModel, ConeProgram, NativeSolver) {
+    let model = pad(-1e-4);
+    let program = program_of(&model);
+    let native = NativeSolver::new(&model, &program);
+    (model, program, native)
+}
+
 /// Warm-started from the answer, the solve takes no Newton step.
 #[test]
 fn a_start_at_the_answer_takes_no_step() {
-    let model = pad(-1e-4);
-    let program = program_of(&model);
-    let mut native = NativeSolver::new(&model, &program);
-    let limits = Limits {
-        tolerance: 1e-12,
-        max_iterations: 10,
-        progress: None,
-    };
-    let answer: Iterate = native.solve(&program, &[], limits).iterate;
-    let again = native.solve(&program, &[&answer], limits);
+    let (_model, program, mut native) = pad_and_solver();
+    let answer: Iterate = native.solve(&program, &[], LIMITS).iterate;
+    let again = native.solve(&program, &[&answer], LIMITS);
     assert_eq!(again.status, NativeStatus::Converged);
     assert_eq!(again.iterations, 0);
     assert_eq!(again.iterate, answer);
@@ -193,19 +201,12 @@ fn a_start_at_the_answer_takes_no_step() {
 /// the solver's tolerance on a 2-element problem), or stalls; either way no NaN is an answer.
 #[test]
 fn a_start_with_numbers_that_are_not_finite_is_never_converged() {
-    let model = pad(-1e-4);
-    let program = program_of(&model);
-    let mut native = NativeSolver::new(&model, &program);
-    let limits = Limits {
-        tolerance: 1e-12,
-        max_iterations: 10,
-        progress: None,
-    };
-    let answer: Iterate = native.solve(&program, &[], limits).iterate;
+    let (model, program, mut native) = pad_and_solver();
+    let answer: Iterate = native.solve(&program, &[], LIMITS).iterate;
     for bad in [f64::NAN, f64::INFINITY] {
         let mut start = answer.clone();
         start.x[0] = bad;
-        let r = native.solve(&program, &[&start], limits);
+        let r = native.solve(&program, &[&start], LIMITS);
         let finite = r
             .iterate
             .x
