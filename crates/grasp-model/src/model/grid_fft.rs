@@ -7,14 +7,20 @@
 //! frequency `q` along `j`), with `hy = py / 2 + 1`: rows are transformed real-to-complex, then
 //! the columns complex-to-complex.
 //!
+//! Between the passes the half-spectra of the rows are kept blocked by tile: per tile of
+//! [`TILE`] frequencies, its `n_rows x tile` values, row after row. A task of the row passes
+//! then reads or writes a few kilobytes in a row per tile, and a tile's task reads its block
+//! whole, instead of every task touching each of a megabytes-long array's rows (and pages) for
+//! a few values.
+//!
 //! A product with a block kernel ([`GridFft::multiply_blocks`]) runs in three passes, each
 //! split into independent tasks that run on all cores for large grids:
 //!
-//! 1. the grid's rows, real-to-complex (a task per few rows);
+//! 1. the grid's rows, real-to-complex (a task per few rows), their half-spectra blocked by tile;
 //! 2. per tile of [`TILE`] frequencies `q`: the columns gathered, transformed, multiplied by
 //!    the kernel's rows and transformed back, all in a tile-sized scratch that stays in cache
 //!    (the padded spectrum is never stored whole);
-//! 3. the grid's rows back, complex-to-real.
+//! 3. the grid's rows back, complex-to-real (a task per few rows, reading each tile's block).
 //!
 //! Every row, column and product is computed by the same code on any thread, and nothing is
 //! summed across tasks, so a product's bits do not depend on the number of threads. Scratch
@@ -223,26 +229,78 @@ impl GridFft {
         }
     }
 
-    /// The half-spectra (`hy` each, into `rows`) of the first `rows.len() / hy` rows of
+    /// `task(scratch, k, tasks[k])` for every task: on all cores for a large grid, each task
+    /// with a leased scratch.
+    fn each_task<T: Send>(
+        &self,
+        tasks: Vec<T>,
+        task: impl Fn(&mut Scratch, usize, T) + Sync + Send,
+    ) {
+        if self.parallel() {
+            use rayon::prelude::*;
+            tasks
+                .into_par_iter()
+                .enumerate()
+                .for_each_init(|| self.lease(1), |s, (k, t)| task(&mut s.scratch, k, t));
+        } else {
+            let mut s = self.lease(1);
+            for (k, t) in tasks.into_iter().enumerate() {
+                task(&mut s.scratch, k, t);
+            }
+        }
+    }
+
+    /// Frequencies of the tile starting at `q0`.
+    fn tile_width(&self, q0: usize) -> usize {
+        TILE.min(self.hy - q0)
+    }
+
+    /// `rows` (the half-spectra of `rows.len() / hy` rows, blocked by tile) cut into the
+    /// parts of each [`ROWS`] rows: per task, its rows' part of every tile's block.
+    fn row_parts<'r>(&self, rows: &'r mut [Complex<f64>]) -> Vec<Vec<&'r mut [Complex<f64>]>> {
+        let n_rows = rows.len() / self.hy;
+        let mut tasks: Vec<Vec<_>> = (0..n_rows.div_ceil(ROWS)).map(|_| Vec::new()).collect();
+        let mut rest = rows;
+        for q0 in (0..self.hy).step_by(TILE) {
+            let w = self.tile_width(q0);
+            let (block, tail) = std::mem::take(&mut rest).split_at_mut(w * n_rows);
+            for (task, part) in tasks.iter_mut().zip(block.chunks_mut(ROWS * w)) {
+                task.push(part);
+            }
+            rest = tail;
+        }
+        tasks
+    }
+
+    /// The half-spectra (into `rows`, blocked by tile) of the first `rows.len() / hy` rows of
     /// `src`, whose rows are `stride` long and hold values in their first `width <= py`
     /// entries (zero beyond, up to `py`).
     fn row_spectra(&self, src: &[f64], (stride, width): (usize, usize), rows: &mut [Complex<f64>]) {
         let hy = self.hy;
-        self.each_chunk(rows, ROWS * hy, 1, |s, k, out| {
-            for (r, spectrum) in out.chunks_exact_mut(hy).enumerate() {
+        let n_rows = rows.len() / hy;
+        self.each_task(self.row_parts(rows), |s, k, mut parts| {
+            let count = ROWS.min(n_rows - k * ROWS);
+            for r in 0..count {
                 let i = k * ROWS + r;
                 s.real[..width].copy_from_slice(&src[i * stride..i * stride + width]);
                 s.real[width..].fill(0.0);
+                let spectrum = &mut s.half[r * hy..(r + 1) * hy];
                 // Lengths are the plan's: the transform cannot fail.
                 let _ = self
                     .r2c
                     .process_with_scratch(&mut s.real, spectrum, &mut s.fft);
             }
+            for (part, q0) in parts.iter_mut().zip((0..hy).step_by(TILE)) {
+                let w = self.tile_width(q0);
+                for (r, dst) in part.chunks_exact_mut(w).enumerate() {
+                    dst.copy_from_slice(&s.half[r * hy + q0..r * hy + q0 + w]);
+                }
+            }
         });
     }
 
-    /// Columns `q0 .. q0 + tile` of `rows` (`n_rows x hy`), each zero-padded to `px`, into
-    /// `dst` (`tile px`, column after column).
+    /// Columns `q0 .. q0 + tile` of `rows` (`n_rows` half-spectra, blocked by tile), each
+    /// zero-padded to `px`, into `dst` (`tile px`, column after column).
     fn gather_columns(
         &self,
         rows: &[Complex<f64>],
@@ -250,13 +308,13 @@ impl GridFft {
         q0: usize,
         dst: &mut [Complex<f64>],
     ) {
-        let (px, hy) = (self.px, self.hy);
+        let px = self.px;
         let tile = dst.len() / px;
         for t in 0..tile {
             dst[t * px + n_rows..(t + 1) * px].fill(Complex::default());
         }
-        for i in 0..n_rows {
-            let src = &rows[i * hy + q0..i * hy + q0 + tile];
+        let block = &rows[q0 * n_rows..(q0 + tile) * n_rows];
+        for (i, src) in block.chunks_exact(tile).enumerate() {
             for (t, v) in src.iter().enumerate() {
                 dst[t * px + i] = *v;
             }
@@ -287,7 +345,7 @@ impl GridFft {
 
     /// The tile `k` of frequencies of every output component with terms: the sources' columns
     /// transformed, multiplied by the kernels and transformed back; their first `nx` entries
-    /// into `out` (`tile x dim x nx`, frequency-major).
+    /// into `out` (`dim x nx x tile`: per component, row after row).
     fn tile_products(
         &self,
         s: &mut Scratch,
@@ -327,15 +385,17 @@ impl GridFft {
                 }
             }
             self.inverse.process_with_scratch(sum, &mut s.fft);
-            for t in 0..tile {
-                let o = (t * dim + r) * nx;
-                out[o..o + nx].copy_from_slice(&sum[t * px..t * px + nx]);
+            let out_r = &mut out[r * nx * tile..(r + 1) * nx * tile];
+            for (i, o) in out_r.chunks_exact_mut(tile).enumerate() {
+                for (t, v) in o.iter_mut().enumerate() {
+                    *v = sum[t * px + i];
+                }
             }
         }
     }
 
     /// Output component `r`'s grid values (`nx x ny`, into `out`) from its spectra in
-    /// `columns` (`hy x dim x nx`, frequency-major), scaled by `factor / (px py)`.
+    /// `columns` (per tile of frequencies, `dim x nx x tile`), scaled by `factor / (px py)`.
     fn rows_back(
         &self,
         columns: &[Complex<f64>],
@@ -348,10 +408,11 @@ impl GridFft {
         self.each_chunk(out, ROWS * ny, 1, |s, k, out_rows| {
             let n_rows = out_rows.len() / ny;
             let i0 = k * ROWS;
-            for q in 0..hy {
-                let o = (q * dim + r) * nx + i0;
-                for (t, v) in columns[o..o + n_rows].iter().enumerate() {
-                    s.half[t * hy + q] = *v;
+            for q0 in (0..hy).step_by(TILE) {
+                let w = self.tile_width(q0);
+                let o = q0 * dim * nx + (r * nx + i0) * w;
+                for (t, src) in columns[o..o + n_rows * w].chunks_exact(w).enumerate() {
+                    s.half[t * hy + q0..t * hy + q0 + w].copy_from_slice(src);
                 }
             }
             for (t, out_row) in out_rows.chunks_exact_mut(ny).enumerate() {
