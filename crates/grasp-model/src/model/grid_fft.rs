@@ -272,6 +272,18 @@ impl GridFft {
         tasks
     }
 
+    /// True when some entry of `v` is not zero: on all cores for a large grid (a vector zero
+    /// over much of a patch is otherwise scanned on one core at every product).
+    fn any_nonzero(&self, v: &[f64]) -> bool {
+        let nonzero = |c: &[f64]| c.iter().any(|x| *x != 0.0);
+        if self.parallel() {
+            use rayon::prelude::*;
+            v.par_chunks(ROWS * self.ny.max(1)).any(nonzero)
+        } else {
+            nonzero(v)
+        }
+    }
+
     /// The half-spectra (into `rows`, blocked by tile) of the first `rows.len() / hy` rows of
     /// `src`, whose rows are `stride` long and hold values in their first `width <= py`
     /// entries (zero beyond, up to `py`).
@@ -448,7 +460,7 @@ impl GridFft {
             return;
         }
         let nonzero: Vec<bool> = (0..dim)
-            .map(|c| v[c * n..(c + 1) * n].iter().any(|x| *x != 0.0))
+            .map(|c| self.any_nonzero(&v[c * n..(c + 1) * n]))
             .collect();
         let terms: Vec<Terms> = (0..dim)
             .map(|r| {

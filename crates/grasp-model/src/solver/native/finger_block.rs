@@ -194,9 +194,11 @@ impl FingerBlockData {
                 }
                 let mut cv = self.work.take(v.len());
                 op.apply(v, &mut cv);
-                for (o, x) in out.iter_mut().zip(&cv) {
-                    *o += self.scale * x;
-                }
+                each_chunk(out, |s, chunk| {
+                    for (o, x) in chunk.iter_mut().zip(&cv[s..]) {
+                        *o += self.scale * x;
+                    }
+                });
                 self.work.give(cv);
             }
         }

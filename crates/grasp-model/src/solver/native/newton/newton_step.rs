@@ -314,6 +314,8 @@ pub(crate) fn finish_finger(
     block.apply(&dx, dy);
     block.add_equality_transpose(&step.dlambda, dy);
     block.add_equality(&dx, &mut step.e_dx);
-    step.dx[r].copy_from_slice(&dx);
+    each_chunk(&mut step.dx[r], |s, c| {
+        c.copy_from_slice(&dx[s..s + c.len()])
+    });
     block.work.give(dx);
 }
