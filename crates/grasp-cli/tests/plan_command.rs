@@ -21,12 +21,14 @@ const TEMPLATE_RATE: f64 = 1.5;
 /// The plan's stated tolerance on the margin (`MARGIN_TOLERANCE`).
 const MARGIN_TOLERANCE: f64 = 1e-3;
 
-/// Per step of a transfer CSV: (time s, per finger (normal N, friction N)).
-fn steps(csv: &str) -> Vec<(f64, Vec<(f64, f64)>)> {
+/// The coulomb plate's fingers.
+const PLATE: [&str; 4] = ["f1", "f2", "f3", "f4"];
+
+/// Per step of a transfer CSV: (time s, per finger of `fingers` (normal N, friction N)).
+fn steps(csv: &str, fingers: &[&str]) -> Vec<(f64, Vec<(f64, f64)>)> {
     let mut lines = csv.lines();
     let head: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
-    let fingers = ["f1", "f2", "f3", "f4"];
     lines
         .map(|l| {
             let v: Vec<&str> = l.split(',').collect();
@@ -43,20 +45,32 @@ fn steps(csv: &str) -> Vec<(f64, Vec<(f64, f64)>)> {
         .collect()
 }
 
-/// The smallest slip margin over the fingers carrying at least 5 % of the load scale.
-fn smallest_margin(rows: &[(f64, Vec<(f64, f64)>)]) -> (f64, f64) {
-    let mut least = (f64::INFINITY, 0.0);
+/// The smallest slip margin `1 - |Q| / (mu P)` over the fingers whose contact force (normal
+/// and friction together) is at least 5 % of `load_scale_n`: (margin, time s, finger index).
+fn smallest_margin(
+    rows: &[(f64, Vec<(f64, f64)>)],
+    mu: f64,
+    load_scale_n: f64,
+) -> (f64, f64, usize) {
+    let mut least = (f64::INFINITY, 0.0, 0);
     for (t, forces) in rows {
-        for &(p, q) in forces {
-            if p > 0.0 && (p * p + q * q).sqrt() >= 0.05 * LOAD_SCALE_N {
-                let m = 1.0 - q / (MU * p);
+        for (i, &(p, q)) in forces.iter().enumerate() {
+            if p > 0.0 && (p * p + q * q).sqrt() >= 0.05 * load_scale_n {
+                let m = 1.0 - q / (mu * p);
                 if m < least.0 {
-                    least = (m, *t);
+                    least = (m, *t, i);
                 }
             }
         }
     }
     least
+}
+
+/// The coulomb plate's smallest slip margin along a transfer CSV: (margin, time s).
+fn plate_margin(csv: &std::path::Path) -> (f64, f64) {
+    let rows = steps(&std::fs::read_to_string(csv).unwrap(), &PLATE);
+    let (m, t, _) = smallest_margin(&rows, MU, LOAD_SCALE_N);
+    (m, t)
 }
 
 /// Keyframes `(t, N)` of each finger's ramp in a schedule file.
@@ -71,6 +85,18 @@ fn keyframes(schedule: &serde_json::Value) -> Vec<Vec<(f64, f64)>> {
                 .collect()
         })
         .collect()
+}
+
+/// The steepest load rate of any ramp in a schedule file, from its keyframes, N/s.
+fn steepest_rate(schedule: &serde_json::Value) -> f64 {
+    let spans = keyframes(schedule).into_iter().flat_map(|ramp| {
+        let rates: Vec<f64> = ramp
+            .windows(2)
+            .map(|w| (w[1].1 - w[0].1).abs() / (w[1].0 - w[0].0))
+            .collect();
+        rates
+    });
+    spans.fold(0.0, f64::max)
 }
 
 /// `grasp transfer` of the coulomb plate along `schedule`, its CSV written to `csv`; it must
@@ -116,19 +142,14 @@ fn a_plan_rerun_by_transfer_keeps_its_constraints_and_is_at_least_as_fast_as_its
     let schedule: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     // Rates, from the file's keyframes.
-    for ramp in keyframes(&schedule) {
-        for w in ramp.windows(2) {
-            let r = (w[1].1 - w[0].1).abs() / (w[1].0 - w[0].0);
-            assert!(
-                r <= TEMPLATE_RATE * (1.0 + 1e-6),
-                "rate {r} N/s in {ramp:?}"
-            );
-        }
-    }
+    let steepest = steepest_rate(&schedule);
+    assert!(
+        steepest <= TEMPLATE_RATE * (1.0 + 1e-6),
+        "rate {steepest} N/s"
+    );
     // Margins, from an independent run of the file by `grasp transfer`.
     transfer_csv(out.to_str().unwrap(), &csv, &[]);
-    let rows = steps(&std::fs::read_to_string(&csv).unwrap());
-    let (least, at) = smallest_margin(&rows);
+    let (least, at) = plate_margin(&csv);
     assert!(
         least >= -MARGIN_TOLERANCE,
         "slip margin {least} at t = {at} s"
@@ -171,7 +192,7 @@ fn a_threshold_the_coulomb_plate_cannot_keep_is_reported_with_its_finger_time_an
     // finger at the friction limit while it carries more than 5 % of the load scale.
     let csv = d.join("template.csv");
     transfer_csv(&example("plate_handoff_coulomb.schedule.json"), &csv, &[]);
-    let (least, _) = smallest_margin(&steps(&std::fs::read_to_string(&csv).unwrap()));
+    let (least, _) = plate_margin(&csv);
     assert!(
         least < 0.1 - MARGIN_TOLERANCE,
         "template's smallest margin {least}"
@@ -340,4 +361,125 @@ fn a_disturbance_margin_above_the_grasps_best_is_refused_with_the_constraint_nam
     let o = plan(&out, &["--max-rate", "1.5", "--min-margin", "0"]);
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(text(&o).contains("min-margin"), "{}", text(&o));
+}
+
+/// The relaxing cylinder hand-off (`examples/cylinder_handoff_relaxing.json`): its fingers
+/// (A lets go, B's jaws are held), mu of every pad, and its load scale (the largest of the
+/// weight, 1.93 N, and A's commanded 15 N).
+const CYLINDER: [&str; 4] = ["a1", "a2", "b1", "b2"];
+const CYLINDER_MU: f64 = 0.8;
+const CYLINDER_LOAD_SCALE_N: f64 = 15.0;
+
+/// The slip-margin threshold of the relaxing cylinder's plans.
+const CYLINDER_THRESHOLD: f64 = 0.3;
+
+/// `grasp transfer` of the relaxing cylinder along `schedule`: its CSV's rows (written to
+/// `csv`).
+fn cylinder_steps(
+    schedule: &std::path::Path,
+    csv: &std::path::Path,
+) -> Vec<(f64, Vec<(f64, f64)>)> {
+    let scene = example("cylinder_handoff_relaxing.json");
+    let t = grasp(&[
+        "transfer",
+        &scene,
+        "--schedule",
+        schedule.to_str().unwrap(),
+        "--csv",
+        csv.to_str().unwrap(),
+        "--force",
+    ]);
+    assert_eq!(t.status.code(), Some(0), "{}", text(&t));
+    steps(&std::fs::read_to_string(csv).unwrap(), &CYLINDER)
+}
+
+/// `grasp plan` of the relaxing cylinder against its 10 s template: A lets go, slip margin at
+/// least [`CYLINDER_THRESHOLD`], load rates at most `rate`.
+fn cylinder_plan(out: &std::path::Path, rate: &str) -> std::process::Output {
+    grasp(&[
+        "plan",
+        &example("cylinder_handoff_relaxing.json"),
+        "--releasing",
+        "a1,a2",
+        "--template",
+        &example("cylinder_handoff_relaxing.schedule.json"),
+        "--min-slip-margin",
+        &CYLINDER_THRESHOLD.to_string(),
+        "--max-rate",
+        rate,
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}
+
+/// B's jaws are held, so their squeeze relaxes with their pads (Lee and Radok: under a held
+/// indentation the force follows the relaxation modulus), and the longer A takes to let go,
+/// the less friction B has when it carries the whole weight. The 10 s template breaks a slip
+/// margin of 0.3 at a held jaw; at 10 N/s the plan keeps it, re-run by `grasp transfer`; at
+/// 5 N/s no hand-off is short enough, and the refusal says that only a shorter one would do.
+#[test]
+fn held_pads_that_relax_through_a_slow_template_keep_their_margin_in_a_faster_plan() {
+    let d = tmp("plan", "relaxing");
+    let csv = d.join("run.csv");
+    let held = |i: usize| CYLINDER[i].starts_with('b');
+    // The template (independent run): a held jaw below the threshold, its squeeze fallen.
+    let template = std::path::PathBuf::from(example("cylinder_handoff_relaxing.schedule.json"));
+    let rows = cylinder_steps(&template, &csv);
+    let (least, at, i) = smallest_margin(&rows, CYLINDER_MU, CYLINDER_LOAD_SCALE_N);
+    assert!(
+        least < CYLINDER_THRESHOLD - MARGIN_TOLERANCE && held(i),
+        "{least} at {at} s"
+    );
+    let (first, last) = (rows[0].1[i].0, rows[rows.len() - 1].1[i].0);
+    assert!(
+        last < 0.7 * first,
+        "{} squeeze {first} N -> {last} N",
+        CYLINDER[i]
+    );
+    // At 10 N/s: kept, at the rate, and re-run by `grasp transfer` it keeps the threshold.
+    let out = d.join("fast.schedule.json");
+    let o = cylinder_plan(&out, "10");
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    let schedule: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert!(steepest_rate(&schedule) <= 10.0 * (1.0 + 1e-6));
+    let (least, at, _) = smallest_margin(
+        &cylinder_steps(&out, &csv),
+        CYLINDER_MU,
+        CYLINDER_LOAD_SCALE_N,
+    );
+    assert!(
+        least >= CYLINDER_THRESHOLD - MARGIN_TOLERANCE,
+        "{least} at {at} s"
+    );
+    // At 5 N/s: refused, a held jaw binding, the reason the duration the rates forbid.
+    let out = d.join("slow.schedule.json");
+    let o = cylinder_plan(&out, "5");
+    let said = text(&o);
+    assert_eq!(o.status.code(), Some(2), "{said}");
+    assert!(!out.exists());
+    assert!(
+        said.contains("binding constraint: slip margin of b"),
+        "{said}"
+    );
+    assert!(
+        said.contains("grows only as the hand-off gets shorter"),
+        "{said}"
+    );
+    assert!(said.contains("none shorter than 3 s"), "{said}");
+    // Independent evidence: the shortest hand-off 5 N/s allows, 15 N to 0 N linearly over
+    // 3 s, breaks it at a held jaw (a longer one leaves the pads longer to relax).
+    let linear = d.join("linear.schedule.json");
+    let ramp = serde_json::json!([{"ramp": {"keyframes": [[0.0, 15.0], [3.0, 0.0]]}}]);
+    let spec = serde_json::json!({
+        "time": {"start": 0.0, "end": 3.0, "step": 0.075},
+        "fingers": {"a1": ramp, "a2": ramp},
+    });
+    std::fs::write(&linear, spec.to_string()).unwrap();
+    let rows = cylinder_steps(&linear, &csv);
+    let (least, at, i) = smallest_margin(&rows, CYLINDER_MU, CYLINDER_LOAD_SCALE_N);
+    assert!(
+        least < CYLINDER_THRESHOLD - MARGIN_TOLERANCE && held(i),
+        "{least} at {at} s"
+    );
 }

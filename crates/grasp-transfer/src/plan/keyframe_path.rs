@@ -90,6 +90,24 @@ impl KeyframePath {
         g
     }
 
+    /// The shortest duration at which these keyframe loads keep every planned finger's load
+    /// rate within `rate_n_per_s` (N/s), s: the steepest span's `|dx| share / (rate df)`;
+    /// 0 without a rate limit.
+    pub fn shortest_duration_s(&self, rate_n_per_s: Option<f64>) -> f64 {
+        let Some(rate) = rate_n_per_s else {
+            return 0.0;
+        };
+        let f = &self.fractions;
+        let mut shortest: f64 = 0.0;
+        for (group, loads) in self.groups.iter().zip(&self.loads_n) {
+            for k in 0..f.len() - 1 {
+                let rise_n = (loads[k + 1] - loads[k]).abs() * group.largest_share();
+                shortest = shortest.max(rise_n / (rate * (f[k + 1] - f[k])));
+            }
+        }
+        shortest
+    }
+
     /// The schedule file of this path: every planned finger a linear ramp through its
     /// keyframes (a finger at 0 N is released), `others` (the template's phases of the fingers
     /// not planned) as they were.
@@ -170,5 +188,34 @@ mod tests {
         };
         let times: Vec<f64> = r.keyframes.iter().map(|k| k.0).collect();
         assert_eq!(times, [0.0, 2.0, 8.0]);
+    }
+
+    /// At the shortest duration the steepest ramp of the schedule file runs at the rate limit
+    /// exactly, and every other within it (the file's keyframes, not the formula's spans);
+    /// two members of unequal shares: the larger share sets the rate.
+    #[test]
+    fn at_the_shortest_duration_the_steepest_ramp_runs_at_the_rate_limit() {
+        let mut p = path();
+        p.groups[0].members = vec![("a".into(), 1.0), ("b".into(), 0.5)];
+        let rate_n_per_s = 2.0;
+        p.duration_s = p.shortest_duration_s(Some(rate_n_per_s));
+        let spec = p.to_spec("test".into(), &BTreeMap::new());
+        let mut steepest: f64 = 0.0;
+        for phases in spec.fingers.values() {
+            let PhaseSpec::Ramp(r) = &phases[0] else {
+                panic!("a ramp")
+            };
+            for w in r.keyframes.windows(2) {
+                let (KeyValue::Newtons(a), KeyValue::Newtons(b)) = (&w[0].1, &w[1].1) else {
+                    panic!("loads in N")
+                };
+                steepest = steepest.max((b - a).abs() / (w[1].0 - w[0].0));
+            }
+        }
+        // 4 N over a quarter of the duration at 2 N/s: 8 s; the file's times are rounded to
+        // the nanosecond, so the rate agrees to 1e-9 of itself.
+        assert!((p.duration_s - 8.0).abs() < 1e-12, "{}", p.duration_s);
+        assert!((steepest - rate_n_per_s).abs() < 1e-9, "{steepest} N/s");
+        assert_eq!(p.shortest_duration_s(None), 0.0);
     }
 }

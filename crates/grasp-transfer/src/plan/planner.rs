@@ -327,7 +327,7 @@ impl Runner<'_> {
         let records = self.run_schedule(&schedule, None, self.check_margins())?;
         let mut binding = binding_row(&records, &best.path, self.options);
         if let Some(b) = binding.as_mut().filter(|b| b.why.is_empty()) {
-            b.why = explain(b, &best, &stopped);
+            b.why = explain(b, &best, &stopped, self.options);
         }
         let template_duration_s = template
             .as_ref()
@@ -358,9 +358,11 @@ impl Runner<'_> {
 
 /// Why the search stopped short of a binding constraint, from the last iterate's
 /// linearisation: a margin whose derivative with respect to every keyframe load is 0 (a
-/// finger sliding at the friction limit: no nearby change of the loads lifts it off), or a
-/// linearised program with no better step within the bounds and rates, or the runs ran out.
-fn explain(b: &Binding, best: &Iterate, stopped: &str) -> String {
+/// finger sliding at the friction limit: no nearby change of the loads lifts it off), a
+/// margin that grows only with a shorter hand-off when the rates or `--min-duration` allow
+/// none ([`duration_bound`]), a linearised program with no better step within the bounds and
+/// rates, or the runs ran out.
+fn explain(b: &Binding, best: &Iterate, stopped: &str, options: &PlanOptions) -> String {
     let disturbance = b.constraint == "disturbance margin";
     let row = best.rows.iter().find(|r| {
         let same_row = match r.kind {
@@ -386,12 +388,44 @@ fn explain(b: &Binding, best: &Iterate, stopped: &str) -> String {
                 slides at the friction limit, and no nearby change of the loads lifts it off"
             .into();
     }
+    if let Some(why) = row.and_then(|r| duration_bound(r, &best.path, options)) {
+        return why;
+    }
     if stopped.contains("converged") {
         return "the linearised program finds no step that raises it within the load bounds, \
                 rates and duration"
             .into();
     }
     format!("the search stopped before it was met: {stopped}")
+}
+
+/// The reason of a margin that only a shorter hand-off raises (`dm/dT < 0`: viscoelastic pads
+/// relax while it lasts) at a duration already the shortest the load rates allow at these
+/// keyframe loads, or `--min-duration` (to 1e-4 of it, the program's bounds being met to its
+/// own tolerance); `None` otherwise.
+fn duration_bound(row: &MarginRow, path: &KeyframePath, options: &PlanOptions) -> Option<String> {
+    if row.per_duration >= 0.0 {
+        return None;
+    }
+    let by_rate_s = path.shortest_duration_s(options.max_rate_n_per_s);
+    let (shortest_s, what) = if options.min_duration_s >= by_rate_s {
+        (options.min_duration_s, "--min-duration allows")
+    } else {
+        (by_rate_s, "at these keyframe loads the load rates allow")
+    };
+    (path.duration_s <= shortest_s * (1.0 + 1e-4)).then(|| {
+        format!(
+            "it grows only as the hand-off gets shorter ({} per s there: the pads relax while \
+             it lasts), and {what} none shorter than {} s",
+            three_digits(row.per_duration),
+            three_digits(shortest_s)
+        )
+    })
+}
+
+/// `x` to three significant digits, as [`grasp_model::Readable`] writes it (`-0.0421`, `3`).
+fn three_digits(x: f64) -> grasp_model::Readable {
+    grasp_model::Readable(format!("{x:.2e}").parse().unwrap_or(x))
 }
 
 /// Each planned finger's loads at the keyframes, N.
