@@ -90,6 +90,14 @@ struct Direction {
     dz: Vec<f64>,
 }
 
+impl Direction {
+    /// Whether every number of the direction is finite.
+    fn is_finite(&self) -> bool {
+        let all = [&self.dx, &self.dlambda, &self.ds, &self.dz];
+        all.iter().all(|v| v.iter().all(|x| x.is_finite()))
+    }
+}
+
 /// The factorised Newton matrix of one iteration.
 struct Factors {
     l: Vec<Mat<f64>>,
@@ -459,8 +467,9 @@ fn stalled(p: Point, why: &str, counts: Counts) -> NativeResult {
 /// One iteration from `p` (residuals `res`, gap `s'z`), counted in `counts`: the NT scalings,
 /// the factorisation, the affine (predictor) direction, Mehrotra's centring and the corrector
 /// direction, along which `p` moves [`STEP_FRACTION`] of the way to the boundary (at most a
-/// full step). `Err` with the reason when the Newton matrix cannot be factorised or the step
-/// vanishes.
+/// full step). `Err` with the reason when the Newton matrix cannot be factorised, the
+/// direction has numbers that are not finite (`p` is then left as it was: the last finite
+/// point is handed on) or the step vanishes.
 fn predictor_corrector(
     blocks: &[FingerBlockData],
     program: &ConeProgram,
@@ -492,6 +501,9 @@ fn predictor_corrector(
     add_corrector(lay, &scalings, &aff, sigma, mu, &mut rc);
     let d = solve(blocks, lay, &f, &scalings, &lam, res, &rc);
     let alpha = (STEP_FRACTION * max_step(lay, p, &d, 1.0 / STEP_FRACTION)).min(1.0);
+    if !d.is_finite() || alpha.is_nan() {
+        return Err("the interior-point direction has numbers that are not finite");
+    }
     if alpha < 1e-12 {
         return Err("the interior-point step vanished");
     }
