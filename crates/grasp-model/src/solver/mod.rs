@@ -1,10 +1,12 @@
 //! Solvers of one convex program: the options of a solve, the solver-neutral outcome and the
 //! point of a solution (`iterate`), the program with its workspaces (`program_solver`),
 //! Clarabel (the reference), the native semismooth Newton solver (`native`), the warm
-//! start's prediction (`predictor`) and the progress a solve reports (`solve_progress`).
+//! start's prediction (`predictor`), the certificate of infeasibility kept for the next
+//! programs (`kept_certificate`) and the progress a solve reports (`solve_progress`).
 
 pub mod clarabel;
 pub(crate) mod iterate;
+pub(crate) mod kept_certificate;
 pub(crate) mod native;
 pub mod options;
 pub mod outcome;

@@ -9,6 +9,10 @@
 //!   Clarabel), anything else as no convergence;
 //! - `auto`: the native solver, falling back to Clarabel's answer when it does not converge
 //!   (the run says why).
+//!
+//! With `native` and `auto`, the last certificate Clarabel gave that a program has no
+//! solution is kept, and a later program it proves infeasible ([`KeptCertificate`]) is
+//! answered so without a solve: the trials beyond a margin, one after another.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -18,6 +22,7 @@ use crate::model::grasp_model::GraspModel;
 use crate::option_names;
 use crate::program::cone_program::ConeProgram;
 use crate::solver::iterate::Iterate;
+use crate::solver::kept_certificate::KeptCertificate;
 use crate::solver::native::native_result::{NativeResult, NativeStatus};
 use crate::solver::native::newton::semismooth_newton::Limits;
 use crate::solver::native::NativeSolver;
@@ -25,7 +30,9 @@ use crate::solver::options::{SolveOptions, SolverChoice};
 use crate::solver::solve_progress::SolveProgress;
 
 use crate::solver::clarabel::{self, ClarabelWorkspace};
-use crate::solver::outcome::{ConvexOutcome, ConvexRun, SolverKind, Start, MAX_NEWTON_ITERATIONS};
+use crate::solver::outcome::{
+    Certificate, ConvexOutcome, ConvexRun, SolverKind, Start, MAX_NEWTON_ITERATIONS,
+};
 use crate::solver::predictor::{data_of, Trail};
 
 /// A program and its solver workspaces.
@@ -40,6 +47,8 @@ pub(crate) struct ProgramSolver {
     trail: Trail,
     /// Told the native solver's counts as it goes, when given.
     pub progress: Option<Arc<SolveProgress>>,
+    /// The last certificate that a program had no solution ([`KeptCertificate`]).
+    kept: Option<KeptCertificate>,
 }
 
 impl ProgramSolver {
@@ -51,6 +60,7 @@ impl ProgramSolver {
             last: None,
             trail: Trail::default(),
             progress: None,
+            kept: None,
         }
     }
 
@@ -134,6 +144,14 @@ impl ProgramSolver {
         data: &[f64],
     ) -> Result<ConvexRun, ModelError> {
         let clock = Instant::now();
+        let floor = clarabel::radius_floor(options.tolerance);
+        if let Some(proof) = self
+            .kept
+            .as_ref()
+            .and_then(|k| k.proves(&self.program, floor))
+        {
+            return Ok(kept_run(proof, clock.elapsed().as_secs_f64()));
+        }
         let program = &self.program;
         let native = self
             .native
@@ -182,12 +200,33 @@ impl ProgramSolver {
             return Ok(native_run(failed, &result, native_time));
         }
         let mut run = self.solve_clarabel(model, options)?;
+        if let ConvexOutcome::Infeasible(certificate) = &run.outcome {
+            self.kept = KeptCertificate::new(&self.program, certificate);
+        }
         run.iterations += result.iterations;
         run.factorisations += result.factorisations;
         run.inner_iterations += result.inner_iterations;
         run.solver_time_s += native_time;
         after_native_stall(&mut run, options.solver, &why);
         Ok(run)
+    }
+}
+
+/// A program proved infeasible by the certificate kept from an earlier one (Clarabel's), in
+/// `time_s`: no solver ran.
+fn kept_run(certificate: Certificate, time_s: f64) -> ConvexRun {
+    ConvexRun {
+        outcome: ConvexOutcome::Infeasible(certificate),
+        iterations: 0,
+        factorisations: 0,
+        inner_iterations: 0,
+        solver_time_s: time_s,
+        answered_by: SolverKind::Clarabel,
+        fallback: Some(
+            "the certificate Clarabel gave for an earlier program of this grasp proves that \
+             this one has no solution (checked from the equilibrium rows; no solver ran)"
+                .into(),
+        ),
     }
 }
 
@@ -272,6 +311,118 @@ mod tests {
                 other => panic!("{other:?}"),
             }
             assert_eq!((run.iterations, run.factorisations), (0, 0));
+        }
+    }
+
+    use nalgebra::Vector3;
+
+    use crate::program::cone_program::ConeLaw;
+    use crate::Scene;
+
+    /// Weight of the pad's object, N.
+    const WEIGHT_N: f64 = 1.0;
+
+    /// A held pad of two elements (10 mm apart) under an object of weight [`WEIGHT_N`] whose
+    /// centre of mass lies on the contact plane above the pad's centre, coulomb model.
+    fn pad() -> GraspModel {
+        let text = format!(
+            r#"{{
+            "planar": null,
+            "object": {{"weight": {WEIGHT_N}, "center_of_mass": [0, 0, 0],
+                        "gravity": [0, 0, -1],
+                        "material": {{"youngs_modulus": 2e11, "poisson_ratio": 0.3}}}},
+            "fingers": [{{"name": "pad", "contact_point": [0, 0, 0], "normal": [0, 0, 1],
+                         "tangent": [1, 0, 0],
+                         "material": {{"youngs_modulus": 1e6, "poisson_ratio": 0.45}},
+                         "tip_radius": null, "object_radius": null,
+                         "patch": {{"size": [0.02, 0.01], "grid": [2, 1]}},
+                         "friction": {{"mu": 0.5}}, "control": "held"}}],
+            "model": "coulomb"
+        }}"#
+        );
+        let scene = Scene::from_json_str(&text).expect("a valid scene");
+        GraspModel::from_scene(&scene).expect("a usable model")
+    }
+
+    /// The pad's program `base` (its law, its equality matrix shared) with the weight plus a horizontal pull `pull_n` (N, along
+    /// x) at the centre of mass, and friction that resists a pull of at most `edge_n` (N):
+    /// Tresca radii `edge / 2` per element, or `mu = edge / W` on the associated cones (the
+    /// held pad carries the weight, so `sum F = W`).
+    fn pad_program(
+        model: &GraspModel,
+        base: &ConeProgram,
+        edge_n: f64,
+        pull_n: f64,
+    ) -> ConeProgram {
+        let mut program = base.clone();
+        match base.law {
+            ConeLaw::Tresca => program.set_radii(model, &[vec![0.5 * edge_n; 2]]),
+            ConeLaw::Associated => program.set_mu(&[edge_n / WEIGHT_N]),
+        }
+        let force = Vector3::new(pull_n, 0.0, -WEIGHT_N);
+        let wrench = model.wrench_at_center_of_mass(&force, &Vector3::zeros());
+        program.set_external_wrench(model, &wrench);
+        program
+    }
+
+    /// Whether Clarabel, alone and from scratch, finds `program` infeasible.
+    fn clarabel_says_infeasible(model: &GraspModel, program: &ConeProgram) -> bool {
+        let options = SolveOptions {
+            solver: SolverChoice::Clarabel,
+            ..SolveOptions::default()
+        };
+        let mut alone = ProgramSolver::new(program.clone());
+        let run = alone.solve(model, &options, Start::Cold).unwrap();
+        matches!(run.outcome, ConvexOutcome::Infeasible(_))
+    }
+
+    /// The pad resists a pull up to the friction its elements allow (closed form: equilibrium
+    /// along x with `|G_k| <= r` or `|G_k| <= mu F_k`). After Clarabel certified one pull
+    /// beyond it, the native solver answers every later program the certificate proves
+    /// without a solve, and only programs Clarabel alone also finds infeasible: pulls and
+    /// friction on both sides of the edge, under both laws; every pull 5 % or more past the
+    /// edge is proved; none below it.
+    #[test]
+    fn a_kept_certificate_answers_only_programs_clarabel_finds_infeasible() {
+        let model = pad();
+        let options = SolveOptions::default();
+        for law in [ConeLaw::Tresca, ConeLaw::Associated] {
+            let base = ConeProgram::assemble(&model, &[], law, &[0.5]);
+            let mut solver = ProgramSolver::new(pad_program(&model, &base, 0.2, 0.3));
+            let first = solver.solve(&model, &options, Start::Last).unwrap();
+            assert!(
+                matches!(first.outcome, ConvexOutcome::Infeasible(_)),
+                "{first:?}"
+            );
+            assert!(
+                first.iterations > 0,
+                "the first proof is Clarabel's: {first:?}"
+            );
+            let mut proved_past_edge = 0;
+            for edge_n in [0.1, 0.2, 0.4] {
+                for ratio in [0.5, 0.9, 0.99, 1.01, 1.05, 1.2, 2.0, 5.0] {
+                    let pull_n = ratio * edge_n;
+                    let program = pad_program(&model, &base, edge_n, pull_n);
+                    let what = format!("{law:?}, edge {edge_n} N, pull {pull_n} N");
+                    let reference = clarabel_says_infeasible(&model, &program);
+                    assert_eq!(reference, ratio > 1.0, "Clarabel: {what}");
+                    solver.program = program;
+                    let run = solver.solve(&model, &options, Start::Last).unwrap();
+                    let kept = run.iterations == 0
+                        && run.fallback.as_deref().is_some_and(|f| {
+                            f.contains("certificate Clarabel gave for an earlier program")
+                        });
+                    if kept {
+                        assert!(reference, "proved infeasible: {what}");
+                        assert!(matches!(run.outcome, ConvexOutcome::Infeasible(_)));
+                    }
+                    if ratio >= 1.05 {
+                        assert!(kept, "not proved: {what}: {run:?}");
+                        proved_past_edge += 1;
+                    }
+                }
+            }
+            assert_eq!(proved_past_edge, 12, "{law:?}");
         }
     }
 }
