@@ -323,6 +323,20 @@ pub const LAYER_PAIRS: [(&str, &str, f64); 4] = [
     ("ridged_pad_256x256_fft", "smooth_pad_256x256_fft", 1.5),
 ];
 
+/// Margins of a held grasp, which no load capacity bounds (the viscoelastic plate hold: two
+/// fingers pressed in and held for 60 s while their pads relax): each trial past the edge is
+/// a program with no solution, proved by Clarabel or by the certificate kept from the last
+/// one. No target. Native solver only: with Clarabel answering every trial the margins take
+/// 217 ms a step, 81 s for the case (27 November 2026), half the rest of the bench again.
+pub const HELD_CASES: [Case; 1] = [case(
+    "held_hold_margins",
+    Margins,
+    "plate_hold_viscoelastic",
+    None,
+    None,
+    false,
+)];
+
 /// The (margins; stepping) case pairs whose time ratio is bounded, with the bound: the
 /// disturbance margins of every step of a hand-off at most 20 times the stepping's time.
 pub const MARGIN_PAIRS: [(&str, &str, f64); 1] =
@@ -354,6 +368,10 @@ pub fn bundled(stem: &str) -> Option<(&'static str, Option<&'static str>)> {
         "plate_handoff_coulomb" => (
             example!("plate_handoff_coulomb.json"),
             Some(example!("plate_handoff_coulomb.schedule.json")),
+        ),
+        "plate_hold_viscoelastic" => (
+            example!("plate_hold_viscoelastic.json"),
+            Some(example!("plate_hold_viscoelastic.schedule.json")),
         ),
         "pad_pinch" => (example!("pad_pinch.json"), None),
         "cylinder_handoff_viscoelastic" => (

@@ -20,7 +20,8 @@ pub mod statistics;
 pub mod thread_scaling;
 
 pub use case::{
-    Case, CaseKind, Prepared, CASES, FFT_CASES, LAYER_CASES, LAYER_PAIRS, MARGIN_PAIRS, PEER_CASES,
+    Case, CaseKind, Prepared, CASES, FFT_CASES, HELD_CASES, LAYER_CASES, LAYER_PAIRS, MARGIN_PAIRS,
+    PEER_CASES,
 };
 pub use error::BenchError;
 pub use sample::Sample;

@@ -19,7 +19,8 @@ use anyhow::{bail, Context, Result};
 use grasp_bench::peer::{PeerError, PeerProblem, PeerRecord};
 use grasp_bench::statistics::{growth_exponent, median_and_range};
 use grasp_bench::{
-    Case, CaseKind, Sample, CASES, FFT_CASES, LAYER_CASES, LAYER_PAIRS, MARGIN_PAIRS, PEER_CASES,
+    Case, CaseKind, Sample, CASES, FFT_CASES, HELD_CASES, LAYER_CASES, LAYER_PAIRS, MARGIN_PAIRS,
+    PEER_CASES,
 };
 use grasp_model::SolverChoice;
 
@@ -736,7 +737,10 @@ fn progress(what: &str) {
 
 /// Runs the bench and prints the table.
 fn run(flags: Flags) -> Result<ExitCode> {
-    let all = || CASES.iter().chain(&FFT_CASES).chain(&LAYER_CASES);
+    let all = || {
+        let cases = CASES.iter().chain(&FFT_CASES).chain(&LAYER_CASES);
+        cases.chain(&HELD_CASES)
+    };
     for name in &flags.cases {
         if !all().any(|c| c.name == name) && name != outputs::CASE {
             let names: Vec<&str> = all().map(|c| c.name).chain([outputs::CASE]).collect();
@@ -755,9 +759,10 @@ fn run(flags: Flags) -> Result<ExitCode> {
     let (mut peer, mut notes) = (flags.peer.clone(), Vec::new());
     for case in &chosen {
         let fft = FFT_CASES.iter().any(|c| c.name == case.name) || case.name.ends_with("_fft");
+        let native_only = fft || HELD_CASES.iter().any(|c| c.name == case.name);
         let start = measured.len();
         for &solver in &flags.solvers {
-            if solver == SolverChoice::Clarabel && fft {
+            if solver == SolverChoice::Clarabel && native_only {
                 continue;
             }
             progress(&format!("bench: {} ({solver})", case.name));
