@@ -102,7 +102,13 @@ fn steepest_rate(schedule: &serde_json::Value) -> f64 {
 /// `grasp transfer` of the coulomb plate along `schedule`, its CSV written to `csv`; it must
 /// succeed.
 fn transfer_csv(schedule: &str, csv: &std::path::Path, extra: &[&str]) {
-    let scene = example("plate_handoff_coulomb.json");
+    transfer_scene_csv("plate_handoff_coulomb.json", schedule, csv, extra);
+}
+
+/// `grasp transfer` of the bundled `scene` along `schedule`, its CSV written to `csv`; it must
+/// succeed.
+fn transfer_scene_csv(scene: &str, schedule: &str, csv: &std::path::Path, extra: &[&str]) {
+    let scene = example(scene);
     let mut args = vec!["transfer", &scene, "--schedule", schedule];
     args.extend(["--csv", csv.to_str().unwrap()]);
     args.extend(extra);
@@ -379,17 +385,8 @@ fn cylinder_steps(
     schedule: &std::path::Path,
     csv: &std::path::Path,
 ) -> Vec<(f64, Vec<(f64, f64)>)> {
-    let scene = example("cylinder_handoff_relaxing.json");
-    let t = grasp(&[
-        "transfer",
-        &scene,
-        "--schedule",
-        schedule.to_str().unwrap(),
-        "--csv",
-        csv.to_str().unwrap(),
-        "--force",
-    ]);
-    assert_eq!(t.status.code(), Some(0), "{}", text(&t));
+    let scene = "cylinder_handoff_relaxing.json";
+    transfer_scene_csv(scene, schedule.to_str().unwrap(), csv, &["--force"]);
     steps(&std::fs::read_to_string(csv).unwrap(), &CYLINDER)
 }
 

@@ -70,6 +70,16 @@ impl KeptCertificate {
         if !Arc::ptr_eq(&self.equality, &program.equality) {
             return None;
         }
+        // `y'e` and the magnitudes of its terms; the Tresca sum is never negative, so a
+        // program with `y'e >= 0` is not proved, and the elements need not be read.
+        let (ye, ye_terms) = self
+            .y
+            .iter()
+            .zip(&program.equality_rhs)
+            .fold((0.0, 0.0), |(s, a), (y, e)| (s + y * e, a + (y * e).abs()));
+        if ye >= 0.0 {
+            return None;
+        }
         let scale = self.w.amax();
         let slack = DUAL_TOLERANCE * scale;
         let mut tresca = 0.0;
@@ -98,19 +108,7 @@ impl KeptCertificate {
             }
             finger_slip.push(slip);
         }
-        let ye: f64 = self
-            .y
-            .iter()
-            .zip(&program.equality_rhs)
-            .map(|(a, b)| a * b)
-            .sum();
-        let terms: f64 = self
-            .y
-            .iter()
-            .zip(&program.equality_rhs)
-            .map(|(a, b)| (a * b).abs())
-            .sum::<f64>()
-            + tresca;
+        let terms = ye_terms + tresca;
         (ye + tresca < -GAP_TOLERANCE * terms && scale > 0.0).then(|| Certificate {
             equality: self.y.as_slice().to_vec(),
             finger_slip,
