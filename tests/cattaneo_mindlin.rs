@@ -85,7 +85,7 @@ fn step_on(
     let model = GraspModel::from_scene_with(&scene(model_kind, q, grid), compliance).unwrap();
     let st = state.get_or_insert_with(|| ContactState::new(&model));
     let sol = GraspSolver::new(
-        &model,
+        model.clone(),
         SolveOptions {
             tolerance: 1e-12,
             compliance,

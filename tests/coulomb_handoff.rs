@@ -72,7 +72,7 @@ fn loading_path_changes_the_answer() {
     }
     let model = GraspModel::from_scene(&fresh_scene).unwrap();
     let mut state = ContactState::new(&model);
-    let fresh = GraspSolver::new(&model, SolveOptions::default())
+    let fresh = GraspSolver::new(model.clone(), SolveOptions::default())
         .solve_step(&grasp_model::StepInputs::of_scene(&model), &mut state)
         .unwrap();
     assert_eq!(fresh.status, SolveStatus::Solved);

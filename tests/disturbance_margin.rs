@@ -55,7 +55,7 @@ fn pinch(model: &str, w: f64, tip_radius: Option<f64>, side: f64, grid: usize, n
 }
 
 fn margins_along(scene: &Scene, dirs: &[WrenchDirection], length_m: f64) -> Vec<f64> {
-    let model = GraspModel::from_scene(scene).unwrap();
+    let model = std::sync::Arc::new(GraspModel::from_scene(scene).unwrap());
     let options = MarginOptions {
         length_m: Some(length_m),
         ..MarginOptions::default()
@@ -118,7 +118,7 @@ fn pinch_torque_about_its_axis_is_the_pads_friction_moment() {
     let margin = margins_along(&scene, &[twist], 1.0)[0];
     // The grid's own full-slip moment, from the untwisted element loads.
     let model = GraspModel::from_scene(&scene).unwrap();
-    let base = GraspSolver::new(&model, SolveOptions::default())
+    let base = GraspSolver::new(model.clone(), SolveOptions::default())
         .solve(&grasp_model::StepInputs::loads(vec![P, P]))
         .unwrap();
     let grid_moment: f64 = base
@@ -279,7 +279,7 @@ fn energy_margins_of_a_commanded_cube_grasp_are_its_rigid_body_bound() {
     {
         f["control"] = json!({"normal_load": s.normal_force_n});
     }
-    let model = GraspModel::from_scene(&scene(&v)).unwrap();
+    let model = std::sync::Arc::new(GraspModel::from_scene(&scene(&v)).unwrap());
     let dirs = spread_directions(&model, 20);
     let options = MarginOptions::default();
     let report = disturbance_margins(

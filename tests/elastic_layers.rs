@@ -279,7 +279,7 @@ fn dense_and_fft_agree_with_layers_on_both_bodies() {
             compliance: choice,
             ..SolveOptions::default()
         };
-        let sol = GraspSolver::new(&model, options)
+        let sol = GraspSolver::new(model.clone(), options)
             .solve(&grasp_model::StepInputs::of_scene(&model))
             .unwrap();
         assert_eq!(sol.status, SolveStatus::Solved, "{:?}", sol.reason);

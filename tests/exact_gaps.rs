@@ -45,7 +45,7 @@ fn pinch(tip: Value, approach_m: f64, side_m: f64, n: usize) -> Value {
 fn solve(v: &Value) -> Solution {
     let scene = Scene::from_json_str(&v.to_string()).expect("valid scene");
     let model = GraspModel::from_scene(&scene).expect("model");
-    let s = GraspSolver::new(&model, SolveOptions::default())
+    let s = GraspSolver::new(model.clone(), SolveOptions::default())
         .solve(&StepInputs::of_scene(&model))
         .expect("solve runs");
     assert_eq!(s.status, SolveStatus::Solved, "{:?}", s.reason);
@@ -309,7 +309,7 @@ fn a_textured_pad_solves_alike_on_both_compliance_paths() {
     let scene = Scene::from_json_str(&v.to_string()).expect("valid scene");
     let solve_on = |choice: ComplianceChoice| {
         let model = GraspModel::from_scene_with(&scene, choice).unwrap();
-        let s = GraspSolver::new(&model, SolveOptions::default())
+        let s = GraspSolver::new(model.clone(), SolveOptions::default())
             .solve(&StepInputs::of_scene(&model))
             .unwrap();
         assert_eq!(s.status, SolveStatus::Solved, "{:?}", s.reason);
@@ -377,7 +377,7 @@ fn solid_tip_pinch(
     }
     .expect("valid scene");
     let model = GraspModel::from_scene(&scene).expect("model");
-    let s = GraspSolver::new(&model, SolveOptions::default())
+    let s = GraspSolver::new(model.clone(), SolveOptions::default())
         .solve(&StepInputs::of_scene(&model))
         .expect("solve runs");
     assert_eq!(s.status, SolveStatus::Solved, "{:?}", s.reason);

@@ -12,7 +12,7 @@ use serde_json::{json, Value};
 
 fn solve_with(v: &Value, options: SolveOptions) -> Solution {
     let model = GraspModel::from_scene(&scene(v)).expect("model");
-    GraspSolver::new(&model, options)
+    GraspSolver::new(model.clone(), options)
         .solve(&grasp_model::StepInputs::of_scene(&model))
         .expect("solve runs")
 }

@@ -51,7 +51,7 @@ fn down() -> WrenchDirection {
 }
 
 fn margin_down(scene: &Scene) -> f64 {
-    let model = GraspModel::from_scene(scene).unwrap();
+    let model = std::sync::Arc::new(GraspModel::from_scene(scene).unwrap());
     disturbance_margins(
         &model,
         &grasp_model::StepInputs::of_scene(&model),
@@ -161,7 +161,7 @@ fn a_steps_margin_is_its_grasps_margin_under_its_own_loads() {
             .enumerate()
             .filter_map(|(i, c)| c.command.control().map(|control| (i, control)))
             .collect();
-        let model = base.restricted(&active).unwrap();
+        let model = std::sync::Arc::new(base.restricted(&active).unwrap());
         let dirs = grasp_model::axis_directions(&model);
         let fresh = disturbance_margins(
             &model,
@@ -220,7 +220,7 @@ fn more_squeeze_gives_more_margin_and_the_sensitivity_says_so() {
     let utilisation = |lambda: f64| -> (f64, grasp_model::Solution, GraspSolver, GraspModel) {
         let loads = base.map(|p| p * lambda);
         let model = GraspModel::from_scene(&scene(&plate(loads))).unwrap();
-        let mut solver = GraspSolver::new(&model, SolveOptions::default());
+        let mut solver = GraspSolver::new(model.clone(), SolveOptions::default());
         let sol = solver
             .solve(&grasp_model::StepInputs::loads(loads.to_vec()))
             .unwrap();

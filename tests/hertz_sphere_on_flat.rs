@@ -155,7 +155,7 @@ fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {
     use grasp_model::ComplianceChoice;
     use grasp_model::{GraspSolver, ModelError, SceneError, SolveOptions, SolverChoice};
     let model = GraspModel::from_scene(&scene(128, 2.4)).unwrap();
-    let mut solver = GraspSolver::new(&model, SolveOptions::default());
+    let mut solver = GraspSolver::new(model.clone(), SolveOptions::default());
     let sol = solver
         .solve(&grasp_model::StepInputs::of_scene(&model))
         .unwrap();
@@ -166,7 +166,7 @@ fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {
     // At 256 x 256 the dense path would need 32 GiB as well: the grid is too fine, said so
     // instead of sending the caller to a dense compliance it cannot afford.
     let fine = GraspModel::from_scene(&scene(256, 2.4)).unwrap();
-    let mut solver = GraspSolver::new(&fine, SolveOptions::default());
+    let mut solver = GraspSolver::new(fine.clone(), SolveOptions::default());
     let sol = solver
         .solve(&grasp_model::StepInputs::of_scene(&fine))
         .unwrap();
@@ -181,7 +181,9 @@ fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {
         solver: SolverChoice::Clarabel,
         ..SolveOptions::default()
     };
-    match GraspSolver::new(&model, clarabel).solve(&grasp_model::StepInputs::of_scene(&model)) {
+    match GraspSolver::new(model.clone(), clarabel)
+        .solve(&grasp_model::StepInputs::of_scene(&model))
+    {
         Err(ModelError::Solver(m)) => assert!(m.contains("`SolveOptions::compliance`"), "{m}"),
         other => panic!(
             "Clarabel on a 128x128 FFT patch: {:?}",

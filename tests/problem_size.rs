@@ -8,7 +8,7 @@ use serde_json::json;
 
 fn program(v: &serde_json::Value) -> (GraspModel, GraspSolver) {
     let m = GraspModel::from_scene(&scene(v)).unwrap();
-    let s = GraspSolver::new(&m, SolveOptions::default());
+    let s = GraspSolver::new(m.clone(), SolveOptions::default());
     (m, s)
 }
 

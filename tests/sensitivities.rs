@@ -45,7 +45,9 @@ fn perturbed(model: &GraspModel, loads: &[f64], extra: Option<nalgebra::Vector6<
     if let Some(w) = extra {
         inputs = inputs.with_extra_wrench(&w);
     }
-    let s = GraspSolver::new(model, options()).solve(&inputs).unwrap();
+    let s = GraspSolver::new(model.clone(), options())
+        .solve(&inputs)
+        .unwrap();
     assert_eq!(s.status, SolveStatus::Solved, "{:?}", s.reason);
     s
 }
@@ -96,7 +98,7 @@ fn check(scene: &Scene, label: &str) -> Option<(usize, usize)> {
 fn check_with_step(scene: &Scene, label: &str, step: f64) -> Option<(usize, usize)> {
     let model = GraspModel::from_scene(scene).unwrap();
     let loads = model.scene_loads_n();
-    let mut solver = GraspSolver::new(&model, options());
+    let mut solver = GraspSolver::new(model.clone(), options());
     let base = solver
         .solve(&grasp_model::StepInputs::loads(loads.to_vec()))
         .unwrap();
@@ -130,7 +132,7 @@ fn check_with_step(scene: &Scene, label: &str, step: f64) -> Option<(usize, usiz
                 let mut up = loads.clone();
                 up[load_col] += 1e-4 * load_n;
                 load_col += 1;
-                let s = GraspSolver::new(&model, options())
+                let s = GraspSolver::new(model.clone(), options())
                     .solve(&grasp_model::StepInputs::loads(up.to_vec()))
                     .unwrap();
                 assert!(

@@ -19,7 +19,7 @@ fn pinch() -> serde_json::Value {
 }
 
 fn solve(model: &GraspModel, inputs: &StepInputs) -> grasp_model::Solution {
-    let s = GraspSolver::new(model, SolveOptions::default())
+    let s = GraspSolver::new(model.clone(), SolveOptions::default())
         .solve(inputs)
         .unwrap();
     assert!(s.status.has_forces(), "{:?}", s.reason);
@@ -76,7 +76,7 @@ fn an_extra_wrench_in_the_inputs_is_an_external_force_of_the_scene() {
 #[test]
 fn inputs_that_do_not_fit_the_model_are_refused() {
     let model = GraspModel::from_scene(&scene(&pinch())).unwrap();
-    let mut solver = GraspSolver::new(&model, SolveOptions::default());
+    let mut solver = GraspSolver::new(model.clone(), SolveOptions::default());
     let e = solver
         .solve(&StepInputs::of_scene(&model).with_approach(1, 1e-5))
         .unwrap_err();

@@ -271,18 +271,17 @@ fn halving_the_step_shows_second_order() {
     let inputs = StepInputs::of_scene(&model);
     let run = |dt: f64| {
         let mut state = ContactState::new(&model);
-        let first = GraspSolver::new(&model, SolveOptions::default())
+        let first = GraspSolver::new(model.clone(), SolveOptions::default())
             .solve_step(&inputs, &mut state)
             .unwrap();
         let p0 = first.fingers[0].normal_force_n;
         state.advance_time_step(&model, &first);
-        let m = model.for_time_step(dt).unwrap();
-        let mut solver = GraspSolver::new(&m, SolveOptions::default());
+        let mut solver = GraspSolver::new(model.clone(), SolveOptions::default());
+        let step = inputs.clone().with_time_step(dt);
         let mut p = p0;
         for _ in 0..(2.0 / dt).round() as usize {
-            state.prepare_time_step(&m);
-            let s = solver.solve_step(&inputs, &mut state).unwrap();
-            state.advance_time_step(&m, &s);
+            let s = solver.solve_step(&step, &mut state).unwrap();
+            state.advance_time_step(&model, &s);
             p = s.fingers[0].normal_force_n;
         }
         (p / p0 - relaxation(SLS, 2.0)).abs()

@@ -179,7 +179,7 @@ pub fn solve_with_options(v: &Value, options: grasp_model::SolveOptions) -> Solu
 /// Builds and solves a scene with the given options.
 pub fn solve_scene_with_options(scene: &Scene, options: grasp_model::SolveOptions) -> Solution {
     let model = GraspModel::from_scene_with(scene, options.compliance).expect("model");
-    grasp_model::GraspSolver::new(&model, options)
+    grasp_model::GraspSolver::new(model.clone(), options)
         .solve(&grasp_model::StepInputs::of_scene(&model))
         .expect("solve runs")
 }
@@ -317,7 +317,7 @@ pub fn clarabel_at_native_radii(model: &GraspModel, native: &Solution) -> Option
         warm_start: true,
         ..grasp_model::SolveOptions::default()
     };
-    let sol = grasp_model::GraspSolver::new(model, options)
+    let sol = grasp_model::GraspSolver::new(model.clone(), options)
         .solve_step(&grasp_model::StepInputs::of_scene(model), &mut state)
         .ok()?;
     let once = sol

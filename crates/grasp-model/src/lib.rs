@@ -140,12 +140,11 @@ pub use geometry::tessellation::icosphere;
 
 // ---- The model: built once from a scene, immutable ----
 pub use model::equilibrium::{MotionPlane, Wrench};
-pub use model::grasp_model::{
-    object_curvatures_per_m, tip_curvatures_per_m, Control, FingerModel, GraspModel, Scales,
-};
+pub use model::grasp_model::{Control, FingerModel, GraspModel, Scales};
 pub use model::influence::GridSpec;
 pub use model::layer_green_function::forget_radial_functions;
 pub use model::material::Material;
+pub use model::model_builder::{object_curvatures_per_m, tip_curvatures_per_m};
 pub use model::patch::Patch;
 pub use model::patch_compliance::{takes_fft, ComplianceChoice, CompliancePath};
 
@@ -173,10 +172,8 @@ pub use solve::solution::{
 };
 
 // ---- Analyses: many solves ----
-pub use analysis::margin::{
-    axis_directions, disturbance_margins, disturbance_margins_reporting, holds, plane_directions,
-    spread_directions, DirectionMargin, Failure, MarginOptions, MarginReport, WrenchDirection,
-};
+pub use analysis::margin_report::{holds, DirectionMargin, Failure, MarginOptions, MarginReport};
+pub use analysis::margin_search::{disturbance_margins, disturbance_margins_reporting, SolvedStep};
 pub use analysis::margin_tracker::MarginTracker;
 pub use analysis::patch_sizing::{auto_patch, hertz_suggestion, AutoPatch, HertzSuggestion};
 pub use analysis::refinement::{
@@ -185,6 +182,9 @@ pub use analysis::refinement::{
 };
 pub use analysis::relaxation::{solve_at, solve_at_reporting, TimePoint, TimedSolution};
 pub use analysis::solution_record::SolutionRecord;
+pub use analysis::wrench_directions::{
+    axis_directions, plane_directions, spread_directions, WrenchDirection,
+};
 
 // ---- Errors and messages ----
 pub use error::{format_problems, InputProblem, ModelError, OptionError, OutOfMemory, SceneError};

@@ -21,13 +21,13 @@ pub const MAX_SEQUENTIAL_ITERATIONS: &str = "SolveOptions::max_sequential_iterat
 /// Smallest relaxation of the sequential solve, [`crate::SolveOptions::min_relaxation`].
 pub const MIN_RELAXATION: &str = "SolveOptions::min_relaxation";
 /// The margins' characteristic length,
-/// [`crate::analysis::margin::MarginOptions::length_m`].
+/// [`crate::analysis::margin_report::MarginOptions::length_m`].
 pub const MARGIN_LENGTH: &str = "MarginOptions::length_m";
 /// The margins' final bracket width,
-/// [`crate::analysis::margin::MarginOptions::relative_tolerance`].
+/// [`crate::analysis::margin_report::MarginOptions::relative_tolerance`].
 pub const MARGIN_TOLERANCE: &str = "MarginOptions::relative_tolerance";
 /// The margins' cap over the load scale,
-/// [`crate::analysis::margin::MarginOptions::max_factor`].
+/// [`crate::analysis::margin_report::MarginOptions::max_factor`].
 pub const MARGIN_MAX_FACTOR: &str = "MarginOptions::max_factor";
 /// Growing curved patches until their boundary is unloaded,
 /// [`crate::analysis::patch_sizing::auto_patch`].

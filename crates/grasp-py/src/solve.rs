@@ -229,10 +229,14 @@ fn solve_scene(
     let t0 = Instant::now();
     let model = GraspModel::from_scene_with(scene, options.compliance).map_err(Failure::Scene)?;
     let build_time_s = t0.elapsed().as_secs_f64();
+    let viscoelastic = model.is_viscoelastic();
     let mut solution = match time {
-        TimePoint::Instantaneous => GraspSolver::new(&model, options)
-            .solve(&grasp_model::StepInputs::of_scene(&model))
-            .map_err(Failure::Model)?,
+        TimePoint::Instantaneous => {
+            let inputs = grasp_model::StepInputs::of_scene(&model);
+            GraspSolver::new(model, options)
+                .solve(&inputs)
+                .map_err(Failure::Model)?
+        }
         later => {
             let clock = Instant::now();
             let mut timed = solve_at(&model, options, later).map_err(Failure::Model)?;
@@ -251,6 +255,6 @@ fn solve_scene(
         solution,
         tangents,
         build_time_s,
-        time: model.is_viscoelastic().then_some(time),
+        time: viscoelastic.then_some(time),
     })
 }

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use grasp_model::{axis_directions, disturbance_margins, MarginOptions, WrenchDirection};
 use grasp_model::{
-    ContactState, GraspModel, MarginReport, MarginTracker, ModelError, Solution, SolveOptions,
+    ContactState, GraspModel, MarginReport, MarginTracker, ModelError, SolveOptions, SolvedStep,
     StepInputs,
 };
 use serde::Serialize;
@@ -39,7 +39,7 @@ pub struct StepMargin {
 /// external wrench) from `state`, the contact state at the start of the step, searched with
 /// `options`.
 pub fn step_margin(
-    model: &GraspModel,
+    model: &Arc<GraspModel>,
     inputs: &StepInputs,
     state: &ContactState,
     solve: SolveOptions,
@@ -81,14 +81,13 @@ impl MarginPath {
     }
 
     /// The margin of the next step: as [`step_margin`], from the last step's margins and the
-    /// step's own undisturbed solve `solved` (the contact state after
-    /// [`grasp_model::GraspSolver::solve_step`] from the step's start state, before
-    /// [`ContactState::advance_time_step`], and its solution).
+    /// step's own undisturbed solve `solved` ([`grasp_model::GraspSolver::solve_step`] from
+    /// the step's start state, before [`ContactState::advance_time_step`]).
     pub fn step_margin(
         &mut self,
         model: &Arc<GraspModel>,
         inputs: &StepInputs,
-        solved: (&ContactState, &Solution),
+        solved: SolvedStep,
         solve: SolveOptions,
     ) -> Result<StepMargin, ModelError> {
         let tracker = match &mut self.tracker {

@@ -25,7 +25,8 @@ use std::time::Instant;
 
 use grasp_model::{
     ContactState, Control, FingerState, GraspModel, GraspSolver, LoadDirection, MarginOptions,
-    Scene, SceneError, Sensitivities, Solution, SolveOptions, SolverKind, SolverStats, StepInputs,
+    Scene, SceneError, Sensitivities, Solution, SolveOptions, SolvedStep, SolverKind, SolverStats,
+    StepInputs,
 };
 use serde::Serialize;
 
@@ -126,6 +127,22 @@ impl StepRecord {
 /// force-controlled (a program is assembled once per structure).
 type StructureKey = Vec<(usize, bool)>;
 
+/// What a cached solver answers: a structure, and the length of the steps it solves (a
+/// viscoelastic program is one time step's).
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+struct ProgramKey {
+    structure: StructureKey,
+    /// The time step's bits (0 for an elastic scene).
+    time_step_bits: u64,
+}
+
+impl ProgramKey {
+    /// The time step, s.
+    fn time_step_s(&self) -> f64 {
+        f64::from_bits(self.time_step_bits)
+    }
+}
+
 /// A cached program is reused while the step's load scale is within this factor range of the
 /// scale the program was built with (the scaled problem stays well conditioned).
 const PROGRAM_REUSE_SCALE_RANGE: std::ops::RangeInclusive<f64> = 1e-3..=1e3;
@@ -151,6 +168,25 @@ fn structure_of(commands: &[Command]) -> (StructureKey, Vec<f64>) {
     (key, loads)
 }
 
+/// Where a step is: its index, its schedule time and the scheduled external wrench there.
+#[derive(Debug, Clone, Copy)]
+struct StepTime {
+    /// Step index (0-based).
+    index: usize,
+    /// Schedule time, s.
+    time_s: f64,
+    /// The scheduled external wrench at the centre of mass, if any.
+    external: Option<ExternalWrench>,
+}
+
+/// What the schedule commands at a step: the loads of the force-controlled fingers (N, in
+/// order), every finger's command, and the scheduled external wrench.
+struct StepCommands<'c> {
+    loads: &'c [f64],
+    commands: &'c [Command],
+    external: Option<ExternalWrench>,
+}
+
 /// A step's answer: the solution, and its margin and sensitivities when asked for.
 struct Solved {
     solution: Solution,
@@ -167,7 +203,7 @@ pub struct Stepper<'a> {
     options: TransferOptions,
     /// Per structure and time step (the step's bits; 0 for an elastic scene), the solver of
     /// the step's model.
-    cache: BTreeMap<(StructureKey, u64), GraspSolver>,
+    cache: BTreeMap<ProgramKey, GraspSolver>,
     /// Schedule time of the last step that found forces, s (the next step's viscoelastic
     /// history runs from it).
     last_solved_s: Option<f64>,
@@ -275,16 +311,21 @@ impl<'a> Stepper<'a> {
     /// structure: step 0 usually is one, and starts from it.
     fn initial_loads(&mut self) -> Result<Vec<Option<f64>>, TransferError> {
         let model = self.base_model(self.schedule.times[0])?;
-        let mut solver = GraspSolver::new(model, self.options.solve);
-        let sol = solver.solve(&StepInputs::of_scene(model))?;
+        let inputs = StepInputs::of_scene(model);
+        let mut solver = GraspSolver::new(model.clone(), self.options.solve);
+        let sol = solver.solve(&inputs)?;
         if self.options.warm_start {
-            let key = model
+            let structure = model
                 .fingers()
                 .iter()
                 .enumerate()
                 .map(|(i, f)| (i, matches!(f.control(), Control::NormalLoad { .. })))
                 .collect();
-            self.cache.insert((key, 0), solver);
+            let key = ProgramKey {
+                structure,
+                time_step_bits: 0,
+            };
+            self.cache.insert(key, solver);
         }
         Ok(self
             .scene
@@ -365,11 +406,13 @@ impl<'a> Stepper<'a> {
         let external = self.schedule.external_at(t);
         let commands = self.commands(k)?;
         let (structure, loads) = structure_of(&commands);
-        let dt = self.time_step_s(t);
-        let key = (structure, dt.to_bits());
+        let key = ProgramKey {
+            structure,
+            time_step_bits: self.time_step_s(t).to_bits(),
+        };
         let reused = self.reusable(&key, &loads);
         if !reused {
-            if key.0.is_empty() {
+            if key.structure.is_empty() {
                 // Nothing holds the object: a reported outcome, not an error.
                 self.states.clear();
                 let sol = empty_grasp_solution(self.scene);
@@ -378,21 +421,36 @@ impl<'a> Stepper<'a> {
                     margin: None,
                     sensitivities: None,
                 };
-                return Ok(self.record(k, (t, external), commands, solved, start, false));
+                let at = StepTime {
+                    index: k,
+                    time_s: t,
+                    external,
+                };
+                return Ok(self.record(at, commands, solved, start, false));
             }
             self.build_program(t, &key, &commands)?;
         }
-        let solved = self.solve_cached(&key, (&loads, &commands), external)?;
+        let step = StepCommands {
+            loads: &loads,
+            commands: &commands,
+            external,
+        };
+        let solved = self.solve_cached(&key, step)?;
         if solved.solution.status.has_forces() {
             self.last_solved_s = Some(t);
         }
-        Ok(self.record(k, (t, external), commands, solved, start, reused))
+        let at = StepTime {
+            index: k,
+            time_s: t,
+            external,
+        };
+        Ok(self.record(at, commands, solved, start, reused))
     }
 
     /// True when the cached program of structure `key` can answer a step with `loads` (N):
     /// warm stepping, and the step's load scale within a factor 1e3 of the one the program was
     /// scaled with (the scaled problem stays well conditioned).
-    fn reusable(&self, key: &(StructureKey, u64), loads: &[f64]) -> bool {
+    fn reusable(&self, key: &ProgramKey, loads: &[f64]) -> bool {
         let step_scale = loads.iter().copied().fold(self.external_scale_n, f64::max);
         self.options.warm_start
             && self.cache.get(key).is_some_and(|solver| {
@@ -403,11 +461,11 @@ impl<'a> Stepper<'a> {
 
     /// Builds and caches the model and program of structure `key`: the scene's model
     /// restricted to the active fingers, each driven as `commands` says (a force-controlled
-    /// finger's load sets the program's scale), over the step's time step.
+    /// finger's load sets the program's scale); its solves are of the key's time step.
     fn build_program(
         &mut self,
         t: f64,
-        key: &(StructureKey, u64),
+        key: &ProgramKey,
         commands: &[Command],
     ) -> Result<(), TransferError> {
         let active: Vec<(usize, Control)> = commands
@@ -422,9 +480,7 @@ impl<'a> Stepper<'a> {
             .restricted(&active)
             .ok_or(TransferError::Internal(
                 "a step's active fingers are not in the scene",
-            ))?
-            .for_time_step(f64::from_bits(key.1))
-            .map_err(grasp_model::ModelError::from)?;
+            ))?;
         let solver = GraspSolver::new(model, self.step_solve_options());
         if !self.options.warm_start {
             self.cache.clear();
@@ -439,8 +495,8 @@ impl<'a> Stepper<'a> {
         let active: Vec<&str> = model.fingers().iter().map(|f| f.name()).collect();
         self.states
             .retain(|name, _| active.contains(&name.as_str()));
-        ContactState {
-            fingers: model
+        ContactState::of_fingers(
+            model
                 .fingers()
                 .iter()
                 .map(|f| {
@@ -451,20 +507,15 @@ impl<'a> Stepper<'a> {
                         .unwrap_or_else(|| FingerState::fresh(f.name(), f.patch().len()))
                 })
                 .collect(),
-        }
+        )
     }
 
-    /// The inputs of a step of `model`: the loads (N) of its force-controlled fingers, every
-    /// other active finger's approach as commanded (0 when held; m), and the scheduled
-    /// external wrench at the centre of mass.
-    fn step_inputs(
-        &self,
-        model: &GraspModel,
-        (loads, commands): (&[f64], &[Command]),
-        external: Option<ExternalWrench>,
-    ) -> StepInputs {
-        let mut inputs = StepInputs::loads(loads.to_vec());
-        for (f, c) in self.scene.fingers.iter().zip(commands) {
+    /// The inputs of a step of `model` of `time_step_s` seconds: the loads (N) of its
+    /// force-controlled fingers, every other active finger's approach as commanded (0 when
+    /// held; m), and the scheduled external wrench at the centre of mass.
+    fn step_inputs(&self, model: &GraspModel, step: &StepCommands, time_step_s: f64) -> StepInputs {
+        let mut inputs = StepInputs::loads(step.loads.to_vec()).with_time_step(time_step_s);
+        for (f, c) in self.scene.fingers.iter().zip(step.commands) {
             let d = match c {
                 Command::Approach(d) => *d,
                 Command::Held => 0.0,
@@ -474,7 +525,7 @@ impl<'a> Stepper<'a> {
                 inputs = inputs.with_approach(i, d);
             }
         }
-        match external {
+        match step.external {
             Some(e) => {
                 inputs.with_load_at_center_of_mass(model, &e.force_n.into(), &e.torque_nm.into())
             }
@@ -482,13 +533,12 @@ impl<'a> Stepper<'a> {
         }
     }
 
-    /// Solves the cached program of structure `key` with `loads` (N), the commands'
-    /// approaches and the scheduled external wrench, and the step's margin when asked for.
+    /// Solves the cached program of `key` with the step's loads (N), the commands' approaches
+    /// and the scheduled external wrench, and the step's margin when asked for.
     fn solve_cached(
         &mut self,
-        key: &(StructureKey, u64),
-        step: (&[f64], &[Command]),
-        external: Option<ExternalWrench>,
+        key: &ProgramKey,
+        step: StepCommands,
     ) -> Result<Solved, TransferError> {
         let options = self.options;
         let Some(mut solver) = self.cache.remove(key) else {
@@ -496,8 +546,7 @@ impl<'a> Stepper<'a> {
         };
         let model = std::sync::Arc::clone(solver.shared_model());
         let mut state = self.contact_state_of(&model);
-        let inputs = self.step_inputs(&model, step, external);
-        state.prepare_time_step(&model);
+        let inputs = self.step_inputs(&model, &step, key.time_step_s());
         // A continued search starts its trials where the step's solve left the state, before
         // time moves on (no second solve of the step); one from scratch solves the step again
         // from its start.
@@ -512,7 +561,11 @@ impl<'a> Stepper<'a> {
         }
         let margin = match (&solved, &mut self.margin_path, before, after) {
             (Ok(sol), Some(path), _, Some(after)) if sol.status.has_forces() => {
-                Some(path.step_margin(&model, &inputs, (&after, sol), options.solve))
+                let solved = SolvedStep {
+                    state: &after,
+                    solution: sol,
+                };
+                Some(path.step_margin(&model, &inputs, solved, options.solve))
             }
             (Ok(sol), None, Some(b), _) if sol.status.has_forces() => Some(step_margin(
                 &model,
@@ -541,11 +594,10 @@ impl<'a> Stepper<'a> {
         })
     }
 
-    /// The record of step `k` at time `t` (s) with the scheduled external wrench.
+    /// The record of the step `at`.
     fn record(
         &mut self,
-        k: usize,
-        (t, external): (f64, Option<ExternalWrench>),
+        at: StepTime,
         commands: Vec<Command>,
         solved: Solved,
         start: Instant,
@@ -556,8 +608,9 @@ impl<'a> Stepper<'a> {
             margin,
             sensitivities,
         } = solved;
-        let (external_force_n, external_torque_nm) =
-            external.map_or(([0.0; 3], [0.0; 3]), |w| (w.force_n, w.torque_nm));
+        let (external_force_n, external_torque_nm) = at
+            .external
+            .map_or(([0.0; 3], [0.0; 3]), |w| (w.force_n, w.torque_nm));
         if solution.status.has_forces() {
             for (i, f) in self.scene.fingers.iter().enumerate() {
                 self.previous_normal_n[i] =
@@ -565,8 +618,8 @@ impl<'a> Stepper<'a> {
             }
         }
         StepRecord {
-            index: k,
-            time_s: t,
+            index: at.index,
+            time_s: at.time_s,
             commands: self
                 .scene
                 .fingers

@@ -201,6 +201,7 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
     flags.solve.check_memory(&scene, scene_path)?;
     let model = GraspModel::from_scene_with(&scene, flags.solve.compliance)
         .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
+    let model = std::sync::Arc::new(model);
     let length_m = flags.length_m.unwrap_or(model.scales().length_m);
     let dirs = directions(&model, flags.directions.as_deref(), length_m)?;
     let options = MarginOptions {

@@ -63,7 +63,8 @@ fn plot_command(
         ..SolveOptions::default()
     };
     let inputs = StepInputs::of_scene(&model);
-    let mut solution = GraspSolver::new(&model, options).solve(&inputs)?;
+    let model = std::sync::Arc::new(model);
+    let mut solution = GraspSolver::new(std::sync::Arc::clone(&model), options).solve(&inputs)?;
     crate::flag_names::respell_solution(&mut solution);
     let title = scene_path
         .file_name()

@@ -547,7 +547,7 @@ mod tests {
         let text = std::fs::read_to_string(&path).unwrap();
         let scene = grasp_io::scene_from_json_str(&text, &grasp_io::base_dir_of(&path)).unwrap();
         let model = GraspModel::from_scene(&scene).unwrap();
-        let solution = GraspSolver::new(&model, SolveOptions::default())
+        let solution = GraspSolver::new(model.clone(), SolveOptions::default())
             .solve(&StepInputs::of_scene(&model))
             .unwrap();
         let diagram = ForceDiagram {

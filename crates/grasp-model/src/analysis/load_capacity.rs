@@ -26,7 +26,9 @@ use nalgebra::Vector3;
 
 use crate::model::equilibrium::Wrench;
 use crate::model::grasp_model::{Control, GraspModel};
-use crate::program::cone_program::{BlockCone, ConeLaw, ConeProgram};
+use crate::program::cone_program::ConeProgram;
+use crate::program::cones::element_set::ElementSet;
+use crate::program::cones::finger_cones::ConeLaw;
 use crate::solve::step_inputs::StepInputs;
 use crate::solver::clarabel::{settings, ClarabelForm};
 
@@ -210,10 +212,7 @@ fn load_multipliers(model: &GraspModel, program: &ConeProgram, y: &[f64]) -> Opt
                     .map(|c| g[blk.offset + c * ne + k].powi(2))
                     .sum::<f64>()
                     .sqrt();
-                match blk.cone {
-                    BlockCone::Friction { mu } => mu * v - g[blk.offset + k],
-                    _ => -g[blk.offset + k],
-                }
+                blk.cone.element(k).dual_floor(v) - g[blk.offset + k]
             })
             .fold(f64::NEG_INFINITY, f64::max);
         match f.control {

@@ -56,17 +56,20 @@ use nalgebra::Vector3;
 
 use crate::analysis::load_capacity::LoadCapacity;
 use crate::analysis::load_fixed_directions::LoadFixedDirections;
-use crate::analysis::margin::{
-    failing_undisturbed, holds, sliding_fingers, DirectionMargin, Fails, Failure, Held,
-    MarginOptions, MarginReport, Search, WrenchDirection, CAPACITY_PROBE, ZERO_MARGIN,
+use crate::analysis::margin_report::{
+    failing_undisturbed, holds, sliding_fingers, DirectionMargin, Failure, MarginOptions,
+    MarginReport,
+};
+use crate::analysis::margin_search::{
+    Fails, Held, Search, SolvedStep, StepSearch, CAPACITY_PROBE, ZERO_MARGIN,
 };
 use crate::analysis::trial_forces::TrialForces;
+use crate::analysis::wrench_directions::WrenchDirection;
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
 use crate::scene::scene_format::ModelKind;
 use crate::solve::contact_state::ContactState;
 use crate::solve::grasp_solver::GraspSolver;
-use crate::solve::solution::Solution;
 use crate::solve::step_inputs::StepInputs;
 use crate::solver::options::SolveOptions;
 
@@ -136,15 +139,10 @@ enum Capacity {
     Known(Box<LoadCapacity>),
 }
 
-/// The step's data every direction's search shares.
+/// The step's data every direction's search shares: the step's search, and the model's
+/// directions fixed by the commanded loads.
 struct Shared<'a> {
-    model: &'a Arc<GraspModel>,
-    inputs: &'a StepInputs,
-    solve_options: SolveOptions,
-    options: &'a MarginOptions,
-    length_m: f64,
-    exempt: &'a [String],
-    base: (&'a ContactState, &'a Solution),
+    step: StepSearch<'a>,
     fixed: &'a LoadFixedDirections,
 }
 
@@ -202,20 +200,22 @@ impl MarginTracker {
             .base_solver
             .get_or_insert_with(|| GraspSolver::new(Arc::clone(model), solve_options));
         let base = base_solver.solve_step(inputs, &mut base_state)?;
-        let solved = (&base_state, &base);
+        let solved = SolvedStep {
+            state: &base_state,
+            solution: &base,
+        };
         self.margins_beyond(model, inputs, solved, solve_options, clock)
     }
 
     /// [`MarginTracker::margins`] of a step whose undisturbed solve the caller has made:
-    /// `solved` is the contact state after [`GraspSolver::solve_step`] of `inputs` from the
-    /// step's start state (before [`ContactState::advance_time_step`]) and its solution,
+    /// `solved` is [`GraspSolver::solve_step`] of `inputs` from the step's start state,
     /// solved with `solve_options` (a hand-off's own step: its margins then cost no second
     /// solve of the step).
     pub fn margins_of_solved(
         &mut self,
         model: &Arc<GraspModel>,
         inputs: &StepInputs,
-        solved: (&ContactState, &Solution),
+        solved: SolvedStep,
         solve_options: SolveOptions,
     ) -> Result<MarginReport, ModelError> {
         solve_options.validate()?;
@@ -224,16 +224,17 @@ impl MarginTracker {
         self.margins_beyond(model, inputs, solved, solve_options, clock)
     }
 
-    /// The margins from the step's undisturbed state and solution `(base_state, base)`.
+    /// The margins from the step's undisturbed solve `solved`.
     fn margins_beyond(
         &mut self,
         model: &Arc<GraspModel>,
         inputs: &StepInputs,
-        (base_state, base): (&ContactState, &Solution),
+        solved: SolvedStep,
         solve_options: SolveOptions,
         clock: Instant,
     ) -> Result<MarginReport, ModelError> {
         use rayon::prelude::*;
+        let base = solved.solution;
         let length_m = self.options.length_m.unwrap_or(model.scales.length_m);
         let sliding_undisturbed = match model.kind() {
             ModelKind::Coulomb if base.status.has_forces() => sliding_fingers(base),
@@ -247,13 +248,15 @@ impl MarginTracker {
             }
             Ok(()) => {
                 let shared = Shared {
-                    model,
-                    inputs,
-                    solve_options,
-                    options: &self.options,
-                    length_m,
-                    exempt: &sliding_undisturbed,
-                    base: (base_state, base),
+                    step: StepSearch {
+                        model,
+                        inputs,
+                        solved,
+                        solve_options,
+                        options: &self.options,
+                        length_m,
+                        exempt: &sliding_undisturbed,
+                    },
                     fixed: &self.fixed,
                 };
                 let pairs = self.tracks.par_iter_mut().zip(self.directions.par_iter());
@@ -296,38 +299,39 @@ fn continue_along(
     direction: WrenchDirection,
 ) -> Result<DirectionMargin, ModelError> {
     let clock = Instant::now();
-    let model = shared.model;
+    let step = &shared.step;
+    let model = step.model;
     let predicted = prediction(&track.last);
     let solver = track
         .solver
-        .get_or_insert_with(|| GraspSolver::new(Arc::clone(model), shared.solve_options));
+        .get_or_insert_with(|| GraspSolver::new(Arc::clone(model), step.solve_options));
     let mut search = Search {
         model: model.as_ref(),
-        inputs: shared.inputs,
+        inputs: step.inputs,
         solver,
         direction,
-        length_m: shared.length_m,
+        length_m: step.length_m,
         solves: 0,
-        exempt: shared.exempt,
+        exempt: step.exempt,
         capacity_n: f64::INFINITY,
         trial_forces: std::mem::take(&mut track.trial_forces),
         guessing: true,
         utilisation: Vec::new(),
     };
-    search.note_held(0.0, shared.base.1);
-    let cap = shared.options.max_factor * model.scales.load_n;
-    if shared.options.load_capacity {
+    search.note_held(0.0, step.solved.solution);
+    let cap = step.options.max_factor * model.scales.load_n;
+    if step.options.load_capacity {
         bound(&mut track.capacity, &mut search, cap);
     }
     let base = Held {
         s: 0.0,
-        state: shared.base.0.clone(),
-        sol: shared.base.1.clone(),
+        state: step.solved.state.clone(),
+        sol: step.solved.solution.clone(),
     };
-    let options = shared.options;
+    let options = step.options;
     let (force, torque) = (
         Vector3::from(direction.force),
-        Vector3::from(direction.torque) * shared.length_m,
+        Vector3::from(direction.torque) * step.length_m,
     );
     let (held, hi, note) = match predicted {
         _ if shared.fixed.fixes(model, &force, &torque) => fixed_by_loads(&search, base),
@@ -536,7 +540,7 @@ fn walk_down(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::margin::tests::{pinch, DOWN};
+    use crate::analysis::margin_search::tests::{pinch, DOWN};
 
     /// A step solved by the caller (a hand-off's own solve) gives the margins of the step
     /// solved by the tracker itself, bit for bit (the same inputs and start state, fresh
@@ -545,7 +549,7 @@ mod tests {
     /// closed form `2 mu P - W = 6 N`, to the bisection's relative tolerance.
     #[test]
     fn a_step_solved_by_the_caller_gives_the_margins_of_a_step_solved_here() {
-        let model = Arc::new(pinch());
+        let model = pinch();
         let solve = SolveOptions::default();
         let options = MarginOptions::default();
         let directions = vec![
@@ -562,7 +566,15 @@ mod tests {
             let sol = stepper.solve_step(&inputs, &mut after).unwrap();
             let a = itself.margins(&model, &inputs, &start, solve).unwrap();
             let b = given
-                .margins_of_solved(&model, &inputs, (&after, &sol), solve)
+                .margins_of_solved(
+                    &model,
+                    &inputs,
+                    SolvedStep {
+                        state: &after,
+                        solution: &sol,
+                    },
+                    solve,
+                )
                 .unwrap();
             for (x, y) in a.directions.iter().zip(&b.directions) {
                 assert_eq!(

@@ -5,10 +5,12 @@
 
 pub mod load_capacity;
 pub mod load_fixed_directions;
-pub mod margin;
+pub mod margin_report;
+pub mod margin_search;
 pub mod margin_tracker;
 pub mod patch_sizing;
 pub mod refinement;
 pub mod relaxation;
 pub mod solution_record;
 pub mod trial_forces;
+pub mod wrench_directions;

@@ -78,7 +78,10 @@ fn solved(scene: Scene, options: SolveOptions) -> Result<AutoPatch, ModelError> 
             source,
         }
     })?;
-    let solution = GraspSolver::new(&model, options).solve(&StepInputs::of_scene(&model))?;
+    let inputs = StepInputs::of_scene(&model);
+    let mut solver = GraspSolver::new(model, options);
+    let solution = solver.solve(&inputs)?;
+    let model = solver.into_model();
     Ok(AutoPatch {
         scene,
         model,
@@ -143,8 +146,8 @@ pub fn hertz_suggestion(
     model: &FingerModel,
     load_n: f64,
 ) -> Option<HertzSuggestion> {
-    let tip = crate::model::grasp_model::tip_curvatures_per_m(f, &model.frame);
-    let obj = crate::model::grasp_model::object_curvatures_per_m(f);
+    let tip = crate::model::model_builder::tip_curvatures_per_m(f, &model.frame);
+    let obj = crate::model::model_builder::object_curvatures_per_m(f);
     let k = [tip[0] + obj[0], tip[1] + obj[1]];
     let inv_e = model.contact.constants.normal;
     if !(inv_e > 0.0 && load_n > 0.0) {

@@ -6,6 +6,7 @@
 //! over-estimates the error when convergence is faster (Hertz approach converges like
 //! `h^2`-`h^3`; see docs/results.md), so it errs on the safe side.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use crate::error::ModelError;
@@ -106,7 +107,9 @@ pub fn estimate_error(
                 source,
             }
         })?;
-    let coarse = GraspSolver::new(&model, options).solve(&StepInputs::of_scene(&model))?;
+    let model = Arc::new(model);
+    let coarse =
+        GraspSolver::new(Arc::clone(&model), options).solve(&StepInputs::of_scene(&model))?;
     if !coarse.status.has_forces() {
         return Ok(Err(NoEstimate::CoarseFailed(
             coarse.reason.unwrap_or_default(),
@@ -234,7 +237,8 @@ pub fn refinement_study(
         let t = Instant::now();
         let model =
             GraspModel::from_scene_with(&s, options.compliance).map_err(|e| e.to_string())?;
-        let sol = GraspSolver::new(&model, options)
+        let model = Arc::new(model);
+        let sol = GraspSolver::new(Arc::clone(&model), options)
             .solve(&StepInputs::of_scene(&model))
             .map_err(|e| e.to_string())?;
         let wall = t.elapsed().as_secs_f64();

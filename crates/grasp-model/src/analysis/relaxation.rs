@@ -93,8 +93,8 @@ pub fn solve_at_reporting(
     let seconds = match time {
         TimePoint::At { seconds } if model.is_viscoelastic() => seconds,
         TimePoint::LongTerm if model.is_viscoelastic() => {
-            let relaxed = model.for_time_step(f64::INFINITY)?;
-            let solution = GraspSolver::new(relaxed, options).solve(&inputs)?;
+            let relaxed = inputs.with_time_step(f64::INFINITY);
+            let solution = GraspSolver::new(model.clone(), options).solve(&relaxed)?;
             return Ok(TimedSolution {
                 solution,
                 time,
@@ -102,7 +102,7 @@ pub fn solve_at_reporting(
             });
         }
         _ => {
-            let solution = GraspSolver::new(model, options).solve(&inputs)?;
+            let solution = GraspSolver::new(model.clone(), options).solve(&inputs)?;
             return Ok(TimedSolution {
                 solution,
                 time,
@@ -111,7 +111,8 @@ pub fn solve_at_reporting(
         }
     };
     let mut state = ContactState::new(model);
-    let mut solution = GraspSolver::new(model, options).solve_step(&inputs, &mut state)?;
+    let mut solver = GraspSolver::new(model.clone(), options);
+    let mut solution = solver.solve_step(&inputs, &mut state)?;
     let mut steps = 1;
     if !solution.status.has_forces() {
         return Ok(TimedSolution {
@@ -121,18 +122,12 @@ pub fn solve_at_reporting(
         });
     }
     state.advance_time_step(model, &solution);
-    let mut stepped: Option<(u64, GraspSolver)> = None;
     let mut t = 0.0;
     let steps_of_history = time_steps(seconds, fastest_retardation_s(model));
     let n = steps_of_history.len();
     for dt in steps_of_history {
-        if stepped.as_ref().is_none_or(|s| s.0 != dt.to_bits()) {
-            let s = GraspSolver::new(model.for_time_step(dt)?, options);
-            stepped = Some((dt.to_bits(), s));
-        }
-        let (_, solver) = stepped.as_mut().expect("set above");
-        state.prepare_time_step(solver.model());
-        solution = solver.solve_step(&inputs, &mut state)?;
+        // A step of another length assembles its program afresh (the solver's doing).
+        solution = solver.solve_step(&inputs.clone().with_time_step(dt), &mut state)?;
         step(steps, n);
         steps += 1;
         t += dt;
@@ -142,7 +137,7 @@ pub fn solve_at_reporting(
             }
             break;
         }
-        state.advance_time_step(solver.model(), &solution);
+        state.advance_time_step(model, &solution);
     }
     Ok(TimedSolution {
         solution,

@@ -73,7 +73,7 @@ impl CirculantInverse {
         coupled: bool,
     ) -> Result<Self, OutOfMemory> {
         let grid = table.grid();
-        let fft = GridFft::new((grid.nx, grid.ny), (grid.nx, grid.ny));
+        let fft = GridFft::new([grid.nx, grid.ny], [grid.nx, grid.ny]);
         let need = needed(n_tangential, coupled);
         let spectra: Vec<Vec<Complex<f64>>> = (0..ENTRIES.len())
             .map(|e| match need[e] {
@@ -135,7 +135,7 @@ impl CirculantInverse {
         let n = self.elements;
         assert_eq!(v.len(), dim * n, "vector length");
         assert_eq!(out.len(), dim * n, "output length");
-        self.fft.multiply_blocks(v, out, (dim, factor), |r, c| {
+        self.fft.multiply_blocks(v, out, dim, factor, |r, c| {
             let (e, conjugate) = entry_of(r, c)?;
             let k = &self.inverse[e];
             (!k.is_empty()).then_some((k.as_slice(), conjugate))

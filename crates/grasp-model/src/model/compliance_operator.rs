@@ -73,7 +73,7 @@ impl ComplianceOperator {
             grid: *grid,
             n_tangential,
             coupled,
-            fft: GridFft::new((grid.nx, grid.ny), (2 * grid.nx, 2 * grid.ny)),
+            fft: GridFft::new([grid.nx, grid.ny], [2 * grid.nx, 2 * grid.ny]),
             spectra: vec![Vec::new(); 6],
             diagonal: [0.0; 3],
             abs_sums: [0.0; 6],
@@ -284,7 +284,7 @@ impl ComplianceOperator {
         assert_eq!(v.len(), dim * n, "vector length");
         assert_eq!(out.len(), dim * n, "output length");
         let terms: Vec<Vec<Term>> = (0..dim).map(|r| self.terms(r)).collect();
-        self.fft.multiply_blocks(v, out, (dim, factor), |r, c| {
+        self.fft.multiply_blocks(v, out, dim, factor, |r, c| {
             let &(_, block, conjugate) = terms[r].iter().find(|t| t.0 == c)?;
             Some((self.spectra[block as usize].as_slice(), conjugate))
         });

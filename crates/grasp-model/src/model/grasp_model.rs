@@ -9,29 +9,18 @@ use std::sync::Arc;
 
 use nalgebra::Vector3;
 
-use crate::error::{ModelError, OutOfMemory, SceneError};
+use crate::error::{ModelError, OutOfMemory};
 use crate::geometry::contact_frame::ContactFrame;
-use crate::geometry::surface_texture::texture_heights_m;
 use crate::geometry::texture_spec::GapSpec;
 use crate::model::contact_pair::ContactPair;
 use crate::model::equilibrium::{unit_wrench, EquilibriumMap, MotionPlane, Wrench};
 use crate::model::friction::FrictionLaw;
 use crate::model::material::Material;
 use crate::model::patch::Patch;
-use crate::model::patch_compliance::{takes_fft, uses_fft, ComplianceChoice, PatchCompliance};
-use crate::model::surface_gap::{exact_gaps, TipProfile};
+use crate::model::patch_compliance::PatchCompliance;
 use crate::model::viscous_contact::ViscousContact;
-use crate::scene::limits::MAX_COMPLIANCE_BYTES;
-use crate::scene::scene_format::{FingerSpec, ModelKind, RadiusSpec, RelaxationSpec, Scene};
+use crate::scene::scene_format::{ModelKind, RelaxationSpec};
 use crate::scene::shape_report::SharedShape;
-
-/// A first touch away from the contact point is reported when the gaps shift by more than this
-/// fraction of the patch's half diagonal (smaller shifts are the rays' round-off).
-const FIRST_TOUCH_TOLERANCE: f64 = 1e-9;
-
-/// Compliance entries (summed over fingers) from which the blocks are built in parallel:
-/// about 2 ms of work, well above a thread hand-off.
-const PARALLEL_BUILD_ENTRIES: usize = 200_000;
 
 /// How a finger is driven.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -260,9 +249,6 @@ pub struct GraspModel {
     pub(crate) n_unknowns: usize,
     /// The scene's object and loads (also for [`GraspModel::restricted`]).
     pub(crate) object: ObjectModel,
-    /// The time step (s) whose compliance a viscoelastic contact has
-    /// ([`GraspModel::for_time_step`]); 0 for the instantaneous response.
-    pub(crate) time_step_s: f64,
 }
 
 /// Smallest frozen friction coefficient of a frictional finger. The energy model's cone
@@ -339,12 +325,6 @@ impl GraspModel {
         &self.object.scene_warnings
     }
 
-    /// The time step (s) over which a viscoelastic contact's compliance is taken
-    /// ([`GraspModel::for_time_step`]); 0 for the instantaneous response.
-    pub fn time_step_s(&self) -> f64 {
-        self.time_step_s
-    }
-
     /// A first guess of each finger's total normal load, N: the prescribed load of a
     /// force-controlled finger, an equal share of the load scale for a held one.
     pub fn guess_loads(&self, loads_n: &[f64]) -> Vec<f64> {
@@ -376,90 +356,6 @@ impl GraspModel {
                 }
             })
             .collect()
-    }
-
-    /// Builds the model from a scene, validating it first (patch compliances dense up to
-    /// [`crate::scene::limits::AUTO_FFT_ABOVE_UNKNOWNS`] unknowns, FFT above).
-    pub fn from_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
-        Self::from_scene_with(scene, ComplianceChoice::Auto)
-    }
-
-    /// Builds the model from a scene, validating it first, with the patch compliances in the
-    /// form `compliance` picks.
-    pub fn from_scene_with(
-        scene: &Scene,
-        compliance: ComplianceChoice,
-    ) -> Result<GraspModel, SceneError> {
-        scene.validate()?;
-        Self::from_validated_scene_with(scene, compliance)
-    }
-
-    /// Builds the model of a scene the caller has validated, or of a subset of the fingers of
-    /// a validated scene (whose per-finger checks hold; the reach heuristic, which compares
-    /// fingers, is not re-run).
-    pub fn from_validated_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
-        Self::from_validated_scene_with(scene, ComplianceChoice::Auto)
-    }
-
-    /// [`GraspModel::from_validated_scene`] with the patch compliances in the form `compliance`
-    /// picks.
-    pub fn from_validated_scene_with(
-        scene: &Scene,
-        compliance: ComplianceChoice,
-    ) -> Result<GraspModel, SceneError> {
-        if scene.fingers.is_empty() {
-            return Err(SceneError::Invalid(vec![crate::error::InputProblem {
-                path: "fingers".into(),
-                message: "is empty".into(),
-                fix: "list at least one finger".into(),
-            }]));
-        }
-        check_dense_bytes(scene, compliance)?;
-        let mut object = object_model(scene);
-        // The fingers' compliance blocks are independent: build them in parallel when they
-        // are large enough to pay for the threads (the same numbers either way).
-        let entries: usize = scene
-            .fingers
-            .iter()
-            .map(|f| (3 * f.patch.grid[0] * f.patch.grid[1]).pow(2))
-            .sum();
-        let built: Vec<(FingerModel, Option<String>)> =
-            if entries >= PARALLEL_BUILD_ENTRIES && scene.fingers.len() > 1 {
-                use rayon::prelude::*;
-                scene
-                    .fingers
-                    .par_iter()
-                    .enumerate()
-                    .map(|(i, f)| finger_model(i, f, &object, compliance))
-                    .collect::<Result<_, _>>()?
-            } else {
-                scene
-                    .fingers
-                    .iter()
-                    .enumerate()
-                    .map(|(i, f)| finger_model(i, f, &object, compliance))
-                    .collect::<Result<_, _>>()?
-            };
-        let mut fingers = Vec::with_capacity(built.len());
-        for (f, gap_warning) in built {
-            object.scene_warnings.extend(gap_warning);
-            fingers.push(f);
-        }
-        for (i, f) in fingers.iter().enumerate() {
-            let warnings =
-                f.contact
-                    .layer_warnings(&f.patch.grid, &format!("fingers[{i}]"), &f.name);
-            object.scene_warnings.extend(warnings);
-        }
-        let model = Self::from_parts(fingers, object);
-        // The program's assembly and the solve allocate ordinarily: check they will fit.
-        crate::allocation::check_room(model.solve_bytes(), || model.solve_memory_name()).map_err(
-            |source| SceneError::OutOfMemory {
-                path: "fingers".into(),
-                source,
-            },
-        )?;
-        Ok(model)
     }
 
     /// Bytes a solve of this model works in besides the model: the conjugate-gradient and
@@ -497,10 +393,7 @@ impl GraspModel {
                 Some(f)
             })
             .collect::<Option<Vec<_>>>()?;
-        Some(GraspModel {
-            time_step_s: self.time_step_s,
-            ..Self::from_parts(fingers, self.object.clone())
-        })
+        Some(Self::from_parts(fingers, self.object.clone()))
     }
 
     /// True when a contact has a viscoelastic body.
@@ -511,13 +404,11 @@ impl GraspModel {
     /// The model of one time step of `dt_s` seconds (`f64::INFINITY`: fully relaxed): every
     /// viscoelastic contact's compliance is its compliance over the step
     /// (`ViscousContact::step_compliance`; `dt_s = 0` gives the instantaneous one, this
-    /// model's), the elastic fingers' are shared. This model itself when nothing relaxes.
-    pub fn for_time_step(&self, dt_s: f64) -> Result<GraspModel, OutOfMemory> {
+    /// model's), the elastic fingers' are shared. A solve of a time step builds it
+    /// ([`crate::GraspSolver::solve_step`] with [`crate::StepInputs::time_step_s`]).
+    pub(crate) fn for_time_step(&self, dt_s: f64) -> Result<GraspModel, OutOfMemory> {
         if !self.is_viscoelastic() {
-            return Ok(GraspModel {
-                time_step_s: dt_s,
-                ..self.clone()
-            });
+            return Ok(self.clone());
         }
         let fingers = self
             .fingers
@@ -530,15 +421,12 @@ impl GraspModel {
                 Ok(f)
             })
             .collect::<Result<_, OutOfMemory>>()?;
-        Ok(GraspModel {
-            time_step_s: dt_s,
-            ..Self::from_parts(fingers, self.object.clone())
-        })
+        Ok(Self::from_parts(fingers, self.object.clone()))
     }
 
     /// Offsets, reference point, external wrench, scales and equilibrium map of `fingers` (at
     /// least one) holding `object`.
-    fn from_parts(mut fingers: Vec<FingerModel>, object: ObjectModel) -> GraspModel {
+    pub(crate) fn from_parts(mut fingers: Vec<FingerModel>, object: ObjectModel) -> GraspModel {
         let mut offset = 0;
         for f in &mut fingers {
             f.offset = offset;
@@ -577,7 +465,6 @@ impl GraspModel {
             equilibrium,
             n_unknowns: offset,
             object,
-            time_step_s: 0.0,
         }
     }
 
@@ -661,270 +548,6 @@ impl GraspModel {
     }
 }
 
-fn v3(a: &[f64; 3]) -> Vector3<f64> {
-    Vector3::new(a[0], a[1], a[2])
-}
-
-/// The object, its loads and the plane of a scene.
-fn object_model(scene: &Scene) -> ObjectModel {
-    let plane = scene.planar.as_ref().map(|p| {
-        let p = v3(&p.normal).normalize();
-        let hint = if p.x.abs() < 0.9 {
-            Vector3::x()
-        } else {
-            Vector3::y()
-        };
-        let e1 = (hint - p * p.dot(&hint)).normalize();
-        let e2 = p.cross(&e1);
-        MotionPlane { e1, e2, normal: p }
-    });
-    let o = &scene.object;
-    let center_of_mass_m = v3(&o.center_of_mass);
-    let mut loads = Vec::new();
-    if o.weight > 0.0 {
-        loads.push(ExternalLoad {
-            force_n: v3(&o.gravity).normalize() * o.weight,
-            point_m: center_of_mass_m,
-        });
-    }
-    for r in &o.external_forces {
-        loads.push(ExternalLoad {
-            force_n: v3(&r.force),
-            point_m: v3(&r.at),
-        });
-    }
-    ObjectModel {
-        center_of_mass_m,
-        loads,
-        material: Material::from(&o.material),
-        layer_thickness_m: o.material.layer_thickness_m(),
-        relaxation: o.material.relaxation().cloned(),
-        plane,
-        kind: scene.model,
-        scene_warnings: scene
-            .shape_report
-            .as_ref()
-            .map_or_else(Vec::new, |r| r.warnings.clone()),
-        shape: scene.shape_report.as_ref().map(|r| r.shape.clone()),
-        tip_shapes: scene
-            .shape_report
-            .as_ref()
-            .map_or_else(Vec::new, |r| r.tips.clone()),
-        gap: scene.gap,
-    }
-}
-
-/// Refuses a scene whose dense patch compliances under `compliance` would exceed
-/// [`MAX_COMPLIANCE_BYTES`] (validation checks the automatic choice; a caller that forces the
-/// dense matrix on a fine grid is refused here, before anything is allocated).
-fn check_dense_bytes(scene: &Scene, compliance: ComplianceChoice) -> Result<(), SceneError> {
-    let bytes =
-        crate::scene::work_bounds::compliance_bytes_of(scene, |f| !takes_fft(scene, f, compliance))
-            as f64;
-    if bytes <= MAX_COMPLIANCE_BYTES {
-        return Ok(());
-    }
-    // The whole solve's estimate, the one the command line's memory check gives.
-    let whole = crate::scene::work_bounds::estimate_memory_bytes_with(scene, |f| {
-        takes_fft(scene, f, compliance)
-    }) as f64;
-    Err(SceneError::Invalid(vec![crate::error::InputProblem {
-        path: "fingers".into(),
-        message: format!(
-            "a solve needs an estimated {:.1} GiB of memory, its dense patch compliance blocks \
-             alone {:.1} GiB, more than the {:.0} GiB allowed them",
-            whole / 1073741824.0,
-            bytes / 1073741824.0,
-            MAX_COMPLIANCE_BYTES / 1073741824.0
-        ),
-        fix: format!(
-            "set `{}` to auto or fft, or use coarser grids",
-            crate::option_names::COMPLIANCE
-        ),
-    }]))
-}
-
-/// Finger `i` of a scene, prepared (offset 0 until the model places it), with the warning its
-/// gaps give (a first touch away from the contact point).
-fn finger_model(
-    i: usize,
-    f: &crate::scene::scene_format::FingerSpec,
-    object: &ObjectModel,
-    compliance: ComplianceChoice,
-) -> Result<(FingerModel, Option<String>), SceneError> {
-    let frame = ContactFrame::new(
-        v3(&f.contact_point),
-        v3(&f.normal),
-        f.tangent.as_ref().map(v3),
-        object.plane.map(|p| p.normal),
-    );
-    let (patch, gap_warning) = finger_patch(i, f, &frame, object)?;
-    let exact_gaps = gap_kind(f, object) == GapSpec::Exact && object.shape.is_some();
-    let material = Material::from(&f.material);
-    let contact = ContactPair::new(
-        &material,
-        f.material.layer_thickness_m(),
-        &object.material,
-        object.layer_thickness_m,
-    );
-    let friction = FrictionLaw::from_spec(&f.friction, &material, &object.material);
-    let n_tangential = if friction.is_frictionless() {
-        0
-    } else if object.plane.is_some() {
-        1
-    } else {
-        2
-    };
-    let grid = patch.grid;
-    let fft = uses_fft(compliance, grid.len().saturating_mul(1 + n_tangential));
-    let relaxation = (f.material.relaxation(), object.relaxation.as_ref());
-    let (compliance_m_per_n, viscous) =
-        finger_compliance((i, f), &contact, (&grid, n_tangential, fft), relaxation)?;
-    let control = match (f.control.normal_load_n(), f.control.approach_m()) {
-        (Some(p), _) => Control::NormalLoad { newtons: p },
-        (None, Some(d)) => Control::Approach { metres: d },
-        (None, None) => Control::Held,
-    };
-    let finger = FingerModel {
-        name: f.name.clone(),
-        frame,
-        patch,
-        material,
-        contact,
-        friction,
-        n_tangential,
-        compliance_m_per_n,
-        control,
-        viscous,
-        offset: 0,
-        exact_gaps,
-    };
-    Ok((finger, gap_warning))
-}
-
-/// Bytes of one element's record in a solution (at least `size_of::<ElementSolution>()`, a
-/// test of the solution checks it).
-pub const ELEMENT_RECORD_BYTES: u64 = 192;
-
-/// Finger `i`'s patch compliance (and its viscoelastic bodies'), built once the memory it
-/// takes is known to be there ([`crate::allocation::check_room`]) and from fallibly allocated
-/// tables and spectra: a refusal is [`SceneError::OutOfMemory`] at the finger's grid, naming
-/// the grid and what the compliance holds in all (the kernel table and the FFT operator's
-/// spectra, or the dense matrix).
-fn finger_compliance(
-    (i, f): (usize, &FingerSpec),
-    contact: &ContactPair,
-    (grid, n_tangential, fft): (&crate::model::influence::GridSpec, usize, bool),
-    laws: (Option<&RelaxationSpec>, Option<&RelaxationSpec>),
-) -> Result<(PatchCompliance, Option<Arc<ViscousContact>>), SceneError> {
-    let (nx, ny) = (grid.nx, grid.ny);
-    let table = 48 * (2 * nx as u64 - 1) * (2 * ny as u64 - 1);
-    let (what, held) = match fft {
-        true => (
-            "influence spectra",
-            crate::model::compliance_operator::ComplianceOperator::memory_estimate_bytes(
-                grid,
-                n_tangential,
-                true,
-            ) as u64,
-        ),
-        false => ("compliance matrix", {
-            let n = (nx * ny * (1 + n_tangential)) as u64;
-            8 * n * n
-        }),
-    };
-    let what = format!("the {nx} x {ny} {what} of finger `{}`", f.name);
-    let refused = |e: OutOfMemory| SceneError::OutOfMemory {
-        path: format!("fingers[{i}].patch.grid"),
-        source: e.named(what.clone(), table + held),
-    };
-    crate::allocation::check_room(table + held, String::new).map_err(refused)?;
-    let built = match laws {
-        (None, None) => PatchCompliance::build(grid, contact, n_tangential, fft).map(|c| (c, None)),
-        laws => contact.kernel_table(grid).map(Arc::new).and_then(|table| {
-            let viscous = ViscousContact::new(contact, &table, (grid, n_tangential, fft), laws)?;
-            let c = PatchCompliance::from_table(&table, n_tangential, fft)?;
-            Ok((c, viscous.map(Arc::new)))
-        }),
-    };
-    built.map_err(refused)
-}
-
-/// How finger `f`'s smooth gap is computed: its own `gap`, else the scene's, else exact with
-/// a shape and quadratic without.
-fn gap_kind(f: &FingerSpec, object: &ObjectModel) -> GapSpec {
-    f.gap.or(object.gap).unwrap_or(match object.shape {
-        Some(_) => GapSpec::Exact,
-        None => GapSpec::Quadratic,
-    })
-}
-
-/// Finger `i`'s patch: its elements and initial gaps, smooth (exact from the shapes,
-/// `model/surface_gap.rs`, or the thesis's quadratic form, Johnson 4.1) less its texture's
-/// heights, and the warning of a first touch away from the contact point.
-fn finger_patch(
-    i: usize,
-    f: &FingerSpec,
-    frame: &ContactFrame,
-    object: &ObjectModel,
-) -> Result<(Patch, Option<String>), SceneError> {
-    let (patch, warning) = smooth_patch(i, f, frame, object)?;
-    let Some(texture) = &f.texture else {
-        return Ok((patch, warning));
-    };
-    let element = [patch.grid.hx, patch.grid.hy];
-    let heights = texture_heights_m(texture, &patch.centres_m, element).map_err(|e| {
-        SceneError::Invalid(vec![crate::error::InputProblem {
-            path: format!("fingers[{i}].texture"),
-            message: e,
-            fix: "give a texture that covers the patch (see the scene schema)".into(),
-        }])
-    })?;
-    Ok((patch.with_texture(&heights), warning))
-}
-
-/// Finger `i`'s patch with its smooth gaps (see [`finger_patch`]).
-fn smooth_patch(
-    i: usize,
-    f: &FingerSpec,
-    frame: &ContactFrame,
-    object: &ObjectModel,
-) -> Result<(Patch, Option<String>), SceneError> {
-    let shape = match (gap_kind(f, object), &object.shape) {
-        (GapSpec::Exact, Some(shape)) => shape,
-        _ => {
-            let tip = tip_curvatures_per_m(f, frame);
-            let obj = object_curvatures_per_m(f);
-            let curvature = [tip[0] + obj[0], tip[1] + obj[1]];
-            return Ok((Patch::new(f.patch.size, f.patch.grid, curvature), None));
-        }
-    };
-    let flat = Patch::new(f.patch.size, f.patch.grid, [0.0, 0.0]);
-    let reach_m = 0.5 * f.patch.size[0].hypot(f.patch.size[1]);
-    let solid = object.tip_shapes.get(i).and_then(Option::as_ref);
-    let tip = TipProfile::of(f, frame, solid);
-    let gaps = exact_gaps(&shape.0, frame, &tip, &flat.centres_m, reach_m).map_err(|e| {
-        SceneError::Invalid(vec![crate::error::InputProblem {
-            path: format!("fingers[{i}].contact_point"),
-            message: e,
-            fix: "move the contact onto the object's surface with its normal into the object, \
-                  or set the finger's `gap` to \"quadratic\""
-                .into(),
-        }])
-    })?;
-    let warning = (gaps.first_touch_shift_m > FIRST_TOUCH_TOLERANCE * reach_m).then(|| {
-        format!(
-            "fingers[{i}] ({}): the fingertip first touches the object {:.3e} m closer than at \
-             the contact point (the surfaces curve or tilt toward each other there): its gaps and \
-             approach are measured from that first touch; move the contact to where the \
-             surfaces first meet",
-            f.name, gaps.first_touch_shift_m
-        )
-    });
-    let patch = flat.with_gaps(gaps.gap_m, gaps.off_surface, gaps.off_object);
-    Ok((patch, warning))
-}
-
 /// Scales of a model (model.md, "Scale before solving"): `load_n` over the largest element
 /// count, the largest compliance diagonal, the largest reach from the reference point.
 fn scales_of(fingers: &[FingerModel], load_n: f64, reference_point_m: &Vector3<f64>) -> Scales {
@@ -950,50 +573,6 @@ fn scales_of(fingers: &[FingerModel], load_n: f64, reference_point_m: &Vector3<f
     }
 }
 
-/// The fingertip's curvatures along `t1`, `t2`, 1/m: a sphere `1/R` both ways; a cylinder
-/// `1/R` across its axis and 0 along it (the axis lies along `t1` or `t2`, checked by
-/// validation); flat 0 (the gap of two curved bodies: Johnson 4.1, curvatures added along
-/// common principal directions).
-pub fn tip_curvatures_per_m(
-    f: &crate::scene::scene_format::FingerSpec,
-    frame: &ContactFrame,
-) -> [f64; 2] {
-    if let Some(r) = f.tip_radius {
-        return [1.0 / r, 1.0 / r];
-    }
-    let Some(tip) = &f.tip else {
-        return [0.0, 0.0];
-    };
-    if let Some(s) = &tip.sphere {
-        return [1.0 / s.radius, 1.0 / s.radius];
-    }
-    match &tip.cylinder {
-        Some(c) => {
-            let a = v3(&c.axis).normalize();
-            match a.dot(&frame.t1).abs() >= a.dot(&frame.t2).abs() {
-                true => [0.0, 1.0 / c.radius],
-                false => [1.0 / c.radius, 0.0],
-            }
-        }
-        None => [0.0, 0.0],
-    }
-}
-
-/// The object's curvatures along `t1`, `t2` at finger `f`'s contact, 1/m (0: flat).
-pub fn object_curvatures_per_m(f: &crate::scene::scene_format::FingerSpec) -> [f64; 2] {
-    match f.object_radius {
-        None => [0.0, 0.0],
-        Some(RadiusSpec::Isotropic(r)) => [1.0 / r, 1.0 / r],
-        Some(RadiusSpec::Principal([a, b])) => {
-            [a.map_or(0.0, |r| 1.0 / r), b.map_or(0.0, |r| 1.0 / r)]
-        }
-    }
-}
-
-/// A solver built from a reference to a model keeps a copy of it: the patches and scales are
-/// copied, the compliance blocks and viscoelastic bodies shared (`Arc`), not rebuilt.
-impl From<&GraspModel> for Arc<GraspModel> {
-    fn from(model: &GraspModel) -> Self {
-        Arc::new(model.clone())
-    }
-}
+/// Bytes of one element's record in a solution (at least `size_of::<ElementSolution>()`, a
+/// test of the solution checks it).
+pub const ELEMENT_RECORD_BYTES: u64 = 192;

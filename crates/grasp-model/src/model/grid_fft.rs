@@ -135,8 +135,9 @@ pub(crate) struct GridFft {
 }
 
 impl GridFft {
-    /// Plans for the grid `nx x ny` in the transform grid `px x py`.
-    pub fn new((nx, ny): (usize, usize), (px, py): (usize, usize)) -> Self {
+    /// Plans for the grid `[nx, ny]` in the transform grid `[px, py]`.
+    pub fn new(grid: [usize; 2], transform: [usize; 2]) -> Self {
+        let ([nx, ny], [px, py]) = (grid, transform);
         let mut real = RealFftPlanner::<f64>::new();
         let mut complex = FftPlanner::<f64>::new();
         GridFft {
@@ -287,7 +288,7 @@ impl GridFft {
     /// The half-spectra (into `rows`, blocked by tile) of the first `rows.len() / hy` rows of
     /// `src`, whose rows are `stride` long and hold values in their first `width <= py`
     /// entries (zero beyond, up to `py`).
-    fn row_spectra(&self, src: &[f64], (stride, width): (usize, usize), rows: &mut [Complex<f64>]) {
+    fn row_spectra(&self, src: &[f64], stride: usize, width: usize, rows: &mut [Complex<f64>]) {
         let hy = self.hy;
         let n_rows = rows.len() / hy;
         self.each_task(self.row_parts(rows), |s, k, mut parts| {
@@ -343,7 +344,7 @@ impl GridFft {
     ) -> Result<Vec<Complex<f64>>, OutOfMemory> {
         let (px, py, hy) = (self.px, self.py, self.hy);
         let mut rows = try_take(&self.buffers, nonzero_rows * hy)?;
-        self.row_spectra(padded, (py, py), &mut rows);
+        self.row_spectra(padded, py, py, &mut rows);
         let mut spectrum = crate::allocation::filled(hy * px, Complex::default())?;
         self.each_chunk(&mut spectrum, TILE * px, 1, |s, k, cols| {
             self.gather_columns(&rows, nonzero_rows, k * TILE, cols);
@@ -411,7 +412,8 @@ impl GridFft {
     fn rows_back(
         &self,
         columns: &[Complex<f64>],
-        (r, dim): (usize, usize),
+        r: usize,
+        dim: usize,
         factor: f64,
         out: &mut [f64],
     ) {
@@ -451,7 +453,8 @@ impl GridFft {
         &self,
         v: &[f64],
         out: &mut [f64],
-        (dim, factor): (usize, f64),
+        dim: usize,
+        factor: f64,
         kernel: impl Fn(usize, usize) -> Option<(&'k [Complex<f64>], bool)>,
     ) {
         let (nx, ny, hy) = (self.nx, self.ny, self.hy);
@@ -473,7 +476,7 @@ impl GridFft {
         let mut rows = take(&self.buffers, dim * nx * hy);
         for c in (0..dim).filter(|&c| nonzero[c]) {
             let part = &mut rows[c * nx * hy..(c + 1) * nx * hy];
-            self.row_spectra(&v[c * n..(c + 1) * n], (ny, ny), part);
+            self.row_spectra(&v[c * n..(c + 1) * n], ny, ny, part);
         }
         let mut columns = take(&self.buffers, hy * dim * nx);
         self.each_chunk(&mut columns, TILE * dim * nx, dim, |s, k, tile| {
@@ -483,7 +486,7 @@ impl GridFft {
         for (r, out_r) in out.chunks_exact_mut(n).enumerate().take(dim) {
             match terms[r].is_empty() {
                 true => out_r.fill(0.0),
-                false => self.rows_back(&columns, (r, dim), factor, out_r),
+                false => self.rows_back(&columns, r, dim, factor, out_r),
             }
         }
         give(&self.buffers, rows);

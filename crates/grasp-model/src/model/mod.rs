@@ -15,6 +15,7 @@ pub mod influence;
 pub mod layer_green_function;
 pub mod layer_kernels;
 pub mod material;
+pub mod model_builder;
 pub mod patch;
 pub mod patch_compliance;
 pub mod quadrature;

@@ -124,6 +124,18 @@ pub enum PatchCompliance {
     Fft(Arc<ComplianceOperator>),
 }
 
+/// The shape of one finger's patch compliance: its grid, its tangential unknowns per element and
+/// its form.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ComplianceForm {
+    /// The patch's grid.
+    pub grid: GridSpec,
+    /// Tangential unknowns per element: 0 (frictionless), 1 (planar) or 2.
+    pub n_tangential: usize,
+    /// True for the FFT operator, false for the dense matrix.
+    pub fft: bool,
+}
+
 impl PatchCompliance {
     /// The compliance of `grid` for the contact's bodies `pair` with `n_tangential`
     /// tangential components, in the form `choice` gives (model.md, patch compliance; Johnson

@@ -11,9 +11,9 @@
 use std::sync::Arc;
 
 use super::contact_pair::ContactPair;
-use super::influence::{GridSpec, KernelTable};
+use super::influence::KernelTable;
 use super::layer_kernels::Side;
-use super::patch_compliance::PatchCompliance;
+use super::patch_compliance::{ComplianceForm, PatchCompliance};
 use super::viscoelasticity::{CreepFunction, RelaxationLaw};
 use crate::error::OutOfMemory;
 use crate::scene::scene_format::RelaxationSpec;
@@ -29,6 +29,22 @@ pub struct ViscousBody {
     table: Arc<KernelTable>,
 }
 
+/// The relaxation laws of a contact's two bodies, as written (`None`: an elastic body).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct BodyLaws<'a> {
+    /// The fingertip's law.
+    pub finger: Option<&'a RelaxationSpec>,
+    /// The object's law.
+    pub object: Option<&'a RelaxationSpec>,
+}
+
+impl BodyLaws<'_> {
+    /// True when neither body relaxes.
+    pub fn are_elastic(&self) -> bool {
+        self.finger.is_none() && self.object.is_none()
+    }
+}
+
 /// The viscoelastic bodies of one contact, with the pair's offsets' entries.
 #[derive(Debug, Clone)]
 pub struct ViscousContact {
@@ -41,15 +57,21 @@ pub struct ViscousContact {
 }
 
 impl ViscousContact {
-    /// The viscoelastic bodies of `pair` on `grid` (`None` when neither relaxes): `finger` and
-    /// `object` are the bodies' relaxation laws as written, `pair_table` the pair's entries,
-    /// `fft` the form of the pair's compliance (the bodies' take the same).
+    /// The viscoelastic bodies of `pair` (`None` when neither relaxes): `laws` are the bodies'
+    /// relaxation laws as written, `pair_table` the pair's entries, `form` the grid and form of
+    /// the pair's compliance (the bodies' take the same).
     pub fn new(
         pair: &ContactPair,
         pair_table: &Arc<KernelTable>,
-        (grid, n_tangential, fft): (&GridSpec, usize, bool),
-        (finger, object): (Option<&RelaxationSpec>, Option<&RelaxationSpec>),
+        form: ComplianceForm,
+        laws: BodyLaws,
     ) -> Result<Option<Self>, OutOfMemory> {
+        let ComplianceForm {
+            grid,
+            n_tangential,
+            fft,
+        } = form;
+        let BodyLaws { finger, object } = laws;
         let modulus = |m: &super::material::Material| match *m {
             super::material::Material::Elastic {
                 youngs_modulus_pa, ..
@@ -67,7 +89,7 @@ impl ViscousContact {
             else {
                 continue;
             };
-            let table = pair.body_table(grid, side)?;
+            let table = pair.body_table(&grid, side)?;
             bodies.push(ViscousBody {
                 creep: law.creep(),
                 compliance_m_per_n: PatchCompliance::from_table(&table, n_tangential, fft)?,

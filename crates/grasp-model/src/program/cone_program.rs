@@ -22,7 +22,7 @@
 //!   `sum_k F_k = P_i / Fu` per force-controlled finger. Dense, `m x n` with `m <= 6 + fingers`.
 //!   Their multipliers are the object's rigid displacement and the approaches (see
 //!   [`crate::solve::readout`]).
-//! - `K_k`, per finger ([`BlockCone`]): `F_k >= 0` (frictionless); the associated Coulomb cone
+//! - `K_k`, per finger ([`FingerCones`], one file per set in [`crate::program::cones`]): `F_k >= 0` (frictionless); the associated Coulomb cone
 //!   `||G_k|| <= mu F_k` (energy model; planar: `|G_k| <= mu F_k`, thesis eqs. 21-24); or
 //!   `F_k >= 0` with the Tresca disc `||G_k|| <= r_k`, radius fixed at the previous iterate
 //!   (coulomb model).
@@ -38,6 +38,7 @@ use rayon::prelude::*;
 
 use crate::model::equilibrium::{MotionPlane, RowReduction, Wrench};
 use crate::model::grasp_model::GraspModel;
+use crate::program::cones::finger_cones::{ConeLaw, FingerCones};
 
 /// Largest floor on the Tresca radii Clarabel is given, in element force units `Fu` (the
 /// floor is this or Clarabel's tolerance, whichever is smaller). A disc of radius 0
@@ -48,32 +49,6 @@ use crate::model::grasp_model::GraspModel;
 /// (its projection onto a disc of radius 0 is exact).
 pub const RADIUS_FLOOR: f64 = 1e-8;
 
-/// Which cones bound the friction forces.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ConeLaw {
-    /// `||G_k|| <= mu F_k`: the energy model's associated cones.
-    Associated,
-    /// `||G_k|| <= r_k` with `r_k` fixed (Tresca): one iterate of the coulomb model.
-    Tresca,
-}
-
-/// The constraint set of every element of one finger.
-#[derive(Debug, Clone, PartialEq)]
-pub enum BlockCone {
-    /// `F_k >= 0`: a frictionless finger (no tangential unknowns).
-    Nonnegative,
-    /// `||G_k|| <= mu F_k` (associated friction), `mu` dimensionless and > 0.
-    Friction {
-        /// Friction coefficient frozen for this solve.
-        mu: f64,
-    },
-    /// `F_k >= 0` and `||G_k|| <= r_k` (Tresca), radii in element force units `Fu`, >= 0.
-    Tresca {
-        /// `r_k / Fu`, one per element.
-        radii: Vec<f64>,
-    },
-}
-
 /// One finger's part of the program.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FingerBlock {
@@ -83,8 +58,8 @@ pub struct FingerBlock {
     pub elements: usize,
     /// Tangential unknowns per element: 0, 1 (planar) or 2.
     pub n_tangential: usize,
-    /// The element constraint set.
-    pub cone: BlockCone,
+    /// The element constraint sets.
+    pub cone: FingerCones,
 }
 
 impl FingerBlock {
@@ -155,13 +130,7 @@ impl ConeProgram {
                 offset: f.offset,
                 elements: f.patch.len(),
                 n_tangential: f.n_tangential,
-                cone: match (f.n_tangential, law) {
-                    (0, _) => BlockCone::Nonnegative,
-                    (_, ConeLaw::Associated) => BlockCone::Friction { mu: m },
-                    (_, ConeLaw::Tresca) => BlockCone::Tresca {
-                        radii: vec![0.0; f.patch.len()],
-                    },
-                },
+                cone: FingerCones::of_law(law, f.n_tangential, f.patch.len(), m),
             })
             .collect();
         let e_hat = equilibrium_matrix(model);
@@ -258,32 +227,20 @@ impl ConeProgram {
     /// Energy model: the friction coefficients `mu` (one per finger) of the cones.
     pub fn set_mu(&mut self, mu: &[f64]) {
         for (b, &m) in self.blocks.iter_mut().zip(mu) {
-            if let BlockCone::Friction { mu } = &mut b.cone {
-                *mu = m;
-            }
+            b.cone.set_mu(m);
         }
     }
 
     /// The friction coefficient of each finger's cones (0 for other cones).
     pub fn mu(&self) -> Vec<f64> {
-        self.blocks
-            .iter()
-            .map(|b| match b.cone {
-                BlockCone::Friction { mu } => mu,
-                _ => 0.0,
-            })
-            .collect()
+        self.blocks.iter().map(|b| b.cone.mu()).collect()
     }
 
     /// Coulomb model: the Tresca radii `r_k` (N; per finger, per element).
     pub fn set_radii(&mut self, model: &GraspModel, radii_n: &[Vec<f64>]) {
         let fu = model.scales.element_force_n;
         for (b, r) in self.blocks.iter_mut().zip(radii_n) {
-            if let BlockCone::Tresca { radii } = &mut b.cone {
-                for (dst, rk) in radii.iter_mut().zip(r) {
-                    *dst = rk / fu;
-                }
-            }
+            b.cone.set_radii(r, fu);
         }
     }
 

@@ -1,3 +1,6 @@
-//! The solver-neutral cone program assembled from the model (kept apart from solving).
+//! The solver-neutral cone program assembled from the model (kept apart from solving): the
+//! program itself ([`cone_program`]) and the constraint sets of its elements with everything a
+//! solver does with one ([`cones`]).
 
 pub mod cone_program;
+pub(crate) mod cones;

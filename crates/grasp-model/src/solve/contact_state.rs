@@ -77,17 +77,30 @@ impl FingerState {
 pub struct ContactState {
     /// Per finger, scene order.
     pub fingers: Vec<FingerState>,
+    /// The time step this state was last prepared for, s
+    /// ([`ContactState::prepare_time_step`]; `None`: none, the instantaneous response):
+    /// the step [`ContactState::advance_time_step`] moves time on by.
+    pub(crate) time_step_s: Option<f64>,
 }
 
 impl ContactState {
     /// A fresh state for `model`: zero slip memory, no warm start.
     pub fn new(model: &GraspModel) -> Self {
-        ContactState {
-            fingers: model
+        Self::of_fingers(
+            model
                 .fingers
                 .iter()
                 .map(|f| FingerState::fresh(&f.name, f.patch.len()))
                 .collect(),
+        )
+    }
+
+    /// The state of these fingers (a model's, in its order), not yet prepared for a time
+    /// step.
+    pub fn of_fingers(fingers: Vec<FingerState>) -> Self {
+        ContactState {
+            fingers,
+            time_step_s: None,
         }
     }
 

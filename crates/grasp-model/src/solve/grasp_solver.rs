@@ -10,7 +10,8 @@ use std::time::Instant;
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
 use crate::model::patch_compliance::CompliancePath;
-use crate::program::cone_program::{ConeLaw, ConeProgram};
+use crate::program::cone_program::ConeProgram;
+use crate::program::cones::finger_cones::ConeLaw;
 use crate::scene::scene_format::ModelKind;
 use crate::solve::contact_state::ContactState;
 use crate::solve::convex_solve::solve_once;
@@ -28,9 +29,15 @@ use crate::solver::solve_progress::SolveProgress;
 /// A solver for one model: the assembled program and, after the first solve, the solver
 /// workspaces (factorisations, Clarabel's KKT structure) and the last solution, reused while
 /// only loads, radii, memory or frozen `mu` change. The coulomb model also keeps an
-/// energy-model program for cold starts.
+/// energy-model program for cold starts. A viscoelastic model's program answers one time
+/// step at a time ([`StepInputs::time_step_s`]): a solve of another step length assembles the
+/// program of that step's compliance afresh.
 pub struct GraspSolver {
+    /// The model as given (its instantaneous response).
     model: Arc<GraspModel>,
+    /// The program's time step and its model (the compliance over the step), when it answers
+    /// a step of a viscoelastic model's time history.
+    stepped: Option<TimeStepModel>,
     main: ProgramSolver,
     energy: Option<ProgramSolver>,
     options: SolveOptions,
@@ -38,26 +45,70 @@ pub struct GraspSolver {
     pending_assembly_s: f64,
 }
 
+/// A viscoelastic model over one time step: its compliance is the step's.
+struct TimeStepModel {
+    /// The step, s (`f64::INFINITY`: fully relaxed).
+    time_step_s: f64,
+    /// The model over the step ([`GraspModel::for_time_step`]).
+    model: Arc<GraspModel>,
+}
+
+/// The program of `model` with the scene's prescribed loads, the cones of its contact law.
+fn program_of(model: &GraspModel) -> ConeProgram {
+    let loads = model.scene_loads_n();
+    let law = match model.kind() {
+        ModelKind::Energy => ConeLaw::Associated,
+        ModelKind::Coulomb => ConeLaw::Tresca,
+    };
+    let mu = model.mu_at(&model.guess_loads(&loads));
+    ConeProgram::assemble(model, &loads, law, &mu)
+}
+
 impl GraspSolver {
     /// Assembles the program of `model` with the scene's prescribed loads; the solver keeps
-    /// the model (shared: pass an `Arc` to keep using it, or the model itself).
+    /// the model (pass an `Arc` to share it, or the model itself to hand it over).
     pub fn new(model: impl Into<Arc<GraspModel>>, options: SolveOptions) -> Self {
         let model: Arc<GraspModel> = model.into();
         let clock = Instant::now();
-        let loads = model.scene_loads_n();
-        let law = match model.kind() {
-            ModelKind::Energy => ConeLaw::Associated,
-            ModelKind::Coulomb => ConeLaw::Tresca,
-        };
-        let mu = model.mu_at(&model.guess_loads(&loads));
-        let program = ConeProgram::assemble(&model, &loads, law, &mu);
+        let program = program_of(&model);
         GraspSolver {
             model,
+            stepped: None,
             main: ProgramSolver::new(program),
             energy: None,
             options,
             pending_assembly_s: clock.elapsed().as_secs_f64(),
         }
+    }
+
+    /// Makes the program answer `inputs`' time step: for a viscoelastic model the compliance
+    /// over the step ([`GraspModel::for_time_step`], assembled afresh when the step length
+    /// changes); the model as given outside a time history, for a step of 0 s (the
+    /// instantaneous response is the model's own) and for an elastic model.
+    fn use_time_step(&mut self, inputs: &StepInputs) -> Result<(), ModelError> {
+        let viscous = self.model.is_viscoelastic();
+        let step = inputs.time_step_s.filter(|&dt| viscous && dt != 0.0);
+        let current = self.stepped.as_ref().map(|s| s.time_step_s.to_bits());
+        if step.map(f64::to_bits) == current {
+            return Ok(());
+        }
+        let clock = Instant::now();
+        self.stepped = match step {
+            Some(dt) => Some(TimeStepModel {
+                time_step_s: dt,
+                model: Arc::new(self.model.for_time_step(dt)?),
+            }),
+            None => None,
+        };
+        self.main = ProgramSolver::new(program_of(self.step_model()));
+        self.energy = None;
+        self.pending_assembly_s += clock.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// The model the program answers: the model over the current time step, or as given.
+    fn step_model(&self) -> &Arc<GraspModel> {
+        self.stepped.as_ref().map_or(&self.model, |s| &s.model)
     }
 
     /// Reports the native solver's Newton steps and conjugate-gradient iterations to
@@ -67,7 +118,8 @@ impl GraspSolver {
         self.main.progress = Some(progress);
     }
 
-    /// The model this solver was built for.
+    /// The model this solver was built for (as given: a viscoelastic model's instantaneous
+    /// response).
     pub fn model(&self) -> &GraspModel {
         &self.model
     }
@@ -75,6 +127,12 @@ impl GraspSolver {
     /// The model this solver was built for, shared.
     pub fn shared_model(&self) -> &Arc<GraspModel> {
         &self.model
+    }
+
+    /// The model this solver was built for, handed back (a copy only when it is still shared
+    /// elsewhere).
+    pub fn into_model(self) -> GraspModel {
+        Arc::unwrap_or_clone(self.model)
     }
 
     /// The assembled program.
@@ -90,14 +148,15 @@ impl GraspSolver {
     /// The program in Clarabel's conic form (for inspection: sizes and nonzeros).
     pub fn clarabel_form(&self) -> ClarabelForm {
         let floor = crate::solver::clarabel::radius_floor(self.options.tolerance);
-        ClarabelForm::assemble(&self.model, &self.main.program, floor)
+        ClarabelForm::assemble(self.step_model(), &self.main.program, floor)
     }
 
     /// The sensitivities of `solution`, this solver's last answer: derivatives of the finger
     /// and element forces with respect to an extra wrench on the object and to the commanded
     /// loads, at the active set (the KKT system's derivative, `solve/sensitivity.rs`).
     pub fn sensitivities(&mut self, solution: &Solution) -> Result<Sensitivities, ModelError> {
-        crate::solve::sensitivity::sensitivities(&mut self.main, &self.model, solution, &[])
+        let model = Arc::clone(self.step_model());
+        crate::solve::sensitivity::sensitivities(&mut self.main, &model, solution, &[])
     }
 
     /// [`GraspSolver::sensitivities`] with a column per [`LoadDirection`] besides (named
@@ -108,7 +167,8 @@ impl GraspSolver {
         solution: &Solution,
         directions: &[LoadDirection],
     ) -> Result<Sensitivities, ModelError> {
-        crate::solve::sensitivity::sensitivities(&mut self.main, &self.model, solution, directions)
+        let model = Arc::clone(self.step_model());
+        crate::solve::sensitivity::sensitivities(&mut self.main, &model, solution, directions)
     }
 
     /// Solves with `inputs` (loads, extra wrench, approaches) from a fresh contact state (no
@@ -122,17 +182,25 @@ impl GraspSolver {
 
     /// Solves one step of a loading path: like [`GraspSolver::solve`], starting from `state`
     /// (slip memory of the coulomb model; previous forces for the warm start; a viscoelastic
-    /// history) and from this solver's last solution (when `options.warm_start`). `state` is
-    /// updated when the step succeeds and left as it was otherwise.
+    /// history) and from this solver's last solution (when `options.warm_start`). A step of a
+    /// viscoelastic model's time history ([`StepInputs::time_step_s`]) is solved with the
+    /// compliance over the step, `state` prepared for it first
+    /// ([`ContactState::prepare_time_step`]); time moves on when the caller, content with the
+    /// step, calls [`ContactState::advance_time_step`]. `state` is updated when the step
+    /// succeeds and left as it was otherwise (its preparation for the step aside).
     pub fn solve_step(
         &mut self,
         inputs: &StepInputs,
         state: &mut ContactState,
     ) -> Result<Solution, ModelError> {
-        let model = Arc::clone(&self.model);
-        inputs.check(&model)?;
-        if !state.matches(&model) {
+        inputs.check(&self.model)?;
+        if !state.matches(&self.model) {
             return Err(ModelError::StateMismatch);
+        }
+        self.use_time_step(inputs)?;
+        let model = Arc::clone(self.step_model());
+        if let Some(dt) = inputs.time_step_s {
+            state.prepare_time_step(&model, dt);
         }
         crate::allocation::check_room(model.solve_bytes(), || model.solve_memory_name())?;
         let clock = Instant::now();

@@ -27,7 +27,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::ModelError;
 use crate::model::equilibrium::MotionPlane;
 use crate::model::grasp_model::GraspModel;
-use crate::program::cone_program::{BlockCone, LoadRow};
+use crate::program::cone_program::LoadRow;
 use crate::solve::solution::Solution;
 use crate::solver::native::newton::kkt_derivative::kkt_derivative;
 use crate::solver::program_solver::ProgramSolver;
@@ -256,10 +256,7 @@ fn radius_coefficients(model: &GraspModel, ps: &ProgramSolver, solution: &Soluti
         .blocks
         .iter()
         .zip(mu)
-        .map(|(b, m)| match b.cone {
-            BlockCone::Tresca { .. } => m,
-            _ => 0.0,
-        })
+        .map(|(b, m)| if b.cone.is_tresca() { m } else { 0.0 })
         .collect()
 }
 
@@ -414,7 +411,7 @@ fn finger_sensitivity(
 
 fn near_changes(
     model: &GraspModel,
-    margins: &[Vec<crate::solver::native::newton::kkt_derivative::StateMargin>],
+    margins: &[Vec<crate::program::cones::element_set::StateMargin>],
     scale: f64,
 ) -> Vec<NearChange> {
     let mut out = Vec::new();

@@ -1,6 +1,6 @@
 //! What changes from one solve of a model to the next while the model stays the same: the
-//! commanded loads, an extra wrench on the object and the commanded approaches
-//! ([`StepInputs`]). What the solves leave behind (slip memory, warm start, viscoelastic
+//! commanded loads, an extra wrench on the object, the commanded approaches and, along a time
+//! history, the step's length ([`StepInputs`]). What the solves leave behind (slip memory, warm start, viscoelastic
 //! history) is the [`crate::ContactState`]'s; what does not change is the
 //! [`crate::GraspModel`]'s (the split MuJoCo makes between `mjModel`, the controls and
 //! `mjData`).
@@ -27,6 +27,12 @@ pub struct StepInputs {
     /// an unknown; a finger not listed keeps its model's control (a position-controlled
     /// finger its scene approach, a held one none). Refused on a force-controlled finger.
     pub approaches_m: Vec<(usize, f64)>,
+    /// The length of the step, s, when the solve is one step of a viscoelastic model's time
+    /// history (`f64::INFINITY`: fully relaxed; 0: the loads applied as a step): the solve
+    /// takes the compliance over the step and the history the state carries
+    /// (`crate::model::viscoelasticity`). `None` (the default): a solve outside a time
+    /// history, the model's instantaneous response. An elastic model ignores it.
+    pub time_step_s: Option<f64>,
 }
 
 impl StepInputs {
@@ -37,6 +43,7 @@ impl StepInputs {
             loads_n,
             extra_wrench: None,
             approaches_m: Vec::new(),
+            time_step_s: None,
         }
     }
 
@@ -67,6 +74,13 @@ impl StepInputs {
         self.with_extra_wrench(&w)
     }
 
+    /// These inputs as one step of `dt_s` seconds of a time history (see
+    /// [`StepInputs::time_step_s`]).
+    pub fn with_time_step(mut self, dt_s: f64) -> Self {
+        self.time_step_s = Some(dt_s);
+        self
+    }
+
     /// These inputs with finger `finger` (index in the model) pressed in by `metres`.
     pub fn with_approach(mut self, finger: usize, metres: f64) -> Self {
         self.approaches_m.push((finger, metres));
@@ -79,6 +93,11 @@ impl StepInputs {
     /// with its reason, as any data that are not finite.)
     pub fn check(&self, model: &GraspModel) -> Result<(), ModelError> {
         model.check_loads(&self.loads_n)?;
+        if let Some(dt) = self.time_step_s.filter(|dt| !(*dt >= 0.0)) {
+            return Err(ModelError::BadInput(format!(
+                "a time step of {dt} s: give a step of 0 s or more (infinity: fully relaxed)"
+            )));
+        }
         for &(i, _) in &self.approaches_m {
             let Some(f) = model.fingers.get(i) else {
                 return Err(ModelError::BadInput(format!(

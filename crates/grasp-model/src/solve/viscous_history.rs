@@ -4,30 +4,33 @@
 //! the next step, `sum_b C_b h_b` ([`crate::model::viscoelasticity`], exact for forces linear
 //! within a step).
 //!
-//! A time-stepping caller (a hand-off, a solve at a later time) brackets each solve with a
-//! model of the step's length ([`GraspModel::for_time_step`]):
-//! [`ContactState::prepare_time_step`] before it writes the history displacement into the
-//! contact state (which the program adds to the gaps and tangential displacements),
-//! [`ContactState::advance_time_step`] after a successful one moves the internal variables to
-//! the step's end. The first solve of a history is the instantaneous response (the loads
-//! applied as a step): no history displacement.
+//! A time-stepping caller (a hand-off, a solve at a later time) gives each solve its step's
+//! length ([`crate::StepInputs::time_step_s`]); the solve prepares the state
+//! ([`ContactState::prepare_time_step`]: the history displacement written into the contact
+//! state, which the program adds to the gaps and tangential displacements) and is solved with
+//! the compliance over the step; [`ContactState::advance_time_step`], after a successful one,
+//! moves the internal variables to the step's end. The first solve of a history is the
+//! instantaneous response (the loads applied as a step): no history displacement.
 
 use crate::model::grasp_model::GraspModel;
 use crate::solve::contact_state::{ContactState, ViscousState};
 use crate::solve::solution::Solution;
 
 impl ContactState {
-    /// Writes each viscoelastic finger's history displacement for the step of `model`
-    /// ([`GraspModel::time_step_s`]) into this state (`C_b h_b` summed over its bodies,
-    /// `h_b = sum_k w_k (E_k z_k + (A_k - E_k) F)`); none where the finger has no history yet.
-    pub fn prepare_time_step(&mut self, model: &GraspModel) {
-        prepare_step(model, self, model.time_step_s);
+    /// Writes each viscoelastic finger's history displacement for a step of `dt_s` seconds of
+    /// `model` into this state (`C_b h_b` summed over its bodies,
+    /// `h_b = sum_k w_k (E_k z_k + (A_k - E_k) F)`; none where the finger has no history yet),
+    /// and remembers the step. A solve of the step does it ([`crate::GraspSolver::solve_step`]).
+    pub(crate) fn prepare_time_step(&mut self, model: &GraspModel, dt_s: f64) {
+        prepare_step(model, self, dt_s);
+        self.time_step_s = Some(dt_s);
     }
 
-    /// Moves each viscoelastic finger's internal variables to the end of the step of `model`
-    /// ([`GraspModel::time_step_s`]) whose solution is `sol`.
+    /// Moves each viscoelastic finger's internal variables to the end of the step this state
+    /// was solved for (the instantaneous response when none), whose solution is `sol`: time
+    /// moves on. `model` is the model the solve was given.
     pub fn advance_time_step(&mut self, model: &GraspModel, sol: &Solution) {
-        advance_step(model, self, model.time_step_s, sol);
+        advance_step(model, self, self.time_step_s.unwrap_or(0.0), sol);
     }
 }
 

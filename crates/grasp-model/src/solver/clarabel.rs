@@ -20,7 +20,9 @@ use clarabel::solver::{
     DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
 
-use crate::program::cone_program::{BlockCone, ConeProgram, FingerBlock, RADIUS_FLOOR};
+use crate::program::cone_program::{ConeProgram, FingerBlock, RADIUS_FLOOR};
+use crate::program::cones::element_set::{ClarabelRow, ElementSet};
+use crate::program::cones::finger_cones::ConeLaw;
 use crate::solver::outcome::{Certificate, ConvexOutcome};
 
 use crate::error::ModelError;
@@ -121,59 +123,69 @@ impl Rows {
         }
     }
 
-    /// The nonnegative-cone rows: for the Tresca law `F_k >= 0` of every finger; then per
-    /// finger `F_k >= 0` (frictionless, associated law) or its planar pairs.
+    /// The nonnegative-cone rows: for the Tresca law the own `F_k >= 0` rows of every finger
+    /// first; then per finger its own `F_k >= 0` rows (associated law) and its planar pairs.
     fn nonnegative(&mut self, program: &ConeProgram, floor: f64) {
-        let tresca = matches!(program.law, crate::program::cone_program::ConeLaw::Tresca);
+        let tresca = program.law == ConeLaw::Tresca;
         if tresca {
             for blk in &program.blocks {
-                self.normal_forces(blk);
+                self.normal_forces(blk, floor);
             }
         }
         for (i, blk) in program.blocks.iter().enumerate() {
-            match (&blk.cone, blk.n_tangential) {
-                (BlockCone::Nonnegative, _) if !tresca => self.normal_forces(blk),
-                (BlockCone::Friction { mu }, 1) => self.friction_pairs(i, blk, *mu),
-                (BlockCone::Tresca { radii }, 1) => self.tresca_pairs(i, blk, radii, floor),
-                _ => {}
+            if !tresca {
+                self.normal_forces(blk, floor);
+            }
+            self.pairs(i, blk, floor);
+        }
+    }
+
+    /// `F_k >= 0` for every element of `blk` whose set has a row of its own.
+    fn normal_forces(&mut self, blk: &FingerBlock, floor: f64) {
+        let mut rows = 0;
+        for k in 0..blk.elements {
+            if blk
+                .cone
+                .element(k)
+                .clarabel_rows(1 + blk.n_tangential, floor)
+                .normal
+            {
+                self.acols.push(self.row + rows, blk.offset + k, -1.0);
+                rows += 1;
             }
         }
+        self.row += rows;
     }
 
-    /// `F_k >= 0` for every element of `blk`.
-    fn normal_forces(&mut self, blk: &FingerBlock) {
-        for k in 0..blk.elements {
-            self.acols.push(self.row + k, blk.offset + k, -1.0);
+    /// The rows of one element's unknowns `(F, G1, G2)` at `row`, with their right-hand sides.
+    fn element_rows(&mut self, blk: &FingerBlock, k: usize, row: usize, rows: &[ClarabelRow]) {
+        let ne = blk.elements;
+        for (j, r) in rows.iter().enumerate() {
+            if r.structural_f {
+                self.acols.push_structural(row + j, blk.offset + k, r.a[0]);
+            } else {
+                self.acols.push(row + j, blk.offset + k, r.a[0]);
+            }
+            for c in 1..=blk.n_tangential {
+                self.acols.push(row + j, blk.offset + c * ne + k, r.a[c]);
+            }
+            self.b[row + j] = r.b;
         }
-        self.row += blk.elements;
     }
 
-    /// The planar pairs `mu F_k + G_k >= 0`, `mu F_k - G_k >= 0` of finger `i` (associated law).
-    fn friction_pairs(&mut self, i: usize, blk: &FingerBlock, mu: f64) {
-        let (row, ne) = (self.row, blk.elements);
+    /// The planar pairs of finger `i` (two nonnegative rows per element), when its sets have
+    /// them.
+    fn pairs(&mut self, i: usize, blk: &FingerBlock, floor: f64) {
+        let (row, ne, d) = (self.row, blk.elements, 1 + blk.n_tangential);
+        if blk.n_tangential != 1 {
+            return;
+        }
         self.friction_rows[i] = ConeRows::PlanarPairs(row);
+        self.b.resize(row + 2 * ne, 0.0);
         for k in 0..ne {
-            self.acols.push_structural(row + 2 * k, blk.offset + k, -mu);
-            self.acols
-                .push_structural(row + 2 * k + 1, blk.offset + k, -mu);
-            self.acols.push(row + 2 * k, blk.offset + ne + k, -1.0);
-            self.acols.push(row + 2 * k + 1, blk.offset + ne + k, 1.0);
-        }
-        self.b.resize(row + 2 * ne, 0.0);
-        self.row += 2 * ne;
-    }
-
-    /// The planar pairs `r_k + G_k >= 0`, `r_k - G_k >= 0` of finger `i` (Tresca law), radii at
-    /// least `floor`.
-    fn tresca_pairs(&mut self, i: usize, blk: &FingerBlock, radii: &[f64], floor: f64) {
-        let (row, ne) = (self.row, blk.elements);
-        self.friction_rows[i] = ConeRows::PlanarPairs(row);
-        self.b.resize(row + 2 * ne, 0.0);
-        for (k, r) in radii[..ne].iter().enumerate() {
-            self.acols.push(row + 2 * k, blk.offset + ne + k, -1.0);
-            self.acols.push(row + 2 * k + 1, blk.offset + ne + k, 1.0);
-            self.b[row + 2 * k] = r.max(floor);
-            self.b[row + 2 * k + 1] = r.max(floor);
+            if let Some(pair) = blk.cone.element(k).clarabel_rows(d, floor).pair {
+                self.element_rows(blk, k, row + 2 * k, &pair);
+            }
         }
         self.row += 2 * ne;
     }
@@ -190,16 +202,9 @@ impl Rows {
             self.friction_rows[i] = ConeRows::SecondOrder(row);
             self.b.resize(row + 3 * ne, 0.0);
             for k in 0..ne {
-                match &blk.cone {
-                    BlockCone::Friction { mu } => {
-                        self.acols.push_structural(row + 3 * k, blk.offset + k, -mu)
-                    }
-                    BlockCone::Tresca { radii } => self.b[row + 3 * k] = radii[k].max(floor),
-                    BlockCone::Nonnegative => {}
+                if let Some(cone) = blk.cone.element(k).clarabel_rows(3, floor).second_order {
+                    self.element_rows(blk, k, row + 3 * k, &cone);
                 }
-                self.acols.push(row + 3 * k + 1, blk.offset + ne + k, -1.0);
-                self.acols
-                    .push(row + 3 * k + 2, blk.offset + 2 * ne + k, -1.0);
             }
             self.row += 3 * ne;
             n_soc += ne;

@@ -30,7 +30,8 @@ use std::sync::Arc;
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::program::cone_program::{BlockCone, ConeProgram};
+use crate::program::cone_program::ConeProgram;
+use crate::program::cones::element_set::ElementSet;
 use crate::solver::outcome::Certificate;
 
 /// The dual-cone violation allowed, relative to `||w||_inf` (round-off in the solver's `y`).
@@ -93,14 +94,9 @@ impl KeptCertificate {
                     .map(|j| self.w[blk.offset + (j + 1) * ne + k].powi(2))
                     .sum::<f64>()
                     .sqrt();
-                let floor_f = match &blk.cone {
-                    BlockCone::Friction { mu } => mu * w_g,
-                    BlockCone::Nonnegative => 0.0,
-                    BlockCone::Tresca { radii } => {
-                        tresca += radii[k].max(radius_floor) * w_g;
-                        0.0
-                    }
-                };
+                let cone = blk.cone.element(k);
+                tresca += cone.support(w_g, radius_floor);
+                let floor_f = cone.dual_floor(w_g);
                 if w_f < floor_f - slack {
                     return None;
                 }

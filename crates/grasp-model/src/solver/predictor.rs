@@ -16,7 +16,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::program::cone_program::{BlockCone, ConeProgram};
+use crate::program::cone_program::ConeProgram;
 use crate::solver::iterate::Iterate;
 
 /// Largest departure of the new data from the remembered points' affine hull (relative to the
@@ -46,11 +46,7 @@ pub(crate) fn data_of(program: &ConeProgram) -> Vec<f64> {
     let mut d = program.q.clone();
     d.extend_from_slice(&program.equality_rhs);
     for b in &program.blocks {
-        match &b.cone {
-            BlockCone::Nonnegative => {}
-            BlockCone::Friction { mu } => d.push(*mu),
-            BlockCone::Tresca { radii } => d.extend_from_slice(radii),
-        }
+        b.cone.append_data(&mut d);
     }
     d
 }

@@ -316,7 +316,7 @@ mod tests {
 
     use nalgebra::Vector3;
 
-    use crate::program::cone_program::ConeLaw;
+    use crate::program::cones::finger_cones::ConeLaw;
     use crate::Scene;
 
     /// Weight of the pad's object, N.

@@ -16,9 +16,8 @@ use nalgebra::DMatrix;
 
 use crate::model::patch_compliance::{PatchCompliance, MATERIALISED_UNKNOWNS};
 
-use crate::program::cone_program::{BlockCone, FingerBlock};
+use crate::program::cone_program::FingerBlock;
 
-use super::cones::element_cone::ElementCone;
 use super::parallel_vectors::{each_chunk, map_indices_coarse, VectorPool, CHUNK, PARALLEL_LEN};
 
 /// One finger's constant data.
@@ -251,15 +250,6 @@ impl FingerBlockData {
         });
         for part in parts {
             out.iter_mut().zip(part).for_each(|(o, p)| *o += p);
-        }
-    }
-
-    /// The constraint set of element `k` under `cone`.
-    pub fn element_cone(&self, cone: &BlockCone, k: usize) -> ElementCone {
-        match cone {
-            BlockCone::Nonnegative => ElementCone::Nonnegative,
-            BlockCone::Friction { mu } => ElementCone::Friction { mu: *mu },
-            BlockCone::Tresca { radii } => ElementCone::Tresca { radius: radii[k] },
         }
     }
 

@@ -8,8 +8,9 @@
 //! factorisation. Where the Newton iteration stalls, a primal-dual interior-point method takes
 //! over and the Newton method polishes its answer.
 //!
-//! Files, layered: `cones/` at the bottom, then the shared files here, then `interior/`, then
-//! `newton/` (whose iteration hands over to the interior point), then this entry.
+//! Files, layered: the shared files here at the bottom, then `interior/`, then `newton/` (whose
+//! iteration hands over to the interior point), then this entry. The element sets, with their
+//! projections and conic rows, are the program's (`crate::program::cones`).
 //!
 //! - this file: [`NativeSolver`], the entry (the fingers' fixed blocks and their factor caches);
 //! - [`native_result`]: how a native solve ended (status, last iterate, work counted);
@@ -17,9 +18,6 @@
 //! - [`dense_cholesky`]: the in-place Cholesky shared by both methods;
 //! - [`parallel_vectors`]: vector arithmetic of the FFT path on all cores, with sums that do
 //!   not depend on the number of threads;
-//! - [`cones`]: an element's constraint set and its projection with a generalised Jacobian:
-//!   [`cones::element_cone`], [`cones::projection`], one file per cone
-//!   ([`cones::cone_nonnegative`], [`cones::cone_friction`], [`cones::cone_tresca`]);
 //! - [`newton`]: the semismooth Newton method: [`newton::cold_start`] (which elements start in
 //!   contact), [`newton::linearisation`] (residual and Newton directions),
 //!   [`newton::reduced_system`] over [`newton::reduced_factor`] (dense, factorised) and
@@ -27,10 +25,8 @@
 //!   [`newton::free_operator`]), [`newton::newton_step`] and [`newton::projected_step`] (one
 //!   step), [`newton::semismooth_newton`] (the iteration), [`newton::kkt_derivative`] (the
 //!   solution's derivative at its active set), and the unit tests `newton_tests`;
-//! - [`interior`]: the interior-point fallback: [`interior::interior_cones`],
-//!   [`interior::conic_rows`], [`interior::interior_point`].
+//! - [`interior`]: the interior-point fallback, [`interior::interior_point`].
 
-pub(crate) mod cones;
 pub(crate) mod dense_cholesky;
 pub(crate) mod finger_block;
 pub(crate) mod interior;

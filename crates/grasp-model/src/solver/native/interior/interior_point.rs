@@ -32,8 +32,9 @@ use crate::solver::native::dense_cholesky::cholesky;
 use crate::solver::native::finger_block::FingerBlockData;
 use crate::solver::native::native_result::{Counts, NativeResult, NativeStatus};
 
-use super::conic_rows::ElementRows;
-use super::interior_cones::{Cone, Scaling};
+use crate::program::cones::conic_rows::ConicRows;
+use crate::program::cones::element_set::ElementSet;
+use crate::program::cones::symmetric_cones::{Scaling, SymmetricCone};
 
 /// Interior-point iterations before giving up.
 const MAX_ITERATIONS: u32 = 100;
@@ -42,11 +43,11 @@ const STEP_FRACTION: f64 = 0.99;
 
 /// The conic rows of the program: per finger, per element, and the list of cones.
 struct Layout {
-    rows: Vec<Vec<ElementRows>>,
+    rows: Vec<Vec<ConicRows>>,
     /// Global row of each element's first conic row.
     offsets: Vec<Vec<usize>>,
     /// Every cone with its global first row.
-    cones: Vec<(Cone, usize)>,
+    cones: Vec<(SymmetricCone, usize)>,
     total: usize,
 }
 
@@ -56,7 +57,7 @@ impl Layout {
         for (b, pb) in blocks.iter().zip(&program.blocks) {
             let (mut r, mut o) = (Vec::new(), Vec::new());
             for k in 0..b.elements {
-                let er = ElementRows::new(&pb.cone, k, b.dim);
+                let er = pb.cone.element(k).conic_rows(b.dim);
                 o.push(total);
                 cones.extend(er.cone_rows().map(|(c, row)| (c, total + row)));
                 total += er.rows;

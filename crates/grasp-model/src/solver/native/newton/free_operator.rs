@@ -26,18 +26,31 @@ use crate::solver::native::parallel_vectors::{each_chunk, fill_indices, CHUNK, P
 
 use super::linearisation::Direction;
 
+/// A sparse matrix stored by rows: row `r`'s entries are `entries[starts[r]..starts[r + 1]]`,
+/// each `(column, value)`.
+#[derive(Debug, Clone, Default)]
+struct SparseRows {
+    /// Where each row's entries start (one more than the rows: the last is the end).
+    starts: Vec<usize>,
+    /// `(column, value)`, row after row.
+    entries: Vec<(usize, f64)>,
+}
+
+impl SparseRows {
+    /// Row `r`'s entries.
+    fn row(&self, r: usize) -> &[(usize, f64)] {
+        &self.entries[self.starts[r]..self.starts[r + 1]]
+    }
+}
+
 /// `D_F` as a sparse matrix stored both ways: by free direction (for `D_F' v`) and by local
 /// unknown (for `D_F p`), so both products split into independent chunks of their output.
 #[derive(Debug, Clone, Default)]
 struct Directions {
-    /// Per direction `a`, its entries `by_direction[starts[a]..starts[a + 1]]`.
-    starts: Vec<usize>,
-    /// `(local index, d_a[c])`.
-    by_direction: Vec<(usize, f64)>,
-    /// Per local unknown `i`, its entries `by_unknown[unknown_starts[i]..unknown_starts[i + 1]]`.
-    unknown_starts: Vec<usize>,
-    /// `(direction, d_a[c])`.
-    by_unknown: Vec<(usize, f64)>,
+    /// Per direction `a`, its entries `(local index, d_a[c])`.
+    by_direction: SparseRows,
+    /// Per local unknown `i`, its entries `(direction, d_a[c])`.
+    by_unknown: SparseRows,
 }
 
 impl Directions {
@@ -45,23 +58,18 @@ impl Directions {
     /// afresh at every Newton step).
     fn reusing(block: &FingerBlockData, free: &[Direction], spare: Self) -> Self {
         let Directions {
-            mut starts,
             mut by_direction,
-            mut unknown_starts,
             mut by_unknown,
         } = spare;
-        by_direction_into(block, free, (&mut starts, &mut by_direction));
-        let by_unknown_parts = (&mut unknown_starts, &mut by_unknown);
+        by_direction_into(block, free, &mut by_direction);
         let sorted = || free.par_windows(2).all(|w| w[0].element <= w[1].element);
         if block.len() >= PARALLEL_LEN && sorted() {
-            by_unknown_sorted(block, free, by_direction.len(), by_unknown_parts);
+            by_unknown_sorted(block, free, by_direction.entries.len(), &mut by_unknown);
         } else {
-            by_unknown_serial(block.len(), (&starts, &by_direction), by_unknown_parts);
+            by_unknown_serial(block.len(), &by_direction, &mut by_unknown);
         }
         Directions {
-            starts,
             by_direction,
-            unknown_starts,
             by_unknown,
         }
     }
@@ -71,8 +79,9 @@ impl Directions {
     fn scatter(&self, p: &[f64], keep: impl Fn(usize) -> bool + Sync + Send, full: &mut [f64]) {
         each_chunk(full, |s, chunk| {
             for (i, f) in (s..s + chunk.len()).zip(chunk.iter_mut()) {
-                let entries = &self.by_unknown[self.unknown_starts[i]..self.unknown_starts[i + 1]];
-                *f = entries
+                *f = self
+                    .by_unknown
+                    .row(i)
                     .iter()
                     .filter(|(a, _)| keep(*a))
                     .map(|&(a, coef)| coef * p[a])
@@ -86,20 +95,20 @@ impl Directions {
     fn gather(
         &self,
         full: &[f64],
-        (keep, other): (
-            impl Fn(usize) -> bool + Sync + Send,
-            impl Fn(usize) -> f64 + Sync + Send,
-        ),
+        keep: impl Fn(usize) -> bool + Sync + Send,
+        other: impl Fn(usize) -> f64 + Sync + Send,
         base: impl Fn(usize) -> f64 + Sync + Send,
         out: &mut [f64],
     ) {
         each_chunk(out, |s, chunk| {
             for (a, o) in (s..s + chunk.len()).zip(chunk.iter_mut()) {
                 let own = match keep(a) {
-                    true => {
-                        let entries = &self.by_direction[self.starts[a]..self.starts[a + 1]];
-                        entries.iter().map(|&(i, coef)| coef * full[i]).sum::<f64>()
-                    }
+                    true => self
+                        .by_direction
+                        .row(a)
+                        .iter()
+                        .map(|&(i, coef)| coef * full[i])
+                        .sum::<f64>(),
                     false => other(a),
                 };
                 *o = base(a) + own;
@@ -108,14 +117,18 @@ impl Directions {
     }
 }
 
-/// `D_F` by unknown (`unknown_starts`, `by_unknown`) from `D_F` by direction, one entry at a
-/// time: each unknown's start serves as its fill cursor, which ends at the next unknown's
-/// start, and the starts are then shifted back by one.
-fn by_unknown_serial(
-    n: usize,
-    (starts, by_direction): (&[usize], &[(usize, f64)]),
-    (unknown_starts, by_unknown): (&mut Vec<usize>, &mut Vec<(usize, f64)>),
-) {
+/// `D_F` by unknown (`n` of them) from `D_F` by direction, one entry at a time: each
+/// unknown's start serves as its fill cursor, which ends at the next unknown's start, and the
+/// starts are then shifted back by one.
+fn by_unknown_serial(n: usize, by_direction: &SparseRows, by_unknown: &mut SparseRows) {
+    let SparseRows {
+        starts: unknown_starts,
+        entries: by_unknown,
+    } = by_unknown;
+    let SparseRows {
+        starts,
+        entries: by_direction,
+    } = by_direction;
     fill_indices(unknown_starts, n + 1, |_| 0);
     for &(i, _) in by_direction {
         unknown_starts[i + 1] += 1;
@@ -167,8 +180,12 @@ fn by_unknown_sorted(
     block: &FingerBlockData,
     free: &[Direction],
     entries: usize,
-    (unknown_starts, by_unknown): (&mut Vec<usize>, &mut Vec<(usize, f64)>),
+    by_unknown: &mut SparseRows,
 ) {
+    let SparseRows {
+        starts: unknown_starts,
+        entries: by_unknown,
+    } = by_unknown;
     let n = block.len();
     fill_indices(unknown_starts, n + 1, |_| 0);
     unknown_starts[1..]
@@ -216,11 +233,11 @@ fn parts_by_chunk<'e>(
 /// `D_F` by direction (`starts`, `by_direction`): each direction's nonzero components in
 /// order. Many directions are written on all cores, per [`CHUNK`] of them in their own part
 /// (after the starts' running sum): the same arrays.
-fn by_direction_into(
-    block: &FingerBlockData,
-    free: &[Direction],
-    (starts, by_direction): (&mut Vec<usize>, &mut Vec<(usize, f64)>),
-) {
+fn by_direction_into(block: &FingerBlockData, free: &[Direction], by_direction: &mut SparseRows) {
+    let SparseRows {
+        starts,
+        entries: by_direction,
+    } = by_direction;
     fn components(dim: usize, d: &Direction) -> impl Iterator<Item = usize> + '_ {
         (0..dim).filter(move |&c| d.dir[c] != 0.0)
     }
@@ -324,9 +341,8 @@ impl FreeOperator {
         self.directions.scatter(p, |_| true, &mut full);
         let mut pfull = block.work.take(block.len());
         block.apply(&full, &mut pfull);
-        let all = (|_| true, |_| 0.0);
         self.directions
-            .gather(&pfull, all, |a| self.beta[a] * p[a], out);
+            .gather(&pfull, |_| true, |_| 0.0, |a| self.beta[a] * p[a], out);
         block.work.give(full);
         block.work.give(pfull);
     }
@@ -343,7 +359,7 @@ impl FreeOperator {
             block.precondition(&full, &mut back);
         }
         self.directions
-            .gather(&back, (circulant, diagonal), |_| 0.0, z);
+            .gather(&back, circulant, diagonal, |_| 0.0, z);
         block.work.give(full);
         block.work.give(back);
     }

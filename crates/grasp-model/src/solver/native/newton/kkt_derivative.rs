@@ -5,7 +5,7 @@
 //!
 //! At a KKT point the natural residual `Phi_k = x_k - Proj_{K_k}(x_k - gamma y_k)` vanishes
 //! ([`super::linearisation`]). Differentiating it with the projection's Jacobian
-//! `sum_j theta_j d_j d_j'` ([`crate::solver::native::cones::element_cone`]) gives, per
+//! `sum_j theta_j d_j d_j'` ([`crate::program::cones::element_cone`]) gives, per
 //! direction `d_j` of element `k` and with `dy = P dx + E' dlambda` (`q` does not change):
 //!
 //! - `theta_j = 0` (separated, or the cone normal of a sliding element): `d_j . dx_k = dr_j`,
@@ -27,7 +27,9 @@ use faer::linalg::solvers::Solve;
 use faer::Mat;
 use nalgebra::DMatrix;
 
-use crate::program::cone_program::{BlockCone, ConeProgram};
+use crate::program::cone_program::ConeProgram;
+use crate::program::cones::element_set::{ElementSet, StateMargin};
+use crate::program::cones::finger_cones::FingerCones;
 use crate::solver::iterate::Iterate;
 use crate::solver::native::finger_block::FingerBlockData;
 
@@ -59,16 +61,6 @@ pub(crate) struct KktDerivative {
 /// the derivative is ambiguous.
 const AMBIGUOUS: f64 = 1e-6;
 
-/// How close an element is to a change of its state, and which change.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct StateMargin {
-    /// Distance of the projection input `x_k - gamma y_k` from the nearest boundary between
-    /// the pieces of the projection (scaled forces).
-    pub distance: f64,
-    /// True when that boundary is between stick and slip; false for contact / separation.
-    pub stick_slip: bool,
-}
-
 /// One free direction of the derivative: its row direction `d_j`, weight, and column `c_j`
 /// (local index, value) in `dx`.
 struct FreeColumn {
@@ -80,33 +72,23 @@ struct FreeColumn {
 /// `mu_i max(F_k, 0)` of the solution itself (the fixed point).
 fn differentiation_cone(
     block: &FingerBlockData,
-    cone: &BlockCone,
+    cone: &FingerCones,
     x: &[f64],
     mu: f64,
-) -> BlockCone {
-    match cone {
-        BlockCone::Tresca { .. } => BlockCone::Tresca {
-            radii: (0..block.elements)
-                .map(|k| mu * block.gather(x, k)[0].max(0.0))
-                .collect(),
-        },
-        other => other.clone(),
-    }
+) -> FingerCones {
+    cone.with_radii(|k| mu * block.gather(x, k)[0].max(0.0))
 }
 
 /// The free directions of one finger with their columns (radial coupling of sliding Tresca
 /// elements included; a Tresca element without radius has no free tangential direction).
 fn free_columns(
     block: &FingerBlockData,
-    cone: &BlockCone,
+    cone: &FingerCones,
     lin: &FingerLinearisation,
     mu: f64,
     pinned: &[bool],
 ) -> Vec<FreeColumn> {
-    let radius = |k: usize| match cone {
-        BlockCone::Tresca { radii } => Some(radii[k]),
-        _ => None,
-    };
+    let radius = |k: usize| cone.radii().map(|radii| radii[k]);
     let radial = |k: usize| {
         lin.fixed
             .iter()
@@ -249,7 +231,7 @@ pub(crate) fn kkt_derivative(
 /// boundary of the separated piece are held separated (see [`kkt_derivative`]).
 fn finger_at(
     block: &FingerBlockData,
-    cone: &BlockCone,
+    cone: &FingerCones,
     x: &[f64],
     yl: &[f64],
     mu: f64,
@@ -258,7 +240,10 @@ fn finger_at(
     let cone = differentiation_cone(block, cone, x, mu);
     let lin = linearise(block, &cone, x, yl);
     let margins: Vec<StateMargin> = (0..block.elements)
-        .map(|k| element_margin(&cone, projection_input(block, x, yl, k), block.dim, k))
+        .map(|k| {
+            cone.element(k)
+                .state_margin(projection_input(block, x, yl, k), block.dim)
+        })
         .collect();
     let pinned: Vec<bool> = margins
         .iter()
@@ -334,46 +319,4 @@ fn solve_schur(s: DMatrix<f64>, rhs: &DMatrix<f64>) -> SchurSolution {
         .map(|j| (0..m).map(|r| vt[(j, r)]).collect())
         .collect();
     (out, unreachable, null)
-}
-
-/// Distance of the projection input `v` of element `k` from the boundaries between the pieces
-/// of its projection (see the cone files).
-fn element_margin(cone: &BlockCone, v: [f64; 3], dim: usize, k: usize) -> StateMargin {
-    let beta = v[1].hypot(if dim == 3 { v[2] } else { 0.0 });
-    let contact = StateMargin {
-        distance: v[0].abs(),
-        stick_slip: false,
-    };
-    match cone {
-        BlockCone::Nonnegative => contact,
-        BlockCone::Tresca { radii } => {
-            let slip = StateMargin {
-                distance: (beta - radii[k]).abs(),
-                stick_slip: true,
-            };
-            if dim == 1 || slip.distance >= contact.distance || v[0] <= 0.0 {
-                contact
-            } else {
-                slip
-            }
-        }
-        BlockCone::Friction { mu } => {
-            let norm = (1.0 + mu * mu).sqrt();
-            let to_cone = StateMargin {
-                distance: (mu * v[0] - beta).abs() / norm,
-                stick_slip: true,
-            };
-            let to_polar = StateMargin {
-                distance: (v[0] + mu * beta).abs() / norm,
-                stick_slip: false,
-            };
-            if beta <= mu * v[0] {
-                to_cone
-            } else if mu * beta <= -v[0] || to_polar.distance < to_cone.distance {
-                to_polar
-            } else {
-                to_cone
-            }
-        }
-    }
 }

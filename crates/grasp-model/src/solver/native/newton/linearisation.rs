@@ -9,7 +9,7 @@
 //! ```
 //!
 //! vanishes for every element (and `E x = e`), for any `gamma > 0`. With the Jacobian of the
-//! projection written `sum_j theta_j d_j d_j'` ([`crate::solver::native::cones::element_cone`]),
+//! projection written `sum_j theta_j d_j d_j'` ([`crate::program::cones::element_cone`]),
 //! each direction `d_j` of element `k` contributes one Newton row, in the rotated unknown
 //! `xi_j = d_j . dx_k`:
 //!
@@ -20,9 +20,21 @@
 //! with `phi_j = d_j . Phi_k`. The free rows form a symmetric positive definite system
 //! ([`super::reduced_factor`]).
 
-use crate::program::cone_program::BlockCone;
+use crate::program::cones::element_set::ElementSet;
+use crate::program::cones::finger_cones::FingerCones;
 use crate::solver::native::finger_block::FingerBlockData;
 use crate::solver::native::parallel_vectors::{append_in_order, map_indices_coarse, CHUNK};
+
+/// A finger's part of a point of the iteration (local vectors, the finger's own layout): the
+/// forces `x` and the duals `y = P x + q + E' lambda`; or, along a step, their changes `dx`
+/// and `dy`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct LocalPoint<'a> {
+    /// Forces (or their change), scaled.
+    pub x: &'a [f64],
+    /// Duals (or their change), scaled.
+    pub y: &'a [f64],
+}
 
 /// One Jacobian direction of one element.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,7 +76,7 @@ impl FingerLinearisation {
         tolerance: f64,
     ) -> Option<Self> {
         if self.residuals.is_empty() {
-            // Linearised without its elements' residuals ([`linearise_keeping`]).
+            // Linearised without its elements' residuals ([`linearise_reusing`]).
             return None;
         }
         let close = |a: &[Direction], b: &[Direction]| {
@@ -117,24 +129,12 @@ pub(crate) fn projection_input(
 /// (`x`, `y`: the finger's local parts of the iterate and of `P x + q + E' lambda`).
 pub(crate) fn linearise(
     block: &FingerBlockData,
-    cone: &BlockCone,
+    cone: &FingerCones,
     x: &[f64],
     y: &[f64],
 ) -> FingerLinearisation {
-    linearise_keeping(block, cone, (x, y), true)
-}
-
-/// [`linearise`], keeping every element's residual only when `residuals` (a chord step
-/// reads them, [`FingerLinearisation::with_directions_of`]; the projected step of the FFT
-/// path, which keeps no factors, does not: a vector of three per element saved).
-pub(crate) fn linearise_keeping(
-    block: &FingerBlockData,
-    cone: &BlockCone,
-    (x, y): (&[f64], &[f64]),
-    residuals: bool,
-) -> FingerLinearisation {
     let spare = FingerLinearisation::default();
-    linearise_reusing(block, cone, (x, y), residuals, spare)
+    linearise_reusing(block, cone, LocalPoint { x, y }, true, spare)
 }
 
 /// Chunks of elements linearised at once before they are appended to the finger's
@@ -142,14 +142,17 @@ pub(crate) fn linearise_keeping(
 /// whole linearisation) and their memory is reused from one wave to the next.
 const WAVE: usize = 32;
 
-/// [`linearise_keeping`] into the vectors of `spare` (a linearisation no longer needed: its
-/// storage is reused, so a Newton step does not fault in its directions afresh). The
+/// [`linearise`] at `point` into the vectors of `spare` (a linearisation no longer needed: its
+/// storage is reused, so a Newton step does not fault in its directions afresh), keeping
+/// every element's residual only when `residuals` (a chord step reads them,
+/// [`FingerLinearisation::with_directions_of`]; the projected step of the FFT path, which
+/// keeps no factors, does not: a vector of three per element saved). The
 /// elements are linearised in chunks of [`CHUNK`] on all cores, [`WAVE`] chunks at a time,
 /// and appended in chunk order: the same directions and sums on any number of threads.
 pub(crate) fn linearise_reusing(
     block: &FingerBlockData,
-    cone: &BlockCone,
-    (x, y): (&[f64], &[f64]),
+    cone: &FingerCones,
+    point: LocalPoint,
     residuals: bool,
     spare: FingerLinearisation,
 ) -> FingerLinearisation {
@@ -172,7 +175,7 @@ pub(crate) fn linearise_reusing(
         lin.residuals
             .reserve(if residuals { block.elements } else { 0 });
         for k in 0..block.elements {
-            linearise_element(block, cone, (x, y), (k, residuals), &mut lin);
+            linearise_element(block, cone, point, k, residuals, &mut lin);
         }
         return lin;
     }
@@ -181,7 +184,7 @@ pub(crate) fn linearise_reusing(
             let mut part = FingerLinearisation::default();
             let first = (wave + c) * CHUNK;
             for k in first..(first + CHUNK).min(block.elements) {
-                linearise_element(block, cone, (x, y), (k, residuals), &mut part);
+                linearise_element(block, cone, point, k, residuals, &mut part);
             }
             part
         });
@@ -215,19 +218,20 @@ fn for_element_chunks<T: Send>(
     map_indices_coarse(elements.div_ceil(CHUNK), elements, |c| f(range(c)))
 }
 
-/// Element `k`'s natural residual (kept when `keep`) and Newton directions, appended to
-/// `lin`.
+/// Element `k`'s natural residual (kept when `keep`) and Newton directions at `point`,
+/// appended to `lin`.
 fn linearise_element(
     block: &FingerBlockData,
-    cone: &BlockCone,
-    (x, y): (&[f64], &[f64]),
-    (k, keep): (usize, bool),
+    cone: &FingerCones,
+    point: LocalPoint,
+    k: usize,
+    keep: bool,
     lin: &mut FingerLinearisation,
 ) {
     let d = block.dim;
-    let xk = block.gather(x, k);
-    let v = projection_input(block, x, y, k);
-    let p = block.element_cone(cone, k).project(v, d);
+    let xk = block.gather(point.x, k);
+    let v = projection_input(block, point.x, point.y, k);
+    let p = cone.element(k).project(v, d);
     let mut phi = [xk[0] - p.point[0], xk[1] - p.point[1], xk[2] - p.point[2]];
     phi[d..].fill(0.0);
     if keep {
@@ -256,33 +260,35 @@ fn linearise_element(
 /// The residual norms of one finger at a point (no Jacobian): `(sum of squares, max)`.
 pub(crate) fn residual_norms(
     block: &FingerBlockData,
-    cone: &BlockCone,
+    cone: &FingerCones,
     x: &[f64],
     y: &[f64],
 ) -> (f64, f64) {
     norms_at(block, cone, |k| (block.gather(x, k), block.gather(y, k)))
 }
 
-/// [`residual_norms`] at the trial point `(x + t dx, y + t dy)`, each entry formed where it is
-/// used (no trial vectors).
+/// [`residual_norms`] at the trial point `at + t step` (`x + t dx`, `y + t dy`), each entry
+/// formed where it is used (no trial vectors).
 pub(crate) fn residual_norms_along(
     block: &FingerBlockData,
-    cone: &BlockCone,
-    (x, dx): (&[f64], &[f64]),
-    (y, dy): (&[f64], &[f64]),
+    cone: &FingerCones,
+    at: LocalPoint,
+    step: LocalPoint,
     t: f64,
 ) -> (f64, f64) {
     let along = |v: &[f64], dv: &[f64], k: usize| {
         let (a, b) = (block.gather(v, k), block.gather(dv, k));
         [a[0] + t * b[0], a[1] + t * b[1], a[2] + t * b[2]]
     };
-    norms_at(block, cone, |k| (along(x, dx, k), along(y, dy, k)))
+    norms_at(block, cone, |k| {
+        (along(at.x, step.x, k), along(at.y, step.y, k))
+    })
 }
 
 /// The residual norms of one finger whose element `k` has the forces and duals `point(k)`.
 fn norms_at(
     block: &FingerBlockData,
-    cone: &BlockCone,
+    cone: &FingerCones,
     point: impl Fn(usize) -> ([f64; 3], [f64; 3]) + Sync + Send,
 ) -> (f64, f64) {
     let d = block.dim;
@@ -295,7 +301,7 @@ fn norms_at(
                 xk[1] - block.gamma * yk[1],
                 xk[2] - block.gamma * yk[2],
             ];
-            let p = block.element_cone(cone, k).project(v, d);
+            let p = cone.element(k).project(v, d);
             for (c, &xc) in xk.iter().enumerate().take(d) {
                 let f = xc - p.point[c];
                 sq += f * f;

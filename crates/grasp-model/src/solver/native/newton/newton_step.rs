@@ -68,11 +68,24 @@ impl Step {
 
 /// The long vectors a Newton iteration keeps from one step to the next, freed when it ends:
 /// the last step's, its linearisations' and (FFT path) its free operators'.
-#[derive(Default)]
 pub(crate) struct StepSpace {
+    /// The program's unknowns, the length of a step's `dx` and `dy`.
+    pub unknowns: usize,
     pub step: Option<Step>,
     pub lins: Vec<FingerLinearisation>,
     pub ops: Vec<FreeOperator>,
+}
+
+impl StepSpace {
+    /// Empty storage for the steps of a program of `unknowns` unknowns.
+    pub fn new(unknowns: usize) -> Self {
+        StepSpace {
+            unknowns,
+            step: None,
+            lins: Vec::new(),
+            ops: Vec::new(),
+        }
+    }
 }
 
 /// Per-finger cache of reduced systems (most recent first).
@@ -221,13 +234,14 @@ fn solve_schur(s: DMatrix<f64>, rhs: DVector<f64>) -> (DVector<f64>, DVector<f64
 }
 
 /// Computes the Newton step at the linearisations `lins` (one per finger) with equality
-/// residual `e_res = E x - e`. `None` when a reduced system cannot be factorised or solved.
+/// residual `e_res = E x - e`, made in the storage `space` keeps (the last step's). `None`
+/// when a reduced system cannot be factorised or solved.
 pub(crate) fn newton_step(
     blocks: &[FingerBlockData],
     lins: &[FingerLinearisation],
     caches: &mut [FactorCache],
     e_res: &[f64],
-    (n, spare): (usize, Option<Step>),
+    space: &mut StepSpace,
     counts: &mut Counts,
 ) -> Option<Step> {
     let m = e_res.len();
@@ -275,7 +289,7 @@ pub(crate) fn newton_step(
         halves.push(half);
     }
     let (dlambda, unreachable) = solve_schur(s, rhs);
-    let mut step = Step::reusing(spare, n, &dlambda, &unreachable);
+    let mut step = Step::reusing(space.step.take(), space.unknowns, &dlambda, &unreachable);
     for (((block, lin), cache), half) in blocks.iter().zip(lins).zip(caches.iter()).zip(halves) {
         second_half(block, lin, &cache[0], half, &mut step);
     }

@@ -6,7 +6,8 @@
 //! whatever the compliance: the problem is statically determinate.
 
 use crate::model::grasp_model::GraspModel;
-use crate::program::cone_program::{ConeLaw, ConeProgram};
+use crate::program::cone_program::ConeProgram;
+use crate::program::cones::finger_cones::ConeLaw;
 use crate::scene::scene_format::Scene;
 use crate::solver::iterate::Iterate;
 use crate::solver::native::native_result::NativeStatus;

@@ -232,8 +232,19 @@ fn pseudo_inverse(k: DMatrix<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
     (plus, null)
 }
 
+/// Where projected conjugate gradients stop: when the projected residual falls to `relative`
+/// of its start, or its largest entry to `floor` (force units of the scaled program, 0 for
+/// none).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct CgStop {
+    /// Relative accuracy (of the residual's start).
+    pub relative: f64,
+    /// Absolute floor of the residual's largest entry.
+    pub floor: f64,
+}
+
 /// Projected conjugate gradients from `xi`, until the projected residual falls to
-/// `relative` of its start or its largest entry to `floor`: returns `xi` and `dlambda`
+/// `stop.relative` of its start or its largest entry to `stop.floor`: returns `xi` and `dlambda`
 /// (`None` when the residual did not fall to [`CG_ACCEPTABLE`] of its start (or `relative`
 /// when that is larger) or to `floor`, or is not finite) and the iterations. The vectors are
 /// allocated once, before the iterations.
@@ -241,8 +252,9 @@ fn solve(
     p: &Projected,
     r: &Split,
     mut xi: Split,
-    (relative, floor): (f64, f64),
+    stop: CgStop,
 ) -> (Option<(Split, DVector<f64>)>, u32) {
+    let CgStop { relative, floor } = stop;
     let mut res = p.zeros();
     p.apply(&xi, &mut res);
     add_scaled(&mut res, -1.0, r);
@@ -309,9 +321,9 @@ pub(crate) fn projected_step(
     blocks: &[FingerBlockData],
     lins: &[FingerLinearisation],
     e_res: &[f64],
-    (n, space): (usize, &mut StepSpace),
+    space: &mut StepSpace,
     counts: &mut Counts,
-    (relative, floor): (f64, f64),
+    stop: CgStop,
 ) -> Option<Step> {
     let m = e_res.len();
     let mut halves: Vec<FingerHalf> = blocks
@@ -331,14 +343,18 @@ pub(crate) fn projected_step(
         .iter_mut()
         .map(|h| std::mem::take(&mut h.g))
         .collect();
-    let (solved, its) = solve(&p, &r, xi0, (relative.max(CG_TOLERANCE), floor));
+    let stop = CgStop {
+        relative: stop.relative.max(CG_TOLERANCE),
+        ..stop
+    };
+    let (solved, its) = solve(&p, &r, xi0, stop);
     p.keep(r);
     counts.inner_iterations += its;
     let Some((xi, dlambda)) = solved else {
         space.ops = p.keep_columns();
         return None;
     };
-    let mut step = Step::reusing(space.step.take(), n, &dlambda, &unreachable);
+    let mut step = Step::reusing(space.step.take(), space.unknowns, &dlambda, &unreachable);
     for (((block, lin), half), x) in blocks.iter().zip(lins).zip(halves).zip(&xi) {
         finish_finger(block, lin, half.z, x, &mut step);
     }

@@ -20,9 +20,10 @@ use crate::solver::native::parallel_vectors::{copy_of, each_chunk, max_abs};
 
 use super::linearisation::{
     cold_pattern, linearise_reusing, residual_norms, residual_norms_along, FingerLinearisation,
+    LocalPoint,
 };
 use super::newton_step::{chord_linearisations, newton_step, FactorCache, Step, StepSpace};
-use super::projected_step::projected_step;
+use super::projected_step::{projected_step, CgStop};
 use super::reduced_iterative::CG_TOLERANCE;
 
 /// Armijo constant of the line search.
@@ -100,7 +101,8 @@ pub(crate) fn dual_of(
 fn dual_into(
     blocks: &[FingerBlockData],
     program: &ConeProgram,
-    (x, lambda): (&[f64], &[f64]),
+    x: &[f64],
+    lambda: &[f64],
     y: &mut [f64],
 ) {
     each_chunk(y, |s, c| c.copy_from_slice(&program.q[s..s + c.len()]));
@@ -147,7 +149,11 @@ fn linearise_all(
         .map(|(b, pb)| {
             let r = b.offset..b.offset + b.len();
             let kept = spare.next().unwrap_or_default();
-            linearise_reusing(b, &pb.cone, (&s.x[r.clone()], &s.y[r]), residuals, kept)
+            let at = LocalPoint {
+                x: &s.x[r.clone()],
+                y: &s.y[r],
+            };
+            linearise_reusing(b, &pb.cone, at, residuals, kept)
         })
         .collect()
 }
@@ -164,8 +170,15 @@ fn trial(
     let (mut sq, mut max) = (0.0, 0.0_f64);
     for (b, pb) in blocks.iter().zip(&program.blocks) {
         let r = b.offset..b.offset + b.len();
-        let (x, dx) = (&s.x[r.clone()], &step.dx[r.clone()]);
-        let (q, m) = residual_norms_along(b, &pb.cone, (x, dx), (&s.y[r.clone()], &step.dy[r]), t);
+        let at = LocalPoint {
+            x: &s.x[r.clone()],
+            y: &s.y[r.clone()],
+        };
+        let along = LocalPoint {
+            x: &step.dx[r.clone()],
+            y: &step.dy[r],
+        };
+        let (q, m) = residual_norms_along(b, &pb.cone, at, along, t);
         sq += q;
         max = max.max(m);
     }
@@ -215,15 +228,7 @@ pub(crate) fn run(
             .min_by(|a, b| a.0.total_cmp(&b.0))
             .map(|(_, s)| s),
     };
-    newton_iteration(
-        blocks,
-        caches,
-        program,
-        start,
-        limits,
-        Counts::default(),
-        true,
-    )
+    Newton::new(blocks, program, caches, limits, Counts::default()).iterate(start, true)
 }
 
 /// The iteration's state at `it` (`None` for another layout).
@@ -250,42 +255,29 @@ fn merit(blocks: &[FingerBlockData], program: &ConeProgram, s: &State) -> f64 {
     phi + e_res.iter().map(|v| v * v).sum::<f64>()
 }
 
-/// The Newton iteration from `start` (`None`: cold) with the work `counts` done so far;
-/// `fallback` hands a stall to the interior-point method.
-fn newton_iteration(
-    blocks: &[FingerBlockData],
-    caches: &mut [FactorCache],
-    program: &ConeProgram,
-    start: Option<State>,
-    limits: Limits,
-    mut counts: Counts,
-    fallback: bool,
-) -> NativeResult {
-    // The cold start's all-stick step counts against the iteration's steps.
-    let first = counts.newton_steps;
-    let cold = start.is_none();
-    let mut space = StepSpace::default();
-    let s = match start {
-        Some(s) => s,
-        None => match all_stick_start(blocks, caches, program, &mut counts, &mut space) {
-            Ok(s) => s,
-            Err(s) => return stalled(s, counts, NOT_POSITIVE_DEFINITE),
-        },
-    };
-    match descend(
-        (blocks, caches, program),
-        s,
-        limits,
-        &mut counts,
-        (first, cold),
-        &mut space,
-    ) {
-        Descent::Converged(s) => {
-            NativeResult::after(NativeStatus::Converged, s.x, s.lambda, counts)
-        }
-        Descent::Singular(s) => stalled(s, counts, NOT_POSITIVE_DEFINITE),
-        Descent::Stalled(s) => robust(blocks, caches, program, s, limits, counts, fallback),
-    }
+/// One run of the Newton iteration: what it works on (the fingers' fixed data and the
+/// program), what it works with (the fingers' factor caches and the long vectors kept from one
+/// step to the next), its limits and the work it has counted.
+struct Newton<'a, 'p> {
+    blocks: &'a [FingerBlockData],
+    program: &'a ConeProgram,
+    caches: &'a mut [FactorCache],
+    limits: Limits<'p>,
+    /// The work done so far (a polish counts on from the interior-point method's).
+    counts: Counts,
+    /// The count of Newton steps when this run began: its steps count from there.
+    first: u32,
+    space: StepSpace,
+}
+
+/// What a Newton step aims at.
+#[derive(Debug, Clone, Copy)]
+struct StepAim {
+    /// The natural residual the iteration aims at (0 for none): projected conjugate
+    /// gradients stop once their error moves it by at most [`CG_SHARE`] of that.
+    natural_tolerance: f64,
+    /// The relative accuracy of the step's iterative solves (its forcing term).
+    relative: f64,
 }
 
 /// Why a stall at a reduced matrix that cannot be factorised.
@@ -293,78 +285,231 @@ const NOT_POSITIVE_DEFINITE: &str = "a reduced matrix is not positive definite, 
      compliance) conjugate gradients did not solve a Newton system to 1e-8 of its right-hand \
      side";
 
-/// The Newton step at `lins`: by projected conjugate gradients when every finger's
-/// compliance is the FFT operator ([`projected_step`]), else (or when those do not converge)
-/// through the Schur complement of the fingers' reduced systems ([`newton_step`]).
-/// `natural_tolerance` is the natural residual the iteration aims at (0 for none): the
-/// projected gradients stop once their error moves it by at most [`CG_SHARE`] of that. The
-/// step is made in the storage `space` keeps.
-fn step_of(
-    (blocks, lins, caches): (
-        &[FingerBlockData],
-        &[FingerLinearisation],
-        &mut [FactorCache],
-    ),
-    e_res: &[f64],
-    (n, space): (usize, &mut StepSpace),
-    counts: &mut Counts,
-    (natural_tolerance, relative): (f64, f64),
-) -> Option<Step> {
-    if blocks.iter().all(FingerBlockData::is_fft) {
-        // A free row is a natural residual over `gamma theta` (`theta <= 1`): an error `r` in
-        // it moves the natural residual by at most `gamma_max r`.
-        let gamma_max = blocks.iter().map(|b| b.gamma).fold(0.0, f64::max);
-        let floor = match gamma_max > 0.0 {
-            true => CG_SHARE * natural_tolerance / gamma_max,
-            false => 0.0,
-        };
-        let tolerances = (relative, floor);
-        if let Some(step) = projected_step(blocks, lins, e_res, (n, space), counts, tolerances) {
-            return Some(step);
+impl<'a, 'p> Newton<'a, 'p> {
+    /// A run on `blocks` and `program` with the work `counts` done so far.
+    fn new(
+        blocks: &'a [FingerBlockData],
+        program: &'a ConeProgram,
+        caches: &'a mut [FactorCache],
+        limits: Limits<'p>,
+        counts: Counts,
+    ) -> Self {
+        Newton {
+            blocks,
+            program,
+            caches,
+            limits,
+            // The cold start's all-stick step counts against the iteration's steps.
+            first: counts.newton_steps,
+            counts,
+            space: StepSpace::new(program.n_unknowns),
         }
     }
-    newton_step(blocks, lins, caches, e_res, (n, space.step.take()), counts)
-}
 
-/// The cold start: from `x = 0`, `lambda = 0` the all-stick step (every element in contact
-/// and sticking, [`cold_pattern`]), counted in `counts`; `Err` with the zero state when a
-/// reduced matrix cannot be factorised.
-fn all_stick_start(
-    blocks: &[FingerBlockData],
-    caches: &mut [FactorCache],
-    program: &ConeProgram,
-    counts: &mut Counts,
-    space: &mut StepSpace,
-) -> Result<State, State> {
-    let n = program.n_unknowns;
-    let mut s = State {
-        x: vec![0.0; n],
-        lambda: vec![0.0; program.equality_rows()],
-        y: copy_of(&program.q),
-    };
-    let lins: Vec<_> = blocks
-        .iter()
-        .map(|b| cold_pattern(b, &s.y[b.offset..b.offset + b.len()], &b.cold_contact))
-        .collect();
-    let e_res = equality_residual(blocks, program, &s.x);
-    counts.newton_steps += 1;
-    let tolerances = (0.0, FORCING_MAX);
-    match step_of(
-        (blocks, &lins, caches),
-        &e_res,
-        (n, space),
-        counts,
-        tolerances,
-    ) {
-        Some(step) => {
-            apply(&mut s, &step, 1.0);
-            space.step = Some(step);
+    /// The iteration from `start` (`None`: cold); `fallback` hands a stall to the
+    /// interior-point method.
+    fn iterate(mut self, start: Option<State>, fallback: bool) -> NativeResult {
+        let cold = start.is_none();
+        let s = match start {
+            Some(s) => s,
+            None => match self.all_stick_start() {
+                Ok(s) => s,
+                Err(s) => return stalled(s, self.counts, NOT_POSITIVE_DEFINITE),
+            },
+        };
+        match self.descend(s, cold) {
+            Descent::Converged(s) => {
+                NativeResult::after(NativeStatus::Converged, s.x, s.lambda, self.counts)
+            }
+            Descent::Singular(s) => stalled(s, self.counts, NOT_POSITIVE_DEFINITE),
+            Descent::Stalled(s) => self.robust(s, fallback),
         }
-        None => return Err(s),
     }
-    space.lins = lins;
-    dual_into(blocks, program, (&s.x, &s.lambda), &mut s.y);
-    Ok(s)
+
+    /// The Newton step at `lins`: by projected conjugate gradients when every finger's
+    /// compliance is the FFT operator ([`projected_step`]), else (or when those do not
+    /// converge) through the Schur complement of the fingers' reduced systems
+    /// ([`newton_step`]), made in the storage the run keeps.
+    fn step_of(
+        &mut self,
+        lins: &[FingerLinearisation],
+        e_res: &[f64],
+        aim: StepAim,
+    ) -> Option<Step> {
+        let blocks = self.blocks;
+        if blocks.iter().all(FingerBlockData::is_fft) {
+            // A free row is a natural residual over `gamma theta` (`theta <= 1`): an error `r`
+            // in it moves the natural residual by at most `gamma_max r`.
+            let gamma_max = blocks.iter().map(|b| b.gamma).fold(0.0, f64::max);
+            let floor = match gamma_max > 0.0 {
+                true => CG_SHARE * aim.natural_tolerance / gamma_max,
+                false => 0.0,
+            };
+            let stop = CgStop {
+                relative: aim.relative,
+                floor,
+            };
+            let (space, counts) = (&mut self.space, &mut self.counts);
+            if let Some(step) = projected_step(blocks, lins, e_res, space, counts, stop) {
+                return Some(step);
+            }
+        }
+        newton_step(
+            blocks,
+            lins,
+            self.caches,
+            e_res,
+            &mut self.space,
+            &mut self.counts,
+        )
+    }
+
+    /// The cold start: from `x = 0`, `lambda = 0` the all-stick step (every element in
+    /// contact and sticking, [`cold_pattern`]), counted; `Err` with the zero state when a
+    /// reduced matrix cannot be factorised.
+    fn all_stick_start(&mut self) -> Result<State, State> {
+        let (blocks, program) = (self.blocks, self.program);
+        let n = program.n_unknowns;
+        let mut s = State {
+            x: vec![0.0; n],
+            lambda: vec![0.0; program.equality_rows()],
+            y: copy_of(&program.q),
+        };
+        let lins: Vec<_> = blocks
+            .iter()
+            .map(|b| cold_pattern(b, &s.y[b.offset..b.offset + b.len()], &b.cold_contact))
+            .collect();
+        let e_res = equality_residual(blocks, program, &s.x);
+        self.counts.newton_steps += 1;
+        let aim = StepAim {
+            natural_tolerance: 0.0,
+            relative: FORCING_MAX,
+        };
+        match self.step_of(&lins, &e_res, aim) {
+            Some(step) => {
+                apply(&mut s, &step, 1.0);
+                self.space.step = Some(step);
+            }
+            None => return Err(s),
+        }
+        self.space.lins = lins;
+        dual_into(blocks, program, &s.x, &s.lambda, &mut s.y);
+        Ok(s)
+    }
+
+    /// Damped Newton steps from `s` until the convergence test holds or the descent stalls,
+    /// at the latest when `limits.max_iterations` (at most [`JOINT_ITERATIONS`]) steps have
+    /// been taken since the run began. After a `cold` start a step is inexact
+    /// ([`FORCING_MAX`]) while the contact pattern settles (the first step, and whenever the
+    /// free directions' elements changed since the last); a warm start (a hand-off step, which
+    /// starts near its answer) takes exact steps: inexact ones cost it a third more Newton
+    /// steps and a worse last residual (the plate hand-off on 64 x 64 patches: 0.90 steps and
+    /// 5.4e-9 instead of 0.65 and 6.9e-11).
+    fn descend(&mut self, mut s: State, cold: bool) -> Descent {
+        let (blocks, program, limits) = (self.blocks, self.program, self.limits);
+        let mut history: Vec<f64> = Vec::with_capacity(WINDOW);
+        let mut previous: Option<Vec<u64>> = None;
+        loop {
+            limits.report(&self.counts);
+            let lins = linearise_all(blocks, program, &s, std::mem::take(&mut self.space.lins));
+            let pattern = free_pattern(&lins);
+            let settling = cold && previous.as_ref().is_none_or(|p| *p != pattern);
+            previous = Some(pattern);
+            let e_res = equality_residual(blocks, program, &s.x);
+            let res_max = lins.iter().fold(0.0_f64, |a, l| a.max(l.residual_max));
+            let tol = Tolerances::at(limits, program, &s);
+            let psi = lins.iter().map(|l| l.residual_sq).sum::<f64>()
+                + e_res.iter().map(|v| v * v).sum::<f64>();
+            if !psi.is_finite() {
+                // Not a point the iteration can judge (a start or an interior-point answer
+                // with numbers that are not finite, or an overflow): the maxima below would
+                // skip its NaNs and read it as converged.
+                return Descent::Stalled(s);
+            }
+            // Aim at TARGET of the tolerance (one more quadratic step, usually without a new
+            // factorisation); accept the tolerance itself once progress stalls at round-off.
+            let e_max = max_abs(&e_res);
+            let stagnant = history.last().is_some_and(|&prev| psi > 1e-4 * prev);
+            if tol.within(TARGET, res_max, e_max) || (tol.within(1.0, res_max, e_max) && stagnant) {
+                return Descent::Converged(s);
+            }
+            if self.counts.newton_steps - self.first >= limits.max_iterations.min(JOINT_ITERATIONS)
+            {
+                return Descent::Stalled(s);
+            }
+            let reference = remember(&mut history, psi);
+            self.counts.newton_steps += 1;
+            // Near the solution the directions barely turn: reuse the cached factors (chord
+            // step).
+            let near = res_max <= CHORD_RESIDUAL * max_abs(&s.x).max(1.0);
+            let step_lins = match near {
+                true => chord_linearisations(lins, self.caches),
+                false => lins,
+            };
+            let relative = match settling {
+                true => (res_max / max_abs(&s.x).max(1.0)).clamp(CG_TOLERANCE, FORCING_MAX),
+                false => CG_TOLERANCE,
+            };
+            let aim = StepAim {
+                natural_tolerance: TARGET * tol.x,
+                relative,
+            };
+            let Some(step) = self.step_of(&step_lins, &e_res, aim) else {
+                return Descent::Singular(s);
+            };
+            self.space.lins = step_lins;
+            if max_abs(&step.unreachable) > tol.e {
+                // No free direction can meet the equality rows: the contacts must change in a
+                // way the joint step cannot see.
+                return Descent::Stalled(s);
+            }
+            let Some(t) = line_search(blocks, program, &s, &step, &e_res, psi, reference) else {
+                return Descent::Stalled(s);
+            };
+            apply(&mut s, &step, t);
+            self.space.step = Some(step);
+            if t < 1.0 {
+                // Keep y exact: the update accumulates round-off over many damped steps.
+                dual_into(blocks, program, &s.x, &s.lambda, &mut s.y);
+            }
+        }
+    }
+
+    /// After a stall at `s`: with `fallback`, the interior-point method, then a polish of its
+    /// answer by the Newton iteration (which may not fall back again); without, the stall.
+    fn robust(self, s: State, fallback: bool) -> NativeResult {
+        let (blocks, program, counts) = (self.blocks, self.program, self.counts);
+        if !fallback {
+            return stalled(s, counts, "the Newton iteration stalled");
+        }
+        if blocks.iter().any(FingerBlockData::is_matrix_free) {
+            return stalled(
+                s,
+                counts,
+                "the Newton iteration stalled (the interior-point method that would take over \
+                 needs every patch compliance as a matrix, and an FFT patch has more than 3,072 \
+                 unknowns)",
+            );
+        }
+        let ipm = interior_point::run(blocks, program, self.limits.tolerance, counts);
+        let ipm_counts = Counts {
+            newton_steps: ipm.iterations,
+            factorisations: ipm.factorisations,
+            inner_iterations: ipm.inner_iterations,
+        };
+        let start = state_of(blocks, program, &ipm.iterate);
+        let polish = Newton::new(blocks, program, self.caches, self.limits, ipm_counts)
+            .iterate(start, false);
+        if polish.status == NativeStatus::Converged || ipm.status != NativeStatus::Converged {
+            polish_or(polish, ipm)
+        } else {
+            NativeResult {
+                iterations: polish.iterations,
+                factorisations: polish.factorisations,
+                ..ipm
+            }
+        }
+    }
 }
 
 /// How a descent ended, at which state.
@@ -397,91 +542,6 @@ impl Tolerances {
     /// True when both residual maxima are within `f` times the tolerances.
     fn within(&self, f: f64, res_max: f64, e_max: f64) -> bool {
         res_max <= f * self.x && e_max <= f * self.e
-    }
-}
-
-/// Damped Newton steps from `s` (counted in `counts`) until the convergence test holds or the
-/// descent stalls, at the latest when `limits.max_iterations` (at most [`JOINT_ITERATIONS`])
-/// steps have been taken since the count `first`. After a `cold` start a step is inexact
-/// ([`FORCING_MAX`]) while the contact pattern settles (the first step, and whenever the free
-/// directions' elements changed since the last); a warm start (a hand-off step, which starts
-/// near its answer) takes exact steps: inexact ones cost it a third more Newton steps and a
-/// worse last residual (the plate hand-off on 64 x 64 patches: 0.90 steps and 5.4e-9 instead
-/// of 0.65 and 6.9e-11).
-fn descend(
-    (blocks, caches, program): (&[FingerBlockData], &mut [FactorCache], &ConeProgram),
-    mut s: State,
-    limits: Limits,
-    counts: &mut Counts,
-    (first, cold): (u32, bool),
-    space: &mut StepSpace,
-) -> Descent {
-    let mut history: Vec<f64> = Vec::with_capacity(WINDOW);
-    let mut previous: Option<Vec<u64>> = None;
-    loop {
-        limits.report(counts);
-        let lins = linearise_all(blocks, program, &s, std::mem::take(&mut space.lins));
-        let pattern = free_pattern(&lins);
-        let settling = cold && previous.as_ref().is_none_or(|p| *p != pattern);
-        previous = Some(pattern);
-        let e_res = equality_residual(blocks, program, &s.x);
-        let res_max = lins.iter().fold(0.0_f64, |a, l| a.max(l.residual_max));
-        let tol = Tolerances::at(limits, program, &s);
-        let psi = lins.iter().map(|l| l.residual_sq).sum::<f64>()
-            + e_res.iter().map(|v| v * v).sum::<f64>();
-        if !psi.is_finite() {
-            // Not a point the iteration can judge (a start or an interior-point answer with
-            // numbers that are not finite, or an overflow): the maxima below would skip its
-            // NaNs and read it as converged.
-            return Descent::Stalled(s);
-        }
-        // Aim at TARGET of the tolerance (one more quadratic step, usually without a new
-        // factorisation); accept the tolerance itself once progress stalls at round-off.
-        let e_max = max_abs(&e_res);
-        let stagnant = history.last().is_some_and(|&prev| psi > 1e-4 * prev);
-        if tol.within(TARGET, res_max, e_max) || (tol.within(1.0, res_max, e_max) && stagnant) {
-            return Descent::Converged(s);
-        }
-        if counts.newton_steps - first >= limits.max_iterations.min(JOINT_ITERATIONS) {
-            return Descent::Stalled(s);
-        }
-        let reference = remember(&mut history, psi);
-        counts.newton_steps += 1;
-        // Near the solution the directions barely turn: reuse the cached factors (chord step).
-        let near = res_max <= CHORD_RESIDUAL * max_abs(&s.x).max(1.0);
-        let step_lins = match near {
-            true => chord_linearisations(lins, caches),
-            false => lins,
-        };
-        let n = program.n_unknowns;
-        let forcing = match settling {
-            true => (res_max / max_abs(&s.x).max(1.0)).clamp(CG_TOLERANCE, FORCING_MAX),
-            false => CG_TOLERANCE,
-        };
-        let Some(step) = step_of(
-            (blocks, &step_lins, caches),
-            &e_res,
-            (n, &mut *space),
-            counts,
-            (TARGET * tol.x, forcing),
-        ) else {
-            return Descent::Singular(s);
-        };
-        space.lins = step_lins;
-        if max_abs(&step.unreachable) > tol.e {
-            // No free direction can meet the equality rows: the contacts must change in a way
-            // the joint step cannot see.
-            return Descent::Stalled(s);
-        }
-        let Some(t) = line_search(blocks, program, &s, &step, &e_res, psi, reference) else {
-            return Descent::Stalled(s);
-        };
-        apply(&mut s, &step, t);
-        space.step = Some(step);
-        if t < 1.0 {
-            // Keep y exact: the update accumulates round-off over many damped steps.
-            dual_into(blocks, program, (&s.x, &s.lambda), &mut s.y);
-        }
     }
 }
 
@@ -529,55 +589,6 @@ fn line_search(
         t *= 0.5;
         if t < MIN_STEP {
             return None;
-        }
-    }
-}
-
-/// After a stall at `s`: with `fallback`, the interior-point method, then a polish of its
-/// answer by the Newton iteration (which may not fall back again); without, the stall.
-fn robust(
-    blocks: &[FingerBlockData],
-    caches: &mut [FactorCache],
-    program: &ConeProgram,
-    s: State,
-    limits: Limits,
-    counts: Counts,
-    fallback: bool,
-) -> NativeResult {
-    if !fallback {
-        return stalled(s, counts, "the Newton iteration stalled");
-    }
-    if blocks.iter().any(FingerBlockData::is_matrix_free) {
-        return stalled(
-            s,
-            counts,
-            "the Newton iteration stalled (the interior-point method that would take over \
-             needs every patch compliance as a matrix, and an FFT patch has more than 3,072 \
-             unknowns)",
-        );
-    }
-    let ipm = interior_point::run(blocks, program, limits.tolerance, counts);
-    let ipm_counts = Counts {
-        newton_steps: ipm.iterations,
-        factorisations: ipm.factorisations,
-        inner_iterations: ipm.inner_iterations,
-    };
-    let polish = newton_iteration(
-        blocks,
-        caches,
-        program,
-        state_of(blocks, program, &ipm.iterate),
-        limits,
-        ipm_counts,
-        false,
-    );
-    if polish.status == NativeStatus::Converged || ipm.status != NativeStatus::Converged {
-        polish_or(polish, ipm)
-    } else {
-        NativeResult {
-            iterations: polish.iterations,
-            factorisations: polish.factorisations,
-            ..ipm
         }
     }
 }

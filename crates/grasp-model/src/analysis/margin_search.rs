@@ -1,20 +1,5 @@
-//! Disturbance margins: for each direction of an extra wrench on the object, the
-//! largest magnitude the grasp can take while it still holds in the scene's model.
-//!
-//! A direction is a unit vector `(f, t)` of the scaled wrench space; magnitude `s` (N) means a
-//! force `s f` (N) at the centre of mass plus a couple `s L t` (N m), `L` the characteristic
-//! length ([`MarginOptions::length_m`], by default the grasp's reach [`crate::Scales`]
-//! `length_m`), so force and torque directions compare at the grasp's size.
-//!
-//! The grasp **holds** at `s` when
-//! - energy model: the program has a solution, i.e. forces within the element cones (and the
-//!   commanded loads) balance the load: the rigid-body bound of the patches' cones. (The energy
-//!   model's minimum-energy grasp may slide as a whole at no disturbance at all: its held
-//!   fingers squeeze no more than friction needs, so sliding is not its failure criterion.)
-//! - coulomb model: an equilibrium exists and every loaded frictional finger keeps at least
-//!   one sticking element (a finger whose every element slips slides as a whole). A finger
-//!   that already slides as a whole without disturbance (a receiving finger settling in a
-//!   hand-off) is listed apart and not judged by sliding.
+//! The search of the disturbance margins ([`super::margin_report`] defines them and what
+//! holding means).
 //!
 //! Search: the disturbance grows monotonically along the direction, each trial one
 //! quasi-static step from the state at the last magnitude that held (so the coulomb model's
@@ -36,26 +21,23 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use nalgebra::Vector3;
-use serde::{Deserialize, Serialize};
 
 use crate::analysis::load_capacity::LoadCapacity;
+use crate::analysis::margin_report::{
+    failing_undisturbed, holds, most_utilised, sliding_fingers, utilisation_of, DirectionMargin,
+    Failure, MarginOptions, MarginReport,
+};
 use crate::analysis::trial_forces::TrialForces;
-use crate::error::{ModelError, OptionError};
-use crate::model::equilibrium::MotionPlane;
+use crate::analysis::wrench_directions::WrenchDirection;
+use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
 use crate::number_text::Readable;
-use crate::option_names;
-use crate::scene::limits::LENGTH_RANGE_M;
 use crate::scene::scene_format::ModelKind;
 use crate::solve::contact_state::ContactState;
 use crate::solve::grasp_solver::GraspSolver;
-use crate::solve::solution::{Solution, SolveStatus, LOADED_FRACTION};
+use crate::solve::solution::Solution;
 use crate::solve::step_inputs::StepInputs;
-use crate::solver::options::{check_range, SolveOptions};
-
-/// A random direction sample shorter than this (a near-zero Gaussian vector) is drawn again
-/// rather than normalised.
-const MIN_SAMPLE_NORM: f64 = 1e-9;
+use crate::solver::options::SolveOptions;
 
 /// First growth step of the search, as a fraction of the load scale: small, because a trial
 /// that holds is cheap (a warm-started step) and one that fails is not (the solver must certify
@@ -65,15 +47,6 @@ pub(crate) const INITIAL_STEP: f64 = 1e-2;
 /// Below this fraction of the load scale a margin counts as zero: the bisection stops (the
 /// solves themselves balance the load only to about 1e-10 of it).
 pub(crate) const ZERO_MARGIN: f64 = 1e-6;
-
-/// Range of [`MarginOptions::relative_tolerance`]: the solves balance the load only to about
-/// 1e-10 of it, so a narrower bracket than 1e-9 would sort round-off; above 0.5 the bracket
-/// says little.
-pub const RELATIVE_TOLERANCE_RANGE: (f64, f64) = (1e-9, 0.5);
-
-/// Range of [`MarginOptions::max_factor`]: at least the load scale itself; beyond 1e6 times it
-/// a disturbance is no longer one a grasp meets.
-pub const MAX_FACTOR_RANGE: (f64, f64) = (1.0, 1e6);
 
 /// Largest number of growth steps along one direction (the step doubles from
 /// [`INITIAL_STEP`]: 27 reach the largest cap).
@@ -91,393 +64,6 @@ pub(crate) const CAPACITY_PROBE: f64 = 0.9;
 /// A guided trial's least step above the largest magnitude that held, as a fraction of the
 /// tolerance: a failure there leaves a bracket within the tolerance.
 pub(crate) const CHECK_STEP: f64 = 0.99;
-
-/// A direction of disturbance: a unit vector of the scaled wrench space.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct WrenchDirection {
-    /// Force part (world frame, dimensionless).
-    pub force: [f64; 3],
-    /// Torque part (world frame, dimensionless; times `s L` gives N m).
-    pub torque: [f64; 3],
-}
-
-impl WrenchDirection {
-    /// The direction of a wrench `force_n` (N) plus `torque_nm` (N m) at length `length_m`:
-    /// `(f, t / L)` normalised; `None` for a zero or non-finite wrench.
-    pub fn of_wrench(force_n: [f64; 3], torque_nm: [f64; 3], length_m: f64) -> Option<Self> {
-        let t = torque_nm.map(|v| v / length_m);
-        let norm = force_n.iter().chain(&t).map(|v| v * v).sum::<f64>().sqrt();
-        (norm.is_finite() && norm > 0.0).then(|| WrenchDirection {
-            force: force_n.map(|v| v / norm),
-            torque: t.map(|v| v / norm),
-        })
-    }
-}
-
-/// Options of the margin search.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MarginOptions {
-    /// Characteristic length `L`, m: torque `s L t` per magnitude `s`. `None`: the grasp's
-    /// reach (`Scales::length_m`). In the scene's length range [`LENGTH_RANGE_M`].
-    pub length_m: Option<f64>,
-    /// Bisection stops when the bracket is below this fraction of its upper end (in
-    /// `RELATIVE_TOLERANCE_RANGE`).
-    pub relative_tolerance: f64,
-    /// Magnitudes above this multiple of the load scale count as unbounded (in
-    /// `MAX_FACTOR_RANGE`).
-    pub max_factor: f64,
-    /// Bound each direction's search by its load capacity, the magnitude from which no contact
-    /// forces within the friction cones balance the load, proved by a Farkas certificate
-    /// (default). `false` solves every trial, as the search did before the capacity: the same
-    /// margins to the tolerance, at the cost of the stalling solves past the edge of
-    /// equilibrium (for comparison).
-    pub load_capacity: bool,
-}
-
-impl MarginOptions {
-    /// Checks every option against its range and returns the first one outside it, named as
-    /// the API spells it ([`option_names`]). [`disturbance_margins`] checks its options; front
-    /// ends call this first so that a bad option is refused before any work.
-    pub fn validate(&self) -> Result<(), OptionError> {
-        if let Some(l) = self.length_m {
-            check_range(
-                option_names::MARGIN_LENGTH,
-                l,
-                LENGTH_RANGE_M,
-                "a length in metres (the scene's range)",
-                "0.05",
-            )?;
-        }
-        check_range(
-            option_names::MARGIN_TOLERANCE,
-            self.relative_tolerance,
-            RELATIVE_TOLERANCE_RANGE,
-            "a relative width of the final bracket",
-            "1e-3",
-        )?;
-        check_range(
-            option_names::MARGIN_MAX_FACTOR,
-            self.max_factor,
-            MAX_FACTOR_RANGE,
-            "a multiple of the load scale",
-            "1000",
-        )
-    }
-}
-
-impl Default for MarginOptions {
-    fn default() -> Self {
-        MarginOptions {
-            length_m: None,
-            relative_tolerance: 1e-3,
-            max_factor: 1e3,
-            load_capacity: true,
-        }
-    }
-}
-
-/// Why the grasp stopped holding.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case", tag = "kind")]
-pub enum Failure {
-    /// No equilibrium: the solve's reason.
-    NoEquilibrium {
-        /// The solver's explanation.
-        reason: String,
-    },
-    /// A loaded finger slides as a whole (coulomb model: no sticking element left).
-    Slides {
-        /// The finger.
-        finger: String,
-    },
-    /// The solver gave no answer at this magnitude (counted as a failure; the reason says
-    /// why).
-    NoConvergence {
-        /// The solver's explanation.
-        reason: String,
-    },
-}
-
-/// The margin along one direction.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct DirectionMargin {
-    /// The direction.
-    pub direction: WrenchDirection,
-    /// Largest magnitude found to hold, N (the lower end of the final bracket; the cap when
-    /// unbounded).
-    pub margin_n: f64,
-    /// Smallest magnitude found to fail, N (absent when unbounded).
-    pub fails_at_n: Option<f64>,
-    /// Force part of the wrench at the margin, N (at the centre of mass).
-    pub force_n: [f64; 3],
-    /// Torque part of the wrench at the margin, N m.
-    pub torque_nm: [f64; 3],
-    /// False when the grasp still held at the cap.
-    pub bounded: bool,
-    /// The finger that fails first: the one that slides, else the loaded frictional finger
-    /// with the highest friction utilisation at the margin.
-    pub failing_finger: Option<String>,
-    /// How the grasp failed just above the margin.
-    pub failure: Option<Failure>,
-    /// Solves spent on this direction.
-    pub solves: u32,
-    /// Wall time of this direction, s.
-    pub time_s: f64,
-    /// Why the search stopped before its tolerance, when it did: the bracket could not be
-    /// narrowed further in double precision, or a step limit was reached (the bracket
-    /// `[margin_n, fails_at_n]` is still a true one, only wider than asked).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub stopped_early: Option<String>,
-}
-
-/// Margins of a grasp.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct MarginReport {
-    /// The model whose criterion was used.
-    pub model: ModelKind,
-    /// Characteristic length `L`, m.
-    pub length_m: f64,
-    /// Load scale, N (the unit of the growth step; the cap is `max_factor` times it).
-    pub load_scale_n: f64,
-    /// Loaded fingers that already slide as a whole without disturbance (coulomb model; a
-    /// receiving finger settling, a releasing one letting go): not judged by sliding, since the
-    /// disturbance is not what makes them slide.
-    pub sliding_undisturbed: Vec<String>,
-    /// Per direction, in the order given.
-    pub directions: Vec<DirectionMargin>,
-    /// Index of the direction with the smallest margin among those the grasp resists at all
-    /// (among all when it resists none).
-    pub smallest: usize,
-    /// Directions the grasp does not resist at all (margin 0 although it holds undisturbed:
-    /// with commanded loads, a push along the squeeze axis has no equilibrium).
-    pub unresisted: Vec<usize>,
-    /// Solves over all directions (the undisturbed solve included).
-    pub solves: u32,
-    /// Wall time of the whole search, s.
-    pub time_s: f64,
-}
-
-impl MarginReport {
-    /// The report of `margins` (one per direction) found for `model` since `clock` started,
-    /// the undisturbed solve counted among the solves.
-    pub(crate) fn of(
-        model: &GraspModel,
-        length_m: f64,
-        sliding_undisturbed: Vec<String>,
-        margins: Vec<DirectionMargin>,
-        clock: Instant,
-    ) -> MarginReport {
-        let (unresisted, smallest) = unresisted_and_smallest(&margins);
-        MarginReport {
-            model: model.kind(),
-            length_m,
-            load_scale_n: model.scales.load_n,
-            solves: 1 + margins.iter().map(|m| m.solves).sum::<u32>(),
-            sliding_undisturbed,
-            directions: margins,
-            smallest,
-            unresisted,
-            time_s: clock.elapsed().as_secs_f64(),
-        }
-    }
-}
-
-/// The 12 axis directions in 3-D (force `+-x, +-y, +-z`, then torque), the 6 in-plane ones of
-/// a planar scene (force `+-e1, +-e2`, torque `+-p`).
-pub fn axis_directions(model: &GraspModel) -> Vec<WrenchDirection> {
-    let axes: Vec<Vector3<f64>> = match model.plane() {
-        None => vec![Vector3::x(), Vector3::y(), Vector3::z()],
-        Some(p) => vec![p.e1, p.e2],
-    };
-    let torques: Vec<Vector3<f64>> = match model.plane() {
-        None => vec![Vector3::x(), Vector3::y(), Vector3::z()],
-        Some(p) => vec![p.normal],
-    };
-    let arr = |v: Vector3<f64>| [v.x, v.y, v.z];
-    let mut out = Vec::new();
-    for a in axes {
-        for sign in [1.0, -1.0] {
-            out.push(WrenchDirection {
-                force: arr(a * sign),
-                torque: [0.0; 3],
-            });
-        }
-    }
-    for a in torques {
-        for sign in [1.0, -1.0] {
-            out.push(WrenchDirection {
-                force: [0.0; 3],
-                torque: arr(a * sign),
-            });
-        }
-    }
-    out
-}
-
-/// Force directions spread evenly around each coordinate plane, `per_plane` per plane (3-D: the
-/// `xy`, `yz` and `zx` planes, the axes listed once; planar: the plane of motion), then the
-/// couple axes (both signs): the directions a polar plot of the margins draws.
-pub fn plane_directions(model: &GraspModel, per_plane: usize) -> Vec<WrenchDirection> {
-    let planes: Vec<(Vector3<f64>, Vector3<f64>)> = match model.plane() {
-        None => vec![
-            (Vector3::x(), Vector3::y()),
-            (Vector3::y(), Vector3::z()),
-            (Vector3::z(), Vector3::x()),
-        ],
-        Some(p) => vec![(p.e1, p.e2)],
-    };
-    let mut out: Vec<WrenchDirection> = Vec::new();
-    for (a, b) in planes {
-        for k in 0..per_plane {
-            let angle = std::f64::consts::TAU * k as f64 / per_plane as f64;
-            let mut f = a * angle.cos() + b * angle.sin();
-            f.iter_mut().for_each(|c| {
-                if c.abs() < 1e-15 {
-                    *c = 0.0;
-                }
-            });
-            let d = WrenchDirection {
-                force: [f.x, f.y, f.z],
-                torque: [0.0; 3],
-            };
-            let same =
-                |o: &WrenchDirection| (0..3).all(|c| (o.force[c] - d.force[c]).abs() < 1e-12);
-            if !out.iter().any(same) {
-                out.push(d);
-            }
-        }
-    }
-    let torques = axis_directions(model)
-        .into_iter()
-        .filter(|d| d.torque.iter().any(|c| *c != 0.0));
-    out.extend(torques);
-    out
-}
-
-/// `n` directions: the axis directions first, then combined ones spread quasi-uniformly over
-/// the unit sphere of the scaled wrench space (3 dimensions planar, 6 in 3-D): the additive
-/// recurrence of the generalised golden ratio (Roberts' `R_d` sequence) mapped to Gaussians by
-/// Box-Muller and normalised. Deterministic.
-pub fn spread_directions(model: &GraspModel, n: usize) -> Vec<WrenchDirection> {
-    let mut out = axis_directions(model);
-    if n <= out.len() {
-        out.truncate(n);
-        return out;
-    }
-    let basis: Vec<[f64; 6]> = match model.plane() {
-        None => (0..6)
-            .map(|i| {
-                let mut b = [0.0; 6];
-                b[i] = 1.0;
-                b
-            })
-            .collect(),
-        Some(MotionPlane { e1, e2, normal: p }) => vec![
-            [e1.x, e1.y, e1.z, 0.0, 0.0, 0.0],
-            [e2.x, e2.y, e2.z, 0.0, 0.0, 0.0],
-            [0.0, 0.0, 0.0, p.x, p.y, p.z],
-        ],
-    };
-    let dim = basis.len();
-    // phi_d: the positive root of x^(d+1) = x + 1 (Roberts 2018).
-    let mut phi: f64 = 2.0;
-    for _ in 0..50 {
-        phi = (1.0 + phi).powf(1.0 / (dim as f64 + 1.0));
-    }
-    let alpha: Vec<f64> = (1..=2 * dim)
-        .map(|j| phi.powi(-(j as i32)).fract())
-        .collect();
-    let mut k = 1usize;
-    while out.len() < n {
-        let u: Vec<f64> = alpha.iter().map(|a| (0.5 + a * k as f64).fract()).collect();
-        k += 1;
-        let g: Vec<f64> = (0..dim)
-            .map(|i| {
-                let (u1, u2) = (u[2 * i].max(1e-12), u[2 * i + 1]);
-                (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-            })
-            .collect();
-        let norm = g.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if norm < MIN_SAMPLE_NORM {
-            continue;
-        }
-        let mut w = [0.0; 6];
-        for (gi, b) in g.iter().zip(&basis) {
-            for c in 0..6 {
-                w[c] += gi / norm * b[c];
-            }
-        }
-        out.push(WrenchDirection {
-            force: [w[0], w[1], w[2]],
-            torque: [w[3], w[4], w[5]],
-        });
-    }
-    out
-}
-
-/// The loaded frictional fingers of `sol` that slide as a whole (no sticking element).
-pub(crate) fn sliding_fingers(sol: &Solution) -> Vec<String> {
-    sol.fingers_sliding_as_a_whole()
-        .map(|f| f.name.clone())
-        .collect()
-}
-
-/// Whether `sol` holds in `model`'s criterion (see the module); fingers in `exempt` (those
-/// already sliding without disturbance) are not judged by sliding.
-pub fn holds(model: &GraspModel, sol: &Solution, exempt: &[String]) -> Result<(), Failure> {
-    match sol.status {
-        SolveStatus::NoEquilibrium => {
-            return Err(Failure::NoEquilibrium {
-                reason: sol.reason.clone().unwrap_or_default(),
-            })
-        }
-        SolveStatus::NoConvergence => {
-            return Err(Failure::NoConvergence {
-                reason: sol.reason.clone().unwrap_or_default(),
-            })
-        }
-        _ => {}
-    }
-    if model.kind() == ModelKind::Coulomb {
-        if let Some(finger) = sliding_fingers(sol)
-            .into_iter()
-            .find(|f| !exempt.contains(f))
-        {
-            return Err(Failure::Slides { finger });
-        }
-    }
-    Ok(())
-}
-
-/// The largest friction utilisation `|Q|/(mu P)` of the loaded frictional fingers of `sol`
-/// not in `exempt` (coulomb model; `None` for others, or with no such finger).
-pub(crate) fn utilisation_of(model: &GraspModel, sol: &Solution, exempt: &[String]) -> Option<f64> {
-    if model.kind() != ModelKind::Coulomb {
-        return None;
-    }
-    let loaded = LOADED_FRACTION * sol.load_scale_n;
-    let judged = sol.fingers.iter().zip(&model.fingers).filter(|(f, fm)| {
-        fm.n_tangential > 0 && f.normal_force_n > loaded && !exempt.contains(&f.name)
-    });
-    judged
-        .map(|(f, _)| f.friction_utilization)
-        .filter(|u| u.is_finite())
-        .reduce(f64::max)
-}
-
-/// The loaded frictional finger with the highest friction utilisation.
-pub(crate) fn most_utilised(model: &GraspModel, sol: &Solution) -> Option<String> {
-    let loaded = LOADED_FRACTION * sol.load_scale_n;
-    sol.fingers
-        .iter()
-        .zip(&model.fingers)
-        .filter(|(f, fm)| fm.n_tangential > 0 && f.normal_force_n > loaded)
-        .max_by(|a, b| {
-            a.0.friction_utilization
-                .total_cmp(&b.0.friction_utilization)
-        })
-        .map(|(f, _)| f.name.clone())
-}
 
 /// The search along one direction.
 pub(crate) struct Search<'a> {
@@ -759,26 +345,50 @@ impl Search<'_> {
     }
 }
 
-/// The margin along `direction` from the undisturbed `state` and solution `base` of the
-/// grasp `(model, inputs)`; fingers in `exempt` already slide undisturbed.
-fn along(
-    (model, inputs): (&Arc<GraspModel>, &StepInputs),
-    solve_options: SolveOptions,
-    options: &MarginOptions,
-    (length_m, exempt): (f64, &[String]),
-    direction: WrenchDirection,
-    base: (&ContactState, &Solution),
-) -> Result<DirectionMargin, ModelError> {
+/// A step's undisturbed solve: the contact state it left (before time moves on:
+/// [`ContactState::advance_time_step`]) and its solution. Every direction's search starts
+/// there.
+#[derive(Debug, Clone, Copy)]
+pub struct SolvedStep<'a> {
+    /// The contact state after the solve.
+    pub state: &'a ContactState,
+    /// The solution.
+    pub solution: &'a Solution,
+}
+
+/// What the searches of every direction of one step share: the grasp and its inputs, its
+/// undisturbed solve, and how to search.
+#[derive(Clone, Copy)]
+pub(crate) struct StepSearch<'a> {
+    /// The grasp.
+    pub model: &'a Arc<GraspModel>,
+    /// Its inputs (loads, extra wrench, approaches, time step).
+    pub inputs: &'a StepInputs,
+    /// Its undisturbed solve.
+    pub solved: SolvedStep<'a>,
+    /// The options of every trial's solve.
+    pub solve_options: SolveOptions,
+    /// The margins' options.
+    pub options: &'a MarginOptions,
+    /// The characteristic length `L`, m.
+    pub length_m: f64,
+    /// The fingers that already slide undisturbed (not judged by sliding).
+    pub exempt: &'a [String],
+}
+
+/// The margin along `direction` of the step `step`, searched from scratch.
+fn along(step: &StepSearch, direction: WrenchDirection) -> Result<DirectionMargin, ModelError> {
     let clock = Instant::now();
-    let mut solver = GraspSolver::new(Arc::clone(model), solve_options);
+    let (model, options) = (step.model, step.options);
+    let mut solver = GraspSolver::new(Arc::clone(model), step.solve_options);
     let mut search = Search {
         model: model.as_ref(),
-        inputs,
+        inputs: step.inputs,
         solver: &mut solver,
         direction,
-        length_m,
+        length_m: step.length_m,
         solves: 0,
-        exempt,
+        exempt: step.exempt,
         capacity_n: f64::INFINITY,
         trial_forces: TrialForces::default(),
         guessing: false,
@@ -794,8 +404,8 @@ fn along(
     }
     let mut held = Held {
         s: 0.0,
-        state: base.0.clone(),
-        sol: base.1.clone(),
+        state: step.solved.state.clone(),
+        sol: step.solved.solution.clone(),
     };
     let (mut hi, mut stopped_early) = search.grow(&mut held, cap)?;
     if let Some(fails) = &mut hi {
@@ -844,7 +454,7 @@ impl Search<'_> {
 /// outside their ranges are an error ([`MarginOptions::validate`],
 /// [`SolveOptions::validate`]).
 pub fn disturbance_margins(
-    model: &GraspModel,
+    model: &Arc<GraspModel>,
     inputs: &StepInputs,
     state: &ContactState,
     solve_options: SolveOptions,
@@ -866,7 +476,7 @@ pub fn disturbance_margins(
 /// [`disturbance_margins`], calling `done(k)` from the worker threads as each direction's
 /// search ends (`k` directions done so far), for a progress bar.
 pub fn disturbance_margins_reporting(
-    model: &GraspModel,
+    model: &Arc<GraspModel>,
     inputs: &StepInputs,
     state: &ContactState,
     solve_options: SolveOptions,
@@ -880,10 +490,9 @@ pub fn disturbance_margins_reporting(
     options.validate()?;
     let clock = Instant::now();
     let length_m = options.length_m.unwrap_or(model.scales.length_m);
-    let shared: Arc<GraspModel> = model.into();
     let mut base_state = state.clone();
     let base =
-        GraspSolver::new(Arc::clone(&shared), solve_options).solve_step(inputs, &mut base_state)?;
+        GraspSolver::new(Arc::clone(model), solve_options).solve_step(inputs, &mut base_state)?;
     let sliding_undisturbed = match model.kind() {
         ModelKind::Coulomb if base.status.has_forces() => sliding_fingers(&base),
         _ => Vec::new(),
@@ -893,22 +502,28 @@ pub fn disturbance_margins_reporting(
             .iter()
             .map(|&d| failing_undisturbed(d, &f))
             .collect(),
-        Ok(()) => directions
-            .par_iter()
-            .map(|&d| {
-                let geometry = (length_m, sliding_undisturbed.as_slice());
-                let m = along(
-                    (&shared, inputs),
-                    solve_options,
-                    options,
-                    geometry,
-                    d,
-                    (&base_state, &base),
-                );
-                done(finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
-                m
-            })
-            .collect::<Result<_, _>>()?,
+        Ok(()) => {
+            let step = StepSearch {
+                model,
+                inputs,
+                solved: SolvedStep {
+                    state: &base_state,
+                    solution: &base,
+                },
+                solve_options,
+                options,
+                length_m,
+                exempt: &sliding_undisturbed,
+            };
+            directions
+                .par_iter()
+                .map(|&d| {
+                    let m = along(&step, d);
+                    done(finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+                    m
+                })
+                .collect::<Result<_, _>>()?
+        }
     };
     Ok(MarginReport::of(
         model,
@@ -919,47 +534,14 @@ pub fn disturbance_margins_reporting(
     ))
 }
 
-/// The margin along `d` of a grasp that fails undisturbed (`f`): 0, with that failure.
-pub(crate) fn failing_undisturbed(d: WrenchDirection, f: &Failure) -> DirectionMargin {
-    DirectionMargin {
-        direction: d,
-        margin_n: 0.0,
-        fails_at_n: Some(0.0),
-        force_n: [0.0; 3],
-        torque_nm: [0.0; 3],
-        bounded: true,
-        failing_finger: match f {
-            Failure::Slides { finger } => Some(finger.clone()),
-            _ => None,
-        },
-        failure: Some(f.clone()),
-        solves: 0,
-        time_s: 0.0,
-        stopped_early: None,
-    }
-}
-
-/// The directions not resisted at all (searched, and failing at the smallest magnitude), and
-/// the index of the smallest margin among the others (among all when none is resisted).
-pub(crate) fn unresisted_and_smallest(margins: &[DirectionMargin]) -> (Vec<usize>, usize) {
-    let searched = margins.iter().any(|m| m.solves > 0);
-    let unresisted: Vec<usize> = (0..margins.len())
-        .filter(|&i| searched && margins[i].margin_n == 0.0 && margins[i].failure.is_some())
-        .collect();
-    let smallest = (0..margins.len())
-        .filter(|i| !unresisted.contains(i) || unresisted.len() == margins.len())
-        .min_by(|&a, &b| margins[a].margin_n.total_cmp(&margins[b].margin_n))
-        .unwrap_or(0);
-    (unresisted, smallest)
-}
-
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+    use crate::option_names;
 
     /// A block pinched along x by two flat steel pads (commanded load 10 N each, mu 0.5),
     /// weight 4 N: downwards it takes `2 mu P - W = 6 N` more (the pads' friction capacity).
-    pub(crate) fn pinch() -> GraspModel {
+    pub(crate) fn pinch() -> Arc<GraspModel> {
         let finger = |name: &str, x: f64, nx: f64| {
             serde_json::json!({
                 "name": name, "contact_point": [x, 0.0, 0.0], "normal": [nx, 0.0, 0.0],
@@ -976,7 +558,7 @@ pub(crate) mod tests {
             "model": "energy"
         });
         let scene = crate::Scene::from_json_str(&scene.to_string()).unwrap();
-        GraspModel::from_scene(&scene).unwrap()
+        Arc::new(GraspModel::from_scene(&scene).unwrap())
     }
 
     pub(crate) const DOWN: WrenchDirection = WrenchDirection {
@@ -995,7 +577,7 @@ pub(crate) mod tests {
         let mut base_state = ContactState::new(&model);
         let solve = SolveOptions::default();
         let inputs = StepInputs::of_scene(&model);
-        let base = GraspSolver::new(&model, solve)
+        let base = GraspSolver::new(Arc::clone(&model), solve)
             .solve_step(&inputs, &mut base_state)
             .unwrap();
         for tolerance in [1e-300, 0.0, 1e-17] {
@@ -1003,16 +585,19 @@ pub(crate) mod tests {
                 relative_tolerance: tolerance,
                 ..MarginOptions::default()
             };
-            let shared = Arc::new(model.clone());
-            let m = along(
-                (&shared, &inputs),
-                solve,
-                &options,
-                (0.05, &[]),
-                DOWN,
-                (&base_state, &base),
-            )
-            .unwrap();
+            let step = StepSearch {
+                model: &model,
+                inputs: &inputs,
+                solved: SolvedStep {
+                    state: &base_state,
+                    solution: &base,
+                },
+                solve_options: solve,
+                options: &options,
+                length_m: 0.05,
+                exempt: &[],
+            };
+            let m = along(&step, DOWN).unwrap();
             let note = m
                 .stopped_early
                 .as_deref()

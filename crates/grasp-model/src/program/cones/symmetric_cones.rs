@@ -1,4 +1,5 @@
-//! The cones of the interior-point method ([`super::interior_point`]) and their Jordan algebra
+//! The symmetric cones the interior-point method (`crate::solver::native::interior`) writes
+//! every element set in ([`super::conic_rows`]), and their Jordan algebra
 //! (Vandenberghe, "The CVXOPT linear and quadratic cone program solvers", 2010): the
 //! nonnegative ray and the second-order cone of dimension 3, `{(u0, u1): u0 >= ||u1||}`.
 //!
@@ -6,21 +7,21 @@
 //! `lambda o x = r`), the identity `e`, the Nesterov-Todd scaling `W` (symmetric, with
 //! `W z = W^-1 s`) and the largest step keeping a point inside.
 
-/// One cone of the interior-point method.
+/// One symmetric cone of the interior-point method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Cone {
+pub(crate) enum SymmetricCone {
     /// `u >= 0`, one row.
     Nonnegative,
     /// `u0 >= ||(u1, u2)||`, three rows.
     SecondOrder,
 }
 
-impl Cone {
+impl SymmetricCone {
     /// Rows of the cone.
     pub fn dim(&self) -> usize {
         match self {
-            Cone::Nonnegative => 1,
-            Cone::SecondOrder => 3,
+            SymmetricCone::Nonnegative => 1,
+            SymmetricCone::SecondOrder => 3,
         }
     }
 
@@ -33,8 +34,8 @@ impl Cone {
     /// `u o v`.
     pub fn product(&self, u: &[f64], v: &[f64], out: &mut [f64]) {
         match self {
-            Cone::Nonnegative => out[0] = u[0] * v[0],
-            Cone::SecondOrder => {
+            SymmetricCone::Nonnegative => out[0] = u[0] * v[0],
+            SymmetricCone::SecondOrder => {
                 out[0] = u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
                 out[1] = u[0] * v[1] + v[0] * u[1];
                 out[2] = u[0] * v[2] + v[0] * u[2];
@@ -45,8 +46,8 @@ impl Cone {
     /// `x` with `lambda o x = r` (`lambda` in the interior).
     pub fn inverse_product(&self, lambda: &[f64], r: &[f64], out: &mut [f64]) {
         match self {
-            Cone::Nonnegative => out[0] = r[0] / lambda[0],
-            Cone::SecondOrder => {
+            SymmetricCone::Nonnegative => out[0] = r[0] / lambda[0],
+            SymmetricCone::SecondOrder => {
                 let det = lambda[0] * lambda[0] - lambda[1] * lambda[1] - lambda[2] * lambda[2];
                 let x0 = (lambda[0] * r[0] - lambda[1] * r[1] - lambda[2] * r[2]) / det;
                 out[0] = x0;
@@ -59,22 +60,22 @@ impl Cone {
     /// `u0 - ||u1||` (the smallest eigenvalue; `u` itself for the ray).
     pub fn margin(&self, u: &[f64]) -> f64 {
         match self {
-            Cone::Nonnegative => u[0],
-            Cone::SecondOrder => u[0] - u[1].hypot(u[2]),
+            SymmetricCone::Nonnegative => u[0],
+            SymmetricCone::SecondOrder => u[0] - u[1].hypot(u[2]),
         }
     }
 
     /// The largest `alpha <= limit` with `u + alpha du` in the cone (`u` in the interior).
     pub fn step_to_boundary(&self, u: &[f64], du: &[f64], limit: f64) -> f64 {
         match self {
-            Cone::Nonnegative => {
+            SymmetricCone::Nonnegative => {
                 if du[0] < 0.0 {
                     (-u[0] / du[0]).min(limit)
                 } else {
                     limit
                 }
             }
-            Cone::SecondOrder => soc_step(u, du, limit),
+            SymmetricCone::SecondOrder => soc_step(u, du, limit),
         }
     }
 
@@ -82,14 +83,14 @@ impl Cone {
     /// second-order cone, `[sqrt(s/z)]` for the ray.
     pub fn nt_scaling(&self, s: &[f64], z: &[f64]) -> Scaling {
         match self {
-            Cone::Nonnegative => {
+            SymmetricCone::Nonnegative => {
                 let w = (s[0] / z[0]).sqrt();
                 Scaling {
                     w: [[w, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]],
                     w_inv: [[1.0 / w, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]],
                 }
             }
-            Cone::SecondOrder => soc_scaling(s, z),
+            SymmetricCone::SecondOrder => soc_scaling(s, z),
         }
     }
 }
@@ -199,7 +200,7 @@ mod tests {
     /// `W z = W^-1 s` (the NT point), `W W^-1 = I`, `W` symmetric.
     #[test]
     fn nt_scaling_maps_z_and_s_to_the_same_point() {
-        let c = Cone::SecondOrder;
+        let c = SymmetricCone::SecondOrder;
         let (s, z) = ([2.0, 0.5, -1.0], [1.5, -0.3, 0.8]);
         let sc = c.nt_scaling(&s, &z);
         let (mut wz, mut ws) = ([0.0; 3], [0.0; 3]);
@@ -217,7 +218,7 @@ mod tests {
 
     #[test]
     fn inverse_product_inverts_the_product() {
-        let c = Cone::SecondOrder;
+        let c = SymmetricCone::SecondOrder;
         let (l, x) = ([2.0, 0.3, -0.4], [0.7, -1.1, 0.2]);
         let (mut r, mut back) = ([0.0; 3], [0.0; 3]);
         c.product(&l, &x, &mut r);
@@ -229,7 +230,7 @@ mod tests {
 
     #[test]
     fn step_to_boundary_lands_on_the_boundary() {
-        let c = Cone::SecondOrder;
+        let c = SymmetricCone::SecondOrder;
         let (u, du) = ([1.0, 0.2, 0.1], [-0.3, 0.9, -0.2]);
         let a = c.step_to_boundary(&u, &du, 1e9);
         let v = [u[0] + a * du[0], u[1] + a * du[1], u[2] + a * du[2]];
