@@ -32,6 +32,19 @@ pub enum CaseKind {
     Plan,
 }
 
+impl CaseKind {
+    /// What a sample of this kind times, in the table's words (its `timed` column).
+    pub fn timed(&self) -> &'static str {
+        match self {
+            Solve => "per solve",
+            OneShot => "build + solve",
+            HandOff { .. } => "per step",
+            Margins => "margins per step",
+            Plan => "whole plan (runs)",
+        }
+    }
+}
+
 /// The planning case's question: releasing and receiving fingers and the rate limit (N/s),
 /// the plate hand-off's (its template's steepest rate).
 pub const PLAN_QUESTION: (&[&str], &[&str], f64) = (&["f1", "f2"], &["f3", "f4"], 1.5);
@@ -346,6 +359,15 @@ pub const MARGIN_PAIRS: [(&str, &str, f64); 1] =
 /// the time ratio at these two grids; the peer's time grows past a minute above them).
 pub const PEER_CASES: [&str; 2] = ["hertz_128x128_fft", "hertz_256x256_fft"];
 
+/// Every case in table order: [`CASES`], [`FFT_CASES`], [`LAYER_CASES`], [`HELD_CASES`].
+pub fn all_cases() -> impl Iterator<Item = &'static Case> {
+    CASES
+        .iter()
+        .chain(&FFT_CASES)
+        .chain(&LAYER_CASES)
+        .chain(&HELD_CASES)
+}
+
 /// The bundled scene and schedule texts (compiled in) of an example stem, e.g.
 /// `plate_transfer`.
 pub fn bundled(stem: &str) -> Option<(&'static str, Option<&'static str>)> {
@@ -415,6 +437,13 @@ impl Case {
             true => ComplianceChoice::Auto,
             false => ComplianceChoice::Dense,
         }
+    }
+
+    /// Whether only the native solver runs the case: the FFT cases (Clarabel needs the
+    /// matrices their grids do not store) and the held grasp's margins ([`HELD_CASES`]).
+    pub fn native_only(&self) -> bool {
+        let fft = FFT_CASES.iter().any(|c| c.name == self.name) || self.name.ends_with("_fft");
+        fft || HELD_CASES.iter().any(|c| c.name == self.name)
     }
 
     /// Parses the inputs (and builds the model of a [`CaseKind::Solve`] case) for `solver`.

@@ -2,7 +2,10 @@
 //! once (model build and solve, as `grasp solve` does), then its solution written as
 //! `grasp solve --json` and `--npz` write it (the same library functions, into a file of a
 //! scratch folder, synced to disk as the CLI's outputs are), each timed, with the process's
-//! peak resident memory from the start of the solve to the end of that write.
+//! peak resident memory from the start of the solve to the end of that write. Its rows in the
+//! table (the `outputs` case): the solve's, then each write's against its targets (the JSON
+//! within half the solve's time with the process's peak under 1.2 GB, the `.npz` within a
+//! tenth of the solve), on 1024 x 1024 elements (256 x 256 when quick).
 
 use std::io::BufWriter;
 use std::path::Path;
@@ -12,6 +15,17 @@ use grasp_model::{ComplianceChoice, GraspModel, Scene, SolutionRecord};
 
 use crate::error::BenchError;
 use crate::peak_memory;
+use crate::scratch_folder::ScratchFolder;
+use crate::table::{mib, time, verdict, Row};
+
+/// The name of these rows as a case (`grasp bench --case outputs`).
+pub const OUTPUTS_CASE: &str = "outputs";
+
+/// Largest time of each format's write over the solve's: JSON, `.npz`.
+const WRITE_OVER_SOLVE: [(&str, f64); 2] = [("json", 0.5), ("npz", 0.1)];
+
+/// Largest peak resident memory of a solve with its JSON written, bytes (1.2 GB).
+const JSON_PEAK_BYTES: f64 = 1.2e9;
 
 /// One output format's cost.
 #[derive(Debug, Clone)]
@@ -121,6 +135,59 @@ fn timed_write(
         bytes,
         peak_bytes: None,
     })
+}
+
+/// The solve's row and one row per output format, on 1024 x 1024 elements (256 x 256 when
+/// `quick`), written in a scratch folder.
+pub(crate) fn output_rows(quick: bool) -> Result<Vec<Row>, BenchError> {
+    let grid = if quick { 256 } else { 1024 };
+    let folder = ScratchFolder::create()?;
+    let costs = measure_output_writing(grid, folder.path())?;
+    drop(folder);
+    let name = format!("hertz_{grid}x{grid} outputs");
+    let mut rows = vec![Row {
+        case: name.clone(),
+        timed: "build + solve".into(),
+        median: time(costs.solve_s),
+        runs: "1".into(),
+        unknowns: (grid * grid).to_string(),
+        peak_mib: mib(costs.solve_peak_bytes),
+        ..Row::default()
+    }];
+    for w in &costs.writes {
+        rows.push(write_row(&name, w, costs.solve_s));
+    }
+    Ok(rows)
+}
+
+/// One format's row: its time, size, the process's peak so far, and its targets.
+fn write_row(name: &str, w: &WriteCost, solve_s: f64) -> Row {
+    let ratio = w.time_s / solve_s;
+    let limit = WRITE_OVER_SOLVE
+        .iter()
+        .find(|(f, _)| *f == w.format)
+        .map_or(f64::INFINITY, |(_, l)| *l);
+    let mut target = format!(
+        "{ratio:.2}x solve {}",
+        verdict(ratio, limit, |x| format!("{x:.1}x"))
+    );
+    if let (Some(peak), "json") = (w.peak_bytes, w.format) {
+        let gb = |b: f64| format!("{:.1} GB", b / 1e9);
+        target.push_str(&format!(
+            "; peak {}",
+            verdict(peak as f64, JSON_PEAK_BYTES, gb)
+        ));
+    }
+    Row {
+        case: format!("{name} --{}", w.format),
+        timed: "write + sync".into(),
+        median: time(w.time_s),
+        range: format!("{:.1} MB", w.bytes as f64 / 1e6),
+        runs: "1".into(),
+        peak_mib: mib(w.peak_bytes),
+        target,
+        ..Row::default()
+    }
 }
 
 #[cfg(test)]

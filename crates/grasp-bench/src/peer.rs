@@ -19,6 +19,16 @@ pub const PEER_SCRIPT: &str = include_str!("../../../scripts/peer-hertz.py");
 /// The script's exit code when numpy or the peer's package is missing.
 const EXIT_MISSING: i32 = 3;
 
+/// Whether the peer runs beside the Hertz FFT cases ([`crate::PEER_CASES`]), and with which
+/// Python.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Peer {
+    /// This Python (with the peer's package) runs the peer's script.
+    Python(PathBuf),
+    /// No peer, and why (said under the table).
+    Absent(String),
+}
+
 /// The frictionless Hertz problem the peer solves: a square patch of `grid` x `grid`
 /// elements centred on the contact point, a sphere of radius `radius_m` on a flat.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,12 +1,23 @@
 //! How a case's time scales with the cores: its runs on a one-thread pool and on a pool of
 //! every core, alternated (a slow moment of the machine falls on both), medians compared.
 //! The solver's parallel parts run on the pool they are called from, so the one-thread pool
-//! is the serial program.
+//! is the serial program. The fine patches' rows in the table: each time, and the speed-up
+//! against [`SCALING_TARGET`].
 
-use crate::case::Prepared;
+use grasp_model::SolverChoice;
+
+use crate::case::{Case, Prepared};
 use crate::error::BenchError;
 use crate::sample::Sample;
 use crate::statistics::median_and_range;
+use crate::table::{speed_up_verdict, time, Row};
+
+/// The fine patches timed on one thread and on every core (native solver).
+pub const SCALING_CASES: [&str; 2] = ["hertz_512x512_fft", "hertz_1024x1024_fft"];
+
+/// Every core (two on this project's machine) must make a fine patch at least this much faster
+/// than one.
+pub const SCALING_TARGET: f64 = 1.7;
 
 /// A case timed on one thread and on every core.
 #[derive(Debug, Clone)]
@@ -60,4 +71,35 @@ pub fn thread_scaling(p: &Prepared, rounds: usize) -> Result<ThreadScaling, Benc
         runs: t1.len(),
         sample,
     })
+}
+
+/// The rows of `case` (native solver) timed on one thread and on every core, `rounds` runs of
+/// each: each median, and the speed-up against [`SCALING_TARGET`].
+pub(crate) fn scaling_rows(case: &Case, rounds: usize) -> Result<Vec<Row>, BenchError> {
+    let prepared = case.prepare(SolverChoice::Native)?;
+    let t = thread_scaling(&prepared, rounds)?;
+    let native = SolverChoice::Native.to_string();
+    let mut rows = Vec::new();
+    for (label, secs) in [
+        ("1 thread".to_string(), t.one_thread_s),
+        (format!("{} threads", t.cores), t.all_cores_s),
+    ] {
+        rows.push(Row {
+            case: case.name.to_string(),
+            timed: format!("build + solve, {label}"),
+            solver: native.clone(),
+            median: time(secs),
+            runs: t.runs.to_string(),
+            ..Row::default()
+        });
+    }
+    rows.push(Row {
+        case: format!("{} speed-up", case.name),
+        timed: format!("{} cores / 1", t.cores),
+        solver: native,
+        median: format!("{:.2}x", t.speed_up()),
+        target: speed_up_verdict(t.speed_up(), SCALING_TARGET),
+        ..Row::default()
+    });
+    Ok(rows)
 }

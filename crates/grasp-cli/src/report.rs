@@ -9,6 +9,32 @@ use grasp_model::{GraspModel, Solution};
 /// successful run prints no line starting with `error:`: that word is kept for errors).
 pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s: f64) -> String {
     let mut s = String::new();
+    outcome_lines(scene, model, sol, &mut s);
+    if sol.status.has_forces() {
+        finger_rows(sol, &mut s);
+        if let Some(d) = &sol.rigid_displacement {
+            displacement_line(d, &mut s);
+        }
+        if let Some(r) = &sol.residuals {
+            residuals_line(r, &mut s);
+        }
+    }
+    let _ = writeln!(
+        s,
+        "time: model {:.1} ms, solve {:.1} ms ({})",
+        build_s * 1e3,
+        sol.solve_time_s * 1e3,
+        solver_words(&sol.solver)
+    );
+    if let Some(why) = &sol.solver.fallback {
+        let _ = writeln!(s, "solver fallback: {why}");
+    }
+    s
+}
+
+/// What was solved and how it ended: the scene's size, the model, the status, the sequential
+/// solve's iterations, the reason of a failure and the warnings.
+fn outcome_lines(scene: &Path, model: &GraspModel, sol: &Solution, s: &mut String) {
     let planar = if model.plane().is_some() {
         "planar"
     } else {
@@ -51,75 +77,71 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
     for w in &sol.warnings {
         let _ = writeln!(s, "warning: {w}");
     }
-    if sol.status.has_forces() {
-        let _ = writeln!(
-            s,
-            "\n{:<10} {:>11} {:>11} {:>30} {:>12} {:>7} {:>12} {:>12} {:>17}",
-            "finger",
-            "P [N]",
-            "|Q| [N]",
-            "Q world [N]",
-            "T_n [N m]",
-            "|Q|/muP",
-            "area [m^2]",
-            "p_max [Pa]",
-            "stick/slip/sep"
-        );
-        for f in &sol.fingers {
-            let q = f.tangential_force_n;
-            let _ = writeln!(
-                s,
-                "{:<10} {:>11.5} {:>11.5} {:>30} {:>12.3e} {:>7.3} {:>12.3e} {:>12.4e} {:>17}",
-                f.name,
-                f.normal_force_n,
-                f.tangential_magnitude_n,
-                format!("[{:+.4}, {:+.4}, {:+.4}]", q[0], q[1], q[2]),
-                f.torsional_moment_nm,
-                f.friction_utilization,
-                f.contact_area_m2,
-                f.peak_pressure_pa,
-                state_counts(f)
-            );
-        }
-        if let Some(d) = &sol.rigid_displacement {
-            let t = d.translation_m;
-            let r = d.rotation_rad;
-            let _ = writeln!(
-                s,
-                "\nobject rigid displacement: translation of the centre of mass \
-                 [{:+.3e}, {:+.3e}, {:+.3e}] m, rotation [{:+.3e}, {:+.3e}, {:+.3e}] rad",
-                t[0], t[1], t[2], r[0], r[1], r[2]
-            );
-        }
-        if let Some(r) = &sol.residuals {
-            let _ = writeln!(
-                s,
-                "residuals: equilibrium {:.1e} of the load ({:.3e} N, {:.3e} N m), cones {:.1e}, \
-                 penetration {:.1e}, compatibility {:.1e}, complementarity {:.1e}, stick motion \
-                 {:.1e}, slip direction {:.1e}",
-                r.equilibrium_relative,
-                r.force_n,
-                r.moment_nm,
-                r.cone_violation_relative,
-                r.penetration_relative,
-                r.compatibility_relative,
-                r.complementarity_relative,
-                r.stick_motion_relative,
-                r.slip_direction_error
-            );
-        }
-    }
+}
+
+/// The per-finger table: its header and a row per finger (forces, moment, friction use, area,
+/// peak pressure, element states).
+fn finger_rows(sol: &Solution, s: &mut String) {
     let _ = writeln!(
         s,
-        "time: model {:.1} ms, solve {:.1} ms ({})",
-        build_s * 1e3,
-        sol.solve_time_s * 1e3,
-        solver_words(&sol.solver)
+        "\n{:<10} {:>11} {:>11} {:>30} {:>12} {:>7} {:>12} {:>12} {:>17}",
+        "finger",
+        "P [N]",
+        "|Q| [N]",
+        "Q world [N]",
+        "T_n [N m]",
+        "|Q|/muP",
+        "area [m^2]",
+        "p_max [Pa]",
+        "stick/slip/sep"
     );
-    if let Some(why) = &sol.solver.fallback {
-        let _ = writeln!(s, "solver fallback: {why}");
+    for f in &sol.fingers {
+        let q = f.tangential_force_n;
+        let _ = writeln!(
+            s,
+            "{:<10} {:>11.5} {:>11.5} {:>30} {:>12.3e} {:>7.3} {:>12.3e} {:>12.4e} {:>17}",
+            f.name,
+            f.normal_force_n,
+            f.tangential_magnitude_n,
+            format!("[{:+.4}, {:+.4}, {:+.4}]", q[0], q[1], q[2]),
+            f.torsional_moment_nm,
+            f.friction_utilization,
+            f.contact_area_m2,
+            f.peak_pressure_pa,
+            state_counts(f)
+        );
     }
-    s
+}
+
+/// The object's rigid displacement: the centre of mass's translation and the rotation.
+fn displacement_line(d: &grasp_model::RigidDisplacement, s: &mut String) {
+    let t = d.translation_m;
+    let r = d.rotation_rad;
+    let _ = writeln!(
+        s,
+        "\nobject rigid displacement: translation of the centre of mass \
+         [{:+.3e}, {:+.3e}, {:+.3e}] m, rotation [{:+.3e}, {:+.3e}, {:+.3e}] rad",
+        t[0], t[1], t[2], r[0], r[1], r[2]
+    );
+}
+
+/// The residuals recomputed from the solution, each relative to its scale.
+fn residuals_line(r: &grasp_model::Residuals, s: &mut String) {
+    let _ = writeln!(
+        s,
+        "residuals: equilibrium {:.1e} of the load ({:.3e} N, {:.3e} N m), cones {:.1e}, \
+         penetration {:.1e}, compatibility {:.1e}, complementarity {:.1e}, stick motion \
+         {:.1e}, slip direction {:.1e}",
+        r.equilibrium_relative,
+        r.force_n,
+        r.moment_nm,
+        r.cone_violation_relative,
+        r.penetration_relative,
+        r.compatibility_relative,
+        r.complementarity_relative,
+        r.stick_motion_relative,
+        r.slip_direction_error
+    );
 }
 
 /// A finger's element counts, `stick/slip/separated`, then the elements off the surface. A

@@ -6,12 +6,12 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
-use grasp_model::ModelKind;
 use grasp_model::{
     axis_directions, disturbance_margins_reporting, plane_directions, spread_directions,
     DirectionMargin, Failure, MarginOptions, MarginReport, WrenchDirection,
 };
 use grasp_model::{ContactState, GraspModel, StepInputs};
+use grasp_model::{ModelKind, Scene};
 use grasp_transfer::{RerunSink, RunInfo, Sink};
 use serde::Deserialize;
 
@@ -186,21 +186,8 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
         .as_deref()
         .map(|p| picture::Format::of(p, "--plot"))
         .transpose()?;
-    let targets: Vec<&Path> = [&outputs.json, &outputs.plot, &outputs.rrd]
-        .into_iter()
-        .flatten()
-        .map(PathBuf::as_path)
-        .collect();
-    let outs = output::claim(&targets, &[scene_path], outputs.force)?;
-    let mut scene = load_scene(scene_path)?;
-    match flags.model.as_deref() {
-        Some("coulomb") => scene.model = ModelKind::Coulomb,
-        Some("energy") => scene.model = ModelKind::Energy,
-        _ => {}
-    }
-    flags.solve.check_memory(&scene, scene_path)?;
-    let model = GraspModel::from_scene_with(&scene, flags.solve.compliance)
-        .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
+    let outs = output::claim(&outputs.targets(), &[scene_path], outputs.force)?;
+    let (scene, model) = load_model(scene_path, &flags)?;
     let model = std::sync::Arc::new(model);
     let length_m = flags.length_m.unwrap_or(model.scales().length_m);
     let dirs = directions(&model, flags.directions.as_deref(), length_m)?;
@@ -238,19 +225,66 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
             model: &model,
             margins: false,
         };
-        let pending = outs.create(out)?;
-        let mut sink = RerunSink::create_as(&pending.write_path(), out)?;
-        sink.without_steps();
-        let stem = scene_path.file_stem().map(|s| s.to_string_lossy());
-        sink.set_recording_name(&format!("{} margins", stem.as_deref().unwrap_or("scene")));
-        sink.begin(&run)?;
-        sink.log_wrench_surface(&run, &report)?;
-        sink.finish()?;
-        outs.commit(vec![pending])?;
+        write_wrench_surface(out, &outs, scene_path, &run, &report)?;
         println!("wrote {}", out.display());
     }
-    // Exit 2 when the grasp does not hold undisturbed (no direction was searched); a direction
-    // the grasp does not resist at all (margin 0) is a result like any other.
+    Ok(match holds_undisturbed(&report) {
+        true => ExitCode::SUCCESS,
+        false => ExitCode::from(2),
+    })
+}
+
+impl Outputs {
+    /// The files to write.
+    fn targets(&self) -> Vec<&Path> {
+        [&self.json, &self.plot, &self.rrd]
+            .into_iter()
+            .flatten()
+            .map(PathBuf::as_path)
+            .collect()
+    }
+}
+
+/// The scene (its contact law overridden by `--model`), within the memory limit, and its
+/// model.
+fn load_model(scene_path: &Path, flags: &Flags) -> Result<(Scene, GraspModel)> {
+    let mut scene = load_scene(scene_path)?;
+    match flags.model.as_deref() {
+        Some("coulomb") => scene.model = ModelKind::Coulomb,
+        Some("energy") => scene.model = ModelKind::Energy,
+        _ => {}
+    }
+    flags.solve.check_memory(&scene, scene_path)?;
+    let model = GraspModel::from_scene_with(&scene, flags.solve.compliance)
+        .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
+    Ok((scene, model))
+}
+
+/// The Rerun recording of the grasp with its wrench surface (no steps), named for the scene's
+/// file stem, written to `out`.
+fn write_wrench_surface(
+    out: &Path,
+    outs: &output::Outputs,
+    scene_path: &Path,
+    run: &RunInfo,
+    report: &MarginReport,
+) -> Result<()> {
+    let pending = outs.create(out)?;
+    let mut sink = RerunSink::create_as(&pending.write_path(), out)?;
+    sink.without_steps();
+    let stem = scene_path.file_stem().map(|s| s.to_string_lossy());
+    sink.set_recording_name(&format!("{} margins", stem.as_deref().unwrap_or("scene")));
+    sink.begin(run)?;
+    sink.log_wrench_surface(run, report)?;
+    sink.finish()?;
+    outs.commit(vec![pending])?;
+    Ok(())
+}
+
+/// Whether the grasp holds undisturbed (some direction was searched); when it does not, says
+/// why (the command then exits 2). A direction the grasp does not resist at all (margin 0) is
+/// a result like any other.
+fn holds_undisturbed(report: &MarginReport) -> bool {
     let holds = report.directions.iter().any(|d| d.solves > 0);
     if !holds {
         let why = report.directions[0].failure.as_ref().map(failure_words_of);
@@ -259,11 +293,7 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
             why.unwrap_or_default()
         );
     }
-    Ok(if holds {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::from(2)
-    })
+    holds
 }
 
 /// A failure with its reason.
@@ -293,24 +323,7 @@ const STALL_NOTE: &str = "limit (solves stall): past this magnitude the solves n
 /// The report as a table.
 fn table(scene: &Path, r: &MarginReport) -> String {
     let mut s = String::new();
-    let crit = match r.model {
-        ModelKind::Energy => "energy: an equilibrium within the friction cones",
-        ModelKind::Coulomb => {
-            "coulomb: equilibrium and every loaded finger keeps a sticking element"
-        }
-    };
-    let _ = writeln!(
-        s,
-        "{}: disturbance margins ({crit}); magnitude s = force s N at the centre of mass plus \
-         couple s L N m, L = {:.4} m",
-        scene.display(),
-        r.length_m
-    );
-    let _ = writeln!(
-        s,
-        "{:<4}{:<44}{:>14}{:>14}{:>12}  {:<22}{:>8}",
-        "#", "direction", "margin [N]", "torque [N m]", "first", "failure", "solves"
-    );
+    table_header(scene, r, &mut s);
     for (i, m) in r.directions.iter().enumerate() {
         let torque = m.torque_nm.iter().map(|v| v * v).sum::<f64>().sqrt();
         let margin = if m.bounded {
@@ -330,6 +343,53 @@ fn table(scene: &Path, r: &MarginReport) -> String {
             m.solves
         );
     }
+    table_notes(r, &mut s);
+    let w = &r.directions[r.smallest];
+    let _ = writeln!(
+        s,
+        "smallest margin: {} N along #{} {} ({}, first to fail: {})",
+        crate::report::significant(w.margin_n, 5),
+        r.smallest,
+        label(&w.direction),
+        failure_words(w),
+        w.failing_finger.as_deref().unwrap_or("-")
+    );
+    let _ = writeln!(
+        s,
+        "cost: {} in {:.1} ms (directions in parallel; each a warm-started step from the last \
+         magnitude that held)",
+        crate::report::count(r.solves as u64, "solve", "solves"),
+        r.time_s * 1e3
+    );
+    s
+}
+
+/// The table's first line (the scene, the criterion of failure, what a magnitude means) and
+/// its column heads.
+fn table_header(scene: &Path, r: &MarginReport, s: &mut String) {
+    let crit = match r.model {
+        ModelKind::Energy => "energy: an equilibrium within the friction cones",
+        ModelKind::Coulomb => {
+            "coulomb: equilibrium and every loaded finger keeps a sticking element"
+        }
+    };
+    let _ = writeln!(
+        s,
+        "{}: disturbance margins ({crit}); magnitude s = force s N at the centre of mass plus \
+         couple s L N m, L = {:.4} m",
+        scene.display(),
+        r.length_m
+    );
+    let _ = writeln!(
+        s,
+        "{:<4}{:<44}{:>14}{:>14}{:>12}  {:<22}{:>8}",
+        "#", "direction", "margin [N]", "torque [N m]", "first", "failure", "solves"
+    );
+}
+
+/// The notes under the rows: searches stopped early, the stall note, fingers already sliding,
+/// directions not resisted at all.
+fn table_notes(r: &MarginReport, s: &mut String) {
     for (i, m) in r.directions.iter().enumerate() {
         if let Some(note) = &m.stopped_early {
             let _ = writeln!(s, "#{i} stopped early: {note}");
@@ -357,24 +417,6 @@ fn table(scene: &Path, r: &MarginReport) -> String {
                 .join(", ")
         );
     }
-    let w = &r.directions[r.smallest];
-    let _ = writeln!(
-        s,
-        "smallest margin: {} N along #{} {} ({}, first to fail: {})",
-        crate::report::significant(w.margin_n, 5),
-        r.smallest,
-        label(&w.direction),
-        failure_words(w),
-        w.failing_finger.as_deref().unwrap_or("-")
-    );
-    let _ = writeln!(
-        s,
-        "cost: {} in {:.1} ms (directions in parallel; each a warm-started step from the last \
-         magnitude that held)",
-        crate::report::count(r.solves as u64, "solve", "solves"),
-        r.time_s * 1e3
-    );
-    s
 }
 
 #[cfg(test)]

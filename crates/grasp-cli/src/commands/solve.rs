@@ -7,6 +7,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Result};
 use grasp_model::{solve_at_reporting, TimePoint, TimedSolution};
+use grasp_model::{ComplianceChoice, Scene, Sensitivities, Solution};
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, StepInputs};
 
 use crate::load_scene::load_scene;
@@ -107,114 +108,40 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         at_time,
         long_term,
     } = args;
-    let time = time_point(at_time, long_term)?;
-    let options = SolveOptions {
-        tolerance,
-        ..solve.options()
+    let request = Request {
+        options: SolveOptions {
+            tolerance,
+            ..solve.options()
+        },
+        time: time_point(at_time, long_term)?,
+        sensitivities,
     };
-    options.validate()?;
+    request.options.validate()?;
     let outputs: Vec<&Path> = json.iter().chain(&npz).map(PathBuf::as_path).collect();
     let outs = output::claim(&outputs, &[&scene], force.force)?;
     let scene_obj = load_scene(&scene)?;
     solve.check_memory(&scene_obj, &scene)?;
     if explain_frames {
-        print!("{}", report::hertz_table(&scene_obj)?);
+        print_frames(&scene_obj)?;
     }
-    if let Some(r) = &scene_obj.shape_report {
-        // Its warnings are the solution's (printed with it, written with `--json`).
-        if explain_frames {
-            print!("{}", report::frames_table(r));
-        }
-    } else if explain_frames {
-        println!("frames: the scene has no object.shape; every frame is as written");
-    }
-    let t0 = Instant::now();
-    let (scene_obj, model, solution, build_s, sens) = if auto_patch {
-        let a = grasp_model::auto_patch(&scene_obj, options, 6)?;
-        for line in &a.log {
-            println!("auto-patch: {line}");
-        }
-        // The derivative is taken at a solver's own answer: solve the final patch again.
-        let model = Arc::new(a.model);
-        let mut solver = GraspSolver::new(Arc::clone(&model), options);
-        let sens = match sensitivities {
-            true => {
-                let again = solver.solve(&StepInputs::of_scene(&model))?;
-                sensitivities_of(&mut solver, &again)?
-            }
-            false => None,
-        };
-        (a.scene, model, a.solution, 0.0, sens)
-    } else {
-        let mut display = match time {
-            TimePoint::Instantaneous => long_solve_display(&scene_obj),
-            _ => None,
-        };
-        let model = crate::load_scene::model_of(&scene_obj, solve.compliance, &scene)?;
-        let model = Arc::new(model);
-        let build_s = t0.elapsed().as_secs_f64();
-        // The solve's time covers the program assembly (GraspSolver::new) too.
-        let (solution, sens) = match time {
-            TimePoint::Instantaneous => {
-                let mut solver = GraspSolver::new(Arc::clone(&model), options);
-                if let Some(d) = &mut display {
-                    solver.set_progress(d.progress());
-                    d.solving();
-                }
-                let solution = solver.solve(&StepInputs::of_scene(&model));
-                drop(display);
-                let solution = solution?;
-                let sens = match sensitivities {
-                    true => sensitivities_of(&mut solver, &solution)?,
-                    false => None,
-                };
-                (solution, sens)
-            }
-            later => {
-                let clock = Instant::now();
-                let bar = crate::progress::bar(0, "time steps");
-                let mut tick = |k: usize, n: usize| {
-                    bar.set_length(n as u64);
-                    bar.set_position(k as u64 + 1);
-                };
-                let mut timed = solve_at_reporting(&model, options, later, &mut tick)?;
-                bar.finish_and_clear();
-                timed.solution.solve_time_s = clock.elapsed().as_secs_f64();
-                println!("{}", time_line(&model, &timed));
-                (timed.solution, None)
-            }
-        };
-        if time == TimePoint::Instantaneous && model.is_viscoelastic() {
-            println!("viscoelastic: {time}; --at-time SECONDS or --long-term for a later state");
-        }
-        (scene_obj, model, solution, build_s, sens)
+    let mut solved = match auto_patch {
+        true => solve_auto_patch(&scene_obj, request)?,
+        false => solve_scene(scene_obj, &scene, solve.compliance, request)?,
     };
-    let mut solution = solution;
-    crate::flag_names::respell_solution(&mut solution);
-    print!(
-        "{}",
-        report::solution_table(&scene, &model, &solution, build_s)
-    );
-    if error_estimate && solution.status.has_forces() {
-        println!(
-            "{}",
-            report::error_estimate_line(&scene_obj, &solution, options)?
-        );
-    }
-    if let Some((sens, time_s)) = &sens {
-        print!("{}", report::sensitivity_table(sens, *time_s));
-    }
+    crate::flag_names::respell_solution(&mut solved.solution);
+    print_report(&scene, &solved, request.options, error_estimate)?;
+    let solution = &solved.solution;
     if let Some(out) = &json {
         // Every outcome is written, "no equilibrium" (exit 2) included: it is the result.
         let record = grasp_model::SolutionRecord {
-            solution: &solution,
-            time: model.is_viscoelastic().then_some(time),
-            sensitivities: sens.as_ref().map(|(s, _)| s),
+            solution,
+            time: solved.model.is_viscoelastic().then_some(request.time),
+            sensitivities: solved.sensitivities.as_ref().map(|(s, _)| s),
         };
         crate::solution_files::write_json(&outs, out, &record)?;
     }
     if let Some(out) = &npz {
-        crate::solution_files::write_npz(&outs, out, &solution)?;
+        crate::solution_files::write_npz(&outs, out, solution)?;
     }
     Ok(if solution.status.has_forces() {
         ExitCode::SUCCESS
@@ -223,9 +150,171 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     })
 }
 
+/// How to solve: the solver's options, the time point, and whether to take the sensitivities.
+#[derive(Clone, Copy)]
+struct Request {
+    /// The solver's options (`--solver`, `--compliance`, `--tolerance`).
+    options: SolveOptions,
+    /// The instant (`--at-time`, `--long-term`).
+    time: TimePoint,
+    /// Also the derivatives of the forces (`--sensitivities`).
+    sensitivities: bool,
+}
+
+/// A solved scene and what its report needs.
+struct Solved {
+    /// The scene solved (after `--auto-patch`, with its grown patches).
+    scene: Scene,
+    /// Its model.
+    model: Arc<GraspModel>,
+    /// The solution.
+    solution: Solution,
+    /// The model's build, s (0 after `--auto-patch`, whose log says what it did).
+    build_s: f64,
+    /// The sensitivities and their time, s, when asked for and the solve has forces.
+    sensitivities: Option<(Sensitivities, f64)>,
+}
+
+/// `--explain-frames`: each finger's gaps and Hertz estimate, and what the object's shape gave
+/// each finger (its warnings are the solution's, printed with it).
+fn print_frames(scene: &Scene) -> Result<()> {
+    print!("{}", report::hertz_table(scene)?);
+    match &scene.shape_report {
+        Some(r) => print!("{}", report::frames_table(r)),
+        None => println!("frames: the scene has no object.shape; every frame is as written"),
+    }
+    Ok(())
+}
+
+/// `--auto-patch`: curved patches grown until their boundary carries no load, the log
+/// printed; the sensitivities taken at a solve of the final patch.
+fn solve_auto_patch(scene: &Scene, request: Request) -> Result<Solved> {
+    let a = grasp_model::auto_patch(scene, request.options, 6)?;
+    for line in &a.log {
+        println!("auto-patch: {line}");
+    }
+    // The derivative is taken at a solver's own answer: solve the final patch again.
+    let model = Arc::new(a.model);
+    let mut solver = GraspSolver::new(Arc::clone(&model), request.options);
+    let sensitivities = match request.sensitivities {
+        true => {
+            let again = solver.solve(&StepInputs::of_scene(&model))?;
+            sensitivities_of(&mut solver, &again)?
+        }
+        false => None,
+    };
+    Ok(Solved {
+        scene: a.scene,
+        model,
+        solution: a.solution,
+        build_s: 0.0,
+        sensitivities,
+    })
+}
+
+/// The scene's model built (its compliances in the form `compliance` picks) and solved at the
+/// request's time point; a viscoelastic scene solved instantaneously says how to ask for a
+/// later state.
+fn solve_scene(
+    scene: Scene,
+    scene_path: &Path,
+    compliance: ComplianceChoice,
+    request: Request,
+) -> Result<Solved> {
+    let t0 = Instant::now();
+    let display = match request.time {
+        TimePoint::Instantaneous => long_solve_display(&scene),
+        _ => None,
+    };
+    let model = crate::load_scene::model_of(&scene, compliance, scene_path)?;
+    let model = Arc::new(model);
+    let build_s = t0.elapsed().as_secs_f64();
+    // The solve's time covers the program assembly (GraspSolver::new) too.
+    let (solution, sensitivities) = match request.time {
+        TimePoint::Instantaneous => solve_now(&model, request, display)?,
+        later => (solve_later(&model, request.options, later)?, None),
+    };
+    if request.time == TimePoint::Instantaneous && model.is_viscoelastic() {
+        println!(
+            "viscoelastic: {}; --at-time SECONDS or --long-term for a later state",
+            request.time
+        );
+    }
+    Ok(Solved {
+        scene,
+        model,
+        solution,
+        build_s,
+        sensitivities,
+    })
+}
+
+/// The instantaneous response, shown on `display` while it is solved, and its sensitivities
+/// when asked for.
+fn solve_now(
+    model: &Arc<GraspModel>,
+    request: Request,
+    mut display: Option<SolveDisplay>,
+) -> Result<(Solution, Option<(Sensitivities, f64)>)> {
+    let mut solver = GraspSolver::new(Arc::clone(model), request.options);
+    if let Some(d) = &mut display {
+        solver.set_progress(d.progress());
+        d.solving();
+    }
+    let solution = solver.solve(&StepInputs::of_scene(model));
+    drop(display);
+    let solution = solution?;
+    let sensitivities = match request.sensitivities {
+        true => sensitivities_of(&mut solver, &solution)?,
+        false => None,
+    };
+    Ok((solution, sensitivities))
+}
+
+/// The state at a `later` time point, its history stepped under a progress bar; the time it
+/// took is the solve's time, and a line says what was stepped.
+fn solve_later(model: &GraspModel, options: SolveOptions, later: TimePoint) -> Result<Solution> {
+    let clock = Instant::now();
+    let bar = crate::progress::bar(0, "time steps");
+    let mut tick = |k: usize, n: usize| {
+        bar.set_length(n as u64);
+        bar.set_position(k as u64 + 1);
+    };
+    let mut timed = solve_at_reporting(model, options, later, &mut tick)?;
+    bar.finish_and_clear();
+    timed.solution.solve_time_s = clock.elapsed().as_secs_f64();
+    println!("{}", time_line(model, &timed));
+    Ok(timed.solution)
+}
+
+/// The report of a solve: its table, the error estimate (`--error-estimate`, with forces) and
+/// the sensitivities.
+fn print_report(
+    scene_path: &Path,
+    solved: &Solved,
+    options: SolveOptions,
+    error_estimate: bool,
+) -> Result<()> {
+    let solution = &solved.solution;
+    print!(
+        "{}",
+        report::solution_table(scene_path, &solved.model, solution, solved.build_s)
+    );
+    if error_estimate && solution.status.has_forces() {
+        println!(
+            "{}",
+            report::error_estimate_line(&solved.scene, solution, options)?
+        );
+    }
+    if let Some((sens, time_s)) = &solved.sensitivities {
+        print!("{}", report::sensitivity_table(sens, *time_s));
+    }
+    Ok(())
+}
+
 /// The display of a solve of `scene` when it is long (on a terminal, without `--quiet`): its
 /// unknowns and its largest patch's grid.
-fn long_solve_display(scene: &grasp_model::Scene) -> Option<SolveDisplay> {
+fn long_solve_display(scene: &Scene) -> Option<SolveDisplay> {
     let unknowns = scene
         .fingers
         .iter()
@@ -243,8 +332,8 @@ fn long_solve_display(scene: &grasp_model::Scene) -> Option<SolveDisplay> {
 /// without forces.
 fn sensitivities_of(
     solver: &mut GraspSolver,
-    solution: &grasp_model::Solution,
-) -> Result<Option<(grasp_model::Sensitivities, f64)>> {
+    solution: &Solution,
+) -> Result<Option<(Sensitivities, f64)>> {
     if !solution.status.has_forces() {
         return Ok(None);
     }

@@ -298,6 +298,20 @@ impl Picture for StudyPlot<'_> {
     }
 }
 
+/// A run's point on the plot: its wall time, its errors, and its row (for the label).
+struct StudyPoint<'a> {
+    /// Wall time of the run, s.
+    time_s: f64,
+    /// The first error.
+    error: f64,
+    /// The second error, where there is one and it is positive.
+    error_2: Option<f64>,
+    /// The run.
+    row: &'a StudyRow,
+}
+
+/// The log-log chart of every run's errors against its wall time, a line per error, each
+/// point labelled with its grid once, and the legend beside it.
 fn draw_study<DB: DrawingBackend>(
     rows: &[StudyRow],
     (e1, e2): (&str, &str),
@@ -305,33 +319,22 @@ fn draw_study<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
 ) -> Result<()> {
     // Points of a log-log plot need positive errors; each keeps its row for the label.
-    let pts: Vec<(f64, f64, Option<f64>, &StudyRow)> = rows
+    let pts: Vec<StudyPoint> = rows
         .iter()
         .filter(|r| r.error > 0.0 && r.wall_time_s > 0.0)
-        .map(|r| (r.wall_time_s, r.error, r.error_2.filter(|e| *e > 0.0), r))
-        .collect();
-    let decade = |v: f64, up: bool| {
-        10f64.powf(if up {
-            v.log10().ceil()
-        } else {
-            v.log10().floor()
+        .map(|r| StudyPoint {
+            time_s: r.wall_time_s,
+            error: r.error,
+            error_2: r.error_2.filter(|e| *e > 0.0),
+            row: r,
         })
-    };
-    let xs = pts.iter().map(|p| p.0);
-    let ys = pts.iter().flat_map(|p| std::iter::once(p.1).chain(p.2));
-    let (x0, x1) = (
-        decade(xs.clone().fold(f64::INFINITY, f64::min), false),
-        decade(xs.fold(0.0, f64::max), true),
+        .collect();
+    let xs = decades(pts.iter().map(|p| p.time_s), 1e-3);
+    let ys = decades(
+        pts.iter()
+            .flat_map(|p| std::iter::once(p.error).chain(p.error_2)),
+        1e-6,
     );
-    let (y0, y1) = (
-        decade(ys.clone().fold(f64::INFINITY, f64::min), false),
-        decade(ys.fold(0.0, f64::max), true),
-    );
-    let (x0, y0) = (
-        if x0.is_finite() { x0 } else { 1e-3 },
-        if y0.is_finite() { y0 } else { 1e-6 },
-    );
-    let (x1, y1) = (x1.max(x0 * 10.0), y1.max(y0 * 10.0));
     root.fill(&WHITE).map_err(draw_err)?;
     let mut chart = ChartBuilder::on(root)
         .caption(
@@ -342,7 +345,7 @@ fn draw_study<DB: DrawingBackend>(
         .margin_right(LEGEND_COLUMN_PX)
         .x_label_area_size(40)
         .y_label_area_size(64)
-        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+        .build_cartesian_2d(xs.log_scale(), ys.log_scale())
         .map_err(draw_err)?;
     chart
         .configure_mesh()
@@ -366,32 +369,62 @@ fn draw_study<DB: DrawingBackend>(
             marker: Some(true),
         };
         legend.push((label.to_owned(), sample));
-        let series: Vec<(f64, f64, &StudyRow)> = pts
-            .iter()
-            .filter_map(|p| if k == 0 { Some(p.1) } else { p.2 }.map(|v| (p.0, v, p.3)))
-            .collect();
-        chart
-            .draw_series(LineSeries::new(series.iter().map(|p| (p.0, p.1)), &color))
-            .map_err(draw_err)?;
-        for (t, v, r) in &series {
-            chart
-                .draw_series(std::iter::once(Circle::new((*t, *v), 3, color.filled())))
-                .map_err(draw_err)?;
-            // Each run's grid once, beside its first error's point (the second error's point
-            // is at the same time, straight above or below it).
-            if k == 0 {
-                let grid = format!("{}x{}", r.grid[0], r.grid[1]);
-                chart
-                    .draw_series(std::iter::once(Text::new(
-                        grid,
-                        (*t, *v),
-                        ("sans-serif", 10),
-                    )))
-                    .map_err(draw_err)?;
-            }
-        }
+        draw_errors(&mut chart, &pts, k == 1, color)?;
     }
     legend_beside(root, chart.plotting_area().get_pixel_range(), &legend)?;
+    Ok(())
+}
+
+/// A log axis's range over `values`: from the decade at or below the smallest to the decade
+/// at or above the largest, at least one decade wide; from `empty_low` without values.
+fn decades(values: impl Iterator<Item = f64> + Clone, empty_low: f64) -> std::ops::Range<f64> {
+    let decade = |v: f64, up: bool| {
+        10f64.powf(if up {
+            v.log10().ceil()
+        } else {
+            v.log10().floor()
+        })
+    };
+    let low = decade(values.clone().fold(f64::INFINITY, f64::min), false);
+    let high = decade(values.fold(0.0, f64::max), true);
+    let low = if low.is_finite() { low } else { empty_low };
+    low..high.max(low * 10.0)
+}
+
+/// One error's line and points (the first error's, or the `second`'s), the first error's
+/// points labelled with their grids (the second error's point is at the same time, straight
+/// above or below it).
+fn draw_errors<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>,
+    pts: &[StudyPoint],
+    second: bool,
+    color: RGBColor,
+) -> Result<()> {
+    let series: Vec<(f64, f64, &StudyRow)> = pts
+        .iter()
+        .filter_map(|p| {
+            let error = if second { p.error_2 } else { Some(p.error) };
+            error.map(|v| (p.time_s, v, p.row))
+        })
+        .collect();
+    chart
+        .draw_series(LineSeries::new(series.iter().map(|p| (p.0, p.1)), &color))
+        .map_err(draw_err)?;
+    for (t, v, r) in &series {
+        chart
+            .draw_series(std::iter::once(Circle::new((*t, *v), 3, color.filled())))
+            .map_err(draw_err)?;
+        if !second {
+            let grid = format!("{}x{}", r.grid[0], r.grid[1]);
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    grid,
+                    (*t, *v),
+                    ("sans-serif", 10),
+                )))
+                .map_err(draw_err)?;
+        }
+    }
     Ok(())
 }
 

@@ -8,8 +8,8 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use grasp_model::Scene;
 use grasp_transfer::{
-    OutputFiles, OutputPaths, RerunSink, Schedule, Sink, SqueezeOutcome, TransferOptions,
-    TransferSummary,
+    OutputFiles, OutputPaths, RerunSink, Schedule, Sink, SqueezeOutcome, StepRecord,
+    TransferOptions, TransferSummary,
 };
 
 use crate::output::{self, ForceArg, Outputs as Claimed};
@@ -237,6 +237,9 @@ impl OpenSinks {
     }
 }
 
+/// Runs a transfer: its inputs and outputs checked before any work, every step stepped and
+/// logged to the sinks, the summary printed; the outputs moved into place when the run
+/// completes (or reaches its end past failed steps with `--keep-going`).
 pub(crate) fn run(
     scene_path: &Path,
     schedule_path: &Path,
@@ -258,16 +261,7 @@ pub(crate) fn run(
         .map(|s| s.to_string_lossy().into_owned());
     let mut open = OpenSinks::create(out, &outs, stem.as_deref().unwrap_or("scene"))?;
     let bar = crate::progress::bar(schedule.times.len(), "steps");
-    let options = TransferOptions {
-        keep_going: flags.keep_going,
-        warm_start: !flags.cold,
-        solve: flags.solve.options(),
-        margins: flags.margins,
-        margins_from_scratch: flags.cold,
-        margin_threshold_n: flags.margin_threshold,
-        sensitivities: false,
-        ..TransferOptions::default()
-    };
+    let options = transfer_options(&flags);
     let mut history = out.plot.as_ref().map(|_| ForceHistory::new(&names));
     let started = std::time::Instant::now();
     let (summary, last) =
@@ -280,15 +274,9 @@ pub(crate) fn run(
         })?;
     bar.finish_and_clear();
     let planned = schedule.times.len();
-    print!(
-        "{}",
-        crate::flag_names::in_flags(&summary_text(
-            &summary,
-            summary.steps,
-            planned,
-            started.elapsed().as_secs_f64()
-        ))
-    );
+    let run_s = started.elapsed().as_secs_f64();
+    let summary_text = summary_text(&summary, summary.steps, planned, run_s);
+    print!("{}", crate::flag_names::in_flags(&summary_text));
     if summary.failed_step_count > 0 && !flags.keep_going {
         drop(open); // removes the temporary files
         if !out.targets().is_empty() {
@@ -314,15 +302,50 @@ pub(crate) fn run(
         }
     }
     if flags.min_squeeze {
-        match &last {
-            Some(last) => {
-                let outcome = grasp_transfer::minimum_squeeze(&scene, last, options.solve)?;
-                print!("{}", squeeze_text(&outcome));
-            }
-            None => println!("minimum squeeze: no step was solved"),
-        }
+        print_minimum_squeeze(&scene, last.as_ref(), options.solve)?;
     }
     outs.commit(open.files.take_pending())?;
+    print_written(out, unplotted);
+    Ok(match summary.failed_step_count {
+        0 => ExitCode::SUCCESS,
+        _ => ExitCode::from(2),
+    })
+}
+
+/// The stepping's options from the switches.
+fn transfer_options(flags: &Flags) -> TransferOptions {
+    TransferOptions {
+        keep_going: flags.keep_going,
+        warm_start: !flags.cold,
+        solve: flags.solve.options(),
+        margins: flags.margins,
+        margins_from_scratch: flags.cold,
+        margin_threshold_n: flags.margin_threshold,
+        sensitivities: false,
+        ..TransferOptions::default()
+    }
+}
+
+/// `--min-squeeze`: the smallest load of the receiving fingers at which the releasing ones can
+/// let go, searched from the last solved step.
+fn print_minimum_squeeze(
+    scene: &Scene,
+    last: Option<&StepRecord>,
+    solve: grasp_model::SolveOptions,
+) -> Result<()> {
+    match last {
+        Some(last) => {
+            let outcome = grasp_transfer::minimum_squeeze(scene, last, solve)?;
+            print!("{}", squeeze_text(&outcome));
+        }
+        None => println!("minimum squeeze: no step was solved"),
+    }
+    Ok(())
+}
+
+/// The "wrote ..." lines of the outputs written; the plot left out with a warning when it
+/// could not be drawn (`unplotted`: why).
+fn print_written(out: &Outputs, unplotted: Option<String>) {
     match unplotted {
         None => print!("{}", out.wrote()),
         Some(why) => {
@@ -332,10 +355,6 @@ pub(crate) fn run(
             eprintln!("warning: the plot was not written: {why}");
         }
     }
-    Ok(match summary.failed_step_count {
-        0 => ExitCode::SUCCESS,
-        _ => ExitCode::from(2),
-    })
 }
 
 /// The scene (within the memory limit) and the schedule resolved against it.
@@ -368,29 +387,51 @@ const SLIP_MARGIN_ROUND_OFF: f64 = 1e-9;
 fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) -> String {
     let mut o = String::new();
     let _ = writeln!(o, "steps: {done} of {planned}");
-    if s.releasing.is_empty() {
-        // A hold, or a run in which no finger lets go: no hand-off to time.
-        let _ = writeln!(o, "hand-off: none (no finger lets go during the run)");
-    } else {
-        let _ = writeln!(o, "releasing fingers: {}", list(&s.releasing));
-        let _ = writeln!(o, "receiving fingers: {}", list(&s.receiving));
-        let t = |x: Option<f64>| x.map_or("never".to_string(), |v| format!("t = {v:.3} s"));
-        let _ = writeln!(
-            o,
-            "receiving fingers carry half the load: {}",
-            t(s.half_transfer_time_s)
-        );
-        let _ = writeln!(
-            o,
-            "receiving fingers carry all the load:  {}",
-            t(s.full_transfer_time_s)
-        );
-    }
+    hand_off_lines(s, &mut o);
     let _ = writeln!(
         o,
         "peak squeeze (sum of normal forces): {:.4} N at t = {:.3} s",
         s.peak_squeeze_n, s.peak_squeeze_time_s
     );
+    slip_margin_line(s, &mut o);
+    disturbance_margin_lines(s, &mut o);
+    held_lines(s, &mut o);
+    failed_step_lines(s, &mut o);
+    solver_lines(s, done, &mut o);
+    let _ = writeln!(
+        o,
+        "residuals: worst equilibrium residual {:.1e} of the load",
+        s.worst_equilibrium_residual
+    );
+    time_line(s, done, run_s, &mut o);
+    o
+}
+
+/// Who lets go and who takes over, and when the receiving fingers carry half and all the
+/// load; a run in which no finger lets go says so.
+fn hand_off_lines(s: &TransferSummary, o: &mut String) {
+    if s.releasing.is_empty() {
+        // A hold, or a run in which no finger lets go: no hand-off to time.
+        let _ = writeln!(o, "hand-off: none (no finger lets go during the run)");
+        return;
+    }
+    let _ = writeln!(o, "releasing fingers: {}", list(&s.releasing));
+    let _ = writeln!(o, "receiving fingers: {}", list(&s.receiving));
+    let t = |x: Option<f64>| x.map_or("never".to_string(), |v| format!("t = {v:.3} s"));
+    let _ = writeln!(
+        o,
+        "receiving fingers carry half the load: {}",
+        t(s.half_transfer_time_s)
+    );
+    let _ = writeln!(
+        o,
+        "receiving fingers carry all the load:  {}",
+        t(s.full_transfer_time_s)
+    );
+}
+
+/// The smallest slip margin of the run, with its finger and time.
+fn slip_margin_line(s: &TransferSummary, o: &mut String) {
     match &s.smallest_slip_margin {
         // Within round-off of 0: the finger is at the friction limit (|Q| = mu P).
         Some(m) if m.margin.abs() <= SLIP_MARGIN_ROUND_OFF => {
@@ -414,6 +455,11 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
             let _ = writeln!(o, "smallest slip margin: no loaded frictional finger");
         }
     }
+}
+
+/// With `--margins`: the least safe step, and when the smallest disturbance margin first fell
+/// below `--margin-threshold`.
+fn disturbance_margin_lines(s: &TransferSummary, o: &mut String) {
     if let Some(l) = &s.least_safe_step {
         let _ = writeln!(
             o,
@@ -437,15 +483,24 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
             crate::report::significant(c.margin_n, 5)
         );
     }
-    held_lines(s, &mut o);
+}
+
+/// The failed steps' count and the first five, each with its reason.
+fn failed_step_lines(s: &TransferSummary, o: &mut String) {
     if s.failed_step_count == 0 {
         let _ = writeln!(o, "failed steps: none");
-    } else {
-        let _ = writeln!(o, "failed steps: {}", s.failed_step_count);
-        for f in s.failed_steps.iter().take(5) {
-            let _ = writeln!(o, "  step {} (t = {:.3} s): {}", f.step, f.time_s, f.reason);
-        }
+        return;
     }
+    let _ = writeln!(o, "failed steps: {}", s.failed_step_count);
+    for f in s.failed_steps.iter().take(5) {
+        let _ = writeln!(o, "  step {} (t = {:.3} s): {}", f.step, f.time_s, f.reason);
+    }
+}
+
+/// How the `done` steps were solved: the sequential solves, which solver answered, warm
+/// starts, iterations and factorisations per step, the FFT patches' conjugate-gradient
+/// iterations, and the fallbacks to Clarabel.
+fn solver_lines(s: &TransferSummary, done: usize, o: &mut String) {
     if let Some(q) = &s.sequential {
         let _ = writeln!(
             o,
@@ -483,11 +538,11 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
             count(s.fallbacks.steps as u64, "step", "steps")
         );
     }
-    let _ = writeln!(
-        o,
-        "residuals: worst equilibrium residual {:.1e} of the load",
-        s.worst_equilibrium_residual
-    );
+}
+
+/// Where the time went: the stepping (per step, its iterations), the margins' searches, and
+/// the whole run of `run_s` seconds.
+fn time_line(s: &TransferSummary, done: usize, run_s: f64, o: &mut String) {
     let margins = match s.least_safe_step {
         Some(_) => format!(
             "; margins {:.3} s ({})",
@@ -504,7 +559,6 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
         count(s.total_iterations, "iteration", "iterations"),
         run_s
     );
-    o
 }
 
 /// Per held or position-controlled finger whose force fell under one command, a line.
