@@ -54,7 +54,8 @@ pub fn disturbance_rows(
     path: &KeyframePath,
     base: &[StepRecord],
     raised: &[Vec<StepRecord>],
-    (step_n, threshold_n): (f64, f64),
+    step_n: f64,
+    threshold_n: f64,
     notes: &mut Vec<String>,
 ) -> Vec<MarginRow> {
     let mut rows = Vec::new();

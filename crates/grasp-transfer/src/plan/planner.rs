@@ -35,6 +35,17 @@ struct Iterate {
     merit: f64,
 }
 
+/// Where the search ended: its last accepted iterate, the iterations it made and why it
+/// stopped.
+struct SearchEnd {
+    /// The last accepted iterate.
+    best: Iterate,
+    /// Trust-region iterations made.
+    iterations: usize,
+    /// Why it stopped.
+    stopped: String,
+}
+
 /// The runs of one planning: the scene, its model, what the planned schedules keep.
 struct Runner<'a> {
     scene: &'a Scene,
@@ -81,8 +92,8 @@ pub fn plan(
         template_margins.as_deref(),
         options,
     )?;
-    let (best, iterations, stopped) = runner.search(path, &pinned)?;
-    runner.verify(best, template_margins, (iterations, stopped), clock)
+    let end = runner.search(path, &pinned)?;
+    runner.verify(end, template_margins, clock)
 }
 
 impl Runner<'_> {
@@ -142,12 +153,12 @@ impl Runner<'_> {
             let raised_runs = (0..path.groups.len())
                 .map(|g| self.run_path(&raised(&path, g, step_n), false, margins))
                 .collect::<Result<Vec<_>, _>>()?;
-            let scales = (step_n, threshold_n);
             rows.extend(disturbance_rows(
                 &path,
                 &records,
                 &raised_runs,
-                scales,
+                step_n,
+                threshold_n,
                 &mut self.notes,
             ));
         }
@@ -242,13 +253,8 @@ fn merit(rows: &[MarginRow], relative: f64, options: &PlanOptions) -> f64 {
 }
 
 impl Runner<'_> {
-    /// The trust-region iteration from `path`: the last accepted iterate, the iterations and
-    /// why it stopped.
-    fn search(
-        &mut self,
-        path: KeyframePath,
-        pinned: &Pinned,
-    ) -> Result<(Iterate, usize, String), PlanError> {
+    /// The trust-region iteration from `path`: where it ended.
+    fn search(&mut self, path: KeyframePath, pinned: &Pinned) -> Result<SearchEnd, PlanError> {
         let start_s = path.duration_s;
         let mut current = self
             .evaluate(path, start_s)?
@@ -274,7 +280,8 @@ impl Runner<'_> {
                 &current.rows,
                 pinned,
                 self.options,
-                (radius, scale),
+                radius,
+                scale,
             )
             .map_err(PlanError::Program)?;
             let predicted = base - step.predicted_merit;
@@ -308,18 +315,26 @@ impl Runner<'_> {
                 }
             }
         };
-        Ok((current, iterations, stopped))
+        Ok(SearchEnd {
+            best: current,
+            iterations,
+            stopped,
+        })
     }
 
-    /// Re-runs `best` from its schedule file's text, as `grasp transfer` reads it, and reports
-    /// what it keeps.
+    /// Re-runs the search's best iterate from its schedule file's text, as `grasp transfer`
+    /// reads it, and reports what it keeps.
     fn verify(
         &mut self,
-        best: Iterate,
+        end: SearchEnd,
         template: Option<Vec<StepRecord>>,
-        (iterations, stopped): (usize, String),
         clock: Instant,
     ) -> Result<PlanReport, PlanError> {
+        let SearchEnd {
+            best,
+            iterations,
+            stopped,
+        } = end;
         let spec = self.spec(&best.path);
         let text = serde_json::to_string(&spec).map_err(|e| PlanError::Program(e.to_string()))?;
         let schedule = Schedule::from_json_str(&text, &self.scene.finger_names(), Path::new("."))
