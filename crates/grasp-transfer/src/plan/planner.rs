@@ -14,6 +14,7 @@ use grasp_model::{GraspModel, LoadDirection, MarginOptions, Scene};
 use crate::plan::disturbance_rows::{difference_options, disturbance_rows, load_step_n, raised};
 use crate::plan::keyframe_path::KeyframePath;
 use crate::plan::margin_row::{MarginRow, RowKind};
+use crate::plan::option_names;
 use crate::plan::plan_error::PlanError;
 use crate::plan::plan_options::{Objective, PlanOptions};
 use crate::plan::plan_report::{binding_row, smallest_margins, Binding, PlanReport};
@@ -42,7 +43,7 @@ struct SearchEnd {
     best: Iterate,
     /// Trust-region iterations made.
     iterations: usize,
-    /// Why it stopped.
+    /// Why it stopped (options named as [`option_names`] spells them).
     stopped: String,
 }
 
@@ -271,7 +272,7 @@ impl Runner<'_> {
         let stopped = loop {
             let per_evaluation = self.runs_per_evaluation(current.path.groups.len());
             if self.runs + per_evaluation + 1 > self.options.max_runs {
-                break "it made the runs allowed (--max-runs)".to_string();
+                break format!("it made the runs allowed (`{}`)", option_names::MAX_RUNS);
             }
             iterations += 1;
             let base = merit(&current.rows, 1.0, self.options);
@@ -374,9 +375,9 @@ impl Runner<'_> {
 /// Why the search stopped short of a binding constraint, from the last iterate's
 /// linearisation: a margin whose derivative with respect to every keyframe load is 0 (a
 /// finger sliding at the friction limit: no nearby change of the loads lifts it off), a
-/// margin that grows only with a shorter hand-off when the rates or `--min-duration` allow
-/// none ([`duration_bound`]), a linearised program with no better step within the bounds and
-/// rates, or the runs ran out.
+/// margin that grows only with a shorter hand-off when the rates or
+/// [`PlanOptions::min_duration_s`] allow none ([`duration_bound`]), a linearised program with
+/// no better step within the bounds and rates, or the runs ran out.
 fn explain(b: &Binding, best: &Iterate, stopped: &str, options: &PlanOptions) -> String {
     let disturbance = b.constraint == "disturbance margin";
     let row = best.rows.iter().find(|r| {
@@ -416,17 +417,19 @@ fn explain(b: &Binding, best: &Iterate, stopped: &str, options: &PlanOptions) ->
 
 /// The reason of a margin that only a shorter hand-off raises (`dm/dT < 0`: viscoelastic pads
 /// relax while it lasts) at a duration already the shortest the load rates allow at these
-/// keyframe loads, or `--min-duration` (to 1e-4 of it, the program's bounds being met to its
-/// own tolerance); `None` otherwise.
+/// keyframe loads, or [`PlanOptions::min_duration_s`] (to 1e-4 of it, the program's bounds
+/// being met to its own tolerance); `None` otherwise.
 fn duration_bound(row: &MarginRow, path: &KeyframePath, options: &PlanOptions) -> Option<String> {
     if row.per_duration >= 0.0 {
         return None;
     }
     let by_rate_s = path.shortest_duration_s(options.max_rate_n_per_s);
     let (shortest_s, what) = if options.min_duration_s >= by_rate_s {
-        (options.min_duration_s, "--min-duration allows")
+        let what = format!("`{}` allows", option_names::MIN_DURATION);
+        (options.min_duration_s, what)
     } else {
-        (by_rate_s, "at these keyframe loads the load rates allow")
+        let what = "at these keyframe loads the load rates allow".to_string();
+        (by_rate_s, what)
     };
     (path.duration_s <= shortest_s * (1.0 + 1e-4)).then(|| {
         format!(
