@@ -245,3 +245,6 @@ def _write_outputs(
     force_name: str = "overwrite=True",
 ) -> None:
     """Writes every (path, bytes) through the output policy, all moved into place together."""
+
+def _arrow_scale_m_per_n(scene: Scene) -> float:
+    """The force arrows' scale of the scene's recordings, m per N (grasp.mujoco's drawings)."""

@@ -183,7 +183,7 @@ def test_mujoco_report_recording_shows_both_force_sets_as_arrows(pinch, tmp_path
             assert f"/world/forces/{name}/{part} " in out  # this project's
             assert f"/world/mujoco/forces/{name}/{part} " in out  # MuJoCo's
     # MuJoCo's normal arrow: its normal force along its normal, at the project's scale.
-    scale = gm._rerun.arrow_scale_m_per_n(g.scene_dict, grasp.solve(g.scene).load_scale_n)
+    scale = gm._rerun.arrow_scale_m_per_n(g.scene)
     block = out[out.index("/world/mujoco/forces/jaw_left/normal -"):]
     vec = [float(x) for x in re.search(r"\[\[([-0-9.e, ]+)\]\]\s*│\s*│", block).group(1).split(",")]
     f = g.fingers[0]

@@ -43,12 +43,34 @@ def test_the_plan_run_by_transfer_keeps_its_margin_and_rates(tmp_path, run_cli):
 
 def test_constraints_no_schedule_meets_raise_with_the_keyword_named():
     scene = grasp.Scene(SCENE)
-    with pytest.raises(grasp.GraspError, match=r"max_rate= 0\.5 N/s that takes 16 s"):
+    with pytest.raises(grasp.GraspError, match=r"`max_rate=` 0\.5 N/s that takes 16 s") as e:
         grasp.plan(
             scene, releasing=["f1", "f2"], objective="margin", duration=4.0, max_rate=0.5
         )
-    with pytest.raises(ValueError, match="objective="):
+    assert "--" not in str(e.value)
+    with pytest.raises(ValueError, match="objective=") as e:
         grasp.plan(scene, releasing=["f1", "f2"])
+    # The library's message, every option in it named by its keyword, none by a CLI flag.
+    assert str(e.value) == (
+        "`objective=`: the shortest duration needs a load-rate limit (a quasi-static hand-off "
+        'is as fast as its rates allow): give `max_rate=`, or `objective="margin"`'
+    )
+    with pytest.raises(ValueError) as e:
+        grasp.plan(scene, releasing=["f1", "f2"], max_rate=1.5, min_load=5.0, max_load=3.0,
+                   min_duration=5.0, max_duration=3.0, steps=1)
+    assert str(e.value).splitlines() == [
+        "`min_load=`: needs 0 <= `min_load < max_load` (got 5 and 3)",
+        "`min_duration=`: needs 0 <= `min_duration <= max_duration`",
+        "`steps=`: must be 2 to 10,000",
+    ]
+    with pytest.raises(grasp.GraspError, match="give `duration=` \\(s\\) or `max_rate=`") as e:
+        grasp.plan(scene, releasing=["f1", "f2"], objective="margin")
+    assert "--" not in str(e.value)
+    # The report's texts too: the search that ran out of runs names `max_runs=`.
+    plan = grasp.plan(scene, releasing=["f1", "f2"], receiving=["f3", "f4"], max_rate=1.5,
+                      steps=4, max_runs=2, min_slip_margin=0.9)
+    assert plan["stopped"] == "it made the runs allowed (`max_runs=`)"
+    assert "--" not in plan["binding"]["why"]
     with pytest.raises(ValueError, match="objective="):
         grasp.plan(scene, releasing=["f1"], objective="fastest")
 

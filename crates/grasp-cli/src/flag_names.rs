@@ -1,5 +1,6 @@
 //! The libraries name the options a user can change as their Rust API spells them
-//! (`grasp_model::option_names`, `grasp_batch::option_names`); the CLI says the flag instead.
+//! (`grasp_model::option_names`, `grasp_batch::option_names`,
+//! `grasp_transfer::plan::option_names`); the CLI says the flag instead.
 
 use grasp_model::Solution;
 use grasp_model::{
@@ -7,6 +8,7 @@ use grasp_model::{
     option_names::MARGIN_LENGTH, option_names::MARGIN_TOLERANCE, option_names::SOLVER,
     option_names::TOLERANCE,
 };
+use grasp_transfer::plan::option_names as plan;
 
 /// Library option name -> command-line flag.
 const FLAGS: &[(&str, &str)] = &[
@@ -23,9 +25,36 @@ const FLAGS: &[(&str, &str)] = &[
     (grasp_io::output_file::FORCE, "--force"),
 ];
 
+/// The planner's option names (`grasp_transfer::plan::option_names`) -> what `grasp plan` says:
+/// its flag, bare (`--max-rate: must be ...`, not between backticks), or its inequality of two
+/// flags.
+const PLAN_FLAGS: &[(&str, &str)] = &[
+    (plan::RELEASING, "--releasing"),
+    (plan::RECEIVING, "--receiving"),
+    (plan::MIN_SLIP_MARGIN, "--min-slip-margin"),
+    (plan::MIN_MARGIN, "--min-margin"),
+    (plan::MIN_LOAD, "--min-load"),
+    (plan::MAX_LOAD, "--max-load"),
+    (plan::MAX_RATE, "--max-rate"),
+    (plan::MIN_DURATION, "--min-duration"),
+    (plan::MAX_DURATION, "--max-duration"),
+    (plan::OBJECTIVE, "--objective"),
+    (plan::OBJECTIVE_MARGIN, "--objective margin"),
+    (plan::DURATION, "--duration"),
+    (plan::STEPS, "--steps"),
+    (plan::KEYFRAMES, "--keyframes"),
+    (plan::MAX_RUNS, "--max-runs"),
+    (plan::TEMPLATE, "--template"),
+    (plan::LOAD_ORDER, "min-load < max-load"),
+    (plan::DURATION_ORDER, "min-duration <= max-duration"),
+];
+
 /// `text` with every library option name replaced by its flag.
 pub fn in_flags(text: &str) -> String {
-    respell(text, FLAGS)
+    let text = respell(text, FLAGS);
+    PLAN_FLAGS.iter().fold(text, |t, (name, flag)| {
+        t.replace(&format!("`{name}`"), flag)
+    })
 }
 
 /// The solution's texts (reason, warnings, solver fallback) with flags for option names.
@@ -46,5 +75,20 @@ mod tests {
         );
         let text = format!("`{TOLERANCE}`, `{MARGIN_LENGTH}`, `{MARGIN_TOLERANCE}`");
         assert_eq!(in_flags(&text), "`--tolerance`, `--length`, `--tolerance`");
+    }
+
+    #[test]
+    fn planner_options_are_bare_flags() {
+        let text = format!(
+            "`{}`: needs 0 <= `{}`; give `{}`, or `{}`",
+            plan::MIN_LOAD,
+            plan::LOAD_ORDER,
+            plan::MAX_RATE,
+            plan::OBJECTIVE_MARGIN
+        );
+        assert_eq!(
+            in_flags(&text),
+            "--min-load: needs 0 <= min-load < max-load; give --max-rate, or --objective margin"
+        );
     }
 }

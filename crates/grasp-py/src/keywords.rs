@@ -4,19 +4,40 @@
 //! reason, warnings and fallback, serialised records) goes through [`in_keywords`].
 //!
 //! Tested from Python (the crate has no Rust test binary): `tests/python/test_option_ranges.py`
-//! checks messages of the library that reach Python naming `tolerance=` and `compliance=`.
+//! checks messages of the library that reach Python naming `tolerance=` and `compliance=`,
+//! `tests/python/test_plan.py` the planner's naming `objective=` and `max_rate=`.
 
 use grasp_model::Solution;
 use grasp_model::{
     option_names::respell, option_names::COMPLIANCE, option_names::SOLVER, option_names::TOLERANCE,
 };
+use grasp_transfer::plan::option_names as plan;
 
-/// Library option name -> keyword argument of `grasp.solve` / `grasp.transfer`. Options
+/// Library option name -> keyword argument of `grasp.solve` / `grasp.transfer` / `grasp.plan`
+/// (or, for a relation between two options, the inequality of their keywords). Options
 /// without a keyword keep the library's name.
 const KEYWORDS: &[(&str, &str)] = &[
     (SOLVER, "solver="),
     (TOLERANCE, "tolerance="),
     (COMPLIANCE, "compliance="),
+    (plan::RELEASING, "releasing="),
+    (plan::RECEIVING, "receiving="),
+    (plan::MIN_SLIP_MARGIN, "min_slip_margin="),
+    (plan::MIN_MARGIN, "min_margin="),
+    (plan::MIN_LOAD, "min_load="),
+    (plan::MAX_LOAD, "max_load="),
+    (plan::MAX_RATE, "max_rate="),
+    (plan::MIN_DURATION, "min_duration="),
+    (plan::MAX_DURATION, "max_duration="),
+    (plan::OBJECTIVE, "objective="),
+    (plan::OBJECTIVE_MARGIN, "objective=\"margin\""),
+    (plan::DURATION, "duration="),
+    (plan::STEPS, "steps="),
+    (plan::KEYFRAMES, "keyframes="),
+    (plan::MAX_RUNS, "max_runs="),
+    (plan::TEMPLATE, "template="),
+    (plan::LOAD_ORDER, "min_load < max_load"),
+    (plan::DURATION_ORDER, "min_duration <= max_duration"),
 ];
 
 /// `text` with every library option name replaced by its keyword argument.

@@ -12,6 +12,7 @@
 use pyo3::prelude::*;
 
 mod arrays;
+mod drawing_scale;
 mod element_fields;
 mod errors;
 mod height_arrays;
@@ -46,5 +47,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(inputs::check_input, m)?)?;
     m.add_function(wrap_pyfunction!(outputs::check_outputs, m)?)?;
     m.add_function(wrap_pyfunction!(outputs::write_outputs, m)?)?;
+    m.add_function(wrap_pyfunction!(drawing_scale::arrow_scale_m_per_n, m)?)?;
     Ok(())
 }

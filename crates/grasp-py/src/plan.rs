@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 
 use crate::errors::{grasp_error, schedule_error};
 use crate::json_value::serialize_to_py;
+use crate::keywords::in_keywords;
 use crate::scene::Scene;
 
 /// Plans a hand-off's load ramps, as `grasp plan` does.
@@ -143,32 +144,14 @@ pub fn plan(
             .map(|(spec, schedule)| Template { spec, schedule });
         grasp_transfer::plan(&scene.scene, t, &options)
     });
-    let report = report.map_err(|e| match e {
-        PlanError::Options(list) => {
-            let lines: Vec<String> = list
-                .iter()
-                .map(|(o, m)| format!("{}=: {}", o.replace('-', "_"), in_keywords(m)))
-                .collect();
-            pyo3::exceptions::PyValueError::new_err(lines.join("\n"))
+    let mut report = report.map_err(|e| match e {
+        PlanError::Options(_) => {
+            pyo3::exceptions::PyValueError::new_err(in_keywords(&e.to_string()))
         }
         other => grasp_error(in_keywords(&other.to_string())),
     })?;
+    report.respell_options(in_keywords);
     Ok(serialize_to_py(py, &report)?.unbind())
-}
-
-/// The CLI's flags in a planner message respelled as this function's keywords.
-fn in_keywords(text: &str) -> String {
-    let flags = [
-        "max-rate",
-        "duration",
-        "template",
-        "max-runs",
-        "min-slip-margin",
-        "min-margin",
-    ];
-    flags.iter().fold(text.to_string(), |t, f| {
-        t.replace(&format!("--{f}"), &format!("{}=", f.replace('-', "_")))
-    })
 }
 
 /// The template as written and resolved against the scene's fingers.

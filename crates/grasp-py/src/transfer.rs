@@ -164,7 +164,10 @@ pub fn transfer(
             options,
             &outputs,
             files,
-            (keep_solutions, progress.as_ref()),
+            Following {
+                keep_solutions,
+                progress: progress.as_ref(),
+            },
             &recording_name(&scene.origin),
         )
     });
@@ -346,6 +349,14 @@ struct Kept {
     written: Vec<String>,
 }
 
+/// What the caller follows of a run as it goes, besides the histories every run keeps.
+struct Following<'a> {
+    /// Keep every step's record (its solution).
+    keep_solutions: bool,
+    /// The caller's `progress(done, total)`, called after each step.
+    progress: Option<&'a Py<PyAny>>,
+}
+
 /// The driver with the sinks asked for, keeping the histories (and the solutions when asked);
 /// commits the files when the run is complete.
 fn run_transfer(
@@ -354,9 +365,13 @@ fn run_transfer(
     options: TransferOptions,
     outputs: &OutputSet,
     files: OutputPaths<'_>,
-    (keep_solutions, progress): (bool, Option<&Py<PyAny>>),
+    following: Following<'_>,
     recording_name: &str,
 ) -> Result<Kept, RunError> {
+    let Following {
+        keep_solutions,
+        progress,
+    } = following;
     let mut open = OutputFiles::open(outputs, files).map_err(|e| match e {
         OpenError::Output(e) => RunError::Output(e),
         OpenError::Sink(e) => RunError::Driver(e.to_string()),

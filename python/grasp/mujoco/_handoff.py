@@ -252,7 +252,7 @@ class Handoff:
             if rrd is not None:
                 from . import _rerun
 
-                scale = _rerun.arrow_scale_m_per_n(self.scene_dict, grasp.solve(scene).load_scale_n)
+                scale = _rerun.arrow_scale_m_per_n(scene)
                 layer = [(i, float(t), [(name, sf.normal_force_n, sf.normal, sf.friction_force_n,
                                          sf.center_of_pressure_m, sf.points_m)
                                         for name, sf in self.steps[i].items()])

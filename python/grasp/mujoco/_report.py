@@ -268,7 +268,7 @@ def recording(grasp_state, out_path, tmp):
     ours = os.path.join(tmp, "grasp.rrd")
     theirs = os.path.join(tmp, "mujoco.rrd")
     grasp.transfer(grasp_state.scene, ONE_STEP, rrd=ours)
-    scale = _rerun.arrow_scale_m_per_n(grasp_state.scene_dict, grasp.solve(grasp_state.scene).load_scale_n)
+    scale = _rerun.arrow_scale_m_per_n(grasp_state.scene)
     fingers = [(f.name, f.normal_force_n, f.normal, f.friction_force_n, f.center_of_pressure_m, f.points_m)
                for f in grasp_state.fingers]
     _rerun.write_mujoco_layer(theirs, [(0, 0.0, fingers)], scale)

@@ -34,12 +34,13 @@ def require_rerun():
     return rerun
 
 
-def arrow_scale_m_per_n(scene_dict, load_scale_n):
-    """The project's arrow scale (grasp-transfer sinks::drawing_scale): the load scale drawn as
-    0.3 of the diagonal of the box around the contact points and the centre of mass."""
-    pts = np.array([scene_dict["object"]["center_of_mass"]] + [f["contact_point"] for f in scene_dict["fingers"]])
-    size = max(float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0))), 1e-3)
-    return 0.3 * size / load_scale_n
+def arrow_scale_m_per_n(scene):
+    """The project's arrow scale of ``scene`` (a ``grasp.Scene``), m per N: the one its
+    recordings draw with (grasp-transfer sinks::drawing_scale, reached through
+    ``grasp._native``)."""
+    from .. import _native
+
+    return _native._arrow_scale_m_per_n(scene)
 
 
 def write_mujoco_layer(path, steps, m_per_n):

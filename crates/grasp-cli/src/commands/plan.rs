@@ -125,13 +125,14 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         .map(|p| read_template(p, &scene.finger_names()))
         .transpose()?;
     let options = options(&args);
-    let report = grasp_transfer::plan(
+    let mut report = grasp_transfer::plan(
         &scene,
         template
             .as_ref()
             .map(|(spec, schedule)| Template { spec, schedule }),
         &options,
     )?;
+    report.respell_options(crate::flag_names::in_flags);
     print!(
         "{}",
         crate::flag_names::in_flags(&summary(&report, &options))

@@ -10,7 +10,7 @@
 
 use anyhow::Result;
 use grasp_model::{GraspModel, Scene, Solution};
-use grasp_transfer::sinks::{FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
+use grasp_transfer::sinks::{arrow_scale_m_per_n, FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
 use nalgebra::Vector3;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -64,7 +64,7 @@ impl Picture for ForceDiagram<'_> {
             scene,
             model,
             solution,
-            m_per_n: 0.3 * size / model.scales().load_n,
+            m_per_n: arrow_scale_m_per_n(size, model.scales().load_n),
             cone_m: 0.15 * size,
         };
         // The views show the object and every arrow's far end.

@@ -1,9 +1,10 @@
 //! The disturbance margins along a run as planner rows: each step's smallest disturbance
 //! margin over the axis directions ([`crate::step_margin`], its search continued along the
-//! run), divided by the threshold `--min-margin`, and its derivatives in each group's load by
-//! forward differences of whole runs, each with one group's keyframe loads raised by a small
-//! step. The margin has no KKT derivative: it is where a search ends, set by whichever finger
-//! fails first, so it is differenced, and the trust region's ratio test judges the result.
+//! run), divided by the threshold `PlanOptions::min_margin_n`, and its derivatives in each
+//! group's load by forward differences of whole runs, each with one group's keyframe loads
+//! raised by a small step. The margin has no KKT derivative: it is where a search ends, set by
+//! whichever finger fails first, so it is differenced, and the trust region's ratio test
+//! judges the result.
 
 use grasp_model::MarginOptions;
 
@@ -54,7 +55,8 @@ pub fn disturbance_rows(
     path: &KeyframePath,
     base: &[StepRecord],
     raised: &[Vec<StepRecord>],
-    (step_n, threshold_n): (f64, f64),
+    step_n: f64,
+    threshold_n: f64,
     notes: &mut Vec<String>,
 ) -> Vec<MarginRow> {
     let mut rows = Vec::new();

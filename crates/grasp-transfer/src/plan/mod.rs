@@ -7,6 +7,7 @@
 pub mod disturbance_rows;
 pub mod keyframe_path;
 pub mod margin_row;
+pub mod option_names;
 pub mod plan_error;
 pub mod plan_options;
 pub mod plan_report;

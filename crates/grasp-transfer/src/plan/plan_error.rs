@@ -1,16 +1,20 @@
 //! Why the planner gives no schedule: the question is malformed, the scene or template cannot
 //! be run, or a constraint no schedule can keep (named, with the numbers that prove it).
+//! Options are named as the Rust API spells them, between backticks
+//! ([`crate::plan::option_names`]), for front ends to respell.
 
-use grasp_model::Readable as N;
+use grasp_model::{OptionError, Readable as N};
 
 use crate::error::{ScheduleError, TransferError};
+use crate::plan::option_names::{DURATION, MAX_RATE, TEMPLATE};
 
 /// A planning that ends without a checked schedule.
 #[derive(Debug, thiserror::Error)]
 pub enum PlanError {
-    /// Options out of range, each `(option, problem and fix)`.
-    #[error("{}", .0.iter().map(|(o, m)| format!("--{o}: {m}")).collect::<Vec<_>>().join("\n"))]
-    Options(Vec<(String, String)>),
+    /// Options out of range ([`crate::plan::PlanOptions::problems`]), one line each:
+    /// `` `option`: `` what is wrong and the fix.
+    #[error("{}", option_lines(.0))]
+    Options(Vec<OptionError>),
     /// The scene cannot be modelled.
     #[error(transparent)]
     Scene(grasp_model::SceneError),
@@ -26,7 +30,7 @@ pub enum PlanError {
     /// The starting schedule has a step without equilibrium.
     #[error(
         "the starting schedule has a step without equilibrium; fix: start from a template \
-         that holds (--template), or raise the loads"
+         that holds (`{TEMPLATE}`), or raise the loads"
     )]
     StartHasNoEquilibrium,
     /// A planned finger is not force-controlled.
@@ -46,12 +50,12 @@ pub enum PlanError {
     #[error("the template needs at least two step times")]
     TemplateTooShort,
     /// Neither a duration nor a rate limit to derive one.
-    #[error("no duration: give --duration (s) or --max-rate (N/s), or a --template")]
+    #[error("no duration: give `{DURATION}` (s) or `{MAX_RATE}` (N/s), or a `{TEMPLATE}`")]
     NoDuration,
     /// A releasing finger cannot reach 0 N at the rate limit within the duration allowed.
     #[error(
-        "load rate: {finger} must fall from {} N to 0 N; at --max-rate {} N/s that takes {} s, \
-         longer than the {} s allowed; fix: raise --max-rate or the duration",
+        "load rate: {finger} must fall from {} N to 0 N; at `{MAX_RATE}` {} N/s that takes {} \
+         s, longer than the {} s allowed; fix: raise `{MAX_RATE}` or the duration",
         N(*load_n), N(*rate_n_per_s), N(*needed_s), N(*allowed_s)
     )]
     RateTooSmall {
@@ -66,4 +70,43 @@ pub enum PlanError {
         /// The longest duration allowed, s.
         allowed_s: f64,
     },
+}
+
+/// One line per problem: `` `option`: `` what is wrong and the fix (the value given is in the
+/// text where it helps).
+fn option_lines(problems: &[OptionError]) -> String {
+    let line = |p: &OptionError| format!("`{}`: {}", p.option, p.expected);
+    problems.iter().map(line).collect::<Vec<_>>().join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The planner's messages name options between backticks, never a command-line flag.
+    #[test]
+    fn messages_name_options_not_flags() {
+        let errors = [
+            PlanError::StartHasNoEquilibrium,
+            PlanError::NoDuration,
+            PlanError::RateTooSmall {
+                finger: "f1".into(),
+                load_n: 8.0,
+                rate_n_per_s: 0.5,
+                needed_s: 16.0,
+                allowed_s: 4.0,
+            },
+        ];
+        for e in &errors {
+            let text = e.to_string();
+            assert!(!text.contains("--"), "{text}");
+        }
+        assert_eq!(
+            errors[2].to_string(),
+            format!(
+                "load rate: f1 must fall from 8 N to 0 N; at `{MAX_RATE}` 0.5 N/s that takes 16 \
+                 s, longer than the 4 s allowed; fix: raise `{MAX_RATE}` or the duration"
+            )
+        );
+    }
 }

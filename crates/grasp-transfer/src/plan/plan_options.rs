@@ -2,6 +2,10 @@
 //! step must keep, the objective, and the planner's own limits; each checked, a problem named
 //! by its option with the fix.
 
+use grasp_model::{OptionError, Readable};
+
+use crate::plan::option_names;
+
 /// What the plan optimises.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Objective {
@@ -21,39 +25,39 @@ pub struct PlanOptions {
     /// Fingers that take over: their load starts at 0 N (not in contact at the first step).
     pub receiving: Vec<String>,
     /// Smallest slip margin `1 - |Q| / (mu P)` at every step, over the fingers carrying at
-    /// least 5 % of the load scale (`--min-slip-margin`, in `[0, 1)`).
+    /// least 5 % of the load scale (in `[0, 1)`).
     pub min_slip_margin: f64,
-    /// Smallest disturbance margin at every step, N (`--min-margin`): the smallest, over the
-    /// axis directions of force and couple, of the wrench the grasp resists on top of the
-    /// step's loads (`grasp transfer --margins`); `None`: not constrained.
+    /// Smallest disturbance margin at every step, N: the smallest, over the axis directions of
+    /// force and couple, of the wrench the grasp resists on top of the step's loads (as a run
+    /// with `TransferOptions::margins` finds it); `None`: not constrained.
     pub min_margin_n: Option<f64>,
-    /// Smallest commanded load of a planned finger between its ends, N (`--min-load`).
+    /// Smallest commanded load of a planned finger between its ends, N.
     pub min_load_n: f64,
-    /// Largest commanded load of a planned finger, N (`--max-load`).
+    /// Largest commanded load of a planned finger, N.
     pub max_load_n: f64,
-    /// Largest load rate of a planned finger, N/s (`--max-rate`); `None`: no limit.
+    /// Largest load rate of a planned finger, N/s; `None`: no limit.
     pub max_rate_n_per_s: Option<f64>,
-    /// Shortest duration, s (`--min-duration`).
+    /// Shortest duration, s.
     pub min_duration_s: f64,
-    /// Longest duration, s (`--max-duration`).
+    /// Longest duration, s.
     pub max_duration_s: f64,
-    /// The objective (`--objective`).
+    /// The objective.
     pub objective: Objective,
-    /// The duration, s (`--duration`): fixed with the margin objective, the first guess with
-    /// the duration objective; `None`: the template's, or the shortest the rate allows.
+    /// The duration, s: fixed with the margin objective, the first guess with the duration
+    /// objective; `None`: the template's, or the shortest the rate allows.
     pub duration_s: Option<f64>,
-    /// Steps after the first (`--steps`, 2 to 10,000); `None`: the template's, or 60.
+    /// Steps after the first (2 to 10,000); `None`: the template's, or 60.
     pub steps: Option<usize>,
-    /// Keyframes per finger, the ends included (`--keyframes`, 2 to 20).
+    /// Keyframes per finger, the ends included (2 to 20).
     pub keyframes: usize,
-    /// Largest number of hand-off runs the planner may make (`--max-runs`), the final check
+    /// Largest number of hand-off runs the planner may make (2 to 1000), the final check
     /// included.
     pub max_runs: usize,
     /// Options of every solve of the planner's runs.
     pub solve: grasp_model::SolveOptions,
     /// The planner stops when a step's predicted improvement of its merit is below this
-    /// (`--plan-tolerance`; the merit is the duration relative to the current one plus 100
-    /// times the largest violation of the margin threshold, or minus the smallest margin).
+    /// (in `(0, 1)`; the merit is the duration relative to the current one plus 100 times the
+    /// largest violation of the margin threshold, or minus the smallest margin).
     pub tolerance: f64,
 }
 
@@ -81,117 +85,201 @@ impl Default for PlanOptions {
 }
 
 impl PlanOptions {
-    /// Every problem of the options against the scene's finger names, as `(option, problem
-    /// and fix)`.
-    pub fn problems(&self, finger_names: &[String]) -> Vec<(String, String)> {
+    /// Every problem of the options against the scene's finger names, each named as the Rust
+    /// API spells the option ([`option_names`]): `expected` says what is wrong and the fix,
+    /// `value` is the value given.
+    pub fn problems(&self, finger_names: &[String]) -> Vec<OptionError> {
         let mut out = self.finger_problems(finger_names);
         out.extend(self.range_problems());
+        out.extend(self.search_problems());
         out
     }
 
     /// The planned fingers: named in the scene, at least one releasing, none in both lists.
-    fn finger_problems(&self, finger_names: &[String]) -> Vec<(String, String)> {
+    fn finger_problems(&self, finger_names: &[String]) -> Vec<OptionError> {
         let mut out = Vec::new();
-        let mut say = |o: &str, m: String| out.push((o.to_string(), m));
         for (option, list) in [
-            ("releasing", &self.releasing),
-            ("receiving", &self.receiving),
+            (option_names::RELEASING, &self.releasing),
+            (option_names::RECEIVING, &self.receiving),
         ] {
-            for name in list {
-                if !finger_names.contains(name) {
-                    let known = finger_names.join(", ");
-                    say(
-                        option,
-                        format!("no finger named `{name}` in the scene; use one of: {known}"),
-                    );
-                }
+            for name in list.iter().filter(|n| !finger_names.contains(n)) {
+                let known = finger_names.join(", ");
+                let expected =
+                    format!("no finger named `{name}` in the scene; use one of: {known}");
+                out.push(problem(option, name, expected));
             }
         }
         if self.releasing.is_empty() {
-            say("releasing", "name at least one finger that lets go".into());
+            let expected = "name at least one finger that lets go".into();
+            out.push(problem(option_names::RELEASING, "none", expected));
         }
         if let Some(both) = self.releasing.iter().find(|n| self.receiving.contains(n)) {
-            say(
-                "receiving",
-                format!("`{both}` is also releasing; a finger is one or the other"),
-            );
+            let expected = format!("`{both}` is also releasing; a finger is one or the other");
+            out.push(problem(option_names::RECEIVING, both, expected));
         }
         out
     }
 
-    /// The numbers: each within its range, and the objective given what it needs.
-    fn range_problems(&self) -> Vec<(String, String)> {
+    /// The loads, rates and durations: each within its range.
+    fn range_problems(&self) -> Vec<OptionError> {
         let mut out = Vec::new();
-        let mut say = |o: &str, m: String| out.push((o.to_string(), m));
+        let mut say = |option, value: f64, expected: String| {
+            out.push(problem(option, Readable(value), expected));
+        };
         if !(0.0..1.0).contains(&self.min_slip_margin) {
+            let expected = format!(
+                "{} is outside [0, 1): 1 - |Q|/(mu P) is below 1",
+                self.min_slip_margin
+            );
             say(
-                "min-slip-margin",
-                format!(
-                    "{} is outside [0, 1): 1 - |Q|/(mu P) is below 1",
-                    self.min_slip_margin
-                ),
+                option_names::MIN_SLIP_MARGIN,
+                self.min_slip_margin,
+                expected,
             );
         }
-        if self
-            .min_margin_n
-            .is_some_and(|n| !(n > 0.0 && n.is_finite()))
-        {
-            say(
-                "min-margin",
-                "must be a positive number of newtons (a disturbance the grasp resists)".into(),
-            );
+        if let Some(n) = self.min_margin_n.filter(|n| !(*n > 0.0 && n.is_finite())) {
+            let expected =
+                "must be a positive number of newtons (a disturbance the grasp resists)".into();
+            say(option_names::MIN_MARGIN, n, expected);
         }
         if !(self.min_load_n >= 0.0 && self.min_load_n < self.max_load_n) {
-            say(
-                "min-load",
-                format!(
-                    "needs 0 <= min-load < max-load (got {} and {})",
-                    self.min_load_n, self.max_load_n
-                ),
+            let expected = format!(
+                "needs 0 <= `{}` (got {} and {})",
+                option_names::LOAD_ORDER,
+                self.min_load_n,
+                self.max_load_n
             );
+            say(option_names::MIN_LOAD, self.min_load_n, expected);
         }
-        if self
+        if let Some(r) = self
             .max_rate_n_per_s
-            .is_some_and(|r| !(r > 0.0 && r.is_finite()))
+            .filter(|r| !(*r > 0.0 && r.is_finite()))
         {
-            say(
-                "max-rate",
-                "must be a positive number of newtons per second".into(),
-            );
+            let expected = "must be a positive number of newtons per second".into();
+            say(option_names::MAX_RATE, r, expected);
         }
         if !(self.min_duration_s >= 0.0 && self.min_duration_s <= self.max_duration_s) {
-            say(
-                "min-duration",
-                "needs 0 <= min-duration <= max-duration".into(),
-            );
-        }
-        if self.objective == Objective::Duration && self.max_rate_n_per_s.is_none() {
-            say("objective", "the shortest duration needs a load-rate limit (a quasi-static hand-off is as fast as its rates allow): give --max-rate, or --objective margin".into());
-        }
-        if self.duration_s.is_some_and(|d| !(d > 0.0 && d <= 1e9)) {
-            say(
-                "duration",
-                "must be a positive number of seconds (at most 1e9)".into(),
-            );
-        }
-        if self.steps.is_some_and(|s| !(2..=10_000).contains(&s)) {
-            say("steps", "must be 2 to 10,000".into());
-        }
-        if !(2..=20).contains(&self.keyframes) {
-            say(
-                "keyframes",
-                format!("{} is outside 2 to 20", self.keyframes),
-            );
-        }
-        if !(2..=1000).contains(&self.max_runs) {
-            say(
-                "max-runs",
-                format!("{} is outside 2 to 1000", self.max_runs),
-            );
-        }
-        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
-            say("plan-tolerance", "must be in (0, 1)".into());
+            let expected = format!("needs 0 <= `{}`", option_names::DURATION_ORDER);
+            say(option_names::MIN_DURATION, self.min_duration_s, expected);
         }
         out
+    }
+
+    /// The search's settings: the objective given what it needs; the duration, the counts and
+    /// the tolerance within their ranges.
+    fn search_problems(&self) -> Vec<OptionError> {
+        let mut out = Vec::new();
+        if self.objective == Objective::Duration && self.max_rate_n_per_s.is_none() {
+            let expected = format!(
+                "the shortest duration needs a load-rate limit (a quasi-static hand-off is as \
+                 fast as its rates allow): give `{}`, or `{}`",
+                option_names::MAX_RATE,
+                option_names::OBJECTIVE_MARGIN
+            );
+            out.push(problem(option_names::OBJECTIVE, "duration", expected));
+        }
+        if let Some(d) = self.duration_s.filter(|d| !(*d > 0.0 && *d <= 1e9)) {
+            let expected = "must be a positive number of seconds (at most 1e9)".into();
+            out.push(problem(option_names::DURATION, Readable(d), expected));
+        }
+        if let Some(s) = self.steps.filter(|s| !(2..=10_000).contains(s)) {
+            out.push(problem(
+                option_names::STEPS,
+                s,
+                "must be 2 to 10,000".into(),
+            ));
+        }
+        if !(2..=20).contains(&self.keyframes) {
+            let expected = format!("{} is outside 2 to 20", self.keyframes);
+            out.push(problem(option_names::KEYFRAMES, self.keyframes, expected));
+        }
+        if !(2..=1000).contains(&self.max_runs) {
+            let expected = format!("{} is outside 2 to 1000", self.max_runs);
+            out.push(problem(option_names::MAX_RUNS, self.max_runs, expected));
+        }
+        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
+            let expected = "must be in (0, 1)".into();
+            out.push(problem(
+                option_names::TOLERANCE,
+                Readable(self.tolerance),
+                expected,
+            ));
+        }
+        out
+    }
+}
+
+/// The problem of `option`, given `value`.
+fn problem(option: &'static str, value: impl std::fmt::Display, expected: String) -> OptionError {
+    OptionError {
+        option,
+        value: value.to_string(),
+        expected,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every option out of range at once: each problem named as the API spells the option,
+    /// in the order the checks run, and no message names a command-line flag.
+    #[test]
+    fn problems_name_options_as_the_api_spells_them() {
+        let options = PlanOptions {
+            releasing: vec!["f9".into(), "a".into()],
+            receiving: vec!["a".into()],
+            min_slip_margin: 1.5,
+            min_margin_n: Some(0.0),
+            min_load_n: 5.0,
+            max_load_n: 3.0,
+            max_rate_n_per_s: Some(-1.0),
+            min_duration_s: 5.0,
+            max_duration_s: 3.0,
+            duration_s: Some(0.0),
+            steps: Some(1),
+            keyframes: 1,
+            max_runs: 1,
+            tolerance: 2.0,
+            ..PlanOptions::default()
+        };
+        let problems = options.problems(&["a".into(), "b".into()]);
+        let named: Vec<&str> = problems.iter().map(|p| p.option).collect();
+        use option_names::*;
+        assert_eq!(
+            named,
+            [
+                RELEASING,
+                RECEIVING,
+                MIN_SLIP_MARGIN,
+                MIN_MARGIN,
+                MIN_LOAD,
+                MAX_RATE,
+                MIN_DURATION,
+                DURATION,
+                STEPS,
+                KEYFRAMES,
+                MAX_RUNS,
+                TOLERANCE
+            ]
+        );
+        assert_eq!(problems[0].value, "f9");
+        assert_eq!(
+            problems[4].expected,
+            format!("needs 0 <= `{LOAD_ORDER}` (got 5 and 3)")
+        );
+        for p in &problems {
+            assert!(!p.expected.contains("--"), "{}", p.expected);
+        }
+        let no_rate = PlanOptions {
+            releasing: vec!["a".into()],
+            ..PlanOptions::default()
+        };
+        let problems = no_rate.problems(&["a".into()]);
+        assert_eq!(problems.len(), 1);
+        assert_eq!(problems[0].option, OBJECTIVE);
+        assert!(problems[0]
+            .expected
+            .ends_with(&format!("give `{MAX_RATE}`, or `{OBJECTIVE_MARGIN}`")));
     }
 }

@@ -33,8 +33,9 @@ pub struct MarginsAtStep {
     pub smallest: Option<f64>,
     /// The finger it belongs to.
     pub finger: Option<String>,
-    /// The smallest disturbance margin over the axis directions, N (`grasp transfer
-    /// --margins`), when `--min-margin` is given and the step solved.
+    /// The smallest disturbance margin over the axis directions, N (as a run with
+    /// `TransferOptions::margins` finds it), when [`PlanOptions::min_margin_n`] is given and
+    /// the step solved.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub disturbance_n: Option<f64>,
 }
@@ -100,6 +101,17 @@ impl PlanReport {
     /// Along the template.
     pub fn template_smallest(&self) -> Option<&MarginsAtStep> {
         self.template_margins.as_deref().and_then(smallest_of)
+    }
+
+    /// The report's texts (why the search stopped, why a constraint binds, the notes) with
+    /// the option names ([`crate::plan::option_names`]) in a front end's spelling: `respell`
+    /// rewrites one text.
+    pub fn respell_options(&mut self, respell: impl Fn(&str) -> String) {
+        self.stopped = respell(&self.stopped);
+        if let Some(b) = self.binding.as_mut() {
+            b.why = respell(&b.why);
+        }
+        self.notes.iter_mut().for_each(|n| *n = respell(n));
     }
 }
 

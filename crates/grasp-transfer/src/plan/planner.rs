@@ -14,6 +14,7 @@ use grasp_model::{GraspModel, LoadDirection, MarginOptions, Scene};
 use crate::plan::disturbance_rows::{difference_options, disturbance_rows, load_step_n, raised};
 use crate::plan::keyframe_path::KeyframePath;
 use crate::plan::margin_row::{MarginRow, RowKind};
+use crate::plan::option_names;
 use crate::plan::plan_error::PlanError;
 use crate::plan::plan_options::{Objective, PlanOptions};
 use crate::plan::plan_report::{binding_row, smallest_margins, Binding, PlanReport};
@@ -33,6 +34,17 @@ struct Iterate {
     path: KeyframePath,
     rows: Vec<MarginRow>,
     merit: f64,
+}
+
+/// Where the search ended: its last accepted iterate, the iterations it made and why it
+/// stopped.
+struct SearchEnd {
+    /// The last accepted iterate.
+    best: Iterate,
+    /// Trust-region iterations made.
+    iterations: usize,
+    /// Why it stopped (options named as [`option_names`] spells them).
+    stopped: String,
 }
 
 /// The runs of one planning: the scene, its model, what the planned schedules keep.
@@ -81,8 +93,8 @@ pub fn plan(
         template_margins.as_deref(),
         options,
     )?;
-    let (best, iterations, stopped) = runner.search(path, &pinned)?;
-    runner.verify(best, template_margins, (iterations, stopped), clock)
+    let end = runner.search(path, &pinned)?;
+    runner.verify(end, template_margins, clock)
 }
 
 impl Runner<'_> {
@@ -142,12 +154,12 @@ impl Runner<'_> {
             let raised_runs = (0..path.groups.len())
                 .map(|g| self.run_path(&raised(&path, g, step_n), false, margins))
                 .collect::<Result<Vec<_>, _>>()?;
-            let scales = (step_n, threshold_n);
             rows.extend(disturbance_rows(
                 &path,
                 &records,
                 &raised_runs,
-                scales,
+                step_n,
+                threshold_n,
                 &mut self.notes,
             ));
         }
@@ -242,13 +254,8 @@ fn merit(rows: &[MarginRow], relative: f64, options: &PlanOptions) -> f64 {
 }
 
 impl Runner<'_> {
-    /// The trust-region iteration from `path`: the last accepted iterate, the iterations and
-    /// why it stopped.
-    fn search(
-        &mut self,
-        path: KeyframePath,
-        pinned: &Pinned,
-    ) -> Result<(Iterate, usize, String), PlanError> {
+    /// The trust-region iteration from `path`: where it ended.
+    fn search(&mut self, path: KeyframePath, pinned: &Pinned) -> Result<SearchEnd, PlanError> {
         let start_s = path.duration_s;
         let mut current = self
             .evaluate(path, start_s)?
@@ -265,7 +272,7 @@ impl Runner<'_> {
         let stopped = loop {
             let per_evaluation = self.runs_per_evaluation(current.path.groups.len());
             if self.runs + per_evaluation + 1 > self.options.max_runs {
-                break "it made the runs allowed (--max-runs)".to_string();
+                break format!("it made the runs allowed (`{}`)", option_names::MAX_RUNS);
             }
             iterations += 1;
             let base = merit(&current.rows, 1.0, self.options);
@@ -274,7 +281,8 @@ impl Runner<'_> {
                 &current.rows,
                 pinned,
                 self.options,
-                (radius, scale),
+                radius,
+                scale,
             )
             .map_err(PlanError::Program)?;
             let predicted = base - step.predicted_merit;
@@ -308,18 +316,26 @@ impl Runner<'_> {
                 }
             }
         };
-        Ok((current, iterations, stopped))
+        Ok(SearchEnd {
+            best: current,
+            iterations,
+            stopped,
+        })
     }
 
-    /// Re-runs `best` from its schedule file's text, as `grasp transfer` reads it, and reports
-    /// what it keeps.
+    /// Re-runs the search's best iterate from its schedule file's text, as `grasp transfer`
+    /// reads it, and reports what it keeps.
     fn verify(
         &mut self,
-        best: Iterate,
+        end: SearchEnd,
         template: Option<Vec<StepRecord>>,
-        (iterations, stopped): (usize, String),
         clock: Instant,
     ) -> Result<PlanReport, PlanError> {
+        let SearchEnd {
+            best,
+            iterations,
+            stopped,
+        } = end;
         let spec = self.spec(&best.path);
         let text = serde_json::to_string(&spec).map_err(|e| PlanError::Program(e.to_string()))?;
         let schedule = Schedule::from_json_str(&text, &self.scene.finger_names(), Path::new("."))
@@ -359,9 +375,9 @@ impl Runner<'_> {
 /// Why the search stopped short of a binding constraint, from the last iterate's
 /// linearisation: a margin whose derivative with respect to every keyframe load is 0 (a
 /// finger sliding at the friction limit: no nearby change of the loads lifts it off), a
-/// margin that grows only with a shorter hand-off when the rates or `--min-duration` allow
-/// none ([`duration_bound`]), a linearised program with no better step within the bounds and
-/// rates, or the runs ran out.
+/// margin that grows only with a shorter hand-off when the rates or
+/// [`PlanOptions::min_duration_s`] allow none ([`duration_bound`]), a linearised program with
+/// no better step within the bounds and rates, or the runs ran out.
 fn explain(b: &Binding, best: &Iterate, stopped: &str, options: &PlanOptions) -> String {
     let disturbance = b.constraint == "disturbance margin";
     let row = best.rows.iter().find(|r| {
@@ -401,17 +417,19 @@ fn explain(b: &Binding, best: &Iterate, stopped: &str, options: &PlanOptions) ->
 
 /// The reason of a margin that only a shorter hand-off raises (`dm/dT < 0`: viscoelastic pads
 /// relax while it lasts) at a duration already the shortest the load rates allow at these
-/// keyframe loads, or `--min-duration` (to 1e-4 of it, the program's bounds being met to its
-/// own tolerance); `None` otherwise.
+/// keyframe loads, or [`PlanOptions::min_duration_s`] (to 1e-4 of it, the program's bounds
+/// being met to its own tolerance); `None` otherwise.
 fn duration_bound(row: &MarginRow, path: &KeyframePath, options: &PlanOptions) -> Option<String> {
     if row.per_duration >= 0.0 {
         return None;
     }
     let by_rate_s = path.shortest_duration_s(options.max_rate_n_per_s);
     let (shortest_s, what) = if options.min_duration_s >= by_rate_s {
-        (options.min_duration_s, "--min-duration allows")
+        let what = format!("`{}` allows", option_names::MIN_DURATION);
+        (options.min_duration_s, what)
     } else {
-        (by_rate_s, "at these keyframe loads the load rates allow")
+        let what = "at these keyframe loads the load rates allow".to_string();
+        (by_rate_s, what)
     };
     (path.duration_s <= shortest_s * (1.0 + 1e-4)).then(|| {
         format!(

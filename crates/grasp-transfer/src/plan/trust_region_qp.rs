@@ -45,6 +45,18 @@ pub struct QpStep {
 /// Which keyframe loads are fixed (`Some(value)`) and which free.
 pub type Pinned = Vec<Vec<Option<f64>>>;
 
+/// The columns of the program's scalars, after the keyframe loads `x`.
+#[derive(Debug, Clone, Copy)]
+struct Columns {
+    /// The duration `T`, s.
+    t: usize,
+    /// `w`: the largest violation of the slip-margin threshold (duration objective), or the
+    /// smallest linearised slip margin (margin objective).
+    w: usize,
+    /// `v`: the largest violation of the disturbance-margin rows.
+    v: usize,
+}
+
 /// Rows of `A z + s = b` with `s` in a cone, built one at a time (triplets).
 #[derive(Default)]
 struct Rows {
@@ -68,11 +80,17 @@ pub fn qp_step(
     rows: &[MarginRow],
     pinned: &Pinned,
     options: &PlanOptions,
-    (radius_n, scale_n): (f64, f64),
+    radius_n: f64,
+    scale_n: f64,
 ) -> Result<QpStep, String> {
     let (nf, nk) = (path.groups.len(), path.fractions.len());
     let nx = nf * nk;
-    let (t_col, w_col, v_col, n) = (nx, nx + 1, nx + 2, nx + 3);
+    let columns = Columns {
+        t: nx,
+        w: nx + 1,
+        v: nx + 2,
+    };
+    let (t_col, w_col, v_col, n) = (columns.t, columns.w, columns.v, nx + 3);
     let x0: Vec<f64> = path.loads_n.iter().flatten().copied().collect();
     let t0 = path.duration_s;
     let (mut zero, mut nonneg) = (Rows::default(), Rows::default());
@@ -88,14 +106,14 @@ pub fn qp_step(
     }
     duration_rows(&mut zero, &mut nonneg, path, options, t_col);
     rate_rows(&mut nonneg, path, options, t_col);
-    margin_rows(&mut nonneg, rows, (&x0, t0), options, (t_col, w_col, v_col));
+    margin_rows(&mut nonneg, rows, &x0, t0, options, columns);
     match options.objective {
         Objective::Duration => nonneg.push(&[(w_col, -1.0)], 0.0),
         Objective::Margin => nonneg.push(&[(w_col, 1.0)], 1.0),
     }
     nonneg.push(&[(v_col, -1.0)], 0.0);
     let scale = scale_n.max(f64::MIN_POSITIVE);
-    let (p, q) = objective(&x0, t0, scale, options.objective, (t_col, w_col, v_col));
+    let (p, q) = objective(&x0, t0, scale, options.objective, columns);
     let z = solve(n, &p, &q, zero, nonneg)?;
     // The fixed keyframes exactly, the free ones within their bounds; a load within
     // round-off of 0 N is 0 N (released), not a load too small to command.
@@ -137,8 +155,13 @@ fn objective(
     t0: f64,
     scale: f64,
     kind: Objective,
-    (t_col, w_col, v_col): (usize, usize, usize),
+    columns: Columns,
 ) -> (Vec<(usize, usize, f64)>, Vec<f64>) {
+    let Columns {
+        t: t_col,
+        w: w_col,
+        v: v_col,
+    } = columns;
     let per_load = PROXIMAL / (scale * scale);
     let mut p: Vec<_> = (0..x0.len()).map(|j| (j, j, per_load)).collect();
     p.push((t_col, t_col, PROXIMAL / (t0 * t0)));
@@ -199,16 +222,22 @@ fn rate_rows(nonneg: &mut Rows, path: &KeyframePath, options: &PlanOptions, t_co
     }
 }
 
-/// The linearised rows: `-g x - g_T T - w <= m - g x0 - g_T T0 - threshold` for a slip row
-/// (`+ w <= m - ...` with the margin objective), `-g x - g_T T - v <= m - ... - 1` for a
-/// disturbance row.
+/// The linearised rows at the keyframe loads `x0` (N) and the duration `t0` (s):
+/// `-g x - g_T T - w <= m - g x0 - g_T T0 - threshold` for a slip row (`+ w <= m - ...` with
+/// the margin objective), `-g x - g_T T - v <= m - ... - 1` for a disturbance row.
 fn margin_rows(
     nonneg: &mut Rows,
     rows: &[MarginRow],
-    (x0, t0): (&[f64], f64),
+    x0: &[f64],
+    t0: f64,
     options: &PlanOptions,
-    (t_col, w_col, v_col): (usize, usize, usize),
+    columns: Columns,
 ) {
+    let Columns {
+        t: t_col,
+        w: w_col,
+        v: v_col,
+    } = columns;
     for r in rows {
         let mut entries: Vec<(usize, f64)> = r
             .gradient

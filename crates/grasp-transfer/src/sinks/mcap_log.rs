@@ -41,6 +41,7 @@ pub const PATCHES_TOPIC: &str = "/grasp/patches";
 
 /// One finger in a `/grasp/fingers` message.
 #[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[cfg_attr(test, derive(schemars::JsonSchema))]
 pub struct FingerMessage {
     /// Finger name.
     pub name: String,
@@ -67,6 +68,7 @@ pub struct FingerMessage {
 
 /// A `/grasp/fingers` message.
 #[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[cfg_attr(test, derive(schemars::JsonSchema))]
 pub struct FingersMessage {
     /// Schedule time, s.
     pub time_s: f64,
@@ -173,6 +175,10 @@ impl FingersMessage {
     }
 }
 
+/// The JSON Schema of a `/grasp/fingers` message, [`FingersMessage`], written out (not
+/// generated: the schema text is part of every MCAP file, and it lists the values of the
+/// string fields, which the struct's types do not know); a test checks it field by field
+/// against the struct.
 fn fingers_schema() -> serde_json::Value {
     let num = json!({"type": "number"});
     json!({
@@ -408,5 +414,73 @@ impl Sink for McapSink {
 
     fn abort(&mut self) {
         self.writer.take();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeSet;
+
+    use serde_json::Value;
+
+    use super::*;
+
+    /// The JSON types a schema allows (`type`, a name or a list of names), after `$ref`.
+    fn types(schema: &Value) -> BTreeSet<String> {
+        match &schema["type"] {
+            Value::String(t) => BTreeSet::from([t.clone()]),
+            Value::Array(ts) => ts
+                .iter()
+                .filter_map(|t| t.as_str().map(String::from))
+                .collect(),
+            _ => BTreeSet::new(),
+        }
+    }
+
+    /// `schema` with a `$ref` into the generated schema's `$defs` followed.
+    fn resolved<'a>(schema: &'a Value, root: &'a Value) -> &'a Value {
+        match schema["$ref"].as_str() {
+            Some(r) => &root["$defs"][r.trim_start_matches("#/$defs/")],
+            None => schema,
+        }
+    }
+
+    /// Asserts that `written` and `generated` (resolved against `root`) allow the same JSON
+    /// types at `at`, with the same properties (recursively) and the same array items and
+    /// lengths.
+    fn assert_same_fields(written: &Value, generated: &Value, root: &Value, at: &str) {
+        let generated = resolved(generated, root);
+        assert_eq!(types(written), types(generated), "{at}: JSON types");
+        if let Some(props) = generated["properties"].as_object() {
+            let expected: BTreeSet<&String> = props.keys().collect();
+            let written_props = written["properties"].as_object().expect("properties");
+            let got: BTreeSet<&String> = written_props.keys().collect();
+            assert_eq!(got, expected, "{at}: properties");
+            for (name, g) in props {
+                assert_same_fields(&written_props[name], g, root, &format!("{at}.{name}"));
+            }
+        }
+        if generated.get("items").is_some() {
+            for bound in ["minItems", "maxItems"] {
+                assert_eq!(written[bound], generated[bound], "{at}: {bound}");
+            }
+            assert_same_fields(
+                &written["items"],
+                &generated["items"],
+                root,
+                &format!("{at}[]"),
+            );
+        }
+    }
+
+    /// The schema written with `/grasp/fingers` describes every field [`FingersMessage`]
+    /// serialises (and its fingers' [`FingerMessage`]), with the JSON type the field's Rust
+    /// type serialises as, and no other: the two cannot drift apart.
+    #[test]
+    fn the_fingers_schema_matches_the_message_field_by_field() {
+        let generated = serde_json::to_value(schemars::schema_for!(FingersMessage)).unwrap();
+        let written = fingers_schema();
+        assert_eq!(written["title"], "grasp.FingerResultants");
+        assert_same_fields(&written, &generated, &generated, "FingersMessage");
     }
 }
