@@ -8,7 +8,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use grasp_io::input_file::{InputFile, LineReader, LineText, SHARD_OUTPUT};
+use grasp_io::{InputFile, LineReader, LineText, SHARD_OUTPUT};
 
 use crate::error::{io, BatchError};
 use crate::result_line::ResultLine;

@@ -1,28 +1,41 @@
 //! The benchmark cases of the project (the benchmark table) and how they are measured, shared by
 //! the `grasp bench` command (a table with both solvers side by side) and `cargo bench -p
-//! grasp-bench` (divan). Data flow: [`case`] names a case and prepares its inputs from the
-//! bundled example scenes; [`sample`] runs a prepared case once and says what it cost;
-//! [`statistics`] folds repeated samples (median, spread, growth exponent); [`peak_memory`]
-//! reads the process's resident memory (Linux `/proc`); [`peer`] runs the peer library
-//! (tamaas, through `scripts/peer-hertz.py`) on a Hertz case's grid;
-//! [`output_writing`] times writing a fine patch's solution in each output format;
-//! [`mod@thread_scaling`] times a case on one thread and on every core.
+//! grasp-bench` (divan). Data flow: a [`Case`] names a case and prepares its inputs from the
+//! bundled example scenes ([`bundled`], [`Prepared`]); a [`Sample`] runs a prepared case once
+//! and says what it cost (with the process's resident memory, read from Linux `/proc`);
+//! [`median_and_range`] and [`growth_exponent`] fold repeated samples; [`PeerProblem`] runs the
+//! peer library (tamaas, through `scripts/peer-hertz.py`) on a Hertz case's grid;
+//! [`measure_output_writing`] times writing a fine patch's solution in each output format;
+//! [`thread_scaling()`] times a case on one thread and on every core. The files are private:
+//! this page is the crate's whole face.
 
 #![warn(missing_docs)]
 
-pub mod case;
-pub mod error;
-pub mod output_writing;
-pub mod peak_memory;
-pub mod peer;
-pub mod sample;
-pub mod statistics;
-pub mod thread_scaling;
+mod case;
+mod error;
+mod output_writing;
+mod peak_memory;
+mod peer;
+mod sample;
+mod statistics;
+mod thread_scaling;
 
+// ---- The cases and their inputs ----
 pub use case::{
-    Case, CaseKind, Prepared, CASES, FFT_CASES, HELD_CASES, LAYER_CASES, LAYER_PAIRS, MARGIN_PAIRS,
-    PEER_CASES,
+    bundled, Case, CaseKind, Prepared, CASES, FFT_CASES, HELD_CASES, LAYER_CASES, LAYER_PAIRS,
+    MARGIN_PAIRS, PEER_CASES,
 };
-pub use error::BenchError;
+
+// ---- Measuring: one sample, repeated samples folded, threads ----
 pub use sample::Sample;
+pub use statistics::{growth_exponent, median_and_range};
 pub use thread_scaling::{thread_scaling, ThreadScaling};
+
+// ---- The peer library's run of a Hertz case ----
+pub use peer::{PeerError, PeerProblem, PeerRecord};
+
+// ---- Writing a fine patch's solution in each output format ----
+pub use output_writing::{measure_output_writing, WriteCost};
+
+// ---- Errors ----
+pub use error::BenchError;

@@ -17,10 +17,10 @@ const FLAGS: &[(&str, &str)] = &[
     (MARGIN_TOLERANCE, "--tolerance"),
     (AUTO_PATCH, "--auto-patch"),
     (grasp_batch::option_names::THREADS, "--jobs"),
-    (grasp_io::memory_limit::MAX_MEMORY, "--max-memory"),
+    (grasp_io::MAX_MEMORY, "--max-memory"),
     (grasp_batch::option_names::SHARD, "--shard"),
     (grasp_batch::option_names::SWEEP_AXIS, "--vary"),
-    (grasp_io::output_file::FORCE, "--force"),
+    (grasp_io::FORCE, "--force"),
 ];
 
 /// `text` with every library option name replaced by its flag.

@@ -7,9 +7,9 @@ use crate::schedule::Command;
 use crate::stepper::StepRecord;
 use grasp_model::CompliancePath;
 
-/// A finger carries load when its normal force exceeds this fraction of the load scale (the
-/// model's one meaning of "loaded").
-pub use grasp_model::LOADED_FRACTION;
+// A finger carries load when its normal force exceeds this fraction of the load scale (the
+// model's one meaning of "loaded").
+use grasp_model::LOADED_FRACTION;
 
 /// The summary of a run.
 #[derive(Debug, Clone, PartialEq, Serialize)]

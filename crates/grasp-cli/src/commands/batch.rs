@@ -229,7 +229,7 @@ fn merge(shards: &[PathBuf], out: &Path, force: bool) -> Result<ExitCode> {
     let outs = output::claim(&[out], &inputs, force)?;
     let pending = outs.create(out)?;
     let mut w = BufWriter::new(pending.file_handle()?);
-    let summary = grasp_batch::merge::merge(shards, &mut w, out)?;
+    let summary = grasp_batch::merge(shards, &mut w, out)?;
     w.flush()?;
     drop(w);
     let mut read = RunInputs::new();

@@ -16,11 +16,9 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use grasp_bench::peer::{PeerError, PeerProblem, PeerRecord};
-use grasp_bench::statistics::{growth_exponent, median_and_range};
 use grasp_bench::{
-    Case, CaseKind, Sample, CASES, FFT_CASES, HELD_CASES, LAYER_CASES, LAYER_PAIRS, MARGIN_PAIRS,
-    PEER_CASES,
+    growth_exponent, median_and_range, Case, CaseKind, PeerError, PeerProblem, PeerRecord, Sample,
+    CASES, FFT_CASES, HELD_CASES, LAYER_CASES, LAYER_PAIRS, MARGIN_PAIRS, PEER_CASES,
 };
 use grasp_model::SolverChoice;
 
@@ -436,7 +434,7 @@ fn peer_missing_note(reason: &str) -> String {
 fn whole_command(solver: SolverChoice, quick: bool) -> Result<Row> {
     let dir = ScratchFolder::create()?;
     let (scene, schedule) =
-        grasp_bench::case::bundled("plate_transfer").context("bundled plate_transfer")?;
+        grasp_bench::bundled("plate_transfer").context("bundled plate_transfer")?;
     let schedule = schedule.context("bundled plate_transfer schedule")?;
     let (scene_path, schedule_path) = (dir.path.join("scene.json"), dir.path.join("schedule.json"));
     std::fs::write(&scene_path, scene)?;
@@ -635,8 +633,8 @@ fn batch_rate(
 /// discarded; rows: the median scenes per second of each over [`BATCH_ROUNDS`] alternating
 /// runs, and the ratio of the medians against its >= 1.8x target.
 fn batch_throughput(solver: SolverChoice, quick: bool) -> Result<Vec<Row>> {
-    use grasp_batch::sweep::{Axis, Sweep};
-    let (scene, _) = grasp_bench::case::bundled("cube_a").context("bundled cube_a")?;
+    use grasp_batch::{Axis, Sweep};
+    let (scene, _) = grasp_bench::bundled("cube_a").context("bundled cube_a")?;
     let scene: serde_json::Value = serde_json::from_str(scene)?;
     let weights = if quick { 20 } else { 100 };
     let axes = [

@@ -10,7 +10,7 @@
 
 use anyhow::Result;
 use grasp_model::{GraspModel, Scene, Solution};
-use grasp_transfer::sinks::{FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
+use grasp_transfer::{FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
 use nalgebra::Vector3;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -22,7 +22,7 @@ use crate::pictures::picture::{draw_err as plot_err, Picture};
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 const AXES: [&str; 3] = ["x", "y", "z"];
-/// The arrows' colours: the key of every output (`grasp_transfer::sinks`).
+/// The arrows' colours: the key of every output (`grasp_transfer::NORMAL_FORCE_RGB`, `grasp_transfer::FRICTION_FORCE_RGB`).
 const NORMAL: RGBColor = key_colour(NORMAL_FORCE_RGB);
 const FRICTION: RGBColor = key_colour(FRICTION_FORCE_RGB);
 

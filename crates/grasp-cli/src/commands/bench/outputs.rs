@@ -1,11 +1,11 @@
 //! `grasp bench`'s rows on writing a fine patch's solution: the Hertz example solved once on
 //! 1024 x 1024 elements (256 x 256 with `--quick`), then written as `--json` and as `--npz`
-//! ([`grasp_bench::output_writing`]), each write against its target: the JSON within half the
+//! ([`grasp_bench::measure_output_writing`]), each write against its target: the JSON within half the
 //! solve's time with the process's peak under 1.2 GB, the `.npz` within a tenth of the solve.
 //! `--case outputs` runs these rows alone.
 
 use anyhow::Result;
-use grasp_bench::output_writing::{measure_output_writing, WriteCost};
+use grasp_bench::{measure_output_writing, WriteCost};
 
 use super::{time, verdict, Row, ScratchFolder, HEADER};
 
