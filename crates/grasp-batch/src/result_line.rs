@@ -193,7 +193,8 @@ mod tests {
             &source.index().unwrap(),
             &HashSet::new(),
             &BatchOptions::default(),
-            (&mut out, &dir.join("out.jsonl")),
+            &mut out,
+            &dir.join("out.jsonl"),
             &mut |_| {},
         )
         .unwrap();

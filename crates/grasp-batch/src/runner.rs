@@ -169,7 +169,8 @@ fn worker_pool(threads: usize) -> Result<rayon::ThreadPool, BatchError> {
 fn solve_chunk(
     pool: &rayon::ThreadPool,
     chunk: Vec<UnparsedScene>,
-    (of, budget): (usize, &MemoryBudget),
+    of: usize,
+    budget: &MemoryBudget,
     options: &BatchOptions,
     out_name: &Path,
 ) -> Result<Vec<(ResultLine, String, RunInputs)>, BatchError> {
@@ -195,7 +196,8 @@ pub fn run_batch(
     index: &InputIndex,
     done: &HashSet<usize>,
     options: &BatchOptions,
-    (out, out_name): (&mut dyn Write, &Path),
+    out: &mut dyn Write,
+    out_name: &Path,
     progress: &mut dyn FnMut(usize),
 ) -> Result<BatchSummary, BatchError> {
     let clock = Instant::now();
@@ -215,7 +217,8 @@ pub fn run_batch(
         let lines = solve_chunk(
             &pool,
             std::mem::take(pending),
-            (of, &budget),
+            of,
+            &budget,
             options,
             out_name,
         )?;

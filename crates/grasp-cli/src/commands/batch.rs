@@ -161,7 +161,8 @@ pub(crate) fn run(
         &index,
         &done,
         &options,
-        (&mut w, &flags.out),
+        &mut w,
+        &flags.out,
         &mut |n| bar.set_position(n as u64),
     )?;
     w.flush()?;

@@ -618,7 +618,8 @@ fn batch_rate(
         &index,
         &Default::default(),
         &options,
-        (&mut std::io::sink(), std::path::Path::new("(discarded)")),
+        &mut std::io::sink(),
+        std::path::Path::new("(discarded)"),
         &mut |_| {},
     )?;
     let wall = t.elapsed().as_secs_f64();
