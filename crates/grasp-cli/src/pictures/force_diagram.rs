@@ -564,7 +564,7 @@ mod tests {
     /// The finger names as the SVG sets them, with their boxes measured in the font the
     /// pictures use: `(name, box)`, in drawing order.
     fn name_boxes(svg: &str, names: &[String]) -> Vec<(String, LabelBox)> {
-        crate::pictures::picture::use_shipped_font().unwrap();
+        crate::pictures::font::use_shipped_font().unwrap();
         let font = TextStyle::from(("sans-serif", NAME_PX).into_font());
         let attr = |tag: &str, key: &str| -> f64 {
             let key = format!(" {key}=\"");
