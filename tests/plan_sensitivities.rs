@@ -1,8 +1,8 @@
 //! The planner's linearisation: the derivative of every step's slip margin with respect to a
 //! keyframe load, by the chain rule through the step's KKT sensitivities
-//! (`grasp_transfer::plan_linearisation::slip_rows`), equals the central difference of the margins of two
-//! runs of the whole schedule with that keyframe moved, along the plate hand-off under the
-//! energy model (each pair of jaws moved together, through five keyframes).
+//! (`grasp_transfer::plan_linearisation::slip_rows`), equals the central difference of the
+//! margins of two runs of the whole schedule with that keyframe moved, along the plate hand-off
+//! under the energy model (each pair of jaws moved together, through five keyframes).
 
 mod support;
 

@@ -168,8 +168,9 @@ fn mcap_is_deterministic() {
 
 /// The recording is byte-identical from run to run up to its footer, and the footer holds the
 /// same manifests (Rerun 0.36 lists them, and each one's schema fields, in hash-map order: see
-/// the Rerun sink, `crates/grasp-transfer/src/sinks/rerun_log.rs`). Two runs in one process: every random id the SDK would
-/// draw differs between them, so a run-dependent id anywhere before the footer fails this.
+/// the Rerun sink, `crates/grasp-transfer/src/sinks/rerun_log.rs`). Two runs in one process:
+/// every random id the SDK would draw differs between them, so a run-dependent id anywhere
+/// before the footer fails this.
 #[test]
 fn rrd_is_deterministic_up_to_rerun_s_footer() {
     let (a, b) = (out_dir("det-rrd-a"), out_dir("det-rrd-b"));

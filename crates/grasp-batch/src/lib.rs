@@ -46,7 +46,7 @@ pub use merge::merge;
 pub use resume::{read_batch_output, ResumePoint};
 
 // ---- Sweeps: the variants of one scene over a grid ----
-pub use sweep::{Axis, Sweep};
+pub use sweep::{Axis, Sweep, MAX_VARIANTS};
 
 // ---- Errors ----
 pub use error::BatchError;

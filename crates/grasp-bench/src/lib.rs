@@ -23,7 +23,7 @@ mod thread_scaling;
 // ---- The cases and their inputs ----
 pub use case::{
     bundled, Case, CaseKind, Prepared, CASES, FFT_CASES, HELD_CASES, LAYER_CASES, LAYER_PAIRS,
-    MARGIN_PAIRS, PEER_CASES,
+    MARGIN_PAIRS, PEER_CASES, PLAN_QUESTION,
 };
 
 // ---- Measuring: one sample, repeated samples folded, threads ----

@@ -47,7 +47,7 @@ mod temporary_files;
 // ---- Reading a file: a regular file within its kind's size limit, lines bounded ----
 pub use input_file::{
     folder_entries, read_bytes, read_text, FileIdentity, FileLine, InputFile, InputKind,
-    LineReader, LineText,
+    LineReader, LineText, MAX_LINE_BYTES,
 };
 pub use input_file::{
     BATCH_INPUT, BATCH_OUTPUT, LOAD_PROFILE, MATERIAL_MAP, MUJOCO_MODEL, MUJOCO_ROLLOUT,
@@ -64,7 +64,7 @@ pub use scene_file::{
 };
 
 // ---- The memory limit of a run ----
-pub use machine_memory::default_memory_limit;
+pub use machine_memory::{default_memory_limit, DEFAULT_MEMORY_SHARE, FALLBACK_MEMORY_LIMIT};
 pub use memory_limit::{MemoryError, MemoryLimit};
 
 // ---- Writing: the output policy, the hidden files a signal handler removes, solutions ----

@@ -22,7 +22,8 @@ use crate::pictures::picture::{draw_err as plot_err, Picture};
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 const AXES: [&str; 3] = ["x", "y", "z"];
-/// The arrows' colours: the key of every output (`grasp_transfer::NORMAL_FORCE_RGB`, `grasp_transfer::FRICTION_FORCE_RGB`).
+/// The arrows' colours: the key of every output (`grasp_transfer::NORMAL_FORCE_RGB`,
+/// `grasp_transfer::FRICTION_FORCE_RGB`).
 const NORMAL: RGBColor = key_colour(NORMAL_FORCE_RGB);
 const FRICTION: RGBColor = key_colour(FRICTION_FORCE_RGB);
 
