@@ -3,7 +3,7 @@
 # 1. installs the independent checker (Python package rerun-sdk==0.36.3, for `rerun rrd verify`
 #    and `rerun mcap check`) into a cached virtualenv;
 # 2. builds and tests the workspace in the release profile (the only profile built, shared with
-#    `cargo run --release`; CARGO_TARGET_DIR is honoured; grasp-model's layering is one of its tests), runs the
+#    `cargo run --release`; CARGO_TARGET_DIR is honoured; every crate's layering, tests/layering.rs, is one of its tests), runs the
 #    tests that need root when run as root and runs the API docs' examples (the lints, formatting, clippy and
 #    the docs built with warnings denied, are scripts/lint.sh, which CI runs first);
 # 3. installs the Python package from this checkout with the README's command (`pip install .`, in the

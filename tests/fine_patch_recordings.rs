@@ -17,8 +17,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command as Process;
 use std::sync::OnceLock;
 
-use grasp_transfer::sinks::{state_code, PATCHES_TOPIC, PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC};
-use grasp_transfer::{McapSink, RerunSink, Sink, StepRecord, TransferOptions};
+use grasp_transfer::{
+    state_code, McapSink, RerunSink, Sink, StepRecord, TransferOptions, PATCHES_TOPIC,
+    PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC,
+};
 
 /// The size bound of fine-patch recordings: each file of a 200-step hand-off with two
 /// 128 x 128 patches at most 100 MB.
@@ -200,7 +202,7 @@ fn bytes_per_element_step(file: &Path, records: &[StepRecord]) -> f64 {
     let element_steps: usize = records
         .iter()
         .flat_map(|r| &r.solution.fingers)
-        .filter(|f| f.elements.len() > grasp_transfer::sinks::COMPACT_ABOVE_ELEMENTS)
+        .filter(|f| f.elements.len() > grasp_transfer::COMPACT_ABOVE_ELEMENTS)
         .map(|f| f.elements.len())
         .sum();
     std::fs::metadata(file).unwrap().len() as f64 / element_steps as f64

@@ -161,15 +161,15 @@ fn the_hertz_suggestion_is_hertz_and_its_patch_holds_the_contact() {
 }
 
 /// The tip drawn by the Rerun and Foxglove sinks, for `v`'s only finger.
-fn tip_drawing(v: &Value) -> (grasp_transfer::sinks::TipDrawing, grasp_model::FingerModel) {
+fn tip_drawing(v: &Value) -> (grasp_transfer::TipDrawing, grasp_model::FingerModel) {
     let scene = Scene::from_json_str(&v.to_string()).unwrap();
     let model = grasp_model::GraspModel::from_scene(&scene).unwrap();
-    let run = grasp_transfer::sinks::RunInfo {
+    let run = grasp_transfer::RunInfo {
         scene: &scene,
         model: &model,
         margins: false,
     };
-    let mut tips = grasp_transfer::sinks::tip_drawings(&run, 0.05);
+    let mut tips = grasp_transfer::tip_drawings(&run, 0.05);
     assert_eq!(tips.len(), 1);
     (tips.remove(0).1, model.fingers()[0].clone())
 }
@@ -181,7 +181,7 @@ fn tip_drawing(v: &Value) -> (grasp_transfer::sinks::TipDrawing, grasp_model::Fi
 /// far larger than the scene is drawn as a pad. Tolerance: round-off of unit frames (1e-12 m).
 #[test]
 fn every_tip_shape_is_drawn_touching_its_contact_from_outside() {
-    use grasp_transfer::sinks::TipDrawing;
+    use grasp_transfer::TipDrawing;
     let (sphere, f) = tip_drawing(&hertz());
     let (o, n) = (f.frame().origin_m, f.frame().normal);
     match sphere {

@@ -136,7 +136,7 @@ fn the_least_safe_step_is_the_smallest_margin_and_the_log_carries_it() {
     assert_eq!((least.step, least.margin_n), smallest);
     assert!(records.iter().all(|r| r.margin.is_some()));
     // The MCAP step message carries the margin.
-    let msg = grasp_transfer::sinks::FingersMessage::from_record(&records[least.step]);
+    let msg = grasp_transfer::FingersMessage::from_record(&records[least.step]);
     assert_eq!(msg.smallest_margin_n, Some(least.margin_n));
 }
 
@@ -291,7 +291,7 @@ fn the_bundled_task_load_schedules_run_and_log_their_wrench() {
         // The logged wrench is the one the step balanced: the equilibrium residual stays tiny.
         let r = at.solution.residuals.unwrap();
         assert!(r.equilibrium_relative < 1e-9, "{name}: {r:?}");
-        let msg = grasp_transfer::sinks::FingersMessage::from_record(at);
+        let msg = grasp_transfer::FingersMessage::from_record(at);
         assert_eq!(msg.external_force_n, at.external_force_n);
     }
 }

@@ -1,17 +1,15 @@
 //! The planner's linearisation: the derivative of every step's slip margin with respect to a
 //! keyframe load, by the chain rule through the step's KKT sensitivities
-//! (`grasp_transfer::plan::slip_rows`), equals the central difference of the margins of two
-//! runs of the whole schedule with that keyframe moved, along the plate hand-off under the
-//! energy model (each pair of jaws moved together, through five keyframes).
+//! (`grasp_transfer::plan_linearisation::slip_rows`), equals the central difference of the
+//! margins of two runs of the whole schedule with that keyframe moved, along the plate hand-off
+//! under the energy model (each pair of jaws moved together, through five keyframes).
 
 mod support;
 
 use std::collections::BTreeMap;
 
-use grasp_transfer::plan::keyframe_path::LoadGroup;
-use grasp_transfer::plan::slip_rows::{load_directions, slip_rows};
-use grasp_transfer::plan::KeyframePath;
-use grasp_transfer::{Schedule, StepRecord, Stepper, TransferOptions};
+use grasp_transfer::plan_linearisation::{load_directions, slip_rows};
+use grasp_transfer::{KeyframePath, LoadGroup, Schedule, StepRecord, Stepper, TransferOptions};
 use support::example_scene;
 
 /// Keyframe load step of the difference, N: small against the 8 N loads (the quotient's

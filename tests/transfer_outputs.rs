@@ -9,12 +9,12 @@ mod support;
 use std::path::{Path, PathBuf};
 use std::process::Command as Process;
 
-use grasp_transfer::sinks::FingersMessage;
-use grasp_transfer::sinks::{FINGERS_TOPIC, PATCHES_TOPIC, SCENE_TOPIC};
-use grasp_transfer::summary::{
-    FailedStep, Fallbacks, MarginCost, SlipMargin, TransferSummary, LOADED_FRACTION,
+use grasp_model::LOADED_FRACTION;
+use grasp_transfer::{
+    CsvSink, FailedStep, Fallbacks, FingersMessage, MarginCost, McapSink, RerunSink, Sink,
+    SlipMargin, StepRecord, TransferOptions, TransferSummary, FINGERS_TOPIC, PATCHES_TOPIC,
+    SCENE_TOPIC,
 };
-use grasp_transfer::{CsvSink, McapSink, RerunSink, Sink, StepRecord, TransferOptions};
 
 fn out_dir(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("grasp-outputs-{tag}-{}", std::process::id()));
@@ -168,8 +168,9 @@ fn mcap_is_deterministic() {
 
 /// The recording is byte-identical from run to run up to its footer, and the footer holds the
 /// same manifests (Rerun 0.36 lists them, and each one's schema fields, in hash-map order: see
-/// `grasp_transfer::sinks::rerun_log`). Two runs in one process: every random id the SDK would
-/// draw differs between them, so a run-dependent id anywhere before the footer fails this.
+/// the Rerun sink, `crates/grasp-transfer/src/sinks/rerun_log.rs`). Two runs in one process:
+/// every random id the SDK would draw differs between them, so a run-dependent id anywhere
+/// before the footer fails this.
 #[test]
 fn rrd_is_deterministic_up_to_rerun_s_footer() {
     let (a, b) = (out_dir("det-rrd-a"), out_dir("det-rrd-b"));
@@ -345,7 +346,7 @@ fn check_rrd_chunks(cli: &Path, dir: &Path) {
                 .unwrap()
         })
         .collect();
-    let every = grasp_transfer::sinks::FLUSH_EVERY_STEPS;
+    let every = grasp_transfer::FLUSH_EVERY_STEPS;
     assert!(rows.len() >= 2, "one chunk for 200 steps: {rows:?}");
     assert!(rows.iter().all(|&n| n <= every), "{rows:?}");
     assert_eq!(rows.iter().sum::<usize>(), 200, "{rows:?}");
@@ -481,7 +482,7 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
                 .find_map(|r| r.solution.solver.fallback.clone()),
         },
         warm_steps: records.iter().filter(|r| r.reused_program).count(),
-        sequential: (!seq.is_empty()).then(|| grasp_transfer::summary::SequentialTotals {
+        sequential: (!seq.is_empty()).then(|| grasp_transfer::SequentialTotals {
             convex_solves: seq.iter().map(|s| s.iterations as u64).sum(),
             most_in_a_step: seq.iter().map(|s| s.iterations).max().unwrap_or(0),
             warm_started_steps: seq.iter().filter(|s| s.warm_started).count(),
@@ -498,7 +499,7 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
                     _ => Some((r, m)),
                 },
             )
-            .map(|(r, m)| grasp_transfer::summary::LeastSafeStep {
+            .map(|(r, m)| grasp_transfer::LeastSafeStep {
                 step: r.index,
                 time_s: r.time_s,
                 margin_n: m.smallest_n,
@@ -523,7 +524,7 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
 fn held_relaxation(
     records: &[grasp_transfer::StepRecord],
     names: &[String],
-) -> Vec<grasp_transfer::summary::HeldRelaxation> {
+) -> Vec<grasp_transfer::HeldRelaxation> {
     use grasp_transfer::Command;
     let mut out = Vec::new();
     for (i, name) in names.iter().enumerate() {
@@ -531,7 +532,7 @@ fn held_relaxation(
             .iter()
             .filter(|r| r.solution.status.has_forces())
             .collect();
-        let mut best: Option<grasp_transfer::summary::HeldRelaxation> = None;
+        let mut best: Option<grasp_transfer::HeldRelaxation> = None;
         for (j, r) in solved.iter().enumerate() {
             let c = r.commands[i].command;
             if !matches!(c, Command::Held | Command::Approach(_)) {
@@ -554,7 +555,7 @@ fn held_relaxation(
             let p = r.normal_force_n(name);
             let fraction = if peak_n > 0.0 { 1.0 - p / peak_n } else { 0.0 };
             if fraction > 1e-9 && best.as_ref().is_none_or(|b| fraction > b.fraction) {
-                best = Some(grasp_transfer::summary::HeldRelaxation {
+                best = Some(grasp_transfer::HeldRelaxation {
                     finger: name.clone(),
                     from_n: peak_n,
                     from_time_s: peak_t,

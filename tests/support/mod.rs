@@ -119,7 +119,7 @@ pub fn example_schedules() -> Vec<(String, String)> {
 /// A bundled scene (a path relative to `examples/`) read as the CLI reads it, mesh files
 /// resolved in its folder.
 pub fn example_scene(name: &str) -> Scene {
-    grasp_io::scene_file::read_scene_file(std::path::Path::new(&example_path(name)))
+    grasp_io::read_scene_file(std::path::Path::new(&example_path(name)))
         .unwrap_or_else(|e| panic!("{name}: {e}"))
         .scene
 }

@@ -3,7 +3,7 @@
 //! of `*.json` scene files (id: the file name without `.json`, in name order), or the variants
 //! of a sweep (made one at a time). Blank lines are skipped (they have no position). A line
 //! that is not a usable scene (not JSON, not UTF-8, too long) is kept as the problems found
-//! in it. Every file is read through `grasp_io::input_file` (regular files, bounded).
+//! in it. Every file is read through `grasp_io::InputFile` (regular files, bounded).
 //!
 //! The input is read twice: once to count the scenes and check their ids
 //! ([`BatchInput::index`]), once to solve them ([`BatchInput::for_each_unparsed`]); a file
@@ -12,11 +12,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use grasp_io::input_file::{
-    folder_entries, FileLine, InputFile, LineText, BATCH_INPUT, SCENE_FILE,
+use grasp_io::{
+    base_dir_of, folder_entries, scene_from_json_str_noting, scene_from_value, FileIdentity,
+    FileLine, InputFile, LineText, RunInputs, BATCH_INPUT, SCENE_FILE,
 };
-use grasp_io::scene_file::{base_dir_of, scene_from_json_str_noting, scene_from_value};
-use grasp_io::{FileIdentity, RunInputs};
 use grasp_model::{strict_json::from_str_strict, strict_json::StrictValue};
 use grasp_model::{InputProblem, Scene};
 use serde_json::Value;
@@ -329,7 +328,7 @@ fn problem(path: &str, message: &str) -> InputProblem {
 /// A scene file of a folder.
 fn parse_file(index: usize, path: &Path) -> SceneLine {
     let mut files = RunInputs::new();
-    let scene = grasp_io::input_file::read_text(path, SCENE_FILE)
+    let scene = grasp_io::read_text(path, SCENE_FILE)
         .map_err(|e| {
             vec![InputProblem {
                 path: ".".into(),

@@ -43,8 +43,9 @@ impl MemoryBudget {
         }
     }
 
-    /// Bytes free now.
-    pub fn free_bytes(&self) -> u64 {
+    /// Bytes free now (for the tests).
+    #[cfg(test)]
+    pub(crate) fn free_bytes(&self) -> u64 {
         *self.free.lock().unwrap_or_else(|p| p.into_inner())
     }
 }

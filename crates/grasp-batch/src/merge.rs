@@ -8,7 +8,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use grasp_io::input_file::{InputFile, LineReader, LineText, SHARD_OUTPUT};
+use grasp_io::{InputFile, LineReader, LineText, SHARD_OUTPUT};
 
 use crate::error::{io, BatchError};
 use crate::result_line::ResultLine;
@@ -103,8 +103,8 @@ pub fn merge(
             break;
         };
         let path = shards[k].path;
-        let total = *of.get_or_insert((r.of, path));
-        check_line(&r, number, path, total, next, &shards)?;
+        let (total, first) = *of.get_or_insert((r.of, path));
+        check_line(&r, number, path, total, first, next, &shards)?;
         for m in next..r.index {
             missing_count += 1;
             if missing.len() < MAX_LISTED_MISSING {
@@ -145,13 +145,15 @@ pub fn merge(
     Ok(MergeSummary { lines })
 }
 
-/// One line against the merge so far: the same input (`of`), a position inside it, and not
-/// one already written or waiting in another shard.
+/// One line against the merge so far: the same input (`of` scenes, as the shard output
+/// `first` counted them), a position inside it, and not one already written or waiting in
+/// another shard.
 fn check_line(
     r: &ResultLine,
     number: usize,
     path: &Path,
-    (of, first): (usize, &Path),
+    of: usize,
+    first: &Path,
     next: usize,
     shards: &[ShardReader<'_>],
 ) -> Result<(), BatchError> {

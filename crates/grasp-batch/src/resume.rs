@@ -8,8 +8,7 @@
 use std::collections::HashSet;
 use std::path::Path;
 
-use grasp_io::input_file::{FileLine, InputFile, LineText, BATCH_OUTPUT};
-use grasp_io::FileIdentity;
+use grasp_io::{FileIdentity, FileLine, InputFile, LineText, BATCH_OUTPUT};
 
 use crate::error::BatchError;
 use crate::input_index::InputIndex;

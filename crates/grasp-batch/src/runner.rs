@@ -169,7 +169,8 @@ fn worker_pool(threads: usize) -> Result<rayon::ThreadPool, BatchError> {
 fn solve_chunk(
     pool: &rayon::ThreadPool,
     chunk: Vec<UnparsedScene>,
-    (of, budget): (usize, &MemoryBudget),
+    of: usize,
+    budget: &MemoryBudget,
     options: &BatchOptions,
     out_name: &Path,
 ) -> Result<Vec<(ResultLine, String, RunInputs)>, BatchError> {
@@ -195,7 +196,8 @@ pub fn run_batch(
     index: &InputIndex,
     done: &HashSet<usize>,
     options: &BatchOptions,
-    (out, out_name): (&mut dyn Write, &Path),
+    out: &mut dyn Write,
+    out_name: &Path,
     progress: &mut dyn FnMut(usize),
 ) -> Result<BatchSummary, BatchError> {
     let clock = Instant::now();
@@ -215,7 +217,8 @@ pub fn run_batch(
         let lines = solve_chunk(
             &pool,
             std::mem::take(pending),
-            (of, &budget),
+            of,
+            &budget,
             options,
             out_name,
         )?;
@@ -255,4 +258,90 @@ pub fn run_batch(
     }
     summary.wall_time_s = clock.elapsed().as_secs_f64();
     Ok(summary)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashSet;
+
+    use serde_json::{json, Value};
+
+    use crate::{run_batch, BatchInput, BatchOptions};
+
+    /// The box pinch with both pads 3 mm below the box's top edge: each 10 mm pad hangs 2 mm
+    /// over it (a shape warning), and the grasp still holds.
+    fn pinch_over_the_edge(z_m: f64) -> Value {
+        let finger = |name: &str, y: f64, load: Option<f64>| {
+            let mut f = json!({
+                "name": name,
+                "place": {"ray": {"origin": [0.0, y, z_m], "direction": [0.0, -y.signum(), 0.0]}},
+                "material": {"youngs_modulus": 2e6, "poisson_ratio": 0.45},
+                "patch": {"size": [0.01, 0.01], "grid": [5, 5]},
+                "friction": {"mu": 0.8}
+            });
+            if let Some(p) = load {
+                f["control"] = json!({"normal_load": p});
+            }
+            f
+        };
+        json!({
+            "object": {
+                "density": 700,
+                "material": {"youngs_modulus": 1.1e10, "poisson_ratio": 0.3},
+                "shape": {"box": {"size": [0.06, 0.04, 0.1]}, "position": [0, 0, 0.05]}
+            },
+            "fingers": [finger("left", 0.2, None), finger("right", -0.2, Some(10.0))],
+            // The thesis's quadratic gap, blind to the edge, is what the warning is about.
+            "gap": "quadratic"
+        })
+    }
+
+    /// A batch line carries the scene's warnings (a pad over the box's edge, 2.000 mm for
+    /// each finger, the text the shape check writes) whatever else it holds; a scene without
+    /// warnings writes no `warnings` key.
+    #[test]
+    fn a_batch_line_carries_the_scenes_warnings() {
+        let dir = std::env::temp_dir().join(format!("grasp-batch-warnings-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let input = dir.join("in.jsonl");
+        let lines = [pinch_over_the_edge(0.097), pinch_over_the_edge(0.055)]
+            .map(|v| v.to_string())
+            .join("\n");
+        std::fs::write(&input, lines + "\n").unwrap();
+        let mut out = Vec::new();
+        let source = BatchInput::open(&input).unwrap();
+        run_batch(
+            &source,
+            &source.index().unwrap(),
+            &HashSet::new(),
+            &BatchOptions::default(),
+            &mut out,
+            &dir.join("out.jsonl"),
+            &mut |_| {},
+        )
+        .unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<Value> = text
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        assert_eq!(lines.len(), 2, "{text}");
+        assert_eq!(lines[0]["status"], "solved", "{text}");
+        let warnings: Vec<&str> = lines[0]["warnings"]
+            .as_array()
+            .unwrap_or_else(|| panic!("no warnings: {text}"))
+            .iter()
+            .map(|w| w.as_str().unwrap())
+            .collect();
+        for name in ["left", "right"] {
+            assert!(
+                warnings.iter().any(|w| w.starts_with(&format!(
+                    "finger {name}: the patch hangs 2.000 mm over the edge"
+                ))),
+                "{warnings:?}"
+            );
+        }
+        assert!(lines[1].get("warnings").is_none(), "{text}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

@@ -272,7 +272,7 @@ mod tests {
                 "{vary}"
             );
             let mut inputs = grasp_io::RunInputs::new();
-            let s = grasp_io::scene_file::scene_from_value(v, &dir, &mut inputs)
+            let s = grasp_io::scene_from_value(v, &dir, &mut inputs)
                 .unwrap_or_else(|e| panic!("{vary}: {e}"));
             assert_eq!(inputs.len(), 1, "the height map is read and noted");
             let t = s.fingers[0].texture.as_ref().unwrap().random.unwrap();

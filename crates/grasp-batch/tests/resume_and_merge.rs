@@ -5,8 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use grasp_batch::merge::merge;
-use grasp_batch::{read_batch_output, BatchInput, InputIndex, ResultLine, Shard};
+use grasp_batch::{merge, read_batch_output, BatchInput, InputIndex, ResultLine, Shard};
 
 fn scratch(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("grasp-batch-lib-{tag}-{}", std::process::id()));

@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use grasp_batch::sweep::{Axis, Sweep};
+use grasp_batch::{Axis, Sweep};
 use grasp_batch::{BatchInput, BatchOptions};
 use grasp_model::{SolveOptions, SolverChoice};
 
@@ -114,7 +114,8 @@ fn batch_rate(
         &index,
         &Default::default(),
         &options,
-        (&mut std::io::sink(), std::path::Path::new("(discarded)")),
+        &mut std::io::sink(),
+        std::path::Path::new("(discarded)"),
         &mut |_| {},
     )?;
     let wall = t.elapsed().as_secs_f64();

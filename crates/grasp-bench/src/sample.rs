@@ -190,7 +190,7 @@ fn hand_off(p: &Prepared, warm: bool, margins: bool) -> Result<Sample, BenchErro
 /// template): its time, its runs as iterations, and how far the checked plan falls short of
 /// its margin threshold as the error (0: kept).
 fn plan(p: &Prepared) -> Result<Sample, BenchError> {
-    use grasp_transfer::plan::{PlanOptions, Template};
+    use grasp_transfer::{PlanOptions, Template};
     let (releasing, receiving, rate) = crate::case::PLAN_QUESTION;
     let text = crate::case::bundled(p.case.scene).and_then(|b| b.1);
     let text = text.ok_or_else(|| run_err(p, "no schedule".into()))?;

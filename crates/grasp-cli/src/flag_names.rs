@@ -1,6 +1,6 @@
 //! The libraries name the options a user can change as their Rust API spells them
 //! (`grasp_model::option_names`, `grasp_batch::option_names`,
-//! `grasp_transfer::plan::option_names`); the CLI says the flag instead.
+//! `grasp_transfer::plan_option_names`); the CLI says the flag instead.
 
 use grasp_model::Solution;
 use grasp_model::{
@@ -8,7 +8,7 @@ use grasp_model::{
     option_names::MARGIN_LENGTH, option_names::MARGIN_TOLERANCE, option_names::SOLVER,
     option_names::TOLERANCE,
 };
-use grasp_transfer::plan::option_names as plan;
+use grasp_transfer::plan_option_names as plan;
 
 /// Library option name -> command-line flag.
 const FLAGS: &[(&str, &str)] = &[
@@ -19,13 +19,13 @@ const FLAGS: &[(&str, &str)] = &[
     (MARGIN_TOLERANCE, "--tolerance"),
     (AUTO_PATCH, "--auto-patch"),
     (grasp_batch::option_names::THREADS, "--jobs"),
-    (grasp_io::memory_limit::MAX_MEMORY, "--max-memory"),
+    (grasp_io::MAX_MEMORY, "--max-memory"),
     (grasp_batch::option_names::SHARD, "--shard"),
     (grasp_batch::option_names::SWEEP_AXIS, "--vary"),
-    (grasp_io::output_file::FORCE, "--force"),
+    (grasp_io::FORCE, "--force"),
 ];
 
-/// The planner's option names (`grasp_transfer::plan::option_names`) -> what `grasp plan` says:
+/// The planner's option names (`grasp_transfer::plan_option_names`) -> what `grasp plan` says:
 /// its flag, bare (`--max-rate: must be ...`, not between backticks), or its inequality of two
 /// flags.
 const PLAN_FLAGS: &[(&str, &str)] = &[

@@ -1,18 +1,17 @@
 //! Work bounds of a command, checked before any allocation: the memory a scene's solve needs
 //! against `--max-memory` (the one check, `grasp_io::MemoryLimit::check`); and the input
-//! files, read through `grasp_io::input_file` (regular files within a size limit) and noted,
+//! files, read through `grasp_io::InputFile` (regular files within a size limit) and noted,
 //! so no output of the command replaces one of them.
 
 use std::path::Path;
 use std::sync::Mutex;
 
 use anyhow::{anyhow, Result};
-use grasp_io::input_file::{self, InputKind};
-use grasp_io::{MemoryLimit, RunInputs};
+use grasp_io::{InputKind, MemoryLimit, RunInputs, SCENE_FILE};
 use grasp_model::{ComplianceChoice, Scene};
 
 /// Largest scene, schedule or directions file read, bytes.
-pub const MAX_INPUT_BYTES: u64 = input_file::SCENE_FILE.max_bytes;
+pub const MAX_INPUT_BYTES: u64 = SCENE_FILE.max_bytes;
 
 /// The memory limit of a command.
 #[derive(clap::Args, Debug, Clone, Copy)]
@@ -86,7 +85,7 @@ pub fn inputs_read() -> RunInputs {
         .clone()
 }
 
-/// Reads an input file through `grasp_io::input_file` (a regular file, checked before and
+/// Reads an input file through `grasp_io::InputFile` (a regular file, checked before and
 /// after opening, so a pipe never blocks; at most [`MAX_INPUT_BYTES`], bounded while reading)
 /// as UTF-8 text, and notes it.
 pub fn read_input(path: &Path, what: &'static str) -> Result<String> {
@@ -94,7 +93,7 @@ pub fn read_input(path: &Path, what: &'static str) -> Result<String> {
         what,
         max_bytes: MAX_INPUT_BYTES,
     };
-    let (text, identity) = input_file::read_text(path, kind)?;
+    let (text, identity) = grasp_io::read_text(path, kind)?;
     let mut read = RunInputs::new();
     read.add(path, identity);
     note_inputs(&read);

@@ -1,4 +1,4 @@
-//! Output files of a command: the project's one output policy (`grasp_io::output_file`:
+//! Output files of a command: the project's one output policy (`grasp_io::OutputSet`:
 //! targets checked before any work, each locked for the run, written to exclusive temporary
 //! files moved into place on success, never replacing an input or, without `--force`, an
 //! existing file), with the CLI's two additions:
@@ -42,7 +42,7 @@ pub fn install_signal_cleanup() -> Result<()> {
 /// (if any) on standard error and ends the process with `code`; the registry stays locked, so
 /// no temporary file is created or moved into place after this.
 pub fn remove_pending_and_exit(code: i32, note: impl FnOnce(usize) -> Option<String>) -> ! {
-    let removed = grasp_io::temporary_files::remove_all_for_exit();
+    let removed = grasp_io::remove_all_for_exit();
     if let Some(text) = note(removed) {
         eprintln!("{text}");
     }

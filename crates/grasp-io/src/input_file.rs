@@ -44,11 +44,6 @@ pub const LOAD_PROFILE: InputKind = InputKind {
     what: "CSV profile",
     max_bytes: 64 * MIB,
 };
-/// A list of disturbance directions (JSON), 64 MiB.
-pub const DIRECTIONS_FILE: InputKind = InputKind {
-    what: "directions file",
-    max_bytes: 64 * MIB,
-};
 /// An OBJ or STL mesh, 256 MiB (about 5 million triangles of binary STL).
 pub const MESH_FILE: InputKind = InputKind {
     what: "mesh file",

@@ -75,11 +75,6 @@ impl OutputLock {
             "another run is starting and ending on the same output; try again",
         ))
     }
-
-    /// The lock file.
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
 }
 
 impl Drop for OutputLock {

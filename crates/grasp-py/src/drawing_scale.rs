@@ -1,6 +1,6 @@
 //! The project's force-arrow scale for the package's own drawings (`grasp.mujoco` draws
 //! MuJoCo's forces beside the project's in one recording): the sinks' scale of the scene
-//! (`grasp_transfer::sinks::drawing_scale`), so that both force sets are drawn alike.
+//! (`grasp_transfer::drawing_scale`), so that both force sets are drawn alike.
 
 use pyo3::prelude::*;
 
@@ -15,5 +15,5 @@ pub fn arrow_scale_m_per_n(py: Python<'_>, scene: &Scene) -> PyResult<f64> {
     let model = py
         .allow_threads(|| grasp_model::GraspModel::from_scene(&scene.scene))
         .map_err(|e| scene_error(py, &scene.origin, &e))?;
-    Ok(grasp_transfer::sinks::drawing_scale(&model).1)
+    Ok(grasp_transfer::drawing_scale(&model).1)
 }

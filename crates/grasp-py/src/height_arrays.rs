@@ -2,11 +2,11 @@
 //! `{"array": a, "pixel_m": [dx, dy]}` instead of `{"file": ..., "pixel_m": ...}` (heights in
 //! metres, rows of `a` along `t1`, its centre on the contact point). The arrays are taken out
 //! of a copy of the dict before it becomes JSON, [`ARRAY_FILE`] written as their file, and
-//! given to the scene reader by finger (`grasp_io::scene_file::HeightArrays`).
+//! given to the scene reader by finger (`grasp_io::HeightArrays`).
 
 use std::sync::Arc;
 
-use grasp_io::scene_file::HeightArrays;
+use grasp_io::HeightArrays;
 use grasp_model::{HeightGrid, InputProblem, SceneError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -120,10 +120,10 @@ fn grid_of(py: Python<'_>, a: &Bound<'_, PyAny>) -> Result<HeightGrid, String> {
     let &[rows, cols] = &shape[..] else {
         return Err(format!("has shape {shape:?}, not a 2-D one"));
     };
-    if rows == 0 || cols == 0 || rows.saturating_mul(cols) > grasp_io::height_map_file::MAX_PIXELS {
+    if rows == 0 || cols == 0 || rows.saturating_mul(cols) > grasp_io::MAX_PIXELS {
         return Err(format!(
             "holds {rows} x {cols} heights: give at least one and at most {}",
-            grasp_io::height_map_file::MAX_PIXELS
+            grasp_io::MAX_PIXELS
         ));
     }
     let bytes: Vec<u8> = arr

@@ -90,8 +90,7 @@ pub fn solution_bytes_per_step(scene: &grasp_model::Scene) -> u64 {
     std::mem::size_of::<StepRecord>() as u64
         + fingers
             * (std::mem::size_of::<FingerSolution>()
-                + std::mem::size_of::<grasp_transfer::stepper::FingerCommand>())
-                as u64
+                + std::mem::size_of::<grasp_transfer::FingerCommand>()) as u64
         + elements * std::mem::size_of::<ElementSolution>() as u64
         + names
 }

@@ -1,15 +1,15 @@
 //! Input files read by the pure-Python part of the package (`grasp.mujoco`: state files,
 //! rollouts, material maps, and the MuJoCo model checked before MuJoCo reads it): the project's
-//! one input policy (`grasp_io::input_file`, the same code as the CLI's), so a FIFO, a device
+//! one input policy (`grasp_io::InputFile`, the same code as the CLI's), so a FIFO, a device
 //! (`/dev/zero`) or a folder is refused before it is opened, and a file larger than its kind's
 //! limit before it is read.
 
 use std::path::PathBuf;
 
-use grasp_io::input_file::{
-    read_bytes, InputKind, MATERIAL_MAP, MUJOCO_MODEL, MUJOCO_ROLLOUT, MUJOCO_STATE,
+use grasp_io::{
+    read_bytes, InputFile, InputFileError, InputKind, MATERIAL_MAP, MUJOCO_MODEL, MUJOCO_ROLLOUT,
+    MUJOCO_STATE,
 };
-use grasp_io::{InputFile, InputFileError};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;

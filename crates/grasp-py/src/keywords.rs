@@ -11,7 +11,7 @@ use grasp_model::Solution;
 use grasp_model::{
     option_names::respell, option_names::COMPLIANCE, option_names::SOLVER, option_names::TOLERANCE,
 };
-use grasp_transfer::plan::option_names as plan;
+use grasp_transfer::plan_option_names as plan;
 
 /// Library option name -> keyword argument of `grasp.solve` / `grasp.transfer` / `grasp.plan`
 /// (or, for a relation between two options, the inequality of their keywords). Options

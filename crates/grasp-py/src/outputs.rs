@@ -1,5 +1,5 @@
 //! Output files of a Python-driven run: the project's one output policy
-//! (`grasp_io::output_file`, the same code as the CLI's), so the same refusals (a folder, a
+//! (`grasp_io::OutputSet`, the same code as the CLI's), so the same refusals (a folder, a
 //! symbolic link, a dangling one too, a device, an input of the run, the same file twice), the
 //! same lock (a second run, in another process or another thread, is refused and told who
 //! writes the file), and exclusive, unguessable temporary files moved into place only when the
@@ -42,10 +42,7 @@ pub fn output_error(targets: &[(&str, &Path)], e: &OutputError) -> PyErr {
 
 /// [`output_error`], the library's force option named `force_name`.
 fn output_error_saying(targets: &[(&str, &Path)], e: &OutputError, force_name: &str) -> PyErr {
-    let text = grasp_model::option_names::respell(
-        &e.to_string(),
-        &[(grasp_io::output_file::FORCE, force_name)],
-    );
+    let text = grasp_model::option_names::respell(&e.to_string(), &[(grasp_io::FORCE, force_name)]);
     let text = match targets.iter().find(|(_, p)| *p == e.path) {
         Some((name, _)) => format!("{name}: {text}"),
         None => text,

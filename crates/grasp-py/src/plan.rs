@@ -3,8 +3,7 @@
 //! `grasp.transfer` runs unchanged) and its report (margins along the plan and the template,
 //! the binding constraint when one is not met, the cost). The GIL is released while it runs.
 
-use grasp_transfer::plan::{Objective, PlanError, PlanOptions, Template};
-use grasp_transfer::{Schedule, ScheduleSpec};
+use grasp_transfer::{Objective, PlanError, PlanOptions, Schedule, ScheduleSpec, Template};
 use pyo3::prelude::*;
 
 use crate::errors::{grasp_error, schedule_error};

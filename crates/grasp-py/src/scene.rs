@@ -121,7 +121,7 @@ impl Scene {
     ///     The text is not JSON, or the scene is not valid (`problems`: path, message, fix).
     #[staticmethod]
     fn from_json(py: Python<'_>, text: &str) -> PyResult<Scene> {
-        let arrays = grasp_io::scene_file::HeightArrays::new();
+        let arrays = grasp_io::HeightArrays::new();
         Scene::parse(py, text, "<json>".into(), std::path::Path::new(""), &arrays)
     }
 
@@ -293,10 +293,10 @@ impl Scene {
         text: &str,
         origin: String,
         base: &std::path::Path,
-        arrays: &grasp_io::scene_file::HeightArrays,
+        arrays: &grasp_io::HeightArrays,
     ) -> PyResult<Scene> {
         let mut inputs = grasp_io::RunInputs::new();
-        let read = grasp_io::scene_file::scene_from_json_str_with_arrays;
+        let read = grasp_io::scene_from_json_str_with_arrays;
         match read(text, base, arrays, &mut inputs) {
             Ok(scene) => Ok(Scene {
                 scene,

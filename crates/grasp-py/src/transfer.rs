@@ -8,8 +8,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use grasp_io::input_file::SCHEDULE_FILE;
-use grasp_io::{OutputError, OutputSet, RunInputs};
+use grasp_io::{OutputError, OutputSet, RunInputs, SCHEDULE_FILE};
 use grasp_transfer::{
     OpenError, OutputFiles, OutputPaths, Schedule, StepRecord, TransferOptions, TransferSummary,
 };
@@ -220,7 +219,7 @@ fn check_memory(
     keep_solutions: bool,
     max_memory: Option<u64>,
 ) -> PyResult<()> {
-    let limit = max_memory.unwrap_or_else(grasp_io::machine_memory::default_memory_limit);
+    let limit = max_memory.unwrap_or_else(grasp_io::default_memory_limit);
     let steps = schedule.times.len() as u64;
     let history = Histories::bytes_per_step(scene.fingers.len()).saturating_mul(steps);
     let solution = solution_bytes_per_step(scene);
@@ -308,7 +307,7 @@ pub(crate) fn schedule_text(
     let path: PathBuf = source.extract().map_err(|_| {
         pyo3::exceptions::PyTypeError::new_err("schedule: expected a path, a dict or JSON text")
     })?;
-    let (text, identity) = grasp_io::input_file::read_text(&path, SCHEDULE_FILE)
+    let (text, identity) = grasp_io::read_text(&path, SCHEDULE_FILE)
         .map_err(|e| pyo3::exceptions::PyOSError::new_err(e.to_string()))?;
     inputs.add(&path, identity);
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();

@@ -3,11 +3,19 @@
 //! Replays an object being handed from one set of fingers to another (Sinha 1989, section
 //! 4.2): a [`Schedule`] commands each finger (held, a load ramp, a CSV profile, released);
 //! the [`Stepper`] solves the grasp at every step with `grasp-model`, reusing the assembled
-//! program while the grasp's structure is unchanged; [`sinks`] log every step to MCAP, Rerun
-//! and CSV; [`TransferSummary`] says when the load moved and how close any finger came to
-//! sliding.
+//! program while the grasp's structure is unchanged; each [`Sink`] logs every step (MCAP, Rerun,
+//! CSV, `.npz`; [`OutputFiles`] opens them under the run's output policy); [`TransferSummary`]
+//! says when the load moved and how close any finger came to sliding. [`minimum_squeeze`] finds
+//! the least squeeze that holds, and [`plan()`] plans the load ramps of a hand-off.
 //!
-//! Depends on `grasp-model`, never the reverse.
+//! ## Layout: the driver's files at the root, the sinks and the planner above them (private)
+//!
+//! The schedule, the stepper, the margins, the minimum squeeze and the summary sit at the root;
+//! `sinks/` (the [`Sink`] trait and one file per output, or what they share) and `plan/` (the
+//! planner) build on them and not on each other. The folders and files are private: this page
+//! is the crate's whole face, its names grouped below in data-flow order.
+//!
+//! Depends on `grasp-model` and `grasp-io`, never the reverse.
 //!
 //! ```
 //! use grasp_model::Scene;
@@ -32,33 +40,79 @@
 
 #![warn(missing_docs)]
 
-pub mod easing;
-pub mod error;
-pub mod load_profile;
-pub mod minimum_squeeze;
-pub mod output_files;
-pub mod plan;
-pub mod schedule;
-pub mod schedule_builder;
-pub mod schedule_spec;
-pub mod sinks;
-pub mod step_margin;
-pub mod stepper;
-pub mod summary;
-
-pub use error::{ScheduleError, TransferError};
-pub use minimum_squeeze::{minimum_squeeze, MinimumSqueeze, SqueezeOutcome};
-pub use output_files::{OpenError, OutputFiles, OutputPaths};
-pub use plan::{plan, PlanError, PlanOptions, PlanReport};
-pub use schedule::{Command, Schedule};
-pub use schedule_spec::ScheduleSpec;
-pub use sinks::{CsvSink, McapSink, RerunSink, RunInfo, Sink};
-pub use step_margin::{MarginPath, StepMargin};
-pub use stepper::{StepRecord, Stepper, TransferOptions};
-pub use summary::TransferSummary;
+mod easing;
+mod error;
+mod load_profile;
+mod minimum_squeeze;
+mod plan;
+mod schedule;
+mod schedule_builder;
+mod schedule_spec;
+mod sinks;
+mod step_margin;
+mod stepper;
+mod summary;
 
 use grasp_model::{GraspModel, Scene};
-pub use summary::SummaryAccumulator;
+
+// ---- The schedule: the file (validated) and its commands in time ----
+pub use schedule::{Command, Schedule};
+pub use schedule_spec::ScheduleSpec;
+
+// ---- Stepping: one solve a step ([`run`] drives a whole schedule) ----
+pub use stepper::{FingerCommand, StepRecord, Stepper, TransferOptions};
+
+// ---- The summary, folded step by step ----
+pub use summary::{
+    FailedStep, Fallbacks, HeldRelaxation, LeastSafeStep, MarginCost, SequentialTotals, SlipMargin,
+    SummaryAccumulator, TransferSummary, MAX_FOLDED_FINGERS, MAX_LISTED_FAILED_STEPS,
+};
+
+// ---- Sinks: what every step is logged to, and the files a run writes ----
+pub use sinks::csv_history::CsvSink;
+pub use sinks::element_maps::{state_code, COMPACT_ABOVE_ELEMENTS};
+pub use sinks::foxglove_scene::SCENE_TOPIC;
+pub use sinks::mcap_log::{FingerMessage, FingersMessage, McapSink, FINGERS_TOPIC, PATCHES_TOPIC};
+pub use sinks::output_files::{OpenError, OutputFiles, OutputPaths};
+pub use sinks::patch_maps_message::{PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC};
+pub use sinks::rerun_log::{RerunSink, FLUSH_EVERY_STEPS};
+pub use sinks::sink::{RunInfo, Sink};
+
+// ---- What the sinks draw, shared with the CLI's pictures ----
+pub use sinks::colour_key::{FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
+pub use sinks::drawing_scale::{arrow_scale_m_per_n, drawing_scale, ARROW_FRACTION};
+pub use sinks::fingertip_drawing::{tip_drawings, TipDrawing};
+pub use sinks::identical_curves::IdenticalCurves;
+
+// ---- Margins: a step's disturbance margins ----
+pub use step_margin::{step_margin, MarginPath, StepMargin};
+
+// ---- Minimum squeeze: the least load that holds ----
+pub use minimum_squeeze::{minimum_squeeze, MinimumSqueeze, SqueezeOutcome};
+
+// ---- The planner: load ramps that keep the margins ----
+pub use plan::keyframe_path::LoadGroup;
+pub use plan::{
+    plan, Binding, KeyframePath, MarginsAtStep, Objective, PlanError, PlanOptions, PlanReport,
+    Template, DISTURBANCE_TOLERANCE, MARGIN_TOLERANCE,
+};
+
+/// How the planner's messages name its options ([`PlanOptions`]' fields as the Rust API spells
+/// them, between backticks); front ends respell them into their own (the CLI's flags,
+/// Python's keyword arguments), as they respell `grasp_model::option_names`.
+pub mod plan_option_names {
+    pub use crate::plan::option_names::*;
+}
+
+/// The planner's linearisation, for checking it against differences of whole runs: the slip
+/// margins of a run with their derivatives in the keyframe loads (`slip_rows`), and the load
+/// directions whose sensitivities they need (`load_directions`).
+pub mod plan_linearisation {
+    pub use crate::plan::slip_rows::{load_directions, slip_rows};
+}
+
+// ---- Errors ----
+pub use error::{ScheduleError, TransferError};
 
 /// Runs a whole schedule, streaming every step to the sinks and to `on_step` (nothing is kept
 /// but the summary, folded step by step, and the last step). Returns the summary and the last

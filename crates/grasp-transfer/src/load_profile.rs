@@ -1,15 +1,12 @@
 //! Load profiles from CSV files: a header row, then comma-separated numbers.
 //!
-//! The file is read through `grasp_io::input_file` (a regular file, checked before opening,
+//! The file is read through `grasp_io::InputFile` (a regular file, checked before opening,
 //! so a FIFO never blocks and a device such as `/dev/zero` is refused; at most
-//! [`MAX_PROFILE_BYTES`], bounded while reading).
+//! `grasp_io::LOAD_PROFILE`'s 64 MiB, bounded while reading).
 
 use std::path::Path;
 
-use grasp_io::input_file::{read_text, FileIdentity, LOAD_PROFILE};
-
-/// Largest CSV profile read, bytes.
-pub const MAX_PROFILE_BYTES: u64 = LOAD_PROFILE.max_bytes;
+use grasp_io::{read_text, FileIdentity, LOAD_PROFILE};
 
 type ProfileError = (&'static str, String, String);
 
@@ -32,18 +29,9 @@ fn read_profile_file(path: &Path) -> Result<(String, FileIdentity), ProfileError
     read_text(path, LOAD_PROFILE).map_err(|e| ("path", e.message, e.fix))
 }
 
-/// Reads `(time s, load N)` rows from the named columns. On failure returns
-/// `(field, message, fix)` where `field` is the schedule field to blame (`path`,
-/// `time_column` or `load_column`).
-pub fn read_profile_csv(
-    path: &Path,
-    time_column: &str,
-    load_column: &str,
-) -> Result<Vec<(f64, f64)>, ProfileError> {
-    read_profile_csv_noting(path, time_column, load_column).map(|(rows, _)| rows)
-}
-
-/// As [`read_profile_csv`], with the identity of the file read.
+/// Reads `(time s, load N)` rows from the named columns, with the identity of the file read.
+/// On failure returns `(field, message, fix)` where `field` is the schedule field to blame
+/// (`path`, `time_column` or `load_column`).
 pub fn read_profile_csv_noting(
     path: &Path,
     time_column: &str,

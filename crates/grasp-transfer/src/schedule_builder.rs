@@ -60,7 +60,7 @@ impl Schedule {
                 continue;
             };
             let start = times.first().copied().unwrap_or(0.0);
-            phases[idx] = Some(finger_phases(&path, list, (base_dir, start), &mut v));
+            phases[idx] = Some(finger_phases(&path, list, base_dir, start, &mut v));
         }
         let external = spec
             .external
@@ -208,11 +208,14 @@ fn explicit_times(times: &[f64], v: &mut Problems) -> Vec<f64> {
     times.to_vec()
 }
 
-/// Resolves the phases of one finger.
+/// Resolves the phases of one finger (`path`: where they are in the file; CSV profiles found
+/// relative to `base_dir`; a hold first in the list starts at `start_s`, the schedule's first
+/// time, s).
 fn finger_phases(
     path: &str,
     list: &[PhaseSpec],
-    (base_dir, start_s): (&Path, f64),
+    base_dir: &Path,
+    start_s: f64,
     v: &mut Problems,
 ) -> Vec<Phase> {
     if list.is_empty() {

@@ -7,9 +7,9 @@ use crate::schedule::Command;
 use crate::stepper::StepRecord;
 use grasp_model::CompliancePath;
 
-/// A finger carries load when its normal force exceeds this fraction of the load scale (the
-/// model's one meaning of "loaded").
-pub use grasp_model::LOADED_FRACTION;
+// A finger carries load when its normal force exceeds this fraction of the load scale (the
+// model's one meaning of "loaded").
+use grasp_model::LOADED_FRACTION;
 
 /// The summary of a run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -210,8 +210,8 @@ pub struct SummaryAccumulator {
     first_loaded: Option<Vec<bool>>,
     /// Loaded fingers at the latest successful step.
     last_loaded: Option<Vec<bool>>,
-    /// Per candidate mask of fingers loaded at the end: (half time, full time).
-    candidates: Vec<(Option<f64>, Option<f64>)>,
+    /// Per candidate mask of fingers loaded at the end: its hand-off times.
+    candidates: Vec<TransferTimes>,
     /// Beyond [`MAX_FOLDED_FINGERS`]: (time, forces, loaded) of every successful step.
     history: Vec<(f64, Vec<f64>, Vec<bool>)>,
     peak: (f64, f64),
@@ -253,7 +253,7 @@ impl SummaryAccumulator {
             first_loaded: None,
             last_loaded: None,
             candidates: if folded {
-                vec![(None, None); 1 << names.len()]
+                vec![TransferTimes::default(); 1 << names.len()]
             } else {
                 Vec::new()
             },
@@ -459,11 +459,11 @@ impl SummaryAccumulator {
                 .iter()
                 .enumerate()
                 .fold(0usize, |m, (i, &l)| m | (usize::from(l) << i));
-            let mut c = self.candidates.get(mask).copied().unwrap_or((None, None));
+            let mut c = self.candidates.get(mask).copied().unwrap_or_default();
             for (t, forces, loaded) in &self.history {
                 update(&mut c, *t, forces, loaded, &rel, &rec);
             }
-            (half, full) = c;
+            (half, full) = (c.half_s, c.full_s);
         }
         TransferSummary {
             steps: self.steps,
@@ -517,24 +517,34 @@ fn split_mask(first: &[bool], mask: usize, rel: &mut Vec<usize>, rec: &mut Vec<u
     }
 }
 
+/// The hand-off times of one candidate set of receiving fingers (`None`: not reached yet).
+#[derive(Debug, Clone, Copy, Default)]
+struct TransferTimes {
+    /// The first time the receiving fingers carry at least as much as the releasing ones
+    /// (half), s.
+    half_s: Option<f64>,
+    /// The first time no releasing finger is loaded (full), s.
+    full_s: Option<f64>,
+}
+
 /// Records the first time the receiving fingers carry at least as much as the releasing ones
 /// (half) and the first time no releasing finger is loaded (full).
 fn update(
-    c: &mut (Option<f64>, Option<f64>),
+    c: &mut TransferTimes,
     t: f64,
     forces: &[f64],
     loaded: &[bool],
     rel: &[usize],
     rec: &[usize],
 ) {
-    if c.0.is_none() && !rec.is_empty() && !rel.is_empty() {
+    if c.half_s.is_none() && !rec.is_empty() && !rel.is_empty() {
         let sum_rec = rec.iter().map(|&i| forces[i]).sum::<f64>();
         let sum_rel = rel.iter().map(|&i| forces[i]).sum::<f64>();
         if sum_rec > 0.0 && sum_rec >= sum_rel {
-            c.0 = Some(t);
+            c.half_s = Some(t);
         }
     }
-    if c.1.is_none() && !rel.is_empty() && rel.iter().all(|&i| !loaded[i]) {
-        c.1 = Some(t);
+    if c.full_s.is_none() && !rel.is_empty() && rel.iter().all(|&i| !loaded[i]) {
+        c.full_s = Some(t);
     }
 }

@@ -161,7 +161,8 @@ pub(crate) fn run(
         &index,
         &done,
         &options,
-        (&mut w, &flags.out),
+        &mut w,
+        &flags.out,
         &mut |n| bar.set_position(n as u64),
     )?;
     w.flush()?;
@@ -229,7 +230,7 @@ fn merge(shards: &[PathBuf], out: &Path, force: bool) -> Result<ExitCode> {
     let outs = output::claim(&[out], &inputs, force)?;
     let pending = outs.create(out)?;
     let mut w = BufWriter::new(pending.file_handle()?);
-    let summary = grasp_batch::merge::merge(shards, &mut w, out)?;
+    let summary = grasp_batch::merge(shards, &mut w, out)?;
     w.flush()?;
     drop(w);
     let mut read = RunInputs::new();

@@ -6,10 +6,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use grasp_transfer::plan::{
-    Objective, PlanOptions, PlanReport, Template, DISTURBANCE_TOLERANCE, MARGIN_TOLERANCE,
+use grasp_transfer::{
+    Objective, PlanOptions, PlanReport, Schedule, ScheduleSpec, Template, DISTURBANCE_TOLERANCE,
+    MARGIN_TOLERANCE,
 };
-use grasp_transfer::{Schedule, ScheduleSpec};
 
 use crate::output::{self, ForceArg};
 use crate::pictures::picture;
@@ -259,7 +259,7 @@ fn summary(r: &PlanReport, o: &PlanOptions) -> String {
         let word = if change >= 0.0 { "shorter" } else { "longer" };
         let _ = write!(s, " (template {} s: {} % {word})", g4(t), g4(change.abs()));
     }
-    let at = |m: Option<&grasp_transfer::plan::MarginsAtStep>| match m {
+    let at = |m: Option<&grasp_transfer::MarginsAtStep>| match m {
         Some(m) => format!(
             "{} ({} at t = {} s)",
             g4(m.smallest.unwrap_or(f64::NAN)),
@@ -300,7 +300,7 @@ fn summary(r: &PlanReport, o: &PlanOptions) -> String {
 }
 
 /// The smallest disturbance margin along a run, with its time: "2.5 N at t = 1.2 s".
-fn disturbance_at(margins: &[grasp_transfer::plan::MarginsAtStep]) -> String {
+fn disturbance_at(margins: &[grasp_transfer::MarginsAtStep]) -> String {
     let least = margins
         .iter()
         .filter_map(|m| Some((m.disturbance_n?, m.time_s)))

@@ -7,8 +7,8 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use anyhow::{bail, Result};
-use grasp_batch::sweep::{Axis, Sweep};
 use grasp_batch::BatchInput;
+use grasp_batch::{Axis, Sweep};
 
 use crate::commands::batch::{run, Flags};
 use crate::limits;

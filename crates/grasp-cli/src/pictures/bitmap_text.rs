@@ -172,7 +172,7 @@ mod tests {
     /// "1 . 7" (spaced, so each glyph is its own run of inked columns) in black at `size` px
     /// on white, as grey levels.
     fn render(size: u32) -> (Vec<u8>, (usize, usize)) {
-        crate::pictures::picture::use_shipped_font().unwrap();
+        crate::pictures::font::use_shipped_font().unwrap();
         let (w, h) = (80_usize, 40_usize);
         let mut rgb = vec![0u8; w * h * 3];
         {

@@ -10,7 +10,7 @@
 
 use anyhow::Result;
 use grasp_model::{GraspModel, Scene, Solution};
-use grasp_transfer::sinks::{arrow_scale_m_per_n, FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
+use grasp_transfer::{arrow_scale_m_per_n, FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
 use nalgebra::Vector3;
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -22,7 +22,8 @@ use crate::pictures::picture::{draw_err as plot_err, Picture};
 type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
 
 const AXES: [&str; 3] = ["x", "y", "z"];
-/// The arrows' colours: the key of every output (`grasp_transfer::sinks`).
+/// The arrows' colours: the key of every output (`grasp_transfer::NORMAL_FORCE_RGB`,
+/// `grasp_transfer::FRICTION_FORCE_RGB`).
 const NORMAL: RGBColor = key_colour(NORMAL_FORCE_RGB);
 const FRICTION: RGBColor = key_colour(FRICTION_FORCE_RGB);
 
@@ -564,7 +565,7 @@ mod tests {
     /// The finger names as the SVG sets them, with their boxes measured in the font the
     /// pictures use: `(name, box)`, in drawing order.
     fn name_boxes(svg: &str, names: &[String]) -> Vec<(String, LabelBox)> {
-        crate::pictures::picture::use_shipped_font().unwrap();
+        crate::pictures::font::use_shipped_font().unwrap();
         let font = TextStyle::from(("sans-serif", NAME_PX).into_font());
         let attr = |tag: &str, key: &str| -> f64 {
             let key = format!(" {key}=\"");

@@ -5,8 +5,7 @@
 //! finger shows.
 
 use anyhow::Result;
-use grasp_transfer::sinks::IdenticalCurves;
-use grasp_transfer::StepRecord;
+use grasp_transfer::{IdenticalCurves, StepRecord};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;

@@ -5,13 +5,13 @@
 //! same font.
 
 use std::path::Path;
-use std::sync::OnceLock;
 
 use anyhow::{anyhow, bail, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::bitmap_text::BaselineText;
+use super::font::use_shipped_font;
 
 /// A file format for pictures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,19 +78,6 @@ pub fn render(picture: &impl Picture, format: Format) -> Result<Vec<u8>> {
 /// A drawing error as an `anyhow` error.
 pub fn draw_err(e: impl std::fmt::Display) -> anyhow::Error {
     anyhow!("drawing the picture: {e}")
-}
-
-/// Registers the shipped font as `sans-serif` (once per process; every call reports how that
-/// went).
-pub(super) fn use_shipped_font() -> Result<()> {
-    static REGISTERED: OnceLock<bool> = OnceLock::new();
-    let ok = *REGISTERED.get_or_init(|| {
-        plotters::style::register_font("sans-serif", FontStyle::Normal, super::font::FONT).is_ok()
-    });
-    match ok {
-        true => Ok(()),
-        false => bail!("the shipped font assets/fonts/DejaVuSans-subset.ttf cannot be read"),
-    }
 }
 
 /// PNG bytes of an RGB buffer, row by row from the top.

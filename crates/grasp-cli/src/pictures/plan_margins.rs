@@ -6,7 +6,7 @@
 //! (N).
 
 use anyhow::Result;
-use grasp_transfer::plan::{MarginsAtStep, PlanReport};
+use grasp_transfer::{MarginsAtStep, PlanReport};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 

@@ -12,9 +12,9 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use super::{csv_field, io_err, RunInfo, Sink};
+use super::mcap_log::FingersMessage;
+use super::sink::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
-use crate::sinks::mcap_log::FingersMessage;
 use crate::stepper::StepRecord;
 
 /// Writes a CSV force history (RFC 4180: fields with a comma, quote or line break are quoted).
@@ -98,5 +98,15 @@ impl Sink for CsvSink {
 
     fn abort(&mut self) {
         self.out.take();
+    }
+}
+
+/// One CSV field as RFC 4180 writes it: quoted (inner quotes doubled) when it holds a comma, a
+/// quote or a line break.
+fn csv_field(s: &str) -> std::borrow::Cow<'_, str> {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\"")).into()
+    } else {
+        s.into()
     }
 }

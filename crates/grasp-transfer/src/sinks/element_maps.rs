@@ -37,9 +37,6 @@ pub fn state_code(s: ElementState) -> u8 {
     }
 }
 
-/// The names of the state codes, by code.
-pub const STATE_NAMES: [&str; 5] = ["stick", "slip", "separated", "off_surface", "frictionless"];
-
 /// One finger's element fields as flat arrays in element order (`k = i ny + j`); two-component
 /// fields interleaved (`[t1 of k, t2 of k]` at `2k`, `2k + 1`).
 #[derive(Debug, Clone, PartialEq)]
@@ -98,6 +95,9 @@ pub fn raster<T: Copy>(values: &[T], nx: usize, ny: usize) -> Vec<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The names of the state codes, by code.
+    const STATE_NAMES: [&str; 5] = ["stick", "slip", "separated", "off_surface", "frictionless"];
 
     #[test]
     fn the_threshold_is_64_by_64_elements() {

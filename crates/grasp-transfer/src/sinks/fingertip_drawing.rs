@@ -16,7 +16,7 @@ use grasp_model::tip_curvatures_per_m;
 use grasp_model::FingerModel;
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
-use super::RunInfo;
+use super::sink::RunInfo;
 
 /// Largest radius drawn as a curved tip, in scene sizes.
 pub const LARGEST_DRAWN: f64 = 10.0;

@@ -10,8 +10,9 @@ use nalgebra::{UnitQuaternion, Vector3};
 use serde_json::{json, Value};
 
 use super::colour_key::{unit_rgb, FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
+use super::drawing_scale::contact_bounds;
 use super::fingertip_drawing::{tip_drawings, z_to, TipDrawing};
-use super::RunInfo;
+use super::sink::RunInfo;
 use crate::stepper::StepRecord;
 
 /// Topic of the scene updates.
@@ -92,7 +93,7 @@ pub fn object_update(run: &RunInfo, t_s: f64, size_m: f64) -> Value {
             "indices": s.triangles.iter().flatten().collect::<Vec<_>>()
         }]}),
         None => {
-            let (lo, hi) = super::contact_bounds(g);
+            let (lo, hi) = contact_bounds(g);
             let extent = (hi - lo).map(|x| x.max(0.04 * size_m));
             json!({"cubes": [{"pose": identity_pose(&((lo + hi) * 0.5)), "size": vec3(&extent), "color": color(0.78, 0.78, 0.82, 0.3)}]})
         }

@@ -24,12 +24,13 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use serde_json::json;
 
+use super::drawing_scale::drawing_scale;
 use super::element_maps::is_compact;
 use super::foxglove_scene::{forces_update, object_update, scene_update_schema, SCENE_TOPIC};
 use super::patch_maps_message::{
     has_compact_patch, patch_maps_message, patch_maps_schema, PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC,
 };
-use super::{io_err, io_err_chain, RunInfo, Sink};
+use super::sink::{io_err, io_err_chain, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::schedule::Command;
 use crate::stepper::StepRecord;
@@ -331,7 +332,7 @@ impl McapSink {
 
 impl Sink for McapSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
-        self.drawing = super::drawing_scale(run.model);
+        self.drawing = drawing_scale(run.model);
         let path = self.path.clone();
         let e = |e: mcap::McapError| io_err_chain("mcap", &path, &e);
         let w = self.writer()?;

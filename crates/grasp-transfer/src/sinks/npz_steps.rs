@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use grasp_io::NpzArchive;
 
-use super::{io_err, RunInfo, Sink};
+use super::sink::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::stepper::StepRecord;
 

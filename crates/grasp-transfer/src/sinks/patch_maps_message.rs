@@ -20,7 +20,7 @@ use base64::Engine as _;
 use serde_json::json;
 
 use super::element_maps::{is_compact, little_endian, ElementMaps, COMPACT_ABOVE_ELEMENTS};
-use super::RunInfo;
+use super::sink::RunInfo;
 use crate::stepper::StepRecord;
 
 /// Topic of the compact per-element maps of large patches.

@@ -53,13 +53,14 @@ use rerun::{
 };
 
 use super::colour_key::{state_rgb, FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
+use super::drawing_scale::{contact_bounds, drawing_scale};
 use super::element_maps::is_compact;
 use super::fingertip_drawing::{tip_drawings, z_to, TipDrawing};
 use super::identical_curves::IdenticalCurves;
 use super::patch_views::{has_flat_views, pressure_tensor, state_image, state_key};
 use super::rerun_grid_maps::{cleared_map, patch_pose, pressure_map, state_map};
 use super::rerun_layout::{layout_messages, LayoutContent, APPLICATION_ID};
-use super::{io_err, RunInfo, Sink};
+use super::sink::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::stepper::StepRecord;
 
@@ -574,8 +575,8 @@ impl Sink for RerunSink {
         if !flat.is_empty() {
             self.send("patches/key", &state_key())?;
         }
-        let (lo, hi) = super::contact_bounds(g);
-        let (size, m_per_n) = super::drawing_scale(g);
+        let (lo, hi) = contact_bounds(g);
+        let (size, m_per_n) = drawing_scale(g);
         self.arrow_m_per_n = m_per_n as f32;
         match run.scene.shape_report.as_ref().map(|r| &r.surface) {
             // The object as its shape (posed), half transparent so the patches show.

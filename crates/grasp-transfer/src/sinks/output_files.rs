@@ -7,8 +7,12 @@ use std::path::Path;
 
 use grasp_io::{OutputError, OutputSet, PendingOutput};
 
+use super::csv_history::CsvSink;
+use super::mcap_log::McapSink;
+use super::npz_steps::NpzSink;
+use super::rerun_log::RerunSink;
+use super::sink::Sink;
 use crate::error::TransferError;
-use crate::sinks::{CsvSink, McapSink, NpzSink, RerunSink, Sink};
 
 /// The targets asked for (none: no file of that kind).
 #[derive(Debug, Clone, Copy, Default)]
