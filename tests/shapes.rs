@@ -367,27 +367,12 @@ fn a_cad_cylinder_of_long_strips_gives_its_radius() {
 #[test]
 fn a_cube_mesh_has_the_exact_volume_and_centroid_and_an_stl_reads_the_same() {
     let dir = temp_dir("cube");
-    let v: Vec<[f64; 3]> = (0..8)
-        .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
-        .collect();
-    let f = vec![
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
-    let cube = TriangleMesh {
-        vertices_m: v.clone(),
-        triangles: f.iter().map(|t: &[usize; 3]| t.map(|i| i as u32)).collect(),
-    };
+    // The unit cube [0, 1]^3: the library's box mesh, moved.
+    let mut cube = grasp_model::box_mesh([0.5; 3]);
+    for c in &mut cube.vertices_m {
+        *c = c.map(|x| x + 0.5);
+    }
+    let v = cube.vertices_m.clone();
     let obj = write_obj(&dir, "cube.obj", &cube);
     let spec = grasp_model::MeshSpec {
         file: "cube.obj".into(),
@@ -401,11 +386,12 @@ fn a_cube_mesh_has_the_exact_volume_and_centroid_and_an_stl_reads_the_same() {
         "{vol} {c}"
     );
     // The same cube as binary STL (stl_io writes it; our reader reads it back).
-    let tris: Vec<stl_io::Triangle> = f
+    let tris: Vec<stl_io::Triangle> = cube
+        .triangles
         .iter()
         .map(|t| stl_io::Triangle {
             normal: stl_io::Normal::new([0.0; 3]),
-            vertices: t.map(|i| stl_io::Vertex::new(v[i].map(|x| x as f32))),
+            vertices: t.map(|i| stl_io::Vertex::new(v[i as usize].map(|x| x as f32))),
         })
         .collect();
     let stl = dir.join("cube.stl");

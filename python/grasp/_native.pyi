@@ -7,6 +7,7 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+DEFAULT_TOLERANCE: float
 
 Model = Literal["energy", "coulomb"]
 SolverName = Literal["auto", "native", "clarabel"]

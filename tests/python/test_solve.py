@@ -159,3 +159,12 @@ def test_a_dense_compliance_too_large_gives_the_command_lines_estimate(run_cli):
         grasp.solve(grasp.Scene(scene), compliance="dense")
     assert f"needs an estimated {cli.group(1)} of memory" in str(err.value)
     assert "`compliance=`" in str(err.value)
+
+
+def test_the_default_tolerance_is_the_librarys():
+    # `solve`'s signature writes its default tolerance as a number; the library's own default
+    # (grasp_model::DEFAULT_TOLERANCE, the CLI's --tolerance default too) is the one source.
+    import inspect
+
+    default = inspect.signature(grasp.solve).parameters["tolerance"].default
+    assert default == grasp._native.DEFAULT_TOLERANCE

@@ -136,7 +136,7 @@ pub use geometry::contact_frame::ContactFrame;
 pub use geometry::mesh_surface::TriangleMesh;
 pub use geometry::random_surface::{random_surface, RandomSurface};
 pub use geometry::surface_texture::texture_heights_m;
-pub use geometry::tessellation::icosphere;
+pub use geometry::tessellation::{box_mesh, icosphere};
 
 // ---- The model: built once from a scene, immutable ----
 pub use model::equilibrium::{MotionPlane, Wrench};
@@ -160,7 +160,7 @@ pub use solve::contact_state::{ContactState, FingerState};
 pub use solve::grasp_solver::{solve, GraspSolver};
 pub use solve::sensitivity::{LoadDirection, Sensitivities};
 pub use solve::step_inputs::StepInputs;
-pub use solver::options::{SolveOptions, SolverChoice};
+pub use solver::options::{SolveOptions, SolverChoice, DEFAULT_TOLERANCE, DEFAULT_TOLERANCE_TEXT};
 pub use solver::outcome::SolverKind;
 pub use solver::solve_progress::SolveProgress;
 

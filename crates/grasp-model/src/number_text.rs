@@ -6,7 +6,7 @@
 use std::fmt;
 
 /// Magnitudes written plainly: from 1e-4 (inclusive) up to 1e6 (exclusive), and 0.
-const PLAIN_RANGE: (f64, f64) = (1e-4, 1e6);
+const PLAIN_RANGE: std::ops::Range<f64> = 1e-4..1e6;
 
 /// `x` as a reader wants it: `0.05`, `250`, `-3.5`, `1e308`, `2e-16`, `NaN`, `inf`; the
 /// shortest text that parses back to `x`.
@@ -21,7 +21,7 @@ pub struct Readable(pub f64);
 impl fmt::Display for Readable {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let x = self.0;
-        if x == 0.0 || !x.is_finite() || (PLAIN_RANGE.0..PLAIN_RANGE.1).contains(&x.abs()) {
+        if x == 0.0 || !x.is_finite() || PLAIN_RANGE.contains(&x.abs()) {
             write!(f, "{x}")
         } else {
             write!(f, "{x:e}")

@@ -33,6 +33,9 @@ mod transfer;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // The default of `solve`'s `tolerance=` (its signature writes the number: a test checks
+    // that the two agree).
+    m.add("DEFAULT_TOLERANCE", grasp_model::DEFAULT_TOLERANCE)?;
     m.add("SceneError", py.get_type::<errors::SceneError>())?;
     m.add("ScheduleError", py.get_type::<errors::ScheduleError>())?;
     m.add("GraspError", py.get_type::<errors::GraspError>())?;

@@ -25,8 +25,7 @@ use std::time::Instant;
 
 use grasp_model::{
     ContactState, Control, FingerState, GraspModel, GraspSolver, LoadDirection, MarginOptions,
-    Scene, SceneError, Sensitivities, Solution, SolveOptions, SolvedStep, SolverKind, SolverStats,
-    StepInputs,
+    Scene, SceneError, Sensitivities, Solution, SolveOptions, SolvedStep, SolverStats, StepInputs,
 };
 use serde::Serialize;
 
@@ -677,27 +676,11 @@ fn nine_digits(x: f64) -> f64 {
 
 /// The outcome of a step at which no finger is active.
 fn empty_grasp_solution(scene: &Scene) -> Solution {
-    Solution {
-        status: grasp_model::SolveStatus::NoEquilibrium,
-        reason: Some("no equilibrium: every finger is released, nothing holds the object".into()),
-        warnings: Vec::new(),
-        fingers: Vec::new(),
-        rigid_displacement: None,
-        residuals: None,
-        load_scale_n: scene.object.weight.max(1.0),
-        solve_time_s: 0.0,
-        solver: SolverStats {
-            solver: SolverKind::Native,
-            fallback: None,
-            iterations: 0,
-            factorizations: 0,
-            compliance: Default::default(),
-            inner_iterations: 0,
-            solver_time_s: 0.0,
-            unknowns: 0,
-            equality_rows: 0,
-            cone_rows: 0,
-        },
-        sequential: None,
-    }
+    Solution::without_forces(
+        grasp_model::SolveStatus::NoEquilibrium,
+        "no equilibrium: every finger is released, nothing holds the object".into(),
+        scene.object.weight.max(1.0),
+        SolverStats::no_solve(),
+        0.0,
+    )
 }

@@ -36,7 +36,7 @@ pub struct Args {
     pub force: ForceArg,
     /// Solver tolerance on the scaled program (feasibility and gap), in [1e-14, 1e-2]: below
     /// 1e-14 round-off exceeds it, above 1e-2 an answer is no solution.
-    #[arg(long, default_value = "1e-10", value_name = "TOL")]
+    #[arg(long, default_value = grasp_model::DEFAULT_TOLERANCE_TEXT, value_name = "TOL")]
     pub tolerance: f64,
     /// Also estimate the discretisation error from a solve on grids half as fine
     /// (Richardson, order 1) and report its extra cost.

@@ -55,25 +55,35 @@ pub(crate) struct LoadCapacity {
     load_multipliers: Vec<f64>,
 }
 
+/// A disturbance per newton of its magnitude: a force at the centre of mass and a couple.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct UnitDisturbance {
+    /// The force, N per N (world).
+    pub force_n: Vector3<f64>,
+    /// The couple, N m per N (world).
+    pub torque_nm: Vector3<f64>,
+}
+
+impl UnitDisturbance {
+    /// Its wrench about `O` (N, N m per newton of magnitude) on `model`.
+    fn wrench(&self, model: &GraspModel) -> Wrench {
+        model.wrench_at_center_of_mass(&self.force_n, &self.torque_nm)
+    }
+}
+
 impl LoadCapacity {
-    /// A certificate for the disturbance `force_n`, `torque_nm` per newton of magnitude (at
-    /// the centre of mass) of `model` under `inputs`, searched up to `cap_n` newtons; `None`
-    /// where none is sought (a fine patch, a friction coefficient that depends on the load)
-    /// or none was found.
+    /// A certificate for the disturbance `per_newton` of `model` under `inputs`, searched up
+    /// to `cap_n` newtons; `None` where none is sought (a fine patch, a friction coefficient
+    /// that depends on the load) or none was found.
     pub(crate) fn find(
         model: &GraspModel,
         inputs: &StepInputs,
-        (force_n, torque_nm): (&Vector3<f64>, &Vector3<f64>),
+        per_newton: &UnitDisturbance,
         cap_n: f64,
     ) -> Option<LoadCapacity> {
         let mu = constant_mu(model)?;
         let mut program = ConeProgram::assemble(model, &inputs.loads_n, ConeLaw::Associated, &mu);
-        let e1 = rhs(
-            &mut program,
-            model,
-            &per_newton(model, force_n, torque_nm),
-            None,
-        );
+        let e1 = rhs(&mut program, model, &per_newton.wrench(model), None);
         // The right-hand side left in the program, which the capacity program takes: e0.
         rhs(
             &mut program,
@@ -100,10 +110,10 @@ impl LoadCapacity {
         &mut self,
         model: &GraspModel,
         inputs: &StepInputs,
-        (force_n, torque_nm): (&Vector3<f64>, &Vector3<f64>),
+        per_newton: &UnitDisturbance,
     ) -> f64 {
         let p = &mut self.program;
-        let e1 = rhs(p, model, &per_newton(model, force_n, torque_nm), None);
+        let e1 = rhs(p, model, &per_newton.wrench(model), None);
         let e0 = rhs(p, model, &inputs.external_wrench(model), Some(inputs));
         let loads: f64 = p
             .load_rows
@@ -121,11 +131,6 @@ impl LoadCapacity {
             f64::INFINITY
         }
     }
-}
-
-/// The disturbance wrench per newton of magnitude (N, N m about `O`).
-fn per_newton(model: &GraspModel, force_n: &Vector3<f64>, torque_nm: &Vector3<f64>) -> Wrench {
-    model.wrench_at_center_of_mass(force_n, torque_nm)
 }
 
 /// Each finger's friction coefficient when every one is constant (frictionless fingers
@@ -251,9 +256,12 @@ mod tests {
         let (mu, weight_n) = (0.4, 4.448);
         let zero = Vector3::zeros();
         for sign in [-1.0, 1.0] {
-            let down = Vector3::new(0.0, 0.0, sign);
+            let down = UnitDisturbance {
+                force_n: Vector3::new(0.0, 0.0, sign),
+                torque_nm: zero,
+            };
             let first = StepInputs::loads(vec![8.0, 8.0, 0.0, 0.0]);
-            let mut kept = LoadCapacity::find(&model, &first, (&down, &zero), 1e3).unwrap();
+            let mut kept = LoadCapacity::find(&model, &first, &down, 1e3).unwrap();
             for loads in [
                 [8.0, 8.0, 0.0, 0.0],
                 [8.0, 8.0, 8.0, 8.0],
@@ -261,14 +269,14 @@ mod tests {
             ] {
                 let inputs = StepInputs::loads(loads.to_vec());
                 let want = mu * loads.iter().sum::<f64>() + sign * weight_n;
-                let mut found = LoadCapacity::find(&model, &inputs, (&down, &zero), 1e3).unwrap();
-                let got = found.bound_n(&model, &inputs, (&down, &zero));
+                let mut found = LoadCapacity::find(&model, &inputs, &down, 1e3).unwrap();
+                let got = found.bound_n(&model, &inputs, &down);
                 let what = format!("along {sign} z at loads {loads:?}");
                 assert!(
                     (got - want).abs() <= 1e-7 * want,
                     "{what}: bound {got} N, capacity {want} N"
                 );
-                let again = kept.bound_n(&model, &inputs, (&down, &zero));
+                let again = kept.bound_n(&model, &inputs, &down);
                 assert!(
                     (again - want).abs() <= 1e-7 * want,
                     "{what}: kept bound {again} N"
@@ -284,9 +292,12 @@ mod tests {
     fn a_push_along_the_squeeze_axis_has_no_capacity() {
         let model = plate();
         let inputs = StepInputs::loads(vec![8.0, 8.0, 8.0, 8.0]);
-        let along_x = (&Vector3::new(1.0, 0.0, 0.0), &Vector3::zeros());
-        let mut c = LoadCapacity::find(&model, &inputs, along_x, 1e3).unwrap();
-        let bound = c.bound_n(&model, &inputs, along_x);
+        let along_x = UnitDisturbance {
+            force_n: Vector3::new(1.0, 0.0, 0.0),
+            torque_nm: Vector3::zeros(),
+        };
+        let mut c = LoadCapacity::find(&model, &inputs, &along_x, 1e3).unwrap();
+        let bound = c.bound_n(&model, &inputs, &along_x);
         assert!(
             bound <= 1e-6,
             "a push along the squeeze axis is bounded at {bound} N"

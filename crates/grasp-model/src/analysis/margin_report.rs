@@ -17,6 +17,8 @@
 //!   hand-off) is listed apart and not judged by sliding.
 //!
 
+use std::ops::RangeInclusive;
+
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -33,11 +35,11 @@ use crate::solver::options::check_range;
 /// Range of [`MarginOptions::relative_tolerance`]: the solves balance the load only to about
 /// 1e-10 of it, so a narrower bracket than 1e-9 would sort round-off; above 0.5 the bracket
 /// says little.
-pub const RELATIVE_TOLERANCE_RANGE: (f64, f64) = (1e-9, 0.5);
+pub const RELATIVE_TOLERANCE_RANGE: RangeInclusive<f64> = 1e-9..=0.5;
 
 /// Range of [`MarginOptions::max_factor`]: at least the load scale itself; beyond 1e6 times it
 /// a disturbance is no longer one a grasp meets.
-pub const MAX_FACTOR_RANGE: (f64, f64) = (1.0, 1e6);
+pub const MAX_FACTOR_RANGE: RangeInclusive<f64> = 1.0..=1e6;
 
 /// Options of the margin search.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -22,7 +22,7 @@ use std::time::Instant;
 
 use nalgebra::Vector3;
 
-use crate::analysis::load_capacity::LoadCapacity;
+use crate::analysis::load_capacity::{LoadCapacity, UnitDisturbance};
 use crate::analysis::margin_report::{
     failing_undisturbed, holds, most_utilised, sliding_fingers, utilisation_of, DirectionMargin,
     Failure, MarginOptions, MarginReport,
@@ -97,7 +97,13 @@ pub(crate) struct Held {
 }
 
 /// The smallest magnitude known to fail, N, and how.
-pub(crate) type Fails = (f64, Failure);
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Fails {
+    /// The magnitude, N.
+    pub(crate) s: f64,
+    /// How the grasp failed there.
+    pub(crate) failure: Failure,
+}
 
 impl Search<'_> {
     /// The step's inputs with the disturbance of magnitude `s` (N) along the direction: a
@@ -220,23 +226,21 @@ impl Search<'_> {
     /// A certificate of the load capacity along the direction at this step, searched up to
     /// `cap_n` N (`None`: none sought or found, see [`LoadCapacity::find`]).
     pub(crate) fn find_capacity(&self, cap_n: f64) -> Option<LoadCapacity> {
-        let (force, torque) = self.wrench_per_newton();
-        LoadCapacity::find(self.model, self.inputs, (&force, &torque), cap_n)
+        LoadCapacity::find(self.model, self.inputs, &self.per_newton(), cap_n)
     }
 
     /// Takes the capacity that `certificate` proves at this step.
     pub(crate) fn bound_by(&mut self, certificate: &mut LoadCapacity) {
-        let (force, torque) = self.wrench_per_newton();
-        self.capacity_n = certificate.bound_n(self.model, self.inputs, (&force, &torque));
+        self.capacity_n = certificate.bound_n(self.model, self.inputs, &self.per_newton());
     }
 
     /// The disturbance per newton of magnitude: force (N) and couple (N m).
-    pub(crate) fn wrench_per_newton(&self) -> (Vector3<f64>, Vector3<f64>) {
+    pub(crate) fn per_newton(&self) -> UnitDisturbance {
         let d = &self.direction;
-        (
-            Vector3::from(d.force),
-            Vector3::from(d.torque) * self.length_m,
-        )
+        UnitDisturbance {
+            force_n: Vector3::from(d.force),
+            torque_nm: Vector3::from(d.torque) * self.length_m,
+        }
     }
 
     /// Grows the magnitude from `held` (the step doubling from [`INITIAL_STEP`] of the load
@@ -255,7 +259,7 @@ impl Search<'_> {
             let s = (held.s + step).min(cap).min(self.capacity_n);
             match self.trial(s, &held.state)? {
                 Ok((state, sol)) => (*held, step) = (Held { s, state, sol }, 2.0 * step),
-                Err(f) => return Ok((Some((s, f)), None)),
+                Err(f) => return Ok((Some(Fails { s, failure: f }), None)),
             }
         }
         let note = format!(
@@ -278,7 +282,7 @@ impl Search<'_> {
         let zero = ZERO_MARGIN * self.model.scales.load_n;
         // Failed at the capacity without a solve: the margin is most often just below it.
         let below = self.capacity_n * (1.0 - CAPACITY_PROBE * tolerance);
-        if fails.0 >= self.capacity_n && held.s < below && below > zero {
+        if fails.s >= self.capacity_n && held.s < below && below > zero {
             match self.trial(below, &held.state)? {
                 Ok((state, sol)) => {
                     *held = Held {
@@ -287,7 +291,12 @@ impl Search<'_> {
                         sol,
                     }
                 }
-                Err(g) => *fails = (below, g),
+                Err(g) => {
+                    *fails = Fails {
+                        s: below,
+                        failure: g,
+                    }
+                }
             }
         }
         // Failed at the first step: is the direction resisted at all? (One solve, not a
@@ -301,24 +310,29 @@ impl Search<'_> {
                         sol,
                     }
                 }
-                Err(g) => *fails = (zero, g),
+                Err(g) => {
+                    *fails = Fails {
+                        s: zero,
+                        failure: g,
+                    }
+                }
             }
         }
         let (mut steps, mut bisect) = (0, false);
-        while fails.0 - held.s > tolerance * fails.0 && fails.0 > zero {
-            let width = fails.0 - held.s;
+        while fails.s - held.s > tolerance * fails.s && fails.s > zero {
+            let width = fails.s - held.s;
             let guided = self
-                .guided_point(held.s, fails.0, tolerance)
+                .guided_point(held.s, fails.s, tolerance)
                 .filter(|_| !bisect);
             // Geometric while the bracket spans more than a factor 2, then arithmetic.
             let mid = if let Some(t) = guided {
                 t
-            } else if held.s > 0.0 && fails.0 > 2.0 * held.s {
-                (held.s * fails.0).sqrt()
+            } else if held.s > 0.0 && fails.s > 2.0 * held.s {
+                (held.s * fails.s).sqrt()
             } else {
-                0.5 * (held.s + fails.0)
+                0.5 * (held.s + fails.s)
             };
-            let why = if !(mid > held.s && mid < fails.0) {
+            let why = if !(mid > held.s && mid < fails.s) {
                 "no number lies between its ends in double precision".to_string()
             } else if steps == MAX_BISECTION_STEPS {
                 format!("the bisection stopped after {MAX_BISECTION_STEPS} steps")
@@ -326,18 +340,18 @@ impl Search<'_> {
                 steps += 1;
                 match self.trial(mid, &held.state)? {
                     Ok((state, sol)) => *held = Held { s: mid, state, sol },
-                    Err(g) => *fails = (mid, g),
+                    Err(g) => *fails = Fails { s: mid, failure: g },
                 }
                 // A guided trial that did not halve the bracket is followed by a bisection.
-                bisect = guided.is_some() && fails.0 - held.s > 0.5 * width;
+                bisect = guided.is_some() && fails.s - held.s > 0.5 * width;
                 continue;
             };
             return Ok(Some(format!(
                 "the bracket [{}, {}] N (relative width {:.1e}) was not narrowed to the \
                  tolerance {}: {why}",
                 Readable(held.s),
-                Readable(fails.0),
-                (fails.0 - held.s) / fails.0,
+                Readable(fails.s),
+                (fails.s - held.s) / fails.s,
                 Readable(tolerance)
             )));
         }
@@ -427,7 +441,10 @@ impl Search<'_> {
     ) -> DirectionMargin {
         let lo = held.s;
         let failing_finger = match &hi {
-            Some((_, Failure::Slides { finger })) => Some(finger.clone()),
+            Some(Fails {
+                failure: Failure::Slides { finger },
+                ..
+            }) => Some(finger.clone()),
             Some(_) => most_utilised(self.model, &held.sol),
             None => None,
         };
@@ -435,12 +452,12 @@ impl Search<'_> {
         DirectionMargin {
             direction,
             margin_n: lo,
-            fails_at_n: hi.as_ref().map(|(h, _)| *h),
+            fails_at_n: hi.as_ref().map(|h| h.s),
             force_n: direction.force.map(|v| v * lo),
             torque_nm: direction.torque.map(|v| v * lo * self.length_m),
             bounded: hi.is_some(),
             failing_finger,
-            failure: hi.map(|(_, f)| f),
+            failure: hi.map(|h| h.failure),
             solves: self.solves,
             time_s: clock.elapsed().as_secs_f64(),
             stopped_early,

@@ -341,9 +341,10 @@ fn continue_along(
         }
     };
     let loose = match &hi {
-        Some((at, Failure::NoEquilibrium { .. } | Failure::NoConvergence { .. })) => {
-            *at < search.capacity_n
-        }
+        Some(Fails {
+            s: at,
+            failure: Failure::NoEquilibrium { .. } | Failure::NoConvergence { .. },
+        }) => *at < search.capacity_n,
         _ => false,
     };
     let m = search.finish(held, hi, note, clock);
@@ -437,7 +438,7 @@ fn fixed_by_loads(search: &Search<'_>, base: Held) -> Found {
                  normal loads could balance, and they are fixed"
             .into(),
     };
-    (base, Some((zero, failure)), None)
+    (base, Some(Fails { s: zero, failure }), None)
 }
 
 /// A margin predicted at `m` N: a trial there, then one a tolerance above it (when it held) or
@@ -462,11 +463,11 @@ fn around(
         return from_scratch(search, base, options);
     }
     let (mut held, mut fails) = match search.trial(lo, &base.state)? {
-        Ok((state, sol)) => match walk_up(search, Held { s: lo, state, sol }, hi, (cap, tol))? {
+        Ok((state, sol)) => match walk_up(search, Held { s: lo, state, sol }, hi, cap, tol)? {
             (held, Some(fails)) => (held, fails),
             (held, None) => return Ok((held, None, None)),
         },
-        Err(f) => match walk_down(search, base, (lo, f), tol)? {
+        Err(f) => match walk_down(search, base, Fails { s: lo, failure: f }, tol)? {
             // Down to the smallest magnitude: whether the direction is resisted at all is
             // the search from scratch's to say (see the module).
             (base, _) if base.s == 0.0 => return from_scratch(search, base, options),
@@ -486,12 +487,13 @@ fn walk_up(
     search: &mut Search<'_>,
     mut held: Held,
     first: f64,
-    (cap, tol): (f64, f64),
+    cap: f64,
+    tol: f64,
 ) -> Result<(Held, Option<Fails>), ModelError> {
     let (mut s, mut step) = (first, first - held.s);
     for k in 0..MAX_WALK_STEPS {
         match search.trial(s, &held.state)? {
-            Err(f) => return Ok((held, Some((s, f)))),
+            Err(f) => return Ok((held, Some(Fails { s, failure: f }))),
             Ok((state, sol)) => held = Held { s, state, sol },
         }
         if held.s >= cap {
@@ -517,16 +519,16 @@ fn walk_down(
     tol: f64,
 ) -> Result<(Held, Fails), ModelError> {
     let zero = ZERO_MARGIN * search.model.scales.load_n;
-    let first = CHECK_WIDTH * tol * fails.0;
+    let first = CHECK_WIDTH * tol * fails.s;
     let mut gap = first;
     for k in 0..MAX_WALK_STEPS {
-        let s = fails.0 - gap;
+        let s = fails.s - gap;
         if s.is_nan() || s <= zero {
             break;
         }
         match search.trial(s, &base.state)? {
             Ok((state, sol)) => return Ok((Held { s, state, sol }, fails)),
-            Err(f) => fails = (s, f),
+            Err(f) => fails = Fails { s, failure: f },
         }
         gap = if k + 1 >= EVEN_WALK_STEPS {
             gap * WALK_GROWTH

@@ -406,25 +406,15 @@ fn flat_normal(
 mod tests {
     use super::*;
 
+    /// The unit cube `[0, 1]^3`: the box mesh of the tessellation, moved.
     fn cube() -> (Vec<Vector3<f64>>, Vec<[u32; 3]>) {
-        let v = (0..8)
-            .map(|i| Vector3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
+        let mesh = crate::geometry::tessellation::box_mesh([0.5; 3]);
+        let v = mesh
+            .vertices_m
+            .iter()
+            .map(|c| Vector3::from(c.map(|x| x + 0.5)))
             .collect();
-        let t = vec![
-            [0, 2, 1],
-            [1, 2, 3],
-            [4, 5, 6],
-            [5, 7, 6],
-            [0, 1, 4],
-            [1, 5, 4],
-            [2, 6, 3],
-            [3, 6, 7],
-            [0, 4, 2],
-            [2, 4, 6],
-            [1, 3, 5],
-            [3, 7, 5],
-        ];
-        (v, t)
+        (v, mesh.triangles)
     }
 
     /// A unit cube: six flat regions of two triangles, each bounded by four of the twelve

@@ -32,7 +32,7 @@ pub fn tessellate(shape: &Shape) -> TriangleMesh {
 
 fn primitive(p: &Primitive) -> TriangleMesh {
     match *p {
-        Primitive::Box { half_m } => cuboid(half_m),
+        Primitive::Box { half_m } => box_mesh(half_m),
         Primitive::Sphere { radius_m } => icosphere(radius_m, 3),
         Primitive::Cylinder {
             radius_m,
@@ -60,8 +60,9 @@ fn primitive(p: &Primitive) -> TriangleMesh {
     }
 }
 
-/// The box `[-a, a]`, 8 corners and 12 triangles.
-fn cuboid(a: [f64; 3]) -> TriangleMesh {
+/// The box `[-a, a]` (half sides `a`, m), 8 corners and 12 triangles wound outward: corner `i`
+/// has `+a[k]` where bit `k` of `i` is set, `-a[k]` where it is not.
+pub fn box_mesh(a: [f64; 3]) -> TriangleMesh {
     let vertices_m = (0..8)
         .map(|i| [0, 1, 2].map(|k| if (i >> k) & 1 == 1 { a[k] } else { -a[k] }))
         .collect();

@@ -125,16 +125,6 @@ impl FrictionLaw {
     pub fn is_constant(&self) -> bool {
         matches!(self, FrictionLaw::Constant { .. })
     }
-
-    /// True when the contact is frictionless at every load (then it has no tangential
-    /// unknowns).
-    pub fn is_frictionless(&self) -> bool {
-        match self {
-            FrictionLaw::Constant { mu } => *mu == 0.0,
-            FrictionLaw::Table { points } => points.iter().all(|p| p.1 == 0.0),
-            FrictionLaw::Elastic(_) => false,
-        }
-    }
 }
 
 /// Piecewise-linear interpolation in `points` (abscissae increasing), constant outside.

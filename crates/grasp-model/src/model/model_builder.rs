@@ -226,13 +226,7 @@ fn finger_model(
         object.layer_thickness_m,
     );
     let friction = FrictionLaw::from_spec(&f.friction, &material, &object.material);
-    let n_tangential = if friction.is_frictionless() {
-        0
-    } else if object.plane.is_some() {
-        1
-    } else {
-        2
-    };
+    let n_tangential = f.tangential_unknowns(object.plane.is_some());
     let grid = patch.grid;
     let fft = uses_fft(compliance, grid.len().saturating_mul(1 + n_tangential));
     let form = ComplianceForm {

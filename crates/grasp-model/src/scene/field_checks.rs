@@ -3,6 +3,8 @@
 //! relaxation laws, radii of curvature, friction laws. The validation pass
 //! ([`crate::scene::scene_validation`]) applies them field by field.
 
+use std::ops::RangeInclusive;
+
 use crate::error::SceneError;
 use crate::problem_list::ProblemList;
 use crate::scene::limits::*;
@@ -27,13 +29,14 @@ impl FieldChecks {
         &mut self,
         path: &str,
         x: f64,
-        (lo, hi): (f64, f64),
+        range: RangeInclusive<f64>,
         unit: &str,
         fix: &str,
     ) -> bool {
-        if x.is_finite() && (lo..=hi).contains(&x) {
+        if x.is_finite() && range.contains(&x) {
             return true;
         }
+        let (lo, hi) = range.into_inner();
         let u = if unit.is_empty() {
             String::new()
         } else {
@@ -71,11 +74,11 @@ impl FieldChecks {
     /// A point with every coordinate in `[-MAX_COORDINATE_M, MAX_COORDINATE_M]`.
     pub fn point(&mut self, path: &str, x: &Vec3) -> bool {
         let fix = format!("give coordinates in metres, |x| <= {MAX_COORDINATE_M:e} m");
-        let b = (-MAX_COORDINATE_M, MAX_COORDINATE_M);
+        let b = -MAX_COORDINATE_M..=MAX_COORDINATE_M;
         let mut ok = true;
         for (k, c) in x.iter().enumerate() {
             // Every coordinate is checked (and reported), not only up to the first bad one.
-            ok &= self.range(&format!("{path}[{k}]"), *c, b, "m", &fix);
+            ok &= self.range(&format!("{path}[{k}]"), *c, b.clone(), "m", &fix);
         }
         ok
     }
@@ -126,12 +129,14 @@ impl FieldChecks {
                     format!("is {} Pa", number(e.youngs_modulus)),
                     "give Young's modulus in pascals, > 0 (or write \"rigid\" for the material)",
                 );
-            } else if !(MODULUS_RANGE_PA.0..=MODULUS_RANGE_PA.1).contains(&e.youngs_modulus) {
+            } else if !MODULUS_RANGE_PA.contains(&e.youngs_modulus) {
                 self.push(
                     &format!("{path}.youngs_modulus"),
                     format!(
                         "is {:e} Pa, outside the physical range [{:e}, {:e}] Pa",
-                        e.youngs_modulus, MODULUS_RANGE_PA.0, MODULUS_RANGE_PA.1
+                        e.youngs_modulus,
+                        MODULUS_RANGE_PA.start(),
+                        MODULUS_RANGE_PA.end()
                     ),
                     "give Young's modulus in pascals (1 MPa = 1e6 Pa), or \"rigid\"",
                 );

@@ -3,6 +3,8 @@
 //! checks. Validation ([`super::scene_validation`], [`super::field_checks`]) and the shape checks ([`super::shape_checks`])
 //! read them from here.
 
+use std::ops::RangeInclusive;
+
 /// Largest number of elements allowed in one patch (1024 x 1024). Patches above
 /// [`AUTO_FFT_ABOVE_UNKNOWNS`] are solved with the FFT compliance operator unless the dense
 /// matrix is asked for; the memory estimate of the path that runs
@@ -29,15 +31,15 @@ pub const PLAUSIBLE_REACH_FACTOR: f64 = 100.0;
 
 /// Physical range of Young's modulus, Pa (soft gels to beyond diamond); outside it the input is
 /// almost surely in the wrong unit.
-pub const MODULUS_RANGE_PA: (f64, f64) = (1.0, 1e15);
+pub const MODULUS_RANGE_PA: RangeInclusive<f64> = 1.0..=1e15;
 
 /// Physical range of the thickness of an elastic layer on a rigid core, m (a micrometre coating
 /// to a metre-thick pad).
-pub const LAYER_THICKNESS_RANGE_M: (f64, f64) = (1e-6, 1.0);
+pub const LAYER_THICKNESS_RANGE_M: RangeInclusive<f64> = 1e-6..=1.0;
 
 /// Range of a relaxation time, s (a microsecond to about 31 years, the schedules' longest
 /// time).
-pub const RELAXATION_TIME_RANGE_S: (f64, f64) = (1e-6, 1e9);
+pub const RELAXATION_TIME_RANGE_S: RangeInclusive<f64> = 1e-6..=1e9;
 
 /// Most terms of a Prony series: measured laws use a handful (about one a decade of time),
 /// and the stepping's cost grows with the square of their number.
@@ -51,10 +53,10 @@ pub const MAX_PRONY_TERMS: usize = 32;
 pub const MAX_LAYER_POISSON_RATIO: f64 = 0.5 - 1e-9;
 
 /// Range of a prescribed approach, m.
-pub const APPROACH_RANGE_M: (f64, f64) = (0.0, 1.0);
+pub const APPROACH_RANGE_M: RangeInclusive<f64> = 0.0..=1.0;
 
 /// Physical range of a patch side, m.
-pub const PATCH_SIDE_RANGE_M: (f64, f64) = (1e-9, 10.0);
+pub const PATCH_SIDE_RANGE_M: RangeInclusive<f64> = 1e-9..=10.0;
 
 /// Largest force anywhere in a scene or schedule, N (weight, prescribed loads, each component
 /// of an external force, friction-table loads): about the weight of a 1000 t object.
@@ -78,7 +80,7 @@ pub const MAX_COORDINATE_M: f64 = 1e3;
 
 /// Range of a radius of curvature or an eq. (40) length, m (a radius above it is flat for any
 /// patch: write `null`).
-pub const LENGTH_RANGE_M: (f64, f64) = (1e-9, 1e3);
+pub const LENGTH_RANGE_M: RangeInclusive<f64> = 1e-9..=1e3;
 
 /// Largest friction coefficient (measured ones stay below about 5).
 pub const MAX_FRICTION_COEFFICIENT: f64 = 1e3;

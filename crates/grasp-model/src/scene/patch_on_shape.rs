@@ -17,7 +17,15 @@ use crate::geometry::shape::{LocalShape, Shape};
 const ROUND_OFF_FRACTION: f64 = 1e-9;
 
 /// A finger's patch from its JSON: frame (world), half sides along `t1`, `t2` (m), name.
-fn patch_of(f: &Value) -> Option<(ContactFrame, [f64; 2], String)> {
+/// A finger's patch as written: its frame, its half sides along `t1`, `t2` (m) and the
+/// finger's name.
+struct WrittenPatch {
+    frame: ContactFrame,
+    half_m: [f64; 2],
+    name: String,
+}
+
+fn patch_of(f: &Value) -> Option<WrittenPatch> {
     let v = |key: &str| -> Option<Vector3<f64>> {
         let a: [f64; 3] = serde_json::from_value(f.get(key)?.clone()).ok()?;
         a.iter().all(|x| x.is_finite()).then(|| Vector3::from(a))
@@ -28,11 +36,11 @@ fn patch_of(f: &Value) -> Option<(ContactFrame, [f64; 2], String)> {
     }
     let size: [f64; 2] = serde_json::from_value(f.pointer("/patch/size")?.clone()).ok()?;
     let name = f.get("name")?.as_str()?.to_string();
-    Some((
-        ContactFrame::new(c, n, v("tangent"), None),
-        [size[0] / 2.0, size[1] / 2.0],
+    Some(WrittenPatch {
+        frame: ContactFrame::new(c, n, v("tangent"), None),
+        half_m: [size[0] / 2.0, size[1] / 2.0],
         name,
-    ))
+    })
 }
 
 /// The four corners of a patch, world.
@@ -146,7 +154,11 @@ fn segment_meets_rectangle(a: [f64; 2], b: [f64; 2], half: [f64; 2]) -> bool {
 
 /// The warning for a patch that hangs over an edge of the shape, if it does.
 pub fn overhang_warning(f: &Value, shape: &Shape) -> Option<String> {
-    let (frame, half, name) = patch_of(f)?;
+    let WrittenPatch {
+        frame,
+        half_m: half,
+        name,
+    } = patch_of(f)?;
     let over = overhang_m(&frame, half, shape)?;
     let tol = ROUND_OFF_FRACTION * half[0].max(half[1]);
     (over > tol).then(|| {
@@ -172,7 +184,7 @@ pub fn overlap_warnings(fingers: &Value) -> Vec<String> {
             if overlap(a, b) {
                 out.push(format!(
                     "fingers {} and {}: their patches overlap; each is modelled as if the other were not there (move them apart or make the patches smaller)",
-                    a.2, b.2
+                    a.name, b.name
                 ));
             }
         }
@@ -180,9 +192,9 @@ pub fn overlap_warnings(fingers: &Value) -> Vec<String> {
     out
 }
 
-fn overlap(a: &(ContactFrame, [f64; 2], String), b: &(ContactFrame, [f64; 2], String)) -> bool {
-    let (fa, ha) = (&a.0, a.1);
-    let (fb, hb) = (&b.0, b.1);
+fn overlap(a: &WrittenPatch, b: &WrittenPatch) -> bool {
+    let (fa, ha) = (&a.frame, a.half_m);
+    let (fb, hb) = (&b.frame, b.half_m);
     if fa.normal.dot(&fb.normal) < 0.5 {
         return false;
     }

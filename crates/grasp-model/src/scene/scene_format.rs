@@ -261,6 +261,18 @@ pub struct FingerSpec {
     pub texture: Option<crate::geometry::texture_spec::TextureSpec>,
 }
 
+impl FingerSpec {
+    /// Tangential unknowns per element of this finger (the program's layout, model.md): 0 for
+    /// a frictionless finger, 1 in a planar scene (`planar`), 2 otherwise.
+    pub fn tangential_unknowns(&self, planar: bool) -> usize {
+        match (self.friction.is_frictionless(), planar) {
+            (true, _) => 0,
+            (false, true) => 1,
+            (false, false) => 2,
+        }
+    }
+}
+
 /// Curvature radius of the object at a contact.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, JsonSchema)]
 #[serde(untagged)]

@@ -1,6 +1,8 @@
 //! Checks of a shape as written (`object.shape`, a finger's `tip.shape`): exactly one geometry,
 //! sizes in range, a usable pose; each problem named under the path given.
 
+use std::ops::RangeInclusive;
+
 use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
 use crate::geometry::shape_spec::ShapeSpec;
@@ -11,7 +13,7 @@ use crate::scene::limits::MAX_COORDINATE_M;
 const MIN_QUATERNION_NORM: f64 = 1e-9;
 
 /// Smallest and largest size of a shape dimension, m.
-pub const SHAPE_SIZE_RANGE_M: (f64, f64) = (1e-6, 1e3);
+pub const SHAPE_SIZE_RANGE_M: RangeInclusive<f64> = 1e-6..=1e3;
 
 /// The first problem of a mesh as read (vertices in metres after `unit` and `scale`): a vertex
 /// that is not finite or lies beyond [`MAX_COORDINATE_M`] (a garbage file, or a unit or scale
@@ -67,12 +69,15 @@ pub fn check_shape_spec(path: &str, spec: &ShapeSpec) -> Result<(), SceneError> 
         ));
     }
     let mut size = |path: &str, v: f64, zero_ok: bool| {
-        let (lo, hi) = SHAPE_SIZE_RANGE_M;
-        if !(v.is_finite() && ((lo..=hi).contains(&v) || (zero_ok && v == 0.0))) {
+        if !(v.is_finite() && (SHAPE_SIZE_RANGE_M.contains(&v) || (zero_ok && v == 0.0))) {
             p.push(problem(
                 path,
                 format!("is {}", readable(v)),
-                &format!("give a length in metres in [{lo:e}, {hi:e}]"),
+                &format!(
+                    "give a length in metres in [{:e}, {:e}]",
+                    SHAPE_SIZE_RANGE_M.start(),
+                    SHAPE_SIZE_RANGE_M.end()
+                ),
             ));
         }
     };

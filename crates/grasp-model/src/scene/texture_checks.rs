@@ -24,8 +24,7 @@ impl Patch {
     fn of(f: &FingerSpec) -> Option<Patch> {
         let (size_m, grid) = (f.patch.size, f.patch.grid);
         let ok = (0..2).all(|k| {
-            let r = PATCH_SIDE_RANGE_M;
-            size_m[k].is_finite() && (r.0..=r.1).contains(&size_m[k]) && grid[k] > 0
+            size_m[k].is_finite() && PATCH_SIDE_RANGE_M.contains(&size_m[k]) && grid[k] > 0
         });
         ok.then(|| Patch {
             size_m,
@@ -205,7 +204,7 @@ fn check_ridges(p: &str, r: &RidgesSpec, patch: Option<Patch>, v: &mut FieldChec
     let angle_ok = v.range(
         &format!("{p}.angle_deg"),
         r.angle_deg,
-        (-360.0, 360.0),
+        -360.0..=360.0,
         "deg",
         "give the direction across the ridges in degrees from t1 toward t2",
     );

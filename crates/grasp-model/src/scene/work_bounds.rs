@@ -61,13 +61,7 @@ pub const FFT_SAFETY: u64 = 2;
 
 /// Tangential unknowns per element of a finger: 0 frictionless, 1 planar, 2 in 3-D.
 pub fn tangential_components(scene: &Scene, finger: &FingerSpec) -> u64 {
-    if finger.friction.is_frictionless() {
-        0
-    } else if scene.planar.is_some() {
-        1
-    } else {
-        2
-    }
+    finger.tangential_unknowns(scene.planar.is_some()) as u64
 }
 
 /// Unknowns of one finger, `n_i = N_i (1 + c_i)` (saturating).

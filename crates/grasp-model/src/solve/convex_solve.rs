@@ -57,8 +57,7 @@ pub(crate) fn solve_once(
             };
             let mut out = build_solution(model, &ps.program, &x, &multipliers, stats, &solved_with);
             if reduced_accuracy {
-                out.status = SolveStatus::ReducedAccuracy;
-                out.reason = Some("solved to reduced accuracy; check the residuals".into());
+                out.mark_reduced_accuracy();
             }
             out
         }

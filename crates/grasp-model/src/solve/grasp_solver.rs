@@ -17,7 +17,7 @@ use crate::solve::contact_state::ContactState;
 use crate::solve::convex_solve::solve_once;
 use crate::solve::readout::{enforce_invariant, failed};
 use crate::solve::sensitivity::{LoadDirection, Sensitivities};
-use crate::solve::sequential::solve_sequential;
+use crate::solve::sequential::{solve_sequential, StepPrograms};
 use crate::solve::solution::{Solution, SolveStatus, SolverStats};
 use crate::solve::step_inputs::StepInputs;
 use crate::solver::clarabel::ClarabelForm;
@@ -267,9 +267,12 @@ impl GraspSolver {
                 .iter()
                 .any(|f| f.n_tangential > 0 && !f.friction.is_constant());
         if sequential {
+            let programs = StepPrograms {
+                main: &mut self.main,
+                energy: &mut self.energy,
+            };
             solve_sequential(
-                &mut self.main,
-                &mut self.energy,
+                programs,
                 model,
                 &inputs.loads_n,
                 state,

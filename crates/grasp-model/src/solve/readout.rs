@@ -48,18 +48,8 @@ pub(crate) fn failed(
     start: Instant,
     solver: SolverStats,
 ) -> Solution {
-    Solution {
-        status,
-        reason: Some(reason),
-        warnings: Vec::new(),
-        fingers: Vec::new(),
-        rigid_displacement: None,
-        residuals: None,
-        load_scale_n: model.scales.load_n,
-        solve_time_s: start.elapsed().as_secs_f64(),
-        solver,
-        sequential: None,
-    }
+    let solve_time_s = start.elapsed().as_secs_f64();
+    Solution::without_forces(status, reason, model.scales.load_n, solver, solve_time_s)
 }
 
 /// Rigid displacement `(translation of O, rotation)` from the scaled equality multipliers.
@@ -217,14 +207,28 @@ fn grip_fix(model: &GraspModel, sliding: &[(String, f64)]) -> &'static str {
     }
 }
 
+/// What the readout found of one finger beyond its forces: its friction coefficient at its
+/// load and its approach.
+#[derive(Debug, Clone, Copy)]
+struct FingerFound {
+    /// The friction coefficient of its law at the load it carries.
+    mu_at_load: f64,
+    /// Its approach, m.
+    approach_m: f64,
+}
+
 /// Resultants and element fields of finger `i` from its elements' checks.
 fn finger_solution(
     model: &GraspModel,
     i: usize,
     x_n: &[f64],
     checks: &[ElementCheck],
-    (mu_at_load, approach_m): (f64, f64),
+    found: FingerFound,
 ) -> FingerSolution {
+    let FingerFound {
+        mu_at_load,
+        approach_m,
+    } = found;
     let f = &model.fingers[i];
     let ne = f.patch.len();
     let area = f.patch.element_area_m2();
@@ -248,7 +252,7 @@ fn finger_solution(
     }
     let element = |(k, c): (usize, &ElementCheck)| {
         let g = tangential(x_n, f.offset, ne, f.n_tangential, k);
-        element_solution(f, k, (x_n[f.offset + k], g), c)
+        element_solution(f, k, x_n[f.offset + k], g, c)
     };
     // Each element's fields are its own: built on all cores for a fine patch.
     let elements: Vec<ElementSolution> = match ne >= PARALLEL_LEN {
@@ -298,7 +302,8 @@ fn finger_solution(
 fn element_solution(
     f: &FingerModel,
     k: usize,
-    (fk, g): (f64, [f64; 2]),
+    fk: f64,
+    g: [f64; 2],
     c: &ElementCheck,
 ) -> ElementSolution {
     let area = f.patch.element_area_m2();
@@ -392,8 +397,11 @@ pub(crate) fn build_solution(
     let check = check_contacts(model, &x_n, &motion, solved_with, &mu_at_load);
     let mut fingers: Vec<FingerSolution> = (0..model.fingers.len())
         .map(|i| {
-            let data = (mu_at_load[i], approach[i]);
-            finger_solution(model, i, &x_n, &check.elements[i], data)
+            let found = FingerFound {
+                mu_at_load: mu_at_load[i],
+                approach_m: approach[i],
+            };
+            finger_solution(model, i, &x_n, &check.elements[i], found)
         })
         .collect();
     for (i, (f, fs)) in model.fingers.iter().zip(fingers.iter_mut()).enumerate() {

@@ -173,16 +173,50 @@ fn extrapolated_forces(
 /// A finished or failed sequence, or the cold start's forces and solution.
 type ColdStart = Result<(Vec<Vec<f64>>, Iterate), (SolveStatus, String)>;
 
+/// What the step's program holds besides its cones that the cold start's energy program takes
+/// over: the commanded loads (N), the displacement offsets (m, per unknown) and the external
+/// wrench (N, N m about `O`).
+struct StepData<'a> {
+    loads_n: &'a [f64],
+    offsets_m: &'a [f64],
+    wrench: &'a Wrench,
+}
+
+impl<'a> StepData<'a> {
+    /// The data of `main`'s program with the commanded loads `loads_n`.
+    fn of(main: &'a ProgramSolver, loads_n: &'a [f64]) -> Self {
+        StepData {
+            loads_n,
+            offsets_m: main.program.offset_m.as_slice(),
+            wrench: &main.program.external_wrench,
+        }
+    }
+}
+
+/// The programs a sequence solves: the step's (`main`: Tresca cones for coulomb) and the
+/// coulomb model's cold-start energy program, made at its first use.
+pub(crate) struct StepPrograms<'a> {
+    /// The step's program.
+    pub main: &'a mut ProgramSolver,
+    /// The energy program of the coulomb model's cold start.
+    pub energy: &'a mut Option<ProgramSolver>,
+}
+
 /// Cold start of the coulomb model: the energy model's forces (same loads and memory) and its
 /// solution, which starts the first Tresca solve.
 fn cold_start(
     energy: &mut Option<ProgramSolver>,
     model: &GraspModel,
-    (loads_n, offsets_m, wrench): (&[f64], &[f64], &Wrench),
+    data: &StepData,
     memory: &[Vec<[f64; 2]>],
     options: &SolveOptions,
     stats: &mut SolverStats,
 ) -> Result<ColdStart, ModelError> {
+    let StepData {
+        loads_n,
+        offsets_m,
+        wrench,
+    } = *data;
     let guess_mu = model.mu_at(&model.guess_loads(loads_n));
     let ps = energy.get_or_insert_with(|| {
         ProgramSolver::new(ConeProgram::assemble(
@@ -258,6 +292,8 @@ struct Sequence<'a> {
     stats: SolverStats,
     report: SequentialReport,
     clock: Instant,
+    /// The damping of the fixed-point iteration.
+    relax: Relaxation,
 }
 
 impl Sequence<'_> {
@@ -281,12 +317,10 @@ impl Sequence<'_> {
     }
 }
 
-/// Runs the sequential solve of one step (see the module docs). `main` holds the step's
-/// program (Tresca cones for coulomb); `energy` the coulomb model's cold-start program.
-#[allow(clippy::too_many_arguments)]
+/// Runs the sequential solve of one step (see the module docs) on `programs`, the solve's
+/// statistics so far `stats`, its clock started at `clock`.
 pub(crate) fn solve_sequential(
-    main: &mut ProgramSolver,
-    energy: &mut Option<ProgramSolver>,
+    programs: StepPrograms,
     model: &GraspModel,
     loads_n: &[f64],
     state: &mut ContactState,
@@ -311,7 +345,12 @@ pub(crate) fn solve_sequential(
             damped_iterations: 0,
         },
         clock,
+        relax: Relaxation {
+            omega: 1.0,
+            last_feasible: None,
+        },
     };
+    let StepPrograms { main, energy } = programs;
     if coulomb {
         main.program.set_slip_memory(model, &seq.memory);
     }
@@ -324,12 +363,8 @@ pub(crate) fn solve_sequential(
     let mut input = match warm {
         Some(f) => Input::of_forces(f),
         None if coulomb => {
-            let data = (
-                loads_n,
-                main.program.offset_m.as_slice(),
-                &main.program.external_wrench,
-            );
-            match cold_start(energy, model, data, &seq.memory, options, &mut seq.stats)? {
+            let data = StepData::of(main, loads_n);
+            match cold_start(energy, model, &data, &seq.memory, options, &mut seq.stats)? {
                 Ok((f, it)) => {
                     start_at = Some(it);
                     Input::of_forces(f)
@@ -342,7 +377,8 @@ pub(crate) fn solve_sequential(
             loads: model.guess_loads(loads_n),
         },
     };
-    iterate(main, energy, loads_n, state, &mut seq, &mut input, start_at)
+    let programs = StepPrograms { main, energy };
+    iterate(programs, loads_n, state, &mut seq, &mut input, start_at)
 }
 
 /// The damping of the fixed-point iteration: the relaxation `omega` and the last input
@@ -374,8 +410,7 @@ enum Next {
 
 /// The fixed-point loop from `input` (see the module docs).
 fn iterate(
-    main: &mut ProgramSolver,
-    energy: &mut Option<ProgramSolver>,
+    programs: StepPrograms,
     loads_n: &[f64],
     state: &mut ContactState,
     seq: &mut Sequence<'_>,
@@ -383,10 +418,7 @@ fn iterate(
     mut start_at: Option<Iterate>,
 ) -> Result<Solution, ModelError> {
     let model = seq.model;
-    let mut relax = Relaxation {
-        omega: 1.0,
-        last_feasible: None,
-    };
+    let StepPrograms { main, energy } = programs;
     loop {
         seq.report.iterations += 1;
         let mu = model.mu_at(&input.loads);
@@ -415,19 +447,18 @@ fn iterate(
                     radii_n: radii.as_deref(),
                     reduced_accuracy,
                 };
-                after_solved(
-                    main,
-                    seq,
-                    state,
-                    input,
-                    &mut relax,
-                    (&x, &multipliers),
-                    cones,
-                )
+                let point = SolvedPoint {
+                    x: &x,
+                    multipliers: &multipliers,
+                };
+                after_solved(main, seq, state, input, point, cones)
             }
             ConvexOutcome::Infeasible(cert) => {
-                let cert_mu = (&cert, mu.as_slice());
-                after_infeasible(main, energy, loads_n, seq, input, &mut relax, cert_mu)?
+                let programs = StepPrograms {
+                    main: &mut *main,
+                    energy: &mut *energy,
+                };
+                after_infeasible(programs, loads_n, seq, input, &cert, &mu)?
             }
             ConvexOutcome::Failed { reason } => {
                 Next::Done(Box::new(seq.fail(SolveStatus::NoConvergence, reason)))
@@ -441,19 +472,24 @@ fn iterate(
     }
 }
 
+/// A solved iterate's point: its scaled primal and equality multipliers.
+struct SolvedPoint<'a> {
+    x: &'a [f64],
+    multipliers: &'a [f64],
+}
+
 /// After a feasible iterate: converged when no normal force changed by more than the
 /// tolerance; else the next input is the output, damped while `omega < 1` (which then grows
 /// back).
-#[allow(clippy::too_many_arguments)] // the loop's state, each borrowed once
 fn after_solved(
     main: &ProgramSolver,
     seq: &mut Sequence<'_>,
     state: &mut ContactState,
     input: &mut Input,
-    relax: &mut Relaxation,
-    (x, multipliers): (&[f64], &[f64]),
+    point: SolvedPoint,
     cones: IterateCones<'_>,
 ) -> Next {
+    let SolvedPoint { x, multipliers } = point;
     let out = normal_forces(seq.model, x);
     let change = input
         .forces
@@ -468,15 +504,15 @@ fn after_solved(
             seq.fail(SolveStatus::NoConvergence, no_convergence(seq)),
         ));
     }
-    relax.last_feasible = Some(input.clone());
+    seq.relax.last_feasible = Some(input.clone());
     let target = Input::of_forces(out);
-    *input = if relax.omega < 1.0 {
+    *input = if seq.relax.omega < 1.0 {
         seq.report.damped_iterations += 1;
-        input.towards(&target, relax.omega)
+        input.towards(&target, seq.relax.omega)
     } else {
         target
     };
-    relax.omega = (2.0 * relax.omega).min(1.0);
+    seq.relax.omega = (2.0 * seq.relax.omega).min(1.0);
     Next::Again
 }
 
@@ -484,14 +520,14 @@ fn after_solved(
 /// the energy model (once); otherwise the input backs off halfway towards the last feasible
 /// one, halving `omega` down to its minimum, after which the certificate is the outcome.
 fn after_infeasible(
-    main: &ProgramSolver,
-    energy: &mut Option<ProgramSolver>,
+    programs: StepPrograms,
     loads_n: &[f64],
     seq: &mut Sequence<'_>,
     input: &mut Input,
-    relax: &mut Relaxation,
-    (cert, mu): (&Certificate, &[f64]),
+    cert: &Certificate,
+    mu: &[f64],
 ) -> Result<Next, ModelError> {
+    let StepPrograms { main, energy } = programs;
     let restart = seq.coulomb
         && seq.report.warm_started
         && seq.report.iterations == 1
@@ -500,12 +536,8 @@ fn after_infeasible(
         // The previous step's forces were a poor guess: restart from the energy model.
         seq.report.cold_restarts += 1;
         let (model, options) = (seq.model, seq.options);
-        let data = (
-            loads_n,
-            main.program.offset_m.as_slice(),
-            &main.program.external_wrench,
-        );
-        let cold = cold_start(energy, model, data, &seq.memory, options, &mut seq.stats)?;
+        let data = StepData::of(main, loads_n);
+        let cold = cold_start(energy, model, &data, &seq.memory, options, &mut seq.stats)?;
         return Ok(match cold {
             Ok((f, it)) => {
                 *input = Input::of_forces(f);
@@ -515,10 +547,10 @@ fn after_infeasible(
             Err((status, reason)) => Next::Done(Box::new(seq.fail(status, reason))),
         });
     }
-    match &relax.last_feasible {
-        Some(prev) if relax.omega > seq.options.min_relaxation => {
+    match &seq.relax.last_feasible {
+        Some(prev) if seq.relax.omega > seq.options.min_relaxation => {
             // Back off halfway towards the last input whose program was feasible.
-            relax.omega *= 0.5;
+            seq.relax.omega *= 0.5;
             seq.report.damped_iterations += 1;
             *input = prev.towards(input, 0.5);
         }
@@ -568,8 +600,7 @@ fn converged(
         &solved_with,
     );
     if cones.reduced_accuracy {
-        out.status = SolveStatus::ReducedAccuracy;
-        out.reason = Some("solved to reduced accuracy; check the residuals".into());
+        out.mark_reduced_accuracy();
     }
     out.sequential = Some(seq.report);
     state.record(seq.model, &out, seq.coulomb);

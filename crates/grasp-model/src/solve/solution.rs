@@ -325,7 +325,56 @@ pub struct Solution {
     pub sequential: Option<SequentialReport>,
 }
 
+impl SolverStats {
+    /// The statistics of no solve at all (nothing to solve: no finger holds the object).
+    pub fn no_solve() -> Self {
+        SolverStats {
+            solver: SolverKind::Native,
+            fallback: None,
+            iterations: 0,
+            factorizations: 0,
+            compliance: CompliancePath::default(),
+            inner_iterations: 0,
+            solver_time_s: 0.0,
+            unknowns: 0,
+            equality_rows: 0,
+            cone_rows: 0,
+        }
+    }
+}
+
 impl Solution {
+    /// An outcome without forces (no equilibrium, no convergence, nothing that holds the
+    /// object): its status and reason, the load scale (N), what the solver did and the time
+    /// it took (s).
+    pub fn without_forces(
+        status: SolveStatus,
+        reason: String,
+        load_scale_n: f64,
+        solver: SolverStats,
+        solve_time_s: f64,
+    ) -> Self {
+        Solution {
+            status,
+            reason: Some(reason),
+            warnings: Vec::new(),
+            fingers: Vec::new(),
+            rigid_displacement: None,
+            residuals: None,
+            load_scale_n,
+            solve_time_s,
+            solver,
+            sequential: None,
+        }
+    }
+
+    /// Marks a solution whose solver answered "almost solved" (Clarabel's): forces read, their
+    /// accuracy reduced.
+    pub(crate) fn mark_reduced_accuracy(&mut self) {
+        self.status = SolveStatus::ReducedAccuracy;
+        self.reason = Some("solved to reduced accuracy; check the residuals".into());
+    }
+
     /// Respells the option names in the solution's texts (its reason, warnings and solver
     /// fallback) with a front end's `spelling` (pairs of library name and the front end's;
     /// see [`crate::option_names::respell`]), so its messages name the front end's flags or

@@ -93,7 +93,7 @@ impl StepInputs {
     /// with its reason, as any data that are not finite.)
     pub fn check(&self, model: &GraspModel) -> Result<(), ModelError> {
         model.check_loads(&self.loads_n)?;
-        if let Some(dt) = self.time_step_s.filter(|dt| !(*dt >= 0.0)) {
+        if let Some(dt) = self.time_step_s.filter(|dt| dt.is_nan() || *dt < 0.0) {
             return Err(ModelError::BadInput(format!(
                 "a time step of {dt} s: give a step of 0 s or more (infinity: fully relaxed)"
             )));

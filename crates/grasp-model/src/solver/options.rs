@@ -1,6 +1,8 @@
 //! Options of a solve: which solver, tolerances, limits, warm starts, and their ranges
 //! ([`SolveOptions::validate`], the one check every front end calls).
 
+use std::ops::RangeInclusive;
+
 use serde::{Deserialize, Serialize};
 
 use crate::error::OptionError;
@@ -88,11 +90,18 @@ pub struct SolveOptions {
     pub compliance: ComplianceChoice,
 }
 
+/// The default [`SolveOptions::tolerance`]: the relative tolerance of the scaled program.
+pub const DEFAULT_TOLERANCE: f64 = 1e-10;
+
+/// [`DEFAULT_TOLERANCE`] as front ends show it (the CLI's flag default, the messages'
+/// example); a test checks that it reads as the number.
+pub const DEFAULT_TOLERANCE_TEXT: &str = "1e-10";
+
 impl Default for SolveOptions {
     fn default() -> Self {
         SolveOptions {
             solver: SolverChoice::Auto,
-            tolerance: 1e-10,
+            tolerance: DEFAULT_TOLERANCE,
             max_iterations: 200,
             time_limit_s: f64::INFINITY,
             sequential_tolerance: 1e-7,
@@ -107,30 +116,31 @@ impl Default for SolveOptions {
 /// Range of [`SolveOptions::tolerance`] (dimensionless): below 1e-14 the round-off of the
 /// program's sums (about 1e-16 per term over up to 1e4 terms of unit size) exceeds it, so no
 /// solve could meet it; above 1e-2 an answer is no solution of the program.
-pub const TOLERANCE_RANGE: (f64, f64) = (1e-14, 1e-2);
+pub const TOLERANCE_RANGE: RangeInclusive<f64> = 1e-14..=1e-2;
 
 /// Range of [`SolveOptions::sequential_tolerance`] (element force units): below 1e-14 no
 /// fixed point can be told apart from round-off; `+inf` accepts the first iterate.
-pub const SEQUENTIAL_TOLERANCE_RANGE: (f64, f64) = (1e-14, f64::INFINITY);
+pub const SEQUENTIAL_TOLERANCE_RANGE: RangeInclusive<f64> = 1e-14..=f64::INFINITY;
 
 /// Range of [`SolveOptions::max_iterations`] and [`SolveOptions::max_sequential_iterations`]:
 /// at least one, and a bound on the work a solve may take.
-pub const ITERATION_RANGE: (u32, u32) = (1, 10_000);
+pub const ITERATION_RANGE: RangeInclusive<u32> = 1..=10_000;
 
 /// Range of [`SolveOptions::min_relaxation`]: the damped iteration halves `omega` from 1 down
 /// to it before it reports an iterate without solution, so 1e-6 (20 halvings) already damps
 /// past any use; below it only solves are added.
-pub const MIN_RELAXATION_RANGE: (f64, f64) = (1e-6, 1.0);
+pub const MIN_RELAXATION_RANGE: RangeInclusive<f64> = 1e-6..=1.0;
 
 /// `Ok` when `x` lies in `[lo, hi]` (NaN never does), else the error naming `option`; `what`
 /// says what the option means and `example` gives a usable value.
 pub(crate) fn check_range(
     option: &'static str,
     x: f64,
-    (lo, hi): (f64, f64),
+    range: RangeInclusive<f64>,
     what: &str,
     example: &str,
 ) -> Result<(), OptionError> {
+    let (lo, hi) = range.into_inner();
     if x >= lo && x <= hi {
         return Ok(());
     }
@@ -149,13 +159,14 @@ pub(crate) fn check_range(
 pub(crate) fn check_count(
     option: &'static str,
     n: u32,
-    (lo, hi): (u32, u32),
+    range: RangeInclusive<u32>,
     what: &str,
     example: &str,
 ) -> Result<(), OptionError> {
-    if (lo..=hi).contains(&n) {
+    if range.contains(&n) {
         return Ok(());
     }
+    let (lo, hi) = range.into_inner();
     Err(OptionError {
         option,
         value: n.to_string(),
@@ -174,7 +185,7 @@ impl SolveOptions {
             self.tolerance,
             TOLERANCE_RANGE,
             "a relative tolerance of the scaled program",
-            "1e-10",
+            DEFAULT_TOLERANCE_TEXT,
         )?;
         check_count(
             option_names::MAX_ITERATIONS,
@@ -217,6 +228,13 @@ impl SolveOptions {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The default tolerance's text reads as the default tolerance.
+    #[test]
+    fn the_default_tolerance_text_is_the_default_tolerance() {
+        assert_eq!(DEFAULT_TOLERANCE_TEXT.parse::<f64>(), Ok(DEFAULT_TOLERANCE));
+        assert_eq!(SolveOptions::default().tolerance, DEFAULT_TOLERANCE);
+    }
 
     #[test]
     fn the_defaults_are_valid() {

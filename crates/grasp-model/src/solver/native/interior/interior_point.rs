@@ -106,13 +106,23 @@ struct Factors {
     schur: nalgebra::Cholesky<f64, nalgebra::Dyn>,
 }
 
-/// Residuals `(r_x, r_l, r_s)` at a point.
+/// The residuals of the interior-point conditions at a point.
+struct Residuals {
+    /// Of stationarity, `r_x = -(P x + q + E' lambda - G' z)`.
+    rx: Vec<f64>,
+    /// Of the equality rows, `r_l = e - E x`.
+    rl: Vec<f64>,
+    /// Of the conic rows, `r_s = s - (G x + h)`.
+    rs: Vec<f64>,
+}
+
+/// The residuals at a point.
 fn residuals(
     blocks: &[FingerBlockData],
     program: &ConeProgram,
     lay: &Layout,
     p: &Point,
-) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+) -> Residuals {
     let mut rx: Vec<f64> = program.q.iter().map(|v| -v).collect();
     let mut rl = program.equality_rhs.clone();
     let mut rs = p.s.clone();
@@ -143,7 +153,7 @@ fn residuals(
             *a -= v;
         }
     }
-    (rx, rl, rs)
+    Residuals { rx, rl, rs }
 }
 
 /// `W^-2 u` over one cone's rows.
@@ -225,10 +235,10 @@ fn solve(
     f: &Factors,
     scalings: &[Scaling],
     lam: &[f64],
-    res: &(Vec<f64>, Vec<f64>, Vec<f64>),
+    res: &Residuals,
     rc: &[f64],
 ) -> Direction {
-    let (rx, rl, rs) = res;
+    let Residuals { rx, rl, rs } = res;
     let (t, u) = complementarity_terms(lay, scalings, lam, rs, rc);
     let (dx, dlambda) = solve_reduced(blocks, lay, f, &t, rx, rl);
     let ds = slack_direction(blocks, lay, &dx, rs);
@@ -440,9 +450,9 @@ pub(crate) fn run(
         let res = residuals(blocks, program, &lay, &p);
         let gap: f64 = p.s.iter().zip(&p.z).map(|(a, b)| a * b).sum();
         let scale_s = max_abs(&p.s).max(1.0);
-        if max_abs(&res.0) <= tolerance * scale_x
-            && max_abs(&res.1) <= tolerance * scale_l
-            && max_abs(&res.2) <= tolerance * scale_s
+        if max_abs(&res.rx) <= tolerance * scale_x
+            && max_abs(&res.rl) <= tolerance * scale_l
+            && max_abs(&res.rs) <= tolerance * scale_s
             && gap <= tolerance * nu * scale_s
         {
             return NativeResult::after(NativeStatus::Converged, p.x, p.lambda, counts);
@@ -476,7 +486,7 @@ fn predictor_corrector(
     program: &ConeProgram,
     lay: &Layout,
     p: &mut Point,
-    res: &(Vec<f64>, Vec<f64>, Vec<f64>),
+    res: &Residuals,
     gap: f64,
     counts: &mut Counts,
 ) -> Result<(), &'static str> {
