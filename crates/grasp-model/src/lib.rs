@@ -20,7 +20,7 @@
 //! | folder | what it holds | may import |
 //! |---|---|---|
 //! | `geometry/` | contact frames, surface points, exact primitives, triangle meshes, posed shapes, tessellation, texture heights | - |
-//! | `scene/` | the file format, strict JSON, validation (a path and a fix per problem), shape checks, finger placement, work bounds | geometry |
+//! | `scene/` | the file format, strict JSON, validation (a path and a fix per problem), shape checks, finger placement, the memory budget | geometry |
 //! | `model/` | the immutable [`GraspModel`]: materials, patches, influence coefficients, friction laws, equilibrium map, closed forms | scene, geometry |
 //! | `program/` | the solver-neutral [`ConeProgram`] (assembly kept apart from solving) | model |
 //! | `solver/` | options, outcomes and certificates, Clarabel, the native semismooth Newton solver, the warm start's prediction | program, model |
@@ -106,6 +106,9 @@ pub use geometry::texture_spec::{
     HeightGrid, HeightMapSpec, RandomSurfaceSpec, RidgesSpec, TextureSpec,
 };
 pub use scene::finger_placement::STANDARD_GRAVITY;
+pub use scene::memory_budget::{
+    estimate_memory_bytes, estimate_memory_bytes_with, finger_unknowns,
+};
 pub use scene::scene_format::{
     scene_json_schema, ApproachSpec, CoefficientSpec, ControlSpec, ElasticLawParams,
     ElasticLawSpec, ElasticSpec, ExternalForceSpec, FingerSpec, FrictionSpec, HeldTag,
@@ -114,7 +117,6 @@ pub use scene::scene_format::{
 };
 pub use scene::scene_reading::{FileProblem, SceneFiles};
 pub use scene::shape_report::{DerivedFrame, ShapeReport};
-pub use scene::work_bounds::{estimate_memory_bytes, estimate_memory_bytes_with, finger_unknowns};
 
 /// The ranges a scene's numbers may take (physical ranges, patch sizes, the planarity
 /// tolerance): what validation checks, for front ends that check their own inputs alike.

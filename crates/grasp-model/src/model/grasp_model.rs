@@ -19,6 +19,7 @@ use crate::model::material::Material;
 use crate::model::patch::Patch;
 use crate::model::patch_compliance::PatchCompliance;
 use crate::model::viscous_contact::ViscousContact;
+use crate::scene::memory_budget::SolveSize;
 use crate::scene::scene_format::{ModelKind, RelaxationSpec};
 use crate::scene::shape_report::SharedShape;
 
@@ -358,24 +359,14 @@ impl GraspModel {
             .collect()
     }
 
-    /// Bytes a solve of this model works in besides the model: the conjugate-gradient and
-    /// Newton vectors of the unknowns and the equality columns (`8 (FFT_VECTORS +
-    /// FFT_VECTORS_PER_ROW m)` per unknown, as the work-bounds estimate counts them) and the
-    /// solution's element records (192 bytes each, `ELEMENT_RECORD_BYTES`).
-    pub fn solve_bytes(&self) -> u64 {
-        use crate::scene::work_bounds::{FFT_VECTORS, FFT_VECTORS_PER_ROW};
-        let rows = (self.equilibrium_rows() + self.fingers.len()) as u64;
-        let vectors = 8 * (FFT_VECTORS + FFT_VECTORS_PER_ROW * rows);
-        let elements: usize = self.fingers.iter().map(|f| f.patch.len()).sum();
-        (self.n_unknowns() as u64).saturating_mul(vectors) + elements as u64 * ELEMENT_RECORD_BYTES
-    }
-
-    /// What [`GraspModel::solve_bytes`] are for, in an out-of-memory message.
-    pub fn solve_memory_name(&self) -> String {
-        format!(
-            "the solve's working vectors and its solution ({} unknowns)",
-            self.n_unknowns()
-        )
+    /// The size of a solve of this model's work (its memory:
+    /// [`crate::scene::memory_budget::SolveSize::bytes`]).
+    pub fn solve_size(&self) -> SolveSize {
+        SolveSize {
+            unknowns: self.n_unknowns,
+            equality_rows: self.equilibrium_rows() + self.fingers.len(),
+            elements: self.fingers.iter().map(|f| f.patch.len()).sum(),
+        }
     }
 
     /// The model of the fingers `active` (index into this model's fingers, with the control
@@ -572,7 +563,3 @@ fn scales_of(fingers: &[FingerModel], load_n: f64, reference_point_m: &Vector3<f
         length_m,
     }
 }
-
-/// Bytes of one element's record in a solution (at least `size_of::<ElementSolution>()`, a
-/// test of the solution checks it).
-pub const ELEMENT_RECORD_BYTES: u64 = 192;

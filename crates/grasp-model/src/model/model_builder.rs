@@ -22,7 +22,7 @@ use crate::model::patch_compliance::{
 };
 use crate::model::surface_gap::{exact_gaps, TipProfile};
 use crate::model::viscous_contact::{BodyLaws, ViscousContact};
-use crate::scene::limits::MAX_COMPLIANCE_BYTES;
+use crate::scene::memory_budget::{dense_block_bytes, dense_blocks_problem, ComplianceBuild};
 use crate::scene::scene_format::{FingerSpec, RadiusSpec, Scene};
 
 /// A first touch away from the contact point is reported when the gaps shift by more than this
@@ -109,12 +109,13 @@ impl GraspModel {
         }
         let model = Self::from_parts(fingers, object);
         // The program's assembly and the solve allocate ordinarily: check they will fit.
-        crate::allocation::check_room(model.solve_bytes(), || model.solve_memory_name()).map_err(
-            |source| SceneError::OutOfMemory {
+        model
+            .solve_size()
+            .check_room()
+            .map_err(|source| SceneError::OutOfMemory {
                 path: "fingers".into(),
                 source,
-            },
-        )?;
+            })?;
         Ok(model)
     }
 }
@@ -173,33 +174,14 @@ fn object_model(scene: &Scene) -> ObjectModel {
 }
 
 /// Refuses a scene whose dense patch compliances under `compliance` would exceed
-/// [`MAX_COMPLIANCE_BYTES`] (validation checks the automatic choice; a caller that forces the
+/// `MAX_COMPLIANCE_BYTES` (validation checks the automatic choice; a caller that forces the
 /// dense matrix on a fine grid is refused here, before anything is allocated).
 fn check_dense_bytes(scene: &Scene, compliance: ComplianceChoice) -> Result<(), SceneError> {
-    let bytes =
-        crate::scene::work_bounds::compliance_bytes_of(scene, |f| !takes_fft(scene, f, compliance))
-            as f64;
-    if bytes <= MAX_COMPLIANCE_BYTES {
-        return Ok(());
+    let dense = |f: &FingerSpec| !takes_fft(scene, f, compliance);
+    match dense_blocks_problem(scene, dense) {
+        None => Ok(()),
+        Some(p) => Err(SceneError::Invalid(vec![p])),
     }
-    // The whole solve's estimate, the one the command line's memory check gives.
-    let whole = crate::scene::work_bounds::estimate_memory_bytes_with(scene, |f| {
-        takes_fft(scene, f, compliance)
-    }) as f64;
-    Err(SceneError::Invalid(vec![crate::error::InputProblem {
-        path: "fingers".into(),
-        message: format!(
-            "a solve needs an estimated {:.1} GiB of memory, its dense patch compliance blocks \
-             alone {:.1} GiB, more than the {:.0} GiB allowed them",
-            whole / 1073741824.0,
-            bytes / 1073741824.0,
-            MAX_COMPLIANCE_BYTES / 1073741824.0
-        ),
-        fix: format!(
-            "set `{}` to auto or fft, or use coarser grids",
-            crate::option_names::COMPLIANCE
-        ),
-    }]))
 }
 
 /// Finger `i` of a scene, prepared (offset 0 until the model places it), with the warning its
@@ -279,8 +261,7 @@ fn finger_compliance(
         fft,
     } = form;
     let (nx, ny) = (grid.nx, grid.ny);
-    let table = 48 * (2 * nx as u64 - 1) * (2 * ny as u64 - 1);
-    let (what, held) = match fft {
+    let (kept, kept_bytes) = match fft {
         true => (
             "influence spectra",
             crate::model::compliance_operator::ComplianceOperator::memory_estimate_bytes(
@@ -289,17 +270,20 @@ fn finger_compliance(
                 true,
             ) as u64,
         ),
-        false => ("compliance matrix", {
-            let n = (nx * ny * (1 + n_tangential)) as u64;
-            8 * n * n
-        }),
+        false => (
+            "compliance matrix",
+            dense_block_bytes((nx * ny * (1 + n_tangential)) as u64),
+        ),
     };
-    let what = format!("the {nx} x {ny} {what} of finger `{}`", f.name);
-    let refused = |e: OutOfMemory| SceneError::OutOfMemory {
-        path: format!("fingers[{i}].patch.grid"),
-        source: e.named(what.clone(), table + held),
+    let build = ComplianceBuild {
+        finger: i,
+        name: &f.name,
+        grid: [nx, ny],
+        kept,
+        kept_bytes,
     };
-    crate::allocation::check_room(table + held, String::new).map_err(refused)?;
+    build.check_room()?;
+    let refused = |e: OutOfMemory| build.refused(e);
     let built = match laws.are_elastic() {
         true => PatchCompliance::build(grid, contact, n_tangential, fft).map(|c| (c, None)),
         false => contact.kernel_table(grid).map(Arc::new).and_then(|table| {

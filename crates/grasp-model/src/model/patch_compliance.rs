@@ -16,8 +16,8 @@ use super::compliance_operator::ComplianceOperator;
 use super::contact_pair::ContactPair;
 use super::influence::{patch_compliance, GridSpec, KernelTable};
 use crate::error::OutOfMemory;
+use crate::scene::memory_budget::finger_unknowns;
 use crate::scene::scene_format::{FingerSpec, Scene};
-use crate::scene::work_bounds::finger_unknowns;
 
 /// Which form of the patch compliance a model builds.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]

@@ -8,7 +8,7 @@ use std::ops::RangeInclusive;
 /// Largest number of elements allowed in one patch (1024 x 1024). Patches above
 /// [`AUTO_FFT_ABOVE_UNKNOWNS`] are solved with the FFT compliance operator unless the dense
 /// matrix is asked for; the memory estimate of the path that runs
-/// ([`super::work_bounds::estimate_memory_bytes_with`]), checked by the caller against the
+/// ([`super::memory_budget::estimate_memory_bytes_with`]), checked by the caller against the
 /// machine, refuses what does not fit before this limit does.
 pub const MAX_ELEMENTS_PER_PATCH: usize = 1024 * 1024;
 
@@ -86,7 +86,7 @@ pub const LENGTH_RANGE_M: RangeInclusive<f64> = 1e-9..=1e3;
 pub const MAX_FRICTION_COEFFICIENT: f64 = 1e3;
 
 /// Largest memory the dense patch compliance blocks may take, bytes (the cone solver needs a
-/// few times more: see [`super::work_bounds::estimate_memory_bytes`], which callers check against the
+/// few times more: see [`super::memory_budget::estimate_memory_bytes`], which callers check against the
 /// machine's memory).
 pub const MAX_COMPLIANCE_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
 

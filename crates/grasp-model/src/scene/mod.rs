@@ -12,6 +12,7 @@
 pub mod field_checks;
 pub mod finger_placement;
 pub mod limits;
+pub mod memory_budget;
 pub mod patch_on_shape;
 pub mod scene_format;
 pub mod scene_reading;
@@ -23,4 +24,3 @@ pub mod strict_json;
 pub mod texture_checks;
 pub mod tip_shapes;
 pub mod vector_math;
-pub mod work_bounds;

@@ -145,21 +145,13 @@ impl Scene {
     /// Refuses scenes whose dense compliance blocks (the patches the automatic choice keeps
     /// dense, up to [`AUTO_FFT_ABOVE_UNKNOWNS`] unknowns) could not fit in any machine's
     /// memory (callers check the full estimate of the path that runs,
-    /// [`work_bounds::estimate_memory_bytes_with`], against the machine they run on).
+    /// [`memory_budget::estimate_memory_bytes_with`], against the machine they run on).
     fn check_memory(&self, v: &mut FieldChecks) {
-        let bytes = crate::scene::work_bounds::compliance_bytes_of(self, |f| {
-            crate::scene::work_bounds::finger_unknowns(self, f) <= AUTO_FFT_ABOVE_UNKNOWNS as u64
-        }) as f64;
-        if bytes > MAX_COMPLIANCE_BYTES {
-            v.push(
-                "fingers",
-                format!(
-                    "the patch compliance blocks need {:.1} GiB, more than {:.0} GiB",
-                    bytes / 1073741824.0,
-                    MAX_COMPLIANCE_BYTES / 1073741824.0
-                ),
-                "use coarser grids (see `grasp study` for the accuracy each grid gives)",
-            );
+        let auto_dense = |f: &crate::scene::scene_format::FingerSpec| {
+            crate::scene::memory_budget::finger_unknowns(self, f) <= AUTO_FFT_ABOVE_UNKNOWNS as u64
+        };
+        if let Some(p) = crate::scene::memory_budget::dense_blocks_problem(self, auto_dense) {
+            v.push(&p.path, p.message, &p.fix);
         }
     }
 

@@ -202,7 +202,7 @@ impl GraspSolver {
         if let Some(dt) = inputs.time_step_s {
             state.prepare_time_step(&model, dt);
         }
-        crate::allocation::check_room(model.solve_bytes(), || model.solve_memory_name())?;
+        model.solve_size().check_room()?;
         let clock = Instant::now();
         let mut sol = self.dispatch(&model, inputs, state, clock)?;
         enforce_invariant(&mut sol);

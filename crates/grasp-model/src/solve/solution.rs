@@ -486,7 +486,7 @@ mod tests {
     /// solve fits in memory: no fewer than the record takes.
     #[test]
     fn element_records_are_counted_whole() {
-        let counted = crate::model::grasp_model::ELEMENT_RECORD_BYTES as usize;
+        let counted = crate::scene::memory_budget::ELEMENT_RECORD_BYTES as usize;
         assert!(std::mem::size_of::<ElementSolution>() <= counted);
     }
 

@@ -1,5 +1,10 @@
-//! Work bounds: the memory a scene's solve needs, estimated from its unknowns before anything is
-//! allocated (pure arithmetic; the caller compares it with the machine's limit).
+//! The memory budget of a solve, the one owner of every memory estimate and check of the
+//! model crate: the memory a scene's solve needs, estimated from its unknowns before anything
+//! is allocated (pure arithmetic; a front end compares it with its limit, `grasp_io`'s
+//! `MemoryLimit`); the check of the dense compliance blocks against
+//! [`MAX_COMPLIANCE_BYTES`] (validation's and the model builder's); and the checks that a
+//! finger's compliance and a solve's working vectors can be allocated now
+//! ([`crate::allocation::check_room`]), before they are.
 //!
 //! Finger `i` with `N_i` elements and `c_i` tangential components (0 for a frictionless finger,
 //! 1 in a planar scene, 2 in 3-D) has `n_i = N_i (1 + c_i)` unknowns. A dense patch compliance
@@ -33,6 +38,10 @@
 //! an absurd estimate rather than a wrapped small one. On the bundled examples the estimate lies
 //! above the measured peak (`grasp study` reports it); the factors may be retuned.
 
+use crate::allocation::check_room;
+use crate::error::{InputProblem, OutOfMemory};
+use crate::option_names;
+use crate::scene::limits::MAX_COMPLIANCE_BYTES;
 use crate::scene::scene_format::{FingerSpec, Scene};
 
 /// Copies of each dense compliance block the model, the program and the factorisations hold.
@@ -59,6 +68,13 @@ const TABLE_BYTES: u64 = 48;
 /// Safety factor of the FFT path's estimate (allocator slack, the model's other vectors).
 pub const FFT_SAFETY: u64 = 2;
 
+/// Bytes of one element's record in a solution (at least `size_of::<ElementSolution>()`, a
+/// test of the solution checks it).
+pub const ELEMENT_RECORD_BYTES: u64 = 192;
+
+/// Bytes in a GiB, for messages.
+const GIB: f64 = 1073741824.0;
+
 /// Tangential unknowns per element of a finger: 0 frictionless, 1 planar, 2 in 3-D.
 pub fn tangential_components(scene: &Scene, finger: &FingerSpec) -> u64 {
     finger.tangential_unknowns(scene.planar.is_some()) as u64
@@ -82,10 +98,7 @@ pub fn compliance_bytes_of(scene: &Scene, dense: impl Fn(&FingerSpec) -> bool) -
         .fingers
         .iter()
         .filter(|f| dense(f))
-        .map(|f| {
-            let n = finger_unknowns(scene, f);
-            n.saturating_mul(n).saturating_mul(F64_BYTES)
-        })
+        .map(|f| dense_block_bytes(finger_unknowns(scene, f)))
         .fold(0, u64::saturating_add)
 }
 
@@ -136,6 +149,120 @@ pub fn texture_bytes(finger: &FingerSpec) -> u64 {
         0
     };
     elements.saturating_mul(F64_BYTES).saturating_add(source)
+}
+
+/// The size of a solve's work: the program's unknowns, its equality rows and the elements of
+/// its patches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SolveSize {
+    /// Unknowns of the program.
+    pub unknowns: usize,
+    /// Equality rows (equilibrium, and a load row per finger at most).
+    pub equality_rows: usize,
+    /// Elements of every patch.
+    pub elements: usize,
+}
+
+impl SolveSize {
+    /// Bytes a solve works in besides its model: the conjugate-gradient and Newton vectors of
+    /// the unknowns and the equality columns (`8 (FFT_VECTORS + FFT_VECTORS_PER_ROW m)` per
+    /// unknown, as [`estimate_memory_bytes_with`] counts them) and the solution's element
+    /// records ([`ELEMENT_RECORD_BYTES`] each).
+    pub fn bytes(&self) -> u64 {
+        let vectors = F64_BYTES * (FFT_VECTORS + FFT_VECTORS_PER_ROW * self.equality_rows as u64);
+        (self.unknowns as u64).saturating_mul(vectors) + self.elements as u64 * ELEMENT_RECORD_BYTES
+    }
+
+    /// Checks that a solve's working vectors and its solution can be allocated now (they
+    /// are, ordinarily), or what they need.
+    pub(crate) fn check_room(&self) -> Result<(), OutOfMemory> {
+        check_room(self.bytes(), || {
+            format!(
+                "the solve's working vectors and its solution ({} unknowns)",
+                self.unknowns
+            )
+        })
+    }
+}
+
+/// Bytes of the table of rectangle integrals of a patch of `nx x ny` elements, held while its
+/// compliance is built (six `f64` per point of the `(2 nx - 1) x (2 ny - 1)` grid of offsets).
+pub fn kernel_table_bytes(nx: usize, ny: usize) -> u64 {
+    TABLE_BYTES * (2 * nx as u64 - 1) * (2 * ny as u64 - 1)
+}
+
+/// Bytes of a dense compliance block of `unknowns` unknowns, `8 n^2` (saturating).
+pub fn dense_block_bytes(unknowns: u64) -> u64 {
+    unknowns.saturating_mul(unknowns).saturating_mul(F64_BYTES)
+}
+
+/// The problem of a scene whose dense compliance blocks (of the fingers `dense` picks) would
+/// exceed [`MAX_COMPLIANCE_BYTES`], with the whole solve's estimate (the fingers not picked on
+/// the FFT path); `None` when they fit. Validation checks the automatic choice, the model
+/// builder the caller's.
+pub fn dense_blocks_problem(
+    scene: &Scene,
+    dense: impl Fn(&FingerSpec) -> bool,
+) -> Option<InputProblem> {
+    let bytes = compliance_bytes_of(scene, &dense) as f64;
+    if bytes <= MAX_COMPLIANCE_BYTES {
+        return None;
+    }
+    let whole = estimate_memory_bytes_with(scene, |f| !dense(f)) as f64;
+    Some(InputProblem {
+        path: "fingers".into(),
+        message: format!(
+            "a solve needs an estimated {:.1} GiB of memory, its dense patch compliance blocks \
+             alone {:.1} GiB, more than the {:.0} GiB allowed them",
+            whole / GIB,
+            bytes / GIB,
+            MAX_COMPLIANCE_BYTES / GIB
+        ),
+        fix: format!(
+            "set `{}` to auto or fft, or use coarser grids",
+            option_names::COMPLIANCE
+        ),
+    })
+}
+
+/// What building one finger's patch compliance holds: the compliance it keeps (its dense
+/// matrix or its FFT operator's spectra) and, while it is built, the kernel table of its grid.
+pub(crate) struct ComplianceBuild<'a> {
+    /// The finger's index in the scene.
+    pub finger: usize,
+    /// Its name.
+    pub name: &'a str,
+    /// Its grid, elements along `t1`, `t2`.
+    pub grid: [usize; 2],
+    /// What the compliance keeps ("compliance matrix", "influence spectra").
+    pub kept: &'a str,
+    /// Bytes it keeps.
+    pub kept_bytes: u64,
+}
+
+impl ComplianceBuild<'_> {
+    /// Bytes the build holds at most.
+    pub fn bytes(&self) -> u64 {
+        let [nx, ny] = self.grid;
+        kernel_table_bytes(nx, ny) + self.kept_bytes
+    }
+
+    /// An allocation of the build refused: named for the finger's grid and what it builds.
+    pub fn refused(&self, e: OutOfMemory) -> crate::error::SceneError {
+        let [nx, ny] = self.grid;
+        crate::error::SceneError::OutOfMemory {
+            path: format!("fingers[{}].patch.grid", self.finger),
+            source: e.named(
+                format!("the {nx} x {ny} {} of finger `{}`", self.kept, self.name),
+                self.bytes(),
+            ),
+        }
+    }
+
+    /// Checks that the build can be allocated now.
+    pub fn check_room(&self) -> Result<(), crate::error::SceneError> {
+        check_room(self.bytes(), String::new).map_err(|e| self.refused(e))
+    }
 }
 
 /// The FFT path's estimate for one finger, bytes (saturating).
