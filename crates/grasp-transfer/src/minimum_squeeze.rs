@@ -12,8 +12,6 @@
 //! receiving gripper must command; under the energy model it is the load above which the
 //! model's own squeeze suffices.
 
-use std::sync::Arc;
-
 use grasp_model::Readable;
 use grasp_model::{Control, GraspModel, GraspSolver, Scene, Solution, SolveOptions, StepInputs};
 use serde::Serialize;
@@ -111,21 +109,31 @@ pub fn minimum_squeeze(
             source,
         }
     })?;
-    // The final grasp: the scene's model restricted to the active fingers (their compliance
-    // blocks shared, not recomputed), driven as scheduled; a trial scales the receiving loads
-    // by `s` through its inputs and solves from a fresh contact state and solver.
-    let active: Vec<(usize, Control)> = commands
-        .iter()
-        .enumerate()
-        .filter_map(|(i, c)| Some((i, c.control()?)))
-        .collect();
-    let model = Arc::new(base.restricted(&active).ok_or(TransferError::Internal(
-        "the final grasp has no active finger",
-    ))?);
-    let scheduled_loads = model.scene_loads_n();
+    // The final grasp with the receiving loads scaled by `s`: the scene's model restricted to
+    // the active fingers (their compliance blocks are shared, not recomputed), its commanded
+    // loads the trial's. The trial load is the model's, not only its inputs': a model's scales
+    // follow its commanded loads (model.md, "Scale before solving"), and a program scaled to
+    // the scheduled loads fails to certify the trials just below the minimum (the coulomb
+    // plate hand-off's ended in Clarabel's iteration limit, `tests/coulomb_handoff.rs`).
     let trial = |s: f64| -> Result<Solution, TransferError> {
-        let inputs = StepInputs::loads(scheduled_loads.iter().map(|p| s * p).collect());
-        Ok(GraspSolver::new(Arc::clone(&model), options).solve(&inputs)?)
+        let active: Vec<(usize, Control)> = commands
+            .iter()
+            .enumerate()
+            .filter_map(|(i, c)| match c.control()? {
+                Control::NormalLoad { newtons } => Some((
+                    i,
+                    Control::NormalLoad {
+                        newtons: s * newtons,
+                    },
+                )),
+                control => Some((i, control)),
+            })
+            .collect();
+        let model = base.restricted(&active).ok_or(TransferError::Internal(
+            "the final grasp has no active finger",
+        ))?;
+        let inputs = StepInputs::of_scene(&model);
+        Ok(GraspSolver::new(model, options).solve(&inputs)?)
     };
     let (hi, limiting) = match smallest_factor(|s| Ok(holds(&trial(s)?)))? {
         Ok(found) => found,
