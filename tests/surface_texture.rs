@@ -69,7 +69,7 @@ fn the_random_surface_has_exactly_its_rms() {
     // Scaled to rms_m, so equal to round-off: the relative error of a sum of 2^20 squares and
     // one scaling is far below 1e-12.
     for (hurst, seed) in [(0.3, 1), (0.8, 2), (1.0, 3)] {
-        let s = random_surface(&spec(hurst, seed), [1e-4, 1e-4]).unwrap();
+        let s = random_surface(&spec(hurst, seed).surface(), [1e-4, 1e-4]).unwrap();
         let n = s.side * s.side;
         assert_eq!(s.heights_m.len(), n);
         let rms = (sum_of_squares(&s.heights_m) / n as f64).sqrt();
@@ -115,7 +115,7 @@ fn the_spectrum_falls_like_q_to_the_minus_two_one_plus_h() {
     // long 50 um, short 1 um, pixels of 0.125 um, a 100 um patch: N = 1024; the fundamental is
     // 2 pi / 128 um, so q_L is at |k| = 2.56 and q_s at |k| = 128.
     for hurst in [0.3, 0.7, 1.0] {
-        let s = random_surface(&spec(hurst, 11), [1e-4, 1e-4]).unwrap();
+        let s = random_surface(&spec(hurst, 11).surface(), [1e-4, 1e-4]).unwrap();
         let n = s.side;
         assert_eq!(n, 1024);
         let period = n as f64 * s.pixel_m;
@@ -174,7 +174,7 @@ fn the_same_seed_gives_the_same_bits_on_any_thread_count() {
             .build()
             .unwrap();
         let (c, h) = centres([3e-5, 2e-5], [30, 20]);
-        pool.install(|| texture_heights_m(&random(spec(0.8, seed)), &c, h).unwrap())
+        pool.install(|| texture_heights_m(&random(spec(0.8, seed)), None, &c, h).unwrap())
     };
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     let one = make(1, 42);
@@ -196,22 +196,22 @@ fn refining_the_elements_samples_the_same_surface() {
     // A 40 x 40 um patch of 10 x 10 and of 40 x 40 elements: one generation grid, so each
     // element's height is the surface's at its centre.
     let r = spec(0.8, 5);
-    let surface = random_surface(&r, [4e-5, 4e-5]).unwrap();
+    let surface = random_surface(&r.surface(), [4e-5, 4e-5]).unwrap();
     for grid in [[10, 10], [40, 40], [40, 10]] {
         let (c, h) = centres([4e-5, 4e-5], grid);
-        let got = texture_heights_m(&random(r), &c, h).unwrap();
+        let got = texture_heights_m(&random(r), None, &c, h).unwrap();
         for (x, g) in c.iter().zip(&got) {
             assert_eq!(*g, surface.height_at_m(x[0], x[1]), "{grid:?} at {x:?}");
         }
     }
 }
 
-fn map_texture(grid: HeightGrid, pixel_m: [f64; 2]) -> TextureSpec {
+fn map_texture(pixel_m: [f64; 2]) -> TextureSpec {
     TextureSpec {
         heights: Some(HeightMapSpec {
             file: "in memory".into(),
             pixel_m,
-            data: Some(std::sync::Arc::new(grid)),
+            data: None,
         }),
         ..TextureSpec::default()
     }
@@ -233,9 +233,9 @@ fn a_height_map_reproduces_a_linear_field_and_is_centred_on_the_contact_point() 
         cols,
         heights_m: (0..rows * cols).map(|k| at(k / cols, k % cols)).collect(),
     };
-    let t = map_texture(grid, [dx, dy]);
+    let t = map_texture([dx, dy]);
     let (centres, h) = centres([3e-6, 2.7e-6], [13, 17]);
-    let got = texture_heights_m(&t, &centres, h).unwrap();
+    let got = texture_heights_m(&t, Some(&grid), &centres, h).unwrap();
     for (x, g) in centres.iter().zip(&got) {
         let want = a + b * x[0] + c * x[1];
         // Bilinear interpolation is exact on a linear field: round-off of a few operations on
@@ -243,10 +243,10 @@ fn a_height_map_reproduces_a_linear_field_and_is_centred_on_the_contact_point() 
         assert!((g - want).abs() < 1e-21, "at {x:?}: {g} vs {want}");
     }
     // The contact point is the map's centre: the middle row, between columns 4 and 5.
-    let origin = texture_heights_m(&t, &[[0.0, 0.0]], h).unwrap()[0];
+    let origin = texture_heights_m(&t, Some(&grid), &[[0.0, 0.0]], h).unwrap()[0];
     assert!((origin - 0.5 * (at(3, 4) + at(3, 5))).abs() < 1e-21);
     // Beyond the outermost pixel centres: refused.
-    let e = texture_heights_m(&t, &[[1.6e-6, 0.0]], h).unwrap_err();
+    let e = texture_heights_m(&t, Some(&grid), &[[1.6e-6, 0.0]], h).unwrap_err();
     assert!(e.contains("outside the height map"), "{e}");
 }
 
@@ -263,7 +263,7 @@ fn ridges_follow_their_cosine() {
             ..TextureSpec::default()
         };
         let (c, h) = centres([1e-3, 6e-4], [40, 24]);
-        let got = texture_heights_m(&t, &c, h).unwrap();
+        let got = texture_heights_m(&t, None, &c, h).unwrap();
         let th = angle_deg * std::f64::consts::PI / 180.0;
         for (x, g) in c.iter().zip(&got) {
             let s = x[0] * th.cos() + x[1] * th.sin();
@@ -343,7 +343,9 @@ fn npy_and_csv_of_the_same_map_give_the_same_heights() {
         assert!(noted, "{file} is among the files read");
         let f = &read.scene.fingers[0];
         let (c, e) = centres(f.patch.size, f.patch.grid);
-        texture_heights_m(f.texture.as_ref().unwrap(), &c, e).unwrap()
+        let texture = f.texture.as_ref().unwrap();
+        let map = texture.heights.as_ref().and_then(|h| h.data.as_deref());
+        texture_heights_m(texture, map, &c, e).unwrap()
     };
     let from_csv = heights("h.csv");
     assert_eq!(heights("c.npy"), from_csv);

@@ -98,13 +98,6 @@ mod solve;
 mod solver;
 
 // ---- The scene: what a user writes (serde types, JSON Schema, validation) ----
-pub use geometry::shape_spec::{
-    BoxSpec, CylinderSpec, LengthUnit, MeshSpec, PlaceSpec, RaySpec, ShapeSpec, SphereSpec,
-    TipCylinderSpec, TipFlatSpec, TipSpec, TipSphereSpec, DEFAULT_SURFACE_TOLERANCE_M,
-};
-pub use geometry::texture_spec::{
-    HeightGrid, HeightMapSpec, RandomSurfaceSpec, RidgesSpec, TextureSpec,
-};
 pub use scene::finger_placement::STANDARD_GRAVITY;
 pub use scene::memory_budget::{
     estimate_memory_bytes, estimate_memory_bytes_with, finger_unknowns,
@@ -117,6 +110,13 @@ pub use scene::scene_format::{
 };
 pub use scene::scene_reading::{FileProblem, SceneFiles};
 pub use scene::shape_report::{DerivedFrame, ShapeReport};
+pub use scene::shape_spec::{
+    BoxSpec, CylinderSpec, LengthUnit, MeshSpec, PlaceSpec, RaySpec, ShapeSpec, SphereSpec,
+    TipCylinderSpec, TipFlatSpec, TipSpec, TipSphereSpec, DEFAULT_SURFACE_TOLERANCE_M,
+};
+pub use scene::texture_spec::{
+    HeightGrid, HeightMapSpec, RandomSurfaceSpec, RidgesSpec, TextureSpec,
+};
 
 /// The ranges a scene's numbers may take (physical ranges, patch sizes, the planarity
 /// tolerance): what validation checks, for front ends that check their own inputs alike.
@@ -137,8 +137,8 @@ pub mod strict_json {
 pub use geometry::contact_frame::ContactFrame;
 pub use geometry::mesh_surface::TriangleMesh;
 pub use geometry::random_surface::{random_surface, RandomSurface};
-pub use geometry::surface_texture::texture_heights_m;
 pub use geometry::tessellation::{box_mesh, icosphere};
+pub use scene::texture_spec::texture_heights_m;
 
 // ---- The model: built once from a scene, immutable ----
 pub use model::equilibrium::{MotionPlane, Wrench};

@@ -248,7 +248,10 @@ impl Scene {
             })
             .collect();
         let heights = py
-            .allow_threads(|| grasp_model::texture_heights_m(texture, &centres, [hx, hy]))
+            .allow_threads(|| {
+                let map = texture.heights.as_ref().and_then(|h| h.data.as_deref());
+                grasp_model::texture_heights_m(texture, map, &centres, [hx, hy])
+            })
             .map_err(crate::errors::grasp_error)?;
         crate::arrays::float_array(py, &heights, &[nx, ny]).map(Some)
     }

@@ -10,8 +10,6 @@ pub mod portable_fft;
 pub mod primitive_surface;
 pub mod random_surface;
 pub mod shape;
-pub mod shape_spec;
 pub mod surface_point;
 pub mod surface_texture;
 pub mod tessellation;
-pub mod texture_spec;

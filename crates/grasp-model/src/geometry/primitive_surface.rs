@@ -5,7 +5,6 @@
 
 use nalgebra::Vector3;
 
-use crate::geometry::shape_spec::ShapeSpec;
 use crate::geometry::surface_point::perpendicular;
 use crate::geometry::surface_point::{SurfaceFeature, SurfacePoint};
 
@@ -61,28 +60,6 @@ fn point(
 }
 
 impl Primitive {
-    /// The primitive of a shape spec, `None` for a mesh.
-    pub fn from_spec(s: &ShapeSpec) -> Option<Primitive> {
-        if let Some(b) = &s.box_shape {
-            return Some(Primitive::Box {
-                half_m: b.size.map(|x| x / 2.0),
-            });
-        }
-        if let Some(b) = &s.sphere {
-            return Some(Primitive::Sphere { radius_m: b.radius });
-        }
-        if let Some(c) = &s.cylinder {
-            return Some(Primitive::Cylinder {
-                radius_m: c.radius,
-                half_length_m: c.length / 2.0,
-            });
-        }
-        s.capsule.as_ref().map(|c| Primitive::Capsule {
-            radius_m: c.radius,
-            half_length_m: c.length / 2.0,
-        })
-    }
-
     /// Volume, m^3.
     pub fn volume_m3(&self) -> f64 {
         use std::f64::consts::PI;

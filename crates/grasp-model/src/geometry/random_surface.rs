@@ -35,7 +35,6 @@ use rand_core::{RngCore, SeedableRng};
 use rustfft::num_complex::Complex64;
 
 use crate::geometry::portable_fft::PortableFft;
-use crate::geometry::texture_spec::RandomSurfaceSpec;
 
 /// Pixels of the generation grid per short wavelength.
 pub const PIXELS_PER_SHORT_WAVELENGTH: f64 = 8.0;
@@ -53,6 +52,20 @@ pub const BYTES_PER_PIXEL: u64 = 24;
 /// to the next power of two.
 const SIDE_SLACK: f64 = 1e-9;
 
+/// The statistics of a self-affine surface (the module's spectrum) and the seed of its
+/// phases.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SelfAffineSurface {
+    /// Root-mean-square height, m.
+    pub rms_m: f64,
+    /// Hurst exponent `H`, in (0, 1].
+    pub hurst: f64,
+    /// `[long, short]` wavelengths, m: the roll-off and the short-wavelength cutoff.
+    pub wavelengths_m: [f64; 2],
+    /// Seed of the phases: the same seed gives the same heights on every machine.
+    pub seed: u64,
+}
+
 /// A periodic surface on a square grid: node `(i, j)` at `(i p, j p)` in patch coordinates
 /// (the contact point at node `(0, 0)`), heights repeating every `side` pixels.
 #[derive(Debug, Clone, PartialEq)]
@@ -66,14 +79,14 @@ pub struct RandomSurface {
 }
 
 /// The generation grid's pixel `p = short / 8`, m.
-pub fn pixel_m(spec: &RandomSurfaceSpec) -> f64 {
+pub fn pixel_m(spec: &SelfAffineSurface) -> f64 {
     spec.wavelengths_m[1] / PIXELS_PER_SHORT_WAVELENGTH
 }
 
 /// The generation grid's side `N`, pixels: the smallest power of two with `N p` at least
 /// `max(patch_m[0], patch_m[1], long)` (less a relative `1e-9` for round-off). `None` when the
 /// numbers are not finite and positive or `N` would exceed `usize`.
-pub fn grid_side(spec: &RandomSurfaceSpec, patch_m: [f64; 2]) -> Option<usize> {
+pub fn grid_side(spec: &SelfAffineSurface, patch_m: [f64; 2]) -> Option<usize> {
     let lengths = [patch_m[0], patch_m[1], spec.wavelengths_m[0]];
     if lengths.iter().any(|x| !x.is_finite()) {
         return None;
@@ -91,7 +104,7 @@ pub fn grid_side(spec: &RandomSurfaceSpec, patch_m: [f64; 2]) -> Option<usize> {
 /// ([`crate::limits::MAX_RANDOM_TEXTURE_GRID_SIDE`]) and numbers validation refuses (the caller names the
 /// field).
 pub fn random_surface(
-    spec: &RandomSurfaceSpec,
+    spec: &SelfAffineSurface,
     patch_m: [f64; 2],
 ) -> Result<RandomSurface, String> {
     let [long, short] = spec.wavelengths_m;
@@ -137,7 +150,7 @@ pub fn random_surface(
 
 /// The Fourier coefficients `sqrt(C(q)) exp(i phi)`, Hermitian (`Z(-q) = conj Z(q)`), in the
 /// `N x N` row-major layout of the FFT (index `k` is the wavenumber `k` or `k - N`).
-fn phased_spectrum(spec: &RandomSurfaceSpec, n: usize) -> Vec<Complex64> {
+fn phased_spectrum(spec: &SelfAffineSurface, n: usize) -> Vec<Complex64> {
     let [long, short] = spec.wavelengths_m;
     let dq = 2.0 * std::f64::consts::PI / (n as f64 * pixel_m(spec));
     let (q_long, q_short) = (
@@ -206,8 +219,8 @@ impl RandomSurface {
 mod tests {
     use super::*;
 
-    fn spec() -> RandomSurfaceSpec {
-        RandomSurfaceSpec {
+    fn spec() -> SelfAffineSurface {
+        SelfAffineSurface {
             rms_m: 1e-6,
             hurst: 0.8,
             wavelengths_m: [1e-4, 1e-5],
@@ -254,19 +267,19 @@ mod tests {
     #[test]
     fn out_of_range_specs_are_refused_not_computed() {
         for bad in [
-            RandomSurfaceSpec {
+            SelfAffineSurface {
                 hurst: 0.0,
                 ..spec()
             },
-            RandomSurfaceSpec {
+            SelfAffineSurface {
                 hurst: 1.5,
                 ..spec()
             },
-            RandomSurfaceSpec {
+            SelfAffineSurface {
                 rms_m: f64::NAN,
                 ..spec()
             },
-            RandomSurfaceSpec {
+            SelfAffineSurface {
                 wavelengths_m: [1e-5, 1e-4],
                 ..spec()
             },

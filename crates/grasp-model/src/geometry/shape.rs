@@ -10,10 +10,9 @@
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
-use crate::geometry::mesh_surface::{MeshSurface, TriangleMesh};
+use crate::geometry::mesh_surface::MeshSurface;
 use crate::geometry::mesh_topology::MeshDefects;
 use crate::geometry::primitive_surface::Primitive;
-use crate::geometry::shape_spec::ShapeSpec;
 use crate::geometry::surface_point::SurfacePoint;
 
 /// The shape in its local frame.
@@ -37,19 +36,15 @@ pub struct Shape {
 }
 
 impl Shape {
-    /// The posed shape of `spec` (validated), with the mesh `mesh` when the spec is one.
-    pub fn new(spec: &ShapeSpec, mesh: Option<TriangleMesh>) -> Result<Shape, String> {
-        let local = match (Primitive::from_spec(spec), mesh) {
-            (Some(p), _) => LocalShape::Primitive(p),
-            (None, Some(m)) => LocalShape::Mesh(Box::new(MeshSurface::new(m)?)),
-            (None, None) => return Err("no geometry".into()),
-        };
-        let [w, x, y, z] = spec.quaternion;
-        Ok(Shape {
+    /// The shape `local` posed: rotated by the quaternion `[w, x, y, z]` (normalised) and its
+    /// local origin moved to `position_m` (m, world).
+    pub fn posed(local: LocalShape, quaternion: [f64; 4], position_m: [f64; 3]) -> Shape {
+        let [w, x, y, z] = quaternion;
+        Shape {
             local,
             rotation: UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z)),
-            position_m: Vector3::from(spec.position),
-        })
+            position_m: Vector3::from(position_m),
+        }
     }
 
     fn to_local(&self, p: &Vector3<f64>) -> Vector3<f64> {

@@ -1,78 +1,39 @@
-//! The texture heights under a finger's patch: `h` (m, a peak positive, toward the other
-//! body) at each element centre `(x along t1, y along t2)`, the contact point at the origin,
-//! from `fingers[i].texture` (a height map, ridges, or a seeded random surface).
+//! Texture heights on a patch, `h` (m, a peak positive, toward the other body) at points
+//! `(x along t1, y along t2)`, the contact point at the origin: a measured height map's
+//! ([`HeightGrid`], sampled bilinearly) and parallel ridges' (a cosine profile). A random
+//! surface's are `super::random_surface`'s; which a finger has, its texture spec says
+//! (`crate::scene::texture_spec`).
 
-use crate::geometry::random_surface::random_surface;
-use crate::geometry::texture_spec::{HeightGrid, RidgesSpec, TextureSpec};
+/// Heights on a regular grid, m: `rows x cols`, row-major. In a height map, pixel `(i, j)` is
+/// centred at `((i - (rows - 1)/2) dx, (j - (cols - 1)/2) dy)` from the contact point, and the
+/// heights between pixel centres are bilinear.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeightGrid {
+    /// Number of rows (along `t1`).
+    pub rows: usize,
+    /// Number of columns (along `t2`).
+    pub cols: usize,
+    /// Heights, m, `k = row * cols + col`.
+    pub heights_m: Vec<f64>,
+}
 
 /// How far (in pixels) an element centre may lie beyond a height map's outermost pixel
 /// centres and still be sampled there: round-off of the element centres, never more.
 pub const MAP_EDGE_TOLERANCE_PIXELS: f64 = 1e-6;
 
-/// The heights `h_k`, m, of `spec` at the element centres `centres_m` (m, patch coordinates)
-/// of a patch of elements `element_m` (m, along `t1` and `t2`):
-///
-/// - `heights`: bilinear interpolation of the map, pixel `(i, j)` centred at
-///   `((i - (rows - 1)/2) dx, (j - (cols - 1)/2) dy)` (`map_height_at_m`); a centre outside
-///   the map is an error.
-/// - `ridges`: `h = A cos(2 pi s / L)`, `s = x cos(theta) + y sin(theta)` (`ridge_height_m`).
-/// - `random`: the self-affine surface of [`crate::random_surface`] for a patch whose sides
-///   are the centres' extent plus one element (the patch itself: its element centres lie half
-///   an element inside its edges), sampled bilinearly.
-///
-/// Errors (a spec validation refuses, or a map not read) name no path: the caller does.
-pub fn texture_heights_m(
-    spec: &TextureSpec,
-    centres_m: &[[f64; 2]],
-    element_m: [f64; 2],
-) -> Result<Vec<f64>, String> {
-    match (&spec.heights, &spec.ridges, &spec.random) {
-        (Some(map), None, None) => {
-            let grid = map.data.as_deref().ok_or(
-                "the height map was not read: read the scene with its files (the grasp CLI, \
-                 grasp.Scene or grasp_io)",
-            )?;
-            centres_m
-                .iter()
-                .map(|c| map_height_at_m(grid, map.pixel_m, *c))
-                .collect()
-        }
-        (None, Some(ridges), None) => Ok(centres_m
-            .iter()
-            .map(|c| ridge_height_m(ridges, *c))
-            .collect()),
-        (None, None, Some(random)) => {
-            if centres_m.is_empty() {
-                return Ok(Vec::new());
-            }
-            let patch_m = patch_sides_m(centres_m, element_m)
-                .ok_or("needs finite element centres and element sizes > 0")?;
-            let surface = random_surface(random, patch_m)?;
-            Ok(centres_m
-                .iter()
-                .map(|c| surface.height_at_m(c[0], c[1]))
-                .collect())
-        }
-        _ => Err("needs exactly one of heights, ridges, random".into()),
-    }
-}
-
-/// The sides of the patch whose element centres are `centres_m`: `2 max |c| + element` along
-/// each axis (the patch is centred on the contact point).
-fn patch_sides_m(centres_m: &[[f64; 2]], element_m: [f64; 2]) -> Option<[f64; 2]> {
-    let mut sides = [0.0; 2];
-    for k in 0..2 {
-        let reach = centres_m.iter().fold(0.0_f64, |m, c| m.max(c[k].abs()));
-        sides[k] = 2.0 * reach + element_m[k];
-        if !(sides[k].is_finite() && element_m[k] > 0.0) {
-            return None;
-        }
-    }
-    Some(sides)
+/// Parallel ridges of a cosine profile, `h = A cos(2 pi s / L)` across them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ridges {
+    /// Amplitude `A`, m.
+    pub amplitude_m: f64,
+    /// Period `L`, m.
+    pub period_m: f64,
+    /// Direction across the ridges, degrees from `t1` toward `t2`.
+    pub angle_deg: f64,
 }
 
 /// The ridges' height `A cos(2 pi s / L)` at `c = (x, y)`, `s = x cos(theta) + y sin(theta)`.
-pub fn ridge_height_m(ridges: &RidgesSpec, c: [f64; 2]) -> f64 {
+pub fn ridge_height_m(ridges: &Ridges, c: [f64; 2]) -> f64 {
     let (sin, cos) = libm::sincos(ridges.angle_deg.to_radians());
     let s = c[0] * cos + c[1] * sin;
     ridges.amplitude_m * libm::cos(2.0 * std::f64::consts::PI * s / ridges.period_m)
@@ -128,8 +89,6 @@ pub fn map_height_at_m(grid: &HeightGrid, pixel_m: [f64; 2], c: [f64; 2]) -> Res
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::texture_spec::{HeightMapSpec, RandomSurfaceSpec};
-    use std::sync::Arc;
 
     fn map(rows: usize, cols: usize, f: impl Fn(usize, usize) -> f64) -> HeightGrid {
         HeightGrid {
@@ -149,43 +108,5 @@ mod tests {
         assert!(map_height_at_m(&g, [1.0, 1.0], [1.001, 0.0])
             .unwrap_err()
             .contains("outside the height map"));
-    }
-
-    #[test]
-    fn a_texture_needs_exactly_one_member_and_a_read_map() {
-        let none = TextureSpec::default();
-        assert!(texture_heights_m(&none, &[[0.0, 0.0]], [1.0, 1.0]).is_err());
-        let unread = TextureSpec {
-            heights: Some(HeightMapSpec {
-                file: "h.npy".into(),
-                pixel_m: [1.0, 1.0],
-                data: None,
-            }),
-            ..TextureSpec::default()
-        };
-        let e = texture_heights_m(&unread, &[[0.0, 0.0]], [1.0, 1.0]).unwrap_err();
-        assert!(e.contains("not read"), "{e}");
-        let read = TextureSpec {
-            heights: Some(HeightMapSpec {
-                data: Some(Arc::new(map(2, 2, |i, j| (i + 2 * j) as f64))),
-                ..unread.heights.clone().unwrap()
-            }),
-            ..TextureSpec::default()
-        };
-        // The centre of a 2 x 2 map is the mean of its four pixels.
-        assert_eq!(
-            texture_heights_m(&read, &[[0.0, 0.0]], [1.0, 1.0]),
-            Ok(vec![1.5])
-        );
-        let random = TextureSpec {
-            random: Some(RandomSurfaceSpec {
-                rms_m: 1e-6,
-                hurst: 0.5,
-                wavelengths_m: [1e-4, 1e-5],
-                seed: 1,
-            }),
-            ..read
-        };
-        assert!(texture_heights_m(&random, &[[0.0, 0.0]], [1.0, 1.0]).is_err());
     }
 }

@@ -11,7 +11,6 @@ use nalgebra::Vector3;
 
 use crate::error::{ModelError, OutOfMemory};
 use crate::geometry::contact_frame::ContactFrame;
-use crate::geometry::texture_spec::GapSpec;
 use crate::model::contact_pair::ContactPair;
 use crate::model::equilibrium::{unit_wrench, EquilibriumMap, MotionPlane, Wrench};
 use crate::model::friction::FrictionLaw;
@@ -22,6 +21,7 @@ use crate::model::viscous_contact::ViscousContact;
 use crate::scene::memory_budget::SolveSize;
 use crate::scene::scene_format::{ModelKind, RelaxationSpec};
 use crate::scene::shape_report::SharedShape;
+use crate::scene::texture_spec::GapSpec;
 
 /// How a finger is driven.
 #[derive(Debug, Clone, Copy, PartialEq)]

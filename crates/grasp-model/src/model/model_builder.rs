@@ -9,8 +9,6 @@ use nalgebra::Vector3;
 
 use crate::error::{OutOfMemory, SceneError};
 use crate::geometry::contact_frame::ContactFrame;
-use crate::geometry::surface_texture::texture_heights_m;
-use crate::geometry::texture_spec::GapSpec;
 use crate::model::contact_pair::ContactPair;
 use crate::model::equilibrium::MotionPlane;
 use crate::model::friction::FrictionLaw;
@@ -24,6 +22,8 @@ use crate::model::surface_gap::{exact_gaps, TipProfile};
 use crate::model::viscous_contact::{BodyLaws, ViscousContact};
 use crate::scene::memory_budget::{dense_block_bytes, dense_blocks_problem, ComplianceBuild};
 use crate::scene::scene_format::{FingerSpec, RadiusSpec, Scene};
+use crate::scene::texture_spec::texture_heights_m;
+use crate::scene::texture_spec::GapSpec;
 
 /// A first touch away from the contact point is reported when the gaps shift by more than this
 /// fraction of the patch's half diagonal (smaller shifts are the rays' round-off).
@@ -318,7 +318,8 @@ fn finger_patch(
         return Ok((patch, warning));
     };
     let element = [patch.grid.hx, patch.grid.hy];
-    let heights = texture_heights_m(texture, &patch.centres_m, element).map_err(|e| {
+    let map = texture.heights.as_ref().and_then(|h| h.data.as_deref());
+    let heights = texture_heights_m(texture, map, &patch.centres_m, element).map_err(|e| {
         SceneError::Invalid(vec![crate::error::InputProblem {
             path: format!("fingers[{i}].texture"),
             message: e,

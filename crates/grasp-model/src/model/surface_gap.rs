@@ -16,9 +16,9 @@ use rayon::prelude::*;
 
 use crate::geometry::contact_frame::ContactFrame;
 use crate::geometry::shape::Shape;
-use crate::geometry::shape_spec::TipSpec;
 use crate::scene::scene_format::FingerSpec;
 use crate::scene::shape_report::SharedShape;
+use crate::scene::shape_spec::TipSpec;
 
 /// Elements per patch from which the object's ray casts run on all cores.
 const PARALLEL_RAYS: usize = 4_096;

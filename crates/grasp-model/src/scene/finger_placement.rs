@@ -12,11 +12,11 @@ use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
 use crate::geometry::mesh_topology::MeshDefects;
 use crate::geometry::shape::Shape;
-use crate::geometry::shape_spec::PlaceSpec;
-use crate::geometry::shape_spec::{MeshSpec, ShapeSpec};
 use crate::geometry::surface_point::{SurfaceFeature, SurfacePoint};
 use crate::scene::patch_on_shape::{overhang_warning, overlap_warnings};
 use crate::scene::shape_checks::check_shape_spec;
+use crate::scene::shape_spec::PlaceSpec;
+use crate::scene::shape_spec::{MeshSpec, ShapeSpec};
 
 /// Principal curvatures equal to this fraction of the larger are an umbilic point (a sphere's):
 /// every tangent is a principal direction.
@@ -35,7 +35,7 @@ type Vec3 = [f64; 3];
 pub const STANDARD_GRAVITY: f64 = 9.80665;
 
 /// Default largest distance of a finger's point from the surface, m.
-use crate::geometry::shape_spec::DEFAULT_SURFACE_TOLERANCE_M;
+use crate::scene::shape_spec::DEFAULT_SURFACE_TOLERANCE_M;
 
 /// A principal curvature below this magnitude counts as flat, 1/m (radius above 1 km).
 pub const FLAT_CURVATURE_PER_M: f64 = 1e-3;
@@ -89,7 +89,8 @@ pub fn resolve_shapes(
         crate::scene::shape_checks::check_mesh("object.shape", m)
             .map_err(|p| SceneError::Invalid(vec![p]))?;
     }
-    let shape = Shape::new(&spec, mesh)
+    let shape = spec
+        .posed(mesh)
         .map_err(|e| SceneError::Invalid(vec![problem("object.shape", e, "give a closed mesh")]))?;
     let (volume_m3, centroid) = shape.volume_and_centroid();
     let open = shape.open_mesh();

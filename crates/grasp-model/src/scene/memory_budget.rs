@@ -140,11 +140,14 @@ pub fn texture_bytes(finger: &FingerSpec) -> u64 {
     let source = if let Some(map) = t.heights.as_ref().and_then(|h| h.data.as_ref()) {
         (map.heights_m.len() as u64).saturating_mul(F64_BYTES)
     } else if let Some(r) = &t.random {
-        crate::geometry::random_surface::grid_side(r, finger.patch.size).map_or(u64::MAX, |g| {
-            (g as u64)
-                .saturating_mul(g as u64)
-                .saturating_mul(crate::geometry::random_surface::BYTES_PER_PIXEL)
-        })
+        crate::geometry::random_surface::grid_side(&r.surface(), finger.patch.size).map_or(
+            u64::MAX,
+            |g| {
+                (g as u64)
+                    .saturating_mul(g as u64)
+                    .saturating_mul(crate::geometry::random_surface::BYTES_PER_PIXEL)
+            },
+        )
     } else {
         0
     };

@@ -42,7 +42,7 @@ pub struct Scene {
     /// How every finger's smooth initial gap is computed, unless the finger says otherwise:
     /// `"exact"` (the default when the object has a shape) or `"quadratic"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub gap: Option<crate::geometry::texture_spec::GapSpec>,
+    pub gap: Option<crate::scene::texture_spec::GapSpec>,
     /// What the object's shape gave: derived finger frames, volume, mass, warnings (`None`
     /// without `object.shape`). Not part of the file.
     #[serde(skip)]
@@ -78,7 +78,7 @@ pub struct ObjectSpec {
     /// The object's shape and pose (optional): fingers can then be placed on it (`place`),
     /// and explicit frames are checked against it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub shape: Option<crate::geometry::shape_spec::ShapeSpec>,
+    pub shape: Option<crate::scene::shape_spec::ShapeSpec>,
     /// Density, kg/m^3, in `[1e-3, 1e5]`: with a shape, the weight (`rho V g0`, g0 = 9.80665
     /// m/s^2) and centre of mass (the centroid) follow; give it instead of `weight` and
     /// `center_of_mass`.
@@ -215,7 +215,7 @@ pub struct FingerSpec {
     /// near the surface, or an approach ray. The contact point, normal, tangent and object
     /// radii are then derived; give none of them.
     #[serde(default, skip_serializing)]
-    pub place: Option<crate::geometry::shape_spec::PlaceSpec>,
+    pub place: Option<crate::scene::shape_spec::PlaceSpec>,
     /// Initial contact point `v_i` on the object surface, metres (world frame), each
     /// coordinate in `[-1e3, 1e3]`. Required unless `place` is given.
     pub contact_point: Vec3,
@@ -236,7 +236,7 @@ pub struct FingerSpec {
     /// {"radius": R, "axis": [x, y, z]}}` or `{"flat": {"size": [a, b]}}` (instead of
     /// `tip_radius`; omitted: flat).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tip: Option<crate::geometry::shape_spec::TipSpec>,
+    pub tip: Option<crate::scene::shape_spec::TipSpec>,
     /// Local radius of curvature of the object at the contact in metres: `null` (flat), one
     /// number (sphere-like), or `[R1, R2]` principal radii along `t1` and `t2` (either may be
     /// `null`; a cylinder whose axis runs along `t2` is `[R, null]`). Each radius in
@@ -254,11 +254,11 @@ pub struct FingerSpec {
     /// the object has a shape) or `"quadratic"` (the thesis's form from the curvatures; the
     /// default, and the only form, without a shape). Overrides the scene's `gap`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub gap: Option<crate::geometry::texture_spec::GapSpec>,
+    pub gap: Option<crate::scene::texture_spec::GapSpec>,
     /// The surfaces' texture under the patch (heights added to the gap): `{"heights": {"file":
     /// "h.npy", "pixel_m": [dx, dy]}}`, `{"ridges": {...}}` or `{"random": {...}}`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub texture: Option<crate::geometry::texture_spec::TextureSpec>,
+    pub texture: Option<crate::scene::texture_spec::TextureSpec>,
 }
 
 impl FingerSpec {

@@ -10,11 +10,11 @@ use std::sync::Arc;
 
 use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
-use crate::geometry::shape_spec::MeshSpec;
-use crate::geometry::texture_spec::{HeightGrid, HeightMapSpec};
 use crate::problem_list::ProblemList;
 use crate::scene::scene_format::{Scene, Vec3};
+use crate::scene::shape_spec::MeshSpec;
 use crate::scene::strict_json::StrictValue;
+use crate::scene::texture_spec::{HeightGrid, HeightMapSpec};
 use crate::scene::vector_math::unit_vector;
 
 /// Why a file a scene names could not be read: what is wrong (naming the file) and the fix.

@@ -6,10 +6,10 @@
 //! direction that is zero or not finite is refused.
 
 use crate::error::SceneError;
-use crate::geometry::texture_spec::GapSpec;
 use crate::scene::field_checks::{number, FieldChecks};
 use crate::scene::limits::*;
 use crate::scene::scene_format::{ControlSpec, FingerSpec, MaterialSpec, RadiusSpec, Scene, Vec3};
+use crate::scene::texture_spec::GapSpec;
 use crate::scene::vector_math::{cross, dot, norm, sub, unit, unit_vector};
 
 /// A tangent whose angle with the normal has a sine below this (about 0.2 arc seconds) is
@@ -369,7 +369,7 @@ fn validate_tip_shape(p: &str, f: &FingerSpec, exact: bool, v: &mut FieldChecks)
 fn validate_disc(
     p: &str,
     f: &FingerSpec,
-    disc: &crate::geometry::shape_spec::TipDiscSpec,
+    disc: &crate::scene::shape_spec::TipDiscSpec,
     v: &mut FieldChecks,
 ) {
     let path = format!("{p}.tip.disc.diameter");

@@ -5,9 +5,9 @@ use std::ops::RangeInclusive;
 
 use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
-use crate::geometry::shape_spec::ShapeSpec;
 use crate::number_text::readable;
 use crate::scene::limits::MAX_COORDINATE_M;
+use crate::scene::shape_spec::ShapeSpec;
 
 /// A quaternion shorter than this has no direction to normalise to.
 const MIN_QUATERNION_NORM: f64 = 1e-9;

@@ -7,10 +7,10 @@
 
 use crate::geometry::random_surface::{grid_side, pixel_m};
 use crate::geometry::surface_texture::{map_half_extent_m, MAP_EDGE_TOLERANCE_PIXELS};
-use crate::geometry::texture_spec::{HeightMapSpec, RandomSurfaceSpec, RidgesSpec};
 use crate::scene::field_checks::{number, FieldChecks};
 use crate::scene::limits::*;
 use crate::scene::scene_format::FingerSpec;
+use crate::scene::texture_spec::{HeightMapSpec, RandomSurfaceSpec, RidgesSpec};
 
 /// A usable patch, as the texture checks need it (the patch's own checks report the rest).
 #[derive(Clone, Copy)]
@@ -165,7 +165,7 @@ fn check_height_map(p: &str, h: &HeightMapSpec, patch: Option<Patch>, v: &mut Fi
 fn check_coverage(
     file: &str,
     h: &HeightMapSpec,
-    grid: &crate::geometry::texture_spec::HeightGrid,
+    grid: &crate::scene::texture_spec::HeightGrid,
     patch: Patch,
     v: &mut FieldChecks,
 ) {
@@ -286,7 +286,7 @@ fn check_random(p: &str, r: &RandomSurfaceSpec, patch: Option<Patch>, v: &mut Fi
             ),
         );
     }
-    let side = grid_side(r, patch.size_m);
+    let side = grid_side(&r.surface(), patch.size_m);
     if side.is_none_or(|n| n > MAX_RANDOM_TEXTURE_GRID_SIDE) {
         let n = side.map_or("over 2^62".to_string(), |n| n.to_string());
         v.push(
@@ -294,7 +294,7 @@ fn check_random(p: &str, r: &RandomSurfaceSpec, patch: Option<Patch>, v: &mut Fi
             format!(
                 "needs a generation grid of {n} x {n} pixels of short/8 = {} m (covering the \
                  patch and the long wavelength), more than {MAX_RANDOM_TEXTURE_GRID_SIDE}",
-                number(pixel_m(r))
+                number(pixel_m(&r.surface()))
             ),
             "give a longer short wavelength, or a shorter long wavelength and a smaller patch",
         );

@@ -10,9 +10,9 @@ use serde_json::Value;
 use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
 use crate::geometry::shape::Shape;
-use crate::geometry::shape_spec::{MeshSpec, ShapeSpec};
 use crate::scene::shape_checks::{check_mesh, check_shape_spec};
 use crate::scene::shape_report::SharedShape;
+use crate::scene::shape_spec::{MeshSpec, ShapeSpec};
 
 /// Largest distance of the contact point from the tip's surface, as a fraction of the patch's
 /// half diagonal: the tip's heights are measured from its height at the contact point, so a
@@ -85,7 +85,7 @@ fn tip_shape(
         }
         None => None,
     };
-    let shape = Shape::new(&spec, mesh).map_err(|e| {
+    let shape = spec.posed(mesh).map_err(|e| {
         vec![InputProblem::new(
             &path,
             e,

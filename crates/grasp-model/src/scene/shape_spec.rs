@@ -5,6 +5,10 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use crate::geometry::mesh_surface::{MeshSurface, TriangleMesh};
+use crate::geometry::primitive_surface::Primitive;
+use crate::geometry::shape::{LocalShape, Shape};
+
 type Vec3 = [f64; 3];
 
 /// `object.shape`: exactly one of `box`, `sphere`, `cylinder`, `capsule`, `mesh`, and a pose.
@@ -223,4 +227,39 @@ pub struct TipDiscSpec {
 
 fn is_zero(x: &f64) -> bool {
     *x == 0.0
+}
+
+impl ShapeSpec {
+    /// The primitive of a shape spec, `None` for a mesh.
+    pub fn primitive(&self) -> Option<Primitive> {
+        let s = self;
+        if let Some(b) = &s.box_shape {
+            return Some(Primitive::Box {
+                half_m: b.size.map(|x| x / 2.0),
+            });
+        }
+        if let Some(b) = &s.sphere {
+            return Some(Primitive::Sphere { radius_m: b.radius });
+        }
+        if let Some(c) = &s.cylinder {
+            return Some(Primitive::Cylinder {
+                radius_m: c.radius,
+                half_length_m: c.length / 2.0,
+            });
+        }
+        s.capsule.as_ref().map(|c| Primitive::Capsule {
+            radius_m: c.radius,
+            half_length_m: c.length / 2.0,
+        })
+    }
+
+    /// The posed shape of this spec (validated), with the mesh `mesh` when the spec is one.
+    pub fn posed(&self, mesh: Option<TriangleMesh>) -> Result<Shape, String> {
+        let local = match (self.primitive(), mesh) {
+            (Some(p), _) => LocalShape::Primitive(p),
+            (None, Some(m)) => LocalShape::Mesh(Box::new(MeshSurface::new(m)?)),
+            (None, None) => return Err("no geometry".into()),
+        };
+        Ok(Shape::posed(local, self.quaternion, self.position))
+    }
 }
