@@ -22,7 +22,7 @@
 //! | `geometry/` | contact frames, surface points, exact primitives, triangle meshes, posed shapes, tessellation, texture heights | - |
 //! | `scene/` | the file format, strict JSON, validation (a path and a fix per problem), shape checks, finger placement, the memory budget | geometry |
 //! | `model/` | the immutable [`GraspModel`]: materials, patches, influence coefficients, friction laws, equilibrium map, closed forms | scene, geometry |
-//! | `program/` | the solver-neutral [`ConeProgram`] (assembly kept apart from solving) | model |
+//! | `program/` | the solver-neutral [`ConeProgram`] (assembly kept apart from solving) and its element sets (`cones/`: one trait, one file per set) | model |
 //! | `solver/` | options, outcomes and certificates, Clarabel, the native semismooth Newton solver, the warm start's prediction | program, model |
 //! | `solve/` | [`GraspSolver`] and its strategies (one convex solve, the sequential fixed point), readout, residuals, [`Solution`], contact state, sensitivities | solver, program, model, scene |
 //! | `analysis/` | many solves: disturbance margins, refinement studies, patch sizing | all of the above |
@@ -40,7 +40,8 @@
 //! assembles the [`ConeProgram`] once; strategy: one convex solve or the sequential fixed
 //! point; backend: native or Clarabel) -> [`Solution`] (SI, with [`Residuals`] computed from
 //! the solution itself). What changes from one solve to the next travels beside the model:
-//! [`StepInputs`] (commanded loads, an extra wrench on the object, commanded approaches) and
+//! [`StepInputs`] (commanded loads, an extra wrench on the object, commanded approaches, a time
+//! history's step) and
 //! the [`ContactState`] the solves leave behind (slip memory, warm start, viscoelastic
 //! history), as MuJoCo keeps `mjModel` apart from `mjData`.
 //!
