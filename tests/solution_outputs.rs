@@ -11,7 +11,8 @@
 
 mod support;
 
-use grasp_model::{Solution, SolutionRecord, COLUMNS_ABOVE_ELEMENTS};
+use grasp_io::SolutionRecord;
+use grasp_model::{Solution, COLUMNS_ABOVE_ELEMENTS};
 use serde_json::Value;
 use support::{example_json, solve_json};
 

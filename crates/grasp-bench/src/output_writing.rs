@@ -11,7 +11,8 @@ use std::io::BufWriter;
 use std::path::Path;
 use std::time::Instant;
 
-use grasp_model::{ComplianceChoice, GraspModel, Scene, SolutionRecord};
+use grasp_io::SolutionRecord;
+use grasp_model::{ComplianceChoice, GraspModel, Scene};
 
 use crate::error::BenchError;
 use crate::peak_memory;

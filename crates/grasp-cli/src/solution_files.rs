@@ -13,7 +13,7 @@ use crate::output::Outputs;
 /// Writes `record` as the solution's JSON text into the claimed `out`
 /// ([`grasp_io::write_solution_json`]: streamed, no copy of the text in memory) and says so,
 /// with the file's size and the time taken.
-pub fn write_json(outs: &Outputs, out: &Path, record: &impl serde::Serialize) -> Result<()> {
+pub fn write_json(outs: &Outputs, out: &Path, record: &grasp_io::SolutionRecord<'_>) -> Result<()> {
     let clock = Instant::now();
     let pending = outs.create(out)?;
     let mut writer = BufWriter::with_capacity(1 << 20, pending.file());

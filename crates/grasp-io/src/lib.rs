@@ -16,9 +16,10 @@
 //!   replacing without [`OutputRules::force`], exclusive unguessable temporary files moved into
 //!   place on success, every output locked for the run); [`remove_all_for_exit`]: the live
 //!   hidden files a signal handler removes.
-//! - [`write_solution_json`]: a solution's JSON text, streamed (a fine patch's element fields
-//!   one array a line); [`write_solution_npz`]: a solution's element fields as a NumPy `.npz`
-//!   archive ([`NpzArchive`]).
+//! - [`SolutionRecord`]: what a solution's JSON file holds (the solution, the solve's time,
+//!   the sensitivities); [`write_solution_json`]: its text, streamed (a fine patch's element
+//!   fields one array a line); [`write_solution_npz`]: a solution's element fields as a NumPy
+//!   `.npz` archive ([`NpzArchive`]).
 //! - [`default_memory_limit`]: a share of the machine's memory, for default memory limits;
 //!   [`MemoryLimit::check`]: the one check of a scene's estimated memory against a run's limit.
 //!
@@ -42,6 +43,7 @@ mod scene_file;
 mod sibling_names;
 mod solution_json;
 mod solution_npz;
+mod solution_record;
 mod temporary_files;
 
 // ---- Reading a file: a regular file within its kind's size limit, lines bounded ----
@@ -71,6 +73,7 @@ pub use memory_limit::{MemoryError, MemoryLimit};
 pub use output_file::{OutputRules, OutputSet, PendingOutput};
 pub use solution_json::write_solution_json;
 pub use solution_npz::{write_solution_npz, NpzArchive};
+pub use solution_record::SolutionRecord;
 pub use temporary_files::remove_all_for_exit;
 
 // ---- How messages name this crate's options (front ends respell them) ----

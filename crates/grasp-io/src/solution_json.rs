@@ -10,11 +10,10 @@ use std::io::Write;
 use serde::Serialize;
 use serde_json::ser::{CompactFormatter, Formatter, PrettyFormatter};
 
+use crate::solution_record::SolutionRecord;
+
 /// Writes `record` as the solution's JSON text into `w` (see the module documentation).
-pub fn write_solution_json<W: Write, T: Serialize + ?Sized>(
-    w: W,
-    record: &T,
-) -> serde_json::Result<()> {
+pub fn write_solution_json<W: Write>(w: W, record: &SolutionRecord<'_>) -> serde_json::Result<()> {
     let mut ser = serde_json::Serializer::with_formatter(w, ColumnsFormatter::default());
     record.serialize(&mut ser)
 }

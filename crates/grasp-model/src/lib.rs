@@ -184,7 +184,6 @@ pub use analysis::refinement::{
     ErrorEstimate, NoEstimate, StudyReference, StudyRow,
 };
 pub use analysis::relaxation::{solve_at, solve_at_reporting, TimePoint, TimedSolution};
-pub use analysis::solution_record::SolutionRecord;
 pub use analysis::wrench_directions::{
     axis_directions, plane_directions, spread_directions, WrenchDirection,
 };

@@ -310,8 +310,8 @@ pub type Tangents = ([f64; 3], [f64; 3]);
 impl Solution {
     /// What the solution's JSON holds: the solution, with the solve's time for a
     /// viscoelastic scene.
-    fn record(&self) -> grasp_model::SolutionRecord<'_> {
-        grasp_model::SolutionRecord {
+    fn record(&self) -> grasp_io::SolutionRecord<'_> {
+        grasp_io::SolutionRecord {
             solution: &self.solution,
             time: self.time,
             sensitivities: None,

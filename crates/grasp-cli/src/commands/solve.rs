@@ -133,7 +133,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     let solution = &solved.solution;
     if let Some(out) = &json {
         // Every outcome is written, "no equilibrium" (exit 2) included: it is the result.
-        let record = grasp_model::SolutionRecord {
+        let record = grasp_io::SolutionRecord {
             solution,
             time: solved.model.is_viscoelastic().then_some(request.time),
             sensitivities: solved.sensitivities.as_ref().map(|(s, _)| s),

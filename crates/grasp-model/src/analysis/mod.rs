@@ -1,7 +1,6 @@
 //! Analyses built on many solves: disturbance margins (of one grasp, and along a loading path;
-//! the load capacity that bounds them), grid-refinement studies, patch
-//! sizing, the state at a time of a viscoelastic scene, and the record a solution's JSON file
-//! holds.
+//! the load capacity that bounds them), grid-refinement studies, patch sizing, and the state at
+//! a time of a viscoelastic scene.
 
 pub mod load_capacity;
 pub mod load_fixed_directions;
@@ -11,6 +10,5 @@ pub mod margin_tracker;
 pub mod patch_sizing;
 pub mod refinement;
 pub mod relaxation;
-pub mod solution_record;
 pub mod trial_forces;
 pub mod wrench_directions;

@@ -46,19 +46,6 @@ impl std::fmt::Display for TimePoint {
     }
 }
 
-impl TimePoint {
-    /// The time as a solution's JSON writes it (`"time"` of `grasp solve --json` and Python's
-    /// `Solution.to_dict()` for a viscoelastic scene): `"instantaneous"`, `{"at_s": t}` or
-    /// `"long_term"`.
-    pub fn to_json(&self) -> serde_json::Value {
-        match self {
-            TimePoint::Instantaneous => serde_json::json!("instantaneous"),
-            TimePoint::At { seconds } => serde_json::json!({ "at_s": seconds }),
-            TimePoint::LongTerm => serde_json::json!("long_term"),
-        }
-    }
-}
-
 /// What [`solve_at`] answered: the solution at the time asked, and the time steps it took.
 #[derive(Debug, Clone)]
 pub struct TimedSolution {

@@ -3,11 +3,8 @@
 //! scene and the sensitivities when asked. Serialised straight into a writer, so a fine
 //! patch's answer (about 2 GB of text at 1024 x 1024) needs no copy in memory.
 
+use grasp_model::{Sensitivities, Solution, TimePoint};
 use serde::Serialize;
-
-use crate::analysis::relaxation::TimePoint;
-use crate::solve::sensitivity::Sensitivities;
-use crate::solve::solution::Solution;
 
 /// What a solution's JSON file holds.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -25,5 +22,14 @@ pub struct SolutionRecord<'a> {
 }
 
 fn time_json<S: serde::Serializer>(t: &Option<TimePoint>, s: S) -> Result<S::Ok, S::Error> {
-    t.map(|t| t.to_json()).serialize(s)
+    t.map(time_value).serialize(s)
+}
+
+/// The time as the file writes it: `"instantaneous"`, `{"at_s": t}` or `"long_term"`.
+fn time_value(t: TimePoint) -> serde_json::Value {
+    match t {
+        TimePoint::Instantaneous => serde_json::json!("instantaneous"),
+        TimePoint::At { seconds } => serde_json::json!({ "at_s": seconds }),
+        TimePoint::LongTerm => serde_json::json!("long_term"),
+    }
 }
