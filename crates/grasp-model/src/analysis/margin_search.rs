@@ -270,6 +270,21 @@ impl Search<'_> {
         Ok((None, Some(note)))
     }
 
+    /// One trial at `s` (N) from the held state: where the grasp holds, `held` moves up to
+    /// `s`; where it fails, `fails` moves down to it.
+    fn try_between(
+        &mut self,
+        s: f64,
+        held: &mut Held,
+        fails: &mut Fails,
+    ) -> Result<(), ModelError> {
+        match self.trial(s, &held.state)? {
+            Ok((state, sol)) => *held = Held { s, state, sol },
+            Err(failure) => *fails = Fails { s, failure },
+        }
+        Ok(())
+    }
+
     /// Narrows the bracket `(held, fails)` by bisection to `tolerance` of its upper end (or
     /// below [`ZERO_MARGIN`] of the load scale); the note says why it stopped wider, when it
     /// did.
@@ -283,40 +298,12 @@ impl Search<'_> {
         // Failed at the capacity without a solve: the margin is most often just below it.
         let below = self.capacity_n * (1.0 - CAPACITY_PROBE * tolerance);
         if fails.s >= self.capacity_n && held.s < below && below > zero {
-            match self.trial(below, &held.state)? {
-                Ok((state, sol)) => {
-                    *held = Held {
-                        s: below,
-                        state,
-                        sol,
-                    }
-                }
-                Err(g) => {
-                    *fails = Fails {
-                        s: below,
-                        failure: g,
-                    }
-                }
-            }
+            self.try_between(below, held, fails)?;
         }
         // Failed at the first step: is the direction resisted at all? (One solve, not a
         // bisection down to zero: commanded loads leave some directions unresisted.)
         if held.s == 0.0 {
-            match self.trial(zero, &held.state)? {
-                Ok((state, sol)) => {
-                    *held = Held {
-                        s: zero,
-                        state,
-                        sol,
-                    }
-                }
-                Err(g) => {
-                    *fails = Fails {
-                        s: zero,
-                        failure: g,
-                    }
-                }
-            }
+            self.try_between(zero, held, fails)?;
         }
         let (mut steps, mut bisect) = (0, false);
         while fails.s - held.s > tolerance * fails.s && fails.s > zero {
@@ -338,10 +325,7 @@ impl Search<'_> {
                 format!("the bisection stopped after {MAX_BISECTION_STEPS} steps")
             } else {
                 steps += 1;
-                match self.trial(mid, &held.state)? {
-                    Ok((state, sol)) => *held = Held { s: mid, state, sol },
-                    Err(g) => *fails = Fails { s: mid, failure: g },
-                }
+                self.try_between(mid, held, fails)?;
                 // A guided trial that did not halve the bracket is followed by a bisection.
                 bisect = guided.is_some() && fails.s - held.s > 0.5 * width;
                 continue;
