@@ -101,7 +101,7 @@ mod solver;
 // ---- The scene: what a user writes (serde types, JSON Schema, validation) ----
 pub use scene::finger_placement::STANDARD_GRAVITY;
 pub use scene::memory_budget::{
-    estimate_memory_bytes, estimate_memory_bytes_with, finger_unknowns,
+    estimate_memory_bytes, estimate_memory_bytes_with, finger_unknowns, SolveSize,
 };
 pub use scene::scene_format::{
     scene_json_schema, ApproachSpec, CoefficientSpec, ControlSpec, ElasticLawParams,

@@ -55,7 +55,7 @@ impl Control {
 
 /// One finger, fully prepared: read-only outside this crate (its accessors below); a model
 /// changes only where its matrices change ([`GraspModel::restricted`],
-/// [`GraspModel::for_time_step`]).
+/// a viscoelastic model's time step, `GraspModel::for_time_step`).
 #[derive(Debug, Clone)]
 pub struct FingerModel {
     /// Name from the scene.
@@ -360,7 +360,7 @@ impl GraspModel {
     }
 
     /// The size of a solve of this model's work (its memory:
-    /// [`crate::scene::memory_budget::SolveSize::bytes`]).
+    /// [`SolveSize::bytes`]).
     pub fn solve_size(&self) -> SolveSize {
         SolveSize {
             unknowns: self.n_unknowns,

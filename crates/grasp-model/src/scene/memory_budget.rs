@@ -170,7 +170,7 @@ impl SolveSize {
     /// Bytes a solve works in besides its model: the conjugate-gradient and Newton vectors of
     /// the unknowns and the equality columns (`8 (FFT_VECTORS + FFT_VECTORS_PER_ROW m)` per
     /// unknown, as [`estimate_memory_bytes_with`] counts them) and the solution's element
-    /// records ([`ELEMENT_RECORD_BYTES`] each).
+    /// records (`ELEMENT_RECORD_BYTES`, 192, each).
     pub fn bytes(&self) -> u64 {
         let vectors = F64_BYTES * (FFT_VECTORS + FFT_VECTORS_PER_ROW * self.equality_rows as u64);
         (self.unknowns as u64).saturating_mul(vectors) + self.elements as u64 * ELEMENT_RECORD_BYTES

@@ -185,7 +185,7 @@ impl GraspSolver {
     /// history) and from this solver's last solution (when `options.warm_start`). A step of a
     /// viscoelastic model's time history ([`StepInputs::time_step_s`]) is solved with the
     /// compliance over the step, `state` prepared for it first
-    /// ([`ContactState::prepare_time_step`]); time moves on when the caller, content with the
+    /// (`ContactState::prepare_time_step`); time moves on when the caller, content with the
     /// step, calls [`ContactState::advance_time_step`]. `state` is updated when the step
     /// succeeds and left as it was otherwise (its preparation for the step aside).
     pub fn solve_step(

@@ -86,7 +86,7 @@ impl Default for PlanOptions {
 
 impl PlanOptions {
     /// Every problem of the options against the scene's finger names, each named as the Rust
-    /// API spells the option ([`option_names`]): `expected` says what is wrong and the fix,
+    /// API spells the option ([`crate::plan_option_names`]): `expected` says what is wrong and the fix,
     /// `value` is the value given.
     pub fn problems(&self, finger_names: &[String]) -> Vec<OptionError> {
         let mut out = self.finger_problems(finger_names);

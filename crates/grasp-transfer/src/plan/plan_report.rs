@@ -104,7 +104,7 @@ impl PlanReport {
     }
 
     /// The report's texts (why the search stopped, why a constraint binds, the notes) with
-    /// the option names ([`crate::plan::option_names`]) in a front end's spelling: `respell`
+    /// the option names ([`crate::plan_option_names`]) in a front end's spelling: `respell`
     /// rewrites one text.
     pub fn respell_options(&mut self, respell: impl Fn(&str) -> String) {
         self.stopped = respell(&self.stopped);

@@ -11,7 +11,7 @@ pub fn contact_bounds(g: &GraspModel) -> (nalgebra::Vector3<f64>, nalgebra::Vect
     })
 }
 
-/// The scene's size (diagonal of [`contact_bounds`], m, at least 1 mm) and the force arrows'
+/// The scene's size (diagonal of `contact_bounds`, m, at least 1 mm) and the force arrows'
 /// scale ([`arrow_scale_m_per_n`] of that size, m per N), the same in every sink and in the
 /// package's drawings of other force sets.
 pub fn drawing_scale(g: &GraspModel) -> (f64, f64) {
