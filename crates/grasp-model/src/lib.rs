@@ -99,6 +99,7 @@ mod solver;
 
 // ---- The scene: what a user writes (serde types, JSON Schema, validation) ----
 pub use scene::finger_placement::STANDARD_GRAVITY;
+pub use scene::loaded_scene::LoadedScene;
 pub use scene::memory_budget::{
     estimate_memory_bytes, estimate_memory_bytes_with, finger_unknowns,
 };
@@ -108,6 +109,7 @@ pub use scene::scene_format::{
     MaterialSpec, ModelKind, NormalLoadSpec, ObjectSpec, PatchSpec, PlanarSpec, PronyTermSpec,
     RadiusSpec, RelaxationSpec, RigidTag, Scene, StandardLinearSolidSpec, TableSpec, Vec3,
 };
+pub use scene::scene_geometry::{SceneGeometry, SharedShape};
 pub use scene::scene_reading::{FileProblem, SceneFiles};
 pub use scene::shape_report::{DerivedFrame, ShapeReport};
 pub use scene::shape_spec::{

@@ -6,8 +6,6 @@
 //! toward the other body (a peak is positive): the initial gap of an element is its smooth
 //! gap less `h` at its centre, the whole shifted so that the first touch is at gap zero.
 
-use std::sync::Arc;
-
 use crate::geometry::random_surface::{random_surface, SelfAffineSurface};
 pub use crate::geometry::surface_texture::HeightGrid;
 use crate::geometry::surface_texture::{map_height_at_m, ridge_height_m, Ridges};
@@ -44,7 +42,8 @@ pub struct TextureSpec {
     pub random: Option<RandomSurfaceSpec>,
 }
 
-/// A height map read from a file.
+/// A height map read from a file (its heights, once read or given as an array, travel in the
+/// loaded scene's [`crate::scene::scene_geometry::SceneGeometry::height_maps`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct HeightMapSpec {
@@ -54,11 +53,6 @@ pub struct HeightMapSpec {
     pub file: String,
     /// Pixel sizes `[dx, dy]`, m, along `t1` (rows) and `t2` (columns).
     pub pixel_m: [f64; 2],
-    /// The heights, filled in when the scene is read (from `file`) or given by Python as an
-    /// array. Not part of the file.
-    #[serde(skip)]
-    #[schemars(skip)]
-    pub data: Option<Arc<HeightGrid>>,
 }
 
 /// Parallel ridges of a cosine profile.
@@ -203,7 +197,6 @@ mod tests {
             heights: Some(HeightMapSpec {
                 file: "h.npy".into(),
                 pixel_m: [1.0, 1.0],
-                data: None,
             }),
             ..TextureSpec::default()
         };
