@@ -984,6 +984,45 @@ fn a_solution_carries_the_scenes_warnings() {
     assert_eq!(sol.warnings[..3], expected[..], "{:?}", sol.warnings);
 }
 
+/// A plain scene (the file format alone: a scene read, its geometry dropped, or one built in
+/// code) is loaded from its own data: its shapes posed from their specs, its warnings found
+/// again, so its model and solution are the read scene's, bit for bit; the model draws the
+/// same triangles.
+#[test]
+fn a_plain_scene_solves_as_the_scene_read() {
+    for name in [
+        "box_pinch.json",
+        "sphere_three_fingers.json",
+        "edge_pinch.json",
+    ] {
+        let read = example_scene(name);
+        let plain = LoadedScene::of_plain(read.scene.clone()).unwrap();
+        let a = GraspModel::from_loaded(&read).unwrap();
+        let b = GraspModel::from_scene(&read.scene).unwrap();
+        assert_eq!(a.object_surface(), b.object_surface(), "{name}");
+        assert_eq!(
+            a.object_surface(),
+            read.geometry.surface.as_deref(),
+            "{name}"
+        );
+        assert_eq!(
+            plain.geometry.warnings(),
+            read.geometry.warnings(),
+            "{name}"
+        );
+        let (sa, sb) = (
+            grasp_model::solve(&a).unwrap(),
+            grasp_model::solve(&b).unwrap(),
+        );
+        assert_eq!(sa.warnings, sb.warnings, "{name}");
+        assert_eq!(
+            element_force_components(&sa),
+            element_force_components(&sb),
+            "{name}"
+        );
+    }
+}
+
 /// A box as an STL file stores it: turned about a skew axis, then every coordinate rounded
 /// to single precision (6e-8 relative). Its faces are still flat regions (within 1e-6 of
 /// their size of a plane): each contact gets the face's normal to within 1e-6 rad of the

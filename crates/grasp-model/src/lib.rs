@@ -35,14 +35,23 @@
 //!
 //! ## The workflow
 //!
-//! [`Scene`] (the file format, validated) -> [`GraspModel`] (built once, immutable: frames,
-//! patches and gaps, compliance, equilibrium map, scales) -> [`GraspSolver`] (keeps the model,
+//! [`Scene`] (the file format, validated: plain data) and beside it what reading it found, its
+//! [`SceneGeometry`] (the shape's report, the posed object and tip shapes, the object's
+//! triangles, the height maps), together a [`LoadedScene`] -> [`GraspModel`] (built once,
+//! immutable: frames, patches and gaps, compliance, equilibrium map, scales; the geometry it
+//! needs) -> [`GraspSolver`] (keeps the model,
 //! assembles the [`ConeProgram`] once; strategy: one convex solve or the sequential fixed
 //! point; backend: native or Clarabel) -> [`Solution`] (SI, with [`Residuals`] computed from
 //! the solution itself). What changes from one solve to the next travels beside the model:
 //! [`StepInputs`] (commanded loads, an extra wrench on the object, commanded approaches) and
 //! the [`ContactState`] the solves leave behind (slip memory, warm start, viscoelastic
 //! history), as MuJoCo keeps `mjModel` apart from `mjData`.
+//!
+//! A scene that names files (a mesh shape, a texture's height map) is read with them by the
+//! caller (`grasp_io`: this crate does no I/O) through [`SceneFiles`]
+//! ([`LoadedScene::from_json_str_with_files`]) and built with [`GraspModel::from_loaded`]; a
+//! scene that names none may stay plain, as here ([`GraspModel::from_scene`] loads it:
+//! [`LoadedScene::of_plain`]).
 //!
 //! ```
 //! use grasp_model::{ContactState, GraspModel, GraspSolver, Scene, SolveOptions, StepInputs};

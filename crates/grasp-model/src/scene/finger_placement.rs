@@ -135,15 +135,24 @@ pub fn resolve_shapes(
         fingers,
         warnings,
     };
-    Ok(Some(SceneGeometry {
+    Ok(Some(shape_geometry(report, shape, tips)))
+}
+
+/// What the shape gave the scene: its report, the posed object shape and its triangles, the
+/// posed tips (no height maps: the reader reads them).
+fn shape_geometry(
+    report: ShapeReport,
+    shape: Shape,
+    tips: Vec<Option<SharedShape>>,
+) -> SceneGeometry {
+    let surface = crate::geometry::tessellation::tessellate(&shape);
+    SceneGeometry {
         report: Some(report),
-        surface: Some(std::sync::Arc::new(
-            crate::geometry::tessellation::tessellate(&shape),
-        )),
+        surface: Some(std::sync::Arc::new(surface)),
         shape: Some(SharedShape::new(shape)),
         tips,
         height_maps: Vec::new(),
-    }))
+    }
 }
 
 /// True when finger `i` of the parsed scene uses the thesis's quadratic gap (its own `gap`, else

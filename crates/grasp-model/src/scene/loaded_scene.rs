@@ -94,16 +94,12 @@ impl LoadedScene {
 /// Refuses a plain scene that names a file (a mesh, a height map): every one, at its path.
 fn files_named(scene: &Scene) -> Result<(), SceneError> {
     let mut problems = ProblemList::default();
-    let mut mesh = |path: String, shape: Option<&crate::scene::shape_spec::ShapeSpec>| {
-        if let Some(m) = shape.and_then(|s| s.mesh.as_ref()) {
-            let message = format!("{}: a plain scene holds no mesh", m.file);
-            problems.add(path, message, LOAD_WITH_FILES);
-        }
+    let mesh = |shape: Option<&crate::scene::shape_spec::ShapeSpec>| {
+        let m = shape?.mesh.as_ref()?;
+        Some(format!("{}: a plain scene holds no mesh", m.file))
     };
-    mesh("object.shape.mesh.file".into(), scene.object.shape.as_ref());
-    for (i, f) in scene.fingers.iter().enumerate() {
-        let tip = f.tip.as_ref().and_then(|t| t.shape.as_deref());
-        mesh(format!("fingers[{i}].tip.shape.mesh.file"), tip);
+    if let Some(message) = mesh(scene.object.shape.as_ref()) {
+        problems.add("object.shape.mesh.file", message, LOAD_WITH_FILES);
     }
     for (i, f) in scene.fingers.iter().enumerate() {
         if let Some(h) = f.texture.as_ref().and_then(|t| t.heights.as_ref()) {
@@ -113,6 +109,84 @@ fn files_named(scene: &Scene) -> Result<(), SceneError> {
                 LOAD_WITH_FILES,
             );
         }
+        if let Some(message) = mesh(f.tip.as_ref().and_then(|t| t.shape.as_deref())) {
+            problems.add(
+                format!("fingers[{i}].tip.shape.mesh.file"),
+                message,
+                LOAD_WITH_FILES,
+            );
+        }
     }
     problems.finish().map_err(SceneError::Invalid)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A box with a finger on its top face past the edge (the quadratic gap: a warning) and
+    /// one under it whose tip is a posed sphere.
+    fn shaped() -> serde_json::Value {
+        let pad = serde_json::json!({"youngs_modulus": 2e6, "poisson_ratio": 0.45});
+        serde_json::json!({
+            "object": {"weight": 1.0, "center_of_mass": [0, 0, 0], "material": "rigid",
+                       "shape": {"box": {"size": [0.1, 0.1, 0.1]}}},
+            "fingers": [
+                {"name": "f", "place": {"point": [0.0495, 0.0, 0.05]}, "gap": "quadratic",
+                 "material": pad, "patch": {"size": [0.002, 0.002], "grid": [3, 3]},
+                 "friction": {"mu": 0.5}},
+                {"name": "g", "place": {"point": [0.0, 0.0, -0.05]},
+                 "tip": {"shape": {"sphere": {"radius": 0.01}, "position": [0, 0, -0.06]}},
+                 "material": pad, "patch": {"size": [0.002, 0.002], "grid": [3, 3]},
+                 "friction": {"mu": 0.5}}
+            ]
+        })
+    }
+
+    #[test]
+    fn a_plain_scene_loads_the_geometry_reading_found() {
+        let read = LoadedScene::from_json_str(&shaped().to_string()).unwrap();
+        let plain = LoadedScene::of_plain(read.scene.clone()).unwrap();
+        let (a, b) = (&read.geometry, &plain.geometry);
+        assert_eq!(a.surface, b.surface);
+        assert_eq!(a.warnings().len(), 1, "{:?}", a.warnings());
+        assert_eq!(a.warnings(), b.warnings());
+        let (ra, rb) = (a.report.as_ref().unwrap(), b.report.as_ref().unwrap());
+        assert_eq!((ra.volume_m3, ra.centroid_m), (rb.volume_m3, rb.centroid_m));
+        // The plain scene's frames are written out: checked as explicit ones.
+        assert_eq!(ra.fingers[0].source, "point");
+        assert_eq!(rb.fingers[0].source, "explicit");
+        let tips = |g: &SceneGeometry| g.tips.iter().map(Option::is_some).collect::<Vec<_>>();
+        assert_eq!(tips(a), [false, true]);
+        assert_eq!(tips(a), tips(b));
+        assert!(plain.validate().is_ok());
+    }
+
+    #[test]
+    fn a_plain_scene_that_names_files_is_refused_at_each() {
+        let mut v = shaped();
+        v["object"]["shape"] = serde_json::json!({"mesh": {"file": "mug.obj"}});
+        v["fingers"][1]["tip"]["shape"] = serde_json::json!({"mesh": {"file": "tip.stl"}});
+        v["fingers"][0]["texture"] =
+            serde_json::json!({"heights": {"file": "h.npy", "pixel_m": [1e-4, 1e-4]}});
+        for f in v["fingers"].as_array_mut().unwrap() {
+            let f = f.as_object_mut().unwrap();
+            f.remove("place");
+            f.insert("contact_point".into(), serde_json::json!([0, 0, 0]));
+            f.insert("normal".into(), serde_json::json!([0, 0, 1]));
+        }
+        let scene: Scene = serde_json::from_value(v).unwrap();
+        let problems = LoadedScene::of_plain(scene).unwrap_err().problems();
+        let paths: Vec<&str> = problems.iter().map(|p| p.path.as_str()).collect();
+        assert_eq!(
+            paths,
+            [
+                "object.shape.mesh.file",
+                "fingers[0].texture.heights.file",
+                "fingers[1].tip.shape.mesh.file"
+            ]
+        );
+        assert!(problems.iter().all(|p| p.fix.contains("with its files")));
+        assert!(problems[0].message.contains("mug.obj"), "{problems:?}");
+    }
 }

@@ -137,26 +137,7 @@ impl Scene {
         validate_patch(&p, f, v);
         crate::scene::texture_checks::check_texture(&p, f, map, v);
         v.friction(&format!("{p}.friction"), &f.friction, object_rigid);
-        match f.control {
-            ControlSpec::Load(l) => {
-                v.force(
-                    &format!("{p}.control.normal_load"),
-                    l.normal_load,
-                    "give the prescribed normal load in newtons",
-                );
-            }
-            ControlSpec::Approach(a) => {
-                v.range(
-                    &format!("{p}.control.approach_m"),
-                    a.approach_m,
-                    APPROACH_RANGE_M,
-                    "m",
-                    "give how far the finger is pressed in from first touch, in metres (0.1 mm \
-                     = 1e-4), or use \"held\"",
-                );
-            }
-            ControlSpec::Held(_) => {}
-        }
+        validate_control(&p, f, v);
     }
 
     /// Refuses scenes whose dense compliance blocks (the patches the automatic choice keeps
@@ -273,6 +254,30 @@ impl Scene {
                 }
             }
         }
+    }
+}
+
+/// A finger's control (`p` is `fingers[i]`): a prescribed load or approach in range.
+fn validate_control(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
+    match f.control {
+        ControlSpec::Load(l) => {
+            v.force(
+                &format!("{p}.control.normal_load"),
+                l.normal_load,
+                "give the prescribed normal load in newtons",
+            );
+        }
+        ControlSpec::Approach(a) => {
+            v.range(
+                &format!("{p}.control.approach_m"),
+                a.approach_m,
+                APPROACH_RANGE_M,
+                "m",
+                "give how far the finger is pressed in from first touch, in metres (0.1 mm \
+                 = 1e-4), or use \"held\"",
+            );
+        }
+        ControlSpec::Held(_) => {}
     }
 }
 

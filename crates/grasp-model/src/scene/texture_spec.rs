@@ -42,11 +42,12 @@ pub struct TextureSpec {
     pub random: Option<RandomSurfaceSpec>,
 }
 
-/// A height map read from a file (its heights, once read or given as an array, travel in the
-/// loaded scene's [`crate::scene::scene_geometry::SceneGeometry::height_maps`]).
+/// A height map read from a file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct HeightMapSpec {
+    // Its heights, once read (or given as an array), travel beside the scene: the loaded
+    // scene's `SceneGeometry::height_maps`.
     /// Path of a `.npy` (2-D, float or integer) or `.csv` (rows of numbers) file of heights in
     /// metres, relative to the scene file's folder. Rows run along `t1`, columns along `t2`;
     /// the map's centre is on the contact point.
