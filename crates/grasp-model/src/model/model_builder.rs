@@ -69,9 +69,9 @@ impl GraspModel {
         Self::from_validated_with(scene, compliance)
     }
 
-    /// Builds the model of a scene the caller has validated, or of a subset of the fingers of
-    /// a validated scene (whose per-finger checks hold; the reach heuristic, which compares
-    /// fingers, is not re-run), with the patch compliances in the form `compliance` picks.
+    /// Builds the model of a scene the caller has validated ([`LoadedScene::validate`]: a batch
+    /// checks its memory in between), with the patch compliances in the form `compliance`
+    /// picks.
     pub fn from_validated_with(
         loaded: &LoadedScene,
         compliance: ComplianceChoice,

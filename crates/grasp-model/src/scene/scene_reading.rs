@@ -1,7 +1,8 @@
 //! Reading a scene: strict JSON text or an already parsed value, the object's shape resolved
 //! (fingers placed on it), the height maps its fingers' textures name read (what reading
-//! found kept beside the plain scene: a [`LoadedScene`]), directions normalised on load (scaled by their largest component first, so `[1e200, 0, 0]` is
-//! `[1, 0, 0]`), then the validation pass ([`crate::scene::scene_validation`]). A document
+//! found kept beside the plain scene: a [`LoadedScene`]), directions normalised on load
+//! (scaled by their largest component first, so `[1e200, 0, 0]` is `[1, 0, 0]`), then the
+//! validation pass ([`crate::scene::scene_validation`]). A document
 //! that does not read as a scene reports every structural problem at once (against the JSON
 //! Schema), each with its path and fix. The files a scene names are read by the caller
 //! ([`SceneFiles`]): this crate does no I/O.
