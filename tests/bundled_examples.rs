@@ -62,7 +62,7 @@ fn every_example_scene_is_in_equilibrium_with_cones_satisfied() {
     assert!(names.len() >= 20, "{names:?}");
     assert!(names.iter().any(|n| n.starts_with("mujoco/")), "{names:?}");
     for name in &names {
-        let model = GraspModel::from_scene(&example_scene(name)).expect("a usable model");
+        let model = GraspModel::from_loaded(&example_scene(name)).expect("a usable model");
         let s = grasp_model::solve(&model).expect("the solve runs");
         assert_in_equilibrium_with_cones_satisfied(name, &s);
     }

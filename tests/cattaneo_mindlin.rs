@@ -12,7 +12,7 @@ use grasp_model::{
     closed_form::mindlin_displacement_m, closed_form::HertzSphere,
 };
 use grasp_model::{
-    ContactState, GraspModel, GraspSolver, Scene, Solution, SolveOptions, SolveStatus,
+    ContactState, GraspModel, GraspSolver, LoadedScene, Solution, SolveOptions, SolveStatus,
 };
 
 const E: f64 = 210e9; // steel, Pa
@@ -50,7 +50,7 @@ fn element(grid: usize) -> f64 {
 
 /// The scene with a tangential force `q` (N) along `+x` on the object at the contact point, on
 /// a `grid x grid` patch.
-fn scene(model: &str, q: f64, grid: usize) -> Scene {
+fn scene(model: &str, q: f64, grid: usize) -> LoadedScene {
     let s = side();
     let json = format!(
         r#"{{
@@ -65,7 +65,7 @@ fn scene(model: &str, q: f64, grid: usize) -> Scene {
         "model": "{model}"
     }}"#
     );
-    Scene::from_json_str(&json).expect("valid scene")
+    LoadedScene::from_json_str(&json).expect("valid scene")
 }
 
 /// Solves one load step from `state` (updated on success), on the dense compliance (the
@@ -82,7 +82,7 @@ fn step_on(
     compliance: ComplianceChoice,
     state: &mut Option<ContactState>,
 ) -> Solution {
-    let model = GraspModel::from_scene_with(&scene(model_kind, q, grid), compliance).unwrap();
+    let model = GraspModel::from_loaded_with(&scene(model_kind, q, grid), compliance).unwrap();
     let st = state.get_or_insert_with(|| ContactState::new(&model));
     let sol = GraspSolver::new(
         model.clone(),

@@ -70,7 +70,7 @@ fn loading_path_changes_the_answer() {
             normal_load: r.normal_force_n(&f.name),
         });
     }
-    let model = GraspModel::from_scene(&fresh_scene).unwrap();
+    let model = GraspModel::from_loaded(&fresh_scene).unwrap();
     let mut state = ContactState::new(&model);
     let fresh = GraspSolver::new(model.clone(), SolveOptions::default())
         .solve_step(&grasp_model::StepInputs::of_scene(&model), &mut state)

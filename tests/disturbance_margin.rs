@@ -24,7 +24,7 @@ use clarabel::solver::{
 use grasp_model::Material;
 use grasp_model::{closed_form::full_slip_torque_nm, closed_form::HertzSphere};
 use grasp_model::{disturbance_margins, spread_directions, MarginOptions, WrenchDirection};
-use grasp_model::{ContactState, GraspModel, GraspSolver, Scene, SolveOptions};
+use grasp_model::{ContactState, GraspModel, GraspSolver, LoadedScene, SolveOptions};
 use nalgebra::Vector3;
 use serde_json::{json, Value};
 use support::{example_json, scene};
@@ -35,7 +35,14 @@ const W: f64 = 4.0;
 
 /// A block of width 0.04 m pinched along x by two steel pads (commanded load `P`), weight `w`,
 /// Poisson's ratio `nu` for both bodies.
-fn pinch(model: &str, w: f64, tip_radius: Option<f64>, side: f64, grid: usize, nu: f64) -> Scene {
+fn pinch(
+    model: &str,
+    w: f64,
+    tip_radius: Option<f64>,
+    side: f64,
+    grid: usize,
+    nu: f64,
+) -> LoadedScene {
     let finger = |name: &str, x: f64, nx: f64| {
         json!({
             "name": name, "contact_point": [x, 0.0, 0.0], "normal": [nx, 0.0, 0.0],
@@ -54,8 +61,8 @@ fn pinch(model: &str, w: f64, tip_radius: Option<f64>, side: f64, grid: usize, n
     }))
 }
 
-fn margins_along(scene: &Scene, dirs: &[WrenchDirection], length_m: f64) -> Vec<f64> {
-    let model = std::sync::Arc::new(GraspModel::from_scene(scene).unwrap());
+fn margins_along(scene: &LoadedScene, dirs: &[WrenchDirection], length_m: f64) -> Vec<f64> {
+    let model = std::sync::Arc::new(GraspModel::from_loaded(scene).unwrap());
     let options = MarginOptions {
         length_m: Some(length_m),
         ..MarginOptions::default()
@@ -117,7 +124,7 @@ fn pinch_torque_about_its_axis_is_the_pads_friction_moment() {
     };
     let margin = margins_along(&scene, &[twist], 1.0)[0];
     // The grid's own full-slip moment, from the untwisted element loads.
-    let model = GraspModel::from_scene(&scene).unwrap();
+    let model = GraspModel::from_loaded(&scene).unwrap();
     let base = GraspSolver::new(model.clone(), SolveOptions::default())
         .solve(&grasp_model::StepInputs::loads(vec![P, P]))
         .unwrap();
@@ -153,7 +160,7 @@ fn pinch_torque_about_its_axis_is_the_pads_friction_moment() {
 /// in `(s, F_k, g_k)` with `g_k` the friction force in world coordinates (`n . g_k = 0`).
 /// `None` when unbounded.
 fn rigid_body_bound(v: &Value, d: &WrenchDirection, length_m: f64) -> Option<f64> {
-    let model = GraspModel::from_scene(&scene(v)).unwrap();
+    let model = GraspModel::from_loaded(&scene(v)).unwrap();
     let com = Vector3::from_iterator(
         v["object"]["center_of_mass"]
             .as_array()
@@ -279,7 +286,7 @@ fn energy_margins_of_a_commanded_cube_grasp_are_its_rigid_body_bound() {
     {
         f["control"] = json!({"normal_load": s.normal_force_n});
     }
-    let model = std::sync::Arc::new(GraspModel::from_scene(&scene(&v)).unwrap());
+    let model = std::sync::Arc::new(GraspModel::from_loaded(&scene(&v)).unwrap());
     let dirs = spread_directions(&model, 20);
     let options = MarginOptions::default();
     let report = disturbance_margins(

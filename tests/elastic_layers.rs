@@ -15,7 +15,7 @@
 
 use grasp_model::solve;
 use grasp_model::ComplianceChoice;
-use grasp_model::{GraspModel, GraspSolver, Scene, Solution, SolveOptions, SolveStatus};
+use grasp_model::{GraspModel, GraspSolver, LoadedScene, Solution, SolveOptions, SolveStatus};
 
 const PI: f64 = std::f64::consts::PI;
 
@@ -41,7 +41,7 @@ fn pad_scene(
     side: f64,
     grid: usize,
     mu: f64,
-) -> Scene {
+) -> LoadedScene {
     let json = format!(
         r#"{{
         "object": {{ "weight": {p}, "center_of_mass": [0, 0, 0], "gravity": [{tilt}, 0, -1],
@@ -53,11 +53,11 @@ fn pad_scene(
                        "friction": {{"mu": {mu}}} }} ]
     }}"#
     );
-    Scene::from_json_str(&json).expect("valid scene")
+    LoadedScene::from_json_str(&json).expect("valid scene")
 }
 
-fn solved(scene: &Scene) -> (GraspModel, Solution) {
-    let model = GraspModel::from_scene(scene).unwrap();
+fn solved(scene: &LoadedScene) -> (GraspModel, Solution) {
+    let model = GraspModel::from_loaded(scene).unwrap();
     let sol = solve(&model).unwrap();
     assert_eq!(sol.status, SolveStatus::Solved, "{:?}", sol.reason);
     (model, sol)
@@ -272,9 +272,9 @@ fn dense_and_fft_agree_with_layers_on_both_bodies() {
         left = material(1e6, 0.45, Some(1e-3)),
         right = material(3e6, 0.3, Some(2e-3)),
     );
-    let scene = Scene::from_json_str(&json).unwrap();
+    let scene = LoadedScene::from_json_str(&json).unwrap();
     let run = |choice| {
-        let model = GraspModel::from_scene_with(&scene, choice).unwrap();
+        let model = GraspModel::from_loaded_with(&scene, choice).unwrap();
         let options = SolveOptions {
             compliance: choice,
             ..SolveOptions::default()

@@ -25,7 +25,7 @@ fn hertz_reference() -> HertzSphere {
 fn estimate_matches_the_true_error_on_hertz() {
     let v = example_json("hertz_sphere_on_flat.json");
     let s = scene(&v);
-    let fine = solve(&GraspModel::from_scene(&s).unwrap()).unwrap();
+    let fine = solve(&GraspModel::from_loaded(&s).unwrap()).unwrap();
     let est = estimate_error(&s, &fine, SolveOptions::default())
         .unwrap()
         .unwrap();
@@ -45,7 +45,7 @@ fn estimate_matches_the_true_error_on_hertz() {
 #[test]
 fn estimate_matches_the_finest_grid_difference_on_cube_a() {
     let s = scene(&example_json("cube_a.json"));
-    let coarse = solve(&GraspModel::from_scene(&s).unwrap()).unwrap();
+    let coarse = solve(&GraspModel::from_loaded(&s).unwrap()).unwrap();
     let est = estimate_error(&s, &coarse, SolveOptions::default())
         .unwrap()
         .unwrap();
@@ -114,7 +114,7 @@ fn undersized_patch_is_flagged_and_grown() {
     let mut v = example_json("hertz_sphere_on_flat.json");
     v["fingers"][0]["patch"]["size"] = serde_json::json!([0.00012, 0.00012]);
     let s = scene(&v);
-    let small = solve(&GraspModel::from_scene(&s).unwrap()).unwrap();
+    let small = solve(&GraspModel::from_loaded(&s).unwrap()).unwrap();
     assert!(small.fingers[0].boundary_load_fraction > 0.1);
     assert!(
         small.warnings.iter().any(|w| w.contains("too small")),

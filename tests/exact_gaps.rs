@@ -9,7 +9,7 @@
 
 mod support;
 
-use grasp_model::{ElementState, GraspModel, GraspSolver, Scene, Solution, SolveOptions};
+use grasp_model::{ElementState, GraspModel, GraspSolver, LoadedScene, Solution, SolveOptions};
 use grasp_model::{SolveStatus, StepInputs};
 use serde_json::{json, Value};
 use support::{element_force_components, example_json};
@@ -43,8 +43,8 @@ fn pinch(tip: Value, approach_m: f64, side_m: f64, n: usize) -> Value {
 }
 
 fn solve(v: &Value) -> Solution {
-    let scene = Scene::from_json_str(&v.to_string()).expect("valid scene");
-    let model = GraspModel::from_scene(&scene).expect("model");
+    let scene = LoadedScene::from_json_str(&v.to_string()).expect("valid scene");
+    let model = GraspModel::from_loaded(&scene).expect("model");
     let s = GraspSolver::new(model.clone(), SolveOptions::default())
         .solve(&StepInputs::of_scene(&model))
         .expect("solve runs");
@@ -279,8 +279,8 @@ fn a_pad_near_an_edge_converges_and_leans_away_from_it() {
 fn the_quadratic_gap_ignores_the_shape() {
     let mut v = example_json("box_pinch.json");
     v["gap"] = json!("quadratic");
-    let shaped = Scene::from_json_str(&v.to_string()).unwrap();
-    let mut plain = serde_json::to_value(&shaped).unwrap();
+    let shaped = LoadedScene::from_json_str(&v.to_string()).unwrap();
+    let mut plain = serde_json::to_value(&shaped.scene).unwrap();
     let object = plain["object"].as_object_mut().unwrap();
     object.remove("shape");
     object.remove("density");
@@ -306,9 +306,9 @@ fn a_textured_pad_solves_alike_on_both_compliance_paths() {
         f["texture"] = json!({"random": {"rms_m": 5e-5, "hurst": 0.8,
                                          "wavelengths_m": [2e-3, 5e-4], "seed": 7}});
     }
-    let scene = Scene::from_json_str(&v.to_string()).expect("valid scene");
+    let scene = LoadedScene::from_json_str(&v.to_string()).expect("valid scene");
     let solve_on = |choice: ComplianceChoice| {
-        let model = GraspModel::from_scene_with(&scene, choice).unwrap();
+        let model = GraspModel::from_loaded_with(&scene, choice).unwrap();
         let s = GraspSolver::new(model.clone(), SolveOptions::default())
             .solve(&StepInputs::of_scene(&model))
             .unwrap();
@@ -343,7 +343,7 @@ fn a_textured_pad_solves_alike_on_both_compliance_paths() {
 #[test]
 fn a_mesh_rays_gaps_stay_within_the_surfaces_sag() {
     let scene = support::example_scene("mug_power_grasp.json");
-    let model = GraspModel::from_scene(&scene).expect("model");
+    let model = GraspModel::from_loaded(&scene).expect("model");
     let sag = |r: f64, d: f64| r - (r * r - d * d).sqrt();
     let d = 0.006 * 2f64.sqrt();
     let bound = sag(0.012, d) + sag(0.040, d);
@@ -372,11 +372,11 @@ fn solid_tip_pinch(
     }
     let text = v.to_string();
     let scene = match mesh {
-        Some(m) => Scene::from_json_str_with_meshes(&text, &|_| Ok(m.clone())),
-        None => Scene::from_json_str(&text),
+        Some(m) => LoadedScene::from_json_str_with_meshes(&text, &|_| Ok(m.clone())),
+        None => LoadedScene::from_json_str(&text),
     }
     .expect("valid scene");
-    let model = GraspModel::from_scene(&scene).expect("model");
+    let model = GraspModel::from_loaded(&scene).expect("model");
     let s = GraspSolver::new(model.clone(), SolveOptions::default())
         .solve(&StepInputs::of_scene(&model))
         .expect("solve runs");
@@ -398,8 +398,8 @@ fn a_solid_fingertip_meets_the_sphere_and_sneddon() {
     let centre = |z: f64| [0.0, 0.0, z + z.signum() * r];
     let (analytic_model, analytic) = {
         let v = pinch(json!({"sphere": {"radius": r}}), delta, side, 64);
-        let scene = Scene::from_json_str(&v.to_string()).expect("valid scene");
-        let model = GraspModel::from_scene(&scene).expect("model");
+        let scene = LoadedScene::from_json_str(&v.to_string()).expect("valid scene");
+        let model = GraspModel::from_loaded(&scene).expect("model");
         let s = solve(&v);
         (model, s)
     };

@@ -37,7 +37,7 @@ fn out_dir(tag: &str) -> PathBuf {
 fn run_fine(dir: &Path) -> Vec<StepRecord> {
     let path = PathBuf::from(support::example_path(""));
     let text = std::fs::read_to_string(path.join("plate_transfer_fine.json")).unwrap();
-    let scene = grasp_model::Scene::from_json_str(&text).unwrap();
+    let scene = grasp_model::LoadedScene::from_json_str(&text).unwrap();
     let names = scene.finger_names();
     let text = std::fs::read_to_string(path.join("plate_transfer.schedule.json")).unwrap();
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();

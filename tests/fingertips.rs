@@ -6,7 +6,7 @@
 
 mod support;
 
-use grasp_model::Scene;
+use grasp_model::LoadedScene;
 use serde_json::{json, Value};
 use support::*;
 
@@ -23,7 +23,7 @@ fn without_tip_radius(mut v: Value, tip: Value) -> Value {
 }
 
 fn problem_paths(v: &Value) -> Vec<String> {
-    let e = Scene::from_json_str(&v.to_string()).expect_err("refused");
+    let e = LoadedScene::from_json_str(&v.to_string()).expect_err("refused");
     e.problems().into_iter().map(|p| p.path).collect()
 }
 
@@ -111,7 +111,7 @@ fn tip_misuse_names_the_field() {
     let small = without_tip_radius(hertz(), json!({"flat": {"size": [0.0001, 0.001]}}));
     assert_eq!(problem_paths(&small), ["fingers[0].patch.size[0]"]);
     let pad = without_tip_radius(hertz(), json!({"flat": {"size": [0.001, 0.001]}}));
-    assert!(Scene::from_json_str(&pad.to_string()).is_ok());
+    assert!(LoadedScene::from_json_str(&pad.to_string()).is_ok());
 }
 
 #[test]
@@ -128,8 +128,8 @@ fn a_placed_finger_takes_its_cylindrical_tips_axis_as_t1() {
             "patch": {"size": [0.004, 0.004], "grid": [5, 5]}, "friction": {"mu": 0.5}
         }]
     });
-    let s = Scene::from_json_str(&v.to_string()).unwrap_or_else(|e| panic!("{e}"));
-    let d = &s.shape_report.as_ref().unwrap().fingers[0];
+    let s = LoadedScene::from_json_str(&v.to_string()).unwrap_or_else(|e| panic!("{e}"));
+    let d = &s.shape_report().unwrap().fingers[0];
     let t1 = d.tangent.unwrap();
     assert!((t1[1].abs() - 1.0).abs() < 1e-12, "{t1:?}");
     assert!((d.object_radius_m[0].unwrap() - 0.02).abs() < 1e-12 && d.object_radius_m[1].is_none());
@@ -140,8 +140,8 @@ fn the_hertz_suggestion_is_hertz_and_its_patch_holds_the_contact() {
     use grasp_model::closed_form::HertzSphere;
     use grasp_model::hertz_suggestion;
     let v = hertz();
-    let scene = Scene::from_json_str(&v.to_string()).unwrap();
-    let model = grasp_model::GraspModel::from_scene(&scene).unwrap();
+    let scene = LoadedScene::from_json_str(&v.to_string()).unwrap();
+    let model = grasp_model::GraspModel::from_loaded(&scene).unwrap();
     let h = hertz_suggestion(&scene.fingers[0], &model.fingers()[0], 10.0).unwrap();
     // Steel on steel: E* = E / (2 (1 - nu^2)).
     let exact = HertzSphere::new(10.0, 0.01, 2.1e11 / (2.0 * (1.0 - 0.09)));
@@ -162,8 +162,8 @@ fn the_hertz_suggestion_is_hertz_and_its_patch_holds_the_contact() {
 
 /// The tip drawn by the Rerun and Foxglove sinks, for `v`'s only finger.
 fn tip_drawing(v: &Value) -> (grasp_transfer::TipDrawing, grasp_model::FingerModel) {
-    let scene = Scene::from_json_str(&v.to_string()).unwrap();
-    let model = grasp_model::GraspModel::from_scene(&scene).unwrap();
+    let scene = LoadedScene::from_json_str(&v.to_string()).unwrap();
+    let model = grasp_model::GraspModel::from_loaded(&scene).unwrap();
     let run = grasp_transfer::RunInfo {
         scene: &scene,
         model: &model,

@@ -11,7 +11,7 @@ use grasp_model::{ElementState, GraspModel, GraspSolver, Solution, SolveOptions,
 use serde_json::{json, Value};
 
 fn solve_with(v: &Value, options: SolveOptions) -> Solution {
-    let model = GraspModel::from_scene(&scene(v)).expect("model");
+    let model = GraspModel::from_loaded(&scene(v)).expect("model");
     GraspSolver::new(model.clone(), options)
         .solve(&grasp_model::StepInputs::of_scene(&model))
         .expect("solve runs")

@@ -14,7 +14,7 @@
 mod support;
 
 use grasp_model::{disturbance_margins, holds, MarginOptions, WrenchDirection};
-use grasp_model::{ContactState, GraspModel, GraspSolver, Scene, SolveOptions};
+use grasp_model::{ContactState, GraspModel, GraspSolver, LoadedScene, SolveOptions};
 use grasp_transfer::{Schedule, Stepper, TransferOptions, TransferSummary};
 use serde_json::json;
 use support::{example_json, scene};
@@ -25,7 +25,7 @@ const W: f64 = 4.0;
 
 /// A coulomb pinch of a block by two flat pads with commanded loads (Poisson's ratio 0, see
 /// tests/disturbance_margin.rs).
-fn pinch() -> Scene {
+fn pinch() -> LoadedScene {
     let finger = |name: &str, x: f64, nx: f64| {
         json!({
             "name": name, "contact_point": [x, 0.0, 0.0], "normal": [nx, 0.0, 0.0],
@@ -50,8 +50,8 @@ fn down() -> WrenchDirection {
     }
 }
 
-fn margin_down(scene: &Scene) -> f64 {
-    let model = std::sync::Arc::new(GraspModel::from_scene(scene).unwrap());
+fn margin_down(scene: &LoadedScene) -> f64 {
+    let model = std::sync::Arc::new(GraspModel::from_loaded(scene).unwrap());
     disturbance_margins(
         &model,
         &grasp_model::StepInputs::of_scene(&model),
@@ -83,7 +83,7 @@ fn a_scheduled_pull_fails_the_grasp_where_it_crosses_the_margin() {
         keep_going: true,
         ..TransferOptions::default()
     };
-    let model = GraspModel::from_scene(&scene).unwrap();
+    let model = GraspModel::from_loaded(&scene).unwrap();
     let records: Vec<_> = Stepper::new(&scene, &schedule, options)
         .map(|r| r.unwrap())
         .collect();
@@ -108,7 +108,7 @@ fn a_scheduled_pull_fails_the_grasp_where_it_crosses_the_margin() {
 /// The hand-off stepped with margins at every 12th step of the schedule's (the margins cost
 /// about 50 solves a step).
 fn every_12th_step_with_margins(
-    scene: &grasp_model::Scene,
+    scene: &grasp_model::LoadedScene,
     schedule: &mut grasp_transfer::Schedule,
 ) -> Vec<grasp_transfer::StepRecord> {
     schedule.times = schedule.times.iter().copied().step_by(12).collect();
@@ -152,7 +152,7 @@ fn a_steps_margin_is_its_grasps_margin_under_its_own_loads() {
     let (mut scene, mut schedule) = support::transfer_example("plate_handoff_coulomb");
     scene.model = grasp_model::ModelKind::Energy;
     let records = every_12th_step_with_margins(&scene, &mut schedule);
-    let base = GraspModel::from_scene(&scene).unwrap();
+    let base = GraspModel::from_loaded(&scene).unwrap();
     let mut checked = 0;
     for r in records.iter().filter(|r| r.solution.status.has_forces()) {
         let active: Vec<(usize, grasp_model::Control)> = r
@@ -219,7 +219,7 @@ fn more_squeeze_gives_more_margin_and_the_sensitivity_says_so() {
     // d(utilisation of f1)/d lambda from the KKT system against central differences.
     let utilisation = |lambda: f64| -> (f64, grasp_model::Solution, GraspSolver, GraspModel) {
         let loads = base.map(|p| p * lambda);
-        let model = GraspModel::from_scene(&scene(&plate(loads))).unwrap();
+        let model = GraspModel::from_loaded(&scene(&plate(loads))).unwrap();
         let mut solver = GraspSolver::new(model.clone(), SolveOptions::default());
         let sol = solver
             .solve(&grasp_model::StepInputs::loads(loads.to_vec()))
@@ -265,7 +265,7 @@ fn the_bundled_task_load_schedules_run_and_log_their_wrench() {
         ("plate_bump", 6.1, 2.0, 0.05),
     ] {
         let dir = std::path::PathBuf::from(support::example_path(""));
-        let scene = Scene::from_json_str(
+        let scene = LoadedScene::from_json_str(
             &std::fs::read_to_string(dir.join("plate_handoff_coulomb.json")).unwrap(),
         )
         .unwrap();

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use grasp_model::solve;
-use grasp_model::{GraspModel, Scene};
+use grasp_model::{GraspModel, LoadedScene};
 use grasp_transfer::{Command, Schedule, Stepper, TransferOptions};
 use serde_json::json;
 
@@ -24,8 +24,8 @@ fn squeeze(load: f64, weight: f64) -> serde_json::Value {
 fn hand_off_steps_equal_one_shot_solves_at_any_load_size() {
     for (load, weight) in [(1e-6, 1e-7), (1.0, 0.1), (1e5, 1e4)] {
         let v = squeeze(load, weight);
-        let scene = Scene::from_json_str(&v.to_string()).unwrap();
-        let one_shot = solve(&GraspModel::from_scene(&scene).unwrap()).unwrap();
+        let scene = LoadedScene::from_json_str(&v.to_string()).unwrap();
+        let one_shot = solve(&GraspModel::from_loaded(&scene).unwrap()).unwrap();
         let names = vec!["l".to_string(), "r".to_string()];
         let sched = json!({"time": {"times": [0, 1]}, "fingers": {
             "l": [{"ramp": {"keyframes": [[0, load], [1, load]]}}],
@@ -88,7 +88,7 @@ fn a_held_finger_before_a_force_controlled_one_keeps_the_loads_in_order() {
         env!("CARGO_MANIFEST_DIR")
     ))
     .unwrap();
-    let scene = Scene::from_json_str(&scene_text).unwrap();
+    let scene = LoadedScene::from_json_str(&scene_text).unwrap();
     let names = scene.finger_names();
     let schedule = Schedule::from_json_str(&sched.to_string(), &names, Path::new(".")).unwrap();
     let mut loaded_after_held = 0;

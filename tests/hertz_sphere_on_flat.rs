@@ -5,7 +5,7 @@
 use grasp_model::closed_form::HertzSphere;
 use grasp_model::solve;
 use grasp_model::Material;
-use grasp_model::{GraspModel, Scene, SolveStatus};
+use grasp_model::{GraspModel, LoadedScene, SolveStatus};
 
 const E: f64 = 210e9; // steel, Pa
 const NU: f64 = 0.3;
@@ -22,7 +22,7 @@ fn hertz() -> HertzSphere {
 
 /// One frictionless spherical fingertip under an object of weight `P` resting on it: the
 /// finger is held, so the object's downward translation is the Hertz approach.
-fn scene(grid: usize, patch_over_a: f64) -> Scene {
+fn scene(grid: usize, patch_over_a: f64) -> LoadedScene {
     let side = patch_over_a * hertz().contact_radius_m;
     let json = format!(
         r#"{{
@@ -34,12 +34,12 @@ fn scene(grid: usize, patch_over_a: f64) -> Scene {
                        "friction": {{"mu": 0.0}} }} ]
     }}"#
     );
-    Scene::from_json_str(&json).expect("valid scene")
+    LoadedScene::from_json_str(&json).expect("valid scene")
 }
 
 /// Relative errors (peak pressure, approach) at an odd grid over a patch of 2.4 a.
 fn errors(grid: usize) -> (f64, f64) {
-    let model = GraspModel::from_scene(&scene(grid, 2.4)).unwrap();
+    let model = GraspModel::from_loaded(&scene(grid, 2.4)).unwrap();
     let sol = solve(&model).unwrap();
     assert_eq!(sol.status, SolveStatus::Solved, "{:?}", sol.reason);
     let f = &sol.fingers[0];
@@ -81,7 +81,7 @@ fn fine_grids_on_the_fft_operator_meet_hertz() {
     use grasp_model::CompliancePath;
     let h = hertz();
     for grid in [128, 256] {
-        let model = GraspModel::from_scene(&scene(grid, 2.4)).unwrap();
+        let model = GraspModel::from_loaded(&scene(grid, 2.4)).unwrap();
         let sol = solve(&model).unwrap();
         assert_eq!(sol.status, SolveStatus::Solved, "{:?}", sol.reason);
         assert_eq!(sol.solver.compliance, CompliancePath::Fft);
@@ -115,7 +115,7 @@ fn fine_grids_on_the_fft_operator_meet_hertz() {
 /// there is no tolerance; the solution also meets Hertz as above.
 #[test]
 fn fine_patches_give_the_same_bits_on_one_thread_as_on_four() {
-    let model = GraspModel::from_scene(&scene(192, 2.4)).unwrap();
+    let model = GraspModel::from_loaded(&scene(192, 2.4)).unwrap();
     let on = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -154,7 +154,7 @@ fn fine_patches_give_the_same_bits_on_one_thread_as_on_four() {
 fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {
     use grasp_model::ComplianceChoice;
     use grasp_model::{GraspSolver, ModelError, SceneError, SolveOptions, SolverChoice};
-    let model = GraspModel::from_scene(&scene(128, 2.4)).unwrap();
+    let model = GraspModel::from_loaded(&scene(128, 2.4)).unwrap();
     let mut solver = GraspSolver::new(model.clone(), SolveOptions::default());
     let sol = solver
         .solve(&grasp_model::StepInputs::of_scene(&model))
@@ -165,7 +165,7 @@ fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {
     }
     // At 256 x 256 the dense path would need 32 GiB as well: the grid is too fine, said so
     // instead of sending the caller to a dense compliance it cannot afford.
-    let fine = GraspModel::from_scene(&scene(256, 2.4)).unwrap();
+    let fine = GraspModel::from_loaded(&scene(256, 2.4)).unwrap();
     let mut solver = GraspSolver::new(fine.clone(), SolveOptions::default());
     let sol = solver
         .solve(&grasp_model::StepInputs::of_scene(&fine))
@@ -190,7 +190,7 @@ fn fine_fft_patches_refuse_what_needs_matrix_entries_by_name() {
             other.map(|s| s.status)
         ),
     }
-    match GraspModel::from_scene_with(&scene(1024, 2.4), ComplianceChoice::Dense) {
+    match GraspModel::from_loaded_with(&scene(1024, 2.4), ComplianceChoice::Dense) {
         Err(SceneError::Invalid(p)) => {
             assert_eq!(p[0].path, "fingers");
             assert!(

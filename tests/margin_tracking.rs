@@ -36,7 +36,7 @@ const COARSE_GRID: usize = 5;
 const ZERO_MARGIN: f64 = 1e-6;
 
 fn run(
-    scene: &grasp_model::Scene,
+    scene: &grasp_model::LoadedScene,
     schedule: &grasp_transfer::Schedule,
     from_scratch: bool,
 ) -> Vec<StepRecord> {
@@ -44,7 +44,7 @@ fn run(
 }
 
 fn run_with(
-    scene: &grasp_model::Scene,
+    scene: &grasp_model::LoadedScene,
     schedule: &grasp_transfer::Schedule,
     from_scratch: bool,
     margin_options: MarginOptions,
@@ -65,7 +65,7 @@ fn run_with(
 fn thinned(
     scene_name: &str,
     schedule_name: &str,
-) -> (grasp_model::Scene, grasp_transfer::Schedule) {
+) -> (grasp_model::LoadedScene, grasp_transfer::Schedule) {
     let (mut scene, mut schedule) = scene_and_schedule(scene_name, schedule_name);
     for f in &mut scene.fingers {
         if f.patch.grid[0] * f.patch.grid[1] > MAX_ELEMENTS {

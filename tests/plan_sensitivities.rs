@@ -17,7 +17,7 @@ use support::example_scene;
 /// margins' round-off (1e-12 of the load).
 const H_N: f64 = 1e-4;
 
-fn run(scene: &grasp_model::Scene, path: &KeyframePath) -> Vec<StepRecord> {
+fn run(scene: &grasp_model::LoadedScene, path: &KeyframePath) -> Vec<StepRecord> {
     let spec = path.to_spec("test".into(), &BTreeMap::new());
     let schedule = Schedule::from_spec(&spec, &scene.finger_names(), std::path::Path::new("."))
         .expect("a valid schedule");

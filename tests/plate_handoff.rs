@@ -5,10 +5,10 @@
 mod support;
 
 use grasp_model::solve;
-use grasp_model::{GraspModel, Scene, SolveStatus};
+use grasp_model::{GraspModel, LoadedScene, SolveStatus};
 use grasp_transfer::{Command, Schedule, StepRecord, TransferOptions};
 
-fn load() -> (Scene, Schedule) {
+fn load() -> (LoadedScene, Schedule) {
     support::transfer_example("plate_transfer")
 }
 
@@ -120,7 +120,7 @@ fn warm_steps_equal_fresh_cold_solves() {
                 Some(f)
             })
             .collect();
-        let fresh = solve(&GraspModel::from_scene(&sub).unwrap()).unwrap();
+        let fresh = solve(&GraspModel::from_loaded(&sub).unwrap()).unwrap();
         let tol = 1e-7 * r.solution.load_scale_n;
         for f in &fresh.fingers {
             let w = r.solution.finger(&f.name).unwrap();

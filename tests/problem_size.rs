@@ -7,7 +7,7 @@ use grasp_model::{GraspModel, GraspSolver, SolveOptions};
 use serde_json::json;
 
 fn program(v: &serde_json::Value) -> (GraspModel, GraspSolver) {
-    let m = GraspModel::from_scene(&scene(v)).unwrap();
+    let m = GraspModel::from_loaded(&scene(v)).unwrap();
     let s = GraspSolver::new(m.clone(), SolveOptions::default());
     (m, s)
 }

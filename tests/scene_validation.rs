@@ -3,11 +3,11 @@
 mod support;
 use support::*;
 
-use grasp_model::{Scene, SceneError};
+use grasp_model::{LoadedScene, SceneError};
 use serde_json::{json, Value};
 
 fn problems(v: &Value) -> Vec<String> {
-    match Scene::from_json_str(&v.to_string()) {
+    match LoadedScene::from_json_str(&v.to_string()) {
         Ok(_) => panic!("scene was accepted"),
         Err(e) => e.problems().iter().map(|p| p.to_string()).collect(),
     }
@@ -112,7 +112,7 @@ fn every_problem_is_reported_at_once() {
     v["object"]["weight"] = json!(-2.0);
     let p = problems(&v);
     assert_eq!(p.len(), 3, "{p:#?}");
-    let e = Scene::from_json_str(&v.to_string()).unwrap_err();
+    let e = LoadedScene::from_json_str(&v.to_string()).unwrap_err();
     assert!(matches!(e, SceneError::Invalid(_)));
     assert!(e.to_string().contains("3 problem(s)"));
 }
@@ -192,7 +192,7 @@ fn both_bodies_rigid() {
     // One rigid body per contact is fine.
     let mut v = cube();
     v["object"]["material"] = json!("rigid");
-    assert!(Scene::from_json_str(&v.to_string()).is_ok());
+    assert!(LoadedScene::from_json_str(&v.to_string()).is_ok());
 }
 
 #[test]
@@ -346,20 +346,20 @@ fn huge_and_tiny_directions_normalise_without_overflow() {
 fn trailing_data_after_the_scene() {
     for tail in [" {}", "x", "\n{\"object\": 1}"] {
         let text = format!("{}{tail}", cube());
-        let e = Scene::from_json_str(&text).unwrap_err().to_string();
+        let e = LoadedScene::from_json_str(&text).unwrap_err().to_string();
         assert!(e.contains("trailing characters at line"), "{e}");
     }
-    assert!(Scene::from_json_str(&format!("{}\n\n", cube())).is_ok());
+    assert!(LoadedScene::from_json_str(&format!("{}\n\n", cube())).is_ok());
 }
 
 #[test]
 fn duplicate_keys_in_the_scene() {
     let text = cube().to_string();
     let twice = text.replacen("\"weight\":", "\"weight\": 1.0, \"weight\":", 1);
-    let e = Scene::from_json_str(&twice).unwrap_err().to_string();
+    let e = LoadedScene::from_json_str(&twice).unwrap_err().to_string();
     assert!(e.contains("object: duplicate field `weight`"), "{e}");
     let twice = text.replacen("\"mu\":", "\"mu\": 0.1, \"mu\":", 1);
-    let e = Scene::from_json_str(&twice).unwrap_err().to_string();
+    let e = LoadedScene::from_json_str(&twice).unwrap_err().to_string();
     assert!(
         e.contains("fingers[0].friction: duplicate field `mu`"),
         "{e}"
@@ -467,8 +467,8 @@ fn unresolved_and_half_space_like_layers_are_warned_about() {
             f["material"]["layer_thickness_m"] = json!(finger_h);
             f["patch"]["size"] = json!([patch, patch]);
         }
-        let scene = Scene::from_json_str(&v.to_string()).unwrap();
-        let model = GraspModel::from_scene(&scene).unwrap();
+        let scene = LoadedScene::from_json_str(&v.to_string()).unwrap();
+        let model = GraspModel::from_loaded(&scene).unwrap();
         solve(&model).unwrap().warnings
     };
     // cube A's 5 x 5 grids on 5 mm patches: elements of 1 mm.
@@ -546,7 +546,7 @@ fn unbounded_work_is_refused_with_its_bound() {
     let mut v = cube();
     v["fingers"][0]["material"]["relaxation"] = json!(terms(32));
     assert!(
-        Scene::from_json_str(&v.to_string()).is_ok(),
+        LoadedScene::from_json_str(&v.to_string()).is_ok(),
         "32 terms are a law"
     );
     for n in [33, 1000] {
@@ -562,7 +562,7 @@ fn unbounded_work_is_refused_with_its_bound() {
     let mut v = cube();
     v["fingers"][0]["material"] =
         json!({"youngs_modulus": 1e6, "poisson_ratio": 0.499999, "layer_thickness_m": 1e-3});
-    assert!(Scene::from_json_str(&v.to_string()).is_ok());
+    assert!(LoadedScene::from_json_str(&v.to_string()).is_ok());
     for nu in [0.49999999999999, 0.4999999999] {
         v["fingers"][0]["material"]["poisson_ratio"] = json!(nu);
         assert_problem(

@@ -17,7 +17,7 @@ mod support;
 
 use grasp_model::ElementState;
 use grasp_model::{
-    GraspModel, GraspSolver, Scene, Sensitivities, Solution, SolveOptions, SolveStatus,
+    GraspModel, GraspSolver, LoadedScene, Sensitivities, Solution, SolveOptions, SolveStatus,
 };
 use nalgebra::Vector3;
 use serde_json::Value;
@@ -89,14 +89,14 @@ fn sens_element(s: &Sensitivities, c: usize) -> Vec<f64> {
 
 /// Compares every defined column of `scene`'s sensitivities with central differences; returns
 /// (columns compared, columns skipped at an active-set change).
-fn check(scene: &Scene, label: &str) -> Option<(usize, usize)> {
+fn check(scene: &LoadedScene, label: &str) -> Option<(usize, usize)> {
     check_with_step(scene, label, 1e-4)
 }
 
 /// [`check`] with the differences' step `step` of the load scale (and of the load scale
 /// times the length scale for couples).
-fn check_with_step(scene: &Scene, label: &str, step: f64) -> Option<(usize, usize)> {
-    let model = GraspModel::from_scene(scene).unwrap();
+fn check_with_step(scene: &LoadedScene, label: &str, step: f64) -> Option<(usize, usize)> {
+    let model = GraspModel::from_loaded(scene).unwrap();
     let loads = model.scene_loads_n();
     let mut solver = GraspSolver::new(model.clone(), options());
     let base = solver

@@ -9,24 +9,24 @@
 
 mod support;
 
-use grasp_model::{GraspModel, Scene, SolveOptions, SolveStatus, SolverChoice};
+use grasp_model::{GraspModel, LoadedScene, SolveOptions, SolveStatus, SolverChoice};
 
-fn fixture() -> Scene {
+fn fixture() -> LoadedScene {
     let path = format!(
         "{}/fixtures/coulomb_damped_fixed_point.json",
         env!("CARGO_MANIFEST_DIR")
     );
-    Scene::from_json_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    LoadedScene::from_json_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
 #[test]
 fn the_undamped_iteration_fails_where_the_damped_one_finds_the_fixed_point() {
     let scene = fixture();
-    let model = GraspModel::from_scene(&scene).unwrap();
+    let model = GraspModel::from_loaded(&scene).unwrap();
     // The undamped iteration (no back-off: the smallest relaxation is 1) stops at an iterate
     // whose program has no solution.
     let undamped = support::solve_with_options(
-        &serde_json::to_value(&scene).unwrap(),
+        &serde_json::to_value(&scene.scene).unwrap(),
         SolveOptions {
             solver: SolverChoice::Native,
             min_relaxation: 1.0,
@@ -49,7 +49,7 @@ fn the_undamped_iteration_fails_where_the_damped_one_finds_the_fixed_point() {
     // of the equivalence test so that the check below compares the fixed point, not where
     // the iteration stopped.
     let sol = support::solve_with_options(
-        &serde_json::to_value(&scene).unwrap(),
+        &serde_json::to_value(&scene.scene).unwrap(),
         SolveOptions {
             solver: SolverChoice::Native,
             sequential_tolerance: support::SEQUENTIAL_REFERENCE,

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use grasp_model::icosphere;
 use grasp_model::TriangleMesh;
 use grasp_model::{DerivedFrame, STANDARD_GRAVITY};
-use grasp_model::{GraspModel, Scene, SceneError};
+use grasp_model::{GraspModel, LoadedScene, SceneError};
 use serde_json::{json, Value};
 use support::*;
 
@@ -29,13 +29,13 @@ fn placed(shape: Value, place: Value) -> Value {
     })
 }
 
-fn load(v: &Value) -> Result<Scene, SceneError> {
-    Scene::from_json_str(&v.to_string())
+fn load(v: &Value) -> Result<LoadedScene, SceneError> {
+    LoadedScene::from_json_str(&v.to_string())
 }
 
-fn frame(v: &Value) -> (Scene, DerivedFrame) {
+fn frame(v: &Value) -> (LoadedScene, DerivedFrame) {
     let s = load(v).unwrap_or_else(|e| panic!("{e}"));
-    let d = s.shape_report.as_ref().expect("shape report").fingers[0].clone();
+    let d = s.shape_report().expect("shape report").fingers[0].clone();
     (s, d)
 }
 
@@ -187,10 +187,10 @@ fn a_patch_over_a_box_edge_and_overlapping_patches_are_warnings() {
     // With the exact gaps (the default with a shape) the elements past the edge face no
     // surface and carry nothing: no warning. The thesis's quadratic gap is blind to the edge.
     let s = load(&v).unwrap();
-    assert!(s.shape_report.as_ref().unwrap().warnings.is_empty());
+    assert!(s.shape_report().unwrap().warnings.is_empty());
     v["gap"] = json!("quadratic");
     let s = load(&v).unwrap();
-    let w = &s.shape_report.as_ref().unwrap().warnings;
+    let w = &s.shape_report().unwrap().warnings;
     assert_eq!(w.len(), 1, "{w:?}");
     assert!(
         w[0].contains("finger f") && w[0].contains("0.500 mm over the edge"),
@@ -202,10 +202,15 @@ fn a_patch_over_a_box_edge_and_overlapping_patches_are_warnings() {
     g["place"] = json!({"point": [0.0015, 0.0, 0.05]});
     v["fingers"].as_array_mut().unwrap().push(g);
     let s = load(&v).unwrap();
-    let w = &s.shape_report.as_ref().unwrap().warnings;
+    let w = &s.shape_report().unwrap().warnings;
     assert!(w.len() == 1 && w[0].contains("fingers f and g"), "{w:?}");
     v["fingers"][1]["place"] = json!({"point": [0.0025, 0.0, 0.05]});
-    assert!(load(&v).unwrap().shape_report.unwrap().warnings.is_empty());
+    assert!(load(&v)
+        .unwrap()
+        .shape_report()
+        .unwrap()
+        .warnings
+        .is_empty());
 }
 
 #[test]
@@ -285,7 +290,7 @@ fn a_refined_sphere_mesh_converges_to_the_sphere() {
         let v = placed(shape, ray.clone());
         let s =
             grasp_io::scene_from_json_str(&v.to_string(), &dir).unwrap_or_else(|e| panic!("{e}"));
-        let d = &s.shape_report.as_ref().unwrap().fingers[0];
+        let d = &s.shape_report().unwrap().fingers[0];
         let p = nalgebra::Vector3::from(d.contact_point_m);
         let exact_normal = -p.normalize();
         let normal_error = (nalgebra::Vector3::from(d.normal) - exact_normal).norm();
@@ -294,7 +299,7 @@ fn a_refined_sphere_mesh_converges_to_the_sphere() {
             .map(|x| (x.expect("curved") - r).abs() / r)
             .iter()
             .fold(0.0_f64, |m, x| m.max(*x));
-        let (vol, _) = s.shape_report.as_ref().map(|r| (r.volume_m3, ())).unwrap();
+        let (vol, _) = s.shape_report().map(|r| (r.volume_m3, ())).unwrap();
         let volume_error = (vol - 4.0 / 3.0 * PI * r.powi(3)).abs() / (4.0 / 3.0 * PI * r.powi(3));
         println!("refinement {k}: radius error {radius_error:.2e}, normal error {normal_error:.2e}, volume error {volume_error:.2e}");
         errors.push((radius_error, normal_error, volume_error));
@@ -350,7 +355,7 @@ fn a_cad_cylinder_of_long_strips_gives_its_radius() {
         let ray = json!({"ray": {"origin": [0.2, y, 0.0], "direction": [-1, 0, 0]}});
         let s = grasp_io::scene_from_json_str(&placed(shape, ray).to_string(), &dir)
             .unwrap_or_else(|e| panic!("{e}"));
-        let d = &s.shape_report.as_ref().unwrap().fingers[0];
+        let d = &s.shape_report().unwrap().fingers[0];
         let radii = d.object_radius_m;
         let curved: Vec<f64> = radii.iter().flatten().copied().collect();
         println!("CAD cylinder at y = {y}: radii {radii:?}");
@@ -430,7 +435,7 @@ fn same_forces(explicit: &Value, shaped: &Value) {
     // frames use (the exact gaps are checked in tests/exact_gaps.rs).
     let mut shaped = shaped.clone();
     shaped["gap"] = json!("quadratic");
-    let model = GraspModel::from_scene(&load(&shaped).unwrap()).unwrap();
+    let model = GraspModel::from_loaded(&load(&shaped).unwrap()).unwrap();
     let b = grasp_model::solve(&model).unwrap();
     assert_eq!(a.status, b.status);
     let d = element_force_difference_n(&a, &b);
@@ -450,7 +455,7 @@ fn a_scene_written_with_a_shape_solves_like_its_explicit_frames() {
     let pipe = json!({"cylinder": {"radius": 0.01, "length": 0.4}, "position": [0.1, 0, 0], "quaternion": [h, 0, h, 0]});
     let (explicit, shaped) = with_shape("pipe_three_fingers.json", pipe);
     let s = load(&shaped).unwrap();
-    for f in &s.shape_report.as_ref().unwrap().fingers {
+    for f in &s.shape_report().unwrap().fingers {
         assert_eq!(f.object_radius_m[0], None, "{f:?}");
         assert!(
             (f.object_radius_m[1].unwrap() - 0.01).abs() < EXACT,
@@ -470,8 +475,8 @@ mod meshes;
 use meshes::*;
 
 /// `v` loaded with its mesh given in memory (metres; the file name is not read).
-fn load_with_mesh(v: &Value, mesh: &TriangleMesh) -> Result<Scene, SceneError> {
-    Scene::from_json_str_with_meshes(&v.to_string(), &|_| Ok(mesh.clone()))
+fn load_with_mesh(v: &Value, mesh: &TriangleMesh) -> Result<LoadedScene, SceneError> {
+    LoadedScene::from_json_str_with_meshes(&v.to_string(), &|_| Ok(mesh.clone()))
 }
 
 /// The pose used for the box comparisons: off the origin and turned about a skew axis, so
@@ -555,11 +560,11 @@ fn mesh_boxes_give_the_exact_face_normal_at_centres_near_edges_and_corners() {
                     let off = world([0, 1, 2].map(|c| p[c] + 2e-4 * n[c]));
                     let place = json!({"point": off, "tangent": [0.3, -0.5, 0.8]});
                     let exact = load(&placed(primitive.clone(), place.clone())).unwrap();
-                    let exact_report = exact.shape_report.as_ref().unwrap();
+                    let exact_report = exact.shape_report().unwrap();
                     let e = &exact_report.fingers[0];
                     let s_mesh = load_with_mesh(&placed(mesh_shape.clone(), place), &mesh)
                         .unwrap_or_else(|e| panic!("{name}: {e}"));
-                    let report = s_mesh.shape_report.as_ref().unwrap();
+                    let report = s_mesh.shape_report().unwrap();
                     let d = &report.fingers[0];
                     assert!(close(e.normal, inward, EXACT), "{:?}", e.normal);
                     assert!(
@@ -657,7 +662,7 @@ fn a_pinch_near_the_edge_of_a_mesh_box_solves_as_on_the_primitive_box() {
     for (name, mesh) in box_meshes() {
         let scene = load_with_mesh(&pinch(posed(json!({"mesh": {"file": "box.obj"}}))), &mesh)
             .unwrap_or_else(|e| panic!("{name}: {e}"));
-        let sol = grasp_model::solve(&GraspModel::from_scene(&scene).unwrap()).unwrap();
+        let sol = grasp_model::solve(&GraspModel::from_loaded(&scene).unwrap()).unwrap();
         assert_eq!(sol.status, exact.status, "{name}");
         let d = element_force_difference_n(&exact, &sol);
         assert!(d <= 1e-9 * exact.load_scale_n, "{name}: {d:e}");
@@ -711,7 +716,7 @@ fn tessellated_cylinders_have_flat_caps_and_a_side_fitted_apart_from_its_rims() 
             v["gap"] = json!("quadratic");
             let s =
                 load_with_mesh(&v, &mesh).unwrap_or_else(|e| panic!("{name} at {local:?}: {e}"));
-            s.shape_report.unwrap()
+            s.shape_report().unwrap().clone()
         };
         for (x, y, z) in [
             (0.0, 0.0, h + 2e-4),
@@ -812,7 +817,7 @@ fn sphere_meshes_give_the_radial_normal_and_their_radius() {
                 json!({"point": [p.x, p.y, p.z], "tolerance": 0.002}),
             );
             let s = load_with_mesh(&v, &mesh).unwrap_or_else(|e| panic!("{name}: {e}"));
-            let report = s.shape_report.unwrap();
+            let report = s.shape_report().unwrap();
             let d = &report.fingers[0];
             let c = nalgebra::Vector3::from(d.contact_point_m).normalize();
             let err = angle(d.normal, [-c.x, -c.y, -c.z]);
@@ -900,7 +905,7 @@ fn open_meshes_refuse_a_density_and_are_warned_of() {
         o.insert("weight".into(), json!(1.0));
         o.insert("center_of_mass".into(), json!([0, 0, 0]));
         let s = load_with_mesh(&v, &mesh).unwrap_or_else(|e| panic!("{name}: {e}"));
-        let report = s.shape_report.as_ref().unwrap();
+        let report = s.shape_report().unwrap();
         assert_eq!(report.warnings.len(), 1, "{name}: {:?}", report.warnings);
         assert!(
             report.warnings[0].contains("the mesh is not closed"),
@@ -910,7 +915,7 @@ fn open_meshes_refuse_a_density_and_are_warned_of() {
             let n = report.fingers[0].normal;
             assert!(close(n, [0.0, 0.0, *nz], EXACT), "{name}: {n:?}");
         }
-        let sol = grasp_model::solve(&GraspModel::from_scene(&s).unwrap()).unwrap();
+        let sol = grasp_model::solve(&GraspModel::from_loaded(&s).unwrap()).unwrap();
         assert_eq!(sol.warnings[0], report.warnings[0], "{name}");
         v["fingers"][0]["place"] = back.clone();
         let e = load_with_mesh(&v, &mesh).unwrap_err();
@@ -945,7 +950,7 @@ fn a_mesh_wound_inward_or_inconsistently_is_wound_outward() {
             "{name}: {}",
             s.object.weight
         );
-        let report = s.shape_report.unwrap();
+        let report = s.shape_report().unwrap();
         assert!(report.warnings.is_empty(), "{name}: {:?}", report.warnings);
         assert!(
             close(report.fingers[0].normal, [0.0, 0.0, -1.0], EXACT),
@@ -970,13 +975,52 @@ fn a_solution_carries_the_scenes_warnings() {
     // The quadratic gap, to keep the over-the-edge warnings.
     v["gap"] = json!("quadratic");
     let scene = load(&v).unwrap();
-    let expected = scene.shape_report.as_ref().unwrap().warnings.clone();
+    let expected = scene.shape_report().unwrap().warnings.clone();
     assert_eq!(expected.len(), 3, "{expected:?}");
     // One side only: the fingers cannot hold the 1 N weight (no equilibrium), and the
     // warnings are still there.
-    let sol = grasp_model::solve(&GraspModel::from_scene(&scene).unwrap()).unwrap();
+    let sol = grasp_model::solve(&GraspModel::from_loaded(&scene).unwrap()).unwrap();
     assert!(!sol.status.has_forces(), "{:?}", sol.status);
     assert_eq!(sol.warnings[..3], expected[..], "{:?}", sol.warnings);
+}
+
+/// A plain scene (the file format alone: a scene read, its geometry dropped, or one built in
+/// code) is loaded from its own data: its shapes posed from their specs, its warnings found
+/// again, so its model and solution are the read scene's, bit for bit; the model draws the
+/// same triangles.
+#[test]
+fn a_plain_scene_solves_as_the_scene_read() {
+    for name in [
+        "box_pinch.json",
+        "sphere_three_fingers.json",
+        "edge_pinch.json",
+    ] {
+        let read = example_scene(name);
+        let plain = LoadedScene::of_plain(read.scene.clone()).unwrap();
+        let a = GraspModel::from_loaded(&read).unwrap();
+        let b = GraspModel::from_scene(&read.scene).unwrap();
+        assert_eq!(a.object_surface(), b.object_surface(), "{name}");
+        assert_eq!(
+            a.object_surface(),
+            read.geometry.surface.as_deref(),
+            "{name}"
+        );
+        assert_eq!(
+            plain.geometry.warnings(),
+            read.geometry.warnings(),
+            "{name}"
+        );
+        let (sa, sb) = (
+            grasp_model::solve(&a).unwrap(),
+            grasp_model::solve(&b).unwrap(),
+        );
+        assert_eq!(sa.warnings, sb.warnings, "{name}");
+        assert_eq!(
+            element_force_components(&sa),
+            element_force_components(&sb),
+            "{name}"
+        );
+    }
 }
 
 /// A box as an STL file stores it: turned about a skew axis, then every coordinate rounded
@@ -1003,7 +1047,7 @@ fn a_box_stored_in_single_precision_still_has_flat_faces() {
                 let off = world([0, 1, 2].map(|c| p[c] + 2e-4 * n[c]));
                 let v = placed(json!({"mesh": {"file": "box.stl"}}), json!({"point": off}));
                 let scene = load_with_mesh(&v, &rounded).unwrap_or_else(|e| panic!("{p:?}: {e}"));
-                let d = &scene.shape_report.as_ref().unwrap().fingers[0];
+                let d = &scene.shape_report().unwrap().fingers[0];
                 assert!(angle(d.normal, inward) <= 1e-6, "{p:?}: {:?}", d.normal);
                 assert_eq!(d.curvature_per_m, [0.0, 0.0], "{p:?}");
             }

@@ -77,7 +77,7 @@ fn a_tip_pressed_in_by_half_its_radius_is_warned_about() {
 #[test]
 fn an_answer_above_the_usual_residuals_says_reduced_accuracy() {
     let scene = example_scene("plate_hold_viscoelastic.json");
-    let model = grasp_model::GraspModel::from_scene(&scene).unwrap();
+    let model = grasp_model::GraspModel::from_loaded(&scene).unwrap();
     let at = grasp_model::TimePoint::At { seconds: 5.0 };
     let solve = |solver| {
         let options = grasp_model::SolveOptions {

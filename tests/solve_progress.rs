@@ -18,7 +18,7 @@ fn a_solve_reports_monotone_progress_that_ends_at_its_statistics() {
     for side in [96, 21] {
         let mut v = example_json("hertz_sphere_on_flat.json");
         v["fingers"][0]["patch"]["grid"] = serde_json::json!([side, side]);
-        let model = GraspModel::from_scene(&scene(&v)).unwrap();
+        let model = GraspModel::from_loaded(&scene(&v)).unwrap();
         let progress = Arc::new(SolveProgress::new());
         let mut solver = GraspSolver::new(model, SolveOptions::default());
         solver.set_progress(Arc::clone(&progress));

@@ -142,8 +142,8 @@ fn random_grasp(r: &mut Lcg, planar: bool, coulomb: bool) -> Value {
 
 /// True when Clarabel can take the scene's model: it needs every patch compliance as a matrix
 /// and refuses an FFT operator too large to write out (a model error, before any iteration).
-fn clarabel_takes(scene: &grasp_model::Scene) -> bool {
-    let model = grasp_model::GraspModel::from_scene(scene).expect("model");
+fn clarabel_takes(scene: &grasp_model::LoadedScene) -> bool {
+    let model = grasp_model::GraspModel::from_loaded(scene).expect("model");
     let options = grasp_model::SolveOptions {
         solver: grasp_model::SolverChoice::Clarabel,
         max_iterations: 1,
@@ -204,7 +204,7 @@ fn native_and_clarabel_agree_on_240_random_grasps() {
         let planar = case % 2 == 1;
         let coulomb = case % 4 >= 2;
         let v = random_grasp(&mut r, planar, coulomb);
-        if grasp_model::Scene::from_json_str(&v.to_string()).is_err() {
+        if grasp_model::LoadedScene::from_json_str(&v.to_string()).is_err() {
             invalid += 1;
             continue;
         }
@@ -327,7 +327,7 @@ fn dense_and_fft_compliance_agree_on_the_examples_and_random_grasps() {
     let (mut solved, mut other) = (0, 0);
     for case in 0..80 {
         let v = random_grasp(&mut r, case % 2 == 1, case % 4 >= 2);
-        if grasp_model::Scene::from_json_str(&v.to_string()).is_err() {
+        if grasp_model::LoadedScene::from_json_str(&v.to_string()).is_err() {
             continue;
         }
         match dense_and_fft_agree(&v) {

@@ -11,7 +11,7 @@ use support::Lcg;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use grasp_model::solve;
-use grasp_model::{GraspModel, Scene, Solution, SolveStatus};
+use grasp_model::{GraspModel, LoadedScene, Solution, SolveStatus};
 use serde_json::{json, Value};
 
 fn elastic(e: f64, nu: f64) -> Value {
@@ -74,9 +74,9 @@ struct Tally {
 /// Runs one case: a panic, a NaN, a residual over 1e-8 or an unnamed failure fails the test.
 fn run_case(class: &str, case: &str, scene: &Value, tally: &mut Tally) -> Option<Solution> {
     let result = catch_unwind(AssertUnwindSafe(|| {
-        let scene = Scene::from_json_str(&scene.to_string())
+        let scene = LoadedScene::from_json_str(&scene.to_string())
             .unwrap_or_else(|e| panic!("{class}/{case}: scene rejected: {e}"));
-        let model = GraspModel::from_scene(&scene).unwrap();
+        let model = GraspModel::from_loaded(&scene).unwrap();
         solve(&model).unwrap()
     }));
     let sol = match result {

@@ -5,7 +5,7 @@
 mod support;
 use support::*;
 
-use grasp_model::{GraspModel, GraspSolver, ModelError, Scene, SolveOptions, StepInputs};
+use grasp_model::{GraspModel, GraspSolver, LoadedScene, ModelError, SolveOptions, StepInputs};
 use serde_json::json;
 
 /// The half-space pad pinch (left jaw held, right jaw 2 N, mu 0.8) on a 15 x 15 grid: small
@@ -32,10 +32,10 @@ fn solve(model: &GraspModel, inputs: &StepInputs) -> grasp_model::Solution {
 #[test]
 fn an_approach_in_the_inputs_is_the_scenes_approach() {
     let d = 2e-5;
-    let held = GraspModel::from_scene(&scene(&pinch())).unwrap();
+    let held = GraspModel::from_loaded(&scene(&pinch())).unwrap();
     let mut v = pinch();
     v["fingers"][0]["control"] = json!({ "approach_m": d });
-    let pressed = GraspModel::from_scene(&scene(&v)).unwrap();
+    let pressed = GraspModel::from_loaded(&scene(&v)).unwrap();
     let a = solve(&pressed, &StepInputs::of_scene(&pressed));
     let b = solve(&held, &StepInputs::of_scene(&held).with_approach(0, d));
     assert_eq!(element_force_components(&a), element_force_components(&b));
@@ -53,10 +53,10 @@ fn an_extra_wrench_in_the_inputs_is_an_external_force_of_the_scene() {
     let com = plain.object.center_of_mass;
     let mut v = pinch();
     v["object"]["external_forces"] = json!([{ "force": push, "at": com }]);
-    let written: Scene = scene(&v);
-    let a_model = GraspModel::from_scene(&written).unwrap();
+    let written: LoadedScene = scene(&v);
+    let a_model = GraspModel::from_loaded(&written).unwrap();
     let a = solve(&a_model, &StepInputs::of_scene(&a_model));
-    let model = GraspModel::from_scene(&plain).unwrap();
+    let model = GraspModel::from_loaded(&plain).unwrap();
     let inputs = StepInputs::of_scene(&model).with_load_at_center_of_mass(
         &model,
         &nalgebra::Vector3::from(push),
@@ -75,7 +75,7 @@ fn an_extra_wrench_in_the_inputs_is_an_external_force_of_the_scene() {
 /// wrong count are refused before any solve, naming what is wrong.
 #[test]
 fn inputs_that_do_not_fit_the_model_are_refused() {
-    let model = GraspModel::from_scene(&scene(&pinch())).unwrap();
+    let model = GraspModel::from_loaded(&scene(&pinch())).unwrap();
     let mut solver = GraspSolver::new(model.clone(), SolveOptions::default());
     let e = solver
         .solve(&StepInputs::of_scene(&model).with_approach(1, 1e-5))

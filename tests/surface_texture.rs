@@ -211,7 +211,6 @@ fn map_texture(pixel_m: [f64; 2]) -> TextureSpec {
         heights: Some(HeightMapSpec {
             file: "in memory".into(),
             pixel_m,
-            data: None,
         }),
         ..TextureSpec::default()
     }
@@ -344,8 +343,7 @@ fn npy_and_csv_of_the_same_map_give_the_same_heights() {
         let f = &read.scene.fingers[0];
         let (c, e) = centres(f.patch.size, f.patch.grid);
         let texture = f.texture.as_ref().unwrap();
-        let map = texture.heights.as_ref().and_then(|h| h.data.as_deref());
-        texture_heights_m(texture, map, &c, e).unwrap()
+        texture_heights_m(texture, read.scene.height_map(0), &c, e).unwrap()
     };
     let from_csv = heights("h.csv");
     assert_eq!(heights("c.npy"), from_csv);

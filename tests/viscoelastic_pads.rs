@@ -16,7 +16,7 @@
 mod support;
 
 use grasp_model::{solve_at, TimePoint};
-use grasp_model::{GraspModel, Scene, Solution, SolveOptions, SolveStatus};
+use grasp_model::{GraspModel, LoadedScene, Solution, SolveOptions, SolveStatus};
 
 const E0: f64 = 2e6;
 const NU: f64 = 0.45;
@@ -77,7 +77,7 @@ fn hertz_radius(p: f64) -> f64 {
 
 /// One held flat pad of `material` under a rigid sphere of radius `R` of weight `p`,
 /// frictionless, 31 x 31 over `side` (the Hertz check's grid).
-fn sphere_on_pad(material: &str, p: f64, side: f64) -> Scene {
+fn sphere_on_pad(material: &str, p: f64, side: f64) -> LoadedScene {
     let json = format!(
         r#"{{
         "object": {{ "weight": {p}, "center_of_mass": [0, 0, 0.02], "gravity": [0, 0, -1],
@@ -88,12 +88,12 @@ fn sphere_on_pad(material: &str, p: f64, side: f64) -> Scene {
                        "friction": {{"mu": 0.0}} }} ]
     }}"#
     );
-    Scene::from_json_str(&json).unwrap()
+    LoadedScene::from_json_str(&json).unwrap()
 }
 
 /// Two spherical fingertips of `material` pressed by `approach` (m) each into a weightless
 /// rigid flat object between them, frictionless, 31 x 31 over `side`.
-fn approach_pinch(material: &str, approach: f64, side: f64) -> Scene {
+fn approach_pinch(material: &str, approach: f64, side: f64) -> LoadedScene {
     let finger = |name: &str, x: f64, n: f64| {
         format!(
             r#"{{ "name": "{name}", "contact_point": [{x}, 0, 0], "normal": [{n}, 0, 0],
@@ -110,11 +110,11 @@ fn approach_pinch(material: &str, approach: f64, side: f64) -> Scene {
         finger("left", -0.01, 1.0),
         finger("right", 0.01, -1.0)
     );
-    Scene::from_json_str(&json).unwrap()
+    LoadedScene::from_json_str(&json).unwrap()
 }
 
-fn at(scene: &Scene, time: TimePoint) -> Solution {
-    let model = GraspModel::from_scene(scene).unwrap();
+fn at(scene: &LoadedScene, time: TimePoint) -> Solution {
+    let model = GraspModel::from_loaded(scene).unwrap();
     let s = solve_at(&model, SolveOptions::default(), time).unwrap();
     assert_eq!(
         s.solution.status,
@@ -267,7 +267,7 @@ fn halving_the_step_shows_second_order() {
     use grasp_model::{ContactState, GraspSolver, StepInputs};
     let d = 2e-4;
     let scene = approach_pinch(&pad(SLS), d, 2.4 * (R * d).sqrt());
-    let model = GraspModel::from_scene(&scene).unwrap();
+    let model = GraspModel::from_loaded(&scene).unwrap();
     let inputs = StepInputs::of_scene(&model);
     let run = |dt: f64| {
         let mut state = ContactState::new(&model);
@@ -303,7 +303,7 @@ fn a_relaxing_pinch_starts_to_slip_when_two_mu_p_reaches_the_weight() {
     let side = 2.4 * (R * d).sqrt();
     let scene_with = |w: f64| {
         let mut v: serde_json::Value =
-            serde_json::to_value(approach_pinch(&pad(SLS), d, side)).unwrap();
+            serde_json::to_value(approach_pinch(&pad(SLS), d, side).scene).unwrap();
         v["model"] = serde_json::json!("coulomb");
         v["object"]["weight"] = serde_json::json!(w);
         v["object"]["gravity"] = serde_json::json!([0, 0, -1]);
@@ -311,13 +311,13 @@ fn a_relaxing_pinch_starts_to_slip_when_two_mu_p_reaches_the_weight() {
             f["friction"] = serde_json::json!({"mu": mu});
             f["patch"]["grid"] = serde_json::json!([15, 15]);
         }
-        Scene::from_json_str(&v.to_string()).unwrap()
+        LoadedScene::from_json_str(&v.to_string()).unwrap()
     };
     let p0 = at(&scene_with(0.0), TimePoint::Instantaneous).fingers[0].normal_force_n;
     // W such that the grasp fails at e(t*) = 0.55 (g_inf = 0.4, g = 0.6, tau = 1 s).
     let w = 2.0 * mu * p0 * 0.55;
     let t_star = -((0.55 - 0.4) / 0.6f64).ln();
-    let model = GraspModel::from_scene(&scene_with(w)).unwrap();
+    let model = GraspModel::from_loaded(&scene_with(w)).unwrap();
     let before = solve_at(
         &model,
         SolveOptions::default(),
@@ -364,7 +364,8 @@ fn a_held_plate_relaxes_in_a_hand_off_and_slips_when_the_squeeze_is_short() {
         std::fs::read_to_string(root.join("plate_hold_viscoelastic.schedule.json")).unwrap();
     let run = |approach: f64| {
         let scene =
-            Scene::from_json_str(&scene_text.replace("0.0006", &approach.to_string())).unwrap();
+            LoadedScene::from_json_str(&scene_text.replace("0.0006", &approach.to_string()))
+                .unwrap();
         let names = scene.finger_names();
         let text = schedule_text.replace("0.0006", &approach.to_string());
         let schedule = Schedule::from_json_str(&text, &names, &root).unwrap();
@@ -419,7 +420,7 @@ fn a_held_plate_relaxes_in_a_hand_off_and_slips_when_the_squeeze_is_short() {
 fn the_history_is_recorded() {
     use grasp_transfer::{run_collect, McapSink, RerunSink, Schedule, Sink, TransferOptions};
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples");
-    let scene = Scene::from_json_str(
+    let scene = LoadedScene::from_json_str(
         &std::fs::read_to_string(root.join("plate_hold_viscoelastic.json")).unwrap(),
     )
     .unwrap();
@@ -503,7 +504,7 @@ fn equal_steps_share_one_model() {
     use grasp_transfer::{run_collect, Schedule, TransferOptions};
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples");
     let read = |f: &str| std::fs::read_to_string(root.join(f)).unwrap();
-    let scene = Scene::from_json_str(&read("cylinder_handoff_viscoelastic.json")).unwrap();
+    let scene = LoadedScene::from_json_str(&read("cylinder_handoff_viscoelastic.json")).unwrap();
     let names = scene.finger_names();
     let schedule = Schedule::from_json_str(
         &read("cylinder_handoff_viscoelastic_fast.schedule.json"),

@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use grasp_model::solve;
-use grasp_model::{GraspModel, Scene, Solution, SolveStatus};
+use grasp_model::{GraspModel, LoadedScene, Solution, SolveStatus};
 use serde_json::Value;
 
 /// Path of a file in the workspace's `examples/` folder.
@@ -16,14 +16,14 @@ pub fn example_json(name: &str) -> Value {
     serde_json::from_str(&text).expect("example is JSON")
 }
 
-/// Parses and validates a JSON scene.
-pub fn scene(v: &Value) -> Scene {
-    Scene::from_json_str(&v.to_string()).expect("valid scene")
+/// Parses and validates a JSON scene (as read: its shapes, its report).
+pub fn scene(v: &Value) -> LoadedScene {
+    LoadedScene::from_json_str(&v.to_string()).expect("valid scene")
 }
 
 /// Builds and solves a JSON scene.
 pub fn solve_json(v: &Value) -> Solution {
-    let model = GraspModel::from_scene(&scene(v)).expect("model");
+    let model = GraspModel::from_loaded(&scene(v)).expect("model");
     solve(&model).expect("solve runs")
 }
 
@@ -118,7 +118,7 @@ pub fn example_schedules() -> Vec<(String, String)> {
 
 /// A bundled scene (a path relative to `examples/`) read as the CLI reads it, mesh files
 /// resolved in its folder.
-pub fn example_scene(name: &str) -> Scene {
+pub fn example_scene(name: &str) -> LoadedScene {
     grasp_io::read_scene_file(std::path::Path::new(&example_path(name)))
         .unwrap_or_else(|e| panic!("{name}: {e}"))
         .scene
@@ -126,7 +126,7 @@ pub fn example_scene(name: &str) -> Scene {
 
 /// A bundled scene and a schedule for it (paths relative to `examples/`), the schedule's CSV
 /// profiles resolved in its folder.
-pub fn scene_and_schedule(scene: &str, schedule: &str) -> (Scene, grasp_transfer::Schedule) {
+pub fn scene_and_schedule(scene: &str, schedule: &str) -> (LoadedScene, grasp_transfer::Schedule) {
     let path = std::path::PathBuf::from(example_path(schedule));
     let dir = path.parent().expect("a folder");
     let scene = example_scene(scene);
@@ -138,11 +138,10 @@ pub fn scene_and_schedule(scene: &str, schedule: &str) -> (Scene, grasp_transfer
 }
 
 /// A bundled hand-off: its scene and its schedule (`<name>.json`, `<name>.schedule.json`).
-pub fn transfer_example(name: &str) -> (Scene, grasp_transfer::Schedule) {
+pub fn transfer_example(name: &str) -> (LoadedScene, grasp_transfer::Schedule) {
     let dir = std::path::PathBuf::from(example_path(""));
-    let scene =
-        Scene::from_json_str(&std::fs::read_to_string(dir.join(format!("{name}.json"))).unwrap())
-            .unwrap();
+    let text = std::fs::read_to_string(dir.join(format!("{name}.json"))).unwrap();
+    let scene = LoadedScene::from_json_str(&text).unwrap();
     let names = scene.finger_names();
     let text = std::fs::read_to_string(dir.join(format!("{name}.schedule.json"))).unwrap();
     let schedule = grasp_transfer::Schedule::from_json_str(&text, &names, &dir).unwrap();
@@ -177,8 +176,11 @@ pub fn solve_with_options(v: &Value, options: grasp_model::SolveOptions) -> Solu
 }
 
 /// Builds and solves a scene with the given options.
-pub fn solve_scene_with_options(scene: &Scene, options: grasp_model::SolveOptions) -> Solution {
-    let model = GraspModel::from_scene_with(scene, options.compliance).expect("model");
+pub fn solve_scene_with_options(
+    scene: &LoadedScene,
+    options: grasp_model::SolveOptions,
+) -> Solution {
+    let model = GraspModel::from_loaded_with(scene, options.compliance).expect("model");
     grasp_model::GraspSolver::new(model.clone(), options)
         .solve(&grasp_model::StepInputs::of_scene(&model))
         .expect("solve runs")
@@ -363,8 +365,10 @@ pub fn native_agrees_with_clarabel(v: &Value) -> Result<(Solution, Agreement, f6
 }
 
 /// [`native_agrees_with_clarabel`] on a scene already read.
-pub fn native_agrees_with_clarabel_on(scene: &Scene) -> Result<(Solution, Agreement, f64), String> {
-    let model = GraspModel::from_scene(scene).expect("model");
+pub fn native_agrees_with_clarabel_on(
+    scene: &LoadedScene,
+) -> Result<(Solution, Agreement, f64), String> {
+    let model = GraspModel::from_loaded(scene).expect("model");
     // A sequential (coulomb) answer is a fixed point known to its sequential tolerance; two
     // solvers stopping at neighbouring iterates differ by that much, so both run at
     // SEQUENTIAL_REFERENCE here.

@@ -17,7 +17,7 @@ use grasp_io::{
     FileLine, InputFile, LineText, RunInputs, BATCH_INPUT, SCENE_FILE,
 };
 use grasp_model::{strict_json::from_str_strict, strict_json::StrictValue};
-use grasp_model::{InputProblem, Scene};
+use grasp_model::{InputProblem, LoadedScene};
 use serde_json::Value;
 
 use crate::error::{io, BatchError};
@@ -58,8 +58,8 @@ pub struct SceneLine {
     pub id: String,
     /// The `"vary"` note of a sweep variant (carried into the result).
     pub vary: Option<Value>,
-    /// The scene, or every problem found in it.
-    pub scene: Result<Scene, Vec<InputProblem>>,
+    /// The scene as read (its shapes, its height maps), or every problem found in it.
+    pub scene: Result<LoadedScene, Vec<InputProblem>>,
     /// The files read for it (a folder's scene file, mesh files).
     pub files: RunInputs,
 }

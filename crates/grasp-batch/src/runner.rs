@@ -109,7 +109,7 @@ pub fn solve_line(
             Ok(need) => {
                 let _admitted = budget.admit(need);
                 let clock = Instant::now();
-                match GraspModel::from_validated_scene_with(&scene, options.solve.compliance) {
+                match GraspModel::from_validated_with(&scene, options.solve.compliance) {
                     Err(e) => ResultLine::invalid(id, index, of, e.problems()),
                     Ok(model) => {
                         let inputs = StepInputs::of_scene(&model);

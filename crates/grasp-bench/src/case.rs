@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use grasp_model::ComplianceChoice;
-use grasp_model::{GraspModel, Scene, SolveOptions, SolverChoice};
+use grasp_model::{GraspModel, LoadedScene, SolveOptions, SolverChoice};
 use grasp_transfer::{Schedule, TransferOptions};
 
 use crate::error::BenchError;
@@ -416,8 +416,8 @@ pub struct Prepared {
     pub case: Case,
     /// Solver asked for.
     pub solver: SolverChoice,
-    /// The scene (grid applied).
-    pub scene: Scene,
+    /// The scene as read (grid applied).
+    pub scene: LoadedScene,
     /// The model, built once for [`CaseKind::Solve`].
     pub model: Option<std::sync::Arc<GraspModel>>,
     /// Time the model build took when it was built here, s.
@@ -454,7 +454,7 @@ impl Case {
         };
         let (scene_text, schedule_text) =
             bundled(self.scene).ok_or_else(|| err(format!("no bundled scene {}", self.scene)))?;
-        let mut scene = Scene::from_json_str(scene_text).map_err(|e| err(e.to_string()))?;
+        let mut scene = LoadedScene::from_json_str(scene_text).map_err(|e| err(e.to_string()))?;
         if let Some(grid) = self.grid {
             for f in &mut scene.fingers {
                 f.patch.grid = grid;
@@ -475,7 +475,7 @@ impl Case {
         let (model, build_s) = match self.kind {
             Solve => {
                 let t = std::time::Instant::now();
-                let m = GraspModel::from_scene_with(&scene, self.compliance())
+                let m = GraspModel::from_loaded_with(&scene, self.compliance())
                     .map_err(|e| err(e.to_string()))?;
                 (Some(std::sync::Arc::new(m)), t.elapsed().as_secs_f64())
             }

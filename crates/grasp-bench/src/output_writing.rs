@@ -12,7 +12,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use grasp_io::SolutionRecord;
-use grasp_model::{ComplianceChoice, GraspModel, Scene};
+use grasp_model::{ComplianceChoice, GraspModel, LoadedScene};
 
 use crate::error::BenchError;
 use crate::peak_memory;
@@ -69,11 +69,11 @@ pub fn measure_output_writing(grid: usize, folder: &Path) -> Result<OutputCosts,
     let mut scene: serde_json::Value =
         serde_json::from_str(text).map_err(|e| fail(e.to_string()))?;
     scene["fingers"][0]["patch"]["grid"] = serde_json::json!([grid, grid]);
-    let scene = Scene::from_json_str(&scene.to_string()).map_err(|e| fail(e.to_string()))?;
+    let scene = LoadedScene::from_json_str(&scene.to_string()).map_err(|e| fail(e.to_string()))?;
     let reset = peak_memory::reset_peak();
     let base = peak_memory::rss_bytes().unwrap_or(0);
     let clock = Instant::now();
-    let model = GraspModel::from_scene_with(&scene, ComplianceChoice::Auto)
+    let model = GraspModel::from_loaded_with(&scene, ComplianceChoice::Auto)
         .map_err(|e| fail(e.to_string()))?;
     let solution = grasp_model::solve(&model).map_err(|e| fail(e.to_string()))?;
     let solve_s = clock.elapsed().as_secs_f64();

@@ -249,7 +249,7 @@ impl Prepared {
                 one_solve(self, Arc::clone(model), self.build_s, t0)?
             }
             CaseKind::OneShot => {
-                let model = GraspModel::from_scene_with(&self.scene, self.case.compliance())
+                let model = GraspModel::from_loaded_with(&self.scene, self.case.compliance())
                     .map_err(|e| run_err(self, e.to_string()))?;
                 let build_s = t0.elapsed().as_secs_f64();
                 one_solve(self, Arc::new(model), build_s, t0)?

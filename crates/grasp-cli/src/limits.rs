@@ -8,7 +8,7 @@ use std::sync::Mutex;
 
 use anyhow::{anyhow, Result};
 use grasp_io::{InputKind, MemoryLimit, RunInputs, SCENE_FILE};
-use grasp_model::{ComplianceChoice, Scene};
+use grasp_model::{ComplianceChoice, LoadedScene};
 
 /// Largest scene, schedule or directions file read, bytes.
 pub const MAX_INPUT_BYTES: u64 = SCENE_FILE.max_bytes;
@@ -31,7 +31,12 @@ impl MemoryArg {
 
     /// Refuses the scene read from `file` when its estimated memory, every patch in the form
     /// `compliance` gives it, exceeds the limit.
-    pub fn check(&self, scene: &Scene, file: &Path, compliance: ComplianceChoice) -> Result<()> {
+    pub fn check(
+        &self,
+        scene: &LoadedScene,
+        file: &Path,
+        compliance: ComplianceChoice,
+    ) -> Result<()> {
         self.limit()
             .check(scene, compliance)
             .map(|_| ())

@@ -6,13 +6,13 @@
 use std::path::Path;
 
 use anyhow::{anyhow, Result};
-use grasp_model::{ComplianceChoice, GraspModel, Scene, SceneError};
+use grasp_model::{ComplianceChoice, GraspModel, LoadedScene, SceneError};
 
 use crate::limits;
 
-/// Reads and validates a scene file (its mesh files relative to its folder); the error
-/// names the file and lists every problem.
-pub(crate) fn load_scene(path: &Path) -> Result<Scene> {
+/// Reads and validates a scene file (its mesh files relative to its folder): the scene as
+/// read, with its shapes and height maps; the error names the file and lists every problem.
+pub(crate) fn load_scene(path: &Path) -> Result<LoadedScene> {
     let file = grasp_io::read_scene_file(path)?;
     limits::note_inputs(&file.inputs);
     Ok(file.scene)
@@ -22,11 +22,11 @@ pub(crate) fn load_scene(path: &Path) -> Result<Scene> {
 /// picks; the error names the file (a scene whose buffers the system refused: what and how
 /// much, not "unusable").
 pub(crate) fn model_of(
-    scene: &Scene,
+    scene: &LoadedScene,
     compliance: ComplianceChoice,
     path: &Path,
 ) -> Result<GraspModel> {
-    GraspModel::from_scene_with(scene, compliance).map_err(|e| match e {
+    GraspModel::from_loaded_with(scene, compliance).map_err(|e| match e {
         SceneError::OutOfMemory { .. } => anyhow!("{}: {e}", path.display()),
         e => anyhow::Error::new(e).context(format!("{} is not a usable scene", path.display())),
     })

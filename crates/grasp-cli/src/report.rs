@@ -215,7 +215,7 @@ pub fn solver_words(st: &grasp_model::SolverStats) -> String {
 
 /// The discretisation error estimate as one line, with its extra cost.
 pub fn error_estimate_line(
-    scene: &grasp_model::Scene,
+    scene: &grasp_model::LoadedScene,
     sol: &Solution,
     options: grasp_model::SolveOptions,
 ) -> anyhow::Result<String> {
@@ -372,8 +372,8 @@ fn gap_line(name: &str, m: &grasp_model::FingerModel) -> String {
 /// Per finger, its initial gaps, and per curved contact the Hertz estimate and the patch it
 /// suggests (`--explain-frames`), at the finger's commanded load, or the object's weight for a
 /// held finger.
-pub fn hertz_table(scene: &grasp_model::Scene) -> anyhow::Result<String> {
-    let model = grasp_model::GraspModel::from_scene(scene)?;
+pub fn hertz_table(scene: &grasp_model::LoadedScene) -> anyhow::Result<String> {
+    let model = grasp_model::GraspModel::from_loaded(scene)?;
     let mut o = String::new();
     let mm = |x: f64| format!("{:.3}", 1e3 * x);
     for (f, m) in scene.fingers.iter().zip(model.fingers()) {

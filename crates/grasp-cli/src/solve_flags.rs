@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use anyhow::Result;
-use grasp_model::{ComplianceChoice, Scene, SolveOptions, SolverChoice};
+use grasp_model::{ComplianceChoice, LoadedScene, SolveOptions, SolverChoice};
 
 use crate::limits::MemoryArg;
 
@@ -35,7 +35,7 @@ impl SolveFlags {
 
     /// Refuses the scene read from `file` when the path these flags choose would need more
     /// memory than the limit.
-    pub fn check_memory(&self, scene: &Scene, file: &Path) -> Result<()> {
+    pub fn check_memory(&self, scene: &LoadedScene, file: &Path) -> Result<()> {
         self.memory.check(scene, file, self.compliance)
     }
 }

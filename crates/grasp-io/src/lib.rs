@@ -11,7 +11,8 @@
 //! - [`read_mesh`]: OBJ and STL meshes (an OBJ's materials are never read); the height maps of
 //!   textures (`.npy`, `.csv`, at most [`MAX_PIXELS`] heights).
 //! - [`read_scene_file`], [`scene_from_json_str`]: scenes with the files they name resolved
-//!   against the scene's folder, and every file read noted ([`RunInputs`]).
+//!   against the scene's folder (a `grasp_model::LoadedScene`: the plain scene and the meshes'
+//!   posed shapes and the height maps beside it), and every file read noted ([`RunInputs`]).
 //! - [`OutputSet`]: the one output policy (checked targets, inputs never overwritten, no
 //!   replacing without [`OutputRules::force`], exclusive unguessable temporary files moved into
 //!   place on success, every output locked for the run); [`remove_all_for_exit`]: the live

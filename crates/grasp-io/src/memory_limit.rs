@@ -8,7 +8,7 @@ use std::fmt;
 
 use grasp_model::{
     estimate_memory_bytes_with, finger_unknowns, option_names, takes_fft, ComplianceChoice,
-    FingerSpec, InputProblem, Scene,
+    FingerSpec, InputProblem, LoadedScene,
 };
 
 use crate::machine_memory::{mem_total_bytes, DEFAULT_MEMORY_SHARE, FALLBACK_MEMORY_LIMIT};
@@ -73,14 +73,18 @@ impl MemoryLimit {
     /// estimate of the path that will run).
     /// A limit above the machine's memory (`--max-memory 1T` on a 23 GiB machine) is cut to
     /// it: no limit makes room the machine does not have.
-    pub fn check(&self, scene: &Scene, compliance: ComplianceChoice) -> Result<u64, MemoryError> {
+    pub fn check(
+        &self,
+        scene: &LoadedScene,
+        compliance: ComplianceChoice,
+    ) -> Result<u64, MemoryError> {
         self.check_within(scene, compliance, mem_total_bytes())
     }
 
     /// [`Self::check`] on a machine of `machine_bytes` of memory (`None`: unknown).
     fn check_within(
         &self,
-        scene: &Scene,
+        scene: &LoadedScene,
         compliance: ComplianceChoice,
         machine_bytes: Option<u64>,
     ) -> Result<u64, MemoryError> {
@@ -216,7 +220,7 @@ mod tests {
     #[test]
     fn a_scene_over_the_limit_names_its_largest_patch_and_the_fix() {
         let text = include_str!("../../../examples/cube_a.json");
-        let scene = Scene::from_json_str(text).unwrap();
+        let scene = LoadedScene::from_json_str(text).unwrap();
         let limit = MemoryLimit::given(1 << 10);
         assert!(limit.check(&scene, ComplianceChoice::Auto).is_err());
         let e = limit.check(&scene, ComplianceChoice::Dense).unwrap_err();
@@ -247,7 +251,7 @@ mod tests {
     #[test]
     fn no_limit_makes_room_the_machine_does_not_have() {
         let text = include_str!("../../../examples/cube_a.json");
-        let scene = Scene::from_json_str(text).unwrap();
+        let scene = LoadedScene::from_json_str(text).unwrap();
         let huge = MemoryLimit::given(1 << 40);
         let e = huge
             .check_within(&scene, ComplianceChoice::Dense, Some(1 << 10))

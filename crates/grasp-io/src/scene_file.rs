@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use grasp_model::{FileProblem, HeightGrid, HeightMapSpec, MeshSpec, SceneFiles, TriangleMesh};
-use grasp_model::{Scene, SceneError};
+use grasp_model::{LoadedScene, SceneError};
 
 use crate::error::InputFileError;
 use crate::height_map_file::read_height_map;
@@ -78,8 +78,9 @@ impl SceneFiles for FileReader<'_> {
     }
 }
 
-/// A scene from JSON text, the files it names read relative to `base_dir`.
-pub fn scene_from_json_str(text: &str, base_dir: &Path) -> Result<Scene, SceneError> {
+/// A scene from JSON text, the files it names read relative to `base_dir` (the scene as read,
+/// with its shapes and height maps).
+pub fn scene_from_json_str(text: &str, base_dir: &Path) -> Result<LoadedScene, SceneError> {
     scene_from_json_str_noting(text, base_dir, &mut RunInputs::new())
 }
 
@@ -88,7 +89,7 @@ pub fn scene_from_json_str_noting(
     text: &str,
     base_dir: &Path,
     inputs: &mut RunInputs,
-) -> Result<Scene, SceneError> {
+) -> Result<LoadedScene, SceneError> {
     scene_from_json_str_with_arrays(text, base_dir, &HeightArrays::new(), inputs)
 }
 
@@ -99,9 +100,9 @@ pub fn scene_from_json_str_with_arrays(
     base_dir: &Path,
     arrays: &HeightArrays,
     inputs: &mut RunInputs,
-) -> Result<Scene, SceneError> {
+) -> Result<LoadedScene, SceneError> {
     let reader = FileReader::new(base_dir, arrays);
-    let scene = Scene::from_json_str_with_files(text, &reader);
+    let scene = LoadedScene::from_json_str_with_files(text, &reader);
     inputs.extend(&reader.read.into_inner());
     scene
 }
@@ -112,10 +113,10 @@ pub fn scene_from_value(
     value: serde_json::Value,
     base_dir: &Path,
     inputs: &mut RunInputs,
-) -> Result<Scene, SceneError> {
+) -> Result<LoadedScene, SceneError> {
     let arrays = HeightArrays::new();
     let reader = FileReader::new(base_dir, &arrays);
-    let scene = Scene::from_value_with_files(value, &reader);
+    let scene = LoadedScene::from_value_with_files(value, &reader);
     inputs.extend(&reader.read.into_inner());
     scene
 }
@@ -124,8 +125,8 @@ pub fn scene_from_value(
 /// maps).
 #[derive(Debug, Clone)]
 pub struct SceneFile {
-    /// The validated scene.
-    pub scene: Scene,
+    /// The validated scene, with what reading it found (its shapes, its height maps).
+    pub scene: LoadedScene,
     /// The files read.
     pub inputs: RunInputs,
 }

@@ -35,8 +35,11 @@
 //!
 //! ## The workflow
 //!
-//! [`Scene`] (the file format, validated) -> [`GraspModel`] (built once, immutable: frames,
-//! patches and gaps, compliance, equilibrium map, scales) -> [`GraspSolver`] (keeps the model,
+//! [`Scene`] (the file format, validated: plain data) and beside it what reading it found, its
+//! [`SceneGeometry`] (the shape's report, the posed object and tip shapes, the object's
+//! triangles, the height maps), together a [`LoadedScene`] -> [`GraspModel`] (built once,
+//! immutable: frames, patches and gaps, compliance, equilibrium map, scales; the geometry it
+//! needs) -> [`GraspSolver`] (keeps the model,
 //! assembles the [`ConeProgram`] once; strategy: one convex solve or the sequential fixed
 //! point; backend: native or Clarabel) -> [`Solution`] (SI, with [`Residuals`] computed from
 //! the solution itself). What changes from one solve to the next travels beside the model:
@@ -44,6 +47,12 @@
 //! history's step) and
 //! the [`ContactState`] the solves leave behind (slip memory, warm start, viscoelastic
 //! history), as MuJoCo keeps `mjModel` apart from `mjData`.
+//!
+//! A scene that names files (a mesh shape, a texture's height map) is read with them by the
+//! caller (`grasp_io`: this crate does no I/O) through [`SceneFiles`]
+//! ([`LoadedScene::from_json_str_with_files`]) and built with [`GraspModel::from_loaded`]; a
+//! scene that names none may stay plain, as here ([`GraspModel::from_scene`] loads it:
+//! [`LoadedScene::of_plain`]).
 //!
 //! ```
 //! use grasp_model::{ContactState, GraspModel, GraspSolver, Scene, SolveOptions, StepInputs};
@@ -100,6 +109,7 @@ mod solver;
 
 // ---- The scene: what a user writes (serde types, JSON Schema, validation) ----
 pub use scene::finger_placement::STANDARD_GRAVITY;
+pub use scene::loaded_scene::LoadedScene;
 pub use scene::memory_budget::{
     estimate_memory_bytes, estimate_memory_bytes_with, finger_unknowns, SolveSize,
 };
@@ -109,6 +119,7 @@ pub use scene::scene_format::{
     MaterialSpec, ModelKind, NormalLoadSpec, ObjectSpec, PatchSpec, PlanarSpec, PronyTermSpec,
     RadiusSpec, RelaxationSpec, RigidTag, Scene, StandardLinearSolidSpec, TableSpec, Vec3,
 };
+pub use scene::scene_geometry::{SceneGeometry, SharedShape};
 pub use scene::scene_reading::{FileProblem, SceneFiles};
 pub use scene::shape_report::{DerivedFrame, ShapeReport};
 pub use scene::shape_spec::{

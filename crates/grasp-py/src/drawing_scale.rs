@@ -13,7 +13,7 @@ use crate::scene::Scene;
 #[pyo3(name = "_arrow_scale_m_per_n")]
 pub fn arrow_scale_m_per_n(py: Python<'_>, scene: &Scene) -> PyResult<f64> {
     let model = py
-        .allow_threads(|| grasp_model::GraspModel::from_scene(&scene.scene))
+        .allow_threads(|| grasp_model::GraspModel::from_loaded(&scene.scene))
         .map_err(|e| scene_error(py, &scene.origin, &e))?;
     Ok(grasp_transfer::drawing_scale(&model).1)
 }

@@ -38,7 +38,7 @@ use crate::errors::{grasp_error, scene_error};
 /// >>> scene.finger_names, scene.model
 #[pyclass(module = "grasp", frozen)]
 pub struct Scene {
-    pub(crate) scene: grasp_model::Scene,
+    pub(crate) scene: grasp_model::LoadedScene,
     /// Where the scene came from (a path, `<dict>` or `<json>`), for messages.
     pub(crate) origin: String,
     /// The files read for it (the scene file, mesh files, height maps): no output may replace
@@ -191,17 +191,14 @@ impl Scene {
     /// `object.shape`.
     #[getter]
     fn shape_report<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::json_value::serialize_to_py(py, &self.scene.shape_report)
+        crate::json_value::serialize_to_py(py, &self.scene.shape_report())
     }
 
     /// Warnings of the shape checks (a patch over an edge, overlapping patches, a mesh that
     /// is not closed); every `Solution` of the scene begins with them.
     #[getter]
     fn warnings(&self) -> Vec<String> {
-        self.scene
-            .shape_report
-            .as_ref()
-            .map_or_else(Vec::new, |r| r.warnings.clone())
+        self.scene.geometry.warnings().to_vec()
     }
 
     /// The texture heights of a finger at its patch's element centres.
@@ -230,7 +227,8 @@ impl Scene {
         py: Python<'py>,
         finger: &str,
     ) -> PyResult<Option<Bound<'py, PyAny>>> {
-        let Some(f) = self.scene.fingers.iter().find(|f| f.name == finger) else {
+        let mut fingers = self.scene.fingers.iter().enumerate();
+        let Some((i, f)) = fingers.find(|(_, f)| f.name == finger) else {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(
                 "finger={finger:?}: the scene's fingers are {:?}",
                 self.finger_names()
@@ -249,7 +247,7 @@ impl Scene {
             .collect();
         let heights = py
             .allow_threads(|| {
-                let map = texture.heights.as_ref().and_then(|h| h.data.as_deref());
+                let map = self.scene.height_map(i);
                 grasp_model::texture_heights_m(texture, map, &centres, [hx, hy])
             })
             .map_err(crate::errors::grasp_error)?;
@@ -263,7 +261,7 @@ impl Scene {
     /// dict
     ///     The scene format, SI units; `Scene(d)` reads it back.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::json_value::serialize_to_py(py, &self.scene)
+        crate::json_value::serialize_to_py(py, &self.scene.scene)
     }
 
     /// The scene as JSON text (directions normalised, as validated).
@@ -273,7 +271,7 @@ impl Scene {
     /// str
     ///     The scene format, pretty-printed; `Scene(text)` reads it back.
     fn to_json(&self) -> PyResult<String> {
-        serde_json::to_string_pretty(&self.scene).map_err(grasp_error)
+        serde_json::to_string_pretty(&self.scene.scene).map_err(grasp_error)
     }
 
     fn __repr__(&self) -> String {

@@ -222,12 +222,12 @@ fn time_point(at_time: Option<f64>, long_term: bool) -> PyResult<TimePoint> {
 
 /// Model, solver, solve: the path of `grasp solve` (no Python objects touched).
 fn solve_scene(
-    scene: &grasp_model::Scene,
+    scene: &grasp_model::LoadedScene,
     options: SolveOptions,
     time: TimePoint,
 ) -> Result<Solution, Failure> {
     let t0 = Instant::now();
-    let model = GraspModel::from_scene_with(scene, options.compliance).map_err(Failure::Scene)?;
+    let model = GraspModel::from_loaded_with(scene, options.compliance).map_err(Failure::Scene)?;
     let build_time_s = t0.elapsed().as_secs_f64();
     let viscoelastic = model.is_viscoelastic();
     let mut solution = match time {

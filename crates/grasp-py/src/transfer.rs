@@ -359,7 +359,7 @@ struct Following<'a> {
 /// The driver with the sinks asked for, keeping the histories (and the solutions when asked);
 /// commits the files when the run is complete.
 fn run_transfer(
-    scene: &grasp_model::Scene,
+    scene: &grasp_model::LoadedScene,
     schedule: &Schedule,
     options: TransferOptions,
     outputs: &OutputSet,

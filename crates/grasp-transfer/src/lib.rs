@@ -18,11 +18,12 @@
 //! Depends on `grasp-model` and `grasp-io`, never the reverse.
 //!
 //! ```
-//! use grasp_model::Scene;
+//! use grasp_model::LoadedScene;
 //! use grasp_transfer::{Schedule, TransferOptions};
 //!
 //! // Thesis section 4.2.1: the pair f1, f2 lets go of a plate while f3, f4 take it over.
-//! let scene = Scene::from_json_str(include_str!("../../../examples/plate_transfer.json"))?;
+//! let text = include_str!("../../../examples/plate_transfer.json");
+//! let scene = LoadedScene::from_json_str(text)?;
 //! let names = scene.finger_names();
 //! let text = include_str!("../../../examples/plate_transfer.schedule.json");
 //! let schedule = Schedule::from_json_str(text, &names, std::path::Path::new("."))?;
@@ -53,7 +54,7 @@ mod step_margin;
 mod stepper;
 mod summary;
 
-use grasp_model::{GraspModel, Scene};
+use grasp_model::{GraspModel, LoadedScene};
 
 // ---- The schedule: the file (validated) and its commands in time ----
 pub use schedule::{Command, Schedule};
@@ -119,7 +120,7 @@ pub use error::{ScheduleError, TransferError};
 /// record. A run that stops at a failed step (without `keep_going`) still finishes its sinks:
 /// `summary.steps < schedule.times.len()` tells the caller it is incomplete.
 pub fn run(
-    scene: &Scene,
+    scene: &LoadedScene,
     schedule: &Schedule,
     options: TransferOptions,
     sinks: &mut [&mut dyn Sink],
@@ -136,7 +137,7 @@ pub fn run(
 /// aborted (their temporary files removed) and the run ends in [`TransferError::Stopped`]
 /// (Python's Ctrl-C and progress callbacks).
 pub fn run_until(
-    scene: &Scene,
+    scene: &LoadedScene,
     schedule: &Schedule,
     options: TransferOptions,
     sinks: &mut [&mut dyn Sink],
@@ -144,12 +145,13 @@ pub fn run_until(
 ) -> Result<(TransferSummary, Option<StepRecord>), TransferError> {
     // The scene's model, built once: the sinks draw it, the stepper restricts it to each
     // step's active fingers.
-    let model = GraspModel::from_scene_with(scene, options.solve.compliance).map_err(|source| {
-        TransferError::Scene {
-            time_s: 0.0,
-            source,
-        }
-    })?;
+    let model =
+        GraspModel::from_loaded_with(scene, options.solve.compliance).map_err(|source| {
+            TransferError::Scene {
+                time_s: 0.0,
+                source,
+            }
+        })?;
     let info = RunInfo {
         scene,
         model: &model,
@@ -194,7 +196,7 @@ pub fn run_until(
 /// [`run`], keeping every record (memory grows with the number of steps: for tests and short
 /// schedules).
 pub fn run_collect(
-    scene: &Scene,
+    scene: &LoadedScene,
     schedule: &Schedule,
     options: TransferOptions,
     sinks: &mut [&mut dyn Sink],

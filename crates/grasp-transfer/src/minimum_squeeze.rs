@@ -13,7 +13,9 @@
 //! model's own squeeze suffices.
 
 use grasp_model::Readable;
-use grasp_model::{Control, GraspModel, GraspSolver, Scene, Solution, SolveOptions, StepInputs};
+use grasp_model::{
+    Control, GraspModel, GraspSolver, LoadedScene, Solution, SolveOptions, StepInputs,
+};
 use serde::Serialize;
 
 use crate::error::TransferError;
@@ -83,7 +85,7 @@ fn holds(sol: &Solution) -> Result<(), String> {
 /// Finds the minimum squeeze of the grasp given by the commands of `last`, the final step of a
 /// schedule over `scene`.
 pub fn minimum_squeeze(
-    scene: &Scene,
+    scene: &LoadedScene,
     last: &StepRecord,
     options: SolveOptions,
 ) -> Result<SqueezeOutcome, TransferError> {
@@ -103,7 +105,7 @@ pub fn minimum_squeeze(
                 .into(),
         ));
     }
-    let base = GraspModel::from_scene_with(scene, options.compliance).map_err(|source| {
+    let base = GraspModel::from_loaded_with(scene, options.compliance).map_err(|source| {
         TransferError::Scene {
             time_s: last.time_s,
             source,

@@ -24,8 +24,9 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use grasp_model::{
-    ContactState, Control, FingerState, GraspModel, GraspSolver, LoadDirection, MarginOptions,
-    Scene, SceneError, Sensitivities, Solution, SolveOptions, SolvedStep, SolverStats, StepInputs,
+    ContactState, Control, FingerState, GraspModel, GraspSolver, LoadDirection, LoadedScene,
+    MarginOptions, Scene, SceneError, Sensitivities, Solution, SolveOptions, SolvedStep,
+    SolverStats, StepInputs,
 };
 use serde::Serialize;
 
@@ -224,10 +225,10 @@ pub struct Stepper<'a> {
 
 impl<'a> Stepper<'a> {
     /// A stepper at the first step. The schedule must have been resolved against this scene.
-    pub fn new(scene: &'a Scene, schedule: &'a Schedule, options: TransferOptions) -> Self {
+    pub fn new(scene: &'a LoadedScene, schedule: &'a Schedule, options: TransferOptions) -> Self {
         Self::build(
             scene,
-            GraspModel::from_scene_with(scene, options.solve.compliance).map(Cow::Owned),
+            GraspModel::from_loaded_with(scene, options.solve.compliance).map(Cow::Owned),
             schedule,
             options,
         )

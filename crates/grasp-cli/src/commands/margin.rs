@@ -11,7 +11,7 @@ use grasp_model::{
     DirectionMargin, Failure, MarginOptions, MarginReport, WrenchDirection,
 };
 use grasp_model::{ContactState, GraspModel, StepInputs};
-use grasp_model::{ModelKind, Scene};
+use grasp_model::{LoadedScene, ModelKind};
 use grasp_transfer::{RerunSink, RunInfo, Sink};
 use serde::Deserialize;
 
@@ -247,7 +247,7 @@ impl Outputs {
 
 /// The scene (its contact law overridden by `--model`), within the memory limit, and its
 /// model.
-fn load_model(scene_path: &Path, flags: &Flags) -> Result<(Scene, GraspModel)> {
+fn load_model(scene_path: &Path, flags: &Flags) -> Result<(LoadedScene, GraspModel)> {
     let mut scene = load_scene(scene_path)?;
     match flags.model.as_deref() {
         Some("coulomb") => scene.model = ModelKind::Coulomb,
@@ -255,7 +255,7 @@ fn load_model(scene_path: &Path, flags: &Flags) -> Result<(Scene, GraspModel)> {
         _ => {}
     }
     flags.solve.check_memory(&scene, scene_path)?;
-    let model = GraspModel::from_scene_with(&scene, flags.solve.compliance)
+    let model = GraspModel::from_loaded_with(&scene, flags.solve.compliance)
         .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
     Ok((scene, model))
 }

@@ -56,7 +56,7 @@ fn plot_command(
     let outs = output::claim(&[out], &[scene_path], force)?;
     let scene = load_scene(scene_path)?;
     memory.check(&scene, scene_path, ComplianceChoice::Auto)?;
-    let model = GraspModel::from_scene(&scene)
+    let model = GraspModel::from_loaded(&scene)
         .with_context(|| format!("{} is not a usable scene", scene_path.display()))?;
     let options = SolveOptions {
         solver,

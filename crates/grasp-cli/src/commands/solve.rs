@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Result};
 use grasp_model::{solve_at_reporting, TimePoint, TimedSolution};
-use grasp_model::{ComplianceChoice, Scene, Sensitivities, Solution};
+use grasp_model::{ComplianceChoice, LoadedScene, Scene, Sensitivities, Solution};
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, StepInputs};
 
 use crate::load_scene::load_scene;
@@ -164,7 +164,7 @@ struct Request {
 /// A solved scene and what its report needs.
 struct Solved {
     /// The scene solved (after `--auto-patch`, with its grown patches).
-    scene: Scene,
+    scene: LoadedScene,
     /// Its model.
     model: Arc<GraspModel>,
     /// The solution.
@@ -177,9 +177,9 @@ struct Solved {
 
 /// `--explain-frames`: each finger's gaps and Hertz estimate, and what the object's shape gave
 /// each finger (its warnings are the solution's, printed with it).
-fn print_frames(scene: &Scene) -> Result<()> {
+fn print_frames(scene: &LoadedScene) -> Result<()> {
     print!("{}", report::hertz_table(scene)?);
-    match &scene.shape_report {
+    match scene.shape_report() {
         Some(r) => print!("{}", report::frames_table(r)),
         None => println!("frames: the scene has no object.shape; every frame is as written"),
     }
@@ -188,7 +188,7 @@ fn print_frames(scene: &Scene) -> Result<()> {
 
 /// `--auto-patch`: curved patches grown until their boundary carries no load, the log
 /// printed; the sensitivities taken at a solve of the final patch.
-fn solve_auto_patch(scene: &Scene, request: Request) -> Result<Solved> {
+fn solve_auto_patch(scene: &LoadedScene, request: Request) -> Result<Solved> {
     let a = grasp_model::auto_patch(scene, request.options, 6)?;
     for line in &a.log {
         println!("auto-patch: {line}");
@@ -216,7 +216,7 @@ fn solve_auto_patch(scene: &Scene, request: Request) -> Result<Solved> {
 /// request's time point; a viscoelastic scene solved instantaneously says how to ask for a
 /// later state.
 fn solve_scene(
-    scene: Scene,
+    scene: LoadedScene,
     scene_path: &Path,
     compliance: ComplianceChoice,
     request: Request,

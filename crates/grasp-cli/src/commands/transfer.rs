@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use grasp_model::Scene;
+use grasp_model::LoadedScene;
 use grasp_transfer::{
     OutputFiles, OutputPaths, RerunSink, Schedule, Sink, SqueezeOutcome, StepRecord,
     TransferOptions, TransferSummary,
@@ -329,7 +329,7 @@ fn transfer_options(flags: &Flags) -> TransferOptions {
 /// `--min-squeeze`: the smallest load of the receiving fingers at which the releasing ones can
 /// let go, searched from the last solved step.
 fn print_minimum_squeeze(
-    scene: &Scene,
+    scene: &LoadedScene,
     last: Option<&StepRecord>,
     solve: grasp_model::SolveOptions,
 ) -> Result<()> {
@@ -362,7 +362,7 @@ fn load_inputs(
     scene_path: &Path,
     schedule_path: &Path,
     solve: &SolveFlags,
-) -> Result<(Scene, Schedule)> {
+) -> Result<(LoadedScene, Schedule)> {
     let scene = crate::load_scene::load_scene(scene_path)?;
     solve.check_memory(&scene, scene_path)?;
     let text = crate::limits::read_input(schedule_path, "schedule file")?;

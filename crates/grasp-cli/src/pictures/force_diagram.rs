@@ -58,7 +58,7 @@ impl Picture for ForceDiagram<'_> {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
         let (scene, model, solution) = (self.scene, self.model, self.solution);
-        let points = outline_points(scene, model);
+        let points = outline_points(model);
         let (lo, hi) = bounds(&points);
         let size = (hi - lo).norm().max(1e-3);
         let d = Drawing {
@@ -86,10 +86,9 @@ impl Picture for ForceDiagram<'_> {
 
 /// Points whose silhouette is the object: its shape's surface, or the corners of the box
 /// around the contact points and centre of mass.
-fn outline_points(scene: &Scene, model: &GraspModel) -> Vec<Vector3<f64>> {
-    if let Some(r) = &scene.shape_report {
-        return r
-            .surface
+fn outline_points(model: &GraspModel) -> Vec<Vector3<f64>> {
+    if let Some(surface) = model.object_surface() {
+        return surface
             .vertices_m
             .iter()
             .map(|v| Vector3::from(*v))
@@ -547,7 +546,7 @@ mod tests {
             .join(name);
         let text = std::fs::read_to_string(&path).unwrap();
         let scene = grasp_io::scene_from_json_str(&text, &grasp_io::base_dir_of(&path)).unwrap();
-        let model = GraspModel::from_scene(&scene).unwrap();
+        let model = GraspModel::from_loaded(&scene).unwrap();
         let solution = GraspSolver::new(model.clone(), SolveOptions::default())
             .solve(&StepInputs::of_scene(&model))
             .unwrap();

@@ -7,7 +7,8 @@
 use crate::error::ModelError;
 use crate::model::closed_form::{elliptical_semi_axes_m, line_contact_half_width_m};
 use crate::model::grasp_model::{FingerModel, GraspModel};
-use crate::scene::scene_format::{FingerSpec, Scene};
+use crate::scene::loaded_scene::LoadedScene;
+use crate::scene::scene_format::FingerSpec;
 use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::patch_check::undersized_patches;
 use crate::solve::solution::Solution;
@@ -20,8 +21,8 @@ pub const GROWTH: f64 = 1.5;
 /// Result of [`auto_patch`].
 #[derive(Debug, Clone)]
 pub struct AutoPatch {
-    /// The scene with grown patches.
-    pub scene: Scene,
+    /// The scene with grown patches (its geometry as read).
+    pub scene: LoadedScene,
     /// Its model.
     pub model: GraspModel,
     /// Its solution.
@@ -35,7 +36,7 @@ pub struct AutoPatch {
 /// times, or until growing would break validation (a patch wider than its radius, too many
 /// elements), which the log says.
 pub fn auto_patch(
-    scene: &Scene,
+    scene: &LoadedScene,
     options: SolveOptions,
     rounds: usize,
 ) -> Result<AutoPatch, ModelError> {
@@ -71,8 +72,8 @@ pub fn auto_patch(
 }
 
 /// Solves a (validated) scene.
-fn solved(scene: Scene, options: SolveOptions) -> Result<AutoPatch, ModelError> {
-    let model = GraspModel::from_scene_with(&scene, options.compliance).map_err(|source| {
+fn solved(scene: LoadedScene, options: SolveOptions) -> Result<AutoPatch, ModelError> {
+    let model = GraspModel::from_loaded_with(&scene, options.compliance).map_err(|source| {
         ModelError::DerivedScene {
             context: "the scene with grown patches".into(),
             source,
@@ -91,7 +92,7 @@ fn solved(scene: Scene, options: SolveOptions) -> Result<AutoPatch, ModelError> 
 }
 
 /// `scene` with the patches of the fingers in `under` grown by [`GROWTH`] (element size kept).
-fn grown_scene(scene: &Scene, under: &[(usize, f64)], log: &mut Vec<String>) -> Scene {
+fn grown_scene(scene: &LoadedScene, under: &[(usize, f64)], log: &mut Vec<String>) -> LoadedScene {
     let mut grown = scene.clone();
     for &(i, frac) in under {
         let f = &mut grown.fingers[i];

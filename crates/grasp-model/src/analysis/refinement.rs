@@ -13,6 +13,7 @@ use crate::error::ModelError;
 use crate::model::closed_form::HertzSphere;
 use crate::model::grasp_model::GraspModel;
 use crate::scene::limits::{MAX_ELEMENTS_PER_PATCH, MAX_GRID_SIDE};
+use crate::scene::loaded_scene::LoadedScene;
 use crate::scene::scene_format::{RadiusSpec, Scene};
 use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::solution::Solution;
@@ -22,8 +23,11 @@ use crate::solver::options::SolveOptions;
 /// Convergence order assumed by the estimate.
 pub const ASSUMED_ORDER: f64 = 1.0;
 
-/// The scene with every patch's grid replaced by `grid(i, [nx, ny])`.
-pub fn with_grids(scene: &Scene, grid: impl Fn(usize, [usize; 2]) -> [usize; 2]) -> Scene {
+/// The scene with every patch's grid replaced by `grid(i, [nx, ny])` (its geometry as read).
+pub fn with_grids(
+    scene: &LoadedScene,
+    grid: impl Fn(usize, [usize; 2]) -> [usize; 2],
+) -> LoadedScene {
     let mut s = scene.clone();
     for (i, f) in s.fingers.iter_mut().enumerate() {
         f.patch.grid = grid(i, f.patch.grid);
@@ -86,7 +90,7 @@ pub enum NoEstimate {
 /// Estimates the discretisation error of `fine` (the solution of `scene`) from a solve on
 /// grids about half as fine: `e ~ |q_fine - q_coarse| / (r^p - 1)` (Richardson, p = 1).
 pub fn estimate_error(
-    scene: &Scene,
+    scene: &LoadedScene,
     fine: &Solution,
     options: SolveOptions,
 ) -> Result<Result<ErrorEstimate, NoEstimate>, ModelError> {
@@ -101,7 +105,7 @@ pub fn estimate_error(
         return Ok(Err(NoEstimate::CannotCoarsen));
     }
     let model =
-        GraspModel::from_scene_with(&coarse_scene, options.compliance).map_err(|source| {
+        GraspModel::from_loaded_with(&coarse_scene, options.compliance).map_err(|source| {
             ModelError::DerivedScene {
                 context: "the grid half as fine".into(),
                 source,
@@ -213,7 +217,7 @@ pub fn hertz_parameters(scene: &Scene) -> Result<(f64, f64), String> {
 /// `first_sides` elements (ascending), errors against `reference`. `memory` is called after
 /// each solve to read the peak memory (the model crate does no I/O itself).
 pub fn refinement_study(
-    scene: &Scene,
+    scene: &LoadedScene,
     first_sides: &[usize],
     reference: StudyReference,
     options: SolveOptions,
@@ -236,7 +240,7 @@ pub fn refinement_study(
         check_grid_size(&s, n)?;
         let t = Instant::now();
         let model =
-            GraspModel::from_scene_with(&s, options.compliance).map_err(|e| e.to_string())?;
+            GraspModel::from_loaded_with(&s, options.compliance).map_err(|e| e.to_string())?;
         let model = Arc::new(model);
         let sol = GraspSolver::new(Arc::clone(&model), options)
             .solve(&StepInputs::of_scene(&model))

@@ -11,6 +11,7 @@ use nalgebra::Vector3;
 
 use crate::error::{ModelError, OutOfMemory};
 use crate::geometry::contact_frame::ContactFrame;
+use crate::geometry::mesh_surface::TriangleMesh;
 use crate::model::contact_pair::ContactPair;
 use crate::model::equilibrium::{unit_wrench, EquilibriumMap, MotionPlane, Wrench};
 use crate::model::friction::FrictionLaw;
@@ -20,7 +21,7 @@ use crate::model::patch_compliance::PatchCompliance;
 use crate::model::viscous_contact::ViscousContact;
 use crate::scene::memory_budget::SolveSize;
 use crate::scene::scene_format::{ModelKind, RelaxationSpec};
-use crate::scene::shape_report::SharedShape;
+use crate::scene::scene_geometry::SharedShape;
 use crate::scene::texture_spec::GapSpec;
 
 /// How a finger is driven.
@@ -226,6 +227,9 @@ pub(crate) struct ObjectModel {
     pub scene_warnings: Vec<String>,
     /// The object's posed shape (`None` without `object.shape`), for exact gaps.
     pub shape: Option<SharedShape>,
+    /// The object shape's surface as triangles, world frame, m (`None` without
+    /// `object.shape`), for drawing.
+    pub surface: Option<Arc<TriangleMesh>>,
     /// Per finger, its posed `tip.shape` (empty without `object.shape`), for exact gaps.
     pub tip_shapes: Vec<Option<SharedShape>>,
     /// The scene's `gap`: how every finger's smooth gap is computed unless it says otherwise.
@@ -324,6 +328,12 @@ impl GraspModel {
     /// solution of the model.
     pub fn scene_warnings(&self) -> &[String] {
         &self.object.scene_warnings
+    }
+
+    /// The object shape's surface as triangles, world frame, m, for drawing (`None` without
+    /// `object.shape`).
+    pub fn object_surface(&self) -> Option<&TriangleMesh> {
+        self.object.surface.as_deref()
     }
 
     /// A first guess of each finger's total normal load, N: the prescribed load of a

@@ -1,4 +1,5 @@
-//! Building a [`GraspModel`] from a validated scene: the object and its loads, each finger's
+//! Building a [`GraspModel`] from a validated scene and what reading it found (a
+//! [`LoadedScene`]; a plain scene is loaded first): the object and its loads, each finger's
 //! frame, patch and gaps (exact from the shapes or the thesis's quadratic form, less a
 //! texture's heights), its contact pair and friction law, and its patch compliance (dense or
 //! FFT, with its viscoelastic bodies), built once the memory it takes is known to be there.
@@ -20,10 +21,12 @@ use crate::model::patch_compliance::{
 };
 use crate::model::surface_gap::{exact_gaps, TipProfile};
 use crate::model::viscous_contact::{BodyLaws, ViscousContact};
+use crate::scene::loaded_scene::LoadedScene;
 use crate::scene::memory_budget::{dense_block_bytes, dense_blocks_problem, ComplianceBuild};
 use crate::scene::scene_format::{FingerSpec, RadiusSpec, Scene};
+use crate::scene::scene_geometry::SceneGeometry;
 use crate::scene::texture_spec::texture_heights_m;
-use crate::scene::texture_spec::GapSpec;
+use crate::scene::texture_spec::{GapSpec, HeightGrid};
 
 /// A first touch away from the contact point is reported when the gaps shift by more than this
 /// fraction of the patch's half diagonal (smaller shifts are the rays' round-off).
@@ -34,35 +37,46 @@ const FIRST_TOUCH_TOLERANCE: f64 = 1e-9;
 const PARALLEL_BUILD_ENTRIES: usize = 200_000;
 
 impl GraspModel {
-    /// Builds the model from a scene, validating it first (patch compliances dense up to
-    /// [`crate::scene::limits::AUTO_FFT_ABOVE_UNKNOWNS`] unknowns, FFT above).
+    /// Builds the model of a plain scene, one that names no file (loaded with
+    /// [`LoadedScene::of_plain`]: its shapes posed from their specs), validating it first
+    /// (patch compliances dense up to [`crate::scene::limits::AUTO_FFT_ABOVE_UNKNOWNS`]
+    /// unknowns, FFT above). A scene read with its files: [`GraspModel::from_loaded`].
     pub fn from_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
         Self::from_scene_with(scene, ComplianceChoice::Auto)
     }
 
-    /// Builds the model from a scene, validating it first, with the patch compliances in the
-    /// form `compliance` picks.
+    /// [`GraspModel::from_scene`] with the patch compliances in the form `compliance` picks.
     pub fn from_scene_with(
         scene: &Scene,
         compliance: ComplianceChoice,
     ) -> Result<GraspModel, SceneError> {
-        scene.validate()?;
-        Self::from_validated_scene_with(scene, compliance)
+        Self::from_loaded_with(&LoadedScene::of_plain(scene.clone())?, compliance)
     }
 
-    /// Builds the model of a scene the caller has validated, or of a subset of the fingers of
-    /// a validated scene (whose per-finger checks hold; the reach heuristic, which compares
-    /// fingers, is not re-run).
-    pub fn from_validated_scene(scene: &Scene) -> Result<GraspModel, SceneError> {
-        Self::from_validated_scene_with(scene, ComplianceChoice::Auto)
+    /// Builds the model from a scene as read (its shapes, surface and height maps), validating
+    /// it first (patch compliances dense up to
+    /// [`crate::scene::limits::AUTO_FFT_ABOVE_UNKNOWNS`] unknowns, FFT above).
+    pub fn from_loaded(scene: &LoadedScene) -> Result<GraspModel, SceneError> {
+        Self::from_loaded_with(scene, ComplianceChoice::Auto)
     }
 
-    /// [`GraspModel::from_validated_scene`] with the patch compliances in the form `compliance`
-    /// picks.
-    pub fn from_validated_scene_with(
-        scene: &Scene,
+    /// [`GraspModel::from_loaded`] with the patch compliances in the form `compliance` picks.
+    pub fn from_loaded_with(
+        scene: &LoadedScene,
         compliance: ComplianceChoice,
     ) -> Result<GraspModel, SceneError> {
+        scene.validate()?;
+        Self::from_validated_with(scene, compliance)
+    }
+
+    /// Builds the model of a scene the caller has validated ([`LoadedScene::validate`]: a batch
+    /// checks its memory in between), with the patch compliances in the form `compliance`
+    /// picks.
+    pub fn from_validated_with(
+        loaded: &LoadedScene,
+        compliance: ComplianceChoice,
+    ) -> Result<GraspModel, SceneError> {
+        let scene = &loaded.scene;
         if scene.fingers.is_empty() {
             return Err(SceneError::Invalid(vec![crate::error::InputProblem {
                 path: "fingers".into(),
@@ -70,8 +84,8 @@ impl GraspModel {
                 fix: "list at least one finger".into(),
             }]));
         }
-        check_dense_bytes(scene, compliance)?;
-        let mut object = object_model(scene);
+        check_dense_bytes(loaded, compliance)?;
+        let mut object = object_model(scene, &loaded.geometry);
         // The fingers' compliance blocks are independent: build them in parallel when they
         // are large enough to pay for the threads (the same numbers either way).
         let entries: usize = scene
@@ -86,14 +100,14 @@ impl GraspModel {
                     .fingers
                     .par_iter()
                     .enumerate()
-                    .map(|(i, f)| finger_model(i, f, &object, compliance))
+                    .map(|(i, f)| finger_model(i, f, &object, &loaded.geometry, compliance))
                     .collect::<Result<_, _>>()?
             } else {
                 scene
                     .fingers
                     .iter()
                     .enumerate()
-                    .map(|(i, f)| finger_model(i, f, &object, compliance))
+                    .map(|(i, f)| finger_model(i, f, &object, &loaded.geometry, compliance))
                     .collect::<Result<_, _>>()?
             };
         let mut fingers = Vec::with_capacity(built.len());
@@ -124,8 +138,9 @@ fn v3(a: &[f64; 3]) -> Vector3<f64> {
     Vector3::new(a[0], a[1], a[2])
 }
 
-/// The object, its loads and the plane of a scene.
-fn object_model(scene: &Scene) -> ObjectModel {
+/// The object, its loads and the plane of a scene, and what the model keeps of its geometry
+/// (the shape's warnings, the posed object and tip shapes, the object's triangles).
+fn object_model(scene: &Scene, geometry: &SceneGeometry) -> ObjectModel {
     let plane = scene.planar.as_ref().map(|p| {
         let p = v3(&p.normal).normalize();
         let hint = if p.x.abs() < 0.9 {
@@ -160,15 +175,10 @@ fn object_model(scene: &Scene) -> ObjectModel {
         relaxation: o.material.relaxation().cloned(),
         plane,
         kind: scene.model,
-        scene_warnings: scene
-            .shape_report
-            .as_ref()
-            .map_or_else(Vec::new, |r| r.warnings.clone()),
-        shape: scene.shape_report.as_ref().map(|r| r.shape.clone()),
-        tip_shapes: scene
-            .shape_report
-            .as_ref()
-            .map_or_else(Vec::new, |r| r.tips.clone()),
+        scene_warnings: geometry.warnings().to_vec(),
+        shape: geometry.shape.clone(),
+        surface: geometry.surface.clone(),
+        tip_shapes: geometry.tips.clone(),
         gap: scene.gap,
     }
 }
@@ -176,9 +186,9 @@ fn object_model(scene: &Scene) -> ObjectModel {
 /// Refuses a scene whose dense patch compliances under `compliance` would exceed
 /// `MAX_COMPLIANCE_BYTES` (validation checks the automatic choice; a caller that forces the
 /// dense matrix on a fine grid is refused here, before anything is allocated).
-fn check_dense_bytes(scene: &Scene, compliance: ComplianceChoice) -> Result<(), SceneError> {
+fn check_dense_bytes(scene: &LoadedScene, compliance: ComplianceChoice) -> Result<(), SceneError> {
     let dense = |f: &FingerSpec| !takes_fft(scene, f, compliance);
-    match dense_blocks_problem(scene, dense) {
+    match dense_blocks_problem(scene, &scene.geometry, dense) {
         None => Ok(()),
         Some(p) => Err(SceneError::Invalid(vec![p])),
     }
@@ -190,6 +200,7 @@ fn finger_model(
     i: usize,
     f: &crate::scene::scene_format::FingerSpec,
     object: &ObjectModel,
+    geometry: &SceneGeometry,
     compliance: ComplianceChoice,
 ) -> Result<(FingerModel, Option<String>), SceneError> {
     let frame = ContactFrame::new(
@@ -198,7 +209,7 @@ fn finger_model(
         f.tangent.as_ref().map(v3),
         object.plane.map(|p| p.normal),
     );
-    let (patch, gap_warning) = finger_patch(i, f, &frame, object)?;
+    let (patch, gap_warning) = finger_patch(i, f, &frame, object, geometry.height_map(i))?;
     let exact_gaps = gap_kind(f, object) == GapSpec::Exact && object.shape.is_some();
     let material = Material::from(&f.material);
     let contact = ContactPair::new(
@@ -306,19 +317,20 @@ fn gap_kind(f: &FingerSpec, object: &ObjectModel) -> GapSpec {
 
 /// Finger `i`'s patch: its elements and initial gaps, smooth (exact from the shapes,
 /// `model/surface_gap.rs`, or the thesis's quadratic form, Johnson 4.1) less its texture's
-/// heights, and the warning of a first touch away from the contact point.
+/// heights (`map`: its height map's, when the texture is one), and the warning of a first
+/// touch away from the contact point.
 fn finger_patch(
     i: usize,
     f: &FingerSpec,
     frame: &ContactFrame,
     object: &ObjectModel,
+    map: Option<&HeightGrid>,
 ) -> Result<(Patch, Option<String>), SceneError> {
     let (patch, warning) = smooth_patch(i, f, frame, object)?;
     let Some(texture) = &f.texture else {
         return Ok((patch, warning));
     };
     let element = [patch.grid.hx, patch.grid.hy];
-    let map = texture.heights.as_ref().and_then(|h| h.data.as_deref());
     let heights = texture_heights_m(texture, map, &patch.centres_m, element).map_err(|e| {
         SceneError::Invalid(vec![crate::error::InputProblem {
             path: format!("fingers[{i}].texture"),

@@ -17,7 +17,7 @@ use rayon::prelude::*;
 use crate::geometry::contact_frame::ContactFrame;
 use crate::geometry::shape::Shape;
 use crate::scene::scene_format::FingerSpec;
-use crate::scene::shape_report::SharedShape;
+use crate::scene::scene_geometry::SharedShape;
 use crate::scene::shape_spec::TipSpec;
 
 /// Elements per patch from which the object's ray casts run on all cores.

@@ -3,7 +3,7 @@
 //! JSON before the typed scene is read: a placed finger gets the `contact_point`, inward
 //! `normal`, `tangent` (a principal direction) and `object_radius` (principal radii) derived
 //! from the surface, so the rest of the model sees an explicit frame; what was derived is kept
-//! in a [`ShapeReport`].
+//! in a [`ShapeReport`], the posed shapes and the surface in a [`SceneGeometry`].
 
 use nalgebra::Vector3;
 use serde_json::{json, Map, Value};
@@ -27,6 +27,7 @@ const ALIGNED_COSINE_GAP: f64 = 1e-6;
 /// A tangent hint whose part in the tangent plane is below this fraction of it (it is along
 /// the normal) is ignored.
 const NORMAL_HINT_FRACTION: f64 = 1e-9;
+use crate::scene::scene_geometry::{SceneGeometry, SharedShape};
 use crate::scene::shape_report::{DerivedFrame, ShapeReport};
 
 type Vec3 = [f64; 3];
@@ -59,11 +60,13 @@ fn vec3_at(v: &Value) -> Option<Vector3<f64>> {
 }
 
 /// Resolves `object.shape`, `object.density` and every `fingers[i].place` in `scene` (the
-/// parsed JSON), reading meshes with `load_mesh`. `None` when the scene has no shape.
+/// parsed JSON), reading meshes with `load_mesh`: what the shape gave (its report, the posed
+/// object and tip shapes, the object's triangles; no height maps). `None` when the scene has
+/// no shape.
 pub fn resolve_shapes(
     scene: &mut Value,
     load_mesh: &dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>,
-) -> Result<Option<ShapeReport>, SceneError> {
+) -> Result<Option<SceneGeometry>, SceneError> {
     let Some(shape_value) = scene.pointer("/object/shape").cloned() else {
         return no_shape(scene).map(|_| None);
     };
@@ -125,16 +128,31 @@ pub fn resolve_shapes(
             .filter_map(|i| overhang_warning(&scene["fingers"][i], &shape)),
     );
     warnings.extend(overlap_warnings(&scene["fingers"]));
-    Ok(Some(ShapeReport {
+    let report = ShapeReport {
         volume_m3,
         centroid_m: arr(&centroid),
         mass_kg,
         fingers,
         warnings,
-        surface: crate::geometry::tessellation::tessellate(&shape),
-        shape: crate::scene::shape_report::SharedShape(std::sync::Arc::new(shape)),
+    };
+    Ok(Some(shape_geometry(report, shape, tips)))
+}
+
+/// What the shape gave the scene: its report, the posed object shape and its triangles, the
+/// posed tips (no height maps: the reader reads them).
+fn shape_geometry(
+    report: ShapeReport,
+    shape: Shape,
+    tips: Vec<Option<SharedShape>>,
+) -> SceneGeometry {
+    let surface = crate::geometry::tessellation::tessellate(&shape);
+    SceneGeometry {
+        report: Some(report),
+        surface: Some(std::sync::Arc::new(surface)),
+        shape: Some(SharedShape::new(shape)),
         tips,
-    }))
+        height_maps: Vec::new(),
+    }
 }
 
 /// True when finger `i` of the parsed scene uses the thesis's quadratic gap (its own `gap`, else

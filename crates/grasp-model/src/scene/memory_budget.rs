@@ -40,9 +40,12 @@
 
 use crate::allocation::check_room;
 use crate::error::{InputProblem, OutOfMemory};
+use crate::geometry::surface_texture::HeightGrid;
 use crate::option_names;
 use crate::scene::limits::MAX_COMPLIANCE_BYTES;
+use crate::scene::loaded_scene::LoadedScene;
 use crate::scene::scene_format::{FingerSpec, Scene};
+use crate::scene::scene_geometry::SceneGeometry;
 
 /// Copies of each dense compliance block the model, the program and the factorisations hold.
 pub const DENSE_COPIES: u64 = 4;
@@ -103,19 +106,29 @@ pub fn compliance_bytes_of(scene: &Scene, dense: impl Fn(&FingerSpec) -> bool) -
 }
 
 /// Estimated peak memory of a solve of the scene with every patch dense, bytes (see the
-/// module documentation).
-pub fn estimate_memory_bytes(scene: &Scene) -> u64 {
+/// module documentation; a height map counts when it was read).
+pub fn estimate_memory_bytes(scene: &LoadedScene) -> u64 {
     estimate_memory_bytes_with(scene, |_| false)
 }
 
 /// Estimated peak memory of a solve of the scene, bytes, with the patches for which `fft`
 /// is true taking the FFT operator and the others the dense matrix (see the module
-/// documentation).
-pub fn estimate_memory_bytes_with(scene: &Scene, fft: impl Fn(&FingerSpec) -> bool) -> u64 {
+/// documentation; a height map counts when it was read).
+pub fn estimate_memory_bytes_with(scene: &LoadedScene, fft: impl Fn(&FingerSpec) -> bool) -> u64 {
+    estimate_bytes_of(scene, &scene.geometry, fft)
+}
+
+/// [`estimate_memory_bytes_with`] of a scene and what reading it found (its height maps).
+fn estimate_bytes_of(
+    scene: &Scene,
+    geometry: &SceneGeometry,
+    fft: impl Fn(&FingerSpec) -> bool,
+) -> u64 {
     scene
         .fingers
         .iter()
-        .map(|f| {
+        .enumerate()
+        .map(|(i, f)| {
             let solve = match fft(f) {
                 true => fft_bytes(scene, f),
                 false => {
@@ -125,19 +138,19 @@ pub fn estimate_memory_bytes_with(scene: &Scene, fft: impl Fn(&FingerSpec) -> bo
                         .saturating_mul(DENSE_COPIES + SPARSE_ALLOWANCE)
                 }
             };
-            solve.saturating_add(texture_bytes(f))
+            solve.saturating_add(texture_bytes(f, geometry.height_map(i)))
         })
         .fold(0, u64::saturating_add)
 }
 
 /// Bytes of a finger's texture (0 without one; saturating): the heights at its element
-/// centres, and a height map's heights or a random surface's generation grid (see the module
-/// documentation). A random surface whose grid cannot be counted counts as `u64::MAX`
-/// (validation refuses it).
-pub fn texture_bytes(finger: &FingerSpec) -> u64 {
+/// centres, and a height map's heights (`map`, when its texture is one and they were read) or
+/// a random surface's generation grid (see the module documentation). A random surface whose
+/// grid cannot be counted counts as `u64::MAX` (validation refuses it).
+pub fn texture_bytes(finger: &FingerSpec, map: Option<&HeightGrid>) -> u64 {
     let Some(t) = &finger.texture else { return 0 };
     let elements = (finger.patch.grid[0] as u64).saturating_mul(finger.patch.grid[1] as u64);
-    let source = if let Some(map) = t.heights.as_ref().and_then(|h| h.data.as_ref()) {
+    let source = if let Some(map) = map.filter(|_| t.heights.is_some()) {
         (map.heights_m.len() as u64).saturating_mul(F64_BYTES)
     } else if let Some(r) = &t.random {
         crate::geometry::random_surface::grid_side(&r.surface(), finger.patch.size).map_or(
@@ -201,17 +214,18 @@ pub fn dense_block_bytes(unknowns: u64) -> u64 {
 
 /// The problem of a scene whose dense compliance blocks (of the fingers `dense` picks) would
 /// exceed [`MAX_COMPLIANCE_BYTES`], with the whole solve's estimate (the fingers not picked on
-/// the FFT path); `None` when they fit. Validation checks the automatic choice, the model
-/// builder the caller's.
+/// the FFT path; the height maps of `geometry`); `None` when they fit. Validation checks the
+/// automatic choice, the model builder the caller's.
 pub fn dense_blocks_problem(
     scene: &Scene,
+    geometry: &SceneGeometry,
     dense: impl Fn(&FingerSpec) -> bool,
 ) -> Option<InputProblem> {
     let bytes = compliance_bytes_of(scene, &dense) as f64;
     if bytes <= MAX_COMPLIANCE_BYTES {
         return None;
     }
-    let whole = estimate_memory_bytes_with(scene, |f| !dense(f)) as f64;
+    let whole = estimate_bytes_of(scene, geometry, |f| !dense(f)) as f64;
     Some(InputProblem {
         path: "fingers".into(),
         message: format!(
@@ -297,7 +311,7 @@ fn fft_bytes(scene: &Scene, f: &FingerSpec) -> u64 {
 mod tests {
     use super::*;
 
-    fn scene(grid: [usize; 2], mu: f64) -> Scene {
+    fn scene(grid: [usize; 2], mu: f64) -> LoadedScene {
         let text = format!(
             r#"{{"object": {{"weight": 1, "center_of_mass": [0, 0, 0], "material": "rigid"}},
                "fingers": [{{"name": "f", "contact_point": [0, 0, 0], "normal": [0, 0, 1],
@@ -305,7 +319,7 @@ mod tests {
                "patch": {{"size": [0.01, 0.01], "grid": [{}, {}]}}, "friction": {{"mu": {mu}}}}}]}}"#,
             grid[0], grid[1]
         );
-        serde_json::from_str(&text).unwrap()
+        LoadedScene::of_plain(serde_json::from_str(&text).unwrap()).unwrap()
     }
 
     #[test]

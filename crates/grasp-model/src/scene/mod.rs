@@ -4,6 +4,10 @@
 //! report of what the shape gave each finger, and the memory estimate of a solve before
 //! anything is allocated.
 //!
+//! The scene is plain data; what reading it finds beyond (the posed shapes, the object's
+//! triangles, the height maps: [`scene_geometry`]) travels beside it in a
+//! [`LoadedScene`](loaded_scene::LoadedScene), from which the model is built.
+//!
 //! Reading a scene ([`scene_reading`]) ends with its validation pass ([`scene_validation`]),
 //! which applies the checks of one field each ([`field_checks`], a finger's texture in
 //! [`texture_checks`]) over the vector arithmetic
@@ -12,9 +16,11 @@
 pub mod field_checks;
 pub mod finger_placement;
 pub mod limits;
+pub mod loaded_scene;
 pub mod memory_budget;
 pub mod patch_on_shape;
 pub mod scene_format;
+pub mod scene_geometry;
 pub mod scene_reading;
 pub mod scene_validation;
 pub mod schema_check;

@@ -1,7 +1,10 @@
 //! The scene file: plain data as the user writes it (JSON, SI units).
 //!
-//! These types are the on-disk format. They carry no derived quantities; [`crate::GraspModel`]
-//! is built from a validated scene (see [`crate::scene::scene_validation`]). Field names are part of the file
+//! These types are the on-disk format, plain data and nothing else: what reading a scene finds
+//! beyond them (the posed shapes, the height maps' heights) travels beside them
+//! ([`crate::scene::scene_geometry::SceneGeometry`], in a
+//! [`crate::scene::loaded_scene::LoadedScene`]); [`crate::GraspModel`] is built from a
+//! validated scene (see [`crate::scene::scene_validation`]). Field names are part of the file
 //! format and must stay stable between versions.
 //!
 //! Conventions (fixed by the format):
@@ -43,11 +46,6 @@ pub struct Scene {
     /// `"exact"` (the default when the object has a shape) or `"quadratic"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gap: Option<crate::scene::texture_spec::GapSpec>,
-    /// What the object's shape gave: derived finger frames, volume, mass, warnings (`None`
-    /// without `object.shape`). Not part of the file.
-    #[serde(skip)]
-    #[schemars(skip)]
-    pub shape_report: Option<crate::scene::shape_report::ShapeReport>,
 }
 
 impl Scene {

@@ -1,7 +1,8 @@
 //! Reading a scene: strict JSON text or an already parsed value, the object's shape resolved
-//! (fingers placed on it), the height maps its fingers' textures name read, directions
-//! normalised on load (scaled by their largest component first, so `[1e200, 0, 0]` is
-//! `[1, 0, 0]`), then the validation pass ([`crate::scene::scene_validation`]). A document
+//! (fingers placed on it), the height maps its fingers' textures name read (what reading
+//! found kept beside the plain scene: a [`LoadedScene`]), directions normalised on load
+//! (scaled by their largest component first, so `[1e200, 0, 0]` is `[1, 0, 0]`), then the
+//! validation pass ([`crate::scene::scene_validation`]). A document
 //! that does not read as a scene reports every structural problem at once (against the JSON
 //! Schema), each with its path and fix. The files a scene names are read by the caller
 //! ([`SceneFiles`]): this crate does no I/O.
@@ -11,7 +12,9 @@ use std::sync::Arc;
 use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
 use crate::problem_list::ProblemList;
+use crate::scene::loaded_scene::LoadedScene;
 use crate::scene::scene_format::{Scene, Vec3};
+use crate::scene::scene_geometry::SceneGeometry;
 use crate::scene::shape_spec::MeshSpec;
 use crate::scene::strict_json::StrictValue;
 use crate::scene::texture_spec::{HeightGrid, HeightMapSpec};
@@ -41,8 +44,8 @@ pub trait SceneFiles {
     ) -> Result<Arc<HeightGrid>, FileProblem>;
 }
 
-/// Meshes from a closure; height maps refused (the readers of [`Scene::from_json_str`] and
-/// [`Scene::from_json_str_with_meshes`]).
+/// Meshes from a closure; height maps refused (the readers of [`LoadedScene::from_json_str`]
+/// and [`LoadedScene::from_json_str_with_meshes`]).
 struct MeshesOnly<'a>(&'a dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>);
 
 impl SceneFiles for MeshesOnly<'_> {
@@ -58,17 +61,17 @@ impl SceneFiles for MeshesOnly<'_> {
     }
 }
 
-impl Scene {
+impl LoadedScene {
     /// Parses a scene from JSON text (one document, nothing after it; duplicate keys refused),
     /// normalises its directions (see [`Scene::normalize_directions`]) and validates it (see
-    /// [`Scene::validate`]).
+    /// [`LoadedScene::validate`]), keeping what reading found.
     ///
     /// A scene with `object.shape` is resolved first (fingers placed on it, the weight from a
     /// density, explicit frames checked: `crate::scene::finger_placement`); this entry point reads
-    /// no files, so a mesh shape needs [`Scene::from_json_str_with_meshes`], and a texture's
-    /// height map [`Scene::from_json_str_with_files`] (grasp_io reads both).
-    pub fn from_json_str(text: &str) -> Result<Scene, SceneError> {
-        Scene::from_json_str_with_meshes(text, &|m: &MeshSpec| {
+    /// no files, so a mesh shape needs [`LoadedScene::from_json_str_with_meshes`], and a
+    /// texture's height map [`LoadedScene::from_json_str_with_files`] (grasp_io reads both).
+    pub fn from_json_str(text: &str) -> Result<LoadedScene, SceneError> {
+        LoadedScene::from_json_str_with_meshes(text, &|m: &MeshSpec| {
             Err(format!(
                 "{}: this loader reads no files; load the scene with the grasp CLI, grasp.Scene \
                  or grasp_io",
@@ -77,20 +80,20 @@ impl Scene {
         })
     }
 
-    /// As [`Scene::from_json_str`], reading a mesh shape's file with `load_mesh` (a height
-    /// map is refused: see [`Scene::from_json_str_with_files`]).
+    /// As [`LoadedScene::from_json_str`], reading a mesh shape's file with `load_mesh` (a
+    /// height map is refused: see [`LoadedScene::from_json_str_with_files`]).
     pub fn from_json_str_with_meshes(
         text: &str,
         load_mesh: &dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>,
-    ) -> Result<Scene, SceneError> {
-        Scene::from_json_str_with_files(text, &MeshesOnly(load_mesh))
+    ) -> Result<LoadedScene, SceneError> {
+        LoadedScene::from_json_str_with_files(text, &MeshesOnly(load_mesh))
     }
 
-    /// As [`Scene::from_json_str`], reading the files the scene names with `files`.
+    /// As [`LoadedScene::from_json_str`], reading the files the scene names with `files`.
     pub fn from_json_str_with_files(
         text: &str,
         files: &dyn SceneFiles,
-    ) -> Result<Scene, SceneError> {
+    ) -> Result<LoadedScene, SceneError> {
         let parse_error = |e: crate::scene::strict_json::JsonError| structure_error(text, e);
         // Most scenes name no shape: read them once, as written (a key inside a string only
         // sends a scene down the resolving path, which reads it the same way).
@@ -98,18 +101,15 @@ impl Scene {
             .iter()
             .any(|k| text.contains(k))
         {
-            let mut scene: Scene =
+            let scene: Scene =
                 crate::scene::strict_json::from_str_strict(text).map_err(parse_error)?;
-            scene.read_height_maps(files)?;
-            scene.normalize_directions();
-            scene.validate()?;
-            return Ok(scene);
+            return loaded(scene, None, files);
         }
         let StrictValue(mut value) =
             crate::scene::strict_json::from_str_strict::<StrictValue>(text).map_err(parse_error)?;
         let load_mesh = |m: &MeshSpec| files.mesh(m);
-        let report = crate::scene::finger_placement::resolve_shapes(&mut value, &load_mesh)?;
-        let mut scene: Scene = match report {
+        let shape = crate::scene::finger_placement::resolve_shapes(&mut value, &load_mesh)?;
+        let scene: Scene = match shape {
             // Without a shape the text is read as written (positions in messages are its own).
             None => crate::scene::strict_json::from_str_strict(text).map_err(parse_error)?,
             Some(_) => {
@@ -117,60 +117,87 @@ impl Scene {
                 crate::scene::strict_json::from_str_strict(&resolved).map_err(parse_error)?
             }
         };
-        scene.shape_report = report;
-        scene.read_height_maps(files)?;
-        scene.normalize_directions();
-        scene.validate()?;
-        Ok(scene)
+        loaded(scene, shape, files)
     }
 
-    /// As [`Scene::from_json_str_with_meshes`], from a JSON value already parsed strictly (no
-    /// key twice: [`StrictValue`]), so a scene inside a larger document (a batch line) is
+    /// As [`LoadedScene::from_json_str_with_files`], from a JSON value already parsed strictly
+    /// (no key twice: [`StrictValue`]), so a scene inside a larger document (a batch line) is
     /// parsed once: its shape resolved on the value, then the typed scene read from it.
-    pub fn from_value_with_meshes(
-        value: serde_json::Value,
-        load_mesh: &dyn Fn(&MeshSpec) -> Result<TriangleMesh, String>,
-    ) -> Result<Scene, SceneError> {
-        Scene::from_value_with_files(value, &MeshesOnly(load_mesh))
-    }
-
-    /// As [`Scene::from_value_with_meshes`], reading the files the scene names with `files`.
     pub fn from_value_with_files(
         mut value: serde_json::Value,
         files: &dyn SceneFiles,
-    ) -> Result<Scene, SceneError> {
+    ) -> Result<LoadedScene, SceneError> {
         // As written, for the structural problems of a scene that does not parse.
         let written = value.clone();
         let load_mesh = |m: &MeshSpec| files.mesh(m);
-        let report = crate::scene::finger_placement::resolve_shapes(&mut value, &load_mesh)?;
-        let mut scene: Scene = crate::scene::strict_json::from_value_strict(value)
+        let shape = crate::scene::finger_placement::resolve_shapes(&mut value, &load_mesh)?;
+        let scene: Scene = crate::scene::strict_json::from_value_strict(value)
             .map_err(|e| structure_error_of(&written, e))?;
-        scene.shape_report = report;
-        scene.read_height_maps(files)?;
-        scene.normalize_directions();
-        scene.validate()?;
-        Ok(scene)
+        loaded(scene, shape, files)
     }
+}
 
-    /// Fills `fingers[i].texture.heights.data` from `files` for every finger whose texture
-    /// names a height map; every map that cannot be read is a problem at
-    /// `fingers[i].texture.heights.file`.
-    fn read_height_maps(&mut self, files: &dyn SceneFiles) -> Result<(), SceneError> {
-        let mut problems = ProblemList::default();
-        for (i, f) in self.fingers.iter_mut().enumerate() {
-            let Some(map) = f.texture.as_mut().and_then(|t| t.heights.as_mut()) else {
-                continue;
-            };
-            match files.height_map(i, map) {
-                Ok(grid) => map.data = Some(grid),
-                Err(e) => problems.add(
+/// The scene read, with what its shape gave (`shape`; `None` without one): its height maps
+/// read from `files`, its directions normalised, then validated.
+fn loaded(
+    mut scene: Scene,
+    shape: Option<SceneGeometry>,
+    files: &dyn SceneFiles,
+) -> Result<LoadedScene, SceneError> {
+    let mut geometry = shape.unwrap_or_default();
+    geometry.height_maps = read_height_maps(&scene, files)?;
+    scene.normalize_directions();
+    let loaded = LoadedScene {
+        scene,
+        geometry: Arc::new(geometry),
+    };
+    loaded.validate()?;
+    Ok(loaded)
+}
+
+/// Per finger, its height map read from `files` (`None` for a finger whose texture names
+/// none; empty when no finger's does); every map that cannot be read is a problem at
+/// `fingers[i].texture.heights.file`.
+fn read_height_maps(
+    scene: &Scene,
+    files: &dyn SceneFiles,
+) -> Result<Vec<Option<Arc<HeightGrid>>>, SceneError> {
+    fn spec(f: &crate::scene::scene_format::FingerSpec) -> Option<&HeightMapSpec> {
+        f.texture.as_ref().and_then(|t| t.heights.as_ref())
+    }
+    if !scene.fingers.iter().any(|f| spec(f).is_some()) {
+        return Ok(Vec::new());
+    }
+    let mut problems = ProblemList::default();
+    let mut maps = Vec::with_capacity(scene.fingers.len());
+    for (i, f) in scene.fingers.iter().enumerate() {
+        let Some(map) = spec(f) else {
+            maps.push(None);
+            continue;
+        };
+        match files.height_map(i, map) {
+            Ok(grid) => maps.push(Some(grid)),
+            Err(e) => {
+                maps.push(None);
+                problems.add(
                     format!("fingers[{i}].texture.heights.file"),
                     e.message,
                     e.fix,
-                ),
+                );
             }
         }
-        problems.finish().map_err(SceneError::Invalid)
+    }
+    problems.finish().map_err(SceneError::Invalid)?;
+    Ok(maps)
+}
+
+impl Scene {
+    /// Parses a scene from JSON text (one document, nothing after it; duplicate keys refused),
+    /// normalises its directions (see [`Scene::normalize_directions`]) and validates it (see
+    /// [`Scene::validate`]): the plain scene of [`LoadedScene::from_json_str`], what reading
+    /// found beyond it (the shape's report, the posed shapes) dropped.
+    pub fn from_json_str(text: &str) -> Result<Scene, SceneError> {
+        LoadedScene::from_json_str(text).map(|loaded| loaded.scene)
     }
 
     /// Replaces every direction (gravity, planar normal, finger normals and tangents) by its

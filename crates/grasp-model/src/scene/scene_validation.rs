@@ -9,7 +9,8 @@ use crate::error::SceneError;
 use crate::scene::field_checks::{number, FieldChecks};
 use crate::scene::limits::*;
 use crate::scene::scene_format::{ControlSpec, FingerSpec, MaterialSpec, RadiusSpec, Scene, Vec3};
-use crate::scene::texture_spec::GapSpec;
+use crate::scene::scene_geometry::SceneGeometry;
+use crate::scene::texture_spec::{GapSpec, HeightGrid};
 use crate::scene::vector_math::{cross, dot, norm, sub, unit, unit_vector};
 
 /// A tangent whose angle with the normal has a sine below this (about 0.2 arc seconds) is
@@ -17,8 +18,16 @@ use crate::scene::vector_math::{cross, dot, norm, sub, unit, unit_vector};
 const PARALLEL_SINE: f64 = 1e-6;
 
 impl Scene {
-    /// Checks every value; returns all problems found, each with path and fix.
+    /// Checks every value; returns all problems found, each with path and fix. A plain scene
+    /// holds no height map's heights: a texture's height map is a problem here
+    /// ([`crate::scene::loaded_scene::LoadedScene::validate`] checks the maps it read).
     pub fn validate(&self) -> Result<(), SceneError> {
+        self.validate_with(&SceneGeometry::default())
+    }
+
+    /// [`Scene::validate`], the height maps those of `geometry` (each read, finite, covering
+    /// its patch).
+    pub(crate) fn validate_with(&self, geometry: &SceneGeometry) -> Result<(), SceneError> {
         let mut v = FieldChecks::default();
         self.validate_object(&mut v);
         validate_gap("", self.gap, self.object.shape.is_some(), &mut v);
@@ -30,9 +39,9 @@ impl Scene {
             );
         }
         for (i, f) in self.fingers.iter().enumerate() {
-            self.validate_finger(i, f, &mut v);
+            self.validate_finger(i, f, geometry.height_map(i), &mut v);
         }
-        self.check_memory(&mut v);
+        self.check_memory(geometry, &mut v);
         self.check_reach(&mut v);
         if let Some(pl) = &self.planar {
             if v.direction(
@@ -65,7 +74,15 @@ impl Scene {
         }
     }
 
-    fn validate_finger(&self, i: usize, f: &FingerSpec, v: &mut FieldChecks) {
+    /// Checks finger `i`, `map` its height map's heights (when its texture is one and they
+    /// were read).
+    fn validate_finger(
+        &self,
+        i: usize,
+        f: &FingerSpec,
+        map: Option<&HeightGrid>,
+        v: &mut FieldChecks,
+    ) {
         let p = format!("fingers[{i}]");
         if f.name.trim().is_empty() {
             v.push(
@@ -118,39 +135,22 @@ impl Scene {
         validate_tip_shape(&p, f, exact, v);
         validate_gap(&p, f.gap, self.object.shape.is_some(), v);
         validate_patch(&p, f, v);
-        crate::scene::texture_checks::check_texture(&p, f, v);
+        crate::scene::texture_checks::check_texture(&p, f, map, v);
         v.friction(&format!("{p}.friction"), &f.friction, object_rigid);
-        match f.control {
-            ControlSpec::Load(l) => {
-                v.force(
-                    &format!("{p}.control.normal_load"),
-                    l.normal_load,
-                    "give the prescribed normal load in newtons",
-                );
-            }
-            ControlSpec::Approach(a) => {
-                v.range(
-                    &format!("{p}.control.approach_m"),
-                    a.approach_m,
-                    APPROACH_RANGE_M,
-                    "m",
-                    "give how far the finger is pressed in from first touch, in metres (0.1 mm \
-                     = 1e-4), or use \"held\"",
-                );
-            }
-            ControlSpec::Held(_) => {}
-        }
+        validate_control(&p, f, v);
     }
 
     /// Refuses scenes whose dense compliance blocks (the patches the automatic choice keeps
     /// dense, up to [`AUTO_FFT_ABOVE_UNKNOWNS`] unknowns) could not fit in any machine's
     /// memory (callers check the full estimate of the path that runs,
     /// [`memory_budget::estimate_memory_bytes_with`], against the machine they run on).
-    fn check_memory(&self, v: &mut FieldChecks) {
+    fn check_memory(&self, geometry: &SceneGeometry, v: &mut FieldChecks) {
         let auto_dense = |f: &crate::scene::scene_format::FingerSpec| {
             crate::scene::memory_budget::finger_unknowns(self, f) <= AUTO_FFT_ABOVE_UNKNOWNS as u64
         };
-        if let Some(p) = crate::scene::memory_budget::dense_blocks_problem(self, auto_dense) {
+        if let Some(p) =
+            crate::scene::memory_budget::dense_blocks_problem(self, geometry, auto_dense)
+        {
             v.push(&p.path, p.message, &p.fix);
         }
     }
@@ -254,6 +254,30 @@ impl Scene {
                 }
             }
         }
+    }
+}
+
+/// A finger's control (`p` is `fingers[i]`): a prescribed load or approach in range.
+fn validate_control(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
+    match f.control {
+        ControlSpec::Load(l) => {
+            v.force(
+                &format!("{p}.control.normal_load"),
+                l.normal_load,
+                "give the prescribed normal load in newtons",
+            );
+        }
+        ControlSpec::Approach(a) => {
+            v.range(
+                &format!("{p}.control.approach_m"),
+                a.approach_m,
+                APPROACH_RANGE_M,
+                "m",
+                "give how far the finger is pressed in from first touch, in metres (0.1 mm \
+                 = 1e-4), or use \"held\"",
+            );
+        }
+        ControlSpec::Held(_) => {}
     }
 }
 

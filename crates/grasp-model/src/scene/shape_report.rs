@@ -1,12 +1,8 @@
-//! What the object's shape gave the scene: per finger the derived frame, the shape's volume,
-//! mass and surface, and the shape checks' warnings.
+//! What the object's shape gave the scene: per finger the derived frame, the shape's volume
+//! and mass, and the shape checks' warnings (plain data, serialisable; the posed shapes and
+//! the surface travel in [`crate::scene::scene_geometry::SceneGeometry`]).
 
 use serde::Serialize;
-
-use std::sync::Arc;
-
-use crate::geometry::mesh_surface::TriangleMesh;
-use crate::geometry::shape::Shape;
 
 type Vec3 = [f64; 3];
 
@@ -46,24 +42,4 @@ pub struct ShapeReport {
     pub fingers: Vec<DerivedFrame>,
     /// Problems that do not stop the solve (a patch over an edge, overlapping patches).
     pub warnings: Vec<String>,
-    /// The shape's surface as triangles, world frame, for drawing (not serialised).
-    #[serde(skip)]
-    pub surface: TriangleMesh,
-    /// The posed shape itself, for the exact gaps (not serialised).
-    #[serde(skip)]
-    pub shape: SharedShape,
-    /// Per finger, scene order, its posed tip shape (`fingers[i].tip.shape`; `None` for the
-    /// other tips), for the exact gaps (not serialised).
-    #[serde(skip)]
-    pub tips: Vec<Option<SharedShape>>,
-}
-
-/// A posed shape shared by the scene and its models; two are equal when they are the same one.
-#[derive(Debug, Clone)]
-pub struct SharedShape(pub Arc<Shape>);
-
-impl PartialEq for SharedShape {
-    fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.0, &other.0)
-    }
 }

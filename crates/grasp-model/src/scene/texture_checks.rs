@@ -10,7 +10,7 @@ use crate::geometry::surface_texture::{map_half_extent_m, MAP_EDGE_TOLERANCE_PIX
 use crate::scene::field_checks::{number, FieldChecks};
 use crate::scene::limits::*;
 use crate::scene::scene_format::FingerSpec;
-use crate::scene::texture_spec::{HeightMapSpec, RandomSurfaceSpec, RidgesSpec};
+use crate::scene::texture_spec::{HeightGrid, HeightMapSpec, RandomSurfaceSpec, RidgesSpec};
 
 /// A usable patch, as the texture checks need it (the patch's own checks report the rest).
 #[derive(Clone, Copy)]
@@ -49,8 +49,9 @@ impl Patch {
     }
 }
 
-/// Checks `fingers[i].texture` (`p` is `fingers[i]`).
-pub fn check_texture(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
+/// Checks `fingers[i].texture` (`p` is `fingers[i]`), `map` its height map's heights (when
+/// its texture is one and they were read).
+pub fn check_texture(p: &str, f: &FingerSpec, map: Option<&HeightGrid>, v: &mut FieldChecks) {
     let Some(t) = &f.texture else { return };
     let p = format!("{p}.texture");
     let given = [t.heights.is_some(), t.ridges.is_some(), t.random.is_some()];
@@ -64,7 +65,7 @@ pub fn check_texture(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
     }
     let patch = Patch::of(f);
     if let Some(h) = &t.heights {
-        check_height_map(&format!("{p}.heights"), h, patch, v);
+        check_height_map(&format!("{p}.heights"), h, map, patch, v);
     }
     if let Some(r) = &t.ridges {
         check_ridges(&format!("{p}.ridges"), r, patch, v);
@@ -95,7 +96,13 @@ fn check_height(path: &str, h: f64, zero_ok: bool, patch: Option<Patch>, v: &mut
     }
 }
 
-fn check_height_map(p: &str, h: &HeightMapSpec, patch: Option<Patch>, v: &mut FieldChecks) {
+fn check_height_map(
+    p: &str,
+    h: &HeightMapSpec,
+    map: Option<&HeightGrid>,
+    patch: Option<Patch>,
+    v: &mut FieldChecks,
+) {
     let mut pixels_ok = true;
     for k in 0..2 {
         pixels_ok &= v.range(
@@ -107,12 +114,12 @@ fn check_height_map(p: &str, h: &HeightMapSpec, patch: Option<Patch>, v: &mut Fi
         );
     }
     let file = format!("{p}.file");
-    let Some(grid) = &h.data else {
+    let Some(grid) = map else {
         return v.push(
             &file,
             "was not read (a scene built in code, or read without its files)".into(),
-            "read the scene with its files (the grasp CLI, grasp.Scene, grasp_io), or fill \
-             heights.data",
+            "read the scene with its files (the grasp CLI, grasp.Scene, grasp_io), or give its \
+             heights in the loaded scene's geometry (`SceneGeometry::height_maps`)",
         );
     };
     if grid.rows == 0 || grid.cols == 0 || grid.heights_m.len() != grid.rows * grid.cols {
@@ -165,7 +172,7 @@ fn check_height_map(p: &str, h: &HeightMapSpec, patch: Option<Patch>, v: &mut Fi
 fn check_coverage(
     file: &str,
     h: &HeightMapSpec,
-    grid: &crate::scene::texture_spec::HeightGrid,
+    grid: &HeightGrid,
     patch: Patch,
     v: &mut FieldChecks,
 ) {

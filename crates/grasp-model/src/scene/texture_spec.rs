@@ -6,8 +6,6 @@
 //! toward the other body (a peak is positive): the initial gap of an element is its smooth
 //! gap less `h` at its centre, the whole shifted so that the first touch is at gap zero.
 
-use std::sync::Arc;
-
 use crate::geometry::random_surface::{random_surface, SelfAffineSurface};
 pub use crate::geometry::surface_texture::HeightGrid;
 use crate::geometry::surface_texture::{map_height_at_m, ridge_height_m, Ridges};
@@ -48,17 +46,14 @@ pub struct TextureSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct HeightMapSpec {
+    // Its heights, once read (or given as an array), travel beside the scene: the loaded
+    // scene's `SceneGeometry::height_maps`.
     /// Path of a `.npy` (2-D, float or integer) or `.csv` (rows of numbers) file of heights in
     /// metres, relative to the scene file's folder. Rows run along `t1`, columns along `t2`;
     /// the map's centre is on the contact point.
     pub file: String,
     /// Pixel sizes `[dx, dy]`, m, along `t1` (rows) and `t2` (columns).
     pub pixel_m: [f64; 2],
-    /// The heights, filled in when the scene is read (from `file`) or given by Python as an
-    /// array. Not part of the file.
-    #[serde(skip)]
-    #[schemars(skip)]
-    pub data: Option<Arc<HeightGrid>>,
 }
 
 /// Parallel ridges of a cosine profile.
@@ -203,7 +198,6 @@ mod tests {
             heights: Some(HeightMapSpec {
                 file: "h.npy".into(),
                 pixel_m: [1.0, 1.0],
-                data: None,
             }),
             ..TextureSpec::default()
         };

@@ -10,8 +10,8 @@ use serde_json::Value;
 use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
 use crate::geometry::shape::Shape;
+use crate::scene::scene_geometry::SharedShape;
 use crate::scene::shape_checks::{check_mesh, check_shape_spec};
-use crate::scene::shape_report::SharedShape;
 use crate::scene::shape_spec::{MeshSpec, ShapeSpec};
 
 /// Largest distance of the contact point from the tip's surface, as a fraction of the patch's
@@ -37,7 +37,7 @@ pub fn resolve_tip_shapes(
         match f.pointer("/tip/shape") {
             None => tips.push(None),
             Some(spec) => match tip_shape(i, f, spec, load_mesh) {
-                Ok(shape) => tips.push(Some(SharedShape(std::sync::Arc::new(shape)))),
+                Ok(shape) => tips.push(Some(SharedShape::new(shape))),
                 Err(mut p) => {
                     problems.append(&mut p);
                     tips.push(None);

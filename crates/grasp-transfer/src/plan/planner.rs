@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 
-use grasp_model::{GraspModel, LoadDirection, MarginOptions, Scene};
+use grasp_model::{GraspModel, LoadDirection, LoadedScene, MarginOptions, Scene};
 
 use crate::plan::disturbance_rows::{difference_options, disturbance_rows, load_step_n, raised};
 use crate::plan::keyframe_path::KeyframePath;
@@ -60,7 +60,7 @@ struct Runner<'a> {
 /// Plans the hand-off of `scene` (see the module); `template`: the user's schedule, the
 /// starting point and the comparison.
 pub fn plan(
-    scene: &Scene,
+    scene: &LoadedScene,
     template: Option<Template<'_>>,
     options: &PlanOptions,
 ) -> Result<PlanReport, PlanError> {
@@ -71,7 +71,7 @@ pub fn plan(
         return Err(PlanError::Options(problems));
     }
     let model =
-        GraspModel::from_scene_with(scene, options.solve.compliance).map_err(PlanError::Scene)?;
+        GraspModel::from_loaded_with(scene, options.solve.compliance).map_err(PlanError::Scene)?;
     let mut runner = Runner {
         scene,
         model,

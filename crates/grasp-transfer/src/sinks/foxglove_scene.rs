@@ -85,7 +85,7 @@ fn entity(id: &str, t_s: f64, primitives: Value) -> Value {
 /// The object and the contact points (sent once, at the first step's time).
 pub fn object_update(run: &RunInfo, t_s: f64, size_m: f64) -> Value {
     let g = run.model;
-    let object = match run.scene.shape_report.as_ref().map(|r| &r.surface) {
+    let object = match g.object_surface() {
         Some(s) => json!({"triangles": [{
             "pose": identity_pose(&Vector3::zeros()),
             "points": s.vertices_m.iter().map(point).collect::<Vec<_>>(),

@@ -578,7 +578,7 @@ impl Sink for RerunSink {
         let (lo, hi) = contact_bounds(g);
         let (size, m_per_n) = drawing_scale(g);
         self.arrow_m_per_n = m_per_n as f32;
-        match run.scene.shape_report.as_ref().map(|r| &r.surface) {
+        match g.object_surface() {
             // The object as its shape (posed), half transparent so the patches show.
             Some(surface) => self.send("world/object", &object_mesh(surface))?,
             // Without a shape: the box around the contacts and the centre of mass.
