@@ -325,8 +325,9 @@ fn run(args: &[&str]) -> Result<(Option<i32>, String, String, f64), String> {
 }
 
 /// The keys (besides `reason` and `sequential`) a sound output may hold null at.
-const NULLABLE: [&str; 8] = [
+const NULLABLE: [&str; 9] = [
     "reason",
+    "margin_n",
     "sequential",
     "fails_at_n",
     "failing_finger",
@@ -472,7 +473,13 @@ fn margins_are_sound(text: &str) -> Result<(), String> {
         return Err(format!("null or non-finite numbers at {bad:?}"));
     }
     for d in v["directions"].as_array().ok_or("no directions")? {
-        let m = d["margin_n"].as_f64().ok_or("no margin")?;
+        // A margin exactly when a magnitude that fails was found; else how far it held.
+        let m = d["held_to_n"].as_f64().ok_or("no held_to_n")?;
+        if d["margin_n"].as_f64() != d["fails_at_n"].as_f64().map(|_| m) {
+            return Err(format!(
+                "margin_n is not held_to_n with a failing magnitude: {d}"
+            ));
+        }
         if m < 0.0 || d["fails_at_n"].as_f64().is_some_and(|h| h < m) {
             return Err(format!("margin {m} above where it fails: {d}"));
         }

@@ -196,8 +196,15 @@ fn the_ends_of_the_ranges_finish_with_finite_reports() {
         let report: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
         for m in report["directions"].as_array().unwrap() {
-            let margin = m["margin_n"].as_f64().unwrap();
+            // How far it held: the margin when a magnitude that fails was found (then
+            // `margin_n` is that number), else the cap or an undetermined margin's lower bound.
+            let margin = m["held_to_n"].as_f64().unwrap();
             assert!(margin.is_finite() && margin >= 0.0, "{m}");
+            assert_eq!(
+                m["margin_n"].as_f64(),
+                m["fails_at_n"].as_f64().map(|_| margin),
+                "{m}"
+            );
             if let (Some(hi), None) = (m["fails_at_n"].as_f64(), m.get("stopped_early")) {
                 let tol: f64 = if flag == "--tolerance" { 1e-9 } else { 1e-3 };
                 // Narrowed to the tolerance, or stopped at the zero-margin floor (1e-6 of the

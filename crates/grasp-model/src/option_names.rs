@@ -29,6 +29,9 @@ pub const MARGIN_TOLERANCE: &str = "MarginOptions::relative_tolerance";
 /// The margins' cap over the load scale,
 /// [`crate::analysis::margin_report::MarginOptions::max_factor`].
 pub const MARGIN_MAX_FACTOR: &str = "MarginOptions::max_factor";
+/// The margins' load scale,
+/// [`crate::analysis::margin_report::MarginOptions::load_scale_n`].
+pub const MARGIN_LOAD_SCALE: &str = "MarginOptions::load_scale_n";
 /// Growing curved patches until their boundary is unloaded,
 /// [`crate::analysis::patch_sizing::auto_patch`].
 pub const AUTO_PATCH: &str = "patch_sizing::auto_patch";

@@ -27,7 +27,8 @@ pub struct Histories {
     pub wall_times_s: Vec<f64>,
     /// Solver iterations per step, `(T,)`.
     pub iterations: Vec<i64>,
-    /// Smallest disturbance margin per step, N (NaN where not computed), `(T,)`.
+    /// Smallest disturbance margin per step, N: infinite where unbounded (every direction held
+    /// to the search's cap), NaN where undetermined or not computed, `(T,)`.
     pub margins_n: Vec<f64>,
 }
 
@@ -65,8 +66,11 @@ impl Histories {
         self.wall_times_s.push(r.wall_time_s);
         self.iterations
             .push(i64::from(r.solution.solver.iterations));
-        self.margins_n
-            .push(r.margin.as_ref().map_or(f64::NAN, |m| m.smallest_n));
+        // Unbounded: infinite; undetermined or not computed: NaN (never the search's cap).
+        self.margins_n.push(match &r.margin {
+            Some(m) if m.undetermined.is_none() => m.margin_or_bound_n(),
+            _ => f64::NAN,
+        });
     }
 
     /// Bytes one step adds to the histories of `fingers` fingers.

@@ -509,8 +509,10 @@ impl Transfer {
         int_array(py, &h.iterations, &[h.len()])
     }
 
-    /// Each step's smallest disturbance margin, N, shape `(T,)` (NaN where not computed:
-    /// without `margins=True`, or at a failed step).
+    /// Each step's smallest disturbance margin, N, shape `(T,)`: infinite where unbounded
+    /// (every direction held to the search's cap), NaN where undetermined (no solver
+    /// converged above what held) or not computed (without `margins=True`, or at a failed
+    /// step).
     #[getter]
     fn smallest_margins_n<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let h = &self.histories;

@@ -16,7 +16,17 @@ use serde::Serialize;
 pub struct StepMargin {
     /// Smallest margin over the axis directions that the grasp resists at all, N (force N at
     /// the centre of mass, or couple N times `length_m` in N m); 0 when it resists none.
-    pub smallest_n: f64,
+    /// `None` when that direction has no magnitude found to fail: unbounded (it held at the
+    /// search's cap) or undetermined (`undetermined` says why); `held_to_n` then says how far
+    /// it held.
+    pub smallest_n: Option<f64>,
+    /// Largest magnitude found to hold along `direction`, N: the margin when there is one,
+    /// else the cap (unbounded) or the lower bound of an undetermined margin.
+    pub held_to_n: f64,
+    /// Why the margin along `direction` is not known above `held_to_n`, when it is not (no
+    /// solver converged there).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub undetermined: Option<String>,
     /// Axis directions the grasp does not resist at all (margin 0 whatever the step: with
     /// commanded loads, a push along the squeeze axis, say, has no equilibrium). Listed
     /// apart so that the smallest margin tracks how safe the step is.
@@ -33,6 +43,24 @@ pub struct StepMargin {
     pub solves: u32,
     /// Wall time of the margins of this step, s.
     pub time_s: f64,
+}
+
+impl StepMargin {
+    /// The largest push known to hold along `direction`, N: the margin, else `held_to_n` (the
+    /// cap when unbounded, a lower bound when undetermined). What a threshold is compared with.
+    pub fn known_to_hold_n(&self) -> f64 {
+        self.smallest_n.unwrap_or(self.held_to_n)
+    }
+
+    /// The margin for ordering, N: the margin, infinite when unbounded, the lower bound
+    /// `held_to_n` when undetermined.
+    pub fn margin_or_bound_n(&self) -> f64 {
+        match self.smallest_n {
+            Some(m) => m,
+            None if self.undetermined.is_none() => f64::INFINITY,
+            None => self.held_to_n,
+        }
+    }
 }
 
 /// The margin of the step grasp `model` under the step's `inputs` (its loads, approaches and
@@ -112,6 +140,8 @@ fn smallest_of(r: &MarginReport) -> StepMargin {
             .map(|&i| r.directions[i].direction)
             .collect(),
         smallest_n: d.margin_n,
+        held_to_n: d.held_to_n,
+        undetermined: d.undetermined.clone(),
         direction: d.direction,
         bounded: d.bounded,
         failing_finger: d.failing_finger.clone(),

@@ -249,9 +249,14 @@ impl<'a> Stepper<'a> {
         scene: &'a Scene,
         base: Result<Cow<'a, GraspModel>, SceneError>,
         schedule: &'a Schedule,
-        options: TransferOptions,
+        mut options: TransferOptions,
     ) -> Self {
         let n = scene.fingers.len();
+        // Every step's margins in the units of the whole scene (its reach and load scale),
+        // as `grasp margin` measures them, whichever fingers the step holds with.
+        if let Ok(model) = &base {
+            options.margin_options = options.margin_options.in_units_of(model);
+        }
         Stepper {
             scene,
             base,

@@ -103,8 +103,11 @@ pub struct MarginCrossing {
     pub step: usize,
     /// Schedule time, s.
     pub time_s: f64,
-    /// The step's smallest margin, N.
-    pub margin_n: f64,
+    /// The step's smallest margin, N (`None` when undetermined: then `held_to_n`, the largest
+    /// push known to hold, is below the threshold).
+    pub margin_n: Option<f64>,
+    /// The largest push known to hold along the smallest direction, N.
+    pub held_to_n: f64,
 }
 
 /// A step that found no forces.
@@ -154,14 +157,31 @@ pub struct LeastSafeStep {
     pub step: usize,
     /// Schedule time, s.
     pub time_s: f64,
-    /// The margin, N (see [`crate::StepMargin`]).
-    pub margin_n: f64,
+    /// The margin, N (see [`crate::StepMargin`]); `None` when unbounded (every direction held
+    /// to the search's cap) or undetermined.
+    pub margin_n: Option<f64>,
+    /// The largest push known to hold along `direction`, N (the cap when unbounded).
+    pub held_to_n: f64,
+    /// Why the margin is not known above `held_to_n`, when it is not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub undetermined: Option<String>,
     /// Its direction: force part and couple part (unit vector of the scaled wrench space).
     pub direction: grasp_model::WrenchDirection,
     /// The finger that fails first.
     pub failing_finger: Option<String>,
     /// False when the margin reached the search's cap (the grasp held up to it).
     pub bounded: bool,
+}
+
+impl LeastSafeStep {
+    /// The margin for ordering, N: infinite when unbounded, `held_to_n` when undetermined.
+    pub fn margin_or_bound_n(&self) -> f64 {
+        match self.margin_n {
+            Some(m) => m,
+            None if self.undetermined.is_none() => f64::INFINITY,
+            None => self.held_to_n,
+        }
+    }
 }
 
 /// Totals of the sequential (fixed-point) solves of a run.
@@ -359,24 +379,27 @@ impl SummaryAccumulator {
         self.margin_cost.solves += m.solves as u64;
         self.margin_cost.wall_time_s += m.time_s;
         if let Some(threshold_n) = self.threshold_n {
-            if self.crossing.is_none() && m.smallest_n < threshold_n {
+            if self.crossing.is_none() && m.known_to_hold_n() < threshold_n {
                 self.crossing = Some(MarginCrossing {
                     threshold_n,
                     step: r.index,
                     time_s: r.time_s,
                     margin_n: m.smallest_n,
+                    held_to_n: m.held_to_n,
                 });
             }
         }
         if self
             .least_safe
             .as_ref()
-            .is_none_or(|l| m.smallest_n < l.margin_n)
+            .is_none_or(|l| m.margin_or_bound_n() < l.margin_or_bound_n())
         {
             self.least_safe = Some(LeastSafeStep {
                 step: r.index,
                 time_s: r.time_s,
                 margin_n: m.smallest_n,
+                held_to_n: m.held_to_n,
+                undetermined: m.undetermined.clone(),
                 direction: m.direction,
                 failing_finger: m.failing_finger.clone(),
                 bounded: m.bounded,

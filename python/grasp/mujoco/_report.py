@@ -47,7 +47,8 @@ class Report:
     solution : grasp.Solution
         The elastic model's answer for its scene.
     margin_n : float or None
-        The smallest disturbance margin, N (None when not computed).
+        The smallest disturbance margin, N: ``inf`` when unbounded (every direction held to the
+        search's cap), None when not computed or undetermined.
     hold_speed_m_per_s : float, default HOLD_SPEED_M_PER_S
         MuJoCo holds the object when its contacts slide slower than this, m/s.
     """
@@ -97,6 +98,11 @@ class Report:
             })
         return out
 
+    def _margin_words(self):
+        if math.isinf(self.margin_n):
+            return "unbounded (held at the search's cap)"
+        return f"{fmt(self.margin_n, '.4g')} N"
+
     def to_dict(self):
         """The whole report as a dict of JSON values (what :meth:`write` writes).
 
@@ -133,7 +139,10 @@ class Report:
                 "grasp_status": self.solution.status,
                 "grasp_reason": self.solution.reason,
             },
-            "smallest_margin_n": self.margin_n,
+            # JSON has no infinity: an unbounded margin is null with ``margin_unbounded``.
+            "smallest_margin_n": (None if self.margin_n is not None and math.isinf(self.margin_n)
+                                  else self.margin_n),
+            "margin_unbounded": self.margin_n is not None and math.isinf(self.margin_n),
             "warnings": list(g.warnings) + list(self.solution.warnings),
         }
 
@@ -191,7 +200,7 @@ class Report:
               f"{1e3 * h['mujoco_slip_speed_m_per_s']:.3g} mm/s)")
         ours = f"grasp: {h['grasp_status']}" + (f" ({h['grasp_reason']})" if h["grasp_reason"] else "")
         margin = ("" if self.margin_n is None else
-                  f"; smallest disturbance margin {fmt(self.margin_n, '.4g')} N ({self.grasp.scene_dict['model']} model, axis directions)")
+                  f"; smallest disturbance margin {self._margin_words()} ({self.grasp.scene_dict['model']} model, axis directions)")
         return f"{mj}; {ours}{margin}"
 
     def to_json(self):

@@ -309,16 +309,15 @@ fn failure_words(m: &DirectionMargin) -> String {
         None => "holds up to the cap".into(),
         Some(Failure::Slides { finger }) => format!("{finger} slides"),
         Some(Failure::NoEquilibrium { .. }) => "no equilibrium".into(),
-        // The grasp's limit, where the program turns degenerate and the solves stall: the
-        // table's note says so (it is not the solver breaking down elsewhere).
-        Some(Failure::NoConvergence { .. }) => "limit (solves stall)".into(),
+        // Neither solver converged above `held_to_n`: a solver's failure, not the grasp's
+        // limit; the margin is only known to be at least that (the table's note says so).
+        Some(Failure::NoConvergence { .. }) => "undetermined (solves stall)".into(),
     }
 }
 
 /// The note under a table with a direction whose trials stopped converging.
-const STALL_NOTE: &str = "limit (solves stall): past this magnitude the solves no longer \
-    converge, as they do at the edge of equilibrium where the program turns degenerate; the \
-    grasp counts as failing there, so such a margin can come out up to 0.1 % low";
+const STALL_NOTE: &str = "undetermined (solves stall): neither solver converged past the \
+    magnitude shown, which held; the margin is at least that, not known to be it";
 
 /// The report as a table.
 fn table(scene: &Path, r: &MarginReport) -> String {
@@ -326,11 +325,7 @@ fn table(scene: &Path, r: &MarginReport) -> String {
     table_header(scene, r, &mut s);
     for (i, m) in r.directions.iter().enumerate() {
         let torque = m.torque_nm.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let margin = if m.bounded {
-            crate::report::significant(m.margin_n, 5)
-        } else {
-            format!(">{}", crate::report::significant(m.margin_n, 4))
-        };
+        let margin = crate::pictures::margin_plot::margin_cell(m);
         let _ = writeln!(
             s,
             "{:<4}{:<44}{:>14}{:>14}{:>12}  {:<22}{:>8}",
@@ -348,7 +343,7 @@ fn table(scene: &Path, r: &MarginReport) -> String {
     let _ = writeln!(
         s,
         "smallest margin: {} N along #{} {} ({}, first to fail: {})",
-        crate::report::significant(w.margin_n, 5),
+        crate::pictures::margin_plot::margin_cell(w),
         r.smallest,
         label(&w.direction),
         failure_words(w),

@@ -463,14 +463,24 @@ fn disturbance_margin_lines(s: &TransferSummary, o: &mut String) {
     if let Some(l) = &s.least_safe_step {
         let _ = writeln!(
             o,
-            "least safe step: {} (t = {:.3} s), smallest disturbance margin {}{} N along {} \
-             (first to fail: {})",
+            "least safe step: {} (t = {:.3} s), smallest disturbance margin {} N along {} \
+             (first to fail: {}){}",
             l.step,
             l.time_s,
-            if l.bounded { "" } else { ">" },
-            crate::report::significant(l.margin_n, 5),
+            match l.margin_n {
+                Some(v) => crate::report::significant(v, 5),
+                None if l.undetermined.is_none() =>
+                    format!("unbounded, >{}", crate::report::significant(l.held_to_n, 4)),
+                None => format!(
+                    "undetermined, >={}",
+                    crate::report::significant(l.held_to_n, 4)
+                ),
+            },
             crate::pictures::margin_plot::label(&l.direction),
             l.failing_finger.as_deref().unwrap_or("-"),
+            l.undetermined
+                .as_ref()
+                .map_or(String::new(), |why| format!(": {why}")),
         );
     }
     if let Some(c) = &s.margin_below_threshold {
@@ -480,7 +490,13 @@ fn disturbance_margin_lines(s: &TransferSummary, o: &mut String) {
             crate::report::significant(c.threshold_n, 5),
             c.step,
             c.time_s,
-            crate::report::significant(c.margin_n, 5)
+            match c.margin_n {
+                Some(v) => crate::report::significant(v, 5),
+                None => format!(
+                    "undetermined, >={}",
+                    crate::report::significant(c.held_to_n, 4)
+                ),
+            }
         );
     }
 }

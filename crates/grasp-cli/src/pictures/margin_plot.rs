@@ -6,7 +6,7 @@
 use anyhow::Result;
 use grasp_model::GraspModel;
 use grasp_model::MotionPlane;
-use grasp_model::{MarginReport, WrenchDirection};
+use grasp_model::{DirectionMargin, MarginReport, WrenchDirection};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -79,14 +79,14 @@ fn rim_margin(r: &MarginReport) -> f64 {
         .directions
         .iter()
         .filter(|d| d.bounded)
-        .map(|d| d.margin_n)
+        .map(|d| d.held_to_n)
         .fold(0.0_f64, f64::max);
     if bounded_max > 0.0 {
         return bounded_max;
     }
     r.directions
         .iter()
-        .map(|d| d.margin_n)
+        .map(|d| d.held_to_n)
         .fold(f64::MIN_POSITIVE, f64::max)
 }
 
@@ -149,7 +149,7 @@ fn in_plane_points(r: &MarginReport, a: &[f64; 3], b: &[f64; 3], r_max: f64) -> 
         let pure = d.direction.torque.iter().all(|t| *t == 0.0);
         if pure && (fa * fa + fb * fb - 1.0).abs() < 1e-9 {
             let m = if d.bounded {
-                d.margin_n.min(r_max)
+                d.held_to_n.min(r_max)
             } else {
                 r_max
             };
@@ -246,7 +246,7 @@ fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &MarginReport) -> 
         .directions
         .iter()
         .filter(|d| d.bounded)
-        .map(|d| d.margin_n)
+        .map(|d| d.held_to_n)
         .fold(0.0_f64, f64::max)
         .max(f64::MIN_POSITIVE);
     let font = TextStyle::from(("sans-serif", 11).into_font());
@@ -257,7 +257,7 @@ fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &MarginReport) -> 
     for (i, d) in r.directions.iter().enumerate() {
         let y = 26 + (ROW as i32) * i as i32;
         let len = if d.bounded {
-            width * d.margin_n / max
+            width * d.held_to_n / max
         } else {
             width
         };
@@ -279,15 +279,21 @@ fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, r: &MarginReport) -> 
             fill.filled(),
         ))
         .map_err(draw_err)?;
-        let value = format!(
-            "{}{}",
-            if d.bounded { "" } else { ">" },
-            crate::report::significant(d.margin_n, 4)
-        );
+        let value = margin_cell(d);
         area.draw(&Text::new(value, (end + 4, mid), after.clone()))
             .map_err(draw_err)?;
     }
     Ok(())
+}
+
+/// A direction's margin as the table shows it: the margin, `>cap` when the grasp held at the
+/// search's cap (unbounded), `>=held` when undetermined above what held.
+pub fn margin_cell(m: &DirectionMargin) -> String {
+    match m.margin_n {
+        Some(v) => crate::report::significant(v, 5),
+        None if m.is_unbounded() => format!(">{}", crate::report::significant(m.held_to_n, 4)),
+        None => format!(">={}", crate::report::significant(m.held_to_n, 4)),
+    }
 }
 
 #[cfg(test)]

@@ -6,6 +6,16 @@
 //! length ([`MarginOptions::length_m`], by default the grasp's reach [`crate::Scales`]
 //! `length_m`), so force and torque directions compare at the grasp's size.
 //!
+//! **The margin** along a direction is the largest magnitude `s` such that the disturbance,
+//! ramped quasi-statically from 0 to `s` on top of the step's loads, from the step's contact
+//! state (with its slip history), leaves the grasp holding at every magnitude on the way. For
+//! the energy model, which has no slip memory, that is the largest magnitude at which it holds.
+//! For the coulomb model the ramp matters: a push taken in one step far beyond the margin can
+//! land on an equilibrium that holds again ([`crate::analysis::margin_trial`]). A search reports
+//! it as a bracket `[margin_n, fails_at_n]` no wider than its tolerance; a push ramped to just
+//! below `margin_n` holds, one ramped past `fails_at_n` fails (`tests/margin_agreement.rs`
+//! pushes both through `grasp transfer`).
+//!
 //! The grasp **holds** at `s` when
 //! - energy model: the program has a solution, i.e. forces within the element cones (and the
 //!   commanded loads) balance the load: the rigid-body bound of the patches' cones. (The energy
@@ -15,6 +25,15 @@
 //!   one sticking element (a finger whose every element slips slides as a whole). A finger
 //!   that already slides as a whole without disturbance (a receiving finger settling in a
 //!   hand-off) is listed apart and not judged by sliding.
+//!
+//! It **fails** where a solve certifies that no equilibrium exists (or the load capacity
+//! proves it) or a judged finger slides as a whole. A solve that does not converge says
+//! neither: the other solver takes the step, and where neither converges the margin is
+//! **undetermined** above the largest magnitude that held ([`DirectionMargin::undetermined`]),
+//! a lower bound, never a margin. Where the grasp still holds at the cap
+//! ([`MarginOptions::max_factor`] times the load scale) the margin is **unbounded**. Both are
+//! written as what they are: `margin_n` is null in JSON (with `held_to_n`), `inf` or empty in
+//! CSV, infinite or NaN in Python.
 //!
 
 use std::ops::RangeInclusive;
@@ -27,7 +46,7 @@ use crate::analysis::wrench_directions::WrenchDirection;
 use crate::error::OptionError;
 use crate::model::grasp_model::GraspModel;
 use crate::option_names;
-use crate::scene::limits::LENGTH_RANGE_M;
+use crate::scene::limits::{LENGTH_RANGE_M, MAX_FORCE_N, MIN_NONZERO_FORCE_N};
 use crate::scene::scene_format::ModelKind;
 use crate::solve::solution::{Solution, SolveStatus, LOADED_FRACTION};
 use crate::solver::options::check_range;
@@ -45,8 +64,15 @@ pub const MAX_FACTOR_RANGE: RangeInclusive<f64> = 1.0..=1e6;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MarginOptions {
     /// Characteristic length `L`, m: torque `s L t` per magnitude `s`. `None`: the grasp's
-    /// reach (`Scales::length_m`). In the scene's length range [`LENGTH_RANGE_M`].
+    /// reach (`Scales::length_m`). In the scene's length range [`LENGTH_RANGE_M`]. A hand-off
+    /// sets it to the scene's reach, so that every step's couples compare with each other and
+    /// with `grasp margin`'s on the scene, whichever fingers a step holds with.
     pub length_m: Option<f64>,
+    /// The load scale of the search, N: its first step ([`crate::analysis::margin_trial`]'s
+    /// `INITIAL_STEP` of it, also a coulomb ramp's first), its cap (`max_factor` times it) and
+    /// the magnitude below which a margin is 0. `None`: the model's (`Scales::load_n`). A
+    /// hand-off sets it to the scene's, as `length_m`. Positive, at most [`MAX_FORCE_N`].
+    pub load_scale_n: Option<f64>,
     /// Bisection stops when the bracket is below this fraction of its upper end (in
     /// `RELATIVE_TOLERANCE_RANGE`).
     pub relative_tolerance: f64,
@@ -66,6 +92,15 @@ impl MarginOptions {
     /// the API spells it ([`option_names`]). [`crate::disturbance_margins`] checks its options; front
     /// ends call this first so that a bad option is refused before any work.
     pub fn validate(&self) -> Result<(), OptionError> {
+        if let Some(p) = self.load_scale_n {
+            check_range(
+                option_names::MARGIN_LOAD_SCALE,
+                p,
+                MIN_NONZERO_FORCE_N..=MAX_FORCE_N,
+                "a force in newtons",
+                "10",
+            )?;
+        }
         if let Some(l) = self.length_m {
             check_range(
                 option_names::MARGIN_LENGTH,
@@ -92,10 +127,34 @@ impl MarginOptions {
     }
 }
 
+impl MarginOptions {
+    /// The characteristic length of the search on `model`, m.
+    pub fn length_for(&self, model: &GraspModel) -> f64 {
+        self.length_m.unwrap_or(model.scales.length_m)
+    }
+
+    /// The load scale of the search on `model`, N.
+    pub fn load_scale_for(&self, model: &GraspModel) -> f64 {
+        self.load_scale_n.unwrap_or(model.scales.load_n)
+    }
+
+    /// These options with the length and load scale unset taken from `scene_model` (a
+    /// hand-off's model of the whole scene): every step's search then measures in the scene's
+    /// units, whichever fingers the step holds with.
+    pub fn in_units_of(self, scene_model: &GraspModel) -> Self {
+        MarginOptions {
+            length_m: Some(self.length_for(scene_model)),
+            load_scale_n: Some(self.load_scale_for(scene_model)),
+            ..self
+        }
+    }
+}
+
 impl Default for MarginOptions {
     fn default() -> Self {
         MarginOptions {
             length_m: None,
+            load_scale_n: None,
             relative_tolerance: 1e-3,
             max_factor: 1e3,
             load_capacity: true,
@@ -130,16 +189,21 @@ pub enum Failure {
 pub struct DirectionMargin {
     /// The direction.
     pub direction: WrenchDirection,
-    /// Largest magnitude found to hold, N (the lower end of the final bracket; the cap when
-    /// unbounded).
-    pub margin_n: f64,
-    /// Smallest magnitude found to fail, N (absent when unbounded).
+    /// The margin, N: the lower end of the final bracket `[margin_n, fails_at_n]`. `None`
+    /// when no magnitude was found to fail: unbounded (held at the cap) or undetermined
+    /// ([`DirectionMargin::undetermined`]); `held_to_n` then says how far it held.
+    pub margin_n: Option<f64>,
+    /// Largest magnitude found to hold, N: the margin when there is one, else the cap
+    /// (unbounded) or the lower bound of an undetermined margin.
+    pub held_to_n: f64,
+    /// Smallest magnitude found to fail, N (absent when unbounded or undetermined).
     pub fails_at_n: Option<f64>,
-    /// Force part of the wrench at the margin, N (at the centre of mass).
+    /// Force part of the wrench at `held_to_n`, N (at the centre of mass).
     pub force_n: [f64; 3],
-    /// Torque part of the wrench at the margin, N m.
+    /// Torque part of the wrench at `held_to_n`, N m.
     pub torque_nm: [f64; 3],
-    /// False when the grasp still held at the cap.
+    /// True when a magnitude that fails was found (`fails_at_n`): false when the grasp still
+    /// held at the cap, or when the margin is undetermined.
     pub bounded: bool,
     /// The finger that fails first: the one that slides, else the loaded frictional finger
     /// with the highest friction utilisation at the margin.
@@ -155,6 +219,36 @@ pub struct DirectionMargin {
     /// `[margin_n, fails_at_n]` is still a true one, only wider than asked).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stopped_early: Option<String>,
+    /// Why nothing is known above `held_to_n`, when the search ended there without a magnitude
+    /// that fails and below the cap: neither solver converged at a magnitude (their reasons),
+    /// or the growth reached its step limit. The margin is then at least `held_to_n`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub undetermined: Option<String>,
+    /// Steps the chosen solver did not converge on and the other solver answered (a stall is
+    /// the solver's, not the grasp's).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub solver_fallbacks: u32,
+}
+
+fn is_zero(n: &u32) -> bool {
+    *n == 0
+}
+
+impl DirectionMargin {
+    /// True when the grasp still held at the cap.
+    pub fn is_unbounded(&self) -> bool {
+        self.fails_at_n.is_none() && self.undetermined.is_none()
+    }
+
+    /// The margin for ordering and plotting, N: the margin, infinite when unbounded, `held_to_n`
+    /// (a lower bound) when undetermined.
+    pub fn margin_or_bound_n(&self) -> f64 {
+        match self.margin_n {
+            Some(m) => m,
+            None if self.is_unbounded() => f64::INFINITY,
+            None => self.held_to_n,
+        }
+    }
 }
 
 /// Margins of a grasp.
@@ -189,7 +283,7 @@ impl MarginReport {
     /// the undisturbed solve counted among the solves.
     pub(crate) fn of(
         model: &GraspModel,
-        length_m: f64,
+        options: &MarginOptions,
         sliding_undisturbed: Vec<String>,
         margins: Vec<DirectionMargin>,
         clock: Instant,
@@ -197,8 +291,8 @@ impl MarginReport {
         let (unresisted, smallest) = unresisted_and_smallest(&margins);
         MarginReport {
             model: model.kind(),
-            length_m,
-            load_scale_n: model.scales.load_n,
+            length_m: options.length_for(model),
+            load_scale_n: options.load_scale_for(model),
             solves: 1 + margins.iter().map(|m| m.solves).sum::<u32>(),
             sliding_undisturbed,
             directions: margins,
@@ -275,13 +369,20 @@ pub(crate) fn most_utilised(model: &GraspModel, sol: &Solution) -> Option<String
 
 /// The margin along `d` of a grasp that fails undisturbed (`f`): 0, with that failure.
 pub(crate) fn failing_undisturbed(d: WrenchDirection, f: &Failure) -> DirectionMargin {
+    let stalled = match f {
+        Failure::NoConvergence { reason } => {
+            Some(format!("the undisturbed step did not converge: {reason}"))
+        }
+        _ => None,
+    };
     DirectionMargin {
         direction: d,
-        margin_n: 0.0,
-        fails_at_n: Some(0.0),
+        margin_n: stalled.is_none().then_some(0.0),
+        held_to_n: 0.0,
+        fails_at_n: stalled.is_none().then_some(0.0),
         force_n: [0.0; 3],
         torque_nm: [0.0; 3],
-        bounded: true,
+        bounded: stalled.is_none(),
         failing_finger: match f {
             Failure::Slides { finger } => Some(finger.clone()),
             _ => None,
@@ -290,6 +391,8 @@ pub(crate) fn failing_undisturbed(d: WrenchDirection, f: &Failure) -> DirectionM
         solves: 0,
         time_s: 0.0,
         stopped_early: None,
+        undetermined: stalled,
+        solver_fallbacks: 0,
     }
 }
 
@@ -298,11 +401,14 @@ pub(crate) fn failing_undisturbed(d: WrenchDirection, f: &Failure) -> DirectionM
 pub(crate) fn unresisted_and_smallest(margins: &[DirectionMargin]) -> (Vec<usize>, usize) {
     let searched = margins.iter().any(|m| m.solves > 0);
     let unresisted: Vec<usize> = (0..margins.len())
-        .filter(|&i| searched && margins[i].margin_n == 0.0 && margins[i].failure.is_some())
+        .filter(|&i| searched && margins[i].margin_n == Some(0.0) && margins[i].failure.is_some())
         .collect();
     let smallest = (0..margins.len())
         .filter(|i| !unresisted.contains(i) || unresisted.len() == margins.len())
-        .min_by(|&a, &b| margins[a].margin_n.total_cmp(&margins[b].margin_n))
+        .min_by(|&a, &b| {
+            let m = |i: usize| margins[i].margin_or_bound_n();
+            m(a).total_cmp(&m(b))
+        })
         .unwrap_or(0);
     (unresisted, smallest)
 }

@@ -20,13 +20,11 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use nalgebra::Vector3;
-
-use crate::analysis::load_capacity::{LoadCapacity, UnitDisturbance};
 use crate::analysis::margin_report::{
-    failing_undisturbed, holds, most_utilised, sliding_fingers, utilisation_of, DirectionMargin,
-    Failure, MarginOptions, MarginReport,
+    failing_undisturbed, holds, most_utilised, sliding_fingers, DirectionMargin, Failure,
+    MarginOptions, MarginReport,
 };
+use crate::analysis::margin_trial::{Fails, Held, Search, Trial, INITIAL_STEP, ZERO_MARGIN};
 use crate::analysis::trial_forces::TrialForces;
 use crate::analysis::wrench_directions::WrenchDirection;
 use crate::error::ModelError;
@@ -38,15 +36,6 @@ use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::solution::Solution;
 use crate::solve::step_inputs::StepInputs;
 use crate::solver::options::SolveOptions;
-
-/// First growth step of the search, as a fraction of the load scale: small, because a trial
-/// that holds is cheap (a warm-started step) and one that fails is not (the solver must certify
-/// that no equilibrium exists), so the search should fail as few times as it can.
-pub(crate) const INITIAL_STEP: f64 = 1e-2;
-
-/// Below this fraction of the load scale a margin counts as zero: the bisection stops (the
-/// solves themselves balance the load only to about 1e-10 of it).
-pub(crate) const ZERO_MARGIN: f64 = 1e-6;
 
 /// Largest number of growth steps along one direction (the step doubles from
 /// [`INITIAL_STEP`]: 27 reach the largest cap).
@@ -61,244 +50,121 @@ const MAX_BISECTION_STEPS: u32 = 200;
 /// capacity, as where the fingers can only all slip together), the bracket is done in one solve.
 pub(crate) const CAPACITY_PROBE: f64 = 0.9;
 
-/// A guided trial's least step above the largest magnitude that held, as a fraction of the
-/// tolerance: a failure there leaves a bracket within the tolerance.
-pub(crate) const CHECK_STEP: f64 = 0.99;
-
-/// The search along one direction.
-pub(crate) struct Search<'a> {
-    pub(crate) model: &'a GraspModel,
-    pub(crate) inputs: &'a StepInputs,
-    pub(crate) solver: &'a mut GraspSolver,
-    pub(crate) direction: WrenchDirection,
-    pub(crate) length_m: f64,
-    pub(crate) solves: u32,
-    pub(crate) exempt: &'a [String],
-    /// The magnitude from which no equilibrium exists, N ([`LoadCapacity`]; infinite when
-    /// unknown): trials there fail without a solve.
-    pub(crate) capacity_n: f64,
-    /// The forces of the last trials solved along the direction, the first input of the next
-    /// trial's Tresca iteration instead of its start state's ([`TrialForces`]).
-    pub(crate) trial_forces: TrialForces,
-    /// Whether trials take and keep [`Search::trial_forces`] (not: the start state's forces,
-    /// as the search from scratch takes them), and the narrowing is guided by
-    /// [`Search::utilisation`].
-    pub(crate) guessing: bool,
-    /// The magnitudes that held (N) with the largest friction utilisation of the fingers
-    /// judged by sliding there ([`utilisation_of`]), in the order tried.
-    pub(crate) utilisation: Vec<(f64, f64)>,
+/// How a search along a direction ended above the largest magnitude that held.
+pub(crate) enum End {
+    /// At a magnitude that fails: the bracket's upper end.
+    Fails(Fails),
+    /// The grasp held at the cap: unbounded.
+    Cap,
+    /// Nothing is known above: why (neither solver converged, the growth's step limit).
+    Undetermined(String),
 }
 
-/// The largest magnitude known to hold, N, with the contact state and solution there.
-pub(crate) struct Held {
-    pub(crate) s: f64,
-    pub(crate) state: ContactState,
-    pub(crate) sol: Solution,
+/// A finished search: the largest magnitude found to hold, how it ended above it, and why the
+/// bracket is wider than asked, when it is.
+pub(crate) struct Found {
+    pub(crate) held: Held,
+    pub(crate) end: End,
+    pub(crate) note: Option<String>,
 }
 
-/// The smallest magnitude known to fail, N, and how.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Fails {
-    /// The magnitude, N.
-    pub(crate) s: f64,
-    /// How the grasp failed there.
-    pub(crate) failure: Failure,
+impl End {
+    /// The end of a trial above `held` that did not hold, `held` moved up to the ramp's last
+    /// magnitude that held; `None` when the trial held (`held` moved to it).
+    pub(crate) fn of_trial(trial: Trial, held: &mut Held) -> Option<End> {
+        match trial {
+            Trial::Holds(h) => {
+                *held = h;
+                None
+            }
+            Trial::Fails { fails, below } => {
+                if let Some(b) = below {
+                    *held = b;
+                }
+                Some(End::Fails(fails))
+            }
+            Trial::Stalls {
+                at_n,
+                reason,
+                below,
+            } => {
+                if let Some(b) = below {
+                    *held = b;
+                }
+                Some(End::Undetermined(stall_note(at_n, &reason)))
+            }
+        }
+    }
+}
+
+/// What an undetermined margin says of a stall at `at_n` N.
+pub(crate) fn stall_note(at_n: f64, reason: &str) -> String {
+    format!("no answer at {} N: {reason}", Readable(at_n))
 }
 
 impl Search<'_> {
-    /// The step's inputs with the disturbance of magnitude `s` (N) along the direction: a
-    /// force at the centre of mass and a couple.
-    fn inputs_at(&self, s: f64) -> StepInputs {
-        let d = &self.direction;
-        let f = Vector3::from(d.force) * s;
-        let t = Vector3::from(d.torque) * (s * self.length_m);
-        self.inputs
-            .clone()
-            .with_load_at_center_of_mass(self.model, &f, &t)
-    }
-
-    /// One quasi-static step to magnitude `s` from `state`.
-    pub(crate) fn trial(
-        &mut self,
-        s: f64,
-        state: &ContactState,
-    ) -> Result<Result<(ContactState, Solution), Failure>, ModelError> {
-        if s >= self.capacity_n {
-            return Ok(Err(self.beyond_capacity(s)));
-        }
-        let inputs = self.inputs_at(s);
-        let mut next = state.clone();
-        self.start_from_guess(s, &mut next);
-        let sol = self.solver.solve_step(&inputs, &mut next)?;
-        self.solves += 1;
-        if self.guessing && sol.status.has_forces() {
-            let forces = sol.fingers.iter();
-            let forces = forces.map(|f| f.elements.iter().map(|e| e.normal_force_n).collect());
-            self.trial_forces.push(s, forces.collect());
-        }
-        let held = holds(self.model, &sol, self.exempt);
-        if held.is_ok() {
-            self.note_held(s, &sol);
-        }
-        Ok(held.map(|()| (next, sol)))
-    }
-
-    /// The next trial in the bracket `(lo, hi)` N when guided: half a tolerance above where
-    /// sliding is predicted ([`Search::sliding_predicted_at`]), at least a tolerance above `lo`
-    /// (so that a failure there closes the bracket) and at most twice `lo` (the line through
-    /// two magnitudes far below the margin says little); a tolerance below `hi` when the
-    /// prediction is at or beyond `hi`, which failed (a line through magnitudes that held
-    /// reaches 1 late where the utilisation bends up), so that holding there closes the
-    /// bracket; `None` when that is not inside it.
-    pub(crate) fn guided_point(&self, lo: f64, hi: f64, tolerance: f64) -> Option<f64> {
-        let root = self.sliding_predicted_at()?;
-        let t = (root * (1.0 + 0.5 * tolerance)).max(lo * (1.0 + CHECK_STEP * tolerance));
-        let t = if t >= hi {
-            hi * (1.0 - CHECK_STEP * tolerance)
-        } else {
-            t.min(2.0 * lo)
-        };
-        (t > lo && t < hi).then_some(t)
-    }
-
-    /// Records the utilisation at `s` N, where `sol` held (when guided, in a planar scene:
-    /// in 3-D a finger's elements can slide in different directions, its utilisation stays
-    /// below 1, and guided trials land at the edge where solves cost more; on the MuJoCo
-    /// hand-off, 3-D, they cost half as much again, for no fewer solves).
-    pub(crate) fn note_held(&mut self, s: f64, sol: &Solution) {
-        let guided = self.guessing && self.model.plane().is_some();
-        if let Some(u) = utilisation_of(self.model, sol, self.exempt).filter(|_| guided) {
-            self.utilisation.push((s, u));
-        }
-    }
-
-    /// Where the line through the utilisation at the two largest magnitudes that held reaches
-    /// 1, the utilisation of a finger sliding as a whole in the plane (a guess in 3-D, where
-    /// slip directions can differ); `None` unless guided, with two such magnitudes, the
-    /// utilisation rising between them, and the root beyond them.
-    pub(crate) fn sliding_predicted_at(&self) -> Option<f64> {
-        let mut top = self.utilisation.iter().filter(|p| p.0 > 0.0 || p.1 > 0.0);
-        let first = top.next()?;
-        let (a, b) = top.fold((first, first), |(a, b), p| {
-            if p.0 > b.0 {
-                (b, p)
-            } else if p.0 > a.0 && p.0 < b.0 {
-                (p, b)
-            } else {
-                (a, b)
-            }
-        });
-        let rise = (b.1 - a.1) / (b.0 - a.0);
-        let root = b.0 + (1.0 - b.1) / rise;
-        (b.0 > a.0 && rise > 0.0 && root.is_finite() && root > b.0).then_some(root)
-    }
-
-    /// Puts the forces [`Search::trial_forces`] predicts at magnitude `s` (N) into `state`
-    /// as its last forces, the sequential solve's first input (the start only: its slip
-    /// memory, which sets the answer, stays).
-    fn start_from_guess(&self, s: f64, state: &mut ContactState) {
-        let Some(guess) = self.trial_forces.at(s).filter(|_| self.guessing) else {
-            return;
-        };
-        for (f, g) in state.fingers.iter_mut().zip(guess) {
-            if f.normal_forces_n
-                .as_ref()
-                .is_some_and(|v| v.len() == g.len())
-            {
-                f.normal_forces_n = Some(g);
-            }
-        }
-    }
-
-    /// The failure of a trial at `s` N at or beyond the load capacity.
-    fn beyond_capacity(&self, s: f64) -> Failure {
-        Failure::NoEquilibrium {
-            reason: format!(
-                "no equilibrium: no contact forces within the friction cones balance {} N \
-                 along this direction (the contacts resist at most {} N along it with the \
-                 commanded loads)",
-                Readable(s),
-                Readable(self.capacity_n)
-            ),
-        }
-    }
-
-    /// A certificate of the load capacity along the direction at this step, searched up to
-    /// `cap_n` N (`None`: none sought or found, see [`LoadCapacity::find`]).
-    pub(crate) fn find_capacity(&self, cap_n: f64) -> Option<LoadCapacity> {
-        LoadCapacity::find(self.model, self.inputs, &self.per_newton(), cap_n)
-    }
-
-    /// Takes the capacity that `certificate` proves at this step.
-    pub(crate) fn bound_by(&mut self, certificate: &mut LoadCapacity) {
-        self.capacity_n = certificate.bound_n(self.model, self.inputs, &self.per_newton());
-    }
-
-    /// The disturbance per newton of magnitude: force (N) and couple (N m).
-    pub(crate) fn per_newton(&self) -> UnitDisturbance {
-        let d = &self.direction;
-        UnitDisturbance {
-            force_n: Vector3::from(d.force),
-            torque_nm: Vector3::from(d.torque) * self.length_m,
-        }
-    }
-
     /// Grows the magnitude from `held` (the step doubling from [`INITIAL_STEP`] of the load
-    /// scale) until the grasp fails (`Some`) or holds at `cap` (`None`); the note says why it
-    /// stopped below the cap when it did.
-    pub(crate) fn grow(
-        &mut self,
-        held: &mut Held,
-        cap: f64,
-    ) -> Result<(Option<Fails>, Option<String>), ModelError> {
-        let mut step = INITIAL_STEP * self.model.scales.load_n;
+    /// scale) until the grasp fails, holds at `cap`, or no solver answers.
+    pub(crate) fn grow(&mut self, held: &mut Held, cap: f64) -> Result<End, ModelError> {
+        let mut step = INITIAL_STEP * self.load_n;
         for _ in 0..MAX_GROWTH_STEPS {
             if held.s >= cap || cap.is_nan() {
-                return Ok((None, None));
+                return Ok(End::Cap);
             }
             let s = (held.s + step).min(cap).min(self.capacity_n);
-            match self.trial(s, &held.state)? {
-                Ok((state, sol)) => (*held, step) = (Held { s, state, sol }, 2.0 * step),
-                Err(f) => return Ok((Some(Fails { s, failure: f }), None)),
+            let trial = self.trial(s, held)?;
+            if let Some(end) = End::of_trial(trial, held) {
+                return Ok(end);
             }
+            step *= 2.0;
         }
-        let note = format!(
+        Ok(End::Undetermined(format!(
             "the growth stopped after {MAX_GROWTH_STEPS} steps at {} N, below the cap {} N",
             Readable(held.s),
             Readable(cap)
-        );
-        Ok((None, Some(note)))
+        )))
     }
 
-    /// A trial at `s` (N) from `held`'s state: the bracket's lower end moves up to it when the
-    /// grasp holds there, its upper end down to it when it fails.
-    fn probe(&mut self, s: f64, held: &mut Held, fails: &mut Fails) -> Result<(), ModelError> {
-        match self.trial(s, &held.state)? {
-            Ok((state, sol)) => *held = Held { s, state, sol },
-            Err(failure) => *fails = Fails { s, failure },
-        }
-        Ok(())
+    /// A trial at `s` (N) from `held`'s state: the bracket's lower end moves up to it (or the
+    /// ramp's last magnitude that held) when the grasp holds there, its upper end down to it
+    /// when it fails; `Some(why)` when neither solver answered.
+    fn probe(
+        &mut self,
+        s: f64,
+        held: &mut Held,
+        fails: &mut Fails,
+    ) -> Result<Option<String>, ModelError> {
+        Ok(match End::of_trial(self.trial(s, held)?, held) {
+            Some(End::Fails(f)) => {
+                *fails = f;
+                None
+            }
+            Some(End::Undetermined(why)) => Some(why),
+            Some(End::Cap) | None => None,
+        })
     }
 
     /// Narrows the bracket `(held, fails)` by bisection to `tolerance` of its upper end (or
     /// below [`ZERO_MARGIN`] of the load scale); the note says why it stopped wider, when it
-    /// did.
+    /// did (a step limit, double precision, or a magnitude no solver answered at: the bracket
+    /// is a true one still).
     pub(crate) fn narrow(
         &mut self,
         held: &mut Held,
         fails: &mut Fails,
         tolerance: f64,
     ) -> Result<Option<String>, ModelError> {
-        let zero = ZERO_MARGIN * self.model.scales.load_n;
+        let zero = ZERO_MARGIN * self.load_n;
         // Failed at the capacity without a solve: the margin is most often just below it.
         let below = self.capacity_n * (1.0 - CAPACITY_PROBE * tolerance);
+        let mut stalled = None;
         if fails.s >= self.capacity_n && held.s < below && below > zero {
-            self.probe(below, held, fails)?;
+            stalled = self.probe(below, held, fails)?;
         }
         // Failed at the first step: is the direction resisted at all? (One solve, not a
         // bisection down to zero: commanded loads leave some directions unresisted.)
-        if held.s == 0.0 {
-            self.probe(zero, held, fails)?;
+        if held.s == 0.0 && stalled.is_none() {
+            stalled = self.probe(zero, held, fails)?;
         }
         let (mut steps, mut bisect) = (0, false);
         while fails.s - held.s > tolerance * fails.s && fails.s > zero {
@@ -314,13 +180,15 @@ impl Search<'_> {
             } else {
                 0.5 * (held.s + fails.s)
             };
-            let why = if !(mid > held.s && mid < fails.s) {
+            let why = if let Some(why) = stalled.take() {
+                why
+            } else if !(mid > held.s && mid < fails.s) {
                 "no number lies between its ends in double precision".to_string()
             } else if steps == MAX_BISECTION_STEPS {
                 format!("the bisection stopped after {MAX_BISECTION_STEPS} steps")
             } else {
                 steps += 1;
-                self.probe(mid, held, fails)?;
+                stalled = self.probe(mid, held, fails)?;
                 // A guided trial that did not halve the bracket is followed by a bisection.
                 bisect = guided.is_some() && fails.s - held.s > 0.5 * width;
                 continue;
@@ -363,63 +231,99 @@ pub(crate) struct StepSearch<'a> {
     pub solve_options: SolveOptions,
     /// The margins' options.
     pub options: &'a MarginOptions,
-    /// The characteristic length `L`, m.
-    pub length_m: f64,
     /// The fingers that already slide undisturbed (not judged by sliding).
     pub exempt: &'a [String],
+}
+
+impl<'a> StepSearch<'a> {
+    /// A search along `direction` with `solver` (fresh for the search from scratch; the
+    /// direction's own, warm, when `guessing`: see [`Search::guessing`]).
+    pub(crate) fn search<'s>(
+        &self,
+        solver: &'s mut GraspSolver,
+        direction: WrenchDirection,
+        guessing: bool,
+    ) -> Search<'s>
+    where
+        'a: 's,
+    {
+        Search {
+            model: self.model.as_ref(),
+            inputs: self.inputs,
+            solver,
+            direction,
+            length_m: self.options.length_for(self.model),
+            load_n: self.options.load_scale_for(self.model),
+            solves: 0,
+            fallbacks: 0,
+            exempt: self.exempt,
+            capacity_n: f64::INFINITY,
+            trial_forces: TrialForces::default(),
+            guessing,
+            utilisation: Vec::new(),
+            other: None,
+        }
+    }
+
+    /// The undisturbed state and solution, the magnitude 0 of every search.
+    pub(crate) fn base(&self) -> Held {
+        Held {
+            s: 0.0,
+            state: self.solved.state.clone(),
+            sol: self.solved.solution.clone(),
+        }
+    }
+
+    /// The cap of the searches, N.
+    pub(crate) fn cap_n(&self) -> f64 {
+        self.options.max_factor * self.options.load_scale_for(self.model)
+    }
 }
 
 /// The margin along `direction` of the step `step`, searched from scratch.
 fn along(step: &StepSearch, direction: WrenchDirection) -> Result<DirectionMargin, ModelError> {
     let clock = Instant::now();
-    let (model, options) = (step.model, step.options);
-    let mut solver = GraspSolver::new(Arc::clone(model), step.solve_options);
-    let mut search = Search {
-        model: model.as_ref(),
-        inputs: step.inputs,
-        solver: &mut solver,
-        direction,
-        length_m: step.length_m,
-        solves: 0,
-        exempt: step.exempt,
-        capacity_n: f64::INFINITY,
-        trial_forces: TrialForces::default(),
-        guessing: false,
-        utilisation: Vec::new(),
-    };
-    let cap = options.max_factor * model.scales.load_n;
-    if let Some(mut certificate) = options
+    let mut solver = GraspSolver::new(Arc::clone(step.model), step.solve_options);
+    let mut search = step.search(&mut solver, direction, false);
+    let cap = step.cap_n();
+    if let Some(mut certificate) = step
+        .options
         .load_capacity
         .then(|| search.find_capacity(cap))
         .flatten()
     {
         search.bound_by(&mut certificate);
     }
-    let mut held = Held {
-        s: 0.0,
-        state: step.solved.state.clone(),
-        sol: step.solved.solution.clone(),
-    };
-    let (mut hi, mut stopped_early) = search.grow(&mut held, cap)?;
-    if let Some(fails) = &mut hi {
-        stopped_early = search.narrow(&mut held, fails, options.relative_tolerance)?;
-    }
-    Ok(search.finish(held, hi, stopped_early, clock))
+    let found = search.from_zero(step.base(), cap, step.options.relative_tolerance)?;
+    Ok(search.finish(found, clock))
 }
 
 impl Search<'_> {
-    /// The margin of a finished search: `held` the largest magnitude found to hold, `hi` the
-    /// smallest found to fail (`None`: held at the cap), `stopped_early` why the bracket is
-    /// wider than asked, `clock` started with the search.
-    pub(crate) fn finish(
-        &self,
-        held: Held,
-        hi: Option<Fails>,
-        stopped_early: Option<String>,
-        clock: Instant,
-    ) -> DirectionMargin {
-        let lo = held.s;
-        let failing_finger = match &hi {
+    /// The search from `held` (the undisturbed state): growth, then bisection.
+    pub(crate) fn from_zero(
+        &mut self,
+        mut held: Held,
+        cap: f64,
+        tolerance: f64,
+    ) -> Result<Found, ModelError> {
+        let mut end = self.grow(&mut held, cap)?;
+        let note = match &mut end {
+            End::Fails(fails) => self.narrow(&mut held, fails, tolerance)?,
+            End::Cap | End::Undetermined(_) => None,
+        };
+        Ok(Found { held, end, note })
+    }
+
+    /// The margin of a finished search, `clock` started with it.
+    pub(crate) fn finish(&self, found: Found, clock: Instant) -> DirectionMargin {
+        let Found { held, end, note } = found;
+        let s = held.s;
+        let (fails, undetermined) = match end {
+            End::Fails(f) => (Some(f), None),
+            End::Cap => (None, None),
+            End::Undetermined(why) => (None, Some(why)),
+        };
+        let failing_finger = match &fails {
             Some(Fails {
                 failure: Failure::Slides { finger },
                 ..
@@ -430,16 +334,25 @@ impl Search<'_> {
         let direction = self.direction;
         DirectionMargin {
             direction,
-            margin_n: lo,
-            fails_at_n: hi.as_ref().map(|h| h.s),
-            force_n: direction.force.map(|v| v * lo),
-            torque_nm: direction.torque.map(|v| v * lo * self.length_m),
-            bounded: hi.is_some(),
+            margin_n: fails.as_ref().map(|_| s),
+            held_to_n: s,
+            fails_at_n: fails.as_ref().map(|h| h.s),
+            force_n: direction.force.map(|v| v * s),
+            torque_nm: direction.torque.map(|v| v * s * self.length_m),
+            bounded: fails.is_some(),
             failing_finger,
-            failure: hi.map(|h| h.failure),
+            failure: match (fails, &undetermined) {
+                (Some(f), _) => Some(f.failure),
+                (None, Some(why)) => Some(Failure::NoConvergence {
+                    reason: why.clone(),
+                }),
+                (None, None) => None,
+            },
             solves: self.solves,
             time_s: clock.elapsed().as_secs_f64(),
-            stopped_early,
+            stopped_early: note,
+            undetermined,
+            solver_fallbacks: self.fallbacks,
         }
     }
 }
@@ -485,7 +398,6 @@ pub fn disturbance_margins_reporting(
     solve_options.validate()?;
     options.validate()?;
     let clock = Instant::now();
-    let length_m = options.length_m.unwrap_or(model.scales.length_m);
     let mut base_state = state.clone();
     let base =
         GraspSolver::new(Arc::clone(model), solve_options).solve_step(inputs, &mut base_state)?;
@@ -508,7 +420,6 @@ pub fn disturbance_margins_reporting(
                 },
                 solve_options,
                 options,
-                length_m,
                 exempt: &sliding_undisturbed,
             };
             directions
@@ -523,7 +434,7 @@ pub fn disturbance_margins_reporting(
     };
     Ok(MarginReport::of(
         model,
-        length_m,
+        options,
         sliding_undisturbed,
         margins,
         clock,
@@ -579,6 +490,7 @@ pub(crate) mod tests {
         for tolerance in [1e-300, 0.0, 1e-17] {
             let options = MarginOptions {
                 relative_tolerance: tolerance,
+                length_m: Some(0.05),
                 ..MarginOptions::default()
             };
             let step = StepSearch {
@@ -590,7 +502,6 @@ pub(crate) mod tests {
                 },
                 solve_options: solve,
                 options: &options,
-                length_m: 0.05,
                 exempt: &[],
             };
             let m = along(&step, DOWN).unwrap();
@@ -599,12 +510,12 @@ pub(crate) mod tests {
                 .as_deref()
                 .unwrap_or_else(|| panic!("no note at {tolerance:e}: {m:?}"));
             assert!(note.contains("not narrowed to the tolerance"), "{note}");
-            let hi = m.fails_at_n.unwrap();
+            let (lo, hi) = (m.margin_n.unwrap(), m.fails_at_n.unwrap());
             assert!(
-                m.margin_n <= 6.0 * (1.0 + 1e-9) && hi >= 6.0 * (1.0 - 1e-9),
+                lo <= 6.0 * (1.0 + 1e-9) && hi >= 6.0 * (1.0 - 1e-9),
                 "{m:?}"
             );
-            assert!((hi - m.margin_n) <= 1e-9 * 6.0, "{m:?}");
+            assert!((hi - lo) <= 1e-9 * 6.0, "{m:?}");
             assert!(
                 m.solves <= MAX_GROWTH_STEPS + MAX_BISECTION_STEPS + 1,
                 "{m:?}"
@@ -627,7 +538,8 @@ pub(crate) mod tests {
         .unwrap();
         let m = &r.directions[0];
         assert_eq!(m.stopped_early, None);
-        assert!(m.margin_n <= 6.0 * (1.0 + 1e-9) && m.fails_at_n.unwrap() >= 6.0 * (1.0 - 1e-9));
+        let lo = m.margin_n.unwrap();
+        assert!(lo <= 6.0 * (1.0 + 1e-9) && m.fails_at_n.unwrap() >= 6.0 * (1.0 - 1e-9));
     }
 
     /// Options outside their ranges are refused by name before any solve; a direction that
@@ -687,10 +599,13 @@ pub(crate) mod tests {
             &MarginOptions::default(),
         )
         .unwrap();
+        let d = &r.directions[0];
         assert!(
-            matches!(r.directions[0].failure, Some(Failure::NoConvergence { .. })),
-            "{:?}",
-            r.directions[0]
+            matches!(d.failure, Some(Failure::NoConvergence { .. })),
+            "{d:?}"
         );
+        // A stall is no margin: undetermined above what held (here nothing above 0).
+        assert_eq!((d.margin_n, d.fails_at_n), (None, None), "{d:?}");
+        assert!(d.undetermined.is_some() && !d.is_unbounded(), "{d:?}");
     }
 }

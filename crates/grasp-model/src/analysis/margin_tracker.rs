@@ -60,9 +60,8 @@ use crate::analysis::margin_report::{
     failing_undisturbed, holds, sliding_fingers, DirectionMargin, Failure, MarginOptions,
     MarginReport,
 };
-use crate::analysis::margin_search::{
-    Fails, Held, Search, SolvedStep, StepSearch, CAPACITY_PROBE, ZERO_MARGIN,
-};
+use crate::analysis::margin_search::{End, Found, SolvedStep, StepSearch, CAPACITY_PROBE};
+use crate::analysis::margin_trial::{Fails, Held, Search, Trial, ZERO_MARGIN};
 use crate::analysis::trial_forces::TrialForces;
 use crate::analysis::wrench_directions::WrenchDirection;
 use crate::error::ModelError;
@@ -145,10 +144,6 @@ struct Shared<'a> {
     step: StepSearch<'a>,
     fixed: &'a LoadFixedDirections,
 }
-
-/// A finished search: the largest magnitude found to hold, the smallest found to fail
-/// (`None`: held at the cap), and why the bracket is wider than asked, when it is.
-type Found = (Held, Option<Fails>, Option<String>);
 
 /// Disturbance margins of the successive steps of a loading path (see the module).
 pub struct MarginTracker {
@@ -235,7 +230,6 @@ impl MarginTracker {
     ) -> Result<MarginReport, ModelError> {
         use rayon::prelude::*;
         let base = solved.solution;
-        let length_m = self.options.length_m.unwrap_or(model.scales.length_m);
         let sliding_undisturbed = match model.kind() {
             ModelKind::Coulomb if base.status.has_forces() => sliding_fingers(base),
             _ => Vec::new(),
@@ -254,7 +248,6 @@ impl MarginTracker {
                         solved,
                         solve_options,
                         options: &self.options,
-                        length_m,
                         exempt: &sliding_undisturbed,
                     },
                     fixed: &self.fixed,
@@ -267,7 +260,7 @@ impl MarginTracker {
         };
         Ok(MarginReport::of(
             model,
-            length_m,
+            &self.options,
             sliding_undisturbed,
             margins,
             clock,
@@ -305,49 +298,34 @@ fn continue_along(
     let solver = track
         .solver
         .get_or_insert_with(|| GraspSolver::new(Arc::clone(model), step.solve_options));
-    let mut search = Search {
-        model: model.as_ref(),
-        inputs: step.inputs,
-        solver,
-        direction,
-        length_m: step.length_m,
-        solves: 0,
-        exempt: step.exempt,
-        capacity_n: f64::INFINITY,
-        trial_forces: std::mem::take(&mut track.trial_forces),
-        guessing: true,
-        utilisation: Vec::new(),
-    };
+    let mut search = step.search(solver, direction, true);
+    search.trial_forces = std::mem::take(&mut track.trial_forces);
     search.note_held(0.0, step.solved.solution);
-    let cap = step.options.max_factor * model.scales.load_n;
+    let cap = step.cap_n();
     if step.options.load_capacity {
         bound(&mut track.capacity, &mut search, cap);
     }
-    let base = Held {
-        s: 0.0,
-        state: step.solved.state.clone(),
-        sol: step.solved.solution.clone(),
-    };
-    let options = step.options;
+    let base = step.base();
     let (force, torque) = (
         Vector3::from(direction.force),
-        Vector3::from(direction.torque) * step.length_m,
+        Vector3::from(direction.torque) * search.length_m,
     );
-    let (held, hi, note) = match predicted {
+    let found = match predicted {
         _ if shared.fixed.fixes(model, &force, &torque) => fixed_by_loads(&search, base),
-        Some(Seen::Margin(m)) => around(&mut search, base, m, options)?,
+        Some(Seen::Margin(m)) => around(&mut search, base, m, step.options)?,
         Some(Seen::Unresisted | Seen::Unbounded) | None => {
-            from_scratch(&mut search, base, options)?
+            from_scratch(&mut search, base, step.options)?
         }
     };
-    let loose = match &hi {
-        Some(Fails {
+    let loose = match &found.end {
+        End::Fails(Fails {
             s: at,
-            failure: Failure::NoEquilibrium { .. } | Failure::NoConvergence { .. },
+            failure: Failure::NoEquilibrium { .. },
         }) => *at < search.capacity_n,
+        End::Undetermined(_) => true,
         _ => false,
     };
-    let m = search.finish(held, hi, note, clock);
+    let m = search.finish(found, clock);
     track.trial_forces = std::mem::take(&mut search.trial_forces);
     if loose && matches!(track.capacity, Capacity::Known(_)) {
         track.capacity = Capacity::Unknown;
@@ -374,12 +352,11 @@ fn bound(capacity: &mut Capacity, search: &mut Search<'_>, cap_n: f64) {
 
 /// What a margin says for the next step's prediction.
 fn seen(m: &DirectionMargin) -> Seen {
-    if !m.bounded {
-        Seen::Unbounded
-    } else if m.margin_n == 0.0 {
-        Seen::Unresisted
-    } else {
-        Seen::Margin(m.margin_n)
+    match m.margin_n {
+        Some(0.0) => Seen::Unresisted,
+        Some(x) => Seen::Margin(x),
+        // Unbounded, or undetermined: the next step searches from scratch.
+        None => Seen::Unbounded,
     }
 }
 
@@ -417,33 +394,34 @@ fn start_afresh(search: &mut Search<'_>) {
 /// bisection, with a fresh solver.
 fn from_scratch(
     search: &mut Search<'_>,
-    mut held: Held,
+    held: Held,
     options: &MarginOptions,
 ) -> Result<Found, ModelError> {
     start_afresh(search);
-    let cap = options.max_factor * search.model.scales.load_n;
-    let (mut hi, mut note) = search.grow(&mut held, cap)?;
-    if let Some(fails) = &mut hi {
-        note = search.narrow(&mut held, fails, options.relative_tolerance)?;
-    }
-    Ok((held, hi, note))
+    let cap = options.max_factor * search.load_n;
+    search.from_zero(held, cap, options.relative_tolerance)
 }
 
 /// A direction only the commanded loads could balance: unresisted, failing at the smallest
 /// magnitude as the search from scratch finds with a solve.
 fn fixed_by_loads(search: &Search<'_>, base: Held) -> Found {
-    let zero = ZERO_MARGIN * search.model.scales.load_n;
+    let zero = ZERO_MARGIN * search.load_n;
     let failure = Failure::NoEquilibrium {
         reason: "no equilibrium: the disturbance has a component that only the commanded \
                  normal loads could balance, and they are fixed"
             .into(),
     };
-    (base, Some(Fails { s: zero, failure }), None)
+    Found {
+        held: base,
+        end: End::Fails(Fails { s: zero, failure }),
+        note: None,
+    }
 }
 
-/// A margin predicted at `m` N: a trial there, then one a tolerance above it (when it held) or
-/// below it (when it failed), walking on from there, then the bisection. A prediction at the
-/// load capacity or beyond it is checked just below the capacity instead.
+/// A margin predicted at `m` N: a trial there (ramped from the undisturbed state, coulomb),
+/// then one a tolerance above it (when it held) or below it (when it failed), walking on from
+/// there, then the bisection. A prediction at the load capacity or beyond it is checked just
+/// below the capacity instead.
 fn around(
     search: &mut Search<'_>,
     base: Held,
@@ -451,37 +429,50 @@ fn around(
     options: &MarginOptions,
 ) -> Result<Found, ModelError> {
     let tol = options.relative_tolerance;
-    let cap = options.max_factor * search.model.scales.load_n;
+    let cap = options.max_factor * search.load_n;
     let c = search.capacity_n;
     let (lo, hi) = if m * (1.0 + CHECK_WIDTH * tol) < c {
         (m, m * (1.0 + CHECK_WIDTH * tol))
     } else {
         (c * (1.0 - CAPACITY_PROBE * tol), c)
     };
-    let load_n = search.model.scales.load_n;
+    let load_n = search.load_n;
     if !(lo > ZERO_MARGIN * load_n && hi < LARGE_MARGIN_FACTOR * load_n) {
         return from_scratch(search, base, options);
     }
-    let (mut held, mut fails) = match search.trial(lo, &base.state)? {
-        Ok((state, sol)) => match walk_up(search, Held { s: lo, state, sol }, hi, cap, tol)? {
-            (held, Some(fails)) => (held, fails),
-            (held, None) => return Ok((held, None, None)),
+    let (mut held, mut fails) = match search.trial(lo, &base)? {
+        Trial::Holds(h) => match walk_up(search, h, hi, cap, tol)? {
+            Found {
+                held,
+                end: End::Fails(fails),
+                ..
+            } => (held, fails),
+            other => return Ok(other),
         },
-        Err(f) => match walk_down(search, base, Fails { s: lo, failure: f }, tol)? {
-            // Down to the smallest magnitude: whether the direction is resisted at all is
-            // the search from scratch's to say (see the module).
-            (base, _) if base.s == 0.0 => return from_scratch(search, base, options),
-            found => found,
-        },
+        Trial::Fails { fails, below } => {
+            match walk_down(search, below.unwrap_or(base), fails, tol)? {
+                // Down to the smallest magnitude: whether the direction is resisted at all is
+                // the search from scratch's to say (see the module).
+                (b, _) if b.s == 0.0 => return from_scratch(search, b, options),
+                found => found,
+            }
+        }
+        // Nothing known at the prediction: the search from scratch finds where the answers
+        // end.
+        Trial::Stalls { .. } => return from_scratch(search, base, options),
     };
     let note = search.narrow(&mut held, &mut fails, tol)?;
-    Ok((held, Some(fails), note))
+    Ok(Found {
+        held,
+        end: End::Fails(fails),
+        note,
+    })
 }
 
 /// From `held`, trials at `first` N and on upwards (the step `first - held` for
 /// [`EVEN_WALK_STEPS`] steps, then each four times the last, never past the capacity; where
 /// the utilisation predicts sliding, just above it instead, [`Search::guided_point`]) until
-/// one fails (`Some`) or the grasp holds at `cap` (`None`); past [`MAX_WALK_STEPS`], the
+/// one fails, the grasp holds at `cap`, or no solver answers; past [`MAX_WALK_STEPS`], the
 /// growth of the search from scratch. `tol`: the relative tolerance.
 fn walk_up(
     search: &mut Search<'_>,
@@ -489,15 +480,22 @@ fn walk_up(
     first: f64,
     cap: f64,
     tol: f64,
-) -> Result<(Held, Option<Fails>), ModelError> {
+) -> Result<Found, ModelError> {
     let (mut s, mut step) = (first, first - held.s);
     for k in 0..MAX_WALK_STEPS {
-        match search.trial(s, &held.state)? {
-            Err(f) => return Ok((held, Some(Fails { s, failure: f }))),
-            Ok((state, sol)) => held = Held { s, state, sol },
+        if let Some(end) = End::of_trial(search.trial(s, &held)?, &mut held) {
+            return Ok(Found {
+                held,
+                end,
+                note: None,
+            });
         }
         if held.s >= cap {
-            return Ok((held, None));
+            return Ok(Found {
+                held,
+                end: End::Cap,
+                note: None,
+            });
         }
         if k + 1 >= EVEN_WALK_STEPS {
             step *= WALK_GROWTH;
@@ -505,30 +503,41 @@ fn walk_up(
         let guided = search.guided_point(held.s, f64::INFINITY, tol);
         s = guided.unwrap_or(s + step).min(cap).min(search.capacity_n);
     }
-    let (hi, _) = search.grow(&mut held, cap)?;
-    Ok((held, hi))
+    let end = search.grow(&mut held, cap)?;
+    Ok(Found {
+        held,
+        end,
+        note: None,
+    })
 }
 
-/// From a failure at `fails`, trials downwards from the undisturbed `base` (the gap growing by
-/// `0.99 tol` of the magnitude for [`EVEN_WALK_STEPS`] steps, then fourfold) until one holds; below the
-/// smallest magnitude, the bracket is `[0, fails]`.
+/// From a failure at `fails`, trials downwards from `below`, the largest magnitude known to
+/// hold under it (the gap growing by `0.99 tol` of the magnitude for [`EVEN_WALK_STEPS`]
+/// steps, then fourfold), until one holds; at `below` (or the smallest magnitude), the bracket
+/// is `[below, fails]`. A trial no solver answers is passed over (the bracket ends stay true).
 fn walk_down(
     search: &mut Search<'_>,
-    base: Held,
+    below: Held,
     mut fails: Fails,
     tol: f64,
 ) -> Result<(Held, Fails), ModelError> {
-    let zero = ZERO_MARGIN * search.model.scales.load_n;
+    let zero = ZERO_MARGIN * search.load_n;
     let first = CHECK_WIDTH * tol * fails.s;
     let mut gap = first;
     for k in 0..MAX_WALK_STEPS {
         let s = fails.s - gap;
-        if s.is_nan() || s <= zero {
+        if s.is_nan() || s <= zero || s <= below.s {
             break;
         }
-        match search.trial(s, &base.state)? {
-            Ok((state, sol)) => return Ok((Held { s, state, sol }, fails)),
-            Err(f) => fails = Fails { s, failure: f },
+        match search.trial(s, &below)? {
+            Trial::Holds(h) => return Ok((h, fails)),
+            Trial::Fails { fails: f, below: b } => {
+                fails = f;
+                if let Some(b) = b {
+                    return Ok((b, fails));
+                }
+            }
+            Trial::Stalls { .. } => {}
         }
         gap = if k + 1 >= EVEN_WALK_STEPS {
             gap * WALK_GROWTH
@@ -536,7 +545,7 @@ fn walk_down(
             gap + first
         };
     }
-    Ok((base, fails))
+    Ok((below, fails))
 }
 
 #[cfg(test)]
@@ -587,12 +596,13 @@ mod tests {
             }
             let down = &b.directions[0];
             let fails = down.fails_at_n.unwrap();
+            let margin = down.margin_n.unwrap();
             assert!(
-                down.margin_n <= 6.0 * (1.0 + 1e-9) && fails >= 6.0 * (1.0 - 1e-9),
+                margin <= 6.0 * (1.0 + 1e-9) && fails >= 6.0 * (1.0 - 1e-9),
                 "step {step}: {down:?}"
             );
             assert!(
-                fails - down.margin_n <= options.relative_tolerance * fails,
+                fails - margin <= options.relative_tolerance * fails,
                 "step {step}: {down:?}"
             );
         }

@@ -7,6 +7,7 @@ pub mod load_fixed_directions;
 pub mod margin_report;
 pub mod margin_search;
 pub mod margin_tracker;
+pub mod margin_trial;
 pub mod patch_sizing;
 pub mod refinement;
 pub mod relaxation;

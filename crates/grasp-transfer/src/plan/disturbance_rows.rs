@@ -66,7 +66,9 @@ pub fn disturbance_rows(
             .iter()
             .map(
                 |run| match run.get(r.index).and_then(|x| x.margin.as_ref()) {
-                    Some(other) => (other.smallest_n - m.smallest_n) / (step_n * threshold_n),
+                    Some(other) => {
+                        (other.known_to_hold_n() - m.known_to_hold_n()) / (step_n * threshold_n)
+                    }
                     None => {
                         let why = format!(
                             "no disturbance-margin derivative at t = {:.3} s: a raised run found \
@@ -84,7 +86,7 @@ pub fn disturbance_rows(
             step: r.index,
             time_s: r.time_s,
             finger: m.failing_finger.clone().unwrap_or_default(),
-            margin: m.smallest_n / threshold_n,
+            margin: m.known_to_hold_n() / threshold_n,
             gradient: path.gradient(r.index, &per_load),
             per_duration: 0.0,
         });

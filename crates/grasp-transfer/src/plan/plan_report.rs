@@ -35,7 +35,8 @@ pub struct MarginsAtStep {
     pub finger: Option<String>,
     /// The smallest disturbance margin over the axis directions, N (as a run with
     /// `TransferOptions::margins` finds it), when [`PlanOptions::min_margin_n`] is given and
-    /// the step solved.
+    /// the step solved: infinite when unbounded (JSON null), the lower bound `held_to_n` when
+    /// undetermined.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub disturbance_n: Option<f64>,
 }
@@ -138,7 +139,7 @@ pub fn smallest_margins(records: &[StepRecord]) -> Vec<MarginsAtStep> {
                 time_s: r.time_s,
                 smallest: least.map(|l| l.0),
                 finger: least.map(|l| l.1.clone()),
-                disturbance_n: r.margin.as_ref().map(|m| m.smallest_n),
+                disturbance_n: r.margin.as_ref().map(|m| m.margin_or_bound_n()),
             }
         })
         .collect()
@@ -186,14 +187,16 @@ pub fn binding_row(
 fn disturbance_binding(records: &[StepRecord], options: &PlanOptions) -> Option<Binding> {
     let limit = options.min_margin_n?;
     let with_margin = records.iter().filter_map(|r| Some((r, r.margin.as_ref()?)));
-    let (r, m) = with_margin.min_by(|a, b| a.1.smallest_n.total_cmp(&b.1.smallest_n))?;
-    (m.smallest_n < limit * (1.0 - DISTURBANCE_TOLERANCE)).then(|| Binding {
+    let (r, m) =
+        with_margin.min_by(|a, b| a.1.known_to_hold_n().total_cmp(&b.1.known_to_hold_n()))?;
+    let held_n = m.known_to_hold_n();
+    (held_n < limit * (1.0 - DISTURBANCE_TOLERANCE)).then(|| Binding {
         constraint: "disturbance margin".into(),
         finger: m.failing_finger.clone(),
         time_s: r.time_s,
-        value: m.smallest_n,
+        value: held_n,
         limit,
-        short_by: limit - m.smallest_n,
+        short_by: limit - held_n,
         why: String::new(),
     })
 }

@@ -195,7 +195,7 @@ impl Runner<'_> {
                     .margin
                     .as_ref()
                     .zip(self.options.min_margin_n)
-                    .map(|(m, n)| m.smallest_n / n),
+                    .map(|(m, n)| m.known_to_hold_n() / n),
             };
             if let Some(m) = other {
                 row.per_duration = (m - row.margin) / dt;

@@ -4,9 +4,12 @@
 //! `<name>_friction_n`, `<name>_slip_fraction`, then `solver, warm_start, iterations,
 //! factorizations, wall_time_s` (which solver answered, whether the step started from the
 //! previous one, its Newton or interior-point iterations and factorisations), then
-//! `smallest_margin_n` (the step's smallest disturbance margin, N; empty without `--margins`),
-//! then `compliance, inner_iterations` (the form of the patch compliances, `dense`, `fft` or
-//! `mixed`, and the FFT path's conjugate-gradient iterations in the step).
+//! `smallest_margin_n` (the step's smallest disturbance margin, N; empty without `--margins`,
+//! `inf` when unbounded, empty when undetermined), then `compliance, inner_iterations` (the
+//! form of the patch compliances, `dense`, `fft` or `mixed`, and the FFT path's
+//! conjugate-gradient iterations in the step), then `margin_held_to_n` (the largest push
+//! known to hold along the smallest margin's direction, N: the margin, the search's cap when
+//! unbounded, a lower bound when undetermined; empty without `--margins`).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -16,6 +19,17 @@ use super::mcap_log::FingersMessage;
 use super::sink::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::stepper::StepRecord;
+
+/// The `smallest_margin_n` cell of step `r`: the margin, `inf` when unbounded, empty when
+/// undetermined or not computed.
+fn margin_cell(r: &StepRecord) -> String {
+    match &r.margin {
+        Some(m) if m.smallest_n.is_some() || m.undetermined.is_none() => {
+            m.margin_or_bound_n().to_string()
+        }
+        _ => String::new(),
+    }
+}
 
 /// Writes a CSV force history (RFC 4180: fields with a comma, quote or line break are quoted).
 pub struct CsvSink {
@@ -59,7 +73,7 @@ impl Sink for CsvSink {
             }
         }
         h.push_str(",solver,warm_start,iterations,factorizations,wall_time_s,smallest_margin_n");
-        h.push_str(",compliance,inner_iterations\n");
+        h.push_str(",compliance,inner_iterations,margin_held_to_n\n");
         self.write(&h)
     }
 
@@ -73,15 +87,16 @@ impl Sink for CsvSink {
             ));
         }
         line.push_str(&format!(
-            ",{},{},{},{},{},{},{},{}\n",
+            ",{},{},{},{},{},{},{},{},{}\n",
             csv_field(&m.solver),
             m.warm_start,
             m.iterations,
             m.factorizations,
             r.wall_time_s,
-            m.smallest_margin_n.map_or(String::new(), |v| v.to_string()),
+            margin_cell(r),
             csv_field(&m.compliance),
-            m.inner_iterations
+            m.inner_iterations,
+            m.margin_held_to_n.map_or(String::new(), |v| v.to_string()),
         ));
         self.write(&line)
     }

@@ -101,8 +101,14 @@ pub struct FingersMessage {
     /// Scheduled external couple, N m.
     pub external_torque_nm: [f64; 3],
     /// Smallest disturbance margin of the step, N (absent unless margins were asked for and
-    /// the step solved).
+    /// the step solved, and absent when unbounded or undetermined: `margin_held_to_n` and
+    /// `margin_undetermined` say which).
     pub smallest_margin_n: Option<f64>,
+    /// The largest push known to hold along the smallest margin's direction, N: the margin,
+    /// the search's cap when unbounded, a lower bound when undetermined.
+    pub margin_held_to_n: Option<f64>,
+    /// Why the smallest margin is not known above `margin_held_to_n`, when it is not.
+    pub margin_undetermined: Option<String>,
     /// The finger that fails first along the smallest margin's direction.
     pub margin_failing_finger: Option<String>,
     /// Every scene finger, scene order.
@@ -137,7 +143,9 @@ impl FingersMessage {
             equilibrium_residual: r.solution.residuals.map(|x| x.equilibrium_relative),
             external_force_n: r.external_force_n,
             external_torque_nm: r.external_torque_nm,
-            smallest_margin_n: r.margin.as_ref().map(|m| m.smallest_n),
+            smallest_margin_n: r.margin.as_ref().and_then(|m| m.smallest_n),
+            margin_held_to_n: r.margin.as_ref().map(|m| m.held_to_n),
+            margin_undetermined: r.margin.as_ref().and_then(|m| m.undetermined.clone()),
             margin_failing_finger: r.margin.as_ref().and_then(|m| m.failing_finger.clone()),
             fingers: r
                 .commands
@@ -198,6 +206,8 @@ fn fingers_schema() -> serde_json::Value {
             "external_force_n": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},
             "external_torque_nm": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},
             "smallest_margin_n": {"type": ["number", "null"]},
+            "margin_held_to_n": {"type": ["number", "null"]},
+            "margin_undetermined": {"type": ["string", "null"]},
             "margin_failing_finger": {"type": ["string", "null"]},
             "fingers": {"type": "array", "items": {"type": "object", "properties": {
                 "name": {"type": "string"}, "control": {"type": "string", "enum": ["held", "load", "released", "approach"]},

@@ -130,6 +130,16 @@ fn newtons(v: f64) -> String {
     }
 }
 
+/// A direction's margin for a label: `1.234 N`, `unbounded (held to 3851 N)` or
+/// `undetermined (held to 415.0 N)`: an unbounded or undetermined margin is no number.
+fn margin_text(d: &grasp_model::DirectionMargin) -> String {
+    match d.margin_n {
+        Some(m) => format!("{} N", newtons(m)),
+        None if d.is_unbounded() => format!("unbounded (held to {} N)", newtons(d.held_to_n)),
+        None => format!("undetermined (held to {} N)", newtons(d.held_to_n)),
+    }
+}
+
 /// A colour of the key as Rerun's.
 fn rgb_colour([r, g, b]: [u8; 3]) -> Color {
     Color::from_rgb(r, g, b)
@@ -381,7 +391,7 @@ impl RerunSink {
                 } else {
                     d.direction.torque
                 };
-                let v = nalgebra::Vector3::from(v) * (d.margin_n * k);
+                let v = nalgebra::Vector3::from(v) * (d.held_to_n * k);
                 if v.norm() > 0.0 {
                     vectors.push(v3(&v));
                     colours.push(colour(i, d.bounded));
@@ -398,16 +408,13 @@ impl RerunSink {
         if let Some(d) = report.directions.get(report.smallest) {
             let v = nalgebra::Vector3::from(d.direction.force)
                 + nalgebra::Vector3::from(d.direction.torque);
-            let tip = com + v * (d.margin_n * k);
+            let tip = com + v * (d.held_to_n * k);
             let who = d.failing_finger.as_deref().unwrap_or("-");
             self.send(
                 "world/margin/smallest",
                 &Points3D::new([v3(&tip)])
                     .with_colors([colour(report.smallest, d.bounded)])
-                    .with_labels([format!(
-                        "smallest margin {} N (first: {who})",
-                        newtons(d.margin_n)
-                    )]),
+                    .with_labels([format!("smallest margin {} (first: {who})", margin_text(d))]),
             )?;
         }
         Ok(())
@@ -656,8 +663,9 @@ impl Sink for RerunSink {
                 None => self.clear_finger(fm)?,
             }
         }
-        if let Some(m) = &r.margin {
-            self.send("plots/margin/smallest", &Scalars::new([m.smallest_n]))?;
+        // An unbounded or undetermined margin is no number: the plot shows a gap there.
+        if let Some(n) = r.margin.as_ref().and_then(|m| m.smallest_n) {
+            self.send("plots/margin/smallest", &Scalars::new([n]))?;
         }
         if let Some(same) = self
             .same
