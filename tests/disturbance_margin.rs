@@ -76,7 +76,11 @@ fn margins_along(scene: &LoadedScene, dirs: &[WrenchDirection], length_m: f64) -
         &options,
     )
     .unwrap();
-    report.directions.iter().map(|d| d.margin_n).collect()
+    report
+        .directions
+        .iter()
+        .map(|d| d.margin_n.expect("a bounded margin"))
+        .collect()
 }
 
 fn force(f: [f64; 3]) -> WrenchDirection {
@@ -304,9 +308,10 @@ fn energy_margins_of_a_commanded_cube_grasp_are_its_rigid_body_bound() {
         match rigid_body_bound(&v, d, report.length_m) {
             Some(bound) if bound < cap => {
                 bounded += 1;
-                assert_close(m.margin_n, bound, 2e-3, &format!("{d:?}"));
+                let margin = m.margin_n.expect("a bounded margin");
+                assert_close(margin, bound, 2e-3, &format!("{d:?}"));
             }
-            _ => assert!(!m.bounded, "{d:?}: margin {} but no bound", m.margin_n),
+            _ => assert!(!m.bounded, "{d:?}: margin {:?} but no bound", m.margin_n),
         }
     }
     assert!(bounded >= 10, "only {bounded} bounded directions");

@@ -63,6 +63,7 @@ fn margin_down(scene: &LoadedScene) -> f64 {
     .unwrap()
     .directions[0]
         .margin_n
+        .expect("the pinch's downward margin is bounded")
 }
 
 #[test]
@@ -130,14 +131,14 @@ fn the_least_safe_step_is_the_smallest_margin_and_the_log_carries_it() {
     let least = summary.least_safe_step.expect("margins were computed");
     let smallest = records
         .iter()
-        .filter_map(|r| r.margin.as_ref().map(|m| (r.index, m.smallest_n)))
+        .filter_map(|r| Some((r.index, r.margin.as_ref()?.smallest_n?)))
         .min_by(|a, b| a.1.total_cmp(&b.1))
         .unwrap();
-    assert_eq!((least.step, least.margin_n), smallest);
+    assert_eq!((least.step, least.margin_n), (smallest.0, Some(smallest.1)));
     assert!(records.iter().all(|r| r.margin.is_some()));
     // The MCAP step message carries the margin.
     let msg = grasp_transfer::FingersMessage::from_record(&records[least.step]);
-    assert_eq!(msg.smallest_margin_n, Some(least.margin_n));
+    assert_eq!(msg.smallest_margin_n, least.margin_n);
 }
 
 /// A step's margin is the margin of that step's grasp under that step's own loads: on the
@@ -169,11 +170,12 @@ fn a_steps_margin_is_its_grasps_margin_under_its_own_loads() {
             &ContactState::new(&model),
             SolveOptions::default(),
             &dirs,
-            &MarginOptions::default(),
+            // In the scene's units (its reach and load scale), as the hand-off measures.
+            &MarginOptions::default().in_units_of(&base),
         )
         .unwrap();
-        let expected = fresh.directions[fresh.smallest].margin_n;
-        let got = r.margin.as_ref().unwrap().smallest_n;
+        let expected = fresh.directions[fresh.smallest].held_to_n;
+        let got = r.margin.as_ref().unwrap().known_to_hold_n();
         let scale = fresh.load_scale_n;
         assert!(
             (got - expected).abs() <= 2e-3 * scale,

@@ -488,14 +488,15 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
             warm_started_steps: seq.iter().filter(|s| s.warm_started).count(),
             cold_restarts: seq.iter().map(|s| s.cold_restarts).sum(),
         }),
-        // The first step of the smallest margin.
+        // The first step of the smallest margin (an unbounded one above every number, an
+        // undetermined one at the lower bound it held to).
         least_safe_step: records
             .iter()
             .filter_map(|r| r.margin.as_ref().map(|m| (r, m)))
             .fold(
                 None,
                 |best: Option<(&_, &grasp_transfer::StepMargin)>, (r, m)| match best {
-                    Some((_, b)) if b.smallest_n <= m.smallest_n => best,
+                    Some((_, b)) if ordering_n(b) <= ordering_n(m) => best,
                     _ => Some((r, m)),
                 },
             )
@@ -503,6 +504,8 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
                 step: r.index,
                 time_s: r.time_s,
                 margin_n: m.smallest_n,
+                held_to_n: m.held_to_n,
+                undetermined: m.undetermined.clone(),
                 direction: m.direction,
                 failing_finger: m.failing_finger.clone(),
                 bounded: m.bounded,
@@ -643,4 +646,14 @@ fn csv_quotes_finger_names_by_rfc_4180() {
     assert_eq!(rows[0][3], format!("{odd}_normal_force_n"));
     let p: f64 = rows[1][3].parse().unwrap();
     assert_eq!(p, records[0].normal_force_n(odd));
+}
+
+/// A step margin for ordering steps, N: unbounded above every number, undetermined at the
+/// lower bound it held to.
+fn ordering_n(m: &grasp_transfer::StepMargin) -> f64 {
+    match (m.smallest_n, &m.undetermined) {
+        (Some(v), _) => v,
+        (None, None) => f64::INFINITY,
+        (None, Some(_)) => m.held_to_n,
+    }
 }
