@@ -155,6 +155,11 @@ pub struct DirectionMargin {
     /// `[margin_n, fails_at_n]` is still a true one, only wider than asked).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stopped_early: Option<String>,
+    /// The warnings of the solve at the margin (the largest magnitude that held), the scene's
+    /// left out (they are the report's): forces near the margin beyond the model's limits
+    /// make the margin approximate too. Absent when none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// Margins of a grasp.
@@ -182,6 +187,10 @@ pub struct MarginReport {
     pub solves: u32,
     /// Wall time of the whole search, s.
     pub time_s: f64,
+    /// The warnings of the undisturbed solve (the scene's first): what holds for the grasp
+    /// whose margins these are; empty when it gave none.
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
 
 impl MarginReport {
@@ -205,6 +214,7 @@ impl MarginReport {
             smallest,
             unresisted,
             time_s: clock.elapsed().as_secs_f64(),
+            warnings: Vec::new(),
         }
     }
 }
@@ -290,6 +300,7 @@ pub(crate) fn failing_undisturbed(d: WrenchDirection, f: &Failure) -> DirectionM
         solves: 0,
         time_s: 0.0,
         stopped_early: None,
+        warnings: Vec::new(),
     }
 }
 

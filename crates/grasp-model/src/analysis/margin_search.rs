@@ -440,6 +440,12 @@ impl Search<'_> {
             solves: self.solves,
             time_s: clock.elapsed().as_secs_f64(),
             stopped_early,
+            warnings: held
+                .sol
+                .warnings
+                .into_iter()
+                .filter(|w| !self.model.scene_warnings().contains(w))
+                .collect(),
         }
     }
 }
@@ -521,13 +527,9 @@ pub fn disturbance_margins_reporting(
                 .collect::<Result<_, _>>()?
         }
     };
-    Ok(MarginReport::of(
-        model,
-        length_m,
-        sliding_undisturbed,
-        margins,
-        clock,
-    ))
+    let mut report = MarginReport::of(model, length_m, sliding_undisturbed, margins, clock);
+    report.warnings = base.warnings;
+    Ok(report)
 }
 
 #[cfg(test)]
