@@ -6,7 +6,15 @@
 //! previous one, its Newton or interior-point iterations and factorisations), then
 //! `smallest_margin_n` (the step's smallest disturbance margin, N; empty without `--margins`),
 //! then `compliance, inner_iterations` (the form of the patch compliances, `dense`, `fft` or
-//! `mixed`, and the FFT path's conjugate-gradient iterations in the step).
+//! `mixed`, and the FFT path's conjugate-gradient iterations in the step), then `warnings`:
+//! the step's warnings (the scene's among them), separated by [`CSV_WARNING_SEPARATOR`], empty
+//! when it has none.
+//!
+//! The warnings are a column, not a comment line (a CSV reader takes a comment for a row) nor
+//! a second file (a file the user did not name): each step's row says what holds at that step,
+//! so a warning that depends on the step (a patch at its edge at some loads) is on exactly the
+//! rows it applies to, and a spreadsheet or `pandas.read_csv` reads it with the rest. The run's
+//! warnings told once each, with their steps, are the summary's (and the MCAP's metadata).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -16,6 +24,9 @@ use super::mcap_log::FingersMessage;
 use super::sink::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::stepper::StepRecord;
+
+/// Between two warnings of one step in the `warnings` column (no warning holds it).
+pub const CSV_WARNING_SEPARATOR: &str = " | ";
 
 /// Writes a CSV force history (RFC 4180: fields with a comma, quote or line break are quoted).
 pub struct CsvSink {
@@ -59,7 +70,8 @@ impl Sink for CsvSink {
             }
         }
         h.push_str(",solver,warm_start,iterations,factorizations,wall_time_s,smallest_margin_n");
-        h.push_str(",compliance,inner_iterations\n");
+        h.push_str(",compliance,inner_iterations");
+        h.push_str(",warnings\n");
         self.write(&h)
     }
 
@@ -73,7 +85,7 @@ impl Sink for CsvSink {
             ));
         }
         line.push_str(&format!(
-            ",{},{},{},{},{},{},{},{}\n",
+            ",{},{},{},{},{},{},{},{}",
             csv_field(&m.solver),
             m.warm_start,
             m.iterations,
@@ -83,6 +95,8 @@ impl Sink for CsvSink {
             csv_field(&m.compliance),
             m.inner_iterations
         ));
+        let warnings = r.solution.warnings.join(CSV_WARNING_SEPARATOR);
+        line.push_str(&format!(",{}\n", csv_field(&warnings)));
         self.write(&line)
     }
 
