@@ -32,6 +32,8 @@ pub const CSV_WARNING_SEPARATOR: &str = " | ";
 pub struct CsvSink {
     out: Option<BufWriter<File>>,
     path: PathBuf,
+    /// How the `warnings` column names the options a user can change.
+    respell: fn(&str) -> String,
 }
 
 impl CsvSink {
@@ -46,7 +48,14 @@ impl CsvSink {
         CsvSink {
             out: Some(BufWriter::new(file)),
             path: path.to_path_buf(),
+            respell: str::to_string,
         }
+    }
+
+    /// Writes the warnings with the option names of the front end that runs (`respell`
+    /// rewrites a library text, `grasp_model::option_names::respell`), as it prints them.
+    pub fn respell_options(&mut self, respell: fn(&str) -> String) {
+        self.respell = respell;
     }
 
     fn write(&mut self, text: &str) -> Result<(), TransferError> {
@@ -95,7 +104,13 @@ impl Sink for CsvSink {
             csv_field(&m.compliance),
             m.inner_iterations
         ));
-        let warnings = r.solution.warnings.join(CSV_WARNING_SEPARATOR);
+        let warnings: Vec<String> = r
+            .solution
+            .warnings
+            .iter()
+            .map(|w| (self.respell)(w))
+            .collect();
+        let warnings = warnings.join(CSV_WARNING_SEPARATOR);
         line.push_str(&format!(",{}\n", csv_field(&warnings)));
         self.write(&line)
     }

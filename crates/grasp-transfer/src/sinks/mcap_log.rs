@@ -282,6 +282,8 @@ pub struct McapSink {
     sequence: u32,
     /// The steps' warnings, written as metadata records when the log is finished.
     warnings: WarningTally,
+    /// How the warnings name the options a user can change.
+    respell: fn(&str) -> String,
 }
 
 /// The name of the MCAP metadata records holding a run's warnings: one record per warning
@@ -292,9 +294,9 @@ pub struct McapSink {
 pub const WARNING_METADATA: &str = "grasp.warning";
 
 /// The metadata record of one warning (see [`WARNING_METADATA`]).
-fn warning_metadata(w: &TalliedWarning) -> mcap::records::Metadata {
+fn warning_metadata(w: &TalliedWarning, respell: fn(&str) -> String) -> mcap::records::Metadata {
     let mut metadata = BTreeMap::from([
-        ("message".to_string(), w.message.clone()),
+        ("message".to_string(), respell(&w.message)),
         ("count".to_string(), w.count.to_string()),
         ("steps".to_string(), w.runs_text(|k| k.to_string())),
     ]);
@@ -337,7 +339,14 @@ impl McapSink {
             object_sent: false,
             sequence: 0,
             warnings: WarningTally::new(),
+            respell: str::to_string,
         })
+    }
+
+    /// Writes the warnings with the option names of the front end that runs (`respell`
+    /// rewrites a library text, `grasp_model::option_names::respell`), as it prints them.
+    pub fn respell_options(&mut self, respell: fn(&str) -> String) {
+        self.respell = respell;
     }
 
     fn err(&self, e: impl std::error::Error) -> TransferError {
@@ -444,7 +453,7 @@ impl Sink for McapSink {
     fn finish(&mut self) -> Result<(), TransferError> {
         if let Some(mut w) = self.writer.take() {
             for warning in self.warnings.warnings() {
-                w.write_metadata(&warning_metadata(&warning))
+                w.write_metadata(&warning_metadata(&warning, self.respell))
                     .map_err(|e| self.err(e))?;
             }
             w.finish().map_err(|e| self.err(e))?;
