@@ -519,6 +519,19 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
         ),
         held_relaxation: held_relaxation(records, names),
         margin_below_threshold: None,
+        // The warnings' tally reads one step at a time by its nature: fed every record.
+        warnings: {
+            let mut tally = grasp_model::WarningTally::new();
+            for r in records {
+                let at = grasp_model::SolveAt {
+                    index: r.index,
+                    time_s: Some(r.time_s),
+                };
+                tally.add(at, &r.solution.warnings);
+            }
+            tally.warnings()
+        },
+        warnings_not_listed: 0,
     }
 }
 

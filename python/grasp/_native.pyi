@@ -153,6 +153,10 @@ class Transfer:
     @property
     def summary(self) -> dict[str, Any]: ...
     @property
+    def warnings(self) -> list[dict[str, Any]]:
+        """The warnings of the run's solves, each once: ``message``, ``count``, ``steps`` (runs
+        ``{"first": i, "last": j}`` of step indices), ``first_time_s``, ``last_time_s``."""
+    @property
     def written(self) -> list[str]: ...
     def step(self, index: int) -> Solution:
         """The full solution of a step (only the last one with keep_solutions=False)."""
@@ -217,7 +221,8 @@ def plan(
 ) -> Dict[str, Any]:
     """Plans a hand-off's load ramps (GIL released), as ``grasp plan`` does: the report as a
     dict with ``met``, ``binding``, ``schedule`` (runs unchanged in :func:`transfer`),
-    ``margins``, ``template_margins``, ``duration_s``, ``runs`` and ``time_s``. Loads N, rates
+    ``margins``, ``template_margins``, ``warnings`` (the checked run's, each once with its
+    steps), ``duration_s``, ``runs`` and ``time_s``. Loads N, rates
     N/s, times s. Raises :class:`GraspError` for constraints no schedule can meet, naming the
     one that binds, and ``ValueError`` for arguments out of range."""
 

@@ -140,3 +140,28 @@ def test_progress_is_called_after_each_step_and_can_stop_the_run(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == [], "a stopped run writes no file"
     with pytest.raises(TypeError, match="progress= is not callable"):
         grasp.transfer(scene, SCHEDULE, progress=3)
+
+
+def test_warnings_are_told_once_with_their_steps_and_on_each_csv_row(tmp_path):
+    # The disc's patches are too small for its contacts: each finger's warning once, with the
+    # steps it applies to, as `grasp transfer` prints it; each step's own on its CSV row; the
+    # run's in the MCAP's metadata; every one naming options as Python spells them.
+    scene = grasp.Scene(EXAMPLES / "disc_transfer.json")
+    files = {"csv": tmp_path / "d.csv", "mcap": tmp_path / "d.mcap"}
+    run = grasp.transfer(scene, EXAMPLES / "disc_transfer.schedule.json", keep_solutions=True, **files)
+    assert run.warnings == run.summary["warnings"]
+    assert len(run.warnings) == 4
+    for w in run.warnings:
+        assert w["count"] == 150 and len(w["steps"]) == 1
+        assert "the patch is too small" in w["message"] and "--auto-patch" not in w["message"]
+    f3 = next(w for w in run.warnings if w["message"].startswith("fingers[2] `f3`"))
+    assert f3["steps"] == [{"first": 0, "last": 149}]
+    assert (f3["first_time_s"], f3["last_time_s"]) == (0.0, pytest.approx(14.9))
+    rows = list(csv.DictReader(open(files["csv"], newline="")))
+    for i, r in enumerate(rows):
+        assert r["warnings"] == " | ".join(run.step(i).warnings)
+    from mcap.reader import make_reader
+
+    meta = [dict(m.metadata) for m in make_reader(open(files["mcap"], "rb")).iter_metadata()]
+    assert [m["message"] for m in meta] == [w["message"] for w in run.warnings]
+    assert [m["steps"] for m in meta] == ["0-149", "0-149", "1-150", "1-150"]

@@ -12,6 +12,7 @@ pub fn solution_table(scene: &Path, model: &GraspModel, sol: &Solution, build_s:
     outcome_lines(scene, model, sol, &mut s);
     if sol.status.has_forces() {
         finger_rows(sol, &mut s);
+        edge_peak_note(sol, &mut s);
         if let Some(d) = &sol.rigid_displacement {
             displacement_line(d, &mut s);
         }
@@ -113,6 +114,28 @@ fn finger_rows(sol: &Solution, s: &mut String) {
     }
 }
 
+/// Under the table, the fingers whose peak pressure lies at a sharp edge of the contact, where
+/// the pressure is singular (`FingerSolution::peak_pressure_grid_dependent`): their `p_max` is
+/// a property of the grid, not a result.
+fn edge_peak_note(sol: &Solution, s: &mut String) {
+    let at_edge: Vec<&str> = sol
+        .fingers
+        .iter()
+        .filter(|f| f.peak_pressure_grid_dependent)
+        .map(|f| f.name.as_str())
+        .collect();
+    if at_edge.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        s,
+        "p_max of {} lies at a sharp edge of the contact (the object's edge, the tip's rim or a \
+         flat pad's rim), where the pressure is singular: it grows as the grid is refined and \
+         is not a converged value (grasp study shows its trend); the forces converge",
+        at_edge.join(", ")
+    );
+}
+
 /// The object's rigid displacement: the centre of mass's translation and the rotation.
 fn displacement_line(d: &grasp_model::RigidDisplacement, s: &mut String) {
     let t = d.translation_m;
@@ -178,6 +201,54 @@ pub fn significant(x: f64, digits: usize) -> String {
     }
 }
 
+/// What the solves of a run are, for the lines under its warnings: a noun (`step`,
+/// `grid`, `direction`) and how one is named from its index.
+pub struct Solves<'a> {
+    /// How many solves the run made.
+    pub total: usize,
+    /// The noun, singular.
+    pub singular: &'a str,
+    /// The noun, plural.
+    pub plural: &'a str,
+    /// The name of the solve with this index (`3`, `24x24`, `#2`).
+    pub label: &'a dyn Fn(usize) -> String,
+}
+
+/// The warnings of a run's solves, each once: `warning: <text>`, and under it the solves it
+/// applies to (`  at 16 of 41 steps: 3-17, 25 (t = 0.300 to 1.700 s)`, `  at every step
+/// (41)`).
+pub fn tallied_warning_lines(warnings: &[grasp_model::TalliedWarning], solves: &Solves) -> String {
+    let mut s = String::new();
+    for w in warnings {
+        let _ = writeln!(s, "warning: {}", w.message);
+        let times = match (w.first_time_s, w.last_time_s) {
+            (Some(a), Some(b)) if a == b => format!(" (t = {a:.3} s)"),
+            (Some(a), Some(b)) => format!(" (t = {a:.3} to {b:.3} s)"),
+            _ => String::new(),
+        };
+        if w.at_every_one_of(solves.total) && solves.total > 1 {
+            let _ = writeln!(
+                s,
+                "  at every {} ({}){times}",
+                solves.singular, solves.total
+            );
+            continue;
+        }
+        let noun = match solves.total {
+            1 => solves.singular,
+            _ => solves.plural,
+        };
+        let _ = writeln!(
+            s,
+            "  at {} of {} {noun}: {}{times}",
+            w.count,
+            solves.total,
+            w.runs_text(solves.label)
+        );
+    }
+    s
+}
+
 /// `n` and its noun, singular for one: `1 Newton step`, `7 Newton steps`.
 pub fn count(n: impl Into<u64>, singular: &str, plural: &str) -> String {
     let n = n.into();
@@ -220,16 +291,21 @@ pub fn error_estimate_line(
     options: grasp_model::SolveOptions,
 ) -> anyhow::Result<String> {
     use grasp_model::{estimate_error, NoEstimate};
+    // A peak at a singular edge has no error to estimate: it grows with the grid.
+    let singular = sol.fingers.iter().any(|f| f.peak_pressure_grid_dependent);
     Ok(match estimate_error(scene, sol, options)? {
         Ok(e) => format!(
             "discretisation error estimate (coarse grids {:?}, ratio {:.2}, order 1): P within {:.2e} N, \
-             Q within {:.2e} N ({:.1e} of the load), peak pressure {:.1e} relative; extra time {:.1} ms",
+             Q within {:.2e} N ({:.1e} of the load), peak pressure {}; extra time {:.1} ms",
             e.coarse_grids,
             e.refinement_ratio,
             e.normal_force_error_n,
             e.tangential_force_error_n,
             e.relative,
-            e.peak_pressure_relative,
+            match singular {
+                true => "not estimated (at a sharp edge: grid-dependent)".to_string(),
+                false => format!("{:.1e} relative", e.peak_pressure_relative),
+            },
             e.extra_time_s * 1e3
         ),
         Err(NoEstimate::CannotCoarsen) => {

@@ -106,6 +106,7 @@ mod program;
 mod scene;
 mod solve;
 mod solver;
+mod warning_tally;
 
 // ---- The scene: what a user writes (serde types, JSON Schema, validation) ----
 pub use scene::finger_placement::STANDARD_GRAVITY;
@@ -184,6 +185,9 @@ pub use solve::solution::{
     ElementSolution, ElementState, FingerSolution, Residuals, RigidDisplacement, SequentialReport,
     Solution, SolveStatus, SolverStats, LOADED_FRACTION,
 };
+pub use warning_tally::{
+    IndexRun, SolveAt, TalliedWarning, WarningTally, MAX_LISTED_RUNS, MAX_TALLIED_WARNINGS,
+};
 
 // ---- Analyses: many solves ----
 pub use analysis::margin_report::{holds, DirectionMargin, Failure, MarginOptions, MarginReport};
@@ -191,8 +195,9 @@ pub use analysis::margin_search::{disturbance_margins, disturbance_margins_repor
 pub use analysis::margin_tracker::MarginTracker;
 pub use analysis::patch_sizing::{auto_patch, hertz_suggestion, AutoPatch, HertzSuggestion};
 pub use analysis::refinement::{
-    estimate_error, grid_with_first_side, hertz_parameters, refinement_study, with_grids,
-    ErrorEstimate, NoEstimate, StudyReference, StudyRow,
+    estimate_error, grid_with_first_side, hertz_parameters, peak_trend, refinement_study,
+    with_grids, ErrorEstimate, NoEstimate, PeakTrend, StudyReference, StudyRow,
+    GROWING_PEAK_EXPONENT,
 };
 pub use analysis::relaxation::{solve_at, solve_at_reporting, TimePoint, TimedSolution};
 pub use analysis::wrench_directions::{

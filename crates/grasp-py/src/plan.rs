@@ -65,7 +65,8 @@ use crate::scene::Scene;
 ///     The report: `met` (every constraint kept by the checked schedule), `binding` (the one
 ///     not kept: which, where, by how much, why), `schedule` (runs unchanged in
 ///     `transfer`), `margins` and `template_margins` (per step: the smallest slip margin, and
-///     `disturbance_n` with `min_margin`), `duration_s`, `runs` and `time_s`.
+///     `disturbance_n` with `min_margin`), `warnings` (the checked run's solves', each once
+///     with its steps), `duration_s`, `runs` and `time_s`.
 ///
 /// Raises
 /// ------

@@ -376,6 +376,7 @@ fn run_transfer(
         OpenError::Sink(e) => RunError::Driver(e.to_string()),
     })?;
     open.name_recording(recording_name);
+    open.respell_options(crate::keywords::in_keywords);
     let names = scene.finger_names();
     let mut histories = Histories::new(names);
     let mut records = keep_solutions.then(Vec::new);
@@ -395,11 +396,14 @@ fn run_transfer(
             }
         }
     });
-    let (summary, last) = match (ran, stopped) {
+    let (mut summary, last) = match (ran, stopped) {
         (_, Some(e)) => return Err(RunError::Stopped(e)),
         (Ok(done), None) => done,
         (Err(e), None) => return Err(RunError::Driver(e.to_string())),
     };
+    for w in &mut summary.warnings {
+        w.message = crate::keywords::in_keywords(&w.message);
+    }
     let pending = open.take_pending();
     drop(open); // sinks closed: their files complete
     let complete = summary.failed_step_count == 0 || options.keep_going;
@@ -523,6 +527,15 @@ impl Transfer {
     #[getter]
     fn summary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         serialize_to_py(py, &self.summary)
+    }
+
+    /// The warnings of the run's solves (the summary's `warnings`), each once: dicts with
+    /// `message` (a figure that changed between steps as its range), `count` (steps that gave
+    /// it), `steps` (which: runs `{"first": i, "last": j}` of step indices) and
+    /// `first_time_s`, `last_time_s` (s).
+    #[getter]
+    fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        serialize_to_py(py, &self.summary.warnings)
     }
 
     /// The files written (paths), in the order mcap, rrd, csv, npz; empty when a failed step

@@ -70,10 +70,12 @@ pub use summary::{
 };
 
 // ---- Sinks: what every step is logged to, and the files a run writes ----
-pub use sinks::csv_history::CsvSink;
+pub use sinks::csv_history::{CsvSink, CSV_WARNING_SEPARATOR};
 pub use sinks::element_maps::{state_code, COMPACT_ABOVE_ELEMENTS};
 pub use sinks::foxglove_scene::SCENE_TOPIC;
-pub use sinks::mcap_log::{FingerMessage, FingersMessage, McapSink, FINGERS_TOPIC, PATCHES_TOPIC};
+pub use sinks::mcap_log::{
+    FingerMessage, FingersMessage, McapSink, FINGERS_TOPIC, PATCHES_TOPIC, WARNING_METADATA,
+};
 pub use sinks::output_files::{OpenError, OutputFiles, OutputPaths};
 pub use sinks::patch_maps_message::{PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC};
 pub use sinks::rerun_log::{RerunSink, FLUSH_EVERY_STEPS};

@@ -1,11 +1,12 @@
 //! The closing summary of a hand-off: when the receiving fingers take half and all of the
-//! load, the peak squeeze, the smallest slip margin, failed steps, and cost.
+//! load, the peak squeeze, the smallest slip margin, failed steps, cost, and the warnings of
+//! its solves (each once, with the steps that gave it).
 
 use serde::Serialize;
 
 use crate::schedule::Command;
 use crate::stepper::StepRecord;
-use grasp_model::CompliancePath;
+use grasp_model::{CompliancePath, SolveAt, TalliedWarning, WarningTally};
 
 // A finger carries load when its normal force exceeds this fraction of the load scale (the
 // model's one meaning of "loaded").
@@ -71,6 +72,17 @@ pub struct TransferSummary {
     /// The first step whose smallest disturbance margin fell below the threshold asked for
     /// (`TransferOptions::margin_threshold_n`), when margins were computed.
     pub margin_below_threshold: Option<MarginCrossing>,
+    /// The warnings of the steps' solves (the scene's, carried by every solve, among them),
+    /// each once with the steps that gave it and how many ([`grasp_model::WarningTally`]),
+    /// in the order they first came.
+    pub warnings: Vec<TalliedWarning>,
+    /// Distinct warnings beyond [`grasp_model::MAX_TALLIED_WARNINGS`], not listed.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub warnings_not_listed: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// The largest fall of a held (or position-controlled) finger's normal force under one
@@ -253,6 +265,7 @@ pub struct SummaryAccumulator {
     held_relaxation: Vec<Option<HeldRelaxation>>,
     threshold_n: Option<f64>,
     crossing: Option<MarginCrossing>,
+    warnings: WarningTally,
 }
 
 impl SummaryAccumulator {
@@ -296,6 +309,7 @@ impl SummaryAccumulator {
             held_relaxation: vec![None; names.len()],
             threshold_n: None,
             crossing: None,
+            warnings: WarningTally::new(),
         }
     }
 
@@ -342,6 +356,11 @@ impl SummaryAccumulator {
     /// Adds the next step.
     pub fn add(&mut self, r: &StepRecord) {
         self.steps += 1;
+        let at = SolveAt {
+            index: r.index,
+            time_s: Some(r.time_s),
+        };
+        self.warnings.add(at, &r.solution.warnings);
         self.add_margin(r);
         self.total_wall_time_s += r.wall_time_s;
         self.total_iterations += r.solution.solver.iterations as u64;
@@ -514,6 +533,8 @@ impl SummaryAccumulator {
             margin_cost: self.margin_cost,
             held_relaxation: self.held_relaxation.into_iter().flatten().collect(),
             margin_below_threshold: self.crossing,
+            warnings: self.warnings.warnings(),
+            warnings_not_listed: self.warnings.dropped(),
         }
     }
 }

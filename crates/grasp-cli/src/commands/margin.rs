@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use anyhow::{bail, Context, Result};
 use grasp_model::{
     axis_directions, disturbance_margins_reporting, plane_directions, spread_directions,
-    DirectionMargin, Failure, MarginOptions, MarginReport, WrenchDirection,
+    DirectionMargin, Failure, MarginOptions, MarginReport, SolveAt, WarningTally, WrenchDirection,
 };
 use grasp_model::{ContactState, GraspModel, StepInputs};
 use grasp_model::{LoadedScene, ModelKind};
@@ -199,9 +199,10 @@ fn run(scene_path: &Path, flags: Flags, outputs: &Outputs) -> Result<ExitCode> {
     let state = ContactState::new(&model);
     let bar = crate::progress::bar(dirs.len(), "directions");
     let done = |k: usize| bar.set_position(k as u64);
-    let report =
+    let mut report =
         disturbance_margins_reporting(&model, &inputs, &state, solve, &dirs, &options, &done)?;
     bar.finish_and_clear();
+    respell_warnings(&mut report);
     print!(
         "{}",
         crate::flag_names::in_flags(&table(scene_path, &report))
@@ -339,6 +340,7 @@ fn table(scene: &Path, r: &MarginReport) -> String {
         );
     }
     table_notes(r, &mut s);
+    warning_lines(r, &mut s);
     let w = &r.directions[r.smallest];
     let _ = writeln!(
         s,
@@ -380,6 +382,53 @@ fn table_header(scene: &Path, r: &MarginReport, s: &mut String) {
         "{:<4}{:<44}{:>14}{:>14}{:>12}  {:<22}{:>8}",
         "#", "direction", "margin [N]", "torque [N m]", "first", "failure", "solves"
     );
+}
+
+/// The warnings of the undisturbed solve, then those of the solves at the margins (each once,
+/// with the directions it applies to; one the undisturbed solve gave already is not repeated).
+fn warning_lines(r: &MarginReport, s: &mut String) {
+    for w in &r.warnings {
+        let _ = writeln!(s, "warning: {w}");
+    }
+    let mut tally = WarningTally::new();
+    for (index, m) in r.directions.iter().enumerate() {
+        let new: Vec<String> = m
+            .warnings
+            .iter()
+            .filter(|w| !r.warnings.contains(w))
+            .cloned()
+            .collect();
+        tally.add(
+            SolveAt {
+                index,
+                time_s: None,
+            },
+            &new,
+        );
+    }
+    let label = |k: usize| format!("#{k}");
+    let directions = crate::report::Solves {
+        total: r.directions.len(),
+        singular: "direction's margin",
+        plural: "directions' margins",
+        label: &label,
+    };
+    s.push_str(&crate::report::tallied_warning_lines(
+        &tally.warnings(),
+        &directions,
+    ));
+}
+
+/// The report's warnings with flags for option names (its JSON's; the table is respelled
+/// whole).
+fn respell_warnings(r: &mut MarginReport) {
+    let texts = r
+        .warnings
+        .iter_mut()
+        .chain(r.directions.iter_mut().flat_map(|d| d.warnings.iter_mut()));
+    for w in texts {
+        *w = crate::flag_names::in_flags(w);
+    }
 }
 
 /// The notes under the rows: searches stopped early, the stall note, fingers already sliding,

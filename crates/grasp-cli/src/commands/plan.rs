@@ -296,6 +296,14 @@ fn summary(r: &PlanReport, o: &PlanOptions) -> String {
     for n in &r.notes {
         let _ = writeln!(s, "note: {n}");
     }
+    let label = |k: usize| k.to_string();
+    let steps = crate::report::Solves {
+        total: r.margins.len(),
+        singular: "step",
+        plural: "steps",
+        label: &label,
+    };
+    s.push_str(&crate::report::tallied_warning_lines(&r.warnings, &steps));
     s
 }
 

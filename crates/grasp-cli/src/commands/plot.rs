@@ -82,6 +82,10 @@ fn plot_command(
         solution.status.as_str(),
         out.display()
     );
+    // The solve's warnings, as `grasp solve` prints them.
+    for w in &solution.warnings {
+        println!("warning: {w}");
+    }
     Ok(if solution.status.has_forces() {
         ExitCode::SUCCESS
     } else {

@@ -7,7 +7,8 @@ use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
 use grasp_model::{
-    grid_with_first_side, hertz_parameters, refinement_study, with_grids, StudyReference, StudyRow,
+    grid_with_first_side, hertz_parameters, peak_trend, refinement_study, with_grids, SolveAt,
+    StudyReference, StudyRow, WarningTally, GROWING_PEAK_EXPONENT,
 };
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -116,6 +117,10 @@ fn run(
     };
     println!("reference: {why}");
     print!("{}", table_text(scene, reference, &rows, e1, e2));
+    if let Some(line) = peak_trend_line(&rows) {
+        println!("{line}");
+    }
+    print!("{}", crate::flag_names::in_flags(&warning_lines(&rows)));
     let mut pending = Vec::new();
     if let Some(p) = csv {
         let mut o = outs.create(p)?;
@@ -189,6 +194,63 @@ fn choose_reference(
     }
 }
 
+/// How the largest peak pressure changed over the grids, in a sentence: its first and last
+/// value, the exponent of its fitted growth `n^b`, and whether it converges (`None` with fewer
+/// than two grids).
+fn peak_trend_line(rows: &[StudyRow]) -> Option<String> {
+    let trend = peak_trend(rows)?;
+    let (first, last) = (rows.first()?, rows.last()?);
+    let b = trend.exponent;
+    let verdict = match (trend.at_sharp_edge, b >= GROWING_PEAK_EXPONENT) {
+        (true, true) => format!(
+            "the peak grows as n^{b:.2}: a singular edge (the peak lies at a sharp edge of the \
+             contact, where the pressure is unbounded); not a converged value (the forces \
+             converge)"
+        ),
+        (true, false) => format!(
+            "the peak changes as n^{b:.2} here, but it lies at a sharp edge of the contact, \
+             where the pressure is singular: it grows on finer grids; not a converged value"
+        ),
+        (false, true) => {
+            format!("the peak grows as n^{b:.2}: not converged at these grids")
+        }
+        (false, false) => format!("the peak changes as n^{b:.2}: converging"),
+    };
+    Some(format!(
+        "peak pressure: {:.3e} Pa at {}x{} to {:.3e} Pa at {}x{} (n elements along the first \
+         side, fitted over {} grids): {verdict}",
+        first.peak_pressure_pa,
+        first.grid[0],
+        first.grid[1],
+        last.peak_pressure_pa,
+        last.grid[0],
+        last.grid[1],
+        rows.len()
+    ))
+}
+
+/// The warnings of the grids' solves, each once with the grids it applies to.
+fn warning_lines(rows: &[StudyRow]) -> String {
+    let mut tally = WarningTally::new();
+    for (index, r) in rows.iter().enumerate() {
+        tally.add(
+            SolveAt {
+                index,
+                time_s: None,
+            },
+            &r.warnings,
+        );
+    }
+    let label = |k: usize| format!("{}x{}", rows[k].grid[0], rows[k].grid[1]);
+    let grids = crate::report::Solves {
+        total: rows.len(),
+        singular: "grid",
+        plural: "grids",
+        label: &label,
+    };
+    crate::report::tallied_warning_lines(&tally.warnings(), &grids)
+}
+
 /// Most grids of one study (each is a solve).
 const MAX_GRIDS: usize = 32;
 
@@ -229,44 +291,57 @@ fn table_text(
     );
     let _ = writeln!(
         t,
-        "| grid | unknowns | {e1} | {} wall time [s] | peak memory [MiB] |",
+        "| grid | unknowns | {e1} | {}p_max [Pa] | wall time [s] | peak memory [MiB] |",
         if e2.is_empty() {
             String::new()
         } else {
-            format!("{e2} |")
+            format!("{e2} | ")
         }
     );
     let _ = writeln!(
         t,
-        "|---|---|---|{}---|---|",
+        "|---|---|---|{}---|---|---|",
         if e2.is_empty() { "" } else { "---|" }
     );
     for r in rows {
         let _ = writeln!(
             t,
-            "| {}x{} | {} | {:.2e} | {}{:.3} | {} |",
+            "| {}x{} | {} | {:.2e} | {}{:.3e}{} | {:.3} | {} |",
             r.grid[0],
             r.grid[1],
             r.unknowns,
             r.error,
             r.error_2.map_or(String::new(), |e| format!("{e:.2e} | ")),
+            r.peak_pressure_pa,
+            if r.peak_pressure_grid_dependent {
+                " (at an edge)"
+            } else {
+                ""
+            },
             r.wall_time_s,
             r.peak_memory_bytes
                 .map_or("-".into(), |b| format!("{:.0}", b as f64 / 1048576.0))
         );
     }
+    if rows.iter().any(|r| r.peak_pressure_grid_dependent) {
+        t.push_str(
+            "p_max (at an edge): at a sharp edge of the contact, where the pressure is \
+             singular: it grows with the grid\n",
+        );
+    }
     t
 }
 
-/// The study as CSV (numbers only: no field needs quoting).
+/// The study as CSV (numbers and booleans only: no field needs quoting).
 fn csv_text(rows: &[StudyRow]) -> String {
     let mut c = String::from(
-        "nx,ny,unknowns,error,error_2,wall_time_s,peak_memory_bytes,equilibrium_residual\n",
+        "nx,ny,unknowns,error,error_2,wall_time_s,peak_memory_bytes,equilibrium_residual,\
+         peak_pressure_pa,peak_pressure_grid_dependent\n",
     );
     for r in rows {
         let _ = writeln!(
             c,
-            "{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{}",
             r.grid[0],
             r.grid[1],
             r.unknowns,
@@ -274,7 +349,9 @@ fn csv_text(rows: &[StudyRow]) -> String {
             r.error_2.map_or(String::new(), |e| e.to_string()),
             r.wall_time_s,
             r.peak_memory_bytes.map_or(String::new(), |b| b.to_string()),
-            r.equilibrium_residual
+            r.equilibrium_residual,
+            r.peak_pressure_pa,
+            r.peak_pressure_grid_dependent
         );
     }
     c
@@ -441,6 +518,9 @@ mod tests {
             wall_time_s: 0.01 * n as f64,
             peak_memory_bytes: None,
             equilibrium_residual: 0.0,
+            peak_pressure_pa: 1e5,
+            peak_pressure_grid_dependent: false,
+            warnings: Vec::new(),
         }
     }
 

@@ -221,6 +221,7 @@ impl OpenSinks {
         };
         let mut files = OutputFiles::open(outs.set(), paths)?;
         files.name_recording(name);
+        files.respell_options(crate::flag_names::in_flags);
         let mut live = match &out.live {
             Some(Live::Connect(url)) => Some(RerunSink::connect(url)?),
             Some(Live::Spawn) => Some(RerunSink::spawn()?),
@@ -397,6 +398,7 @@ fn summary_text(s: &TransferSummary, done: usize, planned: usize, run_s: f64) ->
     disturbance_margin_lines(s, &mut o);
     held_lines(s, &mut o);
     failed_step_lines(s, &mut o);
+    warning_lines(s, done, &mut o);
     solver_lines(s, done, &mut o);
     let _ = writeln!(
         o,
@@ -510,6 +512,25 @@ fn failed_step_lines(s: &TransferSummary, o: &mut String) {
     let _ = writeln!(o, "failed steps: {}", s.failed_step_count);
     for f in s.failed_steps.iter().take(5) {
         let _ = writeln!(o, "  step {} (t = {:.3} s): {}", f.step, f.time_s, f.reason);
+    }
+}
+
+/// The warnings of the `done` steps' solves, each once with the steps it applies to.
+fn warning_lines(s: &TransferSummary, done: usize, o: &mut String) {
+    let label = |k: usize| k.to_string();
+    let steps = crate::report::Solves {
+        total: done,
+        singular: "step",
+        plural: "steps",
+        label: &label,
+    };
+    o.push_str(&crate::report::tallied_warning_lines(&s.warnings, &steps));
+    if s.warnings_not_listed > 0 {
+        let _ = writeln!(
+            o,
+            "warning: {} more distinct warnings, not listed",
+            s.warnings_not_listed
+        );
     }
 }
 

@@ -228,6 +228,11 @@ pub struct DirectionMargin {
     /// the solver's, not the grasp's).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub solver_fallbacks: u32,
+    /// The warnings of the solve at the margin (the largest magnitude that held), the scene's
+    /// left out (they are the report's): forces near the margin beyond the model's limits
+    /// make the margin approximate too. Absent when none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 fn is_zero(n: &u32) -> bool {
@@ -276,6 +281,10 @@ pub struct MarginReport {
     pub solves: u32,
     /// Wall time of the whole search, s.
     pub time_s: f64,
+    /// The warnings of the undisturbed solve (the scene's first): what holds for the grasp
+    /// whose margins these are; empty when it gave none.
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
 
 impl MarginReport {
@@ -299,6 +308,7 @@ impl MarginReport {
             smallest,
             unresisted,
             time_s: clock.elapsed().as_secs_f64(),
+            warnings: Vec::new(),
         }
     }
 }
@@ -393,6 +403,7 @@ pub(crate) fn failing_undisturbed(d: WrenchDirection, f: &Failure) -> DirectionM
         stopped_early: None,
         undetermined: stalled,
         solver_fallbacks: 0,
+        warnings: Vec::new(),
     }
 }
 

@@ -353,6 +353,13 @@ impl Search<'_> {
             stopped_early: note,
             undetermined,
             solver_fallbacks: self.fallbacks,
+            warnings: held
+                .sol
+                .warnings
+                .iter()
+                .filter(|w| !self.model.scene_warnings().contains(w))
+                .cloned()
+                .collect(),
         }
     }
 }
@@ -432,13 +439,9 @@ pub fn disturbance_margins_reporting(
                 .collect::<Result<_, _>>()?
         }
     };
-    Ok(MarginReport::of(
-        model,
-        options,
-        sliding_undisturbed,
-        margins,
-        clock,
-    ))
+    let mut report = MarginReport::of(model, options, sliding_undisturbed, margins, clock);
+    report.warnings = base.warnings;
+    Ok(report)
 }
 
 #[cfg(test)]

@@ -176,6 +176,65 @@ pub struct StudyRow {
     pub peak_memory_bytes: Option<u64>,
     /// Equilibrium residual of the solve.
     pub equilibrium_residual: f64,
+    /// The largest peak pressure of the fingers, Pa.
+    pub peak_pressure_pa: f64,
+    /// True when that peak lies at a sharp edge of its contact, where the pressure is singular
+    /// (`FingerSolution::peak_pressure_grid_dependent`): it then grows with the grid.
+    pub peak_pressure_grid_dependent: bool,
+    /// The solve's warnings (the scene's first).
+    pub warnings: Vec<String>,
+}
+
+/// Below this fitted exponent a peak pressure counts as not growing with the grid: a converging
+/// peak changes by a few per cent over a study's grids (Hertz: `n^0.0` to `n^0.05`), a peak at a
+/// square-root singularity grows as `n^0.5`.
+pub const GROWING_PEAK_EXPONENT: f64 = 0.15;
+
+/// How the largest peak pressure changes over a study's grids.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct PeakTrend {
+    /// The exponent `b` of the least-squares fit `p_max = a n^b` over the grids (`n` elements
+    /// along the first side), in log-log.
+    pub exponent: f64,
+    /// True when the peak lies at a sharp edge of its contact at the finest grid, where the
+    /// pressure is singular.
+    pub at_sharp_edge: bool,
+    /// True when the peak grows with the grid: at a sharp edge, or an exponent of at least
+    /// [`GROWING_PEAK_EXPONENT`]. It is then not a converged value.
+    pub grid_dependent: bool,
+}
+
+/// The trend of the peak pressure over `rows` (a study's grids, ascending): `None` with fewer
+/// than two grids or a grid without a positive peak.
+pub fn peak_trend(rows: &[StudyRow]) -> Option<PeakTrend> {
+    if rows.len() < 2
+        || !rows
+            .iter()
+            .all(|r| r.peak_pressure_pa > 0.0 && r.peak_pressure_pa.is_finite())
+    {
+        return None;
+    }
+    let pts: Vec<[f64; 2]> = rows
+        .iter()
+        .map(|r| [(r.grid[0] as f64).ln(), r.peak_pressure_pa.ln()])
+        .collect();
+    let m = pts.len() as f64;
+    let (mx, my) = (
+        pts.iter().map(|p| p[0]).sum::<f64>() / m,
+        pts.iter().map(|p| p[1]).sum::<f64>() / m,
+    );
+    let sxx: f64 = pts.iter().map(|p| (p[0] - mx).powi(2)).sum();
+    let sxy: f64 = pts.iter().map(|p| (p[0] - mx) * (p[1] - my)).sum();
+    if sxx <= 0.0 {
+        return None;
+    }
+    let exponent = sxy / sxx;
+    let at_sharp_edge = rows.last().is_some_and(|r| r.peak_pressure_grid_dependent);
+    Some(PeakTrend {
+        exponent,
+        at_sharp_edge,
+        grid_dependent: at_sharp_edge || exponent >= GROWING_PEAK_EXPONENT,
+    })
 }
 
 /// Checks that `scene` is a Hertz case (one spherical tip on a flat, both bodies half-spaces)
@@ -256,6 +315,10 @@ pub fn refinement_study(
             Some((r, e_star)) => hertz_errors(&model, &sol, r, e_star, n)?,
             None => (f64::NAN, None),
         };
+        let peak = sol
+            .fingers
+            .iter()
+            .max_by(|a, b| a.peak_pressure_pa.total_cmp(&b.peak_pressure_pa));
         rows.push(StudyRow {
             grid: s.fingers[0].patch.grid,
             unknowns: model.n_unknowns,
@@ -264,6 +327,9 @@ pub fn refinement_study(
             wall_time_s: wall,
             peak_memory_bytes: memory(),
             equilibrium_residual: sol.residuals.map_or(f64::NAN, |r| r.equilibrium_relative),
+            peak_pressure_pa: peak.map_or(0.0, |f| f.peak_pressure_pa),
+            peak_pressure_grid_dependent: peak.is_some_and(|f| f.peak_pressure_grid_dependent),
+            warnings: sol.warnings.clone(),
         });
         sols.push(sol);
     }

@@ -61,6 +61,9 @@ impl Control {
 pub struct FingerModel {
     /// Name from the scene.
     pub(crate) name: String,
+    /// Its index among the scene's fingers (`fingers[i]` in messages), kept by a model
+    /// restricted to some of them ([`GraspModel::restricted`]), whose own order differs.
+    pub(crate) scene_index: usize,
     /// Contact frame (`normal` into the object).
     pub(crate) frame: ContactFrame,
     /// Patch geometry and initial gaps.

@@ -239,6 +239,7 @@ fn finger_model(
     };
     let finger = FingerModel {
         name: f.name.clone(),
+        scene_index: i,
         frame,
         patch,
         material,

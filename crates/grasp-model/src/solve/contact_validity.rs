@@ -31,8 +31,11 @@ pub(crate) fn validity_warnings(
     compression_m: &[f64],
 ) -> Vec<String> {
     let mut out = Vec::new();
-    for (i, (f, fs)) in model.fingers.iter().zip(&sol.fingers).enumerate() {
-        let d = compression_m.get(i).copied().unwrap_or(0.0);
+    for (k, (f, fs)) in model.fingers.iter().zip(&sol.fingers).enumerate() {
+        // Messages name the finger by its place in the scene (a hand-off step's model holds
+        // only the active fingers).
+        let i = f.scene_index;
+        let d = compression_m.get(k).copied().unwrap_or(0.0);
         out.extend(strain_warning(f, d).map(|w| format!("fingers[{i}] `{}`: {w}", f.name)));
         if !f.exact_gaps {
             continue;

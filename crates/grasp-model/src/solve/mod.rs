@@ -13,6 +13,7 @@ pub mod readout;
 pub mod residuals;
 pub mod sensitivity;
 pub mod sequential;
+pub mod singular_edge;
 pub mod solution;
 pub mod step_inputs;
 pub mod viscous_history;

@@ -30,11 +30,14 @@ pub fn undersized_patches(model: &GraspModel, sol: &Solution) -> Vec<(usize, f64
 pub fn patch_warnings(model: &GraspModel, sol: &Solution) -> Vec<String> {
     undersized_patches(model, sol)
         .into_iter()
-        .map(|(i, frac)| {
+        .map(|(k, frac)| {
+            // Named by its place in the scene (a hand-off step's model holds only the active
+            // fingers).
+            let i = model.fingers[k].scene_index;
             format!(
                 "fingers[{i}] `{}`: the patch boundary carries {:.2}% of its load, so the patch is too \
                  small for the contact (thesis 2.2.1); enlarge patch.size or grow it with `{}`",
-                model.fingers[i].name,
+                model.fingers[k].name,
                 100.0 * frac,
                 crate::option_names::AUTO_PATCH
             )

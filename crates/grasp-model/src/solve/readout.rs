@@ -20,6 +20,7 @@ use crate::solve::patch_check::patch_warnings;
 use crate::solve::residuals::{
     check_contacts, tangential, ElementCheck, RigidMotion, SolvedWith, StepMotion,
 };
+use crate::solve::singular_edge::peak_at_sharp_edge;
 use crate::solve::solution::{
     ElementSolution, ElementState, FingerSolution, RigidDisplacement, Solution, SolveStatus,
     SolverStats, LOADED_FRACTION,
@@ -279,6 +280,8 @@ fn finger_solution(
             - counts[ElementState::OffSurface as usize]) as f64
             * area,
         peak_pressure_pa: peak,
+        peak_pressure_grid_dependent: loaded
+            && peak_at_sharp_edge(&f.patch, &x_n[f.offset..f.offset + ne]),
         friction_coefficient: mu,
         // An unloaded finger (solver noise only) has no meaningful ratio.
         friction_utilization: if mu > 0.0 && loaded {

@@ -133,6 +133,13 @@ pub struct FingerSolution {
     pub contact_area_m2: f64,
     /// Largest element pressure, Pa.
     pub peak_pressure_pa: f64,
+    /// True when the peak pressure lies at a sharp edge of the contact (beside the elements
+    /// past the object's edge or the tip's rim, or on a flat pad's rim), where the elastic
+    /// pressure is singular: `peak_pressure_pa` then grows as the grid is refined (about as
+    /// `n^0.5`, `n` elements a side) and is not a converged value (`grasp study` shows its
+    /// trend). Absent when false.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub peak_pressure_grid_dependent: bool,
     /// Friction coefficient `mu(P_i)` of the finger's law at its load (dimensionless).
     pub friction_coefficient: f64,
     /// `|Q_i| / (mu P_i)`: 1 when the whole finger slides (0 if frictionless or unloaded).
@@ -449,6 +456,10 @@ impl Solution {
 
 fn is_zero(n: &usize) -> bool {
     *n == 0
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 /// True when `test` holds for every element, the elements of a fine patch tested on all cores.

@@ -87,6 +87,10 @@ pub struct PlanReport {
     pub stopped: String,
     /// What the user should know (derivatives missing at some steps, say).
     pub notes: Vec<String>,
+    /// The warnings of the checked run's solves (as `grasp transfer` of the planned schedule
+    /// gives them), each once with its steps ([`grasp_model::WarningTally`]); empty when it
+    /// gave none.
+    pub warnings: Vec<grasp_model::TalliedWarning>,
     /// Wall time of the planning, s.
     pub time_s: f64,
     /// The planned schedule file (`grasp transfer --schedule` runs it unchanged).
@@ -113,6 +117,9 @@ impl PlanReport {
             b.why = respell(&b.why);
         }
         self.notes.iter_mut().for_each(|n| *n = respell(n));
+        for w in &mut self.warnings {
+            w.message = respell(&w.message);
+        }
     }
 }
 
@@ -121,6 +128,19 @@ fn smallest_of(margins: &[MarginsAtStep]) -> Option<&MarginsAtStep> {
         .iter()
         .filter(|m| m.smallest.is_some())
         .min_by(|a, b| a.smallest.partial_cmp(&b.smallest).expect("finite margins"))
+}
+
+/// The warnings of a run's steps, each once with its steps.
+pub fn run_warnings(records: &[StepRecord]) -> Vec<grasp_model::TalliedWarning> {
+    let mut tally = grasp_model::WarningTally::new();
+    for r in records {
+        let at = grasp_model::SolveAt {
+            index: r.index,
+            time_s: Some(r.time_s),
+        };
+        tally.add(at, &r.solution.warnings);
+    }
+    tally.warnings()
 }
 
 /// The smallest slip margin of every step of a run.

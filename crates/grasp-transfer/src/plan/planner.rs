@@ -17,7 +17,7 @@ use crate::plan::margin_row::{MarginRow, RowKind};
 use crate::plan::option_names;
 use crate::plan::plan_error::PlanError;
 use crate::plan::plan_options::{Objective, PlanOptions};
-use crate::plan::plan_report::{binding_row, smallest_margins, Binding, PlanReport};
+use crate::plan::plan_report::{binding_row, run_warnings, smallest_margins, Binding, PlanReport};
 use crate::plan::slip_rows::{load_directions, slip_rows};
 use crate::plan::starting_path::{starting_path, Template};
 use crate::plan::trust_region_qp::{qp_step, Pinned, VIOLATION_WEIGHT};
@@ -366,6 +366,7 @@ impl Runner<'_> {
             iterations,
             stopped,
             notes: std::mem::take(&mut self.notes),
+            warnings: run_warnings(&records),
             time_s: clock.elapsed().as_secs_f64(),
             schedule: spec,
         })

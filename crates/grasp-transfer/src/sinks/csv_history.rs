@@ -9,7 +9,15 @@
 //! form of the patch compliances, `dense`, `fft` or `mixed`, and the FFT path's
 //! conjugate-gradient iterations in the step), then `margin_held_to_n` (the largest push
 //! known to hold along the smallest margin's direction, N: the margin, the search's cap when
-//! unbounded, a lower bound when undetermined; empty without `--margins`).
+//! unbounded, a lower bound when undetermined; empty without `--margins`), then `warnings`:
+//! the step's warnings (the scene's among them), separated by [`CSV_WARNING_SEPARATOR`], empty
+//! when it has none.
+//!
+//! The warnings are a column, not a comment line (a CSV reader takes a comment for a row) nor
+//! a second file (a file the user did not name): each step's row says what holds at that step,
+//! so a warning that depends on the step (a patch at its edge at some loads) is on exactly the
+//! rows it applies to, and a spreadsheet or `pandas.read_csv` reads it with the rest. The run's
+//! warnings told once each, with their steps, are the summary's (and the MCAP's metadata).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -31,10 +39,15 @@ fn margin_cell(r: &StepRecord) -> String {
     }
 }
 
+/// Between two warnings of one step in the `warnings` column (no warning holds it).
+pub const CSV_WARNING_SEPARATOR: &str = " | ";
+
 /// Writes a CSV force history (RFC 4180: fields with a comma, quote or line break are quoted).
 pub struct CsvSink {
     out: Option<BufWriter<File>>,
     path: PathBuf,
+    /// How the `warnings` column names the options a user can change.
+    respell: fn(&str) -> String,
 }
 
 impl CsvSink {
@@ -49,7 +62,14 @@ impl CsvSink {
         CsvSink {
             out: Some(BufWriter::new(file)),
             path: path.to_path_buf(),
+            respell: str::to_string,
         }
+    }
+
+    /// Writes the warnings with the option names of the front end that runs (`respell`
+    /// rewrites a library text, `grasp_model::option_names::respell`), as it prints them.
+    pub fn respell_options(&mut self, respell: fn(&str) -> String) {
+        self.respell = respell;
     }
 
     fn write(&mut self, text: &str) -> Result<(), TransferError> {
@@ -73,7 +93,8 @@ impl Sink for CsvSink {
             }
         }
         h.push_str(",solver,warm_start,iterations,factorizations,wall_time_s,smallest_margin_n");
-        h.push_str(",compliance,inner_iterations,margin_held_to_n\n");
+        h.push_str(",compliance,inner_iterations,margin_held_to_n");
+        h.push_str(",warnings\n");
         self.write(&h)
     }
 
@@ -87,7 +108,7 @@ impl Sink for CsvSink {
             ));
         }
         line.push_str(&format!(
-            ",{},{},{},{},{},{},{},{},{}\n",
+            ",{},{},{},{},{},{},{},{},{}",
             csv_field(&m.solver),
             m.warm_start,
             m.iterations,
@@ -98,6 +119,14 @@ impl Sink for CsvSink {
             m.inner_iterations,
             m.margin_held_to_n.map_or(String::new(), |v| v.to_string()),
         ));
+        let warnings: Vec<String> = r
+            .solution
+            .warnings
+            .iter()
+            .map(|w| (self.respell)(w))
+            .collect();
+        let warnings = warnings.join(CSV_WARNING_SEPARATOR);
+        line.push_str(&format!(",{}\n", csv_field(&warnings)));
         self.write(&line)
     }
 

@@ -12,6 +12,9 @@
 //! - `/grasp/scene` (`foxglove.SceneUpdate`): the object and contact points once, then per
 //!   step the finger forces as arrows, for Foxglove's 3-D panel ([`super::foxglove_scene`]).
 //!
+//! The run's warnings, each once with the steps that gave it, are metadata records named
+//! [`WARNING_METADATA`] (none when the run gave no warning).
+//!
 //! Log and publish time are the schedule time in nanoseconds. Nothing nondeterministic (wall
 //! times) is written, so the same inputs give the same file. Chunks are compressed with zstd
 //! (the `mcap` crate's default).
@@ -34,6 +37,7 @@ use super::sink::{io_err, io_err_chain, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::schedule::Command;
 use crate::stepper::StepRecord;
+use grasp_model::{SolveAt, TalliedWarning, WarningTally};
 
 /// Topic of per-finger resultants.
 pub const FINGERS_TOPIC: &str = "/grasp/fingers";
@@ -286,6 +290,38 @@ pub struct McapSink {
     drawing: (f64, f64),
     object_sent: bool,
     sequence: u32,
+    /// The steps' warnings, written as metadata records when the log is finished.
+    warnings: WarningTally,
+    /// How the warnings name the options a user can change.
+    respell: fn(&str) -> String,
+}
+
+/// The name of the MCAP metadata records holding a run's warnings: one record per warning
+/// (each once, [`grasp_model::WarningTally`]), written when the log is finished, none when the
+/// run gave no warning. Its keys: `message` (the text, a figure that changed between steps
+/// written as its range), `count` (how many steps gave it), `steps` (which: runs of step
+/// indices, `3-17, 25`), `first_time_s` and `last_time_s` (their schedule times, s).
+pub const WARNING_METADATA: &str = "grasp.warning";
+
+/// The metadata record of one warning (see [`WARNING_METADATA`]).
+fn warning_metadata(w: &TalliedWarning, respell: fn(&str) -> String) -> mcap::records::Metadata {
+    let mut metadata = BTreeMap::from([
+        ("message".to_string(), respell(&w.message)),
+        ("count".to_string(), w.count.to_string()),
+        ("steps".to_string(), w.runs_text(|k| k.to_string())),
+    ]);
+    for (key, t) in [
+        ("first_time_s", w.first_time_s),
+        ("last_time_s", w.last_time_s),
+    ] {
+        if let Some(t) = t {
+            metadata.insert(key.to_string(), t.to_string());
+        }
+    }
+    mcap::records::Metadata {
+        name: WARNING_METADATA.to_string(),
+        metadata,
+    }
 }
 
 impl McapSink {
@@ -312,7 +348,15 @@ impl McapSink {
             drawing: (1.0, 1.0),
             object_sent: false,
             sequence: 0,
+            warnings: WarningTally::new(),
+            respell: str::to_string,
         })
+    }
+
+    /// Writes the warnings with the option names of the front end that runs (`respell`
+    /// rewrites a library text, `grasp_model::option_names::respell`), as it prints them.
+    pub fn respell_options(&mut self, respell: fn(&str) -> String) {
+        self.respell = respell;
     }
 
     fn err(&self, e: impl std::error::Error) -> TransferError {
@@ -393,6 +437,11 @@ impl Sink for McapSink {
     }
 
     fn step(&mut self, run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
+        let at = SolveAt {
+            index: r.index,
+            time_s: Some(r.time_s),
+        };
+        self.warnings.add(at, &r.solution.warnings);
         let f = serde_json::to_vec(&FingersMessage::from_record(r)).map_err(|e| self.err(e))?;
         self.write(self.fingers_channel, r.time_s, &f)?;
         let p = serde_json::to_vec(&patches_message(r)).map_err(|e| self.err(e))?;
@@ -413,6 +462,10 @@ impl Sink for McapSink {
 
     fn finish(&mut self) -> Result<(), TransferError> {
         if let Some(mut w) = self.writer.take() {
+            for warning in self.warnings.warnings() {
+                w.write_metadata(&warning_metadata(&warning, self.respell))
+                    .map_err(|e| self.err(e))?;
+            }
             w.finish().map_err(|e| self.err(e))?;
             let file = w
                 .into_inner()

@@ -111,6 +111,17 @@ impl OutputFiles {
         }
     }
 
+    /// Writes the warnings (the CSV's column, the MCAP's metadata) with the option names of the
+    /// front end that runs: `respell` rewrites a library text (`grasp_model::option_names`).
+    pub fn respell_options(&mut self, respell: fn(&str) -> String) {
+        if let Some(s) = self.mcap.as_mut() {
+            s.respell_options(respell);
+        }
+        if let Some(s) = self.csv.as_mut() {
+            s.respell_options(respell);
+        }
+    }
+
     /// Adds another output of the run (a picture), committed and removed with the files.
     pub fn add_pending(&mut self, output: PendingOutput) {
         self.pending.push(output);
