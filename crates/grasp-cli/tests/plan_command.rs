@@ -677,15 +677,11 @@ fn plan_and_transfer_state_one_slip_margin_rule_on_one_schedule() {
         (value(&plan_line) - value(&transfer_line)).abs() < 1e-3,
         "{plan_line} / {transfer_line}"
     );
-    // The last parenthesis: the transfer's line has "(mu P)" before it.
+    // The word before the first " at t = ": the plan's own figure (the template's follows it),
+    // past the transfer's "(mu P)".
     let finger = |l: &str| {
-        l.rsplit('(')
-            .next()
-            .unwrap()
-            .split(' ')
-            .next()
-            .unwrap()
-            .to_string()
+        let before = l.split(" at t = ").next().unwrap();
+        before.rsplit('(').next().unwrap().to_string()
     };
     assert_eq!(finger(&plan_line), finger(&transfer_line));
     for said in [&planned, &ran] {

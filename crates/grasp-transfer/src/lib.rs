@@ -72,7 +72,8 @@ pub use summary::{
 
 // ---- The slip-margin rule of the summary and the planner ----
 pub use slip_margin::{
-    carrying, slip_margin, step_slip_margins, StepSlipMargins, CARRYING_FRACTION, SLIP_MARGIN_RULE,
+    carrying, slip_margin, step_slip_margins, FingerSlipMargin, StepSlipMargins, CARRYING_FRACTION,
+    SLIP_MARGIN_RULE,
 };
 
 // ---- Sinks: what every step is logged to, and the files a run writes ----

@@ -29,16 +29,25 @@ pub fn slip_margin(f: &FingerSolution) -> f64 {
     1.0 - f.friction_utilization
 }
 
+/// A finger's slip margin at a step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FingerSlipMargin<'a> {
+    /// `1 - |Q| / (mu P)`.
+    pub margin: f64,
+    /// The finger.
+    pub finger: &'a str,
+}
+
 /// The smallest slip margins of one step: over the fingers the rule counts, and over the loaded
 /// frictional fingers it leaves out.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepSlipMargins<'a> {
-    /// The smallest over the counted fingers, and its finger; `None` when none counts (or the
-    /// step found no forces).
-    pub counted: Option<(f64, &'a str)>,
+    /// The smallest over the counted fingers; `None` when none counts (or the step found no
+    /// forces).
+    pub counted: Option<FingerSlipMargin<'a>>,
     /// The smallest over the fingers left out: frictional, loaded (normal force above
     /// [`LOADED_FRACTION`] of the load scale) but below [`CARRYING_FRACTION`] of it.
-    pub not_counted: Option<(f64, &'a str)>,
+    pub not_counted: Option<FingerSlipMargin<'a>>,
 }
 
 /// The smallest slip margins of a step's solution (see [`StepSlipMargins`]).
@@ -58,8 +67,11 @@ pub fn step_slip_margins(sol: &Solution) -> StepSlipMargins<'_> {
         } else {
             continue;
         };
-        if slot.is_none_or(|s| m < s.0) {
-            *slot = Some((m, f.name.as_str()));
+        if slot.is_none_or(|s| m < s.margin) {
+            *slot = Some(FingerSlipMargin {
+                margin: m,
+                finger: f.name.as_str(),
+            });
         }
     }
     out

@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use crate::schedule::Command;
-use crate::slip_margin::{step_slip_margins, SLIP_MARGIN_RULE};
+use crate::slip_margin::{step_slip_margins, FingerSlipMargin, SLIP_MARGIN_RULE};
 use crate::stepper::StepRecord;
 use grasp_model::CompliancePath;
 
@@ -496,14 +496,14 @@ impl SummaryAccumulator {
     }
 }
 
-/// Keeps in `slot` the smaller of it and a step's margin `step` (margin, finger) at `time_s`.
-fn lower(slot: &mut Option<SlipMargin>, step: Option<(f64, &str)>, time_s: f64) {
-    let Some((margin, finger)) = step else { return };
-    if slot.as_ref().is_none_or(|x| margin < x.margin) {
+/// Keeps in `slot` the smaller of it and a step's margin `step` at `time_s`.
+fn lower(slot: &mut Option<SlipMargin>, step: Option<FingerSlipMargin<'_>>, time_s: f64) {
+    let Some(step) = step else { return };
+    if slot.as_ref().is_none_or(|x| step.margin < x.margin) {
         *slot = Some(SlipMargin {
-            margin,
+            margin: step.margin,
             time_s,
-            finger: finger.to_string(),
+            finger: step.finger.to_string(),
         });
     }
 }

@@ -51,13 +51,13 @@ pub struct MarginsAtStep {
 /// The resolutions the planned schedule was checked at.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CheckedAt {
-    /// Steps after the first of the schedule's own run (its `time.step`, as `grasp transfer`
-    /// runs it): every constraint checked at every one.
+    /// Steps of the schedule's own run, the first included (its `time.step`, as `grasp
+    /// transfer` runs it): every constraint checked at every one.
     pub schedule_steps: usize,
     /// The schedule's step, s.
     pub schedule_step_s: f64,
     /// When the schedule has fewer than [`FINE_STEPS`] steps: the steps of the second run of
-    /// its ramps, at which the slip margins and equilibrium were checked too (the disturbance
+    /// its ramps (the first included), at which the slip margins and equilibrium were checked too (the disturbance
     /// margins only at the schedule's own steps: each step's search costs many solves).
     pub fine_steps: Option<usize>,
     /// Its step, s.
@@ -164,8 +164,8 @@ pub fn smallest_margins(records: &[StepRecord]) -> Vec<MarginsAtStep> {
             let least = step_slip_margins(&r.solution).counted;
             MarginsAtStep {
                 time_s: r.time_s,
-                smallest: least.map(|l| l.0),
-                finger: least.map(|l| l.1.to_string()),
+                smallest: least.map(|l| l.margin),
+                finger: least.map(|l| l.finger.to_string()),
                 disturbance_n: r.margin.as_ref().map(|m| m.smallest_n),
             }
         })
@@ -183,14 +183,14 @@ pub fn smallest_of_run(records: &[StepRecord], counted: bool) -> Option<SlipMarg
         } else {
             step.not_counted
         };
-        let Some((margin, finger)) = which else {
+        let Some(step) = which else {
             continue;
         };
-        if least.as_ref().is_none_or(|l| margin < l.margin) {
+        if least.as_ref().is_none_or(|l| step.margin < l.margin) {
             least = Some(SlipMargin {
-                margin,
+                margin: step.margin,
                 time_s: r.time_s,
-                finger: finger.to_string(),
+                finger: step.finger.to_string(),
             });
         }
     }
