@@ -818,6 +818,10 @@ fn questions_the_planner_cannot_answer_are_refused_by_option_with_the_fix() {
         &["--max-rate", "1.5", "--min-load", "-1"],
         &["--min-load: needs 0 <= min-load < max-load (got -1 and inf)"],
     );
+    refused(
+        &["--max-rate", "1.5", "--steps", "-1"],
+        &["'--steps <K>': -1 is not a whole number of 0 or more"],
+    );
     let o = plan(&out, &["--max-rate", "1.5", "--min-slip-margin", "1e308"]);
     let said = text(&o);
     assert_eq!(o.status.code(), Some(1), "{said}");

@@ -81,14 +81,20 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "duration")]
     pub objective: ObjectiveArg,
     /// Steps after the first [default: the template's, or 60].
-    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "K",
+        allow_negative_numbers = true,
+        value_parser = whole_number
+    )]
     pub steps: Option<usize>,
     /// Keyframes per finger, the ends included (2 to 20).
     #[arg(
         long,
         default_value_t = 5,
         value_name = "K",
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = whole_number
     )]
     pub keyframes: usize,
     /// Most hand-off runs the planner may make, the final check included.
@@ -96,7 +102,8 @@ pub struct Args {
         long,
         default_value_t = 30,
         value_name = "N",
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = whole_number
     )]
     pub max_runs: usize,
     /// Write the report (margins along the plan and the template, keyframes, cost) as JSON;
@@ -117,6 +124,17 @@ pub struct Args {
     pub force: ForceArg,
     #[command(flatten)]
     pub solve: SolveFlags,
+}
+
+/// A count option's value (`--steps`, `--keyframes`, `--max-runs`): a whole number, else a
+/// message saying so (clap names the flag before it); the planner checks its range.
+fn whole_number(s: &str) -> Result<usize, String> {
+    s.trim().parse::<usize>().map_err(|_| {
+        format!(
+            "{s} is not a whole number of 0 or more: give one, such as 60 (the planner then \
+             checks its range)"
+        )
+    })
 }
 
 /// `--objective`.
