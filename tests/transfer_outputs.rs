@@ -394,24 +394,35 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
         .map(|r| r.time_s);
     let (mut peak, mut peak_t) = (0.0_f64, 0.0);
     let mut margin: Option<SlipMargin> = None;
+    let mut not_counted: Option<SlipMargin> = None;
     let mut worst = 0.0_f64;
     for r in &ok {
         let total: f64 = r.solution.fingers.iter().map(|f| f.normal_force_n).sum();
         if total > peak {
             (peak, peak_t) = (total, r.time_s);
         }
+        // The slip-margin rule: a frictional finger counts while its contact force (normal and
+        // friction together) is at least 5 % of the load scale; a lighter loaded one is
+        // reported apart.
+        let scale = r.solution.load_scale_n;
         for f in &r.solution.fingers {
-            if f.normal_force_n > LOADED_FRACTION * r.solution.load_scale_n
-                && f.friction_utilization > 0.0
-            {
-                let m = 1.0 - f.friction_utilization;
-                if margin.as_ref().is_none_or(|x| m < x.margin) {
-                    margin = Some(SlipMargin {
-                        margin: m,
-                        time_s: r.time_s,
-                        finger: f.name.clone(),
-                    });
-                }
+            let q = f.tangential_force_n;
+            let force = (f.normal_force_n.powi(2) + q.iter().map(|c| c * c).sum::<f64>()).sqrt();
+            let frictional = f.friction_coefficient > 0.0;
+            let slot = if frictional && f.normal_force_n > 0.0 && force >= 0.05 * scale {
+                &mut margin
+            } else if frictional && f.normal_force_n > LOADED_FRACTION * scale {
+                &mut not_counted
+            } else {
+                continue;
+            };
+            let m = 1.0 - f.friction_utilization;
+            if slot.as_ref().is_none_or(|x| m < x.margin) {
+                *slot = Some(SlipMargin {
+                    margin: m,
+                    time_s: r.time_s,
+                    finger: f.name.clone(),
+                });
             }
         }
         if let Some(res) = &r.solution.residuals {
@@ -442,6 +453,8 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
         peak_squeeze_n: peak,
         peak_squeeze_time_s: peak_t,
         smallest_slip_margin: margin,
+        smallest_slip_margin_not_counted: not_counted,
+        slip_margin_rule: grasp_transfer::SLIP_MARGIN_RULE,
         worst_equilibrium_residual: worst,
         total_wall_time_s: records.iter().map(|r| r.wall_time_s).sum(),
         total_iterations: records

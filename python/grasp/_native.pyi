@@ -25,7 +25,11 @@ class ScheduleError(ValueError):
     problems: list[dict[str, str]]
 
 class GraspError(RuntimeError):
-    """A refused request that is not a scene or schedule problem."""
+    """A refused request that is not a scene or schedule problem. Raised by :func:`plan` when
+    the best schedule found does not keep every constraint, it carries the report (``met``
+    False, ``binding``) as ``report``."""
+
+    report: Dict[str, Any]
 
 class Scene:
     """A validated grasp scene (SI units). ``Scene(source)``: a path, a dict, or JSON text."""
@@ -219,12 +223,16 @@ def plan(
     solver: SolverName = "auto",
     compliance: ComplianceName = "auto",
 ) -> Dict[str, Any]:
-    """Plans a hand-off's load ramps (GIL released), as ``grasp plan`` does: the report as a
-    dict with ``met``, ``binding``, ``schedule`` (runs unchanged in :func:`transfer`),
-    ``margins``, ``template_margins``, ``warnings`` (the checked run's, each once with its
-    steps), ``duration_s``, ``runs`` and ``time_s``. Loads N, rates
-    N/s, times s. Raises :class:`GraspError` for constraints no schedule can meet, naming the
-    one that binds, and ``ValueError`` for arguments out of range."""
+    """Plans a hand-off's load ramps (GIL released), as ``grasp plan`` does: the report of a
+    schedule that keeps every constraint, as a dict with ``met``, ``schedule`` (runs unchanged
+    in :func:`transfer`), ``margins``, ``template_margins``, ``slip_margin_rule``,
+    ``smallest_not_counted``, ``checked``, ``warnings`` (the checked run's, each once with
+    its steps), ``duration_s``, ``runs`` and ``time_s``. Loads N,
+    rates N/s, times s. Raises :class:`GraspError` for constraints no schedule can meet, naming
+    the one that binds, and when the best schedule found does not keep every constraint (as
+    ``grasp plan`` writes none): then its ``report`` attribute holds the report, ``binding``
+    and all; ``ValueError`` for arguments out of range, ``TypeError`` for a bool or str given
+    for a number or a str for a list of finger names."""
 
 # For the pure-Python readers and writers of the package (grasp.mujoco): the project's file
 # policy (grasp-io). `kind`: "mujoco_model", "mujoco_state", "mujoco_rollout", "material_map".

@@ -66,11 +66,15 @@ def test_constraints_no_schedule_meets_raise_with_the_keyword_named():
     with pytest.raises(grasp.GraspError, match="give `duration=` \\(s\\) or `max_rate=`") as e:
         grasp.plan(scene, releasing=["f1", "f2"], objective="margin")
     assert "--" not in str(e.value)
-    # The report's texts too: the search that ran out of runs names `max_runs=`.
-    plan = grasp.plan(scene, releasing=["f1", "f2"], receiving=["f3", "f4"], max_rate=1.5,
-                      steps=4, max_runs=2, min_slip_margin=0.9)
+    # The report's texts too: the search that ran out of runs names `max_runs=` (the report
+    # of a plan that does not keep its constraints rides on the exception).
+    with pytest.raises(grasp.GraspError) as e:
+        grasp.plan(scene, releasing=["f1", "f2"], receiving=["f3", "f4"], max_rate=1.5,
+                   steps=4, max_runs=2, min_slip_margin=0.9)
+    plan = e.value.report
     assert plan["stopped"] == "it made the runs allowed (`max_runs=`)"
     assert "--" not in plan["binding"]["why"]
+    assert "--" not in str(e.value)
     with pytest.raises(ValueError, match="objective="):
         grasp.plan(scene, releasing=["f1"], objective="fastest")
 
@@ -92,3 +96,46 @@ def test_a_disturbance_margin_threshold_is_kept_and_named_by_its_keyword():
     assert run.smallest_margins_n == pytest.approx(along, rel=1e-12)
     with pytest.raises(ValueError, match="min_margin="):
         grasp.plan(scene, releasing=["f1", "f2"], max_rate=1.5, min_margin=0.0)
+
+
+def test_a_plan_that_fails_its_own_check_raises_as_the_cli_writes_nothing(tmp_path, run_cli):
+    # The plate cannot keep a slip margin of 0.1 (the guide's example): the CLI writes no
+    # schedule (exit 2); grasp.plan raises, naming the binding constraint, and hands over the
+    # report on the exception rather than a schedule to run.
+    scene = grasp.Scene(SCENE)
+    with pytest.raises(grasp.GraspError, match=r"no schedule written.*binding: slip margin") as e:
+        grasp.plan(scene, releasing=["f1", "f2"], receiving=["f3", "f4"], template=TEMPLATE,
+                   max_rate=2.0, min_slip_margin=0.1)
+    report = e.value.report
+    assert report["met"] is False
+    assert report["binding"]["constraint"] == "slip margin"
+    assert report["binding"]["limit"] == 0.1
+    assert report["binding"]["value"] < 0.1 - MARGIN_TOLERANCE
+    assert "--" not in str(e.value)
+    out = tmp_path / "plan.schedule.json"
+    proc = run_cli(
+        "plan", SCENE, "--releasing", "f1,f2", "--receiving", "f3,f4", "--template", TEMPLATE,
+        "--max-rate", "2", "--min-slip-margin", "0.1", "--out", out,
+    )
+    assert proc.returncode == 2, proc.stderr
+    assert not out.exists()
+
+
+def test_a_bool_for_a_number_or_a_str_for_finger_names_is_refused_by_keyword():
+    scene = grasp.Scene(SCENE)
+    # True is an int to Python: it used to plan at 1 N/s.
+    with pytest.raises(TypeError, match=r"`max_rate=` is True, a bool: give a number"):
+        grasp.plan(scene, releasing=["f1", "f2"], receiving=["f3", "f4"], max_rate=True)
+    with pytest.raises(TypeError, match=r"`steps=` is False: give a whole number"):
+        grasp.plan(scene, releasing=["f1", "f2"], max_rate=1.5, steps=False)
+    # A single name used to say "Can't extract `str` to `Vec`".
+    with pytest.raises(TypeError) as e:
+        grasp.plan(scene, releasing="f1", max_rate=1.5)
+    assert str(e.value) == (
+        "`releasing=` is the string 'f1', not a list of finger names; give ['f1']"
+    )
+    with pytest.raises(TypeError, match=r"`receiving=` is \[3\]: give a list of finger names"):
+        grasp.plan(scene, releasing=["f1", "f2"], receiving=[3], max_rate=1.5)
+    # Negative numbers reach the planner's checks, named by keyword.
+    with pytest.raises(ValueError, match=r"`min_load=`: needs 0 <= `min_load < max_load`"):
+        grasp.plan(scene, releasing=["f1", "f2"], max_rate=1.5, min_load=-1.0)

@@ -249,6 +249,34 @@ pub fn tallied_warning_lines(warnings: &[grasp_model::TalliedWarning], solves: &
     s
 }
 
+/// The slip-margin rule under a smallest slip margin `counted` (of `grasp transfer` or `grasp
+/// plan`: one rule, `grasp_transfer::SLIP_MARGIN_RULE`), and the lighter finger it leaves out
+/// when that one came closer to sliding: an indented line.
+pub fn slip_rule_line(
+    counted: Option<f64>,
+    not_counted: Option<&grasp_transfer::SlipMargin>,
+) -> String {
+    let percent = 100.0 * grasp_transfer::CARRYING_FRACTION;
+    let mut line =
+        format!("  counted over the fingers carrying at least {percent} % of the load scale");
+    if let Some(m) = not_counted.filter(|m| counted.is_none_or(|c| m.margin < c)) {
+        line.push_str(&format!(
+            "; a lighter one is not: {} came to {} at t = {:.3} s (a finger letting go, or just \
+             touching, may slide)",
+            m.finger,
+            // Within round-off of 0, as the summary's own figure: at the friction limit.
+            if m.margin.abs() <= 1e-9 {
+                "0".to_string()
+            } else {
+                significant(m.margin, 3)
+            },
+            m.time_s
+        ));
+    }
+    line.push('\n');
+    line
+}
+
 /// `n` and its noun, singular for one: `1 Newton step`, `7 Newton steps`.
 pub fn count(n: impl Into<u64>, singular: &str, plural: &str) -> String {
     let n = n.into();

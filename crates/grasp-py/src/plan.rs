@@ -3,10 +3,15 @@
 //! `grasp.transfer` runs unchanged) and its report (margins along the plan and the template,
 //! the binding constraint when one is not met, the cost). The GIL is released while it runs.
 
-use grasp_transfer::{Objective, PlanError, PlanOptions, Schedule, ScheduleSpec, Template};
+use grasp_model::Readable;
+use grasp_transfer::{
+    Binding, Objective, PlanError, PlanOptions, Schedule, ScheduleSpec, Template,
+};
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyInt, PyString};
 
-use crate::errors::{grasp_error, schedule_error};
+use crate::errors::{grasp_error, schedule_error, GraspError};
 use crate::json_value::serialize_to_py;
 use crate::keywords::in_keywords;
 use crate::scene::Scene;
@@ -62,49 +67,60 @@ use crate::scene::Scene;
 /// Returns
 /// -------
 /// dict
-///     The report: `met` (every constraint kept by the checked schedule), `binding` (the one
-///     not kept: which, where, by how much, why), `schedule` (runs unchanged in
-///     `transfer`), `margins` and `template_margins` (per step: the smallest slip margin, and
-///     `disturbance_n` with `min_margin`), `warnings` (the checked run's solves', each once
-///     with its steps), `duration_s`, `runs` and `time_s`.
+///     The report of a schedule that keeps every constraint: `met` (True), `schedule` (runs
+///     unchanged in `transfer`), `margins` and `template_margins` (per step: the smallest slip
+///     margin over the fingers carrying 5 % of the load scale, the rule of `transfer`'s summary
+///     too, and `disturbance_n` with `min_margin`), `slip_margin_rule`, `smallest_not_counted`, `warnings` (the checked run's solves', each
+///     once with its steps)
+///     (the lighter fingers' smallest slip margin), `checked` (the resolutions checked: the
+///     schedule's own steps, and its ramps at 600 steps when it has fewer), `duration_s`,
+///     `runs` and `time_s`.
 ///
 /// Raises
 /// ------
 /// ValueError
-///     An argument out of range or misspelt (each line names the keyword).
+///     An argument out of range (each line names the keyword).
+/// TypeError
+///     An argument of the wrong type: a bool or a str for a number, a str for a list of
+///     finger names (`releasing="f1"`: give `["f1"]`).
 /// ScheduleError
 ///     The template is not a valid schedule for the scene.
 /// GraspError
-///     Constraints no schedule can meet (the one that binds is named), or a run failed.
+///     Constraints no schedule can meet (the one that binds is named), a run failed, or, as
+///     `grasp plan` writes no schedule (exit code 2), the best schedule found does not keep
+///     every constraint: the message names the one that binds and why, and the exception's
+///     `report` attribute holds the whole report (`met` False, `binding`, the margins along
+///     the best schedule, and that schedule, to inspect rather than to run).
 ///
 /// Examples
 /// --------
 /// >>> plan = grasp.plan(scene, releasing=["f1", "f2"], receiving=["f3", "f4"], max_rate=1.5)
 /// >>> plan["met"], plan["duration_s"]
 #[pyfunction]
-#[pyo3(signature = (scene, *, releasing, receiving=Vec::new(), template=None,
-                    min_slip_margin=0.0, min_margin=None, min_load=0.0, max_load=None, max_rate=None,
-                    min_duration=0.0, max_duration=None, duration=None, objective="duration",
-                    steps=None, keyframes=5, max_runs=30, solver="auto", compliance="auto"))]
+#[pyo3(signature = (scene, *, releasing, receiving=None, template=None,
+                    min_slip_margin=None, min_margin=None, min_load=None, max_load=None,
+                    max_rate=None, min_duration=None, max_duration=None, duration=None,
+                    objective="duration", steps=None, keyframes=None, max_runs=None,
+                    solver="auto", compliance="auto"))]
 #[allow(clippy::too_many_arguments)]
 pub fn plan(
     py: Python<'_>,
     scene: &Scene,
-    releasing: Vec<String>,
-    receiving: Vec<String>,
+    releasing: &Bound<'_, PyAny>,
+    receiving: Option<&Bound<'_, PyAny>>,
     template: Option<&Bound<'_, PyAny>>,
-    min_slip_margin: f64,
-    min_margin: Option<f64>,
-    min_load: f64,
-    max_load: Option<f64>,
-    max_rate: Option<f64>,
-    min_duration: f64,
-    max_duration: Option<f64>,
-    duration: Option<f64>,
+    min_slip_margin: Option<&Bound<'_, PyAny>>,
+    min_margin: Option<&Bound<'_, PyAny>>,
+    min_load: Option<&Bound<'_, PyAny>>,
+    max_load: Option<&Bound<'_, PyAny>>,
+    max_rate: Option<&Bound<'_, PyAny>>,
+    min_duration: Option<&Bound<'_, PyAny>>,
+    max_duration: Option<&Bound<'_, PyAny>>,
+    duration: Option<&Bound<'_, PyAny>>,
     objective: &str,
-    steps: Option<usize>,
-    keyframes: usize,
-    max_runs: usize,
+    steps: Option<&Bound<'_, PyAny>>,
+    keyframes: Option<&Bound<'_, PyAny>>,
+    max_runs: Option<&Bound<'_, PyAny>>,
     solver: &str,
     compliance: &str,
 ) -> PyResult<PyObject> {
@@ -112,30 +128,31 @@ pub fn plan(
         "duration" => Objective::Duration,
         "margin" => Objective::Margin,
         other => {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            return Err(PyValueError::new_err(format!(
                 "objective={other:?}: give \"duration\" or \"margin\""
             )))
         }
     };
     let mut solve = crate::solve::solve_options(solver, 1e-10)?;
     solve.compliance = crate::solve::compliance_choice(compliance)?;
+    let defaults = PlanOptions::default();
     let options = PlanOptions {
-        releasing,
-        receiving,
-        min_slip_margin,
-        min_margin_n: min_margin,
-        min_load_n: min_load,
-        max_load_n: max_load.unwrap_or(f64::INFINITY),
-        max_rate_n_per_s: max_rate,
-        min_duration_s: min_duration,
-        max_duration_s: max_duration.unwrap_or(f64::INFINITY),
+        releasing: finger_names("releasing", Some(releasing))?,
+        receiving: finger_names("receiving", receiving)?,
+        min_slip_margin: number("min_slip_margin", min_slip_margin)?.unwrap_or(0.0),
+        min_margin_n: number("min_margin", min_margin)?,
+        min_load_n: number("min_load", min_load)?.unwrap_or(0.0),
+        max_load_n: number("max_load", max_load)?.unwrap_or(f64::INFINITY),
+        max_rate_n_per_s: number("max_rate", max_rate)?,
+        min_duration_s: number("min_duration", min_duration)?.unwrap_or(0.0),
+        max_duration_s: number("max_duration", max_duration)?.unwrap_or(f64::INFINITY),
         objective,
-        duration_s: duration,
-        steps,
-        keyframes,
-        max_runs,
+        duration_s: number("duration", duration)?,
+        steps: whole("steps", steps)?,
+        keyframes: whole("keyframes", keyframes)?.unwrap_or(defaults.keyframes),
+        max_runs: whole("max_runs", max_runs)?.unwrap_or(defaults.max_runs),
         solve,
-        ..PlanOptions::default()
+        ..defaults
     };
     let template = template.map(|t| read_template(py, scene, t)).transpose()?;
     let report = py.allow_threads(|| {
@@ -145,13 +162,99 @@ pub fn plan(
         grasp_transfer::plan(&scene.scene, t, &options)
     });
     let mut report = report.map_err(|e| match e {
-        PlanError::Options(_) => {
-            pyo3::exceptions::PyValueError::new_err(in_keywords(&e.to_string()))
-        }
+        PlanError::Options(_) => PyValueError::new_err(in_keywords(&e.to_string())),
         other => grasp_error(in_keywords(&other.to_string())),
     })?;
     report.respell_options(in_keywords);
-    Ok(serialize_to_py(py, &report)?.unbind())
+    let dict = serialize_to_py(py, &report)?;
+    match &report.binding {
+        None => Ok(dict.unbind()),
+        Some(b) => {
+            // As `grasp plan` writes no schedule (exit 2): an exception, the report on it.
+            let err = GraspError::new_err(not_met(b));
+            err.value(py).setattr("report", dict)?;
+            Err(err)
+        }
+    }
+}
+
+/// The message of a plan that does not keep every constraint: the one that binds, where, by
+/// how much, and why (option names already keywords).
+fn not_met(b: &Binding) -> String {
+    let who = b
+        .finger
+        .as_deref()
+        .map_or(String::new(), |f| format!(" ({f})"));
+    format!(
+        "no schedule written: the best one found does not keep every constraint; binding: \
+         {}{who} at t = {} s is {} against {} (short by {}): {}. The exception's `report` \
+         holds the whole report (margins along the best schedule, `binding`, `schedule`)",
+        b.constraint,
+        Readable(b.time_s),
+        Readable(b.value),
+        Readable(b.limit),
+        Readable(b.short_by),
+        b.why
+    )
+}
+
+/// `keyword=` as a real number (N, N/s, s), `None` when not given: an int or float, not a bool
+/// (`True` is an int to Python, and would read as 1), else a TypeError naming the keyword.
+fn number(keyword: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<f64>> {
+    let Some(v) = value.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    if v.is_instance_of::<PyBool>() {
+        return Err(PyTypeError::new_err(format!(
+            "`{keyword}=` is {}, a bool: give a number",
+            v.repr()?
+        )));
+    }
+    v.extract::<f64>().map(Some).map_err(|_| {
+        let shown = v.repr().map(|r| r.to_string()).unwrap_or_default();
+        PyTypeError::new_err(format!("`{keyword}=` is {shown}: give a number"))
+    })
+}
+
+/// `keyword=` as a count, `None` when not given: a non-negative int, not a bool; the range is
+/// the planner's to check (its message names the keyword).
+fn whole(keyword: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+    let Some(v) = value.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    if !v.is_instance_of::<PyInt>() || v.is_instance_of::<PyBool>() {
+        return Err(PyTypeError::new_err(format!(
+            "`{keyword}=` is {}: give a whole number (an int)",
+            v.repr()?
+        )));
+    }
+    v.extract::<usize>().map(Some).map_err(|_| {
+        let shown = v.repr().map(|r| r.to_string()).unwrap_or_default();
+        PyValueError::new_err(format!(
+            "`{keyword}=` is {shown}: give a positive whole number"
+        ))
+    })
+}
+
+/// `keyword=` as finger names: a list or tuple of str (a single str is refused: it is not a
+/// list of one name), empty when not given.
+fn finger_names(keyword: &str, value: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
+    let Some(v) = value.filter(|v| !v.is_none()) else {
+        return Ok(Vec::new());
+    };
+    if let Ok(text) = v.downcast::<PyString>() {
+        return Err(PyTypeError::new_err(format!(
+            "`{keyword}=` is the string {}, not a list of finger names; give [{}]",
+            text.repr()?,
+            text.repr()?
+        )));
+    }
+    v.extract::<Vec<String>>().map_err(|_| {
+        let shown = v.repr().map(|r| r.to_string()).unwrap_or_default();
+        PyTypeError::new_err(format!(
+            "`{keyword}=` is {shown}: give a list of finger names (str), e.g. [\"f1\", \"f2\"]"
+        ))
+    })
 }
 
 /// The template as written and resolved against the scene's fingers.

@@ -50,6 +50,7 @@ mod schedule;
 mod schedule_builder;
 mod schedule_spec;
 mod sinks;
+mod slip_margin;
 mod step_margin;
 mod stepper;
 mod summary;
@@ -67,6 +68,12 @@ pub use stepper::{FingerCommand, StepRecord, Stepper, TransferOptions};
 pub use summary::{
     FailedStep, Fallbacks, HeldRelaxation, LeastSafeStep, MarginCost, SequentialTotals, SlipMargin,
     SummaryAccumulator, TransferSummary, MAX_FOLDED_FINGERS, MAX_LISTED_FAILED_STEPS,
+};
+
+// ---- The slip-margin rule of the summary and the planner ----
+pub use slip_margin::{
+    carrying, slip_margin, step_slip_margins, FingerSlipMargin, StepSlipMargins, CARRYING_FRACTION,
+    SLIP_MARGIN_RULE,
 };
 
 // ---- Sinks: what every step is logged to, and the files a run writes ----
@@ -96,8 +103,8 @@ pub use minimum_squeeze::{minimum_squeeze, MinimumSqueeze, SqueezeOutcome};
 // ---- The planner: load ramps that keep the margins ----
 pub use plan::keyframe_path::LoadGroup;
 pub use plan::{
-    plan, Binding, KeyframePath, MarginsAtStep, Objective, PlanError, PlanOptions, PlanReport,
-    Template, DISTURBANCE_TOLERANCE, MARGIN_TOLERANCE,
+    plan, Binding, CheckedAt, KeyframePath, MarginsAtStep, Objective, PlanError, PlanOptions,
+    PlanReport, Template, DISTURBANCE_TOLERANCE, FINE_STEPS, MARGIN_TOLERANCE,
 };
 
 /// How the planner's messages name its options ([`PlanOptions`]' fields as the Rust API spells

@@ -5,6 +5,7 @@
 use serde::Serialize;
 
 use crate::schedule::Command;
+use crate::slip_margin::{step_slip_margins, FingerSlipMargin, SLIP_MARGIN_RULE};
 use crate::stepper::StepRecord;
 use grasp_model::{CompliancePath, SolveAt, TalliedWarning, WarningTally};
 
@@ -35,8 +36,15 @@ pub struct TransferSummary {
     pub peak_squeeze_n: f64,
     /// Time of the peak squeeze, s.
     pub peak_squeeze_time_s: f64,
-    /// Smallest slip margin `1 - |Q|/(mu P)` of a loaded frictional finger.
+    /// Smallest slip margin `1 - |Q|/(mu P)` over the fingers the rule counts
+    /// ([`Self::slip_margin_rule`]: frictional, carrying at least 5 % of the load scale), the
+    /// figure `grasp plan` keeps at its threshold.
     pub smallest_slip_margin: Option<SlipMargin>,
+    /// Smallest slip margin of the loaded frictional fingers the rule leaves out (carrying less
+    /// than 5 % of the load scale: letting go, or just touching).
+    pub smallest_slip_margin_not_counted: Option<SlipMargin>,
+    /// Which fingers [`Self::smallest_slip_margin`] counts, in words.
+    pub slip_margin_rule: &'static str,
     /// Largest relative equilibrium residual over the steps.
     pub worst_equilibrium_residual: f64,
     /// Sum of step wall times, s.
@@ -248,6 +256,7 @@ pub struct SummaryAccumulator {
     history: Vec<(f64, Vec<f64>, Vec<bool>)>,
     peak: (f64, f64),
     margin: Option<SlipMargin>,
+    margin_not_counted: Option<SlipMargin>,
     worst: f64,
     total_wall_time_s: f64,
     total_iterations: u64,
@@ -293,6 +302,7 @@ impl SummaryAccumulator {
             history: Vec::new(),
             peak: (0.0, 0.0),
             margin: None,
+            margin_not_counted: None,
             worst: 0.0,
             total_wall_time_s: 0.0,
             total_iterations: 0,
@@ -471,20 +481,9 @@ impl SummaryAccumulator {
         if total > self.peak.0 {
             self.peak = (total, r.time_s);
         }
-        for f in &r.solution.fingers {
-            if f.normal_force_n > LOADED_FRACTION * r.solution.load_scale_n
-                && f.friction_utilization > 0.0
-            {
-                let m = 1.0 - f.friction_utilization;
-                if self.margin.as_ref().is_none_or(|x| m < x.margin) {
-                    self.margin = Some(SlipMargin {
-                        margin: m,
-                        time_s: r.time_s,
-                        finger: f.name.clone(),
-                    });
-                }
-            }
-        }
+        let least = step_slip_margins(&r.solution);
+        lower(&mut self.margin, least.counted, r.time_s);
+        lower(&mut self.margin_not_counted, least.not_counted, r.time_s);
         if let Some(res) = &r.solution.residuals {
             self.worst = self.worst.max(res.equilibrium_relative);
         }
@@ -518,6 +517,8 @@ impl SummaryAccumulator {
             peak_squeeze_n: self.peak.0,
             peak_squeeze_time_s: self.peak.1,
             smallest_slip_margin: self.margin,
+            smallest_slip_margin_not_counted: self.margin_not_counted,
+            slip_margin_rule: SLIP_MARGIN_RULE,
             worst_equilibrium_residual: self.worst,
             total_wall_time_s: self.total_wall_time_s,
             total_iterations: self.total_iterations,
@@ -536,6 +537,18 @@ impl SummaryAccumulator {
             warnings: self.warnings.warnings(),
             warnings_not_listed: self.warnings.dropped(),
         }
+    }
+}
+
+/// Keeps in `slot` the smaller of it and a step's margin `step` at `time_s`.
+fn lower(slot: &mut Option<SlipMargin>, step: Option<FingerSlipMargin<'_>>, time_s: f64) {
+    let Some(step) = step else { return };
+    if slot.as_ref().is_none_or(|x| step.margin < x.margin) {
+        *slot = Some(SlipMargin {
+            margin: step.margin,
+            time_s,
+            finger: step.finger.to_string(),
+        });
     }
 }
 

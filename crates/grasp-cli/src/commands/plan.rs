@@ -36,45 +36,78 @@ pub struct Args {
     pub template: Option<PathBuf>,
     /// Smallest slip margin 1 - |Q|/(mu P) at every step, over the fingers carrying at least
     /// 5 % of the load scale.
-    #[arg(long, default_value_t = 0.0, value_name = "X")]
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "X",
+        allow_negative_numbers = true
+    )]
     pub min_slip_margin: f64,
     /// Smallest disturbance margin at every step, N: the smallest, over the axis directions of
     /// force and couple, of the extra wrench the grasp resists (as `grasp transfer --margins`
     /// finds it; several times the planning's cost) [default: not constrained].
-    #[arg(long, value_name = "NEWTONS")]
+    #[arg(long, value_name = "NEWTONS", allow_negative_numbers = true)]
     pub min_margin: Option<f64>,
     /// Smallest load of a planned finger between its ends, N.
-    #[arg(long, default_value_t = 0.0, value_name = "N")]
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "N",
+        allow_negative_numbers = true
+    )]
     pub min_load: f64,
     /// Largest load of a planned finger, N [default: no limit].
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub max_load: Option<f64>,
     /// Largest load rate of a planned finger, N/s (needed for the shortest duration).
-    #[arg(long, value_name = "N_PER_S")]
+    #[arg(long, value_name = "N_PER_S", allow_negative_numbers = true)]
     pub max_rate: Option<f64>,
     /// Shortest duration allowed, s.
-    #[arg(long, default_value_t = 0.0, value_name = "S")]
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "S",
+        allow_negative_numbers = true
+    )]
     pub min_duration: f64,
     /// Longest duration allowed, s [default: no limit].
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub max_duration: Option<f64>,
     /// Duration, s: fixed with `--objective margin`, the first guess otherwise [default: the
     /// template's].
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// What to optimise: the shortest duration, or the largest smallest slip margin.
     #[arg(long, value_enum, default_value = "duration")]
     pub objective: ObjectiveArg,
     /// Steps after the first [default: the template's, or 60].
-    #[arg(long, value_name = "K")]
+    #[arg(
+        long,
+        value_name = "K",
+        allow_negative_numbers = true,
+        value_parser = whole_number
+    )]
     pub steps: Option<usize>,
     /// Keyframes per finger, the ends included (2 to 20).
-    #[arg(long, default_value_t = 5, value_name = "K")]
+    #[arg(
+        long,
+        default_value_t = 5,
+        value_name = "K",
+        allow_negative_numbers = true,
+        value_parser = whole_number
+    )]
     pub keyframes: usize,
     /// Most hand-off runs the planner may make, the final check included.
-    #[arg(long, default_value_t = 30, value_name = "N")]
+    #[arg(
+        long,
+        default_value_t = 30,
+        value_name = "N",
+        allow_negative_numbers = true,
+        value_parser = whole_number
+    )]
     pub max_runs: usize,
-    /// Write the report (margins along the plan and the template, keyframes, cost) as JSON.
+    /// Write the report (margins along the plan and the template, keyframes, cost) as JSON;
+    /// written also when no schedule keeps every constraint (exit code 2), to say why.
     #[arg(long, value_name = "F.json")]
     pub report: Option<PathBuf>,
     /// Plot the smallest slip margin along the plan beside the template's (.svg or .png); with
@@ -91,6 +124,17 @@ pub struct Args {
     pub force: ForceArg,
     #[command(flatten)]
     pub solve: SolveFlags,
+}
+
+/// A count option's value (`--steps`, `--keyframes`, `--max-runs`): a whole number, else a
+/// message saying so (clap names the flag before it); the planner checks its range.
+fn whole_number(s: &str) -> Result<usize, String> {
+    s.trim().parse::<usize>().map_err(|_| {
+        format!(
+            "{s} is not a whole number of 0 or more: give one, such as 60 (the planner then \
+             checks its range)"
+        )
+    })
 }
 
 /// `--objective`.
@@ -154,6 +198,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         println!("wrote plot: {}", path.display());
     }
     if !report.met {
+        // The schedule is not written; the report and the plot asked for are: they say why.
         println!("no schedule written: the best one found does not keep every constraint");
         return Ok(ExitCode::from(2));
     }
@@ -231,10 +276,14 @@ fn read_template(path: &Path, names: &[String]) -> Result<(ScheduleSpec, Schedul
     Ok((spec, schedule))
 }
 
-/// `x` to four significant digits, round-off of 0 (below 1e-9) as 0.
+/// `x` to four significant digits, round-off of 0 (below 1e-9) as 0, a million or more in
+/// exponent form (`1.000e300`, not 301 digits).
 fn g4(x: f64) -> String {
     if x.abs() < 1e-9 {
         return "0".into();
+    }
+    if x.abs() >= 1e6 {
+        return format!("{x:.3e}");
     }
     let digits = (3 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
     format!("{x:.digits$}")
@@ -273,6 +322,11 @@ fn summary(r: &PlanReport, o: &PlanOptions) -> String {
         let _ = write!(s, "; template: {}", at(r.template_smallest()));
     }
     let _ = writeln!(s);
+    let counted = r.smallest().and_then(|m| m.smallest);
+    s.push_str(&crate::report::slip_rule_line(
+        counted,
+        r.smallest_not_counted.as_ref(),
+    ));
     if o.min_margin_n.is_some() {
         let _ = write!(
             s,
@@ -285,6 +339,7 @@ fn summary(r: &PlanReport, o: &PlanOptions) -> String {
         let _ = writeln!(s);
     }
     s.push_str(&constraints_line(r, o));
+    s.push_str(&checked_line(&r.checked));
     let _ = writeln!(
         s,
         "planning: {}, {}, {} s; it stopped because {}",
@@ -304,6 +359,34 @@ fn summary(r: &PlanReport, o: &PlanOptions) -> String {
         label: &label,
     };
     s.push_str(&crate::report::tallied_warning_lines(&r.warnings, &steps));
+    s
+}
+
+/// The resolutions the schedule was checked at: its own steps (as `grasp transfer` runs it),
+/// and the finer run of its ramps when it has fewer than `FINE_STEPS`.
+fn checked_line(c: &grasp_transfer::CheckedAt) -> String {
+    let mut s = format!(
+        "checked: at the schedule's {} steps ({} s apart), as grasp transfer runs it",
+        c.schedule_steps,
+        g4(c.schedule_step_s)
+    );
+    if let (Some(n), Some(step)) = (c.fine_steps, c.fine_step_s) {
+        let _ = write!(
+            s,
+            ", and its ramps at {n} steps ({} s apart) for the slip margin and equilibrium",
+            g4(step)
+        );
+        if let Some(m) = &c.fine_smallest {
+            let _ = write!(
+                s,
+                " (smallest slip margin there {}, {} at t = {} s)",
+                g4(m.margin),
+                m.finger,
+                g4(m.time_s)
+            );
+        }
+    }
+    s.push('\n');
     s
 }
 

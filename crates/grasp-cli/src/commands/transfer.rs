@@ -432,7 +432,7 @@ fn hand_off_lines(s: &TransferSummary, o: &mut String) {
     );
 }
 
-/// The smallest slip margin of the run, with its finger and time.
+/// The smallest slip margin of the run, with its finger and time, under the rule it follows.
 fn slip_margin_line(s: &TransferSummary, o: &mut String) {
     match &s.smallest_slip_margin {
         // Within round-off of 0: the finger is at the friction limit (|Q| = mu P).
@@ -454,9 +454,12 @@ fn slip_margin_line(s: &TransferSummary, o: &mut String) {
             );
         }
         None => {
-            let _ = writeln!(o, "smallest slip margin: no loaded frictional finger");
+            let _ = writeln!(o, "smallest slip margin: no frictional finger counted");
         }
     }
+    let counted = s.smallest_slip_margin.as_ref().map(|m| m.margin);
+    let lighter = s.smallest_slip_margin_not_counted.as_ref();
+    o.push_str(&crate::report::slip_rule_line(counted, lighter));
 }
 
 /// With `--margins`: the least safe step, and when the smallest disturbance margin first fell

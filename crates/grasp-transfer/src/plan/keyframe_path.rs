@@ -11,6 +11,11 @@ use std::collections::BTreeMap;
 
 use crate::schedule_spec::{KeyValue, PhaseSpec, RampPhase, ScheduleSpec, SpanSpec, TimeSpec};
 
+/// The shortest step of a planned schedule, s: its times are written in whole nanoseconds, so
+/// a step (and a keyframe span) of at least a microsecond keeps its times, and so its load
+/// rates, to 1e-3 of themselves.
+pub const SHORTEST_STEP_S: f64 = 1e-6;
+
 /// Fingers whose loads move together (a gripper's jaws): each carries its share of the
 /// group's load (the jaws of a pinch must, or no equilibrium is left).
 #[derive(Debug, Clone, PartialEq)]
@@ -49,6 +54,19 @@ pub struct KeyframePath {
 }
 
 impl KeyframePath {
+    /// The schedule file's step, s: its duration (rounded to the nanosecond, as the file
+    /// writes it) over the steps.
+    pub fn step_s(&self) -> f64 {
+        round_time(self.duration_s) / self.steps as f64
+    }
+
+    /// The shortest duration a schedule of this path's steps and keyframes may have, s:
+    /// [`SHORTEST_STEP_S`] for each step (and each keyframe span, when there are more).
+    pub fn shortest_planned_s(&self) -> f64 {
+        let spans = self.fractions.len().saturating_sub(1);
+        self.steps.max(spans) as f64 * SHORTEST_STEP_S
+    }
+
     /// Schedule time of step `s`, s.
     pub fn time_s(&self, s: usize) -> f64 {
         self.duration_s * s as f64 / self.steps as f64
@@ -139,7 +157,7 @@ impl KeyframePath {
             time: TimeSpec::Span(SpanSpec {
                 start: 0.0,
                 end: duration_s,
-                step: duration_s / self.steps as f64,
+                step: self.step_s(),
             }),
             fingers,
             external: None,

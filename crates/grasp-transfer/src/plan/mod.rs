@@ -4,6 +4,7 @@
 //! load-rate limits, in the shortest duration (or with the largest smallest margin), found
 //! by a trust-region sequence of quadratic programs on the load sensitivities of every step.
 
+pub mod binding_reason;
 pub mod disturbance_rows;
 pub mod keyframe_path;
 pub mod margin_row;
@@ -13,6 +14,7 @@ pub mod plan_options;
 pub mod plan_report;
 pub mod planner;
 pub mod slip_rows;
+pub mod start_diagnosis;
 pub mod starting_path;
 pub mod trust_region_qp;
 
@@ -20,7 +22,8 @@ pub use keyframe_path::KeyframePath;
 pub use plan_error::PlanError;
 pub use plan_options::{Objective, PlanOptions};
 pub use plan_report::{
-    Binding, MarginsAtStep, PlanReport, DISTURBANCE_TOLERANCE, MARGIN_TOLERANCE,
+    Binding, CheckedAt, MarginsAtStep, PlanReport, DISTURBANCE_TOLERANCE, FINE_STEPS,
+    MARGIN_TOLERANCE,
 };
 pub use planner::plan;
 pub use starting_path::Template;

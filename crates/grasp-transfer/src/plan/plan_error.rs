@@ -6,7 +6,7 @@
 use grasp_model::{OptionError, Readable as N};
 
 use crate::error::{ScheduleError, TransferError};
-use crate::plan::option_names::{DURATION, MAX_RATE, TEMPLATE};
+use crate::plan::option_names::{DURATION, MAX_LOAD, MAX_RATE, OBJECTIVE_MARGIN, TEMPLATE};
 
 /// A planning that ends without a checked schedule.
 #[derive(Debug, thiserror::Error)]
@@ -27,12 +27,71 @@ pub enum PlanError {
     /// The trust-region program could not be solved.
     #[error("the planner's program: {0}")]
     Program(String),
-    /// The starting schedule has a step without equilibrium.
+    /// The starting schedule has a step without equilibrium: where, the planned loads there,
+    /// the solver's reason and the fix ([`crate::plan::start_diagnosis`]).
     #[error(
-        "the starting schedule has a step without equilibrium; fix: start from a template \
-         that holds (`{TEMPLATE}`), or raise the loads"
+        "the starting schedule has no equilibrium at t = {} s (planned loads there: {loads}): \
+         {reason}; fix: {fix}",
+        rounded(*time_s)
     )]
-    StartHasNoEquilibrium,
+    StartHasNoEquilibrium {
+        /// Where, s.
+        time_s: f64,
+        /// The planned fingers' commands there.
+        loads: String,
+        /// The solver's reason.
+        reason: String,
+        /// What to change (options named between backticks).
+        fix: String,
+    },
+    /// A releasing finger starts above the load bound.
+    #[error(
+        "`{MAX_LOAD}` {} N is below {finger}'s starting load, {} N (a releasing finger's \
+         first keyframe is its load in the template or the scene); fix: raise `{MAX_LOAD}` to \
+         at least {} N",
+        N(*max_load_n), N(*load_n), N(*load_n)
+    )]
+    MaxLoadBelowStart {
+        /// The finger.
+        finger: String,
+        /// Its starting load, N.
+        load_n: f64,
+        /// The bound, N.
+        max_load_n: f64,
+    },
+    /// The rate limit is so fast that it cannot bind, so the shortest duration is not its.
+    #[error(
+        "`{MAX_RATE}` {} N/s lets {finger}'s {} N fall in {} s, within the shortest hand-off \
+         the planner writes ({} s: a microsecond a step), so the rate never binds and there is \
+         no shortest duration to find; fix: a rate that binds (below {} N/s), or \
+         `{OBJECTIVE_MARGIN}` with a `{DURATION}`",
+        N(*rate_n_per_s), N(*load_n), rounded(*load_n / *rate_n_per_s), rounded(*shortest_s),
+        rounded(*load_n / *shortest_s)
+    )]
+    RateTooLarge {
+        /// The finger with the largest starting load.
+        finger: String,
+        /// Its starting load, N.
+        load_n: f64,
+        /// The limit, N/s.
+        rate_n_per_s: f64,
+        /// The shortest planned duration, s.
+        shortest_s: f64,
+    },
+    /// A duration (given, or bounding) outside what a planned schedule can span.
+    #[error(
+        "`{option}` {} s is outside the durations a planned schedule spans, {} s (a \
+         microsecond for each of its steps) to 1e9 s; fix: give one within them",
+        N(*duration_s), rounded(*shortest_s)
+    )]
+    DurationOutOfRange {
+        /// The option (as [`crate::plan::option_names`] spells it).
+        option: &'static str,
+        /// Its value, s.
+        duration_s: f64,
+        /// The shortest planned duration, s.
+        shortest_s: f64,
+    },
     /// A planned finger is not force-controlled.
     #[error(
         "fingers.{finger} is not force-controlled at t = {} s: the planner ramps commanded \
@@ -56,7 +115,7 @@ pub enum PlanError {
     #[error(
         "load rate: {finger} must fall from {} N to 0 N; at `{MAX_RATE}` {} N/s that takes {} \
          s, longer than the {} s allowed; fix: raise `{MAX_RATE}` or the duration",
-        N(*load_n), N(*rate_n_per_s), N(*needed_s), N(*allowed_s)
+        N(*load_n), N(*rate_n_per_s), rounded(*needed_s), N(*allowed_s)
     )]
     RateTooSmall {
         /// The finger.
@@ -70,6 +129,12 @@ pub enum PlanError {
         /// The longest duration allowed, s.
         allowed_s: f64,
     },
+}
+
+/// A number the planner computed (a load, a time, a rate), as its messages show it: four
+/// significant digits, written as [`N`] writes a number (`0.00012`, `6.667e4`, `8e300`).
+pub fn rounded(x: f64) -> N {
+    N(format!("{x:.3e}").parse().unwrap_or(x))
 }
 
 /// One line per problem: `` `option`: `` what is wrong and the fix (the value given is in the
@@ -87,7 +152,12 @@ mod tests {
     #[test]
     fn messages_name_options_not_flags() {
         let errors = [
-            PlanError::StartHasNoEquilibrium,
+            PlanError::StartHasNoEquilibrium {
+                time_s: 4.0,
+                loads: "f1 released".into(),
+                reason: "no equilibrium".into(),
+                fix: format!("name the fingers that take over (`{TEMPLATE}`)"),
+            },
             PlanError::NoDuration,
             PlanError::RateTooSmall {
                 finger: "f1".into(),

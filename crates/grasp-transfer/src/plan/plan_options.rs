@@ -2,9 +2,11 @@
 //! step must keep, the objective, and the planner's own limits; each checked, a problem named
 //! by its option with the fix.
 
+use grasp_model::limits::MAX_FORCE_N;
 use grasp_model::{OptionError, Readable};
 
 use crate::plan::option_names;
+use crate::schedule_spec::MAX_TIME_S;
 
 /// What the plan optimises.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -108,6 +110,12 @@ impl PlanOptions {
                     format!("no finger named `{name}` in the scene; use one of: {known}");
                 out.push(problem(option, name, expected));
             }
+            for (i, name) in list.iter().enumerate() {
+                if list[..i].contains(name) && !list[i + 1..].contains(name) {
+                    let expected = format!("`{name}` is named more than once; name it once");
+                    out.push(problem(option, name, expected));
+                }
+            }
         }
         if self.releasing.is_empty() {
             let expected = "name at least one finger that lets go".into();
@@ -129,7 +137,7 @@ impl PlanOptions {
         if !(0.0..1.0).contains(&self.min_slip_margin) {
             let expected = format!(
                 "{} is outside [0, 1): 1 - |Q|/(mu P) is below 1",
-                self.min_slip_margin
+                Readable(self.min_slip_margin)
             );
             say(
                 option_names::MIN_SLIP_MARGIN,
@@ -142,7 +150,13 @@ impl PlanOptions {
                 "must be a positive number of newtons (a disturbance the grasp resists)".into();
             say(option_names::MIN_MARGIN, n, expected);
         }
-        if !(self.min_load_n >= 0.0 && self.min_load_n < self.max_load_n) {
+        if self.min_load_n > MAX_FORCE_N {
+            let expected = format!(
+                "must be at most {} N, the largest force a scene or schedule takes",
+                Readable(MAX_FORCE_N)
+            );
+            say(option_names::MIN_LOAD, self.min_load_n, expected);
+        } else if !(self.min_load_n >= 0.0 && self.min_load_n < self.max_load_n) {
             let expected = format!(
                 "needs 0 <= `{}` (got {} and {})",
                 option_names::LOAD_ORDER,
@@ -158,7 +172,13 @@ impl PlanOptions {
             let expected = "must be a positive number of newtons per second".into();
             say(option_names::MAX_RATE, r, expected);
         }
-        if !(self.min_duration_s >= 0.0 && self.min_duration_s <= self.max_duration_s) {
+        if self.min_duration_s > MAX_TIME_S {
+            let expected = format!(
+                "must be at most {} s, the longest a schedule spans",
+                Readable(MAX_TIME_S)
+            );
+            say(option_names::MIN_DURATION, self.min_duration_s, expected);
+        } else if !(self.min_duration_s >= 0.0 && self.min_duration_s <= self.max_duration_s) {
             let expected = format!("needs 0 <= `{}`", option_names::DURATION_ORDER);
             say(option_names::MIN_DURATION, self.min_duration_s, expected);
         }

@@ -6,9 +6,10 @@ use serde::Serialize;
 
 use crate::plan::keyframe_path::KeyframePath;
 use crate::plan::plan_options::PlanOptions;
-use crate::plan::slip_rows::carrying;
 use crate::schedule_spec::ScheduleSpec;
+use crate::slip_margin::step_slip_margins;
 use crate::stepper::StepRecord;
+use crate::summary::SlipMargin;
 
 /// A planned schedule counts as keeping the slip-margin threshold when its smallest margin is
 /// at least the threshold minus this: the linearisation's error over the last step, which the
@@ -22,14 +23,21 @@ pub const MARGIN_TOLERANCE: f64 = 1e-3;
 /// ([`MARGIN_TOLERANCE`], here relative to the threshold).
 pub const DISTURBANCE_TOLERANCE: f64 = 2e-3;
 
-/// The smallest slip margin of a step over its carrying fingers, and its smallest disturbance
-/// margin when that is constrained.
+/// A planned schedule of fewer steps than this is also run with its ramps sampled at this many
+/// steps, and its slip margins and equilibrium checked there too: a margin can dip between the
+/// schedule's own steps (a finger letting go is counted until it carries 5 % of the load
+/// scale, whenever that falls), and a run at coarse steps steps over it.
+pub const FINE_STEPS: usize = 600;
+
+/// The smallest slip margin of a step under the slip-margin rule ([`crate::slip_margin`]), and
+/// its smallest disturbance margin when that is constrained.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MarginsAtStep {
     /// Schedule time, s.
     pub time_s: f64,
-    /// `1 - |Q| / (mu P)`, smallest over the fingers carrying at least 5 % of the load scale;
-    /// `None` when none does (or the step found no equilibrium).
+    /// `1 - |Q| / (mu P)`, smallest over the fingers carrying at least 5 % of the load scale
+    /// (the rule of `grasp transfer`'s summary too); `None` when none does (or the step found
+    /// no equilibrium).
     pub smallest: Option<f64>,
     /// The finger it belongs to.
     pub finger: Option<String>,
@@ -39,6 +47,24 @@ pub struct MarginsAtStep {
     /// undetermined.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub disturbance_n: Option<f64>,
+}
+
+/// The resolutions the planned schedule was checked at.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CheckedAt {
+    /// Steps of the schedule's own run, the first included (its `time.step`, as `grasp
+    /// transfer` runs it): every constraint checked at every one.
+    pub schedule_steps: usize,
+    /// The schedule's step, s.
+    pub schedule_step_s: f64,
+    /// When the schedule has fewer than [`FINE_STEPS`] steps: the steps of the second run of
+    /// its ramps (the first included), at which the slip margins and equilibrium were checked too (the disturbance
+    /// margins only at the schedule's own steps: each step's search costs many solves).
+    pub fine_steps: Option<usize>,
+    /// Its step, s.
+    pub fine_step_s: Option<f64>,
+    /// The smallest slip margin of that run (the rule's), with its time and finger.
+    pub fine_smallest: Option<SlipMargin>,
 }
 
 /// A constraint the checked schedule does not keep.
@@ -73,6 +99,14 @@ pub struct PlanReport {
     pub template_duration_s: Option<f64>,
     /// The slip margins along the plan, re-run from its schedule file's text.
     pub margins: Vec<MarginsAtStep>,
+    /// Which fingers the slip margins count, in words (the rule of `grasp transfer`'s summary
+    /// too).
+    pub slip_margin_rule: &'static str,
+    /// The smallest slip margin along the plan of the loaded frictional fingers the rule leaves
+    /// out (carrying less than 5 % of the load scale), with its time and finger.
+    pub smallest_not_counted: Option<SlipMargin>,
+    /// The resolutions the schedule was checked at.
+    pub checked: CheckedAt,
     /// Along the template.
     pub template_margins: Option<Vec<MarginsAtStep>>,
     /// Keyframe times, s.
@@ -148,21 +182,40 @@ pub fn smallest_margins(records: &[StepRecord]) -> Vec<MarginsAtStep> {
     records
         .iter()
         .map(|r| {
-            let sol = &r.solution;
-            let least = sol
-                .fingers
-                .iter()
-                .filter(|f| sol.status.has_forces() && carrying(f, sol.load_scale_n))
-                .map(|f| (1.0 - f.friction_utilization, &f.name))
-                .min_by(|a, b| a.0.total_cmp(&b.0));
+            let least = step_slip_margins(&r.solution).counted;
             MarginsAtStep {
                 time_s: r.time_s,
-                smallest: least.map(|l| l.0),
-                finger: least.map(|l| l.1.clone()),
+                smallest: least.map(|l| l.margin),
+                finger: least.map(|l| l.finger.to_string()),
                 disturbance_n: r.margin.as_ref().map(|m| m.margin_or_bound_n()),
             }
         })
         .collect()
+}
+
+/// The smallest slip margin of a run: of the fingers the rule counts (`counted`), or of those
+/// it leaves out.
+pub fn smallest_of_run(records: &[StepRecord], counted: bool) -> Option<SlipMargin> {
+    let mut least: Option<SlipMargin> = None;
+    for r in records {
+        let step = step_slip_margins(&r.solution);
+        let which = if counted {
+            step.counted
+        } else {
+            step.not_counted
+        };
+        let Some(step) = which else {
+            continue;
+        };
+        if least.as_ref().is_none_or(|l| step.margin < l.margin) {
+            least = Some(SlipMargin {
+                margin: step.margin,
+                time_s: r.time_s,
+                finger: step.finger.to_string(),
+            });
+        }
+    }
+    least
 }
 
 /// The first constraint a checked run breaks: a step without equilibrium, a slip margin

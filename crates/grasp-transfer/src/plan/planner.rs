@@ -11,18 +11,24 @@ use std::time::Instant;
 
 use grasp_model::{GraspModel, LoadDirection, LoadedScene, MarginOptions, Scene};
 
+use crate::plan::binding_reason::{between_steps, explain, Evidence};
 use crate::plan::disturbance_rows::{difference_options, disturbance_rows, load_step_n, raised};
 use crate::plan::keyframe_path::KeyframePath;
 use crate::plan::margin_row::{MarginRow, RowKind};
 use crate::plan::option_names;
 use crate::plan::plan_error::PlanError;
 use crate::plan::plan_options::{Objective, PlanOptions};
-use crate::plan::plan_report::{binding_row, run_warnings, smallest_margins, Binding, PlanReport};
+use crate::plan::plan_report::{
+    binding_row, run_warnings, smallest_margins, smallest_of_run, Binding, CheckedAt, PlanReport,
+    FINE_STEPS,
+};
 use crate::plan::slip_rows::{load_directions, slip_rows};
+use crate::plan::start_diagnosis::no_equilibrium;
 use crate::plan::starting_path::{starting_path, Template};
 use crate::plan::trust_region_qp::{qp_step, Pinned, VIOLATION_WEIGHT};
 use crate::schedule::Schedule;
 use crate::schedule_spec::{PhaseSpec, ScheduleSpec};
+use crate::slip_margin::SLIP_MARGIN_RULE;
 use crate::stepper::{StepRecord, Stepper, TransferOptions};
 
 /// Relative change of the duration for the difference quotient of the margins with respect
@@ -55,6 +61,8 @@ struct Runner<'a> {
     options: &'a PlanOptions,
     runs: usize,
     notes: Vec<String>,
+    /// The plan started from a template.
+    template: bool,
 }
 
 /// Plans the hand-off of `scene` (see the module); `template`: the user's schedule, the
@@ -79,6 +87,7 @@ pub fn plan(
         options,
         runs: 0,
         notes: Vec::new(),
+        template: template.is_some(),
     };
     let template_margins = match &template {
         Some(t) => {
@@ -137,16 +146,16 @@ impl Runner<'_> {
     }
 
     /// Runs `path` and linearises its margins (with the duration's quotient for viscoelastic
-    /// pads): the iterate, or `None` when a step found no equilibrium.
+    /// pads): the iterate, or the first step that found no equilibrium.
     fn evaluate(
         &mut self,
         path: KeyframePath,
         reference_s: f64,
-    ) -> Result<Option<Iterate>, PlanError> {
+    ) -> Result<Result<Iterate, Box<StepRecord>>, PlanError> {
         let margins = self.options.min_margin_n.map(|_| difference_options());
         let records = self.run_path(&path, true, margins)?;
-        if records.iter().any(|r| !r.solution.status.has_forces()) {
-            return Ok(None);
+        if let Some(r) = records.iter().find(|r| !r.solution.status.has_forces()) {
+            return Ok(Err(Box::new(r.clone())));
         }
         let mut rows = slip_rows(&path, &records, &mut self.notes);
         if let Some(threshold_n) = self.options.min_margin_n {
@@ -166,8 +175,8 @@ impl Runner<'_> {
         if self.model.is_viscoelastic() {
             self.add_per_duration(&path, &mut rows, margins)?;
         }
-        let merit = merit(&rows, path.duration_s / reference_s, self.options);
-        Ok(Some(Iterate { path, rows, merit }))
+        let merit = merit(&rows, &path, path.duration_s / reference_s, self.options);
+        Ok(Ok(Iterate { path, rows, merit }))
     }
 
     /// Each row's derivative in the duration, from a run of `path` stretched by
@@ -235,16 +244,19 @@ impl Runner<'_> {
     }
 }
 
-/// The merit of rows at a duration `relative` to the reference: see [`PlanOptions::tolerance`],
-/// plus 100 times the largest violation of the disturbance rows (each kept at least 1).
-fn merit(rows: &[MarginRow], relative: f64, options: &PlanOptions) -> f64 {
+/// The merit of rows along `path` at a duration `relative` to the reference: see
+/// [`PlanOptions::tolerance`], plus 100 times the largest violation of the disturbance rows
+/// (each kept at least 1) and of the load-rate limit ([`rate_violation`]).
+fn merit(rows: &[MarginRow], path: &KeyframePath, relative: f64, options: &PlanOptions) -> f64 {
     let least = |kind: RowKind| {
         let of_kind = rows.iter().filter(|r| r.kind == kind);
         of_kind.map(|r| r.margin).fold(f64::INFINITY, f64::min)
     };
     let slip = least(RowKind::Slip).min(1.0);
     let disturbance = VIOLATION_WEIGHT * (1.0 - least(RowKind::Disturbance)).max(0.0);
+    let rate = VIOLATION_WEIGHT * rate_violation(path, options);
     disturbance
+        + rate
         + match options.objective {
             Objective::Duration => {
                 relative + VIOLATION_WEIGHT * (options.min_slip_margin - slip).max(0.0)
@@ -253,13 +265,36 @@ fn merit(rows: &[MarginRow], relative: f64, options: &PlanOptions) -> f64 {
         }
 }
 
+/// How far the steepest keyframe span of `path` exceeds the load-rate limit, relative to it,
+/// beyond 1e-6 of it (the program's own accuracy, as the check counts it): 0 within. A
+/// path starts above it when the template's ramps are steeper than the limit at a duration
+/// the plan cannot stretch (the margin objective's); the program's steps keep the limit, and
+/// this term lets the merit see the gain.
+fn rate_violation(path: &KeyframePath, options: &PlanOptions) -> f64 {
+    let Some(limit) = options.max_rate_n_per_s else {
+        return 0.0;
+    };
+    let shortest_s = path.shortest_duration_s(Some(limit));
+    let excess = shortest_s / path.duration_s - 1.0;
+    if excess > 1e-6 {
+        excess
+    } else {
+        0.0
+    }
+}
+
 impl Runner<'_> {
     /// The trust-region iteration from `path`: where it ended.
     fn search(&mut self, path: KeyframePath, pinned: &Pinned) -> Result<SearchEnd, PlanError> {
         let start_s = path.duration_s;
-        let mut current = self
-            .evaluate(path, start_s)?
-            .ok_or(PlanError::StartHasNoEquilibrium)?;
+        let mut current = match self.evaluate(path.clone(), start_s)? {
+            Ok(iterate) => iterate,
+            Err(step) => {
+                let template = self.template;
+                let diagnosis = no_equilibrium(&step, &path, &self.model, self.options, template);
+                return Err(diagnosis);
+            }
+        };
         let scale = current
             .path
             .loads_n
@@ -275,7 +310,7 @@ impl Runner<'_> {
                 break format!("it made the runs allowed (`{}`)", option_names::MAX_RUNS);
             }
             iterations += 1;
-            let base = merit(&current.rows, 1.0, self.options);
+            let base = merit(&current.rows, &current.path, 1.0, self.options);
             let step = qp_step(
                 &current.path,
                 &current.rows,
@@ -297,7 +332,7 @@ impl Runner<'_> {
             trial.loads_n = step.loads_n;
             trial.duration_s = step.duration_s;
             let reference = current.path.duration_s;
-            let trial = self.evaluate(trial, reference)?;
+            let trial = self.evaluate(trial, reference)?.ok();
             let ratio = trial
                 .as_ref()
                 .map_or(f64::NEG_INFINITY, |t| (base - t.merit) / predicted);
@@ -324,7 +359,7 @@ impl Runner<'_> {
     }
 
     /// Re-runs the search's best iterate from its schedule file's text, as `grasp transfer`
-    /// reads it, and reports what it keeps.
+    /// reads it, and at [`FINE_STEPS`] when it has fewer, and reports what it keeps.
     fn verify(
         &mut self,
         end: SearchEnd,
@@ -343,8 +378,17 @@ impl Runner<'_> {
         let records = self.run_schedule(&schedule, None, self.check_margins())?;
         let mut binding = binding_row(&records, &best.path, self.options);
         if let Some(b) = binding.as_mut().filter(|b| b.why.is_empty()) {
-            b.why = explain(b, &best, &stopped, self.options);
+            let evidence = Evidence {
+                rows: &best.rows,
+                path: &best.path,
+                records: &records,
+                stopped: &stopped,
+                options: self.options,
+            };
+            b.why = explain(b, &evidence);
         }
+        let (checked, fine_binding) = self.fine_check(&best.path)?;
+        let binding = binding.or(fine_binding);
         let template_duration_s = template
             .as_ref()
             .and_then(|t| Some(t.last()?.time_s - t.first()?.time_s));
@@ -354,6 +398,9 @@ impl Runner<'_> {
             duration_s: best.path.duration_s,
             template_duration_s,
             margins: smallest_margins(&records),
+            slip_margin_rule: SLIP_MARGIN_RULE,
+            smallest_not_counted: smallest_of_run(&records, false),
+            checked,
             template_margins: template.as_deref().map(smallest_margins),
             keyframes_s: best
                 .path
@@ -371,80 +418,43 @@ impl Runner<'_> {
             schedule: spec,
         })
     }
-}
 
-/// Why the search stopped short of a binding constraint, from the last iterate's
-/// linearisation: a margin whose derivative with respect to every keyframe load is 0 (a
-/// finger sliding at the friction limit: no nearby change of the loads lifts it off), a
-/// margin that grows only with a shorter hand-off when the rates or
-/// [`PlanOptions::min_duration_s`] allow none ([`duration_bound`]), a linearised program with
-/// no better step within the bounds and rates, or the runs ran out.
-fn explain(b: &Binding, best: &Iterate, stopped: &str, options: &PlanOptions) -> String {
-    let disturbance = b.constraint == "disturbance margin";
-    let row = best.rows.iter().find(|r| {
-        let same_row = match r.kind {
-            RowKind::Disturbance => disturbance,
-            RowKind::Slip => !disturbance && Some(&r.finger) == b.finger.as_ref(),
+    /// The check of `path`'s ramps at [`FINE_STEPS`] when its schedule has fewer: the resolutions checked, and the slip margin or equilibrium the finer run
+    /// breaks (a run of the check: not counted in [`PlanOptions::max_runs`]).
+    fn fine_check(
+        &mut self,
+        path: &KeyframePath,
+    ) -> Result<(CheckedAt, Option<Binding>), PlanError> {
+        let mut checked = CheckedAt {
+            schedule_steps: path.steps + 1,
+            schedule_step_s: path.step_s(),
+            fine_steps: None,
+            fine_step_s: None,
+            fine_smallest: None,
         };
-        same_row && (r.time_s - b.time_s).abs() < 1e-9
-    });
-    if b.time_s == 0.0 {
-        return "at the first step every planned load is fixed (the releasing fingers' loads \
-                in the template or the scene, the receiving ones' 0 N), so no schedule changes \
-                it"
-        .into();
+        if path.steps >= FINE_STEPS {
+            return Ok((checked, None));
+        }
+        let mut fine = path.clone();
+        fine.steps = FINE_STEPS;
+        let records = self.run_path(&fine, false, None)?;
+        self.runs -= 1;
+        checked.fine_steps = Some(FINE_STEPS + 1);
+        checked.fine_step_s = Some(fine.step_s());
+        checked.fine_smallest = smallest_of_run(&records, true);
+        let mut binding = binding_row(&records, &fine, self.options);
+        if let Some(b) = binding.as_mut() {
+            let evidence = Evidence {
+                rows: &[],
+                path: &fine,
+                records: &records,
+                stopped: "",
+                options: self.options,
+            };
+            b.why = between_steps(b, &checked, &evidence);
+        }
+        Ok((checked, binding))
     }
-    let flat = row.is_some_and(|r| r.gradient.iter().all(|g| *g == 0.0) && r.per_duration == 0.0);
-    if flat && disturbance {
-        return "its difference quotient in every keyframe load is 0 there: raising the \
-                planned loads does not move the grasp's weakest direction"
-            .into();
-    }
-    if flat {
-        return "its derivative with respect to every keyframe load is 0 there: the finger \
-                slides at the friction limit, and no nearby change of the loads lifts it off"
-            .into();
-    }
-    if let Some(why) = row.and_then(|r| duration_bound(r, &best.path, options)) {
-        return why;
-    }
-    if stopped.contains("converged") {
-        return "the linearised program finds no step that raises it within the load bounds, \
-                rates and duration"
-            .into();
-    }
-    format!("the search stopped before it was met: {stopped}")
-}
-
-/// The reason of a margin that only a shorter hand-off raises (`dm/dT < 0`: viscoelastic pads
-/// relax while it lasts) at a duration already the shortest the load rates allow at these
-/// keyframe loads, or [`PlanOptions::min_duration_s`] (to 1e-4 of it, the program's bounds
-/// being met to its own tolerance); `None` otherwise.
-fn duration_bound(row: &MarginRow, path: &KeyframePath, options: &PlanOptions) -> Option<String> {
-    if row.per_duration >= 0.0 {
-        return None;
-    }
-    let by_rate_s = path.shortest_duration_s(options.max_rate_n_per_s);
-    let (shortest_s, what) = if options.min_duration_s >= by_rate_s {
-        let what = format!("`{}` allows", option_names::MIN_DURATION);
-        (options.min_duration_s, what)
-    } else {
-        let what = "at these keyframe loads the load rates allow".to_string();
-        (by_rate_s, what)
-    };
-    (path.duration_s <= shortest_s * (1.0 + 1e-4)).then(|| {
-        format!(
-            "it grows only as the hand-off gets shorter ({} per s there: the pads relax while \
-             it lasts), and {what} none shorter than {} s",
-            three_digits(row.per_duration),
-            three_digits(shortest_s)
-        )
-    })
-}
-
-/// `x` to three significant digits, as [`grasp_model::Readable`] writes it (`-0.0421`, `3`).
-fn three_digits(x: f64) -> grasp_model::Readable {
-    grasp_model::Readable(format!("{x:.2e}").parse().unwrap_or(x))
 }
 
 /// Each planned finger's loads at the keyframes, N.

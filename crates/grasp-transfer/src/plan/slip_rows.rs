@@ -1,5 +1,6 @@
-//! The slip margins along a run, each linearised in the planner's variables: a loaded
-//! frictional finger's margin `m = 1 - |Q| / (mu P)` at a step, and its derivative with
+//! The slip margins along a run, each linearised in the planner's variables: the margin
+//! `m = 1 - |Q| / (mu P)` at a step of each finger the slip-margin rule counts
+//! ([`crate::slip_margin`]), and its derivative with
 //! respect to every keyframe load, by the chain rule through the step's load sensitivities
 //! (`dP/dL`, `dQ/dL` from the KKT system at the step's active set; [`crate::StepRecord`]'s
 //! `sensitivities`) and the keyframe weights of the step.
@@ -8,22 +9,8 @@ use grasp_model::{Sensitivities, Solution};
 
 use crate::plan::keyframe_path::{KeyframePath, LoadGroup};
 use crate::plan::margin_row::{MarginRow, RowKind};
+use crate::slip_margin::{carrying, slip_margin};
 use crate::stepper::StepRecord;
-
-/// A finger counts in the slip-margin constraint at a step while its contact force (normal and
-/// friction together) is at least this fraction of the step's load scale: a finger letting go
-/// may slide as it leaves.
-pub const CARRYING_FRACTION: f64 = 0.05;
-
-/// True when finger `f` of a solution counts at its step: frictional, and carrying at least
-/// [`CARRYING_FRACTION`] of the load scale.
-pub fn carrying(f: &grasp_model::FingerSolution, load_scale_n: f64) -> bool {
-    let q = f.tangential_force_n;
-    let force = (f.normal_force_n.powi(2) + q.iter().map(|c| c * c).sum::<f64>()).sqrt();
-    f.friction_coefficient > 0.0
-        && f.normal_force_n > 0.0
-        && force >= CARRYING_FRACTION * load_scale_n
-}
 
 /// The slip rows of a run along `path` (`records[s]` is step `s`); the notes say where a
 /// derivative was missing and taken as zero.
@@ -59,7 +46,7 @@ pub fn slip_rows(
                 step: r.index,
                 time_s: r.time_s,
                 finger: f.name.clone(),
-                margin: 1.0 - f.friction_utilization,
+                margin: slip_margin(f),
                 gradient: path.gradient(r.index, &per_load),
                 per_duration: 0.0,
             });

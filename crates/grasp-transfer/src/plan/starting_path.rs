@@ -8,12 +8,13 @@ use std::collections::BTreeMap;
 
 use grasp_model::Scene;
 
-use crate::plan::keyframe_path::{KeyframePath, LoadGroup};
+use crate::plan::keyframe_path::{KeyframePath, LoadGroup, SHORTEST_STEP_S};
+use crate::plan::option_names;
 use crate::plan::plan_error::PlanError;
 use crate::plan::plan_options::{Objective, PlanOptions};
 use crate::plan::trust_region_qp::{group_bounds, Pinned};
 use crate::schedule::{Command, Schedule};
-use crate::schedule_spec::{PhaseSpec, ScheduleSpec};
+use crate::schedule_spec::{PhaseSpec, ScheduleSpec, MAX_TIME_S};
 use crate::stepper::StepRecord;
 
 /// Steps of a plan without a template or `--steps`.
@@ -56,6 +57,9 @@ pub fn starting_path(
         (Some(_), Some(r)) => sampled(r, &fingers, &fractions, options)?,
         _ => straight(scene, &fingers, &fractions, options)?,
     };
+    let shortest_s = steps.max(nk - 1) as f64 * SHORTEST_STEP_S;
+    check_durations(duration_s, shortest_s, template.is_some(), options)?;
+    check_starts(&fingers, &loads_n, shortest_s, options)?;
     check_reachable(&fingers, &loads_n, duration_s, options)?;
     let released = options.releasing.len();
     let mut groups = vec![group(
@@ -243,11 +247,79 @@ fn shortest_for_rates(path: &KeyframePath, options: &PlanOptions) -> f64 {
             t = t.max(change / (rate * span));
         }
     }
-    t.max(f64::MIN_POSITIVE)
+    t.max(path.shortest_planned_s())
+}
+
+/// The durations against what a planned schedule spans (`shortest_s`, a microsecond a step, to
+/// 1e9 s): the starting one (given, the template's, or the rate's: that one is judged by the
+/// rate's own checks) and the longest allowed.
+fn check_durations(
+    duration_s: f64,
+    shortest_s: f64,
+    template: bool,
+    options: &PlanOptions,
+) -> Result<(), PlanError> {
+    let out = |option, duration_s| PlanError::DurationOutOfRange {
+        option,
+        duration_s,
+        shortest_s,
+    };
+    if options.max_duration_s < shortest_s {
+        return Err(out(option_names::MAX_DURATION, options.max_duration_s));
+    }
+    let given = match (options.duration_s, template) {
+        (Some(_), _) => Some(option_names::DURATION),
+        (None, true) => Some(option_names::TEMPLATE),
+        (None, false) => None,
+    };
+    match given {
+        Some(option) if !(shortest_s..=MAX_TIME_S).contains(&duration_s) => {
+            Err(out(option, duration_s))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// Every releasing finger starts within the load bound (its first keyframe is fixed at its
+/// starting load), and, for the shortest duration, the rate limit binds: the largest starting
+/// load takes longer than the shortest planned schedule (`shortest_s`, s) to fall at it.
+fn check_starts(
+    fingers: &[String],
+    loads_n: &[Vec<f64>],
+    shortest_s: f64,
+    options: &PlanOptions,
+) -> Result<(), PlanError> {
+    let releasing = fingers.iter().zip(loads_n).take(options.releasing.len());
+    let mut largest: Option<(&String, f64)> = None;
+    for (name, loads) in releasing {
+        if loads[0] > options.max_load_n {
+            return Err(PlanError::MaxLoadBelowStart {
+                finger: name.clone(),
+                load_n: loads[0],
+                max_load_n: options.max_load_n,
+            });
+        }
+        if largest.is_none_or(|l| loads[0] > l.1) {
+            largest = Some((name, loads[0]));
+        }
+    }
+    let (Some(rate), Some((finger, load_n))) = (options.max_rate_n_per_s, largest) else {
+        return Ok(());
+    };
+    if options.objective == Objective::Duration && load_n / rate < shortest_s {
+        return Err(PlanError::RateTooLarge {
+            finger: finger.clone(),
+            load_n,
+            rate_n_per_s: rate,
+            shortest_s,
+        });
+    }
+    Ok(())
 }
 
 /// A releasing finger must fall from its start to 0 N within the longest duration allowed
-/// (the margin objective: the fixed one): otherwise no schedule keeps the rate limit.
+/// (the margin objective: the fixed one; at most 1e9 s): otherwise no schedule keeps the rate
+/// limit.
 fn check_reachable(
     fingers: &[String],
     loads_n: &[Vec<f64>],
@@ -259,7 +331,7 @@ fn check_reachable(
     };
     let longest = match options.objective {
         Objective::Margin => duration_s,
-        Objective::Duration => options.max_duration_s,
+        Objective::Duration => options.max_duration_s.min(MAX_TIME_S),
     };
     let releasing = fingers.iter().zip(loads_n).take(options.releasing.len());
     for (name, loads) in releasing {

@@ -19,6 +19,8 @@ use clarabel::solver::{
     DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
 
+use grasp_model::limits::MAX_FORCE_N;
+
 use crate::plan::keyframe_path::KeyframePath;
 use crate::plan::margin_row::{MarginRow, RowKind};
 use crate::plan::plan_options::{Objective, PlanOptions};
@@ -105,7 +107,7 @@ pub fn qp_step(
         }
     }
     duration_rows(&mut zero, &mut nonneg, path, options, t_col);
-    rate_rows(&mut nonneg, path, options, t_col);
+    rate_rows(&mut nonneg, path, options, radius_n, t_col);
     margin_rows(&mut nonneg, rows, &x0, t0, options, columns);
     match options.objective {
         Objective::Duration => nonneg.push(&[(w_col, -1.0)], 0.0),
@@ -179,11 +181,12 @@ fn objective(
     (p, q)
 }
 
-/// Group `g`'s load bounds `(largest, smallest)`, N: every member's within the options'.
+/// Group `g`'s load bounds `(largest, smallest)`, N: every member's within the options' (and
+/// at most the largest force a schedule takes).
 pub fn group_bounds(path: &KeyframePath, g: usize, options: &PlanOptions) -> (f64, f64) {
     let group = &path.groups[g];
     (
-        options.max_load_n / group.largest_share(),
+        options.max_load_n.min(MAX_FORCE_N) / group.largest_share(),
         options.min_load_n / group.smallest_share(),
     )
 }
@@ -203,18 +206,46 @@ fn duration_rows(
         return;
     }
     nonneg.push(&[(t_col, 1.0)], options.max_duration_s.min(2.0 * t0));
-    nonneg.push(&[(t_col, -1.0)], -(options.min_duration_s.max(0.5 * t0)));
+    nonneg.push(&[(t_col, -1.0)], -shortest_in_region(path, options));
 }
 
-/// `|x_{k+1} - x_k| <= rate (f_{k+1} - f_k) T` for every planned finger and keyframe span.
-fn rate_rows(nonneg: &mut Rows, path: &KeyframePath, options: &PlanOptions, t_col: usize) {
+/// The shortest duration the program may take from `path`, s: half the current one, and no
+/// shorter than `PlanOptions::min_duration_s` or what a planned schedule spans
+/// ([`KeyframePath::shortest_planned_s`]).
+fn shortest_in_region(path: &KeyframePath, options: &PlanOptions) -> f64 {
+    (options.min_duration_s.max(0.5 * path.duration_s)).max(path.shortest_planned_s())
+}
+
+/// A rate row whose allowed change exceeds the most the loads can change within the trust
+/// region by this factor cannot bind; it is left out, so that a rate limit far above the
+/// loads' (1e300 N/s) puts no huge coefficient into the program.
+const SLACK_RATE_FACTOR: f64 = 1e6;
+
+/// `|x_{k+1} - x_k| <= rate (f_{k+1} - f_k) T` for every planned finger and keyframe span
+/// (but those that cannot bind within the trust region of `radius_n`, N: see
+/// [`SLACK_RATE_FACTOR`]).
+fn rate_rows(
+    nonneg: &mut Rows,
+    path: &KeyframePath,
+    options: &PlanOptions,
+    radius_n: f64,
+    t_col: usize,
+) {
     let Some(rate) = options.max_rate_n_per_s else {
         return;
     };
     let nk = path.fractions.len();
+    let t_lo = match options.objective {
+        Objective::Margin => path.duration_s,
+        Objective::Duration => shortest_in_region(path, options),
+    };
     for (i, group) in path.groups.iter().enumerate() {
         for k in 0..nk - 1 {
             let span = rate * (path.fractions[k + 1] - path.fractions[k]) / group.largest_share();
+            let most_n = (path.loads_n[i][k + 1] - path.loads_n[i][k]).abs() + 2.0 * radius_n;
+            if span * t_lo > SLACK_RATE_FACTOR * most_n {
+                continue;
+            }
             let (a, b) = (i * nk + k, i * nk + k + 1);
             nonneg.push(&[(b, 1.0), (a, -1.0), (t_col, -span)], 0.0);
             nonneg.push(&[(b, -1.0), (a, 1.0), (t_col, -span)], 0.0);
