@@ -187,7 +187,31 @@ impl Shape {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::tessellation::box_mesh;
+    use crate::geometry::mesh_surface::TriangleMesh;
+
+    /// The box `[-a, a]` as 12 triangles wound outward (corner `i` has `+a[k]` where bit `k`
+    /// of `i` is set).
+    fn box_mesh(a: [f64; 3]) -> TriangleMesh {
+        TriangleMesh {
+            vertices_m: (0..8)
+                .map(|i| [0, 1, 2].map(|k| if (i >> k) & 1 == 1 { a[k] } else { -a[k] }))
+                .collect(),
+            triangles: vec![
+                [0, 2, 1],
+                [1, 2, 3],
+                [4, 5, 6],
+                [5, 7, 6],
+                [0, 1, 4],
+                [1, 5, 4],
+                [2, 6, 3],
+                [3, 6, 7],
+                [0, 4, 2],
+                [2, 4, 6],
+                [1, 3, 5],
+                [3, 7, 5],
+            ],
+        }
+    }
 
     /// A ray along an edge or across a face of a box (grazing it) gets the same answer from the
     /// primitive box and from the same box as a 12-triangle mesh, posed alike: a hit at the
