@@ -185,6 +185,25 @@ fn the_npz_archive_holds_every_field_bit_for_bit() {
     assert_eq!(state, want);
 }
 
+/// Each finger's fields are one row per element: the archive carries the patch's `[nx, ny]`
+/// as `<finger>/grid`, int64, to reshape them into the patch's map.
+#[test]
+fn the_npz_archive_carries_each_patch_s_grid_shape() {
+    for side in [21, 72] {
+        let solution = hertz(side);
+        let mut archive = grasp_io::NpzArchive::new(std::io::Cursor::new(Vec::new()));
+        archive.add_solution("", &solution).unwrap();
+        let bytes = archive.finish().unwrap().into_inner();
+        let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+        let mut entry = zip.by_name("tip/grid.npy").unwrap();
+        let mut data = Vec::new();
+        std::io::Read::read_to_end(&mut entry, &mut data).unwrap();
+        let grid = npyz::NpyFile::new(std::io::Cursor::new(data)).unwrap();
+        assert_eq!(grid.shape(), [2]);
+        assert_eq!(grid.into_vec::<i64>().unwrap(), [side as i64, side as i64]);
+    }
+}
+
 #[test]
 fn the_same_solution_gives_the_same_archive() {
     let solution = solve_json(&example_json("cube_a.json"));

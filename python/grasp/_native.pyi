@@ -58,7 +58,7 @@ class Scene:
         """Derived finger frames (m, 1/m), volume (m^3), mass (kg), warnings; None without a shape."""
     @property
     def warnings(self) -> list[str]: ...
-    def texture_heights_m(self, finger: str) -> Optional[npt.NDArray[np.float64]]:
+    def texture_heights_m(self, finger: Union[str, int]) -> Optional[npt.NDArray[np.float64]]:
         """The texture heights (m, a peak positive) of a finger at its patch's element centres,
         shape ``(nx, ny)``, rows along ``t1``; None without a texture."""
     def to_dict(self) -> dict[str, Any]: ...

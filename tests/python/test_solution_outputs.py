@@ -39,7 +39,7 @@ def test_cli_npz_equals_cli_json_exactly(run_cli, tmp_path):
         written = json.loads(out_json.read_text())
         arrays = np.load(out_npz)
         names = [f["name"] for f in written["fingers"]]
-        assert sorted(arrays.files) == sorted(["state_names"] + [f"{n}/{f}" for n in names for f in FIELDS])
+        assert sorted(arrays.files) == sorted(["state_names"] + [f"{n}/{f}" for n in names for f in FIELDS + ["grid"]])
         assert list(arrays["state_names"]) == ["stick", "slip", "separated", "off_surface", "frictionless"]
         for finger in written["fingers"]:
             fine = len(element_records(finger)) > 64 * 64
@@ -57,6 +57,25 @@ def test_cli_npz_equals_cli_json_exactly(run_cli, tmp_path):
             assert arrays[f"{finger['name']}/index"].dtype == np.int64
 
 
+def test_npz_files_carry_each_patch_s_grid_shape(run_cli, tmp_path):
+    """An archive's fields are one row per element: `<finger>/grid` gives the patch's
+    `[nx, ny]` to reshape them into the patch's map, in the CLI's archive and Python's alike."""
+    out = tmp_path / "s.npz"
+    for n in [21, 31]:
+        assert run_cli("solve", hertz(tmp_path, n), "--npz", out, "--force").returncode == 0
+        arrays = np.load(out)
+        assert arrays["tip/grid"].dtype == np.int64 and list(arrays["tip/grid"]) == [n, n]
+        pressure = arrays["tip/pressure_pa"].reshape(arrays["tip/grid"])
+        assert pressure[n // 2, n // 2] == arrays["tip/pressure_pa"].max()
+        sol = grasp.solve(grasp.Scene(hertz(tmp_path, n)))
+        assert list(sol.element_fields("tip")["grid"]) == [n, n]
+    out_cube = tmp_path / "cube.npz"
+    assert run_cli("solve", EXAMPLES / "cube_a.json", "--npz", out_cube).returncode == 0
+    cube = np.load(out_cube)
+    for name in ["f1", "f2", "f3"]:
+        assert list(cube[f"{name}/grid"]) == [5, 5]
+
+
 def test_python_arrays_equal_the_cli_json(run_cli, tmp_path):
     for scene in scenes(tmp_path):
         out = tmp_path / "s.json"
@@ -71,7 +90,7 @@ def test_python_arrays_equal_the_cli_json(run_cli, tmp_path):
         assert list(sol.states) == [e["state"] for e in records]
         for finger in written["fingers"]:
             fields = sol.element_fields(finger["name"])
-            assert sorted(fields) == sorted(FIELDS)
+            assert sorted(fields) == sorted(FIELDS + ["grid"])
             for field in FIELDS:
                 want = np.array([e[field] for e in element_records(finger)])
                 assert np.array_equal(fields[field], want), field

@@ -101,6 +101,31 @@ def test_bad_arrays_are_scene_errors_naming_the_path(cube_a_dict, heights, path,
     assert any(p["path"] == path and words in p["message"] and p["fix"] for p in e.value.problems), e.value.problems
 
 
+def test_a_complex_array_is_refused_not_stripped_of_its_imaginary_parts(cube_a_dict):
+    """As the CLI refuses a complex .npy: converting would drop the imaginary parts."""
+    for a in [heights_9_by_11() * (1 + 1j), heights_9_by_11().astype(complex), [[1e-6 + 0j] * 11] * 9]:
+        with pytest.raises(grasp.SceneError) as e:
+            grasp.Scene(with_map(json.loads(json.dumps(cube_a_dict)), {"array": a}))
+        (p,) = [p for p in e.value.problems if p["path"] == "fingers[0].texture.heights.array"]
+        assert "complex" in p["message"] and "a.real" in p["fix"], p
+
+
+def test_a_masked_array_s_masked_heights_are_refused_not_used(cube_a_dict):
+    """A masked height would be read as the value under the mask; a mask with nothing masked
+    changes nothing."""
+    h = heights_9_by_11()
+    masked = np.ma.masked_array(h, mask=np.zeros_like(h, dtype=bool))
+    masked.mask[4, 5] = True
+    with pytest.raises(grasp.SceneError) as e:
+        grasp.Scene(with_map(json.loads(json.dumps(cube_a_dict)), {"array": masked}))
+    (p,) = [p for p in e.value.problems if p["path"] == "fingers[0].texture.heights.array"]
+    assert "masked heights" in p["message"] and "filled" in p["fix"], p
+    plain = grasp.Scene(with_map(json.loads(json.dumps(cube_a_dict)), {"array": h}))
+    for unmasked in [np.ma.masked_array(h), np.ma.masked_array(h, mask=np.zeros_like(h, dtype=bool))]:
+        got = grasp.Scene(with_map(json.loads(json.dumps(cube_a_dict)), {"array": unmasked}))
+        np.testing.assert_array_equal(got.texture_heights_m("f1"), plain.texture_heights_m("f1"))
+
+
 def test_bad_files_are_scene_errors_naming_the_path(cube_a_dict, tmp_path):
     np.save(tmp_path / "cube.npy", np.zeros((9, 11, 2)))
     (tmp_path / "header.csv").write_text("x,y\n1,2\n")
@@ -123,3 +148,18 @@ def test_a_random_texture_is_the_same_for_its_seed(cube_a_dict):
     cube_a_dict["fingers"][0]["texture"]["random"]["seed"] = 5
     c = grasp.Scene(cube_a_dict).texture_heights_m("f1")
     assert np.max(np.abs(a - c)) > 5e-7
+
+
+def test_texture_heights_take_a_finger_s_index_as_well_as_its_name(cube_a_dict):
+    scene = grasp.Scene(with_map(cube_a_dict, {"array": heights_9_by_11()}))
+    by_name = scene.texture_heights_m("f1")
+    np.testing.assert_array_equal(scene.texture_heights_m(0), by_name)
+    np.testing.assert_array_equal(scene.texture_heights_m(-len(scene.finger_names)), by_name)
+    assert scene.texture_heights_m(1) is None
+    with pytest.raises(ValueError, match="indices 0 to"):
+        scene.texture_heights_m(len(scene.finger_names))
+    with pytest.raises(ValueError, match="f9"):
+        scene.texture_heights_m("f9")
+    for bad in [True, 1.5, None]:
+        with pytest.raises(TypeError, match="name .str. or its index"):
+            scene.texture_heights_m(bad)

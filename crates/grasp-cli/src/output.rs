@@ -25,7 +25,7 @@ pub fn install_signal_cleanup() -> Result<()> {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])
         .context("cannot install the SIGINT/SIGTERM/SIGHUP handler")?;
-    std::thread::spawn(move || {
+    let watch = move || {
         if let Some(sig) = signals.forever().next() {
             remove_pending_and_exit(128 + sig, |n| {
                 Some(format!(
@@ -34,7 +34,13 @@ pub fn install_signal_cleanup() -> Result<()> {
                 ))
             });
         }
-    });
+    };
+    // Started fallibly: a process too small for the thread's stack (an address-space limit)
+    // is told so instead of panicking.
+    std::thread::Builder::new()
+        .name("signals".into())
+        .spawn(watch)
+        .context("cannot start the thread that watches for SIGINT/SIGTERM/SIGHUP")?;
     Ok(())
 }
 

@@ -31,8 +31,8 @@ pub fn bar(len: usize, what: &str) -> ProgressBar {
 
 /// A spinner with the elapsed time for one long piece of work that cannot count its steps (a
 /// fine patch's solve, whose message `crate::solve_display` keeps up to date), `what` after
-/// it; redrawn ten
-/// times a second by its own thread, hidden with `--quiet` (and off a terminal).
+/// it; redrawn ten times a second by its own thread ([`tick_steadily`]), hidden with `--quiet`
+/// (and off a terminal).
 pub fn spinner(what: &str) -> ProgressBar {
     if QUIET.load(Ordering::Relaxed) {
         return ProgressBar::hidden();
@@ -43,6 +43,27 @@ pub fn spinner(what: &str) -> ProgressBar {
             .unwrap_or_else(|_| ProgressStyle::default_spinner()),
     );
     spinner.set_message(what.to_string());
-    spinner.enable_steady_tick(std::time::Duration::from_millis(100));
+    tick_steadily(&spinner);
     spinner
+}
+
+/// Redraws `bar` ten times a second from a thread of its own until it is finished or dropped,
+/// when it is drawn at all. indicatif's own ticker panics when the thread cannot be started
+/// (an address-space limit leaves no room for its stack: exit 101 instead of the solve's own
+/// "not enough memory"); this one then leaves the bar still, redrawn only when it changes.
+pub fn tick_steadily(bar: &ProgressBar) {
+    if bar.is_hidden() {
+        return;
+    }
+    let weak = bar.downgrade();
+    let ticker = move || {
+        while let Some(bar) = weak.upgrade().filter(|b| !b.is_finished()) {
+            bar.tick();
+            drop(bar);
+            std::thread::sleep(std::time::Duration::from_millis(100));
+        }
+    };
+    let _ = std::thread::Builder::new()
+        .name("progress".into())
+        .spawn(ticker);
 }

@@ -345,6 +345,13 @@ pub fn error_estimate_line(
     })
 }
 
+/// A sensitivity as the table shows it, to six significant digits in exponent form
+/// (`1.25000e-3`); a negative zero (a derivative that vanishes, computed as `-0.0`) as `0`'s
+/// `0.00000e0`, never `-0.00000e0`.
+fn sensitivity_cell(x: f64) -> String {
+    format!("{:.5e}", x + 0.0)
+}
+
 /// The finger-force part of the sensitivities: per finger, `dP` and the world components of
 /// `dQ` for each parameter; undefined parameters show as `-`.
 pub fn sensitivity_table(sens: &grasp_model::Sensitivities, time_s: f64) -> String {
@@ -372,7 +379,7 @@ pub fn sensitivity_table(sens: &grasp_model::Sensitivities, time_s: f64) -> Stri
             let _ = write!(s, "{name:<10}{label:<6}");
             for (c, p) in sens.parameters.iter().enumerate() {
                 if p.defined {
-                    let _ = write!(s, "{:>14.5e}", value(k, c));
+                    let _ = write!(s, "{:>14}", sensitivity_cell(value(k, c)));
                 } else {
                     let _ = write!(s, "{:>14}", "-");
                 }
@@ -521,6 +528,15 @@ mod tests {
         assert_eq!(significant(25.7943, 5), "25.794");
         assert_eq!(significant(5.1381e-4, 5), "5.1381e-4");
         assert_eq!(significant(0.0, 5), "0");
+    }
+
+    /// A derivative computed as `-0.0` is shown as zero, not `-0.00000e0`.
+    #[test]
+    fn a_negative_zero_sensitivity_is_shown_without_its_sign() {
+        use super::sensitivity_cell;
+        assert_eq!(sensitivity_cell(-0.0), "0.00000e0");
+        assert_eq!(sensitivity_cell(0.0), "0.00000e0");
+        assert_eq!(sensitivity_cell(-1.25e-3), "-1.25000e-3");
     }
 
     use super::count;

@@ -61,40 +61,47 @@ impl SolveDisplay {
         Arc::clone(&self.progress)
     }
 
-    /// The model is built: from now on the solve's counts, ten times a second.
+    /// The model is built: from now on the solve's counts, ten times a second (on a drawn
+    /// bar, when a thread can be started for it: under an address-space limit it may not, and
+    /// the solve goes on without).
     pub fn solving(&mut self) {
+        if self.bar.is_hidden() {
+            return;
+        }
         let (bar, progress, stop) = (self.bar.clone(), self.progress(), Arc::clone(&self.stop));
         let (unknowns, started) = (self.unknowns, self.started);
-        self.redraw = Some(std::thread::spawn(move || {
-            // When each Newton step was seen to end: its pace, after the first (the cold
-            // start's, which also prepares the solver).
-            let mut ends: Vec<Instant> = Vec::new();
-            while !stop.load(Ordering::Relaxed) {
-                let steps = progress.newton_steps();
-                let done = steps.saturating_sub(1);
-                while ends.len() < done as usize {
-                    ends.push(Instant::now());
-                }
-                let pace = match ends.as_slice() {
-                    [first, .., last] => {
-                        Some((*last - *first).as_secs_f64() / (ends.len() - 1) as f64)
+        self.redraw = std::thread::Builder::new()
+            .spawn(move || {
+                // When each Newton step was seen to end: its pace, after the first (the cold
+                // start's, which also prepares the solver).
+                let mut ends: Vec<Instant> = Vec::new();
+                while !stop.load(Ordering::Relaxed) {
+                    let steps = progress.newton_steps();
+                    let done = steps.saturating_sub(1);
+                    while ends.len() < done as usize {
+                        ends.push(Instant::now());
                     }
-                    _ => None,
-                };
-                let timed = pace.map(|per_step_s| Pace {
-                    elapsed_s: started.elapsed().as_secs_f64(),
-                    per_step_s,
-                    steps_done: done,
-                });
-                let phase = format!(
-                    "{unknowns} unknowns: Newton step {}, {} CG iterations",
-                    steps.max(1),
-                    progress.cg_iterations()
-                );
-                bar.set_message(message(&phase, unknowns, timed));
-                std::thread::sleep(Duration::from_millis(100));
-            }
-        }));
+                    let pace = match ends.as_slice() {
+                        [first, .., last] => {
+                            Some((*last - *first).as_secs_f64() / (ends.len() - 1) as f64)
+                        }
+                        _ => None,
+                    };
+                    let timed = pace.map(|per_step_s| Pace {
+                        elapsed_s: started.elapsed().as_secs_f64(),
+                        per_step_s,
+                        steps_done: done,
+                    });
+                    let phase = format!(
+                        "{unknowns} unknowns: Newton step {}, {} CG iterations",
+                        steps.max(1),
+                        progress.cg_iterations()
+                    );
+                    bar.set_message(message(&phase, unknowns, timed));
+                    std::thread::sleep(Duration::from_millis(100));
+                }
+            })
+            .ok();
     }
 }
 

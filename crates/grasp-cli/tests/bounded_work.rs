@@ -228,6 +228,30 @@ fn grasp_in_small_address_space(args: &[&str]) -> std::process::Output {
         .expect("run grasp under sh")
 }
 
+/// In any address space too small for the 512 x 512 Hertz patch (from one that barely starts
+/// the process to one that holds all but the solve's vectors), `grasp solve` exits 1 saying
+/// what did not fit: no allocation or thread along the way aborts (exit 134, seen once at
+/// 100 MB) or panics (101). The patch's own buffers, the first of a finger's model, are
+/// checked before they are allocated; the progress and signal threads are started fallibly.
+#[test]
+fn a_solve_in_any_small_address_space_fails_with_a_message_never_an_abort() {
+    let dir = tmp("small-spaces");
+    let fine = dir.join("hertz_512.json");
+    std::fs::write(&fine, hertz_on_grid(512).to_string()).unwrap();
+    for kib in [40_000, 60_000, 80_000, 100_000, 120_000] {
+        let o = Command::new("sh")
+            .arg("-c")
+            .arg(format!("ulimit -v {kib} && exec \"$0\" \"$@\""))
+            .arg(env!("CARGO_BIN_EXE_grasp"))
+            .args(["solve", fine.to_str().unwrap(), "--max-memory", "4G"])
+            .output()
+            .expect("run grasp under sh");
+        let t = text(&o);
+        assert_eq!(o.status.code(), Some(1), "{kib} KiB: {t}");
+        assert!(t.contains("not enough memory for"), "{kib} KiB: {t}");
+    }
+}
+
 /// The Hertz example on a `side x side` grid, as a scene value.
 fn hertz_on_grid(side: usize) -> serde_json::Value {
     let text = std::fs::read_to_string(example("hertz_sphere_on_flat.json")).unwrap();

@@ -137,9 +137,12 @@ fn check_size(rows: usize, cols: usize) -> Result<(), String> {
 }
 
 /// The heights of a `.csv` file's text: one row per line (blank lines skipped), cells
-/// separated by commas (or blanks on a line without a comma); a first line that is not
-/// numbers is refused as a header.
+/// separated by commas (or blanks on a line without a comma); a byte-order mark before the
+/// first line (as spreadsheets write) is skipped. A cell that is not a number is refused for
+/// what it is: empty (a trailing comma), quoted, beyond the range of a number (`1e400`), or on
+/// the first line, a header.
 pub fn parse_csv(text: &str) -> Result<HeightGrid, String> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut heights_m = Vec::new();
     let (mut rows, mut cols) = (0usize, 0usize);
     for (number, line) in text.lines().enumerate().map(|(i, l)| (i + 1, l.trim())) {
@@ -150,27 +153,7 @@ pub fn parse_csv(text: &str) -> Result<HeightGrid, String> {
             true => line.split(',').map(str::trim).collect(),
             false => line.split_whitespace().collect(),
         };
-        let parsed: Result<Vec<f64>, usize> = cells
-            .iter()
-            .enumerate()
-            .map(|(c, s)| s.parse::<f64>().map_err(|_| c))
-            .collect();
-        let values = match parsed {
-            Ok(v) => v,
-            Err(_) if rows == 0 => {
-                return Err(format!(
-                    "starts with a header line (`{}`): remove it, the file holds heights only",
-                    shorten(line)
-                ))
-            }
-            Err(c) => {
-                return Err(format!(
-                    "line {number}, column {}: `{}` is not a number",
-                    c + 1,
-                    shorten(cells[c])
-                ))
-            }
-        };
+        let values = csv_row(&cells, number, rows == 0, line)?;
         if rows > 0 && values.len() != cols {
             return Err(format!(
                 "line {number} has {} numbers, the lines before it {cols}: every row of the \
@@ -189,6 +172,57 @@ pub fn parse_csv(text: &str) -> Result<HeightGrid, String> {
         cols,
         heights_m,
     })
+}
+
+/// The numbers of one line's `cells` (line `number`, the map's first row when `first`), or
+/// what the first cell that is not one is.
+fn csv_row(cells: &[&str], number: usize, first: bool, line: &str) -> Result<Vec<f64>, String> {
+    let mut values = Vec::with_capacity(cells.len());
+    for (c, cell) in cells.iter().enumerate() {
+        let at = format!("line {number}, column {}", c + 1);
+        // A number between quotes (a spreadsheet's text cell), not a quoted word.
+        let quoted = ['"', '\''].iter().any(|&q| {
+            cell.len() >= 2
+                && cell.starts_with(q)
+                && cell.ends_with(q)
+                && cell[1..cell.len() - 1].trim().parse::<f64>().is_ok()
+        });
+        match cell.parse::<f64>() {
+            Ok(x) if x.is_infinite() && !cell.to_ascii_lowercase().contains("inf") => {
+                return Err(format!(
+                    "{at}: `{}` is beyond the range of a number (magnitudes up to about \
+                     1.8e308); heights are in metres",
+                    shorten(cell)
+                ))
+            }
+            Ok(x) => values.push(x),
+            Err(_) if cell.is_empty() && c + 1 == cells.len() => {
+                return Err(format!(
+                    "line {number} ends with a comma (an empty last cell): remove the trailing \
+                     commas"
+                ))
+            }
+            Err(_) if cell.is_empty() => {
+                return Err(format!(
+                    "{at} is empty (two commas in a row): give a number"
+                ))
+            }
+            Err(_) if quoted => {
+                return Err(format!(
+                    "{at}: `{}` is quoted: write the numbers without quotes",
+                    shorten(cell)
+                ))
+            }
+            Err(_) if first => {
+                return Err(format!(
+                    "starts with a header line (`{}`): remove it, the file holds heights only",
+                    shorten(line)
+                ))
+            }
+            Err(_) => return Err(format!("{at}: `{}` is not a number", shorten(cell))),
+        }
+    }
+    Ok(values)
 }
 
 /// At most 40 characters of `s`, for messages.
@@ -294,7 +328,40 @@ mod tests {
         let e = parse_csv("1,2\n3,abc\n").unwrap_err();
         assert!(e.contains("line 2, column 2: `abc`"), "{e}");
         let e = parse_csv("1,,2\n").unwrap_err();
-        assert!(e.contains("header"), "an empty cell on the first line: {e}");
+        assert!(
+            e.contains("line 1, column 2 is empty"),
+            "an empty cell on the first line: {e}"
+        );
         assert!(parse_csv("\n\n").unwrap_err().contains("no heights"));
+    }
+
+    /// A byte-order mark, trailing commas, quoted numbers and a number beyond `f64`'s range
+    /// are each named for what they are, never called a header line nor read as `inf`.
+    #[test]
+    fn csv_bom_trailing_commas_quotes_and_overflow_are_named_not_called_a_header() {
+        let g = parse_csv("\u{feff}1e-6,2e-6\n3e-6,4e-6\n").unwrap();
+        assert_eq!(g.heights_m, [1e-6, 2e-6, 3e-6, 4e-6]);
+        for (text, words) in [
+            ("1e-6,2e-6,\n3e-6,4e-6,\n", "line 1 ends with a comma"),
+            ("1e-6,2e-6\n3e-6,4e-6,\n", "line 2 ends with a comma"),
+            (
+                "\"1e-6\",\"2e-6\"\n",
+                "line 1, column 1: `\"1e-6\"` is quoted",
+            ),
+            ("1e-6,'2e-6'\n", "line 1, column 2: `'2e-6'` is quoted"),
+            (
+                "1e-6,1e400\n",
+                "line 1, column 2: `1e400` is beyond the range of a number",
+            ),
+            ("1,2\n-1e400,2\n", "line 2, column 1: `-1e400` is beyond"),
+            ("\"x\",\"y\"\n1,2\n", "header line"),
+        ] {
+            let e = parse_csv(text).unwrap_err();
+            assert!(e.contains(words), "{text:?}: {e}");
+            assert!(!e.contains("inf"), "{text:?}: {e}");
+            if words != "header line" {
+                assert!(!e.contains("header"), "{text:?}: {e}");
+            }
+        }
     }
 }

@@ -8,8 +8,9 @@ use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::Path;
 
+use grasp_model::limits::MAX_MESH_TRIANGLES;
 use grasp_model::MeshSpec;
-use grasp_model::TriangleMesh;
+use grasp_model::{too_many_triangles, TriangleMesh, MESH_TOO_FINE_FIX};
 
 use crate::input_file::{read_bytes, FileIdentity, MESH_FILE};
 
@@ -34,6 +35,13 @@ pub fn read_mesh_file(
         ));
     }
     let (bytes, identity) = read_bytes(path, MESH_FILE).map_err(|e| e.to_string())?;
+    if let Some(n) = binary_stl_triangles(&bytes).filter(|&n| n > MAX_MESH_TRIANGLES) {
+        return Err(format!(
+            "{} {}; {MESH_TOO_FINE_FIX}",
+            path.display(),
+            too_many_triangles(n)
+        ));
+    }
     let mut mesh = if ext == "obj" {
         parse_obj(&bytes).map_err(|e| format!("{}: {e}", path.display()))?
     } else {
@@ -48,6 +56,15 @@ pub fn read_mesh_file(
         return Err(format!("{} holds no triangles", path.display()));
     }
     Ok((mesh, identity))
+}
+
+/// The triangle count a binary STL's header gives, when `bytes` is one (80 bytes of header,
+/// the count, then 50 bytes a triangle, exactly): read before parsing, so that a mesh too
+/// fine to prepare is refused before its vertices are built.
+fn binary_stl_triangles(bytes: &[u8]) -> Option<usize> {
+    let count = bytes.get(80..84)?;
+    let n = u32::from_le_bytes(count.try_into().ok()?) as usize;
+    (n.checked_mul(50)?.checked_add(84)? == bytes.len()).then_some(n)
 }
 
 /// An OBJ file's triangles (faces triangulated, one index per vertex); materials not read.
@@ -131,6 +148,27 @@ mod tests {
             let x_max = mesh.vertices_m.iter().fold(0.0_f64, |m, v| m.max(v[0]));
             assert_eq!(x_max, 1e-3, "{lib}");
         }
+    }
+
+    /// A binary STL of more triangles than a mesh may have is refused from its header, with
+    /// the count and the fix, before its triangles are parsed.
+    #[test]
+    fn a_binary_stl_too_fine_to_prepare_is_refused_from_its_header() {
+        let d = std::env::temp_dir().join(format!("grasp-io-fine-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let n = MAX_MESH_TRIANGLES + 1;
+        let mut bytes = vec![0u8; 84 + 50 * n];
+        bytes[80..84].copy_from_slice(&(n as u32).to_le_bytes());
+        let stl = d.join("fine.stl");
+        std::fs::write(&stl, &bytes).unwrap();
+        let e = read_mesh(&stl, &spec("fine.stl")).unwrap_err();
+        assert!(
+            e.contains(&format!("holds {n} triangles, more than the")),
+            "{e}"
+        );
+        assert!(e.contains("decimate"), "{e}");
+        assert_eq!(binary_stl_triangles(&bytes[..84 + 50]), None);
+        let _ = std::fs::remove_dir_all(&d);
     }
 
     #[test]

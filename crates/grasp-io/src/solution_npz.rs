@@ -8,10 +8,11 @@
 //! `slip_m`, `step_slip_m` float64 `(N, 2)`; `position_m` float64 `(N, 3)`; `normal_force_n`,
 //! `pressure_pa`, `gap_m` float64 `(N,)`; `state` uint8 `(N,)`, the code of each element's
 //! state, whose name is `state_names[code]` (the archive's one array without a finger:
-//! `["stick", "slip", "separated", "off_surface", "frictionless"]`, unicode); `viscous_displacement_m` float64
-//! `(N, 3)` on a viscoelastic contact. Every float is the solution's own float64, bit for
-//! bit. The archive is the same for the same solution (entries dated 1980-01-01, the zip
-//! format's zero).
+//! `["stick", "slip", "separated", "off_surface", "frictionless"]`, unicode);
+//! `viscous_displacement_m` float64 `(N, 3)` on a viscoelastic contact. Beside them `grid`,
+//! int64 `(2,)`: the patch's `[nx, ny]` (a field reshaped to `(nx, ny)` is the patch's map,
+//! rows along `t1`). Every float is the solution's own float64, bit for bit. The archive is
+//! the same for the same solution (entries dated 1980-01-01, the zip format's zero).
 
 use std::io::{BufWriter, Seek, Write};
 
@@ -41,6 +42,13 @@ const STATE_WIDTH: usize = 12;
 /// The code of `state` in the `state` arrays: its place in [`STATE_NAMES`].
 fn state_code(state: ElementState) -> u8 {
     STATE_NAMES.iter().position(|s| *s == state).unwrap_or(0) as u8
+}
+
+/// The patch's grid `[nx, ny]` of `elements` (element `k = i ny + j` at index `(i, j)`): one
+/// more than the largest index along each direction, `[0, 0]` without elements.
+fn grid_shape(elements: &[ElementSolution]) -> [i64; 2] {
+    let most = |d: usize| elements.iter().map(|e| e.index[d] as i64 + 1).max();
+    [most(0).unwrap_or(0), most(1).unwrap_or(0)]
 }
 
 /// Bytes of an array's data written to the archive at a time.
@@ -105,6 +113,7 @@ impl<W: Write + Seek> NpzArchive<W> {
             self.entries::<u8, 1>(&format!("{p}state"), e, |e, out| {
                 out.push(state_code(e.state))
             })?;
+            self.array::<i64>(&format!("{p}grid"), &[2], grid_shape(e))?;
             if e.iter().any(|e| e.viscous_displacement_m.is_some()) {
                 self.floats(&format!("{p}viscous_displacement_m"), e, |e| {
                     e.viscous_displacement_m.unwrap_or([f64::NAN; 3])

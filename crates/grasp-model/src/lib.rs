@@ -122,6 +122,7 @@ pub use scene::scene_format::{
 };
 pub use scene::scene_geometry::{SceneGeometry, SharedShape};
 pub use scene::scene_reading::{FileProblem, SceneFiles};
+pub use scene::shape_checks::{too_many_triangles, MESH_TOO_FINE_FIX};
 pub use scene::shape_report::{DerivedFrame, ShapeReport};
 pub use scene::shape_spec::{
     BoxSpec, CylinderSpec, LengthUnit, MeshSpec, PlaceSpec, RaySpec, ShapeSpec, SphereSpec,

@@ -43,6 +43,10 @@ pub fn element_fields<'py>(
     d.set_item("slip_m", floats(&|e, v| v.extend(e.slip_m), 2)?)?;
     d.set_item("step_slip_m", floats(&|e, v| v.extend(e.step_slip_m), 2)?)?;
     d.set_item("state", state_array(py, elements.iter().map(|e| e.state))?)?;
+    // The patch's [nx, ny], as `--npz` writes it: one more than the largest index each way.
+    let most = |k: usize| elements.iter().map(|e| e.index[k] as i64 + 1).max();
+    let grid = [most(0).unwrap_or(0), most(1).unwrap_or(0)];
+    d.set_item("grid", int_array(py, &grid, &[2])?)?;
     if elements.iter().any(|e| e.viscous_displacement_m.is_some()) {
         let nan = [f64::NAN; 3];
         let viscous = floats(&|e, v| v.extend(e.viscous_displacement_m.unwrap_or(nan)), 3)?;

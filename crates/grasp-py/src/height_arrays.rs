@@ -15,6 +15,12 @@ use pyo3::types::{PyDict, PyList};
 /// scene read again from that dict needs the array again).
 pub const ARRAY_FILE: &str = "<array>";
 
+/// How a complex array's message starts.
+const COMPLEX: &str = "holds complex numbers";
+
+/// How the message of a masked array with masked heights starts.
+const MASKED: &str = "is a masked array with masked heights";
+
 /// `d` with every `fingers[i].texture.heights.array` replaced by `"file": "<array>"` (a copy;
 /// `d` itself is not changed), and the arrays by finger. A value that is not a 2-D array of
 /// numbers, or an array given with a file, raises `grasp.SceneError` naming the path.
@@ -48,12 +54,23 @@ pub fn take_height_arrays<'py>(
                     Ok(grid) => {
                         arrays.insert(i, Arc::new(grid));
                     }
-                    Err(message) => problems.push(InputProblem::new(
-                        format!("{path}.array"),
-                        message,
-                        "give a 2-D array of heights in metres (rows along t1), e.g. a NumPy \
-                         float array",
-                    )),
+                    Err(message) => {
+                        let fix = match &message {
+                            m if m.starts_with(COMPLEX) => {
+                                "give the real heights in metres: `a.real` if the imaginary \
+                                 parts are zero"
+                            }
+                            m if m.starts_with(MASKED) => {
+                                "fill the masked heights (`a.filled(value)`) or give a plain \
+                                 array"
+                            }
+                            _ => {
+                                "give a 2-D array of heights in metres (rows along t1), e.g. a \
+                                 NumPy float array"
+                            }
+                        };
+                        problems.push(InputProblem::new(format!("{path}.array"), message, fix))
+                    }
                 }
                 new_fingers.append(with_array_file(&finger, &heights)?)?;
             }
@@ -107,9 +124,33 @@ fn with_array_file<'py>(
     Ok(finger)
 }
 
-/// The heights of a 2-D array of numbers (through NumPy: `numpy.asarray(a, float64)`, C order).
+/// The heights of a 2-D array of real numbers (through NumPy: `numpy.asarray(a, float64)`, C
+/// order). A complex array is refused, as the CLI refuses a complex `.npy` (converting would
+/// drop its imaginary parts); so is a masked array with a masked height (its mask would be
+/// lost, and the value under it used as a height).
 fn grid_of(py: Python<'_>, a: &Bound<'_, PyAny>) -> Result<HeightGrid, String> {
     let np = py.import("numpy").map_err(|e| e.to_string())?;
+    let err = |e: PyErr| e.to_string();
+    if np
+        .call_method1("iscomplexobj", (a,))
+        .and_then(|v| v.is_truthy())
+        .map_err(err)?
+    {
+        return Err(format!(
+            "{COMPLEX}, not floats or integers (converting would drop their imaginary parts)"
+        ));
+    }
+    let ma = np.getattr("ma").map_err(err)?;
+    let masked_array = ma.getattr("MaskedArray").map_err(err)?;
+    if a.is_instance(&masked_array).map_err(err)?
+        && ma
+            .call_method1("getmaskarray", (a,))
+            .and_then(|m| m.call_method0("any"))
+            .and_then(|v| v.is_truthy())
+            .map_err(err)?
+    {
+        return Err(format!("{MASKED}: a height map has no gaps"));
+    }
     let arr = np
         .call_method1("ascontiguousarray", (a, "float64"))
         .map_err(|e| format!("is not an array of numbers: {e}"))?;

@@ -205,8 +205,8 @@ impl Scene {
     ///
     /// Parameters
     /// ----------
-    /// finger : str
-    ///     The finger's name (one of `finger_names`).
+    /// finger : str or int
+    ///     The finger's name (one of `finger_names`) or its index in the scene's fingers.
     ///
     /// Returns
     /// -------
@@ -219,21 +219,18 @@ impl Scene {
     /// Raises
     /// ------
     /// ValueError
-    ///     The scene has no finger of that name.
+    ///     The scene has no finger of that name or index.
+    /// TypeError
+    ///     `finger` is neither a name nor an index.
     /// GraspError
     ///     The height map cannot be sampled at the element centres.
     fn texture_heights_m<'py>(
         &self,
         py: Python<'py>,
-        finger: &str,
+        finger: &Bound<'py, PyAny>,
     ) -> PyResult<Option<Bound<'py, PyAny>>> {
-        let mut fingers = self.scene.fingers.iter().enumerate();
-        let Some((i, f)) = fingers.find(|(_, f)| f.name == finger) else {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "finger={finger:?}: the scene's fingers are {:?}",
-                self.finger_names()
-            )));
-        };
+        let i = self.finger_index(finger)?;
+        let f = &self.scene.fingers[i];
         let Some(texture) = &f.texture else {
             return Ok(None);
         };
@@ -286,6 +283,42 @@ impl Scene {
 }
 
 impl Scene {
+    /// The index of the finger `finger` names: a name, or an index into the scene's fingers
+    /// (negative from the end, as Python counts; never a bool).
+    fn finger_index(&self, finger: &Bound<'_, PyAny>) -> PyResult<usize> {
+        let n = self.scene.fingers.len();
+        let missing = |what: String| {
+            pyo3::exceptions::PyValueError::new_err(format!(
+                "finger={what}: the scene's fingers are {:?} (indices 0 to {})",
+                self.finger_names(),
+                n.saturating_sub(1)
+            ))
+        };
+        if let Ok(name) = finger.extract::<String>() {
+            return self
+                .scene
+                .fingers
+                .iter()
+                .position(|f| f.name == name)
+                .ok_or_else(|| missing(format!("{name:?}")));
+        }
+        let index = match finger.is_instance_of::<pyo3::types::PyBool>() {
+            true => None,
+            false => finger.extract::<i64>().ok(),
+        };
+        let Some(k) = index else {
+            return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                "finger={}: give a finger's name (str) or its index (int)",
+                finger.repr()?
+            )));
+        };
+        let from_end = if k < 0 { n as i64 + k } else { k };
+        usize::try_from(from_end)
+            .ok()
+            .filter(|&i| i < n)
+            .ok_or_else(|| missing(k.to_string()))
+    }
+
     /// The scene of `text`, the files it names read relative to `base` (the scene file's
     /// folder; the working folder for a dict or JSON text), the fingers of `arrays` taking
     /// their height maps from there.

@@ -236,7 +236,8 @@ impl Solution {
     ///     `(N, 2)`, `position_m` `(N, 3)`, `normal_force_n`, `pressure_pa`, `gap_m` `(N,)`,
     ///     `tangential_force_n` (N), `traction_pa`, `slip_m`, `step_slip_m` (m) along
     ///     `[t1, t2]` `(N, 2)`, `state` strings `(N,)`, and `viscous_displacement_m` `(N, 3)`
-    ///     on a viscoelastic contact.
+    ///     on a viscoelastic contact; `grid` int64 `(2,)`, the patch's `[nx, ny]` (a field
+    ///     reshaped to `(nx, ny)` is the patch's map).
     ///
     /// Raises
     /// ------

@@ -338,7 +338,7 @@ impl SummaryAccumulator {
                 self.held_peak[i] = None;
                 continue;
             }
-            let p = r.normal_force_n(&c.name);
+            let p = pressing_force_n(r.normal_force_n(&c.name));
             let peak = match self.held_peak[i] {
                 Some((cmd, f, t)) if cmd == c.command && f > p => (cmd, f, t),
                 _ => (c.command, p, r.time_s),
@@ -603,5 +603,32 @@ fn update(
     }
     if c.full_s.is_none() && !rel.is_empty() && rel.iter().all(|&i| !loaded[i]) {
         c.full_s = Some(t);
+    }
+}
+
+/// A finger's normal force as a fall is measured from and to, N: a contact only presses, so a
+/// solved force below zero is the solve's rounding (a finger barely touching) and counts as 0,
+/// and no fall exceeds 100 %.
+fn pressing_force_n(normal_force_n: f64) -> f64 {
+    if normal_force_n > 0.0 {
+        normal_force_n
+    } else {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A finger barely touching whose force rounds to just below zero fell to 0 N, 100 %,
+    /// never to a negative force by more than 100 % ("fell 113.33 %, 0.00000 N -> -0.00000 N").
+    #[test]
+    fn a_force_rounded_below_zero_falls_to_zero_not_beyond_100_percent() {
+        assert_eq!(pressing_force_n(-1.6e-7), 0.0);
+        assert_eq!(pressing_force_n(-0.0).to_bits(), 0.0f64.to_bits());
+        assert_eq!(pressing_force_n(2.5), 2.5);
+        let (peak, now) = (1.2e-6, pressing_force_n(-1.6e-7));
+        assert_eq!(1.0 - now / peak, 1.0);
     }
 }

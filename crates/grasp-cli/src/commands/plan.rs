@@ -206,8 +206,9 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     text.push('\n');
     outs.write(&args.out, text.as_bytes())?;
     println!(
-        "wrote schedule: {}\n  run it: grasp transfer {} --schedule {}",
+        "wrote schedule: {}\n  run it: {} transfer {} --schedule {}",
         args.out.display(),
+        program_as_run(std::env::var_os("CARGO").is_some()),
         args.scene.display(),
         args.out.display()
     );
@@ -436,4 +437,27 @@ fn constraints_line(r: &PlanReport, o: &PlanOptions) -> String {
         g4(b.short_by),
         b.why
     )
+}
+
+/// The command a user types to run this program again, for a command line to copy: `cargo run
+/// --release --` when `cargo` started it (`cargo run` sets `CARGO` for the program it runs),
+/// `grasp` otherwise.
+fn program_as_run(started_by_cargo: bool) -> &'static str {
+    match started_by_cargo {
+        true => "cargo run --release --",
+        false => "grasp",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The hint to run the planned schedule names the program as the user ran it: `cargo run
+    /// --release --` under cargo, not a `grasp` that may not be on the path.
+    #[test]
+    fn the_run_it_hint_names_cargo_run_when_cargo_ran_the_plan() {
+        assert_eq!(program_as_run(true), "cargo run --release --");
+        assert_eq!(program_as_run(false), "grasp");
+    }
 }

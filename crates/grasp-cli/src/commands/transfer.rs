@@ -606,19 +606,29 @@ fn held_lines(s: &TransferSummary, o: &mut String) {
     for h in &s.held_relaxation {
         let _ = writeln!(
             o,
-            "{} {}: normal force fell {:.2} % under one command, {:.5} N (t = {:.3} s) \
-             -> {:.5} N (t = {:.3} s)",
+            "{} {}: normal force fell {:.2} % under one command, {} N (t = {:.3} s) \
+             -> {} N (t = {:.3} s)",
             match h.position_controlled {
                 true => "position-controlled finger",
                 false => "held finger",
             },
             h.finger,
             100.0 * h.fraction,
-            h.from_n,
+            force_text(h.from_n),
             h.from_time_s,
-            h.to_n,
+            force_text(h.to_n),
             h.to_time_s
         );
+    }
+}
+
+/// A force, N, to five decimals (`2.50000`); one too small to show there (a finger barely
+/// touching) with four significant digits (`1.2000e-6`) instead of as `0.00000`.
+fn force_text(force_n: f64) -> String {
+    if force_n == 0.0 || force_n.abs() >= 1e-3 || !force_n.is_finite() {
+        format!("{:.5}", force_n + 0.0)
+    } else {
+        format!("{force_n:.4e}")
     }
 }
 
@@ -651,5 +661,21 @@ fn list(v: &[String]) -> String {
         "none".into()
     } else {
         v.join(", ")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A held finger's fall from a force too small for five decimals shows its digits, never
+    /// `0.00000 N -> -0.00000 N`.
+    #[test]
+    fn a_tiny_held_force_is_shown_with_its_digits_not_as_zero() {
+        assert_eq!(force_text(1.2e-6), "1.2000e-6");
+        assert_eq!(force_text(0.0), "0.00000");
+        assert_eq!(force_text(-0.0), "0.00000");
+        assert_eq!(force_text(2.5), "2.50000");
+        assert_eq!(force_text(0.001), "0.00100");
     }
 }

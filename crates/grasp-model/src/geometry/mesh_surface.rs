@@ -14,6 +14,7 @@ use parry3d_f64::query::{PointQueryWithLocation, Ray, RayCast};
 use parry3d_f64::shape::{TriMesh, TriMeshFlags};
 
 use crate::geometry::mesh_topology::{MeshDefects, MeshTopology};
+use crate::geometry::point_grid::PointGrid;
 use crate::geometry::surface_point::{perpendicular, SurfaceFeature, SurfacePoint};
 
 /// A triangle mesh in metres (local frame of the shape), triangles counter-clockwise seen
@@ -62,6 +63,10 @@ pub struct MeshSurface {
     trimesh: TriMesh,
     topology: MeshTopology,
     vertices: Vec<Vector3<f64>>,
+    /// The vertices by place (the curvature fit's neighbourhood).
+    vertex_grid: PointGrid,
+    /// The used triangles' centres by place (the fit's reference normal).
+    centre_grid: PointGrid,
     /// Distance within which a point is on a sharp edge, m ([`EDGE_TOLERANCE`]).
     edge_tolerance_m: f64,
 }
@@ -105,11 +110,17 @@ impl MeshSurface {
                 (hi - lo) / 2.0
             })
             .fold(0.0, f64::max);
+        let vertex_grid = PointGrid::new(vertices.len(), |i| vertices[i as usize]);
+        let centre_grid = PointGrid::new(topology.triangles.len(), |t| {
+            triangle_centre(&vertices, &topology.triangles[t as usize])
+        });
         Ok(MeshSurface {
             mesh,
             trimesh,
             topology,
             vertices,
+            vertex_grid,
+            centre_grid,
             edge_tolerance_m: EDGE_TOLERANCE * size_m,
         })
     }
@@ -202,25 +213,44 @@ impl MeshSurface {
     /// of the surface as the triangle `q` lies on (`facing` its normal; not the far side of
     /// a tube or a thin shell, which may be as near), within 1.5 local edge lengths (the mean
     /// length of the region's edges at its vertex nearest `q`), and at least the
-    /// [`FIT_VERTICES`] nearest. A wider neighbourhood feels the surface's higher-order terms:
-    /// on a sphere the quadric's error grows like (radius / R)^2.
+    /// [`FIT_VERTICES`] nearest (nearer first, ties by index). A wider neighbourhood feels the
+    /// surface's higher-order terms: on a sphere the quadric's error grows like
+    /// (radius / R)^2.
+    ///
+    /// Only the vertices near `q` are looked at (the vertex grid, searched in a ball grown
+    /// until it holds enough): every vertex of the region nearer than the farthest one taken
+    /// is in the ball, so the vertices are those a scan of the whole region would take.
     fn neighbourhood(
         &self,
         q: &Vector3<f64>,
         region: usize,
         facing: &Vector3<f64>,
     ) -> Vec<Vector3<f64>> {
-        let mut by_distance: Vec<(f64, u32)> = self.topology.regions[region]
-            .vertices
-            .iter()
-            .filter(|&&i| self.region_vertex_normal(i, region).dot(facing) > 0.0)
-            .map(|&i| ((self.vertices[i as usize] - q).norm(), i))
-            .collect();
-        by_distance.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        // The region's vertices facing alike within `reach` of `q`, nearer first.
+        let within = |reach: f64| -> Vec<(f64, u32)> {
+            let mut found = Vec::new();
+            let at = |i: u32| self.vertices[i as usize];
+            self.vertex_grid.within(q, reach, at, |i, d| {
+                if self.region_vertex_normal(i, region).dot(facing) > 0.0 {
+                    found.push((d, i));
+                }
+            });
+            found.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            found
+        };
+        let mut reach = self.vertex_grid.cell_m();
+        let mut by_distance = within(reach);
+        while by_distance.len() < FIT_VERTICES && reach < self.vertex_grid.span_m() {
+            reach *= 2.0;
+            by_distance = within(reach);
+        }
         let radius = 1.5
             * by_distance
                 .first()
                 .map_or(0.0, |&(_, i)| self.region_edge_m(i, region));
+        if radius > reach {
+            by_distance = within(radius);
+        }
         let n = by_distance
             .iter()
             .take_while(|(d, _)| *d <= radius)
@@ -260,10 +290,20 @@ impl MeshSurface {
     }
 
     /// Area-weighted normal of the triangles of `region` around `q` (outward): weights
-    /// falling off beyond `radius`, none beyond twice it.
+    /// falling off beyond `radius`, none beyond twice it. The triangles are those whose
+    /// centres the centre grid finds within twice the radius, summed in the region's order
+    /// (a triangle farther away adds an exact zero to a scan of the whole region).
     fn reference_normal(&self, q: &Vector3<f64>, radius: f64, region: usize) -> Vector3<f64> {
+        let mut near = Vec::new();
+        let centre = |t: u32| triangle_centre(&self.vertices, &self.topology.triangles[t as usize]);
+        self.centre_grid.within(q, 2.0 * radius, centre, |t, _| {
+            if self.topology.region_of[t as usize] as usize == region {
+                near.push(t);
+            }
+        });
+        near.sort_unstable();
         let mut n = Vector3::zeros();
-        for &t in &self.topology.regions[region].triangles {
+        for t in near {
             let [a, b, c] = self.topology.triangles[t as usize].map(|i| self.vertices[i as usize]);
             let centre = (a + b + c) / 3.0;
             let w = 1.0 / (1.0 + ((centre - q).norm() / radius).powi(2));
@@ -554,6 +594,12 @@ fn flat_point(q: &Vector3<f64>, n: &Vector3<f64>) -> SurfacePoint {
     }
 }
 
+/// The centre of triangle `t`, `(a + b + c) / 3`, m.
+fn triangle_centre(vertices: &[Vector3<f64>], t: &[u32; 3]) -> Vector3<f64> {
+    let [a, b, c] = t.map(|i| vertices[i as usize]);
+    (a + b + c) / 3.0
+}
+
 /// Distance of `q` from the segment `a b`, m.
 fn segment_distance(q: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     let ab = b - a;
@@ -564,4 +610,62 @@ fn segment_distance(q: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64
         0.0
     };
     (q - (a + ab * t)).norm()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A closed sphere of radius `r`, m: `nu` meridians by `nv` bands, `2 nu (nv - 1)`
+    /// triangles wound outward.
+    fn uv_sphere(r: f64, nu: usize, nv: usize) -> TriangleMesh {
+        use std::f64::consts::PI;
+        let mut vertices_m = vec![[0.0, 0.0, r]];
+        for j in 1..nv {
+            let th = PI * j as f64 / nv as f64;
+            for i in 0..nu {
+                let ph = 2.0 * PI * i as f64 / nu as f64;
+                vertices_m.push([
+                    r * th.sin() * ph.cos(),
+                    r * th.sin() * ph.sin(),
+                    r * th.cos(),
+                ]);
+            }
+        }
+        vertices_m.push([0.0, 0.0, -r]);
+        let at = |j: usize, i: usize| (1 + (j - 1) * nu + i % nu) as u32;
+        let south = (vertices_m.len() - 1) as u32;
+        let mut triangles = Vec::new();
+        for i in 0..nu {
+            triangles.push([0, at(1, i), at(1, i + 1)]);
+            triangles.push([at(nv - 1, i), south, at(nv - 1, i + 1)]);
+            for j in 1..nv - 1 {
+                triangles.push([at(j, i), at(j + 1, i), at(j + 1, i + 1)]);
+                triangles.push([at(j, i), at(j + 1, i + 1), at(j, i + 1)]);
+            }
+        }
+        TriangleMesh {
+            vertices_m,
+            triangles,
+        }
+    }
+
+    /// A surface query on a fine mesh looks only at the vertices near the point: on a sphere of
+    /// 319,200 triangles 400 queries take a fraction of a second (scanning the whole smooth
+    /// region for each made a million-triangle mesh take 76 s for a 16 x 16 pinch), each
+    /// finding the surface 1 % of the radius away.
+    #[test]
+    fn a_query_on_a_fine_mesh_does_not_scan_the_whole_surface() {
+        let r = 0.04;
+        let mesh = MeshSurface::new(uv_sphere(r, 400, 400)).unwrap();
+        let started = std::time::Instant::now();
+        for k in 0..400 {
+            let (a, b) = (k as f64 * 0.37, k as f64 * 0.91);
+            let p = Vector3::new(a.cos() * b.sin(), a.sin() * b.sin(), b.cos()) * (1.01 * r);
+            let s = mesh.closest(&p).unwrap();
+            assert!((s.distance_m - 0.01 * r).abs() < 1e-3 * r, "{k}: {s:?}");
+        }
+        let took = started.elapsed().as_secs_f64();
+        assert!(took < 1.5, "400 queries took {took} s");
+    }
 }

@@ -6,6 +6,7 @@
 pub mod contact_frame;
 pub mod mesh_surface;
 pub mod mesh_topology;
+pub mod point_grid;
 pub mod portable_fft;
 pub mod primitive_surface;
 pub mod random_surface;

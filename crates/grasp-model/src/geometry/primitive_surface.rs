@@ -254,11 +254,16 @@ fn capsule_closest(r: f64, h: f64, p: &Vector3<f64>) -> Result<SurfacePoint, Str
     })
 }
 
+/// The first hit of `o + t d` on the box of half sides `a`. A ray parallel to a face's plane
+/// and in it within the on-face tolerance (along an edge or across a face, whose origin
+/// moving into the box's frame rounded a little outside) grazes the box and hits it where it
+/// enters, as it does the box's mesh.
 fn box_ray(a: &[f64; 3], o: &Vector3<f64>, d: &Vector3<f64>) -> Option<f64> {
+    let tol = ON_FACE_FRACTION * a.iter().fold(0.0_f64, |m, x| m.max(*x));
     let (mut enter, mut exit) = (0.0_f64, f64::INFINITY);
     for i in 0..3 {
         if d[i].abs() < 1e-300 {
-            if o[i].abs() > a[i] {
+            if o[i].abs() > a[i] + tol {
                 return None;
             }
             continue;

@@ -13,7 +13,11 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use crate::geometry::mesh_surface::MeshSurface;
 use crate::geometry::mesh_topology::MeshDefects;
 use crate::geometry::primitive_surface::Primitive;
-use crate::geometry::surface_point::SurfacePoint;
+use crate::geometry::surface_point::{SurfaceFeature, SurfacePoint};
+
+/// How far back along a ray, as a fraction of its length to the hit, the face it comes through
+/// is looked for when it hits an edge or a corner ([`Shape::ray_hit`]).
+const RAY_STEP_BACK: f64 = 1e-9;
 
 /// The shape in its local frame.
 #[derive(Debug, Clone)]
@@ -98,14 +102,27 @@ impl Shape {
             return Ok(Some(self.to_world(s)));
         }
         // A ray exactly through an edge or a vertex can slip between the triangles in floating
-        // point: cast again a tenth of the edge tolerance aside, so that it lands on the edge.
+        // point: cast again a tenth of the edge tolerance aside, so that it lands on the edge;
+        // then diagonally aside, for a ray along an edge (in the planes of both its faces, so
+        // that only a step off both reaches the face it comes through, as on a primitive).
         let e1 = d
             .cross(&Vector3::x())
             .try_normalize(1e-6)
             .unwrap_or_else(|| d.cross(&Vector3::y()).normalize());
         let e2 = d.cross(&e1);
         let nudge = 0.1 * m.edge_tolerance_m();
-        for e in [e1, -e1, e2, -e2] {
+        let diagonal = |a: f64, b: f64| (e1 * a + e2 * b) * std::f64::consts::FRAC_1_SQRT_2;
+        let aside = [
+            e1,
+            -e1,
+            e2,
+            -e2,
+            diagonal(1.0, 1.0),
+            diagonal(1.0, -1.0),
+            diagonal(-1.0, 1.0),
+            diagonal(-1.0, -1.0),
+        ];
+        for e in aside {
             if let Some(s) = self.local_hit(&(o + e * nudge), &d)? {
                 return Ok(Some(self.to_world(s)));
             }
@@ -115,7 +132,9 @@ impl Shape {
 
     /// The first hit of the local ray `o + t d` (`d` unit) on a face turned towards it (local
     /// frame): on a closed mesh, a hit on a face turned away is the far side met from within
-    /// by a ray that slipped between two triangles, and counts as none.
+    /// by a ray that slipped between two triangles, and counts as none. At an edge or a corner
+    /// the face is the one the ray comes through (a ray grazing a box along its top edge hits
+    /// the end face's corner, on the primitive as on its mesh).
     fn local_hit(
         &self,
         o: &Vector3<f64>,
@@ -126,10 +145,20 @@ impl Shape {
             LocalShape::Mesh(m) => m.ray_hit(o, d),
         };
         let Some(t) = hit else { return Ok(None) };
-        let mut s = match &self.local {
-            LocalShape::Primitive(prim) => prim.closest(&(o + d * t))?,
-            LocalShape::Mesh(m) => m.closest(&(o + d * t))?,
+        let closest = |p: &Vector3<f64>| match &self.local {
+            LocalShape::Primitive(prim) => prim.closest(p),
+            LocalShape::Mesh(m) => m.closest(p),
         };
+        let mut s = closest(&(o + d * t))?;
+        if s.feature != SurfaceFeature::Face && s.outward_normal.dot(d) >= 0.0 {
+            // At an edge or a corner the face `closest` names may not be the one the ray comes
+            // through (a ray along a box's top edge enters by its end face, not the top): that
+            // one is the face nearest a point just before the hit.
+            let before = closest(&(o + d * (t * (1.0 - RAY_STEP_BACK))))?;
+            if before.outward_normal.dot(d) < 0.0 {
+                s = before;
+            }
+        }
         s.distance_m = 0.0;
         let back = s.outward_normal.dot(d) >= 0.0 && self.open_mesh().is_none();
         Ok((!back).then_some(s))
@@ -152,5 +181,86 @@ impl Shape {
             LocalShape::Mesh(m) => m.mesh().volume_and_centroid(),
         };
         (v, self.position_m + self.rotation.transform_vector(&c))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::mesh_surface::TriangleMesh;
+
+    /// The box `[-a, a]` as 12 triangles wound outward (corner `i` has `+a[k]` where bit `k`
+    /// of `i` is set).
+    fn box_mesh(a: [f64; 3]) -> TriangleMesh {
+        TriangleMesh {
+            vertices_m: (0..8)
+                .map(|i| [0, 1, 2].map(|k| if (i >> k) & 1 == 1 { a[k] } else { -a[k] }))
+                .collect(),
+            triangles: vec![
+                [0, 2, 1],
+                [1, 2, 3],
+                [4, 5, 6],
+                [5, 7, 6],
+                [0, 1, 4],
+                [1, 5, 4],
+                [2, 6, 3],
+                [3, 6, 7],
+                [0, 4, 2],
+                [2, 4, 6],
+                [1, 3, 5],
+                [3, 7, 5],
+            ],
+        }
+    }
+
+    /// A ray along an edge or across a face of a box (grazing it) gets the same answer from the
+    /// primitive box and from the same box as a 12-triangle mesh, posed alike: a hit at the
+    /// same point where it enters (the face it comes through is turned towards it), or a miss
+    /// for both.
+    #[test]
+    fn a_ray_along_a_box_edge_gets_one_answer_from_the_primitive_and_the_mesh() {
+        let a = [0.03, 0.02, 0.01];
+        let poses: [([f64; 4], [f64; 3]); 2] = [
+            ([1.0, 0.0, 0.0, 0.0], [0.0; 3]),
+            ([1.0, 0.0, 0.0, 0.0], [0.1, -0.2, 0.3]),
+        ];
+        for (q, at) in poses {
+            let prim = Shape::posed(LocalShape::Primitive(Primitive::Box { half_m: a }), q, at);
+            let mesh = Shape::posed(
+                LocalShape::Mesh(Box::new(MeshSurface::new(box_mesh(a)).unwrap())),
+                q,
+                at,
+            );
+            let p = Vector3::from(at);
+            let (x, y): (Vector3<f64>, Vector3<f64>) = (Vector3::x(), Vector3::y());
+            // (origin, direction), local: along the top edges, across the top face, and
+            // just outside an edge (a miss for both).
+            let rays = [
+                (Vector3::new(-0.1, a[1], a[2]), x),
+                (Vector3::new(0.1, -a[1], a[2]), -x),
+                (Vector3::new(a[0], -0.1, a[2]), y),
+                (Vector3::new(-a[0], 0.1, a[2]), -y),
+                (Vector3::new(-0.1, 0.0, a[2]), x),
+                (Vector3::new(-0.1, a[1], 0.0), x),
+                (Vector3::new(-0.1, a[1] * 1.01, a[2]), x),
+                (Vector3::new(-0.1, 0.0, a[2] * 1.01), x),
+            ];
+            for (o, d) in rays {
+                let (o, d) = (o + p, d);
+                let hp = prim.ray_hit(&o, &d).unwrap();
+                let hm = mesh.ray_hit(&o, &d).unwrap();
+                match (&hp, &hm) {
+                    (Some(sp), Some(sm)) => {
+                        assert!(
+                            (sp.point_m - sm.point_m).norm() < 1e-9,
+                            "{o:?} {d:?}: {sp:?} {sm:?}"
+                        );
+                        assert!(sp.outward_normal.dot(&d) < 0.0, "{o:?} {d:?}: {sp:?}");
+                    }
+                    (None, None) => {}
+                    _ => panic!("{o:?} {d:?}: primitive {hp:?}, mesh {hm:?}"),
+                }
+            }
+        }
     }
 }

@@ -22,7 +22,9 @@ use crate::model::patch_compliance::{
 use crate::model::surface_gap::{exact_gaps, TipProfile};
 use crate::model::viscous_contact::{BodyLaws, ViscousContact};
 use crate::scene::loaded_scene::LoadedScene;
-use crate::scene::memory_budget::{dense_block_bytes, dense_blocks_problem, ComplianceBuild};
+use crate::scene::memory_budget::{
+    check_patch_room, dense_block_bytes, dense_blocks_problem, ComplianceBuild,
+};
 use crate::scene::scene_format::{FingerSpec, RadiusSpec, Scene};
 use crate::scene::scene_geometry::SceneGeometry;
 use crate::scene::texture_spec::texture_heights_m;
@@ -209,6 +211,7 @@ fn finger_model(
         f.tangent.as_ref().map(v3),
         object.plane.map(|p| p.normal),
     );
+    check_patch_room(i, &f.name, f.patch.grid)?;
     let (patch, gap_warning) = finger_patch(i, f, &frame, object, geometry.height_map(i))?;
     let exact_gaps = gap_kind(f, object) == GapSpec::Exact && object.shape.is_some();
     let material = Material::from(&f.material);

@@ -78,6 +78,14 @@ pub fn force_in_range(x: f64) -> bool {
 /// forces), m.
 pub const MAX_COORDINATE_M: f64 = 1e3;
 
+/// Most triangles of a mesh (an object's or a fingertip's). Preparing a mesh for its surface
+/// queries takes about [`super::memory_budget::MESH_BYTES_PER_TRIANGLE`] bytes and 2 µs a
+/// triangle (parry's bounding-volume tree most of the memory): 2,000,000 triangles take
+/// about 1.3 GB and a few seconds, where the largest mesh file (256 MiB of binary STL, 5.4
+/// million triangles) took 3.5 GB. A finer mesh tells patches of millimetre elements nothing
+/// more about the surface.
+pub const MAX_MESH_TRIANGLES: usize = 2_000_000;
+
 /// Range of a radius of curvature or an eq. (40) length, m (a radius above it is flat for any
 /// patch: write `null`).
 pub const LENGTH_RANGE_M: RangeInclusive<f64> = 1e-9..=1e3;

@@ -282,6 +282,48 @@ impl ComplianceBuild<'_> {
     }
 }
 
+/// Bytes preparing a mesh for its surface queries takes per triangle, rounded up from the 650
+/// measured on a sphere of a million triangles: parry's bounding-volume tree (about half, and
+/// as much again while it is built) and pseudo-normals, the mesh as read, its topology and the
+/// grids of its vertices and triangle centres.
+pub const MESH_BYTES_PER_TRIANGLE: u64 = 700;
+
+/// Checks that a mesh of `triangles` can be prepared now ([`MESH_BYTES_PER_TRIANGLE`] each),
+/// before it is: its buffers are allocated ordinarily, by parry among others.
+pub fn check_mesh_room(triangles: usize) -> Result<(), OutOfMemory> {
+    let bytes = (triangles as u64).saturating_mul(MESH_BYTES_PER_TRIANGLE);
+    check_room(bytes, || {
+        format!("preparing the mesh's {triangles} triangles")
+    })
+}
+
+/// Bytes a finger's patch holds per element at most while its model is built: the element
+/// centres (16) and gaps (8), the exact gaps' working copies and flags, and a texture's heights
+/// and the gaps they change (8 each), rounded up.
+pub const PATCH_BYTES_PER_ELEMENT: u64 = 128;
+
+/// Checks that finger `finger` (`name`)'s patch of `grid` elements (along `t1`, `t2`) can hold
+/// its per-element buffers now ([`PATCH_BYTES_PER_ELEMENT`] each), before they are allocated:
+/// the first allocations of a finger's model, made before its compliance's own check
+/// ([`ComplianceBuild::check_room`]), which under an address-space limit aborted the process.
+pub(crate) fn check_patch_room(
+    finger: usize,
+    name: &str,
+    grid: [usize; 2],
+) -> Result<(), crate::error::SceneError> {
+    let [nx, ny] = grid;
+    let bytes = (nx as u64)
+        .saturating_mul(ny as u64)
+        .saturating_mul(PATCH_BYTES_PER_ELEMENT);
+    check_room(bytes, || {
+        format!("the {nx} x {ny} patch (element centres and gaps) of finger `{name}`")
+    })
+    .map_err(|source| crate::error::SceneError::OutOfMemory {
+        path: format!("fingers[{finger}].patch.grid"),
+        source,
+    })
+}
+
 /// The FFT path's estimate for one finger, bytes (saturating).
 fn fft_bytes(scene: &Scene, f: &FingerSpec) -> u64 {
     let (nx, ny) = (f.patch.grid[0] as u64, f.patch.grid[1] as u64);

@@ -6,7 +6,8 @@ use std::ops::RangeInclusive;
 use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
 use crate::number_text::readable;
-use crate::scene::limits::MAX_COORDINATE_M;
+use crate::scene::limits::{MAX_COORDINATE_M, MAX_MESH_TRIANGLES};
+use crate::scene::memory_budget::{check_mesh_room, MESH_BYTES_PER_TRIANGLE};
 use crate::scene::shape_spec::ShapeSpec;
 
 /// A quaternion shorter than this has no direction to normalise to.
@@ -15,11 +16,27 @@ const MIN_QUATERNION_NORM: f64 = 1e-9;
 /// Smallest and largest size of a shape dimension, m.
 pub const SHAPE_SIZE_RANGE_M: RangeInclusive<f64> = 1e-6..=1e3;
 
-/// The first problem of a mesh as read (vertices in metres after `unit` and `scale`): a vertex
-/// that is not finite or lies beyond [`MAX_COORDINATE_M`] (a garbage file, or a unit or scale
-/// too large), or a triangle naming a vertex the mesh does not have.
+/// The first problem of a mesh as read (vertices in metres after `unit` and `scale`): more
+/// triangles than [`MAX_MESH_TRIANGLES`] or than the memory left can prepare, a vertex that is
+/// not finite or lies beyond [`MAX_COORDINATE_M`] (a garbage file, or a unit or scale too
+/// large), or a triangle naming a vertex the mesh does not have.
 pub fn check_mesh(path: &str, mesh: &TriangleMesh) -> Result<(), InputProblem> {
     let file = format!("{path}.mesh.file");
+    let triangles = mesh.triangles.len();
+    if triangles > MAX_MESH_TRIANGLES {
+        return Err(problem(
+            &file,
+            too_many_triangles(triangles),
+            MESH_TOO_FINE_FIX,
+        ));
+    }
+    if let Err(e) = check_mesh_room(triangles) {
+        return Err(problem(
+            &file,
+            e.message(),
+            &format!("{MESH_TOO_FINE_FIX}; or free memory or raise the memory limit"),
+        ));
+    }
     let bad = |v: &[f64; 3]| {
         !v.iter()
             .all(|x| x.is_finite() && x.abs() <= MAX_COORDINATE_M)
@@ -49,6 +66,21 @@ pub fn check_mesh(path: &str, mesh: &TriangleMesh) -> Result<(), InputProblem> {
         ));
     }
     Ok(())
+}
+
+/// What to do with a mesh too fine to prepare.
+pub const MESH_TOO_FINE_FIX: &str =
+    "decimate the mesh (MeshLab's Quadric Edge Collapse Decimation, \
+                            Blender's Decimate modifier): the contact model needs the surface \
+                            near the fingers no finer than their patches' elements";
+
+/// The message of a mesh of `triangles` triangles, more than [`MAX_MESH_TRIANGLES`].
+pub fn too_many_triangles(triangles: usize) -> String {
+    format!(
+        "holds {triangles} triangles, more than the {MAX_MESH_TRIANGLES} a mesh may have \
+         (preparing it would take about {:.1} GB)",
+        triangles as f64 * MESH_BYTES_PER_TRIANGLE as f64 / 1e9
+    )
 }
 
 /// Every problem of `spec`.
@@ -136,5 +168,32 @@ fn problem(path: &str, message: String, fix: &str) -> InputProblem {
         path: path.into(),
         message,
         fix: fix.into(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A mesh finer than a contact model needs (a million triangles took 76 s and 632 MB for a
+    /// 16 x 16 pinch; the limit admitted six times that) is refused above
+    /// [`MAX_MESH_TRIANGLES`], naming the count, the memory it would take and the fix.
+    #[test]
+    fn a_mesh_with_more_triangles_than_the_limit_is_refused_with_the_fix() {
+        let mesh = |n: usize| TriangleMesh {
+            vertices_m: vec![[0.0; 3], [1e-3, 0.0, 0.0], [0.0, 1e-3, 0.0]],
+            triangles: vec![[0, 1, 2]; n],
+        };
+        let p = check_mesh("object.shape", &mesh(MAX_MESH_TRIANGLES + 1)).unwrap_err();
+        assert_eq!(p.path, "object.shape.mesh.file");
+        assert!(
+            p.message
+                .contains("holds 2000001 triangles, more than the 2000000"),
+            "{}",
+            p.message
+        );
+        assert!(p.message.contains("GB"), "{}", p.message);
+        assert!(p.fix.contains("decimate"), "{}", p.fix);
+        assert!(check_mesh("object.shape", &mesh(1000)).is_ok());
     }
 }

@@ -160,8 +160,8 @@ impl PlanOptions {
             let expected = format!(
                 "needs 0 <= `{}` (got {} and {})",
                 option_names::LOAD_ORDER,
-                self.min_load_n,
-                self.max_load_n
+                Readable(self.min_load_n),
+                Readable(self.max_load_n)
             );
             say(option_names::MIN_LOAD, self.min_load_n, expected);
         }
@@ -301,5 +301,35 @@ mod tests {
         assert!(problems[0]
             .expected
             .ends_with(&format!("give `{MAX_RATE}`, or `{OBJECTIVE_MARGIN}`")));
+    }
+
+    /// A huge value is quoted as written (`1e308`), never as the 309 digits Rust's `{}` gives,
+    /// in the value and in the expectation alike.
+    #[test]
+    fn huge_values_are_quoted_without_hundreds_of_digits() {
+        let options = PlanOptions {
+            releasing: vec!["a".into()],
+            min_slip_margin: 1e308,
+            min_load_n: 1e300,
+            max_load_n: -1e300,
+            max_rate_n_per_s: Some(1.0),
+            ..PlanOptions::default()
+        };
+        let problems = options.problems(&["a".into()]);
+        assert_eq!(problems.len(), 2, "{problems:?}");
+        assert_eq!(problems[0].value, "1e308");
+        assert!(
+            problems[0].expected.starts_with("1e308 is outside"),
+            "{}",
+            problems[0].expected
+        );
+        assert!(
+            problems[1].expected.ends_with("(got 1e300 and -1e300)"),
+            "{}",
+            problems[1].expected
+        );
+        for p in &problems {
+            assert!(p.value.len() + p.expected.len() < 200, "{p:?}");
+        }
     }
 }
