@@ -117,12 +117,15 @@ fn disc_coulomb() -> Value {
 }
 
 /// The disc's schedule at `times`, the receiving pair's ramps and the releasing pair's hold
-/// as written up to `times`' last entry `t_k`, frozen from there: f1 and f2 at `0.8 t_k` N
-/// (their ramp is 0.8 N/s), f3 and f4 held.
-fn disc_schedule(times: &[f64], external: Option<Value>) -> Value {
-    let t_k = *times.iter().rfind(|&&t| t <= 10.0).unwrap();
-    let ramp = json!([{"ramp": {"keyframes": [[0.0, 0.0], [t_k, 0.8 * t_k], [1e6, 0.8 * t_k]],
-                                "easing": "linear"}}]);
+/// as written up to `t_k` (s, at most 10), frozen from there: f1 and f2 at `0.8 t_k` N (their
+/// ramp is 0.8 N/s), f3 and f4 held.
+fn disc_schedule(times: &[f64], t_k: f64, external: Option<Value>) -> Value {
+    let mut keyframes = vec![json!([0.0, 0.0])];
+    if t_k > 0.0 {
+        keyframes.push(json!([t_k, 0.8 * t_k]));
+    }
+    keyframes.push(json!([1e6, 0.8 * t_k]));
+    let ramp = json!([{"ramp": {"keyframes": keyframes, "easing": "linear"}}]);
     let mut v = json!({
         "time": {"times": times},
         "fingers": {"f1": ramp, "f2": ramp, "f3": [{"held": {}}], "f4": [{"held": {}}]}
@@ -155,7 +158,13 @@ fn push_fails_at(
         .skip(state_step + 1)
         .find_map(|r| {
             let why = holds(&model, &r.solution, exempt).err()?;
-            Some((r.time_s, format!("{why:?}")))
+            let forces: Vec<(&str, f64, usize)> = r
+                .solution
+                .fingers
+                .iter()
+                .map(|f| (f.name.as_str(), f.normal_force_n, f.stick_count))
+                .collect();
+            Some((r.time_s, format!("{why:?} (exempt {exempt:?}; {forces:?})")))
         })
 }
 
@@ -164,7 +173,12 @@ fn push_fails_at(
 fn push_ramp(m: &StepMargin, factor: f64, t_k: f64, dt: f64) -> Value {
     let s = factor * m.known_to_hold_n();
     let force: Vec<f64> = m.direction.force.iter().map(|f| f * s).collect();
-    let torque: Vec<f64> = m.direction.torque.iter().map(|t| t * s * m.length_m).collect();
+    let torque: Vec<f64> = m
+        .direction
+        .torque
+        .iter()
+        .map(|t| t * s * m.length_m)
+        .collect();
     let end = t_k + PUSH_STEPS as f64 * dt;
     json!({"ramp": {"keyframes": [[t_k, {"force": [0, 0, 0], "torque": [0, 0, 0]}],
                                   [end, {"force": force, "torque": torque}]],
@@ -190,7 +204,11 @@ fn disc_push_holds_below_and_fails_above(times: &[f64], records: &[StepRecord]) 
         .chain((1..=PUSH_STEPS).map(|i| times[k] + i as f64 * dt))
         .collect();
     for (factor, should_hold) in [(0.95, true), (1.05, false)] {
-        let v = disc_schedule(&push_times, Some(push_ramp(m, factor, times[k], dt)));
+        let v = disc_schedule(
+            &push_times,
+            times[k],
+            Some(push_ramp(m, factor, times[k], dt)),
+        );
         let failed = push_fails_at(&scene, &parse_schedule(&scene, &v), k, &exempt);
         assert_eq!(
             failed.is_none(),
@@ -210,7 +228,7 @@ fn disc_push_holds_below_and_fails_above(times: &[f64], records: &[StepRecord]) 
 fn one_coulomb_state_has_one_margin_whichever_solver_or_command() {
     let scene = support::scene(&disc_coulomb());
     let times = [0.0];
-    let schedule = parse_schedule(&scene, &disc_schedule(&times, None));
+    let schedule = parse_schedule(&scene, &disc_schedule(&times, times[times.len() - 1], None));
     let records = four_searches_agree("disc at t = 0", &scene, &schedule);
     let model = std::sync::Arc::new(GraspModel::from_loaded(&scene).unwrap());
     let dirs = grasp_model::axis_directions(&model);
@@ -243,7 +261,7 @@ fn one_coulomb_state_has_one_margin_whichever_solver_or_command() {
 fn the_continued_coulomb_search_is_the_search_from_scratch_and_the_push_agrees() {
     let scene = support::scene(&disc_coulomb());
     let times = [0.0, 1.5];
-    let schedule = parse_schedule(&scene, &disc_schedule(&times, None));
+    let schedule = parse_schedule(&scene, &disc_schedule(&times, times[times.len() - 1], None));
     let records = four_searches_agree("disc, step 1.5 s", &scene, &schedule);
     disc_push_holds_below_and_fails_above(&times, &records);
 }
@@ -275,5 +293,8 @@ fn a_stalled_solve_is_no_margin_the_cylinder_holds_to_the_cap_for_both_solvers()
     let v = json!({"time": {"times": times}, "fingers": {},
                    "external": push_ramp(m, 0.95, 0.0, dt)});
     let failed = push_fails_at(&scene, &parse_schedule(&scene, &v), 0, &[]);
-    assert!(failed.is_none(), "a push of 0.95 x the cap {cap} N failed: {failed:?}");
+    assert!(
+        failed.is_none(),
+        "a push of 0.95 x the cap {cap} N failed: {failed:?}"
+    );
 }

@@ -83,6 +83,35 @@ fn allowed_n(a: &StepMargin, b: &StepMargin, load_scale_n: f64) -> f64 {
     tol / (1.0 - tol) * a.known_to_hold_n().max(b.known_to_hold_n()) + ZERO_MARGIN * load_scale_n
 }
 
+/// When one of two searches is undetermined: `Some(what was compared)` after checking that its
+/// lower bound does not exceed the other's margin (or lower bound) by more than the bracket.
+fn undetermined_consistent(a: &StepMargin, b: &StepMargin, load_scale_n: f64) -> Option<String> {
+    let (u, other) = match (&a.undetermined, &b.undetermined) {
+        (None, None) => return None,
+        (Some(_), _) => (a, b),
+        (None, Some(_)) => (b, a),
+    };
+    let tol = MarginOptions::default().relative_tolerance;
+    let bound = other.known_to_hold_n() * (1.0 + tol) + ZERO_MARGIN * load_scale_n;
+    let bound = if other.smallest_n.is_none() && other.undetermined.is_none() {
+        f64::INFINITY // the other held to the cap
+    } else if other.undetermined.is_some() {
+        f64::INFINITY // both only bounded below
+    } else {
+        bound
+    };
+    assert!(
+        u.held_to_n <= bound,
+        "held to {} N where the other search's margin is {:?} N: {u:?} {other:?}",
+        u.held_to_n,
+        other.smallest_n
+    );
+    Some(format!(
+        "undetermined above {} N, the other {:?} N",
+        u.held_to_n, other.smallest_n
+    ))
+}
+
 #[test]
 fn continued_margins_equal_the_search_from_scratch_along_every_example_hand_off() {
     let mut compared = 0;
@@ -103,12 +132,16 @@ fn continued_margins_equal_the_search_from_scratch_along_every_example_hand_off(
                 other => panic!("{what}: one search has a margin, the other not: {other:?}"),
             };
             assert_eq!(ma.unresisted, mb.unresisted, "{what}");
-            assert_eq!(ma.bounded, mb.bounded, "{what}");
+            // A search that stalled (no solver answered above a magnitude that held, at the
+            // edge of equilibrium or at the relaxing cylinder's cap) says only that the margin
+            // is at least that: no more than the other's margin.
+            if let Some(why) = undetermined_consistent(ma, mb, a.solution.load_scale_n) {
+                println!("{what}: {why}");
+                solves = (solves.0 + ma.solves, solves.1 + mb.solves);
+                continue;
+            }
+            assert_eq!(ma.bounded, mb.bounded, "{what}: {ma:?} {mb:?}");
             let allowed = allowed_n(ma, mb, a.solution.load_scale_n);
-            assert!(
-                ma.undetermined.is_none() && mb.undetermined.is_none(),
-                "{what}: a search stalled: {ma:?}, {mb:?}"
-            );
             assert!(
                 (ma.known_to_hold_n() - mb.known_to_hold_n()).abs() <= allowed,
                 "{what}: continued {} N, from scratch {} N (allowed {allowed} N): {ma:?}, \
@@ -152,15 +185,32 @@ fn the_load_capacity_changes_no_margin_along_any_example_hand_off() {
                 assert_eq!(a.margin.is_some(), b.margin.is_some(), "{what}");
                 continue;
             };
-            assert_eq!(ma.bounded, mb.bounded, "{what}");
+            // Without the capacity a trial past the edge of equilibrium may stall where the
+            // capacity proves that it fails: that direction is then undetermined above a
+            // magnitude that held, no more than the margin found with the capacity.
+            if mb.undetermined.is_some() && ma.undetermined.is_none() {
+                let tol = MarginOptions::default().relative_tolerance;
+                let margin = ma.known_to_hold_n();
+                assert!(
+                    mb.held_to_n <= margin * (1.0 + tol) + ZERO_MARGIN * a.solution.load_scale_n,
+                    "{what}: held to {} N without the capacity, margin {margin} N with it",
+                    mb.held_to_n
+                );
+                solves = (solves.0 + ma.solves, solves.1 + mb.solves);
+                continue;
+            }
+            assert_eq!(ma.bounded, mb.bounded, "{what}: {ma:?} {mb:?}");
             let allowed = allowed_n(ma, mb, a.solution.load_scale_n);
-            assert!(
-                ma.undetermined.is_none() && mb.undetermined.is_none(),
-                "{what}: a search stalled: {ma:?}, {mb:?}"
+            // Both undetermined (no solver answers above a magnitude that held, as at the
+            // relaxing cylinder's cap), or neither.
+            assert_eq!(
+                ma.undetermined.is_some(),
+                mb.undetermined.is_some(),
+                "{what}: one search stalled: {ma:?}, {mb:?}"
             );
             assert!(
                 (ma.known_to_hold_n() - mb.known_to_hold_n()).abs() <= allowed,
-                "{what}: with the capacity {} N, without {} N (allowed {allowed} N)",
+                "{what}: with the capacity {} N, without {} N (allowed {allowed} N): {ma:?} {mb:?}",
                 ma.known_to_hold_n(),
                 mb.known_to_hold_n()
             );

@@ -155,54 +155,87 @@ impl Search<'_> {
         tolerance: f64,
     ) -> Result<Option<String>, ModelError> {
         let zero = ZERO_MARGIN * self.load_n;
+        // The bisection's upper end: where it fails, or lower, a magnitude no solver answered
+        // at (whether it holds there is not known, so the bisection goes on below it).
+        let mut upper = Upper::at(fails.s);
         // Failed at the capacity without a solve: the margin is most often just below it.
         let below = self.capacity_n * (1.0 - CAPACITY_PROBE * tolerance);
-        let mut stalled = None;
         if fails.s >= self.capacity_n && held.s < below && below > zero {
-            stalled = self.probe(below, held, fails)?;
+            upper.probed(below, self.probe(below, held, fails)?, fails);
         }
         // Failed at the first step: is the direction resisted at all? (One solve, not a
         // bisection down to zero: commanded loads leave some directions unresisted.)
-        if held.s == 0.0 && stalled.is_none() {
-            stalled = self.probe(zero, held, fails)?;
+        if held.s == 0.0 && upper.stall.is_none() {
+            upper.probed(zero, self.probe(zero, held, fails)?, fails);
         }
         let (mut steps, mut bisect) = (0, false);
-        while fails.s - held.s > tolerance * fails.s && fails.s > zero {
-            let width = fails.s - held.s;
+        while upper.s - held.s > tolerance * upper.s && upper.s > zero {
+            let width = upper.s - held.s;
             let guided = self
-                .guided_point(held.s, fails.s, tolerance)
+                .guided_point(held.s, upper.s, tolerance)
                 .filter(|_| !bisect);
             // Geometric while the bracket spans more than a factor 2, then arithmetic.
             let mid = if let Some(t) = guided {
                 t
-            } else if held.s > 0.0 && fails.s > 2.0 * held.s {
-                (held.s * fails.s).sqrt()
+            } else if held.s > 0.0 && upper.s > 2.0 * held.s {
+                (held.s * upper.s).sqrt()
             } else {
-                0.5 * (held.s + fails.s)
+                0.5 * (held.s + upper.s)
             };
-            let why = if let Some(why) = stalled.take() {
-                why
-            } else if !(mid > held.s && mid < fails.s) {
+            let why = if !(mid > held.s && mid < upper.s) {
                 "no number lies between its ends in double precision".to_string()
             } else if steps == MAX_BISECTION_STEPS {
                 format!("the bisection stopped after {MAX_BISECTION_STEPS} steps")
             } else {
                 steps += 1;
-                stalled = self.probe(mid, held, fails)?;
+                upper.probed(mid, self.probe(mid, held, fails)?, fails);
                 // A guided trial that did not halve the bracket is followed by a bisection.
-                bisect = guided.is_some() && fails.s - held.s > 0.5 * width;
+                bisect = guided.is_some() && upper.s - held.s > 0.5 * width;
                 continue;
             };
             return Ok(Some(format!(
                 "the bracket [{}, {}] N (relative width {:.1e}) was not narrowed to the \
                  tolerance {}: {why}",
                 Readable(held.s),
-                Readable(fails.s),
-                (fails.s - held.s) / fails.s,
+                Readable(upper.s),
+                (upper.s - held.s) / upper.s,
                 Readable(tolerance)
             )));
         }
-        Ok(None)
+        Ok(upper.stall.filter(|_| upper.s < fails.s).map(|(at, why)| {
+            format!(
+                "no solver answered at {} N ({why}), between the margin and {} N where the \
+                 grasp fails: the margin was narrowed below it, and is the largest magnitude \
+                 known to hold",
+                Readable(at),
+                Readable(fails.s)
+            )
+        }))
+    }
+}
+
+/// The upper end of a bisection: the smallest magnitude found to fail, or a smaller one at
+/// which no solver answered (the first such, with why).
+struct Upper {
+    s: f64,
+    stall: Option<(f64, String)>,
+}
+
+impl Upper {
+    fn at(fails_n: f64) -> Upper {
+        Upper {
+            s: fails_n,
+            stall: None,
+        }
+    }
+
+    /// After a probe at `s` N: lowered to where it fails, or to `s` when no solver answered.
+    fn probed(&mut self, s: f64, stalled: Option<String>, fails: &Fails) {
+        self.s = self.s.min(fails.s);
+        if let Some(why) = stalled {
+            self.s = self.s.min(s);
+            self.stall.get_or_insert((s, why));
+        }
     }
 }
 
