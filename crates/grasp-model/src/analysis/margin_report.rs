@@ -68,7 +68,7 @@ pub struct MarginOptions {
     /// sets it to the scene's reach, so that every step's couples compare with each other and
     /// with `grasp margin`'s on the scene, whichever fingers a step holds with.
     pub length_m: Option<f64>,
-    /// The load scale of the search, N: its first step ([`crate::analysis::margin_trial`]'s
+    /// The load scale of the search, N: its first step (the margin trial's
     /// `INITIAL_STEP` of it, also a coulomb ramp's first), its cap (`max_factor` times it) and
     /// the magnitude below which a margin is 0. `None`: the model's (`Scales::load_n`). A
     /// hand-off sets it to the scene's, as `length_m`. Positive, at most [`MAX_FORCE_N`].

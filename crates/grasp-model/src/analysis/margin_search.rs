@@ -327,13 +327,13 @@ fn along(step: &StepSearch, direction: WrenchDirection) -> Result<DirectionMargi
     {
         search.bound_by(&mut certificate);
     }
-    let found = search.from_zero(step.base(), cap, step.options.relative_tolerance)?;
+    let found = search.search_from_zero(step.base(), cap, step.options.relative_tolerance)?;
     Ok(search.finish(found, clock))
 }
 
 impl Search<'_> {
     /// The search from `held` (the undisturbed state): growth, then bisection.
-    pub(crate) fn from_zero(
+    pub(crate) fn search_from_zero(
         &mut self,
         mut held: Held,
         cap: f64,

@@ -399,7 +399,7 @@ fn from_scratch(
 ) -> Result<Found, ModelError> {
     start_afresh(search);
     let cap = options.max_factor * search.load_n;
-    search.from_zero(held, cap, options.relative_tolerance)
+    search.search_from_zero(held, cap, options.relative_tolerance)
 }
 
 /// A direction only the commanded loads could balance: unresisted, failing at the smallest

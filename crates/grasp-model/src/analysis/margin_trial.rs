@@ -116,7 +116,9 @@ pub(crate) enum Trial {
     },
 }
 
-/// One step's verdict.
+/// One step's verdict (short-lived: the state and solution move on into a [`Held`] at once,
+/// so the variants' sizes do not matter).
+#[allow(clippy::large_enum_variant)]
 enum Step {
     Holds(ContactState, Solution),
     Fails(Failure),
