@@ -327,7 +327,6 @@ fn run(args: &[&str]) -> Result<(Option<i32>, String, String, f64), String> {
 /// The keys (besides `reason` and `sequential`) a sound output may hold null at.
 const NULLABLE: [&str; 9] = [
     "reason",
-    "margin_n",
     "sequential",
     "fails_at_n",
     "failing_finger",
@@ -335,6 +334,8 @@ const NULLABLE: [&str; 9] = [
     "vary",
     "rigid_displacement",
     "residuals",
+    // Null when unbounded or undetermined (`held_to_n` says how far it held).
+    "margin_n",
 ];
 
 /// Every number in `v` is finite (NaN and infinities serialize as `null`; only the keys of
@@ -397,8 +398,10 @@ fn csv_is_sound(text: &str) -> Result<(), String> {
                 Some("solver") => cell == "native" || cell == "clarabel",
                 Some("warm_start") => cell == "true" || cell == "false",
                 Some("compliance") => ["dense", "fft", "mixed"].contains(&cell),
-                // Empty unless the run computed margins (--margins).
-                Some("smallest_margin_n") if cell.is_empty() => true,
+                // Empty unless the run computed margins (--margins), or undetermined; `inf`
+                // when unbounded.
+                Some("smallest_margin_n") if cell.is_empty() || cell == "inf" => true,
+                Some("margin_held_to_n") if cell.is_empty() => true,
                 _ => cell.parse::<f64>().is_ok_and(f64::is_finite),
             };
             if !sound {
