@@ -92,13 +92,11 @@ fn undetermined_consistent(a: &StepMargin, b: &StepMargin, load_scale_n: f64) ->
         (None, Some(_)) => (b, a),
     };
     let tol = MarginOptions::default().relative_tolerance;
-    let bound = other.known_to_hold_n() * (1.0 + tol) + ZERO_MARGIN * load_scale_n;
-    let bound = if other.smallest_n.is_none() && other.undetermined.is_none() {
-        f64::INFINITY // the other held to the cap
-    } else if other.undetermined.is_some() {
-        f64::INFINITY // both only bounded below
-    } else {
-        bound
+    // Against the other's margin; unbounded (held to the cap) or undetermined too, the other
+    // bounds nothing above.
+    let bound = match other.smallest_n {
+        Some(margin) => margin * (1.0 + tol) + ZERO_MARGIN * load_scale_n,
+        None => f64::INFINITY,
     };
     assert!(
         u.held_to_n <= bound,

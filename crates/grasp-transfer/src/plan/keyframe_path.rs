@@ -61,7 +61,7 @@ impl KeyframePath {
     }
 
     /// The shortest duration a schedule of this path's steps and keyframes may have, s:
-    /// [`SHORTEST_STEP_S`] for each step (and each keyframe span, when there are more).
+    /// `SHORTEST_STEP_S` for each step (and each keyframe span, when there are more).
     pub fn shortest_planned_s(&self) -> f64 {
         let spans = self.fractions.len().saturating_sub(1);
         self.steps.max(spans) as f64 * SHORTEST_STEP_S

@@ -28,7 +28,7 @@ pub enum PlanError {
     #[error("the planner's program: {0}")]
     Program(String),
     /// The starting schedule has a step without equilibrium: where, the planned loads there,
-    /// the solver's reason and the fix ([`crate::plan::start_diagnosis`]).
+    /// the solver's reason and the fix (the start diagnosis).
     #[error(
         "the starting schedule has no equilibrium at t = {} s (planned loads there: {loads}): \
          {reason}; fix: {fix}",
@@ -85,7 +85,7 @@ pub enum PlanError {
         N(*duration_s), rounded(*shortest_s)
     )]
     DurationOutOfRange {
-        /// The option (as [`crate::plan::option_names`] spells it).
+        /// The option (as [`crate::plan_option_names`] spells it).
         option: &'static str,
         /// Its value, s.
         duration_s: f64,
