@@ -46,8 +46,10 @@ fn margin_writes_json_plot_and_recording_and_names_the_smallest() {
     assert!(out.contains("smallest margin"), "{out}");
     let picture = std::fs::read_to_string(&svg).unwrap();
     assert!(picture.starts_with("<svg"));
-    // The polar panel names its axes: the plate's plane of motion is x-z (e2 = -z).
-    assert!(picture.contains("+x right, -z up"), "{picture}");
+    // The polar panel names its axes: the plate's plane of motion is x-z (e2 = -z), drawn
+    // with +z up (it was drawn -z up: a push upwards plotted downwards).
+    assert!(picture.contains("+x right, +z up"), "{picture}");
+    assert!(!picture.contains("-z up"), "{picture}");
     // A bar per direction (plus the background), the smallest in red.
     assert!(picture.matches("<rect").count() > dirs.len(), "{picture}");
     assert!(picture.contains("#D62728"), "{picture}");

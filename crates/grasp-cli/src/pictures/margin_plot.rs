@@ -120,8 +120,22 @@ fn panel_planes(model: &GraspModel) -> Vec<PanelPlane> {
         ],
         Some(MotionPlane { e1, e2, .. }) => {
             let (a, b) = ([e1.x, e1.y, e1.z], [e2.x, e2.y, e2.z]);
-            vec![plane("force in the plane of motion", a, b)]
+            vec![plane("force in the plane of motion", a, pointing_up(b))]
         }
+    }
+}
+
+/// The panel's up axis `b`, or its opposite when `b` points down (its largest component
+/// negative): a plane of motion whose `e2` is `-z` is drawn with `+z` up, as a reader expects
+/// (the panel is then the plane seen from its other side).
+fn pointing_up(b: [f64; 3]) -> [f64; 3] {
+    let largest = b
+        .iter()
+        .copied()
+        .fold(0.0_f64, |m, v| if v.abs() > m.abs() { v } else { m });
+    match largest < 0.0 {
+        true => b.map(|v| -v),
+        false => b,
     }
 }
 
