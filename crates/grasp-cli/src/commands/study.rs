@@ -471,19 +471,27 @@ fn decades(values: impl Iterator<Item = f64> + Clone, empty_low: f64) -> std::op
 /// One error's line and points (the first error's, or the `second`'s), the first error's
 /// points labelled with their grids (the second error's point is at the same time, straight
 /// above or below it).
-fn draw_errors<DB: DrawingBackend>(
-    chart: &mut ChartContext<'_, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>,
-    pts: &[StudyPoint],
-    second: bool,
-    color: RGBColor,
-) -> Result<()> {
-    let series: Vec<(f64, f64, &StudyRow)> = pts
+/// The points of one error curve `(time s, error, row)`, in order of run time: the line runs
+/// left to right (in grid order it zigzagged wherever a finer grid happened to run faster).
+fn error_series<'a>(pts: &[StudyPoint<'a>], second: bool) -> Vec<(f64, f64, &'a StudyRow)> {
+    let mut series: Vec<(f64, f64, &StudyRow)> = pts
         .iter()
         .filter_map(|p| {
             let error = if second { p.error_2 } else { Some(p.error) };
             error.map(|v| (p.time_s, v, p.row))
         })
         .collect();
+    series.sort_by(|a, b| a.0.total_cmp(&b.0));
+    series
+}
+
+fn draw_errors<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>,
+    pts: &[StudyPoint],
+    second: bool,
+    color: RGBColor,
+) -> Result<()> {
+    let series = error_series(pts, second);
     chart
         .draw_series(LineSeries::new(series.iter().map(|p| (p.0, p.1)), &color))
         .map_err(draw_err)?;
@@ -522,6 +530,28 @@ mod tests {
             peak_pressure_grid_dependent: false,
             warnings: Vec::new(),
         }
+    }
+
+    /// The study plot zigzagged in grid order where a finer grid ran faster: its curve now runs
+    /// in order of run time, each point still with its own grid.
+    #[test]
+    fn the_error_curve_runs_in_order_of_time_not_of_grid() {
+        let mut rows = [row(3, 1e-2), row(5, 5e-3), row(9, 1e-3)];
+        rows[1].wall_time_s = 0.2; // the 5x5 grid ran slowest
+        let pts: Vec<StudyPoint> = rows
+            .iter()
+            .map(|r| StudyPoint {
+                time_s: r.wall_time_s,
+                error: r.error,
+                error_2: None,
+                row: r,
+            })
+            .collect();
+        let series = error_series(&pts, false);
+        let times: Vec<f64> = series.iter().map(|p| p.0).collect();
+        assert_eq!(times, [0.03, 0.09, 0.2]);
+        let grids: Vec<usize> = series.iter().map(|p| p.2.grid[0]).collect();
+        assert_eq!(grids, [3, 9, 5]);
     }
 
     /// A zero error (the reference grid itself) has no point on a log plot; the labels of the
