@@ -79,7 +79,7 @@ pub fn force_in_range(x: f64) -> bool {
 pub const MAX_COORDINATE_M: f64 = 1e3;
 
 /// Most triangles of a mesh (an object's or a fingertip's). Preparing a mesh for its surface
-/// queries takes about `memory_budget::MESH_BYTES_PER_TRIANGLE` bytes and 2 µs a
+/// queries takes about `mesh_budget::MESH_BYTES_PER_TRIANGLE` bytes and 2 µs a
 /// triangle (parry's bounding-volume tree most of the memory): 2,000,000 triangles take
 /// about 1.3 GB and a few seconds, where the largest mesh file (256 MiB of binary STL, 5.4
 /// million triangles) took 3.5 GB. A finer mesh tells patches of millimetre elements nothing

@@ -18,6 +18,7 @@ pub mod finger_placement;
 pub mod limits;
 pub mod loaded_scene;
 pub mod memory_budget;
+pub mod mesh_budget;
 pub mod patch_on_shape;
 pub mod scene_format;
 pub mod scene_geometry;

@@ -7,7 +7,7 @@ use crate::error::{InputProblem, SceneError};
 use crate::geometry::mesh_surface::TriangleMesh;
 use crate::number_text::readable;
 use crate::scene::limits::{MAX_COORDINATE_M, MAX_MESH_TRIANGLES};
-use crate::scene::memory_budget::{check_mesh_room, MESH_BYTES_PER_TRIANGLE};
+use crate::scene::mesh_budget::{check_mesh_room, MESH_BYTES_PER_TRIANGLE};
 use crate::scene::shape_spec::ShapeSpec;
 
 /// A quaternion shorter than this has no direction to normalise to.
