@@ -191,7 +191,9 @@ pub use warning_tally::{
 };
 
 // ---- Analyses: many solves ----
-pub use analysis::margin_report::{holds, DirectionMargin, Failure, MarginOptions, MarginReport};
+pub use analysis::margin_report::{
+    holds, DirectionMargin, Failure, MarginOptions, MarginReport, JUDGED_FRACTION,
+};
 pub use analysis::margin_search::{disturbance_margins, disturbance_margins_reporting, SolvedStep};
 pub use analysis::margin_tracker::MarginTracker;
 pub use analysis::patch_sizing::{auto_patch, hertz_suggestion, AutoPatch, HertzSuggestion};

@@ -58,7 +58,8 @@ mod summary;
 use grasp_model::{GraspModel, LoadedScene};
 
 // ---- The schedule: the file (validated) and its commands in time ----
-pub use schedule::{Command, Schedule};
+pub use easing::Easing;
+pub use schedule::{Command, ExternalRamp, ExternalWrench, Schedule};
 pub use schedule_spec::ScheduleSpec;
 
 // ---- Stepping: one solve a step ([`run`] drives a whole schedule) ----
