@@ -129,6 +129,14 @@ def written_files(cmd):
     return [words[k + 1] for k, w in enumerate(words[:-1]) if w in OUTPUT_FLAGS]
 
 
+def writes(block):
+    """Each file a block says it writes, with whether it says to replace one already there
+    (`--force`; Python: `overwrite=True`)."""
+    if block.lang == "python":
+        return [(name, "overwrite=True" in block.body) for name in re.findall(r"\"(out/[^\"]+)\"", block.body)]
+    return [(name, "--force" in cmd.split()) for cmd in commands(block)[0] for name in written_files(cmd)]
+
+
 def check_written(block, folder, names):
     for name in names:
         path = folder / name
@@ -240,6 +248,22 @@ def run_block(block, folder, env):
                        + "\n".join(dirty) + f"\n{block.body}")
     print(f"{block.id}: {block.lang} block ran in {time.monotonic() - started:.1f} s"
           + (" (marked long)" if block.marker == "long" else ""))
+
+
+def test_a_file_two_chapters_write_is_replaced_knowingly():
+    # A reader runs the README, then the guide's chapters in whatever order, in one checkout:
+    # a file that more than one chapter writes is written with `--force` (Python:
+    # `overwrite=True`) by each chapter but the README, or the chapter the reader runs second
+    # stops at the refusal to overwrite it (the guide's solve of cube_a and MuJoCo's pinch did).
+    writers = {}
+    for block in BLOCKS:
+        for name, forced in writes(block):
+            writers.setdefault(name, []).append((block, forced))
+    unforced = [f"{block.id} writes {name} without --force (also written by "
+                + ", ".join(b.id for b, _ in found if b.path != block.path) + ")"
+                for name, found in writers.items() if len({b.path for b, _ in found}) > 1
+                for block, forced in found if not forced and block.path != ROOT / "README.md"]
+    assert not unforced, "\n".join(unforced)
 
 
 @pytest.fixture(scope="module")
