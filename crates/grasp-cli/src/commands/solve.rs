@@ -170,8 +170,8 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     })
 }
 
-/// `--plot`: the contact maps of `solved` (the scene read from `scene_path`) written to the
-/// claimed `out` as `format`, and said.
+/// `--plot`: the contact maps of `solved` (the scene read from `scene_path`, titled by its
+/// file's name) written to the claimed `out` as `format`, and said.
 fn write_maps(
     outs: &Outputs,
     out: &Path,
@@ -194,7 +194,11 @@ fn write_maps(
             })
         })
         .collect();
-    let title = scene_path.display().to_string();
+    // The file's name, as `grasp plot` titles its diagram: the picture does not depend on
+    // where the scene lies.
+    let title = scene_path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
     let maps = ContactMaps {
         solution: &solved.solution,
         model: solved.model.kind(),

@@ -59,7 +59,7 @@ pub struct ContactMaps<'a> {
     pub model: ModelKind,
     /// Each finger's patch, in the solution's order.
     pub fingers: Vec<FingerPatch<'a>>,
-    /// Title (the scene's file).
+    /// Title (the scene file's name).
     pub title: &'a str,
 }
 
