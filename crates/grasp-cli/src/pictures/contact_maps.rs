@@ -7,9 +7,9 @@
 //! One rectangle is drawn per element up to [`MAX_CELLS`] a side; a finer patch is drawn in
 //! square blocks of elements so that at most [`MAX_CELLS`] a side remain (a 1024 x 1024 patch
 //! in 16 x 16 blocks): a block's pressure is its largest (the peak stays on the map and at the
-//! colour bar's top) and its state the one most of its elements have (slip before stick
-//! before no contact on a tie). The picture's size thus stays bounded (a few hundred kB per
-//! finger at most) however fine the patch. Cells at zero pressure are the background's white
+//! colour bar's top) and its state the one most of its elements have (on a tie slip, then
+//! stick, then frictionless contact, then no contact). The picture's size thus stays bounded (at most about 0.7 MB
+//! of SVG a finger) however fine the patch. Cells at zero pressure are the background's white
 //! and not drawn on the pressure map.
 
 use anyhow::Result;
