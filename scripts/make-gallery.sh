@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the gallery's pictures (docs/gallery/<scene>.svg, one `grasp plot` per scene of
-# examples/README.md). crates/grasp-cli/tests/gallery.rs regenerates each and compares it with
+# examples/README.md; docs/gallery/contact/<scene>.svg, the contact maps of `grasp solve --plot`
+# for a few scenes). crates/grasp-cli/tests/gallery.rs regenerates each and compares it with
 # the committed file, so run this after a change that moves a picture, and commit the result.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,4 +12,7 @@ scenes="plate_four_fingers disc_three_fingers pipe_three_fingers cube_a cube_b h
         edge_pinch handle_handoff ridged_pad_pinch rough_object_pinch"
 for s in $scenes; do
   cargo run --release --quiet -- plot "examples/$s.json" --out "docs/gallery/$s.svg" --force
+done
+for s in cube_a hertz_sphere_on_flat mug_power_grasp; do
+  cargo run --release --quiet -- solve "examples/$s.json" --plot "docs/gallery/contact/$s.svg" --force >/dev/null
 done

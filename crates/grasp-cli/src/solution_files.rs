@@ -39,7 +39,7 @@ pub fn write_npz(outs: &Outputs, out: &Path, solution: &grasp_model::Solution) -
 }
 
 /// `wrote PATH (SIZE in TIME)`: the file written since `clock` started.
-fn say_written(out: &Path, clock: Instant) {
+pub fn say_written(out: &Path, clock: Instant) {
     let seconds = clock.elapsed().as_secs_f64();
     let bytes = std::fs::metadata(out).map_or(0, |m| m.len()) as f64;
     let size = match bytes {

@@ -62,3 +62,55 @@ fn every_gallery_picture_is_regenerated_identically() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The gallery's contact maps (docs/gallery/contact/NAME.svg, `grasp solve --plot`): each
+/// regenerated equals the committed one byte for byte, and the README links it.
+#[test]
+fn every_gallery_contact_map_is_regenerated_identically() {
+    let readme = std::fs::read_to_string(root().join("examples/README.md")).unwrap();
+    let dir = std::env::temp_dir().join(format!("grasp-gallery-maps-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut maps: Vec<PathBuf> = std::fs::read_dir(root().join("docs/gallery/contact"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "svg"))
+        .collect();
+    maps.sort();
+    assert!(maps.len() >= 3, "{maps:?}");
+    for committed in maps {
+        let name = committed
+            .file_stem()
+            .unwrap()
+            .to_string_lossy()
+            .into_owned();
+        assert!(
+            readme.contains(&format!("docs/gallery/contact/{name}.svg")),
+            "{name}'s contact maps are not in the gallery"
+        );
+        let fresh = dir.join(format!("{name}.svg"));
+        let scene = root().join("examples").join(format!("{name}.json"));
+        let out = Command::new(env!("CARGO_BIN_EXE_grasp"))
+            .args([
+                "solve".as_ref(),
+                scene.as_os_str(),
+                "--plot".as_ref(),
+                fresh.as_os_str(),
+            ])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (a, b) = (
+            std::fs::read(&committed).unwrap(),
+            std::fs::read(&fresh).unwrap(),
+        );
+        assert!(
+            a == b,
+            "{name}: the contact maps changed; run scripts/make-gallery.sh and review them"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -885,3 +885,123 @@ fn questions_the_planner_cannot_answer_are_refused_by_option_with_the_fix() {
     let o = plan(&out, &["--max-rate", "1e300", "--objective", "margin"]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
 }
+
+/// The SVG's `<text>` elements after `from`: (x, y, content) with the tag's `x`, `y`.
+fn svg_texts(svg: &str, from: usize) -> Vec<(f64, f64, String)> {
+    let attr = |tag: &str, key: &str| -> f64 {
+        let key = format!(" {key}=\"");
+        let start = tag.find(&key).unwrap() + key.len();
+        tag[start..].split('"').next().unwrap().parse().unwrap()
+    };
+    let lines: Vec<&str> = svg[from..].lines().collect();
+    lines
+        .windows(2)
+        .filter(|w| w[0].starts_with("<text"))
+        .map(|w| (attr(w[0], "x"), attr(w[0], "y"), w[1].trim().to_owned()))
+        .collect()
+}
+
+/// The straight line through the (pixel, value) pairs' first and last: value at pixel `p`.
+fn axis(ticks: &[(f64, f64)]) -> impl Fn(f64) -> f64 {
+    let (a, b) = (ticks[0], ticks[ticks.len() - 1]);
+    move |p| a.1 + (p - a.0) * (b.1 - a.1) / (b.0 - a.0)
+}
+
+/// The plan plot squeezed a short plan into the left of the template's time axis (1.5 s of a
+/// 10 s axis) and drew no planned load: its time axis now spans the plan's duration (the
+/// template's runs along the top) and its bottom panel draws each planned finger's load,
+/// whose ends are the planned schedule's first and last keyframes (read from --out).
+#[test]
+fn the_plan_plot_spans_the_plans_duration_and_draws_its_planned_loads() {
+    let d = tmp("plan", "plot-loads");
+    let (out, svg) = (d.join("plan.schedule.json"), d.join("plan.svg"));
+    let svg_arg = svg.to_str().unwrap();
+    let p = cylinder_plan(&out, CYLINDER_THRESHOLD, "10", &["--plot", svg_arg]);
+    assert_eq!(p.status.code(), Some(0), "{}", text(&p));
+    let schedule: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let end_s = schedule["time"]["end"].as_f64().unwrap();
+    let svg = std::fs::read_to_string(&svg).unwrap();
+    let from = svg.find("Planned normal loads").expect("no loads panel");
+    let panel = &svg[from..];
+    // The plot area's frame: its left edge is t = 0, its right edge the plan's end.
+    let frame = panel
+        .lines()
+        .find(|l| l.starts_with("<rect") && l.contains("fill=\"none\""))
+        .unwrap();
+    let attr = |key: &str| -> f64 {
+        let key = format!(" {key}=\"");
+        let start = frame.find(&key).unwrap() + key.len();
+        frame[start..].split('"').next().unwrap().parse().unwrap()
+    };
+    let (left, top, right, bottom) = (
+        attr("x"),
+        attr("y"),
+        attr("x") + attr("width"),
+        attr("y") + attr("height"),
+    );
+    // The bottom axis's tick labels (below the frame) map pixels to the plan's time, the left
+    // axis's (left of it) pixels to newtons.
+    let texts = svg_texts(&svg, from);
+    let numbers = |keep: &dyn Fn(f64, f64) -> bool, by_x: bool| -> Vec<(f64, f64)> {
+        texts
+            .iter()
+            .filter(|(x, y, _)| keep(*x, *y))
+            .filter_map(|(x, y, t)| Some((if by_x { *x } else { *y }, t.parse::<f64>().ok()?)))
+            .collect()
+    };
+    let time = axis(&numbers(&|_, y| y > bottom, true));
+    let load = axis(&numbers(&|x, y| x < left && y >= top && y <= bottom, false));
+    let px_s = 1.0 / (time(left + 1.0) - time(left));
+    assert!(
+        time(left).abs() * px_s < 1.0,
+        "the axis starts at {} s",
+        time(left)
+    );
+    assert!(
+        (time(right) - end_s).abs() * px_s < 1.0,
+        "the axis ends at {} s, the plan at {end_s} s",
+        time(right)
+    );
+    let px_n = 1.0 / (load(bottom - 1.0) - load(bottom)).abs();
+    // a1 and a2 let go: blue and orange, solid (stroke 2, drawn along the steps).
+    for (finger, colour) in [("a1", "#1F77B4"), ("a2", "#FF7F0E")] {
+        let line = panel
+            .lines()
+            .filter(|l| {
+                l.starts_with("<polyline")
+                    && l.contains(&format!("stroke=\"{colour}\" stroke-width=\"2\""))
+            })
+            .max_by_key(|l| l.len())
+            .unwrap();
+        let points: Vec<(f64, f64)> = line
+            .split("points=\"")
+            .nth(1)
+            .unwrap()
+            .split_whitespace()
+            .filter_map(|p| {
+                let (x, y) = p.split_once(',')?;
+                Some((x.parse().ok()?, y.trim_end_matches('"').parse().ok()?))
+            })
+            .collect();
+        let keys = schedule["fingers"][finger][0]["ramp"]["keyframes"]
+            .as_array()
+            .unwrap();
+        let key = |k: &serde_json::Value| (k[0].as_f64().unwrap(), k[1].as_f64().unwrap());
+        let (first, last) = (key(&keys[0]), key(&keys[keys.len() - 1]));
+        let (a, b) = (points[0], points[points.len() - 1]);
+        for ((px, py), (t, n)) in [(a, first), (b, last)] {
+            assert!(
+                (time(px) - t).abs() * px_s <= 1.0,
+                "{finger}: drawn at {} s, keyframe at {t} s",
+                time(px)
+            );
+            assert!(
+                (load(py) - n).abs() * px_n <= 1.0,
+                "{finger}: drawn at {} N, keyframe {n} N",
+                load(py)
+            );
+        }
+    }
+    std::fs::remove_dir_all(&d).ok();
+}

@@ -135,3 +135,108 @@ fn a_png_diagram_is_the_same_picture_rasterised() {
     assert!(pixels_of(&rgb, [255, 255, 255]) > rgb.len() / 3 / 2);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The segments `((x0, y0), (x1, y1))` of the 2 px polylines drawn in `color`, in drawing
+/// order.
+fn segments(svg: &str, color: &str) -> Vec<((f64, f64), (f64, f64))> {
+    let mut out = Vec::new();
+    for line in svg.lines().filter(|l| {
+        l.starts_with("<polyline")
+            && l.contains(&format!("stroke=\"{color}\""))
+            && l.contains("stroke-width=\"2\"")
+    }) {
+        let points = line
+            .split("points=\"")
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap();
+        let xy: Vec<(f64, f64)> = points
+            .split_whitespace()
+            .map(|p| {
+                let (x, y) = p.split_once(',').unwrap();
+                (x.parse().unwrap(), y.parse().unwrap())
+            })
+            .collect();
+        out.push((xy[0], xy[xy.len() - 1]));
+    }
+    out
+}
+
+fn length(((x0, y0), (x1, y1)): ((f64, f64), (f64, f64))) -> f64 {
+    (x1 - x0).hypot(y1 - y0)
+}
+
+/// The force diagram had no scale: its arrows' lengths could not be read. Each view now has
+/// a scale arrow labelled with its force (`2 N`), drawn at the view's scale of the force
+/// arrows: every normal-force arrow's shaft is its finger's normal force (from `grasp solve
+/// --json`) times the scale arrow's pixels per newton, across the page and up it alike.
+#[test]
+fn the_force_diagram_has_a_scale_arrow_at_its_force_arrows_scale() {
+    let dir = out_dir("scale");
+    let (svg_path, json) = (dir.join("cube_a.svg"), dir.join("cube_a.json"));
+    assert!(plot_cube_a(&svg_path).status.success());
+    let st = grasp()
+        .arg("solve")
+        .arg(example("cube_a.json"))
+        .arg("--json")
+        .arg(&json)
+        .output()
+        .unwrap();
+    assert!(st.status.success());
+    let solution: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let mut loads: Vec<f64> = solution["fingers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["normal_force_n"].as_f64().unwrap())
+        .collect();
+    let svg = std::fs::read_to_string(&svg_path).unwrap();
+    // Each arrow is its shaft, then two head strokes.
+    let shafts = |c: &str| -> Vec<((f64, f64), (f64, f64))> {
+        segments(&svg, c).into_iter().step_by(3).collect()
+    };
+    let scales = shafts("#3C3C3C");
+    assert_eq!(scales.len(), 2, "one scale arrow per view");
+    let lines: Vec<&str> = svg.lines().collect();
+    let labels: Vec<f64> = lines
+        .windows(2)
+        .filter(|w| w[0].starts_with("<text"))
+        .filter_map(|w| w[1].trim().strip_suffix(" N")?.parse().ok())
+        .collect();
+    assert_eq!(labels.len(), 2, "{labels:?}");
+    // Cube A, view y-z (left of 550 px): all three normal forces lie in it (f1, f2 across,
+    // f3 up); view x-z: f3's.
+    loads.sort_by(f64::total_cmp);
+    let normals = shafts("#1F64C8");
+    for (view, (scale, force_n)) in scales.iter().zip(&labels).enumerate() {
+        let px_per_n = length(*scale) / force_n;
+        assert!(
+            length(*scale) >= 20.0 && length(*scale) <= 90.0,
+            "{scale:?}"
+        );
+        let mut drawn: Vec<f64> = normals
+            .iter()
+            .filter(|s| ((s.0).0 < 550.0) == (view == 0))
+            .map(|s| length(*s))
+            .collect();
+        drawn.sort_by(f64::total_cmp);
+        let expected: Vec<f64> = match view {
+            0 => loads.clone(),
+            _ => vec![solution["fingers"][2]["normal_force_n"].as_f64().unwrap()],
+        };
+        assert_eq!(drawn.len(), expected.len(), "view {view}: {drawn:?}");
+        for (px, p) in drawn.iter().zip(&expected) {
+            // Each end is rounded to a pixel, the scale arrow's length too.
+            let tol = 1.0 + 0.5 * px / length(*scale) + 0.01;
+            assert!(
+                (px - p * px_per_n).abs() <= tol,
+                "view {view}: a {p} N arrow is {px} px, the scale says {} px",
+                p * px_per_n
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

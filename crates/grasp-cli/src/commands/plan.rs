@@ -13,7 +13,7 @@ use grasp_transfer::{
 
 use crate::output::{self, ForceArg};
 use crate::pictures::picture;
-use crate::pictures::plan_margins::PlanMargins;
+use crate::pictures::plan_margins::{load_curves, PlanMargins};
 use crate::solve_flags::SolveFlags;
 
 /// Plan a hand-off: the releasing and receiving fingers' load ramps that keep every step's
@@ -111,7 +111,7 @@ pub struct Args {
     #[arg(long, value_name = "F.json")]
     pub report: Option<PathBuf>,
     /// Plot the smallest slip margin along the plan beside the template's (.svg or .png); with
-    /// --min-margin, the smallest disturbance margin too.
+    /// --min-margin, the smallest disturbance margin too; below, the planned loads.
     #[arg(long, value_name = "F.svg|F.png")]
     pub plot: Option<PathBuf>,
     /// Replay the planned hand-off and write its MCAP log (as `grasp transfer --mcap`).
@@ -188,11 +188,24 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     if let (Some(path), Some(format)) = (&args.plot, plot_format) {
         let title = args.scene.display().to_string();
         let threshold = options.min_slip_margin;
+        let planned: Vec<String> = options
+            .releasing
+            .iter()
+            .chain(&options.receiving)
+            .cloned()
+            .collect();
+        let names = scene.finger_names();
+        let schedule = Schedule::from_spec(&report.schedule, &names, Path::new("."))
+            .context("the planned schedule cannot be evaluated for its plot")?;
         let plot = PlanMargins {
             report: &report,
             threshold,
             min_margin_n: options.min_margin_n,
             title: &title,
+            loads: load_curves(&schedule, &scene, &planned),
+            template_loads: template
+                .as_ref()
+                .map_or_else(Vec::new, |(_, t)| load_curves(t, &scene, &planned)),
         };
         outs.write(path, &picture::render(&plot, format)?)?;
         println!("wrote plot: {}", path.display());

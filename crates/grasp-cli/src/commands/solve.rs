@@ -11,7 +11,9 @@ use grasp_model::{ComplianceChoice, LoadedScene, Scene, Sensitivities, Solution}
 use grasp_model::{GraspModel, GraspSolver, SolveOptions, StepInputs};
 
 use crate::load_scene::load_scene;
-use crate::output::{self, ForceArg};
+use crate::output::{self, ForceArg, Outputs};
+use crate::pictures::contact_maps::{ContactMaps, FingerPatch};
+use crate::pictures::picture;
 use crate::report;
 use crate::solve_display::SolveDisplay;
 use crate::solve_flags::SolveFlags;
@@ -32,6 +34,11 @@ pub struct Args {
     /// `numpy.load(path)["f1/pressure_pa"]`), float64 as solved.
     #[arg(long, value_name = "OUT.npz")]
     pub npz: Option<PathBuf>,
+    /// Draw every finger's contact pressure and stick / slip map over its patch (.svg or
+    /// .png; a patch finer than 64 elements a side is drawn in blocks, each at its largest
+    /// pressure and its most frequent state).
+    #[arg(long, value_name = "F.svg|F.png")]
+    pub plot: Option<PathBuf>,
     #[command(flatten)]
     pub force: ForceArg,
     /// Solver tolerance on the scaled program (feasibility and gap), in [1e-14, 1e-2]: below
@@ -98,6 +105,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         scene,
         json,
         npz,
+        plot,
         force,
         tolerance,
         error_estimate,
@@ -117,7 +125,16 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         sensitivities,
     };
     request.options.validate()?;
-    let outputs: Vec<&Path> = json.iter().chain(&npz).map(PathBuf::as_path).collect();
+    let plot_format = plot
+        .as_deref()
+        .map(|p| picture::Format::of(p, "--plot"))
+        .transpose()?;
+    let outputs: Vec<&Path> = json
+        .iter()
+        .chain(&npz)
+        .chain(&plot)
+        .map(PathBuf::as_path)
+        .collect();
     let outs = output::claim(&outputs, &[&scene], force.force)?;
     let scene_obj = load_scene(&scene)?;
     solve.check_memory(&scene_obj, &scene)?;
@@ -143,11 +160,54 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     if let Some(out) = &npz {
         crate::solution_files::write_npz(&outs, out, solution)?;
     }
+    if let (Some(out), Some(format)) = (&plot, plot_format) {
+        write_maps(&outs, out, format, &scene, &solved)?;
+    }
     Ok(if solution.status.has_forces() {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(2)
     })
+}
+
+/// `--plot`: the contact maps of `solved` (the scene read from `scene_path`, titled by its
+/// file's name) written to the claimed `out` as `format`, and said.
+fn write_maps(
+    outs: &Outputs,
+    out: &Path,
+    format: picture::Format,
+    scene_path: &Path,
+    solved: &Solved,
+) -> Result<()> {
+    let clock = Instant::now();
+    let fingers = solved
+        .solution
+        .fingers
+        .iter()
+        .filter_map(|f| {
+            let spec = solved.scene.fingers.iter().find(|s| s.name == f.name)?;
+            Some(FingerPatch {
+                size_m: spec.patch.size,
+                grid: spec.patch.grid,
+                frictionless: spec.friction.is_frictionless(),
+                solution: f,
+            })
+        })
+        .collect();
+    // The file's name, as `grasp plot` titles its diagram: the picture does not depend on
+    // where the scene lies.
+    let title = scene_path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let maps = ContactMaps {
+        solution: &solved.solution,
+        model: solved.model.kind(),
+        fingers,
+        title: &title,
+    };
+    outs.write(out, &picture::render(&maps, format)?)?;
+    crate::solution_files::say_written(out, clock);
+    Ok(())
 }
 
 /// How to solve: the solver's options, the time point, and whether to take the sensitivities.

@@ -4,7 +4,8 @@
 //! contacts), each finger's contact point and name (at its normal arrow's tail), its
 //! normal force (blue) and friction force (orange) as arrows pushing on the object at the
 //! centre of pressure, its friction cone (grey, half-angle `atan(mu)` about the normal), and
-//! the weight at the centre of mass (black). Arrows: the load scale drawn as 0.3 of the scene.
+//! the weight at the centre of mass (black). Arrows: the load scale drawn as 0.3 of the scene;
+//! each view's scale arrow (a round force, `2 N`, at the top right) shows how long a newton is.
 //! The names are placed so that none covers another or an arrow (a thin line leads back to the
 //! arrow's tail when a name had to move).
 
@@ -168,7 +169,7 @@ fn header<DB: DrawingBackend>(
         style,
     ))
     .map_err(plot_err)?;
-    let key = "blue: normal force, orange: friction force (pushing on the object at the centre of pressure); grey: friction cone; black: weight at the centre of mass";
+    let key = "blue: normal force, orange: friction force (pushing on the object at the centre of pressure); grey: friction cone; black: weight at the centre of mass; top right of each view: the arrows' scale";
     area.draw(&Text::new(key, (20, 58), ("sans-serif", 12).into_font()))
         .map_err(plot_err)?;
     let line: Vec<String> = s
@@ -219,15 +220,29 @@ fn view<DB: DrawingBackend>(
     };
     let (cu, cv) = ((lo[u] + hi[u]) / 2.0, s * (lo[v] + hi[v]) / 2.0);
     let half = 0.5 * (hi[u] - lo[u]).max(hi[v] - lo[v]).max(1e-3) * 1.1;
+    let caption = format!("view onto {}-{up} [m]", AXES[u]);
+    let (band, body) = (
+        area,
+        area.titled(&caption, ("sans-serif", 15))
+            .map_err(plot_err)?,
+    );
+    let area = &body;
+    // The plot area (the body less the margins and label areas below) gets ranges in its own
+    // proportions, so that a metre, and a newton of the arrows, is as long across as up.
+    let (w, h) = area.dim_in_pixel();
+    let (pw, ph) = (
+        (f64::from(w) - 2.0 * 12.0 - 56.0).max(1.0),
+        (f64::from(h) - 2.0 * 12.0 - 32.0).max(1.0),
+    );
+    let (hu, hv) = match pw >= ph {
+        true => (half * pw / ph, half),
+        false => (half, half * ph / pw),
+    };
     let mut chart = ChartBuilder::on(area)
-        .caption(
-            format!("view onto {}-{up} [m]", AXES[u]),
-            ("sans-serif", 15),
-        )
         .margin(12)
         .x_label_area_size(32)
         .y_label_area_size(56)
-        .build_cartesian_2d(cu - half..cu + half, cv - half..cv + half)
+        .build_cartesian_2d(cu - hu..cu + hu, cv - hv..cv + hv)
         .map_err(plot_err)?;
     chart
         .configure_mesh()
@@ -248,7 +263,69 @@ fn view<DB: DrawingBackend>(
     for f in &d.solution.fingers {
         draw_finger(&mut chart, d, f, &p2)?;
     }
+    // Pixels per newton of this view's arrows (pixels per metre, the same across and up).
+    let (xs, _) = chart.plotting_area().get_pixel_range();
+    let px_per_n = f64::from(xs.end - xs.start) / (2.0 * hu) * d.m_per_n;
+    draw_scale_arrow(band, px_per_n)?;
     draw_names(area, &chart, d, &p2)
+}
+
+/// The scale arrow's colour (dark grey: apart from the forces' colours and the weight's black).
+pub const SCALE_ARROW: RGBColor = RGBColor(60, 60, 60);
+
+/// Longest drawn scale arrow, px.
+const SCALE_ARROW_MAX_PX: f64 = 90.0;
+
+/// A scale arrow in the view's caption band (`band`: the whole view), at its right: a round force (1, 2 or 5 times a
+/// power of ten newtons) drawn at `px_per_n`, the view's scale of the force arrows, labelled
+/// with its value (`2 N`), at most [`SCALE_ARROW_MAX_PX`] long; none when the scale is not
+/// finite and positive.
+fn draw_scale_arrow<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    px_per_n: f64,
+) -> Result<()> {
+    let Some(force_n) = round_force_below(SCALE_ARROW_MAX_PX / px_per_n) else {
+        return Ok(());
+    };
+    let length = (force_n * px_per_n).round() as i32;
+    let label = format!("{} N", force_text(force_n));
+    let font = TextStyle::from(("sans-serif", 12).into_font());
+    let (w, _) = area.dim_in_pixel();
+    let (label_w, label_h) = area.estimate_text_size(&label, &font).map_err(plot_err)?;
+    let y = 12;
+    let end = w as i32 - 14 - label_w as i32 - 6;
+    let start = end - length;
+    let style = ShapeStyle::from(&SCALE_ARROW).stroke_width(2);
+    area.draw(&PathElement::new(vec![(start, y), (end, y)], style))
+        .map_err(plot_err)?;
+    for wing in [-1, 1] {
+        area.draw(&PathElement::new(
+            vec![(end, y), (end - 6, y + 3 * wing)],
+            style,
+        ))
+        .map_err(plot_err)?;
+    }
+    area.draw(&Text::new(label, (end + 6, y - label_h as i32 / 2), font))
+        .map_err(plot_err)
+}
+
+/// The largest of 1, 2 and 5 times a power of ten at most `limit_n` (N), if `limit_n` is finite
+/// and positive.
+fn round_force_below(limit_n: f64) -> Option<f64> {
+    if !(limit_n.is_finite() && limit_n > 0.0) {
+        return None;
+    }
+    let decade = 10f64.powf(limit_n.log10().floor());
+    [5.0, 2.0, 1.0]
+        .into_iter()
+        .map(|m| m * decade)
+        .find(|&f| f <= limit_n * (1.0 + 1e-12))
+}
+
+/// A round force as its label writes it: `2`, `0.05`, `5000`.
+fn force_text(force_n: f64) -> String {
+    let decimals = (-force_n.log10().floor()).max(0.0) as usize;
+    format!("{force_n:.decimals$}")
 }
 
 /// The coordinate axis `gravity` points along (within about 25 degrees), if any.

@@ -1,6 +1,7 @@
 //! Pictures drawn with plotters, written as SVG or PNG by the file's extension.
 
 pub mod bitmap_text;
+pub mod contact_maps;
 pub mod font;
 pub mod force_diagram;
 pub mod force_history;

@@ -1,12 +1,20 @@
-//! A plot of the margins along a planned hand-off beside its template's, against the
-//! schedule's time, each with its threshold as a dashed line (SVG or PNG, see
-//! [`crate::pictures::picture`]): per step the smallest slip margin `1 - |Q|/(mu P)` over the
-//! fingers carrying at least 5 % of the load scale and, when the plan kept a disturbance
-//! margin (`--min-margin`), below it the smallest disturbance margin over the axis directions
-//! (N).
+//! A plot of a planned hand-off beside its template, against the schedule's time, each
+//! threshold as a dashed line (SVG or PNG, see [`crate::pictures::picture`]): per step the
+//! smallest slip margin `1 - |Q|/(mu P)` over the fingers carrying at least 5 % of the load
+//! scale; when the plan kept a disturbance margin (`--min-margin`), below it the smallest
+//! disturbance margin over the axis directions (N); and at the bottom each planned finger's
+//! commanded normal load (N), solid along the plan, dashed along the template.
+//!
+//! The time axis spans the plan's own duration. A template longer than the plan gets its own
+//! time axis along the top of every panel, spanning the template's duration, so that neither
+//! is squeezed into a part of the width (a plan of a seventh of its template's duration took
+//! a seventh of the width); a template as long as the plan or shorter shares the plan's axis.
 
 use anyhow::Result;
-use grasp_transfer::{MarginsAtStep, PlanReport};
+use grasp_model::{ControlSpec, Scene};
+use grasp_transfer::{Command, MarginsAtStep, PlanReport, Schedule};
+use plotters::chart::DualCoordChartContext;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -23,6 +31,56 @@ pub struct PlanMargins<'a> {
     pub min_margin_n: Option<f64>,
     /// Title (the scene's file).
     pub title: &'a str,
+    /// The planned fingers' commanded loads along the plan.
+    pub loads: Vec<LoadCurve>,
+    /// The same fingers' along the template (empty without one).
+    pub template_loads: Vec<LoadCurve>,
+}
+
+/// One finger's commanded normal load along a schedule.
+pub struct LoadCurve {
+    /// The finger's name.
+    pub finger: String,
+    /// `(time s, load N)` at the schedule's steps where the finger is force-controlled or
+    /// released (0 N).
+    pub points: Vec<(f64, f64)>,
+}
+
+/// The commanded normal loads of `fingers` (names of `scene`'s fingers) at every step of
+/// `schedule`: a ramp's `"current"` resolved to the finger's load in the scene at the first
+/// step and to its last commanded load when a later phase begins (a force-controlled finger
+/// carries what it is commanded), a released finger at 0 N, a held or pressed-in one left out.
+pub fn load_curves(schedule: &Schedule, scene: &Scene, fingers: &[String]) -> Vec<LoadCurve> {
+    let mut curves = Vec::new();
+    for name in fingers {
+        let Some(i) = scene.fingers.iter().position(|f| &f.name == name) else {
+            continue;
+        };
+        let (scene_load, scene_command) = match scene.fingers[i].control {
+            ControlSpec::Load(l) => (l.normal_load, Command::Load(l.normal_load)),
+            _ => (0.0, Command::Held),
+        };
+        let (mut phase, mut current, mut last) = (None, scene_load, scene_load);
+        let mut points = Vec::new();
+        for &t in &schedule.times {
+            let p = schedule.phase_index(i, t);
+            if p != phase {
+                (phase, current) = (p, last);
+            }
+            let load = match schedule.command(i, t, current, scene_command) {
+                Command::Load(n) => n,
+                Command::Released => 0.0,
+                Command::Held | Command::Approach(_) => continue,
+            };
+            last = load;
+            points.push((t, load));
+        }
+        curves.push(LoadCurve {
+            finger: name.clone(),
+            points,
+        });
+    }
+    curves
 }
 
 /// One panel: a margin of every step, plan and template, and its threshold.
@@ -36,8 +94,8 @@ struct Panel<'a> {
 impl Picture for PlanMargins<'_> {
     fn size(&self) -> (u32, u32) {
         match self.min_margin_n {
-            Some(_) => (1060, 900),
-            None => (1060, 500),
+            Some(_) => (1060, 1260),
+            None => (1060, 860),
         }
     }
 
@@ -49,22 +107,102 @@ impl Picture for PlanMargins<'_> {
             value: |m| m.smallest,
             threshold: self.threshold,
         };
-        let Some(min_margin_n) = self.min_margin_n else {
-            return self.panel((root, root), &slip);
+        let panels = match self.min_margin_n {
+            Some(_) => 3,
+            None => 2,
         };
-        let disturbance = Panel {
-            caption: "Smallest disturbance margin over the axis directions".to_owned(),
-            y_desc: "margin [N]",
-            value: |m| m.disturbance_n,
-            threshold: min_margin_n,
-        };
-        let areas = root.split_evenly((2, 1));
+        let areas = root.split_evenly((panels, 1));
         self.panel((root, &areas[0]), &slip)?;
-        self.panel((root, &areas[1]), &disturbance)
+        if let Some(min_margin_n) = self.min_margin_n {
+            let disturbance = Panel {
+                caption: "Smallest disturbance margin over the axis directions".to_owned(),
+                y_desc: "margin [N]",
+                value: |m| m.disturbance_n,
+                threshold: min_margin_n,
+            };
+            self.panel((root, &areas[1]), &disturbance)?;
+        }
+        self.loads_panel(root, &areas[panels - 1])
     }
 }
 
+/// A panel's chart: the plan's time along the bottom, the template's along the top when it is
+/// longer (its own coordinates otherwise the plan's).
+type TimeChart<'a, DB> = DualCoordChartContext<
+    'a,
+    DB,
+    Cartesian2d<RangedCoordf64, RangedCoordf64>,
+    Cartesian2d<RangedCoordf64, RangedCoordf64>,
+>;
+
 impl PlanMargins<'_> {
+    /// The plan's duration and the template's, s (the template's 0 without one).
+    fn spans(&self) -> (f64, f64) {
+        let r = self.report;
+        let span = |m: &[MarginsAtStep]| m.last().map_or(0.0, |s| s.time_s);
+        let template = r.template_margins.as_deref().unwrap_or(&[]);
+        let loads = |c: &[LoadCurve]| {
+            c.iter()
+                .filter_map(|c| c.points.last())
+                .fold(0.0_f64, |a, p| a.max(p.0))
+        };
+        let plan = span(&r.margins).max(r.duration_s).max(1e-9);
+        let old = span(template)
+            .max(r.template_duration_s.unwrap_or(0.0))
+            .max(loads(&self.template_loads));
+        (plan, old)
+    }
+
+    /// A chart on `area` captioned `caption` over `low..high` (`y_desc`): the plan's time
+    /// along the bottom, and along the top the template's when it is longer (module doc).
+    fn time_chart<'a, DB: DrawingBackend>(
+        &self,
+        area: &'a DrawingArea<DB, Shift>,
+        caption: &str,
+        y_desc: &str,
+        (low, high): (f64, f64),
+    ) -> Result<TimeChart<'a, DB>> {
+        let (plan, old) = self.spans();
+        let own_axis = old > plan * (1.0 + 1e-9);
+        let mut chart = ChartBuilder::on(area)
+            .caption(caption, ("sans-serif", 16))
+            .margin(12)
+            .margin_right(LEGEND_COLUMN_PX)
+            .x_label_area_size(40)
+            .top_x_label_area_size(if own_axis { 36 } else { 0 })
+            .y_label_area_size(60)
+            .build_cartesian_2d(0.0..plan, low..high)
+            .map_err(draw_err)?
+            .set_secondary_coord(0.0..if own_axis { old } else { plan }, low..high);
+        let x_desc = match own_axis {
+            true => "plan's time [s]",
+            false => "time [s]",
+        };
+        chart
+            .configure_mesh()
+            .x_desc(x_desc)
+            .y_desc(y_desc)
+            .max_light_lines(0)
+            .draw()
+            .map_err(draw_err)?;
+        if own_axis {
+            chart
+                .configure_secondary_axes()
+                .x_desc("template's time [s] (grey and dashed curves)")
+                .draw()
+                .map_err(draw_err)?;
+        }
+        // A frame around the plot area: its right edge is the plan's end.
+        let (xs, ys) = chart.plotting_area().get_pixel_range();
+        let (x0, y0) = area.get_base_pixel();
+        let frame = [
+            (xs.start - x0, ys.start - y0),
+            (xs.end - 1 - x0, ys.end - 1 - y0),
+        ];
+        area.draw(&Rectangle::new(frame, BLACK)).map_err(draw_err)?;
+        Ok(chart)
+    }
+
     /// Draws `panel` on `area` of `root`: the template's and the plan's lines, the dashed
     /// threshold and the legend beside them (placed on `root`, in its pixels).
     fn panel<DB: DrawingBackend>(
@@ -73,9 +211,7 @@ impl PlanMargins<'_> {
         panel: &Panel,
     ) -> Result<()> {
         let r = self.report;
-        let span = |m: &[MarginsAtStep]| m.last().map_or(0.0, |s| s.time_s);
         let template = r.template_margins.as_deref().unwrap_or(&[]);
-        let t1 = span(&r.margins).max(span(template)).max(1e-9);
         let values: Vec<f64> = r
             .margins
             .iter()
@@ -89,21 +225,8 @@ impl PlanMargins<'_> {
             .iter()
             .fold(panel.threshold.max(1.0), |a, &b| a.max(b));
         let pad = 0.05 * (high - low).max(1e-9);
-        let mut chart = ChartBuilder::on(area)
-            .caption(&panel.caption, ("sans-serif", 16))
-            .margin(12)
-            .margin_right(LEGEND_COLUMN_PX)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..t1, low - pad..high + pad)
-            .map_err(draw_err)?;
-        chart
-            .configure_mesh()
-            .x_desc("time [s]")
-            .y_desc(panel.y_desc)
-            .max_light_lines(0)
-            .draw()
-            .map_err(draw_err)?;
+        let range = (low - pad, high + pad);
+        let mut chart = self.time_chart(area, &panel.caption, panel.y_desc, range)?;
         let plan = ShapeStyle::from(&RGBColor(31, 119, 180)).stroke_width(2);
         let old = ShapeStyle::from(&RGBColor(150, 150, 150)).stroke_width(2);
         let line = |m: &[MarginsAtStep]| -> Vec<(f64, f64)> {
@@ -112,19 +235,22 @@ impl PlanMargins<'_> {
                 .collect()
         };
         let mut legend = Vec::new();
-        for (points, style, name) in [
-            (line(template), old, "template"),
-            (line(&r.margins), plan, "plan"),
-        ] {
-            if points.is_empty() {
-                continue;
-            }
+        let points = line(template);
+        if !points.is_empty() {
             chart
-                .draw_series(LineSeries::new(points, style))
+                .draw_secondary_series(LineSeries::new(points, old))
                 .map_err(draw_err)?;
-            legend.push((name.to_owned(), sample(style.color, false)));
+            legend.push(("template".to_owned(), sample(old.color, false)));
+        }
+        let points = line(&r.margins);
+        if !points.is_empty() {
+            chart
+                .draw_series(LineSeries::new(points, plan))
+                .map_err(draw_err)?;
+            legend.push(("plan".to_owned(), sample(plan.color, false)));
         }
         let red = ShapeStyle::from(&RGBColor(214, 39, 40)).stroke_width(1);
+        let t1 = self.spans().0;
         let limit = [(0.0, panel.threshold), (t1, panel.threshold)];
         chart
             .draw_series(DashedLineSeries::new(limit, 6, 4, red))
@@ -132,7 +258,58 @@ impl PlanMargins<'_> {
         legend.push(("threshold".to_owned(), sample(red.color, true)));
         legend_beside(root, chart.plotting_area().get_pixel_range(), &legend)
     }
+
+    /// The planned fingers' commanded loads, solid along the plan and dashed along the
+    /// template, one colour per finger.
+    fn loads_panel<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        area: &DrawingArea<DB, Shift>,
+    ) -> Result<()> {
+        let high = self
+            .loads
+            .iter()
+            .chain(&self.template_loads)
+            .flat_map(|c| c.points.iter().map(|p| p.1))
+            .fold(0.0_f64, f64::max)
+            .max(1e-9);
+        let range = (-0.05 * high, 1.05 * high);
+        let caption = "Planned normal loads (solid: plan, dashed: template)";
+        let mut chart = self.time_chart(area, caption, "normal load [N]", range)?;
+        let mut legend = Vec::new();
+        for (k, c) in self.loads.iter().enumerate() {
+            let colour = FINGER_RGB[k % FINGER_RGB.len()];
+            let style = ShapeStyle::from(&colour).stroke_width(2);
+            if let Some(old) = self.template_loads.iter().find(|o| o.finger == c.finger) {
+                let thin = ShapeStyle::from(&colour.mix(0.7)).stroke_width(1);
+                chart
+                    .draw_secondary_series(DashedLineSeries::new(old.points.clone(), 6, 4, thin))
+                    .map_err(draw_err)?;
+            }
+            chart
+                .draw_series(LineSeries::new(c.points.clone(), style))
+                .map_err(draw_err)?;
+            // A finger loaded as an earlier one is drawn over it: the legend says so.
+            let same = self.loads[..k].iter().find(|o| o.points == c.points);
+            let label = match same {
+                Some(o) => format!("{} [N] (= {})", c.finger, o.finger),
+                None => format!("{} [N]", c.finger),
+            };
+            legend.push((label, sample(style.color, false)));
+        }
+        legend_beside(root, chart.plotting_area().get_pixel_range(), &legend)
+    }
 }
+
+/// The load curves' colours, one per planned finger in turn.
+const FINGER_RGB: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+];
 
 /// A legend sample of a line of colour `c`, no marker.
 fn sample(c: RGBAColor, dashed: bool) -> Sample {
