@@ -192,7 +192,8 @@ pub use warning_tally::{
 
 // ---- Analyses: many solves ----
 pub use analysis::margin_report::{
-    holds, DirectionMargin, Failure, MarginOptions, MarginReport, JUDGED_FRACTION,
+    holds, margin_for_ordering_n, DirectionMargin, Failure, MarginOptions, MarginReport,
+    JUDGED_FRACTION,
 };
 pub use analysis::margin_search::{disturbance_margins, disturbance_margins_reporting, SolvedStep};
 pub use analysis::margin_tracker::MarginTracker;

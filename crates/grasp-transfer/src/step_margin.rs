@@ -55,11 +55,11 @@ impl StepMargin {
     /// The margin for ordering, N: the margin, infinite when unbounded, the lower bound
     /// `held_to_n` when undetermined.
     pub fn margin_or_bound_n(&self) -> f64 {
-        match self.smallest_n {
-            Some(m) => m,
-            None if self.undetermined.is_none() => f64::INFINITY,
-            None => self.held_to_n,
-        }
+        grasp_model::margin_for_ordering_n(
+            self.smallest_n,
+            self.held_to_n,
+            self.undetermined.is_some(),
+        )
     }
 }
 

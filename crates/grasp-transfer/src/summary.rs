@@ -196,11 +196,11 @@ pub struct LeastSafeStep {
 impl LeastSafeStep {
     /// The margin for ordering, N: infinite when unbounded, `held_to_n` when undetermined.
     pub fn margin_or_bound_n(&self) -> f64 {
-        match self.margin_n {
-            Some(m) => m,
-            None if self.undetermined.is_none() => f64::INFINITY,
-            None => self.held_to_n,
-        }
+        grasp_model::margin_for_ordering_n(
+            self.margin_n,
+            self.held_to_n,
+            self.undetermined.is_some(),
+        )
     }
 }
 

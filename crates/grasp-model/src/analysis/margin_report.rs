@@ -245,14 +245,21 @@ impl DirectionMargin {
         self.fails_at_n.is_none() && self.undetermined.is_none()
     }
 
-    /// The margin for ordering and plotting, N: the margin, infinite when unbounded, `held_to_n`
-    /// (a lower bound) when undetermined.
+    /// The margin for ordering and plotting, N ([`margin_for_ordering_n`]).
     pub fn margin_or_bound_n(&self) -> f64 {
-        match self.margin_n {
-            Some(m) => m,
-            None if self.is_unbounded() => f64::INFINITY,
-            None => self.held_to_n,
-        }
+        margin_for_ordering_n(self.margin_n, self.held_to_n, self.undetermined.is_some())
+    }
+}
+
+/// A margin as one number for ordering and plotting, N: `margin_n` when there is one, infinite
+/// when there is none and the search was not `undetermined` (the grasp held at the cap), the
+/// lower bound `held_to_n` when it was. The one rule for a direction's margin, a step's
+/// smallest and a run's least safe step.
+pub fn margin_for_ordering_n(margin_n: Option<f64>, held_to_n: f64, undetermined: bool) -> f64 {
+    match margin_n {
+        Some(m) => m,
+        None if !undetermined => f64::INFINITY,
+        None => held_to_n,
     }
 }
 
