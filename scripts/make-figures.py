@@ -323,6 +323,10 @@ FIGURES = [
     # docs/guide/mujoco.md, the hand-off's recordings
     Figure("MuJoCo hand-off MCAP size", "docs/guide/mujoco.md", r"the MCAP ([\d.]+) MB and the Rerun recording",
            "mujoco_handoff", mb("handoff.mcap", 1)),
+    Figure("MuJoCo hand-off run time", "docs/guide/mujoco.md", r"every 10th of 1600 steps; ([\d.]+) s on",
+           "mujoco_handoff", lambda r: f"{r.wall_s:.1f}", deterministic=False),
+    Figure("MuJoCo hand-off measured when", "docs/guide/mujoco.md", r"s on the 2-core machine on ([^)]*)\):",
+           "mujoco_handoff", Run.conditions, deterministic=False),
     Figure("MuJoCo hand-off recording size", "docs/guide/mujoco.md", r"the Rerun recording ([\d.]+) MB pass",
            "mujoco_handoff", mb("handoff.rrd", 2)),
     # docs/guide/solving.md, the error estimate
@@ -391,7 +395,8 @@ LONG_MARKERS = [
     LongMarker("docs/guide/planning.md", "--max-rate 1.5 --steps 12 --min-margin 1 --max-runs 12", "plan_min_margin"),
 ]
 
-TEST_COUNT = re.compile(r"now `(\d+) passed, 0 failed` \((\d+ \w+)")
+# The README's count of the whole test command's passed tests, with when and how it was run.
+TEST_COUNT = re.compile(r"now `(\d+) passed, 0 failed` \(([^)]*)\)")
 
 
 @dataclasses.dataclass
@@ -449,9 +454,9 @@ def test_count_edit(text, log):
     passed, failed = m[-1]
     if failed != "0":
         raise RuntimeError(f"the test log has {failed} failures: fix them before quoting the count")
-    date = datetime.date.today().strftime("%-d %B")
+    when = datetime.date.today().strftime("%-d %B") + ", `bash scripts/test.sh`, read by `scripts/make-figures.py`"
     q = TEST_COUNT.search(text)
-    return text[:q.start(1)] + passed + text[q.end(1):q.start(2)] + date + text[q.end(2):]
+    return text[:q.start(1)] + passed + text[q.end(1):q.start(2)] + when + text[q.end(2):]
 
 
 def main():
