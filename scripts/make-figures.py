@@ -13,8 +13,8 @@ block's command (marked when over `LONG_S`).
 
     python3 scripts/make-figures.py             # lists every figure: quoted and fresh value
     python3 scripts/make-figures.py --write     # rewrites the stale ones in place
-    python3 scripts/make-figures.py --write --test-log LOG   # also the README's test count,
-                                                # from the closing line of `bash scripts/test.sh`
+    python3 scripts/make-figures.py --test-log LOG   # the README's test count, from the closing
+                                                # line of a log of `bash scripts/test.sh`
 
 The README's test count is refreshed only from a log of the whole test command (every Rust
 test binary built and run, the API docs' examples and the Python tests, whose skips depend on
@@ -34,7 +34,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from typing import Callable, Optional
+from typing import Callable
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 LONG_S = 20.0
@@ -465,14 +465,21 @@ def main():
     parser.add_argument("--test-log", type=pathlib.Path, help="a log of `bash scripts/test.sh`: refresh the README's count")
     parser.add_argument("--only", help="only the figures of this document (e.g. docs/guide/outputs.md)")
     args = parser.parse_args()
+    if args.test_log:
+        readme = ROOT / "README.md"
+        readme.write_text(test_count_edit(readme.read_text(), args.test_log.read_text()))
+        print("rewrote README.md's test count")
+        if not args.write:
+            return 0
     figures = [f for f in FIGURES if not args.only or f.doc == args.only]
     texts = {doc: (ROOT / doc).read_text() for doc in {f.doc for f in FIGURES} | {m.doc for m in LONG_MARKERS}}
     with tempfile.TemporaryDirectory() as scratch:
         runs = Runs(scratch)
         stale = stale_figures(texts, runs, figures)
-        fresh_ok = [f for f in figures if f not in [s.figure for s in stale]]
-        for f in fresh_ok:
-            print(f"{f.doc}:{find(f, texts[f.doc]).line}: {f.name}: {find(f, texts[f.doc]).text} (fresh)")
+        for f in figures:
+            if all(s.figure is not f for s in stale):
+                quote = find(f, texts[f.doc])
+                print(f"{f.doc}:{quote.line}: {f.name}: {quote.text} (fresh)")
         for s in stale:
             print(f"{s} (stale{'' if s.figure.deterministic else ', measured'})")
         if not args.write:
@@ -485,10 +492,6 @@ def main():
             if new != texts[doc]:
                 (ROOT / doc).write_text(new)
                 print(f"rewrote {doc}")
-    if args.test_log:
-        readme = ROOT / "README.md"
-        readme.write_text(test_count_edit(readme.read_text(), args.test_log.read_text()))
-        print("rewrote README.md's test count")
     return 0
 
 

@@ -6,7 +6,6 @@ them. A stale figure fails naming its document, line, quoted and fresh value.
 """
 
 import importlib.util
-import os
 
 import pytest
 
@@ -22,8 +21,10 @@ TEXTS = {doc: (ROOT / doc).read_text() for doc in {f.doc for f in figures.FIGURE
 
 @pytest.fixture(scope="module")
 def runs(grasp_bin, tmp_path_factory):
-    os.environ.setdefault("GRASP_BIN", grasp_bin)
-    return figures.Runs(tmp_path_factory.mktemp("figures"))
+    """The figures' runs, each made once for the module, with the CLI under test."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("GRASP_BIN", grasp_bin)
+        yield figures.Runs(tmp_path_factory.mktemp("figures"))
 
 
 def test_every_figure_is_quoted_once_where_its_pattern_says():
