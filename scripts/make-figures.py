@@ -454,7 +454,8 @@ def test_count_edit(text, log):
     passed, failed = m[-1]
     if failed != "0":
         raise RuntimeError(f"the test log has {failed} failures: fix them before quoting the count")
-    when = datetime.date.today().strftime("%-d %B") + ", `bash scripts/test.sh`, read by `scripts/make-figures.py`"
+    # The README's bullet is indented by two spaces: the wording wraps there.
+    when = datetime.date.today().strftime("%-d %B") + ", counted by\n  `scripts/make-figures.py --test-log` from the test command's log"
     q = TEST_COUNT.search(text)
     return text[:q.start(1)] + passed + text[q.end(1):q.start(2)] + when + text[q.end(2):]
 

@@ -77,6 +77,6 @@ def test_the_readme_test_count_comes_from_the_test_commands_closing_line():
     readme = "`677 passed, 0 failed` (27 November); now `760 passed, 0 failed` (28 November, CI: 376 s). The"
     new = figures.test_count_edit(readme, "test result: ok\n771 passed, 0 failed\n")
     assert new.startswith("`677 passed, 0 failed` (27 November); now `771 passed, 0 failed` (")
-    assert new.endswith(", `bash scripts/test.sh`, read by `scripts/make-figures.py`). The")
+    assert new.endswith(", counted by\n  `scripts/make-figures.py --test-log` from the test command's log). The")
     with pytest.raises(RuntimeError, match="2 failures"):
         figures.test_count_edit(readme, "769 passed, 2 failed\n")
