@@ -50,7 +50,7 @@ SOURCES = {
 }
 
 # grasp-model's folders in layer order (root files first), so its table reads bottom-up.
-MODEL_ORDER = ["", "geometry", "scene", "model", "program", "solver", "solve", "analysis"]
+MODEL_ORDER = ["", "geometry", "scene", "model", "program", "solver", "solve", "sensors", "analysis"]
 
 BEGIN = "<!-- BEGIN GENERATED {}: python3 scripts/architecture.py --write -->"
 END = "<!-- END GENERATED {} -->"

@@ -46,7 +46,7 @@ const CRATES: [Layering; 7] = [
             (4, &["program"]),
             (5, &["solver"]),
             (6, &["solve"]),
-            (7, &["analysis"]),
+            (7, &["sensors", "analysis"]),
         ],
         public_modules: &["option_names"],
         min_files: 50,

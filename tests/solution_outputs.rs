@@ -22,6 +22,7 @@ fn json_text(solution: &Solution) -> String {
         solution,
         time: None,
         sensitivities: None,
+        sensors: None,
     };
     let mut text = Vec::new();
     grasp_io::write_solution_json(&mut text, &record).unwrap();
@@ -48,6 +49,7 @@ fn solutions_without_a_fine_patch_keep_the_pretty_text() {
             solution: &solution,
             time: None,
             sensitivities: None,
+            sensors: None,
         };
         let pretty = serde_json::to_string_pretty(&record).unwrap();
         assert_eq!(json_text(&solution), pretty, "{name}");

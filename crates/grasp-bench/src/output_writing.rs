@@ -86,6 +86,7 @@ pub fn measure_output_writing(grid: usize, folder: &Path) -> Result<OutputCosts,
         solution: &solution,
         time: None,
         sensitivities: None,
+        sensors: None,
     };
     let json = timed_write(&folder.join("solution.json"), |w| {
         grasp_io::write_solution_json(w, &record).map_err(std::io::Error::from)

@@ -412,6 +412,34 @@ pub fn sensitivity_table(sens: &grasp_model::Sensitivities, time_s: f64) -> Stri
     s
 }
 
+/// The tactile sensors' readings (`grasp solve` on a scene with `fingers[i].sensor`): per
+/// finger its taxels, depth, the totals over the taxels and the largest taxel force.
+pub fn sensor_table(readings: &[grasp_model::TaxelReadings]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "\ntaxels (force crossing each taxel at its depth, contact frame):\n{:<16}{:>8}{:>12}{:>14}{:>14}{:>14}{:>10}",
+        "finger", "taxels", "depth_mm", "sum_Fn_N", "sum_Ft_N", "largest_N", "at"
+    );
+    for r in readings {
+        let [t1, t2] = r.total_shear_n();
+        let (k, largest) = r.largest();
+        let at = format!("[{}, {}]", k / r.count[1].max(1), k % r.count[1].max(1));
+        let _ = writeln!(
+            s,
+            "{:<16}{:>8}{:>12}{:>14}{:>14}{:>14}{:>10}",
+            r.finger,
+            format!("{}x{}", r.count[0], r.count[1]),
+            significant(r.depth_m * 1e3, 4),
+            significant(r.total_normal_n(), 6),
+            significant(t1.hypot(t2), 6),
+            significant(largest, 6),
+            at
+        );
+    }
+    s
+}
+
 /// What the object's shape gave each finger (`grasp solve --explain-frames`).
 pub fn frames_table(r: &grasp_model::ShapeReport) -> String {
     let mut o = String::new();

@@ -26,13 +26,18 @@ pub fn write_json(outs: &Outputs, out: &Path, record: &grasp_io::SolutionRecord<
     Ok(())
 }
 
-/// Writes the element fields of `solution` as an `.npz` archive into the claimed `out`
-/// ([`grasp_io::NpzArchive`]: one array per field and finger) and says so, with the file's
+/// Writes the element fields of `solution` and its `sensors`' readings as an `.npz` archive
+/// into the claimed `out` ([`grasp_io::NpzArchive`]: one array per field and finger) and says so, with the file's
 /// size and the time taken.
-pub fn write_npz(outs: &Outputs, out: &Path, solution: &grasp_model::Solution) -> Result<()> {
+pub fn write_npz(
+    outs: &Outputs,
+    out: &Path,
+    solution: &grasp_model::Solution,
+    sensors: &[grasp_model::TaxelReadings],
+) -> Result<()> {
     let clock = Instant::now();
     let pending = outs.create(out)?;
-    grasp_io::write_solution_npz(&pending, solution)?;
+    grasp_io::write_solution_npz(&pending, solution, sensors)?;
     outs.commit(vec![pending])?;
     say_written(out, clock);
     Ok(())

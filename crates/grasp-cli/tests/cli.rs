@@ -916,3 +916,49 @@ fn progress_bars_stay_off_a_pipe_and_quiet_changes_nothing_else() {
         assert_eq!(table(&plain), table(&quiet), "{args:?}");
     }
 }
+
+#[test]
+fn solve_reads_taxels_only_for_a_scene_with_a_sensor() {
+    let dir = tmp("taxels");
+    let (json, npz) = (dir.join("t.json"), dir.join("t.npz"));
+    let o = grasp(&[
+        "solve",
+        &example("hertz_taxels.json"),
+        "--json",
+        json.to_str().unwrap(),
+        "--npz",
+        npz.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("taxels (force crossing each taxel"),
+        "{}",
+        text(&o)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let s = &v["sensors"][0];
+    assert_eq!(s["finger"], "tip");
+    assert_eq!(s["force_n"].as_array().unwrap().len(), 25);
+    // The npz's entries are named in the zip's plain text.
+    let bytes = std::fs::read(&npz).unwrap();
+    let has = |name: &str| bytes.windows(name.len()).any(|w| w == name.as_bytes());
+    assert!(has("tip/taxels/force_n.npy") && has("tip/taxels/centre_m.npy"));
+    // Without a sensor: no table, no key, no arrays.
+    let o = grasp(&[
+        "solve",
+        &example("hertz_sphere_on_flat.json"),
+        "--json",
+        json.to_str().unwrap(),
+        "--npz",
+        npz.to_str().unwrap(),
+        "--force",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!text(&o).contains("taxels (force crossing"));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert!(v.get("sensors").is_none());
+    let bytes = std::fs::read(&npz).unwrap();
+    assert!(!bytes.windows(7).any(|w| w == b"taxels/"));
+}

@@ -11,12 +11,15 @@
 //! `["stick", "slip", "separated", "off_surface", "frictionless"]`, unicode);
 //! `viscous_displacement_m` float64 `(N, 3)` on a viscoelastic contact. Beside them `grid`,
 //! int64 `(2,)`: the patch's `[nx, ny]` (a field reshaped to `(nx, ny)` is the patch's map,
-//! rows along `t1`). Every float is the solution's own float64, bit for bit. The archive is
+//! rows along `t1`). A finger's taxel sensor, when the scene has one, adds
+//! `<finger>/taxels/force_n` float64 `(nx, ny, 3)` (normal, `t1`, `t2`, N),
+//! `<finger>/taxels/centre_m` float64 `(nx, ny, 2)` and `<finger>/taxels/depth_m` float64 `()`
+//! ([`NpzArchive::add_sensors`]). Every float is the solution's own float64, bit for bit. The archive is
 //! the same for the same solution (entries dated 1980-01-01, the zip format's zero).
 
 use std::io::{BufWriter, Seek, Write};
 
-use grasp_model::{ElementSolution, ElementState, Solution};
+use grasp_model::{ElementSolution, ElementState, Solution, TaxelReadings};
 
 use crate::error::OutputError;
 use crate::output_file::PendingOutput;
@@ -123,6 +126,21 @@ impl<W: Write + Seek> NpzArchive<W> {
         Ok(())
     }
 
+    /// Adds each finger's taxel readings, named `<prefix><finger>/taxels/<field>`: `force_n`
+    /// `(nx, ny, 3)`, `centre_m` `(nx, ny, 2)`, `depth_m` `()`.
+    pub fn add_sensors(&mut self, prefix: &str, sensors: &[TaxelReadings]) -> std::io::Result<()> {
+        for r in sensors {
+            let p = format!("{prefix}{}/taxels/", r.finger);
+            let [nx, ny] = r.count.map(|c| c as u64);
+            let forces = r.force_n.iter().flat_map(|f| f.iter().copied());
+            self.array::<f64>(&format!("{p}force_n"), &[nx, ny, 3], forces)?;
+            let centres = r.centre_m.iter().flat_map(|c| c.iter().copied());
+            self.array::<f64>(&format!("{p}centre_m"), &[nx, ny, 2], centres)?;
+            self.array::<f64>(&format!("{p}depth_m"), &[], [r.depth_m])?;
+        }
+        Ok(())
+    }
+
     /// Adds a float64 array `name` of shape `(N,)` (one value an element) or `(N, C)`.
     fn floats<const C: usize>(
         &mut self,
@@ -217,11 +235,17 @@ impl<W: Write + Seek> NpzArchive<W> {
     }
 }
 
-/// Writes the element fields of `solution` as an archive into the temporary file of
-/// `pending` (the caller commits it), naming its target on failure.
-pub fn write_solution_npz(pending: &PendingOutput, solution: &Solution) -> Result<(), OutputError> {
+/// Writes the element fields of `solution` and the readings of its `sensors` (none for a
+/// scene without sensors) as an archive into the temporary file of `pending` (the caller
+/// commits it), naming its target on failure.
+pub fn write_solution_npz(
+    pending: &PendingOutput,
+    solution: &Solution,
+    sensors: &[TaxelReadings],
+) -> Result<(), OutputError> {
     let io = |e: std::io::Error| OutputError::io(pending.target(), "write", &e);
     let mut archive = NpzArchive::new(BufWriter::new(pending.file_handle()?));
     archive.add_solution("", solution).map_err(io)?;
+    archive.add_sensors("", sensors).map_err(io)?;
     archive.finish().map_err(io)?.flush().map_err(io)
 }

@@ -1,9 +1,9 @@
 //! A solution as its JSON file holds it (`grasp solve --json`, Python's `Solution.to_json`):
 //! the solution's fields in their declared order, then the solve's time for a viscoelastic
-//! scene and the sensitivities when asked. Serialised straight into a writer, so a fine
-//! patch's answer (about 2 GB of text at 1024 x 1024) needs no copy in memory.
+//! scene, the sensitivities when asked and the sensors' readings when the scene has sensors.
+//! Serialised straight into a writer, so a fine patch's answer (about 2 GB of text at 1024 x 1024) needs no copy in memory.
 
-use grasp_model::{Sensitivities, Solution, TimePoint};
+use grasp_model::{Sensitivities, Solution, TaxelReadings, TimePoint};
 use serde::Serialize;
 
 /// What a solution's JSON file holds.
@@ -19,6 +19,10 @@ pub struct SolutionRecord<'a> {
     /// The sensitivities, when they were computed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sensitivities: Option<&'a Sensitivities>,
+    /// The readings of the fingers' tactile sensors (`grasp_model::sensor_readings`), only
+    /// when the scene has one: `"sensors"`, one record per finger with a sensor.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensors: Option<&'a [TaxelReadings]>,
 }
 
 fn time_json<S: serde::Serializer>(t: &Option<TimePoint>, s: S) -> Result<S::Ok, S::Error> {

@@ -25,6 +25,7 @@
 //! | `program/` | the solver-neutral [`ConeProgram`] (assembly kept apart from solving) and its element sets (`cones/`: one trait, one file per set) | model |
 //! | `solver/` | options, outcomes and certificates, Clarabel, the native semismooth Newton solver, the warm start's prediction | program, model |
 //! | `solve/` | [`GraspSolver`] and its strategies (one convex solve, the sequential fixed point), readout, residuals, [`Solution`], contact state, sensitivities | solver, program, model, scene |
+//! | `sensors/` | read-outs of a solution: tactile sensors (taxels at depth in the pad) | solve, model, scene |
 //! | `analysis/` | many solves: disturbance margins, refinement studies, patch sizing | all of the above |
 //!
 //! `error.rs` (one [`InputProblem`] type for every input), `problem_list.rs` (the one
@@ -104,6 +105,7 @@ pub mod option_names;
 mod problem_list;
 mod program;
 mod scene;
+mod sensors;
 mod solve;
 mod solver;
 mod warning_tally;
@@ -122,6 +124,11 @@ pub use scene::scene_format::{
 };
 pub use scene::scene_geometry::{SceneGeometry, SharedShape};
 pub use scene::scene_reading::{FileProblem, SceneFiles};
+pub use scene::sensor_checks::MAX_TAXELS_PER_SIDE;
+pub use scene::sensor_spec::{
+    SensorSpec, TaxelGridSpec, GAUSS_POINTS_PER_CELL_SIDE, MAX_TAXEL_CELLS_PER_SIDE,
+    MAX_TAXEL_KERNEL_EVALUATIONS,
+};
 pub use scene::shape_checks::{too_many_triangles, MESH_TOO_FINE_FIX};
 pub use scene::shape_report::{DerivedFrame, ShapeReport};
 pub use scene::shape_spec::{
@@ -189,6 +196,14 @@ pub use solve::solution::{
 pub use warning_tally::{
     IndexRun, SolveAt, TalliedWarning, WarningTally, MAX_LISTED_RUNS, MAX_TALLIED_WARNINGS,
 };
+
+// ---- Sensors: read-outs of a solution ----
+pub use model::influence_at_depth::{
+    overlap_area_m2, reading_per_area_at_depth, ElementOffset, RotatedSquare,
+};
+pub use sensors::sensor_readings::sensor_readings;
+pub use sensors::taxel_grid::{QuadraturePoint, TaxelGrid};
+pub use sensors::taxel_readings::{read_taxels, TaxelReadings};
 
 // ---- Analyses: many solves ----
 pub use analysis::margin_report::{

@@ -287,7 +287,7 @@ impl Solution {
         let set = crate::outputs::claim(&targets, &grasp_io::RunInputs::default(), overwrite)?;
         py.allow_threads(|| -> Result<(), grasp_io::OutputError> {
             let pending = set.create(&path)?;
-            grasp_io::write_solution_npz(&pending, &self.solution)?;
+            grasp_io::write_solution_npz(&pending, &self.solution, &[])?;
             set.commit(vec![pending])
         })
         .map_err(|e| crate::outputs::output_error(&targets, &e))
@@ -316,6 +316,7 @@ impl Solution {
             solution: &self.solution,
             time: self.time,
             sensitivities: None,
+            sensors: None,
         }
     }
 

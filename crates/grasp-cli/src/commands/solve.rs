@@ -26,12 +26,14 @@ pub struct Args {
     /// Scene file (JSON; see `grasp schema`).
     pub scene: PathBuf,
     /// Write the whole solution (elements, residuals, timing) as JSON to this file (a finger
-    /// of more than 64x64 elements: one array per field, `element_fields`).
+    /// of more than 64x64 elements: one array per field, `element_fields`); the taxel
+    /// sensors' readings under `sensors` when the scene has one.
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
     /// Write every finger's element fields (forces, pressures, gaps, slips, states, centres)
     /// as NumPy arrays to this `.npz` file, one array per field and finger (`<finger>/<field>`:
-    /// `numpy.load(path)["f1/pressure_pa"]`), float64 as solved.
+    /// `numpy.load(path)["f1/pressure_pa"]`), float64 as solved; a finger's taxel sensor as
+    /// `<finger>/taxels/force_n` (nx, ny, 3).
     #[arg(long, value_name = "OUT.npz")]
     pub npz: Option<PathBuf>,
     /// Draw every finger's contact pressure and stick / slip map over its patch (.svg or
@@ -148,17 +150,26 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     crate::flag_names::respell_solution(&mut solved.solution);
     print_report(&scene, &solved, request.options, error_estimate)?;
     let solution = &solved.solution;
+    // Only a scene with a sensor reads one: any other computes and writes nothing more.
+    let sensors = match solution.status.has_forces() {
+        true => grasp_model::sensor_readings(&solved.scene, &solved.model, solution)?,
+        false => Vec::new(),
+    };
+    if !sensors.is_empty() {
+        print!("{}", report::sensor_table(&sensors));
+    }
     if let Some(out) = &json {
         // Every outcome is written, "no equilibrium" (exit 2) included: it is the result.
         let record = grasp_io::SolutionRecord {
             solution,
             time: solved.model.is_viscoelastic().then_some(request.time),
             sensitivities: solved.sensitivities.as_ref().map(|(s, _)| s),
+            sensors: (!sensors.is_empty()).then_some(sensors.as_slice()),
         };
         crate::solution_files::write_json(&outs, out, &record)?;
     }
     if let Some(out) = &npz {
-        crate::solution_files::write_npz(&outs, out, solution)?;
+        crate::solution_files::write_npz(&outs, out, solution, &sensors)?;
     }
     if let (Some(out), Some(format)) = (&plot, plot_format) {
         write_maps(&outs, out, format, &scene, &solved)?;

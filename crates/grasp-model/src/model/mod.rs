@@ -12,6 +12,7 @@ pub mod friction;
 pub mod grasp_model;
 pub(crate) mod grid_fft;
 pub mod influence;
+pub mod influence_at_depth;
 pub mod layer_green_function;
 pub mod layer_kernels;
 pub mod material;

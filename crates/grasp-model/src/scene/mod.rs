@@ -10,7 +10,7 @@
 //!
 //! Reading a scene ([`scene_reading`]) ends with its validation pass ([`scene_validation`]),
 //! which applies the checks of one field each ([`field_checks`], a finger's texture in
-//! [`texture_checks`]) over the vector arithmetic
+//! [`texture_checks`], its sensor in [`sensor_checks`]) over the vector arithmetic
 //! of [`vector_math`]; each imports only those after it.
 
 pub mod field_checks;
@@ -25,6 +25,8 @@ pub mod scene_geometry;
 pub mod scene_reading;
 pub mod scene_validation;
 pub mod schema_check;
+pub mod sensor_checks;
+pub mod sensor_spec;
 pub mod shape_checks;
 pub mod shape_report;
 pub mod shape_spec;

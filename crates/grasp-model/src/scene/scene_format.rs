@@ -257,6 +257,11 @@ pub struct FingerSpec {
     /// "h.npy", "pixel_m": [dx, dy]}}`, `{"ridges": {...}}` or `{"random": {...}}`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texture: Option<crate::scene::texture_spec::TextureSpec>,
+    /// A tactile sensor in the pad, read from the solved tractions (`grasp solve` prints and
+    /// writes its readings): `{"taxels": {"count": [nx, ny], "pitch_m": p, "size_m": s,
+    /// "depth_m": d}}`. Omitted: none, and nothing is computed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensor: Option<crate::scene::sensor_spec::SensorSpec>,
 }
 
 impl FingerSpec {

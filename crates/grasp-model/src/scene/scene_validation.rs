@@ -136,6 +136,7 @@ impl Scene {
         validate_gap(&p, f.gap, self.object.shape.is_some(), v);
         validate_patch(&p, f, v);
         crate::scene::texture_checks::check_texture(&p, f, map, v);
+        crate::scene::sensor_checks::check_sensor(&p, f, v);
         v.friction(&format!("{p}.friction"), &f.friction, object_rigid);
         validate_control(&p, f, v);
     }

@@ -1,0 +1,77 @@
+//! `fingers[i].sensor` as written: a tactile sensor in the finger's pad, in this slice a grid
+//! of taxels at a depth below the pad's surface, and the work its read-out takes.
+//!
+//! A taxel reads the three-axis force (normal and two shear, along the contact frame's `n`,
+//! `t1`, `t2`, N) that crosses its square at the depth (`crate::model::influence_at_depth`);
+//! at depth 0 it reads the surface tractions binned onto it exactly. Only a half-space pad is
+//! read at depth (`super::sensor_checks` refuses a bonded layer and a viscoelastic pad).
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+/// `fingers[i].sensor`: the finger's tactile sensor (one kind in this slice, `taxels`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SensorSpec {
+    /// A grid of taxels at a depth in the pad:
+    /// `{"count": [nx, ny], "pitch_m": p, "size_m": s, "depth_m": d}`.
+    pub taxels: TaxelGridSpec,
+}
+
+/// A grid of square taxels in the pad, centred on the contact point (plus `offset_m`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TaxelGridSpec {
+    /// Taxels along the grid's two sides `[nx, ny]` (along `t1`, `t2` before `rotation_rad`),
+    /// each in `[1, 256]`.
+    pub count: [usize; 2],
+    /// Centre-to-centre distance of neighbouring taxels, m, in `[1e-9, 1e3]`.
+    pub pitch_m: f64,
+    /// Side of each (square) taxel, m, in `[1e-9, pitch_m]`.
+    pub size_m: f64,
+    /// Depth of the taxels' plane below the pad's surface, m: 0 (the surface tractions binned
+    /// onto the taxels) or in `[size_m / 32, 1e3]`.
+    pub depth_m: f64,
+    /// Angle of the grid's first side to `t1`, rad (counter-clockwise toward `t2`), in
+    /// `[-2 pi, 2 pi]`; default 0.
+    #[serde(default)]
+    pub rotation_rad: f64,
+    /// The grid's centre from the contact point along `t1`, `t2`, m, each in `[-1e3, 1e3]`;
+    /// default `[0, 0]`.
+    #[serde(default)]
+    pub offset_m: [f64; 2],
+}
+
+/// The read-out at depth integrates over each taxel with cells no wider than the depth: at
+/// most this many cells along a taxel's side (so `depth_m >= size_m / 32`).
+pub const MAX_TAXEL_CELLS_PER_SIDE: usize = 32;
+
+/// Gauss-Legendre points along each side of a quadrature cell.
+pub const GAUSS_POINTS_PER_CELL_SIDE: usize = 4;
+
+/// The most kernel evaluations (taxels x quadrature points x elements) a read-out at depth
+/// may take: about 20 s on one core. Above it the sensor is refused (fewer taxels, a larger
+/// depth or a coarser patch), on the dense and the FFT path alike.
+pub const MAX_TAXEL_KERNEL_EVALUATIONS: f64 = 2e8;
+
+impl TaxelGridSpec {
+    /// Quadrature cells along a taxel's side at depth: `ceil(size_m / depth_m)`, at least 1
+    /// (0 at depth 0, which needs no quadrature).
+    pub fn cells_per_side(&self) -> usize {
+        if self.depth_m <= 0.0 {
+            return 0;
+        }
+        ((self.size_m / self.depth_m).ceil() as usize).max(1)
+    }
+
+    /// Taxels in the grid.
+    pub fn taxel_count(&self) -> usize {
+        self.count[0] * self.count[1]
+    }
+
+    /// Kernel evaluations of a read-out at depth over a patch of `elements` elements.
+    pub fn kernel_evaluations(&self, elements: usize) -> f64 {
+        let points = (self.cells_per_side() * GAUSS_POINTS_PER_CELL_SIDE).pow(2);
+        self.taxel_count() as f64 * points as f64 * elements as f64
+    }
+}
