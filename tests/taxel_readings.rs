@@ -15,33 +15,35 @@ use grasp_model::{
 };
 use serde_json::{json, Value};
 
+/// `P_n(x)` and `P_{n-1}(x)` by the three-term recurrence.
+fn legendre_pair(n: usize, x: f64) -> (f64, f64) {
+    let (mut p0, mut p1) = (1.0, x);
+    for k in 2..=n {
+        let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+        p0 = p1;
+        p1 = p2;
+    }
+    (p1, p0)
+}
+
 /// Gauss-Legendre nodes and weights on `[-1, 1]` (Newton on the Legendre polynomial; this
 /// test's own, independent of the crate's quadrature).
 fn gauss(n: usize) -> Vec<(f64, f64)> {
+    let derivative = |x: f64| {
+        let (p1, p0) = legendre_pair(n, x);
+        n as f64 * (x * p1 - p0) / (x * x - 1.0)
+    };
     (0..n)
         .map(|i| {
             let mut x = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
             for _ in 0..100 {
-                let (mut p0, mut p1) = (1.0, x);
-                for k in 2..=n {
-                    let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
-                    p0 = p1;
-                    p1 = p2;
-                }
-                let dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
-                let dx = p1 / dp;
+                let dx = legendre_pair(n, x).0 / derivative(x);
                 x -= dx;
                 if dx.abs() < 1e-16 {
                     break;
                 }
             }
-            let (mut p0, mut p1) = (1.0, x);
-            for k in 2..=n {
-                let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
-                p0 = p1;
-                p1 = p2;
-            }
-            let dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
+            let dp = derivative(x);
             (x, 2.0 / ((1.0 - x * x) * dp * dp))
         })
         .collect()

@@ -4,6 +4,8 @@
 //! state the JSON counts; a frictionless finger says it has no stick or slip; a fine patch is
 //! drawn in blocks, so the picture stays small; an existing file is kept without --force.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -12,15 +14,11 @@ fn grasp() -> Command {
 }
 
 fn example(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
+    PathBuf::from(common::example(name))
 }
 
 fn out_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("grasp-solve-plot-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::tmp("solve-plot", tag)
 }
 
 /// `grasp solve SCENE --json J --plot P`: the SVG text and the JSON.

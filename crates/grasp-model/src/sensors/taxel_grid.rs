@@ -2,23 +2,8 @@
 //! `t1`, `t2`, from the contact point) and the quadrature over a taxel's area at depth.
 
 use crate::model::influence_at_depth::RotatedSquare;
+use crate::model::quadrature::gauss_legendre;
 use crate::scene::sensor_spec::{TaxelGridSpec, GAUSS_POINTS_PER_CELL_SIDE};
-
-/// Gauss-Legendre nodes on `[-1, 1]`, 4 points (Abramowitz and Stegun, table 25.4).
-const GAUSS_NODES: [f64; GAUSS_POINTS_PER_CELL_SIDE] = [
-    -0.861_136_311_594_052_6,
-    -0.339_981_043_584_856_3,
-    0.339_981_043_584_856_3,
-    0.861_136_311_594_052_6,
-];
-
-/// Their weights (summing to 2).
-const GAUSS_WEIGHTS: [f64; GAUSS_POINTS_PER_CELL_SIDE] = [
-    0.347_854_845_137_453_9,
-    0.652_145_154_862_546_1,
-    0.652_145_154_862_546_1,
-    0.347_854_845_137_453_9,
-];
 
 /// One quadrature point of a taxel: its offset from the taxel's centre in the taxel's own
 /// axes and its weight.
@@ -75,10 +60,11 @@ impl TaxelGrid {
         let cells = self.spec.cells_per_side().max(1);
         let cell = self.spec.size_m / cells as f64;
         let half = self.spec.size_m / 2.0;
+        let (nodes, weights) = gauss_legendre(GAUSS_POINTS_PER_CELL_SIDE);
         let mut line = Vec::with_capacity(cells * GAUSS_POINTS_PER_CELL_SIDE);
         for c in 0..cells {
             let mid = -half + (c as f64 + 0.5) * cell;
-            for (x, w) in GAUSS_NODES.iter().zip(GAUSS_WEIGHTS) {
+            for (x, &w) in nodes.iter().zip(&weights) {
                 line.push((mid + x * cell / 2.0, w * cell / 2.0));
             }
         }
