@@ -116,6 +116,8 @@ pub use scene::loaded_scene::LoadedScene;
 pub use scene::memory_budget::{
     estimate_memory_bytes, estimate_memory_bytes_with, finger_unknowns, SolveSize,
 };
+pub use scene::mount_checks::MOUNT_SYMMETRY_TOLERANCE;
+pub use scene::mount_spec::{MountSpec, MountStiffness};
 pub use scene::scene_format::{
     scene_json_schema, ApproachSpec, CoefficientSpec, ControlSpec, ElasticLawParams,
     ElasticLawSpec, ElasticSpec, ExternalForceSpec, FingerSpec, FrictionSpec, HeldTag,
@@ -163,6 +165,7 @@ pub use scene::texture_spec::texture_heights_m;
 
 // ---- The model: built once from a scene, immutable ----
 pub use model::equilibrium::{MotionPlane, Wrench};
+pub use model::finger_mount::FingerMount;
 pub use model::grasp_model::{Control, FingerModel, GraspModel, Scales};
 pub use model::influence::GridSpec;
 pub use model::layer_green_function::forget_radial_functions;
@@ -190,8 +193,8 @@ pub use solver::solve_progress::SolveProgress;
 // ---- The solution ----
 pub use solve::element_columns::{is_columnar, COLUMNS_ABOVE_ELEMENTS};
 pub use solve::solution::{
-    ElementSolution, ElementState, FingerSolution, Residuals, RigidDisplacement, SequentialReport,
-    Solution, SolveStatus, SolverStats, LOADED_FRACTION,
+    ElementSolution, ElementState, FingerSolution, MountDisplacement, Residuals, RigidDisplacement,
+    SequentialReport, Solution, SolveStatus, SolverStats, LOADED_FRACTION,
 };
 pub use warning_tally::{
     IndexRun, SolveAt, TalliedWarning, WarningTally, MAX_LISTED_RUNS, MAX_TALLIED_WARNINGS,

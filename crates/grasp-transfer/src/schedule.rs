@@ -18,8 +18,8 @@ pub enum Command {
     Load(f64),
     /// Load zero: out of the problem.
     Released,
-    /// Pressed in by a prescribed approach from first touch, m (> 0); its load is found by
-    /// the model.
+    /// Pressed in by a prescribed approach from first touch, m (negative: withdrawn); its
+    /// load is found by the model.
     Approach(f64),
 }
 

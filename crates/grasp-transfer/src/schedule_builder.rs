@@ -281,7 +281,8 @@ fn finger_phases(
     resolved
 }
 
-/// An approach ramp's keyframes: times in range and increasing, approaches in `[0, 1]` m.
+/// An approach ramp's keyframes: times in range and increasing, approaches in
+/// [`grasp_model::limits::APPROACH_RANGE_M`] (negative: the finger withdrawn, a jaw opened).
 fn approach_phase(pp: &str, a: &ApproachPhase, v: &mut Problems) -> Phase {
     if a.keyframes.is_empty() {
         v.push(
@@ -304,11 +305,18 @@ fn approach_phase(pp: &str, a: &ApproachPhase, v: &mut Problems) -> Phase {
                 "list keyframes in strictly increasing time",
             );
         }
-        if !(d.is_finite() && (0.0..=1.0).contains(d)) {
+        let range = grasp_model::limits::APPROACH_RANGE_M;
+        if !(d.is_finite() && range.contains(d)) {
             v.push(
                 kp,
-                format!("approach is {} m, outside [0, 1] m", N(*d)),
-                "give how far the finger is pressed in from first touch, in metres",
+                format!(
+                    "approach is {} m, outside [{}, {}] m",
+                    N(*d),
+                    N(*range.start()),
+                    N(*range.end())
+                ),
+                "give how far the finger is pressed in from first touch, in metres (negative \
+                 withdraws it)",
             );
         }
     }

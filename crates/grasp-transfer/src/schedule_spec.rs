@@ -162,12 +162,13 @@ pub enum PhaseSpec {
 }
 
 /// An approach ramp through keyframes `[time s, approach m]`: the finger pressed in by that
-/// much from first touch (0: held at first touch), its load found by the model.
+/// much from first touch (0: held at first touch; negative: withdrawn, a jaw opened), its load
+/// found by the model.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ApproachPhase {
     /// Keyframes `[time s, approach m]`, times strictly increasing (`|t| <= 1e9`), approaches
-    /// in `[0, 1]` m.
+    /// in `[-1, 1]` m.
     pub keyframes: Vec<(f64, f64)>,
     /// Interpolation between keyframes (default `linear`).
     #[serde(default)]

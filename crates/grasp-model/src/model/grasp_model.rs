@@ -14,6 +14,7 @@ use crate::geometry::contact_frame::ContactFrame;
 use crate::geometry::mesh_surface::TriangleMesh;
 use crate::model::contact_pair::ContactPair;
 use crate::model::equilibrium::{unit_wrench, EquilibriumMap, MotionPlane, Wrench};
+use crate::model::finger_mount::FingerMount;
 use crate::model::friction::FrictionLaw;
 use crate::model::material::Material;
 use crate::model::patch::Patch;
@@ -81,6 +82,9 @@ pub struct FingerModel {
     pub(crate) compliance_m_per_n: PatchCompliance,
     /// How the finger is driven (as in the scene; loads and approaches are given per solve).
     pub(crate) control: Control,
+    /// The spring behind the finger's rigid core (`fingers[i].mount`; `None`: rigid), already
+    /// in `compliance_m_per_n`; kept for its preload and the core's displacement.
+    pub(crate) mount: Option<Arc<FingerMount>>,
     /// The contact's viscoelastic bodies (`None`: both elastic or rigid): their own
     /// compliances and creep functions (`model/viscous_contact.rs`).
     pub(crate) viscous: Option<Arc<ViscousContact>>,
@@ -105,6 +109,11 @@ impl FingerModel {
     /// Patch geometry (grid, element centres) and initial gaps.
     pub fn patch(&self) -> &Patch {
         &self.patch
+    }
+
+    /// The spring behind the finger's rigid core (`None`: rigid).
+    pub fn mount(&self) -> Option<&FingerMount> {
+        self.mount.as_deref()
     }
 
     /// Fingertip material.
@@ -421,6 +430,10 @@ impl GraspModel {
                 let mut f = f.clone();
                 if let Some(v) = &f.viscous {
                     f.compliance_m_per_n = v.step_compliance(dt_s)?;
+                    // The mount is elastic: its retreat is the same at every time step.
+                    if let Some(m) = &f.mount {
+                        f.compliance_m_per_n = f.compliance_m_per_n.clone().with_mount(m);
+                    }
                 }
                 Ok(f)
             })

@@ -8,6 +8,7 @@ pub mod compliance_operator;
 pub mod contact_pair;
 pub mod elastic_layer;
 pub mod equilibrium;
+pub mod finger_mount;
 pub mod friction;
 pub mod grasp_model;
 pub(crate) mod grid_fft;

@@ -12,6 +12,7 @@ use crate::error::{OutOfMemory, SceneError};
 use crate::geometry::contact_frame::ContactFrame;
 use crate::model::contact_pair::ContactPair;
 use crate::model::equilibrium::MotionPlane;
+use crate::model::finger_mount::FingerMount;
 use crate::model::friction::FrictionLaw;
 use crate::model::grasp_model::{Control, ExternalLoad, FingerModel, GraspModel, ObjectModel};
 use crate::model::material::Material;
@@ -234,7 +235,19 @@ fn finger_model(
         finger: f.material.relaxation(),
         object: object.relaxation.as_ref(),
     };
-    let (compliance_m_per_n, viscous) = finger_compliance(i, f, &contact, form, laws)?;
+    let (mut compliance_m_per_n, viscous) = finger_compliance(i, f, &contact, form, laws)?;
+    let mount = f.mount.as_ref().map(|m| {
+        let planar = object.plane.is_some();
+        Arc::new(FingerMount::new(
+            m,
+            patch.centres_m.clone(),
+            n_tangential,
+            planar,
+        ))
+    });
+    if let Some(m) = &mount {
+        compliance_m_per_n = compliance_m_per_n.with_mount(m);
+    }
     let control = match (f.control.normal_load_n(), f.control.approach_m()) {
         (Some(p), _) => Control::NormalLoad { newtons: p },
         (None, Some(d)) => Control::Approach { metres: d },
@@ -251,6 +264,7 @@ fn finger_model(
         n_tangential,
         compliance_m_per_n,
         control,
+        mount,
         viscous,
         offset: 0,
         exact_gaps,

@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use super::compliance_operator::ComplianceOperator;
 use super::contact_pair::ContactPair;
+use super::finger_mount::FingerMount;
 use super::influence::{patch_compliance, GridSpec, KernelTable};
 use crate::error::OutOfMemory;
 use crate::scene::memory_budget::finger_unknowns;
@@ -115,13 +116,19 @@ impl std::fmt::Display for CompliancePath {
 pub const MATERIALISED_UNKNOWNS: usize = 3 * 1024;
 
 /// One finger's patch compliance, shared (never copied) by the model, its restrictions and
-/// the solvers.
+/// the solvers. With a mount behind the finger ([`FingerMount`]) it is the patch's plus the
+/// core's retreat `B' S B`: added into the dense matrix, applied beside the FFT operator.
 #[derive(Debug, Clone)]
 pub enum PatchCompliance {
     /// Column-major `n x n`, `n = (1 + n_tangential) N`.
     Dense(Arc<DMatrix<f64>>),
-    /// The FFT operator.
-    Fft(Arc<ComplianceOperator>),
+    /// The FFT operator, and the finger's mount when it has one.
+    Fft {
+        /// The patch's operator.
+        op: Arc<ComplianceOperator>,
+        /// The mount whose `B' S B` is added to every product.
+        mount: Option<Arc<FingerMount>>,
+    },
 }
 
 /// The shape of one finger's patch compliance: its grid, its tangential unknowns per element and
@@ -159,21 +166,40 @@ impl PatchCompliance {
         fft: bool,
     ) -> Result<Self, OutOfMemory> {
         Ok(match fft {
-            true => PatchCompliance::Fft(Arc::new(ComplianceOperator::new(table, n_tangential)?)),
+            true => PatchCompliance::Fft {
+                op: Arc::new(ComplianceOperator::new(table, n_tangential)?),
+                mount: None,
+            },
             false => PatchCompliance::Dense(Arc::new(patch_compliance(table, n_tangential))),
         })
     }
 
+    /// The compliance with `mount`'s retreat `B' S B` added (the springs in series of
+    /// [`FingerMount`]): a new dense matrix, or the operator with the mount beside it.
+    pub fn with_mount(self, mount: &Arc<FingerMount>) -> Self {
+        match self {
+            PatchCompliance::Dense(c) => {
+                let mut c = Arc::unwrap_or_clone(c);
+                mount.add_to_matrix(&mut c);
+                PatchCompliance::Dense(Arc::new(c))
+            }
+            PatchCompliance::Fft { op, .. } => PatchCompliance::Fft {
+                op,
+                mount: Some(Arc::clone(mount)),
+            },
+        }
+    }
+
     /// Frees the FFT operator's work buffers ([`ComplianceOperator::release_work`]).
     pub fn release_work(&self) {
-        if let PatchCompliance::Fft(op) = self {
+        if let PatchCompliance::Fft { op, .. } = self {
             op.release_work();
         }
     }
 
     /// True for the FFT operator.
     pub fn is_fft(&self) -> bool {
-        matches!(self, PatchCompliance::Fft(_))
+        matches!(self, PatchCompliance::Fft { .. })
     }
 
     /// The matrix: the stored one, or the operator's written out column by column (one
@@ -182,8 +208,17 @@ impl PatchCompliance {
     pub fn matrix(&self) -> Option<Arc<DMatrix<f64>>> {
         match self {
             PatchCompliance::Dense(c) => Some(Arc::clone(c)),
-            PatchCompliance::Fft(op) if op.len() <= MATERIALISED_UNKNOWNS => Some(op.matrix()),
-            PatchCompliance::Fft(_) => None,
+            PatchCompliance::Fft { op, mount } if op.len() <= MATERIALISED_UNKNOWNS => {
+                Some(match mount {
+                    None => op.matrix(),
+                    Some(m) => {
+                        let mut c = (*op.matrix()).clone();
+                        m.add_to_matrix(&mut c);
+                        Arc::new(c)
+                    }
+                })
+            }
+            PatchCompliance::Fft { .. } => None,
         }
     }
 
@@ -193,7 +228,12 @@ impl PatchCompliance {
             PatchCompliance::Dense(c) => {
                 out.copy_from_slice((&**c * nalgebra::DVector::from_column_slice(v)).as_slice())
             }
-            PatchCompliance::Fft(op) => op.apply(v, out),
+            PatchCompliance::Fft { op, mount } => {
+                op.apply(v, out);
+                if let Some(m) = mount {
+                    m.add_product(v, 1.0, out);
+                }
+            }
         }
     }
 
@@ -201,8 +241,17 @@ impl PatchCompliance {
     pub fn max_diagonal(&self) -> f64 {
         match self {
             PatchCompliance::Dense(c) => c.diagonal().iter().copied().fold(0.0, f64::max),
-            PatchCompliance::Fft(op) => (0..op.len() / op.elements().max(1))
-                .map(|c| op.diagonal(c))
+            PatchCompliance::Fft { op, mount } => (0..op.len())
+                .step_by(op.elements().max(1))
+                .map(|j| {
+                    let mut d = op.diagonal(j / op.elements().max(1));
+                    if let Some(m) = mount {
+                        d += (j..j + op.elements())
+                            .map(|i| m.diagonal(i))
+                            .fold(0.0, f64::max);
+                    }
+                    d
+                })
                 .fold(0.0, f64::max),
         }
     }
@@ -218,7 +267,9 @@ impl PatchCompliance {
                 .chunks_exact(c.nrows().max(1))
                 .map(|col| col.iter().map(|v| v.abs()).sum::<f64>())
                 .fold(0.0_f64, f64::max),
-            PatchCompliance::Fft(op) => op.row_sum_bound(),
+            PatchCompliance::Fft { op, mount } => {
+                op.row_sum_bound() + mount.as_ref().map_or(0.0, |m| m.row_sum_bound())
+            }
         }
     }
 }

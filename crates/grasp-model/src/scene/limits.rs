@@ -52,8 +52,16 @@ pub const MAX_PRONY_TERMS: usize = 32;
 /// ten thousand thicknesses (its compressibility length is about 12,900 thicknesses).
 pub const MAX_LAYER_POISSON_RATIO: f64 = 0.5 - 1e-9;
 
-/// Range of a prescribed approach, m.
-pub const APPROACH_RANGE_M: RangeInclusive<f64> = 0.0..=1.0;
+/// Range of a prescribed approach, m: negative withdraws the finger (opens a jaw) from first
+/// touch.
+pub const APPROACH_RANGE_M: RangeInclusive<f64> = -1.0..=1.0;
+
+/// Range of a mount's translational stiffness, N/m (`fingers[i].mount`): from a spring a
+/// micronewton per micrometre would not load to a stiffness beyond any steel contact's.
+pub const MOUNT_STIFFNESS_RANGE_N_PER_M: RangeInclusive<f64> = 1e-6..=1e15;
+
+/// Range of a mount's rotational stiffness, N m/rad.
+pub const MOUNT_ROTATIONAL_STIFFNESS_RANGE_NM_PER_RAD: RangeInclusive<f64> = 1e-9..=1e12;
 
 /// Physical range of a patch side, m.
 pub const PATCH_SIDE_RANGE_M: RangeInclusive<f64> = 1e-9..=10.0;

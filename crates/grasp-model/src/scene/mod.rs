@@ -19,6 +19,8 @@ pub mod limits;
 pub mod loaded_scene;
 pub mod memory_budget;
 pub mod mesh_budget;
+pub mod mount_checks;
+pub mod mount_spec;
 pub mod patch_on_shape;
 pub mod scene_format;
 pub mod scene_geometry;

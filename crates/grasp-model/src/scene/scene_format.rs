@@ -262,6 +262,12 @@ pub struct FingerSpec {
     /// "depth_m": d}}`. Omitted: none, and nothing is computed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sensor: Option<crate::scene::sensor_spec::SensorSpec>,
+    /// The stiffness behind the finger's rigid core: a spring to its commanded pose
+    /// (`{"normal_n_per_m": k, "tangential_n_per_m": kt, "rotational_nm_per_rad": kr}` or
+    /// `{"matrix": K}` in the contact frame, and `preload_n`). Omitted: the core is rigid
+    /// (held where the control puts it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mount: Option<crate::scene::mount_spec::MountSpec>,
 }
 
 impl FingerSpec {
@@ -409,9 +415,10 @@ impl ControlSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ApproachSpec {
-    /// How far the finger is moved along its normal from first touch, m, in `[0, 1]`: the gaps
+    /// How far the finger is moved along its normal from first touch, m, in `[-1, 1]`: the gaps
     /// of its elements close by this much (the object still finds its equilibrium). 0 is a
-    /// held finger.
+    /// held finger; negative withdraws it (a jaw opened). With a `mount` it is the commanded
+    /// position of the mount's far end (a servo's jaw position).
     pub approach_m: f64,
 }
 

@@ -137,6 +137,7 @@ impl Scene {
         validate_patch(&p, f, v);
         crate::scene::texture_checks::check_texture(&p, f, map, v);
         crate::scene::sensor_checks::check_sensor(&p, f, v);
+        crate::scene::mount_checks::check_mount(&p, f, v);
         v.friction(&format!("{p}.friction"), &f.friction, object_rigid);
         validate_control(&p, f, v);
     }
@@ -275,7 +276,7 @@ fn validate_control(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
                 APPROACH_RANGE_M,
                 "m",
                 "give how far the finger is pressed in from first touch, in metres (0.1 mm \
-                 = 1e-4), or use \"held\"",
+                 = 1e-4; negative withdraws it, a jaw opened), or use \"held\"",
             );
         }
         ControlSpec::Held(_) => {}

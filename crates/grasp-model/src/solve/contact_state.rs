@@ -126,7 +126,7 @@ impl ContactState {
     /// The displacement added to the elastic one of every unknown of `model` (m, program
     /// layout; `program/cone_program.rs`): `-d` on the normal unknowns of a finger pressed in
     /// by its commanded approach `d` (`approach_m`, m, per finger), plus each finger's
-    /// viscoelastic history.
+    /// viscoelastic history and its mount's preload (`FingerMount::add_preload_offset`).
     pub(crate) fn offsets_m(&self, model: &GraspModel, approach_m: &[f64]) -> Vec<f64> {
         let mut o = vec![0.0; model.n_unknowns];
         for ((f, s), &d) in model.fingers.iter().zip(&self.fingers).zip(approach_m) {
@@ -137,6 +137,9 @@ impl ContactState {
                 for (oj, hj) in o[f.offset..f.offset + f.n_unknowns()].iter_mut().zip(h) {
                     *oj += hj;
                 }
+            }
+            if let Some(m) = &f.mount {
+                m.add_preload_offset(&mut o[f.offset..f.offset + f.n_unknowns()]);
             }
         }
         o

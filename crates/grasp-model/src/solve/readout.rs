@@ -22,8 +22,8 @@ use crate::solve::residuals::{
 };
 use crate::solve::singular_edge::peak_at_sharp_edge;
 use crate::solve::solution::{
-    ElementSolution, ElementState, FingerSolution, RigidDisplacement, Solution, SolveStatus,
-    SolverStats, LOADED_FRACTION,
+    ElementSolution, ElementState, FingerSolution, MountDisplacement, RigidDisplacement, Solution,
+    SolveStatus, SolverStats, LOADED_FRACTION,
 };
 use crate::solver::native::parallel_vectors::PARALLEL_LEN;
 use crate::solver::outcome::Certificate;
@@ -291,6 +291,7 @@ fn finger_solution(
         },
         boundary_load_fraction: if loaded { boundary / p } else { 0.0 },
         approach_m,
+        mount_displacement: mount_displacement(f, &x_n[f.offset..f.offset + f.n_unknowns()]),
         stick_count: counts[ElementState::Stick as usize],
         slip_count: counts[ElementState::Slip as usize],
         frictionless_count: counts[ElementState::Frictionless as usize],
@@ -485,4 +486,21 @@ pub(crate) fn enforce_invariant(sol: &mut Solution) {
             option_names::TOLERANCE
         ));
     }
+}
+
+/// The displacement of finger `f`'s core on its mount under its element forces `x` (N, local
+/// layout): `-S (B x - w0)` in the contact frame (`FingerMount::core_displacement`), turned
+/// into the world frame.
+fn mount_displacement(f: &FingerModel, x: &[f64]) -> Option<MountDisplacement> {
+    let m = f.mount.as_ref()?;
+    let d = m.core_displacement(x);
+    let frame = &f.frame;
+    let world = |a: f64, b: f64, c: f64| frame.t1 * a + frame.t2 * b + frame.normal * c;
+    let t = world(d[0], d[1], d[2]);
+    let r = world(d[3], d[4], d[5]);
+    Some(MountDisplacement {
+        normal_m: d[2],
+        translation_m: [t.x, t.y, t.z],
+        rotation_rad: [r.x, r.y, r.z],
+    })
 }

@@ -150,6 +150,10 @@ pub struct FingerSolution {
     /// Approach of the finger along its inward normal, m: the prescribed-load multiplier for
     /// a force-controlled finger, 0 for a held finger (the reference).
     pub approach_m: f64,
+    /// The finger's rigid core moved from its commanded pose by the spring behind it
+    /// (`fingers[i].mount`); absent for a finger without a mount.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mount_displacement: Option<MountDisplacement>,
     /// Elements in stick.
     pub stick_count: usize,
     /// Elements in slip.
@@ -172,6 +176,19 @@ pub struct FingerSolution {
         deserialize_with = "crate::solve::element_columns::deserialize"
     )]
     pub elements: Vec<ElementSolution>,
+}
+
+/// How far a finger's rigid core moved from its commanded pose on its mount's spring:
+/// `-S (w - w0)` (`model/finger_mount.rs`) for the wrench `w` its contact carries.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MountDisplacement {
+    /// Along the finger's inward normal, m: positive toward the object, negative pushed back
+    /// (the pad's effective approach is the commanded `approach_m` plus this).
+    pub normal_m: f64,
+    /// Translation of the core, m (world frame).
+    pub translation_m: [f64; 3],
+    /// Small rotation of the core about the contact point, rad (world frame).
+    pub rotation_rad: [f64; 3],
 }
 
 /// Small rigid displacement of the object (from the equilibrium multipliers).

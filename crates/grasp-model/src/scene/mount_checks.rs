@@ -1,0 +1,151 @@
+//! The checks of `fingers[i].mount`: one form of stiffness (per direction or a full matrix),
+//! its numbers in range, a matrix symmetric and positive definite, and a preload the finger's
+//! control can take. Each problem names its JSON path and the fix.
+
+use nalgebra::Matrix6;
+
+use crate::scene::field_checks::{number, FieldChecks};
+use crate::scene::limits::{
+    MOUNT_ROTATIONAL_STIFFNESS_RANGE_NM_PER_RAD, MOUNT_STIFFNESS_RANGE_N_PER_M,
+};
+use crate::scene::mount_spec::MountSpec;
+use crate::scene::scene_format::{ControlSpec, FingerSpec};
+
+/// Relative asymmetry `|K_ij - K_ji| / max |K|` above which a mount's matrix is refused.
+pub const MOUNT_SYMMETRY_TOLERANCE: f64 = 1e-9;
+
+/// Checks `fingers[i].mount` (`p` is `fingers[i]`).
+pub fn check_mount(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
+    let Some(m) = &f.mount else { return };
+    let mp = format!("{p}.mount");
+    let by_direction = [
+        m.normal_n_per_m,
+        m.tangential_n_per_m,
+        m.rotational_nm_per_rad,
+    ];
+    match (&m.matrix, by_direction.iter().any(Option::is_some)) {
+        (Some(_), true) => v.push(
+            &mp,
+            "gives both a matrix and stiffnesses by direction".into(),
+            "give either `matrix` or `normal_n_per_m` / `tangential_n_per_m` / \
+             `rotational_nm_per_rad`",
+        ),
+        (None, false) => v.push(
+            &mp,
+            "gives no stiffness".into(),
+            "give `normal_n_per_m`, `tangential_n_per_m`, `rotational_nm_per_rad` (N/m, N m/rad) \
+             or a 6x6 `matrix`; omit `mount` for a rigid core",
+        ),
+        (Some(k), false) => check_matrix(&mp, k, v),
+        (None, true) => check_directions(&mp, m, v),
+    }
+    check_preload(p, &mp, f, m, v);
+}
+
+/// The stiffnesses by direction, each in its range.
+fn check_directions(mp: &str, m: &MountSpec, v: &mut FieldChecks) {
+    let fix = "give the stiffness in N/m, or leave it out for a rigid direction";
+    if let Some(k) = m.normal_n_per_m {
+        v.range(
+            &format!("{mp}.normal_n_per_m"),
+            k,
+            MOUNT_STIFFNESS_RANGE_N_PER_M,
+            "N/m",
+            fix,
+        );
+    }
+    if let Some(k) = m.tangential_n_per_m {
+        v.range(
+            &format!("{mp}.tangential_n_per_m"),
+            k,
+            MOUNT_STIFFNESS_RANGE_N_PER_M,
+            "N/m",
+            fix,
+        );
+    }
+    if let Some(k) = m.rotational_nm_per_rad {
+        v.range(
+            &format!("{mp}.rotational_nm_per_rad"),
+            k,
+            MOUNT_ROTATIONAL_STIFFNESS_RANGE_NM_PER_RAD,
+            "N m/rad",
+            "give the stiffness in N m/rad, or leave it out for a rigid core in rotation",
+        );
+    }
+}
+
+/// A full matrix: finite, symmetric, positive definite, its diagonal in range.
+fn check_matrix(mp: &str, k: &[[f64; 6]; 6], v: &mut FieldChecks) {
+    let path = format!("{mp}.matrix");
+    if let Some((r, c)) = (0..36)
+        .map(|i| (i / 6, i % 6))
+        .find(|&(r, c)| !k[r][c].is_finite())
+    {
+        v.push(
+            &format!("{path}[{r}][{c}]"),
+            format!("is {}", number(k[r][c])),
+            "give finite stiffnesses",
+        );
+        return;
+    }
+    for c in 0..6 {
+        let range = match c < 3 {
+            true => MOUNT_STIFFNESS_RANGE_N_PER_M,
+            false => MOUNT_ROTATIONAL_STIFFNESS_RANGE_NM_PER_RAD,
+        };
+        let unit = if c < 3 { "N/m" } else { "N m/rad" };
+        if !v.range(
+            &format!("{path}[{c}][{c}]"),
+            k[c][c],
+            range,
+            unit,
+            "give the diagonal's stiffnesses in range (rows t1, t2, n, rot t1, rot t2, rot n)",
+        ) {
+            return;
+        }
+    }
+    let largest = k.iter().flatten().fold(0.0_f64, |a, x| a.max(x.abs()));
+    let asymmetric = (0..36)
+        .map(|i| (i / 6, i % 6))
+        .find(|&(r, c)| (k[r][c] - k[c][r]).abs() > MOUNT_SYMMETRY_TOLERANCE * largest);
+    if let Some((r, c)) = asymmetric {
+        v.push(
+            &format!("{path}[{r}][{c}]"),
+            format!(
+                "is {} but [{c}][{r}] is {}: a stiffness is symmetric",
+                number(k[r][c]),
+                number(k[c][r])
+            ),
+            "make the matrix symmetric",
+        );
+        return;
+    }
+    if Matrix6::from_fn(|r, c| k[r][c]).cholesky().is_none() {
+        v.push(
+            &path,
+            "is not positive definite: some motion of the core would need no force".into(),
+            "give a positive definite stiffness (every eigenvalue above 0)",
+        );
+    }
+}
+
+/// A preload needs a compliant normal and a finger whose normal load is not prescribed.
+fn check_preload(p: &str, mp: &str, f: &FingerSpec, m: &MountSpec, v: &mut FieldChecks) {
+    let path = format!("{mp}.preload_n");
+    if !v.force(&path, m.preload_n, "give the preload in newtons, or 0") || m.preload_n == 0.0 {
+        return;
+    }
+    if matches!(f.control, ControlSpec::Load(_)) {
+        v.push(
+            &path,
+            format!("is set but {p}.control prescribes the normal load"),
+            "drop preload_n (the load is the control's), or drive the finger by `approach_m`",
+        );
+    } else if m.matrix.is_none() && m.normal_n_per_m.is_none() {
+        v.push(
+            &path,
+            "is set but the mount is rigid along the normal".into(),
+            "give normal_n_per_m, or drop preload_n",
+        );
+    }
+}
