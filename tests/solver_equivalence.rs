@@ -381,3 +381,92 @@ fn mixed_dense_and_fft_fingers_agree_with_all_dense() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert_eq!(checked, 5);
 }
+
+/// A mount on most fingers of a random grasp: stiffnesses by direction (a random subset of
+/// normal, tangential and rotational) or a full matrix (such a diagonal with a coupling of up
+/// to half the geometric mean between a translation and a rotation, still positive definite).
+/// Each stiffness is the contact's scale (`E L` N/m and `E L^3` N m/rad for the finger's
+/// modulus `E` and patch side `L`) times 1e-3 to 1e3: from far softer to far stiffer than the
+/// contact, where the mount decides the load. (Further out the grasp is the held or the
+/// force-controlled one: `tests/finger_mounts.rs` checks those limits; there Clarabel's
+/// answers, at the edge of its accuracy, no longer arbitrate.)
+fn with_random_mounts(r: &mut Lcg, mut v: Value) -> Value {
+    for f in v["fingers"].as_array_mut().unwrap() {
+        if !r.chance(0.7) {
+            continue;
+        }
+        let e = f["material"]["youngs_modulus"].as_f64().unwrap();
+        let side = f["patch"]["size"][0].as_f64().unwrap();
+        let k: Vec<f64> = (0..6)
+            .map(|c| match c < 3 {
+                true => e * side * r.log(1e-3, 1e3),
+                false => e * side.powi(3) * r.log(1e-3, 1e3),
+            })
+            .collect();
+        f["mount"] = if r.chance(0.3) {
+            let mut m = [[0.0; 6]; 6];
+            for c in 0..6 {
+                m[c][c] = k[c];
+            }
+            let (a, b) = (r.int(0, 2), r.int(3, 5));
+            let coupling = r.range(-0.5, 0.5) * (k[a] * k[b]).sqrt();
+            m[a][b] = coupling;
+            m[b][a] = coupling;
+            json!({"matrix": m})
+        } else {
+            let mut m = json!({});
+            for (key, c) in [
+                ("tangential_n_per_m", 0),
+                ("normal_n_per_m", 2),
+                ("rotational_nm_per_rad", 3),
+            ] {
+                if r.chance(0.6) {
+                    m[key] = json!(k[c]);
+                }
+            }
+            if m.as_object().unwrap().is_empty() {
+                m["normal_n_per_m"] = json!(k[2]);
+            }
+            m
+        };
+    }
+    v
+}
+
+/// Mounted fingers change only the compliance blocks (`B' S B` added: folded into the dense
+/// matrix, applied beside the FFT operator), so the same agreements hold on 60 random mounted
+/// grasps: the native solver and Clarabel as in the 240-grasp comparison, and the dense path
+/// against the FFT path within [`SOLVER_AGREEMENT`] of the load.
+#[test]
+fn solvers_and_compliance_paths_agree_on_mounted_random_grasps() {
+    let mut r = Lcg(0x6d6f_756e_7473);
+    let (mut solved, mut agreed, mut invalid) = (0, 0, 0);
+    let mut failures = Vec::new();
+    for case in 0..60 {
+        let (planar, coulomb) = (case % 2 == 1, case % 4 >= 2);
+        let v = random_grasp(&mut r, planar, coulomb);
+        let v = with_random_mounts(&mut r, v);
+        if grasp_model::LoadedScene::from_json_str(&v.to_string()).is_err() {
+            invalid += 1;
+            continue;
+        }
+        match native_agrees_with_clarabel(&v) {
+            Ok((s, agreement, _)) => {
+                solved += s.status.has_forces() as usize;
+                agreed += (agreement == Agreement::Within) as usize;
+            }
+            Err(e) => failures.push(format!("case {case} (solvers): {e}\n  scene: {v}")),
+        }
+        if let Err(e) = dense_and_fft_agree(&v) {
+            failures.push(format!("case {case} (dense vs FFT): {e}\n  scene: {v}"));
+        }
+    }
+    println!(
+        "mounted random grasps: {} valid, {solved} solved, {agreed} within 1e-8 of the load \
+         between the solvers, {invalid} rejected as invalid; {} disagreements",
+        60 - invalid,
+        failures.len()
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(invalid <= 6 && solved >= 25, "{invalid} invalid, {solved} solved");
+}
