@@ -199,3 +199,25 @@ fn element_force_difference_n(a: &Solution, b: &Solution) -> f64 {
         })
         .fold(0.0, f64::max)
 }
+
+/// A mount a billion times softer than its contact (1e-3 N/m against about 1e6 N/m) is solved,
+/// but the model warns that the contact's compliance loses digits beside it and names the
+/// better drive; a mount within 1e8 of the contact raises no warning.
+#[test]
+fn a_mount_far_softer_than_its_contact_is_warned_about() {
+    let warning = |k: f64| {
+        let mut v = hanging_box([None; 3], false);
+        v["fingers"][0]["control"] = json!("held");
+        v["fingers"][0]["mount"] = json!({"normal_n_per_m": k, "preload_n": 10.0});
+        solved(&v)
+            .warnings
+            .into_iter()
+            .find(|w| w.contains("the mount is"))
+    };
+    let w = warning(1e-3).expect("a warning at 1e-3 N/m");
+    assert!(
+        w.starts_with("fingers[0] `a`:") && w.contains("`normal_load`"),
+        "{w}"
+    );
+    assert_eq!(warning(1e1), None);
+}

@@ -468,5 +468,8 @@ fn solvers_and_compliance_paths_agree_on_mounted_random_grasps() {
         failures.len()
     );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    assert!(invalid <= 6 && solved >= 25, "{invalid} invalid, {solved} solved");
+    assert!(
+        invalid <= 6 && solved >= 25,
+        "{invalid} invalid, {solved} solved"
+    );
 }

@@ -440,6 +440,40 @@ pub fn sensor_table(readings: &[grasp_model::TaxelReadings]) -> String {
     s
 }
 
+/// The mounted fingers' cores (`grasp solve` on a scene with `fingers[i].mount`): per finger
+/// its approach (the commanded jaw position; found, for a force-controlled finger), the
+/// core's displacement from its commanded pose (along the normal: negative pushed back; the
+/// translation's length) and the core's rotation; empty when no finger has a mount.
+pub fn mount_table(solution: &grasp_model::Solution) -> String {
+    let mounted: Vec<_> = solution
+        .fingers
+        .iter()
+        .filter_map(|f| f.mount_displacement.map(|d| (f, d)))
+        .collect();
+    if mounted.is_empty() {
+        return String::new();
+    }
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "\nmounts (each core's displacement from its commanded pose):\n{:<16}{:>14}{:>18}{:>16}{:>18}",
+        "finger", "approach_mm", "core_along_n_mm", "core_moved_mm", "core_turned_mrad"
+    );
+    let norm = |v: [f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    for (f, d) in mounted {
+        let _ = writeln!(
+            s,
+            "{:<16}{:>14}{:>18}{:>16}{:>18}",
+            f.name,
+            significant(f.approach_m * 1e3, 6),
+            significant(d.normal_m * 1e3 + 0.0, 6),
+            significant(norm(d.translation_m) * 1e3, 6),
+            significant(norm(d.rotation_rad) * 1e3, 6)
+        );
+    }
+    s
+}
+
 /// What the object's shape gave each finger (`grasp solve --explain-frames`).
 pub fn frames_table(r: &grasp_model::ShapeReport) -> String {
     let mut o = String::new();

@@ -158,6 +158,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     if !sensors.is_empty() {
         print!("{}", report::sensor_table(&sensors));
     }
+    print!("{}", report::mount_table(solution));
     if let Some(out) = &json {
         // Every outcome is written, "no equilibrium" (exit 2) included: it is the result.
         let record = grasp_io::SolutionRecord {

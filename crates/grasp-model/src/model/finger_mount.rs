@@ -23,6 +23,11 @@ use crate::scene::mount_spec::MountSpec;
 /// them.
 pub const MOUNT_COMPONENTS: usize = 6;
 
+/// How many times the contact's largest compliance a mount's may be before a model warns:
+/// the two are added in one matrix, so the contact's part keeps about `f64::EPSILON` times
+/// this of its relative precision (1e8: about 2e-8).
+pub const MOUNT_SOFTNESS_WARNING: f64 = 1e8;
+
 /// One finger's mount as the model uses it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FingerMount {
@@ -139,6 +144,13 @@ impl FingerMount {
     pub fn diagonal(&self, j: usize) -> f64 {
         let b = self.column(j);
         b.dot(&(self.compliance * b))
+    }
+
+    /// The largest diagonal entry of `B' S B`, m/N.
+    pub fn largest_diagonal(&self) -> f64 {
+        (0..self.len())
+            .map(|j| self.diagonal(j))
+            .fold(0.0, f64::max)
     }
 
     /// An upper bound of the largest absolute row sum of `B' S B`, m/N: `max_j sum_ab |B_aj|

@@ -12,7 +12,7 @@ use crate::error::{OutOfMemory, SceneError};
 use crate::geometry::contact_frame::ContactFrame;
 use crate::model::contact_pair::ContactPair;
 use crate::model::equilibrium::MotionPlane;
-use crate::model::finger_mount::FingerMount;
+use crate::model::finger_mount::{FingerMount, MOUNT_SOFTNESS_WARNING};
 use crate::model::friction::FrictionLaw;
 use crate::model::grasp_model::{Control, ExternalLoad, FingerModel, GraspModel, ObjectModel};
 use crate::model::material::Material;
@@ -96,7 +96,7 @@ impl GraspModel {
             .iter()
             .map(|f| (3 * f.patch.grid[0] * f.patch.grid[1]).pow(2))
             .sum();
-        let built: Vec<(FingerModel, Option<String>)> =
+        let built: Vec<(FingerModel, Vec<String>)> =
             if entries >= PARALLEL_BUILD_ENTRIES && scene.fingers.len() > 1 {
                 use rayon::prelude::*;
                 scene
@@ -114,8 +114,8 @@ impl GraspModel {
                     .collect::<Result<_, _>>()?
             };
         let mut fingers = Vec::with_capacity(built.len());
-        for (f, gap_warning) in built {
-            object.scene_warnings.extend(gap_warning);
+        for (f, warnings) in built {
+            object.scene_warnings.extend(warnings);
             fingers.push(f);
         }
         for (i, f) in fingers.iter().enumerate() {
@@ -205,7 +205,7 @@ fn finger_model(
     object: &ObjectModel,
     geometry: &SceneGeometry,
     compliance: ComplianceChoice,
-) -> Result<(FingerModel, Option<String>), SceneError> {
+) -> Result<(FingerModel, Vec<String>), SceneError> {
     let frame = ContactFrame::new(
         v3(&f.contact_point),
         v3(&f.normal),
@@ -245,7 +245,18 @@ fn finger_model(
             planar,
         ))
     });
+    let mut warnings: Vec<String> = gap_warning.into_iter().collect();
     if let Some(m) = &mount {
+        let softness = m.largest_diagonal() / compliance_m_per_n.max_diagonal();
+        if softness > MOUNT_SOFTNESS_WARNING {
+            warnings.push(format!(
+                "fingers[{i}] `{}`: the mount is {softness:.1e} times as compliant as the \
+                 contact, so the contact's compliance keeps only about {:.0e} of its digits \
+                 beside it; a finger this soft is a force source: prescribe `normal_load`",
+                f.name,
+                f64::EPSILON * softness
+            ));
+        }
         compliance_m_per_n = compliance_m_per_n.with_mount(m);
     }
     let control = match (f.control.normal_load_n(), f.control.approach_m()) {
@@ -269,7 +280,7 @@ fn finger_model(
         offset: 0,
         exact_gaps,
     };
-    Ok((finger, gap_warning))
+    Ok((finger, warnings))
 }
 
 /// Finger `i`'s patch compliance (and its viscoelastic bodies'), built once the memory it
