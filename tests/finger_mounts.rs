@@ -3,6 +3,8 @@
 //! stiffnesses, and the two ideal drives (a held core, a pure force source) as the limits of a
 //! stiff and of a soft mount.
 
+mod support;
+
 use grasp_model::closed_form::HertzSphere;
 use grasp_model::{solve, GraspModel, LoadedScene, Material, Solution, SolveStatus};
 use serde_json::{json, Value};
@@ -220,4 +222,109 @@ fn a_mount_far_softer_than_its_contact_is_warned_about() {
         "{w}"
     );
     assert_eq!(warning(1e1), None);
+}
+
+/// The plate hand-off released by opening the servo's jaws (`examples/plate_transfer_servo.*`,
+/// coulomb law: normal forces only from positions), stepped as written and as a twin without
+/// Dundurs' coupling (incompressible pads, nu = 0.5 - 1e-12, on a rigid plate: the pads'
+/// friction then leaves their normal stiffness alone). The pads are flat, so each contact is a
+/// linear spring (Boussinesq's flat punch), and by symmetry the plate does not move along the
+/// squeeze:
+/// - the servo's jaw carries `F = k_s x` at jaw position `x` past first touch, with the series
+///   stiffness `1/k_s = 1/k_mount + 1/k_pad`, `k_pad` measured on the same scene without the
+///   mounts (a jaw pressed 4 mm). On the twin to 1e-9 at every opening step (measured: 9e-13).
+///   On the example to 1e-3: its pad and plate are dissimilar, so the friction the pad
+///   carries, which grows relative to its load as the jaw opens, moves its normal stiffness
+///   (measured: up to 9.4e-5; Dundurs' beta is about 0.09 here);
+/// - contact is lost exactly when the jaw passes first touch (x = 0 at t = 13 s): the force is
+///   above 1e-3 N at every step before and below 1e-9 N from then on;
+/// - at the end the receiving arm's springs carry the weight: each receiving core sits
+///   `W / (2 k_t)` lower (springs in parallel; 1e-9), and the plate sags by that plus its
+///   pads' own tangential deflection.
+#[test]
+fn a_hand_off_released_by_opening_the_jaws_lets_go_at_first_touch() {
+    let scene = support::example_json("plate_transfer_servo.json");
+    let mut twin = scene.clone();
+    twin["object"]["material"] = json!("rigid");
+    for f in twin["fingers"].as_array_mut().unwrap() {
+        f["material"]["poisson_ratio"] = json!(0.5 - 1e-12);
+    }
+    for (v, tolerance) in [(twin, 1e-9), (scene, 1e-3)] {
+        let worst = opens_at_first_touch(&v, tolerance);
+        eprintln!("F / x against the series stiffness: largest deviation {worst:.2e}");
+    }
+}
+
+/// Steps `scene` through the servo-released schedule and checks the claims above, the jaw's
+/// stiffness to `tolerance`; returns the largest relative deviation of `F / x` found.
+fn opens_at_first_touch(scene: &Value, tolerance: f64) -> f64 {
+    let loaded = LoadedScene::from_json_str(&scene.to_string()).unwrap();
+    let text = std::fs::read_to_string(support::example_path("plate_transfer_servo.schedule.json"))
+        .unwrap();
+    let dir = std::path::PathBuf::from(support::example_path(""));
+    let schedule =
+        grasp_transfer::Schedule::from_json_str(&text, &loaded.finger_names(), &dir).unwrap();
+    let options = grasp_transfer::TransferOptions::default();
+    let records: Vec<_> = grasp_transfer::Stepper::new(&loaded, &schedule, options)
+        .map(|r| r.unwrap())
+        .collect();
+    let k_mount = scene["fingers"][0]["mount"]["normal_n_per_m"]
+        .as_f64()
+        .unwrap();
+    let k_t = scene["fingers"][2]["mount"]["tangential_n_per_m"]
+        .as_f64()
+        .unwrap();
+    let weight = scene["object"]["weight"].as_f64().unwrap();
+    let mut bare = scene.clone();
+    for f in bare["fingers"].as_array_mut().unwrap() {
+        f.as_object_mut().unwrap().remove("mount");
+    }
+    let pad = solved(&bare).fingers[0].normal_force_n / 0.004;
+    let series = 1.0 / (1.0 / k_mount + 1.0 / pad);
+    let (mut opening, mut worst) = (0, 0.0_f64);
+    for r in &records {
+        let servo = r.solution.finger("f1").expect("f1 in every step");
+        let (jaw, force) = (servo.approach_m, servo.normal_force_n);
+        if jaw > 1e-9 {
+            assert!(
+                force > 1e-3,
+                "t {}: jaw {jaw} m but force {force} N",
+                r.time_s
+            );
+            if r.time_s > 5.0 {
+                let deviation = (force / jaw - series).abs() / series;
+                assert!(deviation < tolerance, "t {}: {} N/m", r.time_s, force / jaw);
+                worst = worst.max(deviation);
+                opening += 1;
+            }
+        } else {
+            assert!(
+                force.abs() < 1e-9,
+                "t {}: jaw {jaw} m, force {force} N",
+                r.time_s
+            );
+        }
+    }
+    assert_eq!(
+        opening, 31,
+        "steps from 5.25 s to 12.75 s with the jaw past first touch"
+    );
+    let end = &records.last().unwrap().solution;
+    let arm = weight / (2.0 * k_t);
+    for name in ["f3", "f4"] {
+        let core = end
+            .finger(name)
+            .unwrap()
+            .mount_displacement
+            .unwrap()
+            .translation_m[2];
+        assert!((core + arm).abs() < 1e-9 * arm, "{name}: {core} m");
+    }
+    let sag = -end.rigid_displacement.unwrap().translation_m[2];
+    eprintln!(
+        "plate sag {sag:.6e} m: the arm's springs {arm:.6e} m, the pads {:.3e} m",
+        sag - arm
+    );
+    assert!(sag > arm, "sag {sag}");
+    worst
 }

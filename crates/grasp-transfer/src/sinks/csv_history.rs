@@ -9,7 +9,11 @@
 //! form of the patch compliances, `dense`, `fft` or `mixed`, and the FFT path's
 //! conjugate-gradient iterations in the step), then `margin_held_to_n` (the largest push
 //! known to hold along the smallest margin's direction, N: the margin, the search's cap when
-//! unbounded, a lower bound when undetermined; empty without `--margins`), then `warnings`:
+//! unbounded, a lower bound when undetermined; empty without `--margins`), then per finger
+//! with a mount (`fingers[i].mount`; none without) `<name>_approach_m` (the jaw's commanded
+//! position from first touch, m), `<name>_core_along_n_m` (its core's displacement from that
+//! pose along the normal, m: negative pushed back) and `<name>_core_moved_m` (the length of
+//! the core's translation, m; all empty while the finger is released), then `warnings`:
 //! the step's warnings (the scene's among them), separated by [`CSV_WARNING_SEPARATOR`], empty
 //! when it has none.
 //!
@@ -36,6 +40,25 @@ fn margin_cell(r: &StepRecord) -> String {
             m.margin_or_bound_n().to_string()
         }
         _ => String::new(),
+    }
+}
+
+/// The columns of a mounted finger, after its name and `_`.
+const MOUNT_COLUMNS: [&str; 3] = ["approach_m", "core_along_n_m", "core_moved_m"];
+
+/// The cells of finger `name`'s mount at step `r` (each with its leading comma): its approach
+/// and its core's displacement, empty while it is out of the step's grasp.
+fn mount_cells(r: &StepRecord, name: &str) -> String {
+    match r
+        .solution
+        .finger(name)
+        .and_then(|f| Some((f.approach_m, f.mount_displacement?)))
+    {
+        Some((approach, d)) => {
+            let moved = d.translation_m.iter().map(|x| x * x).sum::<f64>().sqrt();
+            format!(",{approach},{},{moved}", d.normal_m)
+        }
+        None => ",,,".into(),
     }
 }
 
@@ -94,11 +117,17 @@ impl Sink for CsvSink {
         }
         h.push_str(",solver,warm_start,iterations,factorizations,wall_time_s,smallest_margin_n");
         h.push_str(",compliance,inner_iterations,margin_held_to_n");
+        for f in run.scene.fingers.iter().filter(|f| f.mount.is_some()) {
+            for col in MOUNT_COLUMNS {
+                h.push(',');
+                h.push_str(&csv_field(&format!("{}_{col}", f.name)));
+            }
+        }
         h.push_str(",warnings\n");
         self.write(&h)
     }
 
-    fn step(&mut self, _run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
+    fn step(&mut self, run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
         let m = FingersMessage::from_record(r);
         let mut line = format!("{},{},{}", r.time_s, r.index, csv_field(&m.status));
         for f in &m.fingers {
@@ -119,6 +148,9 @@ impl Sink for CsvSink {
             m.inner_iterations,
             m.margin_held_to_n.map_or(String::new(), |v| v.to_string()),
         ));
+        for f in run.scene.fingers.iter().filter(|f| f.mount.is_some()) {
+            line.push_str(&mount_cells(r, &f.name));
+        }
         let warnings: Vec<String> = r
             .solution
             .warnings
