@@ -26,6 +26,10 @@ pub struct FingerState {
     /// Total normal load of the last converged solve, N (warm start of a load-dependent
     /// `mu`).
     pub normal_load_n: Option<f64>,
+    /// The finger's approach in the last converged solve, m (commanded for a
+    /// position-controlled finger: from it and the earlier ones the warm start continues an
+    /// approach ramp).
+    pub approach_m: Option<f64>,
     /// `normal_forces_n` and `normal_load_n` of the converged solves before the last (at
     /// most `EARLIER_KEPT`, oldest first): from them the sequential solve's warm start
     /// continues the loads' ramp.
@@ -55,6 +59,8 @@ pub struct EarlierSolve {
     pub normal_forces_n: Vec<f64>,
     /// Total normal load, N.
     pub normal_load_n: f64,
+    /// Approach, m.
+    pub approach_m: f64,
 }
 
 impl FingerState {
@@ -65,6 +71,7 @@ impl FingerState {
             slip_memory_m: vec![[0.0; 2]; elements],
             normal_forces_n: None,
             normal_load_n: None,
+            approach_m: None,
             earlier: Vec::new(),
             history_m: None,
             viscous: None,
@@ -173,12 +180,14 @@ impl ContactState {
                 fs.earlier.push(EarlierSolve {
                     normal_forces_n,
                     normal_load_n,
+                    approach_m: fs.approach_m.unwrap_or(0.0),
                 });
             }
             fs.normal_forces_n = Some(crate::solve::solution::element_values(&f.elements, |e| {
                 e.normal_force_n
             }));
             fs.normal_load_n = Some(f.normal_force_n);
+            fs.approach_m = Some(f.approach_m);
             if memory && fm.n_tangential > 0 {
                 for (m, e) in fs.slip_memory_m.iter_mut().zip(&f.elements) {
                     *m = e.slip_m;

@@ -84,14 +84,19 @@ fn radii_of(forces: &[Vec<f64>], mu: &[f64]) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// The previous steps' forces as a first input: extrapolated along a steady ramp
-/// ([`extrapolated_forces`]), else the last step's rescaled to the new loads of
-/// force-controlled fingers; `None` when the state has none or a force-controlled finger goes
-/// from no load to some (its distribution is then unknown).
-fn warm_forces(model: &GraspModel, loads_n: &[f64], state: &ContactState) -> Option<Vec<Vec<f64>>> {
-    if let Some(f) = extrapolated_forces(model, loads_n, state) {
+/// The previous steps' forces as a first input: extrapolated along a steady ramp of the
+/// commanded loads and approaches ([`extrapolated_forces`]), else the last step's rescaled to
+/// the new loads of force-controlled fingers; `None` when the state has none or a
+/// force-controlled finger goes from no load to some (its distribution is then unknown).
+fn warm_forces(
+    model: &GraspModel,
+    commanded: &Commanded,
+    state: &ContactState,
+) -> Option<Vec<Vec<f64>>> {
+    if let Some(f) = extrapolated_forces(model, commanded, state) {
         return Some(f);
     }
+    let loads_n = commanded.loads_n;
     let loaded = LOADED_FRACTION * model.scales.load_n;
     let mut out = Vec::with_capacity(model.fingers.len());
     let mut j = 0;
@@ -116,39 +121,58 @@ fn warm_forces(model: &GraspModel, loads_n: &[f64], state: &ContactState) -> Opt
     Some(out)
 }
 
-/// When the commanded loads are an affine combination of the last steps' (`L_now = L_k +
-/// sum_j c_j (L_j - L_k)`: a ramp, or two ramps on different curves), the forces combined the
-/// same way, clipped at zero. While no element changes between stick, slip and separation and
-/// only the loads change (the external wrench and the slip memory moving as in the last
-/// steps), that is the fixed point itself (the solution is then affine in the loads) and the
-/// sequence ends after one convex solve; otherwise it is a guess the sequence corrects. Loads
-/// that did not change (to round-off: the last loads are the solved totals) give `None`.
+/// What a step commands of its fingers: the loads of the force-controlled ones (N, in model
+/// order) and every finger's approach (m; the commanded one of a position-controlled finger).
+struct Commanded<'a> {
+    loads_n: &'a [f64],
+    approaches_m: &'a [f64],
+}
+
+/// When the commanded data (the loads of force-controlled fingers and the approaches of
+/// position-controlled ones, an approach over the compliance unit `Cu` so both are forces) are
+/// an affine combination of the last steps' (`L_now = L_k + sum_j c_j (L_j - L_k)`: a ramp,
+/// or two ramps on different curves), the forces combined the same way, clipped at zero.
+/// While no element changes between stick, slip and separation and only these data change
+/// (the external wrench and the slip memory moving as in the last steps), that is the fixed
+/// point itself (the solution is then affine in them) and the sequence ends after one convex
+/// solve; otherwise it is a guess the sequence corrects. Data that did not change (to
+/// round-off: the last loads are the solved totals) give `None`.
 fn extrapolated_forces(
     model: &GraspModel,
-    loads_n: &[f64],
+    commanded: &Commanded,
     state: &ContactState,
 ) -> Option<Vec<Vec<f64>>> {
     let depth = state.fingers.iter().map(|s| s.earlier.len()).min()?;
-    // Loads of the force-controlled fingers: the last solve's, then the earlier ones, newest
-    // first.
-    let mut last = Vec::new();
+    let stiffness = 1.0 / model.scales.compliance_m_per_n;
+    // The commanded data: now, at the last solve, then at the earlier ones, newest first.
+    let (mut now, mut last) = (Vec::new(), Vec::new());
     let mut earlier = vec![Vec::new(); depth];
-    for (f, s) in model.fingers.iter().zip(&state.fingers) {
-        if let Control::NormalLoad { .. } = f.control {
-            last.push(s.normal_load_n?);
-            for (j, e) in earlier.iter_mut().enumerate() {
-                e.push(s.earlier[s.earlier.len() - 1 - j].normal_load_n);
+    let mut j = 0;
+    for ((f, s), d) in model.fingers.iter().zip(&state.fingers).zip(commanded.approaches_m) {
+        match f.control {
+            Control::NormalLoad { .. } => {
+                now.push(commanded.loads_n[j]);
+                j += 1;
+                last.push(s.normal_load_n?);
+                for (k, e) in earlier.iter_mut().enumerate() {
+                    e.push(s.earlier[s.earlier.len() - 1 - k].normal_load_n);
+                }
             }
+            Control::Approach { .. } => {
+                now.push(d * stiffness);
+                last.push(s.approach_m? * stiffness);
+                for (k, e) in earlier.iter_mut().enumerate() {
+                    e.push(s.earlier[s.earlier.len() - 1 - k].approach_m * stiffness);
+                }
+            }
+            Control::Held => {}
         }
     }
     let noise = LOADED_FRACTION * model.scales.load_n;
-    if loads_n
-        .iter()
-        .zip(&last)
-        .all(|(a, b)| (a - b).abs() <= noise)
-    {
+    if now.iter().zip(&last).all(|(a, b)| (a - b).abs() <= noise) {
         return None;
     }
+    let loads_n = now.as_slice();
     // The fewest, newest points first (the likeliest to share the new contact pattern).
     let (c, used) = (1..=depth).find_map(|k| {
         let others: Vec<&[f64]> = earlier[..k].iter().map(Vec::as_slice).collect();
@@ -354,9 +378,13 @@ pub(crate) fn solve_sequential(
     if coulomb {
         main.program.set_slip_memory(model, &seq.memory);
     }
+    let commanded = Commanded {
+        loads_n,
+        approaches_m: &main.program.approach_m,
+    };
     let warm = options
         .warm_start
-        .then(|| warm_forces(model, loads_n, state))
+        .then(|| warm_forces(model, &commanded, state))
         .flatten();
     seq.report.warm_started = warm.is_some();
     let mut start_at: Option<Iterate> = None;
