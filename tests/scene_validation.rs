@@ -526,9 +526,13 @@ fn relaxation_laws_and_approaches_out_of_range() {
         "fingers[0].material.relaxation.long_term_modulus",
         "is 1e12 Pa",
     );
+    // A negative approach withdraws the finger (a jaw opened short of first touch): up to 1 m
+    // either way.
     let mut v = cube();
-    v["fingers"][1]["control"] = json!({"approach_m": -0.001});
+    v["fingers"][1]["control"] = json!({"approach_m": -1.5});
     assert_problem(&v, "fingers[1].control.approach_m", "outside");
+    v["fingers"][1]["control"] = json!({"approach_m": -0.001});
+    assert!(LoadedScene::from_json_str(&v.to_string()).is_ok());
 }
 
 /// Unbounded work: inputs whose cost grows without bound are refused with the
@@ -732,4 +736,78 @@ fn height_map_files_that_cannot_serve() {
     );
     has(&problems_of(Some("a,b,c\n0,0,0\n"), 4.3e-3), "header line");
     has(&problems_of(None, 4.4e-3), "relative to the scene file");
+}
+
+/// Mounts (`fingers[i].mount`): each bad stiffness named at its path with the fix; a matrix
+/// that is not symmetric or not positive definite; a mount with no stiffness or two forms; a
+/// preload a force-controlled finger or a rigid normal cannot take.
+#[test]
+fn mounts_out_of_range_are_named() {
+    let with = |mount: Value| {
+        let mut v = cube();
+        v["fingers"][0]["mount"] = mount;
+        v
+    };
+    let mut k = [[0.0; 6]; 6];
+    for (c, row) in k.iter_mut().enumerate() {
+        row[c] = 1e3;
+    }
+    let cases = [
+        (json!({}), "fingers[0].mount", "gives no stiffness"),
+        (
+            json!({"normal_n_per_m": 0.0}),
+            "fingers[0].mount.normal_n_per_m",
+            "outside",
+        ),
+        (
+            json!({"tangential_n_per_m": 1e16}),
+            "fingers[0].mount.tangential_n_per_m",
+            "outside",
+        ),
+        (
+            json!({"rotational_nm_per_rad": -1.0}),
+            "fingers[0].mount.rotational_nm_per_rad",
+            "outside",
+        ),
+        (
+            json!({"matrix": k, "normal_n_per_m": 1.0}),
+            "fingers[0].mount",
+            "both a matrix",
+        ),
+        (
+            json!({"normal_n_per_m": 1e3, "preload_n": -1.0}),
+            "fingers[0].mount.preload_n",
+            "is -1",
+        ),
+        (
+            json!({"tangential_n_per_m": 1e3, "preload_n": 1.0}),
+            "fingers[0].mount.preload_n",
+            "rigid along the normal",
+        ),
+    ];
+    for (mount, path, what) in cases {
+        assert_problem(&with(mount), path, what);
+    }
+    let mut asymmetric = k;
+    asymmetric[0][4] = 10.0;
+    assert_problem(
+        &with(json!({"matrix": asymmetric})),
+        "fingers[0].mount.matrix[0][4]",
+        "symmetric",
+    );
+    let mut indefinite = k;
+    indefinite[1][3] = 2e3;
+    indefinite[3][1] = 2e3;
+    assert_problem(
+        &with(json!({"matrix": indefinite})),
+        "fingers[0].mount.matrix",
+        "not positive definite",
+    );
+    let mut loaded = with(json!({"normal_n_per_m": 1e3, "preload_n": 1.0}));
+    loaded["fingers"][0]["control"] = json!({"normal_load": 2.0});
+    assert_problem(
+        &loaded,
+        "fingers[0].mount.preload_n",
+        "prescribes the normal load",
+    );
 }

@@ -148,7 +148,12 @@ fn extrapolated_forces(
     let (mut now, mut last) = (Vec::new(), Vec::new());
     let mut earlier = vec![Vec::new(); depth];
     let mut j = 0;
-    for ((f, s), d) in model.fingers.iter().zip(&state.fingers).zip(commanded.approaches_m) {
+    for ((f, s), d) in model
+        .fingers
+        .iter()
+        .zip(&state.fingers)
+        .zip(commanded.approaches_m)
+    {
         match f.control {
             Control::NormalLoad { .. } => {
                 now.push(commanded.loads_n[j]);
