@@ -179,7 +179,11 @@ fn read(v: &Value) -> Vec<TaxelReadings> {
     let model = GraspModel::from_loaded(&loaded).expect("model");
     let solution = solve(&model).expect("solve");
     assert!(solution.status.has_forces(), "{:?}", solution.reason);
-    sensor_readings(&loaded.scene, &model, &solution).expect("readings")
+    sensor_readings(&loaded.scene, &model, &solution)
+        .expect("readings")
+        .into_iter()
+        .map(|s| s.taxels.expect("taxels"))
+        .collect()
 }
 
 /// Hertz's contact radius, m, and peak pressure, Pa, of the example (10 N, R 10 mm, steel on
@@ -293,7 +297,8 @@ fn taxels_at_depth_carry_the_load_less_what_leaves_their_square() {
     let loaded = scene(&v);
     let model = GraspModel::from_loaded(&loaded).expect("model");
     let solution = solve(&model).expect("solve");
-    let r = &sensor_readings(&loaded.scene, &model, &solution).expect("readings")[0];
+    let readings = sensor_readings(&loaded.scene, &model, &solution).expect("readings");
+    let r = readings[0].taxels.as_ref().expect("taxels");
     let h = 0.000212 / 21.0;
     let g = gauss(3);
     let mut want = [0.0; 3];
@@ -476,7 +481,8 @@ fn non_finite_sensor_numbers_are_refused_without_a_panic() {
     for field in ["pitch_m", "size_m", "depth_m", "rotation_rad"] {
         for bad in [f64::NAN, f64::INFINITY] {
             let mut s = Scene::from_json_str(&v.to_string()).expect("scene");
-            let t = &mut s.fingers[0].sensor.as_mut().expect("sensor").taxels;
+            let sensor = s.fingers[0].sensor.as_mut().expect("sensor");
+            let t = sensor.taxels.as_mut().expect("taxels");
             match field {
                 "pitch_m" => t.pitch_m = bad,
                 "size_m" => t.size_m = bad,

@@ -413,18 +413,21 @@ pub fn sensitivity_table(sens: &grasp_model::Sensitivities, time_s: f64) -> Stri
 }
 
 /// The tactile sensors' readings (`grasp solve` on a scene with `fingers[i].sensor`): per
-/// finger its taxels, depth, the totals over the taxels and the largest taxel force.
-pub fn sensor_table(readings: &[grasp_model::TaxelReadings]) -> String {
+/// finger with taxels, its taxels, depth, the totals over the taxels and the largest taxel
+/// force; then per finger with markers, the largest tangential and normal displacements.
+pub fn sensor_table(readings: &[grasp_model::SensorReadings]) -> String {
     let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "\ntaxels (force crossing each taxel at its depth, contact frame):\n{:<16}{:>8}{:>12}{:>14}{:>14}{:>14}{:>10}",
-        "finger", "taxels", "depth_mm", "sum_Fn_N", "sum_Ft_N", "largest_N", "at"
-    );
-    for r in readings {
+    let taxels: Vec<_> = readings.iter().filter_map(|r| r.taxels.as_ref()).collect();
+    if !taxels.is_empty() {
+        let _ = writeln!(
+            s,
+            "\ntaxels (force crossing each taxel at its depth, contact frame):\n{:<16}{:>8}{:>12}{:>14}{:>14}{:>14}{:>10}",
+            "finger", "taxels", "depth_mm", "sum_Fn_N", "sum_Ft_N", "largest_N", "at"
+        );
+    }
+    for r in taxels {
         let [t1, t2] = r.total_shear_n();
         let (k, largest) = r.largest();
-        let at = format!("[{}, {}]", k / r.count[1].max(1), k % r.count[1].max(1));
         let _ = writeln!(
             s,
             "{:<16}{:>8}{:>12}{:>14}{:>14}{:>14}{:>10}",
@@ -434,7 +437,46 @@ pub fn sensor_table(readings: &[grasp_model::TaxelReadings]) -> String {
             significant(r.total_normal_n(), 6),
             significant(t1.hypot(t2), 6),
             significant(largest, 6),
-            at
+            grid_index(k, r.count)
+        );
+    }
+    s.push_str(&marker_table(readings));
+    s
+}
+
+/// `[i, j]` of the row-major index `k` of a grid of `count` points.
+fn grid_index(k: usize, count: [usize; 2]) -> String {
+    format!("[{}, {}]", k / count[1].max(1), k % count[1].max(1))
+}
+
+/// The markers' part of [`sensor_table`]: per finger with markers, the largest tangential
+/// displacement and the normal displacement of largest size (positive into the pad), um.
+fn marker_table(readings: &[grasp_model::SensorReadings]) -> String {
+    let mut s = String::new();
+    let markers: Vec<_> = readings
+        .iter()
+        .filter_map(|r| r.markers.as_ref().map(|m| (&r.finger, m)))
+        .collect();
+    if markers.is_empty() {
+        return s;
+    }
+    let _ = writeln!(
+        s,
+        "\nmarkers (pad surface displacement relative to the finger's core; normal + into the pad):\n{:<16}{:>8}{:>16}{:>10}{:>16}{:>10}",
+        "finger", "markers", "largest_ut_um", "at", "largest_un_um", "at"
+    );
+    for (finger, m) in markers {
+        let (kt, ut) = m.largest_tangential();
+        let (kn, un) = m.largest_normal();
+        let _ = writeln!(
+            s,
+            "{:<16}{:>8}{:>16}{:>10}{:>16}{:>10}",
+            finger,
+            format!("{}x{}", m.count[0], m.count[1]),
+            significant(ut * 1e6, 6),
+            grid_index(kt, m.count),
+            significant(un * 1e6, 6),
+            grid_index(kn, m.count)
         );
     }
     s

@@ -33,7 +33,7 @@ pub fn write_npz(
     outs: &Outputs,
     out: &Path,
     solution: &grasp_model::Solution,
-    sensors: &[grasp_model::TaxelReadings],
+    sensors: &[grasp_model::SensorReadings],
 ) -> Result<()> {
     let clock = Instant::now();
     let pending = outs.create(out)?;

@@ -918,6 +918,40 @@ fn progress_bars_stay_off_a_pipe_and_quiet_changes_nothing_else() {
 }
 
 #[test]
+fn solve_reads_markers_for_a_scene_with_markers() {
+    let dir = tmp("markers");
+    let (json, npz) = (dir.join("m.json"), dir.join("m.npz"));
+    let o = grasp(&[
+        "solve",
+        &example("hertz_markers.json"),
+        "--json",
+        json.to_str().unwrap(),
+        "--npz",
+        npz.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("markers (pad surface displacement") && !text(&o).contains("taxels ("),
+        "{}",
+        text(&o)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let s = &v["sensors"][0];
+    assert_eq!(s["finger"], "pad");
+    assert!(s.get("force_n").is_none());
+    let moved = s["markers"]["displacement_m"].as_array().unwrap();
+    assert_eq!(moved.len(), 81);
+    // The central marker sinks by the approach a^2/R = 71.0 um, into the pad.
+    let centre = moved[40][0].as_f64().unwrap();
+    assert!((centre - 71.0e-6).abs() < 0.2e-6, "{centre}");
+    let bytes = std::fs::read(&npz).unwrap();
+    let has = |name: &str| bytes.windows(name.len()).any(|w| w == name.as_bytes());
+    assert!(has("pad/markers/displacement_m.npy") && has("pad/markers/position_m.npy"));
+    assert!(!has("taxels/"));
+}
+
+#[test]
 fn solve_reads_taxels_only_for_a_scene_with_a_sensor() {
     let dir = tmp("taxels");
     let (json, npz) = (dir.join("t.json"), dir.join("t.npz"));

@@ -13,13 +13,15 @@
 //! int64 `(2,)`: the patch's `[nx, ny]` (a field reshaped to `(nx, ny)` is the patch's map,
 //! rows along `t1`). A finger's taxel sensor, when the scene has one, adds
 //! `<finger>/taxels/force_n` float64 `(nx, ny, 3)` (normal, `t1`, `t2`, N),
-//! `<finger>/taxels/centre_m` float64 `(nx, ny, 2)` and `<finger>/taxels/depth_m` float64 `()`
+//! `<finger>/taxels/centre_m` float64 `(nx, ny, 2)` and `<finger>/taxels/depth_m` float64 `()`;
+//! its markers `<finger>/markers/displacement_m` float64 `(nx, ny, 3)` (normal, positive into
+//! the pad, `t1`, `t2`, m) and `<finger>/markers/position_m` float64 `(nx, ny, 2)`
 //! ([`NpzArchive::add_sensors`]). Every float is the solution's own float64, bit for bit. The archive is
 //! the same for the same solution (entries dated 1980-01-01, the zip format's zero).
 
 use std::io::{BufWriter, Seek, Write};
 
-use grasp_model::{ElementSolution, ElementState, Solution, TaxelReadings};
+use grasp_model::{ElementSolution, ElementState, SensorReadings, Solution};
 
 use crate::error::OutputError;
 use crate::output_file::PendingOutput;
@@ -126,17 +128,29 @@ impl<W: Write + Seek> NpzArchive<W> {
         Ok(())
     }
 
-    /// Adds each finger's taxel readings, named `<prefix><finger>/taxels/<field>`: `force_n`
-    /// `(nx, ny, 3)`, `centre_m` `(nx, ny, 2)`, `depth_m` `()`.
-    pub fn add_sensors(&mut self, prefix: &str, sensors: &[TaxelReadings]) -> std::io::Result<()> {
-        for r in sensors {
-            let p = format!("{prefix}{}/taxels/", r.finger);
-            let [nx, ny] = r.count.map(|c| c as u64);
-            let forces = r.force_n.iter().flat_map(|f| f.iter().copied());
-            self.array::<f64>(&format!("{p}force_n"), &[nx, ny, 3], forces)?;
-            let centres = r.centre_m.iter().flat_map(|c| c.iter().copied());
-            self.array::<f64>(&format!("{p}centre_m"), &[nx, ny, 2], centres)?;
-            self.array::<f64>(&format!("{p}depth_m"), &[], [r.depth_m])?;
+    /// Adds each finger's sensor readings: its taxels' as `<prefix><finger>/taxels/<field>`,
+    /// `force_n` `(nx, ny, 3)`, `centre_m` `(nx, ny, 2)`, `depth_m` `()`; its markers' as
+    /// `<prefix><finger>/markers/<field>`, `displacement_m` `(nx, ny, 3)`, `position_m`
+    /// `(nx, ny, 2)`.
+    pub fn add_sensors(&mut self, prefix: &str, sensors: &[SensorReadings]) -> std::io::Result<()> {
+        for s in sensors {
+            if let Some(r) = &s.taxels {
+                let p = format!("{prefix}{}/taxels/", s.finger);
+                let [nx, ny] = r.count.map(|c| c as u64);
+                let forces = r.force_n.iter().flat_map(|f| f.iter().copied());
+                self.array::<f64>(&format!("{p}force_n"), &[nx, ny, 3], forces)?;
+                let centres = r.centre_m.iter().flat_map(|c| c.iter().copied());
+                self.array::<f64>(&format!("{p}centre_m"), &[nx, ny, 2], centres)?;
+                self.array::<f64>(&format!("{p}depth_m"), &[], [r.depth_m])?;
+            }
+            if let Some(m) = &s.markers {
+                let p = format!("{prefix}{}/markers/", s.finger);
+                let [nx, ny] = m.count.map(|c| c as u64);
+                let moved = m.displacement_m.iter().flat_map(|u| u.iter().copied());
+                self.array::<f64>(&format!("{p}displacement_m"), &[nx, ny, 3], moved)?;
+                let points = m.position_m.iter().flat_map(|c| c.iter().copied());
+                self.array::<f64>(&format!("{p}position_m"), &[nx, ny, 2], points)?;
+            }
         }
         Ok(())
     }
@@ -241,7 +255,7 @@ impl<W: Write + Seek> NpzArchive<W> {
 pub fn write_solution_npz(
     pending: &PendingOutput,
     solution: &Solution,
-    sensors: &[TaxelReadings],
+    sensors: &[SensorReadings],
 ) -> Result<(), OutputError> {
     let io = |e: std::io::Error| OutputError::io(pending.target(), "write", &e);
     let mut archive = NpzArchive::new(BufWriter::new(pending.file_handle()?));

@@ -3,7 +3,7 @@
 //! scene, the sensitivities when asked and the sensors' readings when the scene has sensors.
 //! Serialised straight into a writer, so a fine patch's answer (about 2 GB of text at 1024 x 1024) needs no copy in memory.
 
-use grasp_model::{Sensitivities, Solution, TaxelReadings, TimePoint};
+use grasp_model::{Sensitivities, SensorReadings, Solution, TimePoint};
 use serde::Serialize;
 
 /// What a solution's JSON file holds.
@@ -20,9 +20,10 @@ pub struct SolutionRecord<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sensitivities: Option<&'a Sensitivities>,
     /// The readings of the fingers' tactile sensors (`grasp_model::sensor_readings`), only
-    /// when the scene has one: `"sensors"`, one record per finger with a sensor.
+    /// when the scene has one: `"sensors"`, one record per finger with a sensor (its taxels'
+    /// fields, then its `markers`: `grasp_model::SensorReadings`).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub sensors: Option<&'a [TaxelReadings]>,
+    pub sensors: Option<&'a [SensorReadings]>,
 }
 
 fn time_json<S: serde::Serializer>(t: &Option<TimePoint>, s: S) -> Result<S::Ok, S::Error> {

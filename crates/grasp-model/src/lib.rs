@@ -25,7 +25,7 @@
 //! | `program/` | the solver-neutral [`ConeProgram`] (assembly kept apart from solving) and its element sets (`cones/`: one trait, one file per set) | model |
 //! | `solver/` | options, outcomes and certificates, Clarabel, the native semismooth Newton solver, the warm start's prediction | program, model |
 //! | `solve/` | [`GraspSolver`] and its strategies (one convex solve, the sequential fixed point), readout, residuals, [`Solution`], contact state, sensitivities | solver, program, model, scene |
-//! | `sensors/` | read-outs of a solution: tactile sensors (taxels at depth in the pad) | solve, model, scene |
+//! | `sensors/` | read-outs of a solution: tactile sensors (taxels at depth in the pad, markers on its surface) | solve, model, scene |
 //! | `analysis/` | many solves: disturbance margins, refinement studies, patch sizing | all of the above |
 //!
 //! `error.rs` (one [`InputProblem`] type for every input), `problem_list.rs` (the one
@@ -126,10 +126,11 @@ pub use scene::scene_format::{
 };
 pub use scene::scene_geometry::{SceneGeometry, SharedShape};
 pub use scene::scene_reading::{FileProblem, SceneFiles};
-pub use scene::sensor_checks::MAX_TAXELS_PER_SIDE;
+pub use scene::sensor_checks::{MAX_MARKERS_PER_SIDE, MAX_TAXELS_PER_SIDE};
+pub use scene::sensor_kind::{GridLayout, HalfSpaceNeed, SensorKind};
 pub use scene::sensor_spec::{
-    SensorSpec, TaxelGridSpec, GAUSS_POINTS_PER_CELL_SIDE, MAX_TAXEL_CELLS_PER_SIDE,
-    MAX_TAXEL_KERNEL_EVALUATIONS,
+    MarkerGridSpec, SensorSpec, TaxelGridSpec, GAUSS_POINTS_PER_CELL_SIDE,
+    MAX_MARKER_KERNEL_EVALUATIONS, MAX_TAXEL_CELLS_PER_SIDE, MAX_TAXEL_KERNEL_EVALUATIONS,
 };
 pub use scene::shape_checks::{too_many_triangles, MESH_TOO_FINE_FIX};
 pub use scene::shape_report::{DerivedFrame, ShapeReport};
@@ -204,7 +205,8 @@ pub use warning_tally::{
 pub use model::influence_at_depth::{
     overlap_area_m2, reading_per_area_at_depth, ElementOffset, RotatedSquare,
 };
-pub use sensors::sensor_readings::sensor_readings;
+pub use sensors::marker_readings::{read_markers, MarkerReadings};
+pub use sensors::sensor_readings::{sensor_readings, SensorReadings};
 pub use sensors::taxel_grid::{QuadraturePoint, TaxelGrid};
 pub use sensors::taxel_readings::{read_taxels, TaxelReadings};
 

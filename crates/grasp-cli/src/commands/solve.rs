@@ -26,14 +26,15 @@ pub struct Args {
     /// Scene file (JSON; see `grasp schema`).
     pub scene: PathBuf,
     /// Write the whole solution (elements, residuals, timing) as JSON to this file (a finger
-    /// of more than 64x64 elements: one array per field, `element_fields`); the taxel
-    /// sensors' readings under `sensors` when the scene has one.
+    /// of more than 64x64 elements: one array per field, `element_fields`); the tactile
+    /// sensors' readings (taxels, markers) under `sensors` when the scene has one.
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
     /// Write every finger's element fields (forces, pressures, gaps, slips, states, centres)
     /// as NumPy arrays to this `.npz` file, one array per field and finger (`<finger>/<field>`:
     /// `numpy.load(path)["f1/pressure_pa"]`), float64 as solved; a finger's taxel sensor as
-    /// `<finger>/taxels/force_n` (nx, ny, 3).
+    /// `<finger>/taxels/force_n` (nx, ny, 3), its markers as `<finger>/markers/displacement_m`
+    /// (nx, ny, 3).
     #[arg(long, value_name = "OUT.npz")]
     pub npz: Option<PathBuf>,
     /// Draw every finger's contact pressure and stick / slip map over its patch (.svg or

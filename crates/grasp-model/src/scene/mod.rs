@@ -28,6 +28,7 @@ pub mod scene_reading;
 pub mod scene_validation;
 pub mod schema_check;
 pub mod sensor_checks;
+pub mod sensor_kind;
 pub mod sensor_spec;
 pub mod shape_checks;
 pub mod shape_report;

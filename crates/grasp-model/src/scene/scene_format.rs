@@ -258,8 +258,9 @@ pub struct FingerSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texture: Option<crate::scene::texture_spec::TextureSpec>,
     /// A tactile sensor in the pad, read from the solved tractions (`grasp solve` prints and
-    /// writes its readings): `{"taxels": {"count": [nx, ny], "pitch_m": p, "size_m": s,
-    /// "depth_m": d}}`. Omitted: none, and nothing is computed.
+    /// writes its readings): taxels at a depth, `{"taxels": {"count": [nx, ny], "pitch_m": p,
+    /// "size_m": s, "depth_m": d}}`, markers on the surface, `{"markers": {"count": [nx, ny],
+    /// "pitch_m": p}}`, or both. Omitted: none, and nothing is computed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sensor: Option<crate::scene::sensor_spec::SensorSpec>,
     /// The stiffness behind the finger's rigid core: a spring to its commanded pose

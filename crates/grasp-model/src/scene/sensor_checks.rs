@@ -1,63 +1,141 @@
-//! The checks of `fingers[i].sensor`: a taxel grid's numbers in range, a pad the read-out
-//! describes (a half-space: no bonded layer, not viscoelastic) when the taxels lie at depth,
-//! and a read-out of bounded work. Each problem names its JSON path and the fix.
+//! The checks of `fingers[i].sensor`: at least one kind, each grid's numbers in range, a pad
+//! the read-out describes (a half-space: no bonded layer, not viscoelastic) when a kind needs
+//! one (taxels at depth, markers), and read-outs of bounded work. Each problem names its JSON
+//! path and the fix.
 
 use crate::scene::field_checks::{number, FieldChecks};
 use crate::scene::limits::{LENGTH_RANGE_M, MAX_COORDINATE_M};
 use crate::scene::scene_format::FingerSpec;
-use crate::scene::sensor_spec::{
-    TaxelGridSpec, MAX_TAXEL_CELLS_PER_SIDE, MAX_TAXEL_KERNEL_EVALUATIONS,
-};
+use crate::scene::sensor_kind::{GridLayout, HalfSpaceNeed};
+use crate::scene::sensor_spec::{MarkerGridSpec, TaxelGridSpec, MAX_TAXEL_CELLS_PER_SIDE};
 
 /// Most taxels along a grid's side.
 pub const MAX_TAXELS_PER_SIDE: usize = 256;
+
+/// Most markers along a grid's side.
+pub const MAX_MARKERS_PER_SIDE: usize = 256;
 
 /// Checks `fingers[i].sensor` (`p` is `fingers[i]`).
 pub fn check_sensor(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
     let Some(s) = &f.sensor else { return };
     let sp = format!("{p}.sensor");
-    let t = &s.taxels;
-    let tp = format!("{sp}.taxels");
-    if !check_numbers(&tp, t, v) {
+    if s.taxels.is_none() && s.markers.is_none() {
+        v.push(
+            &sp,
+            "has no kind of sensor".to_string(),
+            "give `taxels`, `markers` or both, or omit the sensor",
+        );
         return;
     }
-    if t.depth_m > 0.0 {
-        check_pad(p, &sp, f, v);
-        let elements = f.patch.grid[0] * f.patch.grid[1];
-        let work = t.kernel_evaluations(elements);
-        if work > MAX_TAXEL_KERNEL_EVALUATIONS {
+    let mut ok = true;
+    if let Some(t) = &s.taxels {
+        ok &= check_numbers(&format!("{sp}.taxels"), t, v);
+    }
+    if let Some(m) = &s.markers {
+        ok &= check_markers(&format!("{sp}.markers"), m, v);
+    }
+    if !ok {
+        return;
+    }
+    let elements = f.patch.grid[0] * f.patch.grid[1];
+    for kind in s.kinds() {
+        if let Some(need) = kind.half_space_need() {
+            check_pad(p, &sp, f, need, v);
+        }
+        let work = kind.kernel_evaluations(elements);
+        let most = kind.most_kernel_evaluations();
+        if work > most {
             v.push(
                 &sp,
                 format!(
-                    "needs {work:.2e} kernel evaluations (taxels x quadrature points x \
-                     elements), above {MAX_TAXEL_KERNEL_EVALUATIONS:.0e}"
+                    "needs {work:.2e} kernel evaluations ({}), above {most:.0e}",
+                    kind.work_terms()
                 ),
-                "use fewer taxels, a larger depth_m (fewer quadrature points) or a coarser patch",
+                kind.work_fix(),
             );
         }
     }
 }
 
-/// The grid's numbers; false when one is unusable (the later checks need them all).
-fn check_numbers(tp: &str, t: &TaxelGridSpec, v: &mut FieldChecks) -> bool {
+/// A marker grid's numbers; false when one is unusable.
+fn check_markers(mp: &str, m: &MarkerGridSpec, v: &mut FieldChecks) -> bool {
+    let layout = crate::scene::sensor_kind::SensorKind::layout(m);
+    let ok = check_spacing(mp, &layout, Noun::MARKER, v);
+    ok & check_placement(mp, &layout, v)
+}
+
+/// How a kind's points are named in its fixes.
+#[derive(Clone, Copy)]
+struct Noun {
+    /// One point (`"taxel"`).
+    one: &'static str,
+    /// Their most along a side.
+    most: usize,
+}
+
+impl Noun {
+    const TAXEL: Noun = Noun {
+        one: "taxel",
+        most: MAX_TAXELS_PER_SIDE,
+    };
+    const MARKER: Noun = Noun {
+        one: "marker",
+        most: MAX_MARKERS_PER_SIDE,
+    };
+}
+
+/// A grid's counts and pitch; false when one is unusable.
+fn check_spacing(gp: &str, g: &GridLayout, noun: Noun, v: &mut FieldChecks) -> bool {
     let mut ok = true;
+    let most = noun.most;
     for k in 0..2 {
-        if !(1..=MAX_TAXELS_PER_SIDE).contains(&t.count[k]) {
+        if !(1..=most).contains(&g.count[k]) {
             v.push(
-                &format!("{tp}.count[{k}]"),
-                format!("is {}, outside [1, {MAX_TAXELS_PER_SIDE}]", t.count[k]),
-                "give at least one taxel along each side",
+                &format!("{gp}.count[{k}]"),
+                format!("is {}, outside [1, {most}]", g.count[k]),
+                &format!("give at least one {} along each side", noun.one),
             );
             ok = false;
         }
     }
     ok &= v.range(
-        &format!("{tp}.pitch_m"),
-        t.pitch_m,
+        &format!("{gp}.pitch_m"),
+        g.pitch_m,
         LENGTH_RANGE_M,
         "m",
-        "give the taxels' centre-to-centre distance in metres",
+        &format!(
+            "give the {}s' centre-to-centre distance in metres",
+            noun.one
+        ),
     );
+    ok
+}
+
+/// A grid's rotation and offset; false when one is unusable.
+fn check_placement(gp: &str, g: &GridLayout, v: &mut FieldChecks) -> bool {
+    let mut ok = v.range(
+        &format!("{gp}.rotation_rad"),
+        g.rotation_rad,
+        -std::f64::consts::TAU..=std::f64::consts::TAU,
+        "rad",
+        "give the grid's angle to t1 in radians, or omit it",
+    );
+    for k in 0..2 {
+        ok &= v.range(
+            &format!("{gp}.offset_m[{k}]"),
+            g.offset_m[k],
+            -MAX_COORDINATE_M..=MAX_COORDINATE_M,
+            "m",
+            "give the grid's centre from the contact point in metres, or omit it",
+        );
+    }
+    ok
+}
+
+/// The grid's numbers; false when one is unusable (the later checks need them all).
+fn check_numbers(tp: &str, t: &TaxelGridSpec, v: &mut FieldChecks) -> bool {
+    let layout = crate::scene::sensor_kind::SensorKind::layout(t);
+    let mut ok = check_spacing(tp, &layout, Noun::TAXEL, v);
     ok &= v.range(
         &format!("{tp}.size_m"),
         t.size_m,
@@ -78,23 +156,7 @@ fn check_numbers(tp: &str, t: &TaxelGridSpec, v: &mut FieldChecks) -> bool {
         ok = false;
     }
     ok &= check_depth(tp, t, v);
-    ok &= v.range(
-        &format!("{tp}.rotation_rad"),
-        t.rotation_rad,
-        -std::f64::consts::TAU..=std::f64::consts::TAU,
-        "rad",
-        "give the grid's angle to t1 in radians, or omit it",
-    );
-    for k in 0..2 {
-        ok &= v.range(
-            &format!("{tp}.offset_m[{k}]"),
-            t.offset_m[k],
-            -MAX_COORDINATE_M..=MAX_COORDINATE_M,
-            "m",
-            "give the grid's centre from the contact point in metres, or omit it",
-        );
-    }
-    ok
+    ok & check_placement(tp, &layout, v)
 }
 
 /// The depth: 0, or at least `size_m / 32` (the quadrature's cells are no wider than it).
@@ -129,26 +191,27 @@ fn check_depth(tp: &str, t: &TaxelGridSpec, v: &mut FieldChecks) -> bool {
     true
 }
 
-/// A pad read at depth must be a half-space: no bonded layer, no relaxation law.
-fn check_pad(p: &str, sp: &str, f: &FingerSpec, v: &mut FieldChecks) {
+/// A pad read by a kind that `need`s a half-space: no bonded layer, no relaxation law.
+fn check_pad(p: &str, sp: &str, f: &FingerSpec, need: HalfSpaceNeed, v: &mut FieldChecks) {
+    let HalfSpaceNeed { what, instead } = need;
     if f.material.layer_thickness_m().is_some() {
         v.push(
             sp,
             format!(
-                "taxels at depth need a half-space pad; {p}.material has a bonded layer \
+                "{what} need a half-space pad; {p}.material has a bonded layer \
                  (layer_thickness_m)"
             ),
-            "read the taxels at depth_m 0 (the surface tractions), or drop the layer",
+            &format!("{instead}, or drop the layer"),
         );
     }
     if f.material.relaxation().is_some() {
         v.push(
             sp,
             format!(
-                "taxels at depth need an elastic half-space pad; {p}.material is \
-                 viscoelastic (relaxation)"
+                "{what} need an elastic half-space pad; {p}.material is viscoelastic \
+                 (relaxation)"
             ),
-            "read the taxels at depth_m 0 (the surface tractions), or drop the relaxation law",
+            &format!("{instead}, or drop the relaxation law"),
         );
     }
 }

@@ -1,21 +1,45 @@
-//! `fingers[i].sensor` as written: a tactile sensor in the finger's pad, in this slice a grid
-//! of taxels at a depth below the pad's surface, and the work its read-out takes.
+//! `fingers[i].sensor` as written: a tactile sensor in the finger's pad, of one kind or both:
+//! a grid of taxels at a depth below the pad's surface, a grid of markers on it; and the work
+//! each read-out takes (each kind a [`SensorKind`]).
 //!
 //! A taxel reads the three-axis force (normal and two shear, along the contact frame's `n`,
 //! `t1`, `t2`, N) that crosses its square at the depth (`crate::model::influence_at_depth`);
-//! at depth 0 it reads the surface tractions binned onto it exactly. Only a half-space pad is
-//! read at depth (`super::sensor_checks` refuses a bonded layer and a viscoelastic pad).
+//! at depth 0 it reads the surface tractions binned onto it exactly. A marker reads the
+//! displacement of the pad's surface at its point relative to the finger's core (the surface
+//! influence coefficients of `crate::model::influence`, the finger's half-space alone). Only a
+//! half-space pad is read at depth or for markers (`super::sensor_checks` refuses a bonded
+//! layer and a viscoelastic pad).
 
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-/// `fingers[i].sensor`: the finger's tactile sensor (one kind in this slice, `taxels`).
+use crate::scene::sensor_kind::{GridLayout, HalfSpaceNeed, SensorKind};
+
+/// `fingers[i].sensor`: the finger's tactile sensor, taxels, markers or both (at least one).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SensorSpec {
     /// A grid of taxels at a depth in the pad:
     /// `{"count": [nx, ny], "pitch_m": p, "size_m": s, "depth_m": d}`.
-    pub taxels: TaxelGridSpec,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub taxels: Option<TaxelGridSpec>,
+    /// A grid of markers on the pad's surface: `{"count": [nx, ny], "pitch_m": p}`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub markers: Option<MarkerGridSpec>,
+}
+
+impl SensorSpec {
+    /// The sensor's kinds present, taxels first.
+    pub fn kinds(&self) -> Vec<&dyn SensorKind> {
+        let mut out: Vec<&dyn SensorKind> = Vec::new();
+        if let Some(t) = &self.taxels {
+            out.push(t);
+        }
+        if let Some(m) = &self.markers {
+            out.push(m);
+        }
+        out
+    }
 }
 
 /// A grid of square taxels in the pad, centred on the contact point (plus `offset_m`).
@@ -42,6 +66,26 @@ pub struct TaxelGridSpec {
     pub offset_m: [f64; 2],
 }
 
+/// A grid of markers on the pad's surface, centred on the contact point (plus `offset_m`),
+/// laid out as a taxel grid: each reads the displacement of the pad's surface at its point.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct MarkerGridSpec {
+    /// Markers along the grid's two sides `[nx, ny]` (along `t1`, `t2` before
+    /// `rotation_rad`), each in `[1, 256]`.
+    pub count: [usize; 2],
+    /// Centre-to-centre distance of neighbouring markers, m, in `[1e-9, 1e3]`.
+    pub pitch_m: f64,
+    /// Angle of the grid's first side to `t1`, rad (counter-clockwise toward `t2`), in
+    /// `[-2 pi, 2 pi]`; default 0.
+    #[serde(default)]
+    pub rotation_rad: f64,
+    /// The grid's centre from the contact point along `t1`, `t2`, m, each in `[-1e3, 1e3]`;
+    /// default `[0, 0]`.
+    #[serde(default)]
+    pub offset_m: [f64; 2],
+}
+
 /// The read-out at depth integrates over each taxel with cells no wider than the depth: at
 /// most this many cells along a taxel's side (so `depth_m >= size_m / 32`).
 pub const MAX_TAXEL_CELLS_PER_SIDE: usize = 32;
@@ -53,6 +97,11 @@ pub const GAUSS_POINTS_PER_CELL_SIDE: usize = 4;
 /// may take: about 20 s on one core. Above it the sensor is refused (fewer taxels, a larger
 /// depth or a coarser patch), on the dense and the FFT path alike.
 pub const MAX_TAXEL_KERNEL_EVALUATIONS: f64 = 2e8;
+
+/// The most kernel evaluations (markers x loaded elements, each the surface rectangle
+/// integrals of one element at one marker) a marker read-out may take: about 20 s on one
+/// core, as the taxels'. Above it the sensor is refused (fewer markers or a coarser patch).
+pub const MAX_MARKER_KERNEL_EVALUATIONS: f64 = 2e8;
 
 impl TaxelGridSpec {
     /// Quadrature cells along a taxel's side at depth: `ceil(size_m / depth_m)`, at least 1
@@ -73,5 +122,82 @@ impl TaxelGridSpec {
     pub fn kernel_evaluations(&self, elements: usize) -> f64 {
         let points = (self.cells_per_side() * GAUSS_POINTS_PER_CELL_SIDE).pow(2);
         self.taxel_count() as f64 * points as f64 * elements as f64
+    }
+}
+
+impl SensorKind for TaxelGridSpec {
+    fn key(&self) -> &'static str {
+        "taxels"
+    }
+
+    fn layout(&self) -> GridLayout {
+        GridLayout {
+            count: self.count,
+            pitch_m: self.pitch_m,
+            rotation_rad: self.rotation_rad,
+            offset_m: self.offset_m,
+        }
+    }
+
+    /// Zero on the surface (`depth_m` 0: binned by area, no kernel).
+    fn kernel_evaluations(&self, elements: usize) -> f64 {
+        TaxelGridSpec::kernel_evaluations(self, elements)
+    }
+
+    fn most_kernel_evaluations(&self) -> f64 {
+        MAX_TAXEL_KERNEL_EVALUATIONS
+    }
+
+    fn work_terms(&self) -> &'static str {
+        "taxels x quadrature points x elements"
+    }
+
+    fn work_fix(&self) -> &'static str {
+        "use fewer taxels, a larger depth_m (fewer quadrature points) or a coarser patch"
+    }
+
+    fn half_space_need(&self) -> Option<HalfSpaceNeed> {
+        (self.depth_m > 0.0).then_some(HalfSpaceNeed {
+            what: "taxels at depth",
+            instead: "read the taxels at depth_m 0 (the surface tractions)",
+        })
+    }
+}
+
+impl SensorKind for MarkerGridSpec {
+    fn key(&self) -> &'static str {
+        "markers"
+    }
+
+    fn layout(&self) -> GridLayout {
+        GridLayout {
+            count: self.count,
+            pitch_m: self.pitch_m,
+            rotation_rad: self.rotation_rad,
+            offset_m: self.offset_m,
+        }
+    }
+
+    fn kernel_evaluations(&self, elements: usize) -> f64 {
+        (self.count[0] * self.count[1]) as f64 * elements as f64
+    }
+
+    fn most_kernel_evaluations(&self) -> f64 {
+        MAX_MARKER_KERNEL_EVALUATIONS
+    }
+
+    fn work_terms(&self) -> &'static str {
+        "markers x elements"
+    }
+
+    fn work_fix(&self) -> &'static str {
+        "use fewer markers or a coarser patch"
+    }
+
+    fn half_space_need(&self) -> Option<HalfSpaceNeed> {
+        Some(HalfSpaceNeed {
+            what: "markers",
+            instead: "drop the markers",
+        })
     }
 }

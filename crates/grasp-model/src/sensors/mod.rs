@@ -1,9 +1,12 @@
 //! Tactile sensors read from a solved grasp: what a sensor in a finger's pad would measure
 //! under the solved element tractions, a read-out (no solve): the layout of a taxel grid
-//! ([`taxel_grid`]), its readings from one finger's solved elements ([`taxel_readings`]) and
-//! every sensor of a scene read from a [`Solution`](crate::Solution) ([`sensor_readings`]).
-//! One kind in this slice (taxels), so no trait over kinds yet.
+//! ([`taxel_grid`]), its readings from one finger's solved elements ([`taxel_readings`]), a
+//! marker grid's readings of the pad's surface displacement ([`marker_readings`]) and every
+//! sensor of a scene read from a [`Solution`](crate::Solution) ([`sensor_readings`]). The
+//! kinds share the grid's layout and the checks of their work through
+//! `crate::scene::sensor_kind::SensorKind`.
 
+pub mod marker_readings;
 pub mod sensor_readings;
 pub mod taxel_grid;
 pub mod taxel_readings;

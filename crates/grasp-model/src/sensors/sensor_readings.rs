@@ -1,25 +1,67 @@
-//! Every sensor of a scene read from its solved grasp: per finger with a `sensor`, its
-//! taxels' readings (`super::taxel_readings`), from the elements of the solution and the
-//! element grid of the model that was solved (an automatic patch's, not the scene's).
+//! Every sensor of a scene read from its solved grasp: per finger with a `sensor`, the
+//! readings of each of its kinds, its taxels (`super::taxel_readings`) and its markers
+//! (`super::marker_readings`), from the elements of the solution and the element grid of the
+//! model that was solved (an automatic patch's, not the scene's).
+
+use serde::{Serialize, Serializer};
 
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
 use crate::scene::scene_format::Scene;
-use crate::scene::sensor_spec::MAX_TAXEL_KERNEL_EVALUATIONS;
+use crate::scene::sensor_kind::SensorKind;
+use crate::sensors::marker_readings::{read_markers, MarkerReadings};
 use crate::sensors::taxel_grid::TaxelGrid;
 use crate::sensors::taxel_readings::{read_taxels, TaxelReadings};
 use crate::solve::solution::Solution;
 
+/// One finger's sensor readings, of each kind its sensor has (at least one).
+///
+/// As JSON (`grasp solve --json`'s `"sensors"`): the taxels' record's fields at the top
+/// (`finger`, `count`, `depth_m`, `size_m`, `centre_m`, `force_n`, as the taxels' first slice
+/// wrote them), then `"markers"`: `{count, position_m, displacement_m}`; a sensor of markers
+/// alone writes `finger` and `markers`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SensorReadings {
+    /// The finger's name.
+    pub finger: String,
+    /// Its taxels' readings, when the sensor has taxels.
+    pub taxels: Option<TaxelReadings>,
+    /// Its markers' readings, when the sensor has markers.
+    pub markers: Option<MarkerReadings>,
+}
+
+/// [`SensorReadings`] as its JSON record writes it.
+#[derive(Serialize)]
+struct Record<'a> {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    finger: Option<&'a str>,
+    #[serde(flatten)]
+    taxels: Option<&'a TaxelReadings>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    markers: Option<&'a MarkerReadings>,
+}
+
+impl Serialize for SensorReadings {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        Record {
+            finger: self.taxels.is_none().then_some(self.finger.as_str()),
+            taxels: self.taxels.as_ref(),
+            markers: self.markers.as_ref(),
+        }
+        .serialize(s)
+    }
+}
+
 /// The readings of every finger of `scene` that has a sensor, in the scene's order, from
 /// `solution` (solved from `model`, built from `scene`). Empty for a scene without sensors:
-/// nothing is computed. A finger of the scene the solution lacks is skipped; a read-out over
-/// more than [`MAX_TAXEL_KERNEL_EVALUATIONS`] kernel evaluations (an automatic patch finer
-/// than the scene's) is refused, naming `fingers[i].sensor` and the fix.
+/// nothing is computed. A finger of the scene the solution lacks is skipped; a kind's
+/// read-out over more kernel evaluations than it may take (an automatic patch finer than the
+/// scene's) is refused, naming `fingers[i].sensor` and the fix.
 pub fn sensor_readings(
     scene: &Scene,
     model: &GraspModel,
     solution: &Solution,
-) -> Result<Vec<TaxelReadings>, ModelError> {
+) -> Result<Vec<SensorReadings>, ModelError> {
     let mut out = Vec::new();
     for (i, spec) in scene.fingers.iter().enumerate() {
         let Some(sensor) = &spec.sensor else { continue };
@@ -30,22 +72,31 @@ pub fn sensor_readings(
             continue;
         };
         let grid = finger.patch().grid;
-        let taxels = &sensor.taxels;
-        let work = taxels.kernel_evaluations(grid.len());
-        if taxels.depth_m > 0.0 && work > MAX_TAXEL_KERNEL_EVALUATIONS {
-            return Err(ModelError::BadInput(format!(
-                "fingers[{i}].sensor: the read-out needs {work:.2e} kernel evaluations \
-                 (taxels x quadrature points x elements), above \
-                 {MAX_TAXEL_KERNEL_EVALUATIONS:.0e}; use fewer taxels, a larger depth_m or a \
-                 coarser patch"
-            )));
+        for kind in sensor.kinds() {
+            let work = kind.kernel_evaluations(grid.len());
+            let most = kind.most_kernel_evaluations();
+            if work > most {
+                return Err(ModelError::BadInput(format!(
+                    "fingers[{i}].sensor: the read-out needs {work:.2e} kernel evaluations \
+                     ({}), above {most:.0e}; {}",
+                    kind.work_terms(),
+                    kind.work_fix()
+                )));
+            }
         }
-        out.push(read_taxels(
-            &spec.name,
-            &TaxelGrid::new(taxels),
-            &grid,
-            &solved.elements,
-        ));
+        let taxels = sensor
+            .taxels
+            .as_ref()
+            .map(|t| read_taxels(&spec.name, &TaxelGrid::new(t), &grid, &solved.elements));
+        let markers = sensor
+            .markers
+            .as_ref()
+            .map(|m| read_markers(&m.layout(), finger.material(), &grid, &solved.elements));
+        out.push(SensorReadings {
+            finger: spec.name.clone(),
+            taxels,
+            markers,
+        });
     }
     Ok(out)
 }

@@ -1,8 +1,10 @@
 //! The layout of a taxel grid on a finger's patch: each taxel's centre and square (along
-//! `t1`, `t2`, from the contact point) and the quadrature over a taxel's area at depth.
+//! `t1`, `t2`, from the contact point; the centres are the sensor grid's points, laid out as
+//! every kind's) and the quadrature over a taxel's area at depth.
 
 use crate::model::influence_at_depth::RotatedSquare;
 use crate::model::quadrature::gauss_legendre;
+use crate::scene::sensor_kind::SensorKind;
 use crate::scene::sensor_spec::{TaxelGridSpec, GAUSS_POINTS_PER_CELL_SIDE};
 
 /// One quadrature point of a taxel: its offset from the taxel's centre in the taxel's own
@@ -28,26 +30,19 @@ impl TaxelGrid {
         TaxelGrid { spec: spec.clone() }
     }
 
-    /// Every taxel's square, row-major (`k = i ny + j`, `i` along the grid's first side).
+    /// Every taxel's square, row-major (`k = i ny + j`, `i` along the grid's first side),
+    /// centred on the grid's points (`GridLayout::points_m`).
     pub fn squares(&self) -> Vec<RotatedSquare> {
         let s = &self.spec;
-        let (sin, cos) = s.rotation_rad.sin_cos();
-        let mut out = Vec::with_capacity(s.taxel_count());
-        for i in 0..s.count[0] {
-            for j in 0..s.count[1] {
-                let u = (i as f64 - (s.count[0] as f64 - 1.0) / 2.0) * s.pitch_m;
-                let v = (j as f64 - (s.count[1] as f64 - 1.0) / 2.0) * s.pitch_m;
-                out.push(RotatedSquare {
-                    centre_m: [
-                        s.offset_m[0] + u * cos - v * sin,
-                        s.offset_m[1] + u * sin + v * cos,
-                    ],
-                    half_side_m: s.size_m / 2.0,
-                    angle_rad: s.rotation_rad,
-                });
-            }
-        }
-        out
+        s.layout()
+            .points_m()
+            .into_iter()
+            .map(|centre_m| RotatedSquare {
+                centre_m,
+                half_side_m: s.size_m / 2.0,
+                angle_rad: s.rotation_rad,
+            })
+            .collect()
     }
 
     /// The quadrature over one taxel at depth: composite Gauss-Legendre, the taxel cut into

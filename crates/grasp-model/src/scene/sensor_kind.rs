@@ -1,0 +1,90 @@
+//! One kind of tactile sensor in a finger's pad (taxels, markers) as its checks and its
+//! read-out see it: the grid it lays out on the patch, the work its read-out takes and
+//! whether it describes only a half-space pad.
+//!
+//! Every kind is a grid of points on the patch laid out the same way ([`GridLayout`]): `count`
+//! points along the grid's two sides at `pitch_m`, centred on the contact point plus
+//! `offset_m`, turned by `rotation_rad` from `t1` toward `t2`.
+
+/// A sensor grid's layout on its finger's patch, as written in its spec.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridLayout {
+    /// Points along the grid's two sides `[nx, ny]`.
+    pub count: [usize; 2],
+    /// Centre-to-centre distance of neighbouring points, m.
+    pub pitch_m: f64,
+    /// Angle of the grid's first side to `t1`, rad (counter-clockwise toward `t2`).
+    pub rotation_rad: f64,
+    /// The grid's centre from the contact point along `t1`, `t2`, m.
+    pub offset_m: [f64; 2],
+}
+
+impl GridLayout {
+    /// Points in the grid.
+    pub fn len(&self) -> usize {
+        self.count[0] * self.count[1]
+    }
+
+    /// True for a grid without points.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Every point from the contact point along `t1`, `t2`, m, row-major (`k = i ny + j`, `i`
+    /// along the grid's first side): `((i - (nx - 1)/2) pitch, (j - (ny - 1)/2) pitch)` in the
+    /// grid's axes, turned by `rotation_rad`, plus `offset_m`.
+    pub fn points_m(&self) -> Vec<[f64; 2]> {
+        let (sin, cos) = self.rotation_rad.sin_cos();
+        let mut out = Vec::with_capacity(self.len());
+        for i in 0..self.count[0] {
+            for j in 0..self.count[1] {
+                let u = (i as f64 - (self.count[0] as f64 - 1.0) / 2.0) * self.pitch_m;
+                let v = (j as f64 - (self.count[1] as f64 - 1.0) / 2.0) * self.pitch_m;
+                out.push([
+                    self.offset_m[0] + u * cos - v * sin,
+                    self.offset_m[1] + u * sin + v * cos,
+                ]);
+            }
+        }
+        out
+    }
+}
+
+/// A kind of tactile sensor: what the scene's checks and the read-out need to know of it,
+/// beside its own numbers' checks.
+pub trait SensorKind {
+    /// The kind's key in `fingers[i].sensor` (`"taxels"`, `"markers"`).
+    fn key(&self) -> &'static str;
+
+    /// The grid's layout on the patch.
+    fn layout(&self) -> GridLayout;
+
+    /// Kernel evaluations of the read-out over a patch of `elements` elements.
+    fn kernel_evaluations(&self, elements: usize) -> f64;
+
+    /// The most kernel evaluations the read-out may take; above it the sensor is refused.
+    fn most_kernel_evaluations(&self) -> f64;
+
+    /// What one kernel evaluation counts, for the refusal (`"taxels x quadrature points x
+    /// elements"`).
+    fn work_terms(&self) -> &'static str;
+
+    /// The fix of a read-out of too much work.
+    fn work_fix(&self) -> &'static str;
+
+    /// When the read-out describes only a half-space pad (not a bonded layer, not a
+    /// viscoelastic pad): what is read that needs it (`"taxels at depth"`) and the other way
+    /// out of the refusal than changing the pad (`"read the taxels at depth_m 0 (the surface
+    /// tractions)"`). `None` when any pad is read right.
+    fn half_space_need(&self) -> Option<HalfSpaceNeed>;
+}
+
+/// Why a sensor kind needs a half-space pad, for its refusal of another pad.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HalfSpaceNeed {
+    /// What is read that needs it, plural (`"taxels at depth"`, `"markers"`).
+    pub what: &'static str,
+    /// The fix other than changing the pad (`"read the taxels at depth_m 0 (the surface
+    /// tractions)"`).
+    pub instead: &'static str,
+}
