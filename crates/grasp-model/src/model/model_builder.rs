@@ -238,25 +238,12 @@ fn finger_model(
     let (mut compliance_m_per_n, viscous) = finger_compliance(i, f, &contact, form, laws)?;
     let mount = f.mount.as_ref().map(|m| {
         let planar = object.plane.is_some();
-        Arc::new(FingerMount::new(
-            m,
-            patch.centres_m.clone(),
-            n_tangential,
-            planar,
-        ))
+        let centres = patch.centres_m.clone();
+        Arc::new(FingerMount::new(m, centres, n_tangential, planar))
     });
     let mut warnings: Vec<String> = gap_warning.into_iter().collect();
     if let Some(m) = &mount {
-        let softness = m.largest_diagonal() / compliance_m_per_n.max_diagonal();
-        if softness > MOUNT_SOFTNESS_WARNING {
-            warnings.push(format!(
-                "fingers[{i}] `{}`: the mount is {softness:.1e} times as compliant as the \
-                 contact, so the contact's compliance keeps only about {:.0e} of its digits \
-                 beside it; a finger this soft is a force source: prescribe `normal_load`",
-                f.name,
-                f64::EPSILON * softness
-            ));
-        }
+        warnings.extend(mount_softness_warning(i, &f.name, m, &compliance_m_per_n));
         compliance_m_per_n = compliance_m_per_n.with_mount(m);
     }
     let control = match (f.control.normal_load_n(), f.control.approach_m()) {
@@ -281,6 +268,26 @@ fn finger_model(
         exact_gaps,
     };
     Ok((finger, warnings))
+}
+
+/// The warning of finger `i` (`name`) whose mount is more than [`MOUNT_SOFTNESS_WARNING`]
+/// times as compliant as its contact's `compliance` (m/N): the contact's part of their sum
+/// keeps only about `f64::EPSILON` times that ratio of its relative precision.
+fn mount_softness_warning(
+    i: usize,
+    name: &str,
+    mount: &FingerMount,
+    compliance: &PatchCompliance,
+) -> Option<String> {
+    let softness = mount.largest_diagonal() / compliance.max_diagonal();
+    (softness > MOUNT_SOFTNESS_WARNING).then(|| {
+        format!(
+            "fingers[{i}] `{name}`: the mount is {softness:.1e} times as compliant as the \
+             contact, so the contact's compliance keeps only about {:.0e} of its digits \
+             beside it; a finger this soft is a force source: prescribe `normal_load`",
+            f64::EPSILON * softness
+        )
+    })
 }
 
 /// Finger `i`'s patch compliance (and its viscoelastic bodies'), built once the memory it

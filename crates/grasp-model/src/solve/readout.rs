@@ -226,14 +226,10 @@ fn finger_solution(
     checks: &[ElementCheck],
     found: FingerFound,
 ) -> FingerSolution {
-    let FingerFound {
-        mu_at_load,
-        approach_m,
-    } = found;
     let f = &model.fingers[i];
     let ne = f.patch.len();
     let area = f.patch.element_area_m2();
-    let mu = if f.n_tangential == 0 { 0.0 } else { mu_at_load };
+    let mu = found.mu_at_load * (f.n_tangential > 0) as u8 as f64;
     let (mut p, mut q, mut torsion, mut cx, mut cy) = (0.0, Vector3::zeros(), 0.0, 0.0, 0.0);
     let (mut counts, mut peak, mut boundary) = ([0usize; 5], 0.0_f64, 0.0);
     for (k, c) in checks.iter().enumerate() {
@@ -290,7 +286,7 @@ fn finger_solution(
             0.0
         },
         boundary_load_fraction: if loaded { boundary / p } else { 0.0 },
-        approach_m,
+        approach_m: found.approach_m,
         mount_displacement: mount_displacement(f, &x_n[f.offset..f.offset + f.n_unknowns()]),
         stick_count: counts[ElementState::Stick as usize],
         slip_count: counts[ElementState::Slip as usize],
