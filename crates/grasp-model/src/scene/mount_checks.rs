@@ -88,7 +88,7 @@ fn check_matrix(mp: &str, k: &[[f64; 6]; 6], v: &mut FieldChecks) {
         );
         return;
     }
-    for c in 0..6 {
+    for (c, row) in k.iter().enumerate() {
         let range = match c < 3 {
             true => MOUNT_STIFFNESS_RANGE_N_PER_M,
             false => MOUNT_ROTATIONAL_STIFFNESS_RANGE_NM_PER_RAD,
@@ -96,7 +96,7 @@ fn check_matrix(mp: &str, k: &[[f64; 6]; 6], v: &mut FieldChecks) {
         let unit = if c < 3 { "N/m" } else { "N m/rad" };
         if !v.range(
             &format!("{path}[{c}][{c}]"),
-            k[c][c],
+            row[c],
             range,
             unit,
             "give the diagonal's stiffnesses in range (rows t1, t2, n, rot t1, rot t2, rot n)",
