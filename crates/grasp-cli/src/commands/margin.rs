@@ -443,6 +443,14 @@ fn table_notes(r: &MarginReport, s: &mut String) {
     if r.directions.iter().any(stalled) {
         let _ = writeln!(s, "{STALL_NOTE}");
     }
+    if !r.mounted.is_empty() {
+        let _ = writeln!(
+            s,
+            "margins of the compliant grasp: {} on mounts (a push moves their cores on their \
+             springs)",
+            r.mounted.join(", ")
+        );
+    }
     if !r.sliding_undisturbed.is_empty() {
         let _ = writeln!(
             s,

@@ -276,6 +276,11 @@ pub struct MarginReport {
     /// receiving finger settling, a releasing one letting go): not judged by sliding, since the
     /// disturbance is not what makes them slide.
     pub sliding_undisturbed: Vec<String>,
+    /// The fingers on mounts (`fingers[i].mount`): these margins are then the compliant
+    /// grasp's (a push moves their cores on their springs, which shares the load differently
+    /// from rigid cores); empty when every core is rigid.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub mounted: Vec<String>,
     /// Per direction, in the order given.
     pub directions: Vec<DirectionMargin>,
     /// Index of the direction with the smallest margin among those the grasp resists at all
@@ -311,6 +316,12 @@ impl MarginReport {
             load_scale_n: options.load_scale_for(model),
             solves: 1 + margins.iter().map(|m| m.solves).sum::<u32>(),
             sliding_undisturbed,
+            mounted: model
+                .fingers
+                .iter()
+                .filter(|f| f.mount.is_some())
+                .map(|f| f.name.clone())
+                .collect(),
             directions: margins,
             smallest,
             unresisted,
