@@ -69,6 +69,10 @@ pub struct FingerMessage {
     pub friction_utilization: f64,
     /// Fraction of the contact elements that slip.
     pub slip_fraction: f64,
+    /// A finger on a mount (`fingers[i].mount`): its rigid core's displacement from the
+    /// commanded pose, world frame, m (absent for a rigid core and while released).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub core_displacement_m: Option<[f64; 3]>,
 }
 
 /// A `/grasp/fingers` message.
@@ -181,6 +185,9 @@ impl FingersMessage {
                                 0.0
                             }
                         }),
+                        core_displacement_m: f
+                            .and_then(|f| f.mount_displacement)
+                            .map(|d| d.translation_m),
                     }
                 })
                 .collect(),
@@ -194,6 +201,8 @@ impl FingersMessage {
 /// against the struct.
 fn fingers_schema() -> serde_json::Value {
     let num = json!({"type": "number"});
+    // Absent rather than null when a finger has no mount; a reader may still write null.
+    let core = json!({"type": ["array", "null"], "items": num, "minItems": 3, "maxItems": 3});
     json!({
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "title": "grasp.FingerResultants",
@@ -218,7 +227,7 @@ fn fingers_schema() -> serde_json::Value {
                 "commanded_load_n": num, "commanded_approach_m": num, "normal_force_n": num,
                 "tangential_force_n": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},
                 "tangential_magnitude_n": num, "torsional_moment_nm": num,
-                "friction_utilization": num, "slip_fraction": num
+                "friction_utilization": num, "slip_fraction": num, "core_displacement_m": core
             }}}
         }
     })
