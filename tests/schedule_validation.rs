@@ -378,10 +378,17 @@ fn a_bad_external_csv_is_one_problem() {
 fn approach_ramps_and_holds() {
     let mut v = base();
     v["fingers"] = json!({"f1": [{"approach": {"keyframes": [[0, 0.001], [1, 2.0]]}}]});
+    // Negative approaches withdraw the finger (a jaw opened), up to 1 m either way.
     assert_problem(
         &v,
         "fingers.f1[0].approach.keyframes[1]",
-        "outside [0, 1] m",
+        "outside [-1, 1] m",
+    );
+    v["fingers"]["f1"][0]["approach"]["keyframes"][1][1] = json!(-1.5);
+    assert_problem(
+        &v,
+        "fingers.f1[0].approach.keyframes[1]",
+        "outside [-1, 1] m",
     );
     let mut v = base();
     v["fingers"] =
