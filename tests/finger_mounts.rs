@@ -328,3 +328,50 @@ fn opens_at_first_touch(scene: &Value, tolerance: f64) -> f64 {
     assert!(sag > arm, "sag {sag}");
     worst
 }
+
+/// A preload is a displacement offset like an approach (`-S w0`: `P0 / k` along the normal for
+/// a normal-only mount), so a viscoelastic finger preloaded with `P0` on a mount of stiffness
+/// `k` at jaw `x` is the same finger unpreloaded at jaw `x + P0 / k`: the same element forces
+/// (to 1e-9 of the load, the two programs' offsets being rounded differently) and the same
+/// viscoelastic history displacement reported per element (the preload's offset is not
+/// history: 1e-15 m), at the first step and after the pads relaxed for 2 s.
+#[test]
+fn a_preload_is_not_taken_for_viscoelastic_history() {
+    let (k, preload, jaw) = (1e5, 2.0, 0.0006);
+    let mut preloaded = support::example_json("plate_hold_viscoelastic.json");
+    preloaded["fingers"][0]["mount"] = json!({"normal_n_per_m": k, "preload_n": preload});
+    let mut moved = preloaded.clone();
+    moved["fingers"][0]["mount"] = json!({"normal_n_per_m": k});
+    moved["fingers"][0]["control"] = json!({"approach_m": jaw + preload / k});
+    for at_s in [None, Some(2.0)] {
+        let run = |v: &Value| {
+            let scene = LoadedScene::from_json_str(&v.to_string()).unwrap();
+            let model = GraspModel::from_loaded(&scene).unwrap();
+            let time = match at_s {
+                None => grasp_model::TimePoint::Instantaneous,
+                Some(seconds) => grasp_model::TimePoint::At { seconds },
+            };
+            let options = grasp_model::SolveOptions::default();
+            let sol = grasp_model::solve_at(&model, options, time)
+                .unwrap()
+                .solution;
+            assert_eq!(sol.status, SolveStatus::Solved, "{:?}", sol.reason);
+            sol
+        };
+        let (a, b) = (run(&preloaded), run(&moved));
+        let forces = element_force_difference_n(&a, &b);
+        assert!(
+            forces < 1e-9 * a.load_scale_n,
+            "{at_s:?}: forces differ by {forces} N"
+        );
+        for (ea, eb) in a.fingers[0].elements.iter().zip(&b.fingers[0].elements) {
+            let (ha, hb) = (
+                ea.viscous_displacement_m.unwrap(),
+                eb.viscous_displacement_m.unwrap(),
+            );
+            for c in 0..3 {
+                assert!((ha[c] - hb[c]).abs() < 1e-15, "{at_s:?}: {ha:?} vs {hb:?}");
+            }
+        }
+    }
+}

@@ -325,10 +325,16 @@ fn element_solution(
 }
 
 /// Each element's viscoelastic history displacement this step (m, `[normal, t1, t2]`): the
-/// program's offset less the finger's commanded approach `d` (m).
+/// program's offset less the finger's commanded approach `d` (m) and its mount's preload
+/// offset (`FingerMount::add_preload_offset`).
 fn set_viscous_displacement(f: &FingerModel, offset_m: &[f64], d: f64, fs: &mut FingerSolution) {
     let ne = f.patch.len();
-    let o = &offset_m[f.offset..f.offset + f.n_unknowns()];
+    let mut o = offset_m[f.offset..f.offset + f.n_unknowns()].to_vec();
+    if let Some(m) = &f.mount {
+        let mut preload = vec![0.0; o.len()];
+        m.add_preload_offset(&mut preload);
+        o.iter_mut().zip(preload).for_each(|(x, p)| *x -= p);
+    }
     for (k, e) in fs.elements.iter_mut().enumerate() {
         let mut v = [o[k] + d, 0.0, 0.0];
         for c in 0..f.n_tangential {
