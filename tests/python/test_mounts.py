@@ -1,8 +1,10 @@
 """Mounted fingers in Python: a solve's finger records carry each mounted core's displacement
-(the spring's own law, `-F / k`, to round-off), and a servo-released hand-off's CSV written by
-`grasp.transfer` equals the CLI's, mount columns included."""
+(the spring's own law, `-F / k`, to round-off), a servo-released hand-off's CSV written by
+`grasp.transfer` equals the CLI's, mount columns included, and a sweep over a mount's stiffness
+reports every variant's core."""
 
 import csv
+import json
 
 import grasp
 from conftest import EXAMPLES
@@ -39,3 +41,21 @@ def test_a_servo_released_hand_off_writes_the_clis_mount_columns(run_cli, tmp_pa
     for r in a:
         if float(r["time_s"]) >= 13.0:
             assert abs(float(r["f1_normal_force_n"])) < 1e-9
+
+
+def test_a_sweep_over_a_mounts_stiffness_reports_each_core(run_cli, tmp_path):
+    out = tmp_path / "sweep.jsonl"
+    proc = run_cli("sweep", EXAMPLES / "servo_pinch.json", "--vary",
+                   "fingers[0].mount.normal_n_per_m=100,1000", "--run", "--out", out)
+    assert proc.returncode == 0, proc.stderr
+    lines = [json.loads(line) for line in open(out)]
+    assert [line["vary"]["fingers[0].mount.normal_n_per_m"] for line in lines] == [100.0, 1000.0]
+    squeezes = []
+    for line in lines:
+        k = line["vary"]["fingers[0].mount.normal_n_per_m"]
+        servo, fixed = line["fingers"]
+        assert abs(servo["mount_displacement"]["normal_m"] + servo["normal_force_n"] / k) < 1e-12
+        assert "mount_displacement" not in fixed
+        squeezes.append(servo["normal_force_n"])
+    # A stiffer servo at the same jaw position squeezes harder.
+    assert squeezes[0] < squeezes[1]

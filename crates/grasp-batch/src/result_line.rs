@@ -37,6 +37,10 @@ pub struct FingerForces {
     pub torsional_moment_nm: f64,
     /// `|Q| / (mu P)`.
     pub friction_utilization: f64,
+    /// A finger on a mount: its core's displacement from the commanded pose (absent for a
+    /// rigid core; `grasp_model::MountDisplacement`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mount_displacement: Option<grasp_model::MountDisplacement>,
 }
 
 /// One output line.
@@ -107,6 +111,7 @@ impl ResultLine {
                     tangential_magnitude_n: f.tangential_magnitude_n,
                     torsional_moment_nm: f.torsional_moment_nm,
                     friction_utilization: f.friction_utilization,
+                    mount_displacement: f.mount_displacement,
                 })
                 .collect(),
             equilibrium_residual: sol.residuals.map(|r| r.equilibrium_relative),
