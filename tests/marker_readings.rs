@@ -413,22 +413,6 @@ fn a_sensor_of_both_kinds_reads_each_as_alone() {
 
 // ---- Refusals ----
 
-fn problems(v: &Value) -> Vec<String> {
-    match LoadedScene::from_json_str(&v.to_string()) {
-        Ok(_) => panic!("scene was accepted"),
-        Err(e) => e.problems().iter().map(|p| p.to_string()).collect(),
-    }
-}
-
-fn assert_refused(v: &Value, path: &str, words: &str) {
-    let p = problems(v);
-    assert!(
-        p.iter()
-            .any(|m| m.starts_with(path) && m.contains(words) && m.contains("fix")),
-        "expected `{path}` ... `{words}` ... fix, got {p:#?}"
-    );
-}
-
 fn good_markers() -> Value {
     json!({"count": [5, 5], "pitch_m": 40e-6})
 }

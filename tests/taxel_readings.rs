@@ -385,22 +385,6 @@ fn the_quadrature_over_a_taxel_is_converged() {
     assert!(worst < 1e-6 * 10.0, "{worst}");
 }
 
-fn problems(v: &Value) -> Vec<String> {
-    match LoadedScene::from_json_str(&v.to_string()) {
-        Ok(_) => panic!("scene was accepted"),
-        Err(e) => e.problems().iter().map(|p| p.to_string()).collect(),
-    }
-}
-
-fn assert_refused(v: &Value, path: &str, words: &str) {
-    let p = problems(v);
-    assert!(
-        p.iter()
-            .any(|m| m.starts_with(path) && m.contains(words) && m.contains("fix")),
-        "expected `{path}` ... `{words}` ... fix, got {p:#?}"
-    );
-}
-
 fn good_taxels() -> Value {
     json!({"count": [5, 5], "pitch_m": 40e-6, "size_m": 40e-6, "depth_m": 20e-6})
 }

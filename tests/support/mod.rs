@@ -5,6 +5,25 @@ use grasp_model::solve;
 use grasp_model::{GraspModel, LoadedScene, Solution, SolveStatus};
 use serde_json::Value;
 
+/// The problems a scene is refused with, one line each (panics when it is accepted).
+pub fn problems(v: &Value) -> Vec<String> {
+    match LoadedScene::from_json_str(&v.to_string()) {
+        Ok(_) => panic!("scene was accepted"),
+        Err(e) => e.problems().iter().map(|p| p.to_string()).collect(),
+    }
+}
+
+/// Asserts that the scene is refused with a problem at `path` that says `words` and gives a
+/// fix.
+pub fn assert_refused(v: &Value, path: &str, words: &str) {
+    let p = problems(v);
+    assert!(
+        p.iter()
+            .any(|m| m.starts_with(path) && m.contains(words) && m.contains("fix")),
+        "expected `{path}` ... `{words}` ... fix, got {p:#?}"
+    );
+}
+
 /// Path of a file in the workspace's `examples/` folder.
 pub fn example_path(name: &str) -> String {
     format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"))

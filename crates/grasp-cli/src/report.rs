@@ -501,7 +501,6 @@ pub fn mount_table(solution: &grasp_model::Solution) -> String {
         "\nmounts (each core's displacement from its commanded pose):\n{:<16}{:>14}{:>18}{:>16}{:>18}",
         "finger", "approach_mm", "core_along_n_mm", "core_moved_mm", "core_turned_mrad"
     );
-    let norm = |v: [f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     for (f, d) in mounted {
         let _ = writeln!(
             s,
@@ -509,8 +508,8 @@ pub fn mount_table(solution: &grasp_model::Solution) -> String {
             f.name,
             significant(f.approach_m * 1e3, 6),
             significant(d.normal_m * 1e3 + 0.0, 6),
-            significant(norm(d.translation_m) * 1e3, 6),
-            significant(norm(d.rotation_rad) * 1e3, 6)
+            significant(d.moved_m() * 1e3, 6),
+            significant(d.turned_rad() * 1e3, 6)
         );
     }
     s

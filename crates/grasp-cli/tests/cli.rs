@@ -917,26 +917,37 @@ fn progress_bars_stay_off_a_pipe_and_quiet_changes_nothing_else() {
     }
 }
 
-#[test]
-fn solve_reads_markers_for_a_scene_with_markers() {
-    let dir = tmp("markers");
-    let (json, npz) = (dir.join("m.json"), dir.join("m.npz"));
-    let o = grasp(&[
+/// What `grasp solve` wrote for an example with `--json` and `--npz` into `dir` (`extra`
+/// flags after them): its output, the JSON, and the `.npz`'s bytes.
+fn solve_with_files(
+    scene: &str,
+    dir: &Path,
+    extra: &[&str],
+) -> (std::process::Output, serde_json::Value, Vec<u8>) {
+    let (json, npz) = (dir.join("solution.json"), dir.join("solution.npz"));
+    let mut args = vec![
         "solve",
-        &example("hertz_markers.json"),
+        scene,
         "--json",
         json.to_str().unwrap(),
         "--npz",
         npz.to_str().unwrap(),
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    let o = grasp(&args);
     assert!(o.status.success(), "{}", text(&o));
+    let v = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    (o, v, std::fs::read(&npz).unwrap())
+}
+
+#[test]
+fn solve_reads_markers_for_a_scene_with_markers() {
+    let (o, v, bytes) = solve_with_files(&example("hertz_markers.json"), &tmp("markers"), &[]);
     assert!(
         text(&o).contains("markers (pad surface displacement") && !text(&o).contains("taxels ("),
         "{}",
         text(&o)
     );
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let s = &v["sensors"][0];
     assert_eq!(s["finger"], "pad");
     assert!(s.get("force_n").is_none());
@@ -945,7 +956,6 @@ fn solve_reads_markers_for_a_scene_with_markers() {
     // The central marker sinks by the approach a^2/R = 71.0 um, into the pad.
     let centre = moved[40][0].as_f64().unwrap();
     assert!((centre - 71.0e-6).abs() < 0.2e-6, "{centre}");
-    let bytes = std::fs::read(&npz).unwrap();
     let has = |name: &str| bytes.windows(name.len()).any(|w| w == name.as_bytes());
     assert!(has("pad/markers/displacement_m.npy") && has("pad/markers/position_m.npy"));
     assert!(!has("taxels/"));
@@ -954,45 +964,21 @@ fn solve_reads_markers_for_a_scene_with_markers() {
 #[test]
 fn solve_reads_taxels_only_for_a_scene_with_a_sensor() {
     let dir = tmp("taxels");
-    let (json, npz) = (dir.join("t.json"), dir.join("t.npz"));
-    let o = grasp(&[
-        "solve",
-        &example("hertz_taxels.json"),
-        "--json",
-        json.to_str().unwrap(),
-        "--npz",
-        npz.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", text(&o));
+    let (o, v, bytes) = solve_with_files(&example("hertz_taxels.json"), &dir, &[]);
     assert!(
         text(&o).contains("taxels (force crossing each taxel"),
         "{}",
         text(&o)
     );
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let s = &v["sensors"][0];
     assert_eq!(s["finger"], "tip");
     assert_eq!(s["force_n"].as_array().unwrap().len(), 25);
     // The npz's entries are named in the zip's plain text.
-    let bytes = std::fs::read(&npz).unwrap();
     let has = |name: &str| bytes.windows(name.len()).any(|w| w == name.as_bytes());
     assert!(has("tip/taxels/force_n.npy") && has("tip/taxels/centre_m.npy"));
     // Without a sensor: no table, no key, no arrays.
-    let o = grasp(&[
-        "solve",
-        &example("hertz_sphere_on_flat.json"),
-        "--json",
-        json.to_str().unwrap(),
-        "--npz",
-        npz.to_str().unwrap(),
-        "--force",
-    ]);
-    assert!(o.status.success(), "{}", text(&o));
+    let (o, v, bytes) = solve_with_files(&example("hertz_sphere_on_flat.json"), &dir, &["--force"]);
     assert!(!text(&o).contains("taxels (force crossing"));
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert!(v.get("sensors").is_none());
-    let bytes = std::fs::read(&npz).unwrap();
     assert!(!bytes.windows(7).any(|w| w == b"taxels/"));
 }

@@ -191,6 +191,18 @@ pub struct MountDisplacement {
     pub rotation_rad: [f64; 3],
 }
 
+impl MountDisplacement {
+    /// How far the core moved, the length of its translation, m.
+    pub fn moved_m(&self) -> f64 {
+        self.translation_m.iter().map(|x| x * x).sum::<f64>().sqrt()
+    }
+
+    /// How far the core turned, the length of its rotation vector, rad.
+    pub fn turned_rad(&self) -> f64 {
+        self.rotation_rad.iter().map(|x| x * x).sum::<f64>().sqrt()
+    }
+}
+
 /// Small rigid displacement of the object (from the equilibrium multipliers).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RigidDisplacement {

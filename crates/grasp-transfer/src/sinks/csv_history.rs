@@ -54,10 +54,7 @@ fn mount_cells(r: &StepRecord, name: &str) -> String {
         .finger(name)
         .and_then(|f| Some((f.approach_m, f.mount_displacement?)))
     {
-        Some((approach, d)) => {
-            let moved = d.translation_m.iter().map(|x| x * x).sum::<f64>().sqrt();
-            format!(",{approach},{},{moved}", d.normal_m)
-        }
+        Some((approach, d)) => format!(",{approach},{},{}", d.normal_m, d.moved_m()),
         None => ",,,".into(),
     }
 }
