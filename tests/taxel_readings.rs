@@ -10,8 +10,8 @@ use support::*;
 use std::f64::consts::PI;
 
 use grasp_model::{
-    reading_per_area_at_depth, sensor_readings, solve, ElementOffset, GraspModel, LoadedScene,
-    Scene, TaxelReadings,
+    reading_per_area_at_depth, sensor_readings, solve, ElementOffset, GraspModel, Scene,
+    TaxelReadings,
 };
 use serde_json::{json, Value};
 
