@@ -530,6 +530,19 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
                 wall_time_s: c.wall_time_s + m.time_s,
             },
         ),
+        other_equilibria: {
+            let found: Vec<_> = records
+                .iter()
+                .filter_map(|r| {
+                    let o = r.margin.as_ref()?.other_equilibrium.clone()?;
+                    Some((r.index, r.time_s, o))
+                })
+                .collect();
+            grasp_transfer::OtherEquilibria {
+                steps: found.len(),
+                first: found.into_iter().next(),
+            }
+        },
         held_relaxation: held_relaxation(records, names),
         margin_below_threshold: None,
         // The warnings' tally reads one step at a time by its nature: fed every record.

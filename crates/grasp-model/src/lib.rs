@@ -211,6 +211,7 @@ pub use sensors::taxel_grid::{QuadraturePoint, TaxelGrid};
 pub use sensors::taxel_readings::{read_taxels, TaxelReadings};
 
 // ---- Analyses: many solves ----
+pub use analysis::equilibrium_probe::DISTINCT_FRACTION;
 pub use analysis::margin_report::{
     holds, margin_for_ordering_n, DirectionMargin, Failure, MarginOptions, MarginReport,
     JUDGED_FRACTION,

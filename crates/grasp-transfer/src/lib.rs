@@ -67,8 +67,9 @@ pub use stepper::{FingerCommand, StepRecord, Stepper, TransferOptions};
 
 // ---- The summary, folded step by step ----
 pub use summary::{
-    FailedStep, Fallbacks, HeldRelaxation, LeastSafeStep, MarginCost, SequentialTotals, SlipMargin,
-    SummaryAccumulator, TransferSummary, MAX_FOLDED_FINGERS, MAX_LISTED_FAILED_STEPS,
+    FailedStep, Fallbacks, HeldRelaxation, LeastSafeStep, MarginCost, OtherEquilibria,
+    SequentialTotals, SlipMargin, SummaryAccumulator, TransferSummary, MAX_FOLDED_FINGERS,
+    MAX_LISTED_FAILED_STEPS,
 };
 
 // ---- The slip-margin rule of the summary and the planner ----
@@ -96,7 +97,7 @@ pub use sinks::fingertip_drawing::{tip_drawings, TipDrawing};
 pub use sinks::identical_curves::IdenticalCurves;
 
 // ---- Margins: a step's disturbance margins ----
-pub use step_margin::{step_margin, MarginPath, StepMargin};
+pub use step_margin::{step_margin, MarginPath, OtherEquilibrium, StepMargin};
 
 // ---- Minimum squeeze: the least load that holds ----
 pub use minimum_squeeze::{minimum_squeeze, MinimumSqueeze, SqueezeOutcome};

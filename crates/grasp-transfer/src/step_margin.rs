@@ -43,6 +43,20 @@ pub struct StepMargin {
     pub solves: u32,
     /// Wall time of the margins of this step, s.
     pub time_s: f64,
+    /// The first direction (in the search's order) whose failing end the coulomb law gives a
+    /// second equilibrium ([`grasp_model::DirectionMargin::other_equilibrium`]): the margins
+    /// follow the search's path, which is not the only one there.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub other_equilibrium: Option<OtherEquilibrium>,
+}
+
+/// A second equilibrium at a margin's failing end.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OtherEquilibrium {
+    /// The direction whose margin it is.
+    pub direction: WrenchDirection,
+    /// The two equilibria in words (the magnitude, N; who found each; how far apart, N).
+    pub found: String,
 }
 
 impl StepMargin {
@@ -148,5 +162,11 @@ fn smallest_of(r: &MarginReport) -> StepMargin {
         length_m: r.length_m,
         solves: r.solves,
         time_s: r.time_s,
+        other_equilibrium: r.directions.iter().find_map(|d| {
+            d.other_equilibrium.as_ref().map(|found| OtherEquilibrium {
+                direction: d.direction,
+                found: found.clone(),
+            })
+        }),
     }
 }

@@ -73,6 +73,10 @@ pub struct TransferSummary {
     pub least_safe_step: Option<LeastSafeStep>,
     /// Solves and wall time spent on the margins.
     pub margin_cost: MarginCost,
+    /// Steps whose margins' failing ends the coulomb law gives a second equilibrium, and the
+    /// first (absent when none).
+    #[serde(skip_serializing_if = "OtherEquilibria::is_empty")]
+    pub other_equilibria: OtherEquilibria,
     /// Per held or position-controlled finger whose normal force fell while its command stayed
     /// the same (a viscoelastic pad relaxing; also load taken over by other fingers), the
     /// largest such fall, by finger in scene order.
@@ -159,6 +163,23 @@ pub struct Fallbacks {
     pub steps: usize,
     /// The first step's reason.
     pub first_reason: Option<String>,
+}
+
+/// Steps whose margin search found a second coulomb equilibrium at a failing end
+/// ([`crate::StepMargin::other_equilibrium`]).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct OtherEquilibria {
+    /// How many steps.
+    pub steps: usize,
+    /// The first: step index, schedule time (s) and what was found.
+    pub first: Option<(usize, f64, crate::step_margin::OtherEquilibrium)>,
+}
+
+impl OtherEquilibria {
+    /// True when no step found one.
+    pub fn is_empty(&self) -> bool {
+        self.steps == 0
+    }
 }
 
 /// What the disturbance margins cost over a run.
@@ -269,6 +290,7 @@ pub struct SummaryAccumulator {
     sequential: Option<SequentialTotals>,
     least_safe: Option<LeastSafeStep>,
     margin_cost: MarginCost,
+    other_equilibria: OtherEquilibria,
     /// Per finger: its command and the largest force under it (N, time s) while unchanged.
     held_peak: Vec<Option<(Command, f64, f64)>>,
     held_relaxation: Vec<Option<HeldRelaxation>>,
@@ -315,6 +337,7 @@ impl SummaryAccumulator {
             sequential: None,
             least_safe: None,
             margin_cost: MarginCost::default(),
+            other_equilibria: OtherEquilibria::default(),
             held_peak: vec![None; names.len()],
             held_relaxation: vec![None; names.len()],
             threshold_n: None,
@@ -407,6 +430,11 @@ impl SummaryAccumulator {
         let Some(m) = &r.margin else { return };
         self.margin_cost.solves += m.solves as u64;
         self.margin_cost.wall_time_s += m.time_s;
+        if let Some(o) = &m.other_equilibrium {
+            self.other_equilibria.steps += 1;
+            let first = &mut self.other_equilibria.first;
+            first.get_or_insert_with(|| (r.index, r.time_s, o.clone()));
+        }
         if let Some(threshold_n) = self.threshold_n {
             if self.crossing.is_none() && m.known_to_hold_n() < threshold_n {
                 self.crossing = Some(MarginCrossing {
@@ -532,6 +560,7 @@ impl SummaryAccumulator {
             sequential: self.sequential,
             least_safe_step: self.least_safe,
             margin_cost: self.margin_cost,
+            other_equilibria: self.other_equilibria,
             held_relaxation: self.held_relaxation.into_iter().flatten().collect(),
             margin_below_threshold: self.crossing,
             warnings: self.warnings.warnings(),

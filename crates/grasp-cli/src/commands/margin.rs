@@ -438,6 +438,9 @@ fn table_notes(r: &MarginReport, s: &mut String) {
         if let Some(note) = &m.stopped_early {
             let _ = writeln!(s, "#{i} stopped early: {note}");
         }
+        if let Some(found) = &m.other_equilibrium {
+            let _ = writeln!(s, "#{i} another equilibrium: {found}");
+        }
     }
     let stalled = |m: &DirectionMargin| matches!(m.failure, Some(Failure::NoConvergence { .. }));
     if r.directions.iter().any(stalled) {

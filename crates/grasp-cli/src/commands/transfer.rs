@@ -488,6 +488,16 @@ fn disturbance_margin_lines(s: &TransferSummary, o: &mut String) {
                 .map_or(String::new(), |why| format!(": {why}")),
         );
     }
+    if let Some((step, time_s, e)) = &s.other_equilibria.first {
+        let _ = writeln!(
+            o,
+            "another coulomb equilibrium at a margin's failing end in {}: first at step {step} \
+             (t = {time_s:.3} s) along {}: {} (the margins follow the searches' path)",
+            crate::report::count(s.other_equilibria.steps as u64, "step", "steps"),
+            crate::pictures::margin_plot::label(&e.direction),
+            e.found
+        );
+    }
     if let Some(c) = &s.margin_below_threshold {
         let _ = writeln!(
             o,

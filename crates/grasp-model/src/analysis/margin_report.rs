@@ -85,6 +85,10 @@ pub struct MarginOptions {
     /// margins to the tolerance, at the cost of the stalling solves past the edge of
     /// equilibrium (for comparison).
     pub load_capacity: bool,
+    /// Probe the failing end of each coulomb bracket for another equilibrium (default;
+    /// the search's solver started cold and the other solver, compared to [`crate::DISTINCT_FRACTION`]): two to three more solves per bounded direction.
+    /// `false` leaves the probe out, for comparison.
+    pub probe_equilibria: bool,
 }
 
 impl MarginOptions {
@@ -158,6 +162,7 @@ impl Default for MarginOptions {
             relative_tolerance: 1e-3,
             max_factor: 1e3,
             load_capacity: true,
+            probe_equilibria: true,
         }
     }
 }
@@ -233,6 +238,13 @@ pub struct DirectionMargin {
     /// make the margin approximate too. Absent when none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// The coulomb law's second equilibrium at the failing end, when a probe found one
+    /// (compared to [`crate::DISTINCT_FRACTION`]): the step from the margin's state to
+    /// `fails_at_n` solved cold or by the other solver lands on an equilibrium whose forces
+    /// differ from the search's. The margin follows the search's path; this says it is not the
+    /// only one. Absent when every probe agreed (or none applies).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub other_equilibrium: Option<String>,
 }
 
 fn is_zero(n: &u32) -> bool {
@@ -434,6 +446,7 @@ pub(crate) fn failing_undisturbed(d: WrenchDirection, f: &Failure) -> DirectionM
         undetermined: stalled,
         solver_fallbacks: 0,
         warnings: Vec::new(),
+        other_equilibrium: None,
     }
 }
 

@@ -295,6 +295,7 @@ impl<'a> StepSearch<'a> {
             guessing,
             utilisation: Vec::new(),
             other: None,
+            probe_equilibria: self.options.probe_equilibria,
         }
     }
 
@@ -328,7 +329,7 @@ fn along(step: &StepSearch, direction: WrenchDirection) -> Result<DirectionMargi
         search.bound_by(&mut certificate);
     }
     let found = search.search_from_zero(step.base(), cap, step.options.relative_tolerance)?;
-    Ok(search.finish(found, clock))
+    search.finish(found, clock)
 }
 
 impl Search<'_> {
@@ -347,9 +348,18 @@ impl Search<'_> {
         Ok(Found { held, end, note })
     }
 
-    /// The margin of a finished search, `clock` started with it.
-    pub(crate) fn finish(&self, found: Found, clock: Instant) -> DirectionMargin {
+    /// The margin of a finished search, `clock` started with it, its failing end probed for
+    /// another equilibrium ([`crate::analysis::equilibrium_probe`]).
+    pub(crate) fn finish(
+        &mut self,
+        found: Found,
+        clock: Instant,
+    ) -> Result<DirectionMargin, ModelError> {
         let Found { held, end, note } = found;
+        let other_equilibrium = match &end {
+            End::Fails(f) => self.other_equilibrium(&held, f, self.probe_equilibria)?,
+            End::Cap | End::Undetermined(_) => None,
+        };
         let s = held.s;
         let (fails, undetermined) = match end {
             End::Fails(f) => (Some(f), None),
@@ -365,7 +375,7 @@ impl Search<'_> {
             None => None,
         };
         let direction = self.direction;
-        DirectionMargin {
+        Ok(DirectionMargin {
             direction,
             margin_n: fails.as_ref().map(|_| s),
             held_to_n: s,
@@ -393,7 +403,8 @@ impl Search<'_> {
                 .filter(|w| !self.model.scene_warnings().contains(w))
                 .cloned()
                 .collect(),
-        }
+            other_equilibrium,
+        })
     }
 }
 

@@ -325,7 +325,7 @@ fn continue_along(
         End::Undetermined(_) => true,
         _ => false,
     };
-    let m = search.finish(found, clock);
+    let m = search.finish(found, clock)?;
     track.trial_forces = std::mem::take(&mut search.trial_forces);
     if loose && matches!(track.capacity, Capacity::Known(_)) {
         track.capacity = Capacity::Unknown;

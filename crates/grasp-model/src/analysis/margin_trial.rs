@@ -35,7 +35,6 @@ use crate::solve::contact_state::ContactState;
 use crate::solve::grasp_solver::GraspSolver;
 use crate::solve::solution::{Solution, SolveStatus};
 use crate::solve::step_inputs::StepInputs;
-use crate::solver::options::SolverChoice;
 
 /// First growth step of the search, as a fraction of the load scale: small, because a trial
 /// that holds is cheap (a warm-started step) and one that fails is not (the solver must certify
@@ -82,6 +81,9 @@ pub(crate) struct Search<'a> {
     pub(crate) utilisation: Vec<(f64, f64)>,
     /// The other solver, made at the first step the chosen one does not converge on.
     pub(crate) other: Option<GraspSolver>,
+    /// Whether the bracket's failing end is probed for another equilibrium
+    /// ([`crate::MarginOptions::probe_equilibria`]).
+    pub(crate) probe_equilibria: bool,
 }
 
 /// A magnitude known to hold, N, with the contact state and solution there.
@@ -128,7 +130,7 @@ enum Step {
 impl Search<'_> {
     /// The step's inputs with the disturbance of magnitude `s` (N) along the direction: a
     /// force at the centre of mass and a couple.
-    fn inputs_at(&self, s: f64) -> StepInputs {
+    pub(crate) fn inputs_at(&self, s: f64) -> StepInputs {
         let d = &self.direction;
         let f = Vector3::from(d.force) * s;
         let t = Vector3::from(d.torque) * (s * self.length_m);
@@ -170,7 +172,7 @@ impl Search<'_> {
     /// The magnitudes of the ramp from `from` N to `s` N, ascending, `s` last: `s` alone
     /// unless the model remembers slip; else `s` halved until a step from `from` at most
     /// doubles it (plus [`INITIAL_STEP`] of the load scale).
-    fn ramp(&self, from: f64, s: f64) -> Vec<f64> {
+    pub(crate) fn ramp(&self, from: f64, s: f64) -> Vec<f64> {
         let mut points = vec![s];
         if self.model.kind() != ModelKind::Coulomb {
             return points;
@@ -227,10 +229,7 @@ impl Search<'_> {
         stalled: &Solution,
     ) -> Result<Option<(ContactState, Solution)>, ModelError> {
         let mut options = *self.solver.options();
-        options.solver = match options.solver {
-            SolverChoice::Auto | SolverChoice::Native => SolverChoice::Clarabel,
-            SolverChoice::Clarabel => SolverChoice::Native,
-        };
+        options.solver = options.solver.other();
         let model = Arc::clone(self.solver.shared_model());
         let other = self
             .other

@@ -2,6 +2,7 @@
 //! the load capacity that bounds them), grid-refinement studies, patch sizing, and the state at
 //! a time of a viscoelastic scene.
 
+pub mod equilibrium_probe;
 pub mod load_capacity;
 pub mod load_fixed_directions;
 pub mod margin_report;

@@ -25,6 +25,17 @@ pub enum SolverChoice {
     Clarabel,
 }
 
+impl SolverChoice {
+    /// The solver that checks this one's answers, or takes a step this one does not converge
+    /// on: Clarabel for the native solver and `auto`, the native solver for Clarabel.
+    pub fn other(self) -> SolverChoice {
+        match self {
+            SolverChoice::Auto | SolverChoice::Native => SolverChoice::Clarabel,
+            SolverChoice::Clarabel => SolverChoice::Native,
+        }
+    }
+}
+
 impl std::str::FromStr for SolverChoice {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {

@@ -119,6 +119,9 @@ pub struct FingersMessage {
     pub margin_undetermined: Option<String>,
     /// The finger that fails first along the smallest margin's direction.
     pub margin_failing_finger: Option<String>,
+    /// A second coulomb equilibrium at a margin's failing end, in words, when the step's
+    /// search found one ([`crate::StepMargin::other_equilibrium`]).
+    pub margin_other_equilibrium: Option<String>,
     /// Every scene finger, scene order.
     pub fingers: Vec<FingerMessage>,
 }
@@ -155,6 +158,10 @@ impl FingersMessage {
             margin_held_to_n: r.margin.as_ref().map(|m| m.held_to_n),
             margin_undetermined: r.margin.as_ref().and_then(|m| m.undetermined.clone()),
             margin_failing_finger: r.margin.as_ref().and_then(|m| m.failing_finger.clone()),
+            margin_other_equilibrium: r
+                .margin
+                .as_ref()
+                .and_then(|m| m.other_equilibrium.as_ref().map(|o| o.found.clone())),
             fingers: r
                 .commands
                 .iter()
@@ -222,6 +229,7 @@ fn fingers_schema() -> serde_json::Value {
             "margin_held_to_n": {"type": ["number", "null"]},
             "margin_undetermined": {"type": ["string", "null"]},
             "margin_failing_finger": {"type": ["string", "null"]},
+            "margin_other_equilibrium": {"type": ["string", "null"]},
             "fingers": {"type": "array", "items": {"type": "object", "properties": {
                 "name": {"type": "string"}, "control": {"type": "string", "enum": ["held", "load", "released", "approach"]},
                 "commanded_load_n": num, "commanded_approach_m": num, "normal_force_n": num,
