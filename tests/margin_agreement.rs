@@ -68,6 +68,8 @@ fn run(scene: &LoadedScene, schedule: &Schedule, search: Search) -> Vec<StepReco
         ..TransferOptions::default()
     };
     options.solve.solver = search.solver;
+    // Every failing end probed for a second equilibrium (a hand-off asks for it).
+    options.margin_options.probe_equilibria = true;
     Stepper::new(scene, schedule, options)
         .map(|r| r.unwrap())
         .collect()

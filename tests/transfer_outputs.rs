@@ -539,6 +539,8 @@ fn reference_summary(records: &[StepRecord], names: &[String]) -> TransferSummar
                 })
                 .collect();
             grasp_transfer::OtherEquilibria {
+                // The runs compared ask for no margins.
+                probed: None,
                 steps: found.len(),
                 first: found.into_iter().next(),
             }

@@ -169,8 +169,10 @@ pub fn run_until(
         margins: options.margins,
     };
     let names = scene.finger_names();
-    let mut summary =
-        SummaryAccumulator::new(&names).with_margin_threshold(options.margin_threshold_n);
+    let coulomb_margins = options.margins && model.kind() == grasp_model::ModelKind::Coulomb;
+    let mut summary = SummaryAccumulator::new(&names)
+        .with_margin_threshold(options.margin_threshold_n)
+        .with_equilibrium_probe(coulomb_margins.then_some(options.margin_options.probe_equilibria));
     let mut last = None;
     let outcome = (|| {
         for s in sinks.iter_mut() {

@@ -74,7 +74,12 @@ impl Default for TransferOptions {
             margins: false,
             margins_from_scratch: false,
             margin_threshold_n: None,
-            margin_options: MarginOptions::default(),
+            // A hand-off's margins are continued from step to step for a few solves each; the
+            // probe would cost several times that, so a hand-off asks for it.
+            margin_options: MarginOptions {
+                probe_equilibria: false,
+                ..MarginOptions::default()
+            },
             sensitivities: false,
         }
     }

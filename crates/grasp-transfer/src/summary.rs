@@ -169,6 +169,9 @@ pub struct Fallbacks {
 /// ([`crate::StepMargin::other_equilibrium`]).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct OtherEquilibria {
+    /// Whether the margins' failing ends were probed: `None` when no coulomb margins were
+    /// searched (no `--margins`, or the energy law, whose program is convex).
+    pub probed: Option<bool>,
     /// How many steps.
     pub steps: usize,
     /// The first: step index, schedule time (s) and what was found.
@@ -176,9 +179,10 @@ pub struct OtherEquilibria {
 }
 
 impl OtherEquilibria {
-    /// True when no step found one.
+    /// True when nothing is to be said: no step found one, and no coulomb margins went
+    /// unprobed.
     pub fn is_empty(&self) -> bool {
-        self.steps == 0
+        self.steps == 0 && self.probed != Some(false)
     }
 }
 
@@ -350,6 +354,13 @@ impl SummaryAccumulator {
     /// `threshold_n` (N).
     pub fn with_margin_threshold(mut self, threshold_n: Option<f64>) -> Self {
         self.threshold_n = threshold_n;
+        self
+    }
+
+    /// Says whether coulomb margins are probed for second equilibria (`None`: no coulomb
+    /// margins are searched).
+    pub fn with_equilibrium_probe(mut self, probed: Option<bool>) -> Self {
+        self.other_equilibria.probed = probed;
         self
     }
 

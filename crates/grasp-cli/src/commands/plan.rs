@@ -249,6 +249,7 @@ fn replay(args: &Args) -> Result<ExitCode> {
         min_squeeze: false,
         margins: args.min_margin.is_some(),
         margin_threshold: args.min_margin,
+        probe_equilibria: false,
         solve: args.solve,
     };
     crate::commands::transfer::run(&args.scene, &args.out, &outputs, flags)

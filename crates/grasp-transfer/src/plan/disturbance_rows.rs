@@ -27,7 +27,7 @@ pub const DIFFERENCE_TOLERANCE: f64 = 1e-4;
 pub fn difference_options() -> MarginOptions {
     MarginOptions {
         relative_tolerance: DIFFERENCE_TOLERANCE,
-        ..MarginOptions::default()
+        ..crate::TransferOptions::default().margin_options
     }
 }
 

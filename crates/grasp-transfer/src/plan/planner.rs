@@ -227,7 +227,8 @@ impl Runner<'_> {
     /// The margin options of a checking run: those of `grasp transfer --margins` when a
     /// disturbance margin is constrained, else none.
     fn check_margins(&self) -> Option<MarginOptions> {
-        self.options.min_margin_n.map(|_| MarginOptions::default())
+        let transfer = crate::TransferOptions::default().margin_options;
+        self.options.min_margin_n.map(|_| transfer)
     }
 
     fn run_path(
