@@ -420,6 +420,40 @@ fn transfer_with_margins_reports_both_times() {
     );
 }
 
+/// A coulomb hand-off's margins are probed for second equilibria only when asked, and the
+/// report says when they were not; an energy hand-off has nothing to probe and says nothing.
+#[test]
+fn transfer_says_whether_its_coulomb_margins_were_probed() {
+    let dir = tmp("probe-said");
+    let sched = dir.join("three.schedule.json");
+    std::fs::write(
+        &sched,
+        r#"{"time": {"times": [0, 6, 12]},
+            "fingers": {"f1": [{"ramp": {"keyframes": [[0, 8], [4, 8], [12, 0]]}}],
+                        "f2": [{"ramp": {"keyframes": [[0, 8], [4, 8], [12, 0]]}}],
+                        "f3": [{"ramp": {"keyframes": [[0, 0], [8, 8]]}}],
+                        "f4": [{"ramp": {"keyframes": [[0, 0], [8, 8]]}}]}}"#,
+    )
+    .unwrap();
+    let run = |scene: &str, extra: &[&str]| {
+        let scene = example(scene);
+        let mut args = vec!["transfer", &scene, "--schedule", sched.to_str().unwrap()];
+        args.push("--margins");
+        args.extend_from_slice(extra);
+        let o = grasp(&args);
+        assert!(o.status.success(), "{}", text(&o));
+        text(&o)
+    };
+    let not_probed = "second coulomb equilibria at the margins' failing ends: not probed";
+    let t = run("plate_handoff_coulomb.json", &[]);
+    assert!(t.contains(not_probed), "{t}");
+    let t = run("plate_handoff_coulomb.json", &["--probe-equilibria"]);
+    assert!(!t.contains(not_probed), "{t}");
+    assert!(!t.contains("another coulomb equilibrium"), "{t}");
+    let t = run("plate_transfer.json", &[]);
+    assert!(!t.contains("coulomb equilibri"), "{t}");
+}
+
 /// The same run writes the same `.rrd` bytes up to Rerun's footer (two processes, so nothing
 /// is shared but the inputs). The footer, an index Rerun 0.36 appends, lists its entries in
 /// hash-map order; `tests/transfer_outputs.rs` checks that its content is the same.
