@@ -89,6 +89,7 @@ pub use sinks::output_files::{OpenError, OutputFiles, OutputPaths};
 pub use sinks::patch_maps_message::{PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC};
 pub use sinks::rerun_log::{RerunSink, FLUSH_EVERY_STEPS};
 pub use sinks::sink::{RunInfo, Sink};
+pub use sinks::tactile_message::{TactileMessage, TACTILE_SCHEMA, TACTILE_TOPIC};
 
 // ---- What the sinks draw, shared with the CLI's pictures ----
 pub use sinks::colour_key::{FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};

@@ -24,9 +24,9 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use grasp_model::{
-    ContactState, Control, FingerState, GraspModel, GraspSolver, LoadDirection, LoadedScene,
-    MarginOptions, Scene, SceneError, Sensitivities, Solution, SolveOptions, SolvedStep,
-    SolverStats, StepInputs,
+    sensor_readings, ContactState, Control, FingerState, GraspModel, GraspSolver, LoadDirection,
+    LoadedScene, MarginOptions, Scene, SceneError, Sensitivities, SensorReadings, Solution,
+    SolveOptions, SolvedStep, SolverStats, StepInputs,
 };
 use serde::Serialize;
 
@@ -119,6 +119,11 @@ pub struct StepRecord {
     /// none, such as a solution Clarabel answered). Not logged.
     #[serde(skip)]
     pub sensitivities: Option<Result<Sensitivities, String>>,
+    /// The tactile sensors' readings of the step's active fingers with a `sensor`, scene
+    /// order ([`grasp_model::sensor_readings`]); empty when the scene has none or the step
+    /// found no forces.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sensors: Vec<SensorReadings>,
 }
 
 impl StepRecord {
@@ -192,11 +197,13 @@ struct StepCommands<'c> {
     external: Option<ExternalWrench>,
 }
 
-/// A step's answer: the solution, and its margin and sensitivities when asked for.
+/// A step's answer: the solution, its margin and sensitivities when asked for, and its
+/// sensors' readings.
 struct Solved {
     solution: Solution,
     margin: Option<StepMargin>,
     sensitivities: Option<Result<Sensitivities, String>>,
+    sensors: Vec<SensorReadings>,
 }
 
 /// Steps a schedule over a scene.
@@ -430,6 +437,7 @@ impl<'a> Stepper<'a> {
                     solution: sol,
                     margin: None,
                     sensitivities: None,
+                    sensors: Vec::new(),
                 };
                 let at = StepTime {
                     index: k,
@@ -594,6 +602,10 @@ impl<'a> Stepper<'a> {
         });
         self.cache.insert(key.clone(), solver);
         let margin = margin.transpose()?;
+        let sensors = match sol.status.has_forces() {
+            true => sensor_readings(self.scene, &model, &sol)?,
+            false => Vec::new(),
+        };
         for f in state.fingers {
             self.states.insert(f.name.clone(), f);
         }
@@ -601,6 +613,7 @@ impl<'a> Stepper<'a> {
             solution: sol,
             margin,
             sensitivities,
+            sensors,
         })
     }
 
@@ -617,6 +630,7 @@ impl<'a> Stepper<'a> {
             solution,
             margin,
             sensitivities,
+            sensors,
         } = solved;
         let (external_force_n, external_torque_nm) = at
             .external
@@ -648,6 +662,7 @@ impl<'a> Stepper<'a> {
             external_torque_nm,
             margin,
             sensitivities,
+            sensors,
         }
     }
 }

@@ -27,7 +27,8 @@ pub struct Args {
     #[arg(long, value_name = "SCHEDULE.json")]
     pub schedule: PathBuf,
     /// Write an MCAP log (per-finger resultants and per-element fields, JSON with schemas;
-    /// patches above 64x64 elements as compact base64 maps on /grasp/patch_maps).
+    /// patches above 64x64 elements as compact base64 maps on /grasp/patch_maps; the tactile
+    /// sensors' readings, each step, on /grasp/tactile).
     #[arg(long, value_name = "F.mcap")]
     pub mcap: Option<PathBuf>,
     /// Write a Rerun recording (.rrd) to replay in the Rerun viewer.
@@ -136,7 +137,8 @@ pub struct Outputs {
 const OPEN_RRD: &str = "rerun {}   (the Rerun viewer: pip install rerun-sdk==0.36.3)";
 const OPEN_MCAP: &str = "Foxglove (https://app.foxglove.dev or the desktop app), Open local file; \
                          topics /grasp/fingers, /grasp/patches, /grasp/scene \
-                         (and /grasp/patch_maps with patches above 64 x 64 elements)";
+                         (and /grasp/patch_maps with patches above 64 x 64 elements, \
+                         /grasp/tactile with a finger's sensor)";
 const OPEN_CSV: &str = "one row per step, a column per quantity: any spreadsheet, or Python's \
                         pandas.read_csv";
 const OPEN_NPZ: &str = "Python: numpy.load(path)[\"step_00000/<finger>/pressure_pa\"] (its \

@@ -9,6 +9,8 @@
 //! - `/grasp/patch_maps` (`grasp.PatchMaps`, only when the scene has a larger patch): per step,
 //!   every active larger patch's element fields as compact base64 arrays
 //!   ([`super::patch_maps_message`]);
+//! - `/grasp/tactile` (`grasp.TactileReadings`, only when the scene has a finger with a
+//!   `sensor`): per step, every active sensor's readings ([`super::tactile_message`]);
 //! - `/grasp/scene` (`foxglove.SceneUpdate`): the object and contact points once, then per
 //!   step the finger forces as arrows, for Foxglove's 3-D panel ([`super::foxglove_scene`]).
 //!
@@ -34,6 +36,9 @@ use super::patch_maps_message::{
     has_compact_patch, patch_maps_message, patch_maps_schema, PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC,
 };
 use super::sink::{io_err, io_err_chain, RunInfo, Sink};
+use super::tactile_message::{
+    has_sensor, tactile_message, tactile_schema, TACTILE_SCHEMA, TACTILE_TOPIC,
+};
 use crate::error::TransferError;
 use crate::schedule::Command;
 use crate::stepper::StepRecord;
@@ -302,6 +307,8 @@ pub struct McapSink {
     scene_channel: u16,
     /// The `/grasp/patch_maps` channel, when the scene has a patch recorded as compact maps.
     maps_channel: Option<u16>,
+    /// The `/grasp/tactile` channel, when the scene has a finger with a sensor.
+    tactile_channel: Option<u16>,
     /// Size of the scene (diagonal of the contacts and centre of mass), m, and the force
     /// arrows' scale, m per N.
     drawing: (f64, f64),
@@ -362,6 +369,7 @@ impl McapSink {
             patches_channel: 0,
             scene_channel: 0,
             maps_channel: None,
+            tactile_channel: None,
             drawing: (1.0, 1.0),
             object_sent: false,
             sequence: 0,
@@ -450,6 +458,18 @@ impl Sink for McapSink {
         self.patches_channel = pc;
         self.scene_channel = sc;
         self.maps_channel = mc;
+        if has_sensor(run) {
+            let w = self.writer()?;
+            let ts = w
+                .add_schema(
+                    TACTILE_SCHEMA,
+                    "jsonschema",
+                    tactile_schema().to_string().as_bytes(),
+                )
+                .map_err(e)?;
+            let tc = w.add_channel(ts, TACTILE_TOPIC, "json", &meta).map_err(e)?;
+            self.tactile_channel = Some(tc);
+        }
         Ok(())
     }
 
@@ -465,6 +485,10 @@ impl Sink for McapSink {
         self.write(self.patches_channel, r.time_s, &p)?;
         if let Some(channel) = self.maps_channel {
             let m = serde_json::to_vec(&patch_maps_message(run, r)).map_err(|e| self.err(e))?;
+            self.write(channel, r.time_s, &m)?;
+        }
+        if let Some(channel) = self.tactile_channel {
+            let m = serde_json::to_vec(&tactile_message(r)).map_err(|e| self.err(e))?;
             self.write(channel, r.time_s, &m)?;
         }
         let (size_m, m_per_n) = self.drawing;

@@ -18,3 +18,6 @@ pub mod rerun_grid_maps;
 pub mod rerun_layout;
 pub mod rerun_log;
 pub mod sink;
+pub mod tactile_drawing;
+pub mod tactile_message;
+pub mod viewer_address;

@@ -20,6 +20,8 @@
 //! - `plots/margin/smallest`: the step's smallest disturbance margin, N (with `--margins`);
 //! - `plots/viscous_displacement/<name>`: on a viscoelastic contact, the largest normal
 //!   displacement its history added at the step, m (the creep or relaxation under way);
+//! - `world/tactile/<name>/taxels`, `.../markers`: a sensor finger's readings
+//!   ([`super::tactile_drawing`]);
 //! - `world/margin/...` (static, `grasp margin --rrd`): the wrench surface
 //!   ([`RerunSink::log_wrench_surface`]).
 //!
@@ -61,6 +63,8 @@ use super::patch_views::{has_flat_views, pressure_tensor, state_image, state_key
 use super::rerun_grid_maps::{cleared_map, patch_pose, pressure_map, state_map};
 use super::rerun_layout::{layout_messages, LayoutContent, APPLICATION_ID};
 use super::sink::{io_err, RunInfo, Sink};
+use super::tactile_drawing::tactile_drawings;
+use super::viewer_address::reachable;
 use crate::error::TransferError;
 use crate::stepper::StepRecord;
 
@@ -663,6 +667,9 @@ impl Sink for RerunSink {
                 None => self.clear_finger(fm)?,
             }
         }
+        for (path, drawing) in tactile_drawings(run, r, scale) {
+            self.send(path, drawing.as_ref())?;
+        }
         // An unbounded or undetermined margin is no number: the plot shows a gap there.
         if let Some(n) = r.margin.as_ref().and_then(|m| m.smallest_n) {
             self.send("plots/margin/smallest", &Scalars::new([n]))?;
@@ -759,29 +766,6 @@ fn object_mesh(surface: &grasp_model::TriangleMesh) -> Mesh3D {
         .with_albedo_factor(rerun::datatypes::Rgba32::from_unmultiplied_rgba(
             200, 200, 210, 110,
         ))
-}
-
-/// Whether something listens at the host and port of the gRPC address `url`
-/// (`rerun+http://HOST:PORT/proxy`), within two seconds.
-fn reachable(url: &str) -> Result<(), String> {
-    use std::net::{TcpStream, ToSocketAddrs};
-    let rest = url.split_once("://").map_or(url, |(_, r)| r);
-    let host_port = rest.split('/').next().unwrap_or(rest);
-    let hint = "start a viewer with `rerun` (or a headless server with `rerun --save F.rrd`), or check the address";
-    let addrs: Vec<_> = host_port
-        .to_socket_addrs()
-        .map_err(|e| format!("cannot resolve `{host_port}`: {e}; {hint}"))?
-        .collect();
-    let timeout = std::time::Duration::from_secs(2);
-    match addrs
-        .iter()
-        .any(|a| TcpStream::connect_timeout(a, timeout).is_ok())
-    {
-        true => Ok(()),
-        false => Err(format!(
-            "no Rerun viewer or server listens at {host_port}; {hint}"
-        )),
-    }
 }
 
 #[cfg(test)]
