@@ -127,6 +127,10 @@ class Solution:
         """One finger's element fields by name, the arrays of ``grasp solve --npz``."""
     def to_npz(self, path: Union[str, "os.PathLike[str]"], *, overwrite: bool = False) -> None:
         """Writes every finger's element fields as ``grasp solve --npz`` does."""
+    def sensor(self, finger: str) -> dict[str, dict[str, Any]]:
+        """A finger's tactile readings: ``{"taxels": {"force_n": (nx, ny, 3), "centre_m":
+        (nx, ny, 2), "depth_m", "size_m"}, "markers": {"displacement_m": (nx, ny, 3),
+        "position_m": (nx, ny, 2)}}``, each kind when the sensor has it."""
 
 class Transfer:
     """A hand-off's force histories, time x finger (SI units)."""
@@ -154,6 +158,9 @@ class Transfer:
     def iterations(self) -> npt.NDArray[np.int64]: ...
     @property
     def smallest_margins_n(self) -> npt.NDArray[np.float64]: ...
+    def sensor_history(self, finger: str) -> dict[str, dict[str, npt.NDArray[np.float64]]]:
+        """A finger's tactile readings at every step: ``{"taxels": {"force_n": (T, nx, ny,
+        3)}, "markers": {"displacement_m": (T, nx, ny, 3)}}``, NaN where it has none."""
     @property
     def summary(self) -> dict[str, Any]: ...
     @property

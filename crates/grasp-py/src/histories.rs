@@ -6,6 +6,8 @@
 use grasp_model::{ElementSolution, FingerSolution};
 use grasp_transfer::{Command, StepRecord};
 
+use crate::sensor_histories::SensorHistories;
+
 /// Per step and finger, in scene order: the values `grasp.Transfer` returns as arrays.
 #[derive(Debug, Default)]
 pub struct Histories {
@@ -30,13 +32,16 @@ pub struct Histories {
     /// Smallest disturbance margin per step, N: infinite where unbounded (every direction held
     /// to the search's cap), NaN where undetermined or not computed, `(T,)`.
     pub margins_n: Vec<f64>,
+    /// The tactile readings of the fingers with a sensor.
+    pub sensors: SensorHistories,
 }
 
 impl Histories {
-    /// Empty histories of the fingers `names`.
-    pub fn new(names: Vec<String>) -> Histories {
+    /// Empty histories of the fingers of `scene`.
+    pub fn new(scene: &grasp_model::Scene) -> Histories {
         Histories {
-            names,
+            names: scene.finger_names(),
+            sensors: SensorHistories::of(scene),
             ..Histories::default()
         }
     }
@@ -71,13 +76,15 @@ impl Histories {
             Some(m) if m.undetermined.is_none() => m.margin_or_bound_n(),
             _ => f64::NAN,
         });
+        self.sensors.push(&r.sensors);
     }
 
-    /// Bytes one step adds to the histories of `fingers` fingers.
-    pub fn bytes_per_step(fingers: usize) -> u64 {
+    /// Bytes one step adds to the histories of `scene`'s fingers and sensors.
+    pub fn bytes_per_step(scene: &grasp_model::Scene) -> u64 {
         let per_finger = 8 * (1 + 3 + 1);
         let per_step = 8 * (1 + 3 + 1 + 1 + 1) + std::mem::size_of::<&str>();
-        (per_step + fingers * per_finger) as u64
+        (per_step + scene.fingers.len() * per_finger) as u64
+            + SensorHistories::bytes_per_step(scene)
     }
 }
 

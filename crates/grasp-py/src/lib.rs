@@ -24,6 +24,8 @@ mod outputs;
 mod plan;
 mod python_serializer;
 mod scene;
+mod sensor_arrays;
+mod sensor_histories;
 mod solution;
 mod solve;
 mod transfer;

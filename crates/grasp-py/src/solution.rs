@@ -23,6 +23,9 @@ pub struct Solution {
     /// solution): written as `"time"` by `to_dict` and `to_json`, as `grasp solve --json`
     /// does.
     pub(crate) time: Option<grasp_model::TimePoint>,
+    /// The readings of the fingers' tactile sensors (empty when the scene has none, or the
+    /// solve found no forces).
+    pub(crate) sensors: Vec<grasp_model::SensorReadings>,
 }
 
 #[pymethods]
@@ -253,6 +256,36 @@ impl Solution {
         crate::element_fields::element_fields(py, &f.elements)
     }
 
+    /// The tactile sensor's readings of `finger` (`fingers[i].sensor`; docs/guide/tactile.md),
+    /// as NumPy arrays over its grids, `i` along the grid's first side.
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     `"taxels"` (when the sensor has taxels): `force_n` `(nx, ny, 3)` (normal, t1, t2;
+    ///     N), `centre_m` `(nx, ny, 2)` (along t1, t2 from the contact point; m), `depth_m`
+    ///     and `size_m` (floats, m); `"markers"` (when it has markers): `displacement_m`
+    ///     `(nx, ny, 3)` (normal into the finger, t1, t2; m) and `position_m` `(nx, ny, 2)`.
+    ///
+    /// Raises
+    /// ------
+    /// KeyError
+    ///     `finger` has no sensor, or is not in this solution (released, or no forces).
+    fn sensor<'py>(&self, py: Python<'py>, finger: &str) -> PyResult<Bound<'py, PyDict>> {
+        let r = self
+            .sensors
+            .iter()
+            .find(|s| s.finger == finger)
+            .ok_or_else(|| {
+                let read: Vec<&str> = self.sensors.iter().map(|s| s.finger.as_str()).collect();
+                pyo3::exceptions::PyKeyError::new_err(format!(
+                "no sensor readings of `{finger}` in this solution; the fingers read: {read:?} \
+                 (give the finger a `sensor` in the scene)"
+            ))
+            })?;
+        crate::sensor_arrays::sensor_arrays(py, r)
+    }
+
     /// Writes every finger's element fields to a `.npz` file, as `grasp solve --npz` does.
     ///
     /// Read it back with `numpy.load(path)["f1/pressure_pa"]` (the fields of
@@ -287,7 +320,7 @@ impl Solution {
         let set = crate::outputs::claim(&targets, &grasp_io::RunInputs::default(), overwrite)?;
         py.allow_threads(|| -> Result<(), grasp_io::OutputError> {
             let pending = set.create(&path)?;
-            grasp_io::write_solution_npz(&pending, &self.solution, &[])?;
+            grasp_io::write_solution_npz(&pending, &self.solution, &self.sensors)?;
             set.commit(vec![pending])
         })
         .map_err(|e| crate::outputs::output_error(&targets, &e))
@@ -316,7 +349,7 @@ impl Solution {
             solution: &self.solution,
             time: self.time,
             sensitivities: None,
-            sensors: None,
+            sensors: (!self.sensors.is_empty()).then_some(self.sensors.as_slice()),
         }
     }
 

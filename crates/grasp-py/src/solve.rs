@@ -228,12 +228,13 @@ fn solve_scene(
 ) -> Result<Solution, Failure> {
     let t0 = Instant::now();
     let model = GraspModel::from_loaded_with(scene, options.compliance).map_err(Failure::Scene)?;
+    let model = std::sync::Arc::new(model);
     let build_time_s = t0.elapsed().as_secs_f64();
     let viscoelastic = model.is_viscoelastic();
     let mut solution = match time {
         TimePoint::Instantaneous => {
             let inputs = grasp_model::StepInputs::of_scene(&model);
-            GraspSolver::new(model, options)
+            GraspSolver::new(std::sync::Arc::clone(&model), options)
                 .solve(&inputs)
                 .map_err(Failure::Model)?
         }
@@ -243,6 +244,10 @@ fn solve_scene(
             timed.solution.solve_time_s = clock.elapsed().as_secs_f64();
             timed.solution
         }
+    };
+    let sensors = match solution.status.has_forces() {
+        true => grasp_model::sensor_readings(scene, &model, &solution).map_err(Failure::Model)?,
+        false => Vec::new(),
     };
     crate::keywords::respell_solution(&mut solution);
     let frames = crate::solution::tangents_by_name(scene);
@@ -256,5 +261,6 @@ fn solve_scene(
         tangents,
         build_time_s,
         time: viscoelastic.then_some(time),
+        sensors,
     })
 }

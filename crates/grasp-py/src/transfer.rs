@@ -221,7 +221,7 @@ fn check_memory(
 ) -> PyResult<()> {
     let limit = max_memory.unwrap_or_else(grasp_io::default_memory_limit);
     let steps = schedule.times.len() as u64;
-    let history = Histories::bytes_per_step(scene.fingers.len()).saturating_mul(steps);
+    let history = Histories::bytes_per_step(scene).saturating_mul(steps);
     let solution = solution_bytes_per_step(scene);
     let need = if keep_solutions {
         solution.saturating_mul(steps).saturating_add(history)
@@ -377,8 +377,7 @@ fn run_transfer(
     })?;
     open.name_recording(recording_name);
     open.respell_options(crate::keywords::in_keywords);
-    let names = scene.finger_names();
-    let mut histories = Histories::new(names);
+    let mut histories = Histories::new(scene);
     let mut records = keep_solutions.then(Vec::new);
     let total = schedule.times.len();
     let mut stopped: Option<PyErr> = None;
@@ -523,6 +522,49 @@ impl Transfer {
         float_array(py, &h.margins_n, &[h.len()])
     }
 
+    /// The tactile readings of `finger` at every step (its `sensor`; docs/guide/tactile.md),
+    /// as `Solution.sensor` gives one step's, with the steps first.
+    ///
+    /// Returns
+    /// -------
+    /// dict
+    ///     `"taxels"` (when the sensor has taxels): `{"force_n": (T, nx, ny, 3)}` (normal, t1,
+    ///     t2; N); `"markers"` (when it has markers): `{"displacement_m": (T, nx, ny, 3)}`
+    ///     (normal into the finger, t1, t2; m). NaN at the steps where the finger has no
+    ///     readings (released, or a step without forces).
+    ///
+    /// Raises
+    /// ------
+    /// KeyError
+    ///     `finger` has no sensor.
+    fn sensor_history<'py>(&self, py: Python<'py>, finger: &str) -> PyResult<Bound<'py, PyDict>> {
+        let h = &self.histories;
+        let s = h
+            .sensors
+            .0
+            .iter()
+            .find(|s| s.finger == finger)
+            .ok_or_else(|| {
+                let with: Vec<&str> = h.sensors.0.iter().map(|s| s.finger.as_str()).collect();
+                pyo3::exceptions::PyKeyError::new_err(format!(
+                    "`{finger}` has no sensor; the fingers with one: {with:?}"
+                ))
+            })?;
+        let out = PyDict::new(py);
+        let kinds = [
+            ("taxels", "force_n", &s.taxels),
+            ("markers", "displacement_m", &s.markers),
+        ];
+        for (kind, field, values) in kinds {
+            if let Some(([nx, ny], v)) = values {
+                let d = PyDict::new(py);
+                d.set_item(field, float_array(py, v, &[h.len(), *nx, *ny, 3])?)?;
+                out.set_item(kind, d)?;
+            }
+        }
+        Ok(out)
+    }
+
     /// The closing summary (the fields `grasp transfer` prints), as a dict.
     #[getter]
     fn summary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
@@ -598,6 +640,7 @@ impl Transfer {
             tangents,
             build_time_s: 0.0,
             time: None,
+            sensors: r.sensors.clone(),
         })
     }
 

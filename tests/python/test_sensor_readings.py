@@ -1,0 +1,64 @@
+"""Tactile readings in Python: `Solution.sensor(finger)` gives the arrays `grasp solve --npz`
+writes (the CLI's path, compared bit for bit), a finger without a sensor is a KeyError naming
+the fix, and `Transfer.sensor_history(finger)` stacks every step's readings with NaN where the
+finger is not held, each step equal to that step's `Solution.sensor`."""
+
+import numpy as np
+import pytest
+
+import grasp
+from conftest import EXAMPLES
+
+
+def test_a_solves_sensor_arrays_are_the_clis_npz(run_cli, tmp_path):
+    scene = EXAMPLES / "hertz_taxels.json"
+    sol = grasp.solve(grasp.Scene(scene))
+    read = sol.sensor("tip")
+    assert set(read) == {"taxels"}
+    t = read["taxels"]
+    assert t["force_n"].shape == (5, 5, 3) and t["centre_m"].shape == (5, 5, 2)
+    npz = tmp_path / "cli.npz"
+    proc = run_cli("solve", scene, "--npz", npz)
+    assert proc.returncode == 0, proc.stderr
+    cli = np.load(npz)
+    assert np.array_equal(t["force_n"], cli["tip/taxels/force_n"])
+    assert np.array_equal(t["centre_m"], cli["tip/taxels/centre_m"])
+    assert t["depth_m"] == float(cli["tip/taxels/depth_m"])
+    # The Python solution's own .npz carries the readings too.
+    ours = tmp_path / "py.npz"
+    sol.to_npz(ours)
+    assert np.array_equal(np.load(ours)["tip/taxels/force_n"], t["force_n"])
+    markers = grasp.solve(grasp.Scene(EXAMPLES / "hertz_markers.json"))
+    name = markers.finger_names[0]
+    m = markers.sensor(name)["markers"]
+    assert m["displacement_m"].shape == (9, 9, 3) and m["position_m"].shape == (9, 9, 2)
+
+
+def test_a_finger_without_a_sensor_is_a_key_error_with_the_fix():
+    sol = grasp.solve(grasp.Scene(EXAMPLES / "plate_transfer.json"))
+    with pytest.raises(KeyError, match="give the finger a `sensor`"):
+        sol.sensor("f1")
+
+
+def test_a_hand_offs_sensor_history_is_each_steps_readings():
+    run = grasp.transfer(grasp.Scene(EXAMPLES / "plate_transfer_taxels.json"),
+                         EXAMPLES / "plate_transfer_taxels.schedule.json")
+    steps = len(run.times_s)
+    for name in ("f1", "f3"):
+        h = run.sensor_history(name)["taxels"]["force_n"]
+        assert h.shape == (steps, 4, 2, 3)
+        column = run.finger_names.index(name)
+        held = run.normal_forces_n[:, column] > 0
+        for k in (0, steps // 2, steps - 1):
+            if np.isnan(h[k]).all():
+                with pytest.raises(KeyError):
+                    run.step(k).sensor(name)
+            else:
+                assert np.array_equal(h[k], run.step(k).sensor(name)["taxels"]["force_n"])
+        # A finger carrying load is read at that step.
+        assert not np.isnan(h[held]).any()
+    # f3 is released at t = 0 (the receivers take the plate later): no reading there.
+    assert np.isnan(run.sensor_history("f3")["taxels"]["force_n"][0]).all()
+    with pytest.raises(KeyError, match="has no sensor"):
+        grasp.transfer(grasp.Scene(EXAMPLES / "plate_transfer.json"),
+                       EXAMPLES / "plate_transfer.schedule.json").sensor_history("f1")
