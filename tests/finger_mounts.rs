@@ -375,3 +375,62 @@ fn a_preload_is_not_taken_for_viscoelastic_history() {
         }
     }
 }
+
+/// The recording of a servo-released hand-off draws each mounted core: an arrow at true scale
+/// in the 3-D view (`world/fingers/<name>/core`) and its length in mm (`plots/core/<name>`),
+/// whose last value is the arm's sag the CSV gives (`f3_core_moved_m`); the `rerun` CLI accepts
+/// the file.
+#[test]
+fn the_recording_draws_the_mounted_cores() {
+    use grasp_transfer::{CsvSink, RerunSink, Sink, TransferOptions};
+    let (scene, schedule) = support::transfer_example("plate_transfer_servo");
+    let dir = std::env::temp_dir().join(format!("grasp-cores-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (rrd, csv) = (dir.join("servo.rrd"), dir.join("servo.csv"));
+    let mut r = RerunSink::create(&rrd).unwrap();
+    let mut c = CsvSink::create(&csv).unwrap();
+    let mut sinks: [&mut dyn Sink; 2] = [&mut r, &mut c];
+    let (records, _) =
+        grasp_transfer::run_collect(&scene, &schedule, TransferOptions::default(), &mut sinks)
+            .unwrap();
+    let last = records.last().unwrap().solution.finger("f3").unwrap();
+    let moved_m = last.mount_displacement.as_ref().unwrap().moved_m();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = head.iter().position(|h| *h == "f3_core_moved_m").unwrap();
+    let cell: f64 = lines
+        .last()
+        .unwrap()
+        .split(',')
+        .nth(column)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(
+        (cell - moved_m).abs() <= 1e-9 * moved_m,
+        "{cell} against {moved_m}"
+    );
+    let Some(cli) = support::rerun_cli() else {
+        return;
+    };
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(&cli)
+            .args(args)
+            .arg(&rrd)
+            .env("CI", "1")
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).to_string()
+    };
+    run(&["rrd", "verify"]);
+    let printed = run(&["rrd", "print"]);
+    for path in ["world/fingers/f1/core", "plots/core/f3"] {
+        assert!(printed.contains(path), "{path} not in\n{printed}");
+    }
+}

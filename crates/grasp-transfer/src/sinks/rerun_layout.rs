@@ -82,13 +82,15 @@ pub struct LayoutContent<'a> {
     pub steps: bool,
     /// The smallest margin is logged at each step: its plot.
     pub margins: bool,
+    /// A finger stands on a mount: the plot of the cores' displacements.
+    pub mounts: bool,
     /// The fingers whose patches have flat views.
     pub flat: &'a [String],
 }
 
 /// The 3-D view and the plots, in the order they are stacked (the 3-D view alone without
 /// steps).
-fn views(steps: bool, margins: bool) -> Vec<ViewSpec> {
+fn views(steps: bool, margins: bool, mounts: bool) -> Vec<ViewSpec> {
     if !steps {
         return vec![view(0x10, "3D", "grasp", "/world")];
     }
@@ -109,6 +111,9 @@ fn views(steps: bool, margins: bool) -> Vec<ViewSpec> {
             "smallest margin [N]",
             "/plots/margin",
         ));
+    }
+    if mounts {
+        v.push(view(0x14, "TimeSeries", "core moved [mm]", "/plots/core"));
     }
     v
 }
@@ -193,7 +198,7 @@ fn included(paths: impl IntoIterator<Item = String>) -> Vec<IncludedContent> {
 
 /// The layout's rows: (entity path, archetype), children before their containers.
 fn layout_rows(content: LayoutContent) -> Vec<(String, Box<dyn AsComponents>)> {
-    let views = views(content.steps, content.margins);
+    let views = views(content.steps, content.margins, content.mounts);
     let patches = patch_views(content.flat);
     let mut rows: Vec<(String, Box<dyn AsComponents>)> = Vec::new();
     for v in views.iter().chain(&patches) {
@@ -326,14 +331,18 @@ mod tests {
         let two = ["f1".to_string(), "f2".to_string()];
         for (margins, flat) in [(false, &[][..]), (true, &[][..]), (false, &two[..])] {
             let steps = true;
-            let n_views = view_count(LayoutContent {
-                steps,
-                margins,
-                flat,
-            });
-            // Per finger with flat views, two; and the key.
-            let patches = 2 * flat.len() + usize::from(!flat.is_empty());
-            assert_eq!(n_views, 3 + usize::from(margins) + patches);
+            for mounts in [false, true] {
+                let n_views = view_count(LayoutContent {
+                    steps,
+                    margins,
+                    mounts,
+                    flat,
+                });
+                // Per finger with flat views, two; and the key.
+                let patches = 2 * flat.len() + usize::from(!flat.is_empty());
+                let plots = usize::from(margins) + usize::from(mounts);
+                assert_eq!(n_views, 3 + plots + patches);
+            }
         }
     }
 
@@ -342,6 +351,7 @@ mod tests {
         let content = LayoutContent {
             steps: false,
             margins: false,
+            mounts: false,
             flat: &[],
         };
         assert_eq!(view_count(content), 1);
@@ -366,6 +376,7 @@ mod tests {
         let layout = LayoutContent {
             steps: true,
             margins: true,
+            mounts: true,
             flat: &flat,
         };
         let a = layout_messages(layout).unwrap();

@@ -18,6 +18,8 @@
 //! - `plots/normal_force/<name>`, `plots/friction/<name>`: time series in newtons (fingers
 //!   whose curves coincide, a symmetric pair, say so in their legend names);
 //! - `plots/margin/smallest`: the step's smallest disturbance margin, N (with `--margins`);
+//! - `world/fingers/<name>/core`, `plots/core/<name>`: a mounted finger's core moved on its
+//!   spring, an arrow at true scale and its length in mm;
 //! - `plots/viscous_displacement/<name>`: on a viscoelastic contact, the largest normal
 //!   displacement its history added at the step, m (the creep or relaxation under way);
 //! - `world/tactile/<name>/taxels`, `.../markers`: a sensor finger's readings
@@ -452,6 +454,14 @@ impl RerunSink {
             format!("plots/friction/{name}"),
             &Scalars::new([f.tangential_magnitude_n]),
         )?;
+        if let Some(core) = &f.mount_displacement {
+            // The core's move at true scale in the 3-D view, its length in mm plotted.
+            let arrow = Arrows3D::from_vectors([core.translation_m.map(|x| x as f32)])
+                .with_origins([v3(&fm.frame().origin_m)]);
+            self.send(format!("world/fingers/{name}/core"), &arrow)?;
+            let moved_mm = core.moved_m() * 1e3;
+            self.send(format!("plots/core/{name}"), &Scalars::new([moved_mm]))?;
+        }
         // A viscoelastic contact: the largest normal displacement its history added, m.
         let history = f
             .elements
@@ -558,6 +568,14 @@ impl RerunSink {
                 self.send(format!("patches/{name}/{part}"), &rerun::Clear::flat())?;
             }
         }
+        if fm.mount().is_some() {
+            // Released: no push, the core at its commanded pose.
+            self.send(
+                format!("world/fingers/{name}/core"),
+                &Arrows3D::clear_fields(),
+            )?;
+            self.send(format!("plots/core/{name}"), &Scalars::new([0.0]))?;
+        }
         self.send(format!("plots/normal_force/{name}"), &Scalars::new([0.0]))?;
         self.send(format!("plots/friction/{name}"), &Scalars::new([0.0]))
     }
@@ -575,6 +593,7 @@ impl Sink for RerunSink {
         self.send_layout(LayoutContent {
             steps: self.steps,
             margins: run.margins,
+            mounts: g.fingers().iter().any(|f| f.mount().is_some()),
             flat: &flat,
         })?;
         let names: Vec<String> = g.fingers().iter().map(|f| f.name().to_string()).collect();
