@@ -71,6 +71,10 @@ pub struct Case {
     pub target: Option<Target>,
     /// Part of `--quick` (the CI smoke run): the cases that take well under a second.
     pub quick: bool,
+    /// A taxel sensor of `[nx, ny]` taxels given to every finger (square taxels tiling the
+    /// patch's shorter side, one pitch deep), or
+    /// `None` for the scene's own sensors.
+    pub taxels: Option<[usize; 2]>,
 }
 
 const fn case(
@@ -92,6 +96,16 @@ const fn case(
         grid,
         target,
         quick,
+        taxels: None,
+    }
+}
+
+impl Case {
+    /// This case with a sensor of `count` taxels in every finger's pad: square taxels tiling
+    /// the patch's shorter side (pitch = side = that side over the count), one pitch deep.
+    const fn with_taxels(mut self, count: [usize; 2]) -> Case {
+        self.taxels = Some(count);
+        self
     }
 }
 
@@ -262,7 +276,7 @@ pub const FFT_CASES: [Case; 7] = [
 /// a finger), automatic compliance. The target is a ratio, a layered patch at most 1.5x
 /// the half-space one on the same path: `grasp bench` prints it as a derived row
 /// ([`LAYER_PAIRS`]).
-pub const LAYER_CASES: [Case; 8] = [
+pub const LAYER_CASES: [Case; 10] = [
     case(
         "pad_pinch_64x64_fft",
         OneShot,
@@ -332,11 +346,31 @@ pub const LAYER_CASES: [Case; 8] = [
         None,
         false,
     ),
+    // Tactile sensors at every step: the half-space padded cylinder hand-off on four 64 x 64
+    // patches (FFT path), per step, with a 16 x 16 taxel grid one pitch deep in every pad and
+    // without; the target is a ratio, the read step at most 1.3x the plain one.
+    case(
+        "taxel_handoff_64x64_fft",
+        HandOff { warm: true },
+        "cylinder_handoff_pads_halfspace",
+        Some([64, 64]),
+        None,
+        false,
+    )
+    .with_taxels([16, 16]),
+    case(
+        "plain_handoff_64x64_fft",
+        HandOff { warm: true },
+        "cylinder_handoff_pads_halfspace",
+        Some([64, 64]),
+        None,
+        false,
+    ),
 ];
 
 /// The (layered, viscoelastic or textured; plain) case pairs whose time ratio is bounded, with
 /// the bound.
-pub const LAYER_PAIRS: [(&str, &str, f64); 4] = [
+pub const LAYER_PAIRS: [(&str, &str, f64); 5] = [
     ("pad_pinch_64x64_fft", "pad_pinch_halfspace_64x64_fft", 1.5),
     (
         "pad_pinch_18x18_dense",
@@ -345,6 +379,7 @@ pub const LAYER_PAIRS: [(&str, &str, f64); 4] = [
     ),
     ("viscous_handoff_warm", "elastic_handoff_warm", 1.5),
     ("ridged_pad_256x256_fft", "smooth_pad_256x256_fft", 1.5),
+    ("taxel_handoff_64x64_fft", "plain_handoff_64x64_fft", 1.3),
 ];
 
 /// Margins of a held grasp, which no load capacity bounds (the viscoelastic plate hold: two
@@ -473,6 +508,24 @@ impl Case {
         if let Some(grid) = self.grid {
             for f in &mut scene.fingers {
                 f.patch.grid = grid;
+            }
+        }
+        if let Some(count) = self.taxels {
+            for f in &mut scene.fingers {
+                let side = f.patch.size[0].min(f.patch.size[1]);
+                let pitch_m = side / count[0].max(count[1]) as f64;
+                let taxels = grasp_model::TaxelGridSpec {
+                    count,
+                    pitch_m,
+                    size_m: pitch_m,
+                    depth_m: pitch_m,
+                    rotation_rad: 0.0,
+                    offset_m: [0.0; 2],
+                };
+                f.sensor = Some(grasp_model::SensorSpec {
+                    taxels: Some(taxels),
+                    markers: None,
+                });
             }
         }
         let schedule = match (self.kind, schedule_text) {
