@@ -40,6 +40,23 @@ def test_a_finger_without_a_sensor_is_a_key_error_with_the_fix():
         sol.sensor("f1")
 
 
+def test_a_hand_offs_npz_carries_each_steps_readings(run_cli, tmp_path):
+    scene = EXAMPLES / "plate_transfer_taxels.json"
+    schedule = EXAMPLES / "plate_transfer_taxels.schedule.json"
+    npz = tmp_path / "run.npz"
+    proc = run_cli("transfer", scene, "--schedule", schedule, "--npz", npz)
+    assert proc.returncode == 0, proc.stderr
+    cli = np.load(npz)
+    history = grasp.transfer(grasp.Scene(scene), schedule).sensor_history("f3")
+    forces = history["taxels"]["force_n"]
+    for k in (0, 100, 199):
+        name = f"step_{k:05d}/f3/taxels/force_n"
+        if np.isnan(forces[k]).all():
+            assert name not in cli.files  # released: no entry
+        else:
+            assert np.array_equal(cli[name], forces[k])
+
+
 def test_a_hand_offs_sensor_history_is_each_steps_readings():
     run = grasp.transfer(grasp.Scene(EXAMPLES / "plate_transfer_taxels.json"),
                          EXAMPLES / "plate_transfer_taxels.schedule.json")

@@ -1,8 +1,10 @@
 //! `.npz` sink: every step's element fields as NumPy arrays (`grasp transfer --npz`), through
 //! the archive of `grasp solve --npz` ([`grasp_io::NpzArchive`]): the arrays of step `k` are
 //! named `step_<k>/<finger>/<field>` (`k` in five digits, `step_00012`), for the fingers of
-//! that step's solution; `times_s` holds each step's time, s, and `state_names` the names of
-//! the `state` codes. The arrays are written as the steps come, never held.
+//! that step's solution, with the readings of their tactile sensors beside them
+//! (`step_<k>/<finger>/taxels/force_n`, ..., as `grasp solve --npz` names them); `times_s`
+//! holds each step's time, s, and `state_names` the names of the `state` codes. The arrays
+//! are written as the steps come, never held.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -46,9 +48,11 @@ impl Sink for NpzSink {
 
     fn step(&mut self, _run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
         let prefix = format!("step_{:05}/", r.index);
-        self.archive()?
+        let archive = self.archive()?;
+        let written = archive
             .add_solution(&prefix, &r.solution)
-            .map_err(|e| io_err("npz", &self.path, e))?;
+            .and_then(|()| archive.add_sensors(&prefix, &r.sensors));
+        written.map_err(|e| io_err("npz", &self.path, e))?;
         self.times_s.push(r.time_s);
         Ok(())
     }
