@@ -99,3 +99,41 @@ fn the_energy_model_is_not_probed() {
         assert_eq!((a.solves, &a.other_equilibrium), (b.solves, &None));
     }
 }
+
+/// Along a coulomb hand-off the margins continue from step to step on solvers kept between
+/// steps: the probe solves on solvers of its own, so every step's smallest margin is the same
+/// number with and without it (`--probe-equilibria`), and no step finds a second equilibrium.
+/// The plate hand-off thinned to 7 steps (every 20th of its 121).
+#[test]
+fn a_hand_offs_continued_margins_are_the_same_with_and_without_the_probe() {
+    use grasp_transfer::{StepRecord, Stepper, TransferOptions};
+    let (scene, mut schedule) = support::transfer_example("plate_handoff_coulomb");
+    schedule.times = schedule.times.iter().copied().step_by(20).collect();
+    let run = |probe: bool| -> Vec<StepRecord> {
+        let mut options = TransferOptions {
+            margins: true,
+            ..TransferOptions::default()
+        };
+        options.margin_options.probe_equilibria = probe;
+        Stepper::new(&scene, &schedule, options)
+            .map(|r| r.unwrap())
+            .collect()
+    };
+    let (with, without) = (run(true), run(false));
+    assert_eq!(with.len(), 7);
+    for (a, b) in with.iter().zip(&without) {
+        let (ma, mb) = (a.margin.as_ref().unwrap(), b.margin.as_ref().unwrap());
+        assert_eq!(
+            (ma.smallest_n, ma.held_to_n),
+            (mb.smallest_n, mb.held_to_n),
+            "step {}",
+            a.index
+        );
+        assert!(
+            ma.solves > mb.solves || ma.smallest_n.is_none(),
+            "step {}: not probed",
+            a.index
+        );
+        assert_eq!(ma.other_equilibrium, None, "step {}", a.index);
+    }
+}

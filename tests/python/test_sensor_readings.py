@@ -79,3 +79,34 @@ def test_a_hand_offs_sensor_history_is_each_steps_readings():
     with pytest.raises(KeyError, match="has no sensor"):
         grasp.transfer(grasp.Scene(EXAMPLES / "plate_transfer.json"),
                        EXAMPLES / "plate_transfer.schedule.json").sensor_history("f1")
+
+
+def test_a_batch_line_carries_the_sensors_and_the_stick_fraction(run_cli, tmp_path):
+    """A tactile dataset's line: `grasp batch` writes each scene's readings as `grasp solve
+    --json` does, and each finger's stick fraction (stick over stick and slip elements) as the
+    solve's element counts give it."""
+    import json
+    scene = json.loads((EXAMPLES / "hertz_taxels.json").read_text())
+    scenes = tmp_path / "scenes.jsonl"
+    scenes.write_text(json.dumps({"id": "taxels", "scene": scene}) + "\n"
+                      + json.dumps({"id": "plain", "scene": json.loads(
+                          (EXAMPLES / "cube_a.json").read_text())}) + "\n")
+    out = tmp_path / "results.jsonl"
+    proc = run_cli("batch", scenes, "--out", out)
+    assert proc.returncode == 0, proc.stderr
+    lines = {line["id"]: line for line in map(json.loads, open(out))}
+    solved = tmp_path / "solve.json"
+    proc = run_cli("solve", EXAMPLES / "hertz_taxels.json", "--json", solved)
+    assert proc.returncode == 0, proc.stderr
+    theirs = json.load(open(solved))
+    assert lines["taxels"]["sensors"] == theirs["sensors"]
+    assert "sensors" not in lines["plain"]
+    assert "stick_fraction" not in lines["taxels"]["fingers"][0]  # frictionless tip
+    cube_json = tmp_path / "cube.json"
+    proc = run_cli("solve", EXAMPLES / "cube_a.json", "--json", cube_json)
+    assert proc.returncode == 0, proc.stderr
+    cube = json.load(open(cube_json))
+    for ours, f in zip(lines["plain"]["fingers"], cube["fingers"], strict=True):
+        stick, slip = f["stick_count"], f["slip_count"]
+        assert stick + slip > 0
+        assert ours["stick_fraction"] == stick / (stick + slip)

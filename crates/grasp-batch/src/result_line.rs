@@ -41,6 +41,10 @@ pub struct FingerForces {
     /// rigid core; `grasp_model::MountDisplacement`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mount_displacement: Option<grasp_model::MountDisplacement>,
+    /// Elements in stick over elements in contact with friction (stick and slip): 1 fully
+    /// stuck, 0 sliding as a whole; absent for a frictionless finger or one out of contact.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stick_fraction: Option<f64>,
 }
 
 /// One output line.
@@ -76,11 +80,20 @@ pub struct ResultLine {
     /// Largest relative residual of every kind (absent without forces).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub worst_residual: Option<f64>,
+    /// The tactile sensors' readings, as `grasp solve --json` writes them under `sensors`
+    /// (one record per finger with a sensor; absent when the scene has none or no forces).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensors: Option<Value>,
     /// Solver that answered (absent for an invalid scene).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub solver: Option<String>,
     /// Wall time of the model and the solve, s.
     pub time_s: f64,
+}
+
+/// `stick / (stick + slip)`, `None` when no element sticks or slips.
+fn stick_fraction(stick: usize, slip: usize) -> Option<f64> {
+    (stick + slip > 0).then(|| stick as f64 / (stick + slip) as f64)
 }
 
 impl ResultLine {
@@ -112,10 +125,12 @@ impl ResultLine {
                     torsional_moment_nm: f.torsional_moment_nm,
                     friction_utilization: f.friction_utilization,
                     mount_displacement: f.mount_displacement,
+                    stick_fraction: stick_fraction(f.stick_count, f.slip_count),
                 })
                 .collect(),
             equilibrium_residual: sol.residuals.map(|r| r.equilibrium_relative),
             worst_residual: sol.residuals.map(|r| r.worst()),
+            sensors: None,
             solver: Some(sol.solver.solver.to_string().to_lowercase()),
             time_s,
         }
@@ -137,6 +152,7 @@ impl ResultLine {
             fingers: Vec::new(),
             equilibrium_residual: None,
             worst_residual: None,
+            sensors: None,
             solver: None,
             time_s: 0.0,
         }

@@ -112,11 +112,19 @@ pub fn solve_line(
                 match GraspModel::from_validated_with(&scene, options.solve.compliance) {
                     Err(e) => ResultLine::invalid(id, index, of, e.problems()),
                     Ok(model) => {
+                        let model = std::sync::Arc::new(model);
                         let inputs = StepInputs::of_scene(&model);
-                        match GraspSolver::new(model, options.solve).solve(&inputs) {
+                        let shared = std::sync::Arc::clone(&model);
+                        let mut solver = GraspSolver::new(shared, options.solve);
+                        match solver.solve(&inputs) {
                             Ok(sol) => {
                                 let t = clock.elapsed().as_secs_f64();
-                                ResultLine::of_solution(id, index, of, &sol, t)
+                                let mut l = ResultLine::of_solution(id, index, of, &sol, t);
+                                match sensors_of(&scene, &model, &sol) {
+                                    Ok(read) => l.sensors = read,
+                                    Err(why) => l.warnings.push(why),
+                                }
+                                l
                             }
                             // Too little memory for the solve: the scene fails, the batch
                             // goes on.
@@ -139,6 +147,23 @@ pub fn solve_line(
     };
     out.vary = vary;
     out
+}
+
+/// The readings of the scene's sensors as their JSON (`None` when it has none or the solve found
+/// no forces); a read-out refused (too much work: its reason names the field and the fix) is a
+/// warning of the line, which keeps its forces.
+fn sensors_of(
+    scene: &grasp_model::Scene,
+    model: &GraspModel,
+    sol: &grasp_model::Solution,
+) -> Result<Option<serde_json::Value>, String> {
+    if !sol.status.has_forces() {
+        return Ok(None);
+    }
+    let read = grasp_model::sensor_readings(scene, model, sol).map_err(|e| e.to_string())?;
+    Ok((!read.is_empty())
+        .then(|| serde_json::to_value(&read).ok())
+        .flatten())
 }
 
 /// Most worker threads a batch may have: more threads than cores only add switching, and each

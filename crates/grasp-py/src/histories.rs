@@ -98,7 +98,10 @@ pub fn solution_bytes_per_step(scene: &grasp_model::Scene) -> u64 {
         .map(|f| f.patch.grid[0] as u64 * f.patch.grid[1] as u64)
         .sum();
     let names: u64 = scene.fingers.iter().map(|f| 2 * f.name.len() as u64).sum();
+    // The sensors' readings a record holds: per taxel or marker its reading and its point.
+    let readings = SensorHistories::bytes_per_step(scene) * 5 / 3;
     std::mem::size_of::<StepRecord>() as u64
+        + readings
         + fingers
             * (std::mem::size_of::<FingerSolution>()
                 + std::mem::size_of::<grasp_transfer::FingerCommand>()) as u64

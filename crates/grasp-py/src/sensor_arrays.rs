@@ -1,6 +1,6 @@
 //! A finger's tactile readings as NumPy arrays over its grids (`Solution.sensor`): the
 //! row-major lists of `grasp_model::SensorReadings` reshaped to `(nx, ny, k)`, as `grasp solve
-//! --npz` writes them.
+//! --npz` writes them (and the taxels' `size_m`, which the archive leaves out).
 
 use grasp_model::SensorReadings;
 use pyo3::prelude::*;

@@ -5,9 +5,10 @@
 //! friction with strong normal-tangential coupling). A margin search follows the equilibrium
 //! its warm-started solves reach from the state that held; at the failing end it probes for
 //! another: the step from the margin's state to the failing magnitude is solved again three
-//! ways, by the chosen solver as the search solves it (the path), by the same solver's fixed
-//! point started cold (no previous forces, no warm start: the same slip memory), and by the
-//! other solver. When one answer holds and the path's does not (or the reverse), and both carry
+//! ways, each on a solver of its own: by the chosen solver (the path; when it holds there, the
+//! search reached its failing end from another state and the probe stops), by the same
+//! solver's fixed point started cold (no previous forces, no warm start: the same slip memory),
+//! and by the other solver. When one answer holds and the path's does not (or the reverse), and both carry
 //! forces that differ at some finger by more than [`DISTINCT_FRACTION`] of the load scale (or
 //! the path found no equilibrium), the law admits two equilibria there that disagree on
 //! whether the grasp survives, and the margin says so
@@ -62,10 +63,21 @@ impl Search<'_> {
         if !probe || self.model.kind() != ModelKind::Coulomb || fails.s >= self.capacity_n {
             return Ok(None);
         }
-        let path = self.solve_by(Way::Path, held, fails.s)?;
+        // A solve the solver cannot take (Clarabel and an FFT operator too large to write
+        // out) leaves its probe out; the margin stands whatever the probe.
+        let Ok(path) = self.solve_by(Way::Path, held, fails.s) else {
+            return Ok(None);
+        };
+        // The search reached its failing end from another state (a bisection's earlier one, a
+        // prediction's start): from the margin's state the step holds, and the probe has no
+        // failing answer to set the others against.
+        if path
+            .as_ref()
+            .is_some_and(|p| holds(self.model, p, self.exempt).is_ok())
+        {
+            return Ok(None);
+        }
         for way in [Way::Cold, Way::Other] {
-            // A probe the solver cannot take (Clarabel and an FFT operator too large to
-            // write out) is left out.
             let Ok(probe) = self.solve_by(way, held, fails.s) else {
                 continue;
             };
@@ -78,25 +90,16 @@ impl Search<'_> {
 
     /// The step from `held`'s state ramped to `s` N, solved `way`: the last solve's answer
     /// (at `s`, or the first step of the ramp without forces).
+    /// Every way solves on a solver of its own: the search's solver (kept from step to step
+    /// along a hand-off) keeps its warm start as the search left it.
     fn solve_by(&mut self, way: Way, held: &Held, s: f64) -> Result<Option<Solution>, ModelError> {
         let mut options = *self.solver.options();
-        let mut solver = match way {
-            Way::Path => None,
-            Way::Cold => {
-                options.warm_start = false;
-                Some(GraspSolver::new(
-                    Arc::clone(self.solver.shared_model()),
-                    options,
-                ))
-            }
-            Way::Other => {
-                options.solver = options.solver.other();
-                Some(GraspSolver::new(
-                    Arc::clone(self.solver.shared_model()),
-                    options,
-                ))
-            }
-        };
+        match way {
+            Way::Path => {}
+            Way::Cold => options.warm_start = false,
+            Way::Other => options.solver = options.solver.other(),
+        }
+        let mut solver = GraspSolver::new(Arc::clone(self.solver.shared_model()), options);
         let mut state = held.state.clone();
         let mut last = None;
         for p in self.ramp(held.s, s) {
@@ -104,7 +107,6 @@ impl Search<'_> {
                 forget_forces(&mut state);
             }
             let inputs = self.inputs_at(p);
-            let solver = solver.as_mut().unwrap_or(&mut *self.solver);
             let sol = solver.solve_step(&inputs, &mut state)?;
             self.solves += 1;
             let stop = !sol.status.has_forces();

@@ -86,7 +86,7 @@ pub struct MarginOptions {
     /// equilibrium (for comparison).
     pub load_capacity: bool,
     /// Probe the failing end of each coulomb bracket for another equilibrium (default;
-    /// the search's solver started cold and the other solver, compared to [`crate::DISTINCT_FRACTION`]): two to three more solves per bounded direction.
+    /// the search's solver started cold and the other solver, compared to [`crate::DISTINCT_FRACTION`]): three more solves per bounded direction.
     /// `false` leaves the probe out, for comparison.
     pub probe_equilibria: bool,
 }
