@@ -259,6 +259,11 @@ impl Solution {
     /// The tactile sensor's readings of `finger` (`fingers[i].sensor`; docs/guide/tactile.md),
     /// as NumPy arrays over its grids, `i` along the grid's first side.
     ///
+    /// Parameters
+    /// ----------
+    /// finger : str
+    ///     The finger's name (one of `finger_names` with a `sensor` in the scene).
+    ///
     /// Returns
     /// -------
     /// dict

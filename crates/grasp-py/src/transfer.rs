@@ -525,6 +525,11 @@ impl Transfer {
     /// The tactile readings of `finger` at every step (its `sensor`; docs/guide/tactile.md),
     /// as `Solution.sensor` gives one step's, with the steps first.
     ///
+    /// Parameters
+    /// ----------
+    /// finger : str
+    ///     The finger's name (one with a `sensor` in the scene).
+    ///
     /// Returns
     /// -------
     /// dict
