@@ -13,7 +13,7 @@
 //!
 //! A released finger (or a failed step) clears both.
 
-use grasp_model::{FingerModel, SensorReadings};
+use grasp_model::{FingerModel, MarkerReadings, SensorReadings, TaxelReadings};
 use nalgebra::Vector3;
 use rerun::{Arrows3D, AsComponents, Color};
 
@@ -74,27 +74,20 @@ fn f32s(v: &Vector3<f64>) -> [f32; 3] {
     [v.x as f32, v.y as f32, v.z as f32]
 }
 
-/// The taxels' force arrows (none: cleared).
-fn taxel_arrows(fm: &FingerModel, r: Option<&SensorReadings>, m_per_n: f64) -> Arrows3D {
-    let Some(t) = r.and_then(|r| r.taxels.as_ref()) else {
-        return Arrows3D::clear_fields();
-    };
-    let origins = t.centre_m.iter().map(|c| f32s(&on_pad(fm, *c, t.depth_m)));
-    let vectors = t
-        .force_n
-        .iter()
-        .map(|f| f32s(&(in_world(fm, *f) * m_per_n)));
-    let [r_, g, b] = NORMAL_FORCE_RGB;
-    Arrows3D::from_vectors(vectors.collect::<Vec<_>>())
-        .with_origins(origins.collect::<Vec<_>>())
-        .with_colors([Color::from_rgb(r_, g, b)])
+/// An arrow: its origin and its vector, world frame, m.
+type Arrow = (Vector3<f64>, Vector3<f64>);
+
+/// Each taxel's arrow: from its centre at its depth in the pad, its force as it acts on the
+/// object times `m_per_n`.
+fn taxel_vectors(fm: &FingerModel, t: &TaxelReadings, m_per_n: f64) -> Vec<Arrow> {
+    let origins = t.centre_m.iter().map(|c| on_pad(fm, *c, t.depth_m));
+    let vectors = t.force_n.iter().map(|f| in_world(fm, *f) * m_per_n);
+    origins.zip(vectors).collect()
 }
 
-/// The markers' displacement arrows, magnified (none: cleared).
-fn marker_arrows(fm: &FingerModel, r: Option<&SensorReadings>) -> Arrows3D {
-    let Some(m) = r.and_then(|r| r.markers.as_ref()) else {
-        return Arrows3D::clear_fields();
-    };
+/// Each marker's arrow, from its point on the surface, its displacement magnified `k` times so
+/// that the longest is [`MARKER_ARROW_FRACTION`] of the patch's shorter side; and `k`.
+fn marker_vectors(fm: &FingerModel, m: &MarkerReadings) -> (f64, Vec<Arrow>) {
     // The surface displacement `[normal (into the finger), t1, t2]` as a world vector.
     let world = |u: &[f64; 3]| in_world(fm, [-u[0], u[1], u[2]]);
     let longest = m
@@ -109,11 +102,95 @@ fn marker_arrows(fm: &FingerModel, r: Option<&SensorReadings>) -> Arrows3D {
     } else {
         1.0
     };
-    let origins = m.position_m.iter().map(|p| f32s(&on_pad(fm, *p, 0.0)));
-    let vectors = m.displacement_m.iter().map(|u| f32s(&(world(u) * k)));
-    let [r_, g_, b] = MARKER_RGB;
-    Arrows3D::from_vectors(vectors.collect::<Vec<_>>())
-        .with_origins(origins.collect::<Vec<_>>())
-        .with_colors([Color::from_rgb(r_, g_, b)])
-        .with_labels([format!("markers x{k:.3e}")])
+    let origins = m.position_m.iter().map(|p| on_pad(fm, *p, 0.0));
+    let vectors = m.displacement_m.iter().map(|u| world(u) * k);
+    (k, origins.zip(vectors).collect())
+}
+
+/// `arrows` as Rerun's, in `rgb`.
+fn drawn(arrows: &[Arrow], rgb: [u8; 3]) -> Arrows3D {
+    let [r, g, b] = rgb;
+    Arrows3D::from_vectors(arrows.iter().map(|a| f32s(&a.1)).collect::<Vec<_>>())
+        .with_origins(arrows.iter().map(|a| f32s(&a.0)).collect::<Vec<_>>())
+        .with_colors([Color::from_rgb(r, g, b)])
+}
+
+/// The taxels' force arrows (none: cleared).
+fn taxel_arrows(fm: &FingerModel, r: Option<&SensorReadings>, m_per_n: f64) -> Arrows3D {
+    match r.and_then(|r| r.taxels.as_ref()) {
+        Some(t) => drawn(&taxel_vectors(fm, t, m_per_n), NORMAL_FORCE_RGB),
+        None => Arrows3D::clear_fields(),
+    }
+}
+
+/// The markers' displacement arrows, magnified (none: cleared).
+fn marker_arrows(fm: &FingerModel, r: Option<&SensorReadings>) -> Arrows3D {
+    let Some(m) = r.and_then(|r| r.markers.as_ref()) else {
+        return Arrows3D::clear_fields();
+    };
+    let (k, arrows) = marker_vectors(fm, m);
+    drawn(&arrows, MARKER_RGB).with_labels([format!("markers x{k:.3e}")])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The first finger of the taxel plate hand-off (f1: contact at x = -0.1 m, normal +x).
+    fn finger() -> FingerModel {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../examples/plate_transfer_taxels.json"
+        );
+        let scene = grasp_model::Scene::from_json_str(&std::fs::read_to_string(path).unwrap());
+        let model = grasp_model::GraspModel::from_scene(&scene.unwrap()).unwrap();
+        model.fingers()[0].clone()
+    }
+
+    /// A taxel's arrow starts `depth_m` behind the surface, in the pad, and a normal reading
+    /// points along `n`, into the object (as the force the finger puts on it), at the force
+    /// arrows' scale; a shear reading along `t1`.
+    #[test]
+    fn a_taxels_arrow_starts_in_the_pad_and_points_as_its_force_acts_on_the_object() {
+        let fm = finger();
+        let f = fm.frame();
+        let t = TaxelReadings {
+            finger: "f1".into(),
+            count: [2, 1],
+            depth_m: 5e-4,
+            size_m: 1e-3,
+            centre_m: vec![[1e-3, 2e-3], [0.0, 0.0]],
+            force_n: vec![[2.0, 0.0, 0.0], [0.0, 0.5, 0.0]],
+        };
+        let a = taxel_vectors(&fm, &t, 0.01);
+        let origin = f.origin_m + f.t1 * 1e-3 + f.t2 * 2e-3 - f.normal * 5e-4;
+        assert!((a[0].0 - origin).norm() < 1e-15);
+        assert!(
+            (a[0].0 - f.origin_m).dot(&f.normal) < 0.0,
+            "behind the surface"
+        );
+        assert!((a[0].1 - f.normal * 0.02).norm() < 1e-15);
+        assert!((a[1].1 - f.t1 * 0.005).norm() < 1e-15);
+    }
+
+    /// A marker pushed into the finger draws an arrow along `-n` from its surface point, the
+    /// longest a quarter of the patch's shorter side (the 10 mm x 5 mm patch: 1.25 mm).
+    #[test]
+    fn a_markers_arrow_points_where_the_surface_moved_magnified_to_a_quarter_side() {
+        let fm = finger();
+        let f = fm.frame();
+        let m = MarkerReadings {
+            count: [2, 1],
+            position_m: vec![[0.0, 0.0], [1e-3, 0.0]],
+            displacement_m: vec![[2e-6, 0.0, 0.0], [0.0, 0.0, 1e-6]],
+        };
+        let (k, a) = marker_vectors(&fm, &m);
+        assert!((k * 2e-6 - 1.25e-3).abs() < 1e-15, "{k}");
+        assert!(
+            (a[0].1.normalize() + f.normal).norm() < 1e-12,
+            "into the finger"
+        );
+        assert!((a[0].0 - f.origin_m).norm() < 1e-15);
+        assert!((a[1].1 - f.t2 * (k * 1e-6)).norm() < 1e-15);
+    }
 }
