@@ -227,4 +227,69 @@ mod tests {
         let (_, none) = largest_difference(&a, &a).unwrap();
         assert_eq!(none, 0.0);
     }
+
+    /// The decision, on the coulomb pinch pushed down (its friction capacity 2 mu P - W = 6
+    /// N): a holding answer (3 N) set against a path that found no equilibrium (8 N) is
+    /// reported; two holding answers are not; a path whose finger slides against a holding
+    /// answer is reported when their forces differ by more than `DISTINCT_FRACTION` of the load
+    /// scale (1 N), not when they differ by less (1e-5 N: round-off's order).
+    #[test]
+    fn only_a_holding_answer_where_the_path_fails_with_distinct_forces_is_reported() {
+        use crate::analysis::margin_report::MarginOptions;
+        use crate::analysis::margin_search::tests::{pinch_under, DOWN};
+        use crate::analysis::margin_search::{SolvedStep, StepSearch};
+        use crate::solve::solution::{ElementState, SolveStatus};
+        let model = pinch_under("coulomb");
+        let inputs = StepInputs::of_scene(&model);
+        let solve = SolveOptions::default();
+        let mut base_state = ContactState::new(&model);
+        let base = GraspSolver::new(Arc::clone(&model), solve)
+            .solve_step(&inputs, &mut base_state)
+            .unwrap();
+        let options = MarginOptions::default();
+        let step = StepSearch {
+            model: &model,
+            inputs: &inputs,
+            solved: SolvedStep {
+                state: &base_state,
+                solution: &base,
+            },
+            solve_options: solve,
+            options: &options,
+            exempt: &[],
+        };
+        let mut solver = GraspSolver::new(Arc::clone(&model), solve);
+        let search = step.search(&mut solver, DOWN, false);
+        let at = |s: f64| {
+            let mut state = base_state.clone();
+            GraspSolver::new(Arc::clone(&model), solve)
+                .solve_step(&search.inputs_at(s), &mut state)
+                .unwrap()
+        };
+        let (holding, beyond) = (at(3.0), at(8.0));
+        assert_eq!(
+            beyond.status,
+            SolveStatus::NoEquilibrium,
+            "{:?}",
+            beyond.reason
+        );
+        let words = search.distinct(&Some(beyond), &Some(holding.clone()), Way::Cold, 8.0);
+        assert!(words.is_some_and(|w| w.contains("finds none")));
+        let same = search.distinct(&Some(holding.clone()), &Some(at(3.0)), Way::Other, 3.0);
+        assert_eq!(same, None);
+        let sliding = |dp: f64| {
+            let mut s = holding.clone();
+            let f = &mut s.fingers[0];
+            f.normal_force_n += dp;
+            for e in &mut f.elements {
+                e.state = ElementState::Slip;
+            }
+            (f.slip_count, f.stick_count) = (f.slip_count + f.stick_count, 0);
+            s
+        };
+        let far = search.distinct(&Some(sliding(1.0)), &Some(holding.clone()), Way::Cold, 3.0);
+        assert!(far.is_some_and(|w| w.contains("two equilibria") && w.contains("left slides")));
+        let near = search.distinct(&Some(sliding(1e-5)), &Some(holding), Way::Cold, 3.0);
+        assert_eq!(near, None);
+    }
 }

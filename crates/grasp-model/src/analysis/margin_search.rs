@@ -496,6 +496,11 @@ pub(crate) mod tests {
     /// A block pinched along x by two flat steel pads (commanded load 10 N each, mu 0.5),
     /// weight 4 N: downwards it takes `2 mu P - W = 6 N` more (the pads' friction capacity).
     pub(crate) fn pinch() -> Arc<GraspModel> {
+        pinch_under("energy")
+    }
+
+    /// [`pinch`] under the contact law `law` (`"energy"` or `"coulomb"`).
+    pub(crate) fn pinch_under(law: &str) -> Arc<GraspModel> {
         let finger = |name: &str, x: f64, nx: f64| {
             serde_json::json!({
                 "name": name, "contact_point": [x, 0.0, 0.0], "normal": [nx, 0.0, 0.0],
@@ -509,7 +514,7 @@ pub(crate) mod tests {
             "object": {"weight": 4.0, "center_of_mass": [0.0, 0.0, 0.0],
                        "material": {"youngs_modulus": 210e9, "poisson_ratio": 0.3}},
             "fingers": [finger("left", -0.02, 1.0), finger("right", 0.02, -1.0)],
-            "model": "energy"
+            "model": law
         });
         let scene = crate::Scene::from_json_str(&scene.to_string()).unwrap();
         Arc::new(GraspModel::from_scene(&scene).unwrap())
