@@ -75,7 +75,10 @@ def result_line(index, of, n, text):
         line["vary"] = vary
     keep = ("name", "normal_force_n", "tangential_force_n", "tangential_magnitude_n",
             "torsional_moment_nm", "friction_utilization")
-    line["fingers"] = [{k: f[k] for k in keep} for f in sol.fingers]
+    line["fingers"] = [finger_line(f, keep) for f in sol.fingers]
+    sensors = sol.to_dict().get("sensors")
+    if sensors:
+        line["sensors"] = sensors
     if sol.residuals is not None:
         r = sol.residuals
         line["equilibrium_residual"] = r["equilibrium_relative"]
@@ -83,6 +86,18 @@ def result_line(index, of, n, text):
     line["solver"] = sol.solver["solver"]
     line["time_s"] = time.perf_counter() - clock
     return line
+
+
+def finger_line(f, keep):
+    """A finger's fields of a `grasp batch` line: its resultants, its core's displacement on a
+    mount, and its stick fraction (stick over stick and slip elements; none without either)."""
+    out = {k: f[k] for k in keep}
+    if "mount_displacement" in f:
+        out["mount_displacement"] = f["mount_displacement"]
+    touching = f.get("stick_count", 0) + f.get("slip_count", 0)
+    if touching > 0:
+        out["stick_fraction"] = f.get("stick_count", 0) / touching
+    return out
 
 
 def invalid(ident, index, of, vary, problems):
