@@ -137,3 +137,67 @@ fn the_mcap_and_the_recording_carry_the_readings() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("world/tactile/f1/taxels"), "{text}");
 }
+
+/// `examples/cattaneo_markers.json` along its schedule (Q ramped to 0.9 mu P in eight steps,
+/// the coulomb law carrying the slip history from step to step): at every step the markers
+/// (on element centres, where the read-out is exact for the element forces) that move with
+/// the central one (to 1e-6 of its shift) fill a circle whose area-equivalent
+/// radius is Cattaneo's `c = a (1 - Q/(mu P))^(1/3)` within one marker pitch (the markers'
+/// resolution), the central shift is Mindlin's per body (Johnson eq. 7.42, half of it between
+/// equal steels) within 1 % (the tolerance; `tests/marker_readings.rs` measures 0.1 to
+/// 0.2 % at single loads), and the circle never grows as Q does.
+#[test]
+fn markers_follow_incipient_slip_step_by_step() {
+    use grasp_model::closed_form::{cattaneo_stick_radius_m, mindlin_displacement_m, HertzSphere};
+    let (scene, schedule) = support::transfer_example("cattaneo_markers");
+    let records = steps(&scene, &schedule, &mut []);
+    // The markers sit on element centres, seven elements apart (the example's 64 x 64 over 2.4 a).
+    let (mu, p, e, nu) = (0.3, 10.0, 210e9, 0.3);
+    let pitch = 7.0 * 2.078e-4 / 64.0;
+    // Two equal steels: E* = E / (2 (1 - nu^2)).
+    let a = HertzSphere::new(p, 0.01, e / (2.0 * (1.0 - nu * nu))).contact_radius_m;
+    let g = e / (2.0 * (1.0 + nu));
+    let markers = |r: &StepRecord| r.sensors[0].markers.clone().unwrap();
+    let start = markers(&records[0]);
+    let mut last_stuck = usize::MAX;
+    for r in &records[1..] {
+        let q = r.external_force_n[0];
+        let m = markers(r);
+        let u: Vec<[f64; 2]> = m
+            .displacement_m
+            .iter()
+            .zip(&start.displacement_m)
+            .map(|(a, b)| [a[1] - b[1], a[2] - b[2]])
+            .collect();
+        let centre = u[u.len() / 2];
+        let stuck = u
+            .iter()
+            .filter(|v| (v[0] - centre[0]).hypot(v[1] - centre[1]) <= 1e-6 * centre[0])
+            .count();
+        let c_markers = (stuck as f64 * pitch * pitch / std::f64::consts::PI).sqrt();
+        let c = cattaneo_stick_radius_m(a, q, mu, p);
+        let shift = mindlin_displacement_m(a, 2.0 * (2.0 - nu) / g, q, mu, p) / 2.0;
+        let at = format!("t = {} s, Q = {q} N", r.time_s);
+        println!(
+            "{at}: {stuck} markers stick, radius {:.3} a (c = {:.3} a), shift {:.2} % off",
+            c_markers / a,
+            c / a,
+            100.0 * (centre[0] - shift).abs() / shift
+        );
+        assert!(
+            (c_markers - c).abs() <= pitch,
+            "{at}: stick radius {c_markers} vs {c}"
+        );
+        assert!(
+            (centre[0] - shift).abs() <= 0.01 * shift,
+            "{at}: {} vs {shift}",
+            centre[0]
+        );
+        assert!(stuck <= last_stuck, "{at}: the stick circle grew");
+        last_stuck = stuck;
+    }
+    assert!(
+        last_stuck < 81,
+        "the slip annulus reaches the markers at 0.9 mu P"
+    );
+}
