@@ -414,20 +414,7 @@ fn the_recording_draws_the_mounted_cores() {
     let Some(cli) = support::rerun_cli() else {
         return;
     };
-    let run = |args: &[&str]| {
-        let out = std::process::Command::new(&cli)
-            .args(args)
-            .arg(&rrd)
-            .env("CI", "1")
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stdout).to_string()
-    };
+    let run = |args: &[&str]| support::rerun_on(&cli, args, &rrd);
     run(&["rrd", "verify"]);
     let printed = run(&["rrd", "print"]);
     for path in ["world/fingers/f1/core", "plots/core/f3"] {

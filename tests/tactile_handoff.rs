@@ -6,8 +6,6 @@
 
 mod support;
 
-use std::process::Command as Process;
-
 use grasp_model::{GraspModel, LoadedScene};
 use grasp_transfer::{
     McapSink, RerunSink, Schedule, Sink, StepRecord, TransferOptions, TACTILE_SCHEMA, TACTILE_TOPIC,
@@ -114,27 +112,10 @@ fn the_mcap_and_the_recording_carry_the_readings() {
     let Some(cli) = support::rerun_cli() else {
         return;
     };
-    for (args, file) in [(["mcap", "check"], &mcap), (["rrd", "verify"], &rrd)] {
-        let out = Process::new(&cli)
-            .args(args)
-            .arg(file)
-            .env("CI", "1")
-            .output()
-            .unwrap();
-        let text = String::from_utf8_lossy(&out.stdout).to_string()
-            + &String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success(), "rerun {args:?}: {text}");
-        if args[0] == "mcap" {
-            assert!(text.contains(TACTILE_TOPIC), "{text}");
-        }
-    }
-    let out = Process::new(&cli)
-        .args(["rrd", "print"])
-        .arg(&rrd)
-        .env("CI", "1")
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
+    let checked = support::rerun_on(&cli, &["mcap", "check"], &mcap);
+    assert!(checked.contains(TACTILE_TOPIC), "{checked}");
+    support::rerun_on(&cli, &["rrd", "verify"], &rrd);
+    let text = support::rerun_on(&cli, &["rrd", "print"], &rrd);
     assert!(text.contains("world/tactile/f1/taxels"), "{text}");
 }
 

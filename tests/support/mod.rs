@@ -546,3 +546,22 @@ pub fn fifo(path: &std::path::Path) {
         path.display()
     );
 }
+
+/// Runs the `rerun` CLI `cli` with `args` on `file` (with `CI=1`), insisting that it succeeds;
+/// its standard output and error, in that order.
+pub fn rerun_on(cli: &std::path::Path, args: &[&str], file: &std::path::Path) -> String {
+    let out = std::process::Command::new(cli)
+        .args(args)
+        .arg(file)
+        .env("CI", "1")
+        .output()
+        .expect("run the rerun CLI");
+    let text =
+        String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "rerun {args:?} {}: {text}",
+        file.display()
+    );
+    text
+}

@@ -236,28 +236,14 @@ mod tests {
     #[test]
     fn only_a_holding_answer_where_the_path_fails_with_distinct_forces_is_reported() {
         use crate::analysis::margin_report::MarginOptions;
-        use crate::analysis::margin_search::tests::{pinch_under, DOWN};
-        use crate::analysis::margin_search::{SolvedStep, StepSearch};
+        use crate::analysis::margin_search::tests::{pinch_under, Undisturbed, DOWN};
         use crate::solve::solution::{ElementState, SolveStatus};
         let model = pinch_under("coulomb");
-        let inputs = StepInputs::of_scene(&model);
         let solve = SolveOptions::default();
-        let mut base_state = ContactState::new(&model);
-        let base = GraspSolver::new(Arc::clone(&model), solve)
-            .solve_step(&inputs, &mut base_state)
-            .unwrap();
+        let undisturbed = Undisturbed::of(&model);
+        let base_state = &undisturbed.state;
         let options = MarginOptions::default();
-        let step = StepSearch {
-            model: &model,
-            inputs: &inputs,
-            solved: SolvedStep {
-                state: &base_state,
-                solution: &base,
-            },
-            solve_options: solve,
-            options: &options,
-            exempt: &[],
-        };
+        let step = undisturbed.step(&model, &options);
         let mut solver = GraspSolver::new(Arc::clone(&model), solve);
         let search = step.search(&mut solver, DOWN, false);
         let at = |s: f64| {

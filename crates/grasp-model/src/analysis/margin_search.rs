@@ -520,6 +520,48 @@ pub(crate) mod tests {
         Arc::new(GraspModel::from_scene(&scene).unwrap())
     }
 
+    /// A model's step at its scene's loads, solved undisturbed with the default options: where
+    /// a test's searches start.
+    pub(crate) struct Undisturbed {
+        pub(crate) inputs: StepInputs,
+        pub(crate) state: ContactState,
+        pub(crate) solution: Solution,
+    }
+
+    impl Undisturbed {
+        pub(crate) fn of(model: &Arc<GraspModel>) -> Undisturbed {
+            let inputs = StepInputs::of_scene(model);
+            let mut state = ContactState::new(model);
+            let solution = GraspSolver::new(Arc::clone(model), SolveOptions::default())
+                .solve_step(&inputs, &mut state)
+                .unwrap();
+            Undisturbed {
+                inputs,
+                state,
+                solution,
+            }
+        }
+
+        /// The searches of `model` from this step with `options`.
+        pub(crate) fn step<'a>(
+            &'a self,
+            model: &'a Arc<GraspModel>,
+            options: &'a MarginOptions,
+        ) -> StepSearch<'a> {
+            StepSearch {
+                model,
+                inputs: &self.inputs,
+                solved: SolvedStep {
+                    state: &self.state,
+                    solution: &self.solution,
+                },
+                solve_options: SolveOptions::default(),
+                options,
+                exempt: &[],
+            }
+        }
+    }
+
     pub(crate) const DOWN: WrenchDirection = WrenchDirection {
         force: [0.0, 0.0, -1.0],
         torque: [0.0; 3],
@@ -533,30 +575,14 @@ pub(crate) mod tests {
     #[test]
     fn a_bisection_that_cannot_reach_its_tolerance_stops_and_says_so() {
         let model = pinch();
-        let mut base_state = ContactState::new(&model);
-        let solve = SolveOptions::default();
-        let inputs = StepInputs::of_scene(&model);
-        let base = GraspSolver::new(Arc::clone(&model), solve)
-            .solve_step(&inputs, &mut base_state)
-            .unwrap();
+        let undisturbed = Undisturbed::of(&model);
         for tolerance in [1e-300, 0.0, 1e-17] {
             let options = MarginOptions {
                 relative_tolerance: tolerance,
                 length_m: Some(0.05),
                 ..MarginOptions::default()
             };
-            let step = StepSearch {
-                model: &model,
-                inputs: &inputs,
-                solved: SolvedStep {
-                    state: &base_state,
-                    solution: &base,
-                },
-                solve_options: solve,
-                options: &options,
-                exempt: &[],
-            };
-            let m = along(&step, DOWN).unwrap();
+            let m = along(&undisturbed.step(&model, &options), DOWN).unwrap();
             let note = m
                 .stopped_early
                 .as_deref()

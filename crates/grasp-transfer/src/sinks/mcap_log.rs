@@ -409,66 +409,47 @@ impl McapSink {
     }
 }
 
+/// Adds the JSON Schema `schema` named `name` and a JSON channel on `topic` with it; the
+/// channel's id.
+fn json_channel(
+    w: &mut mcap::Writer<BufWriter<File>>,
+    name: &str,
+    schema: &serde_json::Value,
+    topic: &str,
+) -> Result<u16, mcap::McapError> {
+    let id = w.add_schema(name, "jsonschema", schema.to_string().as_bytes())?;
+    w.add_channel(id, topic, "json", &BTreeMap::new())
+}
+
 impl Sink for McapSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
         self.drawing = drawing_scale(run.model);
         let path = self.path.clone();
         let e = |e: mcap::McapError| io_err_chain("mcap", &path, &e);
         let w = self.writer()?;
-        let meta = BTreeMap::new();
-        let fs = w
-            .add_schema(
-                "grasp.FingerResultants",
-                "jsonschema",
-                fingers_schema().to_string().as_bytes(),
-            )
-            .map_err(e)?;
-        let ps = w
-            .add_schema(
-                "grasp.PatchFields",
-                "jsonschema",
-                patches_schema().to_string().as_bytes(),
-            )
-            .map_err(e)?;
-        let fc = w.add_channel(fs, FINGERS_TOPIC, "json", &meta).map_err(e)?;
-        let pc = w.add_channel(ps, PATCHES_TOPIC, "json", &meta).map_err(e)?;
-        let ss = w
-            .add_schema(
-                "foxglove.SceneUpdate",
-                "jsonschema",
-                scene_update_schema().to_string().as_bytes(),
-            )
-            .map_err(e)?;
-        let sc = w.add_channel(ss, SCENE_TOPIC, "json", &meta).map_err(e)?;
-        let mut mc = None;
-        if has_compact_patch(run) {
-            let ms = w
-                .add_schema(
-                    PATCH_MAPS_SCHEMA,
-                    "jsonschema",
-                    patch_maps_schema().to_string().as_bytes(),
-                )
-                .map_err(e)?;
-            mc = Some(
-                w.add_channel(ms, PATCH_MAPS_TOPIC, "json", &meta)
-                    .map_err(e)?,
-            );
-        }
+        let fc = json_channel(
+            w,
+            "grasp.FingerResultants",
+            &fingers_schema(),
+            FINGERS_TOPIC,
+        );
+        let fc = fc.map_err(e)?;
+        let pc = json_channel(w, "grasp.PatchFields", &patches_schema(), PATCHES_TOPIC);
+        let pc = pc.map_err(e)?;
+        let scene = scene_update_schema();
+        let sc = json_channel(w, "foxglove.SceneUpdate", &scene, SCENE_TOPIC).map_err(e)?;
         self.fingers_channel = fc;
         self.patches_channel = pc;
         self.scene_channel = sc;
-        self.maps_channel = mc;
+        if has_compact_patch(run) {
+            let w = self.writer()?;
+            let mc = json_channel(w, PATCH_MAPS_SCHEMA, &patch_maps_schema(), PATCH_MAPS_TOPIC);
+            self.maps_channel = Some(mc.map_err(e)?);
+        }
         if has_sensor(run) {
             let w = self.writer()?;
-            let ts = w
-                .add_schema(
-                    TACTILE_SCHEMA,
-                    "jsonschema",
-                    tactile_schema().to_string().as_bytes(),
-                )
-                .map_err(e)?;
-            let tc = w.add_channel(ts, TACTILE_TOPIC, "json", &meta).map_err(e)?;
-            self.tactile_channel = Some(tc);
+            let tc = json_channel(w, TACTILE_SCHEMA, &tactile_schema(), TACTILE_TOPIC);
+            self.tactile_channel = Some(tc.map_err(e)?);
         }
         Ok(())
     }
