@@ -62,32 +62,10 @@ fn sphere_on_pad(n: usize, markers: Value) -> Value {
     })
 }
 
-/// Boussinesq's surface displacements under the Hertz pressure `p0 sqrt(1 - r^2/a^2)`, m, at
-/// radius `r`: `(u_z, u_r)`, `u_z` into the pad, `u_r` outward (Johnson eqs. 3.41a-b inside,
-/// 3.42a-b outside):
-/// - `r <= a`: `u_z = (1 - nu^2)/E pi p0 (2 a^2 - r^2) / (4 a)`,
-///   `u_r = -(1 - 2 nu)(1 + nu)/(3 E) a^2 / r p0 (1 - (1 - r^2/a^2)^(3/2))`;
-/// - `r >= a`: `u_z = (1 - nu^2)/E p0 / (2 a) ((2 a^2 - r^2) asin(a/r) + a sqrt(r^2 - a^2))`
-///   (the factor of the root is `a`: with `r` it would grow as `r^2`; with `a` it falls off
-///   as Boussinesq's `(1 - nu^2) P / (pi E r)` of the load `P = 2 pi a^2 p0 / 3`),
-///   `u_r = -(1 - 2 nu)(1 + nu)/(3 E) a^2 p0 / r`.
+/// Boussinesq's surface displacements of the pad under its Hertz pressure at radius `r`
+/// (Johnson eqs. 3.41-3.42; `HertzSphere::surface_displacement_m`).
 fn boussinesq_hertz(r: f64) -> (f64, f64) {
-    let h = pad_hertz();
-    let (a, p0) = (h.contact_radius_m, h.peak_pressure_pa);
-    let normal = (1.0 - NU_PAD * NU_PAD) / E_PAD;
-    let radial = -(1.0 - 2.0 * NU_PAD) * (1.0 + NU_PAD) / (3.0 * E_PAD) * a * a * p0;
-    if r <= a {
-        let uz = normal * PI * p0 * (2.0 * a * a - r * r) / (4.0 * a);
-        let ur = match r > 0.0 {
-            true => radial / r * (1.0 - (1.0 - r * r / (a * a)).powf(1.5)),
-            false => 0.0,
-        };
-        (uz, ur)
-    } else {
-        let uz = normal * p0 / (2.0 * a)
-            * ((2.0 * a * a - r * r) * (a / r).asin() + a * (r * r - a * a).sqrt());
-        (uz, radial / r)
-    }
+    pad_hertz().surface_displacement_m(r, E_PAD, NU_PAD)
 }
 
 /// The largest errors `(normal, radial)` of 17 markers on a line through the axis, turned by

@@ -30,6 +30,10 @@ pub enum CaseKind {
     /// question [`PLAN_QUESTION`]): the whole planning, checked schedule included; its
     /// iterations column counts hand-off runs.
     Plan,
+    /// The tactile sensors' read-out of a solution solved beforehand (`sensor_readings`):
+    /// every finger's gel image laid on its patch's element lattice (one pixel an element,
+    /// the FFT read-out), per read-out.
+    Readout,
 }
 
 impl CaseKind {
@@ -41,6 +45,7 @@ impl CaseKind {
             HandOff { .. } => "per step",
             Margins => "margins per step",
             Plan => "whole plan (runs)",
+            Readout => "per read-out",
         }
     }
 }
@@ -109,7 +114,7 @@ impl Case {
     }
 }
 
-use CaseKind::{HandOff, Margins, OneShot, Plan, Solve};
+use CaseKind::{HandOff, Margins, OneShot, Plan, Readout, Solve};
 
 /// Every case, in table order. The cube A series (5x5 to 16x16 per finger) also gives the
 /// growth exponent of solve time against unknowns.
@@ -276,7 +281,7 @@ pub const FFT_CASES: [Case; 7] = [
 /// a finger), automatic compliance. The target is a ratio, a layered patch at most 1.5x
 /// the half-space one on the same path: `grasp bench` prints it as a derived row
 /// ([`LAYER_PAIRS`]).
-pub const LAYER_CASES: [Case; 10] = [
+pub const LAYER_CASES: [Case; 11] = [
     case(
         "pad_pinch_64x64_fft",
         OneShot,
@@ -366,6 +371,16 @@ pub const LAYER_CASES: [Case; 10] = [
         None,
         false,
     ),
+    // A gel image of 256 x 256 pixels from a 256 x 256 patch (the ridged sphere on the gel,
+    // one pixel an element): the height map, its normals and its shading, within 50 ms.
+    case(
+        "gel_image_256x256_fft",
+        Readout,
+        "ridged_gel",
+        Some([256, 256]),
+        Some(0.05),
+        false,
+    ),
 ];
 
 /// The (layered, viscoelastic or textured; plain) case pairs whose time ratio is bounded, with
@@ -414,6 +429,18 @@ pub fn all_cases() -> impl Iterator<Item = &'static Case> {
         .chain(&HELD_CASES)
 }
 
+/// Every finger's gel image laid on its patch's element lattice: as many pixels as elements,
+/// the patch's size as the field of view.
+fn on_lattice(scene: &mut LoadedScene) {
+    for f in &mut scene.fingers {
+        let patch = f.patch.clone();
+        if let Some(g) = f.sensor.as_mut().and_then(|s| s.gel.as_mut()) {
+            g.image_px = patch.grid;
+            g.field_of_view_m = patch.size;
+        }
+    }
+}
+
 /// The bundled scene and schedule texts (compiled in) of an example stem, e.g.
 /// `plate_transfer`.
 pub fn bundled(stem: &str) -> Option<(&'static str, Option<&'static str>)> {
@@ -456,6 +483,7 @@ pub fn bundled(stem: &str) -> Option<(&'static str, Option<&'static str>)> {
         ),
         "pad_pinch_halfspace" => (example!("pad_pinch_halfspace.json"), None),
         "ridged_pad_pinch" => (example!("ridged_pad_pinch.json"), None),
+        "ridged_gel" => (example!("ridged_gel.json"), None),
         _ => return None,
     })
 }
@@ -468,8 +496,10 @@ pub struct Prepared {
     pub solver: SolverChoice,
     /// The scene as read (grid applied).
     pub scene: LoadedScene,
-    /// The model, built once for [`CaseKind::Solve`].
+    /// The model, built once for [`CaseKind::Solve`] and [`CaseKind::Readout`].
     pub model: Option<std::sync::Arc<GraspModel>>,
+    /// The solution a [`CaseKind::Readout`] reads, solved once.
+    pub solution: Option<grasp_model::Solution>,
     /// Time the model build took when it was built here, s.
     pub build_s: f64,
     /// The schedule of a hand-off.
@@ -525,6 +555,7 @@ impl Case {
                 f.sensor = Some(grasp_model::SensorSpec {
                     taxels: Some(taxels),
                     markers: None,
+                    gel: None,
                 });
             }
         }
@@ -540,8 +571,11 @@ impl Case {
             }
             _ => None,
         };
+        if self.kind == Readout {
+            on_lattice(&mut scene);
+        }
         let (model, build_s) = match self.kind {
-            Solve => {
+            Solve | Readout => {
                 let t = std::time::Instant::now();
                 let m = GraspModel::from_loaded_with(&scene, self.compliance())
                     .map_err(|e| err(e.to_string()))?;
@@ -549,14 +583,24 @@ impl Case {
             }
             _ => (None, 0.0),
         };
-        Ok(Prepared {
+        let mut prepared = Prepared {
             case: *self,
             solver,
             scene,
             model,
             build_s,
             schedule,
-        })
+            solution: None,
+        };
+        if let (Readout, Some(m)) = (self.kind, &prepared.model) {
+            let options = prepared.solve_options();
+            let inputs = grasp_model::StepInputs::of_scene(m);
+            let solved = grasp_model::GraspSolver::new(std::sync::Arc::clone(m), options)
+                .solve(&inputs)
+                .map_err(|e| err(e.to_string()))?;
+            prepared.solution = Some(solved);
+        }
+        Ok(prepared)
     }
 }
 

@@ -25,7 +25,7 @@
 //! | `program/` | the solver-neutral [`ConeProgram`] (assembly kept apart from solving) and its element sets (`cones/`: one trait, one file per set) | model |
 //! | `solver/` | options, outcomes and certificates, Clarabel, the native semismooth Newton solver, the warm start's prediction | program, model |
 //! | `solve/` | [`GraspSolver`] and its strategies (one convex solve, the sequential fixed point), readout, residuals, [`Solution`], contact state, sensitivities | solver, program, model, scene |
-//! | `sensors/` | read-outs of a solution: tactile sensors (taxels at depth in the pad, markers on its surface) | solve, model, scene |
+//! | `sensors/` | read-outs of a solution: tactile sensors (taxels at depth in the pad, markers on its surface, a gel's image) | solve, model, scene |
 //! | `analysis/` | many solves: disturbance margins, refinement studies, patch sizing | all of the above |
 //!
 //! `error.rs` (one [`InputProblem`] type for every input), `problem_list.rs` (the one
@@ -112,6 +112,10 @@ mod warning_tally;
 
 // ---- The scene: what a user writes (serde types, JSON Schema, validation) ----
 pub use scene::finger_placement::STANDARD_GRAVITY;
+pub use scene::gel_spec::{
+    default_lights, GelSpec, Lattice, LightSpec, LookupSpec, MAX_GEL_KERNEL_EVALUATIONS,
+    MAX_LATTICE_POINTS, MAX_LIGHTS, MAX_PIXELS_PER_SIDE,
+};
 pub use scene::loaded_scene::LoadedScene;
 pub use scene::memory_budget::{
     estimate_memory_bytes, estimate_memory_bytes_with, finger_unknowns, SolveSize,
@@ -205,6 +209,9 @@ pub use warning_tally::{
 pub use model::influence_at_depth::{
     overlap_area_m2, reading_per_area_at_depth, ElementOffset, RotatedSquare,
 };
+pub use sensors::gel_height::{height_map, HeightPath};
+pub use sensors::gel_image::{read_gel, GelImage};
+pub use sensors::gel_shading::{shade, surface_normals};
 pub use sensors::marker_readings::{read_markers, MarkerReadings};
 pub use sensors::sensor_readings::{sensor_readings, SensorReadings};
 pub use sensors::taxel_grid::{QuadraturePoint, TaxelGrid};

@@ -35,6 +35,34 @@ impl HertzSphere {
             0.0
         }
     }
+
+    /// Surface displacements of an elastic body (`E`, `nu`) under this Hertz pressure at
+    /// radius `r`, m: `(u_z, u_r)`, `u_z` into the body, `u_r` outward (Boussinesq under
+    /// `p0 sqrt(1 - r^2/a^2)`; Johnson eqs. 3.41a-b inside, 3.42a-b outside):
+    /// - `r <= a`: `u_z = (1 - nu^2)/E pi p0 (2 a^2 - r^2) / (4 a)`,
+    ///   `u_r = -(1 - 2 nu)(1 + nu)/(3 E) a^2 / r p0 (1 - (1 - r^2/a^2)^(3/2))`;
+    /// - `r >= a`: `u_z = (1 - nu^2)/E p0 / (2 a) ((2 a^2 - r^2) asin(a/r) + a sqrt(r^2 - a^2))`
+    ///   (it falls off as Boussinesq's `(1 - nu^2) P / (pi E r)` of the load
+    ///   `P = 2 pi a^2 p0 / 3`), `u_r = -(1 - 2 nu)(1 + nu)/(3 E) a^2 p0 / r`.
+    ///
+    /// With the other body rigid (`E* = E / (1 - nu^2)`), `u_z(0)` is the approach `a^2 / R`.
+    pub fn surface_displacement_m(&self, r_m: f64, youngs_modulus_pa: f64, nu: f64) -> (f64, f64) {
+        let (a, p0, r) = (self.contact_radius_m, self.peak_pressure_pa, r_m);
+        let normal = (1.0 - nu * nu) / youngs_modulus_pa;
+        let radial = -(1.0 - 2.0 * nu) * (1.0 + nu) / (3.0 * youngs_modulus_pa) * a * a * p0;
+        if r <= a {
+            let uz = normal * PI * p0 * (2.0 * a * a - r * r) / (4.0 * a);
+            let ur = match r > 0.0 {
+                true => radial / r * (1.0 - (1.0 - r * r / (a * a)).powf(1.5)),
+                false => 0.0,
+            };
+            (uz, ur)
+        } else {
+            let uz = normal * p0 / (2.0 * a)
+                * ((2.0 * a * a - r * r) * (a / r).asin() + a * (r * r - a * a).sqrt());
+            (uz, radial / r)
+        }
+    }
 }
 
 /// Semi-axes of the elliptical Hertz contact of two bodies whose gap has principal radii

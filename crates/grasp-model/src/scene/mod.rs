@@ -15,6 +15,7 @@
 
 pub mod field_checks;
 pub mod finger_placement;
+pub mod gel_spec;
 pub mod limits;
 pub mod loaded_scene;
 pub mod memory_budget;

@@ -1,12 +1,14 @@
-//! The checks of `fingers[i].sensor`: at least one kind, each grid's numbers in range, a pad
-//! the read-out describes (a half-space: no bonded layer, not viscoelastic) when a kind needs
-//! one (taxels at depth, markers), and read-outs of bounded work. Each problem names its JSON
-//! path and the fix.
+//! The checks of `fingers[i].sensor`: at least one kind, each grid's numbers in range (a gel
+//! image's shading too), a pad the read-out describes (a half-space: no bonded layer, not
+//! viscoelastic) when a kind needs one (taxels at depth, markers, a gel image), and read-outs
+//! of bounded work. Each problem names its JSON path and the fix.
 
+use crate::model::influence::GridSpec;
 use crate::scene::field_checks::{number, FieldChecks};
+use crate::scene::gel_spec::{GelSpec, LightSpec, LookupSpec, MAX_LIGHTS, MAX_PIXELS_PER_SIDE};
 use crate::scene::limits::{LENGTH_RANGE_M, MAX_COORDINATE_M};
 use crate::scene::scene_format::FingerSpec;
-use crate::scene::sensor_kind::{GridLayout, HalfSpaceNeed};
+use crate::scene::sensor_kind::{GridLayout, HalfSpaceNeed, SensorKind};
 use crate::scene::sensor_spec::{MarkerGridSpec, TaxelGridSpec, MAX_TAXEL_CELLS_PER_SIDE};
 
 /// Most taxels along a grid's side.
@@ -19,11 +21,11 @@ pub const MAX_MARKERS_PER_SIDE: usize = 256;
 pub fn check_sensor(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
     let Some(s) = &f.sensor else { return };
     let sp = format!("{p}.sensor");
-    if s.taxels.is_none() && s.markers.is_none() {
+    if s.kinds().is_empty() {
         v.push(
             &sp,
             "has no kind of sensor".to_string(),
-            "give `taxels`, `markers` or both, or omit the sensor",
+            "give `taxels`, `markers`, `gel` or more than one, or omit the sensor",
         );
         return;
     }
@@ -34,15 +36,24 @@ pub fn check_sensor(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
     if let Some(m) = &s.markers {
         ok &= check_markers(&format!("{sp}.markers"), m, v);
     }
+    if let Some(g) = &s.gel {
+        ok &= check_gel(&format!("{sp}.gel"), g, v);
+    }
     if !ok {
         return;
     }
-    let elements = f.patch.grid[0] * f.patch.grid[1];
+    let [nx, ny] = f.patch.grid;
+    let patch = GridSpec {
+        nx,
+        ny,
+        hx: f.patch.size[0] / nx.max(1) as f64,
+        hy: f.patch.size[1] / ny.max(1) as f64,
+    };
     for kind in s.kinds() {
         if let Some(need) = kind.half_space_need() {
             check_pad(p, &sp, f, need, v);
         }
-        let work = kind.kernel_evaluations(elements);
+        let work = kind.kernel_evaluations(&patch);
         let most = kind.most_kernel_evaluations();
         if work > most {
             v.push(
@@ -59,7 +70,7 @@ pub fn check_sensor(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
 
 /// A marker grid's numbers; false when one is unusable.
 fn check_markers(mp: &str, m: &MarkerGridSpec, v: &mut FieldChecks) -> bool {
-    let layout = crate::scene::sensor_kind::SensorKind::layout(m);
+    let layout = m.layout();
     let ok = check_spacing(mp, &layout, Noun::MARKER, v);
     ok & check_placement(mp, &layout, v)
 }
@@ -100,7 +111,7 @@ fn check_spacing(gp: &str, g: &GridLayout, noun: Noun, v: &mut FieldChecks) -> b
     }
     ok &= v.range(
         &format!("{gp}.pitch_m"),
-        g.pitch_m,
+        g.pitch_m[0],
         LENGTH_RANGE_M,
         "m",
         &format!(
@@ -134,7 +145,7 @@ fn check_placement(gp: &str, g: &GridLayout, v: &mut FieldChecks) -> bool {
 
 /// The grid's numbers; false when one is unusable (the later checks need them all).
 fn check_numbers(tp: &str, t: &TaxelGridSpec, v: &mut FieldChecks) -> bool {
-    let layout = crate::scene::sensor_kind::SensorKind::layout(t);
+    let layout = t.layout();
     let mut ok = check_spacing(tp, &layout, Noun::TAXEL, v);
     ok &= v.range(
         &format!("{tp}.size_m"),
@@ -214,4 +225,134 @@ fn check_pad(p: &str, sp: &str, f: &FingerSpec, need: HalfSpaceNeed, v: &mut Fie
             &format!("{instead}, or drop the relaxation law"),
         );
     }
+}
+
+/// A gel image's numbers and shading; false when one is unusable.
+fn check_gel(gp: &str, g: &GelSpec, v: &mut FieldChecks) -> bool {
+    let mut ok = true;
+    for k in 0..2 {
+        if !(1..=MAX_PIXELS_PER_SIDE).contains(&g.image_px[k]) {
+            v.push(
+                &format!("{gp}.image_px[{k}]"),
+                format!("is {}, outside [1, {MAX_PIXELS_PER_SIDE}]", g.image_px[k]),
+                "give the image's size in pixels along each side",
+            );
+            ok = false;
+        }
+        ok &= v.range(
+            &format!("{gp}.field_of_view_m[{k}]"),
+            g.field_of_view_m[k],
+            1e-9..=10.0,
+            "m",
+            "give the gel's field of view along each side in metres",
+        );
+    }
+    ok &= check_placement(gp, &g.layout(), v);
+    if g.lookup.is_some() && (g.lights.is_some() || g.ambient_rgb.is_some()) {
+        v.push(
+            gp,
+            "has both `lookup` and `lights` or `ambient_rgb`".to_string(),
+            "give the lookup table alone (it gives the colour whole), or the lights",
+        );
+        ok = false;
+    }
+    if let Some(lights) = &g.lights {
+        ok &= check_lights(&format!("{gp}.lights"), lights, v);
+    }
+    if let Some(a) = &g.ambient_rgb {
+        for (c, x) in a.iter().enumerate() {
+            ok &= v.range(
+                &format!("{gp}.ambient_rgb[{c}]"),
+                *x,
+                0.0..=1.0,
+                "",
+                "give the ambient light per channel in [0, 1], or omit it",
+            );
+        }
+    }
+    if let Some(t) = &g.lookup {
+        ok &= check_lookup(&format!("{gp}.lookup"), t, v);
+    }
+    ok
+}
+
+/// The lights: 1 to [`MAX_LIGHTS`], each toward the camera's side, colours in range.
+fn check_lights(lp: &str, lights: &[LightSpec], v: &mut FieldChecks) -> bool {
+    if !(1..=MAX_LIGHTS).contains(&lights.len()) {
+        v.push(
+            lp,
+            format!("has {} lights, outside [1, {MAX_LIGHTS}]", lights.len()),
+            "give at least one light, or omit `lights` for the default three",
+        );
+        return false;
+    }
+    let mut ok = true;
+    for (k, l) in lights.iter().enumerate() {
+        let d = l.direction;
+        let length = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        if !(length.is_finite() && length > 0.0 && d[2] > 0.0) {
+            v.push(
+                &format!("{lp}[{k}].direction"),
+                format!("is [{}, {}, {}]", number(d[0]), number(d[1]), number(d[2])),
+                "give a finite direction toward the light with w > 0 (on the camera's side \
+                 of the gel)",
+            );
+            ok = false;
+        }
+        for (c, x) in l.rgb.iter().enumerate() {
+            ok &= v.range(
+                &format!("{lp}[{k}].rgb[{c}]"),
+                *x,
+                0.0..=10.0,
+                "",
+                "give the light's colour per channel in [0, 10]",
+            );
+        }
+    }
+    ok
+}
+
+/// A lookup table: a slope range, `na x nb` colours in `[2, 256]` each way, in `[0, 1]`.
+fn check_lookup(tp: &str, t: &LookupSpec, v: &mut FieldChecks) -> bool {
+    let mut ok = v.range(
+        &format!("{tp}.slope_range"),
+        t.slope_range,
+        1e-9..=100.0,
+        "",
+        "give the largest slope (m/m) the table covers",
+    );
+    let na = t.rgb.len();
+    let nb = t.rgb.first().map_or(0, Vec::len);
+    if !(2..=256).contains(&na) || !(2..=256).contains(&nb) {
+        v.push(
+            &format!("{tp}.rgb"),
+            format!("is {na} x {nb}, outside [2, 256] each way"),
+            "give a table of at least 2 x 2 colours",
+        );
+        return false;
+    }
+    for (a, row) in t.rgb.iter().enumerate() {
+        if row.len() != nb {
+            v.push(
+                &format!("{tp}.rgb[{a}]"),
+                format!("has {} colours, the first row {nb}", row.len()),
+                "give every row of the table as many colours",
+            );
+            ok = false;
+            continue;
+        }
+        let bad = row
+            .iter()
+            .flatten()
+            .any(|x| !(x.is_finite() && (0.0..=1.0).contains(x)));
+        if bad {
+            v.push(
+                &format!("{tp}.rgb[{a}]"),
+                "has a channel outside [0, 1]".to_string(),
+                "give each colour's channels in [0, 1]",
+            );
+            ok = false;
+        }
+    }
+    ok
 }

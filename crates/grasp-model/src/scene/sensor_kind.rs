@@ -1,18 +1,22 @@
-//! One kind of tactile sensor in a finger's pad (taxels, markers) as its checks and its
+//! One kind of tactile sensor in a finger's pad (taxels, markers, a gel image) as its checks and its
 //! read-out see it: the grid it lays out on the patch, the work its read-out takes and
 //! whether it describes only a half-space pad.
 //!
 //! Every kind is a grid of points on the patch laid out the same way ([`GridLayout`]): `count`
-//! points along the grid's two sides at `pitch_m`, centred on the contact point plus
+//! points along the grid's two sides at `pitch_m` (per side: a gel image's pixels may be
+//! oblong), centred on the contact point plus
 //! `offset_m`, turned by `rotation_rad` from `t1` toward `t2`.
+
+use crate::model::influence::GridSpec;
 
 /// A sensor grid's layout on its finger's patch, as written in its spec.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GridLayout {
     /// Points along the grid's two sides `[nx, ny]`.
     pub count: [usize; 2],
-    /// Centre-to-centre distance of neighbouring points, m.
-    pub pitch_m: f64,
+    /// Centre-to-centre distance of neighbouring points along each of the grid's sides, m
+    /// (taxels and markers: the same both ways).
+    pub pitch_m: [f64; 2],
     /// Angle of the grid's first side to `t1`, rad (counter-clockwise toward `t2`).
     pub rotation_rad: f64,
     /// The grid's centre from the contact point along `t1`, `t2`, m.
@@ -31,15 +35,15 @@ impl GridLayout {
     }
 
     /// Every point from the contact point along `t1`, `t2`, m, row-major (`k = i ny + j`, `i`
-    /// along the grid's first side): `((i - (nx - 1)/2) pitch, (j - (ny - 1)/2) pitch)` in the
+    /// along the grid's first side): `((i - (nx - 1)/2) px, (j - (ny - 1)/2) py)` in the
     /// grid's axes, turned by `rotation_rad`, plus `offset_m`.
     pub fn points_m(&self) -> Vec<[f64; 2]> {
         let (sin, cos) = self.rotation_rad.sin_cos();
         let mut out = Vec::with_capacity(self.len());
         for i in 0..self.count[0] {
             for j in 0..self.count[1] {
-                let u = (i as f64 - (self.count[0] as f64 - 1.0) / 2.0) * self.pitch_m;
-                let v = (j as f64 - (self.count[1] as f64 - 1.0) / 2.0) * self.pitch_m;
+                let u = (i as f64 - (self.count[0] as f64 - 1.0) / 2.0) * self.pitch_m[0];
+                let v = (j as f64 - (self.count[1] as f64 - 1.0) / 2.0) * self.pitch_m[1];
                 out.push([
                     self.offset_m[0] + u * cos - v * sin,
                     self.offset_m[1] + u * sin + v * cos,
@@ -53,14 +57,14 @@ impl GridLayout {
 /// A kind of tactile sensor: what the scene's checks and the read-out need to know of it,
 /// beside its own numbers' checks.
 pub trait SensorKind {
-    /// The kind's key in `fingers[i].sensor` (`"taxels"`, `"markers"`).
+    /// The kind's key in `fingers[i].sensor` (`"taxels"`, `"markers"`, `"gel"`).
     fn key(&self) -> &'static str;
 
     /// The grid's layout on the patch.
     fn layout(&self) -> GridLayout;
 
-    /// Kernel evaluations of the read-out over a patch of `elements` elements.
-    fn kernel_evaluations(&self, elements: usize) -> f64;
+    /// Kernel evaluations of the read-out over the element grid `patch`.
+    fn kernel_evaluations(&self, patch: &GridSpec) -> f64;
 
     /// The most kernel evaluations the read-out may take; above it the sensor is refused.
     fn most_kernel_evaluations(&self) -> f64;

@@ -1,21 +1,25 @@
-//! `fingers[i].sensor` as written: a tactile sensor in the finger's pad, of one kind or both:
-//! a grid of taxels at a depth below the pad's surface, a grid of markers on it; and the work
-//! each read-out takes (each kind a [`SensorKind`]).
+//! `fingers[i].sensor` as written: a tactile sensor in the finger's pad, of one or more
+//! kinds: a grid of taxels at a depth below the pad's surface, a grid of markers on it, an
+//! optical gel's image of it (`super::gel_spec`); and the work each read-out takes (each kind
+//! a [`SensorKind`]).
 //!
 //! A taxel reads the three-axis force (normal and two shear, along the contact frame's `n`,
 //! `t1`, `t2`, N) that crosses its square at the depth (`crate::model::influence_at_depth`);
 //! at depth 0 it reads the surface tractions binned onto it exactly. A marker reads the
 //! displacement of the pad's surface at its point relative to the finger's core (the surface
 //! influence coefficients of `crate::model::influence`, the finger's half-space alone). Only a
-//! half-space pad is read at depth or for markers (`super::sensor_checks` refuses a bonded
+//! half-space pad is read at depth, for markers or for a gel image (`super::sensor_checks` refuses a bonded
 //! layer and a viscoelastic pad).
 
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use crate::model::influence::GridSpec;
+use crate::scene::gel_spec::GelSpec;
 use crate::scene::sensor_kind::{GridLayout, HalfSpaceNeed, SensorKind};
 
-/// `fingers[i].sensor`: the finger's tactile sensor, taxels, markers or both (at least one).
+/// `fingers[i].sensor`: the finger's tactile sensor, of one or more kinds: taxels, markers, a
+/// gel image.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SensorSpec {
@@ -26,10 +30,14 @@ pub struct SensorSpec {
     /// A grid of markers on the pad's surface: `{"count": [nx, ny], "pitch_m": p}`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub markers: Option<MarkerGridSpec>,
+    /// An optical gel sensor's image of the pad: `{"image_px": [nx, ny], "field_of_view_m":
+    /// [wx, wy]}` and its shading (`crate::scene::gel_spec`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gel: Option<GelSpec>,
 }
 
 impl SensorSpec {
-    /// The sensor's kinds present, taxels first.
+    /// The sensor's kinds present: taxels, markers, gel.
     pub fn kinds(&self) -> Vec<&dyn SensorKind> {
         let mut out: Vec<&dyn SensorKind> = Vec::new();
         if let Some(t) = &self.taxels {
@@ -37,6 +45,9 @@ impl SensorSpec {
         }
         if let Some(m) = &self.markers {
             out.push(m);
+        }
+        if let Some(g) = &self.gel {
+            out.push(g);
         }
         out
     }
@@ -133,15 +144,15 @@ impl SensorKind for TaxelGridSpec {
     fn layout(&self) -> GridLayout {
         GridLayout {
             count: self.count,
-            pitch_m: self.pitch_m,
+            pitch_m: [self.pitch_m; 2],
             rotation_rad: self.rotation_rad,
             offset_m: self.offset_m,
         }
     }
 
     /// Zero on the surface (`depth_m` 0: binned by area, no kernel).
-    fn kernel_evaluations(&self, elements: usize) -> f64 {
-        TaxelGridSpec::kernel_evaluations(self, elements)
+    fn kernel_evaluations(&self, patch: &GridSpec) -> f64 {
+        TaxelGridSpec::kernel_evaluations(self, patch.len())
     }
 
     fn most_kernel_evaluations(&self) -> f64 {
@@ -172,14 +183,14 @@ impl SensorKind for MarkerGridSpec {
     fn layout(&self) -> GridLayout {
         GridLayout {
             count: self.count,
-            pitch_m: self.pitch_m,
+            pitch_m: [self.pitch_m; 2],
             rotation_rad: self.rotation_rad,
             offset_m: self.offset_m,
         }
     }
 
-    fn kernel_evaluations(&self, elements: usize) -> f64 {
-        (self.count[0] * self.count[1]) as f64 * elements as f64
+    fn kernel_evaluations(&self, patch: &GridSpec) -> f64 {
+        (self.count[0] * self.count[1]) as f64 * patch.len() as f64
     }
 
     fn most_kernel_evaluations(&self) -> f64 {

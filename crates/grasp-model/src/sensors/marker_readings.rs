@@ -72,13 +72,10 @@ pub fn read_markers(
         Material::Rigid => vec![[0.0; 3]; position_m.len()],
         Material::Elastic { .. } => {
             let kernels = BlockKernels::new(patch, &PairConstants::new(finger, &Material::Rigid));
-            let loaded: Vec<&ElementSolution> = elements
-                .iter()
-                .filter(|e| element_force(e).iter().any(|f| *f != 0.0))
-                .collect();
+            let loaded = loaded_elements(elements);
             position_m
                 .par_iter()
-                .map(|p| marker_displacement(*p, &kernels, patch, &loaded))
+                .map(|p| surface_displacement(*p, &kernels, patch, &loaded))
                 .collect()
         }
     };
@@ -89,21 +86,17 @@ pub fn read_markers(
     }
 }
 
-/// An element's force `[F, G1, G2]`, N (a planar or frictionless finger's missing
-/// components are 0).
-fn element_force(e: &ElementSolution) -> [f64; 3] {
-    [
-        e.normal_force_n,
-        e.tangential_force_n[0],
-        e.tangential_force_n[1],
-    ]
+/// The elements of `elements` that carry a force.
+pub(crate) fn loaded_elements(elements: &[ElementSolution]) -> Vec<&ElementSolution> {
+    elements.iter().filter(|e| e.is_loaded()).collect()
 }
 
-/// One marker's displacement at `point` (m, along `t1`, `t2`): the finger's share
-/// `s = C_f f` summed over `loaded`, read as `[s_n, -s_1, -s_2]`. The tangential-from-normal
+/// The pad's surface displacement at `point` (m, along `t1`, `t2`; a marker's reading): the
+/// finger's share `s = C_f f` summed over `loaded` (`kernels` the finger's against a rigid
+/// object), read as `[s_n, -s_1, -s_2]`. The tangential-from-normal
 /// entries are the normal-from-tangential ones at the opposite offset (Betti; the kernels
 /// `X / rho^2`, `Y / rho^2` are odd), `-n1`, `-n2` at this offset.
-fn marker_displacement(
+pub(crate) fn surface_displacement(
     point: [f64; 2],
     kernels: &BlockKernels,
     patch: &GridSpec,
@@ -117,7 +110,7 @@ fn marker_displacement(
             patch.hx,
             patch.hy,
         );
-        let [f, g1, g2] = element_force(e);
+        let [f, g1, g2] = e.force_n();
         let (n1, n2, t12) = (kernels.n1(&r), kernels.n2(&r), kernels.t12(&r));
         s[0] += kernels.nn(&r) * f + n1 * g1 + n2 * g2;
         s[1] += -n1 * f + kernels.t11(&r) * g1 + t12 * g2;

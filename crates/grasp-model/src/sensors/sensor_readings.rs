@@ -1,6 +1,6 @@
 //! Every sensor of a scene read from its solved grasp: per finger with a `sensor`, the
-//! readings of each of its kinds, its taxels (`super::taxel_readings`) and its markers
-//! (`super::marker_readings`), from the elements of the solution and the element grid of the
+//! readings of each of its kinds, its taxels (`super::taxel_readings`), its markers
+//! (`super::marker_readings`) and its gel image (`super::gel_image`), from the elements of the solution and the element grid of the
 //! model that was solved (an automatic patch's, not the scene's).
 
 use serde::{Serialize, Serializer};
@@ -9,6 +9,7 @@ use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
 use crate::scene::scene_format::Scene;
 use crate::scene::sensor_kind::SensorKind;
+use crate::sensors::gel_image::{read_gel, GelImage};
 use crate::sensors::marker_readings::{read_markers, MarkerReadings};
 use crate::sensors::taxel_grid::TaxelGrid;
 use crate::sensors::taxel_readings::{read_taxels, TaxelReadings};
@@ -18,8 +19,9 @@ use crate::solve::solution::Solution;
 ///
 /// As JSON (`grasp solve --json`'s `"sensors"`): the taxels' record's fields at the top
 /// (`finger`, `count`, `depth_m`, `size_m`, `centre_m`, `force_n`, as the taxels' first slice
-/// wrote them), then `"markers"`: `{count, position_m, displacement_m}`; a sensor of markers
-/// alone writes `finger` and `markers`.
+/// wrote them), then `"markers"`: `{count, position_m, displacement_m}`, then `"gel"`:
+/// `{count, pixel_m, centre_m, rotation_rad, path, height_m, normal, rgb}`; a sensor without
+/// taxels writes `finger` and its kinds.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SensorReadings {
     /// The finger's name.
@@ -28,6 +30,8 @@ pub struct SensorReadings {
     pub taxels: Option<TaxelReadings>,
     /// Its markers' readings, when the sensor has markers.
     pub markers: Option<MarkerReadings>,
+    /// Its gel image, when the sensor has one.
+    pub gel: Option<GelImage>,
 }
 
 /// [`SensorReadings`] as its JSON record writes it.
@@ -39,6 +43,8 @@ struct Record<'a> {
     taxels: Option<&'a TaxelReadings>,
     #[serde(skip_serializing_if = "Option::is_none")]
     markers: Option<&'a MarkerReadings>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    gel: Option<&'a GelImage>,
 }
 
 impl Serialize for SensorReadings {
@@ -47,6 +53,7 @@ impl Serialize for SensorReadings {
             finger: self.taxels.is_none().then_some(self.finger.as_str()),
             taxels: self.taxels.as_ref(),
             markers: self.markers.as_ref(),
+            gel: self.gel.as_ref(),
         }
         .serialize(s)
     }
@@ -73,7 +80,7 @@ pub fn sensor_readings(
         };
         let grid = finger.patch().grid;
         for kind in sensor.kinds() {
-            let work = kind.kernel_evaluations(grid.len());
+            let work = kind.kernel_evaluations(&grid);
             let most = kind.most_kernel_evaluations();
             if work > most {
                 return Err(ModelError::BadInput(format!(
@@ -92,10 +99,15 @@ pub fn sensor_readings(
             .markers
             .as_ref()
             .map(|m| read_markers(&m.layout(), finger.material(), &grid, &solved.elements));
+        let gel = match &sensor.gel {
+            Some(g) => Some(read_gel(g, finger.material(), &grid, &solved.elements)?),
+            None => None,
+        };
         out.push(SensorReadings {
             finger: spec.name.clone(),
             taxels,
             markers,
+            gel,
         });
     }
     Ok(out)

@@ -91,16 +91,6 @@ pub fn read_taxels(
     }
 }
 
-/// An element's force `[F, G1, G2]`, N (a planar or frictionless finger's missing
-/// components are 0).
-fn element_force(e: &ElementSolution) -> [f64; 3] {
-    [
-        e.normal_force_n,
-        e.tangential_force_n[0],
-        e.tangential_force_n[1],
-    ]
-}
-
 /// One taxel's force at depth `depth_m`: `sum_q w_q sum_e K(x_q - x_e) f_e`.
 fn taxel_at_depth(
     sq: &RotatedSquare,
@@ -110,10 +100,7 @@ fn taxel_at_depth(
     elements: &[ElementSolution],
 ) -> [f64; 3] {
     let (sin, cos) = sq.angle_rad.sin_cos();
-    let loaded: Vec<&ElementSolution> = elements
-        .iter()
-        .filter(|e| element_force(e).iter().any(|f| *f != 0.0))
-        .collect();
+    let loaded: Vec<&ElementSolution> = elements.iter().filter(|e| e.is_loaded()).collect();
     let mut out = [0.0; 3];
     for q in quadrature {
         let [u, v] = q.offset_m;
@@ -127,7 +114,7 @@ fn taxel_at_depth(
                 side_m: [patch.hx, patch.hy],
             };
             let k = reading_per_area_at_depth(&offset, depth_m);
-            let f = element_force(e);
+            let f = e.force_n();
             for (r, row) in k.iter().enumerate() {
                 out[r] += q.weight_m2 * (row[0] * f[0] + row[1] * f[1] + row[2] * f[2]);
             }
@@ -157,7 +144,7 @@ fn taxel_on_surface(
         let lo = [cx - patch.hx / 2.0, cy - patch.hy / 2.0];
         let hi = [cx + patch.hx / 2.0, cy + patch.hy / 2.0];
         let share = overlap_area_m2(lo, hi, &corners) / area;
-        let f = element_force(e);
+        let f = e.force_n();
         for r in 0..3 {
             out[r] += share * f[r];
         }

@@ -112,6 +112,23 @@ pub struct ElementSolution {
     pub viscous_displacement_m: Option<[f64; 3]>,
 }
 
+impl ElementSolution {
+    /// The element's force `[F, G1, G2]`, N (a planar or frictionless finger's missing
+    /// components are 0).
+    pub fn force_n(&self) -> [f64; 3] {
+        [
+            self.normal_force_n,
+            self.tangential_force_n[0],
+            self.tangential_force_n[1],
+        ]
+    }
+
+    /// True when the element carries a force.
+    pub fn is_loaded(&self) -> bool {
+        self.force_n().iter().any(|f| *f != 0.0)
+    }
+}
+
 /// Resultants of one finger.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FingerSolution {
