@@ -130,7 +130,9 @@ class Solution:
     def sensor(self, finger: str) -> dict[str, dict[str, Any]]:
         """A finger's tactile readings: ``{"taxels": {"force_n": (nx, ny, 3), "centre_m":
         (nx, ny, 2), "depth_m", "size_m"}, "markers": {"displacement_m": (nx, ny, 3),
-        "position_m": (nx, ny, 2)}}``, each kind when the sensor has it."""
+        "position_m": (nx, ny, 2)}, "gel": {"height_m": (nx, ny), "normal": (nx, ny, 3),
+        "rgb": (nx, ny, 3), "position_m": (nx, ny, 2), "pixel_m"}}``, each kind when the
+        sensor has it."""
 
 class Transfer:
     """A hand-off's force histories, time x finger (SI units)."""
@@ -160,7 +162,8 @@ class Transfer:
     def smallest_margins_n(self) -> npt.NDArray[np.float64]: ...
     def sensor_history(self, finger: str) -> dict[str, dict[str, npt.NDArray[np.float64]]]:
         """A finger's tactile readings at every step: ``{"taxels": {"force_n": (T, nx, ny,
-        3)}, "markers": {"displacement_m": (T, nx, ny, 3)}}``, NaN where it has none."""
+        3)}, "markers": {"displacement_m": (T, nx, ny, 3)}, "gel": {"height_m": (T, nx, ny),
+        "rgb": (T, nx, ny, 3)}}``, NaN where it has none."""
     @property
     def summary(self) -> dict[str, Any]: ...
     @property

@@ -110,3 +110,33 @@ def test_a_batch_line_carries_the_sensors_and_the_stick_fraction(run_cli, tmp_pa
         stick, slip = f["stick_count"], f["slip_count"]
         assert stick + slip > 0
         assert ours["stick_fraction"] == stick / (stick + slip)
+
+
+def test_a_gel_image_is_the_clis_npz_and_each_steps_history(run_cli, tmp_path):
+    # examples/ridged_gel.json: a 90 x 90 gel image on the element lattice. Python's arrays
+    # are the CLI's .npz bit for bit; the hand-off's history stacks each step's image.
+    scene = EXAMPLES / "ridged_gel.json"
+    sol = grasp.solve(grasp.Scene(scene))
+    g = sol.sensor("gel")["gel"]
+    assert g["height_m"].shape == (90, 90)
+    assert g["normal"].shape == (90, 90, 3) and g["rgb"].shape == (90, 90, 3)
+    assert g["position_m"].shape == (90, 90, 2) and len(g["pixel_m"]) == 2
+    npz = tmp_path / "gel.npz"
+    proc = run_cli("solve", scene, "--npz", npz)
+    assert proc.returncode == 0, proc.stderr
+    cli = np.load(npz)
+    for field in ("height_m", "normal", "rgb"):
+        assert np.array_equal(g[field], cli[f"gel/gel/{field}"]), field
+    assert np.array_equal(np.round(g["rgb"] * 255).astype(np.uint8), cli["gel/gel/rgb8"])
+    # Unit normals toward the camera.
+    assert np.allclose(np.linalg.norm(g["normal"], axis=2), 1.0, atol=1e-12)
+    assert (g["normal"][..., 2] > 0).all()
+    run = grasp.transfer(grasp.Scene(scene), EXAMPLES / "ridged_gel.schedule.json")
+    h = run.sensor_history("gel")["gel"]
+    steps = len(run.times_s)
+    assert h["height_m"].shape == (steps, 90, 90) and h["rgb"].shape == (steps, 90, 90, 3)
+    for k in range(steps):
+        assert np.array_equal(h["height_m"][k], run.step(k).sensor("gel")["gel"]["height_m"])
+    # The push grows step by step: the dimple deepens.
+    deepest = h["height_m"].max(axis=(1, 2))
+    assert (np.diff(deepest) > 0).all(), deepest

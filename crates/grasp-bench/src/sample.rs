@@ -229,6 +229,33 @@ fn plan(p: &Prepared) -> Result<Sample, BenchError> {
     })
 }
 
+/// The sensors' read-out of the case's solution: its time, the solution's unknowns and its
+/// worst residual as the error (the read-out is exact for the element forces; tests/gel_images.rs).
+fn readout(p: &Prepared, t0: Instant) -> Result<Sample, BenchError> {
+    let (Some(model), Some(sol)) = (&p.model, &p.solution) else {
+        return Err(run_err(p, "no solution to read".into()));
+    };
+    let read = grasp_model::sensor_readings(&p.scene.scene, model, sol)
+        .map_err(|e| run_err(p, e.to_string()))?;
+    let time_s = t0.elapsed().as_secs_f64();
+    if read.is_empty() {
+        return Err(run_err(p, "the scene has no sensor".into()));
+    }
+    Ok(Sample {
+        time_s,
+        solve_s: 0.0,
+        build_s: 0.0,
+        unknowns: sol.solver.unknowns,
+        iterations: 0.0,
+        inner_iterations: 0.0,
+        factorizations: 0.0,
+        steps: 1,
+        fallbacks: 0,
+        peak_memory_bytes: None,
+        error: error_of(p, sol),
+    })
+}
+
 impl Prepared {
     /// Runs the case once and measures it; with `memory`, also its peak memory from the start
     /// of this run (three reads of `/proc`, outside the timed part, but leave it off for
@@ -257,6 +284,7 @@ impl Prepared {
             CaseKind::HandOff { warm } => hand_off(self, warm, false)?,
             CaseKind::Margins => hand_off(self, true, true)?,
             CaseKind::Plan => plan(self)?,
+            CaseKind::Readout => readout(self, t0)?,
         };
         sample.peak_memory_bytes = match base {
             Some(b) => peak_memory::peak_rss_bytes().map(|p| p.saturating_sub(b)),

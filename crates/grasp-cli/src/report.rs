@@ -414,7 +414,8 @@ pub fn sensitivity_table(sens: &grasp_model::Sensitivities, time_s: f64) -> Stri
 
 /// The tactile sensors' readings (`grasp solve` on a scene with `fingers[i].sensor`): per
 /// finger with taxels, its taxels, depth, the totals over the taxels and the largest taxel
-/// force; then per finger with markers, the largest tangential and normal displacements.
+/// force; then per finger with markers, the largest tangential and normal displacements;
+/// then per finger with a gel image, its size, the deepest pixel and how it was read.
 pub fn sensor_table(readings: &[grasp_model::SensorReadings]) -> String {
     let mut s = String::new();
     let taxels: Vec<_> = readings.iter().filter_map(|r| r.taxels.as_ref()).collect();
@@ -441,6 +442,45 @@ pub fn sensor_table(readings: &[grasp_model::SensorReadings]) -> String {
         );
     }
     s.push_str(&marker_table(readings));
+    s.push_str(&gel_table(readings));
+    s
+}
+
+/// The gel images' part of [`sensor_table`]: per finger with a gel image, its pixels, the
+/// deepest pixel's height (um, into the pad) and where, and the read-out's path.
+fn gel_table(readings: &[grasp_model::SensorReadings]) -> String {
+    let mut s = String::new();
+    let gels: Vec<_> = readings
+        .iter()
+        .filter_map(|r| r.gel.as_ref().map(|g| (&r.finger, g)))
+        .collect();
+    if gels.is_empty() {
+        return s;
+    }
+    let _ = writeln!(
+        s,
+        "
+gel images (height of the pad's surface, + into the pad; --json or --npz for the pixels):
+{:<16}{:>10}{:>16}{:>10}{:>10}",
+        "finger", "pixels", "deepest_um", "at", "read"
+    );
+    for (finger, g) in gels {
+        let (k, deepest) = g.deepest();
+        let path = match g.path {
+            grasp_model::HeightPath::Lattice => "fft",
+            grasp_model::HeightPath::Dense => "dense",
+            grasp_model::HeightPath::Flat => "flat",
+        };
+        let _ = writeln!(
+            s,
+            "{:<16}{:>10}{:>16}{:>10}{:>10}",
+            finger,
+            format!("{}x{}", g.count[0], g.count[1]),
+            significant(deepest * 1e6, 6),
+            grid_index(k, g.count),
+            path
+        );
+    }
     s
 }
 

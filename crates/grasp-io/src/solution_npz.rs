@@ -15,8 +15,11 @@
 //! `<finger>/taxels/force_n` float64 `(nx, ny, 3)` (normal, `t1`, `t2`, N),
 //! `<finger>/taxels/centre_m` float64 `(nx, ny, 2)` and `<finger>/taxels/depth_m` float64 `()`;
 //! its markers `<finger>/markers/displacement_m` float64 `(nx, ny, 3)` (normal, positive into
-//! the pad, `t1`, `t2`, m) and `<finger>/markers/position_m` float64 `(nx, ny, 2)`
-//! ([`NpzArchive::add_sensors`]). Every float is the solution's own float64, bit for bit. The archive is
+//! the pad, `t1`, `t2`, m) and `<finger>/markers/position_m` float64 `(nx, ny, 2)`; its gel
+//! image `<finger>/gel/height_m` float64 `(nx, ny)` (m, positive into the pad),
+//! `<finger>/gel/normal` float64 `(nx, ny, 3)` (`u`, `v`, `w` toward the camera),
+//! `<finger>/gel/rgb` float64 `(nx, ny, 3)` (in `[0, 1]`) and `<finger>/gel/rgb8` uint8
+//! `(nx, ny, 3)` ([`NpzArchive::add_sensors`]). Every float is the solution's own float64, bit for bit. The archive is
 //! the same for the same solution (entries dated 1980-01-01, the zip format's zero).
 
 use std::io::{BufWriter, Seek, Write};
@@ -131,7 +134,8 @@ impl<W: Write + Seek> NpzArchive<W> {
     /// Adds each finger's sensor readings: its taxels' as `<prefix><finger>/taxels/<field>`,
     /// `force_n` `(nx, ny, 3)`, `centre_m` `(nx, ny, 2)`, `depth_m` `()`; its markers' as
     /// `<prefix><finger>/markers/<field>`, `displacement_m` `(nx, ny, 3)`, `position_m`
-    /// `(nx, ny, 2)`.
+    /// `(nx, ny, 2)`; its gel image's as `<prefix><finger>/gel/<field>`, `height_m` `(nx,
+    /// ny)`, `normal` and `rgb` `(nx, ny, 3)`, `rgb8` uint8 `(nx, ny, 3)`.
     pub fn add_sensors(&mut self, prefix: &str, sensors: &[SensorReadings]) -> std::io::Result<()> {
         for s in sensors {
             if let Some(r) = &s.taxels {
@@ -150,6 +154,17 @@ impl<W: Write + Seek> NpzArchive<W> {
                 self.array::<f64>(&format!("{p}displacement_m"), &[nx, ny, 3], moved)?;
                 let points = m.position_m.iter().flat_map(|c| c.iter().copied());
                 self.array::<f64>(&format!("{p}position_m"), &[nx, ny, 2], points)?;
+            }
+            if let Some(g) = &s.gel {
+                let p = format!("{prefix}{}/gel/", s.finger);
+                let [nx, ny] = g.count.map(|c| c as u64);
+                let heights = g.height_m.iter().copied();
+                self.array::<f64>(&format!("{p}height_m"), &[nx, ny], heights)?;
+                let normals = g.normal.iter().flat_map(|n| n.iter().copied());
+                self.array::<f64>(&format!("{p}normal"), &[nx, ny, 3], normals)?;
+                let colours = g.rgb.iter().flat_map(|c| c.iter().copied());
+                self.array::<f64>(&format!("{p}rgb"), &[nx, ny, 3], colours)?;
+                self.array::<u8>(&format!("{p}rgb8"), &[nx, ny, 3], g.rgb8())?;
             }
         }
         Ok(())

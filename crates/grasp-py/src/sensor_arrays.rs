@@ -8,7 +8,8 @@ use pyo3::types::PyDict;
 
 use crate::arrays::float_array;
 
-/// `{"taxels": {...}, "markers": {...}}` of `r`, each kind present only when the sensor has it.
+/// `{"taxels": {...}, "markers": {...}, "gel": {...}}` of `r`, each kind present only when
+/// the sensor has it.
 pub fn sensor_arrays<'py>(py: Python<'py>, r: &SensorReadings) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
     if let Some(t) = &r.taxels {
@@ -33,6 +34,17 @@ pub fn sensor_arrays<'py>(py: Python<'py>, r: &SensorReadings) -> PyResult<Bound
             float_array(py, &flat(&m.position_m), &[nx, ny, 2])?,
         )?;
         out.set_item("markers", d)?;
+    }
+    if let Some(g) = &r.gel {
+        let [nx, ny] = g.count;
+        let d = PyDict::new(py);
+        d.set_item("height_m", float_array(py, &g.height_m, &[nx, ny])?)?;
+        d.set_item("normal", float_array(py, &flat(&g.normal), &[nx, ny, 3])?)?;
+        d.set_item("rgb", float_array(py, &flat(&g.rgb), &[nx, ny, 3])?)?;
+        let points = flat(&g.positions_m());
+        d.set_item("position_m", float_array(py, &points, &[nx, ny, 2])?)?;
+        d.set_item("pixel_m", g.pixel_m.to_vec())?;
+        out.set_item("gel", d)?;
     }
     Ok(out)
 }

@@ -1,6 +1,7 @@
 //! The tactile readings of a hand-off, step by step (`Transfer.sensor_history`): per finger
-//! with a sensor and per kind, one flat array `(T, nx, ny, 3)`, NaN at the steps where the
-//! finger has no readings (released, or a step without forces).
+//! with a sensor and per kind, one flat array `(T, nx, ny, 3)` (a gel image: its heights
+//! `(T, nx, ny)` and its colours `(T, nx, ny, 3)`), NaN at the steps where the finger has no
+//! readings (released, or a step without forces).
 
 use grasp_model::{Scene, SensorReadings};
 
@@ -13,6 +14,9 @@ pub struct SensorHistory {
     pub taxels: Option<([usize; 2], Vec<f64>)>,
     /// Markers `[nx, ny]` and their displacements `[normal, t1, t2]`, m, `(T, nx, ny, 3)`.
     pub markers: Option<([usize; 2], Vec<f64>)>,
+    /// A gel image's pixels `[nx, ny]`, heights (m, `(T, nx, ny)`) and colours (`(T, nx, ny,
+    /// 3)`).
+    pub gel: Option<([usize; 2], Vec<f64>, Vec<f64>)>,
 }
 
 /// Every sensor finger's history, scene order.
@@ -28,6 +32,7 @@ impl SensorHistories {
                 finger: f.name.clone(),
                 taxels: s.taxels.as_ref().map(|t| (t.count, Vec::new())),
                 markers: s.markers.as_ref().map(|m| (m.count, Vec::new())),
+                gel: s.gel.as_ref().map(|g| (g.image_px, Vec::new(), Vec::new())),
             })
         });
         SensorHistories(fingers.collect())
@@ -47,6 +52,14 @@ impl SensorHistories {
                 let read = r.and_then(|r| r.markers.as_ref());
                 extend(values, *count, read.map(|m| m.displacement_m.as_slice()));
             }
+            if let Some(([nx, ny], heights, colours)) = h.gel.as_mut() {
+                let read = r.and_then(|r| r.gel.as_ref());
+                match read {
+                    Some(g) => heights.extend(&g.height_m),
+                    None => heights.extend(std::iter::repeat_n(f64::NAN, *nx * *ny)),
+                }
+                extend(colours, [*nx, *ny], read.map(|g| g.rgb.as_slice()));
+            }
         }
     }
 
@@ -56,6 +69,7 @@ impl SensorHistories {
         let of = |s: &grasp_model::SensorSpec| {
             s.taxels.as_ref().map_or(0, |t| cells(t.count))
                 + s.markers.as_ref().map_or(0, |m| cells(m.count))
+                + s.gel.as_ref().map_or(0, |g| cells(g.image_px) * 4 / 3)
         };
         scene
             .fingers

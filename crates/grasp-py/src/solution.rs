@@ -270,7 +270,10 @@ impl Solution {
     ///     `"taxels"` (when the sensor has taxels): `force_n` `(nx, ny, 3)` (normal, t1, t2;
     ///     N), `centre_m` `(nx, ny, 2)` (along t1, t2 from the contact point; m), `depth_m`
     ///     and `size_m` (floats, m); `"markers"` (when it has markers): `displacement_m`
-    ///     `(nx, ny, 3)` (normal into the finger, t1, t2; m) and `position_m` `(nx, ny, 2)`.
+    ///     `(nx, ny, 3)` (normal into the finger, t1, t2; m) and `position_m` `(nx, ny, 2)`;
+    ///     `"gel"` (when it has a gel image): `height_m` `(nx, ny)` (m, into the pad),
+    ///     `normal` `(nx, ny, 3)` (u, v, w toward the camera), `rgb` `(nx, ny, 3)` (in
+    ///     [0, 1]), `position_m` `(nx, ny, 2)` (the pixels' centres) and `pixel_m` (the pitch).
     ///
     /// Raises
     /// ------

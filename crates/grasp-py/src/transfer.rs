@@ -535,8 +535,10 @@ impl Transfer {
     /// dict
     ///     `"taxels"` (when the sensor has taxels): `{"force_n": (T, nx, ny, 3)}` (normal, t1,
     ///     t2; N); `"markers"` (when it has markers): `{"displacement_m": (T, nx, ny, 3)}`
-    ///     (normal into the finger, t1, t2; m). NaN at the steps where the finger has no
-    ///     readings (released, or a step without forces).
+    ///     (normal into the finger, t1, t2; m); `"gel"` (when it has a gel image):
+    ///     `{"height_m": (T, nx, ny), "rgb": (T, nx, ny, 3)}` (m into the pad; colours in
+    ///     [0, 1]). NaN at the steps where the finger has no readings (released, or a step
+    ///     without forces).
     ///
     /// Raises
     /// ------
@@ -566,6 +568,12 @@ impl Transfer {
                 d.set_item(field, float_array(py, v, &[h.len(), *nx, *ny, 3])?)?;
                 out.set_item(kind, d)?;
             }
+        }
+        if let Some(([nx, ny], heights, colours)) = &s.gel {
+            let d = PyDict::new(py);
+            d.set_item("height_m", float_array(py, heights, &[h.len(), *nx, *ny])?)?;
+            d.set_item("rgb", float_array(py, colours, &[h.len(), *nx, *ny, 3])?)?;
+            out.set_item("gel", d)?;
         }
         Ok(out)
     }

@@ -27,13 +27,14 @@ pub struct Args {
     pub scene: PathBuf,
     /// Write the whole solution (elements, residuals, timing) as JSON to this file (a finger
     /// of more than 64x64 elements: one array per field, `element_fields`); the tactile
-    /// sensors' readings (taxels, markers) under `sensors` when the scene has one.
+    /// sensors' readings (taxels, markers, gel images) under `sensors` when the scene has one.
     #[arg(long, value_name = "OUT.json")]
     pub json: Option<PathBuf>,
     /// Write every finger's element fields (forces, pressures, gaps, slips, states, centres)
     /// as NumPy arrays to this `.npz` file, one array per field and finger (`<finger>/<field>`:
     /// `numpy.load(path)["f1/pressure_pa"]`), float64 as solved; a finger's taxel sensor as
     /// `<finger>/taxels/force_n` (nx, ny, 3), its markers as `<finger>/markers/displacement_m`
+    /// (nx, ny, 3), its gel image as `<finger>/gel/height_m` (nx, ny) and `<finger>/gel/rgb8`
     /// (nx, ny, 3).
     #[arg(long, value_name = "OUT.npz")]
     pub npz: Option<PathBuf>,
@@ -42,6 +43,10 @@ pub struct Args {
     /// pressure and its most frequent state).
     #[arg(long, value_name = "F.svg|F.png")]
     pub plot: Option<PathBuf>,
+    /// Write the gel images of the fingers whose sensor has one (`sensor.gel`) as one PNG:
+    /// each shaded image, one PNG pixel a gel pixel, side by side in scene order.
+    #[arg(long, value_name = "F.png")]
+    pub gel_png: Option<PathBuf>,
     #[command(flatten)]
     pub force: ForceArg,
     /// Solver tolerance on the scaled program (feasibility and gap), in [1e-14, 1e-2]: below
@@ -109,6 +114,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         json,
         npz,
         plot,
+        gel_png,
         force,
         tolerance,
         error_estimate,
@@ -136,10 +142,15 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         .iter()
         .chain(&npz)
         .chain(&plot)
+        .chain(&gel_png)
         .map(PathBuf::as_path)
         .collect();
     let outs = output::claim(&outputs, &[&scene], force.force)?;
     let scene_obj = load_scene(&scene)?;
+    let has_gel = |f: &grasp_model::FingerSpec| f.sensor.as_ref().is_some_and(|s| s.gel.is_some());
+    if gel_png.is_some() && !scene_obj.scene.fingers.iter().any(has_gel) {
+        anyhow::bail!(crate::pictures::gel_picture::NO_GEL_IMAGE);
+    }
     solve.check_memory(&scene_obj, &scene)?;
     if explain_frames {
         print_frames(&scene_obj)?;
@@ -175,6 +186,11 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     }
     if let (Some(out), Some(format)) = (&plot, plot_format) {
         write_maps(&outs, out, format, &scene, &solved)?;
+    }
+    if let Some(out) = &gel_png {
+        let clock = Instant::now();
+        outs.write(out, &crate::pictures::gel_picture::gel_png(&sensors)?)?;
+        crate::solution_files::say_written(out, clock);
     }
     Ok(if solution.status.has_forces() {
         ExitCode::SUCCESS

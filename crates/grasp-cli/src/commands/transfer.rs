@@ -138,7 +138,8 @@ const OPEN_RRD: &str = "rerun {}   (the Rerun viewer: pip install rerun-sdk==0.3
 const OPEN_MCAP: &str = "Foxglove (https://app.foxglove.dev or the desktop app), Open local file; \
                          topics /grasp/fingers, /grasp/patches, /grasp/scene \
                          (and /grasp/patch_maps with patches above 64 x 64 elements, \
-                         /grasp/tactile with a finger's sensor)";
+                         /grasp/tactile with a finger's sensor, \
+                         /grasp/tactile/<finger>/gel with a gel image)";
 const OPEN_CSV: &str = "one row per step, a column per quantity: any spreadsheet, or Python's \
                         pandas.read_csv";
 const OPEN_NPZ: &str = "Python: numpy.load(path)[\"step_00000/<finger>/pressure_pa\"] (its \

@@ -5,6 +5,7 @@ pub mod contact_maps;
 pub mod font;
 pub mod force_diagram;
 pub mod force_history;
+pub mod gel_picture;
 pub mod label_placement;
 pub mod legend;
 pub mod margin_plot;

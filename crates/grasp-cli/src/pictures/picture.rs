@@ -81,7 +81,7 @@ pub fn draw_err(e: impl std::fmt::Display) -> anyhow::Error {
 }
 
 /// PNG bytes of an RGB buffer, row by row from the top.
-fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>> {
+pub fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>> {
     let mut out = Vec::new();
     {
         let mut encoder = png::Encoder::new(&mut out, w, h);

@@ -61,7 +61,7 @@ fn fingertips(run: &RunInfo, size_m: f64) -> Value {
 }
 
 /// Foxglove time from seconds (`sec`, `nsec`), clamped at 0.
-fn time(t_s: f64) -> Value {
+pub fn foxglove_time(t_s: f64) -> Value {
     let ns = (t_s.max(0.0) * 1e9).round() as u64;
     json!({"sec": ns / 1_000_000_000, "nsec": ns % 1_000_000_000})
 }
@@ -69,7 +69,7 @@ fn time(t_s: f64) -> Value {
 /// An entity with every primitive list present (empty unless given).
 fn entity(id: &str, t_s: f64, primitives: Value) -> Value {
     let mut e = json!({
-        "timestamp": time(t_s), "frame_id": "world", "id": id,
+        "timestamp": foxglove_time(t_s), "frame_id": "world", "id": id,
         "lifetime": {"sec": 0, "nsec": 0}, "frame_locked": false, "metadata": [],
         "arrows": [], "cubes": [], "spheres": [], "cylinders": [], "lines": [],
         "triangles": [], "texts": [], "models": []

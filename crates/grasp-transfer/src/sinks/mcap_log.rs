@@ -11,6 +11,8 @@
 //!   ([`super::patch_maps_message`]);
 //! - `/grasp/tactile` (`grasp.TactileReadings`, only when the scene has a finger with a
 //!   `sensor`): per step, every active sensor's readings ([`super::tactile_message`]);
+//! - `/grasp/tactile/<finger>/gel`, `.../gel_height` (`foxglove.RawImage`, per finger whose
+//!   sensor has a gel image): its shaded image and height map ([`super::gel_image_message`]);
 //! - `/grasp/scene` (`foxglove.SceneUpdate`): the object and contact points once, then per
 //!   step the finger forces as arrows, for Foxglove's 3-D panel ([`super::foxglove_scene`]).
 //!
@@ -32,6 +34,7 @@ use serde_json::json;
 use super::drawing_scale::drawing_scale;
 use super::element_maps::is_compact;
 use super::foxglove_scene::{forces_update, object_update, scene_update_schema, SCENE_TOPIC};
+use super::gel_image_message::{gel_messages, gel_topics, raw_image_schema, RAW_IMAGE_SCHEMA};
 use super::patch_maps_message::{
     has_compact_patch, patch_maps_message, patch_maps_schema, PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC,
 };
@@ -309,6 +312,8 @@ pub struct McapSink {
     maps_channel: Option<u16>,
     /// The `/grasp/tactile` channel, when the scene has a finger with a sensor.
     tactile_channel: Option<u16>,
+    /// Per finger with a gel image, its name and its `[colour, height]` channels.
+    gel_channels: Vec<(String, [u16; 2])>,
     /// Size of the scene (diagonal of the contacts and centre of mass), m, and the force
     /// arrows' scale, m per N.
     drawing: (f64, f64),
@@ -370,6 +375,7 @@ impl McapSink {
             scene_channel: 0,
             maps_channel: None,
             tactile_channel: None,
+            gel_channels: Vec::new(),
             drawing: (1.0, 1.0),
             object_sent: false,
             sequence: 0,
@@ -421,6 +427,33 @@ fn json_channel(
     w.add_channel(id, topic, "json", &BTreeMap::new())
 }
 
+/// Per finger of `run` whose sensor has a gel image, its `[colour, height]` channels on
+/// Foxglove's image schema (added once).
+fn gel_channels(
+    w: &mut mcap::Writer<BufWriter<File>>,
+    run: &RunInfo,
+) -> Result<Vec<(String, [u16; 2])>, mcap::McapError> {
+    let mut out = Vec::new();
+    let mut schema = None;
+    for name in run.gel_fingers() {
+        let id = match schema {
+            Some(id) => id,
+            None => {
+                let text = raw_image_schema().to_string();
+                *schema.insert(w.add_schema(RAW_IMAGE_SCHEMA, "jsonschema", text.as_bytes())?)
+            }
+        };
+        let [colour, height] = gel_topics(&name);
+        let none = BTreeMap::new();
+        let channels = [
+            w.add_channel(id, &colour, "json", &none)?,
+            w.add_channel(id, &height, "json", &none)?,
+        ];
+        out.push((name, channels));
+    }
+    Ok(out)
+}
+
 impl Sink for McapSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
         self.drawing = drawing_scale(run.model);
@@ -451,6 +484,7 @@ impl Sink for McapSink {
             let tc = json_channel(w, TACTILE_SCHEMA, &tactile_schema(), TACTILE_TOPIC);
             self.tactile_channel = Some(tc.map_err(e)?);
         }
+        self.gel_channels = gel_channels(self.writer()?, run).map_err(e)?;
         Ok(())
     }
 
@@ -471,6 +505,15 @@ impl Sink for McapSink {
         if let Some(channel) = self.tactile_channel {
             let m = serde_json::to_vec(&tactile_message(r)).map_err(|e| self.err(e))?;
             self.write(channel, r.time_s, &m)?;
+        }
+        for (name, channels) in self.gel_channels.clone() {
+            let s = r.sensors.iter().find(|s| s.finger == name);
+            let Some(g) = s.and_then(|s| s.gel.as_ref()) else {
+                continue;
+            };
+            for (channel, m) in channels.into_iter().zip(gel_messages(&name, g, r.time_s)) {
+                self.write(channel, r.time_s, m.to_string().as_bytes())?;
+            }
         }
         let (size_m, m_per_n) = self.drawing;
         if !self.object_sent {

@@ -8,6 +8,8 @@ pub mod drawing_scale;
 pub mod element_maps;
 pub mod fingertip_drawing;
 pub mod foxglove_scene;
+pub mod gel_drawing;
+pub mod gel_image_message;
 pub mod identical_curves;
 pub mod mcap_log;
 pub mod npz_steps;

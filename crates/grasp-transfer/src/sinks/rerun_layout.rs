@@ -86,6 +86,8 @@ pub struct LayoutContent<'a> {
     pub mounts: bool,
     /// The fingers whose patches have flat views.
     pub flat: &'a [String],
+    /// The fingers whose sensors have gel images: their image and height views.
+    pub gels: &'a [String],
 }
 
 /// The 3-D view and the plots, in the order they are stacked (the 3-D view alone without
@@ -139,6 +141,23 @@ fn patch_views(flat: &[String]) -> Vec<ViewSpec> {
     }
     if !flat.is_empty() {
         v.push(view(0xff, "TextDocument", "key", "/patches/key"));
+    }
+    v
+}
+
+/// Per finger with a gel image, its shaded image and its height map (2-D views).
+fn gel_views(gels: &[String]) -> Vec<ViewSpec> {
+    let mut v = Vec::new();
+    for (i, name) in gels.iter().enumerate() {
+        let id = 0x200 + 2 * i as u128;
+        let origin = |part: &str| format!("/tactile/{name}/{part}");
+        v.push(view(id, "2D", &format!("{name} gel image"), &origin("gel")));
+        v.push(view(
+            id + 1,
+            "2D",
+            &format!("{name} gel height [m]"),
+            &origin("gel_height"),
+        ));
     }
     v
 }
@@ -199,7 +218,8 @@ fn included(paths: impl IntoIterator<Item = String>) -> Vec<IncludedContent> {
 /// The layout's rows: (entity path, archetype), children before their containers.
 fn layout_rows(content: LayoutContent) -> Vec<(String, Box<dyn AsComponents>)> {
     let views = views(content.steps, content.margins, content.mounts);
-    let patches = patch_views(content.flat);
+    let mut patches = patch_views(content.flat);
+    patches.extend(gel_views(content.gels));
     let mut rows: Vec<(String, Box<dyn AsComponents>)> = Vec::new();
     for v in views.iter().chain(&patches) {
         rows.extend(view_rows(v));
@@ -331,15 +351,16 @@ mod tests {
         let two = ["f1".to_string(), "f2".to_string()];
         for (margins, flat) in [(false, &[][..]), (true, &[][..]), (false, &two[..])] {
             let steps = true;
-            for mounts in [false, true] {
+            for (mounts, gels) in [(false, &[][..]), (true, &two[..1])] {
                 let n_views = view_count(LayoutContent {
                     steps,
                     margins,
                     mounts,
                     flat,
+                    gels,
                 });
-                // Per finger with flat views, two; and the key.
-                let patches = 2 * flat.len() + usize::from(!flat.is_empty());
+                // Per finger with flat views, two; and the key; per gel image, two.
+                let patches = 2 * flat.len() + usize::from(!flat.is_empty()) + 2 * gels.len();
                 let plots = usize::from(margins) + usize::from(mounts);
                 assert_eq!(n_views, 3 + plots + patches);
             }
@@ -353,6 +374,7 @@ mod tests {
             margins: false,
             mounts: false,
             flat: &[],
+            gels: &[],
         };
         assert_eq!(view_count(content), 1);
         let rows = layout_rows(content);
@@ -378,6 +400,7 @@ mod tests {
             margins: true,
             mounts: true,
             flat: &flat,
+            gels: &flat[..1],
         };
         let a = layout_messages(layout).unwrap();
         let b = layout_messages(layout).unwrap();

@@ -23,7 +23,8 @@
 //! - `plots/viscous_displacement/<name>`: on a viscoelastic contact, the largest normal
 //!   displacement its history added at the step, m (the creep or relaxation under way);
 //! - `world/tactile/<name>/taxels`, `.../markers`: a sensor finger's readings
-//!   ([`super::tactile_drawing`]);
+//!   ([`super::tactile_drawing`]); `tactile/<name>/gel`, `.../gel_height`: its gel image
+//!   ([`super::gel_drawing`]);
 //! - `world/margin/...` (static, `grasp margin --rrd`): the wrench surface
 //!   ([`RerunSink::log_wrench_surface`]).
 //!
@@ -60,6 +61,7 @@ use super::colour_key::{state_rgb, FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
 use super::drawing_scale::{contact_bounds, drawing_scale};
 use super::element_maps::is_compact;
 use super::fingertip_drawing::{tip_drawings, z_to, TipDrawing};
+use super::gel_drawing::gel_drawings;
 use super::identical_curves::IdenticalCurves;
 use super::patch_views::{has_flat_views, pressure_tensor, state_image, state_key};
 use super::rerun_grid_maps::{cleared_map, patch_pose, pressure_map, state_map};
@@ -595,6 +597,7 @@ impl Sink for RerunSink {
             margins: run.margins,
             mounts: g.fingers().iter().any(|f| f.mount().is_some()),
             flat: &flat,
+            gels: &run.gel_fingers(),
         })?;
         let names: Vec<String> = g.fingers().iter().map(|f| f.name().to_string()).collect();
         self.same = Some(IdenticalCurves::new(&names));
@@ -686,7 +689,8 @@ impl Sink for RerunSink {
                 None => self.clear_finger(fm)?,
             }
         }
-        for (path, drawing) in tactile_drawings(run, r, scale) {
+        let tactile = tactile_drawings(run, r, scale).into_iter();
+        for (path, drawing) in tactile.chain(gel_drawings(run, r)) {
             self.send(path, drawing.as_ref())?;
         }
         // An unbounded or undetermined margin is no number: the plot shows a gap there.

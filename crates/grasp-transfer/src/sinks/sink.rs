@@ -17,6 +17,18 @@ pub struct RunInfo<'a> {
     pub margins: bool,
 }
 
+impl RunInfo<'_> {
+    /// The fingers whose sensor has a gel image, scene order (their images are logged).
+    pub fn gel_fingers(&self) -> Vec<String> {
+        self.scene
+            .fingers
+            .iter()
+            .filter(|f| f.sensor.as_ref().is_some_and(|s| s.gel.is_some()))
+            .map(|f| f.name.clone())
+            .collect()
+    }
+}
+
 /// A destination for step records.
 ///
 /// A sink writes to the file it was given and never moves or deletes files: where the output

@@ -12,7 +12,9 @@
 //!
 //! Arrays are row-major, `k = i ny + j` with `i` along the grid's first side; a kind the
 //! finger's sensor lacks is `null`; a released finger (or a failed step) has no entry. The
-//! schema is generated from the message's own types, so the two cannot drift apart.
+//! schema is generated from the message's own types, so the two cannot drift apart. A gel
+//! image is not in it: it has its own topics on Foxglove's image schema
+//! ([`super::gel_image_message`]).
 
 use grasp_model::{MarkerReadings, SensorReadings, TaxelReadings};
 use schemars::JsonSchema;
