@@ -394,6 +394,9 @@ fn thinned(
     for f in &mut scene.fingers {
         if f.patch.grid[0] * f.patch.grid[1] > thin.max_elements {
             f.patch.grid = f.patch.grid.map(|n| n.min(thin.grid));
+            // A coarse grid resolves no texture, and a sensor reads nothing the margins use.
+            f.texture = None;
+            f.sensor = None;
         }
     }
     let stride = schedule.times.len().div_ceil(thin.steps);

@@ -131,7 +131,7 @@ class Solution:
         """A finger's tactile readings: ``{"taxels": {"force_n": (nx, ny, 3), "centre_m":
         (nx, ny, 2), "depth_m", "size_m"}, "markers": {"displacement_m": (nx, ny, 3),
         "position_m": (nx, ny, 2)}, "gel": {"height_m": (nx, ny), "normal": (nx, ny, 3),
-        "rgb": (nx, ny, 3), "position_m": (nx, ny, 2), "pixel_m"}}``, each kind when the
+        "rgb": (nx, ny, 3), "position_m": (nx, ny, 2), "pixel_m", "path"}}``, each kind when the
         sensor has it."""
 
 class Transfer:

@@ -120,7 +120,7 @@ pub fn solve_line(
                             Ok(sol) => {
                                 let t = clock.elapsed().as_secs_f64();
                                 let mut l = ResultLine::of_solution(id, index, of, &sol, t);
-                                match sensors_of(&scene, &model, &sol) {
+                                match sensors_of(&scene, &model, &sol, index) {
                                     Ok(read) => l.sensors = read,
                                     Err(why) => l.warnings.push(why),
                                 }
@@ -150,17 +150,20 @@ pub fn solve_line(
 }
 
 /// The readings of the scene's sensors as their JSON (`None` when it has none or the solve found
-/// no forces); a read-out refused (too much work: its reason names the field and the fix) is a
-/// warning of the line, which keeps its forces.
+/// no forces), the line's `index` the noise's draw (so that equal scenes on other lines draw
+/// other noise); a read-out refused (too much work: its reason names the field and the fix) is
+/// a warning of the line, which keeps its forces.
 fn sensors_of(
     scene: &grasp_model::Scene,
     model: &GraspModel,
     sol: &grasp_model::Solution,
+    index: usize,
 ) -> Result<Option<serde_json::Value>, String> {
     if !sol.status.has_forces() {
         return Ok(None);
     }
-    let read = grasp_model::sensor_readings(scene, model, sol).map_err(|e| e.to_string())?;
+    let read = grasp_model::sensor_readings_drawn(scene, model, sol, index as u64)
+        .map_err(|e| e.to_string())?;
     Ok((!read.is_empty())
         .then(|| serde_json::to_value(&read).ok())
         .flatten())

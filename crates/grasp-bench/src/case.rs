@@ -551,6 +551,7 @@ impl Case {
                     depth_m: pitch_m,
                     rotation_rad: 0.0,
                     offset_m: [0.0; 2],
+                    response: None,
                 };
                 f.sensor = Some(grasp_model::SensorSpec {
                     taxels: Some(taxels),

@@ -459,9 +459,8 @@ fn gel_table(readings: &[grasp_model::SensorReadings]) -> String {
     }
     let _ = writeln!(
         s,
-        "
-gel images (height of the pad's surface, + into the pad; --json or --npz for the pixels):
-{:<16}{:>10}{:>16}{:>10}{:>10}",
+        "\ngel images (height of the pad's surface, + into the pad; --json or --npz for the \
+         pixels):\n{:<16}{:>10}{:>16}{:>12}{:>8}",
         "finger", "pixels", "deepest_um", "at", "read"
     );
     for (finger, g) in gels {
@@ -473,7 +472,7 @@ gel images (height of the pad's surface, + into the pad; --json or --npz for the
         };
         let _ = writeln!(
             s,
-            "{:<16}{:>10}{:>16}{:>10}{:>10}",
+            "{:<16}{:>10}{:>16}{:>12}{:>8}",
             finger,
             format!("{}x{}", g.count[0], g.count[1]),
             significant(deepest * 1e6, 6),

@@ -122,6 +122,7 @@ pub use scene::memory_budget::{
 };
 pub use scene::mount_checks::MOUNT_SYMMETRY_TOLERANCE;
 pub use scene::mount_spec::{MountSpec, MountStiffness};
+pub use scene::response_spec::ResponseSpec;
 pub use scene::scene_format::{
     scene_json_schema, ApproachSpec, CoefficientSpec, ControlSpec, ElasticLawParams,
     ElasticLawSpec, ElasticSpec, ExternalForceSpec, FingerSpec, FrictionSpec, HeldTag,
@@ -131,7 +132,7 @@ pub use scene::scene_format::{
 pub use scene::scene_geometry::{SceneGeometry, SharedShape};
 pub use scene::scene_reading::{FileProblem, SceneFiles};
 pub use scene::sensor_checks::{MAX_MARKERS_PER_SIDE, MAX_TAXELS_PER_SIDE};
-pub use scene::sensor_kind::{GridLayout, HalfSpaceNeed, SensorKind};
+pub use scene::sensor_kind::{ElementGrid, GridLayout, HalfSpaceNeed, SensorKind};
 pub use scene::sensor_spec::{
     MarkerGridSpec, SensorSpec, TaxelGridSpec, GAUSS_POINTS_PER_CELL_SIDE,
     MAX_MARKER_KERNEL_EVALUATIONS, MAX_TAXEL_CELLS_PER_SIDE, MAX_TAXEL_KERNEL_EVALUATIONS,
@@ -213,7 +214,8 @@ pub use sensors::gel_height::{height_map, HeightPath};
 pub use sensors::gel_image::{read_gel, GelImage};
 pub use sensors::gel_shading::{shade, surface_normals};
 pub use sensors::marker_readings::{read_markers, MarkerReadings};
-pub use sensors::sensor_readings::{sensor_readings, SensorReadings};
+pub use sensors::sensor_readings::{sensor_readings, sensor_readings_drawn, SensorReadings};
+pub use sensors::sensor_response::{apply_response, normal_deviate};
 pub use sensors::taxel_grid::{QuadraturePoint, TaxelGrid};
 pub use sensors::taxel_readings::{read_taxels, TaxelReadings};
 

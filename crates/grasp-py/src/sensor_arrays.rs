@@ -44,6 +44,12 @@ pub fn sensor_arrays<'py>(py: Python<'py>, r: &SensorReadings) -> PyResult<Bound
         let points = flat(&g.positions_m());
         d.set_item("position_m", float_array(py, &points, &[nx, ny, 2])?)?;
         d.set_item("pixel_m", g.pixel_m.to_vec())?;
+        let path = match g.path {
+            grasp_model::HeightPath::Lattice => "lattice",
+            grasp_model::HeightPath::Dense => "dense",
+            grasp_model::HeightPath::Flat => "flat",
+        };
+        d.set_item("path", path)?;
         out.set_item("gel", d)?;
     }
     Ok(out)

@@ -273,7 +273,8 @@ impl Solution {
     ///     `(nx, ny, 3)` (normal into the finger, t1, t2; m) and `position_m` `(nx, ny, 2)`;
     ///     `"gel"` (when it has a gel image): `height_m` `(nx, ny)` (m, into the pad),
     ///     `normal` `(nx, ny, 3)` (u, v, w toward the camera), `rgb` `(nx, ny, 3)` (in
-    ///     [0, 1]), `position_m` `(nx, ny, 2)` (the pixels' centres) and `pixel_m` (the pitch).
+    ///     [0, 1]), `position_m` `(nx, ny, 2)` (the pixels' centres), `pixel_m` (the pitch)
+    ///     and `path` (how the height map was read: `"lattice"`, `"dense"` or `"flat"`).
     ///
     /// Raises
     /// ------

@@ -24,9 +24,9 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use grasp_model::{
-    sensor_readings, ContactState, Control, FingerState, GraspModel, GraspSolver, LoadDirection,
-    LoadedScene, MarginOptions, Scene, SceneError, Sensitivities, SensorReadings, Solution,
-    SolveOptions, SolvedStep, SolverStats, StepInputs,
+    sensor_readings_drawn, ContactState, Control, FingerState, GraspModel, GraspSolver,
+    LoadDirection, LoadedScene, MarginOptions, Scene, SceneError, Sensitivities, SensorReadings,
+    Solution, SolveOptions, SolvedStep, SolverStats, StepInputs,
 };
 use serde::Serialize;
 
@@ -120,7 +120,7 @@ pub struct StepRecord {
     #[serde(skip)]
     pub sensitivities: Option<Result<Sensitivities, String>>,
     /// The tactile sensors' readings of the step's active fingers with a `sensor`, scene
-    /// order ([`grasp_model::sensor_readings`]); empty when the scene has none or the step
+    /// order ([`grasp_model::sensor_readings_drawn`], the step's index the noise's draw); empty when the scene has none or the step
     /// found no forces.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub sensors: Vec<SensorReadings>,
@@ -195,6 +195,8 @@ struct StepCommands<'c> {
     loads: &'c [f64],
     commands: &'c [Command],
     external: Option<ExternalWrench>,
+    /// The step's index: its sensors' read-out (the noise's draw).
+    index: usize,
 }
 
 /// A step's answer: the solution, its margin and sensitivities when asked for, and its
@@ -452,6 +454,7 @@ impl<'a> Stepper<'a> {
             loads: &loads,
             commands: &commands,
             external,
+            index: k,
         };
         let solved = self.solve_cached(&key, step)?;
         if solved.solution.status.has_forces() {
@@ -605,10 +608,11 @@ impl<'a> Stepper<'a> {
         // A read-out refused (an automatic patch finer than the scene's: too many kernel
         // evaluations, named with its fix) is the step's warning, not the run's end.
         let sensors = match sol.status.has_forces() {
-            true => sensor_readings(self.scene, &model, &sol).unwrap_or_else(|e| {
-                sol.warnings.push(e.to_string());
-                Vec::new()
-            }),
+            true => sensor_readings_drawn(self.scene, &model, &sol, step.index as u64)
+                .unwrap_or_else(|e| {
+                    sol.warnings.push(e.to_string());
+                    Vec::new()
+                }),
             false => Vec::new(),
         };
         for f in state.fingers {

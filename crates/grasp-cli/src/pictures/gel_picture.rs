@@ -1,6 +1,7 @@
 //! `grasp solve --gel-png`: the gel images of a solve as one PNG, each finger's shaded image
-//! (`GelImage::rgb8`, one PNG pixel a gel pixel, its rows along the image's first side) side
-//! by side in scene order, 8 white pixels apart.
+//! as its camera sees it (`GelImage::camera_rgb8`: one PNG pixel a gel pixel, columns along
+//! the image's first side, rows along the second) side by side in scene order, 8 white pixels
+//! apart.
 
 use anyhow::{bail, Result};
 use grasp_model::SensorReadings;
@@ -20,18 +21,19 @@ pub fn gel_png(sensors: &[SensorReadings]) -> Result<Vec<u8>> {
     if images.is_empty() {
         bail!(NO_GEL_IMAGE);
     }
-    let height = images.iter().map(|g| g.count[0]).max().unwrap_or(0);
-    let width = images.iter().map(|g| g.count[1]).sum::<usize>() + GAP_PX * (images.len() - 1);
+    let size = |g: &grasp_model::GelImage| g.camera_size().map(|s| s as usize);
+    let height = images.iter().map(|g| size(g)[1]).max().unwrap_or(0);
+    let width = images.iter().map(|g| size(g)[0]).sum::<usize>() + GAP_PX * (images.len() - 1);
     let mut rgb = vec![255u8; width * height * 3];
     let mut left = 0;
     for g in images {
-        let [nx, ny] = g.count;
-        let bytes = g.rgb8();
-        for i in 0..nx {
-            let at = (i * width + left) * 3;
-            rgb[at..at + ny * 3].copy_from_slice(&bytes[i * ny * 3..(i + 1) * ny * 3]);
+        let [w, h] = size(g);
+        let bytes = g.camera_rgb8();
+        for row in 0..h {
+            let at = (row * width + left) * 3;
+            rgb[at..at + w * 3].copy_from_slice(&bytes[row * w * 3..(row + 1) * w * 3]);
         }
-        left += ny + GAP_PX;
+        left += w + GAP_PX;
     }
     encode_png(&rgb, (width as u32, height as u32))
 }

@@ -153,6 +153,14 @@ impl GridSpec {
     pub fn index(&self, i: usize, j: usize) -> usize {
         i * self.ny + j
     }
+
+    /// The grid as a sensor's read-out sees it.
+    pub fn element_grid(&self) -> crate::scene::sensor_kind::ElementGrid {
+        crate::scene::sensor_kind::ElementGrid {
+            count: [self.nx, self.ny],
+            element_m: [self.hx, self.hy],
+        }
+    }
 }
 
 /// The blocks of a patch compliance, in the order [`KernelTable`] keeps them: `nn` (normal from

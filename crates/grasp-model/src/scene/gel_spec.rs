@@ -12,8 +12,8 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use crate::model::influence::GridSpec;
-use crate::scene::sensor_kind::{GridLayout, HalfSpaceNeed, SensorKind};
+use crate::scene::response_spec::ResponseSpec;
+use crate::scene::sensor_kind::{ElementGrid, GridLayout, HalfSpaceNeed, SensorKind};
 
 /// `fingers[i].sensor.gel`: an optical gel sensor's image of the pad.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -46,6 +46,10 @@ pub struct GelSpec {
     /// A calibrated table from the surface's slopes to colour, in place of the lights.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lookup: Option<LookupSpec>,
+    /// How the camera departs from the ideal image (gain, noise, saturation, quantisation of
+    /// each colour channel, in its `[0, 1]`; `crate::scene::response_spec`); default none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub response: Option<ResponseSpec>,
 }
 
 /// One light of the Lambertian shading.
@@ -84,8 +88,9 @@ pub const MAX_LIGHTS: usize = 8;
 /// entries of the lattice's kernel table; about 20 s on one core, as the markers'.
 pub const MAX_GEL_KERNEL_EVALUATIONS: f64 = 2e8;
 
-/// Most points of the element lattice the FFT read-out convolves on (its spectra take about
-/// 100 bytes a point); a larger lattice is read densely.
+/// Most points of the element lattice the FFT read-out convolves on (its kernel spectra,
+/// forces, displacements and preconditioner take about 600 bytes a point with friction, 640 MB
+/// at this size; not counted by `--max-memory`); a larger lattice is read densely.
 pub const MAX_LATTICE_POINTS: usize = 1024 * 1024;
 
 /// The lights when a gel gives none: red, green and blue at 120 degrees from each other
@@ -126,24 +131,23 @@ impl GelSpec {
 
     /// Where the image's pixels fall on the patch's element lattice, when they do: the
     /// image unturned, its pixel pitch the elements' (to 1e-9 of it) and its first pixel's
-    /// centre an element lattice point (to 1e-6 of the pitch). Then the height map is a
-    /// convolution on the lattice (the FFT read-out). `Some([i0, j0])`: the lattice index of
-    /// pixel `(0, 0)`, element `(0, 0)` at `[0, 0]`.
-    pub fn lattice_origin(&self, patch: &GridSpec) -> Option<[i64; 2]> {
+    /// centre an element lattice point (to 1e-6 of the pitch). `Some([i0, j0])`: the lattice
+    /// index of pixel `(0, 0)`, element `(0, 0)` at `[0, 0]`.
+    pub fn lattice_origin(&self, patch: &ElementGrid) -> Option<[i64; 2]> {
         if self.rotation_rad != 0.0 {
             return None;
         }
         let pitch = self.pixel_m();
-        let elements = [(patch.nx, patch.hx), (patch.ny, patch.hy)];
-        let first = self.layout().points_m().first().copied()?;
         let mut origin = [0i64; 2];
         for k in 0..2 {
-            let (n, h) = elements[k];
+            let (n, h) = (patch.count[k], patch.element_m[k]);
             if (pitch[k] - h).abs() > 1e-9 * h {
                 return None;
             }
+            // Pixel 0's and element 0's centres (`GridLayout::points_m`, unturned).
+            let pixel0 = self.offset_m[k] - (self.image_px[k] as f64 - 1.0) / 2.0 * pitch[k];
             let element0 = -(n as f64 - 1.0) / 2.0 * h;
-            let steps = (first[k] - element0) / h;
+            let steps = (pixel0 - element0) / h;
             if (steps - steps.round()).abs() > 1e-6 || steps.abs() > 1e9 {
                 return None;
             }
@@ -152,32 +156,34 @@ impl GelSpec {
         Some(origin)
     }
 
-    /// The element lattice the FFT read-out convolves on: the patch's elements and the
-    /// image's pixels together, `[Lx, Ly]` points, and where the patch's element `(0, 0)` is
-    /// on it. `None` when the pixels are not on the lattice, or it has more than
-    /// [`MAX_LATTICE_POINTS`].
-    pub fn lattice(&self, patch: &GridSpec) -> Option<Lattice> {
+    /// The element lattice the FFT read-out convolves on, when it is the cheaper read-out:
+    /// the patch's elements and the image's pixels together, `[Lx, Ly]` points, and where the
+    /// patch's element `(0, 0)` and the image's pixel `(0, 0)` are on it. `None` when the
+    /// pixels are not on the lattice, when it has more than [`MAX_LATTICE_POINTS`], or when
+    /// its kernel table (`(2 Lx - 1)(2 Ly - 1)` evaluations) is more work than reading every
+    /// pixel from every element (a small image far from the patch).
+    pub fn lattice(&self, patch: &ElementGrid) -> Option<Lattice> {
         let origin = self.lattice_origin(patch)?;
-        let n = [patch.nx as i64, patch.ny as i64];
-        let px = [self.image_px[0] as i64, self.image_px[1] as i64];
         let mut size = [0usize; 2];
         let mut element0 = [0usize; 2];
+        let mut pixel0 = [0usize; 2];
         for k in 0..2 {
+            let (n, px) = (patch.count[k] as i64, self.image_px[k] as i64);
             let low = origin[k].min(0);
-            let high = (origin[k] + px[k]).max(n[k]);
+            let high = (origin[k] + px).max(n);
             size[k] = (high - low) as usize;
             element0[k] = (-low) as usize;
+            pixel0[k] = (origin[k] - low) as usize;
         }
-        if size[0] * size[1] > MAX_LATTICE_POINTS {
+        let table = ((2 * size[0] - 1) * (2 * size[1] - 1)) as f64;
+        let dense = self.pixel_count() as f64 * patch.len() as f64;
+        if size[0] * size[1] > MAX_LATTICE_POINTS || table >= dense {
             return None;
         }
         Some(Lattice {
             size,
             element0,
-            pixel0: [
-                (origin[0] + element0[0] as i64) as usize,
-                (origin[1] + element0[1] as i64) as usize,
-            ],
+            pixel0,
         })
     }
 }
@@ -221,7 +227,7 @@ impl SensorKind for GelSpec {
 
     /// On the lattice (the FFT read-out): its kernel table's `(2 Lx - 1)(2 Ly - 1)` entries;
     /// otherwise pixels x elements.
-    fn kernel_evaluations(&self, patch: &GridSpec) -> f64 {
+    fn kernel_evaluations(&self, patch: &ElementGrid) -> f64 {
         match self.lattice(patch) {
             Some(l) => ((2 * l.size[0] - 1) * (2 * l.size[1] - 1)) as f64,
             None => self.pixel_count() as f64 * patch.len() as f64,

@@ -23,6 +23,7 @@ pub mod mesh_budget;
 pub mod mount_checks;
 pub mod mount_spec;
 pub mod patch_on_shape;
+pub mod response_spec;
 pub mod scene_format;
 pub mod scene_geometry;
 pub mod scene_reading;

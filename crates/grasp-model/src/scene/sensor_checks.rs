@@ -3,12 +3,12 @@
 //! viscoelastic) when a kind needs one (taxels at depth, markers, a gel image), and read-outs
 //! of bounded work. Each problem names its JSON path and the fix.
 
-use crate::model::influence::GridSpec;
 use crate::scene::field_checks::{number, FieldChecks};
 use crate::scene::gel_spec::{GelSpec, LightSpec, LookupSpec, MAX_LIGHTS, MAX_PIXELS_PER_SIDE};
 use crate::scene::limits::{LENGTH_RANGE_M, MAX_COORDINATE_M};
+use crate::scene::response_spec::ResponseSpec;
 use crate::scene::scene_format::FingerSpec;
-use crate::scene::sensor_kind::{GridLayout, HalfSpaceNeed, SensorKind};
+use crate::scene::sensor_kind::{ElementGrid, GridLayout, HalfSpaceNeed, SensorKind};
 use crate::scene::sensor_spec::{MarkerGridSpec, TaxelGridSpec, MAX_TAXEL_CELLS_PER_SIDE};
 
 /// Most taxels along a grid's side.
@@ -32,23 +32,20 @@ pub fn check_sensor(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
     let mut ok = true;
     if let Some(t) = &s.taxels {
         ok &= check_numbers(&format!("{sp}.taxels"), t, v);
+        ok &= check_response(&format!("{sp}.taxels.response"), &t.response, v);
     }
     if let Some(m) = &s.markers {
         ok &= check_markers(&format!("{sp}.markers"), m, v);
+        ok &= check_response(&format!("{sp}.markers.response"), &m.response, v);
     }
     if let Some(g) = &s.gel {
         ok &= check_gel(&format!("{sp}.gel"), g, v);
+        ok &= check_response(&format!("{sp}.gel.response"), &g.response, v);
     }
     if !ok {
         return;
     }
-    let [nx, ny] = f.patch.grid;
-    let patch = GridSpec {
-        nx,
-        ny,
-        hx: f.patch.size[0] / nx.max(1) as f64,
-        hy: f.patch.size[1] / ny.max(1) as f64,
-    };
+    let patch = ElementGrid::of_patch(f.patch.size, f.patch.grid);
     for kind in s.kinds() {
         if let Some(need) = kind.half_space_need() {
             check_pad(p, &sp, f, need, v);
@@ -353,6 +350,53 @@ fn check_lookup(tp: &str, t: &LookupSpec, v: &mut FieldChecks) -> bool {
             );
             ok = false;
         }
+    }
+    ok
+}
+
+/// A kind's response, when given: its spreads, saturation range, quantum and seed in range.
+fn check_response(rp: &str, r: &Option<ResponseSpec>, v: &mut FieldChecks) -> bool {
+    let Some(r) = r else { return true };
+    let mut ok = v.range(
+        &format!("{rp}.gain_std"),
+        r.gain_std,
+        0.0..=1.0,
+        "",
+        "give the gains' standard deviation about 1, or omit it",
+    );
+    ok &= v.range(
+        &format!("{rp}.noise_std"),
+        r.noise_std,
+        0.0..=1e6,
+        "",
+        "give the noise's standard deviation in the reading's unit (N, m, or colour in [0, 1]), or omit it",
+    );
+    if let Some([low, high]) = r.saturation {
+        if !(low.is_finite() && high.is_finite() && low < high) {
+            v.push(
+                &format!("{rp}.saturation"),
+                format!("is [{}, {}]", number(low), number(high)),
+                "give the range [low, high] the reading saturates at, low below high, or omit it",
+            );
+            ok = false;
+        }
+    }
+    if let Some(q) = r.quantum {
+        ok &= v.range(
+            &format!("{rp}.quantum"),
+            q,
+            1e-300..=1e6,
+            "",
+            "give the reading's resolution (a positive step in its unit), or omit it",
+        );
+    }
+    if r.seed > 1u64 << 53 {
+        v.push(
+            &format!("{rp}.seed"),
+            format!("is {}, above 2^53", r.seed),
+            "give a seed in [0, 2^53] (JSON numbers above it lose digits)",
+        );
+        ok = false;
     }
     ok
 }

@@ -7,7 +7,38 @@
 //! oblong), centred on the contact point plus
 //! `offset_m`, turned by `rotation_rad` from `t1` toward `t2`.
 
-use crate::model::influence::GridSpec;
+/// A finger's element grid as a sensor's read-out sees it (the model's own, or the scene's
+/// patch before the model is built).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ElementGrid {
+    /// Elements along `t1`, `t2`.
+    pub count: [usize; 2],
+    /// Element size along `t1`, `t2`, m.
+    pub element_m: [f64; 2],
+}
+
+impl ElementGrid {
+    /// The grid of a patch of `size_m` cut into `count` elements.
+    pub fn of_patch(size_m: [f64; 2], count: [usize; 2]) -> ElementGrid {
+        ElementGrid {
+            count,
+            element_m: [
+                size_m[0] / count[0].max(1) as f64,
+                size_m[1] / count[1].max(1) as f64,
+            ],
+        }
+    }
+
+    /// Elements in the grid.
+    pub fn len(&self) -> usize {
+        self.count[0] * self.count[1]
+    }
+
+    /// True for a grid without elements.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
 
 /// A sensor grid's layout on its finger's patch, as written in its spec.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,7 +95,7 @@ pub trait SensorKind {
     fn layout(&self) -> GridLayout;
 
     /// Kernel evaluations of the read-out over the element grid `patch`.
-    fn kernel_evaluations(&self, patch: &GridSpec) -> f64;
+    fn kernel_evaluations(&self, patch: &ElementGrid) -> f64;
 
     /// The most kernel evaluations the read-out may take; above it the sensor is refused.
     fn most_kernel_evaluations(&self) -> f64;

@@ -14,9 +14,9 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use crate::model::influence::GridSpec;
 use crate::scene::gel_spec::GelSpec;
-use crate::scene::sensor_kind::{GridLayout, HalfSpaceNeed, SensorKind};
+use crate::scene::response_spec::ResponseSpec;
+use crate::scene::sensor_kind::{ElementGrid, GridLayout, HalfSpaceNeed, SensorKind};
 
 /// `fingers[i].sensor`: the finger's tactile sensor, of one or more kinds: taxels, markers, a
 /// gel image.
@@ -75,6 +75,10 @@ pub struct TaxelGridSpec {
     /// default `[0, 0]`.
     #[serde(default)]
     pub offset_m: [f64; 2],
+    /// How the sensor departs from the ideal reading (gain, noise, saturation, quantisation;
+    /// `crate::scene::response_spec`); default none: the ideal reading.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub response: Option<ResponseSpec>,
 }
 
 /// A grid of markers on the pad's surface, centred on the contact point (plus `offset_m`),
@@ -95,6 +99,10 @@ pub struct MarkerGridSpec {
     /// default `[0, 0]`.
     #[serde(default)]
     pub offset_m: [f64; 2],
+    /// How the sensor departs from the ideal reading (gain, noise, saturation, quantisation;
+    /// `crate::scene::response_spec`); default none: the ideal reading.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub response: Option<ResponseSpec>,
 }
 
 /// The read-out at depth integrates over each taxel with cells no wider than the depth: at
@@ -151,7 +159,7 @@ impl SensorKind for TaxelGridSpec {
     }
 
     /// Zero on the surface (`depth_m` 0: binned by area, no kernel).
-    fn kernel_evaluations(&self, patch: &GridSpec) -> f64 {
+    fn kernel_evaluations(&self, patch: &ElementGrid) -> f64 {
         TaxelGridSpec::kernel_evaluations(self, patch.len())
     }
 
@@ -189,7 +197,7 @@ impl SensorKind for MarkerGridSpec {
         }
     }
 
-    fn kernel_evaluations(&self, patch: &GridSpec) -> f64 {
+    fn kernel_evaluations(&self, patch: &ElementGrid) -> f64 {
         (self.count[0] * self.count[1]) as f64 * patch.len() as f64
     }
 

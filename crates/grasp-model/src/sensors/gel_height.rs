@@ -7,7 +7,8 @@
 //! 3.22c and 3.86a-c, with the finger's `E`, `nu` alone and the object rigid), read one of
 //! two ways:
 //! - **on the element lattice** (the image unturned, its pixel pitch the elements', its
-//!   pixels on element centres: `GelSpec::lattice`): the displacement at every lattice point
+//!   pixels on element centres, and the lattice's kernel table less work than the dense sum:
+//!   `GelSpec::lattice`): the displacement at every lattice point
 //!   is a 2-D convolution of the element forces with the kernel table of the lattice, one
 //!   product of the FFT compliance operator (`crate::model::compliance_operator`) on the
 //!   lattice that holds the patch and the image together; `O(L log L)` for `L` points;
@@ -54,7 +55,7 @@ pub fn height_map(
         return Ok((vec![0.0; spec.pixel_count()], HeightPath::Flat));
     }
     let pair = PairConstants::new(finger, &Material::Rigid);
-    if let Some(lattice) = spec.lattice(patch) {
+    if let Some(lattice) = spec.lattice(&patch.element_grid()) {
         let depth = on_lattice(spec, &lattice, &pair, patch, &loaded)?;
         return Ok((depth, HeightPath::Lattice));
     }

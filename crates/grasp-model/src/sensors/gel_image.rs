@@ -37,7 +37,8 @@ pub struct GelImage {
 }
 
 impl GelImage {
-    /// The largest height, m, and its pixel's index (0 and 0 for a flat image).
+    /// The deepest pixel: its index and its height, m (`(0, 0.0)` when no pixel is pushed
+    /// in).
     pub fn deepest(&self) -> (usize, f64) {
         self.height_m.iter().enumerate().fold(
             (0, 0.0),
@@ -56,14 +57,44 @@ impl GelImage {
         .points_m()
     }
 
-    /// The colours as 8-bit RGB, row-major, 3 bytes a pixel (`round(255 c)`).
+    /// The colours as 8-bit RGB (`round(255 c)`), 3 bytes a pixel, in the arrays' order (`k
+    /// = i ny + j`).
     pub fn rgb8(&self) -> Vec<u8> {
-        self.rgb
-            .iter()
-            .flatten()
-            .map(|c| (c * 255.0).round() as u8)
+        self.rgb.iter().flatten().map(|c| byte(*c)).collect()
+    }
+
+    /// `[width, height]` of the image as its camera sees it: `[nx, ny]`.
+    pub fn camera_size(&self) -> [u32; 2] {
+        [self.count[0] as u32, self.count[1] as u32]
+    }
+
+    /// The pixels' indices in the camera's order: the camera inside the finger looks along
+    /// `n` with its `x` along the image's first side (`u`, columns, left to right) and its `y`
+    /// along the second (`v`, rows, top to bottom), a right-handed frame, so an image viewer
+    /// shows what it sees (not its mirror). Row `j`, column `i` is pixel `i ny + j`.
+    fn camera_order(&self) -> impl Iterator<Item = usize> + '_ {
+        let [nx, ny] = self.count;
+        (0..ny).flat_map(move |j| (0..nx).map(move |i| i * ny + j))
+    }
+
+    /// The colours as 8-bit RGB in the camera's order (image files, MCAP, Rerun).
+    pub fn camera_rgb8(&self) -> Vec<u8> {
+        self.camera_order()
+            .flat_map(|k| self.rgb[k].map(byte))
             .collect()
     }
+
+    /// The heights as little-endian float32, m, in the camera's order.
+    pub fn camera_height_f32_le(&self) -> Vec<u8> {
+        self.camera_order()
+            .flat_map(|k| (self.height_m[k] as f32).to_le_bytes())
+            .collect()
+    }
+}
+
+/// A colour channel in `[0, 1]` as a byte, `round(255 c)`.
+fn byte(c: f64) -> u8 {
+    (c * 255.0).round() as u8
 }
 
 /// The image of `spec` over a finger of material `finger` with solved `elements` (their

@@ -104,6 +104,7 @@ mod tests {
             lights,
             ambient_rgb: None,
             lookup,
+            response: None,
         }
     }
 

@@ -13,5 +13,6 @@ pub mod gel_image;
 pub mod gel_shading;
 pub mod marker_readings;
 pub mod sensor_readings;
+pub mod sensor_response;
 pub mod taxel_grid;
 pub mod taxel_readings;

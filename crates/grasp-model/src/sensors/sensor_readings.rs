@@ -7,10 +7,13 @@ use serde::{Serialize, Serializer};
 
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
+use crate::scene::response_spec::ResponseSpec;
 use crate::scene::scene_format::Scene;
-use crate::scene::sensor_kind::SensorKind;
+use crate::scene::sensor_kind::{ElementGrid, SensorKind};
+use crate::scene::sensor_spec::SensorSpec;
 use crate::sensors::gel_image::{read_gel, GelImage};
 use crate::sensors::marker_readings::{read_markers, MarkerReadings};
+use crate::sensors::sensor_response::apply_response;
 use crate::sensors::taxel_grid::TaxelGrid;
 use crate::sensors::taxel_readings::{read_taxels, TaxelReadings};
 use crate::solve::solution::Solution;
@@ -60,7 +63,8 @@ impl Serialize for SensorReadings {
 }
 
 /// The readings of every finger of `scene` that has a sensor, in the scene's order, from
-/// `solution` (solved from `model`, built from `scene`). Empty for a scene without sensors:
+/// `solution` (solved from `model`, built from `scene`), as one solve reads them (read-out 0
+/// of each sensor's noise: [`sensor_readings_drawn`]). Empty for a scene without sensors:
 /// nothing is computed. A finger of the scene the solution lacks is skipped; a kind's
 /// read-out over more kernel evaluations than it may take (an automatic patch finer than the
 /// scene's) is refused, naming `fingers[i].sensor` and the fix.
@@ -68,6 +72,18 @@ pub fn sensor_readings(
     scene: &Scene,
     model: &GraspModel,
     solution: &Solution,
+) -> Result<Vec<SensorReadings>, ModelError> {
+    sensor_readings_drawn(scene, model, solution, 0)
+}
+
+/// [`sensor_readings`] as read-out `draw` of each sensor's noise (a hand-off's step index):
+/// each kind's `response` (`super::sensor_response`) applied to its ideal readings with the
+/// noise of that draw.
+pub fn sensor_readings_drawn(
+    scene: &Scene,
+    model: &GraspModel,
+    solution: &Solution,
+    draw: u64,
 ) -> Result<Vec<SensorReadings>, ModelError> {
     let mut out = Vec::new();
     for (i, spec) in scene.fingers.iter().enumerate() {
@@ -79,28 +95,24 @@ pub fn sensor_readings(
             continue;
         };
         let grid = finger.patch().grid;
-        for kind in sensor.kinds() {
-            let work = kind.kernel_evaluations(&grid);
-            let most = kind.most_kernel_evaluations();
-            if work > most {
-                return Err(ModelError::BadInput(format!(
-                    "fingers[{i}].sensor: the read-out needs {work:.2e} kernel evaluations \
-                     ({}), above {most:.0e}; {}",
-                    kind.work_terms(),
-                    kind.work_fix()
-                )));
-            }
-        }
-        let taxels = sensor
-            .taxels
-            .as_ref()
-            .map(|t| read_taxels(&spec.name, &TaxelGrid::new(t), &grid, &solved.elements));
-        let markers = sensor
-            .markers
-            .as_ref()
-            .map(|m| read_markers(&m.layout(), finger.material(), &grid, &solved.elements));
+        check_work(i, sensor, &grid.element_grid())?;
+        let elements = &solved.elements;
+        let taxels = sensor.taxels.as_ref().map(|t| {
+            let mut r = read_taxels(&spec.name, &TaxelGrid::new(t), &grid, elements);
+            respond(&t.response, &mut r.force_n, draw);
+            r
+        });
+        let markers = sensor.markers.as_ref().map(|m| {
+            let mut r = read_markers(&m.layout(), finger.material(), &grid, elements);
+            respond(&m.response, &mut r.displacement_m, draw);
+            r
+        });
         let gel = match &sensor.gel {
-            Some(g) => Some(read_gel(g, finger.material(), &grid, &solved.elements)?),
+            Some(g) => {
+                let mut image = read_gel(g, finger.material(), &grid, elements)?;
+                respond(&g.response, &mut image.rgb, draw);
+                Some(image)
+            }
             None => None,
         };
         out.push(SensorReadings {
@@ -111,4 +123,29 @@ pub fn sensor_readings(
         });
     }
     Ok(out)
+}
+
+/// `response` applied to `values`, when given.
+fn respond<const N: usize>(response: &Option<ResponseSpec>, values: &mut [[f64; N]], draw: u64) {
+    if let Some(r) = response {
+        apply_response(r, values, draw);
+    }
+}
+
+/// Refuses a read-out of `sensor` (of `fingers[i]`) over the element grid `grid` that would
+/// take more kernel evaluations than its kind may.
+fn check_work(i: usize, sensor: &SensorSpec, grid: &ElementGrid) -> Result<(), ModelError> {
+    for kind in sensor.kinds() {
+        let work = kind.kernel_evaluations(grid);
+        let most = kind.most_kernel_evaluations();
+        if work > most {
+            return Err(ModelError::BadInput(format!(
+                "fingers[{i}].sensor: the read-out needs {work:.2e} kernel evaluations \
+                 ({}), above {most:.0e}; {}",
+                kind.work_terms(),
+                kind.work_fix()
+            )));
+        }
+    }
+    Ok(())
 }

@@ -1,8 +1,8 @@
 //! The gel images in the Rerun recording: per step, for each finger whose sensor has a gel
 //! image, two 2-D entities the layout gives views of (`super::rerun_layout`):
 //!
-//! - `tactile/<name>/gel`: the shaded image, 8-bit RGB (`GelImage::rgb8`), its rows along the
-//!   image's first side (`i`), its columns along the second (`j`);
+//! - `tactile/<name>/gel`: the shaded image, 8-bit RGB, as the camera inside the finger sees
+//!   it (`GelImage::camera_rgb8`: columns along the image's first side, rows along the second);
 //! - `tactile/<name>/gel_height`: the height map as a depth image, float32 metres (positive
 //!   into the pad), `meter` 1.
 //!

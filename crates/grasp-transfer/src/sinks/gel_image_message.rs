@@ -6,9 +6,10 @@
 //! - `/grasp/tactile/<finger>/gel_height`: the height map, `encoding` `32FC1`, metres
 //!   (positive into the pad), little-endian.
 //!
-//! Rows run along the image's first side (`height` = its `nx` pixels), columns along the
-//! second (`width` = `ny`); `frame_id` is `<finger>/gel`; `timestamp` the schedule's time. A
-//! released finger (or a failed step) has no image that step.
+//! The images are as the camera inside the finger sees them (`GelImage::camera_rgb8`):
+//! columns along the image's first side (`width` = its `nx` pixels), rows along the second
+//! (`height` = `ny`), looking along `n`; `frame_id` is `<finger>/gel`; `timestamp` the
+//! schedule's time. A released finger (or a failed step) has no image that step.
 
 use base64::Engine as _;
 use grasp_model::GelImage;
@@ -50,22 +51,20 @@ pub fn raw_image_schema() -> Value {
 
 /// The image's two messages at `time_s` for finger `name`: `[colour, height]`.
 pub fn gel_messages(name: &str, g: &GelImage, time_s: f64) -> [Value; 2] {
-    let heights: Vec<u8> = g
-        .height_m
-        .iter()
-        .flat_map(|h| (*h as f32).to_le_bytes())
-        .collect();
-    let [nx, ny] = g.count;
-    let message = |encoding: &str, bytes_per_pixel: usize, data: &[u8]| {
+    let [width, height] = g.camera_size();
+    let message = |encoding: &str, bytes_per_pixel: u32, data: &[u8]| {
         json!({
             "timestamp": foxglove_time(time_s),
             "frame_id": format!("{name}/gel"),
-            "width": ny,
-            "height": nx,
+            "width": width,
+            "height": height,
             "encoding": encoding,
-            "step": ny * bytes_per_pixel,
+            "step": width * bytes_per_pixel,
             "data": base64::engine::general_purpose::STANDARD.encode(data),
         })
     };
-    [message("rgb8", 3, &g.rgb8()), message("32FC1", 4, &heights)]
+    [
+        message("rgb8", 3, &g.camera_rgb8()),
+        message("32FC1", 4, &g.camera_height_f32_le()),
+    ]
 }
