@@ -182,3 +182,42 @@ fn markers_follow_incipient_slip_step_by_step() {
         "the slip annulus reaches the markers at 0.9 mu P"
     );
 }
+
+/// The CSV has each sensor finger's columns (`sinks/sensor_columns.rs`): at every step the
+/// taxels' normal sum, shear and largest force equal the record's readings' (the cells are the
+/// shortest round-trip text of the same float64), empty where the finger is released.
+#[test]
+fn the_csv_carries_each_steps_sensor_summary() {
+    let (scene, schedule) = plate_with_taxels_at(5e-4);
+    let dir = std::env::temp_dir().join(format!("grasp-tactile-csv-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("t.csv");
+    let mut c = grasp_transfer::CsvSink::create(&csv).unwrap();
+    let records = steps(&scene, &schedule, &mut [&mut c]);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).expect(name);
+    let mut empty = 0;
+    for (line, rec) in lines.zip(&records) {
+        let cells: Vec<&str> = line.split(',').collect();
+        for finger in ["f1", "f3"] {
+            let cell = |col: &str| cells[column(&format!("{finger}_taxels_{col}"))];
+            match rec.sensors.iter().find(|s| s.finger == finger) {
+                Some(s) => {
+                    let t = s.taxels.as_ref().unwrap();
+                    let [s1, s2] = t.total_shear_n();
+                    assert_eq!(cell("normal_n").parse::<f64>().unwrap(), t.total_normal_n());
+                    assert_eq!(cell("shear_n").parse::<f64>().unwrap(), s1.hypot(s2));
+                    assert_eq!(cell("largest_n").parse::<f64>().unwrap(), t.largest().1);
+                }
+                None => {
+                    assert!(cell("normal_n").is_empty() && cell("largest_n").is_empty());
+                    empty += 1;
+                }
+            }
+        }
+    }
+    assert!(empty > 0, "a released finger's cells are empty");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -504,3 +504,58 @@ fn a_scene_without_a_sensor_reads_nothing() {
         .expect("readings")
         .is_empty());
 }
+
+#[test]
+fn the_lattice_and_the_taxel_by_taxel_read_outs_agree() {
+    // A grid unturned, its pitch a whole number of elements, is read at depth as one
+    // convolution on the element lattice (sensors/taxel_lattice.rs); turned by 2 pi (no taxel
+    // moves by more than 1e-19 m) it is read taxel by taxel. The same sums regrouped: equal to
+    // 1e-8 of the load (the tolerance for the two paths; measured below 1e-14).
+    // Cases: 5 x 5 taxels of four elements at a/2, the Hertz example (21 x 21 elements);
+    // the same pushed sideways with friction (the shear rows and columns); 6 x 4 taxels of
+    // two elements, offset by 8.3 and -1.7 elements (a fraction other than a half), reaching
+    // past the patch's side; an oblong patch of oblong elements (21 x 15) with a pitch of three
+    // elements along t1 and four along t2 (a square taxel fits only when 3 hx = 4 hy).
+    let side = 0.000212;
+    let h = side / 21.0;
+    let square = |count: [usize; 2], pitch: f64, offset: [f64; 2]| {
+        json!({"count": count, "pitch_m": pitch, "size_m": pitch, "depth_m": 4.33e-5,
+               "offset_m": offset})
+    };
+    let mut cases = vec![
+        hertz_with(square([5, 5], 4.0 * h, [0.0, 0.0]), 21),
+        pushed_with(square([5, 5], 4.0 * h, [0.0, 0.0])),
+        hertz_with(square([6, 4], 2.0 * h, [8.3 * h, -1.7 * h]), 21),
+    ];
+    let mut oblong = hertz_with(square([4, 3], 3.0 * h, [0.0, 0.5 * h]), 21);
+    oblong["fingers"][0]["patch"] = json!({"size": [side, 15.0 * 0.75 * h], "grid": [21, 15]});
+    cases.push(oblong);
+    for v in cases {
+        let spec: grasp_model::TaxelGridSpec =
+            serde_json::from_value(v["fingers"][0]["sensor"]["taxels"].clone()).unwrap();
+        let patch = &v["fingers"][0]["patch"];
+        let grid = grasp_model::ElementGrid::of_patch(
+            serde_json::from_value(patch["size"].clone()).unwrap(),
+            serde_json::from_value(patch["grid"].clone()).unwrap(),
+        );
+        assert!(spec.lattice(&grid).is_some(), "{spec:?} is on the lattice");
+        let on_lattice = read(&v).remove(0);
+        let mut turned = v.clone();
+        turned["fingers"][0]["sensor"]["taxels"]["rotation_rad"] = json!(std::f64::consts::TAU);
+        let by_taxel = read(&turned).remove(0);
+        let worst = on_lattice
+            .force_n
+            .iter()
+            .flatten()
+            .zip(by_taxel.force_n.iter().flatten())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        println!(
+            "{:?} taxels: lattice vs taxel by taxel {worst:.3e} N of 10 N; largest {:.4} N",
+            spec.count,
+            by_taxel.largest().1
+        );
+        assert!(worst <= 1e-8 * 10.0, "{worst:e}");
+        assert!(by_taxel.largest().1 > 0.01, "the taxels read the contact");
+    }
+}

@@ -134,8 +134,9 @@ pub use scene::scene_reading::{FileProblem, SceneFiles};
 pub use scene::sensor_checks::{MAX_MARKERS_PER_SIDE, MAX_TAXELS_PER_SIDE};
 pub use scene::sensor_kind::{ElementGrid, GridLayout, HalfSpaceNeed, SensorKind};
 pub use scene::sensor_spec::{
-    MarkerGridSpec, SensorSpec, TaxelGridSpec, GAUSS_POINTS_PER_CELL_SIDE,
+    MarkerGridSpec, SensorSpec, TaxelGridSpec, TaxelLattice, GAUSS_POINTS_PER_CELL_SIDE,
     MAX_MARKER_KERNEL_EVALUATIONS, MAX_TAXEL_CELLS_PER_SIDE, MAX_TAXEL_KERNEL_EVALUATIONS,
+    MAX_TAXEL_LATTICE_POINTS,
 };
 pub use scene::shape_checks::{too_many_triangles, MESH_TOO_FINE_FIX};
 pub use scene::shape_report::{DerivedFrame, ShapeReport};
@@ -217,7 +218,8 @@ pub use sensors::marker_readings::{read_markers, MarkerReadings};
 pub use sensors::sensor_readings::{sensor_readings, sensor_readings_drawn, SensorReadings};
 pub use sensors::sensor_response::{apply_response, normal_deviate};
 pub use sensors::taxel_grid::{QuadraturePoint, TaxelGrid};
-pub use sensors::taxel_readings::{read_taxels, TaxelReadings};
+pub use sensors::taxel_lattice::taxels_on_lattice;
+pub use sensors::taxel_readings::{read_taxels, read_taxels_fastest, TaxelReadings};
 
 // ---- Analyses: many solves ----
 pub use analysis::equilibrium_probe::DISTINCT_FRACTION;

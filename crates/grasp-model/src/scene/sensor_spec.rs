@@ -137,11 +137,72 @@ impl TaxelGridSpec {
         self.count[0] * self.count[1]
     }
 
-    /// Kernel evaluations of a read-out at depth over a patch of `elements` elements.
+    /// Kernel evaluations of a read-out at depth over a patch of `elements` elements, summed
+    /// taxel by taxel.
     pub fn kernel_evaluations(&self, elements: usize) -> f64 {
-        let points = (self.cells_per_side() * GAUSS_POINTS_PER_CELL_SIDE).pow(2);
-        self.taxel_count() as f64 * points as f64 * elements as f64
+        self.taxel_count() as f64 * self.quadrature_points() as f64 * elements as f64
     }
+
+    /// Quadrature points over one taxel at depth.
+    pub fn quadrature_points(&self) -> usize {
+        (self.cells_per_side() * GAUSS_POINTS_PER_CELL_SIDE).pow(2)
+    }
+
+    /// Where the taxels fall on the patch's element lattice, when the read-out at depth is a
+    /// convolution there and the cheaper read-out: the grid unturned, at depth, its pitch a
+    /// whole number of elements along each side (to 1e-9), the lattice at most
+    /// [`MAX_TAXEL_LATTICE_POINTS`], and its kernel table (`(2 Lx - 1)(2 Ly - 1)` taxel
+    /// integrals) less work than summing every element at every taxel. Every taxel then sits
+    /// at the same fraction of an element from a lattice point.
+    pub fn lattice(&self, patch: &ElementGrid) -> Option<TaxelLattice> {
+        if self.depth_m <= 0.0 || self.rotation_rad != 0.0 {
+            return None;
+        }
+        let mut out = TaxelLattice::default();
+        for k in 0..2 {
+            let (n, h) = (patch.count[k] as i64, patch.element_m[k]);
+            let stride = (self.pitch_m / h).round();
+            if stride < 1.0 || (self.pitch_m - stride * h).abs() > 1e-9 * self.pitch_m {
+                return None;
+            }
+            // Taxel 0's and element 0's centres (`GridLayout::points_m`, unturned).
+            let taxel0 = self.offset_m[k] - (self.count[k] as f64 - 1.0) / 2.0 * self.pitch_m;
+            let steps = (taxel0 - (-(n as f64 - 1.0) / 2.0 * h)) / h;
+            if !steps.is_finite() || steps.abs() > 1e9 {
+                return None;
+            }
+            let base = steps.floor() as i64;
+            let last = base + (self.count[k] as i64 - 1) * stride as i64;
+            let (low, high) = (base.min(0), last.max(n - 1));
+            out.size[k] = (high - low + 1) as usize;
+            out.element0[k] = (-low) as usize;
+            out.taxel0[k] = (base - low) as usize;
+            out.stride[k] = stride as usize;
+            out.fraction[k] = steps - base as f64;
+        }
+        let table = ((2 * out.size[0] - 1) * (2 * out.size[1] - 1)) as f64;
+        let dense = (self.taxel_count() * patch.len()) as f64;
+        let small = out.size[0] * out.size[1] <= MAX_TAXEL_LATTICE_POINTS;
+        (small && table < dense).then_some(out)
+    }
+}
+
+/// Most points of the element lattice the taxels' read-out at depth convolves on.
+pub const MAX_TAXEL_LATTICE_POINTS: usize = 1024 * 1024;
+
+/// A taxel grid on its patch's element lattice (`TaxelGridSpec::lattice`), in elements.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TaxelLattice {
+    /// Lattice points along `t1`, `t2`: the patch's elements and the taxels' centres together.
+    pub size: [usize; 2],
+    /// The lattice index of the patch's element `(0, 0)`.
+    pub element0: [usize; 2],
+    /// The lattice index nearest below taxel `(0, 0)`'s centre.
+    pub taxel0: [usize; 2],
+    /// Elements from one taxel to the next.
+    pub stride: [usize; 2],
+    /// How far every taxel's centre lies past its lattice point, in elements, in `[0, 1)`.
+    pub fraction: [f64; 2],
 }
 
 impl SensorKind for TaxelGridSpec {
@@ -158,9 +219,16 @@ impl SensorKind for TaxelGridSpec {
         }
     }
 
-    /// Zero on the surface (`depth_m` 0: binned by area, no kernel).
+    /// Zero on the surface (`depth_m` 0: binned by area, no kernel); on the lattice, its
+    /// kernel table's taxel integrals.
     fn kernel_evaluations(&self, patch: &ElementGrid) -> f64 {
-        TaxelGridSpec::kernel_evaluations(self, patch.len())
+        match self.lattice(patch) {
+            Some(l) => {
+                let table = (2 * l.size[0] - 1) * (2 * l.size[1] - 1);
+                (table * self.quadrature_points()) as f64
+            }
+            None => TaxelGridSpec::kernel_evaluations(self, patch.len()),
+        }
     }
 
     fn most_kernel_evaluations(&self) -> f64 {

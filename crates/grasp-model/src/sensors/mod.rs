@@ -15,4 +15,5 @@ pub mod marker_readings;
 pub mod sensor_readings;
 pub mod sensor_response;
 pub mod taxel_grid;
+pub mod taxel_lattice;
 pub mod taxel_readings;

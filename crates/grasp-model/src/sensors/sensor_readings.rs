@@ -15,7 +15,7 @@ use crate::sensors::gel_image::{read_gel, GelImage};
 use crate::sensors::marker_readings::{read_markers, MarkerReadings};
 use crate::sensors::sensor_response::apply_response;
 use crate::sensors::taxel_grid::TaxelGrid;
-use crate::sensors::taxel_readings::{read_taxels, TaxelReadings};
+use crate::sensors::taxel_readings::{read_taxels_fastest, TaxelReadings};
 use crate::solve::solution::Solution;
 
 /// One finger's sensor readings, of each kind its sensor has (at least one).
@@ -97,11 +97,14 @@ pub fn sensor_readings_drawn(
         let grid = finger.patch().grid;
         check_work(i, sensor, &grid.element_grid())?;
         let elements = &solved.elements;
-        let taxels = sensor.taxels.as_ref().map(|t| {
-            let mut r = read_taxels(&spec.name, &TaxelGrid::new(t), &grid, elements);
-            respond(&t.response, &mut r.force_n, draw);
-            r
-        });
+        let taxels = match &sensor.taxels {
+            Some(t) => {
+                let mut r = read_taxels_fastest(&spec.name, &TaxelGrid::new(t), &grid, elements)?;
+                respond(&t.response, &mut r.force_n, draw);
+                Some(r)
+            }
+            None => None,
+        };
         let markers = sensor.markers.as_ref().map(|m| {
             let mut r = read_markers(&m.layout(), finger.material(), &grid, elements);
             respond(&m.response, &mut r.displacement_m, draw);

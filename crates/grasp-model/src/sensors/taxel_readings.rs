@@ -11,11 +11,13 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::error::OutOfMemory;
 use crate::model::influence::GridSpec;
 use crate::model::influence_at_depth::{
     overlap_area_m2, reading_per_area_at_depth, ElementOffset, RotatedSquare,
 };
 use crate::sensors::taxel_grid::{QuadraturePoint, TaxelGrid};
+use crate::sensors::taxel_lattice::taxels_on_lattice;
 use crate::solve::solution::ElementSolution;
 
 /// One finger's taxel readings.
@@ -63,8 +65,34 @@ impl TaxelReadings {
 }
 
 /// The readings of `grid` over a finger's solved `elements` (their element grid `patch`),
-/// named `finger`: at depth, Love 1929 / Cerruti (Johnson 3.2-3.3, 3.6) per element integrated
-/// over each taxel by the grid's quadrature; at depth 0, the element forces binned by area.
+/// named `finger`, the cheaper way: on the element lattice as a convolution
+/// (`super::taxel_lattice`) when the grid lies on it (`TaxelGridSpec::lattice`), else
+/// [`read_taxels`]; the two are the same sums regrouped. [`OutOfMemory`] when the lattice's
+/// table cannot be allocated.
+pub fn read_taxels_fastest(
+    finger: &str,
+    grid: &TaxelGrid,
+    patch: &GridSpec,
+    elements: &[ElementSolution],
+) -> Result<TaxelReadings, OutOfMemory> {
+    let Some(lattice) = grid.spec.lattice(&patch.element_grid()) else {
+        return Ok(read_taxels(finger, grid, patch, elements));
+    };
+    let force_n = taxels_on_lattice(&grid.spec, &lattice, patch, elements)?;
+    Ok(TaxelReadings {
+        finger: finger.to_string(),
+        count: grid.spec.count,
+        depth_m: grid.spec.depth_m,
+        size_m: grid.spec.size_m,
+        centre_m: grid.squares().iter().map(|s| s.centre_m).collect(),
+        force_n,
+    })
+}
+
+/// The readings of `grid` over a finger's solved `elements` (their element grid `patch`),
+/// named `finger`, taxel by taxel: at depth, Love 1929 / Cerruti (Johnson 3.2-3.3, 3.6) per
+/// element integrated over each taxel by the grid's quadrature; at depth 0, the element forces
+/// binned by area.
 pub fn read_taxels(
     finger: &str,
     grid: &TaxelGrid,

@@ -13,7 +13,8 @@
 //! with a mount (`fingers[i].mount`; none without) `<name>_approach_m` (the jaw's commanded
 //! position from first touch, m), `<name>_core_along_n_m` (its core's displacement from that
 //! pose along the normal, m: negative pushed back) and `<name>_core_moved_m` (the length of
-//! the core's translation, m; all empty while the finger is released), then `warnings`:
+//! the core's translation, m; all empty while the finger is released), then per finger with a
+//! sensor its readings' summary (`super::sensor_columns`; none without), then `warnings`:
 //! the step's warnings (the scene's among them), separated by [`CSV_WARNING_SEPARATOR`], empty
 //! when it has none.
 //!
@@ -28,6 +29,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use super::mcap_log::FingersMessage;
+use super::sensor_columns::{sensor_cells, sensor_header};
 use super::sink::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::stepper::StepRecord;
@@ -120,6 +122,7 @@ impl Sink for CsvSink {
                 h.push_str(&csv_field(&format!("{}_{col}", f.name)));
             }
         }
+        h.push_str(&sensor_header(run, |s| csv_field(s).into_owned()));
         h.push_str(",warnings\n");
         self.write(&h)
     }
@@ -148,6 +151,7 @@ impl Sink for CsvSink {
         for f in run.scene.fingers.iter().filter(|f| f.mount.is_some()) {
             line.push_str(&mount_cells(r, &f.name));
         }
+        line.push_str(&sensor_cells(run, r));
         let warnings: Vec<String> = r
             .solution
             .warnings

@@ -19,6 +19,7 @@ pub mod patch_views;
 pub mod rerun_grid_maps;
 pub mod rerun_layout;
 pub mod rerun_log;
+pub mod sensor_columns;
 pub mod sink;
 pub mod tactile_drawing;
 pub mod tactile_message;
