@@ -1090,3 +1090,28 @@ def test_mujoco_table_counts_a_frictionless_fingers_elements_apart():
     frictionless = {"stick_count": 0, "slip_count": 0, "separated_count": 2, "frictionless_count": 8}
     assert state_counts(frictionless, 0.0) == "-/-/2 +8 frictionless"
     assert state_counts(None, 0.0) == "-"
+
+
+def test_mujoco_a_sensor_in_every_pad_reads_each_fingers_load(pinch, tmp_path):
+    # One surface taxel of 1 m, larger than any pad's patch, bins every element force of its
+    # finger (docs/guide/tactile.md): it reads the finger's P to round-off (1e-12 relative).
+    model, data, _ = pinch
+    sensor = {"taxels": {"count": [1, 1], "pitch_m": 1.0, "size_m": 1.0, "depth_m": 0.0}}
+    g = gm.scene_from(model, data, "box", materials=MJ / "pinch.materials.json", sensor=sensor)
+    assert all(f["sensor"] == sensor for f in g.scene_dict["fingers"])
+    sol = grasp.solve(g.scene)
+    for name, p in zip(sol.finger_names, sol.finger_normal_forces_n):
+        read = sol.sensor(name)["taxels"]["force_n"][0, 0, 0]
+        assert abs(read - p) <= 1e-12 * p, (name, read, p)
+    # The command writes the sensor into the scene; a bad one is named with the fix.
+    out = tmp_path / "pinch.json"
+    proc = python_m("scene", str(PINCH), "--object", "box", "--materials",
+                    str(MJ / "pinch.materials.json"), "--keyframe", "grasped", "--out", str(out),
+                    "--no-margin", "--sensor", json.dumps(sensor))
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(out.read_text())["fingers"][0]["sensor"] == sensor
+    with pytest.raises(gm.MujocoError, match="give one or more of taxels, markers, gel"):
+        gm.scene_from(model, data, "box", materials=MJ / "pinch.materials.json", sensor={"taxel": {}})
+    proc = python_m("scene", str(PINCH), "--object", "box", "--keyframe", "grasped",
+                    "--out", str(tmp_path / "bad.json"), "--no-margin", "--sensor", "{not json")
+    assert proc.returncode == 1 and "--sensor is not JSON" in proc.stderr, proc.stderr

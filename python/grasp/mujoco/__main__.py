@@ -15,6 +15,7 @@ returns, before anything is moved into place).
 """
 
 import argparse
+import json
 import os
 import signal
 import sys
@@ -40,6 +41,9 @@ def common(p):
     p.add_argument("--grid", nargs=2, type=int, metavar=("NX", "NY"), help="patch elements per finger (default 9 9)")
     p.add_argument("--margin", type=float, metavar="M", help="flat pairs: patch margin around MuJoCo's points, m (default 0)")
     p.add_argument("--patch-size", nargs=2, type=float, metavar=("A", "B"), help="every patch's sides, m (overrides)")
+    p.add_argument("--sensor", metavar="JSON|FILE",
+                   help="a tactile sensor in every pad: fingers[i].sensor as JSON text or a .json file "
+                        "(taxels, markers, gel; docs/guide/tactile.md)")
     p.add_argument("--force", action="store_true", help="replace existing output files")
     p.add_argument("--quiet", action="store_true", help="no progress line (drawn on a terminal only)")
 
@@ -93,8 +97,31 @@ def patch_of(args):
     return p
 
 
+def sensor_of(args):
+    """``--sensor``: None, JSON text (starting with ``{``) or a JSON file's path, as a dict."""
+    text = args.sensor
+    if text is None:
+        return None
+    where = "--sensor"
+    if not text.lstrip().startswith("{"):
+        where = f"--sensor {text}"
+        try:
+            with open(text, encoding="utf-8") as f:
+                text = f.read()
+        except OSError as e:
+            raise MujocoError(f"{where}: cannot read it ({e.strerror})",
+                              "give the sensor as JSON text ({...}) or the path of a readable .json file") from None
+    try:
+        return json.loads(text)
+    except ValueError as e:
+        raise MujocoError(f"{where} is not JSON ({e})", "give the sensor as a JSON object, e.g. "
+                          '\'{"taxels": {"count": [4, 4], "pitch_m": 0.002, "size_m": 0.002, "depth_m": 0.001}}\'') from None
+
+
 def inputs_of(args):
-    return [x for x in (args.model, args.materials, getattr(args, "qpos", None), getattr(args, "rollout", None)) if x]
+    sensor_file = args.sensor if args.sensor and not args.sensor.lstrip().startswith("{") else None
+    return [x for x in (args.model, args.materials, getattr(args, "qpos", None), getattr(args, "rollout", None),
+                        sensor_file) if x]
 
 
 def run_scene(args):
@@ -113,7 +140,7 @@ def run_scene(args):
     data = load_state(model, keyframe=args.keyframe, qpos=args.qpos)
     state = f"keyframe {args.keyframe}" if args.keyframe else (f"state {args.qpos}" if args.qpos else "the initial state")
     g = scene_from(model, data, args.object, materials=args.materials, patch=patch_of(args), control=args.control,
-                   contact_model=args.contact_model,
+                   contact_model=args.contact_model, sensor=sensor_of(args),
                    description=(f"From MuJoCo: body '{args.object}' of {os.path.basename(args.model)} at {state} "
                                 f"(python -m grasp.mujoco scene); fingers {args.control}."),
                    mesh_name=f"{os.path.splitext(os.path.basename(args.out))[0]}.{args.object}.obj")
@@ -131,7 +158,7 @@ def run_handoff(args):
     from ._files import check_targets
     from ._controller import simulate
     from ._handoff import check_threshold, schedule_from_rollout
-    from ._patch import patch_options
+    from ._patch import patch_options, sensor_option
     from ._state import Rollout, load_model, load_state
 
     if args.controller and args.steps is None:
@@ -144,6 +171,7 @@ def run_handoff(args):
         raise MujocoError("--no-replay with replay outputs", "leave out --no-replay, or --mcap/--rrd/--csv/--margins")
     # Checked before the (long) simulation, as the controller's steps are.
     patch_options(patch_of(args))
+    sensor_option(sensor_of(args))
     check_threshold(args.threshold)
     if args.rrd:
         from ._rerun import require_rerun
@@ -160,7 +188,7 @@ def run_handoff(args):
         rollout = simulate(model, data, args.controller, args.steps, args.every,
                            progress=terminal_bar("mujoco steps", args.quiet))
     h = schedule_from_rollout(model, rollout, args.object, materials=args.materials, patch=patch_of(args),
-                              contact_model=args.contact_model)
+                              contact_model=args.contact_model, sensor=sensor_of(args))
     for w in h.warnings:
         print(f"warning: {w}", file=sys.stderr)
     outs = h.outputs(prefix)

@@ -36,7 +36,7 @@ from ._files import check_targets, write_all
 from ._geometry import moved_shape
 from ._limits import MAX_FORCE_N, check_number
 from ._materials import MaterialMap
-from ._patch import patch_options
+from ._patch import patch_options, sensor_option
 from ._report import HOLD_SPEED_M_PER_S
 from ._scene import (
     MODELS,
@@ -388,7 +388,7 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
                           object_body: Union[str, int], materials: Union[None, dict, str, "os.PathLike[str]"] = None,
                           patch: Optional[dict] = None, contact_model: str = "coulomb",
                           hold_speed_m_per_s: float = HOLD_SPEED_M_PER_S, description: Optional[str] = None,
-                          mesh_name: Optional[str] = None) -> "Handoff":
+                          mesh_name: Optional[str] = None, sensor: Optional[dict] = None) -> "Handoff":
     """A scene plus a load schedule from a MuJoCo rollout.
 
     ``mj_forward`` runs at every row; each finger's normal force becomes its load profile and
@@ -414,6 +414,9 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
         The scene's description.
     mesh_name : str, optional
         The file name of an object mesh written beside the scene.
+    sensor : dict, optional
+        A tactile sensor given to every finger's pad, as in :func:`scene_from`; the replay
+        reads it at every step (``Transfer.sensor_history(finger)``, the MCAP, the recording).
 
     Returns
     -------
@@ -435,6 +438,7 @@ def schedule_from_rollout(model: "mujoco.MjModel", rollout: Union[Rollout, dict,
     mujoco = require_mujoco()
     check_choice("contact_model", contact_model, MODELS)
     opts = patch_options(patch)
+    opts["sensor"] = sensor_option(sensor)
     b = object_body_id(mujoco, model, object_body)
     mats = MaterialMap(mujoco, model, materials)
     # A Rollout is checked as a file or a dict is (its shapes, finite numbers, its length).

@@ -1,7 +1,8 @@
 """The patch options of ``scene_from`` and ``schedule_from_rollout`` (``--grid``, ``--margin``,
 ``--patch-size``): checked against the scene's ranges, and the warning where a patch is cut to a
-box pad's size."""
+box pad's size; and the tactile sensor given to every pad (``--sensor``)."""
 
+import json
 from collections.abc import Mapping
 
 from ._errors import MujocoError
@@ -27,6 +28,29 @@ def patch_options(patch):
     return {"grid": patch_grid(p.get("grid", DEFAULT_GRID)),
             "margin_m": check_number("patch margin_m (--margin)", p.get("margin_m", 0.0), *MARGIN_RANGE_M, "m"),
             "size": None if size is None else patch_size(size)}
+
+
+SENSOR_KINDS = ("taxels", "markers", "gel")
+
+
+def sensor_option(sensor):
+    """``sensor``: None or a tactile sensor spec given to every finger's pad (the scene's
+    ``fingers[i].sensor``: ``{"taxels": {...}, "markers": {...}, "gel": {...}}``); its numbers
+    are checked with the scene."""
+    if sensor is None:
+        return None
+    if not isinstance(sensor, Mapping):
+        raise MujocoError(f"sensor is {sensor!r} (a {type(sensor).__name__}), not a dict",
+                          "give None or a dict such as {'taxels': {'count': [4, 4], 'pitch_m': 0.002, "
+                          "'size_m': 0.002, 'depth_m': 0.001}} (the command's --sensor)")
+    unknown = set(sensor) - set(SENSOR_KINDS)
+    if unknown or not sensor:
+        raise MujocoError(f"sensor has the keys {sorted(sensor)}",
+                          f"give one or more of {', '.join(SENSOR_KINDS)} (docs/guide/tactile.md)")
+    try:
+        return json.loads(json.dumps(sensor, allow_nan=False))
+    except (TypeError, ValueError) as e:
+        raise MujocoError(f"sensor is not plain JSON data ({e})", "give numbers, lists and dicts only") from None
 
 
 def patch_grid(grid):

@@ -33,7 +33,7 @@ from ._geometry import (
     tip_shape,
 )
 from ._materials import MaterialMap, compliance
-from ._patch import pad_cut_notes, patch_options
+from ._patch import pad_cut_notes, patch_options, sensor_option
 from ._state import check_finite_state
 
 if TYPE_CHECKING:
@@ -227,6 +227,8 @@ def finger_spec(mujoco, model, data, fl, name, materials, opts, hertz_load_n, co
         spec["control"] = "held"
     else:
         spec["control"] = {"normal_load": clean_force(max(fl.normal_force_n, 0.0))}
+    if opts.get("sensor") is not None:
+        spec["sensor"] = json.loads(json.dumps(opts["sensor"]))
     return spec, notes, mat_o
 
 
@@ -483,7 +485,7 @@ def mujoco_finger(model, fl, name, slip_speed):
 def scene_from(model: "mujoco.MjModel", data: "mujoco.MjData", object_body: Union[str, int],
                materials: Union[None, dict, str, "os.PathLike[str]"] = None, patch: Optional[dict] = None,
                control: str = "mujoco-force", contact_model: str = "energy", description: Optional[str] = None,
-               mesh_name: Optional[str] = None) -> "MujocoGrasp":
+               mesh_name: Optional[str] = None, sensor: Optional[dict] = None) -> "MujocoGrasp":
     """A grasp scene from a MuJoCo state.
 
     Runs ``mj_forward`` at the state of ``data``, takes every active contact between
@@ -519,6 +521,10 @@ def scene_from(model: "mujoco.MjModel", data: "mujoco.MjData", object_body: Unio
         The scene's description.
     mesh_name : str, optional
         The file name of an object mesh written beside the scene.
+    sensor : dict, optional
+        A tactile sensor given to every finger's pad (the scene's ``fingers[i].sensor``:
+        ``{"taxels": ..., "markers": ..., "gel": ...}``, docs/guide/tactile.md); its readings
+        come with the scene's solution (``Solution.sensor(finger)``).
 
     Returns
     -------
@@ -545,6 +551,7 @@ def scene_from(model: "mujoco.MjModel", data: "mujoco.MjData", object_body: Unio
     check_choice("control", control, CONTROLS)
     check_choice("contact_model", contact_model, MODELS)
     opts = patch_options(patch)
+    opts["sensor"] = sensor_option(sensor)
     b = object_body_id(mujoco, model, object_body)
     mats = MaterialMap(mujoco, model, materials)
     check_finite_state(data, "data")
