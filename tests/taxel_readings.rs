@@ -510,7 +510,7 @@ fn the_lattice_and_the_taxel_by_taxel_read_outs_agree() {
     // A grid unturned, its pitch a whole number of elements, is read at depth as one
     // convolution on the element lattice (sensors/taxel_lattice.rs); turned by 2 pi (no taxel
     // moves by more than 1e-19 m) it is read taxel by taxel. The same sums regrouped: equal to
-    // 1e-8 of the load (the issue's tolerance for the two paths; measured below 1e-14).
+    // 1e-12 of the load (the issue asks 1e-8 for the two paths; measured below 1e-15).
     // Cases: 5 x 5 taxels of four elements at a/2, the Hertz example (21 x 21 elements);
     // the same pushed sideways with friction (the shear rows and columns); 6 x 4 taxels of
     // two elements, offset by 8.3 and -1.7 elements (a fraction other than a half), reaching
@@ -522,9 +522,15 @@ fn the_lattice_and_the_taxel_by_taxel_read_outs_agree() {
         json!({"count": count, "pitch_m": pitch, "size_m": pitch, "depth_m": 4.33e-5,
                "offset_m": offset})
     };
+    // The same patch read by grids differing only in offset, then only in depth, one after
+    // the other: each kept table (sensors/readout_cache.rs) is its own grid's.
+    let mut deeper = square([5, 5], 4.0 * h, [h, 0.0]);
+    deeper["depth_m"] = json!(8.66e-5);
     let mut cases = vec![
         hertz_with(square([5, 5], 4.0 * h, [0.0, 0.0]), 21),
         pushed_with(square([5, 5], 4.0 * h, [0.0, 0.0])),
+        hertz_with(square([5, 5], 4.0 * h, [h, 0.0]), 21),
+        hertz_with(deeper, 21),
         hertz_with(square([6, 4], 2.0 * h, [8.3 * h, -1.7 * h]), 21),
     ];
     let mut oblong = hertz_with(square([4, 3], 3.0 * h, [0.0, 0.5 * h]), 21);
@@ -555,7 +561,7 @@ fn the_lattice_and_the_taxel_by_taxel_read_outs_agree() {
             spec.count,
             by_taxel.largest().1
         );
-        assert!(worst <= 1e-8 * 10.0, "{worst:e}");
+        assert!(worst <= 1e-12 * 10.0, "{worst:e}");
         assert!(by_taxel.largest().1 > 0.01, "the taxels read the contact");
     }
 }

@@ -112,6 +112,47 @@ def test_a_batch_line_carries_the_sensors_and_the_stick_fraction(run_cli, tmp_pa
         assert ours["stick_fraction"] == stick / (stick + slip)
 
 
+def test_a_batch_writes_a_tactile_dataset_of_each_grasps_arrays_and_labels(run_cli, tmp_path):
+    """`grasp sweep --run --npz` (and `grasp batch --npz`): per grasp with a sensor its arrays,
+    as `grasp solve --npz` writes them, and its labels, equal to its result line's numbers bit
+    for bit; `grasps` lists the indices; a grasp without a sensor has no entry."""
+    import json
+    scene = json.loads((EXAMPLES / "hertz_taxels.json").read_text())
+    scene["fingers"][0]["friction"] = {"mu": 0.5}
+    scene["object"]["external_forces"] = [{"force": [1.0, 0.0, 0.0], "at": [0.0, 0.0, 0.0]}]
+    path = tmp_path / "scene.json"
+    path.write_text(json.dumps(scene))
+    out, npz = tmp_path / "sweep.jsonl", tmp_path / "dataset.npz"
+    proc = run_cli("sweep", path, "--vary", "fingers[0].friction.mu=0.2:0.8:4", "--run",
+                   "--out", out, "--npz", npz)
+    assert proc.returncode == 0, proc.stderr
+    d = np.load(npz)
+    lines = [json.loads(line) for line in open(out)]
+    assert list(d["grasps"]) == [line["index"] for line in lines] == [0, 1, 2, 3]
+    for line in lines:
+        g = f"g{line['index']:08d}/tip/"
+        f = line["fingers"][0]
+        assert float(d[g + "normal_force_n"]) == f["normal_force_n"]
+        assert list(d[g + "tangential_force_n"]) == f["tangential_force_n"]
+        assert float(d[g + "friction_utilization"]) == f["friction_utilization"]
+        assert float(d[g + "stick_fraction"]) == f["stick_fraction"]
+        taxels = np.array(line["sensors"][0]["force_n"]).reshape(5, 5, 3)
+        assert np.array_equal(d[g + "taxels/force_n"], taxels)
+    # Stuck more firmly as mu grows: the labels move as the physics says.
+    stick = [float(d[f"g{k:08d}/tip/stick_fraction"]) for k in range(4)]
+    assert stick == sorted(stick), stick
+    # A batch mixing a plain scene: no entry for it; --npz with --resume is refused.
+    scenes = tmp_path / "mixed.jsonl"
+    scenes.write_text(json.dumps({"id": "plain", "scene": json.loads(
+        (EXAMPLES / "cube_a.json").read_text())}) + "\n" + json.dumps({"id": "taxels", "scene": scene}) + "\n")
+    out2, npz2 = tmp_path / "mixed.jsonl.out", tmp_path / "mixed.npz"
+    proc = run_cli("batch", scenes, "--out", out2, "--npz", npz2)
+    assert proc.returncode == 0, proc.stderr
+    assert list(np.load(npz2)["grasps"]) == [1]
+    proc = run_cli("batch", scenes, "--out", out2, "--npz", tmp_path / "again.npz", "--resume")
+    assert proc.returncode != 0 and "--npz with --resume" in proc.stderr, proc.stderr
+
+
 def test_a_gel_image_is_the_clis_npz_and_each_steps_history(run_cli, tmp_path):
     # examples/ridged_gel.json: a 90 x 90 gel image on the element lattice. Python's arrays
     # are the CLI's .npz bit for bit; the hand-off's history stacks each step's image.

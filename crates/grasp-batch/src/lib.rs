@@ -14,8 +14,8 @@
 //!
 //! The face, in data-flow order: [`BatchInput`] (reading scenes, through `grasp_io`),
 //! [`InputIndex`] (count and ids), [`Shard`], [`run_batch`] (parallel, ordered) writing one
-//! [`ResultLine`] a scene, [`read_batch_output`] (resume), [`merge()`], [`Sweep`],
-//! [`BatchError`]; [`option_names`] says how messages name this crate's options. The files are
+//! [`ResultLine`] a scene (and, for a scene with a sensor, its arrays and labels to a
+//! [`TactileDataset`]), [`read_batch_output`] (resume), [`merge()`], [`Sweep`], [`BatchError`]; [`option_names`] says how messages name this crate's options. The files are
 //! private. No terminal output: progress is reported through a callback.
 
 #![warn(missing_docs)]
@@ -31,6 +31,7 @@ mod resume;
 mod runner;
 mod shard;
 mod sweep;
+mod tactile_dataset;
 
 // ---- The input: scenes one a line or one a file, counted and identified ----
 pub use input::{BatchInput, SceneLine, UnparsedScene};
@@ -47,6 +48,7 @@ pub use resume::{read_batch_output, ResumePoint};
 
 // ---- Sweeps: the variants of one scene over a grid ----
 pub use sweep::{Axis, Sweep, MAX_VARIANTS};
+pub use tactile_dataset::TactileDataset;
 
 // ---- Errors ----
 pub use error::BatchError;

@@ -84,6 +84,10 @@ pub struct ResultLine {
     /// (one record per finger with a sensor; absent when the scene has none or no forces).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sensors: Option<Value>,
+    /// The same readings as the model gave them, for a tactile dataset's arrays
+    /// (`crate::tactile_dataset`); not written to the line.
+    #[serde(skip)]
+    pub readings: Vec<grasp_model::SensorReadings>,
     /// Solver that answered (absent for an invalid scene).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub solver: Option<String>,
@@ -131,6 +135,7 @@ impl ResultLine {
             equilibrium_residual: sol.residuals.map(|r| r.equilibrium_relative),
             worst_residual: sol.residuals.map(|r| r.worst()),
             sensors: None,
+            readings: Vec::new(),
             solver: Some(sol.solver.solver.to_string().to_lowercase()),
             time_s,
         }
@@ -153,6 +158,7 @@ impl ResultLine {
             equilibrium_residual: None,
             worst_residual: None,
             sensors: None,
+            readings: Vec::new(),
             solver: None,
             time_s: 0.0,
         }

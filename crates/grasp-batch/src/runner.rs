@@ -121,7 +121,12 @@ pub fn solve_line(
                                 let t = clock.elapsed().as_secs_f64();
                                 let mut l = ResultLine::of_solution(id, index, of, &sol, t);
                                 match sensors_of(&scene, &model, &sol, index) {
-                                    Ok(read) => l.sensors = read,
+                                    Ok(read) => {
+                                        l.sensors = (!read.is_empty())
+                                            .then(|| serde_json::to_value(&read).ok())
+                                            .flatten();
+                                        l.readings = read;
+                                    }
                                     Err(why) => l.warnings.push(why),
                                 }
                                 l
@@ -149,24 +154,20 @@ pub fn solve_line(
     out
 }
 
-/// The readings of the scene's sensors as their JSON (`None` when it has none or the solve found
-/// no forces), the line's `index` the noise's draw (so that equal scenes on other lines draw
-/// other noise); a read-out refused (too much work: its reason names the field and the fix) is
-/// a warning of the line, which keeps its forces.
+/// The readings of the scene's sensors (empty when it has none or the solve found no forces),
+/// the line's `index` the noise's draw (so that equal scenes on other lines draw other
+/// noise); a read-out refused (too much work: its reason names the field and the fix) is a
+/// warning of the line, which keeps its forces.
 fn sensors_of(
     scene: &grasp_model::Scene,
     model: &GraspModel,
     sol: &grasp_model::Solution,
     index: usize,
-) -> Result<Option<serde_json::Value>, String> {
+) -> Result<Vec<grasp_model::SensorReadings>, String> {
     if !sol.status.has_forces() {
-        return Ok(None);
+        return Ok(Vec::new());
     }
-    let read = grasp_model::sensor_readings_drawn(scene, model, sol, index as u64)
-        .map_err(|e| e.to_string())?;
-    Ok((!read.is_empty())
-        .then(|| serde_json::to_value(&read).ok())
-        .flatten())
+    grasp_model::sensor_readings_drawn(scene, model, sol, index as u64).map_err(|e| e.to_string())
 }
 
 /// Most worker threads a batch may have: more threads than cores only add switching, and each
@@ -218,7 +219,8 @@ fn solve_chunk(
 
 /// Runs the shard of `input` given in `options` (its first pass `index`), skipping the
 /// positions in `done` (a resumed run), writing one line per scene to `out` (named `out_name`
-/// in errors) in input order; `progress(n)` is called with the number of lines written so far.
+/// in errors) in input order; `each_line(n, line)` is given every line as it is written, with
+/// the number written so far (progress; a tactile dataset's arrays: `crate::tactile_dataset`).
 pub fn run_batch(
     input: &BatchInput,
     index: &InputIndex,
@@ -226,7 +228,7 @@ pub fn run_batch(
     options: &BatchOptions,
     out: &mut dyn Write,
     out_name: &Path,
-    progress: &mut dyn FnMut(usize),
+    each_line: &mut dyn FnMut(usize, &ResultLine) -> Result<(), BatchError>,
 ) -> Result<BatchSummary, BatchError> {
     let clock = Instant::now();
     let pool = worker_pool(options.threads)?;
@@ -255,9 +257,9 @@ pub fn run_batch(
             summary.inputs.extend(files);
             writeln!(out, "{text}").map_err(|e| io(out_name, e))?;
             written += 1;
+            each_line(written, line)?;
         }
         out.flush().map_err(|e| io(out_name, e))?;
-        progress(written);
         Ok::<(), BatchError>(())
     };
     let seen = input.for_each_unparsed(&|i| options.shard.takes(i), &mut |u| {
@@ -345,7 +347,7 @@ mod tests {
             &BatchOptions::default(),
             &mut out,
             &dir.join("out.jsonl"),
-            &mut |_| {},
+            &mut |_, _| Ok(()),
         )
         .unwrap();
         let text = String::from_utf8(out).unwrap();

@@ -116,7 +116,7 @@ fn batch_rate(
         &options,
         &mut std::io::sink(),
         std::path::Path::new("(discarded)"),
-        &mut |_| {},
+        &mut |_, _| Ok(()),
     )?;
     let wall = t.elapsed().as_secs_f64();
     if s.solved != n {

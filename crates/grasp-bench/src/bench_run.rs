@@ -18,6 +18,7 @@ use crate::output_writing::{output_rows, OUTPUTS_CASE};
 use crate::peer::Peer;
 use crate::peer_rows::peer_case;
 use crate::table::{render, Row, LEGEND};
+use crate::tactile_dataset_rows::{tactile_dataset_rows, TACTILE_DATASET_CASE};
 use crate::thread_scaling::{scaling_rows, SCALING_CASES};
 use crate::whole_command::whole_command_row;
 
@@ -72,9 +73,12 @@ impl BenchReport {
 }
 
 /// Every name [`BenchConfig::cases`] takes: the cases in table order, then
-/// [`OUTPUTS_CASE`].
+/// [`OUTPUTS_CASE`] and [`TACTILE_DATASET_CASE`].
 pub fn case_names() -> Vec<&'static str> {
-    all_cases().map(|c| c.name).chain([OUTPUTS_CASE]).collect()
+    all_cases()
+        .map(|c| c.name)
+        .chain([OUTPUTS_CASE, TACTILE_DATASET_CASE])
+        .collect()
 }
 
 /// Runs the bench of `config`; `progress` is told what runs now (`bench: cube_a_5x5 (native)`).
@@ -167,6 +171,12 @@ fn rows_beyond_the_cases(
     if config.cases.is_empty() || config.cases.iter().any(|c| c == OUTPUTS_CASE) {
         progress(&format!("bench: {OUTPUTS_CASE}"));
         rows.extend(output_rows(config.quick)?);
+    }
+    if config.cases.is_empty() || config.cases.iter().any(|c| c == TACTILE_DATASET_CASE) {
+        for &solver in &config.solvers {
+            progress(&format!("bench: {TACTILE_DATASET_CASE} ({solver})"));
+            rows.extend(tactile_dataset_rows(solver, config.quick)?);
+        }
     }
     Ok(rows)
 }

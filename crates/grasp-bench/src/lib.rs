@@ -34,6 +34,7 @@ mod sample;
 mod scratch_folder;
 mod statistics;
 mod table;
+mod tactile_dataset_rows;
 mod thread_scaling;
 mod whole_command;
 
@@ -53,6 +54,7 @@ pub use peer::{Peer, PeerError, PeerProblem, PeerRecord};
 
 // ---- Writing a fine patch's solution in each output format ----
 pub use output_writing::{measure_output_writing, WriteCost, OUTPUTS_CASE};
+pub use tactile_dataset_rows::TACTILE_DATASET_CASE;
 
 // ---- The table ----
 pub use bench_run::{case_names, run_bench, BenchConfig, BenchReport};

@@ -216,7 +216,10 @@ impl<W: Write + Seek> NpzArchive<W> {
     ) -> std::io::Result<()> {
         let bytes = shape.iter().product::<u64>() * std::mem::size_of::<T>() as u64;
         self.start(name, bytes)?;
-        let mut buffered = BufWriter::with_capacity(1 << 20, &mut self.zip);
+        // The array and its header in one buffer, at most 1 MiB (a small array allocates
+        // little: a dataset writes several a grasp).
+        let capacity = (bytes as usize).saturating_add(256).min(1 << 20);
+        let mut buffered = BufWriter::with_capacity(capacity, &mut self.zip);
         let mut w = npyz::WriteOptions::<T>::new()
             .default_dtype()
             .shape(shape)

@@ -8,7 +8,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{bail, Context, Result};
-use grasp_batch::{read_batch_output, run_batch, BatchInput, BatchOptions, BatchSummary, Shard};
+use grasp_batch::{
+    read_batch_output, run_batch, BatchInput, BatchOptions, BatchSummary, Shard, TactileDataset,
+};
 use grasp_io::{FileIdentity, PendingOutput, RunInputs};
 
 use crate::limits;
@@ -38,6 +40,11 @@ pub struct Args {
     /// only add switching, and each holds one solve's memory.
     #[arg(long, value_name = "J", value_parser = jobs_in_range)]
     pub jobs: Option<usize>,
+    /// Also write a tactile dataset (NumPy .npz): per grasp whose scene has a sensor, its
+    /// sensor arrays and labels (forces, friction utilisation, stick fraction) under
+    /// `g<index>/` (docs/guide/many-grasps.md). Not with --resume.
+    #[arg(long, value_name = "DATASET.npz")]
+    pub npz: Option<PathBuf>,
     /// Join these shard outputs into OUT (checked complete) instead of solving.
     #[arg(long, num_args = 1.., value_name = "SHARD.jsonl", conflicts_with_all = ["input", "resume", "shard"])]
     pub merge: Vec<PathBuf>,
@@ -62,6 +69,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         shard: args.shard,
         jobs: args.jobs,
         solve: args.solve,
+        npz: args.npz,
     };
     let source = BatchInput::open(&input)?;
     run(&source, Some(&input), &flags)
@@ -88,6 +96,8 @@ pub struct Flags {
     pub shard: Option<String>,
     pub jobs: Option<usize>,
     pub solve: SolveFlags,
+    /// The tactile dataset to write (`--npz`).
+    pub npz: Option<PathBuf>,
 }
 
 /// The shard: `--shard`, else the job array's environment, else all.
@@ -113,8 +123,13 @@ pub(crate) fn run(
 ) -> Result<ExitCode> {
     let named: Vec<&Path> = input_path.into_iter().collect();
     limits::note_inputs(&input.files());
+    if flags.resume && flags.npz.is_some() {
+        bail!("--npz with --resume: a dataset is written whole; run without --resume (a new OUT), or drop --npz");
+    }
+    let mut targets = vec![flags.out.as_path()];
+    targets.extend(flags.npz.as_deref());
     // --resume appends to the output: it may exist (but may not be a folder, a link, an input).
-    let outs = output::claim(&[&flags.out], &named, flags.force || flags.resume)?;
+    let outs = output::claim(&targets, &named, flags.force || flags.resume)?;
     let shard = shard(flags.shard.as_deref())?;
     let index = input.index()?;
     let (done, sink) = if flags.resume {
@@ -156,6 +171,7 @@ pub(crate) fn run(
         Sink::Append(f) => f.try_clone()?,
     };
     let mut w = BufWriter::new(file);
+    let mut dataset = Dataset::open(&outs, flags.npz.as_deref())?;
     let summary = run_batch(
         input,
         &index,
@@ -163,14 +179,18 @@ pub(crate) fn run(
         &options,
         &mut w,
         &flags.out,
-        &mut |n| bar.set_position(n as u64),
+        &mut |n, line| {
+            bar.set_position(n as u64);
+            dataset.add(line)
+        },
     )?;
     w.flush()?;
     drop(w);
     bar.finish_and_clear();
     limits::note_inputs(&summary.inputs);
+    let written = dataset.finish()?;
     match sink {
-        Sink::Fresh(p) => outs.commit(vec![p])?,
+        Sink::Fresh(p) => outs.commit([p].into_iter().chain(written).collect())?,
         Sink::Append(f) => f.sync_all()?,
     }
     print!(
@@ -178,7 +198,53 @@ pub(crate) fn run(
         summary_text(&summary, shard, pool_threads(flags.jobs))
     );
     println!("wrote {}", flags.out.display());
+    if let Some(npz) = &flags.npz {
+        println!("wrote {} (tactile dataset)", npz.display());
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The tactile dataset being written (`--npz`), or nothing.
+struct Dataset {
+    target: Option<(PathBuf, PendingOutput, TactileDataset<BufWriter<File>>)>,
+}
+
+impl Dataset {
+    /// The dataset of `npz`, its file claimed in `outs`.
+    fn open(outs: &output::Outputs, npz: Option<&Path>) -> Result<Dataset> {
+        let Some(path) = npz else {
+            return Ok(Dataset { target: None });
+        };
+        let pending = outs.create(path)?;
+        let file = pending.file_handle()?;
+        let dataset = TactileDataset::new(BufWriter::with_capacity(1 << 20, file));
+        Ok(Dataset {
+            target: Some((path.to_path_buf(), pending, dataset)),
+        })
+    }
+
+    /// Adds one result line's grasp.
+    fn add(&mut self, line: &grasp_batch::ResultLine) -> Result<(), grasp_batch::BatchError> {
+        match &mut self.target {
+            Some((path, _, d)) => d.add(line).map_err(|e| grasp_batch::BatchError::Io {
+                path: path.clone(),
+                message: e.to_string(),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Completes the archive; its pending output, to commit with the result lines.
+    fn finish(self) -> Result<Option<PendingOutput>> {
+        let Some((path, pending, d)) = self.target else {
+            return Ok(None);
+        };
+        let mut w = d
+            .finish()
+            .with_context(|| format!("writing {}", path.display()))?;
+        w.flush()?;
+        Ok(Some(pending))
+    }
 }
 
 /// The identity of an open file.

@@ -35,6 +35,10 @@ pub struct Args {
     /// Worker threads for --run, at most 256 (default, or 0: one per core).
     #[arg(long, value_name = "J", value_parser = crate::commands::batch::jobs_in_range)]
     pub jobs: Option<usize>,
+    /// With --run, also write a tactile dataset (NumPy .npz) of the variants whose scene has a
+    /// sensor: their sensor arrays and labels under `g<index>/` (as `grasp batch --npz`).
+    #[arg(long, value_name = "DATASET.npz", requires = "run")]
+    pub npz: Option<PathBuf>,
     #[command(flatten)]
     pub force: ForceArg,
     #[command(flatten)]
@@ -50,6 +54,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         shard: None,
         jobs: args.jobs,
         solve: args.solve,
+        npz: args.npz,
     };
     sweep(&args.scene, &args.vary, args.run, &flags)
 }

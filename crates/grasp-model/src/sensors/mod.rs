@@ -12,6 +12,7 @@ pub mod gel_height;
 pub mod gel_image;
 pub mod gel_shading;
 pub mod marker_readings;
+pub mod readout_cache;
 pub mod sensor_readings;
 pub mod sensor_response;
 pub mod taxel_grid;

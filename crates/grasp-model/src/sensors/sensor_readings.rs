@@ -100,20 +100,20 @@ pub fn sensor_readings_drawn(
         let taxels = match &sensor.taxels {
             Some(t) => {
                 let mut r = read_taxels_fastest(&spec.name, &TaxelGrid::new(t), &grid, elements)?;
-                respond(&t.response, &mut r.force_n, draw);
+                respond(&t.response, &mut r.force_n, stream(i, 0), draw);
                 Some(r)
             }
             None => None,
         };
         let markers = sensor.markers.as_ref().map(|m| {
             let mut r = read_markers(&m.layout(), finger.material(), &grid, elements);
-            respond(&m.response, &mut r.displacement_m, draw);
+            respond(&m.response, &mut r.displacement_m, stream(i, 1), draw);
             r
         });
         let gel = match &sensor.gel {
             Some(g) => {
                 let mut image = read_gel(g, finger.material(), &grid, elements)?;
-                respond(&g.response, &mut image.rgb, draw);
+                respond(&g.response, &mut image.rgb, stream(i, 2), draw);
                 Some(image)
             }
             None => None,
@@ -128,11 +128,21 @@ pub fn sensor_readings_drawn(
     Ok(out)
 }
 
-/// `response` applied to `values`, when given.
-fn respond<const N: usize>(response: &Option<ResponseSpec>, values: &mut [[f64; N]], draw: u64) {
+/// `response` applied to `values` of sensor stream `sensor`, when given.
+fn respond<const N: usize>(
+    response: &Option<ResponseSpec>,
+    values: &mut [[f64; N]],
+    sensor: u64,
+    draw: u64,
+) {
     if let Some(r) = response {
-        apply_response(r, values, draw);
+        apply_response(r, values, sensor, draw);
     }
+}
+
+/// The noise streams of kind `kind` (0 taxels, 1 markers, 2 gel) of `fingers[finger]`.
+fn stream(finger: usize, kind: u64) -> u64 {
+    (finger as u64) * 4 + kind
 }
 
 /// Refuses a read-out of `sensor` (of `fingers[i]`) over the element grid `grid` that would

@@ -5,9 +5,9 @@
 //!
 //! with `z_k` and `n_kcd` standard normal deviates drawn from the seed: `z_k` once per point
 //! (the same at every read-out: a calibration error), `n_kcd` anew per component and read-out
-//! (a hand-off's step `d` is its draw; one solve is draw 0). The deviates come from a
-//! counter-based generator (SplitMix64 of the seed, the stream, the point, the component and
-//! the draw, turned normal by Box-Muller), so a reading does not depend on the order or the
+//! (a hand-off's step `d` is its draw; one solve is draw 0), each sensor (a finger's kind) on
+//! its own streams. The deviates come from a counter-based generator (SplitMix64 of the seed,
+//! the stream, the point, the component and the draw, turned normal by Box-Muller), so a reading does not depend on the order or the
 //! threads that compute it, and the same seed gives the same readings every time.
 
 use crate::scene::response_spec::ResponseSpec;
@@ -41,27 +41,48 @@ pub fn normal_deviate(seed: u64, stream: u64, a: u64, b: u64, c: u64) -> f64 {
 }
 
 /// `r`'s response applied to the readings `values` (row-major, one `[f64; N]` a point) of
-/// read-out `draw`, in place.
-pub fn apply_response<const N: usize>(r: &ResponseSpec, values: &mut [[f64; N]], draw: u64) {
+/// read-out `draw` of sensor `sensor` (its own streams: a finger's kind, so that two sensors of
+/// one seed draw independent gains and noise), in place. A gain below 0 reads as 0 (a dead
+/// point); a reading too large for its quantum to count (`|y / q| >= 2^52`) is not rounded;
+/// a saturated reading stays within the range after rounding.
+pub fn apply_response<const N: usize>(
+    r: &ResponseSpec,
+    values: &mut [[f64; N]],
+    sensor: u64,
+    draw: u64,
+) {
+    let (gains, noises) = (GAIN_STREAM ^ (sensor << 8), NOISE_STREAM ^ (sensor << 8));
     for (k, point) in values.iter_mut().enumerate() {
-        let gain = 1.0 + r.gain_std * normal_deviate(r.seed, GAIN_STREAM, k as u64, 0, 0);
+        let k = k as u64;
         for (c, x) in point.iter_mut().enumerate() {
-            let noise = match r.noise_std > 0.0 {
-                true => {
-                    r.noise_std * normal_deviate(r.seed, NOISE_STREAM, k as u64, c as u64, draw)
-                }
-                false => 0.0,
-            };
-            let mut y = gain * *x + noise;
-            if let Some([low, high]) = r.saturation {
-                y = y.clamp(low, high);
+            let mut y = *x;
+            if r.gain_std > 0.0 {
+                y *= (1.0 + r.gain_std * normal_deviate(r.seed, gains, k, 0, 0)).max(0.0);
             }
-            if let Some(q) = r.quantum {
-                y = q * (y / q).round();
+            if r.noise_std > 0.0 {
+                y += r.noise_std * normal_deviate(r.seed, noises, k, c as u64, draw);
             }
-            *x = y;
+            *x = saturate_and_quantise(r, y);
         }
     }
+}
+
+/// `y` clipped to the saturation range, rounded to the quantum, and clipped again (a step
+/// past the range's end is not read).
+fn saturate_and_quantise(r: &ResponseSpec, mut y: f64) -> f64 {
+    if let Some([low, high]) = r.saturation {
+        y = y.clamp(low, high);
+    }
+    if let Some(q) = r.quantum {
+        let steps = y / q;
+        if steps.is_finite() && steps.abs() < (1u64 << 52) as f64 {
+            y = q * steps.round();
+        }
+    }
+    if let Some([low, high]) = r.saturation {
+        y = y.clamp(low, high);
+    }
+    y
 }
 
 #[cfg(test)]
@@ -82,8 +103,27 @@ mod tests {
     fn no_departure_leaves_the_readings_bit_for_bit() {
         let mut v = vec![[1.25, -3.5e-7, 0.0], [f64::MIN_POSITIVE, 2.0, -0.0]];
         let ideal = v.clone();
-        apply_response(&response(), &mut v, 3);
+        apply_response(&response(), &mut v, 0, 3);
         assert_eq!(v, ideal);
+    }
+
+    #[test]
+    fn rounding_stays_in_range_and_huge_readings_are_kept() {
+        let r = ResponseSpec {
+            saturation: Some([-0.5, 0.53]),
+            quantum: Some(0.05),
+            ..response()
+        };
+        let mut v = vec![[0.6]];
+        apply_response(&r, &mut v, 0, 0);
+        assert_eq!(v, vec![[0.53]], "0.55 would be past the range");
+        let r = ResponseSpec {
+            quantum: Some(1e-300),
+            ..response()
+        };
+        let mut v = vec![[2e8]];
+        apply_response(&r, &mut v, 0, 0);
+        assert_eq!(v, vec![[2e8]]);
     }
 
     #[test]
@@ -94,7 +134,7 @@ mod tests {
             ..response()
         };
         let mut v = vec![[3.0, -7.0, 0.3], [0.124, 0.126, 1.9]];
-        apply_response(&r, &mut v, 0);
+        apply_response(&r, &mut v, 0, 0);
         assert_eq!(v, vec![[2.0, -1.0, 0.25], [0.0, 0.25, 2.0]]);
     }
 
@@ -123,8 +163,8 @@ mod tests {
         };
         let ideal = vec![[1.0; 3]; 50];
         let (mut a, mut b) = (ideal.clone(), ideal.clone());
-        apply_response(&r, &mut a, 0);
-        apply_response(&r, &mut b, 1);
+        apply_response(&r, &mut a, 0, 0);
+        apply_response(&r, &mut b, 0, 1);
         assert_eq!(a, b, "the gains are the sensor's, not the read-out's");
         assert!(a.iter().any(|p| (p[0] - 1.0).abs() > 0.01));
         let r = ResponseSpec {
@@ -132,10 +172,16 @@ mod tests {
             ..response()
         };
         let (mut c, mut d, mut e) = (ideal.clone(), ideal.clone(), ideal.clone());
-        apply_response(&r, &mut c, 0);
-        apply_response(&r, &mut d, 1);
-        apply_response(&r, &mut e, 0);
+        apply_response(&r, &mut c, 0, 0);
+        apply_response(&r, &mut d, 0, 1);
+        apply_response(&r, &mut e, 0, 0);
         assert_ne!(c, d, "each read-out draws its own noise");
         assert_eq!(c, e, "the same seed and draw give the same noise");
+        let mut other = ideal.clone();
+        apply_response(&r, &mut other, 1, 0);
+        assert_ne!(
+            c, other,
+            "another sensor of the same seed draws its own noise"
+        );
     }
 }

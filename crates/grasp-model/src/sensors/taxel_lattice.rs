@@ -9,11 +9,12 @@
 //! `crate::model::influence_at_depth`), `x_q`, `w_q` the taxel's quadrature
 //! (`super::taxel_grid`): the same sum as the dense read-out's, taxel by taxel, regrouped. The
 //! table `T` over every offset of the lattice is transformed once (zero-padded to `2 Lx x 2
-//! Ly`, wrapped as the compliance operator's kernels are: Liu, Wang and Liu, Wear 2000) and
-//! kept for the model's later read-outs (a hand-off's steps): a read-out is then one 3 x 3
-//! block product of real FFTs and a pick of the taxels' points.
+//! Ly`, wrapped as the compliance operator's kernels are: Liu, Wang and Liu, Wear 2000) and,
+//! up to 64 MiB, kept for later read-outs of the same geometry (a hand-off's steps, a batch's
+//! grasps: `super::readout_cache`): a read-out is then one 3 x 3 block product of real FFTs
+//! and a pick of the taxels' points.
 
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::Arc;
 
 use rayon::prelude::*;
 use realfft::num_complex::Complex;
@@ -23,12 +24,9 @@ use crate::model::grid_fft::GridFft;
 use crate::model::influence::GridSpec;
 use crate::model::influence_at_depth::{reading_per_area_at_depth, ElementOffset};
 use crate::scene::sensor_spec::{TaxelGridSpec, TaxelLattice};
+use crate::sensors::readout_cache::{taxel_key, ReadoutCache, MAX_KEPT_BYTES};
 use crate::sensors::taxel_grid::TaxelGrid;
 use crate::solve::solution::ElementSolution;
-
-/// Operators kept for later read-outs (the most recent first); a hand-off reads a few sensors
-/// over the same patches at every step.
-const KEPT_OPERATORS: usize = 8;
 
 /// The transformed table of one taxel grid on one patch.
 struct TaxelOperator {
@@ -37,37 +35,8 @@ struct TaxelOperator {
     spectra: Vec<Vec<Complex<f64>>>,
 }
 
-/// What an operator is built from, bit for bit.
-type Key = Vec<u64>;
-
-/// The kept operators, each with its key.
-type Kept = Mutex<Vec<(Key, Arc<TaxelOperator>)>>;
-
-fn key(spec: &TaxelGridSpec, patch: &GridSpec) -> Key {
-    let mut k = vec![
-        patch.nx as u64,
-        patch.ny as u64,
-        patch.hx.to_bits(),
-        patch.hy.to_bits(),
-    ];
-    k.extend(spec.count.map(|c| c as u64));
-    for x in [
-        spec.pitch_m,
-        spec.size_m,
-        spec.depth_m,
-        spec.offset_m[0],
-        spec.offset_m[1],
-    ] {
-        k.push(x.to_bits());
-    }
-    k
-}
-
-/// The kept operators.
-fn kept() -> &'static Kept {
-    static KEPT: OnceLock<Kept> = OnceLock::new();
-    KEPT.get_or_init(|| Mutex::new(Vec::new()))
-}
+/// The tables kept for later read-outs.
+static KEPT: ReadoutCache<TaxelOperator> = ReadoutCache::new();
 
 /// The operator of `spec` on `patch` (its `lattice`), built or kept.
 fn operator(
@@ -75,18 +44,10 @@ fn operator(
     patch: &GridSpec,
     lattice: &TaxelLattice,
 ) -> Result<Arc<TaxelOperator>, OutOfMemory> {
-    let k = key(spec, patch);
-    if let Ok(list) = kept().lock() {
-        if let Some((_, op)) = list.iter().find(|(key, _)| *key == k) {
-            return Ok(Arc::clone(op));
-        }
-    }
-    let op = Arc::new(build(spec, patch, lattice)?);
-    if let Ok(mut list) = kept().lock() {
-        list.insert(0, (k, Arc::clone(&op)));
-        list.truncate(KEPT_OPERATORS);
-    }
-    Ok(op)
+    // Nine spectra of `(Lx + 1) 2 Ly` complex numbers.
+    let bytes = 9 * (lattice.size[0] + 1) * 2 * lattice.size[1] * 16;
+    let keep = bytes <= MAX_KEPT_BYTES;
+    KEPT.get_or_build(taxel_key(spec, patch), keep, || build(spec, patch, lattice))
 }
 
 /// The table `T(d)` of every lattice offset, transformed block by block.

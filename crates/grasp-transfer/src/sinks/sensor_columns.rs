@@ -7,7 +7,8 @@
 //!   `<name>_taxels_largest_n` (the largest taxel force's length, N);
 //! - markers: `<name>_markers_shift_m` (the largest tangential displacement, m) and
 //!   `<name>_markers_normal_m` (the normal displacement of largest size, m, + into the pad);
-//! - a gel image: `<name>_gel_deepest_m` (the deepest pixel's height, m).
+//! - a gel image: `<name>_gel_deepest_m` (the deepest pixel's height, m; the ideal height:
+//!   a sensor's `response` acts on the image's colours).
 //!
 //! A finger without readings at a step (released, or a step without forces) has empty cells.
 
@@ -44,18 +45,34 @@ pub fn sensor_header(run: &RunInfo, field: impl Fn(&str) -> String) -> String {
     h
 }
 
-/// The values of one finger's readings, in its columns' order.
-fn values(r: &SensorReadings) -> Vec<f64> {
-    let mut out = Vec::new();
-    if let Some(t) = &r.taxels {
-        let [s1, s2] = t.total_shear_n();
-        out.extend([t.total_normal_n(), s1.hypot(s2), t.largest().1]);
+/// The cells of one finger's readings, in its columns' order (each with its leading comma):
+/// per kind of its `sensor`, the reading's numbers, or empty cells where the reading lacks it.
+fn cells(sensor: &grasp_model::SensorSpec, r: Option<&SensorReadings>) -> String {
+    let mut kinds: Vec<(usize, Option<Vec<f64>>)> = Vec::new();
+    if sensor.taxels.is_some() {
+        let t = r.and_then(|r| r.taxels.as_ref()).map(|t| {
+            let [s1, s2] = t.total_shear_n();
+            vec![t.total_normal_n(), s1.hypot(s2), t.largest().1]
+        });
+        kinds.push((3, t));
     }
-    if let Some(m) = &r.markers {
-        out.extend([m.largest_tangential().1, m.largest_normal().1]);
+    if sensor.markers.is_some() {
+        let m = r.and_then(|r| r.markers.as_ref());
+        kinds.push((
+            2,
+            m.map(|m| vec![m.largest_tangential().1, m.largest_normal().1]),
+        ));
     }
-    if let Some(g) = &r.gel {
-        out.push(g.deepest().1);
+    if sensor.gel.is_some() {
+        let g = r.and_then(|r| r.gel.as_ref());
+        kinds.push((1, g.map(|g| vec![g.deepest().1])));
+    }
+    let mut out = String::new();
+    for (n, values) in kinds {
+        match values {
+            Some(v) => v.iter().for_each(|x| out.push_str(&format!(",{x}"))),
+            None => out.push_str(&",".repeat(n)),
+        }
     }
     out
 }
@@ -65,12 +82,8 @@ pub fn sensor_cells(run: &RunInfo, r: &StepRecord) -> String {
     let mut line = String::new();
     for f in &run.scene.fingers {
         let Some(sensor) = &f.sensor else { continue };
-        match r.sensors.iter().find(|s| s.finger == f.name) {
-            Some(read) => values(read)
-                .iter()
-                .for_each(|v| line.push_str(&format!(",{v}"))),
-            None => line.push_str(&",".repeat(columns(sensor).len())),
-        }
+        let read = r.sensors.iter().find(|s| s.finger == f.name);
+        line.push_str(&cells(sensor, read));
     }
     line
 }
