@@ -303,13 +303,7 @@ fn a_lookup_table_of_the_lights_gives_their_image() {
     gel["lookup"] = json!({"slope_range": range, "rgb": rgb});
     let looked = read(&sphere_on_gel(21, gel)).2;
     assert_eq!(lit.height_m, looked.height_m);
-    let worst = lit
-        .rgb
-        .iter()
-        .flatten()
-        .zip(looked.rgb.iter().flatten())
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
+    let worst = largest_difference(&lit.rgb, &looked.rgb);
     println!("lookup vs lights: {worst:.3e}");
     assert!(worst < 1e-5, "{worst:e}");
 }

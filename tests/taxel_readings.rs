@@ -549,13 +549,7 @@ fn the_lattice_and_the_taxel_by_taxel_read_outs_agree() {
         let mut turned = v.clone();
         turned["fingers"][0]["sensor"]["taxels"]["rotation_rad"] = json!(std::f64::consts::TAU);
         let by_taxel = read(&turned).remove(0);
-        let worst = on_lattice
-            .force_n
-            .iter()
-            .flatten()
-            .zip(by_taxel.force_n.iter().flatten())
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let worst = largest_difference(&on_lattice.force_n, &by_taxel.force_n);
         println!(
             "{:?} taxels: lattice vs taxel by taxel {worst:.3e} N of 10 N; largest {:.4} N",
             spec.count,
@@ -563,5 +557,37 @@ fn the_lattice_and_the_taxel_by_taxel_read_outs_agree() {
         );
         assert!(worst <= 1e-12 * 10.0, "{worst:e}");
         assert!(by_taxel.largest().1 > 0.01, "the taxels read the contact");
+    }
+}
+
+#[test]
+fn the_kept_matrix_and_the_taxel_by_taxel_read_outs_agree() {
+    // Off the lattice (turned by 0.3 rad, a pitch of 1.3 elements), at depth, the taxels are
+    // read by a kept taxel-by-element matrix (sensors/taxel_matrix.rs); `read_taxels` sums
+    // them taxel by taxel. The same sums regrouped: equal to 1e-12 of the load (measured
+    // below 1e-15); twice, so the second read-out is the kept matrix's.
+    let h = 0.000212 / 21.0;
+    let taxels = json!({"count": [4, 5], "pitch_m": 1.3 * h, "size_m": 1.3 * h,
+                        "depth_m": 4.33e-5, "rotation_rad": 0.3, "offset_m": [0.4 * h, -h]});
+    for v in [hertz_with(taxels.clone(), 21), pushed_with(taxels)] {
+        let loaded = scene(&v);
+        let model = GraspModel::from_loaded(&loaded).expect("model");
+        let solution = solve(&model).expect("solve");
+        let spec: grasp_model::TaxelGridSpec =
+            serde_json::from_value(v["fingers"][0]["sensor"]["taxels"].clone()).unwrap();
+        let patch = model.fingers()[0].patch().grid;
+        let direct = grasp_model::read_taxels(
+            "tip",
+            &grasp_model::TaxelGrid::new(&spec),
+            &patch,
+            &solution.fingers[0].elements,
+        );
+        for _ in 0..2 {
+            let kept = read(&v).remove(0);
+            let worst = largest_difference(&kept.force_n, &direct.force_n);
+            println!("kept matrix vs taxel by taxel: {worst:.3e} N of 10 N");
+            assert!(worst <= 1e-12 * 10.0, "{worst:e}");
+            assert!(direct.largest().1 > 0.01);
+        }
     }
 }

@@ -565,3 +565,13 @@ pub fn rerun_on(cli: &std::path::Path, args: &[&str], file: &std::path::Path) ->
     );
     text
 }
+
+/// The largest `|a_k - b_k|` of two equally long lists of points (`[f64; N]` each).
+pub fn largest_difference<const N: usize>(a: &[[f64; N]], b: &[[f64; N]]) -> f64 {
+    assert_eq!(a.len(), b.len(), "the two lists differ in length");
+    a.iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}

@@ -17,4 +17,5 @@ pub mod sensor_readings;
 pub mod sensor_response;
 pub mod taxel_grid;
 pub mod taxel_lattice;
+pub mod taxel_matrix;
 pub mod taxel_readings;

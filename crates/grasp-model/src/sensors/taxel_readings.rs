@@ -18,6 +18,7 @@ use crate::model::influence_at_depth::{
 };
 use crate::sensors::taxel_grid::{QuadraturePoint, TaxelGrid};
 use crate::sensors::taxel_lattice::taxels_on_lattice;
+use crate::sensors::taxel_matrix::taxels_by_matrix;
 use crate::solve::solution::ElementSolution;
 
 /// One finger's taxel readings.
@@ -66,8 +67,9 @@ impl TaxelReadings {
 
 /// The readings of `grid` over a finger's solved `elements` (their element grid `patch`),
 /// named `finger`, the cheaper way: on the element lattice as a convolution
-/// (`super::taxel_lattice`) when the grid lies on it (`TaxelGridSpec::lattice`), else
-/// [`read_taxels`]; the two are the same sums regrouped. [`OutOfMemory`] when the lattice's
+/// (`super::taxel_lattice`) when the grid lies on it (`TaxelGridSpec::lattice`), else at depth
+/// by a kept taxel-by-element matrix (`super::taxel_matrix`) when it fits, else
+/// [`read_taxels`]; the three are the same sums regrouped. [`OutOfMemory`] when the lattice's
 /// table cannot be allocated.
 pub fn read_taxels_fastest(
     finger: &str,
@@ -75,10 +77,13 @@ pub fn read_taxels_fastest(
     patch: &GridSpec,
     elements: &[ElementSolution],
 ) -> Result<TaxelReadings, OutOfMemory> {
-    let Some(lattice) = grid.spec.lattice(&patch.element_grid()) else {
-        return Ok(read_taxels(finger, grid, patch, elements));
+    let force_n = match grid.spec.lattice(&patch.element_grid()) {
+        Some(lattice) => taxels_on_lattice(&grid.spec, &lattice, patch, elements)?,
+        None => match taxels_by_matrix(grid, patch, elements) {
+            Some(force_n) => force_n,
+            None => return Ok(read_taxels(finger, grid, patch, elements)),
+        },
     };
-    let force_n = taxels_on_lattice(&grid.spec, &lattice, patch, elements)?;
     Ok(TaxelReadings {
         finger: finger.to_string(),
         count: grid.spec.count,
