@@ -73,18 +73,29 @@ pub(crate) fn batch_throughput_rows(
 /// The variants of cube A, one scene a line: 10 friction coefficients times 100 weights (20
 /// when quick).
 fn variants(quick: bool) -> Result<Vec<String>, BenchError> {
+    let weights = if quick { 20 } else { 100 };
+    cube_a_variants("batch cube A", [10, weights], &|_| Ok(()))
+}
+
+/// The variants of bundled cube A, one scene a line, after `edit` (named `case` in errors):
+/// `counts[0]` friction coefficients from 0.4 to 1 times `counts[1]` weights from 1 to 10 N.
+pub(crate) fn cube_a_variants(
+    case: &str,
+    counts: [usize; 2],
+    edit: &dyn Fn(&mut serde_json::Value) -> Result<(), String>,
+) -> Result<Vec<String>, BenchError> {
     let input_error = |message: String| BenchError::Input {
-        case: "batch cube A".into(),
+        case: case.into(),
         message,
     };
     let (scene, _) = crate::case::bundled("cube_a")
         .ok_or_else(|| input_error("no bundled scene cube_a".into()))?;
-    let scene: serde_json::Value =
+    let mut scene: serde_json::Value =
         serde_json::from_str(scene).map_err(|e| input_error(e.to_string()))?;
-    let weights = if quick { 20 } else { 100 };
+    edit(&mut scene).map_err(input_error)?;
     let axes = [
-        Axis::parse("fingers[*].friction.mu=0.4:1.0:10")?,
-        Axis::parse(&format!("object.weight=1:10:{weights}"))?,
+        Axis::parse(&format!("fingers[*].friction.mu=0.4:1.0:{}", counts[0]))?,
+        Axis::parse(&format!("object.weight=1:10:{}", counts[1]))?,
     ];
     let sweep = Sweep::new(scene, "cube_a", &axes)?;
     let lines = (0..sweep.len()).map(|k| sweep.line(k));

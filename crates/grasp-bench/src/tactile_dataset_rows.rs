@@ -9,9 +9,10 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::time::Instant;
 
-use grasp_batch::{Axis, BatchInput, BatchOptions, Sweep, TactileDataset};
+use grasp_batch::{BatchInput, BatchOptions, TactileDataset};
 use grasp_model::{SolveOptions, SolverChoice};
 
+use crate::batch_throughput::cube_a_variants;
 use crate::error::BenchError;
 use crate::scratch_folder::ScratchFolder;
 use crate::table::Row;
@@ -63,33 +64,21 @@ pub(crate) fn tactile_dataset_rows(
 /// Cube A with 4 x 4 taxels one pitch deep tiling each 5 x 5 patch's shorter side: 100
 /// friction coefficients times 100 weights (10 x 20 when quick).
 fn variants(quick: bool) -> Result<Vec<String>, BenchError> {
-    let input_error = |message: String| BenchError::Input {
-        case: "tactile dataset".into(),
-        message,
-    };
-    let (scene, _) = crate::case::bundled("cube_a")
-        .ok_or_else(|| input_error("no bundled scene cube_a".into()))?;
-    let mut scene: serde_json::Value =
-        serde_json::from_str(scene).map_err(|e| input_error(e.to_string()))?;
-    let fingers = scene["fingers"].as_array_mut();
-    for f in fingers.ok_or_else(|| input_error("cube_a has no fingers".into()))? {
-        let size = &f["patch"]["size"];
-        let side = size[0]
-            .as_f64()
-            .unwrap_or(0.0)
-            .min(size[1].as_f64().unwrap_or(0.0));
-        let pitch = side / 4.0;
-        f["sensor"] = serde_json::json!({"taxels": {"count": [4, 4], "pitch_m": pitch,
-                                                    "size_m": pitch, "depth_m": pitch}});
-    }
-    let (mus, weights) = if quick { (10, 20) } else { (100, 100) };
-    let axes = [
-        Axis::parse(&format!("fingers[*].friction.mu=0.4:1.0:{mus}"))?,
-        Axis::parse(&format!("object.weight=1:10:{weights}"))?,
-    ];
-    let sweep = Sweep::new(scene, "cube_a", &axes)?;
-    let lines = (0..sweep.len()).map(|k| sweep.line(k));
-    Ok(lines.collect::<Result<_, _>>()?)
+    let counts = if quick { [10, 20] } else { [100, 100] };
+    cube_a_variants("tactile dataset", counts, &|scene| {
+        let fingers = scene["fingers"].as_array_mut();
+        for f in fingers.ok_or("cube_a has no fingers")? {
+            let size = &f["patch"]["size"];
+            let side = size[0]
+                .as_f64()
+                .unwrap_or(0.0)
+                .min(size[1].as_f64().unwrap_or(0.0));
+            let pitch = side / 4.0;
+            f["sensor"] = serde_json::json!({"taxels": {"count": [4, 4], "pitch_m": pitch,
+                                                        "size_m": pitch, "depth_m": pitch}});
+        }
+        Ok(())
+    })
 }
 
 /// Grasps per second of one run writing the result lines and the dataset into `scratch`.
