@@ -89,8 +89,9 @@ pub const MAX_LIGHTS: usize = 8;
 pub const MAX_GEL_KERNEL_EVALUATIONS: f64 = 2e8;
 
 /// Most points of the element lattice the FFT read-out convolves on (its kernel spectra,
-/// forces, displacements and preconditioner take about 600 bytes a point with friction, 640 MB
-/// at this size; not counted by `--max-memory`); a larger lattice is read densely.
+/// forces and displacements take about 600 bytes a point with friction, 630 MB at this size,
+/// counted in the solve's memory estimate, `crate::scene::memory_budget::sensor_bytes`); a
+/// larger lattice is read densely.
 pub const MAX_LATTICE_POINTS: usize = 1024 * 1024;
 
 /// The lights when a gel gives none: red, green and blue at 120 degrees from each other
@@ -252,6 +253,7 @@ impl SensorKind for GelSpec {
         Some(HalfSpaceNeed {
             what: "gel images",
             instead: "drop the gel image",
+            reads_stress: false,
         })
     }
 }

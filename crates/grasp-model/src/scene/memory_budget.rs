@@ -32,6 +32,12 @@
 //! `G x G` pixels at [`crate::geometry::random_surface::BYTES_PER_PIXEL`] each while it is made
 //! (`G` from [`crate::geometry::random_surface::grid_side`]).
 //!
+//! A finger's sensor adds its read-outs' bytes ([`sensor_bytes`]): a gel image's arrays
+//! ([`GEL_PIXEL_BYTES`] a pixel) and, when it is read on the element lattice, the lattice's
+//! kernel table, compliance spectra, forces and displacements (`48 4 + 32 (k + c + 3) + 16 (1 +
+//! c)` bytes a lattice point, about 600 with friction); a taxel grid read on its lattice, its
+//! nine spectra (`9 16 2 (Lx + 1) Ly` bytes) twice, kept and while built.
+//!
 //! In the dense estimate [`DENSE_COPIES`] counts the model's block, the assembled program's
 //! copy and the factorisations of the solver, and [`SPARSE_ALLOWANCE`] (the same again) for the sparse
 //! solver's fill-in and workspace. Every product saturates at `u64::MAX`, so absurd grids give
@@ -46,6 +52,7 @@ use crate::scene::limits::MAX_COMPLIANCE_BYTES;
 use crate::scene::loaded_scene::LoadedScene;
 use crate::scene::scene_format::{FingerSpec, Scene};
 use crate::scene::scene_geometry::SceneGeometry;
+use crate::scene::sensor_kind::ElementGrid;
 
 /// Copies of each dense compliance block the model, the program and the factorisations hold.
 pub const DENSE_COPIES: u64 = 4;
@@ -138,7 +145,9 @@ fn estimate_bytes_of(
                         .saturating_mul(DENSE_COPIES + SPARSE_ALLOWANCE)
                 }
             };
-            solve.saturating_add(texture_bytes(f, geometry.height_map(i)))
+            solve
+                .saturating_add(texture_bytes(f, geometry.height_map(i)))
+                .saturating_add(sensor_bytes(scene, f))
         })
         .fold(0, u64::saturating_add)
 }
@@ -309,6 +318,39 @@ pub(crate) fn check_patch_room(
     })
 }
 
+/// Bytes of a gel image's pixel: its height (`f64`), normal and colour (three `f64` each) and
+/// 8-bit colour.
+pub const GEL_PIXEL_BYTES: u64 = 8 + 24 + 24 + 3;
+
+/// Bytes of a finger's sensor read-outs (0 without a sensor; saturating): see the module
+/// documentation.
+pub fn sensor_bytes(scene: &Scene, f: &FingerSpec) -> u64 {
+    let Some(sensor) = &f.sensor else { return 0 };
+    let patch = ElementGrid::of_patch(f.patch.size, f.patch.grid);
+    let mut bytes = 0u64;
+    if let Some(g) = &sensor.gel {
+        bytes = (g.pixel_count() as u64).saturating_mul(GEL_PIXEL_BYTES);
+        if let Some(l) = g.lattice(&patch) {
+            let c = if tangential_components(scene, f) > 0 {
+                2
+            } else {
+                0
+            };
+            let kernels = [1, 3, 6][c as usize];
+            let per_point = 4 * TABLE_BYTES + 32 * (kernels + c + 3) + 16 * (1 + c);
+            let points = (l.size[0] as u64).saturating_mul(l.size[1] as u64);
+            bytes = bytes.saturating_add(points.saturating_mul(per_point));
+        }
+    }
+    if let Some(l) = sensor.taxels.as_ref().and_then(|t| t.lattice(&patch)) {
+        let spectra = (2 * 9 * 16 * 2u64)
+            .saturating_mul(l.size[0] as u64 + 1)
+            .saturating_mul(l.size[1] as u64);
+        bytes = bytes.saturating_add(spectra);
+    }
+    bytes
+}
+
 /// The FFT path's estimate for one finger, bytes (saturating).
 fn fft_bytes(scene: &Scene, f: &FingerSpec) -> u64 {
     let (nx, ny) = (f.patch.grid[0] as u64, f.patch.grid[1] as u64);
@@ -398,6 +440,25 @@ mod tests {
                 - estimate_memory_bytes_with(&plain, |_| true),
             8 * 64 + grid
         );
+    }
+
+    #[test]
+    fn a_gel_image_adds_its_pixels_and_its_lattice() {
+        let mut loaded = scene([256, 256], 0.5);
+        let before = estimate_memory_bytes_with(&loaded, |_| true);
+        // Pixels on element centres: read on the 256 x 256 lattice of patch and image.
+        let gel = r#"{"gel": {"image_px": [256, 256], "field_of_view_m": [0.01, 0.01]}}"#;
+        loaded.scene.fingers[0].sensor = Some(serde_json::from_str(gel).unwrap());
+        let added = estimate_memory_bytes_with(&loaded, |_| true) - before;
+        let points = 256 * 256;
+        // Friction: six kernels, two tangential components.
+        let per_point = 4 * 48 + 32 * (6 + 2 + 3) + 16 * 3;
+        assert_eq!(added, points * GEL_PIXEL_BYTES + points * per_point);
+        // A 2 x 2 image far from the centre is read pixel by pixel: its arrays alone.
+        let small = r#"{"gel": {"image_px": [2, 2], "field_of_view_m": [1e-3, 1e-3]}}"#;
+        loaded.scene.fingers[0].sensor = Some(serde_json::from_str(small).unwrap());
+        let added = estimate_memory_bytes_with(&loaded, |_| true) - before;
+        assert_eq!(added, 4 * GEL_PIXEL_BYTES);
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The checks of `fingers[i].sensor`: at least one kind, each grid's numbers in range (a gel
-//! image's shading too), a pad the read-out describes (a half-space: no bonded layer, not
-//! viscoelastic) when a kind needs one (taxels at depth, markers, a gel image), and read-outs
+//! image's shading too), a pad the read-out describes (a half-space: no bonded layer; not
+//! viscoelastic, unless the kind reads stresses) when a kind needs one (taxels at depth,
+//! markers, a gel image), and read-outs
 //! of bounded work. Each problem names its JSON path and the fix.
 
 use crate::scene::field_checks::{number, FieldChecks};
@@ -199,9 +200,14 @@ fn check_depth(tp: &str, t: &TaxelGridSpec, v: &mut FieldChecks) -> bool {
     true
 }
 
-/// A pad read by a kind that `need`s a half-space: no bonded layer, no relaxation law.
+/// A pad read by a kind that `need`s a half-space: no bonded layer, and no relaxation law
+/// unless the kind reads stresses ([`HalfSpaceNeed::reads_stress`]).
 fn check_pad(p: &str, sp: &str, f: &FingerSpec, need: HalfSpaceNeed, v: &mut FieldChecks) {
-    let HalfSpaceNeed { what, instead } = need;
+    let HalfSpaceNeed {
+        what,
+        instead,
+        reads_stress,
+    } = need;
     if f.material.layer_thickness_m().is_some() {
         v.push(
             sp,
@@ -212,7 +218,7 @@ fn check_pad(p: &str, sp: &str, f: &FingerSpec, need: HalfSpaceNeed, v: &mut Fie
             &format!("{instead}, or drop the layer"),
         );
     }
-    if f.material.relaxation().is_some() {
+    if f.material.relaxation().is_some() && !reads_stress {
         v.push(
             sp,
             format!(

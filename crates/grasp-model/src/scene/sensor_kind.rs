@@ -107,10 +107,11 @@ pub trait SensorKind {
     /// The fix of a read-out of too much work.
     fn work_fix(&self) -> &'static str;
 
-    /// When the read-out describes only a half-space pad (not a bonded layer, not a
-    /// viscoelastic pad): what is read that needs it (`"taxels at depth"`) and the other way
-    /// out of the refusal than changing the pad (`"read the taxels at depth_m 0 (the surface
-    /// tractions)"`). `None` when any pad is read right.
+    /// When the read-out describes only a half-space pad (not a bonded layer; not a
+    /// viscoelastic pad either, unless it reads stresses): what is read that needs it
+    /// (`"taxels at depth"`) and the other way out of the refusal than changing the pad
+    /// (`"read the taxels at depth_m 0 (the surface tractions)"`). `None` when any pad is read
+    /// right.
     fn half_space_need(&self) -> Option<HalfSpaceNeed>;
 }
 
@@ -122,4 +123,11 @@ pub struct HalfSpaceNeed {
     /// The fix other than changing the pad (`"read the taxels at depth_m 0 (the surface
     /// tractions)"`).
     pub instead: &'static str,
+    /// True when the reading is a stress under the solved surface tractions: in a half-space
+    /// of constant Poisson's ratio it does not depend on the modulus (Boussinesq's and
+    /// Cerruti's stresses hold `nu` only, Johnson 3.2-3.3), so by the correspondence principle
+    /// (Lee and Radok 1960) a viscoelastic pad's stress is the elastic one of its tractions at
+    /// that time, and the read-out is exact there too. False for displacements, which carry
+    /// the pad's creep.
+    pub reads_stress: bool,
 }

@@ -8,8 +8,9 @@
 //! at depth 0 it reads the surface tractions binned onto it exactly. A marker reads the
 //! displacement of the pad's surface at its point relative to the finger's core (the surface
 //! influence coefficients of `crate::model::influence`, the finger's half-space alone). Only a
-//! half-space pad is read at depth, for markers or for a gel image (`super::sensor_checks` refuses a bonded
-//! layer and a viscoelastic pad).
+//! half-space pad is read at depth, for markers or for a gel image (`super::sensor_checks`
+//! refuses a bonded layer; a viscoelastic pad too for markers and gel images, whose
+//! displacements creep, but not for taxels, whose stresses do not depend on the modulus).
 
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -247,6 +248,7 @@ impl SensorKind for TaxelGridSpec {
         (self.depth_m > 0.0).then_some(HalfSpaceNeed {
             what: "taxels at depth",
             instead: "read the taxels at depth_m 0 (the surface tractions)",
+            reads_stress: true,
         })
     }
 }
@@ -285,6 +287,7 @@ impl SensorKind for MarkerGridSpec {
         Some(HalfSpaceNeed {
             what: "markers",
             instead: "drop the markers",
+            reads_stress: false,
         })
     }
 }
