@@ -1,9 +1,11 @@
 """Regenerates the MuJoCo examples (examples/mujoco/) and their gallery pictures.
 
-1. the pinch: simulates examples/mujoco/pinch.xml from its keyframe "start" for 1 s (the motor
-   squeezing 10 N) and writes the state reached into its keyframe "grasped";
-2. `python -m grasp.mujoco scene` of the pinch at "grasped": examples/mujoco/pinch.json and the
-   side-by-side report pinch.report.json (its table is printed, as docs/guide/mujoco.md shows it);
+1. the pinches: simulates examples/mujoco/pinch.xml (the motor squeezing 10 N) and
+   servo_pinch.xml (position servos) from their keyframes "start" for 1 s and writes the states
+   reached into their keyframes "grasped";
+2. `python -m grasp.mujoco scene` of the pinches at "grasped": examples/mujoco/pinch.json and
+   servo_pinch.json (`--control mujoco-servo`), and the side-by-side reports pinch.report.json and
+   servo_pinch.report.json (their tables are printed, as docs/guide/mujoco.md shows them);
 3. `python -m grasp.mujoco handoff` of examples/mujoco/handoff.xml driven by
    handoff_controller.py:control (1600 steps of 1 ms, every 10th recorded):
    examples/mujoco/handoff.json, handoff.schedule.json, handoff.csv;
@@ -25,7 +27,7 @@ import mujoco
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EX = os.path.join(ROOT, "examples", "mujoco")
 GALLERY = os.path.join(ROOT, "docs", "gallery", "mujoco")
-SETTLE_STEPS = 1000
+SETTLE_S = 1.0
 
 
 def grasped_key(xml_text):
@@ -33,7 +35,7 @@ def grasped_key(xml_text):
     model = mujoco.MjModel.from_xml_string(xml_text)
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, model.key("start").id)
-    for _ in range(SETTLE_STEPS):
+    for _ in range(round(SETTLE_S / model.opt.timestep)):
         mujoco.mj_step(model, data)
 
     def nums(a):
@@ -52,18 +54,28 @@ def run(*args):
     subprocess.run(args, check=True, cwd=ROOT)
 
 
-def main():
-    pinch_xml = os.path.join(EX, "pinch.xml")
-    with open(pinch_xml, encoding="utf-8") as f:
+def settle(name):
+    """Writes the keyframe "grasped" of examples/mujoco/<name>.xml."""
+    path = os.path.join(EX, f"{name}.xml")
+    with open(path, encoding="utf-8") as f:
         text = f.read()
     new = with_grasped_key(text)
     if new != text:
-        with open(pinch_xml, "w", encoding="utf-8") as f:
+        with open(path, "w", encoding="utf-8") as f:
             f.write(new)
+
+
+def main():
+    settle("pinch")
+    settle("servo_pinch")
     py = sys.executable
     run(py, "-m", "grasp.mujoco", "scene", "examples/mujoco/pinch.xml", "--object", "box", "--keyframe", "grasped",
         "--materials", "examples/mujoco/pinch.materials.json", "--out", "examples/mujoco/pinch.json",
         "--report", "examples/mujoco/pinch.report.json", "--markdown", "--force")
+    run(py, "-m", "grasp.mujoco", "scene", "examples/mujoco/servo_pinch.xml", "--object", "box", "--keyframe",
+        "grasped", "--control", "mujoco-servo", "--materials", "examples/mujoco/servo_pinch.materials.json",
+        "--out", "examples/mujoco/servo_pinch.json", "--report", "examples/mujoco/servo_pinch.report.json",
+        "--markdown", "--force")
     run(py, "-m", "grasp.mujoco", "handoff", "examples/mujoco/handoff.xml", "--object", "cylinder",
         "--controller", "examples/mujoco/handoff_controller.py:control", "--steps", "1600", "--every", "10",
         "--materials", "examples/mujoco/handoff.materials.json", "--out", "examples/mujoco/handoff", "--force")

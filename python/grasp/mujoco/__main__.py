@@ -57,8 +57,9 @@ def parser():
     state.add_argument("--keyframe", help="keyframe name or index")
     state.add_argument("--qpos", help="state file: qpos numbers (.txt, .npy) or .npz/.json with qpos, qvel, ctrl, act")
     s.add_argument("--out", required=True, help="scene file to write (JSON)")
-    s.add_argument("--control", choices=["held", "mujoco-force"], default="mujoco-force",
-                   help="fingers position-held, or force-controlled at MuJoCo's normal force (default)")
+    s.add_argument("--control", choices=["held", "mujoco-force", "mujoco-servo"], default="mujoco-force",
+                   help="fingers position-held, force-controlled at MuJoCo's normal force (default), or on their "
+                        "servos (position actuators' kp as mounts)")
     s.add_argument("--model", dest="contact_model", choices=["energy", "coulomb"], default="energy")
     s.add_argument("--report", help="side-by-side report to write (JSON)")
     s.add_argument("--rrd", help="Rerun recording of the scene with both force sets as arrows")

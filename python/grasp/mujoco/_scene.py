@@ -34,12 +34,13 @@ from ._geometry import (
 )
 from ._materials import MaterialMap, compliance
 from ._patch import pad_cut_notes, patch_options, sensor_option
+from ._servo import finger_servo
 from ._state import check_finite_state
 
 if TYPE_CHECKING:
     import mujoco
 
-CONTROLS = ("held", "mujoco-force")
+CONTROLS = ("held", "mujoco-force", "mujoco-servo")
 MODELS = ("energy", "coulomb")
 # The scene format's smallest nonzero force component, N: smaller ones are written as 0.
 MIN_FORCE_N = 1e-15
@@ -225,6 +226,11 @@ def finger_spec(mujoco, model, data, fl, name, materials, opts, hertz_load_n, co
     spec["friction"] = {"mu": float(mus[0])}
     if control == "held":
         spec["control"] = "held"
+    elif control == "mujoco-servo":
+        overlap = posed[1] if posed is not None else max(-c.dist_m for c in fl.contacts)
+        servo = finger_servo(mujoco, model, data, fl.other_body, point, n, overlap, name)
+        spec["control"] = {"approach_m": servo.approach_m}
+        spec["mount"] = {"normal_n_per_m": servo.stiffness_n_per_m}
     else:
         spec["control"] = {"normal_load": clean_force(max(fl.normal_force_n, 0.0))}
     if opts.get("sensor") is not None:
@@ -513,8 +519,12 @@ def scene_from(model: "mujoco.MjModel", data: "mujoco.MjData", object_body: Unio
         get the default (rubber) with a warning.
     patch : dict, optional
         ``{"grid": [nx, ny], "margin_m": m, "size": [a, b]}`` (sizes in m).
-    control : {"mujoco-force", "held"}, default "mujoco-force"
-        Each finger force-controlled at MuJoCo's normal force, or held in place.
+    control : {"mujoco-force", "held", "mujoco-servo"}, default "mujoco-force"
+        Each finger force-controlled at MuJoCo's normal force, held in place, or on its servo:
+        a jaw on one slide joint along the contact normal, its position actuators' ``kp`` and
+        the joint's stiffness the finger's ``mount`` (``K_q / J_n^2``, N/m) and the position
+        their force at the state commands its ``approach_m`` (docs/guide/mujoco.md, "Servo
+        jaws").
     contact_model : {"energy", "coulomb"}, default "energy"
         The scene's contact model.
     description : str, optional

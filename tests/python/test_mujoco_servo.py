@@ -1,0 +1,132 @@
+"""grasp.mujoco with ``control="mujoco-servo"``: a MuJoCo gripper's squeeze from its own actuator
+gains (examples/mujoco/servo_pinch.xml: two jaws on slide joints, position actuators of kp 2000
+N/m commanded 2 mm past first touch, rubber sphere tips of radius 10 mm on a wooden box).
+
+The closed form: each jaw is a spring of MuJoCo's ``kp`` in series with a Hertz contact, so its
+normal force solves ``P = kp (x - delta(P))``, ``delta(P) = (9 P^2 / (16 R E*^2))^(1/3)``
+(Johnson 4.2 and eq. 4.23), with ``x`` the commanded position past first touch read from
+MuJoCo alone: its overlap at the contact plus its actuator's force over ``kp``. MuJoCo's own
+contact settles at its soft contact's overlap instead of Hertz's approach, so its normal force
+(the actuator's, at equilibrium) differs from ours by ``kp (overlap - delta(P))``: the whole
+difference, computed and checked here.
+
+Tolerances, and why:
+- 0.5 % on the normal force against the scalar root: the Hertz discretisation error the mounts'
+  closed-form tests allow (Johnson's Hertz on this patch), plus the tangential load's coupling
+  through Dundurs' beta (0.09 here), second order in the friction's 0.44 N;
+- 1e-12 where the bridge copies MuJoCo's numbers (``kp``, the overlap, the actuator's force);
+- 1e-3 of the force for MuJoCo's contact force against its actuator's force (its state is 1 s
+  into a damped settle, the box creeping at 0.7 mm/s).
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import grasp
+from conftest import EXAMPLES, checker
+
+mujoco = checker("mujoco", reason="MuJoCo is not installed (scripts/install-checkers.sh installs mujoco==4.0.0)")
+import grasp.mujoco as gm  # noqa: E402
+
+MJ = EXAMPLES / "mujoco"
+SERVO = MJ / "servo_pinch.xml"
+MATERIALS = MJ / "servo_pinch.materials.json"
+TIP_RADIUS_M = 0.01
+
+
+def e_star():
+    """``E*`` of the rubber tip on the wooden box, Pa (Johnson eq. 4.22), from the material map."""
+    rubber, wood = (2e6, 0.45), (1.1e10, 0.3)
+    return 1.0 / sum((1 - nu * nu) / e for e, nu in (rubber, wood))
+
+
+def hertz_approach(p):
+    return (9 * p * p / (16 * TIP_RADIUS_M * e_star() ** 2)) ** (1 / 3)
+
+
+def series_root(kp, x):
+    """The root of ``P = kp (x - delta(P))`` by bisection (``P`` in ``[0, kp x]``)."""
+    lo, hi = 0.0, kp * x
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if mid < kp * (x - hertz_approach(mid)) else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+@pytest.fixture(scope="module")
+def servo():
+    model = gm.load_model(SERVO)
+    data = gm.load_state(model, keyframe="grasped")
+    return model, data, gm.scene_from(model, data, "box", materials=MATERIALS, control="mujoco-servo")
+
+
+def mujoco_side(model, data, finger):
+    """``kp``, MuJoCo's overlap (m) and its actuator's force (N) for ``finger`` (the actuator of
+    the same name as the jaw, read straight from MuJoCo)."""
+    a = model.actuator(finger.removeprefix("jaw_")).id
+    kp = float(model.actuator_gainprm[a, 0])
+    geom = model.geom(f"tip_{finger.removeprefix('jaw_')}").id
+    overlaps = [-data.contact[i].dist for i in range(data.ncon) if geom in (data.contact[i].geom1, data.contact[i].geom2)]
+    assert len(overlaps) == 1
+    return kp, overlaps[0], float(data.actuator_force[a])
+
+
+def test_mujoco_servo_jaws_are_mounts_of_the_actuators_kp_commanded_where_mujoco_puts_them(servo):
+    model, data, g = servo
+    for spec in g.scene_dict["fingers"]:
+        kp, overlap, force = mujoco_side(model, data, spec["name"])
+        assert kp == 2000.0
+        assert spec["mount"] == {"normal_n_per_m": pytest.approx(kp, rel=1e-12)}
+        assert spec["control"]["approach_m"] == pytest.approx(overlap + force / kp, rel=1e-12)
+        # The commanded 2 mm past first touch, as the keyframe's ctrl says.
+        assert spec["control"]["approach_m"] == pytest.approx(0.002, rel=1e-9)
+
+
+def test_mujoco_servo_squeeze_is_the_series_springs_root_and_mujocos_differs_by_its_overlap(servo):
+    model, data, g = servo
+    sol = grasp.solve(g.scene)
+    assert sol.status == "solved"
+    mj = {f.name: f.normal_force_n for f in g.fingers}
+    for f in sol.fingers:
+        kp, overlap, force = mujoco_side(model, data, f["name"])
+        x = overlap + force / kp
+        want = series_root(kp, x)
+        ours = f["normal_force_n"]
+        print(f"{f['name']}: grasp P {ours:.5f} N, series root {want:.5f} N, MuJoCo {mj[f['name']]:.5f} N "
+              f"(actuator {force:.5f} N); overlap {overlap * 1e3:.4f} mm, Hertz approach "
+              f"{hertz_approach(ours) * 1e3:.4f} mm")
+        assert ours == pytest.approx(want, rel=5e-3)
+        # MuJoCo's contact force is its actuator's at equilibrium.
+        assert mj[f["name"]] == pytest.approx(force, rel=1e-3)
+        # The two squeezes differ by the two contacts' compliance: kp (overlap - delta).
+        explained = kp * (overlap - hertz_approach(ours))
+        assert ours - force == pytest.approx(explained, rel=1e-2)
+        assert explained > 0.5  # MuJoCo's soft contact sinks in further than Hertz's
+
+
+def test_mujoco_servo_refuses_jaws_it_cannot_read_as_a_spring_along_the_normal():
+    pinch = gm.load_model(MJ / "pinch.xml")
+    data = gm.load_state(pinch, keyframe="grasped")
+    with pytest.raises(gm.MujocoError) as e:
+        gm.scene_from(pinch, data, "box", materials=MJ / "pinch.materials.json", control="mujoco-servo")
+    # The pinch's left jaw is welded to the world; its right jaw is a bare force motor.
+    assert "moves on 0 joints, not one" in str(e.value)
+    text = SERVO.read_text()
+    for old, new, words in [
+        ('<position name="left" joint="jaw_left" kp="2000" ctrlrange="-0.005 0.005"/>',
+         '<motor name="left" joint="jaw_left" ctrlrange="0 5"/>', "has no stiffness"),
+        ('type="slide" axis="0 -1 0"', 'type="slide" axis="0 -1 0.2"', "across the normal"),
+    ]:
+        changed = text.replace(old, new)
+        assert changed != text
+        model = mujoco.MjModel.from_xml_string(changed)
+        data = mujoco.MjData(model)
+        key = model.key("grasped").id
+        mujoco.mj_resetDataKeyframe(model, data, key)
+        with pytest.raises(gm.MujocoError) as e:
+            gm.scene_from(model, data, "box", materials=MATERIALS, control="mujoco-servo")
+        assert words in str(e.value), str(e.value)
+        assert "control='mujoco-force'" in str(e.value)
+    assert math.isfinite(e_star())
