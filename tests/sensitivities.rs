@@ -12,6 +12,8 @@
 //! exists (the sensitivities then list the element as near a change). Agreement asked: 1e-5 of
 //! the column's largest finger derivative (at least 1e-5 absolute: derivatives are N per N or
 //! N per N m times the length scale), for finger normal and friction forces and element forces.
+//! The commanded approaches and the mounts' stiffnesses are moved in the scene itself (1e-4 of
+//! the displacement unit; 1e-4 of the stiffness) on mounted grasps, with the same agreement.
 
 mod support;
 
@@ -117,6 +119,8 @@ fn check_with_step(scene: &LoadedScene, label: &str, step: f64) -> Option<(usize
     let mut load_col = 0;
     for (c, p) in sens.parameters.iter().enumerate() {
         let (plus, minus, h) = match p.kind.as_str() {
+            // Checked by check_positions_and_stiffnesses.
+            "approach" | "stiffness" => continue,
             "squeeze" if !p.defined => continue,
             "squeeze" => {
                 let h = step;
@@ -279,5 +283,194 @@ fn layered_pad_sensitivities_match_finite_differences() {
             check_with_step(&scene(&v), "pad_pinch.json", 1e-5).expect("the pinch holds");
         eprintln!("layered pads, {model}: {compared} columns compared, {skipped} skipped");
         assert!(compared >= 4 * (compared + skipped) / 5 && compared > 0);
+    }
+}
+
+/// A box of 0.6 N hanging between three 8 mm flat pads (E 200 MPa, mu 1) on mounts of every
+/// form: `a` force-controlled (10 N) on a tangential spring, `b` held on a spring in every
+/// direction, `c` pressed 10 um in on a full matrix coupling `t1` and `n`. (At 1.7 N two of
+/// `a`'s elements sit within 2e-7 of the stick/slip boundary, where the differences' `O(h^2)`
+/// truncation on a couple's element forces reaches the tolerance.)
+fn mounted_box() -> Value {
+    let pad = |name: &str, at: [f64; 3], n: f64, mount: Value| {
+        serde_json::json!({"name": name, "contact_point": at, "normal": [n, 0, 0],
+               "material": {"youngs_modulus": 2e8, "poisson_ratio": 0.45},
+               "patch": {"size": [0.008, 0.008], "grid": [7, 7]}, "friction": {"mu": 1.0},
+               "mount": mount})
+    };
+    let mut k = [[0.0; 6]; 6];
+    for (c, s) in [300.0, 300.0, 3e4, 8.0, 8.0, 8.0].iter().enumerate() {
+        k[c][c] = *s;
+    }
+    (k[0][2], k[2][0]) = (500.0, 500.0);
+    let mut a = pad(
+        "a",
+        [-0.01, 0.0, 0.0],
+        1.0,
+        serde_json::json!({"tangential_n_per_m": 50.0}),
+    );
+    a["control"] = serde_json::json!({"normal_load": 10.0});
+    let b = pad(
+        "b",
+        [0.01, 0.01, 0.0],
+        -1.0,
+        serde_json::json!({"normal_n_per_m": 2e4,
+        "tangential_n_per_m": 100.0, "rotational_nm_per_rad": 5.0}),
+    );
+    let mut c = pad(
+        "c",
+        [0.01, -0.01, 0.0],
+        -1.0,
+        serde_json::json!({"matrix": k}),
+    );
+    c["control"] = serde_json::json!({"approach_m": 1e-5});
+    serde_json::json!({"object": {"weight": 0.6, "center_of_mass": [0, 0, 0],
+                                  "gravity": [0, 0, -1], "material": "rigid"},
+                       "fingers": [a, b, c]})
+}
+
+/// `v` with the parameter `name` (`approach:<f>`, `k_n:<f>`, `k_t:<f>`, `k_r:<f>`,
+/// `k_scale:<f>`) moved by `by` (m; a fraction of the stiffness), and the parameter's change
+/// (m, N/m, N m/rad; the fraction for a matrix's scale).
+fn moved(v: &Value, name: &str, by: f64) -> (Value, f64) {
+    let (what, finger) = name.split_once(':').unwrap();
+    let mut v = v.clone();
+    let f = v["fingers"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|f| f["name"] == finger)
+        .unwrap();
+    let scale = |x: &mut Value| {
+        let k = x.as_f64().unwrap();
+        *x = Value::from(k * (1.0 + by));
+        k * by
+    };
+    let change = match what {
+        "approach" => {
+            let d = f["control"]["approach_m"].as_f64().unwrap_or(0.0);
+            f["control"] = serde_json::json!({"approach_m": d + by});
+            by
+        }
+        "k_n" => scale(&mut f["mount"]["normal_n_per_m"]),
+        "k_t" => scale(&mut f["mount"]["tangential_n_per_m"]),
+        "k_r" => scale(&mut f["mount"]["rotational_nm_per_rad"]),
+        "k_scale" => {
+            for row in f["mount"]["matrix"].as_array_mut().unwrap() {
+                row.as_array_mut().unwrap().iter_mut().for_each(|x| {
+                    scale(x);
+                });
+            }
+            by
+        }
+        _ => panic!("{name}"),
+    };
+    (v, change)
+}
+
+/// Solves `v` at its scene loads (the options above).
+fn solved(v: &Value) -> Solution {
+    let model = GraspModel::from_loaded(&scene(v)).unwrap();
+    perturbed(&model, &model.scene_loads_n(), None)
+}
+
+/// The approach and stiffness columns of `v` against central differences of solves of the
+/// scene moved along each (step: 1e-4 of the displacement unit `Fu Cu` for an approach, 1e-4
+/// of the stiffness for a stiffness); the agreement asked of every column.
+fn check_positions_and_stiffnesses(v: &Value, label: &str) -> usize {
+    let model = GraspModel::from_loaded(&scene(v)).unwrap();
+    let mut solver = GraspSolver::new(model.clone(), options());
+    let base = solver
+        .solve(&grasp_model::StepInputs::loads(model.scene_loads_n()))
+        .unwrap();
+    assert_eq!(
+        base.status,
+        SolveStatus::Solved,
+        "{label}: {:?}",
+        base.reason
+    );
+    let sens = solver.sensitivities(&base).unwrap();
+    let mut compared = 0;
+    for (c, p) in sens.parameters.iter().enumerate() {
+        let h = match p.kind.as_str() {
+            "approach" => 1e-4 * model.scales().displacement_m(),
+            "stiffness" => 1e-4,
+            _ => continue,
+        };
+        let ((up, dp), (down, dm)) = (moved(v, &p.name, h), moved(v, &p.name, -h));
+        let (plus, minus, h) = (solved(&up), solved(&down), 0.5 * (dp - dm));
+        let changed = |s: &Solution| {
+            let (a, b) = (states(s), states(&base));
+            (0..a.len())
+                .filter(|&k| a[k] != b[k])
+                .map(|k| (k, b[k], a[k]))
+                .collect::<Vec<_>>()
+        };
+        assert!(
+            changed(&plus).is_empty() && changed(&minus).is_empty(),
+            "{label} {}: states change {:?} {:?}",
+            p.name,
+            changed(&plus),
+            changed(&minus)
+        );
+        assert!(p.defined, "{label} {}: {:?}", p.name, p.reason);
+        let fd = |a: Vec<f64>, b: Vec<f64>| -> Vec<f64> {
+            a.iter().zip(&b).map(|(x, y)| (x - y) / (2.0 * h)).collect()
+        };
+        let fd_finger = fd(finger_values(&plus), finger_values(&minus));
+        let fd_element = fd(
+            support::element_force_components(&plus),
+            support::element_force_components(&minus),
+        );
+        let scale = fd_finger.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        assert!(scale > 0.0, "{label} {}: moves nothing", p.name);
+        for (what, got, want) in [
+            ("finger", sens_finger(&sens, c), fd_finger),
+            ("element", sens_element(&sens, c), fd_element),
+        ] {
+            for (j, (g, w)) in got.iter().zip(&want).enumerate() {
+                assert!(
+                    (g - w).abs() <= 1e-5 * scale,
+                    "{label} {} {what}[{j}]: KKT {g:.9e} vs differences {w:.9e}",
+                    p.name
+                );
+            }
+        }
+        compared += 1;
+    }
+    compared
+}
+
+/// Sensitivities to the commanded approaches and the mounts' stiffnesses (every form: by
+/// direction, a full matrix's scale) against central differences, both models, with the
+/// wrench and load columns of the same mounted grasps (the servo pinch example, the box
+/// above). Agreement as above, 1e-5 of the column's largest finger derivative.
+#[test]
+fn approach_and_mount_stiffness_sensitivities_match_finite_differences() {
+    for model in ["energy", "coulomb"] {
+        for (label, v) in [
+            ("servo_pinch.json", example_json("servo_pinch.json")),
+            ("mounted box", mounted_box()),
+        ] {
+            let v = with_model(v, model);
+            let compared = check_positions_and_stiffnesses(&v, label);
+            let names: Vec<String> = {
+                let m = GraspModel::from_loaded(&scene(&v)).unwrap();
+                let mut s = GraspSolver::new(m.clone(), options());
+                let base = s
+                    .solve(&grasp_model::StepInputs::loads(m.scene_loads_n()))
+                    .unwrap();
+                s.sensitivities(&base)
+                    .unwrap()
+                    .parameters
+                    .into_iter()
+                    .map(|p| p.name)
+                    .collect()
+            };
+            eprintln!("{label}, {model}: {compared} columns compared of {names:?}");
+            let want = if label == "mounted box" { 7 } else { 2 };
+            assert_eq!(compared, want, "{names:?}");
+            check(&scene(&v), label).expect("the grasp holds");
+        }
     }
 }

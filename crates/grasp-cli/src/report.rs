@@ -358,8 +358,9 @@ pub fn sensitivity_table(sens: &grasp_model::Sensitivities, time_s: f64) -> Stri
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "\nsensitivities at the active set (N per N for forces and loads, N per N m for couples; \
-         force at the centre of mass), {:.1} ms:",
+        "\nsensitivities at the active set (N per N for forces and loads, N per N m for couples, \
+         N per m for approaches, N per N/m or N m/rad for stiffnesses; force at the centre of \
+         mass), {:.1} ms:",
         time_s * 1e3
     );
     let _ = write!(s, "{:<16}", "");

@@ -63,8 +63,9 @@ pub struct Args {
     #[command(flatten)]
     pub solve: SolveFlags,
     /// Also compute the derivatives of every finger's and element's forces with respect to
-    /// an extra force and couple on the object and to each commanded load (from the KKT
-    /// system at the active set); printed per finger and written into the JSON.
+    /// an extra force and couple on the object, to each commanded load and approach and to
+    /// each mount's stiffness (from the KKT system at the active set); printed per finger and
+    /// written into the JSON.
     #[arg(long)]
     pub sensitivities: bool,
     /// Print what the object's shape gave each finger (contact point, inward normal,

@@ -40,6 +40,44 @@ pub struct FingerMount {
     centres_m: Vec<[f64; 2]>,
     /// Tangential unknowns per element: 0, 1 (planar) or 2.
     n_tangential: usize,
+    /// What a sensitivity may differentiate: each direction given by its stiffness, or the
+    /// scale of a full matrix.
+    parameters: Vec<StiffnessParameter>,
+}
+
+/// A stiffness of a mount that a sensitivity differentiates with respect to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StiffnessParameter {
+    /// `normal_n_per_m` (N/m).
+    Normal,
+    /// `tangential_n_per_m` (N/m, `t1` and `t2` alike).
+    Tangential,
+    /// `rotational_nm_per_rad` (N m/rad, about each axis alike).
+    Rotational,
+    /// A common factor on a full `matrix` (dimensionless, 1 as given).
+    Scale,
+}
+
+impl StiffnessParameter {
+    /// Short name: `k_n`, `k_t`, `k_r`, `k_scale`.
+    pub fn name(self) -> &'static str {
+        match self {
+            StiffnessParameter::Normal => "k_n",
+            StiffnessParameter::Tangential => "k_t",
+            StiffnessParameter::Rotational => "k_r",
+            StiffnessParameter::Scale => "k_scale",
+        }
+    }
+
+    /// The components `[t1, t2, n, rot t1, rot t2, rot n]` whose stiffness it sets.
+    fn components(self) -> [bool; 6] {
+        match self {
+            StiffnessParameter::Normal => [false, false, true, false, false, false],
+            StiffnessParameter::Tangential => [true, true, false, false, false, false],
+            StiffnessParameter::Rotational => [false, false, false, true, true, true],
+            StiffnessParameter::Scale => [true; 6],
+        }
+    }
 }
 
 /// The components a planar scene's finger moves in: along `t1` and `n`, and about `t2` (the
@@ -74,11 +112,36 @@ impl FingerMount {
         let mut preload = Vector6::zeros();
         preload[2] = spec.preload_n;
         FingerMount {
+            parameters: stiffness_parameters(spec, &compliance),
             compliance,
             preload,
             centres_m,
             n_tangential,
         }
+    }
+
+    /// The stiffnesses a sensitivity may differentiate: each direction the spec gives that
+    /// moves the core, or a matrix's scale.
+    pub fn stiffness_parameters(&self) -> &[StiffnessParameter] {
+        &self.parameters
+    }
+
+    /// The change of the core's retreat `S (B v - w0)` under the element forces `v` (N) per
+    /// unit of `parameter` (m and rad per N/m, per N m/rad, or per unit factor): `dS = -S dK S`
+    /// with `dK` the identity on the parameter's components, or `K` itself for a matrix's
+    /// scale (`dS = -S`): the derivative of an inverse.
+    pub fn retreat_per_stiffness(&self, v: &[f64], parameter: StiffnessParameter) -> Vector6<f64> {
+        let load = self.wrench(v) - self.preload;
+        if parameter == StiffnessParameter::Scale {
+            return -(self.compliance * load);
+        }
+        let mut retreat = self.compliance * load;
+        for (c, on) in parameter.components().iter().enumerate() {
+            if !on {
+                retreat[c] = 0.0;
+            }
+        }
+        -(self.compliance * retreat)
     }
 
     /// `S`, the compliance over `[t1, t2, n, rot t1, rot t2, rot n]` (0 where rigid).
@@ -181,6 +244,27 @@ impl FingerMount {
     pub fn core_displacement(&self, v: &[f64]) -> Vector6<f64> {
         -(self.compliance * (self.wrench(v) - self.preload))
     }
+}
+
+/// The parameters of [`FingerMount::stiffness_parameters`]: a matrix's scale, or each direction
+/// given whose compliance is not 0 (a planar scene's out-of-plane directions are).
+fn stiffness_parameters(spec: &MountSpec, compliance: &Matrix6<f64>) -> Vec<StiffnessParameter> {
+    if spec.matrix.is_some() {
+        return vec![StiffnessParameter::Scale];
+    }
+    let given = [
+        (spec.normal_n_per_m, StiffnessParameter::Normal),
+        (spec.tangential_n_per_m, StiffnessParameter::Tangential),
+        (spec.rotational_nm_per_rad, StiffnessParameter::Rotational),
+    ];
+    given
+        .into_iter()
+        .filter(|(k, p)| {
+            let moves = p.components();
+            k.is_some() && (0..MOUNT_COMPONENTS).any(|c| moves[c] && compliance[(c, c)] != 0.0)
+        })
+        .map(|(_, p)| p)
+        .collect()
 }
 
 #[cfg(test)]

@@ -13,7 +13,14 @@
 //!   single loads' do not (raising one pad of a pinch alone leaves no equilibrium);
 //! - on request ([`LoadDirection`]), `loads:<name>`: the commanded loads of some fingers
 //!   moved together, each by its own rate (N per unit; a gripper's two jaws), derivative per
-//!   unit of the common parameter.
+//!   unit of the common parameter;
+//! - `approach:<finger>`: the commanded approach of each position-controlled finger (`control
+//!   {"approach_m": d}`, or a held finger on a mount: its jaw at 0), in N per m: it shifts the
+//!   finger's gaps (`q`);
+//! - `k_n:<finger>`, `k_t:<finger>`, `k_r:<finger>`: each stiffness a finger's mount gives
+//!   (N per N/m; N per N m/rad), or `k_scale:<finger>`, a common factor on a mount's full
+//!   matrix (N per unit factor): it changes the compliance `B'SB`, which at the solution acts
+//!   as the linear cost change `B' dS (w - w0)` (`crate::model::finger_mount`).
 //!
 //! The derivative holds while no element changes state. Elements whose projection input lies
 //! within [`NEAR_CHANGE`] of a boundary between stick, slip and separation are listed: there
@@ -26,7 +33,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::ModelError;
 use crate::model::equilibrium::MotionPlane;
-use crate::model::grasp_model::GraspModel;
+use crate::model::finger_mount::StiffnessParameter;
+use crate::model::grasp_model::{Control, GraspModel};
 use crate::program::cone_program::LoadRow;
 use crate::solve::solution::Solution;
 use crate::solver::native::newton::kkt_derivative::kkt_derivative;
@@ -51,10 +59,12 @@ const UNDEFINED: f64 = 1e-6;
 /// What a column differentiates with respect to.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Parameter {
-    /// Short name: `force_x`, `torque_z`, `force_e1`, `load:<finger>`, `squeeze`.
+    /// Short name: `force_x`, `torque_z`, `force_e1`, `load:<finger>`, `squeeze`,
+    /// `approach:<finger>`, `k_n:<finger>`.
     pub name: String,
     /// `force` (N at the centre of mass), `torque` (N m), `load` (N), `squeeze` (the factor
-    /// of all commanded loads, dimensionless) or `loads` (a [`LoadDirection`]'s parameter).
+    /// of all commanded loads, dimensionless), `loads` (a [`LoadDirection`]'s parameter),
+    /// `approach` (m) or `stiffness` (N/m, N m/rad, or a matrix's factor).
     pub kind: String,
     /// World direction of the force or torque axis (absent for loads).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -220,6 +230,7 @@ fn rhs_columns(
                     p.reason = Some("no contact force can resist this direction".into());
                 }
             }
+            None if p.kind == "approach" || p.kind == "stiffness" => {}
             None if p.kind == "squeeze" => {
                 for &LoadRow { row, .. } in &program.load_rows {
                     rhs[(row, c)] = program.equality_rhs[row];
@@ -274,12 +285,15 @@ pub(crate) fn sensitivities(
     refuse_fine_fft(model)?;
     let mut params = wrench_parameters(model);
     params.extend(directions.iter().map(load_direction_parameter));
+    let costs = cost_parameters(model);
+    params.extend(costs.iter().map(|(p, _)| (p.clone(), None)));
     let rhs = rhs_columns(model, ps, &mut params, directions);
+    let dq = cost_columns(model, &iterate.x, &costs, params.len());
     let mu = radius_coefficients(model, ps, solution);
     let scale = iterate.x.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let near = NEAR_CHANGE * scale.max(f64::MIN_POSITIVE);
     let (native, program) = ps.native_workspace(model);
-    let deriv = kkt_derivative(native.blocks(), program, &iterate, &mu, &rhs, near)
+    let deriv = kkt_derivative(native.blocks(), program, &iterate, &mu, &rhs, &dq, near)
         .map_err(ModelError::Derivative)?;
     for ((p, _), &u) in params.iter_mut().zip(&deriv.unreachable) {
         if p.defined && deriv.ambiguous {
@@ -320,6 +334,78 @@ pub(crate) fn sensitivities(
         near_changes,
         notes: notes(model),
     })
+}
+
+/// What changes the linear cost `q`: a finger's commanded approach, or a stiffness of its mount.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum CostChange {
+    /// The approach of finger `i`.
+    Approach(usize),
+    /// A stiffness of finger `i`'s mount.
+    Stiffness(usize, StiffnessParameter),
+}
+
+/// The parameters that change `q`: per finger in scene order, its approach when it is
+/// position-controlled (or on a mount), then its mount's stiffnesses.
+fn cost_parameters(model: &GraspModel) -> Vec<(Parameter, CostChange)> {
+    let parameter = |name: String, kind: &str| Parameter {
+        name,
+        kind: kind.into(),
+        direction: None,
+        defined: true,
+        reason: None,
+    };
+    let mut out = Vec::new();
+    for (i, f) in model.fingers.iter().enumerate() {
+        let positioned = matches!(f.control(), Control::Approach { .. })
+            || (f.control() == Control::Held && f.mount().is_some());
+        if positioned {
+            let p = parameter(format!("approach:{}", f.name), "approach");
+            out.push((p, CostChange::Approach(i)));
+        }
+        for &k in f.mount().map_or(&[][..], |m| m.stiffness_parameters()) {
+            let p = parameter(format!("{}:{}", k.name(), f.name), "stiffness");
+            out.push((p, CostChange::Stiffness(i, k)));
+        }
+    }
+    out
+}
+
+/// The linear cost changes `dq` (`n x columns`, scaled like `q`: m over `Fu Cu`) of the
+/// `costs`, which are the last columns, at the scaled forces `x`.
+fn cost_columns(
+    model: &GraspModel,
+    x: &[f64],
+    costs: &[(Parameter, CostChange)],
+    columns: usize,
+) -> DMatrix<f64> {
+    let mut dq = DMatrix::zeros(model.n_unknowns, columns);
+    let first = columns - costs.len();
+    let (fu, unit) = (model.scales.element_force_n, model.scales.displacement_m());
+    for (c, (_, change)) in costs.iter().enumerate() {
+        let mut column = vec![0.0; model.n_unknowns];
+        match *change {
+            // The offset `-d` on every normal unknown.
+            CostChange::Approach(i) => {
+                let f = &model.fingers[i];
+                for v in &mut column[f.offset..f.offset + f.patch.len()] {
+                    *v = -1.0 / unit;
+                }
+            }
+            // `B' dS (w - w0)`, the forces in newtons.
+            CostChange::Stiffness(i, k) => {
+                let f = &model.fingers[i];
+                let range = f.offset..f.offset + f.n_unknowns();
+                let v: Vec<f64> = x[range.clone()].iter().map(|x| x * fu).collect();
+                if let Some(m) = f.mount() {
+                    let motion = m.retreat_per_stiffness(&v, k);
+                    m.add_motion(&motion, 1.0 / unit, &mut column[range]);
+                }
+            }
+        }
+        dq.set_column(first + c, &nalgebra::DVector::from_vec(column));
+    }
+    dq
 }
 
 /// Refuses a finger on the FFT compliance too large for the derivative's dense system, with

@@ -1,12 +1,12 @@
 //! The derivative of the program's solution with respect to its equality right-hand side `e`
-//! (loads and external wrench), by the implicit function theorem on the KKT conditions at the
-//! solution's active set (Dontchev & Rockafellar, *Implicit Functions and Solution
-//! Mappings*, 2.E, for the semismooth case).
+//! (loads and external wrench) and its linear cost `q` (approaches, a mount's compliance), by
+//! the implicit function theorem on the KKT conditions at the solution's active set (Dontchev &
+//! Rockafellar, *Implicit Functions and Solution Mappings*, 2.E, for the semismooth case).
 //!
 //! At a KKT point the natural residual `Phi_k = x_k - Proj_{K_k}(x_k - gamma y_k)` vanishes
 //! ([`super::linearisation`]). Differentiating it with the projection's Jacobian
 //! `sum_j theta_j d_j d_j'` ([`crate::program::cones::element_cone`]) gives, per
-//! direction `d_j` of element `k` and with `dy = P dx + E' dlambda` (`q` does not change):
+//! direction `d_j` of element `k` and with `dy = P dx + dq + E' dlambda`:
 //!
 //! - `theta_j = 0` (separated, or the cone normal of a sliding element): `d_j . dx_k = dr_j`,
 //!   where `dr_j` is the change of the set itself: 0, except the radial direction of a sliding
@@ -16,12 +16,13 @@
 //!   `xi_j = d_j . dx_k` (stick: the element moves with the object; slip: along the cone);
 //!
 //! and `E dx = de`. Writing `dx_i = C_i xi_i` over the free directions (`C_i` is `D_F` plus the
-//! radial coupling) the system is, per finger, `A_i xi_i + B_i dlambda = 0` with
+//! radial coupling) the system is, per finger, `A_i xi_i + B_i dlambda + D_F' dq_i = 0` with
 //! `A_i = D_F' P_i C_i + diag(beta)`, `B_i = D_F' E_i'`, and it couples the fingers only through
 //! `sum_i E_i C_i xi_i = de`: each `A_i` is factorised (LU, faer; it is not symmetric where the
 //! radial coupling enters) and the `m x m` Schur complement `S = sum_i E_i C_i A_i^-1 B_i` gives
-//! `S dlambda = -de`. Directions `de` that `S` cannot produce (the active set has no free
-//! direction along them: the grasp is at a limit) are reported, not inverted.
+//! `S dlambda = -(de + sum_i E_i C_i h_i)`, `h_i = A_i^-1 D_F' dq_i`, then `xi_i = -A_i^-1 B_i
+//! dlambda - h_i`. Directions that `S` cannot produce (the active set has no free direction
+//! along them: the grasp is at a limit) are reported, not inverted.
 
 use faer::linalg::solvers::Solve;
 use faer::Mat;
@@ -120,16 +121,25 @@ fn free_columns(
     out
 }
 
-/// One finger's part of the system: `X_i = A_i^-1 B_i` and `G_i = E_i C_i`.
+/// One finger's part of the system: `X_i = A_i^-1 B_i`, `H_i = A_i^-1 D_F' dq_i` and `G_i = E_i
+/// C_i`.
 struct FingerSystem {
     columns: Vec<FreeColumn>,
     /// `A_i^-1 B_i` (`n_free x m`).
     x: Mat<f64>,
+    /// `A_i^-1 D_F' dq_i` (`n_free x p`).
+    h: Mat<f64>,
     /// `E_i C_i` (`m x n_free`).
     g: Mat<f64>,
 }
 
-fn finger_system(block: &FingerBlockData, columns: Vec<FreeColumn>) -> FingerSystem {
+/// The finger's system for the free `columns`, with the change of its linear cost `dq` (rows
+/// `block.offset..` of an `n x p` matrix, scaled like `q`).
+fn finger_system(
+    block: &FingerBlockData,
+    columns: Vec<FreeColumn>,
+    dq: &DMatrix<f64>,
+) -> FingerSystem {
     let (n, nf, m) = (block.len(), columns.len(), block.equality_rows());
     let mut pc = Mat::<f64>::zeros(n, nf);
     let mut g = Mat::<f64>::zeros(m, nf);
@@ -161,16 +171,21 @@ fn finger_system(block: &FingerBlockData, columns: Vec<FreeColumn>) -> FingerSys
     let b = Mat::<f64>::from_fn(nf, m, |i, r| {
         row_dot(&columns[i].row, &|idx| block.equality(r, idx))
     });
-    let x = if nf == 0 {
-        Mat::zeros(0, m)
+    let p = dq.ncols();
+    let dq_rows = Mat::<f64>::from_fn(nf, p, |i, c| {
+        row_dot(&columns[i].row, &|idx| dq[(block.offset + idx, c)])
+    });
+    let (x, h) = if nf == 0 {
+        (Mat::zeros(0, m), Mat::zeros(0, p))
     } else {
-        a.partial_piv_lu().solve(&b)
+        let lu = a.partial_piv_lu();
+        (lu.solve(&b), lu.solve(&dq_rows))
     };
-    FingerSystem { columns, x, g }
+    FingerSystem { columns, x, h, g }
 }
 
-/// `dx / de` at the KKT point `iterate` of `program`, for each column of `rhs` (`m x p`, scaled
-/// like `e`); `mu` per finger is the coefficient of the Tresca radii `r_k = mu F_k` (unused for
+/// `dx` at the KKT point `iterate` of `program` for each column of `rhs` (`de`, `m x p`, scaled
+/// like `e`) with the column of `dq` (`n x p`, scaled like `q`) beside it; `mu` per finger is the coefficient of the Tresca radii `r_k = mu F_k` (unused for
 /// other cones). An element that carries no load and whose projection input is within `near`
 /// (scaled force) of the boundary of the separated piece is held separated: it is just
 /// touching (or, energy model, sliding along at zero load), and a free direction there would let
@@ -181,6 +196,7 @@ pub(crate) fn kkt_derivative(
     iterate: &Iterate,
     mu: &[f64],
     rhs: &DMatrix<f64>,
+    dq: &DMatrix<f64>,
     near: f64,
 ) -> Result<KktDerivative, String> {
     let y = dual_of(blocks, program, &iterate.x, &iterate.lambda);
@@ -191,7 +207,7 @@ pub(crate) fn kkt_derivative(
     for ((block, pb), &mu_i) in blocks.iter().zip(&program.blocks).zip(mu) {
         let range = block.offset..block.offset + block.len();
         let (x, yl) = (&iterate.x[range.clone()], &y[range]);
-        let (sys, finger_margins) = finger_at(block, &pb.cone, x, yl, mu_i, near);
+        let (sys, finger_margins) = finger_at(block, &pb.cone, x, yl, mu_i, near, dq);
         margins.push(finger_margins);
         for r in 0..m {
             for c in 0..m {
@@ -205,13 +221,14 @@ pub(crate) fn kkt_derivative(
     if !s.iter().all(|v| v.is_finite()) {
         return Err("a block of the active set could not be factorised".into());
     }
-    let (dlambda, unreachable, null) = solve_schur(s, rhs);
+    let (dlambda, unreachable, null) = solve_schur(s, &with_cost_changes(rhs, &systems));
     let ambiguous = is_ambiguous(&systems, &null, m);
     let mut dx = DMatrix::<f64>::zeros(program.n_unknowns, rhs.ncols());
     for (block, sys) in blocks.iter().zip(&systems) {
         for (a, col) in sys.columns.iter().enumerate() {
             for p in 0..rhs.ncols() {
-                let xi: f64 = -(0..m).map(|r| sys.x[(a, r)] * dlambda[(r, p)]).sum::<f64>();
+                let xi: f64 =
+                    -(0..m).map(|r| sys.x[(a, r)] * dlambda[(r, p)]).sum::<f64>() - sys.h[(a, p)];
                 for &(idx, val) in &col.column {
                     dx[(block.offset + idx, p)] += val * xi;
                 }
@@ -226,9 +243,26 @@ pub(crate) fn kkt_derivative(
     })
 }
 
-/// One finger's system at its KKT point `x`, `yl` (cone `cone`, Tresca coefficient `mu`) and
-/// its elements' state margins; elements that carry no load and are within `near` of the
-/// boundary of the separated piece are held separated (see [`kkt_derivative`]).
+/// `de + sum_i E_i C_i h_i`: the right-hand side `rhs` with the linear cost's changes carried
+/// to the equality rows.
+fn with_cost_changes(rhs: &DMatrix<f64>, systems: &[FingerSystem]) -> DMatrix<f64> {
+    let mut out = rhs.clone();
+    for sys in systems {
+        for p in 0..rhs.ncols() {
+            for r in 0..rhs.nrows() {
+                out[(r, p)] += (0..sys.columns.len())
+                    .map(|a| sys.g[(r, a)] * sys.h[(a, p)])
+                    .sum::<f64>();
+            }
+        }
+    }
+    out
+}
+
+/// One finger's system at its KKT point `x`, `yl` (cone `cone`, Tresca coefficient `mu`, linear
+/// cost changes `dq`) and its elements' state margins; elements that carry no load and are
+/// within `near` of the boundary of the separated piece are held separated (see
+/// [`kkt_derivative`]).
 fn finger_at(
     block: &FingerBlockData,
     cone: &FingerCones,
@@ -236,6 +270,7 @@ fn finger_at(
     yl: &[f64],
     mu: f64,
     near: f64,
+    dq: &DMatrix<f64>,
 ) -> (FingerSystem, Vec<StateMargin>) {
     let cone = differentiation_cone(block, cone, x, mu);
     let lin = linearise(block, &cone, x, yl);
@@ -252,7 +287,7 @@ fn finger_at(
             block.gather(x, k)[0] <= near && margin.distance <= near && !margin.stick_slip
         })
         .collect();
-    let sys = finger_system(block, free_columns(block, &cone, &lin, mu, &pinned));
+    let sys = finger_system(block, free_columns(block, &cone, &lin, mu, &pinned), dq);
     (sys, margins)
 }
 
