@@ -175,11 +175,17 @@ fn finger_system(
     let dq_rows = Mat::<f64>::from_fn(nf, p, |i, c| {
         row_dot(&columns[i].row, &|idx| dq[(block.offset + idx, c)])
     });
+    // Most fingers' costs do not move (no approach, no mount): their `h` is 0 unsolved.
+    let moved = (0..nf).any(|i| (0..p).any(|c| dq_rows[(i, c)] != 0.0));
     let (x, h) = if nf == 0 {
         (Mat::zeros(0, m), Mat::zeros(0, p))
     } else {
         let lu = a.partial_piv_lu();
-        (lu.solve(&b), lu.solve(&dq_rows))
+        let h = match moved {
+            true => lu.solve(&dq_rows),
+            false => Mat::zeros(nf, p),
+        };
+        (lu.solve(&b), h)
     };
     FingerSystem { columns, x, h, g }
 }
