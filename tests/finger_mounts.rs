@@ -481,7 +481,8 @@ fn servo_sensitivities_meet_the_series_springs_derivative() {
 /// centroid of the contact points (checked here) the object only sinks (no tilt), and the
 /// weight is shared as the series stiffnesses: 22, 33 and 44 % against the mounts' 14, 29 and
 /// 57 %. The shares and the stiffnesses are found together here (the secant stiffness depends
-/// on the share: thirty fixed-point sweeps). Tolerance 1 % (the issue's; measured: within 6e-5
+/// on the share: thirty fixed-point sweeps). Tolerance 1 %, as the soft mounts' test above
+/// (measured: within 6e-5
 /// of each share on the 21 x 21 grids).
 #[test]
 fn stiff_mounts_share_the_weight_in_series_with_mindlins_contact() {

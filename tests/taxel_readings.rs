@@ -462,8 +462,8 @@ fn lee_radok_axis_stress(z: f64, t: f64) -> f64 {
 /// radius grows by phi^(1/3) = 1.36. Tolerance 2e-3 of the peak pressure `p0(t)`: the 41 x 41
 /// grid's Hertz error (3.4e-4 p0 at t = 0, an elastic solve with 17 elements across the
 /// contact's radius) and the time stepping's (measured 3.8e-4 at 1 s, 1.2e-4 relaxed). Huber's
-/// stress for a Hertz contact of radius a(t), which ignores the history, misses by 4.3e-2 at
-/// 1 s: the test tells the two apart.
+/// stress for a Hertz contact of radius a(t), which ignores the history, misses by 4.3e-2 of
+/// that contact's peak pressure at 1 s: the test tells the two apart.
 #[test]
 fn a_viscoelastic_pad_is_read_at_depth_as_lee_and_radok() {
     for (time, t) in [

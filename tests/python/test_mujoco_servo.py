@@ -19,8 +19,6 @@ Tolerances, and why:
   into a damped settle, the box creeping at 0.7 mm/s).
 """
 
-import math
-
 import numpy as np
 import pytest
 
@@ -106,6 +104,36 @@ def test_mujoco_servo_squeeze_is_the_series_springs_root_and_mujocos_differs_by_
         assert explained > 0.5  # MuJoCo's soft contact sinks in further than Hertz's
 
 
+def changed_model(old, new):
+    """The servo pinch with ``old`` replaced by ``new`` in its XML, at its keyframe "grasped"."""
+    text = SERVO.read_text()
+    changed = text.replace(old, new)
+    assert changed != text
+    model = mujoco.MjModel.from_xml_string(changed)
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key("grasped").id)
+    return model, data
+
+
+LEFT = '<position name="left" joint="jaw_left" kp="2000" ctrlrange="-0.005 0.005"/>'
+
+
+def test_mujoco_servo_stiffness_is_kp_gear_squared_and_its_approach_follows_the_actuators_force():
+    # A geared actuator: force kp (ctrl - gear q) on the length gear q, so K_q = kp gear^2 and
+    # the jaw's unloaded position is where gear q = ctrl (MuJoCo's own force at the state says
+    # how far that is: tau / K_q = gear force / (kp gear^2)).
+    model, data = changed_model(LEFT, LEFT.replace('kp="2000"', 'kp="2000" gear="2"'))
+    g = gm.scene_from(model, data, "box", materials=MATERIALS, control="mujoco-servo")
+    left = next(f for f in g.scene_dict["fingers"] if f["name"] == "jaw_left")
+    assert left["mount"]["normal_n_per_m"] == pytest.approx(2000.0 * 4, rel=1e-12)
+    force = float(data.actuator_force[model.actuator("left").id])
+    overlap = -min(data.contact[i].dist for i in range(data.ncon)
+                   if model.geom("tip_left").id in (data.contact[i].geom1, data.contact[i].geom2))
+    assert left["control"]["approach_m"] == pytest.approx(overlap + 2 * force / 8000.0, rel=1e-12)
+    q = float(data.qpos[model.joint("jaw_left").qposadr[0]])
+    assert left["control"]["approach_m"] == pytest.approx(overlap + 0.002 / 2 - q, rel=1e-9)
+
+
 def test_mujoco_servo_refuses_jaws_it_cannot_read_as_a_spring_along_the_normal():
     pinch = gm.load_model(MJ / "pinch.xml")
     data = gm.load_state(pinch, keyframe="grasped")
@@ -113,20 +141,17 @@ def test_mujoco_servo_refuses_jaws_it_cannot_read_as_a_spring_along_the_normal()
         gm.scene_from(pinch, data, "box", materials=MJ / "pinch.materials.json", control="mujoco-servo")
     # The pinch's left jaw is welded to the world; its right jaw is a bare force motor.
     assert "moves on 0 joints, not one" in str(e.value)
-    text = SERVO.read_text()
     for old, new, words in [
-        ('<position name="left" joint="jaw_left" kp="2000" ctrlrange="-0.005 0.005"/>',
-         '<motor name="left" joint="jaw_left" ctrlrange="0 5"/>', "has no stiffness"),
+        (LEFT, '<motor name="left" joint="jaw_left" ctrlrange="0 5"/>', "has no stiffness"),
         ('type="slide" axis="0 -1 0"', 'type="slide" axis="0 -1 0.2"', "across the normal"),
+        # An asymmetric force range: the actuator saturates at its upper end, 1 N.
+        (LEFT, LEFT.replace("/>", ' forcelimited="true" forcerange="-10 1"/>'), "at its force limit"),
+        ('damping="20"/>\n      <geom name="tip_left"',
+         'damping="20" actuatorfrclimited="true" actuatorfrcrange="-1 1"/>\n      <geom name="tip_left"',
+         "at its actuator force limit"),
     ]:
-        changed = text.replace(old, new)
-        assert changed != text
-        model = mujoco.MjModel.from_xml_string(changed)
-        data = mujoco.MjData(model)
-        key = model.key("grasped").id
-        mujoco.mj_resetDataKeyframe(model, data, key)
+        model, data = changed_model(old, new)
         with pytest.raises(gm.MujocoError) as e:
             gm.scene_from(model, data, "box", materials=MATERIALS, control="mujoco-servo")
         assert words in str(e.value), str(e.value)
         assert "control='mujoco-force'" in str(e.value)
-    assert math.isfinite(e_star())

@@ -359,8 +359,8 @@ pub fn sensitivity_table(sens: &grasp_model::Sensitivities, time_s: f64) -> Stri
     let _ = writeln!(
         s,
         "\nsensitivities at the active set (N per N for forces and loads, N per N m for couples, \
-         N per m for approaches, N per N/m or N m/rad for stiffnesses; force at the centre of \
-         mass), {:.1} ms:",
+         N per m for approaches, N per N/m or N m/rad for stiffnesses, N per unit factor for a \
+         matrix's scale; force at the centre of mass), {:.1} ms:",
         time_s * 1e3
     );
     let _ = write!(s, "{:<16}", "");

@@ -133,6 +133,12 @@ def finger_spec(mujoco, model, data, fl, name, materials, opts, hertz_load_n, co
     n = fl.normal
     cop = fl.center_of_pressure_m
     tip_geom = fl.main_other_geom
+    if control == "mujoco-servo":
+        # The patch is sized for the most the servo can push, k x (the elastic contact settles
+        # at less overlap than MuJoCo's soft one, so it squeezes harder than MuJoCo's force).
+        overlap = max(-c.dist_m for c in fl.contacts)
+        bound = finger_servo(mujoco, model, data, fl.other_body, cop, n, overlap, name, 0.0)
+        hertz_load_n = max(hertz_load_n, bound.stiffness_n_per_m * max(bound.approach_m, 0.0))
     obj = surface_at(mujoco, model, data, fl.object_geom, cop, -n)
     tip = surface_at(mujoco, model, data, tip_geom, cop, n)
     notes += [s.note for s in (obj, tip) if s.note]
@@ -228,7 +234,8 @@ def finger_spec(mujoco, model, data, fl, name, materials, opts, hertz_load_n, co
         spec["control"] = "held"
     elif control == "mujoco-servo":
         overlap = posed[1] if posed is not None else max(-c.dist_m for c in fl.contacts)
-        servo = finger_servo(mujoco, model, data, fl.other_body, point, n, overlap, name)
+        half_side = 0.5 * max(float(x) for x in size)
+        servo = finger_servo(mujoco, model, data, fl.other_body, point, n, overlap, name, half_side)
         spec["control"] = {"approach_m": servo.approach_m}
         spec["mount"] = {"normal_n_per_m": servo.stiffness_n_per_m}
     else:

@@ -89,7 +89,7 @@ pub const MAX_LIGHTS: usize = 8;
 pub const MAX_GEL_KERNEL_EVALUATIONS: f64 = 2e8;
 
 /// Most points of the element lattice the FFT read-out convolves on (its kernel spectra,
-/// forces and displacements take about 600 bytes a point with friction, 630 MB at this size,
+/// forces and displacements take about 600 bytes a point with friction, 620 MB at this size,
 /// counted in the solve's memory estimate, `crate::scene::memory_budget::sensor_bytes`); a
 /// larger lattice is read densely.
 pub const MAX_LATTICE_POINTS: usize = 1024 * 1024;

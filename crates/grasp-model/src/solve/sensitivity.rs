@@ -15,8 +15,7 @@
 //!   moved together, each by its own rate (N per unit; a gripper's two jaws), derivative per
 //!   unit of the common parameter;
 //! - `approach:<finger>`: the commanded approach of each position-controlled finger (`control
-//!   {"approach_m": d}`, or a held finger on a mount: its jaw at 0), in N per m: it shifts the
-//!   finger's gaps (`q`);
+//!   {"approach_m": d}`, or held: at 0), in N per m: it shifts the finger's gaps (`q`);
 //! - `k_n:<finger>`, `k_t:<finger>`, `k_r:<finger>`: each stiffness a finger's mount gives
 //!   (N per N/m; N per N m/rad), or `k_scale:<finger>`, a common factor on a mount's full
 //!   matrix (N per unit factor): it changes the compliance `B'SB`, which at the solution acts
@@ -346,7 +345,7 @@ enum CostChange {
 }
 
 /// The parameters that change `q`: per finger in scene order, its approach when it is
-/// position-controlled (or on a mount), then its mount's stiffnesses.
+/// position-controlled (held included), then its mount's stiffnesses.
 fn cost_parameters(model: &GraspModel) -> Vec<(Parameter, CostChange)> {
     let parameter = |name: String, kind: &str| Parameter {
         name,
@@ -357,9 +356,8 @@ fn cost_parameters(model: &GraspModel) -> Vec<(Parameter, CostChange)> {
     };
     let mut out = Vec::new();
     for (i, f) in model.fingers.iter().enumerate() {
-        let positioned = matches!(f.control(), Control::Approach { .. })
-            || (f.control() == Control::Held && f.mount().is_some());
-        if positioned {
+        // Held is position-controlled at approach 0: its approach is a parameter as any.
+        if !matches!(f.control(), Control::NormalLoad { .. }) {
             let p = parameter(format!("approach:{}", f.name), "approach");
             out.push((p, CostChange::Approach(i)));
         }

@@ -44,7 +44,8 @@ const SCHUR_CUTOFF: f64 = 1e-10;
 /// The derivative of the solution at a KKT point.
 #[derive(Debug, Clone)]
 pub(crate) struct KktDerivative {
-    /// `dx / de` applied to each column of the right-hand side (`n x p`, scaled forces).
+    /// `dx` for each column (`n x p`, scaled forces): the change of the solution under that
+    /// column's `de` and `dq` together.
     pub dx: DMatrix<f64>,
     /// Per column: the fraction (0 to 1) of `de` that the active set cannot produce (0 when the
     /// derivative exists).
@@ -191,11 +192,13 @@ fn finger_system(
 }
 
 /// `dx` at the KKT point `iterate` of `program` for each column of `rhs` (`de`, `m x p`, scaled
-/// like `e`) with the column of `dq` (`n x p`, scaled like `q`) beside it; `mu` per finger is the coefficient of the Tresca radii `r_k = mu F_k` (unused for
-/// other cones). An element that carries no load and whose projection input is within `near`
-/// (scaled force) of the boundary of the separated piece is held separated: it is just
-/// touching (or, energy model, sliding along at zero load), and a free direction there would let
-/// the linearisation pull on it (an unloaded force-controlled finger's elements are such). `Err` when a block cannot be factorised.
+/// like `e`) with the column of `dq` (`n x p`, scaled like `q`) beside it; `mu` per finger is
+/// the coefficient of the Tresca radii `r_k = mu F_k` (unused for other cones). An element
+/// that carries no load and whose projection input is within `near` (scaled force) of the
+/// boundary of the separated piece is held separated: it is just touching (or, energy model,
+/// sliding along at zero load), and a free direction there would let the linearisation pull
+/// on it (an unloaded force-controlled finger's elements are such). `Err` when a block cannot
+/// be factorised.
 pub(crate) fn kkt_derivative(
     blocks: &[FingerBlockData],
     program: &ConeProgram,
