@@ -287,7 +287,7 @@ pub(crate) fn sensitivities(
     let costs = cost_parameters(model);
     params.extend(costs.iter().map(|(p, _)| (p.clone(), None)));
     let rhs = rhs_columns(model, ps, &mut params, directions);
-    let dq = cost_columns(model, &iterate.x, &costs, params.len());
+    let dq = cost_columns(model, &iterate.x, &costs);
     let mu = radius_coefficients(model, ps, solution);
     let scale = iterate.x.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let near = NEAR_CHANGE * scale.max(f64::MIN_POSITIVE);
@@ -369,16 +369,10 @@ fn cost_parameters(model: &GraspModel) -> Vec<(Parameter, CostChange)> {
     out
 }
 
-/// The linear cost changes `dq` (`n x columns`, scaled like `q`: m over `Fu Cu`) of the
-/// `costs`, which are the last columns, at the scaled forces `x`.
-fn cost_columns(
-    model: &GraspModel,
-    x: &[f64],
-    costs: &[(Parameter, CostChange)],
-    columns: usize,
-) -> DMatrix<f64> {
-    let mut dq = DMatrix::zeros(model.n_unknowns, columns);
-    let first = columns - costs.len();
+/// The linear cost changes `dq` (`n x costs`, scaled like `q`: m over `Fu Cu`) of the
+/// `costs` (the last parameters) at the scaled forces `x`.
+fn cost_columns(model: &GraspModel, x: &[f64], costs: &[(Parameter, CostChange)]) -> DMatrix<f64> {
+    let mut dq = DMatrix::zeros(model.n_unknowns, costs.len());
     let (fu, unit) = (model.scales.element_force_n, model.scales.displacement_m());
     for (c, (_, change)) in costs.iter().enumerate() {
         let mut column = vec![0.0; model.n_unknowns];
@@ -401,7 +395,7 @@ fn cost_columns(
                 }
             }
         }
-        dq.set_column(first + c, &nalgebra::DVector::from_vec(column));
+        dq.set_column(c, &nalgebra::DVector::from_vec(column));
     }
     dq
 }

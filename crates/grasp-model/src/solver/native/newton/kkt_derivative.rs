@@ -128,8 +128,10 @@ struct FingerSystem {
     columns: Vec<FreeColumn>,
     /// `A_i^-1 B_i` (`n_free x m`).
     x: Mat<f64>,
-    /// `A_i^-1 D_F' dq_i` (`n_free x p`).
+    /// `A_i^-1 D_F' dq_i` (`n_free x c`, one column per column of `dq`).
     h: Mat<f64>,
+    /// False when no column of `dq` moves this finger's free directions (`h` is 0).
+    moved: bool,
     /// `E_i C_i` (`m x n_free`).
     g: Mat<f64>,
 }
@@ -188,11 +190,18 @@ fn finger_system(
         };
         (lu.solve(&b), h)
     };
-    FingerSystem { columns, x, h, g }
+    FingerSystem {
+        columns,
+        x,
+        h,
+        moved,
+        g,
+    }
 }
 
 /// `dx` at the KKT point `iterate` of `program` for each column of `rhs` (`de`, `m x p`, scaled
-/// like `e`) with the column of `dq` (`n x p`, scaled like `q`) beside it; `mu` per finger is
+/// like `e`), the last `c` of them with the column of `dq` (`n x c`, scaled like `q`) beside
+/// them (none for the others: `c` may be 0); `mu` per finger is
 /// the coefficient of the Tresca radii `r_k = mu F_k` (unused for other cones). An element
 /// that carries no load and whose projection input is within `near` (scaled force) of the
 /// boundary of the separated piece is held separated: it is just touching (or, energy model,
@@ -230,14 +239,18 @@ pub(crate) fn kkt_derivative(
     if !s.iter().all(|v| v.is_finite()) {
         return Err("a block of the active set could not be factorised".into());
     }
-    let (dlambda, unreachable, null) = solve_schur(s, &with_cost_changes(rhs, &systems));
+    let first = rhs.ncols() - dq.ncols();
+    let (dlambda, unreachable, null) = solve_schur(s, &with_cost_changes(rhs, &systems, first));
     let ambiguous = is_ambiguous(&systems, &null, m);
     let mut dx = DMatrix::<f64>::zeros(program.n_unknowns, rhs.ncols());
     for (block, sys) in blocks.iter().zip(&systems) {
         for (a, col) in sys.columns.iter().enumerate() {
             for p in 0..rhs.ncols() {
-                let xi: f64 =
-                    -(0..m).map(|r| sys.x[(a, r)] * dlambda[(r, p)]).sum::<f64>() - sys.h[(a, p)];
+                let h = match sys.moved && p >= first {
+                    true => sys.h[(a, p - first)],
+                    false => 0.0,
+                };
+                let xi: f64 = -(0..m).map(|r| sys.x[(a, r)] * dlambda[(r, p)]).sum::<f64>() - h;
                 for &(idx, val) in &col.column {
                     dx[(block.offset + idx, p)] += val * xi;
                 }
@@ -253,14 +266,14 @@ pub(crate) fn kkt_derivative(
 }
 
 /// `de + sum_i E_i C_i h_i`: the right-hand side `rhs` with the linear cost's changes carried
-/// to the equality rows.
-fn with_cost_changes(rhs: &DMatrix<f64>, systems: &[FingerSystem]) -> DMatrix<f64> {
+/// to the equality rows (its columns from `first` on).
+fn with_cost_changes(rhs: &DMatrix<f64>, systems: &[FingerSystem], first: usize) -> DMatrix<f64> {
     let mut out = rhs.clone();
-    for sys in systems {
-        for p in 0..rhs.ncols() {
+    for sys in systems.iter().filter(|s| s.moved) {
+        for p in first..rhs.ncols() {
             for r in 0..rhs.nrows() {
                 out[(r, p)] += (0..sys.columns.len())
-                    .map(|a| sys.g[(r, a)] * sys.h[(a, p)])
+                    .map(|a| sys.g[(r, a)] * sys.h[(a, p - first)])
                     .sum::<f64>();
             }
         }
