@@ -192,30 +192,56 @@ fn check_with_step(scene: &LoadedScene, label: &str, step: f64) -> Option<(usize
             continue;
         }
         assert!(p.defined, "{label} {}: {:?}", p.name, p.reason);
+        let column = Column {
+            label,
+            name: &p.name,
+            sens: &sens,
+            index: c,
+        };
+        column.matches_differences(&plus, &minus, h, 1.0);
+        compared += 1;
+    }
+    Some((compared, skipped))
+}
+
+/// One column of a solution's sensitivities, for its comparison with central differences.
+struct Column<'a> {
+    label: &'a str,
+    name: &'a str,
+    sens: &'a Sensitivities,
+    index: usize,
+}
+
+impl Column<'_> {
+    /// Asserts that the column's finger and element derivatives equal `(plus - minus) / 2h`
+    /// within 1e-5 of the largest finger difference (at least `floor`); returns that largest
+    /// difference.
+    fn matches_differences(&self, plus: &Solution, minus: &Solution, h: f64, floor: f64) -> f64 {
         let fd = |a: Vec<f64>, b: Vec<f64>| -> Vec<f64> {
             a.iter().zip(&b).map(|(x, y)| (x - y) / (2.0 * h)).collect()
         };
-        let fd_finger = fd(finger_values(&plus), finger_values(&minus));
+        let fd_finger = fd(finger_values(plus), finger_values(minus));
         let fd_element = fd(
-            support::element_force_components(&plus),
-            support::element_force_components(&minus),
+            support::element_force_components(plus),
+            support::element_force_components(minus),
         );
-        let scale = fd_finger.iter().fold(1.0_f64, |a, v| a.max(v.abs()));
+        let largest = fd_finger.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        let scale = largest.max(floor);
         for (what, got, want) in [
-            ("finger", sens_finger(&sens, c), fd_finger),
-            ("element", sens_element(&sens, c), fd_element),
+            ("finger", sens_finger(self.sens, self.index), fd_finger),
+            ("element", sens_element(self.sens, self.index), fd_element),
         ] {
             for (j, (g, w)) in got.iter().zip(&want).enumerate() {
                 assert!(
                     (g - w).abs() <= 1e-5 * scale,
-                    "{label} {} {what}[{j}]: KKT {g:.9e} vs differences {w:.9e}",
-                    p.name
+                    "{} {} {what}[{j}]: KKT {g:.9e} vs differences {w:.9e}",
+                    self.label,
+                    self.name
                 );
             }
         }
-        compared += 1;
+        largest
     }
-    Some((compared, skipped))
 }
 
 fn with_model(mut v: Value, model: &str) -> Value {
@@ -376,8 +402,9 @@ fn solved(v: &Value) -> Solution {
 
 /// The approach and stiffness columns of `v` against central differences of solves of the
 /// scene moved along each (step: 1e-4 of the displacement unit `Fu Cu` for an approach, 1e-4
-/// of the stiffness for a stiffness); the agreement asked of every column.
-fn check_positions_and_stiffnesses(v: &Value, label: &str) -> usize {
+/// of the stiffness for a stiffness); the agreement asked of every column. Returns the columns
+/// compared and the names of all the sensitivities' parameters.
+fn check_positions_and_stiffnesses(v: &Value, label: &str) -> (usize, Vec<String>) {
     let model = GraspModel::from_loaded(&scene(v)).unwrap();
     let mut solver = GraspSolver::new(model.clone(), options());
     let base = solver
@@ -414,31 +441,18 @@ fn check_positions_and_stiffnesses(v: &Value, label: &str) -> usize {
             changed(&minus)
         );
         assert!(p.defined, "{label} {}: {:?}", p.name, p.reason);
-        let fd = |a: Vec<f64>, b: Vec<f64>| -> Vec<f64> {
-            a.iter().zip(&b).map(|(x, y)| (x - y) / (2.0 * h)).collect()
+        let column = Column {
+            label,
+            name: &p.name,
+            sens: &sens,
+            index: c,
         };
-        let fd_finger = fd(finger_values(&plus), finger_values(&minus));
-        let fd_element = fd(
-            support::element_force_components(&plus),
-            support::element_force_components(&minus),
-        );
-        let scale = fd_finger.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-        assert!(scale > 0.0, "{label} {}: moves nothing", p.name);
-        for (what, got, want) in [
-            ("finger", sens_finger(&sens, c), fd_finger),
-            ("element", sens_element(&sens, c), fd_element),
-        ] {
-            for (j, (g, w)) in got.iter().zip(&want).enumerate() {
-                assert!(
-                    (g - w).abs() <= 1e-5 * scale,
-                    "{label} {} {what}[{j}]: KKT {g:.9e} vs differences {w:.9e}",
-                    p.name
-                );
-            }
-        }
+        let largest = column.matches_differences(&plus, &minus, h, 0.0);
+        assert!(largest > 0.0, "{label} {}: moves nothing", p.name);
         compared += 1;
     }
-    compared
+    let names = sens.parameters.into_iter().map(|p| p.name).collect();
+    (compared, names)
 }
 
 /// Sensitivities to the commanded approaches and the mounts' stiffnesses (every form: by
@@ -453,20 +467,7 @@ fn approach_and_mount_stiffness_sensitivities_match_finite_differences() {
             ("mounted box", mounted_box()),
         ] {
             let v = with_model(v, model);
-            let compared = check_positions_and_stiffnesses(&v, label);
-            let names: Vec<String> = {
-                let m = GraspModel::from_loaded(&scene(&v)).unwrap();
-                let mut s = GraspSolver::new(m.clone(), options());
-                let base = s
-                    .solve(&grasp_model::StepInputs::loads(m.scene_loads_n()))
-                    .unwrap();
-                s.sensitivities(&base)
-                    .unwrap()
-                    .parameters
-                    .into_iter()
-                    .map(|p| p.name)
-                    .collect()
-            };
+            let (compared, names) = check_positions_and_stiffnesses(&v, label);
             eprintln!("{label}, {model}: {compared} columns compared of {names:?}");
             let want = if label == "mounted box" { 7 } else { 3 };
             assert_eq!(compared, want, "{names:?}");
