@@ -555,6 +555,52 @@ pub fn mount_table(solution: &grasp_model::Solution) -> String {
     s
 }
 
+/// The hands' and servos' loads and motions (`grasp solve` on a scene with `hands` or
+/// `servos`): per hand the force its fingers put on the object and how far its base moved and
+/// turned; per servo the sum of its jaws' forces and their travel short of the command (mm,
+/// negative: pushed back); empty when the scene has neither.
+pub fn shared_spring_table(solution: &grasp_model::Solution) -> String {
+    let mut s = String::new();
+    let v = |a: [f64; 3], scale: f64| {
+        let c = |x: f64| x * scale + 0.0;
+        format!("[{:+.4e}, {:+.4e}, {:+.4e}]", c(a[0]), c(a[1]), c(a[2]))
+    };
+    if !solution.hands.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nhands (each base's displacement from its commanded pose):\n{:<16}{:<38}{:<38}{}",
+            "hand", "force on object [N]", "translation [mm]", "rotation [mrad]"
+        );
+        for h in &solution.hands {
+            let _ = writeln!(
+                s,
+                "{:<16}{:<38}{:<38}{}",
+                h.name,
+                v(h.force_n, 1.0),
+                v(h.translation_m, 1e3),
+                v(h.rotation_rad, 1e3)
+            );
+        }
+    }
+    if !solution.servos.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nservos (the jaws' travel from their commanded position):\n{:<16}{:>14}{:>14}",
+            "servo", "force_n", "travel_mm"
+        );
+        for sv in &solution.servos {
+            let _ = writeln!(
+                s,
+                "{:<16}{:>14}{:>14}",
+                sv.name,
+                significant(sv.force_n, 6),
+                significant(sv.travel_m * 1e3 + 0.0, 6)
+            );
+        }
+    }
+    s
+}
+
 /// What the object's shape gave each finger (`grasp solve --explain-frames`).
 pub fn frames_table(r: &grasp_model::ShapeReport) -> String {
     let mut o = String::new();

@@ -144,6 +144,7 @@ pub use scene::shape_spec::{
     BoxSpec, CylinderSpec, LengthUnit, MeshSpec, PlaceSpec, RaySpec, ShapeSpec, SphereSpec,
     TipCylinderSpec, TipFlatSpec, TipSpec, TipSphereSpec, DEFAULT_SURFACE_TOLERANCE_M,
 };
+pub use scene::shared_spring_spec::{HandSpec, ServoSpec};
 pub use scene::texture_spec::{
     HeightGrid, HeightMapSpec, RandomSurfaceSpec, RidgesSpec, TextureSpec,
 };
@@ -180,6 +181,7 @@ pub use model::material::Material;
 pub use model::model_builder::{object_curvatures_per_m, tip_curvatures_per_m};
 pub use model::patch::Patch;
 pub use model::patch_compliance::{takes_fft, ComplianceChoice, CompliancePath};
+pub use model::shared_spring::{SharedSpring, SpringKind};
 
 /// Closed-form references the model is checked against: Hertz (sphere, elliptical, line),
 /// Cattaneo, Mindlin and Mindlin-Deresiewicz (Johnson, *Contact Mechanics*, 4.2, 7.2, 7.4).
@@ -200,8 +202,9 @@ pub use solver::solve_progress::SolveProgress;
 // ---- The solution ----
 pub use solve::element_columns::{is_columnar, COLUMNS_ABOVE_ELEMENTS};
 pub use solve::solution::{
-    ElementSolution, ElementState, FingerSolution, MountDisplacement, Residuals, RigidDisplacement,
-    SequentialReport, Solution, SolveStatus, SolverStats, LOADED_FRACTION,
+    ElementSolution, ElementState, FingerSolution, HandSolution, MountDisplacement, Residuals,
+    RigidDisplacement, SequentialReport, ServoSolution, Solution, SolveStatus, SolverStats,
+    LOADED_FRACTION,
 };
 pub use warning_tally::{
     IndexRun, SolveAt, TalliedWarning, WarningTally, MAX_LISTED_RUNS, MAX_TALLIED_WARNINGS,

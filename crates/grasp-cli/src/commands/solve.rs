@@ -172,6 +172,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         print!("{}", report::sensor_table(&sensors));
     }
     print!("{}", report::mount_table(solution));
+    print!("{}", report::shared_spring_table(solution));
     if let Some(out) = &json {
         // Every outcome is written, "no equilibrium" (exit 2) included: it is the result.
         let record = grasp_io::SolutionRecord {

@@ -19,6 +19,7 @@ use crate::model::friction::FrictionLaw;
 use crate::model::material::Material;
 use crate::model::patch::Patch;
 use crate::model::patch_compliance::PatchCompliance;
+use crate::model::shared_spring::SharedSpring;
 use crate::model::viscous_contact::ViscousContact;
 use crate::scene::memory_budget::SolveSize;
 use crate::scene::scene_format::{ModelKind, RelaxationSpec};
@@ -246,6 +247,8 @@ pub(crate) struct ObjectModel {
     pub tip_shapes: Vec<Option<SharedShape>>,
     /// The scene's `gap`: how every finger's smooth gap is computed unless it says otherwise.
     pub gap: Option<GapSpec>,
+    /// The springs several fingers share (`hands`, `servos`), their fingers by scene index.
+    pub springs: Vec<SharedSpring>,
 }
 
 /// The immutable grasp model: read-only outside this crate (its accessors below).
@@ -264,6 +267,9 @@ pub struct GraspModel {
     pub(crate) equilibrium: EquilibriumMap,
     /// Total number of unknowns.
     pub(crate) n_unknowns: usize,
+    /// The springs several of these fingers share, their fingers by model index (those with
+    /// none of their fingers in the model left out).
+    pub(crate) springs: Vec<SharedSpring>,
     /// The scene's object and loads (also for [`GraspModel::restricted`]).
     pub(crate) object: ObjectModel,
 }
@@ -474,7 +480,9 @@ impl GraspModel {
         }
         let scales = scales_of(&fingers, load_n, &reference_point_m);
         let equilibrium = EquilibriumMap::new(scales.length_m, object.plane);
+        let springs = springs_of(&fingers, &object.springs);
         GraspModel {
+            springs,
             fingers,
             reference_point_m,
             external_wrench,
@@ -483,6 +491,11 @@ impl GraspModel {
             n_unknowns: offset,
             object,
         }
+    }
+
+    /// The springs several of the fingers share (hands, servos), their fingers by model index.
+    pub fn springs(&self) -> &[SharedSpring] {
+        &self.springs
     }
 
     /// Indices of the force-controlled fingers, in scene order.
@@ -588,4 +601,21 @@ fn scales_of(fingers: &[FingerModel], load_n: f64, reference_point_m: &Vector3<f
         compliance_m_per_n: compliance,
         length_m,
     }
+}
+
+/// The shared springs `scene_springs` (fingers by scene index) as they act on `fingers`: each
+/// one's fingers by index into `fingers`, the springs with none of them left out.
+fn springs_of(fingers: &[FingerModel], scene_springs: &[SharedSpring]) -> Vec<SharedSpring> {
+    scene_springs
+        .iter()
+        .filter_map(|s| {
+            let members: Vec<usize> = (0..fingers.len())
+                .filter(|&i| s.fingers.contains(&fingers[i].scene_index))
+                .collect();
+            (!members.is_empty()).then(|| SharedSpring {
+                fingers: members,
+                ..s.clone()
+            })
+        })
+        .collect()
 }

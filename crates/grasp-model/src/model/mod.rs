@@ -21,6 +21,8 @@ pub mod model_builder;
 pub mod patch;
 pub mod patch_compliance;
 pub mod quadrature;
+pub mod shared_spring;
+pub mod spring_loads;
 pub mod surface_gap;
 pub mod viscoelasticity;
 pub mod viscous_contact;

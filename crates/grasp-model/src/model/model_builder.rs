@@ -20,6 +20,7 @@ use crate::model::patch::Patch;
 use crate::model::patch_compliance::{
     takes_fft, uses_fft, ComplianceChoice, ComplianceForm, PatchCompliance,
 };
+use crate::model::shared_spring::SharedSpring;
 use crate::model::surface_gap::{exact_gaps, TipProfile};
 use crate::model::viscous_contact::{BodyLaws, ViscousContact};
 use crate::scene::loaded_scene::LoadedScene;
@@ -183,7 +184,28 @@ fn object_model(scene: &Scene, geometry: &SceneGeometry) -> ObjectModel {
         surface: geometry.surface.clone(),
         tip_shapes: geometry.tips.clone(),
         gap: scene.gap,
+        springs: shared_springs(scene, plane.as_ref()),
     }
+}
+
+/// The scene's hands and servos, their fingers by scene index (validation checked that each
+/// names a finger).
+fn shared_springs(scene: &Scene, plane: Option<&MotionPlane>) -> Vec<SharedSpring> {
+    let index = |names: &[String]| -> Vec<usize> {
+        names
+            .iter()
+            .filter_map(|n| scene.fingers.iter().position(|f| &f.name == n))
+            .collect()
+    };
+    let hands = scene
+        .hands
+        .iter()
+        .map(|h| SharedSpring::hand(h, index(&h.fingers), plane));
+    let servos = scene
+        .servos
+        .iter()
+        .map(|s| SharedSpring::servo(s, index(&s.fingers)));
+    hands.chain(servos).collect()
 }
 
 /// Refuses a scene whose dense patch compliances under `compliance` would exceed

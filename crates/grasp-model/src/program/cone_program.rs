@@ -19,9 +19,15 @@
 //!   ([`crate::model::viscoelasticity`]).
 //! - `E x = e`: the equilibrium rows reduced to their range (thesis eqs. 48-49; 6 in 3-D, 3
 //!   planar, fewer when contacts cannot resist some direction), then one row
-//!   `sum_k F_k = P_i / Fu` per force-controlled finger. Dense, `m x n` with `m <= 6 + fingers`.
-//!   Their multipliers are the object's rigid displacement and the approaches (see
-//!   [`crate::solve::readout`]).
+//!   `sum_k F_k = P_i / Fu` per force-controlled finger, then one row `U_c' x - z_c = 0` per
+//!   coordinate of each shared spring. Dense, `m x n` with `m <= 6 + fingers + springs'
+//!   coordinates`. The first rows' multipliers are the object's rigid displacement and the
+//!   approaches (see [`crate::solve::readout`]).
+//! - Shared springs (`hands`, `servos`; [`crate::model::shared_spring`]): after the fingers'
+//!   unknowns, each spring's load coordinates `z = D^-1 W / Fu` (`D` the length unit `Lu` on a
+//!   moment, 1 on a force), free of any cone, with the block `D S D / Cu` of `P`: its
+//!   complementary energy `1/2 W' S W` over `Fu^2 Cu`, as the fingers' is. Each is one more
+//!   block of [`ConeProgram::blocks`] (cones [`FingerCones::Free`]).
 //! - `K_k`, per finger ([`FingerCones`], one file per set in [`crate::program::cones`]): `F_k >= 0` (frictionless); the associated Coulomb cone
 //!   `||G_k|| <= mu F_k` (energy model; planar: `|G_k| <= mu F_k`, thesis eqs. 21-24); or
 //!   `F_k >= 0` with the Tresca disc `||G_k|| <= r_k`, radius fixed at the previous iterate
@@ -38,6 +44,7 @@ use rayon::prelude::*;
 
 use crate::model::equilibrium::{MotionPlane, RowReduction, Wrench};
 use crate::model::grasp_model::GraspModel;
+use crate::model::spring_loads::for_each_unit_load;
 use crate::program::cones::finger_cones::{ConeLaw, FingerCones};
 
 /// Largest floor on the Tresca radii Clarabel is given, in element force units `Fu` (the
@@ -69,6 +76,13 @@ impl FingerBlock {
     }
 }
 
+/// A shared spring's block of the program: its load coordinates' compliance.
+#[derive(Debug, Clone)]
+pub struct SpringBlock {
+    /// `D S D` (m/N; `P`'s block is this times [`ConeProgram::compliance_scale`]).
+    pub compliance_m_per_n: Arc<DMatrix<f64>>,
+}
+
 /// The equality row that fixes a force-controlled finger's total normal load.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct LoadRow {
@@ -83,8 +97,10 @@ pub struct LoadRow {
 pub struct ConeProgram {
     /// Which cones bound the friction forces.
     pub(crate) law: ConeLaw,
-    /// Per finger, scene order.
+    /// Per finger, scene order; then one per shared spring (its load coordinates).
     pub(crate) blocks: Vec<FingerBlock>,
+    /// Per shared spring (model order), the compliance of its block: `blocks[fingers + s]`.
+    pub(crate) springs: Vec<SpringBlock>,
     /// Total number of unknowns.
     pub(crate) n_unknowns: usize,
     /// `P = compliance_scale * C` (C in m/N): `1 / Cu`.
@@ -122,7 +138,7 @@ impl ConeProgram {
     /// associated law, friction coefficients `mu` (one per finger). Tresca radii start at 0.
     pub fn assemble(model: &GraspModel, loads_n: &[f64], law: ConeLaw, mu: &[f64]) -> ConeProgram {
         let s = model.scales;
-        let blocks: Vec<FingerBlock> = model
+        let mut blocks: Vec<FingerBlock> = model
             .fingers
             .iter()
             .zip(mu)
@@ -135,15 +151,18 @@ impl ConeProgram {
             .collect();
         let e_hat = equilibrium_matrix(model);
         let reduction = RowReduction::new(&e_hat);
-        let (equality, load_rows) = equality_matrix(model, &reduction, &e_hat);
+        let (mut equality, load_rows) = equality_matrix(model, &reduction, &e_hat);
+        let springs = spring_blocks(model, &mut blocks, &mut equality);
+        let n = equality.ncols();
         let mut program = ConeProgram {
             law,
             blocks,
-            n_unknowns: model.n_unknowns,
+            springs,
+            n_unknowns: n,
             compliance_scale: 1.0 / s.compliance_m_per_n,
-            q: vec![0.0; model.n_unknowns],
-            offset_m: vec![0.0; model.n_unknowns],
-            memory_m: vec![0.0; model.n_unknowns],
+            q: vec![0.0; n],
+            offset_m: vec![0.0; n],
+            memory_m: vec![0.0; n],
             equality_rhs: vec![0.0; equality.nrows()],
             equality: Arc::new(equality),
             reduction,
@@ -185,10 +204,11 @@ impl ConeProgram {
         self.approach_m.copy_from_slice(approach_m);
     }
 
-    /// Sets the offsets `o` (m, per unknown; module docs) and rewrites `q`.
+    /// Sets the offsets `o` (m, per unknown of the fingers; module docs) and rewrites `q`.
     pub fn set_offsets(&mut self, model: &GraspModel, offset_m: &[f64]) {
-        if self.offset_m.as_slice() != offset_m {
-            self.offset_m.copy_from_slice(offset_m);
+        let own = &mut self.offset_m[..offset_m.len()];
+        if own != offset_m {
+            own.copy_from_slice(offset_m);
             self.refresh_q(model);
         }
     }
@@ -219,7 +239,7 @@ impl ConeProgram {
         self.reduction.basis.ncols()
     }
 
-    /// Number of equality rows (equilibrium, then loads).
+    /// Number of equality rows (equilibrium, then loads, then shared springs).
     pub fn equality_rows(&self) -> usize {
         self.equality.nrows()
     }
@@ -233,7 +253,12 @@ impl ConeProgram {
 
     /// The friction coefficient of each finger's cones (0 for other cones).
     pub fn mu(&self) -> Vec<f64> {
-        self.blocks.iter().map(|b| b.cone.mu()).collect()
+        self.finger_blocks().iter().map(|b| b.cone.mu()).collect()
+    }
+
+    /// The fingers' blocks (those before the shared springs').
+    pub fn finger_blocks(&self) -> &[FingerBlock] {
+        &self.blocks[..self.blocks.len() - self.springs.len()]
     }
 
     /// Coulomb model: the Tresca radii `r_k` (N; per finger, per element).
@@ -370,6 +395,56 @@ fn equality_matrix(
             });
     }
     (e, load_rows)
+}
+
+/// The shared springs' blocks: one block of free coordinates per spring appended to `blocks`
+/// and its rows `U_c' x / d_c - z_c = 0` appended to `equality` (module docs), which gains the
+/// coordinates' columns.
+fn spring_blocks(
+    model: &GraspModel,
+    blocks: &mut Vec<FingerBlock>,
+    equality: &mut DMatrix<f64>,
+) -> Vec<SpringBlock> {
+    if model.springs.is_empty() {
+        return Vec::new();
+    }
+    let coordinates: usize = model.springs.iter().map(|s| s.coordinates()).sum();
+    let (rows0, n0) = (equality.nrows(), equality.ncols());
+    let mut e = zeros(rows0 + coordinates, n0 + coordinates);
+    e.view_mut((0, 0), (rows0, n0)).copy_from(&*equality);
+    let mut out = Vec::with_capacity(model.springs.len());
+    let (mut row, mut col) = (rows0, n0);
+    for spring in &model.springs {
+        let h = spring.coordinates();
+        let lu = model.scales.length_m;
+        let length_m: Vec<f64> = (0..h)
+            .map(|c| if spring.is_moment(c) { lu } else { 1.0 })
+            .collect();
+        for_each_unit_load(model, spring, |j, load| {
+            for c in 0..h {
+                e[(row + c, j)] = load[c] / length_m[c];
+            }
+        });
+        let d = DMatrix::from_fn(h, h, |r, c| {
+            length_m[r] * spring.compliance()[(r, c)] * length_m[c]
+        });
+        for c in 0..h {
+            e[(row + c, col + c)] = -1.0;
+        }
+        blocks.push(FingerBlock {
+            offset: col,
+            elements: h,
+            n_tangential: 0,
+            cone: FingerCones::Free,
+        });
+        out.push(SpringBlock {
+            compliance_m_per_n: Arc::new(d),
+        });
+        row += h;
+        col += h;
+    }
+    *equality = e;
+    out
 }
 
 /// A component of the scaled external wrench that no contact force can produce is reported

@@ -35,6 +35,8 @@ pub mod sensor_spec;
 pub mod shape_checks;
 pub mod shape_report;
 pub mod shape_spec;
+pub mod shared_spring_checks;
+pub mod shared_spring_spec;
 pub mod strict_json;
 pub mod texture_checks;
 pub mod texture_spec;

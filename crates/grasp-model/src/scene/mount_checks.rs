@@ -36,7 +36,7 @@ pub fn check_mount(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
             "give `normal_n_per_m`, `tangential_n_per_m`, `rotational_nm_per_rad` (N/m, N m/rad) \
              or a 6x6 `matrix`; omit `mount` for a rigid core",
         ),
-        (Some(k), false) => check_matrix(&mp, k, v),
+        (Some(k), false) => check_matrix(&mp, k, MOUNT_AXES, v),
         (None, true) => check_directions(&mp, m, v),
     }
     check_preload(p, &mp, f, m, v);
@@ -74,8 +74,12 @@ fn check_directions(mp: &str, m: &MountSpec, v: &mut FieldChecks) {
     }
 }
 
-/// A full matrix: finite, symmetric, positive definite, its diagonal in range.
-fn check_matrix(mp: &str, k: &[[f64; 6]; 6], v: &mut FieldChecks) {
+/// The rows of a mount's matrix, as its problems name them.
+const MOUNT_AXES: &str = "t1, t2, n, rot t1, rot t2, rot n";
+
+/// A full stiffness matrix at `mp.matrix`, rows `axes` (three translations, then three
+/// rotations): finite, symmetric, positive definite, its diagonal in range.
+pub(crate) fn check_matrix(mp: &str, k: &[[f64; 6]; 6], axes: &str, v: &mut FieldChecks) {
     let path = format!("{mp}.matrix");
     if let Some((r, c)) = (0..36)
         .map(|i| (i / 6, i % 6))
@@ -99,7 +103,7 @@ fn check_matrix(mp: &str, k: &[[f64; 6]; 6], v: &mut FieldChecks) {
             row[c],
             range,
             unit,
-            "give the diagonal's stiffnesses in range (rows t1, t2, n, rot t1, rot t2, rot n)",
+            &format!("give the diagonal's stiffnesses in range (rows {axes})"),
         ) {
             return;
         }
@@ -123,7 +127,7 @@ fn check_matrix(mp: &str, k: &[[f64; 6]; 6], v: &mut FieldChecks) {
     if Matrix6::from_fn(|r, c| k[r][c]).cholesky().is_none() {
         v.push(
             &path,
-            "is not positive definite: some motion of the core would need no force".into(),
+            "is not positive definite: some motion would need no force".into(),
             "give a positive definite stiffness (every eigenvalue above 0)",
         );
     }

@@ -46,6 +46,15 @@ pub struct Scene {
     /// `"exact"` (the default when the object has a shape) or `"quadratic"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gap: Option<crate::scene::texture_spec::GapSpec>,
+    /// Bases that carry several fingers on one stiffness to the world (an arm, a wrist):
+    /// `{"name": h, "fingers": [..], "origin_m": p, "translational_n_per_m": k,
+    /// "rotational_nm_per_rad": kr}` or a 6x6 `matrix` (world frame, about `origin_m`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub hands: Vec<crate::scene::shared_spring_spec::HandSpec>,
+    /// Drives that move several jaws equal and opposite on one stiffness: `{"name": s,
+    /// "fingers": [a, b], "stiffness_n_per_m": k}` (`sum F_jaw = k (x_commanded - x)`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub servos: Vec<crate::scene::shared_spring_spec::ServoSpec>,
 }
 
 impl Scene {

@@ -41,6 +41,7 @@ impl Scene {
         for (i, f) in self.fingers.iter().enumerate() {
             self.validate_finger(i, f, geometry.height_map(i), &mut v);
         }
+        crate::scene::shared_spring_checks::check_shared_springs(self, &mut v);
         self.check_memory(geometry, &mut v);
         self.check_reach(&mut v);
         if let Some(pl) = &self.planar {

@@ -8,12 +8,16 @@
 //! - load rows: minus the approach of the force-controlled finger, `a_i = -Fu Cu lambda_i` (a
 //!   position-controlled finger reports its commanded approach).
 
+use std::borrow::Cow;
 use std::time::Instant;
 
 use nalgebra::{DVector, Vector3};
 use rayon::prelude::*;
 
+use crate::model::equilibrium::Wrench;
 use crate::model::grasp_model::{Control, FingerModel, GraspModel};
+use crate::model::shared_spring::SpringKind;
+use crate::model::spring_loads::{add_spring_retreat, hand_wrench, spring_loads};
 use crate::option_names;
 use crate::program::cone_program::{ConeProgram, LoadRow};
 use crate::solve::patch_check::patch_warnings;
@@ -22,8 +26,8 @@ use crate::solve::residuals::{
 };
 use crate::solve::singular_edge::peak_at_sharp_edge;
 use crate::solve::solution::{
-    ElementSolution, ElementState, FingerSolution, MountDisplacement, RigidDisplacement, Solution,
-    SolveStatus, SolverStats, LOADED_FRACTION,
+    ElementSolution, ElementState, FingerSolution, HandSolution, MountDisplacement,
+    RigidDisplacement, ServoSolution, Solution, SolveStatus, SolverStats, LOADED_FRACTION,
 };
 use crate::solver::native::parallel_vectors::PARALLEL_LEN;
 use crate::solver::outcome::Certificate;
@@ -391,13 +395,14 @@ pub(crate) fn build_solution(
     let (t_o, theta) = rigid_from_multipliers(model, program, multipliers);
     let (found, approach) = approaches_m(model, program, multipliers);
     let mu_at_load = mu_at_loads(model, &x_n);
+    let offset_m = offsets_with_springs(model, &program.offset_m, &x_n);
     let motion = StepMotion {
         rigid: RigidMotion {
             translation_o_m: t_o,
             rotation_rad: theta,
         },
         approach_m: &found,
-        offset_m: &program.offset_m,
+        offset_m: &offset_m,
         external: &program.external_wrench,
     };
     let check = check_contacts(model, &x_n, &motion, solved_with, &mu_at_load);
@@ -435,7 +440,10 @@ pub(crate) fn build_solution(
         solve_time_s: 0.0,
         solver: stats,
         sequential: None,
+        hands: Vec::new(),
+        servos: Vec::new(),
     };
+    (sol.hands, sol.servos) = shared_spring_solutions(model, &x_n);
     sol.warnings = patch_warnings(model, &sol);
     sol.warnings
         .extend(crate::solve::contact_validity::validity_warnings(
@@ -505,4 +513,54 @@ fn mount_displacement(f: &FingerModel, x: &[f64]) -> Option<MountDisplacement> {
         translation_m: [t.x, t.y, t.z],
         rotation_rad: [r.x, r.y, r.z],
     })
+}
+
+/// The displacement offsets (m, the fingers' unknowns) with the shared springs' retreat under
+/// the forces `x_n` (N) added: the check of the contacts sees the fingers' cores where the
+/// springs put them.
+fn offsets_with_springs<'a>(
+    model: &GraspModel,
+    offset_m: &'a [f64],
+    x_n: &[f64],
+) -> Cow<'a, [f64]> {
+    if model.springs.is_empty() {
+        return Cow::Borrowed(offset_m);
+    }
+    let mut o = offset_m[..model.n_unknowns].to_vec();
+    add_spring_retreat(model, x_n, &mut o);
+    Cow::Owned(o)
+}
+
+/// Each hand's and servo's load and displacement under the forces `x_n` (N).
+fn shared_spring_solutions(
+    model: &GraspModel,
+    x_n: &[f64],
+) -> (Vec<HandSolution>, Vec<ServoSolution>) {
+    let (mut hands, mut servos) = (Vec::new(), Vec::new());
+    for (s, w) in model.springs.iter().zip(spring_loads(model, x_n)) {
+        let d = s.displacement(&w);
+        match s.kind() {
+            SpringKind::Hand { directions, .. } => {
+                let whole = hand_wrench(model, s, x_n).unwrap_or_default();
+                let motion = directions
+                    .iter()
+                    .zip(&d)
+                    .fold(Wrench::zeros(), |m, (u, x)| m + u * *x);
+                let v = |w: &Wrench, a: usize| [w[a], w[a + 1], w[a + 2]];
+                hands.push(HandSolution {
+                    name: s.name().to_string(),
+                    force_n: v(&whole, 0),
+                    moment_nm: v(&whole, 3),
+                    translation_m: v(&motion, 0),
+                    rotation_rad: v(&motion, 3),
+                });
+            }
+            SpringKind::Servo => servos.push(ServoSolution {
+                name: s.name().to_string(),
+                force_n: w[0],
+                travel_m: d[0],
+            }),
+        }
+    }
+    (hands, servos)
 }

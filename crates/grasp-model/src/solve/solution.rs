@@ -376,6 +376,44 @@ pub struct Solution {
     pub solver: SolverStats,
     /// The sequential solve, when the model needs one (`None`: a single convex program).
     pub sequential: Option<SequentialReport>,
+    /// Per hand (`hands`, scene order), the load its fingers carry and how its base moved
+    /// (absent without hands or forces).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub hands: Vec<HandSolution>,
+    /// Per servo (`servos`, scene order), its load and its jaws' travel (absent without
+    /// servos or forces).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub servos: Vec<ServoSolution>,
+}
+
+/// A hand's base on the stiffness behind it (`hands[j]`): what its fingers carry and how far
+/// it moved from its commanded pose (`-S W` over its compliant directions,
+/// `model/shared_spring.rs`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HandSolution {
+    /// Its name in the scene.
+    pub name: String,
+    /// The force its fingers' contacts put on the object, N (world frame); the hand carries
+    /// its opposite.
+    pub force_n: [f64; 3],
+    /// The moment of those forces about the hand's `origin_m`, N m (world frame).
+    pub moment_nm: [f64; 3],
+    /// Translation of the base (and every finger core on it), m (world frame).
+    pub translation_m: [f64; 3],
+    /// Small rotation of the base about its origin, rad (world frame).
+    pub rotation_rad: [f64; 3],
+}
+
+/// A servo on its stiffness (`servos[j]`): its load and its jaws' travel.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ServoSolution {
+    /// Its name in the scene.
+    pub name: String,
+    /// The sum of its jaws' normal forces, N.
+    pub force_n: f64,
+    /// Each jaw's travel from its commanded position along its inward normal, m: `-F / k`,
+    /// negative (the jaws pushed back, short of the command).
+    pub travel_m: f64,
 }
 
 impl SolverStats {
@@ -418,6 +456,8 @@ impl Solution {
             solve_time_s,
             solver,
             sequential: None,
+            hands: Vec::new(),
+            servos: Vec::new(),
         }
     }
 

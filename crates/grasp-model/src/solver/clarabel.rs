@@ -19,6 +19,7 @@ use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
+use nalgebra::DMatrix;
 
 use crate::program::cone_program::{ConeProgram, FingerBlock, RADIUS_FLOOR};
 use crate::program::cones::element_set::{ClarabelRow, ElementSet};
@@ -258,7 +259,7 @@ impl ClarabelForm {
     /// Reads Clarabel's infeasibility certificate `z` (all rows) as a solver-neutral one.
     fn certificate(&self, program: &ConeProgram, z: &[f64]) -> Certificate {
         let finger_slip = program
-            .blocks
+            .finger_blocks()
             .iter()
             .zip(&self.friction_rows)
             .map(|(blk, rows)| match *rows {
@@ -405,24 +406,27 @@ impl ClarabelWorkspace {
     }
 }
 
-/// The upper triangle of `P = C / Cu`, block-diagonal over fingers (a finger whose FFT
-/// operator is too large to write out is left out: [`ClarabelWorkspace::solve`] refuses such
-/// a model).
+/// The upper triangle of `P = C / Cu`, block-diagonal over fingers and then shared springs
+/// (a finger whose FFT operator is too large to write out is left out:
+/// [`ClarabelWorkspace::solve`] refuses such a model).
 fn objective_matrix(model: &GraspModel, program: &ConeProgram) -> CscMatrix<f64> {
     let mut pcols = Columns::new(program.n_unknowns);
-    for f in &model.fingers {
-        let Some(c) = f.compliance_m_per_n.matrix() else {
-            continue;
-        };
+    let mut add_block = |offset: usize, c: &DMatrix<f64>| {
         for col in 0..c.ncols() {
             for row in 0..=col {
-                pcols.push(
-                    f.offset + row,
-                    f.offset + col,
-                    c[(row, col)] * program.compliance_scale,
-                );
+                let v = c[(row, col)] * program.compliance_scale;
+                pcols.push(offset + row, offset + col, v);
             }
         }
+    };
+    for f in &model.fingers {
+        if let Some(c) = f.compliance_m_per_n.matrix() {
+            add_block(f.offset, &c);
+        }
+    }
+    let springs = &program.blocks[model.fingers.len()..];
+    for (b, s) in springs.iter().zip(&program.springs) {
+        add_block(b.offset, &s.compliance_m_per_n);
     }
     pcols.build(program.n_unknowns)
 }

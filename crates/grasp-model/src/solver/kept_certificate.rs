@@ -85,7 +85,7 @@ impl KeptCertificate {
         let slack = DUAL_TOLERANCE * scale;
         let mut tresca = 0.0;
         let mut finger_slip = Vec::with_capacity(program.blocks.len());
-        for blk in &program.blocks {
+        for (b, blk) in program.blocks.iter().enumerate() {
             let (ne, nt) = (blk.elements, blk.n_tangential);
             let mut slip = 0.0;
             for k in 0..ne {
@@ -96,13 +96,14 @@ impl KeptCertificate {
                     .sqrt();
                 let cone = blk.cone.element(k);
                 tresca += cone.support(w_g, radius_floor);
-                let floor_f = cone.dual_floor(w_g);
-                if w_f < floor_f - slack {
+                if !cone.dual_contains(w_f, w_g, slack) {
                     return None;
                 }
                 slip += w_g;
             }
-            finger_slip.push(slip);
+            if b < program.finger_blocks().len() {
+                finger_slip.push(slip);
+            }
         }
         let terms = ye_terms + tresca;
         (ye + tresca < -GAP_TOLERANCE * terms && scale > 0.0).then(|| Certificate {

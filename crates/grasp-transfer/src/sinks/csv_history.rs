@@ -13,7 +13,11 @@
 //! with a mount (`fingers[i].mount`; none without) `<name>_approach_m` (the jaw's commanded
 //! position from first touch, m), `<name>_core_along_n_m` (its core's displacement from that
 //! pose along the normal, m: negative pushed back) and `<name>_core_moved_m` (the length of
-//! the core's translation, m; all empty while the finger is released), then per finger with a
+//! the core's translation, m; all empty while the finger is released), then per hand (`hands`)
+//! `<hand>_translation_{x,y,z}_m` and `<hand>_rotation_{x,y,z}_rad` (its base's displacement
+//! from its commanded pose, world frame) and per servo (`servos`) `<servo>_force_n` (the sum of
+//! its jaws' normal forces) and `<servo>_travel_m` (the jaws' travel from the command, m:
+//! negative pushed back; all empty while none of its fingers is in the grasp), then per finger with a
 //! sensor its readings' summary (`super::sensor_columns`; none without), then `warnings`:
 //! the step's warnings (the scene's among them), separated by [`CSV_WARNING_SEPARATOR`], empty
 //! when it has none.
@@ -59,6 +63,60 @@ fn mount_cells(r: &StepRecord, name: &str) -> String {
         Some((approach, d)) => format!(",{approach},{},{}", d.normal_m, d.moved_m()),
         None => ",,,".into(),
     }
+}
+
+/// The columns of a hand, after its name and `_`.
+const HAND_COLUMNS: [&str; 6] = [
+    "translation_x_m",
+    "translation_y_m",
+    "translation_z_m",
+    "rotation_x_rad",
+    "rotation_y_rad",
+    "rotation_z_rad",
+];
+
+/// The columns of a servo, after its name and `_`.
+const SERVO_COLUMNS: [&str; 2] = ["force_n", "travel_m"];
+
+/// The header cells of the scene's hands and servos (each with its leading comma).
+fn shared_spring_header(run: &RunInfo) -> String {
+    let hands = run.scene.hands.iter().map(|h| (&h.name, &HAND_COLUMNS[..]));
+    let servos = run
+        .scene
+        .servos
+        .iter()
+        .map(|s| (&s.name, &SERVO_COLUMNS[..]));
+    let mut h = String::new();
+    for (name, columns) in hands.chain(servos) {
+        for col in columns {
+            h.push(',');
+            h.push_str(&csv_field(&format!("{name}_{col}")));
+        }
+    }
+    h
+}
+
+/// The cells of the scene's hands and servos at step `r` (each with its leading comma), empty
+/// for one the step's grasp does not hold.
+fn shared_spring_cells(run: &RunInfo, r: &StepRecord) -> String {
+    let mut line = String::new();
+    for h in &run.scene.hands {
+        match r.solution.hands.iter().find(|s| s.name == h.name) {
+            Some(s) => {
+                for v in s.translation_m.iter().chain(&s.rotation_rad) {
+                    line.push_str(&format!(",{v}"));
+                }
+            }
+            None => line.push_str(&",".repeat(HAND_COLUMNS.len())),
+        }
+    }
+    for v in &run.scene.servos {
+        match r.solution.servos.iter().find(|s| s.name == v.name) {
+            Some(s) => line.push_str(&format!(",{},{}", s.force_n, s.travel_m)),
+            None => line.push_str(&",".repeat(SERVO_COLUMNS.len())),
+        }
+    }
+    line
 }
 
 /// Between two warnings of one step in the `warnings` column (no warning holds it).
@@ -122,6 +180,7 @@ impl Sink for CsvSink {
                 h.push_str(&csv_field(&format!("{}_{col}", f.name)));
             }
         }
+        h.push_str(&shared_spring_header(run));
         h.push_str(&sensor_header(run, |s| csv_field(s).into_owned()));
         h.push_str(",warnings\n");
         self.write(&h)
@@ -151,6 +210,7 @@ impl Sink for CsvSink {
         for f in run.scene.fingers.iter().filter(|f| f.mount.is_some()) {
             line.push_str(&mount_cells(r, &f.name));
         }
+        line.push_str(&shared_spring_cells(run, r));
         line.push_str(&sensor_cells(run, r));
         let warnings: Vec<String> = r
             .solution

@@ -5,6 +5,7 @@
 
 use super::conic_rows::ConicRows;
 use super::element_set::{ClarabelRows, ElementSet, StateMargin};
+use super::free_space::FreeSpace;
 use super::friction_cone::FrictionCone;
 use super::nonnegative_ray::NonnegativeRay;
 use super::projection::Projection;
@@ -19,6 +20,8 @@ pub(crate) enum ElementCone {
     Friction(FrictionCone),
     /// `F >= 0`, `||G|| <= r`: the Tresca set of a coulomb iterate.
     Tresca(TrescaSet),
+    /// No constraint: a shared spring's load coordinate.
+    Free(FreeSpace),
 }
 
 impl ElementCone {
@@ -28,6 +31,7 @@ impl ElementCone {
             ElementCone::Nonnegative(s) => s,
             ElementCone::Friction(s) => s,
             ElementCone::Tresca(s) => s,
+            ElementCone::Free(s) => s,
         }
     }
 }
@@ -40,6 +44,7 @@ impl ElementSet for ElementCone {
             ElementCone::Nonnegative(s) => s.project(v, d),
             ElementCone::Friction(s) => s.project(v, d),
             ElementCone::Tresca(s) => s.project(v, d),
+            ElementCone::Free(s) => s.project(v, d),
         }
     }
 
@@ -53,6 +58,10 @@ impl ElementSet for ElementCone {
 
     fn dual_floor(&self, w_g: f64) -> f64 {
         self.set().dual_floor(w_g)
+    }
+
+    fn dual_contains(&self, w_f: f64, w_g: f64, slack: f64) -> bool {
+        self.set().dual_contains(w_f, w_g, slack)
     }
 
     fn support(&self, w_g: f64, radius_floor: f64) -> f64 {

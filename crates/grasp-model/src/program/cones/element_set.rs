@@ -65,6 +65,12 @@ pub(crate) trait ElementSet {
     /// infeasibility).
     fn dual_floor(&self, w_g: f64) -> f64;
 
+    /// True when `w = (w_F, w_G)` (`w_G` given by its norm) lies in the dual of the set's
+    /// recession cone, to within `slack`.
+    fn dual_contains(&self, w_f: f64, w_g: f64, slack: f64) -> bool {
+        w_f >= self.dual_floor(w_g) - slack
+    }
+
     /// The support term of the set's bounded part at `w`, `sup_{G in the set} -w_G'G`, given
     /// `||w_G||`, radii raised to at least `radius_floor` (0 for a cone).
     fn support(&self, w_g: f64, radius_floor: f64) -> f64;

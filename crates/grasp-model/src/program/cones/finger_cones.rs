@@ -4,6 +4,7 @@
 //! [`super::element_cone::ElementCone`] ([`FingerCones::element`]).
 
 use super::element_cone::ElementCone;
+use super::free_space::FreeSpace;
 use super::friction_cone::FrictionCone;
 use super::nonnegative_ray::NonnegativeRay;
 use super::tresca_set::TrescaSet;
@@ -32,6 +33,9 @@ pub enum FingerCones {
         /// `r_k / Fu`, one per element.
         radii: Vec<f64>,
     },
+    /// No constraint: the load coordinates of a shared spring (a hand's base, a servo), whose
+    /// block follows the fingers' (`crate::model::shared_spring`).
+    Free,
 }
 
 impl FingerCones {
@@ -54,6 +58,7 @@ impl FingerCones {
             FingerCones::Nonnegative => ElementCone::Nonnegative(NonnegativeRay),
             FingerCones::Friction { mu } => ElementCone::Friction(FrictionCone { mu: *mu }),
             FingerCones::Tresca { radii } => ElementCone::Tresca(TrescaSet { radius: radii[k] }),
+            FingerCones::Free => ElementCone::Free(FreeSpace),
         }
     }
 
@@ -110,7 +115,7 @@ impl FingerCones {
     /// coefficient, or the radii (the warm start's predictor reads them).
     pub(crate) fn append_data(&self, out: &mut Vec<f64>) {
         match self {
-            FingerCones::Nonnegative => {}
+            FingerCones::Nonnegative | FingerCones::Free => {}
             FingerCones::Friction { mu } => out.push(*mu),
             FingerCones::Tresca { radii } => out.extend_from_slice(radii),
         }

@@ -34,7 +34,10 @@ pub(crate) mod native_result;
 pub(crate) mod newton;
 pub(crate) mod parallel_vectors;
 
+use std::sync::Arc;
+
 use crate::model::grasp_model::GraspModel;
+use crate::model::patch_compliance::PatchCompliance;
 use crate::program::cone_program::ConeProgram;
 use crate::solver::iterate::Iterate;
 
@@ -54,7 +57,7 @@ pub(crate) struct NativeSolver {
 impl NativeSolver {
     /// Copies the fixed data of `program`'s blocks from `model`.
     pub(crate) fn new(model: &GraspModel, program: &ConeProgram) -> Self {
-        let blocks: Vec<FingerBlockData> = program
+        let mut blocks: Vec<FingerBlockData> = program
             .blocks
             .iter()
             .zip(&model.fingers)
@@ -68,6 +71,20 @@ impl NativeSolver {
                 )
             })
             .collect();
+        // The shared springs' coordinates: dense blocks, free of cones.
+        let springs = &program.blocks[model.fingers.len()..];
+        for (b, s) in springs.iter().zip(&program.springs) {
+            let compliance = PatchCompliance::Dense(Arc::clone(&s.compliance_m_per_n));
+            let scale = program.compliance_scale;
+            let free = vec![true; b.elements];
+            blocks.push(FingerBlockData::new(
+                b,
+                &compliance,
+                scale,
+                &program.equality,
+                free,
+            ));
+        }
         NativeSolver {
             caches: vec![Vec::new(); blocks.len()],
             blocks,

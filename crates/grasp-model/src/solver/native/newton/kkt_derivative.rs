@@ -176,7 +176,14 @@ fn finger_system(
     });
     let p = dq.ncols();
     let dq_rows = Mat::<f64>::from_fn(nf, p, |i, c| {
-        row_dot(&columns[i].row, &|idx| dq[(block.offset + idx, c)])
+        // A shared spring's coordinates follow the fingers' rows of `dq`: no cost change.
+        row_dot(
+            &columns[i].row,
+            &|idx| match block.offset + idx < dq.nrows() {
+                true => dq[(block.offset + idx, c)],
+                false => 0.0,
+            },
+        )
     });
     // Most fingers' costs do not move (no approach, no mount): their `h` is 0 unsolved.
     let moved = (0..nf).any(|i| (0..p).any(|c| dq_rows[(i, c)] != 0.0));
@@ -222,6 +229,8 @@ pub(crate) fn kkt_derivative(
     let mut systems = Vec::with_capacity(blocks.len());
     let mut margins = Vec::with_capacity(blocks.len());
     let mut s = DMatrix::<f64>::zeros(m, m);
+    // A shared spring's block has no Tresca radii: coefficient 0.
+    let mu = mu.iter().chain(std::iter::repeat(&0.0));
     for ((block, pb), &mu_i) in blocks.iter().zip(&program.blocks).zip(mu) {
         let range = block.offset..block.offset + block.len();
         let (x, yl) = (&iterate.x[range.clone()], &y[range]);

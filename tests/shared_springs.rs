@@ -1,0 +1,423 @@
+//! Springs several fingers share (`hands`, `servos`): two jaws on one servo against the closed
+//! form of two Hertz contacts behind one spring, symmetric and pushed aside; a hand's base
+//! carrying the weight (the object sags and turns with it, its contacts unchanged); a hand of
+//! one finger as that finger's own mount; both solvers and both contact laws alike; and the
+//! refusals of what cannot be built.
+
+use grasp_model::closed_form::HertzSphere;
+use grasp_model::{
+    GraspModel, GraspSolver, LoadedScene, Material, ModelKind, Solution, SolveOptions, SolveStatus,
+    SolverChoice, StepInputs,
+};
+use serde_json::{json, Value};
+
+mod support;
+
+/// Soft pad: E 2 MPa, nu 0.45 (a silicone fingertip).
+const PAD_E_PA: f64 = 2e6;
+const PAD_NU: f64 = 0.45;
+/// Tip radius, m.
+const TIP_R_M: f64 = 0.01;
+
+fn solved_with(v: &Value, solver: SolverChoice) -> Solution {
+    let scene = LoadedScene::from_json_str(&v.to_string()).expect("valid scene");
+    let model = GraspModel::from_loaded(&scene).expect("model");
+    let options = SolveOptions {
+        solver,
+        ..SolveOptions::default()
+    };
+    let mut solver = GraspSolver::new(model, options);
+    let sol = solver
+        .solve(&StepInputs::of_scene(solver.model()))
+        .expect("solve");
+    assert_eq!(sol.status, SolveStatus::Solved, "{:?}", sol.reason);
+    sol
+}
+
+fn solved(v: &Value) -> Solution {
+    solved_with(v, SolverChoice::Native)
+}
+
+fn pad_e_star() -> f64 {
+    let pad = Material::Elastic {
+        youngs_modulus_pa: PAD_E_PA,
+        poisson_ratio: PAD_NU,
+    };
+    pad.effective_modulus_pa(&Material::Rigid)
+}
+
+/// Hertz's approach `delta(F) = (9 F^2 / (16 R E*^2))^(1/3)` of a pad on the rigid box, m.
+fn delta(load_n: f64) -> f64 {
+    HertzSphere::new(load_n, TIP_R_M, pad_e_star()).approach_m
+}
+
+/// Hertz's load at approach `d`, `F = 4/3 E* sqrt(R) d^(3/2)` (0 apart), N.
+fn hertz_load(d: f64) -> f64 {
+    4.0 / 3.0 * pad_e_star() * TIP_R_M.sqrt() * d.max(0.0).powf(1.5)
+}
+
+/// A rigid box pinched along x by two spherical pads, both commanded `jaw_m` past first touch
+/// and driven by one servo of stiffness `k` N/m; `push_n` along +x on the box. Patches span
+/// `2.4 a` at `size_load_n`, `grid` elements a side, frictionless.
+fn servo_pinch(k: f64, jaw_m: f64, push_n: f64, size_load_n: f64, grid: usize) -> Value {
+    let side = 2.4 * HertzSphere::new(size_load_n, TIP_R_M, pad_e_star()).contact_radius_m;
+    let jaw = |name: &str, x: f64, n: f64| {
+        json!({"name": name, "contact_point": [x, 0, 0], "normal": [n, 0, 0],
+               "material": {"youngs_modulus": PAD_E_PA, "poisson_ratio": PAD_NU},
+               "tip_radius": TIP_R_M, "patch": {"size": [side, side], "grid": [grid, grid]},
+               "friction": {"mu": 0.0}, "control": {"approach_m": jaw_m}})
+    };
+    json!({"object": {"weight": 0.0, "center_of_mass": [0, 0, 0], "gravity": [0, 0, -1],
+                      "material": "rigid",
+                      "external_forces": [{"force": [push_n, 0, 0], "at": [0, 0, 0]}]},
+           "fingers": [jaw("left", -0.02, 1.0), jaw("right", 0.02, -1.0)],
+           "servos": [{"name": "jaws", "fingers": ["left", "right"], "stiffness_n_per_m": k}]})
+}
+
+/// Two jaws on one servo squeezing alike: each jaw's contact compresses by their common travel
+/// `q = delta(F)` (Hertz, Johnson 4.2), and the servo carries both, `2 F = k (x - q)`. The jaws are placed where that root is 0.3 N, for k from 1e2 to
+/// 1e7 N/m; the squeeze must be the root within 0.5 %, the Hertz discretisation error at 41 x 41
+/// elements over 2.4 a (the same grid as `tests/finger_mounts.rs`, which measures it). The
+/// servo reports the sum of its jaws' forces and their travel short of the command,
+/// `-2 F / k`, to round-off.
+#[test]
+fn two_jaws_on_one_servo_meet_the_closed_form() {
+    let f_root = 0.3;
+    for k in [1e2, 1e3, 1e4, 1e5, 1e6, 1e7] {
+        let jaw = 2.0 * f_root / k + delta(f_root);
+        let sol = solved(&servo_pinch(k, jaw, 0.0, f_root, 41));
+        let (left, right) = (sol.fingers[0].normal_force_n, sol.fingers[1].normal_force_n);
+        let error = (left - f_root).abs() / f_root;
+        let servo = &sol.servos[0];
+        eprintln!(
+            "k {k:.0e} N/m, jaws at {jaw:.4e} m: F {left:.6} N (error {error:.2e}), servo {:.6} N, travel {:.4e} m",
+            servo.force_n, servo.travel_m
+        );
+        assert!(error < 5e-3, "k {k}: squeeze error {error}");
+        assert!(
+            (left - right).abs() < 1e-9 * f_root,
+            "k {k}: {left} {right}"
+        );
+        assert!((servo.force_n - left - right).abs() < 1e-9 * f_root);
+        assert!(
+            (servo.travel_m * k / servo.force_n + 1.0).abs() < 1e-9,
+            "k {k}: travel {} against -F/k",
+            servo.travel_m
+        );
+        assert!(sol.hands.is_empty());
+    }
+}
+
+/// The servo's jaws move together, so a push `P` along the pinch shifts the box by `s` and
+/// the jaws by a common travel `q`: `F_l = H(q - s)`, `F_r = H(q + s)` with Hertz's `H`,
+/// `F_r - F_l = P` (the box's equilibrium) and `F_l + F_r = k (x - q)` (the servo's). Solved
+/// here by nested bisection; the model must meet both forces within 0.5 % (the Hertz
+/// discretisation error as above) and the box's shift within 1 % (an approach, which the
+/// grid resolves to about twice the force's error).
+#[test]
+fn a_servos_jaws_pushed_aside_share_the_push_as_the_closed_form_says() {
+    let (k, push) = (1e3, 0.1);
+    let jaw = 1e-3;
+    let shift = |q: f64| bisect(-q, q, |s| hertz_load(q + s) - hertz_load(q - s) - push);
+    let q = bisect(0.0, jaw, |q| {
+        let s = shift(q);
+        hertz_load(q - s) + hertz_load(q + s) - k * (jaw - q)
+    });
+    let s = shift(q);
+    let (fl, fr) = (hertz_load(q - s), hertz_load(q + s));
+    let sol = solved(&servo_pinch(k, jaw, push, fr, 41));
+    let (ml, mr) = (sol.fingers[0].normal_force_n, sol.fingers[1].normal_force_n);
+    let moved = sol.rigid_displacement.expect("loaded").translation_m[0];
+    eprintln!(
+        "closed form: F_l {fl:.6} N, F_r {fr:.6} N, shift {s:.4e} m; model: {ml:.6}, {mr:.6}, {moved:.4e}"
+    );
+    assert!((ml - fl).abs() < 5e-3 * fl, "left {ml} vs {fl}");
+    assert!((mr - fr).abs() < 5e-3 * fr, "right {mr} vs {fr}");
+    assert!((moved - s).abs() < 1e-2 * s.abs(), "shift {moved} vs {s}");
+    assert!((sol.servos[0].travel_m + (ml + mr) / k).abs() < 1e-9 * jaw);
+}
+
+/// The root of an increasing `g` on `[lo, hi]` to 1e-15 of the interval.
+fn bisect(mut lo: f64, mut hi: f64, g: impl Fn(f64) -> f64) -> f64 {
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if g(mid) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// A rigid box of 1 N held between two flat pads (E 200 MPa, mu 1; `a` squeezes 10 N, `b` is
+/// held), both on one hand (`hand`: its JSON, or none).
+fn held_box(hand: Option<Value>, model: &str) -> Value {
+    let pad = |name: &str, x: f64, n: f64| {
+        json!({"name": name, "contact_point": [x, 0, 0], "normal": [n, 0, 0],
+               "material": {"youngs_modulus": 2e8, "poisson_ratio": 0.45},
+               "patch": {"size": [0.008, 0.008], "grid": [9, 9]}, "friction": {"mu": 1.0}})
+    };
+    let mut a = pad("a", -0.01, 1.0);
+    a["control"] = json!({"normal_load": 10.0});
+    let mut scene = json!({"object": {"weight": 1.0, "center_of_mass": [0, 0, 0],
+                                      "gravity": [0, 0, -1], "material": "rigid"},
+                           "fingers": [a, pad("b", 0.01, -1.0)], "model": model});
+    if let Some(h) = hand {
+        scene["hands"] = json!([h]);
+    }
+    scene
+}
+
+/// The largest difference of any element force between two solutions of one scene, N.
+fn element_force_difference_n(a: &Solution, b: &Solution) -> f64 {
+    let mut worst: f64 = 0.0;
+    for (fa, fb) in a.fingers.iter().zip(&b.fingers) {
+        for (ea, eb) in fa.elements.iter().zip(&fb.elements) {
+            worst = worst.max((ea.normal_force_n - eb.normal_force_n).abs());
+            for c in 0..2 {
+                worst = worst.max((ea.tangential_force_n[c] - eb.tangential_force_n[c]).abs());
+            }
+        }
+    }
+    worst
+}
+
+/// A hand whose base carries both pads moves them, and the object with them, rigidly: its
+/// load is the weight `W` at the centre of mass, so it moves by `-S W` (here `W / k_t` down and
+/// `(c - h) x W / k_r` about its origin `h`), the object's displacement is the rigid hand's
+/// plus that motion (rotation about `h`), and no element force changes (the contacts see no
+/// relative motion: an invariance of the linear model). Tolerances: the hand's motion to
+/// 1e-9 of itself (the solve's equilibrium residual), element forces to 1e-7 of the 10 N
+/// squeeze and the object's extra motion to 1e-6 of the hand's (each solve at 1e-10, the
+/// program's scaled tolerance), for both contact laws.
+#[test]
+fn a_compliant_hand_carries_the_object_with_it_and_changes_no_contact_force() {
+    let (kt, kr, origin) = (500.0, 20.0, [0.03, 0.0, 0.05]);
+    let hand = json!({"name": "arm", "fingers": ["a", "b"], "origin_m": origin,
+                      "translational_n_per_m": kt, "rotational_nm_per_rad": kr});
+    for model in ["energy", "coulomb"] {
+        let rigid = solved(&held_box(None, model));
+        let soft = solved(&held_box(Some(hand.clone()), model));
+        // The load on the object from the fingers is the weight's opposite: 1 N up at the
+        // centre of mass; its moment about the origin is (c - h) x (0, 0, 1).
+        let lever = [-origin[0], -origin[1], -origin[2]];
+        let moment = [lever[1], -lever[0], 0.0];
+        let expected_translation = [0.0, 0.0, -1.0 / kt];
+        let expected_rotation = moment.map(|m| -m / kr);
+        let h = &soft.hands[0];
+        eprintln!(
+            "{model}: hand force {:?} N, moment {:?} N m, moved {:?} m, turned {:?} rad",
+            h.force_n, h.moment_nm, h.translation_m, h.rotation_rad
+        );
+        for c in 0..3 {
+            assert!((h.translation_m[c] - expected_translation[c]).abs() < 1e-9 / kt);
+            assert!((h.rotation_rad[c] - expected_rotation[c]).abs() < 1e-9 / kr);
+        }
+        let difference = element_force_difference_n(&rigid, &soft);
+        eprintln!("{model}: largest element force change {difference:.2e} N");
+        assert!(difference < 1e-7 * 10.0, "{model}: {difference}");
+        // The object moves with the hand: its centre of mass by t + phi x (c - h).
+        let (r, s) = (
+            rigid.rigid_displacement.unwrap(),
+            soft.rigid_displacement.unwrap(),
+        );
+        let phi = h.rotation_rad;
+        let carried = [
+            h.translation_m[0] + phi[1] * lever[2] - phi[2] * lever[1],
+            h.translation_m[1] + phi[2] * lever[0] - phi[0] * lever[2],
+            h.translation_m[2] + phi[0] * lever[1] - phi[1] * lever[0],
+        ];
+        let size = 1.0 / kt;
+        for c in 0..3 {
+            let extra = s.translation_m[c] - r.translation_m[c];
+            assert!(
+                (extra - carried[c]).abs() < 1e-6 * size,
+                "{model}: centre of mass [{c}] moved {extra} more, the hand carries {}",
+                carried[c]
+            );
+            let turned = s.rotation_rad[c] - r.rotation_rad[c];
+            assert!(
+                (turned - phi[c]).abs() < 1e-6 * size / 0.05,
+                "{model}: {turned}"
+            );
+        }
+    }
+}
+
+/// Three pads hang a rigid box (as in `tests/finger_mounts.rs`); pad `b` is either on its own
+/// mount of stiffness `k` along its normal and tangents, or alone on a hand of translational
+/// stiffness `k` whose origin is its contact point: the same spring written twice, so the two
+/// solves must agree (element forces to 1e-7 of the 10 N squeeze, the core's and the hand's
+/// motion to 1e-6 of it: the solves' tolerance), with either solver (Clarabel to 1e-5, its
+/// interior-point accuracy).
+#[test]
+fn a_hand_of_one_finger_is_that_fingers_mount() {
+    let k = 30.0;
+    let scene = |hand: bool| {
+        let pad = |name: &str, at: [f64; 3], n: f64| {
+            json!({"name": name, "contact_point": at, "normal": [n, 0, 0],
+                   "material": {"youngs_modulus": 2e8, "poisson_ratio": 0.45},
+                   "patch": {"size": [0.008, 0.008], "grid": [9, 9]}, "friction": {"mu": 1.0}})
+        };
+        let mut a = pad("a", [-0.01, 0.0, 0.0], 1.0);
+        a["control"] = json!({"normal_load": 10.0});
+        let mut b = pad("b", [0.01, 0.01, 0.0], -1.0);
+        let mut scene = json!({"object": {"weight": 1.0, "center_of_mass": [0, 0, 0],
+                                          "gravity": [0, 0, -1], "material": "rigid"},
+                               "fingers": [a, pad("c", [0.01, -0.01, 0.0], -1.0)]});
+        if hand {
+            scene["hands"] = json!([{"name": "wrist", "fingers": ["b"],
+                                     "origin_m": [0.01, 0.01, 0.0],
+                                     "translational_n_per_m": k}]);
+        } else {
+            b["mount"] = json!({"normal_n_per_m": k, "tangential_n_per_m": k});
+        }
+        scene["fingers"].as_array_mut().unwrap().insert(1, b);
+        scene
+    };
+    let mounted = solved(&scene(false));
+    let core = mounted.fingers[1]
+        .mount_displacement
+        .expect("mounted")
+        .translation_m;
+    for solver in [SolverChoice::Native, SolverChoice::Clarabel] {
+        let on_hand = solved_with(&scene(true), solver);
+        let tolerance = match solver {
+            SolverChoice::Clarabel => 1e-5,
+            _ => 1e-7,
+        };
+        let difference = element_force_difference_n(&mounted, &on_hand);
+        let moved = on_hand.hands[0].translation_m;
+        eprintln!(
+            "{solver}: element forces differ by {difference:.2e} N; core {core:?} m, hand {moved:?} m"
+        );
+        assert!(difference < tolerance * 10.0, "{solver}: {difference}");
+        let size = core.iter().fold(0.0_f64, |a, c| a.max(c.abs()));
+        for c in 0..3 {
+            assert!(
+                (moved[c] - core[c]).abs() < tolerance * 10.0 * size,
+                "{solver}: {moved:?} vs {core:?}"
+            );
+        }
+    }
+}
+
+/// What a shared spring cannot be is refused before anything is built, naming the field and
+/// the fix: an unknown finger, a finger on two hands, a servo's jaw whose load is prescribed,
+/// a servo of one jaw, a hand with no stiffness.
+#[test]
+fn shared_springs_that_cannot_be_built_are_refused_by_field() {
+    let base = held_box(None, "energy");
+    let cases = [
+        (
+            json!({"hands": [{"name": "h", "fingers": ["a", "z"], "origin_m": [0, 0, 0],
+                              "translational_n_per_m": 100.0}]}),
+            "hands[0].fingers[1]",
+            "not a finger of the scene",
+        ),
+        (
+            json!({"hands": [{"name": "h", "fingers": ["a"], "origin_m": [0, 0, 0],
+                              "translational_n_per_m": 100.0},
+                             {"name": "g", "fingers": ["a"], "origin_m": [0, 0, 0],
+                              "translational_n_per_m": 100.0}]}),
+            "hands[1].fingers[0]",
+            "at most one hand",
+        ),
+        (
+            json!({"servos": [{"name": "s", "fingers": ["a", "b"], "stiffness_n_per_m": 100.0}]}),
+            "servos[0].fingers[0]",
+            "approach_m",
+        ),
+        (
+            json!({"servos": [{"name": "s", "fingers": ["b"], "stiffness_n_per_m": 100.0}]}),
+            "servos[0].fingers",
+            "at least 2",
+        ),
+        (
+            json!({"hands": [{"name": "h", "fingers": ["a"], "origin_m": [0, 0, 0]}]}),
+            "hands[0]",
+            "translational_n_per_m",
+        ),
+    ];
+    for (extra, path, fix) in cases {
+        let mut scene = base.clone();
+        for (key, value) in extra.as_object().unwrap() {
+            scene[key] = value.clone();
+        }
+        let err = LoadedScene::from_json_str(&scene.to_string())
+            .err()
+            .unwrap_or_else(|| panic!("{path}: accepted"))
+            .to_string();
+        eprintln!("{err}");
+        assert!(err.contains(path) && err.contains(fix), "{path}: {err}");
+    }
+}
+
+/// A scene without hands or servos reads, writes and solves as before: the solution has no
+/// `hands` or `servos` keys and the model kind is unchanged.
+#[test]
+fn a_scene_without_shared_springs_writes_no_spring_keys() {
+    let sol = solved(&held_box(None, "energy"));
+    let text = serde_json::to_string(&sol).unwrap();
+    assert!(!text.contains("\"hands\"") && !text.contains("\"servos\""));
+    let scene = LoadedScene::from_json_str(&held_box(None, "energy").to_string()).unwrap();
+    assert_eq!(scene.scene.model, ModelKind::Energy);
+}
+
+/// The plate hand-off with both grippers as built (`examples/plate_transfer_gripper.*`): the
+/// releasing jaws on one servo, the receivers on one compliant arm. Checked at every step:
+/// - the servo's travel is its own law, `-F_sum / k` (1e-9 of the command's scale, 1 mm);
+/// - its jaws let go exactly as their command passes first touch (13 s): each carries more
+///   than 1e-3 N before and less than 1e-9 N from then on (the plate is held symmetrically,
+///   so contact is lost at the jaws' first-touch position);
+/// - at the end the arm carries the weight alone: its base sits `W / k_arm` lower (1e-9 of
+///   that, the solve's equilibrium residual), and the plate sags by that plus its soft pads'
+///   own deflection under the weight (so by more; measured 0.17 mm more, the coulomb path's
+///   slip memory leaving no exact twin to compare it with);
+/// - warm starts survive: at most 1.5 Newton iterations a step on average.
+#[test]
+fn a_hand_off_between_a_servo_gripper_and_a_compliant_arm() {
+    let (loaded, schedule) = support::transfer_example("plate_transfer_gripper");
+    let scene = support::example_json("plate_transfer_gripper.json");
+    let options = grasp_transfer::TransferOptions::default();
+    let records: Vec<_> = grasp_transfer::Stepper::new(&loaded, &schedule, options)
+        .map(|r| r.unwrap())
+        .collect();
+    let k_servo = scene["servos"][0]["stiffness_n_per_m"].as_f64().unwrap();
+    let k_arm = scene["hands"][0]["translational_n_per_m"].as_f64().unwrap();
+    let weight = scene["object"]["weight"].as_f64().unwrap();
+    let mut iterations = 0;
+    for r in &records {
+        let s = &r.solution;
+        assert!(s.status.has_forces(), "t {}: {:?}", r.time_s, s.reason);
+        iterations += s.solver.iterations;
+        let jaws: Vec<_> = ["f1", "f2"].map(|n| s.finger(n).expect("jaw")).into();
+        let command = jaws[0].approach_m;
+        let servo = &s.servos[0];
+        let sum = jaws[0].normal_force_n + jaws[1].normal_force_n;
+        assert!((servo.force_n - sum).abs() < 1e-9 * weight);
+        assert!(
+            (servo.travel_m + sum / k_servo).abs() < 1e-12,
+            "t {}",
+            r.time_s
+        );
+        for jaw in &jaws {
+            match command > 1e-9 {
+                true => assert!(jaw.normal_force_n > 1e-3, "t {}: {:?}", r.time_s, jaw.name),
+                false => assert!(jaw.normal_force_n.abs() < 1e-9, "t {}", r.time_s),
+            }
+        }
+    }
+    let end = &records.last().unwrap().solution;
+    let arm = weight / k_arm;
+    let base = end.hands[0].translation_m[2];
+    let sag = -end.rigid_displacement.unwrap().translation_m[2];
+    let per_step = iterations as f64 / records.len() as f64;
+    eprintln!(
+        "arm base {base:.6e} m (W / k {arm:.6e} m), plate sag {sag:.6e} m; {per_step:.2} iterations a step"
+    );
+    assert!((base + arm).abs() < 1e-9 * arm, "base {base}");
+    assert!(sag > arm, "sag {sag}");
+    assert!(per_step <= 1.5, "{per_step} iterations a step");
+}
