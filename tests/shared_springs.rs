@@ -421,3 +421,63 @@ fn a_hand_off_between_a_servo_gripper_and_a_compliant_arm() {
     assert!(sag > arm, "sag {sag}");
     assert!(per_step <= 1.5, "{per_step} iterations a step");
 }
+
+/// The gripper hand-off's outputs carry the hand and the servo at every step: the MCAP's
+/// `/grasp/fingers` messages (`hands`, `servos`), the CSV's columns and the recording's
+/// `world/hands/arm` arrow and `plots/core/<name>` curves, each equal to the step's solution
+/// (to the text's round trip of a float, exact); the `rerun` CLI accepts both files.
+#[test]
+fn the_outputs_carry_the_hand_and_the_servo() {
+    use grasp_transfer::{CsvSink, McapSink, RerunSink, Sink, TransferOptions};
+    let (scene, schedule) = support::transfer_example("plate_transfer_gripper");
+    let dir = std::env::temp_dir().join(format!("grasp-springs-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (rrd, csv, mcap) = (dir.join("g.rrd"), dir.join("g.csv"), dir.join("g.mcap"));
+    let mut r = RerunSink::create(&rrd).unwrap();
+    let mut c = CsvSink::create(&csv).unwrap();
+    let mut m = McapSink::create(&mcap).unwrap();
+    let mut sinks: [&mut dyn Sink; 3] = [&mut r, &mut c, &mut m];
+    let (records, _) =
+        grasp_transfer::run_collect(&scene, &schedule, TransferOptions::default(), &mut sinks)
+            .unwrap();
+    let bytes = std::fs::read(&mcap).unwrap();
+    let mut seen = 0;
+    for msg in mcap::MessageStream::new(&bytes).unwrap() {
+        let msg = msg.unwrap();
+        if msg.channel.topic != grasp_transfer::FINGERS_TOPIC {
+            continue;
+        }
+        let v: Value = serde_json::from_slice(&msg.data).unwrap();
+        let s = &records[seen].solution;
+        let z = v["hands"][0]["translation_m"][2].as_f64().unwrap();
+        assert_eq!(z, s.hands[0].translation_m[2], "step {seen}");
+        let travel = v["servos"][0]["travel_m"].as_f64().unwrap();
+        assert_eq!(travel, s.servos[0].travel_m, "step {seen}");
+        seen += 1;
+    }
+    assert_eq!(seen, records.len());
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let (z, travel) = (column("arm_translation_z_m"), column("gripper_travel_m"));
+    for (line, rec) in lines.zip(&records) {
+        let cells: Vec<&str> = line.split(',').collect();
+        let s = &rec.solution;
+        assert_eq!(
+            cells[z].parse::<f64>().unwrap(),
+            s.hands[0].translation_m[2]
+        );
+        assert_eq!(cells[travel].parse::<f64>().unwrap(), s.servos[0].travel_m);
+    }
+    let Some(cli) = support::rerun_cli() else {
+        return;
+    };
+    let run = |args: &[&str], file: &std::path::Path| support::rerun_on(&cli, args, file);
+    run(&["rrd", "verify"], &rrd);
+    let printed = run(&["rrd", "print"], &rrd);
+    for path in ["world/hands/arm", "plots/core/arm", "plots/core/gripper"] {
+        assert!(printed.contains(path), "{path} not in\n{printed}");
+    }
+    run(&["mcap", "check"], &mcap);
+}

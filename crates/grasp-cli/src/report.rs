@@ -568,8 +568,8 @@ pub fn shared_spring_table(solution: &grasp_model::Solution) -> String {
     if !solution.hands.is_empty() {
         let _ = writeln!(
             s,
-            "\nhands (each base's displacement from its commanded pose):\n{:<16}{:<38}{:<38}{}",
-            "hand", "force on object [N]", "translation [mm]", "rotation [mrad]"
+            "\nhands (each base's displacement from its commanded pose):\n{:<16}{:<38}{:<38}rotation [mrad]",
+            "hand", "force on object [N]", "translation [mm]"
         );
         for h in &solution.hands {
             let _ = writeln!(

@@ -43,6 +43,21 @@ impl IdenticalCurves {
         self.steps += 1;
     }
 
+    /// Adds a solved step: each finger's normal and friction force in `solution` (0 for a finger
+    /// it does not hold), N.
+    pub fn push_solution(&mut self, solution: &grasp_model::Solution) {
+        let forces: Vec<[f64; 2]> = self
+            .names
+            .iter()
+            .map(|n| {
+                solution
+                    .finger(n)
+                    .map_or([0.0; 2], |f| [f.normal_force_n, f.tangential_magnitude_n])
+            })
+            .collect();
+        self.push(&forces);
+    }
+
     /// The groups of two or more fingers with the same curves, by name, scene order.
     pub fn groups(&self) -> Vec<Vec<String>> {
         let n = self.names.len();

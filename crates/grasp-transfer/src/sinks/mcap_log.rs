@@ -132,6 +132,42 @@ pub struct FingersMessage {
     pub margin_other_equilibrium: Option<String>,
     /// Every scene finger, scene order.
     pub fingers: Vec<FingerMessage>,
+    /// Each hand the step's grasp holds (`hands`; absent without): its load and its base's
+    /// motion.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub hands: Vec<HandMessage>,
+    /// Each servo the step's grasp holds (`servos`; absent without): its load and its jaws'
+    /// travel.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub servos: Vec<ServoMessage>,
+}
+
+/// A hand in a `/grasp/fingers` message (`grasp_model::HandSolution`).
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[cfg_attr(test, derive(schemars::JsonSchema))]
+pub struct HandMessage {
+    /// Its name in the scene.
+    pub name: String,
+    /// The force its fingers put on the object, N (world frame).
+    pub force_n: [f64; 3],
+    /// Their moment about the hand's origin, N m (world frame).
+    pub moment_nm: [f64; 3],
+    /// The base's translation from its commanded pose, m (world frame).
+    pub translation_m: [f64; 3],
+    /// The base's small rotation about its origin, rad (world frame).
+    pub rotation_rad: [f64; 3],
+}
+
+/// A servo in a `/grasp/fingers` message (`grasp_model::ServoSolution`).
+#[derive(Debug, Clone, PartialEq, Serialize, serde::Deserialize)]
+#[cfg_attr(test, derive(schemars::JsonSchema))]
+pub struct ServoMessage {
+    /// Its name in the scene.
+    pub name: String,
+    /// The sum of its jaws' normal forces, N.
+    pub force_n: f64,
+    /// The jaws' travel from their command, m (negative: pushed back).
+    pub travel_m: f64,
 }
 
 impl FingersMessage {
@@ -206,8 +242,36 @@ impl FingersMessage {
                     }
                 })
                 .collect(),
+            hands: hand_messages(&r.solution),
+            servos: servo_messages(&r.solution),
         }
     }
+}
+
+/// The hands of a step's solution, as `/grasp/fingers` carries them.
+fn hand_messages(s: &grasp_model::Solution) -> Vec<HandMessage> {
+    s.hands
+        .iter()
+        .map(|h| HandMessage {
+            name: h.name.clone(),
+            force_n: h.force_n,
+            moment_nm: h.moment_nm,
+            translation_m: h.translation_m,
+            rotation_rad: h.rotation_rad,
+        })
+        .collect()
+}
+
+/// The servos of a step's solution, as `/grasp/fingers` carries them.
+fn servo_messages(s: &grasp_model::Solution) -> Vec<ServoMessage> {
+    s.servos
+        .iter()
+        .map(|v| ServoMessage {
+            name: v.name.clone(),
+            force_n: v.force_n,
+            travel_m: v.travel_m,
+        })
+        .collect()
 }
 
 /// The JSON Schema of a `/grasp/fingers` message, [`FingersMessage`], written out (not
@@ -218,6 +282,7 @@ fn fingers_schema() -> serde_json::Value {
     let num = json!({"type": "number"});
     // Absent rather than null when a finger has no mount; a reader may still write null.
     let core = json!({"type": ["array", "null"], "items": num, "minItems": 3, "maxItems": 3});
+    let vec3 = json!({"type": "array", "items": num, "minItems": 3, "maxItems": 3});
     json!({
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "title": "grasp.FingerResultants",
@@ -244,6 +309,13 @@ fn fingers_schema() -> serde_json::Value {
                 "tangential_force_n": {"type": "array", "items": num, "minItems": 3, "maxItems": 3},
                 "tangential_magnitude_n": num, "torsional_moment_nm": num,
                 "friction_utilization": num, "slip_fraction": num, "core_displacement_m": core
+            }}},
+            "hands": {"type": "array", "items": {"type": "object", "properties": {
+                "name": {"type": "string"}, "force_n": vec3, "moment_nm": vec3,
+                "translation_m": vec3, "rotation_rad": vec3
+            }}},
+            "servos": {"type": "array", "items": {"type": "object", "properties": {
+                "name": {"type": "string"}, "force_n": num, "travel_m": num
             }}}
         }
     })

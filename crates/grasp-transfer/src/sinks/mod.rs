@@ -20,6 +20,7 @@ pub mod rerun_grid_maps;
 pub mod rerun_layout;
 pub mod rerun_log;
 pub mod sensor_columns;
+pub mod shared_spring_drawing;
 pub mod sink;
 pub mod tactile_drawing;
 pub mod tactile_message;

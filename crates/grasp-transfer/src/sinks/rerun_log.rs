@@ -19,7 +19,8 @@
 //!   whose curves coincide, a symmetric pair, say so in their legend names);
 //! - `plots/margin/smallest`: the step's smallest disturbance margin, N (with `--margins`);
 //! - `world/fingers/<name>/core`, `plots/core/<name>`: a mounted finger's core moved on its
-//!   spring, an arrow at true scale and its length in mm;
+//!   spring, an arrow at true scale and its length in mm; `world/hands/<name>` and the same
+//!   plot for hands and servos ([`super::shared_spring_drawing`]);
 //! - `plots/viscous_displacement/<name>`: on a viscoelastic contact, the largest normal
 //!   displacement its history added at the step, m (the creep or relaxation under way);
 //! - `world/tactile/<name>/taxels`, `.../markers`: a sensor finger's readings
@@ -66,6 +67,7 @@ use super::identical_curves::IdenticalCurves;
 use super::patch_views::{has_flat_views, pressure_tensor, state_image, state_key};
 use super::rerun_grid_maps::{cleared_map, patch_pose, pressure_map, state_map};
 use super::rerun_layout::{layout_messages, LayoutContent, APPLICATION_ID};
+use super::shared_spring_drawing::{has_shared_springs, shared_spring_drawings};
 use super::sink::{io_err, RunInfo, Sink};
 use super::tactile_drawing::tactile_drawings;
 use super::viewer_address::reachable;
@@ -595,7 +597,7 @@ impl Sink for RerunSink {
         self.send_layout(LayoutContent {
             steps: self.steps,
             margins: run.margins,
-            mounts: g.fingers().iter().any(|f| f.mount().is_some()),
+            mounts: g.fingers().iter().any(|f| f.mount().is_some()) || has_shared_springs(run),
             flat: &flat,
             gels: &run.gel_fingers(),
         })?;
@@ -690,7 +692,8 @@ impl Sink for RerunSink {
             }
         }
         let tactile = tactile_drawings(run, r, scale).into_iter();
-        for (path, drawing) in tactile.chain(gel_drawings(run, r)) {
+        let springs = shared_spring_drawings(run, r).into_iter();
+        for (path, drawing) in tactile.chain(gel_drawings(run, r)).chain(springs) {
             self.send(path, drawing.as_ref())?;
         }
         // An unbounded or undetermined margin is no number: the plot shows a gap there.
@@ -702,17 +705,7 @@ impl Sink for RerunSink {
             .as_mut()
             .filter(|_| r.solution.status.has_forces())
         {
-            let forces: Vec<[f64; 2]> = run
-                .model
-                .fingers()
-                .iter()
-                .map(|fm| {
-                    r.solution
-                        .finger(fm.name())
-                        .map_or([0.0; 2], |f| [f.normal_force_n, f.tangential_magnitude_n])
-                })
-                .collect();
-            same.push(&forces);
+            same.push_solution(&r.solution);
         }
         self.steps_since_flush += 1;
         if self.steps_since_flush >= self.flush_every {
