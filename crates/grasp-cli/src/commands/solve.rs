@@ -64,7 +64,7 @@ pub struct Args {
     pub solve: SolveFlags,
     /// Also compute the derivatives of every finger's and element's forces with respect to
     /// an extra force and couple on the object, to each commanded load and approach and to
-    /// each mount's stiffness (from the KKT system at the active set); printed per finger and
+    /// each mount's, hand's and servo's stiffness (from the KKT system at the active set); printed per finger and
     /// written into the JSON.
     #[arg(long)]
     pub sensitivities: bool,

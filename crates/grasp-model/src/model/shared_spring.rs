@@ -47,6 +47,33 @@ pub struct SharedSpring {
     pub(crate) kind: SpringKind,
     /// `S`, the compliance over the coordinates (m/N, rad/(N m), m/(N m)).
     pub(crate) compliance: DMatrix<f64>,
+    /// What a sensitivity may differentiate: each stiffness the spec gives.
+    pub(crate) parameters: Vec<SpringParameter>,
+}
+
+/// A stiffness of a shared spring that a sensitivity differentiates with respect to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpringParameter {
+    /// A hand's `translational_n_per_m` (N/m).
+    HandTranslational,
+    /// A hand's `rotational_nm_per_rad` (N m/rad).
+    HandRotational,
+    /// A common factor on a hand's `matrix` (dimensionless, 1 as given).
+    HandScale,
+    /// A servo's `stiffness_n_per_m` (N/m).
+    Servo,
+}
+
+impl SpringParameter {
+    /// Short name: `k_hand_t`, `k_hand_r`, `k_hand_scale`, `k_servo`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SpringParameter::HandTranslational => "k_hand_t",
+            SpringParameter::HandRotational => "k_hand_r",
+            SpringParameter::HandScale => "k_hand_scale",
+            SpringParameter::Servo => "k_servo",
+        }
+    }
 }
 
 impl SharedSpring {
@@ -67,8 +94,23 @@ impl SharedSpring {
             .map(|c| c.inverse())
             .unwrap_or_else(|| DMatrix::zeros(block.nrows(), block.ncols()));
         let [x, y, z] = spec.origin_m;
+        let parameters = match (
+            spec.matrix,
+            spec.translational_n_per_m,
+            spec.rotational_nm_per_rad,
+        ) {
+            (Some(_), _, _) => vec![SpringParameter::HandScale],
+            (None, t, r) => [
+                t.map(|_| SpringParameter::HandTranslational),
+                r.map(|_| SpringParameter::HandRotational),
+            ]
+            .into_iter()
+            .flatten()
+            .collect(),
+        };
         SharedSpring {
             name: spec.name.clone(),
+            parameters,
             fingers,
             kind: SpringKind::Hand {
                 origin_m: Vector3::new(x, y, z),
@@ -85,6 +127,7 @@ impl SharedSpring {
             fingers,
             kind: SpringKind::Servo,
             compliance: DMatrix::from_element(1, 1, 1.0 / spec.stiffness_n_per_m),
+            parameters: vec![SpringParameter::Servo],
         }
     }
 
@@ -148,6 +191,30 @@ impl SharedSpring {
                 out
             }
         }
+    }
+
+    /// The stiffnesses a sensitivity may differentiate.
+    pub fn stiffness_parameters(&self) -> &[SpringParameter] {
+        &self.parameters
+    }
+
+    /// The change of the spring's retreat `S w` under the loads `w` (N, N m) per unit of
+    /// `parameter` (m and rad per N/m, per N m/rad, or per unit factor): `dS = -S dK S` with
+    /// `dK` the identity on the parameter's coordinates, or `K` itself for a matrix's scale
+    /// (`dS = -S`): the derivative of an inverse.
+    pub fn retreat_per_stiffness(&self, w: &[f64], parameter: SpringParameter) -> Vec<f64> {
+        let retreat = &self.compliance * nalgebra::DVector::from_column_slice(w);
+        let changed = match parameter {
+            SpringParameter::HandScale => return retreat.iter().map(|r| -r).collect(),
+            SpringParameter::HandTranslational => {
+                retreat.map_with_location(|c, _, r| if self.is_moment(c) { 0.0 } else { r })
+            }
+            SpringParameter::HandRotational => {
+                retreat.map_with_location(|c, _, r| if self.is_moment(c) { r } else { 0.0 })
+            }
+            SpringParameter::Servo => retreat,
+        };
+        (-(&self.compliance * changed)).iter().copied().collect()
     }
 
     /// The spring's displacement under the loads `w` on its coordinates (N, N m): `-S w`,

@@ -34,6 +34,8 @@ use crate::error::ModelError;
 use crate::model::equilibrium::MotionPlane;
 use crate::model::finger_mount::StiffnessParameter;
 use crate::model::grasp_model::{Control, GraspModel};
+use crate::model::shared_spring::SpringParameter;
+use crate::model::spring_loads::spring_loads;
 use crate::program::cone_program::LoadRow;
 use crate::solve::solution::Solution;
 use crate::solver::native::newton::kkt_derivative::kkt_derivative;
@@ -342,10 +344,13 @@ enum CostChange {
     Approach(usize),
     /// A stiffness of finger `i`'s mount.
     Stiffness(usize, StiffnessParameter),
+    /// A stiffness of shared spring `s` (a hand, a servo).
+    Spring(usize, SpringParameter),
 }
 
 /// The parameters that change `q`: per finger in scene order, its approach when it is
-/// position-controlled (held included), then its mount's stiffnesses.
+/// position-controlled (held included), then its mount's stiffnesses; then each hand's and
+/// servo's stiffnesses.
 fn cost_parameters(model: &GraspModel) -> Vec<(Parameter, CostChange)> {
     let parameter = |name: String, kind: &str| Parameter {
         name,
@@ -366,16 +371,24 @@ fn cost_parameters(model: &GraspModel) -> Vec<(Parameter, CostChange)> {
             out.push((p, CostChange::Stiffness(i, k)));
         }
     }
+    for (j, spring) in model.springs.iter().enumerate() {
+        for &k in spring.stiffness_parameters() {
+            let p = parameter(format!("{}:{}", k.name(), spring.name()), "stiffness");
+            out.push((p, CostChange::Spring(j, k)));
+        }
+    }
     out
 }
 
 /// The linear cost changes `dq` (`n x costs`, scaled like `q`: m over `Fu Cu`) of the
 /// `costs` (the last parameters) at the scaled forces `x`.
 fn cost_columns(model: &GraspModel, x: &[f64], costs: &[(Parameter, CostChange)]) -> DMatrix<f64> {
-    let mut dq = DMatrix::zeros(model.n_unknowns, costs.len());
+    // The shared springs' coordinates follow the fingers' unknowns (`program/cone_program.rs`).
+    let n = model.n_unknowns + model.springs.iter().map(|s| s.coordinates()).sum::<usize>();
+    let mut dq = DMatrix::zeros(n, costs.len());
     let (fu, unit) = (model.scales.element_force_n, model.scales.displacement_m());
     for (c, (_, change)) in costs.iter().enumerate() {
-        let mut column = vec![0.0; model.n_unknowns];
+        let mut column = vec![0.0; n];
         match *change {
             // The offset `-d` on every normal unknown.
             CostChange::Approach(i) => {
@@ -394,10 +407,41 @@ fn cost_columns(model: &GraspModel, x: &[f64], costs: &[(Parameter, CostChange)]
                     m.add_motion(&motion, 1.0 / unit, &mut column[range]);
                 }
             }
+            CostChange::Spring(j, k) => spring_cost_change(model, x, j, k, &mut column),
         }
         dq.set_column(c, &nalgebra::DVector::from_vec(column));
     }
     dq
+}
+
+/// Writes into `column` (scaled like `q`) the change of shared spring `j`'s cost per unit of
+/// its stiffness `k` at the scaled forces `x`: on its coordinates `D dS W / (Fu Cu)` with `W`
+/// its load (N, N m) and `D` the length unit on a moment (its block `D S D / Cu` of `P` times
+/// its coordinates `z = D^-1 W / Fu`).
+fn spring_cost_change(
+    model: &GraspModel,
+    x: &[f64],
+    j: usize,
+    k: SpringParameter,
+    column: &mut [f64],
+) {
+    let (fu, unit) = (model.scales.element_force_n, model.scales.displacement_m());
+    let x_n: Vec<f64> = x[..model.n_unknowns].iter().map(|v| v * fu).collect();
+    let offset = model.n_unknowns
+        + model.springs[..j]
+            .iter()
+            .map(|s| s.coordinates())
+            .sum::<usize>();
+    let spring = &model.springs[j];
+    let w = &spring_loads(model, &x_n)[j];
+    for (c, d) in spring.retreat_per_stiffness(w, k).iter().enumerate() {
+        let length = if spring.is_moment(c) {
+            model.scales.length_m
+        } else {
+            1.0
+        };
+        column[offset + c] = length * d / unit;
+    }
 }
 
 /// Refuses a finger on the FFT compliance too large for the derivative's dense system, with
