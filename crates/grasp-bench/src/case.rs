@@ -118,7 +118,7 @@ use CaseKind::{HandOff, Margins, OneShot, Plan, Readout, Solve};
 
 /// Every case, in table order. The cube A series (5x5 to 16x16 per finger) also gives the
 /// growth exponent of solve time against unknowns.
-pub const CASES: [Case; 13] = [
+pub const CASES: [Case; 14] = [
     case("cube_a_5x5", Solve, "cube_a", None, Some(1e-3), true),
     case("cube_a_8x8", Solve, "cube_a", Some([8, 8]), None, true),
     case("cube_a_12x12", Solve, "cube_a", Some([12, 12]), None, false),
@@ -172,11 +172,21 @@ pub const CASES: [Case; 13] = [
     ),
     // The plate handed off by opening servo jaws (position ramps on mounted fingers): its
     // target is a ratio, at most 1.5x the force-ramped coulomb hand-off's iterations per step
-    // (a derived row, `SERVO_PAIR`).
+    // (a derived row, `SERVO_PAIRS`).
     case(
         "servo_handoff_warm",
         HandOff { warm: true },
         "plate_transfer_servo",
+        None,
+        None,
+        true,
+    ),
+    // The same between a servo gripper (both jaws on one servo) and a compliant arm (`hands`):
+    // the same ratio target.
+    case(
+        "gripper_handoff_warm",
+        HandOff { warm: true },
+        "plate_transfer_gripper",
         None,
         None,
         true,
@@ -463,6 +473,10 @@ pub fn bundled(stem: &str) -> Option<(&'static str, Option<&'static str>)> {
         "plate_handoff_coulomb" => (
             example!("plate_handoff_coulomb.json"),
             Some(example!("plate_handoff_coulomb.schedule.json")),
+        ),
+        "plate_transfer_gripper" => (
+            example!("plate_transfer_gripper.json"),
+            Some(example!("plate_transfer_gripper.schedule.json")),
         ),
         "plate_transfer_servo" => (
             example!("plate_transfer_servo.json"),

@@ -24,15 +24,23 @@ const WARM_COLD: [[&str; 3]; 2] = [
     ],
 ];
 
-/// The servo-released hand-off against the force-ramped one: the row's label, the servo case,
+/// The servo-released hand-offs against the force-ramped one: the row's label, the servo case,
 /// the force-ramped case, and the largest ratio of their iterations per step (warm starts
-/// must survive position ramps on mounted fingers).
-const SERVO_PAIR: (&str, &str, &str, f64) = (
-    "servo / force-ramped hand-off",
-    "servo_handoff_warm",
-    "coulomb_handoff_warm",
-    1.5,
-);
+/// must survive position ramps on mounted fingers, and on fingers sharing a servo or a hand).
+const SERVO_PAIRS: [(&str, &str, &str, f64); 2] = [
+    (
+        "servo / force-ramped hand-off",
+        "servo_handoff_warm",
+        "coulomb_handoff_warm",
+        1.5,
+    ),
+    (
+        "gripper / force-ramped hand-off",
+        "gripper_handoff_warm",
+        "coulomb_handoff_warm",
+        1.5,
+    ),
+];
 
 /// Largest warm/cold iteration ratio of a hand-off.
 const WARM_COLD_TARGET: f64 = 0.2;
@@ -49,7 +57,7 @@ pub(crate) fn derived_rows(all: &[Measured], solvers: &[SolverChoice]) -> Vec<Ro
     let mut rows = Vec::new();
     for &solver in solvers {
         rows.extend(warm_cold_rows(all, solver));
-        rows.extend(servo_row(all, solver));
+        rows.extend(servo_rows(all, solver));
         rows.extend(ratio_rows(all, solver));
         rows.extend(growth_row(all, solver));
     }
@@ -82,21 +90,26 @@ fn warm_cold_rows(all: &[Measured], solver: SolverChoice) -> Vec<Row> {
     rows
 }
 
-/// The servo-released hand-off's iterations per step over the force-ramped one's, at most
-/// [`SERVO_PAIR`]'s bound.
-fn servo_row(all: &[Measured], solver: SolverChoice) -> Option<Row> {
-    let (label, servo, ramped, bound) = SERVO_PAIR;
-    let (s, r) = (find(all, servo, solver)?, find(all, ramped, solver)?);
-    let ratio = s.first.iterations / r.first.iterations;
-    Some(Row {
-        case: label.into(),
-        timed: "iterations ratio".into(),
-        solver: solver.to_string(),
-        median: format!("{ratio:.3}"),
-        iterations: format!("{:.2} / {:.2}", s.first.iterations, r.first.iterations),
-        target: verdict(ratio, bound, |x| format!("{x:.1}")),
-        ..Row::default()
-    })
+/// Each servo-released hand-off's iterations per step over the force-ramped one's, at most
+/// [`SERVO_PAIRS`]' bounds.
+fn servo_rows(all: &[Measured], solver: SolverChoice) -> Vec<Row> {
+    let mut rows = Vec::new();
+    for (label, servo, ramped, bound) in SERVO_PAIRS {
+        let (Some(s), Some(r)) = (find(all, servo, solver), find(all, ramped, solver)) else {
+            continue;
+        };
+        let ratio = s.first.iterations / r.first.iterations;
+        rows.push(Row {
+            case: label.into(),
+            timed: "iterations ratio".into(),
+            solver: solver.to_string(),
+            median: format!("{ratio:.3}"),
+            iterations: format!("{:.2} / {:.2}", s.first.iterations, r.first.iterations),
+            target: verdict(ratio, bound, |x| format!("{x:.1}")),
+            ..Row::default()
+        });
+    }
+    rows
 }
 
 /// The bounded time ratios: a layered, viscoelastic or textured pad's time (model build and
