@@ -74,6 +74,12 @@ pub struct ResultLine {
     /// Per finger, scene order (empty without forces).
     #[serde(default)]
     pub fingers: Vec<FingerForces>,
+    /// Per hand (`hands`), its load and its base's motion (absent without hands or forces).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub hands: Vec<grasp_model::HandSolution>,
+    /// Per servo (`servos`), its load and its jaws' travel (absent without servos or forces).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub servos: Vec<grasp_model::ServoSolution>,
     /// Relative equilibrium residual (absent without forces).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub equilibrium_residual: Option<f64>,
@@ -132,6 +138,8 @@ impl ResultLine {
                     stick_fraction: stick_fraction(f.stick_count, f.slip_count),
                 })
                 .collect(),
+            hands: sol.hands.clone(),
+            servos: sol.servos.clone(),
             equilibrium_residual: sol.residuals.map(|r| r.equilibrium_relative),
             worst_residual: sol.residuals.map(|r| r.worst()),
             sensors: None,
@@ -155,6 +163,8 @@ impl ResultLine {
             warnings: Vec::new(),
             vary: None,
             fingers: Vec::new(),
+            hands: Vec::new(),
+            servos: Vec::new(),
             equilibrium_residual: None,
             worst_residual: None,
             sensors: None,

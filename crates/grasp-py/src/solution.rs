@@ -121,6 +121,22 @@ impl Solution {
         serialize_to_py(py, &self.solution.sequential)
     }
 
+    /// Per hand (`hands`), a dict: `name`, `force_n` and `moment_nm` (what its fingers put on
+    /// the object, about its origin), `translation_m` and `rotation_rad` (how its base moved
+    /// from its commanded pose); empty without hands.
+    #[getter]
+    fn hands<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        serialize_to_py(py, &self.solution.hands)
+    }
+
+    /// Per servo (`servos`), a dict: `name`, `force_n` (the sum of its jaws' normal forces)
+    /// and `travel_m` (their travel from the command, negative: pushed back); empty without
+    /// servos.
+    #[getter]
+    fn servos<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        serialize_to_py(py, &self.solution.servos)
+    }
+
     /// Load scale that normalises the residuals, N.
     #[getter]
     fn load_scale_n(&self) -> f64 {
