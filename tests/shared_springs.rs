@@ -190,15 +190,25 @@ fn element_force_difference_n(a: &Solution, b: &Solution) -> f64 {
 /// relative motion: an invariance of the linear model). Tolerances: the hand's motion to
 /// 1e-9 of itself (the solve's equilibrium residual), element forces to 1e-7 of the 10 N
 /// squeeze and the object's extra motion to 1e-6 of the hand's (each solve at 1e-10, the
-/// program's scaled tolerance), for both contact laws.
+/// program's scaled tolerance), for both contact laws, and in a planar scene (the x-z plane:
+/// the base moves in it and turns about y only).
 #[test]
 fn a_compliant_hand_carries_the_object_with_it_and_changes_no_contact_force() {
     let (kt, kr, origin) = (500.0, 20.0, [0.03, 0.0, 0.05]);
     let hand = json!({"name": "arm", "fingers": ["a", "b"], "origin_m": origin,
                       "translational_n_per_m": kt, "rotational_nm_per_rad": kr});
-    for model in ["energy", "coulomb"] {
-        let rigid = solved(&held_box(None, model));
-        let soft = solved(&held_box(Some(hand.clone()), model));
+    let planar = |mut v: Value| {
+        v["planar"] = json!({"normal": [0, 1, 0]});
+        v
+    };
+    for (model, plane) in [("energy", false), ("coulomb", false), ("energy", true)] {
+        let scene = |hand: Option<Value>| match plane {
+            true => planar(held_box(hand, model)),
+            false => held_box(hand, model),
+        };
+        let model = if plane { "planar energy" } else { model };
+        let rigid = solved(&scene(None));
+        let soft = solved(&scene(Some(hand.clone())));
         // The load on the object from the fingers is the weight's opposite: 1 N up at the
         // centre of mass; its moment about the origin is (c - h) x (0, 0, 1).
         let lever = [-origin[0], -origin[1], -origin[2]];
