@@ -491,3 +491,80 @@ fn the_outputs_carry_the_hand_and_the_servo() {
     }
     run(&["mcap", "check"], &mcap);
 }
+
+/// A schedule ramps a hand's pose (`hands.<name>.keyframes`): the box held by the hand's two
+/// pads is carried along rigidly, 2 mm up and 10 mrad about x over ten steps. At every step the
+/// object's displacement is the unmoved grasp's plus the commanded motion (its centre of mass
+/// by `d + phi x (c - h)`, its rotation by `phi`) within 1e-6 of the motion (each solve at
+/// 1e-10), the element forces do not change by more than 1e-7 of the 10 N squeeze (the
+/// contacts see no relative motion), and the hand's own spring still carries the weight.
+/// A schedule naming a hand the scene lacks is refused at its first step, naming it.
+#[test]
+fn a_scheduled_hand_pose_carries_the_grasp_along() {
+    let hand = json!({"name": "arm", "fingers": ["a", "b"], "origin_m": [0.0, 0.0, 0.05],
+                      "translational_n_per_m": 500.0, "rotational_nm_per_rad": 20.0});
+    let scene_json = held_box(Some(hand), "coulomb");
+    let loaded = LoadedScene::from_json_str(&scene_json.to_string()).unwrap();
+    let schedule = |name: &str| {
+        let text = json!({"time": {"start": 0.0, "end": 1.0, "step": 0.1},
+                          "fingers": {},
+                          "hands": {name: {"keyframes": [
+                              [0.0, {}],
+                              [1.0, {"translation_m": [0.0, 0.0, 0.002],
+                                     "rotation_rad": [0.01, 0.0, 0.0]}]]}}});
+        grasp_transfer::Schedule::from_json_str(
+            &text.to_string(),
+            &loaded.finger_names(),
+            ".".as_ref(),
+        )
+        .unwrap()
+    };
+    let lifted = schedule("arm");
+    let options = grasp_transfer::TransferOptions::default();
+    let records: Vec<_> = grasp_transfer::Stepper::new(&loaded, &lifted, options)
+        .map(|r| r.unwrap())
+        .collect();
+    let still = solved(&scene_json);
+    let origin = [0.0, 0.0, 0.05];
+    for r in &records {
+        let s = &r.solution;
+        let f = r.time_s;
+        let (d, phi) = ([0.0, 0.0, 0.002 * f], [0.01 * f, 0.0, 0.0]);
+        let lever = [-origin[0], -origin[1], -origin[2]];
+        let carried = [
+            d[0] + phi[1] * lever[2] - phi[2] * lever[1],
+            d[1] + phi[2] * lever[0] - phi[0] * lever[2],
+            d[2] + phi[0] * lever[1] - phi[1] * lever[0],
+        ];
+        let (a, b) = (
+            s.rigid_displacement.unwrap(),
+            still.rigid_displacement.unwrap(),
+        );
+        for c in 0..3 {
+            let moved = a.translation_m[c] - b.translation_m[c];
+            assert!(
+                (moved - carried[c]).abs() < 1e-6 * 0.002,
+                "t {f}: [{c}] {moved} vs {}",
+                carried[c]
+            );
+            let turned = a.rotation_rad[c] - b.rotation_rad[c];
+            assert!(
+                (turned - phi[c]).abs() < 1e-6 * 0.01,
+                "t {f}: rotation [{c}] {turned}"
+            );
+        }
+        let difference = element_force_difference_n(s, &still);
+        assert!(difference < 1e-7 * 10.0, "t {f}: {difference} N");
+        assert!((s.hands[0].translation_m[2] + 1.0 / 500.0).abs() < 1e-9 / 500.0);
+    }
+    eprintln!("{} steps carried to 2 mm and 10 mrad", records.len());
+    let wrong = schedule("wrist");
+    let Some(Err(first)) = grasp_transfer::Stepper::new(&loaded, &wrong, options).next() else {
+        panic!("an unknown hand is refused");
+    };
+    let first = first.to_string();
+    assert!(
+        first.contains("hands.wrist") && first.contains("arm"),
+        "{first}"
+    );
+}

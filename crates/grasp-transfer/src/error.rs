@@ -57,6 +57,14 @@ pub enum TransferError {
         /// Finger name.
         finger: String,
     },
+    /// The schedule ramps a hand the scene does not have.
+    #[error("hands.{hand}: no hand named `{hand}` in the scene; fix: use one of: {known}")]
+    UnknownHand {
+        /// The name the schedule gives.
+        hand: String,
+        /// The scene's hands, comma-separated (`none` without).
+        known: String,
+    },
     /// The model refused the data.
     #[error(transparent)]
     Model(#[from] grasp_model::ModelError),

@@ -86,6 +86,8 @@ pub struct Schedule {
     pub phases: Vec<Option<Vec<Phase>>>,
     /// The ramped external wrench, if any.
     pub external: Option<ExternalRamp>,
+    /// Per scheduled hand, by name: its pose ramp (keyframes `(time s, [m; rad])`, easing).
+    pub hand_poses: Vec<(String, ExternalRamp)>,
     /// The CSV files read (no output of a run may replace one of them).
     pub input_files: RunInputs,
 }
@@ -115,6 +117,23 @@ impl Schedule {
             force_n: [w[0], w[1], w[2]],
             torque_nm: [w[3], w[4], w[5]],
         })
+    }
+
+    /// Each scheduled hand's commanded pose at time `t`, by name: `[dx, dy, dz]` m, then a small
+    /// rotation `[rx, ry, rz]` rad about the hand's origin (world frame).
+    pub fn hand_poses_at(&self, t: f64) -> Vec<(&str, [f64; 6])> {
+        self.hand_poses
+            .iter()
+            .map(|(name, (keys, easing))| {
+                let mut pose = [0.0; 6];
+                for (c, pc) in pose.iter_mut().enumerate() {
+                    let comp: Vec<(f64, Option<f64>)> =
+                        keys.iter().map(|k| (k.0, Some(k.1[c]))).collect();
+                    *pc = ramp_load(&comp, *easing, t, 0.0);
+                }
+                (name.as_str(), pose)
+            })
+            .collect()
     }
 
     /// The largest force or couple component of the scheduled external wrench (N or N m; 0

@@ -15,10 +15,10 @@ use grasp_model::{strict_json, ProblemList};
 use crate::easing::Easing;
 use crate::error::ScheduleError;
 use crate::load_profile::read_profile_csv_noting;
-use crate::schedule::{Phase, Schedule};
+use crate::schedule::{ExternalRamp, Phase, Schedule};
 use crate::schedule_spec::{
-    ApproachPhase, CsvPhase, ExternalSpec, KeyValue, PhaseSpec, RampPhase, ScheduleSpec, SpanSpec,
-    TimeSpec, WrenchCsv, MAX_STEPS, MAX_TIME_S, MIN_STEP_S,
+    ApproachPhase, CsvPhase, ExternalSpec, KeyValue, PhaseSpec, PoseRamp, RampPhase, ScheduleSpec,
+    SpanSpec, TimeSpec, WrenchCsv, MAX_STEPS, MAX_TIME_S, MIN_STEP_S,
 };
 
 impl Schedule {
@@ -66,12 +66,18 @@ impl Schedule {
             .external
             .as_ref()
             .map(|e| external_ramp(e, base_dir, &mut v));
+        let hand_poses = spec
+            .hands
+            .iter()
+            .map(|(name, ramp)| (name.clone(), pose_ramp(name, ramp, &mut v)))
+            .collect();
         let input_files = std::mem::take(&mut v.files);
         v.finish()?;
         Ok(Schedule {
             times,
             phases,
             external,
+            hand_poses,
             input_files,
         })
     }
@@ -397,6 +403,50 @@ fn csv_phase(cp: &str, c: &CsvPhase, base_dir: &Path, v: &mut Problems) -> Phase
         keyframes: rows.into_iter().map(|(t, l)| (t, Some(l))).collect(),
         easing: c.easing,
     }
+}
+
+/// Largest commanded hand translation (m) or rotation (rad) component: the model is one of
+/// small displacements.
+const MAX_HAND_POSE: f64 = 1.0;
+
+/// Hand `name`'s pose keyframes, checked: at least one, times in range and increasing,
+/// components finite and at most [`MAX_HAND_POSE`].
+fn pose_ramp(name: &str, ramp: &PoseRamp, v: &mut Problems) -> ExternalRamp {
+    let path = format!("hands.{name}.keyframes");
+    let keys: Vec<(f64, [f64; 6])> = ramp
+        .keyframes
+        .iter()
+        .map(|(t, p)| {
+            let (d, r) = (p.translation_m, p.rotation_rad);
+            (*t, [d[0], d[1], d[2], r[0], r[1], r[2]])
+        })
+        .collect();
+    if keys.is_empty() {
+        v.push(
+            path.clone(),
+            "has no keyframe".into(),
+            "give at least one [time, {\"translation_m\": [..]}]",
+        );
+    }
+    for (k, (t, p)) in keys.iter().enumerate() {
+        let kp = format!("{path}[{k}]");
+        v.time(kp.clone(), *t, false);
+        if k > 0 && !(*t > keys[k - 1].0) {
+            v.push(
+                kp.clone(),
+                format!("time {} s is not after {} s", N(*t), N(keys[k - 1].0)),
+                "list keyframes in strictly increasing time",
+            );
+        }
+        if !p.iter().all(|c| c.is_finite() && c.abs() <= MAX_HAND_POSE) {
+            v.push(
+                kp,
+                format!("pose {p:?} has a component that is not finite or above {MAX_HAND_POSE}"),
+                "give the translation in m and the rotation in rad, each at most 1 (small motions)",
+            );
+        }
+    }
+    (keys, ramp.easing)
 }
 
 /// The external wrench's keyframes, checked: times in range and increasing, components finite

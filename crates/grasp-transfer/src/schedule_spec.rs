@@ -60,6 +60,39 @@ pub struct ScheduleSpec {
     /// scene's weight and external forces. Absent: none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub external: Option<ExternalSpec>,
+    /// Per hand of the scene (`hands`, by name, each name once), its commanded pose through
+    /// time: the base's displacement from where the scene puts it (a lift, an arm moving away
+    /// after the hand-off). Absent: every hand stays.
+    #[serde(
+        default,
+        skip_serializing_if = "BTreeMap::is_empty",
+        deserialize_with = "strict_json::unique_keys"
+    )]
+    pub hands: BTreeMap<String, PoseRamp>,
+}
+
+/// A hand's pose at one keyframe: its base's translation (m, world) and small rotation about
+/// its origin (rad, world); either may be omitted (zero).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PoseValue {
+    /// Translation, m, each component of magnitude at most 1.
+    #[serde(default)]
+    pub translation_m: [f64; 3],
+    /// Small rotation vector, rad, each component of magnitude at most 1.
+    #[serde(default)]
+    pub rotation_rad: [f64; 3],
+}
+
+/// A hand's pose ramp: constant before the first and after the last keyframe, eased in between.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PoseRamp {
+    /// Keyframes `[time s, pose]`, times strictly increasing (`|t| <= 1e9`).
+    pub keyframes: Vec<(f64, PoseValue)>,
+    /// Interpolation between keyframes (default `linear`).
+    #[serde(default)]
+    pub easing: Easing,
 }
 
 /// A wrench on the object through time: keyframes, or a CSV file.

@@ -418,6 +418,24 @@ impl<'a> Stepper<'a> {
         }
     }
 
+    /// The first hand the schedule ramps that the scene does not have, as an error.
+    fn unknown_hand(&self) -> Option<TransferError> {
+        let known: Vec<&str> = self.scene.hands.iter().map(|h| h.name.as_str()).collect();
+        let (name, _) = self
+            .schedule
+            .hand_poses
+            .iter()
+            .find(|(n, _)| !known.contains(&n.as_str()))?;
+        Some(TransferError::UnknownHand {
+            hand: name.clone(),
+            known: if known.is_empty() {
+                "none".into()
+            } else {
+                known.join(", ")
+            },
+        })
+    }
+
     /// Solves step `k` of the schedule.
     fn solve_step(&mut self, k: usize) -> Result<StepRecord, TransferError> {
         let start = Instant::now();
@@ -544,6 +562,13 @@ impl<'a> Stepper<'a> {
             };
             if let Some((i, _)) = model.finger(&f.name) {
                 inputs = inputs.with_approach(i, d);
+            }
+        }
+        // A hand whose fingers are all released is not in the step's model: nothing to move.
+        let t = self.schedule.times[step.index];
+        for (name, pose) in self.schedule.hand_poses_at(t) {
+            if let Some(j) = model.springs().iter().position(|s| s.name() == name) {
+                inputs = inputs.with_hand_pose(j, pose);
             }
         }
         match step.external {
@@ -686,6 +711,10 @@ impl Iterator for Stepper<'_> {
         }
         let k = self.next;
         self.next += 1;
+        if let Some(e) = (k == 0).then(|| self.unknown_hand()).flatten() {
+            self.stopped = true;
+            return Some(Err(e));
+        }
         let r = self.solve_step(k);
         match &r {
             Ok(rec) if !rec.solution.status.has_forces() && !self.options.keep_going => {

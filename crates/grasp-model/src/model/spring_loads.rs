@@ -78,3 +78,29 @@ pub fn hand_wrench(model: &GraspModel, spring: &SharedSpring, x_n: &[f64]) -> Op
     }
     Some(w)
 }
+
+/// Subtracts from the displacement offsets `offset_m` (m, program layout of the fingers'
+/// unknowns) each commanded hand pose's motion of its fingers' surfaces: a base moved by
+/// `(d, phi)` (m, rad, world frame, about its origin `h`) moves a point `p` of its fingers by
+/// `d + phi x (p - h)`, toward the object along each unknown's direction by the virtual work
+/// of that motion with the unknown's unit wrench about `h` (as an approach closes a gap).
+/// `poses` pairs a hand's index among the model's springs with its pose; servos are skipped.
+pub fn add_hand_poses(model: &GraspModel, poses: &[(usize, [f64; 6])], offset_m: &mut [f64]) {
+    for &(j, pose) in poses {
+        let Some(spring) = model.springs.get(j) else {
+            continue;
+        };
+        let SpringKind::Hand { origin_m, .. } = spring.kind() else {
+            continue;
+        };
+        let motion = Wrench::from_column_slice(&pose);
+        for &i in spring.fingers() {
+            let f = &model.fingers[i];
+            let ne = f.patch.len();
+            for k in 0..f.n_unknowns() {
+                let w = unit_wrench(&f.direction(k / ne), &f.element_point(k % ne), origin_m);
+                offset_m[f.offset + k] -= w.dot(&motion);
+            }
+        }
+    }
+}

@@ -15,7 +15,6 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::scene::mount_spec::MountStiffness;
-use crate::scene::scene_format::Vec3;
 
 /// `hands[j]`: fingers on one base with its own stiffness to the world.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -27,7 +26,7 @@ pub struct HandSpec {
     pub fingers: Vec<String>,
     /// The point the stiffness acts about, and the hand's displacement is reported at (the
     /// wrist or tool centre point), m (world frame), each coordinate in `[-1e3, 1e3]`.
-    pub origin_m: Vec3,
+    pub origin_m: [f64; 3],
     /// Stiffness along each world axis alike, N/m, in `[1e-6, 1e15]`; omitted: rigid in
     /// translation.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -10,6 +10,7 @@ use std::time::Instant;
 use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
 use crate::model::patch_compliance::CompliancePath;
+use crate::model::spring_loads::add_hand_poses;
 use crate::program::cone_program::ConeProgram;
 use crate::program::cones::finger_cones::ConeLaw;
 use crate::scene::scene_format::ModelKind;
@@ -215,14 +216,16 @@ impl GraspSolver {
     }
 
     /// Writes the step's inputs into the program: loads, external wrench, commanded approaches
-    /// and the displacement offsets (approaches and viscoelastic history).
+    /// and the displacement offsets (approaches, hand poses and viscoelastic history).
     fn set_step(&mut self, model: &GraspModel, inputs: &StepInputs, state: &ContactState) {
         let program = &mut self.main.program;
         program.set_loads(model, &inputs.loads_n);
         program.set_external_wrench(model, &inputs.external_wrench(model));
         let approaches = inputs.approaches_per_finger_m(model);
         program.set_approaches(&approaches);
-        program.set_offsets(model, &state.offsets_m(model, &approaches));
+        let mut offsets = state.offsets_m(model, &approaches);
+        add_hand_poses(model, &inputs.hand_poses, &mut offsets);
+        program.set_offsets(model, &offsets);
     }
 
     fn dispatch(

@@ -10,6 +10,7 @@ use nalgebra::Vector3;
 use crate::error::ModelError;
 use crate::model::equilibrium::Wrench;
 use crate::model::grasp_model::{Control, GraspModel};
+use crate::model::shared_spring::SpringKind;
 
 /// The inputs of one solve of a model.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,6 +28,12 @@ pub struct StepInputs {
     /// an unknown; a finger not listed keeps its model's control (a position-controlled
     /// finger its scene approach, a held one none). Refused on a force-controlled finger.
     pub approaches_m: Vec<(usize, f64)>,
+    /// Commanded hand poses: `(hand's index among the model's shared springs
+    /// ([`GraspModel::springs`]), [dx, dy, dz, rx, ry, rz])`, the base's displacement from the
+    /// scene's placement (m, and a small rotation in rad about the hand's origin; world frame).
+    /// Every finger on the hand moves with it; the hand's spring then gives way from there. A
+    /// hand not listed stays where the scene puts it.
+    pub hand_poses: Vec<(usize, [f64; 6])>,
     /// The length of the step, s, when the solve is one step of a viscoelastic model's time
     /// history (`f64::INFINITY`: fully relaxed; 0: the loads applied as a step): the solve
     /// takes the compliance over the step and the history the state carries
@@ -43,6 +50,7 @@ impl StepInputs {
             loads_n,
             extra_wrench: None,
             approaches_m: Vec::new(),
+            hand_poses: Vec::new(),
             time_step_s: None,
         }
     }
@@ -87,8 +95,16 @@ impl StepInputs {
         self
     }
 
+    /// These inputs with hand `hand` (its index among [`GraspModel::springs`]) commanded to
+    /// `pose` (`[dx, dy, dz]` m, then a small rotation `[rx, ry, rz]` rad about its origin;
+    /// world frame) from where the scene puts it.
+    pub fn with_hand_pose(mut self, hand: usize, pose: [f64; 6]) -> Self {
+        self.hand_poses.push((hand, pose));
+        self
+    }
+
     /// Checks the inputs against `model`: one finite, non-negative load per force-controlled
-    /// finger, approaches of existing fingers that are not force-controlled. (An extra wrench
+    /// finger, approaches of existing fingers that are not force-controlled, poses of hands. (An extra wrench
     /// or an approach that is not finite reaches the program, which refuses it as an outcome
     /// with its reason, as any data that are not finite.)
     pub fn check(&self, model: &GraspModel) -> Result<(), ModelError> {
@@ -109,6 +125,14 @@ impl StepInputs {
                 return Err(ModelError::BadInput(format!(
                     "finger `{}` is force-controlled: it takes a load, not an approach",
                     f.name
+                )));
+            }
+        }
+        for &(j, _) in &self.hand_poses {
+            let hand = model.springs.get(j).map(|s| s.kind());
+            if !matches!(hand, Some(SpringKind::Hand { .. })) {
+                return Err(ModelError::BadInput(format!(
+                    "a hand pose names shared spring {j}, which is not a hand of the model"
                 )));
             }
         }

@@ -161,6 +161,7 @@ impl KeyframePath {
             }),
             fingers,
             external: None,
+            hands: Default::default(),
         }
     }
 }
