@@ -375,8 +375,12 @@ fn a_scene_without_shared_springs_writes_no_spring_keys() {
     assert_eq!(scene.scene.model, ModelKind::Energy);
 }
 
-/// The plate hand-off with both grippers as built (`examples/plate_transfer_gripper.*`): the
-/// releasing jaws on one servo, the receivers on one compliant arm. Checked at every step:
+/// The plate hand-off between two compliant arms (`examples/plate_transfer_gripper.*`): the
+/// releasing jaws on one servo on a giving arm, the receivers on a receiving arm. Checked at
+/// every step:
+/// - the two arms carry the weight between them (their vertical loads sum to `W`, 1e-9) and
+///   each moves by its own spring's law, `-F_z / k` (1e-12 of a millimetre: the readout's
+///   arithmetic);
 /// - the servo's travel is its own law, `-F_sum / k` (1e-9 of the command's scale, 1 mm);
 /// - its jaws let go exactly as their command passes first touch (13 s): each carries more
 ///   than 1e-3 N before and less than 1e-9 N from then on (the plate is held symmetrically,
@@ -387,7 +391,7 @@ fn a_scene_without_shared_springs_writes_no_spring_keys() {
 ///   slip memory leaving no exact twin to compare it with);
 /// - warm starts survive: at most 1.5 Newton iterations a step on average.
 #[test]
-fn a_hand_off_between_a_servo_gripper_and_a_compliant_arm() {
+fn a_hand_off_between_two_compliant_arms() {
     let (loaded, schedule) = support::transfer_example("plate_transfer_gripper");
     let scene = support::example_json("plate_transfer_gripper.json");
     let options = grasp_transfer::TransferOptions::default();
@@ -395,13 +399,30 @@ fn a_hand_off_between_a_servo_gripper_and_a_compliant_arm() {
         .map(|r| r.unwrap())
         .collect();
     let k_servo = scene["servos"][0]["stiffness_n_per_m"].as_f64().unwrap();
-    let k_arm = scene["hands"][0]["translational_n_per_m"].as_f64().unwrap();
+    let stiffness = |name: &str| {
+        let hands = scene["hands"].as_array().unwrap();
+        let h = hands.iter().find(|h| h["name"] == name).unwrap();
+        h["translational_n_per_m"].as_f64().unwrap()
+    };
+    let (k_arm, k_giver) = (stiffness("arm"), stiffness("giver"));
     let weight = scene["object"]["weight"].as_f64().unwrap();
+    let hand = |s: &Solution, name: &str| s.hands.iter().find(|h| h.name == name).cloned();
     let mut iterations = 0;
     for r in &records {
         let s = &r.solution;
         assert!(s.status.has_forces(), "t {}: {:?}", r.time_s, s.reason);
         iterations += s.solver.iterations;
+        let (arm, giver) = (hand(s, "arm").unwrap(), hand(s, "giver").unwrap());
+        let carried = arm.force_n[2] + giver.force_n[2];
+        assert!(
+            (carried - weight).abs() < 1e-9 * weight,
+            "t {}: {carried}",
+            r.time_s
+        );
+        for (h, k) in [(&arm, k_arm), (&giver, k_giver)] {
+            let law = h.translation_m[2] + h.force_n[2] / k;
+            assert!(law.abs() < 1e-15, "t {}: {}", r.time_s, h.name);
+        }
         let jaws: Vec<_> = ["f1", "f2"].map(|n| s.finger(n).expect("jaw")).into();
         let command = jaws[0].approach_m;
         let servo = &s.servos[0];
@@ -421,7 +442,12 @@ fn a_hand_off_between_a_servo_gripper_and_a_compliant_arm() {
     }
     let end = &records.last().unwrap().solution;
     let arm = weight / k_arm;
-    let base = end.hands[0].translation_m[2];
+    let base = hand(end, "arm").unwrap().translation_m[2];
+    let giver = hand(end, "giver").unwrap().translation_m[2];
+    assert!(
+        giver.abs() < 1e-9 * arm,
+        "the giving arm sheds the weight: {giver} m"
+    );
     let sag = -end.rigid_displacement.unwrap().translation_m[2];
     let per_step = iterations as f64 / records.len() as f64;
     eprintln!(
@@ -459,8 +485,11 @@ fn the_outputs_carry_the_hand_and_the_servo() {
         }
         let v: Value = serde_json::from_slice(&msg.data).unwrap();
         let s = &records[seen].solution;
-        let z = v["hands"][0]["translation_m"][2].as_f64().unwrap();
-        assert_eq!(z, s.hands[0].translation_m[2], "step {seen}");
+        for (k, h) in s.hands.iter().enumerate() {
+            assert_eq!(v["hands"][k]["name"], h.name.as_str());
+            let z = v["hands"][k]["translation_m"][2].as_f64().unwrap();
+            assert_eq!(z, h.translation_m[2], "step {seen}");
+        }
         let travel = v["servos"][0]["travel_m"].as_f64().unwrap();
         assert_eq!(travel, s.servos[0].travel_m, "step {seen}");
         seen += 1;
@@ -474,10 +503,8 @@ fn the_outputs_carry_the_hand_and_the_servo() {
     for (line, rec) in lines.zip(&records) {
         let cells: Vec<&str> = line.split(',').collect();
         let s = &rec.solution;
-        assert_eq!(
-            cells[z].parse::<f64>().unwrap(),
-            s.hands[0].translation_m[2]
-        );
+        let arm = s.hands.iter().find(|h| h.name == "arm").unwrap();
+        assert_eq!(cells[z].parse::<f64>().unwrap(), arm.translation_m[2]);
         assert_eq!(cells[travel].parse::<f64>().unwrap(), s.servos[0].travel_m);
     }
     let Some(cli) = support::rerun_cli() else {

@@ -20,13 +20,17 @@ SCHEDULE = EXAMPLES / "plate_transfer_gripper.schedule.json"
 def test_a_solve_reports_each_hand_and_servo_by_its_springs_law():
     sol = grasp.solve(grasp.Scene(SCENE))
     spec = json.loads(SCENE.read_text())
-    k_arm = spec["hands"][0]["translational_n_per_m"]
     k_servo = spec["servos"][0]["stiffness_n_per_m"]
-    (arm,) = sol.hands
+    assert [h["name"] for h in sol.hands] == [h["name"] for h in spec["hands"]]
+    for hand, written in zip(sol.hands, spec["hands"]):
+        k = written["translational_n_per_m"]
+        for c in range(3):
+            assert abs(hand["translation_m"][c] + hand["force_n"][c] / k) <= 1e-12 * 1e-2
+    # The two arms carry the weight between them.
+    lift = sum(h["force_n"][2] for h in sol.hands)
+    assert abs(lift - spec["object"]["weight"]) <= 1e-9 * lift
     (gripper,) = sol.servos
-    assert arm["name"] == "arm" and gripper["name"] == "gripper"
-    for c in range(3):
-        assert abs(arm["translation_m"][c] + arm["force_n"][c] / k_arm) <= 1e-12 * 1e-2
+    assert gripper["name"] == "gripper"
     jaws = {f["name"]: f["normal_force_n"] for f in sol.fingers}
     assert abs(gripper["force_n"] - (jaws["f1"] + jaws["f2"])) <= 1e-12 * gripper["force_n"]
     assert abs(gripper["travel_m"] + gripper["force_n"] / k_servo) <= 1e-12 * 1e-2
@@ -55,14 +59,13 @@ def test_a_gripper_hand_off_writes_the_clis_hand_and_servo_columns(run_cli, tmp_
 
 def test_a_sweep_over_a_hands_stiffness_reports_each_hand(run_cli, tmp_path):
     out = tmp_path / "sweep.jsonl"
-    proc = run_cli("sweep", SCENE, "--vary", "hands[0].translational_n_per_m=500,2000",
-                   "--run", "--out", out)
+    key = "hands[1].translational_n_per_m"  # the receiving arm
+    proc = run_cli("sweep", SCENE, "--vary", f"{key}=500,2000", "--run", "--out", out)
     assert proc.returncode == 0, proc.stderr
     lines = [json.loads(line) for line in open(out)]
-    key = "hands[0].translational_n_per_m"
     assert [line["vary"][key] for line in lines] == [500.0, 2000.0]
     for line in lines:
-        (arm,) = line["hands"]
+        arm = next(h for h in line["hands"] if h["name"] == "arm")
         k = line["vary"][key]
         assert abs(arm["translation_m"][2] + arm["force_n"][2] / k) <= 1e-12 * 1e-2
         assert line["servos"][0]["name"] == "gripper"
