@@ -256,14 +256,16 @@ fn a_compliant_hand_carries_the_object_with_it_and_changes_no_contact_force() {
 }
 
 /// Three pads hang a rigid box (as in `tests/finger_mounts.rs`); pad `b` is either on its own
-/// mount of stiffness `k` along its normal and tangents, or alone on a hand of translational
-/// stiffness `k` whose origin is its contact point: the same spring written twice, so the two
+/// mount of stiffness `k` along its normal and tangents and `k_r` about every axis, or alone on
+/// a hand of translational stiffness `k` and rotational `k_r` whose origin is its contact point
+/// (both alike in every direction, so the contact frame and the world's agree): the same
+/// spring written twice, so the two
 /// solves must agree (element forces to 1e-7 of the 10 N squeeze, the core's and the hand's
 /// motion to 1e-6 of it: the solves' tolerance), with either solver (Clarabel to 1e-5, its
 /// interior-point accuracy).
 #[test]
 fn a_hand_of_one_finger_is_that_fingers_mount() {
-    let k = 30.0;
+    let (k, k_r) = (30.0, 2.0);
     let scene = |hand: bool| {
         let pad = |name: &str, at: [f64; 3], n: f64| {
             json!({"name": name, "contact_point": at, "normal": [n, 0, 0],
@@ -279,9 +281,11 @@ fn a_hand_of_one_finger_is_that_fingers_mount() {
         if hand {
             scene["hands"] = json!([{"name": "wrist", "fingers": ["b"],
                                      "origin_m": [0.01, 0.01, 0.0],
-                                     "translational_n_per_m": k}]);
+                                     "translational_n_per_m": k,
+                                     "rotational_nm_per_rad": k_r}]);
         } else {
-            b["mount"] = json!({"normal_n_per_m": k, "tangential_n_per_m": k});
+            b["mount"] = json!({"normal_n_per_m": k, "tangential_n_per_m": k,
+                                "rotational_nm_per_rad": k_r});
         }
         scene["fingers"].as_array_mut().unwrap().insert(1, b);
         scene
@@ -525,7 +529,8 @@ fn the_outputs_carry_the_hand_and_the_servo() {
 /// by `d + phi x (c - h)`, its rotation by `phi`) within 1e-6 of the motion (each solve at
 /// 1e-10), the element forces do not change by more than 1e-7 of the 10 N squeeze (the
 /// contacts see no relative motion), and the hand's own spring still carries the weight.
-/// A schedule naming a hand the scene lacks is refused at its first step, naming it.
+/// A schedule naming a hand the scene lacks, turning a hand out of a planar scene's plane or
+/// loading a servo's jaw is refused at its first step, naming the field and the fix.
 #[test]
 fn a_scheduled_hand_pose_carries_the_grasp_along() {
     let hand = json!({"name": "arm", "fingers": ["a", "b"], "origin_m": [0.0, 0.0, 0.05],
@@ -593,5 +598,38 @@ fn a_scheduled_hand_pose_carries_the_grasp_along() {
     assert!(
         first.contains("hands.wrist") && first.contains("arm"),
         "{first}"
+    );
+    // Moved out of a planar scene's plane (the x-z plane: a turn about x tilts it).
+    let mut flat = scene_json.clone();
+    flat["planar"] = json!({"normal": [0, 1, 0]});
+    let flat = LoadedScene::from_json_str(&flat.to_string()).unwrap();
+    let Some(Err(tilted)) = grasp_transfer::Stepper::new(&flat, &lifted, options).next() else {
+        panic!("a hand turned out of the plane is refused");
+    };
+    let tilted = tilted.to_string();
+    eprintln!("{tilted}");
+    assert!(
+        tilted.contains("hands.arm.keyframes[1]") && tilted.contains("plane"),
+        "{tilted}"
+    );
+    // A load phase on a servo's jaw.
+    let pinch = servo_pinch(1e3, 1e-3, 0.0, 0.3, 9);
+    let pinch = LoadedScene::from_json_str(&pinch.to_string()).unwrap();
+    let text = json!({"time": {"start": 0.0, "end": 1.0, "step": 0.5},
+                      "fingers": {"left": [{"ramp": {"keyframes": [[0.0, 0.3], [1.0, 0.0]]}}]}});
+    let loads = grasp_transfer::Schedule::from_json_str(
+        &text.to_string(),
+        &pinch.finger_names(),
+        ".".as_ref(),
+    )
+    .unwrap();
+    let Some(Err(loaded)) = grasp_transfer::Stepper::new(&pinch, &loads, options).next() else {
+        panic!("a load on a servo's jaw is refused");
+    };
+    let loaded = loaded.to_string();
+    eprintln!("{loaded}");
+    assert!(
+        loaded.contains("fingers.left") && loaded.contains("approach"),
+        "{loaded}"
     );
 }

@@ -57,13 +57,16 @@ pub enum TransferError {
         /// Finger name.
         finger: String,
     },
-    /// The schedule ramps a hand the scene does not have.
-    #[error("hands.{hand}: no hand named `{hand}` in the scene; fix: use one of: {known}")]
-    UnknownHand {
-        /// The name the schedule gives.
-        hand: String,
-        /// The scene's hands, comma-separated (`none` without).
-        known: String,
+    /// The schedule asks what the scene cannot do (a hand it lacks, a load on a servo's jaw,
+    /// a hand moved out of a planar scene's plane).
+    #[error("{path}: {message}; fix: {fix}")]
+    ScheduleAgainstScene {
+        /// The schedule's field.
+        path: String,
+        /// What is wrong.
+        message: String,
+        /// What to do.
+        fix: String,
     },
     /// The model refused the data.
     #[error(transparent)]

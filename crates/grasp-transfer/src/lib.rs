@@ -48,6 +48,7 @@ mod minimum_squeeze;
 mod plan;
 mod schedule;
 mod schedule_builder;
+mod schedule_scene_checks;
 mod schedule_spec;
 mod sinks;
 mod slip_margin;

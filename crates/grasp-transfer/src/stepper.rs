@@ -32,6 +32,7 @@ use serde::Serialize;
 
 use crate::error::TransferError;
 use crate::schedule::{Command, ExternalWrench, Schedule};
+use crate::schedule_scene_checks::schedule_against_scene;
 use crate::step_margin::{step_margin, MarginPath, StepMargin};
 
 /// Options of a run.
@@ -418,24 +419,6 @@ impl<'a> Stepper<'a> {
         }
     }
 
-    /// The first hand the schedule ramps that the scene does not have, as an error.
-    fn unknown_hand(&self) -> Option<TransferError> {
-        let known: Vec<&str> = self.scene.hands.iter().map(|h| h.name.as_str()).collect();
-        let (name, _) = self
-            .schedule
-            .hand_poses
-            .iter()
-            .find(|(n, _)| !known.contains(&n.as_str()))?;
-        Some(TransferError::UnknownHand {
-            hand: name.clone(),
-            known: if known.is_empty() {
-                "none".into()
-            } else {
-                known.join(", ")
-            },
-        })
-    }
-
     /// Solves step `k` of the schedule.
     fn solve_step(&mut self, k: usize) -> Result<StepRecord, TransferError> {
         let start = Instant::now();
@@ -711,7 +694,10 @@ impl Iterator for Stepper<'_> {
         }
         let k = self.next;
         self.next += 1;
-        if let Some(e) = (k == 0).then(|| self.unknown_hand()).flatten() {
+        if let Some(e) = (k == 0)
+            .then(|| schedule_against_scene(self.scene, self.schedule))
+            .flatten()
+        {
             self.stopped = true;
             return Some(Err(e));
         }

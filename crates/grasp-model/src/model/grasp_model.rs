@@ -390,9 +390,11 @@ impl GraspModel {
     /// The size of a solve of this model's work (its memory:
     /// [`SolveSize::bytes`]).
     pub fn solve_size(&self) -> SolveSize {
+        // A shared spring adds its coordinates as unknowns and as equality rows.
+        let springs: usize = self.springs.iter().map(|s| s.coordinates()).sum();
         SolveSize {
-            unknowns: self.n_unknowns,
-            equality_rows: self.equilibrium_rows() + self.fingers.len(),
+            unknowns: self.n_unknowns + springs,
+            equality_rows: self.equilibrium_rows() + self.fingers.len() + springs,
             elements: self.fingers.iter().map(|f| f.patch.len()).sum(),
         }
     }

@@ -126,6 +126,9 @@ pub struct ConeProgram {
     pub(crate) external_wrench: Wrench,
     /// Each finger's commanded approach of the last solve, m (0 where none).
     pub(crate) approach_m: Vec<f64>,
+    /// The commanded hand poses of the last solve (also in the offsets): `(hand's index among
+    /// the model's springs, [m; rad])`.
+    pub(crate) hand_poses: Vec<(usize, [f64; 6])>,
     /// Scaled external wrench in equilibrium coordinates (`S w_ext / Fu`).
     pub(crate) external_scaled: Vec<f64>,
     /// Set when the external load has a component no contact force can resist: the reason.
@@ -169,6 +172,7 @@ impl ConeProgram {
             load_rows,
             external_wrench: model.external_wrench,
             approach_m: vec![0.0; model.fingers.len()],
+            hand_poses: Vec::new(),
             external_scaled: Vec::new(),
             unbalanced: None,
         };
@@ -202,6 +206,12 @@ impl ConeProgram {
     /// [`ConeProgram::set_offsets`]): the readout reports it as the finger's approach.
     pub fn set_approaches(&mut self, approach_m: &[f64]) {
         self.approach_m.copy_from_slice(approach_m);
+    }
+
+    /// Sets the commanded hand poses (their motion is also in the offsets, see
+    /// [`ConeProgram::set_offsets`]): the readout tells it from a viscoelastic history.
+    pub fn set_hand_poses(&mut self, poses: &[(usize, [f64; 6])]) {
+        self.hand_poses = poses.to_vec();
     }
 
     /// Sets the offsets `o` (m, per unknown of the fingers; module docs) and rewrites `q`.
@@ -254,6 +264,14 @@ impl ConeProgram {
     /// The friction coefficient of each finger's cones (0 for other cones).
     pub fn mu(&self) -> Vec<f64> {
         self.finger_blocks().iter().map(|b| b.cone.mu()).collect()
+    }
+
+    /// The fingers' unknowns, those before the shared springs' coordinates: the element
+    /// forces, to whose size the solvers' tolerances are relative (a spring's coordinates are
+    /// whole loads in element force units, larger by the elements that share them).
+    pub fn finger_unknowns(&self) -> usize {
+        let springs = &self.blocks[self.blocks.len() - self.springs.len()..];
+        springs.first().map_or(self.n_unknowns, |b| b.offset)
     }
 
     /// The fingers' blocks (those before the shared springs').

@@ -365,8 +365,10 @@ fn fft_bytes(scene: &Scene, f: &FingerSpec) -> u64 {
     let spectra = spectrum
         .saturating_mul(kernels + c + 3)
         .saturating_add((spectrum / 4).saturating_mul(2 * kernels + c + 3));
-    // Equality rows: 6 (3 planar) equilibrium rows and at most one load row per finger.
-    let rows = 6 + scene.fingers.len() as u64;
+    // Equality rows: 6 (3 planar) equilibrium rows, at most one load row per finger, and a
+    // hand's 6 and a servo's 1 (`hands`, `servos`).
+    let springs = 6 * scene.hands.len() + scene.servos.len();
+    let rows = 6 + scene.fingers.len() as u64 + springs as u64;
     let per_unknown = F64_BYTES * (FFT_VECTORS + FFT_VECTORS_PER_ROW * rows);
     let vectors = finger_unknowns(scene, f).saturating_mul(per_unknown);
     let table = (4 * TABLE_BYTES).saturating_mul(nx).saturating_mul(ny);

@@ -1,4 +1,4 @@
-//! The checks of `hands` and `servos`: names unique, fingers named in the scene and each on at
+//! The checks of `hands` and `servos`: names unique (among fingers too), fingers named in the scene and each on at
 //! most one hand and one servo, a hand's stiffness in one form and in range, a servo's jaws
 //! position-controlled. Each problem names its JSON path and the fix.
 
@@ -17,7 +17,8 @@ const HAND_AXES: &str = "x, y, z, rot x, rot y, rot z";
 
 /// Checks `scene.hands` and `scene.servos`.
 pub fn check_shared_springs(scene: &Scene, v: &mut FieldChecks) {
-    let mut names = HashSet::new();
+    // A finger's name is taken too: the outputs name a hand's curves as a finger's.
+    let mut names: HashSet<String> = scene.fingers.iter().map(|f| f.name.clone()).collect();
     let mut on_hand = HashSet::new();
     for (j, h) in scene.hands.iter().enumerate() {
         let p = format!("hands[{j}]");
@@ -49,8 +50,8 @@ fn check_name(p: &str, name: &str, names: &mut HashSet<String>, v: &mut FieldChe
     } else if !names.insert(name.to_string()) {
         v.push(
             &format!("{p}.name"),
-            format!("\"{name}\" is used by another hand or servo"),
-            "give each hand and servo its own name",
+            format!("\"{name}\" is used by a finger, or another hand or servo"),
+            "give each hand and servo a name of its own",
         );
     }
 }

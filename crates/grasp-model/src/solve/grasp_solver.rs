@@ -225,6 +225,7 @@ impl GraspSolver {
         program.set_approaches(&approaches);
         let mut offsets = state.offsets_m(model, &approaches);
         add_hand_poses(model, &inputs.hand_poses, &mut offsets);
+        program.set_hand_poses(&inputs.hand_poses);
         program.set_offsets(model, &offsets);
     }
 

@@ -17,7 +17,7 @@ use rayon::prelude::*;
 use crate::model::equilibrium::Wrench;
 use crate::model::grasp_model::{Control, FingerModel, GraspModel};
 use crate::model::shared_spring::SpringKind;
-use crate::model::spring_loads::{add_spring_retreat, hand_wrench, spring_loads};
+use crate::model::spring_loads::{add_hand_poses, add_spring_retreat, hand_wrench, spring_loads};
 use crate::option_names;
 use crate::program::cone_program::{ConeProgram, LoadRow};
 use crate::solve::patch_check::patch_warnings;
@@ -415,9 +415,10 @@ pub(crate) fn build_solution(
             finger_solution(model, i, &x_n, &check.elements[i], found)
         })
         .collect();
+    let history_m = offsets_without_hand_poses(model, program);
     for (i, (f, fs)) in model.fingers.iter().zip(fingers.iter_mut()).enumerate() {
         if f.viscous.is_some() {
-            set_viscous_displacement(f, &program.offset_m, program.approach_m[i], fs);
+            set_viscous_displacement(f, &history_m, program.approach_m[i], fs);
         }
     }
     let t_com = t_o + theta.cross(&(model.center_of_mass_m() - model.reference_point_m));
@@ -528,6 +529,23 @@ fn offsets_with_springs<'a>(
     }
     let mut o = offset_m[..model.n_unknowns].to_vec();
     add_spring_retreat(model, x_n, &mut o);
+    Cow::Owned(o)
+}
+
+/// The program's displacement offsets (m) less the commanded hand poses' motion: what a
+/// viscoelastic history and the fingers' own commands put there.
+fn offsets_without_hand_poses<'a>(model: &GraspModel, program: &'a ConeProgram) -> Cow<'a, [f64]> {
+    if program.hand_poses.is_empty() {
+        return Cow::Borrowed(&program.offset_m);
+    }
+    let mut poses = vec![0.0; model.n_unknowns];
+    add_hand_poses(model, &program.hand_poses, &mut poses);
+    let o = program
+        .offset_m
+        .iter()
+        .zip(&poses)
+        .map(|(o, p)| o - p)
+        .collect();
     Cow::Owned(o)
 }
 

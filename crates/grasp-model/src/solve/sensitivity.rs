@@ -291,7 +291,9 @@ pub(crate) fn sensitivities(
     let rhs = rhs_columns(model, ps, &mut params, directions);
     let dq = cost_columns(model, &iterate.x, &costs);
     let mu = radius_coefficients(model, ps, solution);
-    let scale = iterate.x.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+    // The element forces' size (a shared spring's coordinates, whole loads, left out).
+    let forces = &iterate.x[..ps.program.finger_unknowns()];
+    let scale = forces.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let near = NEAR_CHANGE * scale.max(f64::MIN_POSITIVE);
     let (native, program) = ps.native_workspace(model);
     let deriv = kkt_derivative(native.blocks(), program, &iterate, &mu, &rhs, &dq, near)

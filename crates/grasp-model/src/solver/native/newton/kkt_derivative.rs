@@ -176,7 +176,7 @@ fn finger_system(
     });
     let p = dq.ncols();
     let dq_rows = Mat::<f64>::from_fn(nf, p, |i, c| {
-        // A shared spring's coordinates follow the fingers' rows of `dq`: no cost change.
+        // Rows past `dq`'s (one written over the fingers' unknowns alone) change no cost.
         row_dot(
             &columns[i].row,
             &|idx| match block.offset + idx < dq.nrows() {

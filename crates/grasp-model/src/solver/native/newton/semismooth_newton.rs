@@ -441,13 +441,15 @@ impl<'a, 'p> Newton<'a, 'p> {
             self.counts.newton_steps += 1;
             // Near the solution the directions barely turn: reuse the cached factors (chord
             // step).
-            let near = res_max <= CHORD_RESIDUAL * max_abs(&s.x).max(1.0);
+            let near =
+                res_max <= CHORD_RESIDUAL * max_abs(&s.x[..program.finger_unknowns()]).max(1.0);
             let step_lins = match near {
                 true => chord_linearisations(lins, self.caches),
                 false => lins,
             };
             let relative = match settling {
-                true => (res_max / max_abs(&s.x).max(1.0)).clamp(CG_TOLERANCE, FORCING_MAX),
+                true => (res_max / max_abs(&s.x[..program.finger_unknowns()]).max(1.0))
+                    .clamp(CG_TOLERANCE, FORCING_MAX),
                 false => CG_TOLERANCE,
             };
             let aim = StepAim {
@@ -534,7 +536,7 @@ struct Tolerances {
 impl Tolerances {
     fn at(limits: Limits, program: &ConeProgram, s: &State) -> Self {
         Tolerances {
-            x: limits.tolerance * max_abs(&s.x).max(1.0),
+            x: limits.tolerance * max_abs(&s.x[..program.finger_unknowns()]).max(1.0),
             e: limits.tolerance * max_abs(&program.equality_rhs).max(1.0),
         }
     }
