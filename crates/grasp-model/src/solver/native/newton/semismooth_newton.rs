@@ -132,6 +132,15 @@ fn equality_residual(blocks: &[FingerBlockData], program: &ConeProgram, x: &[f64
     r
 }
 
+/// True when every finger's compliance is the FFT operator: the steps are then projected
+/// ones ([`super::projected_step`]), over the shared springs' small dense blocks too (their
+/// preconditioner is their diagonal).
+fn every_finger_fft(blocks: &[FingerBlockData], program: &ConeProgram) -> bool {
+    blocks[..program.finger_blocks().len()]
+        .iter()
+        .all(FingerBlockData::is_fft)
+}
+
 /// Every finger's linearisation at `s`, in the storage of `spare` (the last step's); without
 /// the elements' residuals when every finger is an FFT one (their steps are projected ones,
 /// which keep no factors for chord steps).
@@ -141,7 +150,7 @@ fn linearise_all(
     s: &State,
     spare: Vec<FingerLinearisation>,
 ) -> Vec<FingerLinearisation> {
-    let residuals = !blocks.iter().all(FingerBlockData::is_fft);
+    let residuals = !every_finger_fft(blocks, program);
     let mut spare = spare.into_iter();
     blocks
         .iter()
@@ -337,7 +346,7 @@ impl<'a, 'p> Newton<'a, 'p> {
         aim: StepAim,
     ) -> Option<Step> {
         let blocks = self.blocks;
-        if blocks.iter().all(FingerBlockData::is_fft) {
+        if every_finger_fft(blocks, self.program) {
             // A free row is a natural residual over `gamma theta` (`theta <= 1`): an error `r`
             // in it moves the natural residual by at most `gamma_max r`.
             let gamma_max = blocks.iter().map(|b| b.gamma).fold(0.0, f64::max);
