@@ -473,3 +473,92 @@ fn solvers_and_compliance_paths_agree_on_mounted_random_grasps() {
         "{invalid} invalid, {solved} solved"
     );
 }
+
+/// A hand on a random subset of a random grasp's fingers (stiffness by direction or a full
+/// matrix coupling a translation and a rotation, each from 1e-3 to 1e3 times the contacts'
+/// scale as the mounts above, about a point near its fingers) and, on most of them, a servo on
+/// the two position-controlled fingers of the opposing pair when both are.
+fn with_random_springs(r: &mut Lcg, mut v: Value) -> Value {
+    let fingers = v["fingers"].as_array().unwrap().clone();
+    let names: Vec<String> = fingers
+        .iter()
+        .map(|f| f["name"].as_str().unwrap().to_string())
+        .collect();
+    let e = fingers[0]["material"]["youngs_modulus"].as_f64().unwrap();
+    let side = fingers[0]["patch"]["size"][0].as_f64().unwrap();
+    let on: Vec<&String> = names.iter().filter(|_| r.chance(0.6)).collect();
+    let on = if on.is_empty() { vec![&names[0]] } else { on };
+    let (kt, kr) = (
+        e * side * r.log(1e-3, 1e3),
+        e * side.powi(3) * r.log(1e-3, 1e3),
+    );
+    let origin = [r.range(-0.05, 0.05), 0.0, r.range(-0.05, 0.05)];
+    let mut hand = json!({"name": "hand", "fingers": on, "origin_m": origin});
+    if r.chance(0.3) {
+        let mut m = [[0.0; 6]; 6];
+        for c in 0..6 {
+            m[c][c] = if c < 3 { kt } else { kr };
+        }
+        let (a, b) = (r.int(0, 2), r.int(3, 5));
+        let coupling = r.range(-0.5, 0.5) * (kt * kr).sqrt();
+        (m[a][b], m[b][a]) = (coupling, coupling);
+        hand["matrix"] = json!(m);
+    } else {
+        hand["translational_n_per_m"] = json!(kt);
+        if r.chance(0.5) {
+            hand["rotational_nm_per_rad"] = json!(kr);
+        }
+    }
+    v["hands"] = json!([hand]);
+    let position = |f: &Value| f["control"].get("normal_load").is_none();
+    if r.chance(0.8) && position(&fingers[0]) && position(&fingers[1]) {
+        let k = e * side * r.log(1e-3, 1e3);
+        v["servos"] = json!([{"name": "servo", "fingers": [names[0], names[1]],
+                              "stiffness_n_per_m": k}]);
+    }
+    v
+}
+
+/// Hands and servos add free load coordinates and equality rows to the program, which every
+/// solver takes: on 40 random grasps with a random hand (and on some a servo), the native
+/// solver agrees with Clarabel as in the 240-grasp comparison, and the dense path with the
+/// FFT path (where the projected step carries the springs' dense blocks) within
+/// [`SOLVER_AGREEMENT`] of the load.
+#[test]
+fn solvers_and_compliance_paths_agree_on_random_grasps_with_hands_and_servos() {
+    let mut r = Lcg(0x6861_6e64_73);
+    let (mut solved, mut agreed, mut invalid, mut servos) = (0, 0, 0, 0);
+    let mut failures = Vec::new();
+    for case in 0..40 {
+        let (planar, coulomb) = (case % 2 == 1, case % 4 >= 2);
+        let v = random_grasp(&mut r, planar, coulomb);
+        let v = with_random_springs(&mut r, v);
+        if grasp_model::LoadedScene::from_json_str(&v.to_string()).is_err() {
+            invalid += 1;
+            continue;
+        }
+        servos += v.get("servos").is_some() as usize;
+        match native_agrees_with_clarabel(&v) {
+            Ok((s, agreement, _)) => {
+                solved += s.status.has_forces() as usize;
+                agreed += (agreement == Agreement::Within) as usize;
+            }
+            Err(e) => failures.push(format!("case {case} (solvers): {e}\n  scene: {v}")),
+        }
+        if let Err(e) = dense_and_fft_agree(&v) {
+            failures.push(format!("case {case} (dense vs FFT): {e}\n  scene: {v}"));
+        }
+    }
+    println!(
+        "random grasps with hands: {} valid ({servos} with a servo), {solved} solved, {agreed} \
+         within 1e-8 of the load between the solvers, {invalid} rejected as invalid; {} \
+         disagreements",
+        40 - invalid,
+        failures.len()
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(
+        invalid <= 4 && solved >= 10 && servos >= 5,
+        "{invalid} invalid, {solved} solved, {servos} servos"
+    );
+}

@@ -254,7 +254,8 @@ pub const SEQUENTIAL_REFERENCE: f64 = 1e-10;
 pub const ENERGY_ROUNDOFF: f64 = 1e-11;
 
 /// The complementary energy of a solution's forces, `1/2 x'Cx + c'F` (J), computed here from
-/// the model's compliance blocks and gaps, independently of both solvers.
+/// the model's compliance blocks and gaps, independently of both solvers, plus each hand's and
+/// servo's `1/2 W' S W` (from the load it carries and the motion it reports, `-S W`).
 pub fn complementary_energy_j(model: &GraspModel, sol: &Solution) -> f64 {
     let mut j = 0.0;
     for (f, fs) in model.fingers().iter().zip(&sol.fingers) {
@@ -274,6 +275,16 @@ pub fn complementary_energy_j(model: &GraspModel, sol: &Solution) -> f64 {
         for (k, xk) in x.iter().enumerate().take(ne) {
             j += f.patch().gap_m[k] * xk;
         }
+    }
+    // The shared springs' `1/2 W' S W`: each carries `W` and moves by `-S W`.
+    for h in &sol.hands {
+        let work: f64 = (0..3)
+            .map(|c| h.force_n[c] * h.translation_m[c] + h.moment_nm[c] * h.rotation_rad[c])
+            .sum();
+        j -= 0.5 * work;
+    }
+    for s in &sol.servos {
+        j -= 0.5 * s.force_n * s.travel_m;
     }
     j
 }
