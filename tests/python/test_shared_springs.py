@@ -69,3 +69,25 @@ def test_a_sweep_over_a_hands_stiffness_reports_each_hand(run_cli, tmp_path):
         k = line["vary"][key]
         assert abs(arm["translation_m"][2] + arm["force_n"][2] / k) <= 1e-12 * 1e-2
         assert line["servos"][0]["name"] == "gripper"
+
+
+def test_the_npz_carries_the_hands_servos_and_mounted_cores(run_cli, tmp_path):
+    import numpy as np
+
+    npz, out = tmp_path / "g.npz", tmp_path / "g.json"
+    proc = run_cli("solve", SCENE, "--npz", npz, "--json", out)
+    assert proc.returncode == 0, proc.stderr
+    sol = json.loads(out.read_text())
+    arrays = np.load(npz)
+    for hand in sol["hands"]:
+        for field in ("force_n", "moment_nm", "translation_m", "rotation_rad"):
+            assert arrays[f"{hand['name']}/{field}"].tolist() == hand[field]
+    for servo in sol["servos"]:
+        assert arrays[f"{servo['name']}/force_n"].shape == ()
+        assert float(arrays[f"{servo['name']}/travel_m"]) == servo["travel_m"]
+    for finger in sol["fingers"]:
+        core = finger.get("mount_displacement")
+        key = f"{finger['name']}/core_translation_m"
+        assert (key in arrays) == (core is not None)
+        if core is not None:
+            assert arrays[key].tolist() == core["translation_m"]

@@ -19,7 +19,11 @@
 //! image `<finger>/gel/height_m` float64 `(nx, ny)` (m, positive into the pad),
 //! `<finger>/gel/normal` float64 `(nx, ny, 3)` (`u`, `v`, `w` toward the camera),
 //! `<finger>/gel/rgb` float64 `(nx, ny, 3)` (in `[0, 1]`) and `<finger>/gel/rgb8` uint8
-//! `(nx, ny, 3)` ([`NpzArchive::add_sensors`]). Every float is the solution's own float64, bit for bit. The archive is
+//! `(nx, ny, 3)` ([`NpzArchive::add_sensors`]). A finger on a mount adds
+//! `<finger>/core_translation_m` and `<finger>/core_rotation_rad` float64 `(3,)` (its core's
+//! displacement, world frame); a hand `<hand>/force_n`, `<hand>/moment_nm`,
+//! `<hand>/translation_m` and `<hand>/rotation_rad` float64 `(3,)`; a servo `<servo>/force_n`
+//! and `<servo>/travel_m` float64 `()`. Every float is the solution's own float64, bit for bit. The archive is
 //! the same for the same solution (entries dated 1980-01-01, the zip format's zero).
 
 use std::io::{BufWriter, Seek, Write};
@@ -127,6 +131,29 @@ impl<W: Write + Seek> NpzArchive<W> {
                     e.viscous_displacement_m.unwrap_or([f64::NAN; 3])
                 })?;
             }
+            if let Some(core) = &f.mount_displacement {
+                self.array(&format!("{p}core_translation_m"), &[3], core.translation_m)?;
+                self.array(&format!("{p}core_rotation_rad"), &[3], core.rotation_rad)?;
+            }
+        }
+        self.add_shared_springs(prefix, solution)
+    }
+
+    /// Adds each hand's and servo's arrays, named `<prefix><name>/<field>` (their names are
+    /// none of the fingers'): a hand's `force_n`, `moment_nm`, `translation_m` and
+    /// `rotation_rad` `(3,)`; a servo's `force_n` and `travel_m` `()`.
+    fn add_shared_springs(&mut self, prefix: &str, solution: &Solution) -> std::io::Result<()> {
+        for h in &solution.hands {
+            let p = format!("{prefix}{}/", h.name);
+            self.array(&format!("{p}force_n"), &[3], h.force_n)?;
+            self.array(&format!("{p}moment_nm"), &[3], h.moment_nm)?;
+            self.array(&format!("{p}translation_m"), &[3], h.translation_m)?;
+            self.array(&format!("{p}rotation_rad"), &[3], h.rotation_rad)?;
+        }
+        for v in &solution.servos {
+            let p = format!("{prefix}{}/", v.name);
+            self.array(&format!("{p}force_n"), &[], [v.force_n])?;
+            self.array(&format!("{p}travel_m"), &[], [v.travel_m])?;
         }
         Ok(())
     }
