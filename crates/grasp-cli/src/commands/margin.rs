@@ -454,6 +454,14 @@ fn table_notes(r: &MarginReport, s: &mut String) {
             r.mounted.join(", ")
         );
     }
+    if !r.shared_springs.is_empty() {
+        let _ = writeln!(
+            s,
+            "margins of the compliant grasp: its fingers on {} (a push moves the hands' bases \
+             and the servos' jaws on their springs)",
+            r.shared_springs.join(", ")
+        );
+    }
     if !r.sliding_undisturbed.is_empty() {
         let _ = writeln!(
             s,

@@ -293,6 +293,11 @@ pub struct MarginReport {
     /// from rigid cores); empty when every core is rigid.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub mounted: Vec<String>,
+    /// The hands and servos whose fingers hold the grasp (`hands`, `servos`): the margins are
+    /// then the compliant grasp's too (a push moves their bases and jaws on their springs);
+    /// empty without them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub shared_springs: Vec<String>,
     /// Per direction, in the order given.
     pub directions: Vec<DirectionMargin>,
     /// Index of the direction with the smallest margin among those the grasp resists at all
@@ -334,6 +339,7 @@ impl MarginReport {
                 .filter(|f| f.mount.is_some())
                 .map(|f| f.name.clone())
                 .collect(),
+            shared_springs: model.springs.iter().map(|s| s.name.clone()).collect(),
             directions: margins,
             smallest,
             unresisted,
