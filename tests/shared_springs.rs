@@ -718,3 +718,30 @@ fn a_servo_on_fine_patches_solves_as_its_jaws_own_mounts() {
     assert!(difference < 1e-8 * squeeze, "{difference}");
     assert!(a.solver.inner_iterations <= 2 * b.solver.inner_iterations.max(1));
 }
+
+/// The disturbance margins of a grasp held through hands and servos are the compliant grasp's,
+/// and the report says so: `shared_springs` names them (and `mounted` the fingers on mounts of
+/// their own), in scene order; a grasp without any names none.
+#[test]
+fn margins_name_the_springs_that_make_the_grasp_compliant() {
+    use grasp_model::{axis_directions, disturbance_margins, ContactState, MarginOptions};
+    let margins = |v: &Value| {
+        let model = std::sync::Arc::new(
+            GraspModel::from_loaded(&LoadedScene::from_json_str(&v.to_string()).unwrap()).unwrap(),
+        );
+        disturbance_margins(
+            &model,
+            &StepInputs::of_scene(&model),
+            &ContactState::new(&model),
+            SolveOptions::default(),
+            &axis_directions(&model),
+            &MarginOptions::default(),
+        )
+        .unwrap()
+    };
+    let gripper = margins(&support::example_json("plate_transfer_gripper.json"));
+    assert_eq!(gripper.shared_springs, ["giver", "arm", "gripper"]);
+    assert_eq!(gripper.mounted, ["f3", "f4"]);
+    let plain = margins(&held_box(None, "energy"));
+    assert!(plain.shared_springs.is_empty() && plain.mounted.is_empty());
+}
