@@ -405,6 +405,25 @@ fn csv_phase(cp: &str, c: &CsvPhase, base_dir: &Path, v: &mut Problems) -> Phase
     }
 }
 
+/// The times of six-component keyframes at `path`, checked: at least one (else `empty_fix`),
+/// each in range, strictly increasing.
+fn keyframe_times(path: &str, keys: &[(f64, [f64; 6])], empty_fix: &str, v: &mut Problems) {
+    if keys.is_empty() {
+        v.push(path.to_string(), "has no keyframe".into(), empty_fix);
+    }
+    for (k, (t, _)) in keys.iter().enumerate() {
+        let kp = format!("{path}[{k}]");
+        v.time(kp.clone(), *t, false);
+        if k > 0 && !(*t > keys[k - 1].0) {
+            v.push(
+                kp,
+                format!("time {} s is not after {} s", N(*t), N(keys[k - 1].0)),
+                "list keyframes in strictly increasing time",
+            );
+        }
+    }
+}
+
 /// Largest commanded hand translation (m) or rotation (rad) component: the model is one of
 /// small displacements.
 const MAX_HAND_POSE: f64 = 1.0;
@@ -421,26 +440,16 @@ fn pose_ramp(name: &str, ramp: &PoseRamp, v: &mut Problems) -> ExternalRamp {
             (*t, [d[0], d[1], d[2], r[0], r[1], r[2]])
         })
         .collect();
-    if keys.is_empty() {
-        v.push(
-            path.clone(),
-            "has no keyframe".into(),
-            "give at least one [time, {\"translation_m\": [..]}]",
-        );
-    }
-    for (k, (t, p)) in keys.iter().enumerate() {
-        let kp = format!("{path}[{k}]");
-        v.time(kp.clone(), *t, false);
-        if k > 0 && !(*t > keys[k - 1].0) {
-            v.push(
-                kp.clone(),
-                format!("time {} s is not after {} s", N(*t), N(keys[k - 1].0)),
-                "list keyframes in strictly increasing time",
-            );
-        }
+    keyframe_times(
+        &path,
+        &keys,
+        "give at least one [time, {\"translation_m\": [..]}]",
+        v,
+    );
+    for (k, (_, p)) in keys.iter().enumerate() {
         if !p.iter().all(|c| c.is_finite() && c.abs() <= MAX_HAND_POSE) {
             v.push(
-                kp,
+                format!("{path}[{k}]"),
                 format!("pose {p:?} has a component that is not finite or above {MAX_HAND_POSE}"),
                 "give the translation in m and the rotation in rad, each at most 1 (small motions)",
             );
@@ -475,26 +484,16 @@ fn external_ramp(
             None => return (Vec::new(), Easing::Linear),
         },
     };
-    if keys.is_empty() {
-        v.push(
-            path.clone(),
-            "has no keyframe".into(),
-            "give at least one [time, {\"force\": [..]}]",
-        );
-    }
-    for (k, (t, w)) in keys.iter().enumerate() {
-        let kp = format!("{path}[{k}]");
-        v.time(kp.clone(), *t, false);
-        if k > 0 && !(*t > keys[k - 1].0) {
-            v.push(
-                kp.clone(),
-                format!("time {} s is not after {} s", N(*t), N(keys[k - 1].0)),
-                "list keyframes in strictly increasing time",
-            );
-        }
+    keyframe_times(
+        &path,
+        &keys,
+        "give at least one [time, {\"force\": [..]}]",
+        v,
+    );
+    for (k, (_, w)) in keys.iter().enumerate() {
         if !w.iter().all(|c| c.is_finite() && c.abs() <= MAX_FORCE_N) {
             v.push(
-                kp,
+                format!("{path}[{k}]"),
                 format!("wrench {w:?} has a component that is not finite or above {MAX_FORCE_N:e}"),
                 "give force components in N and couple components in N m, each at most 1e7",
             );
