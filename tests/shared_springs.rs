@@ -137,6 +137,52 @@ fn a_servos_jaws_pushed_aside_share_the_push_as_the_closed_form_says() {
     assert!((sol.servos[0].travel_m + (ml + mr) / k).abs() < 1e-9 * jaw);
 }
 
+/// A jaw opened short of first touch is withdrawn, in a hand-off as in a solve: two rigid
+/// jaws pinch a weightless box, the left one pressed in 0.3 mm, the right one opened to
+/// -0.1 mm, so the contacts share an interference of 0.2 mm, 0.1 mm each (the box settles
+/// midway), and each carries Hertz's `4/3 E* sqrt(R) (0.1 mm)^1.5`, within the 0.5 % of the
+/// 41 x 41 grid (as above). The scene's command and a schedule's approach phase must both be
+/// that answer; a hand-off that read an opened jaw as held at first touch (0 mm) would press
+/// 0.15 mm into each, 84 % more force.
+#[test]
+fn a_jaw_opened_short_of_first_touch_is_withdrawn_in_a_hand_off() {
+    let (left_m, right_m) = (3e-4, -1e-4);
+    let expected = hertz_load(0.5 * (left_m + right_m));
+    let mut v = servo_pinch(1e3, left_m, 0.0, expected, 41);
+    v.as_object_mut().unwrap().remove("servos");
+    v["fingers"][1]["control"] = json!({"approach_m": right_m});
+    let scene = LoadedScene::from_json_str(&v.to_string()).expect("valid scene");
+    let names = scene.finger_names();
+    let ramp = json!({"time": {"times": [0.0, 1.0]}, "fingers": {
+        "right": [{"approach": {"keyframes": [[0.0, right_m], [1.0, right_m]]}}]}});
+    let held = json!({"time": {"times": [0.0, 1.0]}, "fingers": {}});
+    for schedule in [held, ramp] {
+        let schedule = grasp_transfer::Schedule::from_json_str(
+            &schedule.to_string(),
+            &names,
+            std::path::Path::new("."),
+        )
+        .expect("schedule");
+        let options = grasp_transfer::TransferOptions::default();
+        for r in grasp_transfer::Stepper::new(&scene, &schedule, options) {
+            let r = r.expect("step");
+            let f = r.solution.finger("right").expect("right jaw");
+            eprintln!(
+                "t {} s: right jaw {:.6} N at approach {:.3e} m; Hertz {expected:.6} N",
+                r.time_s, f.normal_force_n, f.approach_m
+            );
+            assert!(
+                (f.normal_force_n - expected).abs() < 5e-3 * expected,
+                "{}",
+                r.time_s
+            );
+        }
+    }
+    let solved = solved(&v);
+    let f = solved.finger("right").unwrap().normal_force_n;
+    assert!((f - expected).abs() < 5e-3 * expected, "solve: {f}");
+}
+
 /// The root of an increasing `g` on `[lo, hi]` to 1e-15 of the interval.
 fn bisect(mut lo: f64, mut hi: f64, g: impl Fn(f64) -> f64) -> f64 {
     for _ in 0..200 {

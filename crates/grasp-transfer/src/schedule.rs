@@ -187,7 +187,8 @@ impl Schedule {
                 let k: Vec<(f64, Option<f64>)> =
                     keyframes.iter().map(|k| (k.0, Some(k.1))).collect();
                 let d = ramp_load(&k, *easing, t, 0.0);
-                if d > 0.0 {
+                // Negative: opened short of first touch (withdrawn); 0 is held.
+                if d != 0.0 {
                     Command::Approach(d)
                 } else {
                     Command::Held

@@ -319,7 +319,8 @@ impl<'a> Stepper<'a> {
         match (control.normal_load_n(), control.approach_m()) {
             (Some(p), _) if p > 0.0 => Command::Load(p),
             (Some(_), _) => Command::Released,
-            (None, Some(d)) if d > 0.0 => Command::Approach(d),
+            // Pressed in, or opened short of first touch (a withdrawn jaw); 0 is held.
+            (None, Some(d)) if d != 0.0 => Command::Approach(d),
             (None, _) => Command::Held,
         }
     }
