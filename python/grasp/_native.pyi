@@ -227,6 +227,11 @@ def plan(
     min_load: float = 0.0,
     max_load: Optional[float] = None,
     max_rate: Optional[float] = None,
+    max_speed: Optional[float] = None,
+    open_to: Optional[float] = None,
+    close_to: Optional[float] = None,
+    min_approach: Optional[float] = None,
+    max_approach: Optional[float] = None,
     min_duration: float = 0.0,
     max_duration: Optional[float] = None,
     duration: Optional[float] = None,
@@ -241,8 +246,9 @@ def plan(
     schedule that keeps every constraint, as a dict with ``met``, ``schedule`` (runs unchanged
     in :func:`transfer`), ``margins``, ``template_margins``, ``slip_margin_rule``,
     ``smallest_not_counted``, ``checked``, ``warnings`` (the checked run's, each once with
-    its steps), ``duration_s``, ``runs`` and ``time_s``. Loads N,
-    rates N/s, times s. Raises :class:`GraspError` for constraints no schedule can meet, naming
+    its steps), ``duration_s``, ``loads_n``, ``approaches_m``, ``runs`` and ``time_s``.
+    Loads N, rates N/s, approaches m (position-controlled fingers: a servo's jaws opened to let
+    go), speeds m/s, times s. Raises :class:`GraspError` for constraints no schedule can meet, naming
     the one that binds, and when the best schedule found does not keep every constraint (as
     ``grasp plan`` writes none): then its ``report`` attribute holds the report, ``binding``
     and all; ``ValueError`` for arguments out of range, ``TypeError`` for a bool or str given

@@ -52,8 +52,9 @@ def test_constraints_no_schedule_meets_raise_with_the_keyword_named():
         grasp.plan(scene, releasing=["f1", "f2"])
     # The library's message, every option in it named by its keyword, none by a CLI flag.
     assert str(e.value) == (
-        "`objective=`: the shortest duration needs a load-rate limit (a quasi-static hand-off "
-        'is as fast as its rates allow): give `max_rate=`, or `objective="margin"`'
+        "`objective=`: the shortest duration needs a rate limit (a quasi-static hand-off "
+        "is as fast as its rates allow): give `max_rate=` (loads) or `max_speed=` (approaches), "
+        'or `objective="margin"`'
     )
     with pytest.raises(ValueError) as e:
         grasp.plan(scene, releasing=["f1", "f2"], max_rate=1.5, min_load=5.0, max_load=3.0,
@@ -63,7 +64,7 @@ def test_constraints_no_schedule_meets_raise_with_the_keyword_named():
         "`min_duration=`: needs 0 <= `min_duration <= max_duration`",
         "`steps=`: must be 2 to 10,000",
     ]
-    with pytest.raises(grasp.GraspError, match="give `duration=` \\(s\\) or `max_rate=`") as e:
+    with pytest.raises(grasp.GraspError, match="give `duration=` \\(s\\), `max_rate=`") as e:
         grasp.plan(scene, releasing=["f1", "f2"], objective="margin")
     assert "--" not in str(e.value)
     # The report's texts too: the search that ran out of runs names `max_runs=` (the report
@@ -139,3 +140,77 @@ def test_a_bool_for_a_number_or_a_str_for_finger_names_is_refused_by_keyword():
     # Negative numbers reach the planner's checks, named by keyword.
     with pytest.raises(ValueError, match=r"`min_load=`: needs 0 <= `min_load < max_load`"):
         grasp.plan(scene, releasing=["f1", "f2"], max_rate=1.5, min_load=-1.0)
+
+
+GRIPPER = EXAMPLES / "plate_transfer_gripper.json"
+GRIPPER_TEMPLATE = EXAMPLES / "plate_transfer_gripper.schedule.json"
+GRIPPER_MU = 0.5  # every pad of the gripper hand-off
+GRIPPER_LOAD_SCALE_N = 4.448  # the weight: no finger has a commanded load
+
+
+def approach_keyframes(schedule, finger):
+    (phase,) = schedule["fingers"][finger]
+    return phase["approach"]["keyframes"]
+
+
+def test_a_plan_of_jaw_positions_opens_at_the_speed_limit_and_lets_go():
+    """The gripper hand-off planned by its jaws' positions: the servo's jaws open from 4 mm to
+    -1 mm, the receiving jaws close from 0.1 mm towards 1 mm, at most 0.5 mm/s. The shortest
+    such hand-off opens the releasing jaws at the limit all the way: 5 mm / 0.5 mm/s = 10 s
+    (to 1e-6 of it, the program's accuracy). Checked on the run's own force histories: every
+    step holds, the counted slip margins keep 0 (to the planner's 1e-3), the releasing jaws
+    carry nothing at the end (1e-9 of the weight: separated elements' round-off)."""
+    scene = grasp.Scene(GRIPPER)
+    speed = 5e-4
+    plan = grasp.plan(scene, releasing=["f1", "f2"], receiving=["f3", "f4"],
+                      open_to=-0.001, close_to=0.001, max_speed=speed)
+    assert plan["met"], plan["binding"]
+    assert plan["duration_s"] == pytest.approx(0.005 / speed, rel=1e-6)
+    assert plan["loads_n"] == [] and [a[0] for a in plan["approaches_m"]] == ["f1", "f2", "f3", "f4"]
+    for finger in ["f1", "f2", "f3", "f4"]:
+        keys = approach_keyframes(plan["schedule"], finger)
+        for (t0, a0), (t1, a1) in zip(keys, keys[1:]):
+            assert abs(a1 - a0) / (t1 - t0) <= speed * (1 + 1e-6), finger
+    assert approach_keyframes(plan["schedule"], "f1")[0][1] == 0.004
+    assert approach_keyframes(plan["schedule"], "f1")[-1][1] == -0.001
+    run = grasp.transfer(scene, plan["schedule"])
+    assert all(s == "solved" for s in run.statuses)
+    p = run.normal_forces_n
+    q = np.linalg.norm(run.tangential_forces_n, axis=2)
+    carrying = (p > 0) & (np.hypot(p, q) >= 0.05 * GRIPPER_LOAD_SCALE_N)
+    assert (1 - q[carrying] / (GRIPPER_MU * p[carrying])).min() >= -MARGIN_TOLERANCE
+    assert p[-1, :2].max() <= 1e-9 * GRIPPER_LOAD_SCALE_N
+    # From the template: no longer than it, every constraint kept.
+    planned = grasp.plan(scene, releasing=["f1", "f2"], receiving=["f3", "f4"],
+                         template=GRIPPER_TEMPLATE, max_speed=speed)
+    assert planned["met"] and planned["duration_s"] <= 15.0
+
+
+def test_position_plans_that_cannot_be_made_are_refused_by_keyword(tmp_path, run_cli):
+    scene = grasp.Scene(GRIPPER)
+    both = dict(releasing=["f1", "f2"], receiving=["f3", "f4"], max_speed=5e-4)
+    with pytest.raises(grasp.GraspError, match="give `open_to=`"):
+        grasp.plan(scene, **both, close_to=0.001)
+    with pytest.raises(grasp.GraspError, match="give `close_to=`"):
+        grasp.plan(scene, **both, open_to=-0.001)
+    with pytest.raises(grasp.GraspError, match="a releasing jaw opens"):
+        grasp.plan(scene, **both, open_to=0.005, close_to=0.001)
+    with pytest.raises(grasp.GraspError, match="longer than the 4 s allowed"):
+        grasp.plan(scene, **both, open_to=-0.001, close_to=0.001, max_duration=4.0)
+    with pytest.raises(ValueError, match="max_speed="):
+        grasp.plan(scene, **{**both, "max_speed": -1.0}, open_to=-0.001, close_to=0.001)
+    spec = json.loads(GRIPPER.read_text())
+    spec["fingers"][2]["control"] = {"normal_load": 1.0}
+    mixed = grasp.Scene(spec)
+    with pytest.raises(grasp.GraspError, match="`receiving=` mixes force-controlled fingers"):
+        grasp.plan(mixed, **both, open_to=-0.001, max_rate=1.0)
+    with pytest.raises(grasp.GraspError, match="`max_rate=` is given but applies to no planned finger"):
+        grasp.plan(scene, **both, open_to=-0.001, close_to=0.001, max_rate=1.0)
+    spec["fingers"][3]["control"] = {"normal_load": 1.0}
+    by_load = grasp.Scene(spec)
+    with pytest.raises(grasp.GraspError, match="the receiving fingers have no rate limit.*give `max_rate=`"):
+        grasp.plan(by_load, **both, open_to=-0.001, max_load=4.0)
+    # The CLI names its flags.
+    proc = run_cli("plan", GRIPPER, "--releasing", "f1,f2", "--receiving", "f3,f4",
+                   "--max-speed", "5e-4", "--close-to", "0.001", "--out", tmp_path / "p.json")
+    assert proc.returncode == 1 and "give --open-to" in proc.stderr, proc.stderr

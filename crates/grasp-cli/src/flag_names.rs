@@ -36,6 +36,11 @@ const PLAN_FLAGS: &[(&str, &str)] = &[
     (plan::MIN_LOAD, "--min-load"),
     (plan::MAX_LOAD, "--max-load"),
     (plan::MAX_RATE, "--max-rate"),
+    (plan::MAX_SPEED, "--max-speed"),
+    (plan::OPEN_TO, "--open-to"),
+    (plan::CLOSE_TO, "--close-to"),
+    (plan::MIN_APPROACH, "--min-approach"),
+    (plan::MAX_APPROACH, "--max-approach"),
     (plan::MIN_DURATION, "--min-duration"),
     (plan::MAX_DURATION, "--max-duration"),
     (plan::OBJECTIVE, "--objective"),
@@ -47,6 +52,7 @@ const PLAN_FLAGS: &[(&str, &str)] = &[
     (plan::TEMPLATE, "--template"),
     (plan::LOAD_ORDER, "min-load < max-load"),
     (plan::DURATION_ORDER, "min-duration <= max-duration"),
+    (plan::APPROACH_ORDER, "min-approach < max-approach"),
 ];
 
 /// `text` with every library option name replaced by its flag.

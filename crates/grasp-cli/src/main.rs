@@ -74,7 +74,7 @@ enum Command {
     /// Plan a hand-off: the releasing and receiving fingers' load ramps that keep every
     /// step's slip margin above a threshold, within load and rate limits, in the shortest
     /// duration (or with the largest smallest margin); the schedule is written once checked.
-    Plan(commands::plan::Args),
+    Plan(Box<commands::plan::Args>),
     /// Benchmark table: the solver's cases (cube A grids, Hertz 41x41, both hand-offs warm
     /// and cold, the whole transfer command) with each solver, medians against targets.
     Bench(commands::bench::Args),
@@ -127,7 +127,7 @@ fn run(cli: Cli) -> Result<ExitCode> {
         Command::Sweep(args) => commands::sweep::execute(args),
         Command::Study(args) => commands::study::execute(args),
         Command::Transfer(args) => commands::transfer::execute(args),
-        Command::Plan(args) => commands::plan::execute(args),
+        Command::Plan(args) => commands::plan::execute(*args),
         Command::Bench(args) => commands::bench::execute(args),
         Command::Schema(args) => commands::schema::execute(args),
     }

@@ -27,6 +27,11 @@ const KEYWORDS: &[(&str, &str)] = &[
     (plan::MIN_LOAD, "min_load="),
     (plan::MAX_LOAD, "max_load="),
     (plan::MAX_RATE, "max_rate="),
+    (plan::MAX_SPEED, "max_speed="),
+    (plan::OPEN_TO, "open_to="),
+    (plan::CLOSE_TO, "close_to="),
+    (plan::MIN_APPROACH, "min_approach="),
+    (plan::MAX_APPROACH, "max_approach="),
     (plan::MIN_DURATION, "min_duration="),
     (plan::MAX_DURATION, "max_duration="),
     (plan::OBJECTIVE, "objective="),
@@ -38,6 +43,7 @@ const KEYWORDS: &[(&str, &str)] = &[
     (plan::TEMPLATE, "template="),
     (plan::LOAD_ORDER, "min_load < max_load"),
     (plan::DURATION_ORDER, "min_duration <= max_duration"),
+    (plan::APPROACH_ORDER, "min_approach < max_approach"),
 ];
 
 /// `text` with every library option name replaced by its keyword argument.

@@ -45,7 +45,19 @@ use crate::scene::Scene;
 /// min_load, max_load : float, optional
 ///     The range of every planned load, N (default: 0 N and no upper bound).
 /// max_rate : float, optional
-///     The fastest a planned load may change, N/s (needed by `objective="duration"`).
+///     The fastest a planned load may change, N/s (`objective="duration"` needs it or
+///     `max_speed`).
+/// max_speed : float, optional
+///     The fastest a planned position-controlled finger's approach may change (a jaw opening
+///     or closing), m/s.
+/// open_to : float, optional
+///     Where the releasing position-controlled fingers end, m of approach (negative: opened
+///     short of first touch; default: where the template ends them).
+/// close_to : float, optional
+///     Where the receiving position-controlled fingers close to in the starting path, m of
+///     approach (the plan moves it within the bounds; default: where the template ends them).
+/// min_approach, max_approach : float, optional
+///     The range of every planned approach, m (default: the range the starting path spans).
 /// min_duration, max_duration : float, optional
 ///     The range of the hand-off's duration, s (default: 0 s and no upper bound).
 /// duration : float, optional
@@ -99,7 +111,9 @@ use crate::scene::Scene;
 #[pyfunction]
 #[pyo3(signature = (scene, *, releasing, receiving=None, template=None,
                     min_slip_margin=None, min_margin=None, min_load=None, max_load=None,
-                    max_rate=None, min_duration=None, max_duration=None, duration=None,
+                    max_rate=None, max_speed=None, open_to=None, close_to=None,
+                    min_approach=None,
+                    max_approach=None, min_duration=None, max_duration=None, duration=None,
                     objective="duration", steps=None, keyframes=None, max_runs=None,
                     solver="auto", compliance="auto"))]
 #[allow(clippy::too_many_arguments)]
@@ -114,6 +128,11 @@ pub fn plan(
     min_load: Option<&Bound<'_, PyAny>>,
     max_load: Option<&Bound<'_, PyAny>>,
     max_rate: Option<&Bound<'_, PyAny>>,
+    max_speed: Option<&Bound<'_, PyAny>>,
+    open_to: Option<&Bound<'_, PyAny>>,
+    close_to: Option<&Bound<'_, PyAny>>,
+    min_approach: Option<&Bound<'_, PyAny>>,
+    max_approach: Option<&Bound<'_, PyAny>>,
     min_duration: Option<&Bound<'_, PyAny>>,
     max_duration: Option<&Bound<'_, PyAny>>,
     duration: Option<&Bound<'_, PyAny>>,
@@ -124,15 +143,7 @@ pub fn plan(
     solver: &str,
     compliance: &str,
 ) -> PyResult<PyObject> {
-    let objective = match objective {
-        "duration" => Objective::Duration,
-        "margin" => Objective::Margin,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "objective={other:?}: give \"duration\" or \"margin\""
-            )))
-        }
-    };
+    let objective = objective_of(objective)?;
     let mut solve = crate::solve::solve_options(solver, 1e-10)?;
     solve.compliance = crate::solve::compliance_choice(compliance)?;
     let defaults = PlanOptions::default();
@@ -144,6 +155,11 @@ pub fn plan(
         min_load_n: number("min_load", min_load)?.unwrap_or(0.0),
         max_load_n: number("max_load", max_load)?.unwrap_or(f64::INFINITY),
         max_rate_n_per_s: number("max_rate", max_rate)?,
+        max_speed_m_per_s: number("max_speed", max_speed)?,
+        open_to_m: number("open_to", open_to)?,
+        close_to_m: number("close_to", close_to)?,
+        min_approach_m: number("min_approach", min_approach)?,
+        max_approach_m: number("max_approach", max_approach)?,
         min_duration_s: number("min_duration", min_duration)?.unwrap_or(0.0),
         max_duration_s: number("max_duration", max_duration)?.unwrap_or(f64::INFINITY),
         objective,
@@ -274,4 +290,15 @@ fn read_template(
     let schedule = Schedule::from_spec(&spec, &scene.scene.finger_names(), &base)
         .map_err(|e| schedule_error(py, &origin, &e))?;
     Ok((spec, schedule))
+}
+
+/// The objective named `name`, or the error naming the keyword.
+fn objective_of(name: &str) -> PyResult<Objective> {
+    match name {
+        "duration" => Ok(Objective::Duration),
+        "margin" => Ok(Objective::Margin),
+        other => Err(PyValueError::new_err(format!(
+            "objective={other:?}: give \"duration\" or \"margin\""
+        ))),
+    }
 }

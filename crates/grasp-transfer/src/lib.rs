@@ -105,7 +105,7 @@ pub use step_margin::{step_margin, MarginPath, OtherEquilibrium, StepMargin};
 pub use minimum_squeeze::{minimum_squeeze, MinimumSqueeze, SqueezeOutcome};
 
 // ---- The planner: load ramps that keep the margins ----
-pub use plan::keyframe_path::LoadGroup;
+pub use plan::planned_group::{Commanded, PlannedGroup, RateLimits};
 pub use plan::{
     plan, Binding, CheckedAt, KeyframePath, MarginsAtStep, Objective, PlanError, PlanOptions,
     PlanReport, Template, DISTURBANCE_TOLERANCE, FINE_STEPS, MARGIN_TOLERANCE,

@@ -13,7 +13,7 @@ use grasp_transfer::{
 
 use crate::output::{self, ForceArg};
 use crate::pictures::picture;
-use crate::pictures::plan_margins::{load_curves, PlanMargins};
+use crate::pictures::plan_margins::{approach_curves, load_curves, PlanMargins};
 use crate::solve_flags::SolveFlags;
 
 /// Plan a hand-off: the releasing and receiving fingers' load ramps that keep every step's
@@ -59,9 +59,30 @@ pub struct Args {
     /// Largest load of a planned finger, N [default: no limit].
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub max_load: Option<f64>,
-    /// Largest load rate of a planned finger, N/s (needed for the shortest duration).
+    /// Largest load rate of a planned force-controlled finger, N/s (the shortest duration
+    /// needs it or --max-speed).
     #[arg(long, value_name = "N_PER_S", allow_negative_numbers = true)]
     pub max_rate: Option<f64>,
+    /// Largest approach speed of a planned position-controlled finger (a jaw opening or
+    /// closing), m/s.
+    #[arg(long, value_name = "M_PER_S", allow_negative_numbers = true)]
+    pub max_speed: Option<f64>,
+    /// Where the releasing position-controlled fingers end, m of approach (negative: opened
+    /// short of first touch) [default: where the template ends them].
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub open_to: Option<f64>,
+    /// Where the receiving position-controlled fingers close to in the starting path, m of
+    /// approach (the plan moves it within the bounds) [default: where the template ends them].
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub close_to: Option<f64>,
+    /// Smallest approach of a planned position-controlled finger, m [default: the smallest
+    /// the starting path commands].
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub min_approach: Option<f64>,
+    /// Largest approach of a planned position-controlled finger, m [default: the largest the
+    /// starting path commands].
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub max_approach: Option<f64>,
     /// Shortest duration allowed, s.
     #[arg(
         long,
@@ -188,10 +209,12 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     if let (Some(path), Some(format)) = (&args.plot, plot_format) {
         let title = args.scene.display().to_string();
         let threshold = options.min_slip_margin;
+        let by_approach: Vec<String> = report.approaches_m.iter().map(|a| a.0.clone()).collect();
         let planned: Vec<String> = options
             .releasing
             .iter()
             .chain(&options.receiving)
+            .filter(|n| !by_approach.contains(n))
             .cloned()
             .collect();
         let names = scene.finger_names();
@@ -206,6 +229,10 @@ pub fn execute(args: Args) -> Result<ExitCode> {
             template_loads: template
                 .as_ref()
                 .map_or_else(Vec::new, |(_, t)| load_curves(t, &scene, &planned)),
+            approaches: approach_curves(&schedule, &scene, &by_approach),
+            template_approaches: template
+                .as_ref()
+                .map_or_else(Vec::new, |(_, t)| approach_curves(t, &scene, &by_approach)),
         };
         outs.write(path, &picture::render(&plot, format)?)?;
         println!("wrote plot: {}", path.display());
@@ -264,6 +291,11 @@ fn options(args: &Args) -> PlanOptions {
         min_load_n: args.min_load,
         max_load_n: args.max_load.unwrap_or(f64::INFINITY),
         max_rate_n_per_s: args.max_rate,
+        max_speed_m_per_s: args.max_speed,
+        open_to_m: args.open_to,
+        close_to_m: args.close_to,
+        min_approach_m: args.min_approach,
+        max_approach_m: args.max_approach,
         min_duration_s: args.min_duration,
         max_duration_s: args.max_duration.unwrap_or(f64::INFINITY),
         objective: match args.objective {
@@ -420,9 +452,12 @@ fn disturbance_at(margins: &[grasp_transfer::MarginsAtStep]) -> String {
 /// "constraints: kept ..." or the binding one, with why.
 fn constraints_line(r: &PlanReport, o: &PlanOptions) -> String {
     let Some(b) = &r.binding else {
-        let rate = o
+        let mut rate = o
             .max_rate_n_per_s
             .map_or(String::new(), |q| format!(", load rates <= {} N/s", g4(q)));
+        if let Some(v) = o.max_speed_m_per_s.filter(|_| !r.approaches_m.is_empty()) {
+            rate.push_str(&format!(", approach speeds <= {} m/s", g4(v)));
+        }
         let disturbance = o.min_margin_n.map_or(String::new(), |n| {
             let within = 100.0 * DISTURBANCE_TOLERANCE;
             format!(", disturbance margin >= {} N to within {within} %", g4(n))
@@ -441,7 +476,12 @@ fn constraints_line(r: &PlanReport, o: &PlanOptions) -> String {
             true => format!(" (first to fail: {f})"),
             false => format!(" of {f}"),
         });
-    let unit = if disturbance { " N" } else { "" };
+    let unit = match b.constraint.as_str() {
+        "disturbance margin" | "release" => " N",
+        "load rate" => " N/s",
+        "approach speed" => " m/s",
+        _ => "",
+    };
     format!(
         "binding constraint: {}{who} at t = {} s is {}{unit} against {}{unit} (short by {}{unit}): {}\n",
         b.constraint,

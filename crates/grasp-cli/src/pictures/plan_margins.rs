@@ -3,7 +3,8 @@
 //! smallest slip margin `1 - |Q|/(mu P)` over the fingers carrying at least 5 % of the load
 //! scale; when the plan kept a disturbance margin (`--min-margin`), below it the smallest
 //! disturbance margin over the axis directions (N); and at the bottom each planned finger's
-//! commanded normal load (N), solid along the plan, dashed along the template.
+//! commanded normal load (N), or its commanded approach (mm) when the plan drives it by its
+//! position (a panel for each kind planned), solid along the plan, dashed along the template.
 //!
 //! The time axis spans the plan's own duration. A template longer than the plan gets its own
 //! time axis along the top of every panel, spanning the template's duration, so that neither
@@ -35,15 +36,48 @@ pub struct PlanMargins<'a> {
     pub loads: Vec<LoadCurve>,
     /// The same fingers' along the template (empty without one).
     pub template_loads: Vec<LoadCurve>,
+    /// The planned position-controlled fingers' commanded approaches along the plan, mm.
+    pub approaches: Vec<LoadCurve>,
+    /// The same fingers' along the template (empty without one).
+    pub template_approaches: Vec<LoadCurve>,
 }
 
-/// One finger's commanded normal load along a schedule.
+/// One finger's commanded normal load (or approach) along a schedule.
 pub struct LoadCurve {
     /// The finger's name.
     pub finger: String,
     /// `(time s, load N)` at the schedule's steps where the finger is force-controlled or
-    /// released (0 N).
+    /// released (0 N); or `(time s, approach mm)` where it is position-controlled.
     pub points: Vec<(f64, f64)>,
+}
+
+/// The commanded approaches of `fingers` at every step of `schedule`, mm: the steps where
+/// each is pressed in by an approach (a held finger at 0 mm).
+pub fn approach_curves(schedule: &Schedule, scene: &Scene, fingers: &[String]) -> Vec<LoadCurve> {
+    let mut curves = Vec::new();
+    for name in fingers {
+        let Some(i) = scene.fingers.iter().position(|f| &f.name == name) else {
+            continue;
+        };
+        let scene_command = match scene.fingers[i].control {
+            ControlSpec::Approach(a) => Command::Approach(a.approach_m),
+            _ => Command::Held,
+        };
+        let points = schedule
+            .times
+            .iter()
+            .filter_map(|&t| match schedule.command(i, t, 0.0, scene_command) {
+                Command::Approach(a) => Some((t, 1e3 * a)),
+                Command::Held => Some((t, 0.0)),
+                Command::Load(_) | Command::Released => None,
+            })
+            .collect();
+        curves.push(LoadCurve {
+            finger: name.clone(),
+            points,
+        });
+    }
+    curves
 }
 
 /// The commanded normal loads of `fingers` (names of `scene`'s fingers) at every step of
@@ -83,6 +117,15 @@ pub fn load_curves(schedule: &Schedule, scene: &Scene, fingers: &[String]) -> Ve
     curves
 }
 
+/// A panel of the planned commands of one kind: loads or approaches.
+struct Commands<'a> {
+    plan: &'a [LoadCurve],
+    template: &'a [LoadCurve],
+    caption: &'a str,
+    y_desc: &'a str,
+    unit: &'a str,
+}
+
 /// One panel: a margin of every step, plan and template, and its threshold.
 struct Panel<'a> {
     caption: String,
@@ -107,10 +150,9 @@ impl Picture for PlanMargins<'_> {
             value: |m| m.smallest,
             threshold: self.threshold,
         };
-        let panels = match self.min_margin_n {
-            Some(_) => 3,
-            None => 2,
-        };
+        let kinds = [&self.loads, &self.approaches];
+        let commands = kinds.iter().filter(|c| !c.is_empty()).count().max(1);
+        let panels = 1 + usize::from(self.min_margin_n.is_some()) + commands;
         let areas = root.split_evenly((panels, 1));
         self.panel((root, &areas[0]), &slip)?;
         if let Some(min_margin_n) = self.min_margin_n {
@@ -122,7 +164,29 @@ impl Picture for PlanMargins<'_> {
             };
             self.panel((root, &areas[1]), &disturbance)?;
         }
-        self.loads_panel(root, &areas[panels - 1])
+        let mut next = panels - commands;
+        if !self.loads.is_empty() || self.approaches.is_empty() {
+            let loads = Commands {
+                plan: &self.loads,
+                template: &self.template_loads,
+                caption: "Planned normal loads (solid: plan, dashed: template)",
+                y_desc: "normal load [N]",
+                unit: "N",
+            };
+            self.commands_panel(root, &areas[next], &loads)?;
+            next += 1;
+        }
+        if !self.approaches.is_empty() {
+            let approaches = Commands {
+                plan: &self.approaches,
+                template: &self.template_approaches,
+                caption: "Planned approaches (solid: plan, dashed: template)",
+                y_desc: "approach [mm]",
+                unit: "mm",
+            };
+            self.commands_panel(root, &areas[next], &approaches)?;
+        }
+        Ok(())
     }
 }
 
@@ -149,7 +213,8 @@ impl PlanMargins<'_> {
         let plan = span(&r.margins).max(r.duration_s).max(1e-9);
         let old = span(template)
             .max(r.template_duration_s.unwrap_or(0.0))
-            .max(loads(&self.template_loads));
+            .max(loads(&self.template_loads))
+            .max(loads(&self.template_approaches));
         (plan, old)
     }
 
@@ -259,28 +324,26 @@ impl PlanMargins<'_> {
         legend_beside(root, chart.plotting_area().get_pixel_range(), &legend)
     }
 
-    /// The planned fingers' commanded loads, solid along the plan and dashed along the
+    /// The planned fingers' commands of one kind, solid along the plan and dashed along the
     /// template, one colour per finger.
-    fn loads_panel<DB: DrawingBackend>(
+    fn commands_panel<DB: DrawingBackend>(
         &self,
         root: &DrawingArea<DB, Shift>,
         area: &DrawingArea<DB, Shift>,
+        commands: &Commands,
     ) -> Result<()> {
-        let high = self
-            .loads
-            .iter()
-            .chain(&self.template_loads)
-            .flat_map(|c| c.points.iter().map(|p| p.1))
-            .fold(0.0_f64, f64::max)
-            .max(1e-9);
-        let range = (-0.05 * high, 1.05 * high);
-        let caption = "Planned normal loads (solid: plan, dashed: template)";
-        let mut chart = self.time_chart(area, caption, "normal load [N]", range)?;
+        let values = commands.plan.iter().chain(commands.template);
+        let values: Vec<f64> = values.flat_map(|c| c.points.iter().map(|p| p.1)).collect();
+        let high = values.iter().fold(0.0_f64, |a, &b| a.max(b));
+        let low = values.iter().fold(0.0_f64, |a, &b| a.min(b));
+        let pad = 0.05 * (high - low).max(1e-9);
+        let range = (low - pad, high + pad);
+        let mut chart = self.time_chart(area, commands.caption, commands.y_desc, range)?;
         let mut legend = Vec::new();
-        for (k, c) in self.loads.iter().enumerate() {
+        for (k, c) in commands.plan.iter().enumerate() {
             let colour = FINGER_RGB[k % FINGER_RGB.len()];
             let style = ShapeStyle::from(&colour).stroke_width(2);
-            if let Some(old) = self.template_loads.iter().find(|o| o.finger == c.finger) {
+            if let Some(old) = commands.template.iter().find(|o| o.finger == c.finger) {
                 let thin = ShapeStyle::from(&colour.mix(0.7)).stroke_width(1);
                 chart
                     .draw_secondary_series(DashedLineSeries::new(old.points.clone(), 6, 4, thin))
@@ -289,11 +352,12 @@ impl PlanMargins<'_> {
             chart
                 .draw_series(LineSeries::new(c.points.clone(), style))
                 .map_err(draw_err)?;
-            // A finger loaded as an earlier one is drawn over it: the legend says so.
-            let same = self.loads[..k].iter().find(|o| o.points == c.points);
+            // A finger commanded as an earlier one is drawn over it: the legend says so.
+            let same = commands.plan[..k].iter().find(|o| o.points == c.points);
+            let unit = commands.unit;
             let label = match same {
-                Some(o) => format!("{} [N] (= {})", c.finger, o.finger),
-                None => format!("{} [N]", c.finger),
+                Some(o) => format!("{} [{unit}] (= {})", c.finger, o.finger),
+                None => format!("{} [{unit}]", c.finger),
             };
             legend.push((label, sample(style.color, false)));
         }

@@ -42,13 +42,19 @@ pub fn explain(b: &Binding, e: &Evidence<'_>) -> String {
         };
         same_row && (r.time_s - b.time_s).abs() < 1e-9
     });
-    if b.time_s == 0.0 {
+    if b.time_s == 0.0 && !by_approach(e.path) {
         return "at the first step every planned load is fixed (the releasing fingers' loads \
                 in the template or the scene, the receiving ones' 0 N), so no schedule changes \
                 it"
         .into();
     }
-    if b.constraint == "load rate" {
+    if b.time_s == 0.0 {
+        return "at the first step every planned command is fixed (the releasing fingers' loads \
+                or approaches in the template or the scene, the receiving ones' 0 N or their \
+                starting approaches), so no schedule changes it"
+            .into();
+    }
+    if b.constraint == "load rate" || b.constraint == "approach speed" {
         return format!(
             "the search stopped before its ramps kept the rate: {}",
             e.stopped
@@ -75,8 +81,8 @@ pub fn explain(b: &Binding, e: &Evidence<'_>) -> String {
         return why;
     }
     if e.stopped.contains("converged") {
-        return "the linearised program finds no step that raises it within the load bounds, \
-                rates and duration"
+        return "the linearised program finds no step that raises it within the bounds, rates \
+                and duration"
             .into();
     }
     format!("the search stopped before it was met: {}", e.stopped)
@@ -216,12 +222,16 @@ fn duration_bound(row: &MarginRow, path: &KeyframePath, options: &PlanOptions) -
     if row.per_duration >= 0.0 {
         return None;
     }
-    let by_rate_s = path.shortest_duration_s(options.max_rate_n_per_s);
+    let by_rate_s = path.shortest_duration_s(&options.rate_limits());
     let (shortest_s, what) = if options.min_duration_s >= by_rate_s {
         let what = format!("`{}` allows", option_names::MIN_DURATION);
         (options.min_duration_s, what)
     } else {
-        let what = "at these keyframe loads the load rates allow".to_string();
+        let what = match by_approach(path) {
+            false => "at these keyframe loads the load rates allow",
+            true => "at these keyframe commands the rates and speeds allow",
+        }
+        .to_string();
         (by_rate_s, what)
     };
     (path.duration_s <= shortest_s * (1.0 + 1e-4)).then(|| {
@@ -232,6 +242,12 @@ fn duration_bound(row: &MarginRow, path: &KeyframePath, options: &PlanOptions) -
             three_digits(shortest_s)
         )
     })
+}
+
+/// True when some planned group is driven by approaches (its reasons speak of commands, not
+/// loads).
+fn by_approach(path: &KeyframePath) -> bool {
+    path.groups.iter().any(|g| g.is_approach())
 }
 
 /// `x` to three significant digits, as [`grasp_model::Readable`] writes it (`-0.0421`, `3`).

@@ -34,17 +34,17 @@ pub fn difference_options() -> MarginOptions {
 /// The load step of the differences along `path`, N.
 pub fn load_step_n(path: &KeyframePath) -> f64 {
     let largest = path
-        .loads_n
+        .values
         .iter()
         .flatten()
-        .fold(0.0, |a: f64, &b| a.max(b));
+        .fold(0.0, |a: f64, &b| a.max(b.abs()));
     LOAD_STEP * largest.max(f64::MIN_POSITIVE)
 }
 
 /// `path` with group `g`'s loads raised by `step_n` at every keyframe.
 pub fn raised(path: &KeyframePath, g: usize, step_n: f64) -> KeyframePath {
     let mut out = path.clone();
-    out.loads_n[g].iter_mut().for_each(|x| *x += step_n);
+    out.values[g].iter_mut().for_each(|x| *x += step_n);
     out
 }
 

@@ -1,52 +1,34 @@
-//! A hand-off's load schedule as the planner's variables: each planned finger's commanded
-//! normal load at keyframes shared by all of them, linear in between, over a duration split
-//! into a fixed number of steps (the thesis's load ramps, section 4.2.2, with their values
-//! and their duration set free).
+//! A hand-off's schedule as the planner's variables: each planned group's variable (its
+//! fingers' commanded normal load, or their approach, [`PlannedGroup`]) at keyframes shared by
+//! all of them, linear in between, over a duration split into a fixed number of steps (the
+//! thesis's load ramps, section 4.2.2, with their values and their duration set free).
 //!
 //! Keyframes sit at fixed fractions of the duration, so a step keeps its place along the path
 //! when the duration changes: under an elastic or Coulomb model the quasi-static steps, and so
-//! the margins, depend on the loads alone, and the duration only on the load rates it allows.
+//! the margins, depend on the commands alone, and the duration only on the rates it allows.
 
 use std::collections::BTreeMap;
 
-use crate::schedule_spec::{KeyValue, PhaseSpec, RampPhase, ScheduleSpec, SpanSpec, TimeSpec};
+use crate::plan::planned_group::{PlannedGroup, RateLimits};
+use crate::schedule_spec::{
+    ApproachPhase, KeyValue, PhaseSpec, RampPhase, ScheduleSpec, SpanSpec, TimeSpec,
+};
 
 /// The shortest step of a planned schedule, s: its times are written in whole nanoseconds, so
 /// a step (and a keyframe span) of at least a microsecond keeps its times, and so its load
 /// rates, to 1e-3 of themselves.
 pub const SHORTEST_STEP_S: f64 = 1e-6;
 
-/// Fingers whose loads move together (a gripper's jaws): each carries its share of the
-/// group's load (the jaws of a pinch must, or no equilibrium is left).
-#[derive(Debug, Clone, PartialEq)]
-pub struct LoadGroup {
-    /// `releasing` or `receiving` (the sensitivities' parameter `loads:<name>`).
-    pub name: String,
-    /// `(finger, share)`: the finger's load is its share times the group's.
-    pub members: Vec<(String, f64)>,
-}
-
-impl LoadGroup {
-    /// The largest share.
-    pub fn largest_share(&self) -> f64 {
-        self.members.iter().fold(0.0, |a, m| a.max(m.1))
-    }
-
-    /// The smallest share.
-    pub fn smallest_share(&self) -> f64 {
-        self.members.iter().fold(f64::INFINITY, |a, m| a.min(m.1))
-    }
-}
-
-/// Loads of the planned groups at shared keyframes, and the duration they span.
+/// The planned groups' variables at shared keyframes, and the duration they span.
 #[derive(Debug, Clone, PartialEq)]
 pub struct KeyframePath {
-    /// The planned groups, in the order of `loads_n`.
-    pub groups: Vec<LoadGroup>,
+    /// The planned groups, in the order of `values`.
+    pub groups: Vec<PlannedGroup>,
     /// Keyframe times as fractions of the duration: `0` first, `1` last, increasing.
     pub fractions: Vec<f64>,
-    /// `loads_n[g][k]`: group `g`'s load at keyframe `k`, N (each member's is its share of it).
-    pub loads_n: Vec<Vec<f64>>,
+    /// `values[g][k]`: group `g`'s variable at keyframe `k` (a load group's load, N, each
+    /// member's its share of it; an approach group's scaled approach, [`PlannedGroup`]).
+    pub values: Vec<Vec<f64>>,
     /// Duration of the hand-off, s.
     pub duration_s: f64,
     /// Steps after the first: the schedule's times are `duration * s / steps`, `s = 0..=steps`.
@@ -73,7 +55,7 @@ impl KeyframePath {
     }
 
     /// The two keyframes around step `s` and their interpolation weights (`k`, `1 - w`),
-    /// (`k + 1`, `w`): group `g`'s load at the step is `sum w_k loads_n[g][k]`.
+    /// (`k + 1`, `w`): group `g`'s load at the step is `sum w_k values[g][k]`.
     pub fn weights(&self, s: usize) -> [(usize, f64); 2] {
         let tau = s as f64 / self.steps as f64;
         let last = self.fractions.len() - 1;
@@ -86,16 +68,16 @@ impl KeyframePath {
         [(k, 1.0 - w), (k + 1, w)]
     }
 
-    /// Group `i`'s load at step `s`, N.
-    pub fn load_n(&self, i: usize, s: usize) -> f64 {
+    /// Group `i`'s variable at step `s`.
+    pub fn value(&self, i: usize, s: usize) -> f64 {
         self.weights(s)
             .iter()
-            .map(|&(k, w)| w * self.loads_n[i][k])
+            .map(|&(k, w)| w * self.values[i][k])
             .sum()
     }
 
-    /// `dm/dx` over the keyframe loads (`x[g * K + k]`) of a quantity `m` at step `s`, from
-    /// `dm/dL_g`, its derivatives in each group's load there (the chain rule through
+    /// `dm/dx` over the keyframe values (`x[g * K + k]`) of a quantity `m` at step `s`, from
+    /// `dm/dL_g`, its derivatives in each group's variable there (the chain rule through
     /// [`Self::weights`]).
     pub fn gradient(&self, s: usize, per_load: &[f64]) -> Vec<f64> {
         let k_count = self.fractions.len();
@@ -108,26 +90,26 @@ impl KeyframePath {
         g
     }
 
-    /// The shortest duration at which these keyframe loads keep every planned finger's load
-    /// rate within `rate_n_per_s` (N/s), s: the steepest span's `|dx| share / (rate df)`;
-    /// 0 without a rate limit.
-    pub fn shortest_duration_s(&self, rate_n_per_s: Option<f64>) -> f64 {
-        let Some(rate) = rate_n_per_s else {
-            return 0.0;
-        };
+    /// The shortest duration at which these keyframe values keep every planned finger's
+    /// command within its rate limit, s: the steepest span's `|dx| / (rate df)`; 0 where no
+    /// group has a limit.
+    pub fn shortest_duration_s(&self, limits: &RateLimits) -> f64 {
         let f = &self.fractions;
         let mut shortest: f64 = 0.0;
-        for (group, loads) in self.groups.iter().zip(&self.loads_n) {
+        for (group, values) in self.groups.iter().zip(&self.values) {
+            let Some(rate) = group.variable_rate(limits) else {
+                continue;
+            };
             for k in 0..f.len() - 1 {
-                let rise_n = (loads[k + 1] - loads[k]).abs() * group.largest_share();
-                shortest = shortest.max(rise_n / (rate * (f[k + 1] - f[k])));
+                let rise = (values[k + 1] - values[k]).abs();
+                shortest = shortest.max(rise / (rate * (f[k + 1] - f[k])));
             }
         }
         shortest
     }
 
-    /// The schedule file of this path: every planned finger a linear ramp through its
-    /// keyframes (a finger at 0 N is released), `others` (the template's phases of the fingers
+    /// The schedule file of this path: every planned finger a linear ramp of its load (a
+    /// finger at 0 N is released) or of its approach through its keyframes, `others` (the template's phases of the fingers
     /// not planned) as they were.
     pub fn to_spec(
         &self,
@@ -137,19 +119,25 @@ impl KeyframePath {
         // The duration in whole nanoseconds, so that the last step falls on the end.
         let duration_s = round_time(self.duration_s);
         let mut fingers = others.clone();
-        for (group, loads) in self.groups.iter().zip(&self.loads_n) {
-            for (name, share) in &group.members {
-                let keyframes = self
-                    .fractions
-                    .iter()
-                    .zip(loads)
-                    .map(|(f, &p)| (round_time(f * duration_s), KeyValue::Newtons(share * p)))
-                    .collect();
-                let ramp = RampPhase {
-                    keyframes,
-                    easing: Default::default(),
+        for (group, values) in self.groups.iter().zip(&self.values) {
+            for (m, (name, _)) in group.members.iter().enumerate() {
+                let at = |k: usize| round_time(self.fractions[k] * duration_s);
+                let command = |k: usize| group.member_value(m, values[k]);
+                let keys = 0..self.fractions.len();
+                let phase = if group.is_approach() {
+                    PhaseSpec::Approach(ApproachPhase {
+                        keyframes: keys.map(|k| (at(k), command(k))).collect(),
+                        easing: Default::default(),
+                    })
+                } else {
+                    PhaseSpec::Ramp(RampPhase {
+                        keyframes: keys
+                            .map(|k| (at(k), KeyValue::Newtons(command(k))))
+                            .collect(),
+                        easing: Default::default(),
+                    })
                 };
-                fingers.insert(name.clone(), vec![PhaseSpec::Ramp(ramp)]);
+                fingers.insert(name.clone(), vec![phase]);
             }
         }
         ScheduleSpec {
@@ -174,15 +162,17 @@ fn round_time(t: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::plan::planned_group::Commanded;
 
     fn path() -> KeyframePath {
         KeyframePath {
-            groups: vec![LoadGroup {
+            groups: vec![PlannedGroup {
                 name: "releasing".into(),
                 members: vec![("a".into(), 1.0)],
+                commanded: Commanded::Load,
             }],
             fractions: vec![0.0, 0.25, 1.0],
-            loads_n: vec![vec![8.0, 4.0, 0.0]],
+            values: vec![vec![8.0, 4.0, 0.0]],
             duration_s: 8.0,
             steps: 8,
         }
@@ -191,12 +181,12 @@ mod tests {
     #[test]
     fn loads_are_linear_between_keyframes_and_exact_on_them() {
         let p = path();
-        assert_eq!(p.load_n(0, 0), 8.0);
-        assert_eq!(p.load_n(0, 1), 6.0);
-        assert_eq!(p.load_n(0, 2), 4.0);
+        assert_eq!(p.value(0, 0), 8.0);
+        assert_eq!(p.value(0, 1), 6.0);
+        assert_eq!(p.value(0, 2), 4.0);
         // 5 of the 6 steps from the second keyframe to the last: 4 N * (1 - 5/6).
-        assert!((p.load_n(0, 7) - 4.0 / 6.0).abs() < 1e-12);
-        assert_eq!(p.load_n(0, 8), 0.0);
+        assert!((p.value(0, 7) - 4.0 / 6.0).abs() < 1e-12);
+        assert_eq!(p.value(0, 8), 0.0);
     }
 
     #[test]
@@ -217,7 +207,11 @@ mod tests {
         let mut p = path();
         p.groups[0].members = vec![("a".into(), 1.0), ("b".into(), 0.5)];
         let rate_n_per_s = 2.0;
-        p.duration_s = p.shortest_duration_s(Some(rate_n_per_s));
+        let limits = RateLimits {
+            load_n_per_s: Some(rate_n_per_s),
+            speed_m_per_s: None,
+        };
+        p.duration_s = p.shortest_duration_s(&limits);
         let spec = p.to_spec("test".into(), &BTreeMap::new());
         let mut steepest: f64 = 0.0;
         for phases in spec.fingers.values() {
@@ -235,6 +229,6 @@ mod tests {
         // the nanosecond, so the rate agrees to 1e-9 of itself.
         assert!((p.duration_s - 8.0).abs() < 1e-12, "{}", p.duration_s);
         assert!((steepest - rate_n_per_s).abs() < 1e-9, "{steepest} N/s");
-        assert_eq!(p.shortest_duration_s(None), 0.0);
+        assert_eq!(p.shortest_duration_s(&RateLimits::default()), 0.0);
     }
 }

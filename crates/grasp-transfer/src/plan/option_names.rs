@@ -17,6 +17,16 @@ pub const MIN_LOAD: &str = "PlanOptions::min_load_n";
 pub const MAX_LOAD: &str = "PlanOptions::max_load_n";
 /// Largest load rate, [`crate::plan::PlanOptions::max_rate_n_per_s`].
 pub const MAX_RATE: &str = "PlanOptions::max_rate_n_per_s";
+/// Largest approach speed, [`crate::plan::PlanOptions::max_speed_m_per_s`].
+pub const MAX_SPEED: &str = "PlanOptions::max_speed_m_per_s";
+/// Where releasing jaws end, [`crate::plan::PlanOptions::open_to_m`].
+pub const OPEN_TO: &str = "PlanOptions::open_to_m";
+/// Where receiving jaws close to, [`crate::plan::PlanOptions::close_to_m`].
+pub const CLOSE_TO: &str = "PlanOptions::close_to_m";
+/// Smallest planned approach, [`crate::plan::PlanOptions::min_approach_m`].
+pub const MIN_APPROACH: &str = "PlanOptions::min_approach_m";
+/// Largest planned approach, [`crate::plan::PlanOptions::max_approach_m`].
+pub const MAX_APPROACH: &str = "PlanOptions::max_approach_m";
 /// Shortest duration, [`crate::plan::PlanOptions::min_duration_s`].
 pub const MIN_DURATION: &str = "PlanOptions::min_duration_s";
 /// Longest duration, [`crate::plan::PlanOptions::max_duration_s`].
@@ -44,3 +54,6 @@ pub const LOAD_ORDER: &str = "PlanOptions::min_load_n < PlanOptions::max_load_n"
 /// The order of the duration bounds, [`MIN_DURATION`] at most [`MAX_DURATION`] (as
 /// [`LOAD_ORDER`]).
 pub const DURATION_ORDER: &str = "PlanOptions::min_duration_s <= PlanOptions::max_duration_s";
+/// The order of the approach bounds, [`MIN_APPROACH`] below [`MAX_APPROACH`] (as
+/// [`LOAD_ORDER`]).
+pub const APPROACH_ORDER: &str = "PlanOptions::min_approach_m < PlanOptions::max_approach_m";

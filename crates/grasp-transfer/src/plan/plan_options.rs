@@ -6,6 +6,7 @@ use grasp_model::limits::MAX_FORCE_N;
 use grasp_model::{OptionError, Readable};
 
 use crate::plan::option_names;
+use crate::plan::planned_group::RateLimits;
 use crate::schedule_spec::MAX_TIME_S;
 
 /// What the plan optimises.
@@ -37,8 +38,24 @@ pub struct PlanOptions {
     pub min_load_n: f64,
     /// Largest commanded load of a planned finger, N.
     pub max_load_n: f64,
-    /// Largest load rate of a planned finger, N/s; `None`: no limit.
+    /// Largest load rate of a planned force-controlled finger, N/s; `None`: no limit.
     pub max_rate_n_per_s: Option<f64>,
+    /// Largest approach speed of a planned position-controlled finger (a jaw's opening or
+    /// closing speed), m/s; `None`: no limit.
+    pub max_speed_m_per_s: Option<f64>,
+    /// Where the releasing position-controlled fingers end, m of approach (negative: opened
+    /// short of first touch); `None`: where the template ends them (needed without one).
+    pub open_to_m: Option<f64>,
+    /// Where the receiving position-controlled fingers close to in the starting path, m of
+    /// approach (the plan moves their end within the bounds); `None`: where the template
+    /// ends them (needed without one).
+    pub close_to_m: Option<f64>,
+    /// Smallest approach of a planned position-controlled finger, m; `None`: the smallest
+    /// its group's starting path commands (the releasing fingers' end included).
+    pub min_approach_m: Option<f64>,
+    /// Largest approach of a planned position-controlled finger, m; `None`: the largest its
+    /// group's starting path commands (the releasing fingers' start included).
+    pub max_approach_m: Option<f64>,
     /// Shortest duration, s.
     pub min_duration_s: f64,
     /// Longest duration, s.
@@ -73,6 +90,11 @@ impl Default for PlanOptions {
             min_load_n: 0.0,
             max_load_n: f64::INFINITY,
             max_rate_n_per_s: None,
+            max_speed_m_per_s: None,
+            open_to_m: None,
+            close_to_m: None,
+            min_approach_m: None,
+            max_approach_m: None,
             min_duration_s: 0.0,
             max_duration_s: f64::INFINITY,
             objective: Objective::Duration,
@@ -87,12 +109,21 @@ impl Default for PlanOptions {
 }
 
 impl PlanOptions {
+    /// The rate limits of the planned commands.
+    pub fn rate_limits(&self) -> RateLimits {
+        RateLimits {
+            load_n_per_s: self.max_rate_n_per_s,
+            speed_m_per_s: self.max_speed_m_per_s,
+        }
+    }
+
     /// Every problem of the options against the scene's finger names, each named as the Rust
     /// API spells the option ([`crate::plan_option_names`]): `expected` says what is wrong and the fix,
     /// `value` is the value given.
     pub fn problems(&self, finger_names: &[String]) -> Vec<OptionError> {
         let mut out = self.finger_problems(finger_names);
         out.extend(self.range_problems());
+        out.extend(self.approach_problems());
         out.extend(self.search_problems());
         out
     }
@@ -185,15 +216,53 @@ impl PlanOptions {
         out
     }
 
+    /// The approach options: the speed positive, the approaches within the `[-1, 1]` m a
+    /// schedule takes, the bounds in order.
+    fn approach_problems(&self) -> Vec<OptionError> {
+        let mut out = Vec::new();
+        if let Some(v) = self
+            .max_speed_m_per_s
+            .filter(|v| !(*v > 0.0 && v.is_finite()))
+        {
+            let expected = "must be a positive number of metres per second".into();
+            out.push(problem(option_names::MAX_SPEED, Readable(v), expected));
+        }
+        for (option, value) in [
+            (option_names::OPEN_TO, self.open_to_m),
+            (option_names::CLOSE_TO, self.close_to_m),
+            (option_names::MIN_APPROACH, self.min_approach_m),
+            (option_names::MAX_APPROACH, self.max_approach_m),
+        ] {
+            if let Some(a) = value.filter(|a| !(-1.0..=1.0).contains(a)) {
+                let expected = "must be an approach in [-1, 1] m, as a schedule takes".into();
+                out.push(problem(option, Readable(a), expected));
+            }
+        }
+        if let (Some(lo), Some(hi)) = (self.min_approach_m, self.max_approach_m) {
+            if lo >= hi {
+                let expected = format!(
+                    "needs `{}` (got {} and {})",
+                    option_names::APPROACH_ORDER,
+                    Readable(lo),
+                    Readable(hi)
+                );
+                out.push(problem(option_names::MIN_APPROACH, Readable(lo), expected));
+            }
+        }
+        out
+    }
+
     /// The search's settings: the objective given what it needs; the duration, the counts and
     /// the tolerance within their ranges.
     fn search_problems(&self) -> Vec<OptionError> {
         let mut out = Vec::new();
-        if self.objective == Objective::Duration && self.max_rate_n_per_s.is_none() {
+        let no_limit = self.max_rate_n_per_s.is_none() && self.max_speed_m_per_s.is_none();
+        if self.objective == Objective::Duration && no_limit {
             let expected = format!(
-                "the shortest duration needs a load-rate limit (a quasi-static hand-off is as \
-                 fast as its rates allow): give `{}`, or `{}`",
+                "the shortest duration needs a rate limit (a quasi-static hand-off is as \
+                 fast as its rates allow): give `{}` (loads) or `{}` (approaches), or `{}`",
                 option_names::MAX_RATE,
+                option_names::MAX_SPEED,
                 option_names::OBJECTIVE_MARGIN
             );
             out.push(problem(option_names::OBJECTIVE, "duration", expected));
@@ -254,6 +323,10 @@ mod tests {
             min_load_n: 5.0,
             max_load_n: 3.0,
             max_rate_n_per_s: Some(-1.0),
+            max_speed_m_per_s: Some(0.0),
+            open_to_m: Some(2.0),
+            min_approach_m: Some(0.001),
+            max_approach_m: Some(-0.001),
             min_duration_s: 5.0,
             max_duration_s: 3.0,
             duration_s: Some(0.0),
@@ -276,6 +349,9 @@ mod tests {
                 MIN_LOAD,
                 MAX_RATE,
                 MIN_DURATION,
+                MAX_SPEED,
+                OPEN_TO,
+                MIN_APPROACH,
                 DURATION,
                 STEPS,
                 KEYFRAMES,
@@ -298,9 +374,10 @@ mod tests {
         let problems = no_rate.problems(&["a".into()]);
         assert_eq!(problems.len(), 1);
         assert_eq!(problems[0].option, OBJECTIVE);
-        assert!(problems[0]
-            .expected
-            .ends_with(&format!("give `{MAX_RATE}`, or `{OBJECTIVE_MARGIN}`")));
+        assert!(problems[0].expected.ends_with(&format!(
+            "give `{MAX_RATE}` (loads) or `{MAX_SPEED}` (approaches), or \
+                 `{OBJECTIVE_MARGIN}`"
+        )));
     }
 
     /// A huge value is quoted as written (`1e308`), never as the 309 digits Rust's `{}` gives,

@@ -29,6 +29,10 @@ pub const DISTURBANCE_TOLERANCE: f64 = 2e-3;
 /// scale, whenever that falls), and a run at coarse steps steps over it.
 pub const FINE_STEPS: usize = 600;
 
+/// A releasing position-controlled finger counts as let go at the last step when its normal
+/// force is at most this fraction of the load scale (round-off of the separated elements').
+pub const RELEASED_FRACTION: f64 = 1e-9;
+
 /// The smallest slip margin of a step under the slip-margin rule ([`crate::slip_margin`]), and
 /// its smallest disturbance margin when that is constrained.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -70,13 +74,15 @@ pub struct CheckedAt {
 /// A constraint the checked schedule does not keep.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Binding {
-    /// `slip margin`, `disturbance margin`, `equilibrium` or `load rate`.
+    /// `slip margin`, `disturbance margin`, `equilibrium`, `load rate`, `approach speed` or
+    /// `release` (a releasing finger still loaded at the last step).
     pub constraint: String,
     /// The finger, where one is concerned.
     pub finger: Option<String>,
     /// Schedule time, s.
     pub time_s: f64,
-    /// The value reached (a slip margin, a disturbance margin in N, or N/s).
+    /// The value reached (a slip margin, a disturbance margin in N, N/s, m/s, or the load a
+    /// releasing finger still carries, N).
     pub value: f64,
     /// The limit it should keep.
     pub limit: f64,
@@ -111,8 +117,10 @@ pub struct PlanReport {
     pub template_margins: Option<Vec<MarginsAtStep>>,
     /// Keyframe times, s.
     pub keyframes_s: Vec<f64>,
-    /// Per planned finger, its loads at the keyframes, N.
+    /// Per planned force-controlled finger, its loads at the keyframes, N.
     pub loads_n: Vec<(String, Vec<f64>)>,
+    /// Per planned position-controlled finger, its approaches at the keyframes, m.
+    pub approaches_m: Vec<(String, Vec<f64>)>,
     /// Hand-off runs made (the check included).
     pub runs: usize,
     /// Trust-region iterations.
@@ -219,8 +227,9 @@ pub fn smallest_of_run(records: &[StepRecord], counted: bool) -> Option<SlipMarg
 }
 
 /// The first constraint a checked run breaks: a step without equilibrium, a slip margin
-/// below the threshold by more than [`MARGIN_TOLERANCE`], a disturbance margin below its
-/// threshold by more than [`DISTURBANCE_TOLERANCE`] of it, a load rate above the limit.
+/// below the threshold by more than [`MARGIN_TOLERANCE`], a releasing jaw still pressing at the
+/// last step ([`RELEASED_FRACTION`]), a disturbance margin below its threshold by more than
+/// [`DISTURBANCE_TOLERANCE`] of it, a load rate or an approach speed above its limit.
 pub fn binding_row(
     records: &[StepRecord],
     path: &KeyframePath,
@@ -252,7 +261,39 @@ pub fn binding_row(
             why: String::new(),
         });
     }
-    disturbance_binding(records, options).or_else(|| rate_binding(path, options))
+    release_binding(records, path)
+        .or_else(|| disturbance_binding(records, options))
+        .or_else(|| rate_binding(path, options))
+}
+
+/// A releasing position-controlled finger still pressing at the last step by more than
+/// [`RELEASED_FRACTION`] of the load scale: its jaw did not open far enough to let go (a
+/// releasing force-controlled finger is released by its command of 0 N).
+fn release_binding(records: &[StepRecord], path: &KeyframePath) -> Option<Binding> {
+    let group = path.groups.first().filter(|g| g.is_approach())?;
+    let last = records.last()?;
+    let limit = RELEASED_FRACTION * last.solution.load_scale_n;
+    let (m, name, load_n) = group
+        .members
+        .iter()
+        .enumerate()
+        .map(|(m, (name, _))| (m, name, last.normal_force_n(name)))
+        .find(|(_, _, p)| *p > limit)?;
+    let end_m = group.member_value(m, *path.values[0].last()?);
+    Some(Binding {
+        constraint: "release".into(),
+        finger: Some(name.clone()),
+        time_s: last.time_s,
+        value: load_n,
+        limit,
+        short_by: load_n - limit,
+        why: format!(
+            "its jaw ends at approach {} m, where it still presses on the object: open it \
+             further (`{}` below that)",
+            grasp_model::Readable(end_m),
+            crate::plan::option_names::OPEN_TO
+        ),
+    })
 }
 
 /// The step with the smallest disturbance margin, when it is below the threshold by more
@@ -274,32 +315,42 @@ fn disturbance_binding(records: &[StepRecord], options: &PlanOptions) -> Option<
     })
 }
 
-/// The steepest keyframe span of the path, when it exceeds the rate limit (beyond 1e-6 of
-/// it: the program's own accuracy).
+/// The steepest keyframe span of the path relative to its group's rate limit, when it
+/// exceeds it (beyond 1e-6 of it: the program's own accuracy): a `load rate` in N/s, or an
+/// `approach speed` in m/s.
 fn rate_binding(path: &KeyframePath, options: &PlanOptions) -> Option<Binding> {
-    let limit = options.max_rate_n_per_s?;
-    let mut worst: Option<(f64, usize, usize)> = None;
-    for (i, loads) in path.loads_n.iter().enumerate() {
-        for k in 0..loads.len() - 1 {
+    let limits = options.rate_limits();
+    let mut worst: Option<(f64, usize, usize, f64)> = None;
+    for (i, values) in path.values.iter().enumerate() {
+        let Some(limit) = path.groups[i].variable_rate(&limits) else {
+            continue;
+        };
+        for k in 0..values.len() - 1 {
             let dt = (path.fractions[k + 1] - path.fractions[k]) * path.duration_s;
-            let rate = path.groups[i].largest_share() * (loads[k + 1] - loads[k]).abs() / dt;
-            if worst.is_none_or(|w| rate > w.0) {
-                worst = Some((rate, i, k));
+            let relative = (values[k + 1] - values[k]).abs() / dt / limit;
+            if worst.is_none_or(|w| relative > w.0) {
+                worst = Some((relative, i, k, limit));
             }
         }
     }
-    let (rate, i, k) = worst.filter(|w| w.0 > limit * (1.0 + 1e-6))?;
+    let (relative, i, k, _) = worst.filter(|w| w.0 > 1.0 + 1e-6)?;
+    let group = &path.groups[i];
+    let (constraint, limit) = if group.is_approach() {
+        ("approach speed", options.max_speed_m_per_s?)
+    } else {
+        ("load rate", options.max_rate_n_per_s?)
+    };
     Some(Binding {
-        constraint: "load rate".into(),
-        finger: path.groups[i]
+        constraint: constraint.into(),
+        finger: group
             .members
             .iter()
             .max_by(|a, b| a.1.total_cmp(&b.1))
             .map(|m| m.0.clone()),
         time_s: path.fractions[k] * path.duration_s,
-        value: rate,
+        value: relative * limit,
         limit,
-        short_by: rate - limit,
+        short_by: (relative - 1.0) * limit,
         why: String::new(),
     })
 }

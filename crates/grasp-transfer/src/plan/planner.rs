@@ -272,10 +272,7 @@ fn merit(rows: &[MarginRow], path: &KeyframePath, relative: f64, options: &PlanO
 /// the plan cannot stretch (the margin objective's); the program's steps keep the limit, and
 /// this term lets the merit see the gain.
 fn rate_violation(path: &KeyframePath, options: &PlanOptions) -> f64 {
-    let Some(limit) = options.max_rate_n_per_s else {
-        return 0.0;
-    };
-    let shortest_s = path.shortest_duration_s(Some(limit));
+    let shortest_s = path.shortest_duration_s(&options.rate_limits());
     let excess = shortest_s / path.duration_s - 1.0;
     if excess > 1e-6 {
         excess
@@ -298,10 +295,10 @@ impl Runner<'_> {
         };
         let scale = current
             .path
-            .loads_n
+            .values
             .iter()
             .flatten()
-            .fold(0.0, |a: f64, &b| a.max(b));
+            .fold(0.0, |a: f64, &b| a.max(b.abs()));
         let scale = scale.max(f64::MIN_POSITIVE);
         let mut radius = 0.25 * scale;
         let mut iterations = 0;
@@ -330,7 +327,7 @@ impl Runner<'_> {
                 );
             }
             let mut trial = current.path.clone();
-            trial.loads_n = step.loads_n;
+            trial.values = step.values;
             trial.duration_s = step.duration_s;
             let reference = current.path.duration_s;
             let trial = self.evaluate(trial, reference)?.ok();
@@ -409,7 +406,8 @@ impl Runner<'_> {
                 .iter()
                 .map(|f| f * best.path.duration_s)
                 .collect(),
-            loads_n: finger_loads(&best.path),
+            loads_n: finger_commands(&best.path, false),
+            approaches_m: finger_commands(&best.path, true),
             runs: self.runs,
             iterations,
             stopped,
@@ -444,7 +442,7 @@ impl Runner<'_> {
         checked.fine_step_s = Some(fine.step_s());
         checked.fine_smallest = smallest_of_run(&records, true);
         let mut binding = binding_row(&records, &fine, self.options);
-        if let Some(b) = binding.as_mut() {
+        if let Some(b) = binding.as_mut().filter(|b| b.why.is_empty()) {
             let evidence = Evidence {
                 rows: &[],
                 path: &fine,
@@ -458,15 +456,17 @@ impl Runner<'_> {
     }
 }
 
-/// Each planned finger's loads at the keyframes, N.
-fn finger_loads(path: &KeyframePath) -> Vec<(String, Vec<f64>)> {
-    let groups = path.groups.iter().zip(&path.loads_n);
+/// Each planned finger's loads at the keyframes, N, or (`approach`) its approaches, m.
+fn finger_commands(path: &KeyframePath, approach: bool) -> Vec<(String, Vec<f64>)> {
+    let groups = path.groups.iter().zip(&path.values);
     groups
-        .flat_map(|(g, loads)| {
-            let member = |(name, share): &(String, f64)| {
-                (name.clone(), loads.iter().map(|x| share * x).collect())
+        .filter(|(g, _)| g.is_approach() == approach)
+        .flat_map(|(g, values)| {
+            let member = |(m, (name, _)): (usize, &(String, f64))| {
+                let commands = values.iter().map(|x| g.member_value(m, *x)).collect();
+                (name.clone(), commands)
             };
-            g.members.iter().map(member).collect::<Vec<_>>()
+            g.members.iter().enumerate().map(member).collect::<Vec<_>>()
         })
         .collect()
 }

@@ -124,9 +124,10 @@ fn nothing_holds(
         });
     }
     let receiving_unloaded = path
-        .loads_n
+        .values
         .get(1)
-        .is_some_and(|l| l.iter().all(|x| *x == 0.0));
+        .zip(path.groups.get(1))
+        .is_some_and(|(l, g)| !g.is_approach() && l.iter().all(|x| *x == 0.0));
     (template && receiving_unloaded).then(|| {
         format!(
             "the template (`{}`) never loads the receiving fingers ({}: their loads sampled \

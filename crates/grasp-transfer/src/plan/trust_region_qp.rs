@@ -2,7 +2,8 @@
 //! Wright, *Numerical Optimization*, 2nd ed., section 18.5, the elastic SL1QP form), solved
 //! with Clarabel.
 //!
-//! Variables `z = [x, T, w, v]`: the keyframe loads `x` (N), the duration `T` (s) and two
+//! Variables `z = [x, T, w, v]`: the keyframe values `x` (a load group's loads, N; an approach
+//! group's scaled approaches, [`crate::plan::planned_group`]), the duration `T` (s) and two
 //! scalars. With the objective [`Objective::Duration`], `w >= 0` is the largest violation of
 //! the slip-margin threshold, and the program minimises `T / T0 + rho w + rho v`; with
 //! [`Objective::Margin`], `w` is the smallest linearised slip margin, and the program
@@ -10,8 +11,9 @@
 //! disturbance-margin rows (each the margin over its threshold, kept at least 1).
 //! Constraints: every slip row `m + g (x - x0) + g_T (T - T0) >= threshold - w` (or `>= w`),
 //! every disturbance row `m + g (x - x0) + g_T (T - T0) >= 1 - v`,
-//! the fixed end keyframes, the load bounds, the trust region `|x - x0| <= radius`, the load
-//! rates `|x_{k+1} - x_k| <= rate (f_{k+1} - f_k) T` and the duration's bounds. A small
+//! the fixed end keyframes, the bounds, the trust region `|x - x0| <= radius`, the rates
+//! `|x_{k+1} - x_k| <= rate (f_{k+1} - f_k) T` (each group's limit in its variable's units)
+//! and the duration's bounds. A small
 //! proximal term `eps |x - x0|^2 / L^2` makes the program strictly convex.
 
 use clarabel::algebra::CscMatrix;
@@ -36,8 +38,8 @@ const PROXIMAL: f64 = 1e-3;
 /// The next point and the merit the linear model predicts for it.
 #[derive(Debug, Clone)]
 pub struct QpStep {
-    /// Keyframe loads, `[finger][keyframe]`, N.
-    pub loads_n: Vec<Vec<f64>>,
+    /// Keyframe values, `[group][keyframe]` ([`KeyframePath::values`]).
+    pub values: Vec<Vec<f64>>,
     /// Duration, s.
     pub duration_s: f64,
     /// The merit the linearisation predicts at the new point.
@@ -93,7 +95,7 @@ pub fn qp_step(
         v: nx + 2,
     };
     let (t_col, w_col, v_col, n) = (columns.t, columns.w, columns.v, nx + 3);
-    let x0: Vec<f64> = path.loads_n.iter().flatten().copied().collect();
+    let x0: Vec<f64> = path.values.iter().flatten().copied().collect();
     let t0 = path.duration_s;
     let (mut zero, mut nonneg) = (Rows::default(), Rows::default());
     for (j, &x) in x0.iter().enumerate() {
@@ -119,7 +121,7 @@ pub fn qp_step(
     let z = solve(n, &p, &q, zero, nonneg)?;
     // The fixed keyframes exactly, the free ones within their bounds; a load within
     // round-off of 0 N is 0 N (released), not a load too small to command.
-    let loads_n = (0..nf)
+    let values = (0..nf)
         .map(|i| {
             (0..nk)
                 .map(|k| match pinned[i][k] {
@@ -143,7 +145,7 @@ pub fn qp_step(
             Objective::Margin => -z[w_col],
         };
     Ok(QpStep {
-        loads_n,
+        values,
         duration_s: z[t_col],
         predicted_merit,
     })
@@ -181,14 +183,11 @@ fn objective(
     (p, q)
 }
 
-/// Group `g`'s load bounds `(largest, smallest)`, N: every member's within the options' (and
-/// at most the largest force a schedule takes).
+/// Group `g`'s variable bounds `(largest, smallest)`: every member's load within the
+/// options' (and at most the largest force a schedule takes), or its approach within its
+/// group's range ([`crate::plan::planned_group::PlannedGroup::bounds`]).
 pub fn group_bounds(path: &KeyframePath, g: usize, options: &PlanOptions) -> (f64, f64) {
-    let group = &path.groups[g];
-    (
-        options.max_load_n.min(MAX_FORCE_N) / group.largest_share(),
-        options.min_load_n / group.smallest_share(),
-    )
+    path.groups[g].bounds(options.min_load_n, options.max_load_n.min(MAX_FORCE_N))
 }
 
 /// The duration: fixed with the margin objective (or fixed bounds), else within its bounds
@@ -231,18 +230,19 @@ fn rate_rows(
     radius_n: f64,
     t_col: usize,
 ) {
-    let Some(rate) = options.max_rate_n_per_s else {
-        return;
-    };
+    let limits = options.rate_limits();
     let nk = path.fractions.len();
     let t_lo = match options.objective {
         Objective::Margin => path.duration_s,
         Objective::Duration => shortest_in_region(path, options),
     };
     for (i, group) in path.groups.iter().enumerate() {
+        let Some(rate) = group.variable_rate(&limits) else {
+            continue;
+        };
         for k in 0..nk - 1 {
-            let span = rate * (path.fractions[k + 1] - path.fractions[k]) / group.largest_share();
-            let most_n = (path.loads_n[i][k + 1] - path.loads_n[i][k]).abs() + 2.0 * radius_n;
+            let span = rate * (path.fractions[k + 1] - path.fractions[k]);
+            let most_n = (path.values[i][k + 1] - path.values[i][k]).abs() + 2.0 * radius_n;
             if span * t_lo > SLACK_RATE_FACTOR * most_n {
                 continue;
             }
