@@ -1,11 +1,12 @@
 """Regenerates the MuJoCo examples (examples/mujoco/) and their gallery pictures.
 
-1. the pinches: simulates examples/mujoco/pinch.xml (the motor squeezing 10 N) and
-   servo_pinch.xml (position servos) from their keyframes "start" for 1 s and writes the states
-   reached into their keyframes "grasped";
-2. `python -m grasp.mujoco scene` of the pinches at "grasped": examples/mujoco/pinch.json and
-   servo_pinch.json (`--control mujoco-servo`), and the side-by-side reports pinch.report.json and
-   servo_pinch.report.json (their tables are printed, as docs/guide/mujoco.md shows them);
+1. the pinches: simulates examples/mujoco/pinch.xml (the motor squeezing 10 N), servo_pinch.xml
+   (position servos on slides) and hinge_pinch.xml (position servos on hinges) from their
+   keyframes "start" for 1 s and writes the states reached into their keyframes "grasped";
+2. `python -m grasp.mujoco scene` of the pinches at "grasped": examples/mujoco/pinch.json,
+   servo_pinch.json and hinge_pinch.json (`--control mujoco-servo`), and the side-by-side reports
+   pinch.report.json and servo_pinch.report.json (their tables are printed, as
+   docs/guide/mujoco.md shows them);
 3. `python -m grasp.mujoco handoff` of examples/mujoco/handoff.xml driven by
    handoff_controller.py:control (1600 steps of 1 ms, every 10th recorded):
    examples/mujoco/handoff.json, handoff.schedule.json, handoff.csv;
@@ -68,6 +69,7 @@ def settle(name):
 def main():
     settle("pinch")
     settle("servo_pinch")
+    settle("hinge_pinch")
     py = sys.executable
     run(py, "-m", "grasp.mujoco", "scene", "examples/mujoco/pinch.xml", "--object", "box", "--keyframe", "grasped",
         "--materials", "examples/mujoco/pinch.materials.json", "--out", "examples/mujoco/pinch.json",
@@ -76,6 +78,9 @@ def main():
         "grasped", "--control", "mujoco-servo", "--materials", "examples/mujoco/servo_pinch.materials.json",
         "--out", "examples/mujoco/servo_pinch.json", "--report", "examples/mujoco/servo_pinch.report.json",
         "--markdown", "--force")
+    run(py, "-m", "grasp.mujoco", "scene", "examples/mujoco/hinge_pinch.xml", "--object", "box", "--keyframe",
+        "grasped", "--control", "mujoco-servo", "--materials", "examples/mujoco/hinge_pinch.materials.json",
+        "--out", "examples/mujoco/hinge_pinch.json", "--force")
     run(py, "-m", "grasp.mujoco", "handoff", "examples/mujoco/handoff.xml", "--object", "cylinder",
         "--controller", "examples/mujoco/handoff_controller.py:control", "--steps", "1600", "--every", "10",
         "--materials", "examples/mujoco/handoff.materials.json", "--out", "examples/mujoco/handoff", "--force")

@@ -93,6 +93,48 @@ fn servo_jaw_in_series_with_hertz_contacts_meets_the_closed_form() {
     }
 }
 
+/// A jaw on a hinge: the servo's core moves only as the hinge turns it, given as the singular
+/// compliance `J J' / K_q` (the "compliant form" of `K = J^-T K_q J^-1`, rigid in every other
+/// direction), with `J` the contact's motion per radian, `L` along the normal and a turn about
+/// `t1` (the hinge's axis, `L` = 50 mm behind the contact along `t2`). Seen along the normal it
+/// is a spring of `k = K_q / L^2` in series with the two contacts: the squeeze is the root of
+/// `F = k (x - 2 delta(F))` within the 0.5 % of the grid (as above), for `k` 1e3 to 1e5 N/m.
+/// The pad's turn shifts its pressure across the patch by `R F / (k L)` (the sphere rotated
+/// about the contact point), which moves the load by less than 0.2 % at 1e3 N/m. The core
+/// moves back along the normal by `F / k` and turns by `F / (k L)`, to 1 % (that shift's
+/// couple).
+#[test]
+fn a_jaw_on_a_hinge_is_a_spring_of_its_stiffness_over_its_lever_squared() {
+    let (f_root, grid, lever_m) = (0.3, 41, 0.05);
+    let two_delta = 2.0 * pad_hertz(f_root).approach_m;
+    // The servo's frame: n = x, t1 = y (the world axis least aligned with n), t2 = z.
+    let j = [0.0, 0.0, lever_m, -1.0, 0.0, 0.0];
+    for k in [1e3, 1e4, 1e5] {
+        let k_q = k * lever_m * lever_m;
+        let compliance: Vec<Vec<f64>> = (0..6)
+            .map(|r| (0..6).map(|c| j[r] * j[c] / k_q).collect())
+            .collect();
+        let jaw = f_root / k + two_delta;
+        let mut v = pinch(None, jaw, f_root, grid);
+        v["fingers"][0]["mount"] = json!({ "compliance": compliance });
+        let sol = solved(&v);
+        let servo = &sol.fingers[0];
+        let error = (servo.normal_force_n - f_root).abs() / f_root;
+        let core = servo.mount_displacement.expect("the hinge's core");
+        let (back, turn) = (
+            -core.normal_m * k / f_root,
+            core.rotation_rad[1] * k * lever_m / f_root,
+        );
+        eprintln!(
+            "hinge k {k:.0e} N/m: F {:.6} N (error {error:.2e}), core back {back:.5} F/k, turned {turn:.5} F/(k L)",
+            servo.normal_force_n
+        );
+        assert!(error < 5e-3, "k {k}: squeeze error {error}");
+        assert!((back - 1.0).abs() < 1e-2, "k {k}: {back}");
+        assert!((turn.abs() - 1.0).abs() < 1e-2, "k {k}: {turn}");
+    }
+}
+
 /// A rigid object hanging between three flat pads (mu 1, squeezed by 10 N), each on a mount
 /// tangentially soft (10, 20, 40 N/m) and rigid otherwise: the contacts are about 1e5 times
 /// stiffer tangentially (E 200 MPa pads, 8 mm square), so the weight is shared as the mounts'

@@ -723,7 +723,8 @@ fn height_map_files_that_cannot_serve() {
 }
 
 /// Mounts (`fingers[i].mount`): each bad stiffness named at its path with the fix; a matrix
-/// that is not symmetric or not positive definite; a mount with no stiffness or two forms; a
+/// that is not symmetric or not positive definite; a compliance that is not symmetric, not
+/// positive semidefinite, all zero or too large; a mount with no stiffness or two forms; a
 /// preload a force-controlled finger or a rigid normal cannot take.
 #[test]
 fn mounts_out_of_range_are_named() {
@@ -756,7 +757,22 @@ fn mounts_out_of_range_are_named() {
         (
             json!({"matrix": k, "normal_n_per_m": 1.0}),
             "fingers[0].mount",
-            "both a matrix",
+            "more than one form",
+        ),
+        (
+            json!({"matrix": k, "compliance": k}),
+            "fingers[0].mount",
+            "more than one form",
+        ),
+        (
+            json!({ "compliance": k.map(|r| r.map(|_| 0.0)) }),
+            "fingers[0].mount.compliance",
+            "all zero",
+        ),
+        (
+            json!({"compliance": k.map(|r| r.map(|x| x * 1e4))}),
+            "fingers[0].mount.compliance[0][0]",
+            "is 1e7",
         ),
         (
             json!({"normal_n_per_m": 1e3, "preload_n": -1.0}),
@@ -786,6 +802,35 @@ fn mounts_out_of_range_are_named() {
         &with(json!({"matrix": indefinite})),
         "fingers[0].mount.matrix",
         "not positive definite",
+    );
+    // A compliance: its own checks, by its own path (a hinge's rank-one `J J' / K_q` passes).
+    let compliance = |s: [[f64; 6]; 6]| with(json!({ "compliance": s }));
+    assert_refused(
+        &compliance(asymmetric.map(|r| r.map(|x| x * 1e-6))),
+        "fingers[0].mount.compliance[0][4]",
+        "symmetric",
+    );
+    assert_refused(
+        &compliance(indefinite.map(|r| r.map(|x| x * 1e-6))),
+        "fingers[0].mount.compliance",
+        "not positive semidefinite",
+    );
+    let j = [0.0, 0.0, 0.05, -1.0, 0.0, 0.0];
+    let hinge: [[f64; 6]; 6] = std::array::from_fn(|r| std::array::from_fn(|c| j[r] * j[c] / 5.0));
+    let mut v = compliance(hinge);
+    v["fingers"][0]["mount"]["preload_n"] = json!(1.0);
+    v["fingers"][0]["control"] = json!({"approach_m": 0.0});
+    let accepted = LoadedScene::from_json_str(&v.to_string());
+    assert!(accepted.is_ok(), "{:?}", accepted.err());
+    let j = [0.0, 0.05, 0.0, -1.0, 0.0, 0.0];
+    let across: [[f64; 6]; 6] = std::array::from_fn(|r| std::array::from_fn(|c| j[r] * j[c] / 5.0));
+    let mut v = compliance(across);
+    v["fingers"][0]["mount"]["preload_n"] = json!(1.0);
+    v["fingers"][0]["control"] = json!({"approach_m": 0.0});
+    assert_refused(
+        &v,
+        "fingers[0].mount.preload_n",
+        "does not move the core along the normal",
     );
     let mut loaded = with(json!({"normal_n_per_m": 1e3, "preload_n": 1.0}));
     loaded["fingers"][0]["control"] = json!({"normal_load": 2.0});

@@ -143,7 +143,8 @@ def test_mujoco_servo_refuses_jaws_it_cannot_read_as_a_spring_along_the_normal()
     assert "moves on 0 joints, not one" in str(e.value)
     for old, new, words in [
         (LEFT, '<motor name="left" joint="jaw_left" ctrlrange="0 5"/>', "has no stiffness"),
-        ('type="slide" axis="0 -1 0"', 'type="slide" axis="0 -1 0.2"', "across the normal"),
+        # A slide across the normal cannot squeeze.
+        ('type="slide" axis="0 -1 0"', 'type="slide" axis="1 0 0"', "it cannot squeeze"),
         # An asymmetric force range: the actuator saturates at its upper end, 1 N.
         (LEFT, LEFT.replace("/>", ' forcelimited="true" forcerange="-10 1"/>'), "at its force limit"),
         ('damping="20"/>\n      <geom name="tip_left"',
@@ -155,3 +156,66 @@ def test_mujoco_servo_refuses_jaws_it_cannot_read_as_a_spring_along_the_normal()
             gm.scene_from(model, data, "box", materials=MATERIALS, control="mujoco-servo")
         assert words in str(e.value), str(e.value)
         assert "control='mujoco-force'" in str(e.value)
+
+
+HINGE = MJ / "hinge_pinch.xml"
+
+
+def test_mujoco_hinge_jaws_are_their_joints_compliance_and_squeeze_as_the_closed_form_says():
+    """examples/mujoco/hinge_pinch.xml: each finger hangs 50 mm below a hinge along x, servoed at
+    kp 5 N m/rad. Its contact point moves ``J = dp/dq`` per radian (MuJoCo's Jacobian at the
+    contact): ``J_n`` along the normal, and ``J_z`` up, because the contact lies 10 mm off the
+    line below the hinge (the tip's radius). So the box's weight, carried as friction ``W / 2``
+    by each pad, turns the hinge too. The servo's balance ``K_q (q_c - q) = J_n P + J_z W / 2``
+    and Hertz's approach ``delta(P)`` close the jaw: ``delta(P) = overlap + J_n (tau - J_n P -
+    J_z W / 2) / K_q``, with ``tau`` MuJoCo's actuator torque at the state and ``overlap`` its
+    contact's. The scene's mount is the compliance ``J J' / K_q`` in the contact frame (to
+    1e-12: the bridge's arithmetic), preloaded by ``tau / J_n``; its squeeze must be that root
+    within 0.5 % (the Hertz grid's error, as for the slide jaws). MuJoCo's own squeeze differs
+    by ``K_q / J_n^2 (overlap - delta(P))`` (its softer contact) plus what its state, 1 s into
+    a damped settle, leaves unbalanced on the joint, ``(tau - J_n P_mj - J_z F_mj) / J_n``
+    (computed); what remains is the grid's error, within the same 0.5 % of the squeeze. A
+    normal-only mount of ``K_q / J_n^2`` would miss ``J_z W / (2 J_n)``, 3 % of the squeeze:
+    the test needs the coupling to pass."""
+    model = gm.load_model(HINGE)
+    data = gm.load_state(model, keyframe="grasped")
+    g = gm.scene_from(model, data, "box", materials=MJ / "hinge_pinch.materials.json", control="mujoco-servo")
+    sol = grasp.solve(g.scene)
+    assert sol.status == "solved"
+    weight = float(model.body("box").mass[0]) * 9.81
+    mj = {f.name: (f.normal_force_n, float(f.friction_force_n[2])) for f in g.fingers}
+    for spec, f in zip(g.scene_dict["fingers"], sol.fingers):
+        side = spec["name"].removeprefix("jaw_")
+        a, joint = model.actuator(side).id, model.joint(spec["name"])
+        k_q = float(model.actuator_gainprm[a, 0])
+        tau = float(data.actuator_force[a])
+        geom = model.geom(f"tip_{side}").id
+        (c,) = [data.contact[i] for i in range(data.ncon) if geom in (data.contact[i].geom1, data.contact[i].geom2)]
+        overlap = -float(c.dist)
+        point, n = np.asarray(spec["contact_point"]), np.asarray(spec["normal"])
+        jacp, jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+        mujoco.mj_jac(model, data, jacp, jacr, point, model.body(spec["name"]).id)
+        dof = int(joint.dofadr[0])
+        j_n, j_z = float(jacp[:, dof] @ n), float(jacp[2, dof])
+        t1 = np.asarray(spec["tangent"])
+        frame = np.array([t1, np.cross(n, t1), n])
+        jac = np.concatenate([frame @ jacp[:, dof], frame @ jacr[:, dof]])
+        assert np.allclose(spec["mount"]["compliance"], np.outer(jac, jac) / k_q, rtol=1e-12, atol=1e-18)
+        assert spec["mount"]["preload_n"] == pytest.approx(tau / j_n, rel=1e-12)
+        assert spec["control"]["approach_m"] == pytest.approx(overlap, rel=1e-12)
+        lo, hi = 0.0, 10.0
+        for _ in range(200):
+            p = 0.5 * (lo + hi)
+            gap = overlap + j_n * (tau - j_n * p - j_z * weight / 2) / k_q - hertz_approach(p)
+            lo, hi = (p, hi) if gap > 0 else (lo, p)
+        want, ours = 0.5 * (lo + hi), f["normal_force_n"]
+        k_eff = k_q / j_n**2
+        p_mj, f_mj = mj[spec["name"]]
+        unbalanced = (tau - j_n * p_mj - j_z * f_mj) / j_n
+        explained = k_eff * (overlap - hertz_approach(ours)) + unbalanced
+        print(f"{spec['name']}: grasp P {ours:.5f} N, closed form {want:.5f} N, MuJoCo {p_mj:.5f} N "
+              f"(unbalanced {unbalanced:.5f} N); J_n {j_n * 1e3:.3f} mm, J_z {j_z * 1e3:.3f} mm per rad; "
+              f"difference {ours - p_mj:.5f} N, explained {explained:.5f} N")
+        assert ours == pytest.approx(want, rel=5e-3)
+        assert abs(j_z * weight / 2 / j_n) > 0.02 * ours  # the coupling the closed form counts
+        assert abs((ours - p_mj) - explained) <= 5e-3 * ours

@@ -235,9 +235,9 @@ def finger_spec(mujoco, model, data, fl, name, materials, opts, hertz_load_n, co
     elif control == "mujoco-servo":
         overlap = posed[1] if posed is not None else max(-c.dist_m for c in fl.contacts)
         half_side = 0.5 * max(float(x) for x in size)
-        servo = finger_servo(mujoco, model, data, fl.other_body, point, n, overlap, name, half_side)
+        servo = finger_servo(mujoco, model, data, fl.other_body, point, n, overlap, name, half_side, t1)
         spec["control"] = {"approach_m": servo.approach_m}
-        spec["mount"] = {"normal_n_per_m": servo.stiffness_n_per_m}
+        spec["mount"] = servo.mount()
     else:
         spec["control"] = {"normal_load": clean_force(max(fl.normal_force_n, 0.0))}
     if opts.get("sensor") is not None:

@@ -1,20 +1,30 @@
 """A finger's servo as MuJoCo models it, turned into the scene's ``mount`` and commanded position.
 
-A jaw on one slide joint, moved by position actuators (``<position kp=...>``: force ``kp (ctrl -
-gear q)``, any affine actuator) and held by the joint's own ``stiffness``, is a spring between
-the jaw and where its servo would put it unloaded. Seen at the contact it is the mount's normal
-stiffness ``k = K_q / J_n^2`` (``K = J^-T K_q J^-1`` for one joint whose motion moves the contact
-point along the normal: ``J_n = n . dp/dq``), with ``K_q`` the sum of the actuators' ``-bias_1
-gear^2`` and the joint's stiffness. The commanded position past first touch is MuJoCo's overlap
-at the contact plus how far the spring's force at the state would move the jaw, ``J_n tau /
-K_q`` (``tau``: the actuators' and the joint spring's generalised force at the state, MuJoCo's
-own, so a motor's constant push counts too).
+A jaw on one slide or hinge joint, moved by position actuators (``<position kp=...>``: force
+``kp (ctrl - gear q)``, any affine actuator) and held by the joint's own ``stiffness``, is a
+spring between the jaw and where its servo would put it unloaded, of stiffness ``K_q`` (the sum
+of the actuators' ``-bias_1 gear^2`` and the joint's stiffness; N/m or N m/rad). Seen at the
+contact, ``J = (dp/dq, dtheta/dq)`` in the contact frame (``t1, t2, n``; MuJoCo's Jacobian at the
+contact point), it is the mount ``K = J^-T K_q J^-1``:
+
+- a slide along the normal (the jaw moving along ``n``, not turning, to ``ALONG_NORMAL_TOLERANCE``)
+  is the mount's normal stiffness ``k = K_q / J_n^2`` (``J_n = n . dp/dq``), commanded past first
+  touch by MuJoCo's overlap at the contact plus how far the spring's force at the state would
+  move the jaw, ``J_n tau / K_q`` (``tau``: the actuators' and the joint spring's generalised
+  force at the state, MuJoCo's own, so a motor's constant push counts too);
+- any other (a hinge, whose contact swings on an arc and whose pad turns; a slide tilted off the
+  normal) is the compliant form, the singular ``compliance`` ``J J' / K_q``: the core moves only
+  as the joint moves it, rigid in every other direction. It is commanded at MuJoCo's overlap and
+  preloaded with the spring's force along the normal at the state, ``tau / J_n``: that preload
+  puts the core where the spring would carry it unloaded, ``J tau / K_q``, along the joint's own
+  motion (an approach would move it along the normal only).
 
 Not taken (each refused naming the finger and the fix): a jaw on several joints or on a ball or
-free joint, a joint whose motion turns the jaw or moves the contact point across the normal (a
-hinge: the scene's mount would need their coupling), a joint with no stiffness (a bare motor: use
-``control="mujoco-force"``), an actuator at its force limit or a joint at its actuator force
-limit (no longer a spring there), a joint driven through a tendon or another transmission.
+free joint, a joint that does not move the contact point along the normal (``J_n`` 0: it cannot
+squeeze), a hinge whose spring pulls the jaw off the object at the state (no preload to give), a
+joint with no stiffness (a bare motor: use ``control="mujoco-force"``), an actuator at its force
+limit or a joint at its actuator force limit (no longer a spring there), a joint driven through a
+tendon or another transmission.
 """
 
 from dataclasses import dataclass
@@ -44,9 +54,10 @@ class Servo:
     joint : str
         MuJoCo's joint that moves the jaw.
     stiffness_n_per_m : float
-        The mount's normal stiffness, ``K_q / J_n^2``.
+        The stiffness along the normal, ``K_q / J_n^2``.
     approach_m : float
-        The commanded position past first touch: MuJoCo's overlap plus ``J_n tau / K_q``.
+        The commanded position past first touch: MuJoCo's overlap plus ``J_n tau / K_q`` (a
+        slide along the normal), or the overlap alone (the compliant form, preloaded).
     spring_force_n : float
         MuJoCo's actuators' and joint spring's force along the normal at the state, ``tau / J_n``.
     overlap_m : float
@@ -58,6 +69,14 @@ class Servo:
     approach_m: float
     spring_force_n: float
     overlap_m: float
+    compliance: list = None
+
+    def mount(self):
+        """The scene's ``mount``: the normal stiffness of a slide along the normal, else the
+        compliance ``J J' / K_q`` preloaded with the spring's force along the normal."""
+        if self.compliance is None:
+            return {"normal_n_per_m": self.stiffness_n_per_m}
+        return {"compliance": self.compliance, "preload_n": self.spring_force_n}
 
 
 def refuse(name, what, fix):
@@ -78,7 +97,7 @@ def jaw_joint(mujoco, model, body, name):
     j = joints[0]
     kind = mujoco.mjtJoint(int(model.jnt_type[j])).name.removeprefix("mjJNT_").lower()
     if kind not in ("slide", "hinge"):
-        refuse(name, f"joint '{model.joint(j).name}' is a {kind} joint", "give the jaw a slide joint")
+        refuse(name, f"joint '{model.joint(j).name}' is a {kind} joint", "give the jaw a slide or hinge joint")
     return j
 
 
@@ -122,10 +141,11 @@ def joint_stiffness(mujoco, model, data, j, name):
     return k, applied + spring
 
 
-def finger_servo(mujoco, model, data, body, point, n, overlap_m, name, half_side_m):
+def finger_servo(mujoco, model, data, body, point, n, overlap_m, name, half_side_m, t1=None):
     """The :class:`Servo` of the jaw ``body`` touching at ``point`` (m, world) with the normal
     ``n`` into the object, where MuJoCo's surfaces overlap by ``overlap_m``; ``half_side_m``:
-    the patch's half-side, over which a turn of the jaw would move the pad."""
+    the patch's half-side, over which a turn of the jaw would move the pad; ``t1``: the scene's
+    first tangent (the contact frame of a compliance; ``None``: only the stiffness is asked)."""
     j = jaw_joint(mujoco, model, body, name)
     k_q, tau = joint_stiffness(mujoco, model, data, j, name)
     jacp = np.zeros((3, model.nv))
@@ -136,11 +156,23 @@ def finger_servo(mujoco, model, data, body, point, n, overlap_m, name, half_side
     j_n = float(moved @ n)
     across = float(np.linalg.norm(moved - j_n * n))
     turn = float(np.linalg.norm(turned))
-    if not abs(j_n) > 0 or across > ALONG_NORMAL_TOLERANCE * abs(j_n) or \
-            turn * half_side_m > ALONG_NORMAL_TOLERANCE * abs(j_n):
-        refuse(name, f"joint '{model.joint(j).name}' moves the contact point {across:.3g} m across the normal "
-                     f"and turns the jaw {turn:.3g} rad for every {abs(j_n):.3g} m along it",
-               "give the jaw a slide joint along the contact normal, or control='mujoco-force' or 'held'")
-    return Servo(joint=model.joint(j).name, stiffness_n_per_m=k_q / (j_n * j_n),
-                 approach_m=float(overlap_m + j_n * tau / k_q), spring_force_n=tau / j_n,
-                 overlap_m=float(overlap_m))
+    if not abs(j_n) > ALONG_NORMAL_TOLERANCE * max(float(np.linalg.norm(moved)), turn * half_side_m):
+        refuse(name, f"joint '{model.joint(j).name}' moves the contact point {abs(j_n):.3g} m along the normal "
+                     f"for every {across:.3g} m across it and {turn:.3g} rad of turn: it cannot squeeze",
+               "give the jaw a joint that moves its pad toward the object, or control='mujoco-force' or 'held'")
+    along = across <= ALONG_NORMAL_TOLERANCE * abs(j_n) and turn * half_side_m <= ALONG_NORMAL_TOLERANCE * abs(j_n)
+    servo = Servo(joint=model.joint(j).name, stiffness_n_per_m=k_q / (j_n * j_n),
+                  approach_m=float(overlap_m + j_n * tau / k_q), spring_force_n=tau / j_n,
+                  overlap_m=float(overlap_m))
+    if along or t1 is None:
+        return servo
+    if not servo.spring_force_n > 0:
+        refuse(name, f"joint '{model.joint(j).name}''s spring pulls the jaw off the object at the state "
+                     f"({servo.spring_force_n:.3g} N along the normal)",
+               "give a state where the servo presses the jaw on the object, or control='mujoco-force'")
+    t1 = np.asarray(t1, dtype=float)
+    frame = np.array([t1, np.cross(n, t1), n])
+    jac = np.concatenate([frame @ moved, frame @ turned])
+    servo.compliance = (np.outer(jac, jac) / k_q).tolist()
+    servo.approach_m = float(overlap_m)
+    return servo

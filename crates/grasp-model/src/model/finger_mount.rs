@@ -95,20 +95,15 @@ impl FingerMount {
         n_tangential: usize,
         planar: bool,
     ) -> Self {
-        let k = spec.stiffness();
-        let free: Vec<usize> = (0..MOUNT_COMPONENTS)
-            .filter(|&c| k.compliant[c] && (!planar || PLANAR_COMPONENTS[c]))
-            .collect();
-        let block = DMatrix::from_fn(free.len(), free.len(), |r, c| k.matrix[free[r]][free[c]]);
-        let mut compliance = Matrix6::zeros();
-        // Validation checked the matrix positive definite, so every principal block is too.
-        if let Some(inverse) = block.cholesky().map(|c| c.inverse()) {
-            for (r, &fr) in free.iter().enumerate() {
-                for (c, &fc) in free.iter().enumerate() {
-                    compliance[(fr, fc)] = inverse[(r, c)];
-                }
-            }
-        }
+        let in_plane = |c: usize| !planar || PLANAR_COMPONENTS[c];
+        let compliance = match spec.compliance {
+            // Given as written, its out-of-plane rows and columns dropped in a planar scene.
+            Some(s) => Matrix6::from_fn(|r, c| match in_plane(r) && in_plane(c) {
+                true => s[r][c],
+                false => 0.0,
+            }),
+            None => inverse_over_free(spec, &in_plane),
+        };
         let mut preload = Vector6::zeros();
         preload[2] = spec.preload_n;
         FingerMount {
@@ -246,10 +241,31 @@ impl FingerMount {
     }
 }
 
-/// The parameters of [`FingerMount::stiffness_parameters`]: a matrix's scale, or each direction
+/// The compliance `S` of `spec`'s stiffness: the inverse of its block over the directions that
+/// move (`moves`; a rigid direction holds the core), 0 elsewhere.
+fn inverse_over_free(spec: &MountSpec, moves: &dyn Fn(usize) -> bool) -> Matrix6<f64> {
+    let k = spec.stiffness();
+    let free: Vec<usize> = (0..MOUNT_COMPONENTS)
+        .filter(|&c| k.compliant[c] && moves(c))
+        .collect();
+    let block = DMatrix::from_fn(free.len(), free.len(), |r, c| k.matrix[free[r]][free[c]]);
+    let mut compliance = Matrix6::zeros();
+    // Validation checked the matrix positive definite, so every principal block is too.
+    if let Some(inverse) = block.cholesky().map(|c| c.inverse()) {
+        for (r, &fr) in free.iter().enumerate() {
+            for (c, &fc) in free.iter().enumerate() {
+                compliance[(fr, fc)] = inverse[(r, c)];
+            }
+        }
+    }
+    compliance
+}
+
+/// The parameters of [`FingerMount::stiffness_parameters`]: a matrix's (or a compliance's)
+/// scale, or each direction
 /// given whose compliance is not 0 (a planar scene's out-of-plane directions are).
 fn stiffness_parameters(spec: &MountSpec, compliance: &Matrix6<f64>) -> Vec<StiffnessParameter> {
-    if spec.matrix.is_some() {
+    if spec.matrix.is_some() || spec.compliance.is_some() {
         return vec![StiffnessParameter::Scale];
     }
     let given = [
@@ -282,6 +298,7 @@ mod tests {
             tangential_n_per_m: matrix.is_none().then_some(5e3),
             rotational_nm_per_rad: matrix.is_none().then_some(3.0),
             matrix,
+            compliance: None,
             preload_n: 0.0,
         }
     }
@@ -344,6 +361,7 @@ mod tests {
             tangential_n_per_m: None,
             rotational_nm_per_rad: None,
             matrix: None,
+            compliance: None,
             preload_n: 0.0,
         };
         let m = mount(normal_only, 2);

@@ -23,18 +23,27 @@ pub fn check_mount(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
         m.tangential_n_per_m,
         m.rotational_nm_per_rad,
     ];
-    match (&m.matrix, by_direction.iter().any(Option::is_some)) {
-        (Some(_), true) => v.push(
+    let forms = [m.matrix.is_some(), m.compliance.is_some()];
+    if forms.iter().filter(|x| **x).count() + usize::from(by_direction.iter().any(Option::is_some))
+        > 1
+    {
+        v.push(
             &mp,
-            "gives both a matrix and stiffnesses by direction".into(),
-            "give either `matrix` or `normal_n_per_m` / `tangential_n_per_m` / \
+            "gives more than one form of its stiffness".into(),
+            "give one of `matrix`, `compliance`, or `normal_n_per_m` / `tangential_n_per_m` / \
              `rotational_nm_per_rad`",
-        ),
+        );
+    } else if let Some(s) = &m.compliance {
+        check_compliance(&mp, s, v);
+    }
+    match (&m.matrix, by_direction.iter().any(Option::is_some)) {
+        _ if m.compliance.is_some() => {}
+        (Some(_), true) => {}
         (None, false) => v.push(
             &mp,
             "gives no stiffness".into(),
-            "give `normal_n_per_m`, `tangential_n_per_m`, `rotational_nm_per_rad` (N/m, N m/rad) \
-             or a 6x6 `matrix`; omit `mount` for a rigid core",
+            "give `normal_n_per_m`, `tangential_n_per_m`, `rotational_nm_per_rad` (N/m, N m/rad), \
+             a 6x6 `matrix` or a 6x6 `compliance`; omit `mount` for a rigid core",
         ),
         (Some(k), false) => check_matrix(&mp, k, MOUNT_AXES, v),
         (None, true) => check_directions(&mp, m, v),
@@ -133,6 +142,54 @@ pub(crate) fn check_matrix(mp: &str, k: &[[f64; 6]; 6], axes: &str, v: &mut Fiel
     }
 }
 
+/// Largest compliance entry a mount takes, m/N (1/N, rad/(N m)): the inverse of the smallest
+/// stiffness, 1e-6 N/m.
+pub const MOUNT_LARGEST_COMPLIANCE: f64 = 1e6;
+
+/// A compliance at `mp.compliance`: finite, within [`MOUNT_LARGEST_COMPLIANCE`], symmetric,
+/// positive semidefinite (its eigenvalues above `-1e-12` of the largest), not all zero.
+fn check_compliance(mp: &str, s: &[[f64; 6]; 6], v: &mut FieldChecks) {
+    let path = format!("{mp}.compliance");
+    let mut entries = (0..36).map(|i| (i / 6, i % 6));
+    if let Some((r, c)) = entries
+        .clone()
+        .find(|&(r, c)| !s[r][c].is_finite() || s[r][c].abs() > MOUNT_LARGEST_COMPLIANCE)
+    {
+        v.push(
+            &format!("{path}[{r}][{c}]"),
+            format!("is {}", number(s[r][c])),
+            "give finite compliances of at most 1e6 (m/N, 1/N, rad/(N m))",
+        );
+        return;
+    }
+    let largest = s.iter().flatten().fold(0.0_f64, |a, x| a.max(x.abs()));
+    let asymmetric =
+        entries.find(|&(r, c)| (s[r][c] - s[c][r]).abs() > MOUNT_SYMMETRY_TOLERANCE * largest);
+    if let Some((r, c)) = asymmetric {
+        let what = format!(
+            "is {} but [{c}][{r}] is {}: a compliance is symmetric",
+            number(s[r][c]),
+            number(s[c][r])
+        );
+        v.push(
+            &format!("{path}[{r}][{c}]"),
+            what,
+            "make the matrix symmetric",
+        );
+        return;
+    }
+    let eigen = Matrix6::from_fn(|r, c| 0.5 * (s[r][c] + s[c][r])).symmetric_eigenvalues();
+    if largest == 0.0 || eigen.min() < -1e-12 * eigen.max() {
+        v.push(
+            &path,
+            "is not positive semidefinite (or is all zero): some load would do negative work"
+                .into(),
+            "give a positive semidefinite compliance with some direction above 0, or omit \
+             `mount` for a rigid core",
+        );
+    }
+}
+
 /// A preload needs a compliant normal and a finger whose normal load is not prescribed.
 fn check_preload(p: &str, mp: &str, f: &FingerSpec, m: &MountSpec, v: &mut FieldChecks) {
     let path = format!("{mp}.preload_n");
@@ -145,7 +202,13 @@ fn check_preload(p: &str, mp: &str, f: &FingerSpec, m: &MountSpec, v: &mut Field
             format!("is set but {p}.control prescribes the normal load"),
             "drop preload_n (the load is the control's), or drive the finger by `approach_m`",
         );
-    } else if m.matrix.is_none() && m.normal_n_per_m.is_none() {
+    } else if m.compliance.is_some_and(|s| s[2][2] <= 0.0) {
+        v.push(
+            &path,
+            "is set but the compliance does not move the core along the normal".into(),
+            "give a compliance with `[2][2]` above 0, or drop preload_n",
+        );
+    } else if m.matrix.is_none() && m.compliance.is_none() && m.normal_n_per_m.is_none() {
         v.push(
             &path,
             "is set but the mount is rigid along the normal".into(),

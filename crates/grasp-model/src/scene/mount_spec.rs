@@ -5,7 +5,11 @@
 //! The stiffness is given in the contact frame, components in the order `t1, t2, n` for the
 //! translations (m) and the rotations about `t1, t2, n` (rad) about the contact point: either
 //! by direction (`normal_n_per_m`, `tangential_n_per_m`, `rotational_nm_per_rad`; a direction
-//! left out is rigid) or as a full symmetric positive definite `matrix` (N/m, N/rad, N m/rad).
+//! left out is rigid) or as a full symmetric positive definite `matrix` (N/m, N/rad, N m/rad),
+//! or by its `compliance`, the inverse of such a matrix, which may be singular: a core that
+//! moves along fewer than six directions, rigid across them (a jaw on one hinge: `J J' / K_q`
+//! with `J` the contact's motion per radian of the joint and `K_q` its stiffness, the
+//! "compliant form" of `K = J^-T K_q J^-1`).
 //! The commanded position along the normal is the finger's control: `{"approach_m": x}` is the
 //! jaw's position from first touch (negative: opened), `"held"` is `x = 0`.
 
@@ -32,9 +36,16 @@ pub struct MountSpec {
     /// N m/rad between rotations), instead of the three numbers above.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub matrix: Option<[[f64; 6]; 6]>,
+    /// The full symmetric positive semidefinite compliance, rows and columns `[t1, t2, n, rot
+    /// t1, rot t2, rot n]` (m/N between translations, 1/N between a translation and a rotation,
+    /// rad/(N m) between rotations), instead of a stiffness: singular where the core is rigid
+    /// (see the module).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compliance: Option<[[f64; 6]; 6]>,
     /// The normal force the spring pushes with when the core sits at its commanded pose, N: 0
-    /// or in `[1e-15, 1e7]`; default 0. Needs a normal stiffness; not for a force-controlled
-    /// finger (its normal load is prescribed).
+    /// or in `[1e-15, 1e7]`; default 0. Needs a normal stiffness (or a compliance that moves
+    /// the core along the normal); not for a force-controlled finger (its normal load is
+    /// prescribed).
     #[serde(default)]
     pub preload_n: f64,
 }
