@@ -1,10 +1,11 @@
 """Regenerates the MuJoCo examples (examples/mujoco/) and their gallery pictures.
 
 1. the pinches: simulates examples/mujoco/pinch.xml (the motor squeezing 10 N), servo_pinch.xml
-   (position servos on slides) and hinge_pinch.xml (position servos on hinges) from their
-   keyframes "start" for 1 s and writes the states reached into their keyframes "grasped";
+   (position servos on slides), hinge_pinch.xml (position servos on hinges) and
+   coupled_pinch.xml (one servo on a tendon driving both jaws) from their keyframes "start"
+   for 1 s and writes the states reached into their keyframes "grasped";
 2. `python -m grasp.mujoco scene` of the pinches at "grasped": examples/mujoco/pinch.json,
-   servo_pinch.json and hinge_pinch.json (`--control mujoco-servo`), and the side-by-side reports
+   servo_pinch.json, hinge_pinch.json and coupled_pinch.json (`--control mujoco-servo`), and the side-by-side reports
    pinch.report.json and servo_pinch.report.json (their tables are printed, as
    docs/guide/mujoco.md shows them);
 3. `python -m grasp.mujoco handoff` of examples/mujoco/handoff.xml driven by
@@ -70,6 +71,7 @@ def main():
     settle("pinch")
     settle("servo_pinch")
     settle("hinge_pinch")
+    settle("coupled_pinch")
     py = sys.executable
     run(py, "-m", "grasp.mujoco", "scene", "examples/mujoco/pinch.xml", "--object", "box", "--keyframe", "grasped",
         "--materials", "examples/mujoco/pinch.materials.json", "--out", "examples/mujoco/pinch.json",
@@ -81,6 +83,9 @@ def main():
     run(py, "-m", "grasp.mujoco", "scene", "examples/mujoco/hinge_pinch.xml", "--object", "box", "--keyframe",
         "grasped", "--control", "mujoco-servo", "--materials", "examples/mujoco/hinge_pinch.materials.json",
         "--out", "examples/mujoco/hinge_pinch.json", "--force")
+    run(py, "-m", "grasp.mujoco", "scene", "examples/mujoco/coupled_pinch.xml", "--object", "box", "--keyframe",
+        "grasped", "--control", "mujoco-servo", "--materials", "examples/mujoco/coupled_pinch.materials.json",
+        "--out", "examples/mujoco/coupled_pinch.json", "--force")
     run(py, "-m", "grasp.mujoco", "handoff", "examples/mujoco/handoff.xml", "--object", "cylinder",
         "--controller", "examples/mujoco/handoff_controller.py:control", "--steps", "1600", "--every", "10",
         "--materials", "examples/mujoco/handoff.materials.json", "--out", "examples/mujoco/handoff", "--force")

@@ -325,6 +325,11 @@ def test_mujoco_committed_examples_are_what_the_commands_make(pinch, handoff):
                           materials=MJ / "hinge_pinch.materials.json", control="mujoco-servo")
     committed = json.loads((MJ / "hinge_pinch.json").read_text())
     numbers_close(dict(hinge.scene_dict, description=committed["description"]), committed)
+    model = gm.load_model(MJ / "coupled_pinch.xml")
+    coupled = gm.scene_from(model, gm.load_state(model, keyframe="grasped"), "box",
+                            materials=MJ / "coupled_pinch.materials.json", control="mujoco-servo")
+    committed = json.loads((MJ / "coupled_pinch.json").read_text())
+    numbers_close(dict(coupled.scene_dict, description=committed["description"]), committed)
     outs = handoff.outputs(str(MJ / "handoff"))
     numbers_close(json.loads(outs[str(MJ / "handoff.schedule.json")]),
                   json.loads((MJ / "handoff.schedule.json").read_text()))

@@ -219,3 +219,51 @@ def test_mujoco_hinge_jaws_are_their_joints_compliance_and_squeeze_as_the_closed
         assert ours == pytest.approx(want, rel=5e-3)
         assert abs(j_z * weight / 2 / j_n) > 0.02 * ours  # the coupling the closed form counts
         assert abs((ours - p_mj) - explained) <= 5e-3 * ours
+
+
+COUPLED = MJ / "coupled_pinch.xml"
+
+
+def test_mujoco_coupled_jaws_are_one_servo_and_squeeze_as_the_closed_form_says():
+    """examples/mujoco/coupled_pinch.xml, the Franka hand's drive as MuJoCo Menagerie models it:
+    the two slide jaws tied by a joint equality and driven through a fixed tendon (half of each
+    joint) by one actuator of kp 2000 N/m on the tendon's length. The jaws move as one
+    coordinate, so the scene has one servo (`servos`) of ``(sum c)^2 K_L / J_n^2`` = 2000 N/m
+    on the sum of the jaws' forces (to 1e-12: the bridge's arithmetic), each jaw commanded at
+    its overlap plus ``J_n F_a / ((sum c) K_L)``, and no mounts. The closed form: two alike
+    jaws share the spring, ``2 P = k (x - delta(P))``, with ``x`` from MuJoCo alone; the model
+    within 0.5 % (the Hertz grid's error, as above). MuJoCo's squeeze is ``F_a / 2`` each, and
+    ours exceeds it by ``k / 2 (overlap - delta(P))`` (its softer contact), within the same
+    0.5 % of the squeeze. Without the equality the tendon is a differential, refused."""
+    model = gm.load_model(COUPLED)
+    data = gm.load_state(model, keyframe="grasped")
+    g = gm.scene_from(model, data, "box", materials=MJ / "coupled_pinch.materials.json", control="mujoco-servo")
+    (servo,) = g.scene_dict["servos"]
+    assert servo["name"] == "split" and servo["fingers"] == ["jaw_left", "jaw_right"]
+    assert servo["stiffness_n_per_m"] == pytest.approx(2000.0, rel=1e-12)
+    f_a = float(data.actuator_force[model.actuator("grip").id])
+    k = servo["stiffness_n_per_m"]
+    sol = grasp.solve(g.scene)
+    assert sol.status == "solved"
+    mj = {f.name: f.normal_force_n for f in g.fingers}
+    for spec, f in zip(g.scene_dict["fingers"], sol.fingers):
+        assert "mount" not in spec
+        geom = model.geom(f"tip_{spec['name'].removeprefix('jaw_')}").id
+        (c,) = [data.contact[i] for i in range(data.ncon) if geom in (data.contact[i].geom1, data.contact[i].geom2)]
+        overlap = -float(c.dist)
+        x = overlap + f_a / k  # J_n = 1, sum c = 1
+        assert spec["control"]["approach_m"] == pytest.approx(x, rel=1e-12)
+        want = series_root(k / 2, x)
+        ours = f["normal_force_n"]
+        explained = k / 2 * (overlap - hertz_approach(ours))
+        print(f"{spec['name']}: grasp P {ours:.5f} N, closed form {want:.5f} N, MuJoCo {mj[spec['name']]:.5f} N "
+              f"(F_a / 2 = {f_a / 2:.5f} N); difference {ours - mj[spec['name']]:.5f} N, explained {explained:.5f} N")
+        assert ours == pytest.approx(want, rel=5e-3)
+        assert abs((ours - f_a / 2) - explained) <= 5e-3 * ours
+    loose = COUPLED.read_text().replace('<joint name="together" joint1="jaw_left" joint2="jaw_right"/>', "")
+    model = mujoco.MjModel.from_xml_string(loose)
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key("grasped").id)
+    with pytest.raises(gm.MujocoError) as e:
+        gm.scene_from(model, data, "box", materials=MJ / "coupled_pinch.materials.json", control="mujoco-servo")
+    assert "no joint equality ties them" in str(e.value) and "control='mujoco-force'" in str(e.value)

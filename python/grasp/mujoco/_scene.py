@@ -34,7 +34,7 @@ from ._geometry import (
 )
 from ._materials import MaterialMap, compliance
 from ._patch import pad_cut_notes, patch_options, sensor_option
-from ._servo import finger_servo
+from ._servo import coupled_servos, finger_servo
 from ._state import check_finite_state
 
 if TYPE_CHECKING:
@@ -237,7 +237,10 @@ def finger_spec(mujoco, model, data, fl, name, materials, opts, hertz_load_n, co
         half_side = 0.5 * max(float(x) for x in size)
         servo = finger_servo(mujoco, model, data, fl.other_body, point, n, overlap, name, half_side, t1)
         spec["control"] = {"approach_m": servo.approach_m}
-        spec["mount"] = servo.mount()
+        if servo.mount() is not None:
+            spec["mount"] = servo.mount()
+        if servo.tendon_mark() is not None:
+            spec["_tendon"] = servo.tendon_mark()
     else:
         spec["control"] = {"normal_load": clean_force(max(fl.normal_force_n, 0.0))}
     if opts.get("sensor") is not None:
@@ -468,6 +471,9 @@ def build(mujoco, model, data, b, materials, opts, control, contact_model, descr
     if warn:
         warnings.insert(0, warn)
     scene = {"description": description, "object": obj, "fingers": specs, "model": contact_model}
+    servos = coupled_servos(specs)
+    if servos:
+        scene["servos"] = servos
     v = np.zeros(6)
     mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_BODY, b, v, 0)
     return MujocoGrasp(inertial_force_n=inertial_force_n(mujoco, model, data, b),

@@ -19,6 +19,14 @@ contact point), it is the mount ``K = J^-T K_q J^-1``:
   puts the core where the spring would carry it unloaded, ``J tau / K_q``, along the joint's own
   motion (an approach would move it along the normal only).
 
+Jaws whose joints one fixed tendon drives (affine actuators on the tendon, stiffness ``K_L``
+on its length ``L = sum c_i q_i``) and a joint equality ties together (``q_1 = q_2``: a Franka
+hand, as MuJoCo Menagerie models it) are one servo, the scene's ``servos`` entry: the jaws move
+as one coordinate ``q`` with ``L = (sum c_i) q``, so the servo's stiffness on the sum of the
+jaws' normal forces is ``(sum c_i)^2 K_L / J_n^2`` (each jaw's ``J_n`` alike, to
+``ALONG_NORMAL_TOLERANCE``), and each jaw is commanded at its overlap plus ``J_n F_a / ((sum
+c_i) K_L)``, with ``F_a`` the tendon actuators' force at the state.
+
 Not taken (each refused naming the finger and the fix): a jaw on several joints or on a ball or
 free joint, a joint that does not move the contact point along the normal (``J_n`` 0: it cannot
 squeeze), a hinge whose spring pulls the jaw off the object at the state (no preload to give), a
@@ -70,13 +78,91 @@ class Servo:
     spring_force_n: float
     overlap_m: float
     compliance: list = None
+    tendon: str = None
+    tendon_jaws: int = 0
+
+    def tendon_mark(self):
+        """What the scene's ``servos`` needs of a tendon-coupled jaw (``None`` otherwise)."""
+        if self.tendon is None:
+            return None
+        return {"tendon": self.tendon, "jaws": self.tendon_jaws, "stiffness_n_per_m": self.stiffness_n_per_m}
 
     def mount(self):
         """The scene's ``mount``: the normal stiffness of a slide along the normal, else the
-        compliance ``J J' / K_q`` preloaded with the spring's force along the normal."""
+        compliance ``J J' / K_q`` preloaded with the spring's force along the normal; ``None``
+        for a jaw of a tendon-coupled servo (the scene's ``servos`` carries its spring)."""
+        if self.tendon is not None:
+            return None
         if self.compliance is None:
             return {"normal_n_per_m": self.stiffness_n_per_m}
         return {"compliance": self.compliance, "preload_n": self.spring_force_n}
+
+
+@dataclass
+class Coupling:
+    """Jaw joints one fixed tendon drives and a joint equality ties (see the module)."""
+
+    tendon: str
+    joints: list
+    coef_sum: float
+    stiffness: float
+    force: float
+
+
+def tendon_coupling(mujoco, model, data, j, name):
+    """The :class:`Coupling` of joint ``j``, or ``None`` when no tendon actuator drives it."""
+    by_tendon = int(mujoco.mjtTrn.mjTRN_TENDON)
+    tendons = {int(model.actuator_trnid[a, 0]) for a in range(model.nu)
+               if int(model.actuator_trntype[a]) == by_tendon}
+    for t in sorted(tendons):
+        wraps = range(int(model.tendon_adr[t]), int(model.tendon_adr[t] + model.tendon_num[t]))
+        joints = [int(model.wrap_objid[w]) for w in wraps]
+        if int(model.wrap_type[wraps[0]]) != int(mujoco.mjtWrap.mjWRAP_JOINT) or j not in joints:
+            continue
+        tendon = model.tendon(t).name or f"tendon{t}"
+        k, force = tendon_spring(mujoco, model, data, t, name)
+        for other in joints:
+            if other != j and not tied(mujoco, model, j, other):
+                refuse(name, f"tendon '{tendon}' drives joints '{model.joint(j).name}' and "
+                             f"'{model.joint(other).name}', but no joint equality ties them (a differential "
+                             "shares the force, not the motion)",
+                       "tie the jaws' joints with a joint equality, or control='mujoco-force'")
+        coef_sum = float(sum(model.wrap_prm[w] for w in wraps))
+        return Coupling(tendon=tendon, joints=joints, coef_sum=coef_sum, stiffness=k, force=force)
+    return None
+
+
+def tendon_spring(mujoco, model, data, t, name):
+    """``K_L`` (N/m of tendon length) of tendon ``t``'s affine actuators and their force at the
+    state, N; refuses one at its force limit or a tendon without stiffness."""
+    k, force = 0.0, 0.0
+    for a in range(model.nu):
+        if int(model.actuator_trntype[a]) != int(mujoco.mjtTrn.mjTRN_TENDON) or int(model.actuator_trnid[a, 0]) != t:
+            continue
+        gear = float(model.actuator_gear[a, 0])
+        if int(model.actuator_biastype[a]) == int(mujoco.mjtBias.mjBIAS_AFFINE):
+            k += -float(model.actuator_biasprm[a, 1]) * gear * gear
+        f = float(data.actuator_force[a])
+        if model.actuator_forcelimited[a] and at_limit(f, model.actuator_forcerange[a]):
+            refuse(name, f"actuator '{model.actuator(a).name}' is at its force limit ({f:g} N)",
+                   "give a state within the actuator's force range, or control='mujoco-force'")
+        force += gear * f
+    if not k > 0:
+        refuse(name, f"tendon '{model.tendon(t).name}' has no stiffness (no position actuator on it)",
+               "give it a position actuator, or control='mujoco-force'")
+    return k, force
+
+
+def tied(mujoco, model, a, b):
+    """True when an active joint equality ties joints ``a`` and ``b`` one to one (``q_a = q_b``
+    about their reference positions)."""
+    for e in range(model.neq):
+        if int(model.eq_type[e]) != int(mujoco.mjtEq.mjEQ_JOINT) or not model.eq_active0[e]:
+            continue
+        pair = {int(model.eq_obj1id[e]), int(model.eq_obj2id[e])}
+        if pair == {a, b} and np.allclose(model.eq_data[e, :5], [0, 1, 0, 0, 0]):
+            return True
+    return False
 
 
 def refuse(name, what, fix):
@@ -147,6 +233,9 @@ def finger_servo(mujoco, model, data, body, point, n, overlap_m, name, half_side
     the patch's half-side, over which a turn of the jaw would move the pad; ``t1``: the scene's
     first tangent (the contact frame of a compliance; ``None``: only the stiffness is asked)."""
     j = jaw_joint(mujoco, model, body, name)
+    coupling = tendon_coupling(mujoco, model, data, j, name)
+    if coupling is not None:
+        return coupled_servo(mujoco, model, data, (body, j, coupling), point, n, overlap_m, name)
     k_q, tau = joint_stiffness(mujoco, model, data, j, name)
     jacp = np.zeros((3, model.nv))
     jacr = np.zeros((3, model.nv))
@@ -176,3 +265,50 @@ def finger_servo(mujoco, model, data, body, point, n, overlap_m, name, half_side
     servo.compliance = (np.outer(jac, jac) / k_q).tolist()
     servo.approach_m = float(overlap_m)
     return servo
+
+
+def coupled_servo(mujoco, model, data, jaw, point, n, overlap_m, name):
+    """The :class:`Servo` of a jaw of a tendon-coupled servo (see the module): ``jaw`` is
+    ``(body, joint, coupling)``; its ``stiffness_n_per_m`` is the servo's, on the sum of the
+    jaws' normal forces."""
+    body, j, c = jaw
+    if float(model.jnt_stiffness[j]) != 0.0 or any(
+            int(model.actuator_trnid[a, 0]) == j and int(model.actuator_trntype[a]) != int(mujoco.mjtTrn.mjTRN_TENDON)
+            for a in range(model.nu)):
+        refuse(name, f"joint '{model.joint(j).name}' has a spring of its own besides tendon '{c.tendon}'",
+               "drive the coupled jaws by the tendon alone, or control='mujoco-force'")
+    jacp = np.zeros((3, model.nv))
+    mujoco.mj_jac(model, data, jacp, None, np.asarray(point, dtype=float), body)
+    moved = jacp[:, int(model.jnt_dofadr[j])]
+    j_n = float(moved @ n)
+    if not abs(j_n) > 0 or float(np.linalg.norm(moved - j_n * n)) > ALONG_NORMAL_TOLERANCE * abs(j_n):
+        refuse(name, f"joint '{model.joint(j).name}' of tendon '{c.tendon}' does not move the contact point along "
+                     "the normal", "give the coupled jaws slide joints along the contact normal, or control='mujoco-force'")
+    k_q, tau = c.coef_sum ** 2 * c.stiffness, c.coef_sum * c.force
+    return Servo(joint=model.joint(j).name, stiffness_n_per_m=k_q / (j_n * j_n),
+                 approach_m=float(overlap_m + j_n * tau / k_q), spring_force_n=tau / j_n,
+                 overlap_m=float(overlap_m), tendon=c.tendon, tendon_jaws=len(c.joints))
+
+
+def coupled_servos(specs):
+    """The scene's ``servos`` from the fingers' specs, taking out each jaw's ``_tendon`` mark
+    (:meth:`Servo.tendon_mark`): one servo per tendon, its jaws in scene order; refuses a
+    tendon whose jaws do not all touch the object, or whose jaws see different stiffnesses
+    (their ``J_n`` differ: the servo moves its jaws alike)."""
+    servos = {}
+    for spec in specs:
+        mark = spec.pop("_tendon", None)
+        if mark is not None:
+            servos.setdefault(mark["tendon"], []).append((spec["name"], mark))
+    out = []
+    for tendon, jaws in servos.items():
+        ks = [m["stiffness_n_per_m"] for _, m in jaws]
+        if len(jaws) != jaws[0][1]["jaws"]:
+            raise MujocoError(f"tendon '{tendon}' drives {jaws[0][1]['jaws']} jaws but {len(jaws)} touch the object",
+                              "give a state where every coupled jaw touches it, or control='mujoco-force'")
+        if max(ks) > min(ks) * (1 + ALONG_NORMAL_TOLERANCE):
+            raise MujocoError(f"tendon '{tendon}' moves its jaws by different distances along their normals "
+                              f"(servo stiffnesses {', '.join(f'{k:.6g}' for k in ks)} N/m)",
+                              "give the coupled jaws alike levers, or control='mujoco-force'")
+        out.append({"name": tendon, "fingers": [name for name, _ in jaws], "stiffness_n_per_m": ks[0]})
+    return out
