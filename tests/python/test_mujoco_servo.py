@@ -19,6 +19,8 @@ Tolerances, and why:
   into a damped settle, the box creeping at 0.7 mm/s).
 """
 
+import re
+
 import numpy as np
 import pytest
 
@@ -219,29 +221,52 @@ def test_mujoco_hinge_jaws_are_their_joints_compliance_and_squeeze_as_the_closed
         assert ours == pytest.approx(want, rel=5e-3)
         assert abs(j_z * weight / 2 / j_n) > 0.02 * ours  # the coupling the closed form counts
         assert abs((ours - p_mj) - explained) <= 5e-3 * ours
+        # MuJoCo's own balance of the hinge: its actuator's torque is its contact's, J_n P + J_z
+        # F, to 2e-3 of the squeeze (its state 1 s into a damped settle, the box creeping at
+        # 0.39 mm/s; measured 1.5e-3).
+        assert abs(unbalanced) <= 2e-3 * p_mj
 
 
 COUPLED = MJ / "coupled_pinch.xml"
+
+
+def tendon_spring_of(model, data, joints):
+    """MuJoCo's own stiffness of tied jaws and their actuators' push, from its forces alone:
+    ``K_q = -d(sum qfrc_actuator)/dq`` with every tied joint moved by ``dq`` (a difference of an
+    affine force: exact to round-off), and ``tau = sum qfrc_actuator`` at the state."""
+    dofs = [int(model.joint(j).dofadr[0]) for j in joints]
+    mujoco.mj_forward(model, data)
+    tau = float(sum(data.qfrc_actuator[d] for d in dofs))
+    moved = mujoco.MjData(model)
+    moved.qpos[:], moved.ctrl[:], moved.act[:] = data.qpos, data.ctrl, data.act
+    dq = 1e-6
+    for j in joints:
+        moved.qpos[model.joint(j).qposadr[0]] += dq
+    mujoco.mj_forward(model, moved)
+    return -(float(sum(moved.qfrc_actuator[d] for d in dofs)) - tau) / dq, tau
 
 
 def test_mujoco_coupled_jaws_are_one_servo_and_squeeze_as_the_closed_form_says():
     """examples/mujoco/coupled_pinch.xml, the Franka hand's drive as MuJoCo Menagerie models it:
     the two slide jaws tied by a joint equality and driven through a fixed tendon (half of each
     joint) by one actuator of kp 2000 N/m on the tendon's length. The jaws move as one
-    coordinate, so the scene has one servo (`servos`) of ``(sum c)^2 K_L / J_n^2`` = 2000 N/m
-    on the sum of the jaws' forces (to 1e-12: the bridge's arithmetic), each jaw commanded at
-    its overlap plus ``J_n F_a / ((sum c) K_L)``, and no mounts. The closed form: two alike
-    jaws share the spring, ``2 P = k (x - delta(P))``, with ``x`` from MuJoCo alone; the model
-    within 0.5 % (the Hertz grid's error, as above). MuJoCo's squeeze is ``F_a / 2`` each, and
-    ours exceeds it by ``k / 2 (overlap - delta(P))`` (its softer contact), within the same
-    0.5 % of the squeeze. Without the equality the tendon is a differential, refused."""
+    coordinate, so the scene has one servo (``servos``) on the sum of the jaws' forces, of
+    stiffness ``K_q / J_n^2`` with ``K_q`` MuJoCo's own ``-d(sum qfrc)/dq`` over the tied jaws,
+    each jaw commanded at its overlap plus ``J_n tau / K_q`` (``tau``: the actuators' push on
+    the jaws at the state), to 1e-9 (the difference quotient's round-off), here and for a
+    geared drive with unequal coefficients (1.5 and 0.5, gear 2: 8000 N/m), and no mounts.
+    The closed form: two alike jaws share the spring, ``2 P = k (x - delta(P))``, with ``x``
+    from MuJoCo alone; the model within 0.5 % (the Hertz grid's error, as above). MuJoCo's
+    jaws balance its tendon, ``P = tau / (2 J_n)``, to 1e-3 (its settle), and ours exceeds its
+    squeeze by ``k / 2 (overlap - delta(P))`` (its softer contact) within the same 0.5 %.
+    Refused: a tendon with no equality (a differential), and tied jaws that move the same way."""
     model = gm.load_model(COUPLED)
     data = gm.load_state(model, keyframe="grasped")
     g = gm.scene_from(model, data, "box", materials=MJ / "coupled_pinch.materials.json", control="mujoco-servo")
     (servo,) = g.scene_dict["servos"]
     assert servo["name"] == "split" and servo["fingers"] == ["jaw_left", "jaw_right"]
-    assert servo["stiffness_n_per_m"] == pytest.approx(2000.0, rel=1e-12)
-    f_a = float(data.actuator_force[model.actuator("grip").id])
+    k_q, tau = tendon_spring_of(model, data, ["jaw_left", "jaw_right"])
+    assert servo["stiffness_n_per_m"] == pytest.approx(k_q, rel=1e-9)  # J_n = 1
     k = servo["stiffness_n_per_m"]
     sol = grasp.solve(g.scene)
     assert sol.status == "solved"
@@ -251,19 +276,47 @@ def test_mujoco_coupled_jaws_are_one_servo_and_squeeze_as_the_closed_form_says()
         geom = model.geom(f"tip_{spec['name'].removeprefix('jaw_')}").id
         (c,) = [data.contact[i] for i in range(data.ncon) if geom in (data.contact[i].geom1, data.contact[i].geom2)]
         overlap = -float(c.dist)
-        x = overlap + f_a / k  # J_n = 1, sum c = 1
-        assert spec["control"]["approach_m"] == pytest.approx(x, rel=1e-12)
+        x = overlap + tau / k_q
+        assert spec["control"]["approach_m"] == pytest.approx(x, rel=1e-9)
         want = series_root(k / 2, x)
         ours = f["normal_force_n"]
         explained = k / 2 * (overlap - hertz_approach(ours))
         print(f"{spec['name']}: grasp P {ours:.5f} N, closed form {want:.5f} N, MuJoCo {mj[spec['name']]:.5f} N "
-              f"(F_a / 2 = {f_a / 2:.5f} N); difference {ours - mj[spec['name']]:.5f} N, explained {explained:.5f} N")
+              f"(tau / 2 = {tau / 2:.5f} N); difference {ours - mj[spec['name']]:.5f} N, explained {explained:.5f} N")
         assert ours == pytest.approx(want, rel=5e-3)
-        assert abs((ours - f_a / 2) - explained) <= 5e-3 * ours
-    loose = COUPLED.read_text().replace('<joint name="together" joint1="jaw_left" joint2="jaw_right"/>', "")
-    model = mujoco.MjModel.from_xml_string(loose)
+        assert mj[spec["name"]] == pytest.approx(tau / 2, rel=1e-3)
+        assert abs((ours - mj[spec["name"]]) - explained) <= 5e-3 * ours
+    text = COUPLED.read_text()
+    geared = text.replace('coef="0.5"/>\n      <joint joint="jaw_right" coef="0.5"',
+                          'coef="1.5"/>\n      <joint joint="jaw_right" coef="0.5"')
+    geared = geared.replace('tendon="split" biastype', 'tendon="split" gear="2" biastype')
+    assert geared.count('coef="1.5"') == 1 and 'gear="2"' in geared
+    model = mujoco.MjModel.from_xml_string(geared)
     data = mujoco.MjData(model)
     mujoco.mj_resetDataKeyframe(model, data, model.key("grasped").id)
-    with pytest.raises(gm.MujocoError) as e:
-        gm.scene_from(model, data, "box", materials=MJ / "coupled_pinch.materials.json", control="mujoco-servo")
-    assert "no joint equality ties them" in str(e.value) and "control='mujoco-force'" in str(e.value)
+    data.ctrl[:] = 0.006  # past the geared length at this state (3.2 mm), so the servo presses
+    g = gm.scene_from(model, data, "box", materials=MJ / "coupled_pinch.materials.json", control="mujoco-servo")
+    k_q, tau = tendon_spring_of(model, data, ["jaw_left", "jaw_right"])
+    assert g.scene_dict["servos"][0]["stiffness_n_per_m"] == pytest.approx(k_q, rel=1e-9)
+    assert k_q == pytest.approx(2000.0 * 2.0**2 * 2.0**2, rel=1e-9)  # (sum c)^2 gear^2 kp
+    for spec in g.scene_dict["fingers"]:
+        geom = model.geom(f"tip_{spec['name'].removeprefix('jaw_')}").id
+        overlap = -min(data.contact[i].dist for i in range(data.ncon)
+                       if geom in (data.contact[i].geom1, data.contact[i].geom2))
+        assert spec["control"]["approach_m"] == pytest.approx(overlap + tau / k_q, rel=1e-9)
+    # Tied jaws that move the same way: the right jaw's slide reversed, its state mirrored so
+    # that it still touches (the tie is MuJoCo's to keep; the bridge reads the motion).
+    same_way = re.sub(r'(<key name="grasped"[^>]* qpos="[^"]* )(\S+)(")',
+                      lambda m: m.group(1) + repr(-float(m.group(2))) + m.group(3),
+                      text.replace('type="slide" axis="0 1 0"', 'type="slide" axis="0 -1 0"'))
+    for xml, words in [
+        (text.replace('<joint name="together" joint1="jaw_left" joint2="jaw_right"/>', ""),
+         "no active joint equality ties them"),
+        (same_way, "pulls this jaw off the object"),
+    ]:
+        model = mujoco.MjModel.from_xml_string(xml)
+        data = mujoco.MjData(model)
+        mujoco.mj_resetDataKeyframe(model, data, model.key("grasped").id)
+        with pytest.raises(gm.MujocoError) as e:
+            gm.scene_from(model, data, "box", materials=MJ / "coupled_pinch.materials.json", control="mujoco-servo")
+        assert words in str(e.value) and "control='mujoco-force'" in str(e.value), str(e.value)

@@ -25,14 +25,18 @@ hand, as MuJoCo Menagerie models it) are one servo, the scene's ``servos`` entry
 as one coordinate ``q`` with ``L = (sum c_i) q``, so the servo's stiffness on the sum of the
 jaws' normal forces is ``(sum c_i)^2 K_L / J_n^2`` (each jaw's ``J_n`` alike, to
 ``ALONG_NORMAL_TOLERANCE``), and each jaw is commanded at its overlap plus ``J_n F_a / ((sum
-c_i) K_L)``, with ``F_a`` the tendon actuators' force at the state.
+c_i) K_L)``, with ``F_a`` the tendon actuators' force at the state. A tendon over one jaw's
+joint alone is that jaw's spring: its normal mount, ``c^2 K_L / J_n^2``.
 
 Not taken (each refused naming the finger and the fix): a jaw on several joints or on a ball or
 free joint, a joint that does not move the contact point along the normal (``J_n`` 0: it cannot
 squeeze), a hinge whose spring pulls the jaw off the object at the state (no preload to give), a
 joint with no stiffness (a bare motor: use ``control="mujoco-force"``), an actuator at its force
-limit or a joint at its actuator force limit (no longer a spring there), a joint driven through a
-tendon or another transmission.
+limit or a joint at its actuator force limit (no longer a spring there), a joint driven through a transmission other than joint
+actuators or one fixed tendon; for tied jaws also: a tendon over jaws no equality ties one to
+one (a differential), coefficients summing to 0, a tendon with a spring of its own, jaws with
+springs of their own, tied jaws that move the same way (the servo would pull one off), jaws
+that turn or move across the normal, or unlike levers.
 """
 
 from dataclasses import dataclass
@@ -122,12 +126,21 @@ def tendon_coupling(mujoco, model, data, j, name):
         tendon = model.tendon(t).name or f"tendon{t}"
         k, force = tendon_spring(mujoco, model, data, t, name)
         for other in joints:
-            if other != j and not tied(mujoco, model, j, other):
+            if other != j and not tied(mujoco, model, data, j, other):
                 refuse(name, f"tendon '{tendon}' drives joints '{model.joint(j).name}' and "
-                             f"'{model.joint(other).name}', but no joint equality ties them (a differential "
-                             "shares the force, not the motion)",
-                       "tie the jaws' joints with a joint equality, or control='mujoco-force'")
+                             f"'{model.joint(other).name}', but no active joint equality ties them one to one "
+                             "(q1 = q2; a differential shares the force, not the motion)",
+                       "tie the jaws' joints with a joint equality of polycoef '0 1 0 0 0', or control='mujoco-force'")
         coef_sum = float(sum(model.wrap_prm[w] for w in wraps))
+        if not abs(coef_sum) > 0:
+            refuse(name, f"tendon '{tendon}''s coefficients sum to 0: its length does not change as the tied jaws move",
+                   "give the tendon coefficients of one sign, or control='mujoco-force'")
+        dofs = [int(model.jnt_dofadr[i]) for i in joints]
+        applied = float(sum(data.qfrc_actuator[d] for d in dofs))
+        if abs(applied - coef_sum * force) > ACTUATOR_SUM_TOLERANCE * max(abs(applied), abs(coef_sum * force), 1e-300):
+            refuse(name, f"the jaws of tendon '{tendon}' take {applied:g} from their actuators, not the tendon's "
+                         f"{coef_sum * force:g} (another actuator, or a force limit on a joint or the tendon)",
+                   "drive the coupled jaws by the one tendon within its force limits, or control='mujoco-force'")
         return Coupling(tendon=tendon, joints=joints, coef_sum=coef_sum, stiffness=k, force=force)
     return None
 
@@ -147,17 +160,21 @@ def tendon_spring(mujoco, model, data, t, name):
             refuse(name, f"actuator '{model.actuator(a).name}' is at its force limit ({f:g} N)",
                    "give a state within the actuator's force range, or control='mujoco-force'")
         force += gear * f
+    if float(model.tendon_stiffness[t]) != 0.0:
+        refuse(name, f"tendon '{model.tendon(t).name}' has a spring of its own (stiffness "
+                     f"{float(model.tendon_stiffness[t]):g})",
+               "give the tendon's stiffness to its position actuator, or control='mujoco-force'")
     if not k > 0:
         refuse(name, f"tendon '{model.tendon(t).name}' has no stiffness (no position actuator on it)",
                "give it a position actuator, or control='mujoco-force'")
     return k, force
 
 
-def tied(mujoco, model, a, b):
-    """True when an active joint equality ties joints ``a`` and ``b`` one to one (``q_a = q_b``
-    about their reference positions)."""
+def tied(mujoco, model, data, a, b):
+    """True when a joint equality active at the state ties joints ``a`` and ``b`` one to one
+    (``q_a = q_b`` about their reference positions)."""
     for e in range(model.neq):
-        if int(model.eq_type[e]) != int(mujoco.mjtEq.mjEQ_JOINT) or not model.eq_active0[e]:
+        if int(model.eq_type[e]) != int(mujoco.mjtEq.mjEQ_JOINT) or not data.eq_active[e]:
             continue
         pair = {int(model.eq_obj1id[e]), int(model.eq_obj2id[e])}
         if pair == {a, b} and np.allclose(model.eq_data[e, :5], [0, 1, 0, 0, 0]):
@@ -235,7 +252,7 @@ def finger_servo(mujoco, model, data, body, point, n, overlap_m, name, half_side
     j = jaw_joint(mujoco, model, body, name)
     coupling = tendon_coupling(mujoco, model, data, j, name)
     if coupling is not None:
-        return coupled_servo(mujoco, model, data, (body, j, coupling), point, n, overlap_m, name)
+        return coupled_servo(mujoco, model, data, (body, j, coupling), point, n, overlap_m, name, half_side_m)
     k_q, tau = joint_stiffness(mujoco, model, data, j, name)
     jacp = np.zeros((3, model.nv))
     jacr = np.zeros((3, model.nv))
@@ -267,27 +284,39 @@ def finger_servo(mujoco, model, data, body, point, n, overlap_m, name, half_side
     return servo
 
 
-def coupled_servo(mujoco, model, data, jaw, point, n, overlap_m, name):
+def coupled_servo(mujoco, model, data, jaw, point, n, overlap_m, name, half_side_m):
     """The :class:`Servo` of a jaw of a tendon-coupled servo (see the module): ``jaw`` is
     ``(body, joint, coupling)``; its ``stiffness_n_per_m`` is the servo's, on the sum of the
-    jaws' normal forces."""
+    jaws' normal forces. A tendon over this jaw's joint alone is a spring of its own: the jaw's
+    normal mount, as a joint actuator's."""
     body, j, c = jaw
+    by_joint = (int(mujoco.mjtTrn.mjTRN_JOINT), int(mujoco.mjtTrn.mjTRN_JOINTINPARENT))
     if float(model.jnt_stiffness[j]) != 0.0 or any(
-            int(model.actuator_trnid[a, 0]) == j and int(model.actuator_trntype[a]) != int(mujoco.mjtTrn.mjTRN_TENDON)
+            int(model.actuator_trntype[a]) in by_joint and int(model.actuator_trnid[a, 0]) == j
             for a in range(model.nu)):
         refuse(name, f"joint '{model.joint(j).name}' has a spring of its own besides tendon '{c.tendon}'",
                "drive the coupled jaws by the tendon alone, or control='mujoco-force'")
-    jacp = np.zeros((3, model.nv))
-    mujoco.mj_jac(model, data, jacp, None, np.asarray(point, dtype=float), body)
-    moved = jacp[:, int(model.jnt_dofadr[j])]
+    jacp, jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+    mujoco.mj_jac(model, data, jacp, jacr, np.asarray(point, dtype=float), body)
+    dof = int(model.jnt_dofadr[j])
+    moved, turn = jacp[:, dof], float(np.linalg.norm(jacr[:, dof]))
     j_n = float(moved @ n)
-    if not abs(j_n) > 0 or float(np.linalg.norm(moved - j_n * n)) > ALONG_NORMAL_TOLERANCE * abs(j_n):
-        refuse(name, f"joint '{model.joint(j).name}' of tendon '{c.tendon}' does not move the contact point along "
-                     "the normal", "give the coupled jaws slide joints along the contact normal, or control='mujoco-force'")
+    across = float(np.linalg.norm(moved - j_n * n))
+    if not abs(j_n) > 0 or max(across, turn * half_side_m) > ALONG_NORMAL_TOLERANCE * abs(j_n):
+        refuse(name, f"joint '{model.joint(j).name}' of tendon '{c.tendon}' moves the contact point {across:.3g} m "
+                     f"across the normal and turns the jaw {turn:.3g} rad for every {abs(j_n):.3g} m along it",
+               "give the coupled jaws slide joints along the contact normal, or control='mujoco-force'")
     k_q, tau = c.coef_sum ** 2 * c.stiffness, c.coef_sum * c.force
-    return Servo(joint=model.joint(j).name, stiffness_n_per_m=k_q / (j_n * j_n),
-                 approach_m=float(overlap_m + j_n * tau / k_q), spring_force_n=tau / j_n,
-                 overlap_m=float(overlap_m), tendon=c.tendon, tendon_jaws=len(c.joints))
+    servo = Servo(joint=model.joint(j).name, stiffness_n_per_m=k_q / (j_n * j_n),
+                  approach_m=float(overlap_m + j_n * tau / k_q), spring_force_n=tau / j_n,
+                  overlap_m=float(overlap_m))
+    if not servo.spring_force_n > 0:
+        refuse(name, f"tendon '{c.tendon}' pulls this jaw off the object at the state ({servo.spring_force_n:.3g} N "
+                     "along the normal: its tied jaws move the same way, or the servo opens)",
+               "tie jaws that close on the object from opposite sides, or control='mujoco-force'")
+    if len(c.joints) > 1:
+        servo.tendon, servo.tendon_jaws = c.tendon, len(c.joints)
+    return servo
 
 
 def coupled_servos(specs):

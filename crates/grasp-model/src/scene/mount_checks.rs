@@ -1,6 +1,7 @@
-//! The checks of `fingers[i].mount`: one form of stiffness (per direction or a full matrix),
-//! its numbers in range, a matrix symmetric and positive definite, and a preload the finger's
-//! control can take. Each problem names its JSON path and the fix.
+//! The checks of `fingers[i].mount`: one form of stiffness (per direction, a full matrix, or a
+//! compliance), its numbers in range, a matrix symmetric and positive definite, a compliance
+//! symmetric and positive semidefinite, and a preload the finger's control can take. Each
+//! problem names its JSON path and the fix.
 
 use nalgebra::Matrix6;
 
@@ -174,7 +175,7 @@ fn check_compliance(mp: &str, s: &[[f64; 6]; 6], v: &mut FieldChecks) {
         v.push(
             &format!("{path}[{r}][{c}]"),
             what,
-            "make the matrix symmetric",
+            "make the compliance symmetric",
         );
         return;
     }
@@ -184,8 +185,9 @@ fn check_compliance(mp: &str, s: &[[f64; 6]; 6], v: &mut FieldChecks) {
             &path,
             "is not positive semidefinite (or is all zero): some load would do negative work"
                 .into(),
-            "give a positive semidefinite compliance with some direction above 0, or omit \
-             `mount` for a rigid core",
+            "give a positive semidefinite compliance with some direction above 0 (a rank-one \
+             `J J' / K_q` written with full precision: rounding may leave an eigenvalue below \
+             -1e-12 of the largest), or omit `mount` for a rigid core",
         );
     }
 }

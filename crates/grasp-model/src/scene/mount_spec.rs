@@ -39,7 +39,8 @@ pub struct MountSpec {
     /// The full symmetric positive semidefinite compliance, rows and columns `[t1, t2, n, rot
     /// t1, rot t2, rot n]` (m/N between translations, 1/N between a translation and a rotation,
     /// rad/(N m) between rotations), instead of a stiffness: singular where the core is rigid
-    /// (see the module).
+    /// (a jaw on one hinge: `J J' / K_q`, `J` the contact's motion and the pad's turn per
+    /// radian, `K_q` the joint's stiffness, N m/rad). Entries at most 1e6.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub compliance: Option<[[f64; 6]; 6]>,
     /// The normal force the spring pushes with when the core sits at its commanded pose, N: 0
