@@ -148,18 +148,7 @@ def tendon_coupling(mujoco, model, data, j, name):
 def tendon_spring(mujoco, model, data, t, name):
     """``K_L`` (N/m of tendon length) of tendon ``t``'s affine actuators and their force at the
     state, N; refuses one at its force limit or a tendon without stiffness."""
-    k, force = 0.0, 0.0
-    for a in range(model.nu):
-        if int(model.actuator_trntype[a]) != int(mujoco.mjtTrn.mjTRN_TENDON) or int(model.actuator_trnid[a, 0]) != t:
-            continue
-        gear = float(model.actuator_gear[a, 0])
-        if int(model.actuator_biastype[a]) == int(mujoco.mjtBias.mjBIAS_AFFINE):
-            k += -float(model.actuator_biasprm[a, 1]) * gear * gear
-        f = float(data.actuator_force[a])
-        if model.actuator_forcelimited[a] and at_limit(f, model.actuator_forcerange[a]):
-            refuse(name, f"actuator '{model.actuator(a).name}' is at its force limit ({f:g} N)",
-                   "give a state within the actuator's force range, or control='mujoco-force'")
-        force += gear * f
+    k, force = actuator_springs(mujoco, model, data, (int(mujoco.mjtTrn.mjTRN_TENDON),), t, name)
     if float(model.tendon_stiffness[t]) != 0.0:
         refuse(name, f"tendon '{model.tendon(t).name}' has a spring of its own (stiffness "
                      f"{float(model.tendon_stiffness[t]):g})",
@@ -209,6 +198,26 @@ def at_limit(force, low_high):
     return any(np.isclose(force, end, rtol=1e-9, atol=0.0) for end in low_high)
 
 
+def actuator_springs(mujoco, model, data, transmissions, target, name):
+    """The stiffness of the actuators driving ``target`` through one of ``transmissions``
+    (``-bias_1 gear^2`` of each affine one: N/m or N m/rad of the joint or tendon) and their
+    force on it at the state (``gear`` times each actuator's force); refuses one at its force
+    limit (no longer a spring there)."""
+    k, force = 0.0, 0.0
+    for a in range(model.nu):
+        if int(model.actuator_trntype[a]) not in transmissions or int(model.actuator_trnid[a, 0]) != target:
+            continue
+        gear = float(model.actuator_gear[a, 0])
+        if int(model.actuator_biastype[a]) == int(mujoco.mjtBias.mjBIAS_AFFINE):
+            k += -float(model.actuator_biasprm[a, 1]) * gear * gear
+        f = float(data.actuator_force[a])
+        if model.actuator_forcelimited[a] and at_limit(f, model.actuator_forcerange[a]):
+            refuse(name, f"actuator '{model.actuator(a).name}' is at its force limit ({f:g} N)",
+                   "give a state within the actuator's force range, or control='mujoco-force'")
+        force += gear * f
+    return k, force
+
+
 def joint_stiffness(mujoco, model, data, j, name):
     """``K_q`` (N/m or N m/rad) of joint ``j`` and the generalised force ``tau`` its springs
     (actuators, the joint's stiffness) put on it at the state: MuJoCo's ``qfrc_actuator`` (after
@@ -218,18 +227,8 @@ def joint_stiffness(mujoco, model, data, j, name):
     qpos = float(data.qpos[model.jnt_qposadr[j]])
     spring = -k * (qpos - float(model.qpos_spring[model.jnt_qposadr[j]]))
     by_joint = (int(mujoco.mjtTrn.mjTRN_JOINT), int(mujoco.mjtTrn.mjTRN_JOINTINPARENT))
-    summed = 0.0
-    for a in range(model.nu):
-        if int(model.actuator_trntype[a]) not in by_joint or int(model.actuator_trnid[a, 0]) != j:
-            continue
-        gear = float(model.actuator_gear[a, 0])
-        if int(model.actuator_biastype[a]) == int(mujoco.mjtBias.mjBIAS_AFFINE):
-            k += -float(model.actuator_biasprm[a, 1]) * gear * gear
-        force = float(data.actuator_force[a])
-        if model.actuator_forcelimited[a] and at_limit(force, model.actuator_forcerange[a]):
-            refuse(name, f"actuator '{model.actuator(a).name}' is at its force limit ({force:g} N)",
-                   "give a state within the actuator's force range, or control='mujoco-force'")
-        summed += gear * force
+    k_actuators, summed = actuator_springs(mujoco, model, data, by_joint, j, name)
+    k += k_actuators
     applied = float(data.qfrc_actuator[dof])
     if model.jnt_actfrclimited[j] and at_limit(applied, model.jnt_actfrcrange[j]):
         refuse(name, f"joint '{model.joint(j).name}' is at its actuator force limit ({applied:g})",
