@@ -559,14 +559,14 @@ fn unbounded_work_is_refused_with_its_bound() {
             "for a bonded layer, nearer 0.5 than 1e-9",
         );
     }
-    for grid in [[1, 1_048_576], [1025, 4], [4, 2048]] {
+    for grid in [[1, 4_194_304], [2049, 4], [4, 4096]] {
         let mut v = cube();
         v["fingers"][2]["patch"]["grid"] = json!(grid);
-        let k = if grid[0] > 1024 { 0 } else { 1 };
+        let k = if grid[0] > 2048 { 0 } else { 1 };
         assert_refused(
             &v,
             &format!("fingers[2].patch.grid[{k}]"),
-            "more than 1024 elements along a side",
+            "more than 2048 elements along a side",
         );
     }
 }

@@ -844,8 +844,8 @@ def test_mujoco_count_arguments_are_range_checked_before_the_run(rollout, tmp_pa
         (lambda: gm.simulate(model, gm.load_state(model), idle, steps=10, every=10**7), "every (--every) is 10000000"),
         (lambda: gm.simulate(model, gm.load_state(model), idle, steps=10**6), "give 1000001 states of this model "
          "(275 MiB), more than a rollout may have (1000000 states, 1024 MiB); fix: record fewer states"),
-        (lambda: gm.schedule_from_rollout(model, r, "cylinder", patch={"grid": [2000, 2000]}),
-         "patch grid (--grid) is 2000 x 2000: 4000000 elements per finger, more than the 1048576 (1024 x 1024)"),
+        (lambda: gm.schedule_from_rollout(model, r, "cylinder", patch={"grid": [3000, 3000]}),
+         "patch grid (--grid) is 3000 x 3000: 9000000 elements per finger, more than the 4194304 (2048 x 2048)"),
         (lambda: gm.schedule_from_rollout(model, r, "cylinder", patch={"grid": [0, 9]}), "patch grid[0] (--grid) is 0"),
         (lambda: gm.schedule_from_rollout(model, {"time": np.arange(1_000_001.0),
                                                   "qpos": np.broadcast_to(r.qpos[0], (1_000_001, model.nq)),

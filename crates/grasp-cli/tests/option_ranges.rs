@@ -130,9 +130,9 @@ fn study_grids_bench_times_and_lists_outside_their_ranges_are_refused() {
     refused(
         &["study", &scene],
         "--grids",
-        // Up to 1024 elements a side (the FFT compliance takes grids above 64 x 64).
-        &["0", "1025", "1048577", "5,0", "18446744073709551615"],
-        &["[1, 1024]"],
+        // Up to 2048 elements a side (the FFT compliance takes grids above 64 x 64).
+        &["0", "2049", "1048577", "5,0", "18446744073709551615"],
+        &["[1, 2048]"],
     );
     let many: Vec<String> = (1..=33).map(|k| k.to_string()).collect();
     refused(&["study", &scene], "--grids", &[&many.join(",")], &["32"]);

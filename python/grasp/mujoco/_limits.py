@@ -16,8 +16,8 @@ MAX_FORCE_N = 1e7
 PATCH_SIDE_RANGE_M = (1e-9, 10.0)
 # A patch's margin around MuJoCo's points, m: none, to half the largest patch side.
 MARGIN_RANGE_M = (0.0, PATCH_SIDE_RANGE_M[1] / 2)
-# Most elements of one patch (MAX_ELEMENTS_PER_PATCH, 1024 x 1024).
-MAX_ELEMENTS_PER_PATCH = 1024 * 1024
+# Most elements of one patch (MAX_ELEMENTS_PER_PATCH, 2048 x 2048).
+MAX_ELEMENTS_PER_PATCH = 2048 * 2048
 # Most MuJoCo steps of one controller run (`steps`, `--steps`), and most `every`.
 MAX_STEPS = 1_000_000
 # Most states of a rollout: the most steps of a schedule (grasp-transfer's MAX_STEPS).

@@ -60,7 +60,7 @@ def patch_grid(grid):
     grid = [check_count(f"patch grid[{i}] (--grid)", n, 1, MAX_ELEMENTS_PER_PATCH) for i, n in enumerate(grid)]
     if grid[0] * grid[1] > MAX_ELEMENTS_PER_PATCH:
         raise MujocoError(f"patch grid (--grid) is {grid[0]} x {grid[1]}: {grid[0] * grid[1]} elements per finger, "
-                          f"more than the {MAX_ELEMENTS_PER_PATCH} (1024 x 1024) a patch may have",
+                          f"more than the {MAX_ELEMENTS_PER_PATCH} (2048 x 2048) a patch may have",
                           "give a coarser grid")
     return grid
 

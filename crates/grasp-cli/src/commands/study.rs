@@ -33,7 +33,7 @@ pub struct Args {
     /// Scene file (JSON).
     pub scene: PathBuf,
     /// Elements along the first side of every patch, one solve each (aspect ratio kept):
-    /// at most 32 grids, each in [1, 1048576] (a patch has at most 1024 x 1024 elements).
+    /// at most 32 grids, each in [1, 2048] (a patch has at most 2048 x 2048 elements).
     #[arg(long, value_delimiter = ',', default_value = "5,9,17")]
     pub grids: Vec<usize>,
     /// Error reference: `hertz` (the closed form: one spherical tip on a flat), `finest` (the
@@ -254,7 +254,7 @@ fn warning_lines(rows: &[StudyRow]) -> String {
 /// Most grids of one study (each is a solve).
 const MAX_GRIDS: usize = 32;
 
-/// `--grids`: between 1 and [`MAX_GRIDS`] counts, each in [1, 1024] (a patch has at most
+/// `--grids`: between 1 and [`MAX_GRIDS`] counts, each in [1, 2048] (a patch has at most
 /// `MAX_GRID_SIDE` elements a side).
 fn check_grids(grids: &[usize]) -> Result<()> {
     let most = grasp_model::limits::MAX_GRID_SIDE;

@@ -5,16 +5,16 @@
 
 use std::ops::RangeInclusive;
 
-/// Largest number of elements allowed in one patch (1024 x 1024). Patches above
+/// Largest number of elements allowed in one patch (2048 x 2048). Patches above
 /// [`AUTO_FFT_ABOVE_UNKNOWNS`] are solved with the FFT compliance operator unless the dense
 /// matrix is asked for; the memory estimate of the path that runs
 /// ([`super::memory_budget::estimate_memory_bytes_with`]), checked by the caller against the
 /// machine, refuses what does not fit before this limit does.
-pub const MAX_ELEMENTS_PER_PATCH: usize = 1024 * 1024;
+pub const MAX_ELEMENTS_PER_PATCH: usize = 2048 * 2048;
 
-/// Most elements along one side of a patch: the largest patch is 1024 x 1024, and a strip of
-/// a million elements one wide is no contact patch (its FFT grid alone runs for minutes).
-pub const MAX_GRID_SIDE: usize = 1024;
+/// Most elements along one side of a patch: the largest patch is 2048 x 2048, and a strip of
+/// millions of elements one wide is no contact patch (its FFT grid alone runs for minutes).
+pub const MAX_GRID_SIDE: usize = 2048;
 
 /// Patches with more unknowns than this (elements times `1 + n_tangential`: 32 x 32
 /// frictionless, about 18 x 18 with friction in 3-D) take the FFT compliance operator when
