@@ -353,3 +353,67 @@ fn npy_and_csv_of_the_same_map_give_the_same_heights() {
     // Element (2, 2) is the contact point: the middle pixel (4, 5).
     assert!((from_csv[12] - h[4 * cols + 5]).abs() < 1e-20);
 }
+
+/// The rough pad of `examples/rough_sphere_on_flat.json` (64 x 64, 4,096 frictionless
+/// unknowns), and the same pad ridged (`ridged_sphere_on_flat.json`): the FFT path's answer,
+/// which a cold solve starts from the answer on a 32 x 32 twin of the patch (grid
+/// continuation, `solver/grid_continuation.rs`) with full Newton steps, equals Clarabel's on the
+/// dense matrix, an independent solver of the same discrete problem: every element force within
+/// `SOLVER_AGREEMENT` (1e-8) of the 0.5 N load (Clarabel's interior point leaves about 1e-10 N on
+/// separated elements, so the force, not its sign, is compared), the same tilt of the object.
+/// The continuation only chooses where the Newton iteration starts, so the answer is the
+/// program's to the solvers' tolerances; an answer from a coarse grid left unpolished (its
+/// 2 x 2 blocks' forces spread evenly) differs by about a tenth of an element's force.
+#[test]
+fn rough_and_ridged_patches_solved_from_a_coarser_grid_match_clarabel_on_the_dense_matrix() {
+    use grasp_model::{ComplianceChoice, SolveOptions, SolverChoice};
+    for name in ["rough_sphere_on_flat.json", "ridged_sphere_on_flat.json"] {
+        let v = example_json(name);
+        let native = solve_with_options(
+            &v,
+            SolveOptions {
+                solver: SolverChoice::Native,
+                compliance: ComplianceChoice::Fft,
+                ..SolveOptions::default()
+            },
+        );
+        let reference = solve_with_options(
+            &v,
+            SolveOptions {
+                solver: SolverChoice::Clarabel,
+                compliance: ComplianceChoice::Dense,
+                tolerance: REFERENCE_TOLERANCE,
+                ..SolveOptions::default()
+            },
+        );
+        assert!(native.status.has_forces(), "{name}: {:?}", native.reason);
+        assert!(
+            reference.status.has_forces(),
+            "{name}: {:?}",
+            reference.reason
+        );
+        let d = element_force_difference_n(&native, &reference);
+        assert!(
+            d <= SOLVER_AGREEMENT * 0.5,
+            "{name}: element forces differ by {d:e} N"
+        );
+        let (a, b) = (
+            native.rigid_displacement.expect("native tilt").rotation_rad,
+            reference
+                .rigid_displacement
+                .expect("reference tilt")
+                .rotation_rad,
+        );
+        for c in 0..3 {
+            // The tilt to 1e-6 of the largest (Clarabel's 1e-12 on the dense program), and to
+            // 1e-12 rad where there is none (the ridges are symmetric: round-off, 1e-17 rad,
+            // which moves the patch's edge by 1e-20 m).
+            let scale = a.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let allowed = 1e-6 * scale + 1e-12;
+            assert!(
+                (a[c] - b[c]).abs() <= allowed,
+                "{name}: rotation {a:?} against {b:?}"
+            );
+        }
+    }
+}

@@ -11,6 +11,7 @@ pub mod equilibrium;
 pub mod finger_mount;
 pub mod friction;
 pub mod grasp_model;
+pub(crate) mod grid_coarsening;
 pub(crate) mod grid_fft;
 pub mod influence;
 pub mod influence_at_depth;

@@ -28,6 +28,8 @@ pub struct Patch {
     /// The largest curvature of the smooth gap, 1/m: the largest `2 c / r^2` over the
     /// elements facing a surface (the cold start's Hertz estimate; a texture leaves it).
     pub curvature_per_m: f64,
+    /// True when a texture's heights are in the gaps ([`Patch::with_texture`]).
+    pub(crate) textured: bool,
 }
 
 impl Patch {
@@ -58,6 +60,7 @@ impl Patch {
             off_object: Vec::new(),
             curved,
             curvature_per_m,
+            textured: false,
         }
     }
 
@@ -115,7 +118,11 @@ impl Patch {
                 }
             }
         }
-        Patch { gap_m, ..self }
+        Patch {
+            gap_m,
+            textured: true,
+            ..self
+        }
     }
 
     /// The initial gap's slope `|grad c|` at element `k` (dimensionless), by central

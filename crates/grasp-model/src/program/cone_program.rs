@@ -182,6 +182,26 @@ impl ConeProgram {
         program
     }
 
+    /// This program's data (rows, loads, wrench, law) over other blocks: `blocks` with the
+    /// equality columns `equality`, `q` and the offsets zero (a coarse twin,
+    /// [`crate::program::coarse_program`], writes its own).
+    pub(crate) fn with_layout(
+        &self,
+        blocks: Vec<FingerBlock>,
+        equality: Arc<DMatrix<f64>>,
+    ) -> Self {
+        let n = equality.ncols();
+        ConeProgram {
+            blocks,
+            n_unknowns: n,
+            q: vec![0.0; n],
+            offset_m: vec![0.0; n],
+            memory_m: vec![0.0; n],
+            equality,
+            ..self.clone()
+        }
+    }
+
     /// `q` from the gaps, the offsets and the slip memory (module docs).
     fn refresh_q(&mut self, model: &GraspModel) {
         let du = model.scales.displacement_m();

@@ -21,9 +21,10 @@ use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
 use crate::option_names;
 use crate::program::cone_program::ConeProgram;
+use crate::solver::grid_continuation::CoarseLevel;
 use crate::solver::iterate::Iterate;
 use crate::solver::kept_certificate::KeptCertificate;
-use crate::solver::native::native_result::{NativeResult, NativeStatus};
+use crate::solver::native::native_result::{Counts, NativeResult, NativeStatus};
 use crate::solver::native::newton::semismooth_newton::Limits;
 use crate::solver::native::NativeSolver;
 use crate::solver::options::{SolveOptions, SolverChoice};
@@ -40,6 +41,9 @@ pub(crate) struct ProgramSolver {
     /// The program; change it through its `set_*` methods between solves.
     pub program: ConeProgram,
     native: Option<NativeSolver>,
+    /// The coarse levels of a cold native solve ([`CoarseLevel`]), made on the first one
+    /// (`Some(None)`: the model does not coarsen).
+    coarse: Option<Option<CoarseLevel>>,
     clarabel: Option<ClarabelWorkspace>,
     /// The last solution, whichever backend gave it (the default warm start).
     last: Option<Iterate>,
@@ -56,6 +60,7 @@ impl ProgramSolver {
         ProgramSolver {
             program,
             native: None,
+            coarse: None,
             clarabel: None,
             last: None,
             trail: Trail::default(),
@@ -156,21 +161,32 @@ impl ProgramSolver {
         let native = self
             .native
             .get_or_insert_with(|| NativeSolver::new(model, program));
-        let limits = Limits {
+        let mut limits = Limits {
             tolerance: options.tolerance,
             max_iterations: options.max_iterations.min(MAX_NEWTON_ITERATIONS),
             progress: self.progress.as_deref(),
+            guessed: false,
         };
         let predicted = match start {
             Start::Last => self.trail.predict(data),
             _ => None,
         };
-        let starts: Vec<&Iterate> = match start {
+        let mut starts: Vec<&Iterate> = match start {
             Start::Cold => Vec::new(),
             Start::Last => predicted.iter().chain(self.last.as_ref()).collect(),
             Start::At(it) => vec![it],
         };
+        let mut coarse_counts = Counts::default();
+        let guess = match starts.is_empty() {
+            true => coarse_start(&mut self.coarse, model, program, limits, &mut coarse_counts),
+            false => None,
+        };
+        if let Some(g) = &guess {
+            starts.push(g);
+            limits.guessed = true;
+        }
         let mut result = native.solve(program, &starts, limits);
+        result.add(coarse_counts);
         let native_time = clock.elapsed().as_secs_f64();
         let matrix_free = native.is_matrix_free();
         let why = match result.status.clone() {
@@ -190,14 +206,7 @@ impl ProgramSolver {
         };
         if matrix_free {
             // Clarabel needs the matrices: the stall is the outcome.
-            let reason = format!(
-                "no convergence: {why}; Clarabel cannot take over a model with the FFT \
-                 compliance (setting `{}` to dense lets it, for patches of up to about 20,000 \
-                 unknowns)",
-                option_names::COMPLIANCE
-            );
-            let failed = ConvexOutcome::Failed { reason };
-            return Ok(native_run(failed, &result, native_time));
+            return Ok(native_run(fft_stall(&why), &result, native_time));
         }
         let mut run = self.solve_clarabel(model, options)?;
         if let ConvexOutcome::Infeasible(certificate) = &run.outcome {
@@ -210,6 +219,34 @@ impl ProgramSolver {
         after_native_stall(&mut run, options.solver, &why);
         Ok(run)
     }
+}
+
+/// The outcome of a native stall (`why`) that Clarabel cannot take over: a model with the
+/// FFT compliance has no matrices.
+fn fft_stall(why: &str) -> ConvexOutcome {
+    let reason = format!(
+        "no convergence: {why}; Clarabel cannot take over a model with the FFT compliance \
+         (setting `{}` to dense lets it, for patches of up to about 20,000 unknowns)",
+        option_names::COMPLIANCE
+    );
+    ConvexOutcome::Failed { reason }
+}
+
+/// The start of a cold native solve of `program` from coarser grids' answer (the levels made
+/// on the first call and kept in `coarse`; [`CoarseLevel`]), their work added to `counts`;
+/// `None` when the model has no coarse levels or a level did not converge (the solve then
+/// starts cold).
+fn coarse_start(
+    coarse: &mut Option<Option<CoarseLevel>>,
+    model: &GraspModel,
+    program: &ConeProgram,
+    limits: Limits,
+    counts: &mut Counts,
+) -> Option<Iterate> {
+    coarse
+        .get_or_insert_with(|| CoarseLevel::new(model, program))
+        .as_mut()?
+        .start(program, limits, counts)
 }
 
 /// A program proved infeasible by the certificate kept from an earlier one (Clarabel's), in

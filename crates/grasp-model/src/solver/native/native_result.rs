@@ -43,6 +43,31 @@ impl NativeResult {
             inner_iterations: counts.inner_iterations,
         }
     }
+
+    /// Adds the work `counts` done before this solve (a grid continuation's coarse levels).
+    pub(crate) fn add(&mut self, counts: Counts) {
+        self.iterations += counts.newton_steps;
+        self.factorisations += counts.factorisations;
+        self.inner_iterations += counts.inner_iterations;
+    }
+
+    /// This result's work as counts.
+    pub(crate) fn counts(&self) -> Counts {
+        Counts {
+            newton_steps: self.iterations,
+            factorisations: self.factorisations,
+            inner_iterations: self.inner_iterations,
+        }
+    }
+}
+
+impl Counts {
+    /// Adds `other`'s work to this.
+    pub(crate) fn add(&mut self, other: Counts) {
+        self.newton_steps += other.newton_steps;
+        self.factorisations += other.factorisations;
+        self.inner_iterations += other.inner_iterations;
+    }
 }
 
 /// The work of a solve so far, carried from the Newton iteration to the interior-point method

@@ -68,6 +68,7 @@ fn one_newton_step_solves_a_statically_determinate_pad() {
         let program = program_of(&model);
         let mut native = NativeSolver::new(&model, &program);
         let limits = Limits {
+            guessed: false,
             tolerance: 1e-12,
             max_iterations: 10,
             progress: None,
@@ -101,6 +102,7 @@ fn linearisation_classifies_free_and_fixed_directions() {
     let program = program_of(&model);
     let mut native = NativeSolver::new(&model, &program);
     let limits = Limits {
+        guessed: false,
         tolerance: 1e-12,
         max_iterations: 10,
         progress: None,
@@ -172,6 +174,7 @@ fn reduced_factor_reproduces_the_block_and_the_equality_rows() {
 
 /// The limits of the pad's solves: a tight tolerance, a few steps.
 const LIMITS: Limits = Limits {
+    guessed: false,
     tolerance: 1e-12,
     max_iterations: 10,
     progress: None,
@@ -282,6 +285,7 @@ fn a_rough_pad_slips_on_its_lighter_element_and_sticks_on_the_other() {
     let program = program_of(&model);
     let mut native = NativeSolver::new(&model, &program);
     let limits = Limits {
+        guessed: false,
         tolerance: 1e-12,
         max_iterations: 30,
         progress: None,

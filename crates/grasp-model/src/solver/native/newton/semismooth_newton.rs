@@ -74,6 +74,9 @@ pub(crate) struct Limits<'p> {
     pub max_iterations: u32,
     /// Told the counts once per Newton step, when given.
     pub progress: Option<&'p SolveProgress>,
+    /// The start is a guess (a coarser grid's answer, `crate::solver::grid_continuation`):
+    /// its steps are inexact while the contact pattern settles, as a cold start's.
+    pub guessed: bool,
 }
 
 impl Limits<'_> {
@@ -318,7 +321,7 @@ impl<'a, 'p> Newton<'a, 'p> {
     /// The iteration from `start` (`None`: cold); `fallback` hands a stall to the
     /// interior-point method.
     fn iterate(mut self, start: Option<State>, fallback: bool) -> NativeResult {
-        let cold = start.is_none();
+        let cold = start.is_none() || self.limits.guessed;
         let s = match start {
             Some(s) => s,
             None => match self.all_stick_start() {
