@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The peer measurement of the fine-patch cases: frictionless Hertz on an n x n grid, solved by tamaas.
+"""The peer measurement of the fine-patch cases: frictionless Hertz (or a given gap map) on an n x n grid, solved by tamaas.
 
 `grasp bench` runs this script (compiled into the binary, fed on standard input) beside its
 own `hertz_<n>x<n>_fft` cases; it also runs alone:
@@ -32,6 +32,14 @@ passes the values it reads from the scene, so both solve the same numbers):
   tamaas's E* is E / (1 - nu^2) of one body against a rigid one, so it gets nu = 0.3 and
   E = E* (1 - nu^2), which is the same E*;
 - total load P = --load (10 N), i.e. mean pressure P / width^2 over the patch.
+
+A gap map instead of the sphere (`--gap FILE`: n x n little-endian float64 values, m, element
+`k = i n + j` with `i` along the patch's first side, as grasp's elements): the rough and ridged
+cases (`rough_256x256_fft`, `ridged_256x256_fft`), whose gaps `grasp bench` writes from its
+model, with the tilt its own solution gives the object (the object is free: the pressure's
+resultant must pass under its centre of mass, which tilts a rough contact; tamaas's problem has
+no moment rows, so it gets the tilted gap and solves the same contact). Hertz's errors are then
+`null`; `p_max_pa` and `contact_elements` are reported in every case.
 
 Tolerance: 1e-10, tamaas's own relative convergence measure (the value `solve` returns, which
 must come out below it; max_iter stays at tamaas's default of 1000). grasp solves to 1e-10
@@ -81,6 +89,7 @@ def parse_args():
     ap.add_argument("--e-star", type=float, default=210e9 / (2 * (1 - 0.3**2)), help="combined modulus E*, Pa")
     ap.add_argument("--load", type=float, default=10.0, help="total normal load P, N")
     ap.add_argument("--width", type=float, default=0.000212, help="patch width, m (square)")
+    ap.add_argument("--gap", default=None, help="gap map instead of the sphere: n x n little-endian float64, m")
     args = ap.parse_args()
     if not 2 <= args.grid <= 4096:
         ap.error(f"--grid is {args.grid}; give 2 to 4096 elements per side")
@@ -115,9 +124,12 @@ def solve_once(np, tm, args):
     nu = 0.3
     t0 = time.perf_counter()
     h = width / n
-    x = (np.arange(n) + 0.5) * h - width / 2
-    xx, yy = np.meshgrid(x, x, indexing="ij")
-    surface = -(xx**2 + yy**2) / (2 * args.radius)
+    if args.gap_m is not None:
+        surface = -args.gap_m
+    else:
+        x = (np.arange(n) + 0.5) * h - width / 2
+        xx, yy = np.meshgrid(x, x, indexing="ij")
+        surface = -(xx**2 + yy**2) / (2 * args.radius)
     model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [width, width], [n, n])
     model.E = args.e_star * (1 - nu**2)
     model.nu = nu
@@ -130,8 +142,12 @@ def solve_once(np, tm, args):
 
 
 def closed_form_errors(np, args, pressure):
-    """Signed relative errors of peak pressure, contact radius and load against Hertz."""
+    """Signed relative errors of peak pressure, contact radius and load against Hertz (None
+    for a gap map), with the peak pressure and the contact's elements."""
     h = args.width / args.grid
+    found = {"p_max_pa": float(pressure.max()), "contact_elements": int(np.count_nonzero(pressure > 0))}
+    if args.gap_m is not None:
+        return {"p0_error": None, "contact_radius_error": None, "load_error": None, **found}
     a = (3 * args.load * args.radius / (4 * args.e_star)) ** (1 / 3)
     p0 = 3 * args.load / (2 * math.pi * a**2)
     area = np.count_nonzero(pressure > 0) * h * h
@@ -139,6 +155,7 @@ def closed_form_errors(np, args, pressure):
         "p0_error": float(pressure.max() / p0 - 1),
         "contact_radius_error": float(math.sqrt(area / math.pi) / a - 1),
         "load_error": float(pressure.sum() * h * h / args.load - 1),
+        **found,
     }
 
 
@@ -146,6 +163,15 @@ def main():
     args = parse_args()
     np, tm = import_peer()
     from importlib.metadata import version
+
+    args.gap_m = None
+    if args.gap is not None:
+        gap = np.fromfile(args.gap, dtype="<f8")
+        if gap.size != args.grid**2 or not np.all(np.isfinite(gap)):
+            print(f"peer-hertz.py: --gap {args.gap} has {gap.size} values (finite: {np.all(np.isfinite(gap))}); "
+                  f"give {args.grid}^2 finite float64 values", file=sys.stderr)
+            sys.exit(2)
+        args.gap_m = gap.reshape(args.grid, args.grid)
 
     _, pressure, error = solve_once(np, tm, args)
     times = []

@@ -5,6 +5,7 @@ scripts/install-checkers.sh; under scripts/test.sh (GRASP_REQUIRE_CHECKERS=1) a 
 fails these tests instead of skipping them."""
 
 import json
+import re
 import os
 import subprocess
 import sys
@@ -84,3 +85,30 @@ def test_bench_without_the_peer_goes_on_and_says_how_to_install_it(run_cli, tmp_
     assert [r[2] for r in rows if r[0].startswith(case)] == ["native"], out.stdout
     notes = [line for line in out.stdout.splitlines() if line.startswith("peer not measured")]
     assert len(notes) == 1 and "scripts/install-checkers.sh" in notes[0], out.stdout
+
+
+def test_the_peer_finds_our_rough_and_ridged_contacts(run_cli):
+    """The rough and ridged pads at 256 x 256 (examples/rough_sphere_on_flat.json,
+    ridged_sphere_on_flat.json): tamaas solves our gap map, tilted as our solution tilts the
+    object, and finds our contact: the same elements in contact and the same peak pressure.
+    Both solve the same discrete problem (the same rectangle influence coefficients through a
+    zero-padded FFT, to relative tolerances 1e-10), so the peak pressures agree to 1e-8 (measured:
+    5e-11 and 7e-11) and the contact sets to the element (9807 and 7908); the rough pad's own
+    answer, reached from a coarser grid's (solver/grid_continuation.rs), is checked here by
+    another code. A tilt of the wrong sign, or none, moves the rough peak by percents."""
+    checker("tamaas", "the peer tamaas (scripts/install-checkers.sh) is not installed")
+    cases = ["rough_256x256_fft", "ridged_256x256_fft"]
+    out = run_cli("bench", "--case", ",".join(cases), "--solver", "native", "--min-time", 0, "--markdown",
+                  "--peer", sys.executable)
+    assert out.returncode == 0, out.stderr
+    for case in cases:
+        notes = [line for line in out.stdout.splitlines() if line.startswith(f"peer tamaas 2.9.0 on {case}:")]
+        assert len(notes) == 1, out.stdout
+        found = re.search(r"peak pressure ([0-9.e+-]+) Pa \(ours ([0-9.e+-]+), ([0-9.e+-]+)\), "
+                          r"(\d+) elements in contact \(ours (\d+)\)", notes[0])
+        assert found, notes[0]
+        relative = float(found.group(3))
+        assert abs(relative) < 1e-8, notes[0]
+        assert int(found.group(4)) == int(found.group(5)) > 1000, notes[0]
+        peer = [r for r in bench_rows(out.stdout) if r[0] == case and r[2] == "tamaas 2.9.0 (peer)"]
+        assert len(peer) == 1 and peer[0][10] == "-", out.stdout

@@ -393,9 +393,60 @@ pub const LAYER_CASES: [Case; 11] = [
     ),
 ];
 
+/// Rough and ridged contact on fine patches (`examples/rough_sphere_on_flat.json`: a 10 mm
+/// silicone pad, E 2 MPa, under 0.5 N, a random surface of rms 20 um; the same pad ridged,
+/// `examples/ridged_sphere_on_flat.json`; the rough pad with friction, mu 0.5, and a
+/// tangential 0.1 N under the coulomb model), model build and one solve; and the smooth Hertz
+/// sphere at 2048 x 2048, the largest patch. Targets (issue 52, on this project's 2-core
+/// machine): rough 1024 x 1024 within 5 s, smooth 2048 x 2048 within 15 s; the peer beside
+/// the 256 x 256 rough and ridged cases (at least 10x its time for the rough one), the
+/// frictional case at most 2x the frictionless one ([`LAYER_PAIRS`]).
+pub const ROUGH_CASES: [Case; 5] = [
+    case(
+        "rough_256x256_fft",
+        OneShot,
+        "rough_sphere_on_flat",
+        Some([256, 256]),
+        None,
+        false,
+    ),
+    case(
+        "ridged_256x256_fft",
+        OneShot,
+        "ridged_sphere_on_flat",
+        Some([256, 256]),
+        None,
+        false,
+    ),
+    case(
+        "rough_friction_256x256_fft",
+        OneShot,
+        "rough_sphere_on_flat_friction",
+        Some([256, 256]),
+        None,
+        false,
+    ),
+    case(
+        "rough_1024x1024_fft",
+        OneShot,
+        "rough_sphere_on_flat",
+        Some([1024, 1024]),
+        Some(5.0),
+        false,
+    ),
+    case(
+        "hertz_2048x2048_fft",
+        OneShot,
+        "hertz_sphere_on_flat",
+        Some([2048, 2048]),
+        Some(15.0),
+        false,
+    ),
+];
+
 /// The (layered, viscoelastic or textured; plain) case pairs whose time ratio is bounded, with
 /// the bound.
-pub const LAYER_PAIRS: [(&str, &str, f64); 5] = [
+pub const LAYER_PAIRS: [(&str, &str, f64); 6] = [
     ("pad_pinch_64x64_fft", "pad_pinch_halfspace_64x64_fft", 1.5),
     (
         "pad_pinch_18x18_dense",
@@ -405,6 +456,7 @@ pub const LAYER_PAIRS: [(&str, &str, f64); 5] = [
     ("viscous_handoff_warm", "elastic_handoff_warm", 1.5),
     ("ridged_pad_256x256_fft", "smooth_pad_256x256_fft", 1.5),
     ("taxel_handoff_64x64_fft", "plain_handoff_64x64_fft", 1.3),
+    ("rough_friction_256x256_fft", "rough_256x256_fft", 2.0),
 ];
 
 /// Margins of a held grasp, which no load capacity bounds (the viscoelastic plate hold: two
@@ -428,13 +480,20 @@ pub const MARGIN_PAIRS: [(&str, &str, f64); 1] =
 
 /// The cases the peer library solves too, in the same run (`grasp bench`; the fine-patch work compares
 /// the time ratio at these two grids; the peer's time grows past a minute above them).
-pub const PEER_CASES: [&str; 2] = ["hertz_128x128_fft", "hertz_256x256_fft"];
+pub const PEER_CASES: [&str; 4] = [
+    "hertz_128x128_fft",
+    "hertz_256x256_fft",
+    "rough_256x256_fft",
+    "ridged_256x256_fft",
+];
 
-/// Every case in table order: [`CASES`], [`FFT_CASES`], [`LAYER_CASES`], [`HELD_CASES`].
+/// Every case in table order: [`CASES`], [`FFT_CASES`], [`ROUGH_CASES`], [`LAYER_CASES`],
+/// [`HELD_CASES`].
 pub fn all_cases() -> impl Iterator<Item = &'static Case> {
     CASES
         .iter()
         .chain(&FFT_CASES)
+        .chain(&ROUGH_CASES)
         .chain(&LAYER_CASES)
         .chain(&HELD_CASES)
 }
@@ -498,6 +557,9 @@ pub fn bundled(stem: &str) -> Option<(&'static str, Option<&'static str>)> {
         "pad_pinch_halfspace" => (example!("pad_pinch_halfspace.json"), None),
         "ridged_pad_pinch" => (example!("ridged_pad_pinch.json"), None),
         "ridged_gel" => (example!("ridged_gel.json"), None),
+        "rough_sphere_on_flat" => (example!("rough_sphere_on_flat.json"), None),
+        "rough_sphere_on_flat_friction" => (example!("rough_sphere_on_flat_friction.json"), None),
+        "ridged_sphere_on_flat" => (example!("ridged_sphere_on_flat.json"), None),
         _ => return None,
     })
 }
@@ -526,7 +588,7 @@ impl Case {
     /// 9's ([`CASES`]), as they were measured before the FFT path existed (`auto` would take it
     /// for `hertz_41x41`).
     pub fn compliance(&self) -> ComplianceChoice {
-        let mut auto = FFT_CASES.iter().chain(&LAYER_CASES);
+        let mut auto = FFT_CASES.iter().chain(&ROUGH_CASES).chain(&LAYER_CASES);
         match auto.any(|c| c.name == self.name) {
             true => ComplianceChoice::Auto,
             false => ComplianceChoice::Dense,
@@ -536,7 +598,11 @@ impl Case {
     /// Whether only the native solver runs the case: the FFT cases (Clarabel needs the
     /// matrices their grids do not store) and the held grasp's margins ([`HELD_CASES`]).
     pub fn native_only(&self) -> bool {
-        let fft = FFT_CASES.iter().any(|c| c.name == self.name) || self.name.ends_with("_fft");
+        let fft = FFT_CASES
+            .iter()
+            .chain(&ROUGH_CASES)
+            .any(|c| c.name == self.name)
+            || self.name.ends_with("_fft");
         fft || HELD_CASES.iter().any(|c| c.name == self.name)
     }
 

@@ -41,7 +41,7 @@ mod whole_command;
 // ---- The cases and their inputs ----
 pub use case::{
     bundled, Case, CaseKind, Prepared, CASES, FFT_CASES, HELD_CASES, LAYER_CASES, LAYER_PAIRS,
-    MARGIN_PAIRS, PEER_CASES, PLAN_QUESTION,
+    MARGIN_PAIRS, PEER_CASES, PLAN_QUESTION, ROUGH_CASES,
 };
 
 // ---- Measuring: one sample, repeated samples folded, threads ----

@@ -12,6 +12,7 @@ use std::process::{Command, Stdio};
 use grasp_model::hertz_parameters;
 
 use crate::case::Prepared;
+use crate::scratch_folder::ScratchFolder;
 
 /// The peer's script, `scripts/peer-hertz.py`.
 pub const PEER_SCRIPT: &str = include_str!("../../../scripts/peer-hertz.py");
@@ -29,9 +30,10 @@ pub enum Peer {
     Absent(String),
 }
 
-/// The frictionless Hertz problem the peer solves: a square patch of `grid` x `grid`
-/// elements centred on the contact point, a sphere of radius `radius_m` on a flat.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The frictionless problem the peer solves: a square patch of `grid` x `grid` elements
+/// centred on the contact point, a sphere of radius `radius_m` on a flat, or (a textured
+/// patch) the gap map `gap_m` of our model with the tilt our solution gives the object.
+#[derive(Debug, Clone, PartialEq)]
 pub struct PeerProblem {
     /// Elements per side.
     pub grid: usize,
@@ -43,6 +45,11 @@ pub struct PeerProblem {
     pub load_n: f64,
     /// Patch width, m.
     pub width_m: f64,
+    /// A textured patch's gap map, m (element `k = i grid + j`), tilted as our solution
+    /// tilts the object; `None` for the sphere.
+    pub gap_m: Option<Vec<f64>>,
+    /// Our answer on a textured patch: its peak pressure (Pa) and its elements in contact.
+    pub ours: Option<(f64, usize)>,
 }
 
 /// What the peer's script reports (its JSON line).
@@ -64,12 +71,18 @@ pub struct PeerRecord {
     pub runs: usize,
     /// The peer's tolerance (its own relative measure).
     pub tolerance: f64,
-    /// Largest element pressure against Hertz's p0, relative, signed.
-    pub p0_error: f64,
-    /// Radius of the contact area's circle against Hertz's a, relative, signed.
-    pub contact_radius_error: f64,
-    /// Total pressure times element area against the load, relative, signed.
-    pub load_error: f64,
+    /// Largest element pressure against Hertz's p0, relative, signed (`None` for a gap map).
+    pub p0_error: Option<f64>,
+    /// Radius of the contact area's circle against Hertz's a, relative, signed (`None` for a
+    /// gap map).
+    pub contact_radius_error: Option<f64>,
+    /// Total pressure times element area against the load, relative, signed (`None` for a
+    /// gap map).
+    pub load_error: Option<f64>,
+    /// The peer's largest element pressure, Pa.
+    pub p_max_pa: f64,
+    /// The peer's elements in contact (positive pressure).
+    pub contact_elements: usize,
 }
 
 /// Why the peer was not measured.
@@ -117,17 +130,61 @@ impl PeerProblem {
                 patch.grid, patch.size
             )));
         }
-        Ok(PeerProblem {
+        let mut problem = PeerProblem {
             grid: patch.grid[0],
             radius_m,
             e_star_pa,
             load_n: scene.object.weight,
             width_m: patch.size[0],
-        })
+            gap_m: None,
+            ours: None,
+        };
+        if scene.fingers[0].texture.is_some() {
+            problem.add_tilted_gap(prepared).map_err(err)?;
+        }
+        Ok(problem)
+    }
+
+    /// A textured patch: our model's gap map, tilted by the object's rotation `theta` in our
+    /// solution (the object's point `p` moves `theta x (p - c)` about its centre of mass `c`,
+    /// which opens the gap along the normal `n` by `theta . ((p - c) x n)`), and our answer's
+    /// peak pressure and contact elements.
+    fn add_tilted_gap(&mut self, prepared: &Prepared) -> Result<(), String> {
+        let model = grasp_model::GraspModel::from_loaded_with(
+            &prepared.scene,
+            grasp_model::ComplianceChoice::Auto,
+        )
+        .map_err(|e| e.to_string())?;
+        let solved = grasp_model::GraspSolver::new(model.clone(), prepared.solve_options())
+            .solve(&grasp_model::StepInputs::of_scene(&model))
+            .map_err(|e| e.to_string())?;
+        let (Some(rigid), Some(ours)) = (&solved.rigid_displacement, solved.fingers.first()) else {
+            return Err(format!(
+                "our solve did not give forces ({:?})",
+                solved.status
+            ));
+        };
+        let theta = rigid.rotation_rad;
+        let (finger, com) = (&model.fingers()[0], model.center_of_mass_m());
+        let n = finger.frame().normal;
+        let gap = (0..finger.patch().len())
+            .map(|k| {
+                let r = (finger.element_point(k) - com).cross(&n);
+                finger.patch().gap_m[k] + (0..3).map(|c| theta[c] * r[c]).sum::<f64>()
+            })
+            .collect();
+        self.gap_m = Some(gap);
+        let contact = ours
+            .elements
+            .iter()
+            .filter(|e| e.normal_force_n > 0.0)
+            .count();
+        self.ours = Some((ours.peak_pressure_pa, contact));
+        Ok(())
     }
 
     /// The script's arguments for this problem and `repeats` timed runs.
-    fn arguments(&self, repeats: usize) -> Vec<String> {
+    fn arguments(&self, repeats: usize, gap_file: Option<&Path>) -> Vec<String> {
         let mut args = vec!["-".to_string()];
         for (flag, value) in [
             ("--grid", self.grid.to_string()),
@@ -139,6 +196,10 @@ impl PeerProblem {
         ] {
             args.push(flag.into());
             args.push(value);
+        }
+        if let Some(path) = gap_file {
+            args.push("--gap".into());
+            args.push(path.display().to_string());
         }
         args
     }
@@ -154,8 +215,18 @@ impl PeerProblem {
             python: python.to_path_buf(),
             message,
         };
+        // A gap map goes to the peer in a file of our scratch folder (removed with it).
+        let scratch = match &self.gap_m {
+            Some(_) => Some(ScratchFolder::create().map_err(|e| failed(e.to_string()))?),
+            None => None,
+        };
+        let gap_file = scratch.as_ref().map(|s| s.path().join("gap.f64"));
+        if let (Some(path), Some(gap)) = (&gap_file, &self.gap_m) {
+            let bytes: Vec<u8> = gap.iter().flat_map(|v| v.to_le_bytes()).collect();
+            std::fs::write(path, bytes).map_err(|e| failed(e.to_string()))?;
+        }
         let mut child = Command::new(python)
-            .args(self.arguments(repeats))
+            .args(self.arguments(repeats, gap_file.as_deref()))
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
@@ -206,7 +277,8 @@ mod tests {
         assert_eq!(p.width_m, 0.000212);
         // Steel on steel: E* = E / (2 (1 - nu^2)).
         assert!((p.e_star_pa / (210e9 / (2.0 * 0.91)) - 1.0).abs() < 1e-12);
-        let args = p.arguments(4);
+        assert_eq!(p.gap_m, None);
+        let args = p.arguments(4, None);
         assert_eq!(&args[..5], &["-", "--grid", "128", "--repeats", "4"]);
     }
 

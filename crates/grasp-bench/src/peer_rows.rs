@@ -31,10 +31,10 @@ pub(crate) fn peer_case(
             message: e.to_string(),
         })
         .and_then(|p| PeerProblem::of(&p))
-        .and_then(|problem| problem.measure(python, first.runs));
+        .and_then(|problem| Ok((problem.measure(python, first.runs)?, problem.ours)));
     match record {
-        Ok(r) => {
-            notes.push(peer_note(&r, case.name));
+        Ok((r, solved)) => {
+            notes.push(peer_note(&r, case.name, solved));
             peer_rows(&r, ours)
         }
         Err(e @ PeerError::Missing { .. }) => {
@@ -49,13 +49,27 @@ pub(crate) fn peer_case(
 }
 
 /// The note under the table on the peer's run of `case`: its tolerance, runs, and errors
-/// against Hertz's closed form.
-fn peer_note(r: &PeerRecord, case: &str) -> String {
-    format!(
+/// against Hertz's closed form, or (a gap map) its peak pressure and contact against ours.
+fn peer_note(r: &PeerRecord, case: &str, ours: Option<(f64, usize)>) -> String {
+    let head = format!(
         "peer {} {} on {case}: tolerance {:e} (its own relative measure), {} timed runs after an \
-         untimed one; against Hertz: peak pressure {:+.1e}, contact radius {:+.1e}, load {:+.1e}",
-        r.peer, r.version, r.tolerance, r.runs, r.p0_error, r.contact_radius_error, r.load_error
-    )
+         untimed one; ",
+        r.peer, r.version, r.tolerance, r.runs
+    );
+    match (r.p0_error, r.contact_radius_error, r.load_error, ours) {
+        (Some(p0), Some(radius), Some(load), _) => format!(
+            "{head}against Hertz: peak pressure {p0:+.1e}, contact radius {radius:+.1e}, load \
+             {load:+.1e}"
+        ),
+        (_, _, _, Some((p_max, contact))) => format!(
+            "{head}on our gap map (tilted as our solution tilts the object): peak pressure \
+             {:.6e} Pa (ours {p_max:.6e}, {:+.1e}), {} elements in contact (ours {contact})",
+            r.p_max_pa,
+            p_max / r.p_max_pa - 1.0,
+            r.contact_elements
+        ),
+        _ => format!("{head}peak pressure {:.6e} Pa", r.p_max_pa),
+    }
 }
 
 /// The peer's row on the case (its time, its peak-pressure error) and one row per solver
@@ -76,7 +90,9 @@ fn peer_rows(record: &PeerRecord, ours: &[Measured]) -> Vec<Row> {
         iterations: dash(),
         factorizations: dash(),
         peak_mib: dash(),
-        error: format!("{:.1e}", record.p0_error.abs()),
+        error: record
+            .p0_error
+            .map_or("-".into(), |e| format!("{:.1e}", e.abs())),
         target: dash(),
     }];
     for m in ours {
