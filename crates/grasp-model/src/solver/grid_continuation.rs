@@ -3,8 +3,8 @@
 //! `crate::model::grid_coarsening`'s model), that one from a coarser, down to
 //! `MIN_COARSE_SIDE` elements a side. Each level's forces, spread evenly over the fine
 //! elements, and its equality multipliers (the object's motion and the approaches, the same
-//! rows in every level) are the next level's start, whose first Newton steps are inexact as a
-//! cold start's while the contact set settles.
+//! rows in every level) are the next level's start, whose first Newton steps are inexact while
+//! the contact set settles.
 //!
 //! On a rough or ridged patch the contact set is many islands; a cold start on the fine grid
 //! spends most of its Newton steps finding them, each step an operator product per
@@ -77,7 +77,6 @@ impl CoarseLevel {
         let starts: Vec<&Iterate> = below.iter().collect();
         let limits = Limits {
             progress: None,
-            guessed: below.is_some(),
             ..limits
         };
         let result = self.solver.solve(program, &starts, limits);

@@ -161,11 +161,10 @@ impl ProgramSolver {
         let native = self
             .native
             .get_or_insert_with(|| NativeSolver::new(model, program));
-        let mut limits = Limits {
+        let limits = Limits {
             tolerance: options.tolerance,
             max_iterations: options.max_iterations.min(MAX_NEWTON_ITERATIONS),
             progress: self.progress.as_deref(),
-            guessed: false,
         };
         let predicted = match start {
             Start::Last => self.trail.predict(data),
@@ -181,10 +180,7 @@ impl ProgramSolver {
             true => coarse_start(&mut self.coarse, model, program, limits, &mut coarse_counts),
             false => None,
         };
-        if let Some(g) = &guess {
-            starts.push(g);
-            limits.guessed = true;
-        }
+        starts.extend(&guess);
         let mut result = native.solve(program, &starts, limits);
         result.add(coarse_counts);
         let native_time = clock.elapsed().as_secs_f64();

@@ -68,7 +68,6 @@ fn one_newton_step_solves_a_statically_determinate_pad() {
         let program = program_of(&model);
         let mut native = NativeSolver::new(&model, &program);
         let limits = Limits {
-            guessed: false,
             tolerance: 1e-12,
             max_iterations: 10,
             progress: None,
@@ -102,7 +101,6 @@ fn linearisation_classifies_free_and_fixed_directions() {
     let program = program_of(&model);
     let mut native = NativeSolver::new(&model, &program);
     let limits = Limits {
-        guessed: false,
         tolerance: 1e-12,
         max_iterations: 10,
         progress: None,
@@ -174,7 +172,6 @@ fn reduced_factor_reproduces_the_block_and_the_equality_rows() {
 
 /// The limits of the pad's solves: a tight tolerance, a few steps.
 const LIMITS: Limits = Limits {
-    guessed: false,
     tolerance: 1e-12,
     max_iterations: 10,
     progress: None,
@@ -285,7 +282,6 @@ fn a_rough_pad_slips_on_its_lighter_element_and_sticks_on_the_other() {
     let program = program_of(&model);
     let mut native = NativeSolver::new(&model, &program);
     let limits = Limits {
-        guessed: false,
         tolerance: 1e-12,
         max_iterations: 30,
         progress: None,

@@ -74,9 +74,6 @@ pub(crate) struct Limits<'p> {
     pub max_iterations: u32,
     /// Told the counts once per Newton step, when given.
     pub progress: Option<&'p SolveProgress>,
-    /// The start is a guess (a coarser grid's answer, `crate::solver::grid_continuation`):
-    /// its steps are inexact while the contact pattern settles, as a cold start's.
-    pub guessed: bool,
 }
 
 impl Limits<'_> {
@@ -321,7 +318,6 @@ impl<'a, 'p> Newton<'a, 'p> {
     /// The iteration from `start` (`None`: cold); `fallback` hands a stall to the
     /// interior-point method.
     fn iterate(mut self, start: Option<State>, fallback: bool) -> NativeResult {
-        let cold = start.is_none() || self.limits.guessed;
         let s = match start {
             Some(s) => s,
             None => match self.all_stick_start() {
@@ -329,7 +325,7 @@ impl<'a, 'p> Newton<'a, 'p> {
                 Err(s) => return stalled(s, self.counts, NOT_POSITIVE_DEFINITE),
             },
         };
-        match self.descend(s, cold) {
+        match self.descend(s) {
             Descent::Converged(s) => {
                 NativeResult::after(NativeStatus::Converged, s.x, s.lambda, self.counts)
             }
@@ -411,13 +407,20 @@ impl<'a, 'p> Newton<'a, 'p> {
 
     /// Damped Newton steps from `s` until the convergence test holds or the descent stalls,
     /// at the latest when `limits.max_iterations` (at most [`JOINT_ITERATIONS`]) steps have
-    /// been taken since the run began. After a `cold` start a step is inexact
-    /// ([`FORCING_MAX`]) while the contact pattern settles (the first step, and whenever the
-    /// free directions' elements changed since the last); a warm start (a hand-off step, which
-    /// starts near its answer) takes exact steps: inexact ones cost it a third more Newton
-    /// steps and a worse last residual (the plate hand-off on 64 x 64 patches: 0.90 steps and
-    /// 5.4e-9 instead of 0.65 and 6.9e-11).
-    fn descend(&mut self, mut s: State, cold: bool) -> Descent {
+    /// been taken since the run began. A step is inexact ([`FORCING_MAX`]) while the contact
+    /// pattern settles (the first step, and whenever the free directions' elements changed
+    /// since the last), from any start: a cold one, a coarser grid's answer
+    /// (`crate::solver::grid_continuation`), the last solution of another program (a hand-off
+    /// step, an iterate of the coulomb fixed point). Measured on the FFT path (29 November
+    /// 2026), inexact first steps from warm starts against exact ones: the plate hand-off on
+    /// 64 x 64 patches 11 conjugate-gradient iterations a step instead of 17 (0.94 Newton
+    /// steps instead of 0.69, the same last residual, 4.6e-11); Cattaneo at 256 x 256 111
+    /// instead of 199; the rough pad with friction (`examples/rough_sphere_on_flat_friction.json`
+    /// at 256 x 256) 564 instead of 800 over its seven convex solves, the same answer. (Before
+    /// the projected step's CG stopped at [`CG_SHARE`] of the aimed-at residual, warm starts
+    /// took exact steps: inexact ones then cost the plate hand-off a third more Newton steps and
+    /// left 5.4e-9 instead of 6.9e-11.) The dense path's steps are exact whatever this says.
+    fn descend(&mut self, mut s: State) -> Descent {
         let (blocks, program, limits) = (self.blocks, self.program, self.limits);
         let mut history: Vec<f64> = Vec::with_capacity(WINDOW);
         let mut previous: Option<Vec<u64>> = None;
@@ -425,7 +428,7 @@ impl<'a, 'p> Newton<'a, 'p> {
             limits.report(&self.counts);
             let lins = linearise_all(blocks, program, &s, std::mem::take(&mut self.space.lins));
             let pattern = free_pattern(&lins);
-            let settling = cold && previous.as_ref().is_none_or(|p| *p != pattern);
+            let settling = previous.as_ref().is_none_or(|p| *p != pattern);
             previous = Some(pattern);
             let e_res = equality_residual(blocks, program, &s.x);
             let res_max = lins.iter().fold(0.0_f64, |a, l| a.max(l.residual_max));
