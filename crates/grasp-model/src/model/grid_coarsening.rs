@@ -11,9 +11,7 @@ use crate::model::grasp_model::{FingerModel, GraspModel};
 use crate::model::influence::GridSpec;
 use crate::model::patch::Patch;
 use crate::model::patch_compliance::PatchCompliance;
-
-/// A coarse grid keeps at least this many elements a side.
-pub(crate) const MIN_COARSE_SIDE: usize = 32;
+use crate::scene::limits::MIN_COARSE_SIDE;
 
 /// A model's coarse twin and which of its fingers were coarsened.
 #[derive(Debug, Clone)]

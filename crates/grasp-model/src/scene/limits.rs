@@ -16,6 +16,12 @@ pub const MAX_ELEMENTS_PER_PATCH: usize = 2048 * 2048;
 /// millions of elements one wide is no contact patch (its FFT grid alone runs for minutes).
 pub const MAX_GRID_SIDE: usize = 2048;
 
+/// A grid continuation's coarsest grid keeps at least this many elements a side: a cold solve
+/// of a textured or frictional FFT patch whose sides are even and at least twice this starts
+/// from its twin on a grid twice as coarse (`model/grid_coarsening.rs`,
+/// `solver/grid_continuation.rs`), and that one from a coarser, down to this.
+pub const MIN_COARSE_SIDE: usize = 32;
+
 /// Patches with more unknowns than this (elements times `1 + n_tangential`: 32 x 32
 /// frictionless, about 18 x 18 with friction in 3-D) take the FFT compliance operator when
 /// the form is chosen automatically. Measured on the bundled scenes (`grasp solve`, 2 cores):

@@ -27,6 +27,12 @@
 //!                         + 8 (FFT_VECTORS + FFT_VECTORS_PER_ROW m) n_i + 48 4 nx_i ny_i)   bytes
 //! ```
 //!
+//! An FFT patch whose sides are even and at least `2 MIN_COARSE_SIDE`, in a scene with a
+//! textured or frictional patch (a cold solve's grid continuation,
+//! [`crate::scene::limits::MIN_COARSE_SIDE`]), keeps its
+//! twins on grids twice, four times, ... as coarse, each with its own operator: their
+//! estimates add at most a third, `(1/4 + 1/16 + ...)`, so its estimate is `4/3` of the above.
+//!
 //! A finger's texture adds its bytes ([`texture_bytes`]): `8 N_i` for the heights at the element
 //! centres, plus a height map's `8 rows cols`, or a random surface's generation grid of
 //! `G x G` pixels at [`crate::geometry::random_surface::BYTES_PER_PIXEL`] each while it is made
@@ -48,7 +54,7 @@ use crate::allocation::check_room;
 use crate::error::{InputProblem, OutOfMemory};
 use crate::geometry::surface_texture::HeightGrid;
 use crate::option_names;
-use crate::scene::limits::MAX_COMPLIANCE_BYTES;
+use crate::scene::limits::{MAX_COMPLIANCE_BYTES, MIN_COARSE_SIDE};
 use crate::scene::loaded_scene::LoadedScene;
 use crate::scene::scene_format::{FingerSpec, Scene};
 use crate::scene::scene_geometry::SceneGeometry;
@@ -372,10 +378,23 @@ fn fft_bytes(scene: &Scene, f: &FingerSpec) -> u64 {
     let per_unknown = F64_BYTES * (FFT_VECTORS + FFT_VECTORS_PER_ROW * rows);
     let vectors = finger_unknowns(scene, f).saturating_mul(per_unknown);
     let table = (4 * TABLE_BYTES).saturating_mul(nx).saturating_mul(ny);
-    spectra
+    let fine = spectra
         .saturating_add(vectors)
         .saturating_add(table)
-        .saturating_mul(FFT_SAFETY)
+        .saturating_mul(FFT_SAFETY);
+    match continued(scene, f) {
+        true => fine.saturating_add(fine / 3),
+        false => fine,
+    }
+}
+
+/// True when a cold solve of the FFT patch `f` may keep coarser twins of its grid (module
+/// docs): its sides allow them and some patch of the scene is textured or has friction.
+fn continued(scene: &Scene, f: &FingerSpec) -> bool {
+    let side = |n: usize| n.is_multiple_of(2) && n >= 2 * MIN_COARSE_SIDE;
+    let rough_or_frictional =
+        |g: &FingerSpec| g.texture.is_some() || tangential_components(scene, g) > 0;
+    side(f.patch.grid[0]) && side(f.patch.grid[1]) && scene.fingers.iter().any(rough_or_frictional)
 }
 
 #[cfg(test)]
