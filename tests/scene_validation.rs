@@ -521,7 +521,7 @@ fn relaxation_laws_and_approaches_out_of_range() {
 
 /// Unbounded work: inputs whose cost grows without bound are refused with the
 /// bound named. A Prony series of more than 32 terms (its stepping costs the square of the
-/// count: 10,000 terms ran 236 s), a patch side of more than 1024 elements (a 1 x 1,048,576
+/// count: 10,000 terms ran 236 s), a patch side of more than 2048 elements (a 1 x 1,048,576
 /// strip passed the element count and ran for minutes), a bonded layer's Poisson's ratio
 /// within 1e-9 of 0.5.
 #[test]

@@ -1,10 +1,12 @@
 //! A model on grids twice as coarse: the model of a grid continuation's first solve
 //! (`crate::solver::grid_continuation`). Each FFT patch of at least twice
-//! [`MIN_COARSE_SIDE`] elements a side (both counts even) becomes a patch of the same size with
-//! half the elements a side: a coarse element is a 2 x 2 block of fine ones, at their mean
-//! centre, its gap their mean gap (of those facing a surface; off the surface when none
-//! does), its compliance the coarse grid's own (the same bodies and mount, elements twice as
-//! wide). The other fingers, the object and the scales stay as they are.
+//! [`MIN_COARSE_SIDE`] elements a side (both counts even, no mount) becomes a patch of the same
+//! size with half the elements a side: a coarse element is a 2 x 2 block of fine ones, at their
+//! mean centre, its gap their mean gap (as the coarse program's `q`,
+//! [`crate::program::coarse_program`]: a block with a child off the surface is far apart; off
+//! the surface itself when all four are), its compliance the coarse grid's own (the same
+//! bodies, elements twice as wide). The other fingers, the object and the scales stay as they
+//! are.
 
 use crate::error::OutOfMemory;
 use crate::model::grasp_model::{FingerModel, GraspModel};
@@ -24,12 +26,14 @@ pub(crate) struct CoarseModel {
     pub(crate) coarsened: Vec<bool>,
 }
 
-/// True when `finger`'s grid is coarsened: an FFT patch, elastic, both counts even and at
-/// least `2 MIN_COARSE_SIDE`.
+/// True when `finger`'s grid is coarsened: an FFT patch, elastic, without a mount (whose
+/// retreat is written over the fine elements' centres), both counts even and at least
+/// `2 MIN_COARSE_SIDE`.
 fn coarsens(finger: &FingerModel) -> bool {
     let g = &finger.patch.grid;
     let side = |n: usize| n.is_multiple_of(2) && n >= 2 * MIN_COARSE_SIDE;
-    finger.compliance_m_per_n.is_fft() && finger.viscous.is_none() && side(g.nx) && side(g.ny)
+    let plain = finger.viscous.is_none() && finger.mount.is_none();
+    finger.compliance_m_per_n.is_fft() && plain && side(g.nx) && side(g.ny)
 }
 
 impl GraspModel {
@@ -68,11 +72,8 @@ impl GraspModel {
 /// `finger` on its coarse grid.
 fn coarse_finger(finger: &FingerModel) -> Result<FingerModel, OutOfMemory> {
     let patch = coarse_patch(&finger.patch);
-    let mut compliance =
+    let compliance =
         PatchCompliance::build(&patch.grid, &finger.contact, finger.n_tangential, true)?;
-    if let Some(m) = &finger.mount {
-        compliance = compliance.with_mount(m);
-    }
     Ok(FingerModel {
         patch,
         compliance_m_per_n: compliance,
@@ -102,17 +103,12 @@ fn coarse_patch(fine: &Patch) -> Patch {
                 .copied()
                 .filter(|&k| !fine.is_off_surface(k))
                 .collect();
-            let facing = if on.is_empty() {
-                &children[..]
-            } else {
-                &on[..]
-            };
             let mean = |v: &dyn Fn(usize) -> f64| children.iter().map(|&k| v(k)).sum::<f64>() / 4.0;
             centres_m.push([
                 mean(&|k| fine.centres_m[k][0]),
                 mean(&|k| fine.centres_m[k][1]),
             ]);
-            gap_m.push(facing.iter().map(|&k| fine.gap_m[k]).sum::<f64>() / facing.len() as f64);
+            gap_m.push(mean(&|k| fine.gap_m[k]));
             off_surface.push(on.is_empty());
             off_object.push(
                 children

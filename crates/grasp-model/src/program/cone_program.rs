@@ -192,13 +192,23 @@ impl ConeProgram {
     ) -> Self {
         let n = equality.ncols();
         ConeProgram {
+            law: self.law,
             blocks,
+            springs: self.springs.clone(),
             n_unknowns: n,
+            compliance_scale: self.compliance_scale,
             q: vec![0.0; n],
             offset_m: vec![0.0; n],
             memory_m: vec![0.0; n],
             equality,
-            ..self.clone()
+            equality_rhs: self.equality_rhs.clone(),
+            reduction: self.reduction.clone(),
+            load_rows: self.load_rows.clone(),
+            external_wrench: self.external_wrench,
+            approach_m: self.approach_m.clone(),
+            hand_poses: self.hand_poses.clone(),
+            external_scaled: self.external_scaled.clone(),
+            unbalanced: self.unbalanced.clone(),
         }
     }
 

@@ -308,7 +308,7 @@ pub enum RadiusSpec {
 pub struct PatchSpec {
     /// Side lengths `[Lx, Ly]` in metres along `t1`, `t2`, each in `[1e-9, 10]`.
     pub size: [f64; 2],
-    /// Elements `[nx, ny]` along `t1`, `t2` (each in `[1, 1024]`, `nx ny <= 1024 x 1024`). The memory a
+    /// Elements `[nx, ny]` along `t1`, `t2` (each in `[1, 2048]`, `nx ny <= 2048 x 2048`). The memory a
     /// solve needs grows like `(nx ny)^2` on the dense path and like `nx ny` on the FFT path;
     /// `grasp` refuses grids whose estimate exceeds `--max-memory`.
     pub grid: [usize; 2],

@@ -501,7 +501,7 @@ fn validate_patch(p: &str, f: &FingerSpec, v: &mut FieldChecks) {
                     "is {}, more than {MAX_GRID_SIDE} elements along a side",
                     f.patch.grid[k]
                 ),
-                "use at most 1024 elements a side (the largest patch is 1024 x 1024)",
+                "use at most 2048 elements a side (the largest patch is 2048 x 2048)",
             );
         }
     }

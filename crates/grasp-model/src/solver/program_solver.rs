@@ -170,19 +170,15 @@ impl ProgramSolver {
             Start::Last => self.trail.predict(data),
             _ => None,
         };
-        let mut starts: Vec<&Iterate> = match start {
+        let starts: Vec<&Iterate> = match start {
             Start::Cold => Vec::new(),
             Start::Last => predicted.iter().chain(self.last.as_ref()).collect(),
             Start::At(it) => vec![it],
         };
-        let mut coarse_counts = Counts::default();
-        let guess = match starts.is_empty() {
-            true => coarse_start(&mut self.coarse, model, program, limits, &mut coarse_counts),
-            false => None,
+        let mut result = match starts.is_empty() {
+            true => solve_cold(native, &mut self.coarse, model, program, limits),
+            false => native.solve(program, &starts, limits),
         };
-        starts.extend(&guess);
-        let mut result = native.solve(program, &starts, limits);
-        result.add(coarse_counts);
         let native_time = clock.elapsed().as_secs_f64();
         let matrix_free = native.is_matrix_free();
         let why = match result.status.clone() {
@@ -228,21 +224,34 @@ fn fft_stall(why: &str) -> ConvexOutcome {
     ConvexOutcome::Failed { reason }
 }
 
-/// The start of a cold native solve of `program` from coarser grids' answer (the levels made
-/// on the first call and kept in `coarse`; [`CoarseLevel`]), their work added to `counts`;
-/// `None` when the model has no coarse levels or a level did not converge (the solve then
-/// starts cold).
-fn coarse_start(
+/// A native solve of `program` without a start: from the coarser grids' answer where the model
+/// has them ([`CoarseLevel`], made on the first call and kept in `coarse`), else cold; and cold
+/// again when the solve from the coarse grids' answer does not converge, so that they never
+/// lose a solve a cold start finds. All the work is counted.
+fn solve_cold(
+    native: &mut NativeSolver,
     coarse: &mut Option<Option<CoarseLevel>>,
     model: &GraspModel,
     program: &ConeProgram,
     limits: Limits,
-    counts: &mut Counts,
-) -> Option<Iterate> {
-    coarse
+) -> NativeResult {
+    let mut counts = Counts::default();
+    let guess = coarse
         .get_or_insert_with(|| CoarseLevel::new(model, program))
-        .as_mut()?
-        .start(program, limits, counts)
+        .as_mut()
+        .and_then(|level| level.start(program, limits, &mut counts));
+    let Some(guess) = guess else {
+        let mut result = native.solve(program, &[], limits);
+        result.add(counts);
+        return result;
+    };
+    let mut result = native.solve(program, &[&guess], limits);
+    if result.status != NativeStatus::Converged {
+        counts.add(result.counts());
+        result = native.solve(program, &[], limits);
+    }
+    result.add(counts);
+    result
 }
 
 /// A program proved infeasible by the certificate kept from an earlier one (Clarabel's), in
