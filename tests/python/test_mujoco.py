@@ -863,7 +863,7 @@ def test_mujoco_count_arguments_are_range_checked_before_the_run(rollout, tmp_pa
             MJ / "handoff.materials.json", "--out", out / "h"]
     cli = [(["--steps", "0"], "steps (--steps) is 0"), (["--steps", "10000000000"], "steps (--steps) is 10000000000"),
            (["--steps", "10", "--every", "0"], "every (--every) is 0"),
-           (["--steps", "10", "--grid", "2000", "2000"], "patch grid (--grid) is 2000 x 2000"),
+           (["--steps", "10", "--grid", "3000", "3000"], "patch grid (--grid) is 3000 x 3000"),
            (["--steps", "10", "--threshold", "-1"], "threshold_n (--threshold) is -1.0")]
     for args, words in cli:
         proc = subprocess.run([sys.executable, "-m", "grasp.mujoco", *map(str, base + args)], capture_output=True,
