@@ -397,7 +397,7 @@ pub const LAYER_CASES: [Case; 11] = [
 /// silicone pad, E 2 MPa, under 0.5 N, a random surface of rms 20 um; the same pad ridged,
 /// `examples/ridged_sphere_on_flat.json`; the rough pad with friction, mu 0.5, and a
 /// tangential 0.1 N under the coulomb model), model build and one solve; and the smooth Hertz
-/// sphere at 2048 x 2048, the largest patch. Targets (issue 52, on this project's 2-core
+/// sphere at 2048 x 2048, the largest patch. Targets (the rough-contact work's, on the 2-core
 /// machine): rough 1024 x 1024 within 5 s, smooth 2048 x 2048 within 15 s; the peer beside
 /// the 256 x 256 rough and ridged cases (at least 10x its time for the rough one), the
 /// frictional case at most 2x the frictionless one ([`LAYER_PAIRS`]).
