@@ -24,6 +24,12 @@ and for a hand-off, from a controller or a recorded rollout (.npz of time, qpos,
 >>> replay = h.replay(mcap="out/handoff.mcap", rrd="out/handoff.rrd")
 >>> print(replay.summary_text())
 
+A URDF gripper loads the same way (MuJoCo compiles it; the grasped object is a link on a
+floating joint, the state a qpos file since a URDF has no keyframes):
+
+>>> model = gm.load_model("examples/mujoco/urdf_pinch.urdf", mesh_dir=None, fuse_static=None)
+>>> data = gm.load_state(model, qpos="examples/mujoco/urdf_pinch.state.json")
+
 The same from the shell: ``python -m grasp.mujoco scene ...`` and ``python -m grasp.mujoco
 handoff ...`` (``--help``).
 """

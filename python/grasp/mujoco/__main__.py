@@ -2,6 +2,8 @@
 
     python -m grasp.mujoco scene MODEL.xml --object BODY [--keyframe K | --qpos FILE]
         --materials MAP.json --out SCENE.json [--report R.json] [--rrd R.rrd]
+    python -m grasp.mujoco scene ROBOT.urdf --object LINK --qpos FILE [--mesh-dir DIR]
+        [--no-fuse-static] [--balance-inertia] --materials MAP.json --out SCENE.json
     python -m grasp.mujoco handoff MODEL.xml --object BODY
         (--rollout ROLLOUT.npz | --controller MODULE:FN --steps N) --materials MAP.json
         --out PREFIX [--mcap F] [--rrd F] [--csv F] [--margins]
@@ -35,7 +37,7 @@ class Parser(argparse.ArgumentParser):
 
 
 def common(p):
-    p.add_argument("model", help="MuJoCo model: MJCF .xml or .mjb")
+    p.add_argument("model", help="MuJoCo model: MJCF .xml, URDF .urdf (MuJoCo compiles it) or binary .mjb")
     p.add_argument("--object", required=True, help="the grasped object's body (name)")
     p.add_argument("--materials", help="JSON map {geom or body name: material}; unnamed geoms get rubber (warned)")
     p.add_argument("--grid", nargs=2, type=int, metavar=("NX", "NY"), help="patch elements per finger (default 9 9)")
@@ -44,6 +46,14 @@ def common(p):
     p.add_argument("--sensor", metavar="JSON|FILE",
                    help="a tactile sensor in every pad: fingers[i].sensor as JSON text or a .json file "
                         "(taxels, markers, gel; docs/guide/tactile.md)")
+    p.add_argument("--mesh-dir", metavar="DIR",
+                   help="URDF: the folder of its meshes, each looked up there by its bare file name (package:// and "
+                        "folders stripped)")
+    p.add_argument("--fuse-static", action=argparse.BooleanOptionalAction, default=None,
+                   help="URDF: fuse links on fixed joints into their parents (MuJoCo's default for URDF); "
+                        "--no-fuse-static keeps them as bodies")
+    p.add_argument("--balance-inertia", action="store_true",
+                   help="URDF: let MuJoCo balance link inertias that break the triangle inequality")
     p.add_argument("--force", action="store_true", help="replace existing output files")
     p.add_argument("--quiet", action="store_true", help="no progress line (drawn on a terminal only)")
 
@@ -125,11 +135,26 @@ def inputs_of(args):
                         sensor_file) if x]
 
 
+def load_model_of(args):
+    """The model of ``args.model`` with the URDF options; each warning printed as ``warning: ...``."""
+    import warnings
+
+    from ._state import load_model
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model = load_model(args.model, mesh_dir=args.mesh_dir, fuse_static=args.fuse_static,
+                           balance_inertia=args.balance_inertia)
+    for w in caught:
+        print(f"warning: {w.message}", file=sys.stderr)
+    return model
+
+
 def run_scene(args):
     from ._files import check_targets
     from ._report import compare
     from ._scene import scene_from
-    from ._state import load_model, load_state
+    from ._state import load_state
 
     outs = [args.out] + [p for p in (args.report, args.rrd) if p]
     check_targets(outs, args.force, inputs_of(args))
@@ -137,7 +162,7 @@ def run_scene(args):
         from ._rerun import require_rerun
 
         require_rerun()
-    model = load_model(args.model)
+    model = load_model_of(args)
     data = load_state(model, keyframe=args.keyframe, qpos=args.qpos)
     state = f"keyframe {args.keyframe}" if args.keyframe else (f"state {args.qpos}" if args.qpos else "the initial state")
     g = scene_from(model, data, args.object, materials=args.materials, patch=patch_of(args), control=args.control,
@@ -160,7 +185,7 @@ def run_handoff(args):
     from ._controller import simulate
     from ._handoff import check_threshold, schedule_from_rollout
     from ._patch import patch_options, sensor_option
-    from ._state import Rollout, load_model, load_state
+    from ._state import Rollout, load_state
 
     if args.controller and args.steps is None:
         raise MujocoError("--controller needs --steps", "give the number of MuJoCo steps to run, e.g. --steps 1600")
@@ -178,7 +203,7 @@ def run_handoff(args):
         from ._rerun import require_rerun
 
         require_rerun()
-    model = load_model(args.model)
+    model = load_model_of(args)
     if args.rollout:
         rollout = Rollout.load(args.rollout, model)
     else:

@@ -105,10 +105,12 @@ def read_tree(path):
     return names, sorted(dirs)
 
 
-def check_model_files(path):
-    """Checks every file the MJCF or URDF model at ``path`` names, its includes recursively;
+def check_model_files(path, extra_dirs=()):
+    """Checks every file the MJCF or URDF model at ``path`` names, its includes recursively, in
+    the compiler's folders and ``extra_dirs`` (absolute: a URDF's ``--mesh-dir``);
     ModelLoadError naming the element and the file otherwise."""
     names, dirs = read_tree(path)
+    dirs = sorted(set(dirs) | set(extra_dirs))
     for p, tag, attr, name, bases in names:
         for q in places(name, bases, dirs):
             check_place(q, p, tag, attr, name)

@@ -6,6 +6,12 @@ contacts carry its support's reaction, which the scene would take for a grasp's 
 import numpy as np
 
 from ._errors import ModelLoadError, UnknownBodyError
+from ._urdf import OBJECT_FIX, is_urdf
+
+
+def urdf_hint(model, fix):
+    """``fix``, and for a model compiled from a URDF how a URDF makes the object."""
+    return f"{fix}; {OBJECT_FIX}" if is_urdf(model) else fix
 
 
 def body_name(model, b):
@@ -53,7 +59,7 @@ def body_id(mujoco, model, body):
     if b < 0:
         names = [model.body(i).name for i in range(1, model.nbody) if model.body(i).name]
         raise UnknownBodyError(f"the model has no body '{body}'",
-                               f"give one of its bodies: {', '.join(names) or '(none named)'}")
+                               urdf_hint(model, f"give one of its bodies: {', '.join(names) or '(none named)'}"))
     return b
 
 
@@ -74,6 +80,6 @@ def object_body_id(mujoco, model, body):
     if why is not None:
         names = graspable_bodies(mujoco, model)
         raise UnknownBodyError(f"body '{body_name(model, b)}' (id {b}) cannot be the grasped object: {why}",
-                               "give the grasped object's body, one with a free joint (<freejoint/>) and a mass: "
-                               f"{', '.join(names) or '(this model has none)'}")
+                               urdf_hint(model, "give the grasped object's body, one with a free joint (<freejoint/>) "
+                                                f"and a mass: {', '.join(names) or '(this model has none)'}"))
     return b

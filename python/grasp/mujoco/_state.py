@@ -8,21 +8,39 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._assets import check_model_files
+from ._assets import check_model_files, parse, tag_of
 from ._errors import ModelLoadError, StateError, require_mujoco
 from ._files import check_input, read_input
 from ._limits import MAX_ROLLOUT_BYTES, MAX_STATE_FILE_BYTES, MAX_STATES
 from ._npz import load_npy, load_npz, reason
+from ._urdf import given_options, load_urdf, mesh_folder
 
 
-def load_model(path):
-    """A MuJoCo model from a file.
+MODEL_SUFFIXES = (".xml", ".urdf", ".mjb")
+
+
+def load_model(path, *, mesh_dir=None, fuse_static=None, balance_inertia=False):
+    """A MuJoCo model from a file: MJCF, URDF (compiled by MuJoCo's URDF import) or binary.
+
+    The URDF options are set in the ``<mujoco><compiler>`` element of a copy of the URDF text
+    in memory (they override the file's own); the file is never changed.
 
     Parameters
     ----------
     path : str or os.PathLike
-        An MJCF (.xml) or binary (.mjb) model file; the files it names (meshes, textures,
-        includes) are checked as inputs too.
+        An MJCF (.xml), URDF (.urdf) or binary (.mjb) model file; the files it names (meshes,
+        textures, includes) are checked as inputs too. An XML file is a URDF when its root
+        element is ``<robot>``, as MuJoCo reads it.
+    mesh_dir : str or os.PathLike, optional
+        URDF only: the folder of its meshes (relative to the working folder, or absolute);
+        each mesh is looked up there by its bare file name (``package://`` and folders
+        stripped: MuJoCo's ``meshdir`` and ``strippath``).
+    fuse_static : bool, optional
+        URDF only: fuse links on fixed joints into their parents (MuJoCo's ``fusestatic``;
+        None: MuJoCo's default for URDF, True).
+    balance_inertia : bool, optional
+        URDF only: let MuJoCo balance inertias that break the triangle inequality
+        (``balanceinertia``).
 
     Returns
     -------
@@ -33,19 +51,34 @@ def load_model(path):
     MujocoNotInstalled
         ``mujoco`` cannot be imported.
     ModelLoadError
-        The file, or one it names, cannot be read, or MuJoCo cannot compile it.
+        The file, or one it names, cannot be read; its suffix is not one of .xml, .urdf,
+        .mjb; a URDF option for a model that is not a URDF; a mesh folder that is not a
+        folder; or MuJoCo cannot compile it.
     """
     mujoco = require_mujoco()
     p = os.fspath(path)
     # A regular file within the limit (never a FIFO or /dev/zero) before MuJoCo opens it, and
     # so is every file it names (meshes, textures, includes...).
     check_input(p, "mujoco_model", ModelLoadError)
-    if not p.endswith(".mjb"):
+    suffix = os.path.splitext(p)[1].lower()
+    if suffix not in MODEL_SUFFIXES:
+        raise ModelLoadError(f"model file {p} has the suffix '{suffix}', which is not a MuJoCo model's",
+                             "give an MJCF .xml, a URDF .urdf or a binary .mjb file")
+    urdf = {"mesh_dir": mesh_dir, "fuse_static": fuse_static, "balance_inertia": balance_inertia}
+    root = None if suffix == ".mjb" else parse(p, None)
+    if root is not None and tag_of(root) == "robot":
+        check_model_files(p, [mesh_folder(mesh_dir)] if mesh_dir is not None else [])
+        return load_urdf(mujoco, p, root, **urdf)
+    given = given_options(**urdf)
+    if given:
+        raise ModelLoadError(f"{' and '.join(given)} {'applies' if len(given) == 1 else 'apply'} to a URDF model "
+                             f"only; {p} is not one (its root element is not <robot>)",
+                             "leave them out: an MJCF sets them in its <compiler> "
+                             "(meshdir, fusestatic, balanceinertia)")
+    if root is not None:
         check_model_files(p)
     try:
-        if p.endswith(".mjb"):
-            return mujoco.MjModel.from_binary_path(p)
-        return mujoco.MjModel.from_xml_path(p)
+        return mujoco.MjModel.from_binary_path(p) if root is None else mujoco.MjModel.from_xml_path(p)
     except Exception as e:  # MuJoCo raises ValueError with the compiler's message
         raise ModelLoadError(f"MuJoCo cannot load {p}: {str(e).strip()}", "fix the model file") from None
 
@@ -57,12 +90,29 @@ def keyframe_id(mujoco, model, key):
             return k
         raise StateError(f"keyframe {k} is out of range: the model has {model.nkey} keyframes",
                          "give a keyframe name or an index in range")
+    if model.nkey == 0:
+        raise StateError(f"the model has no keyframes, so none named '{key}' (a URDF has none)",
+                         "give the state as a qpos file (--qpos FILE, qpos=): qpos numbers in the order of the "
+                         f"model's joints, {qpos_layout(mujoco, model)}")
     k = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, str(key))
     if k < 0:
         names = [model.key(i).name for i in range(model.nkey) if model.key(i).name]
         raise StateError(f"the model has no keyframe '{key}'",
                          f"give one of its keyframes: {', '.join(names) or '(none named)'}")
     return k
+
+
+QPOS_WIDTH = {"free": "7: x y z, then the quaternion w x y z", "ball": "4: the quaternion w x y z", "slide": "1",
+              "hinge": "1"}
+
+
+def qpos_layout(mujoco, model):
+    """The model's joints in qpos order, each with its count of numbers."""
+    parts = []
+    for j in range(model.njnt):
+        kind = mujoco.mjtJoint(int(model.jnt_type[j])).name.removeprefix("mjJNT_").lower()
+        parts.append(f"{model.joint(j).name or f'joint {j}'} ({QPOS_WIDTH[kind]})")
+    return ", ".join(parts) or "(none)"
 
 
 def numbers(values, what, source):
@@ -174,7 +224,10 @@ def load_state(model, keyframe=None, qpos=None):
         unknown = set(state) - {"qpos", "qvel", "ctrl", "act", "time"}
         if unknown:
             raise StateError(f"{src}: unknown entries {sorted(unknown)}", "give qpos and optionally qvel, ctrl, act, time")
-        data.qpos[:] = vector(state.get("qpos"), model.nq, "qpos", src)
+        try:
+            data.qpos[:] = vector(state.get("qpos"), model.nq, "qpos", src)
+        except StateError as e:
+            raise StateError(e.message, f"{e.fix}, in the order of its joints: {qpos_layout(mujoco, model)}") from None
         for key, n in (("qvel", model.nv), ("ctrl", model.nu), ("act", model.na)):
             if key in state:
                 getattr(data, key)[:] = vector(state[key], n, key, src)
