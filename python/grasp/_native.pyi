@@ -12,6 +12,7 @@ DEFAULT_TOLERANCE: float
 Model = Literal["energy", "coulomb"]
 SolverName = Literal["auto", "native", "clarabel"]
 ComplianceName = Literal["auto", "dense", "fft"]
+McapProfileName = Literal["json", "ros2"]
 Source = Union[str, "os.PathLike[str]", dict[str, Any]]
 
 class SceneError(ValueError):
@@ -202,6 +203,8 @@ def transfer(
     rrd: Optional[Union[str, "os.PathLike[str]"]] = None,
     csv: Optional[Union[str, "os.PathLike[str]"]] = None,
     npz: Optional[Union[str, "os.PathLike[str]"]] = None,
+    mcap_profile: McapProfileName = "json",
+    ros2_start_time: Optional[float] = None,
     solver: SolverName = "auto",
     cold: bool = False,
     keep_going: bool = False,

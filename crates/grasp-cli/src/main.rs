@@ -23,6 +23,7 @@ mod commands;
 mod flag_names;
 mod limits;
 mod load_scene;
+mod mcap_profile_flags;
 mod output;
 mod pictures;
 mod progress;

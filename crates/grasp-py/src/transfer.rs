@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 
 use grasp_io::{OutputError, OutputSet, RunInputs, SCHEDULE_FILE};
 use grasp_transfer::{
-    OpenError, OutputFiles, OutputPaths, Schedule, StepRecord, TransferOptions, TransferSummary,
+    McapProfile, OpenError, OutputFiles, OutputPaths, Schedule, StepRecord, TransferOptions,
+    TransferSummary,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyInt, PyString};
@@ -22,6 +23,33 @@ use crate::json_value::serialize_to_py;
 use crate::outputs::{claim, output_error};
 use crate::scene::Scene;
 use crate::solution::{tangents_by_name, Solution, Tangents};
+
+/// The MCAP profile `name` with its start time `start_s` (s after the Unix epoch; ros2 only).
+fn profile(name: &str, start_s: Option<f64>) -> PyResult<McapProfile> {
+    let bad = |m: String| pyo3::exceptions::PyValueError::new_err(m);
+    match (name, start_s) {
+        ("json", None) => Ok(McapProfile::Json),
+        ("json", Some(_)) => Err(bad(
+            "ros2_start_time= applies to the ros2 MCAP profile: add mcap_profile=\"ros2\"".into(),
+        )),
+        ("ros2", t) => McapProfile::ros2_from(t.unwrap_or(0.0))
+            .map_err(|why| bad(format!("ros2_start_time={}: {why}", t.unwrap_or(0.0)))),
+        (other, _) => Err(bad(format!(
+            "mcap_profile={other:?}: give \"json\" (Foxglove's JSON messages) or \"ros2\" (ROS 2 \
+             messages, CDR)"
+        ))),
+    }
+}
+
+/// `progress=` is callable (or absent).
+fn check_progress(py: Python<'_>, progress: Option<&Py<PyAny>>) -> PyResult<()> {
+    if progress.is_some_and(|p| !p.bind(py).is_callable()) {
+        return Err(pyo3::exceptions::PyTypeError::new_err(
+            "progress= is not callable: give a function progress(done, total), or None",
+        ));
+    }
+    Ok(())
+}
 
 /// Runs a hand-off: a load schedule over a scene, step by step, as `grasp transfer` does.
 ///
@@ -45,6 +73,13 @@ use crate::solution::{tangents_by_name, Solution, Tangents};
 ///     or an input of the run); files appear only when the run completes (after a failed
 ///     step: only with `keep_going=True`); a second run writing the same file is refused
 ///     while this one runs.
+/// mcap_profile : {"json", "ros2"}, default "json"
+///     What the MCAP holds: JSON messages with JSON Schemas (Foxglove), or CDR-encoded ROS 2
+///     messages with ros2msg schemas as `ros2 bag record` writes them (docs/guide/outputs.md,
+///     "ROS 2"), as `grasp transfer --mcap-profile`.
+/// ros2_start_time : float, optional
+///     With `mcap_profile="ros2"`: the stamp of the schedule's time 0, in seconds after the
+///     Unix epoch (default 0), as `grasp transfer --ros2-start-time`.
 /// solver : {"auto", "native", "clarabel"}, default "auto"
 ///     The solver of every step, as in `solve`.
 /// cold : bool, default False
@@ -101,7 +136,8 @@ use crate::solution::{tangents_by_name, Solution, Tangents};
 /// ...                      "examples/plate_transfer.schedule.json", mcap="out.mcap")
 /// >>> run.times_s, run.normal_forces_n
 #[pyfunction]
-#[pyo3(signature = (scene, schedule, *, mcap=None, rrd=None, csv=None, npz=None, solver="auto",
+#[pyo3(signature = (scene, schedule, *, mcap=None, rrd=None, csv=None, npz=None,
+                    mcap_profile="json", ros2_start_time=None, solver="auto",
                     cold=false, keep_going=false, margins=false, overwrite=false,
                     keep_solutions=true, max_memory=None, compliance="auto", progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -113,6 +149,8 @@ pub fn transfer(
     rrd: Option<PathBuf>,
     csv: Option<PathBuf>,
     npz: Option<PathBuf>,
+    mcap_profile: &str,
+    ros2_start_time: Option<f64>,
     solver: &str,
     cold: bool,
     keep_going: bool,
@@ -123,12 +161,9 @@ pub fn transfer(
     compliance: &str,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Transfer> {
-    if progress.as_ref().is_some_and(|p| !p.bind(py).is_callable()) {
-        return Err(pyo3::exceptions::PyTypeError::new_err(
-            "progress= is not callable: give a function progress(done, total), or None",
-        ));
-    }
+    check_progress(py, progress.as_ref())?;
     let max_memory = max_memory.map(memory_limit).transpose()?;
+    let mcap_profile = profile(mcap_profile, ros2_start_time)?;
     let mut solve = crate::solve::solve_options(solver, 1e-10)?;
     solve.compliance = crate::solve::compliance_choice(compliance)?;
     let options = TransferOptions {
@@ -152,6 +187,7 @@ pub fn transfer(
     let outputs = claim(&targets, &inputs, overwrite)?;
     let files = OutputPaths {
         mcap: mcap.as_deref(),
+        mcap_profile,
         rrd: rrd.as_deref(),
         csv: csv.as_deref(),
         npz: npz.as_deref(),

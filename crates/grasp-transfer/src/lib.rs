@@ -86,9 +86,10 @@ pub use sinks::foxglove_scene::SCENE_TOPIC;
 pub use sinks::mcap_log::{
     FingerMessage, FingersMessage, McapSink, FINGERS_TOPIC, PATCHES_TOPIC, WARNING_METADATA,
 };
-pub use sinks::output_files::{OpenError, OutputFiles, OutputPaths};
+pub use sinks::output_files::{McapProfile, OpenError, OutputFiles, OutputPaths};
 pub use sinks::patch_maps_message::{PATCH_MAPS_SCHEMA, PATCH_MAPS_TOPIC};
 pub use sinks::rerun_log::{RerunSink, FLUSH_EVERY_STEPS};
+pub use sinks::ros2_log::{ros_name_problem, Ros2McapSink};
 pub use sinks::sink::{RunInfo, Sink};
 pub use sinks::tactile_message::{TactileMessage, TACTILE_SCHEMA, TACTILE_TOPIC};
 

@@ -11,6 +11,7 @@ use grasp_transfer::{
     MARGIN_TOLERANCE,
 };
 
+use crate::mcap_profile_flags::McapProfileFlags;
 use crate::output::{self, ForceArg};
 use crate::pictures::picture;
 use crate::pictures::plan_margins::{approach_curves, load_curves, PlanMargins};
@@ -138,6 +139,8 @@ pub struct Args {
     /// Replay the planned hand-off and write its MCAP log (as `grasp transfer --mcap`).
     #[arg(long, value_name = "F.mcap")]
     pub mcap: Option<PathBuf>,
+    #[command(flatten)]
+    pub mcap_profile: McapProfileFlags,
     /// Replay the planned hand-off and write its Rerun recording (as `grasp transfer --rrd`).
     #[arg(long, value_name = "F.rrd")]
     pub rrd: Option<PathBuf>,
@@ -169,6 +172,8 @@ pub enum ObjectiveArg {
 
 /// `grasp plan`.
 pub fn execute(args: Args) -> Result<ExitCode> {
+    // A bad profile is refused before the planning, not after it.
+    args.mcap_profile.profile()?;
     let targets: Vec<&Path> = [Some(&args.out), args.report.as_ref(), args.plot.as_ref()]
         .into_iter()
         .flatten()
@@ -263,6 +268,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
 fn replay(args: &Args) -> Result<ExitCode> {
     let outputs = crate::commands::transfer::Outputs {
         mcap: args.mcap.clone(),
+        mcap_profile: args.mcap_profile.profile()?,
         rrd: args.rrd.clone(),
         csv: None,
         npz: None,

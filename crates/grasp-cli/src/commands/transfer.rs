@@ -8,10 +8,11 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use grasp_model::LoadedScene;
 use grasp_transfer::{
-    OutputFiles, OutputPaths, RerunSink, Schedule, Sink, SqueezeOutcome, StepRecord,
+    McapProfile, OutputFiles, OutputPaths, RerunSink, Schedule, Sink, SqueezeOutcome, StepRecord,
     TransferOptions, TransferSummary,
 };
 
+use crate::mcap_profile_flags::McapProfileFlags;
 use crate::output::{self, ForceArg, Outputs as Claimed};
 use crate::pictures::force_history::ForceHistory;
 use crate::pictures::picture;
@@ -31,6 +32,8 @@ pub struct Args {
     /// sensors' readings, each step, on /grasp/tactile).
     #[arg(long, value_name = "F.mcap")]
     pub mcap: Option<PathBuf>,
+    #[command(flatten)]
+    pub mcap_profile: McapProfileFlags,
     /// Write a Rerun recording (.rrd) to replay in the Rerun viewer.
     #[arg(long, value_name = "F.rrd")]
     pub rrd: Option<PathBuf>,
@@ -93,6 +96,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
     };
     let outputs = Outputs {
         mcap: args.mcap,
+        mcap_profile: args.mcap_profile.profile()?,
         rrd: args.rrd,
         csv: args.csv,
         npz: args.npz,
@@ -124,6 +128,8 @@ pub fn execute(args: Args) -> Result<ExitCode> {
 #[derive(Clone)]
 pub struct Outputs {
     pub mcap: Option<PathBuf>,
+    /// What the MCAP log holds.
+    pub mcap_profile: McapProfile,
     pub rrd: Option<PathBuf>,
     pub csv: Option<PathBuf>,
     pub npz: Option<PathBuf>,
@@ -140,6 +146,10 @@ const OPEN_MCAP: &str = "Foxglove (https://app.foxglove.dev or the desktop app),
                          (and /grasp/patch_maps with patches above 64 x 64 elements, \
                          /grasp/tactile with a finger's sensor, \
                          /grasp/tactile/<finger>/gel with a gel image)";
+const OPEN_ROS2_MCAP: &str = "ros2 bag info {} (ROS 2 Iron or later; Humble: ros2 bag info -s mcap {}), \
+                              ros2 bag play the same way with rviz2, PlotJuggler or Foxglove; topics \
+                              /tf, /tf_static, /grasp/step, /grasp/scene, /grasp/<finger>/wrench, \
+                              /grasp/<finger>/pressure, /grasp/<finger>/contact_state";
 const OPEN_CSV: &str = "one row per step, a column per quantity: any spreadsheet, or Python's \
                         pandas.read_csv";
 const OPEN_NPZ: &str = "Python: numpy.load(path)[\"step_00000/<finger>/pressure_pa\"] (its \
@@ -170,7 +180,7 @@ impl Outputs {
     fn wrote(&self) -> String {
         let mut o = String::new();
         for (p, what, open) in [
-            (&self.mcap, "MCAP", OPEN_MCAP),
+            (&self.mcap, "MCAP", self.open_mcap()),
             (&self.rrd, "Rerun recording", OPEN_RRD),
             (&self.csv, "CSV", OPEN_CSV),
             (&self.npz, "element fields", OPEN_NPZ),
@@ -192,6 +202,14 @@ impl Outputs {
             None => {}
         }
         o
+    }
+
+    /// How to open the MCAP log of this profile.
+    fn open_mcap(&self) -> &'static str {
+        match self.mcap_profile {
+            McapProfile::Json => OPEN_MCAP,
+            McapProfile::Ros2 { .. } => OPEN_ROS2_MCAP,
+        }
     }
 
     fn targets(&self) -> Vec<&Path> {
@@ -225,6 +243,7 @@ impl OpenSinks {
     fn create(out: &Outputs, outs: &Claimed, name: &str) -> Result<OpenSinks> {
         let paths = OutputPaths {
             mcap: out.mcap.as_deref(),
+            mcap_profile: out.mcap_profile,
             rrd: out.rrd.as_deref(),
             csv: out.csv.as_deref(),
             npz: out.npz.as_deref(),

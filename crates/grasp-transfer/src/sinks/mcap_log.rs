@@ -405,7 +405,10 @@ pub struct McapSink {
 pub const WARNING_METADATA: &str = "grasp.warning";
 
 /// The metadata record of one warning (see [`WARNING_METADATA`]).
-fn warning_metadata(w: &TalliedWarning, respell: fn(&str) -> String) -> mcap::records::Metadata {
+pub(super) fn warning_metadata(
+    w: &TalliedWarning,
+    respell: fn(&str) -> String,
+) -> mcap::records::Metadata {
     let mut metadata = BTreeMap::from([
         ("message".to_string(), respell(&w.message)),
         ("count".to_string(), w.count.to_string()),

@@ -1,4 +1,5 @@
-//! Log sinks of a hand-off, each optional and independent: MCAP, Rerun, CSV, NumPy `.npz`; the
+//! Log sinks of a hand-off, each optional and independent: MCAP (its JSON profile, or its ROS 2
+//! profile), Rerun, CSV, NumPy `.npz`; the
 //! files a run writes opened for them; and what they share (the trait, the drawing's scale and
 //! colours, fingertip drawings, element maps, the Foxglove scene, the Rerun layout).
 
@@ -19,6 +20,11 @@ pub mod patch_views;
 pub mod rerun_grid_maps;
 pub mod rerun_layout;
 pub mod rerun_log;
+pub mod ros2_definitions;
+pub mod ros2_log;
+pub mod ros2_messages;
+pub mod ros2_patch_images;
+pub mod ros2_scene_markers;
 pub mod sensor_columns;
 pub mod shared_spring_drawing;
 pub mod sink;

@@ -11,14 +11,54 @@ use super::csv_history::CsvSink;
 use super::mcap_log::McapSink;
 use super::npz_steps::NpzSink;
 use super::rerun_log::RerunSink;
+use super::ros2_log::Ros2McapSink;
 use super::sink::Sink;
 use crate::error::TransferError;
+
+/// What the MCAP log holds.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub enum McapProfile {
+    /// JSON messages with JSON Schemas, for Foxglove (`super::mcap_log`).
+    #[default]
+    Json,
+    /// CDR-encoded ROS 2 messages with `ros2msg` schemas, as `ros2 bag record` writes them
+    /// (`super::ros2_log`), stamped `start_ns` nanoseconds after the Unix epoch plus the
+    /// schedule's time.
+    Ros2 {
+        /// The stamp of schedule time 0, ns after the Unix epoch.
+        start_ns: u64,
+    },
+}
+
+impl McapProfile {
+    /// The ROS 2 profile whose schedule time 0 is stamped `start_s` seconds after the Unix
+    /// epoch; `Err` (what to give instead) outside `[0, 2^31 - 1)`, the seconds a ROS 2 stamp
+    /// holds.
+    pub fn ros2_from(start_s: f64) -> Result<Self, String> {
+        let largest = i32::MAX as f64;
+        if !(0.0..largest).contains(&start_s) {
+            return Err(format!(
+                "give the seconds after the Unix epoch, in [0, {largest}) (a ROS 2 stamp's \
+                 seconds are a 32-bit integer)"
+            ));
+        }
+        // Whole seconds and the fraction apart: `start_s * 1e9` would round a recent epoch time's
+        // fraction to 256 ns.
+        let whole = start_s.floor();
+        let fraction_ns = ((start_s - whole) * 1e9).round() as u64;
+        Ok(McapProfile::Ros2 {
+            start_ns: whole as u64 * 1_000_000_000 + fraction_ns,
+        })
+    }
+}
 
 /// The targets asked for (none: no file of that kind).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct OutputPaths<'a> {
     /// The MCAP log.
     pub mcap: Option<&'a Path>,
+    /// What it holds.
+    pub mcap_profile: McapProfile,
     /// The Rerun recording (`.rrd`).
     pub rrd: Option<&'a Path>,
     /// The CSV force history.
@@ -42,6 +82,7 @@ pub enum OpenError {
 /// removed when dropped unless taken ([`OutputFiles::take_pending`]) and committed.
 pub struct OutputFiles {
     mcap: Option<McapSink>,
+    ros2: Option<Ros2McapSink>,
     rrd: Option<RerunSink>,
     csv: Option<CsvSink>,
     npz: Option<NpzSink>,
@@ -54,6 +95,7 @@ impl OutputFiles {
     pub fn open(outputs: &OutputSet, paths: OutputPaths<'_>) -> Result<OutputFiles, OpenError> {
         let mut files = OutputFiles {
             mcap: None,
+            ros2: None,
             rrd: None,
             csv: None,
             npz: None,
@@ -61,7 +103,12 @@ impl OutputFiles {
         };
         if let Some(t) = paths.mcap {
             let p = outputs.create(t)?;
-            files.mcap = Some(McapSink::from_file(p.file_handle()?, t)?);
+            match paths.mcap_profile {
+                McapProfile::Json => files.mcap = Some(McapSink::from_file(p.file_handle()?, t)?),
+                McapProfile::Ros2 { start_ns } => {
+                    files.ros2 = Some(Ros2McapSink::from_file(p.file_handle()?, t, start_ns)?)
+                }
+            }
             files.pending.push(p);
         }
         if let Some(t) = paths.rrd {
@@ -87,6 +134,9 @@ impl OutputFiles {
     pub fn sinks<'a>(&'a mut self, live: Option<&'a mut RerunSink>) -> Vec<&'a mut dyn Sink> {
         let mut v: Vec<&mut dyn Sink> = Vec::new();
         if let Some(s) = self.mcap.as_mut() {
+            v.push(s);
+        }
+        if let Some(s) = self.ros2.as_mut() {
             v.push(s);
         }
         if let Some(s) = self.rrd.as_mut() {
@@ -115,6 +165,9 @@ impl OutputFiles {
     /// front end that runs: `respell` rewrites a library text (`grasp_model::option_names`).
     pub fn respell_options(&mut self, respell: fn(&str) -> String) {
         if let Some(s) = self.mcap.as_mut() {
+            s.respell_options(respell);
+        }
+        if let Some(s) = self.ros2.as_mut() {
             s.respell_options(respell);
         }
         if let Some(s) = self.csv.as_mut() {

@@ -1,0 +1,420 @@
+//! The MCAP log's ROS 2 profile (`--mcap-profile ros2`): the hand-off as `ros2 bag record`
+//! would have recorded it, CDR-encoded standard messages with `ros2msg` schemas
+//! ([`super::ros2_definitions`], [`super::ros2_messages`]), one MCAP file with the `ros2`
+//! profile, which `ros2 bag info`, `ros2 bag play` (with `-s mcap` before Iron), PlotJuggler,
+//! Foxglove and the Python readers of rosbag2 (`rosbags`, `mcap-ros2-support`) open as it is.
+//!
+//! Topics (`<finger>` each scene finger's name):
+//! - `/tf_static` (`tf2_msgs/msg/TFMessage`, once, transient-local): `world` to each
+//!   `<finger>/contact` (origin the contact point; x, y, z along `t1`, `t2` and the inward
+//!   normal);
+//! - `/tf` (`tf2_msgs/msg/TFMessage`, every step): `world` to `object` (the object's centre
+//!   of mass and orientation after the step's rigid displacement);
+//! - `/grasp/<finger>/wrench` (`geometry_msgs/msg/WrenchStamped`, every step, frame
+//!   `<finger>/contact`): the force the finger puts on the object (x, y: friction along `t1`,
+//!   `t2`; z: the normal force) and its moment about the contact point (zero while released);
+//! - `/grasp/<finger>/pressure` (`sensor_msgs/msg/Image`, `32FC1`, Pa) and
+//!   `/grasp/<finger>/contact_state` (`mono8`: 0 stick, 1 slip, 2 separated, 3 off the
+//!   surface, 4 in contact without friction), each step the finger is in the grasp, frame
+//!   `<finger>/contact`: pixel (column `i`, row `j`) is element `(i, j)`, columns along `t1`
+//!   and rows along `t2`, as a camera whose optical z is the normal lays out its image;
+//! - for a finger with a sensor, the same layout: `/grasp/<finger>/taxels` (`32FC3`: each
+//!   taxel's `[normal, t1, t2]` force, N), `/grasp/<finger>/markers` (`32FC3`: each marker's
+//!   `[normal, t1, t2]` displacement, m), `/grasp/<finger>/gel` (`rgb8`) and
+//!   `/grasp/<finger>/gel_height` (`32FC1`, m);
+//! - `/grasp/step` (`grasp_msgs/msg/StepReport`, every step): the solve's outcome and work,
+//!   the margin and every finger's state (`ros2/grasp_msgs`);
+//! - `/grasp/scene` (`visualization_msgs/msg/MarkerArray`): the object, contacts and
+//!   fingertips once, then every step the force arrows ([`super::ros2_scene_markers`]).
+//!
+//! Stamps (headers, and each record's log and publish time) are the schedule's time plus the
+//! start time asked for (0 by default: the Unix epoch), so a simulated hand-off can be laid
+//! beside a real recording. The run's warnings are metadata records as in the JSON profile.
+//! Nothing nondeterministic is written.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+
+use nalgebra::{UnitQuaternion, Vector3 as V3};
+use serde::Serialize;
+
+use super::drawing_scale::drawing_scale;
+use super::mcap_log::{warning_metadata, FingersMessage};
+use super::ros2_definitions::schema_text;
+use super::ros2_messages::{
+    cdr_message, contact_frame_id, FingerState, Header, Pose, StepReport, TfMessage, Time,
+    TransformStamped, WrenchStamped,
+};
+use super::ros2_patch_images::finger_images;
+use super::ros2_scene_markers::{force_markers, scene_markers, ArrowScale};
+use super::sink::{io_err, io_err_chain, RunInfo, Sink};
+use crate::error::TransferError;
+use crate::stepper::StepRecord;
+use grasp_model::{SolveAt, WarningTally};
+
+/// The offered QoS of a recorded topic as rosbag2 stores it (`offered_qos_profiles`):
+/// reliable, keep-last `depth`, volatile or (`/tf_static`) transient-local, every duration
+/// unset (rmw's "infinite").
+fn qos_yaml(depth: u32, transient_local: bool) -> String {
+    let infinite = "\n    sec: 9223372036\n    nsec: 854775807";
+    format!(
+        "- history: 1\n  depth: {depth}\n  reliability: 1\n  durability: {}\n  deadline:{infinite}\n  \
+         lifespan:{infinite}\n  liveliness: 1\n  liveliness_lease_duration:{infinite}\n  \
+         avoid_ros_namespace_conventions: false\n",
+        if transient_local { 1 } else { 2 }
+    )
+}
+
+/// Why `name` cannot be a token of a ROS 2 topic or frame name (letters, digits and
+/// underscores, not starting with a digit), if it cannot.
+pub fn ros_name_problem(name: &str) -> Option<String> {
+    let ok = name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && name.chars().next().is_some_and(|c| !c.is_ascii_digit());
+    (!ok).then(|| {
+        format!(
+            "finger name {name:?} cannot be part of a ROS 2 topic name (letters, digits and \
+             underscores only, not starting with a digit): rename the finger in the scene to \
+             write the ros2 MCAP profile"
+        )
+    })
+}
+
+/// The channels of one finger.
+#[derive(Debug, Clone, Default)]
+struct FingerChannels {
+    wrench: u16,
+    /// Topic name's last part and channel, per image kind the finger has.
+    images: BTreeMap<&'static str, u16>,
+}
+
+/// Writes an MCAP file of the ROS 2 profile.
+pub struct Ros2McapSink {
+    path: PathBuf,
+    writer: Option<mcap::Writer<BufWriter<File>>>,
+    start_ns: u64,
+    schemas: BTreeMap<&'static str, u16>,
+    step_channel: u16,
+    tf_channel: u16,
+    tf_static_channel: u16,
+    scene_channel: u16,
+    fingers: Vec<(String, FingerChannels)>,
+    /// Scene size, m, and the force arrows' scale, m per N.
+    drawing: (f64, f64),
+    static_sent: bool,
+    sequence: u32,
+    warnings: WarningTally,
+    respell: fn(&str) -> String,
+}
+
+impl Ros2McapSink {
+    /// Writes to an open file (`path` names it in errors); stamps start `start_ns` after the
+    /// Unix epoch.
+    pub fn from_file(file: File, path: &Path, start_ns: u64) -> Result<Self, TransferError> {
+        let writer = mcap::WriteOptions::new()
+            .profile("ros2")
+            .library(concat!("grasp-transfer ", env!("CARGO_PKG_VERSION")))
+            .create(BufWriter::new(file))
+            .map_err(|e| io_err_chain("mcap", path, &e))?;
+        Ok(Ros2McapSink {
+            path: path.to_path_buf(),
+            writer: Some(writer),
+            start_ns,
+            schemas: BTreeMap::new(),
+            step_channel: 0,
+            tf_channel: 0,
+            tf_static_channel: 0,
+            scene_channel: 0,
+            fingers: Vec::new(),
+            drawing: (1.0, 1.0),
+            static_sent: false,
+            sequence: 0,
+            warnings: WarningTally::new(),
+            respell: str::to_string,
+        })
+    }
+
+    /// Writes the warnings with the option names of the front end that runs.
+    pub fn respell_options(&mut self, respell: fn(&str) -> String) {
+        self.respell = respell;
+    }
+
+    fn err(&self, e: impl std::fmt::Display) -> TransferError {
+        io_err("mcap", &self.path, e)
+    }
+
+    fn writer(&mut self) -> Result<&mut mcap::Writer<BufWriter<File>>, TransferError> {
+        let path = self.path.clone();
+        self.writer
+            .as_mut()
+            .ok_or_else(|| io_err("mcap", &path, "already finished"))
+    }
+
+    /// A channel on `topic` of message type `ty` (its schema added once).
+    fn channel(&mut self, ty: &'static str, topic: &str, depth: u32) -> Result<u16, TransferError> {
+        let schema = match self.schemas.get(ty) {
+            Some(&id) => id,
+            None => {
+                let text = schema_text(ty).ok_or_else(|| self.err(format!("no schema {ty}")))?;
+                let id = self.writer()?.add_schema(ty, "ros2msg", text.as_bytes());
+                let id = id.map_err(|e| self.err(e))?;
+                self.schemas.insert(ty, id);
+                id
+            }
+        };
+        let qos = qos_yaml(depth, topic == "/tf_static");
+        let metadata = BTreeMap::from([("offered_qos_profiles".to_string(), qos)]);
+        let id = self.writer()?.add_channel(schema, topic, "cdr", &metadata);
+        id.map_err(|e| self.err(e))
+    }
+
+    /// The stamp of schedule time `time_s`, s, in nanoseconds after the epoch.
+    fn stamp_ns(&self, time_s: f64) -> u64 {
+        self.start_ns
+            .saturating_add((time_s.max(0.0) * 1e9).round() as u64)
+    }
+
+    fn write<T: Serialize>(&mut self, channel: u16, ns: u64, m: &T) -> Result<(), TransferError> {
+        let data = cdr_message(m).map_err(|e| self.err(e))?;
+        self.sequence = self.sequence.wrapping_add(1);
+        let header = mcap::records::MessageHeader {
+            channel_id: channel,
+            sequence: self.sequence,
+            log_time: ns,
+            publish_time: ns,
+        };
+        let r = self.writer()?.write_to_known_channel(&header, &data);
+        r.map_err(|e| self.err(e))
+    }
+
+    /// Each finger's channels: its wrench and its images (those its patch and sensor give).
+    fn finger_channels(&mut self, run: &RunInfo) -> Result<(), TransferError> {
+        for spec in &run.scene.fingers {
+            let name = spec.name.clone();
+            let wrench = self.channel(
+                "geometry_msgs/msg/WrenchStamped",
+                &format!("/grasp/{name}/wrench"),
+                10,
+            )?;
+            let mut images = BTreeMap::new();
+            for kind in super::ros2_patch_images::image_kinds(spec) {
+                let topic = format!("/grasp/{name}/{kind}");
+                images.insert(kind, self.channel("sensor_msgs/msg/Image", &topic, 10)?);
+            }
+            self.fingers.push((name, FingerChannels { wrench, images }));
+        }
+        Ok(())
+    }
+}
+
+/// `world` to each finger's contact frame, stamped `stamp`.
+fn contact_transforms(run: &RunInfo, stamp: Time) -> TfMessage {
+    let transforms = run
+        .model
+        .fingers()
+        .iter()
+        .map(|f| {
+            let fr = f.frame();
+            let axes = nalgebra::Matrix3::from_columns(&[fr.t1, fr.t2, fr.normal]);
+            let rotation = nalgebra::Rotation3::from_matrix(&axes);
+            TransformStamped {
+                header: Header {
+                    stamp,
+                    frame_id: "world".into(),
+                },
+                child_frame_id: contact_frame_id(f.name()),
+                transform: Pose {
+                    position: fr.origin_m.into(),
+                    orientation: UnitQuaternion::from_rotation_matrix(&rotation).into(),
+                },
+            }
+        })
+        .collect();
+    TfMessage { transforms }
+}
+
+/// `world` to `object`: the centre of mass moved and turned by the step's rigid displacement
+/// (none: the reference pose).
+fn object_transform(run: &RunInfo, r: &StepRecord, stamp: Time) -> TfMessage {
+    let com = run.model.center_of_mass_m();
+    let (t, w) = r
+        .solution
+        .rigid_displacement
+        .map_or((V3::zeros(), V3::zeros()), |d| {
+            (V3::from(d.translation_m), V3::from(d.rotation_rad))
+        });
+    TfMessage {
+        transforms: vec![TransformStamped {
+            header: Header {
+                stamp,
+                frame_id: "world".into(),
+            },
+            child_frame_id: "object".into(),
+            transform: Pose {
+                position: (com + t).into(),
+                orientation: UnitQuaternion::from_scaled_axis(w).into(),
+            },
+        }],
+    }
+}
+
+/// Finger `name`'s wrench on the object in its contact frame at `stamp`: force `(Q t1, Q t2,
+/// P)` and moment about the contact point `(P c2, -P c1, M_n)`, `c` the centre of pressure in
+/// the frame (the element forces act in the patch's plane); zero when not in the grasp.
+fn finger_wrench(run: &RunInfo, r: &StepRecord, name: &str, stamp: Time) -> WrenchStamped {
+    let model = run.model.fingers().iter().find(|m| m.name() == name);
+    let (force, torque) = match (model, r.solution.finger(name)) {
+        (Some(m), Some(f)) => {
+            let fr = m.frame();
+            let q = V3::from(f.tangential_force_n);
+            let c = V3::from(f.center_of_pressure_m) - fr.origin_m;
+            let p = f.normal_force_n;
+            (
+                V3::new(q.dot(&fr.t1), q.dot(&fr.t2), p),
+                V3::new(p * c.dot(&fr.t2), -p * c.dot(&fr.t1), f.torsional_moment_nm),
+            )
+        }
+        _ => (V3::zeros(), V3::zeros()),
+    };
+    WrenchStamped {
+        header: Header {
+            stamp,
+            frame_id: contact_frame_id(name),
+        },
+        force: force.into(),
+        torque: torque.into(),
+    }
+}
+
+/// The `grasp_msgs/msg/StepReport` of step `r` at `stamp`.
+fn step_report(r: &StepRecord, stamp: Time) -> StepReport {
+    let m = FingersMessage::from_record(r);
+    let fingers = m
+        .fingers
+        .iter()
+        .map(|f| {
+            let s = r.solution.finger(&f.name);
+            let contact = s.map_or(0, |s| s.stick_count + s.slip_count + s.frictionless_count);
+            let stick = s.map_or(0, |s| s.stick_count);
+            FingerState {
+                name: f.name.clone(),
+                control: f.control.clone(),
+                commanded_load_n: f.commanded_load_n,
+                commanded_approach_m: f.commanded_approach_m,
+                normal_force_n: f.normal_force_n,
+                friction_force_n: f.tangential_magnitude_n,
+                torsional_moment_nm: f.torsional_moment_nm,
+                friction_utilization: f.friction_utilization,
+                stick_fraction: if contact > 0 {
+                    stick as f64 / contact as f64
+                } else {
+                    0.0
+                },
+                slip_fraction: f.slip_fraction,
+            }
+        })
+        .collect();
+    StepReport {
+        header: Header {
+            stamp,
+            frame_id: "world".into(),
+        },
+        step: r.index as u32,
+        status: m.status,
+        reason: m.reason.unwrap_or_default(),
+        solver: m.solver,
+        warm_start: m.warm_start,
+        iterations: m.iterations,
+        factorizations: m.factorizations,
+        inner_iterations: m.inner_iterations,
+        equilibrium_residual: m.equilibrium_residual.unwrap_or(f64::NAN),
+        smallest_margin_n: m.smallest_margin_n.unwrap_or(f64::NAN),
+        margin_held_to_n: m.margin_held_to_n.unwrap_or(f64::NAN),
+        margin_failing_finger: m.margin_failing_finger.unwrap_or_default(),
+        fingers,
+    }
+}
+
+impl Sink for Ros2McapSink {
+    fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
+        if let Some(problem) = run
+            .scene
+            .fingers
+            .iter()
+            .find_map(|f| ros_name_problem(&f.name))
+        {
+            return Err(self.err(problem));
+        }
+        self.drawing = drawing_scale(run.model);
+        self.tf_static_channel = self.channel("tf2_msgs/msg/TFMessage", "/tf_static", 1)?;
+        self.tf_channel = self.channel("tf2_msgs/msg/TFMessage", "/tf", 10)?;
+        self.step_channel = self.channel("grasp_msgs/msg/StepReport", "/grasp/step", 10)?;
+        self.scene_channel =
+            self.channel("visualization_msgs/msg/MarkerArray", "/grasp/scene", 10)?;
+        self.finger_channels(run)
+    }
+
+    fn step(&mut self, run: &RunInfo, r: &StepRecord) -> Result<(), TransferError> {
+        let at = SolveAt {
+            index: r.index,
+            time_s: Some(r.time_s),
+        };
+        self.warnings.add(at, &r.solution.warnings);
+        let ns = self.stamp_ns(r.time_s);
+        let stamp = Time::from_ns(ns);
+        let (size_m, m_per_n) = self.drawing;
+        if !self.static_sent {
+            self.write(self.tf_static_channel, ns, &contact_transforms(run, stamp))?;
+            self.write(self.scene_channel, ns, &scene_markers(run, stamp, size_m))?;
+            self.static_sent = true;
+        }
+        self.write(self.tf_channel, ns, &object_transform(run, r, stamp))?;
+        self.write(self.step_channel, ns, &step_report(r, stamp))?;
+        for (name, channels) in self.fingers.clone() {
+            self.write(channels.wrench, ns, &finger_wrench(run, r, &name, stamp))?;
+            for (kind, image) in finger_images(run, r, &name, stamp) {
+                if let Some(&channel) = channels.images.get(kind) {
+                    self.write(channel, ns, &image)?;
+                }
+            }
+        }
+        let arrows = force_markers(run, r, stamp, ArrowScale { m_per_n, size_m });
+        self.write(self.scene_channel, ns, &arrows)
+    }
+
+    fn finish(&mut self) -> Result<(), TransferError> {
+        if let Some(mut w) = self.writer.take() {
+            for warning in self.warnings.warnings() {
+                w.write_metadata(&warning_metadata(&warning, self.respell))
+                    .map_err(|e| self.err(e))?;
+            }
+            w.finish().map_err(|e| self.err(e))?;
+            let file = w
+                .into_inner()
+                .into_inner()
+                .map_err(|e| self.err(e.error()))?;
+            file.sync_all().map_err(|e| self.err(e))?;
+        }
+        Ok(())
+    }
+
+    fn abort(&mut self) {
+        self.writer.take();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finger_names_that_cannot_be_topic_names_are_refused_by_name() {
+        assert!(ros_name_problem("f1").is_none());
+        assert!(ros_name_problem("left_jaw").is_none());
+        for bad in ["left jaw", "1st", "a-b", ""] {
+            let why = ros_name_problem(bad).expect(bad);
+            assert!(why.contains(&format!("{bad:?}")), "{why}");
+        }
+    }
+}
