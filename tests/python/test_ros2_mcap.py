@@ -19,6 +19,7 @@ their hypotenuse rounds).
 import hashlib
 import json
 import math
+import re
 import subprocess
 from pathlib import Path
 
@@ -106,12 +107,24 @@ def test_every_message_decodes_with_both_readers_and_the_forces_are_the_csvs(run
                 assert close(math.hypot(force.x, force.y), float(row[f"{finger}_friction_n"])), (finger, row["step"])
 
 
-def test_the_step_reports_carry_the_csvs_numbers(run_cli, tmp_path):
+def test_the_step_reports_carry_the_csvs_numbers_and_the_summarys_slip_margin(run_cli, tmp_path):
     path, csv = record(run_cli, tmp_path, "plate_handoff_coulomb")
     rows = csv_rows(csv)
     reports = [m for topic, _, _, m in decoded_by_rosbags(path, "ROS2_JAZZY") if topic == "/grasp/step"]
     assert len(reports) == len(rows)
+    # The run's smallest slip margin, finger and time, as the summary prints them (at most 4
+    # decimals: 5e-5).
+    summary = run_cli("transfer", EXAMPLES / "plate_handoff_coulomb.json", "--schedule",
+                      EXAMPLES / "plate_handoff_coulomb.schedule.json", "--quiet").stdout
+    found = re.search(r"smallest slip margin 1 - \|Q\|/\(mu P\): ([-0-9.e]+) \((\w+) at t = ([0-9.]+) s", summary)
+    low = min((r for r in reports if not math.isnan(r.smallest_slip_margin)), key=lambda r: r.smallest_slip_margin)
+    assert abs(low.smallest_slip_margin - float(found[1])) <= 5e-5, (low.smallest_slip_margin, found[0])
+    assert low.slip_margin_finger == found[2] and f"{float(rows[low.step]['time_s']):.3f}" == found[3]
     for row, r in zip(rows, reports):
+        counted = [f.slip_margin for f in r.fingers if f.slip_margin_counted]
+        assert r.smallest_slip_margin == min(counted) if counted else math.isnan(r.smallest_slip_margin)
+        for f in r.fingers:
+            assert f.slip_margin == 1.0 - f.friction_utilization or (math.isnan(f.slip_margin) and not f.slip_margin_counted)
         assert (r.step, r.status, r.solver, r.iterations) == (int(row["step"]), row["status"], row["solver"], int(row["iterations"]))
         for f in r.fingers:
             assert f.normal_force_n == float(row[f"{f.name}_normal_force_n"])

@@ -41,7 +41,7 @@ use nalgebra::{UnitQuaternion, Vector3 as V3};
 use serde::Serialize;
 
 use super::drawing_scale::drawing_scale;
-use super::mcap_log::{warning_metadata, FingersMessage};
+use super::mcap_log::{warning_metadata, FingerMessage, FingersMessage};
 use super::ros2_definitions::schema_text;
 use super::ros2_messages::{
     cdr_message, contact_frame_id, FingerState, Header, Pose, StepReport, TfMessage, Time,
@@ -51,8 +51,9 @@ use super::ros2_patch_images::finger_images;
 use super::ros2_scene_markers::{force_markers, scene_markers, ArrowScale};
 use super::sink::{io_err, io_err_chain, RunInfo, Sink};
 use crate::error::TransferError;
+use crate::slip_margin::{carrying, slip_margin, step_slip_margins};
 use crate::stepper::StepRecord;
-use grasp_model::{SolveAt, WarningTally};
+use grasp_model::{FingerSolution, SolveAt, WarningTally};
 
 /// The offered QoS of a recorded topic as rosbag2 stores it (`offered_qos_profiles`):
 /// reliable, keep-last `depth`, volatile or (`/tf_static`) transient-local, every duration
@@ -287,34 +288,48 @@ fn finger_wrench(run: &RunInfo, r: &StepRecord, name: &str, stamp: Time) -> Wren
     }
 }
 
+/// Finger `f`'s `grasp_msgs/msg/FingerState` (`s`: its solution, when in the grasp) in a
+/// solution of load scale `load_scale_n` (N) that has forces when `solved`.
+fn finger_state(
+    f: &FingerMessage,
+    s: Option<&FingerSolution>,
+    solved: bool,
+    load_scale_n: f64,
+) -> FingerState {
+    let contact = s.map_or(0, |s| s.stick_count + s.slip_count + s.frictionless_count);
+    let stick = s.map_or(0, |s| s.stick_count);
+    let frictional = s.filter(|s| solved && s.friction_coefficient > 0.0);
+    FingerState {
+        name: f.name.clone(),
+        control: f.control.clone(),
+        commanded_load_n: f.commanded_load_n,
+        commanded_approach_m: f.commanded_approach_m,
+        normal_force_n: f.normal_force_n,
+        friction_force_n: f.tangential_magnitude_n,
+        torsional_moment_nm: f.torsional_moment_nm,
+        friction_utilization: f.friction_utilization,
+        slip_margin: frictional.map_or(f64::NAN, slip_margin),
+        slip_margin_counted: frictional.is_some_and(|s| carrying(s, load_scale_n)),
+        stick_fraction: if contact > 0 {
+            stick as f64 / contact as f64
+        } else {
+            0.0
+        },
+        slip_fraction: f.slip_fraction,
+    }
+}
+
 /// The `grasp_msgs/msg/StepReport` of step `r` at `stamp`.
 fn step_report(r: &StepRecord, stamp: Time) -> StepReport {
     let m = FingersMessage::from_record(r);
+    let sol = &r.solution;
+    let solved = sol.status.has_forces();
     let fingers = m
         .fingers
         .iter()
-        .map(|f| {
-            let s = r.solution.finger(&f.name);
-            let contact = s.map_or(0, |s| s.stick_count + s.slip_count + s.frictionless_count);
-            let stick = s.map_or(0, |s| s.stick_count);
-            FingerState {
-                name: f.name.clone(),
-                control: f.control.clone(),
-                commanded_load_n: f.commanded_load_n,
-                commanded_approach_m: f.commanded_approach_m,
-                normal_force_n: f.normal_force_n,
-                friction_force_n: f.tangential_magnitude_n,
-                torsional_moment_nm: f.torsional_moment_nm,
-                friction_utilization: f.friction_utilization,
-                stick_fraction: if contact > 0 {
-                    stick as f64 / contact as f64
-                } else {
-                    0.0
-                },
-                slip_fraction: f.slip_fraction,
-            }
-        })
+        .map(|f| finger_state(f, sol.finger(&f.name), solved, sol.load_scale_n))
         .collect();
+    let smallest = step_slip_margins(sol).counted;
     StepReport {
         header: Header {
             stamp,
@@ -328,6 +343,8 @@ fn step_report(r: &StepRecord, stamp: Time) -> StepReport {
         iterations: m.iterations,
         factorizations: m.factorizations,
         inner_iterations: m.inner_iterations,
+        smallest_slip_margin: smallest.map_or(f64::NAN, |s| s.margin),
+        slip_margin_finger: smallest.map_or(String::new(), |s| s.finger.to_string()),
         equilibrium_residual: m.equilibrium_residual.unwrap_or(f64::NAN),
         smallest_margin_n: m.smallest_margin_n.unwrap_or(f64::NAN),
         margin_held_to_n: m.margin_held_to_n.unwrap_or(f64::NAN),

@@ -250,6 +250,10 @@ pub struct FingerState {
     pub torsional_moment_nm: f64,
     /// `|Q| / (mu P)`.
     pub friction_utilization: f64,
+    /// `1 - |Q| / (mu P)`; NaN for a frictionless finger or one not in the grasp.
+    pub slip_margin: f64,
+    /// Counted in the step's smallest slip margin.
+    pub slip_margin_counted: bool,
     /// Of the elements in contact.
     pub stick_fraction: f64,
     /// Of the elements in contact.
@@ -277,6 +281,10 @@ pub struct StepReport {
     pub factorizations: u32,
     /// Conjugate-gradient iterations.
     pub inner_iterations: u32,
+    /// The smallest counted slip margin; NaN when none counts.
+    pub smallest_slip_margin: f64,
+    /// Its finger; empty when none counts.
+    pub slip_margin_finger: String,
     /// NaN when absent.
     pub equilibrium_residual: f64,
     /// N; NaN when absent, infinite when unbounded.
