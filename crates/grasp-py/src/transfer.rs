@@ -24,9 +24,15 @@ use crate::outputs::{claim, output_error};
 use crate::scene::Scene;
 use crate::solution::{tangents_by_name, Solution, Tangents};
 
-/// The MCAP profile `name` with its start time `start_s` (s after the Unix epoch; ros2 only).
-fn profile(name: &str, start_s: Option<f64>) -> PyResult<McapProfile> {
+/// The MCAP profile `name` with its start time `start_s` (s after the Unix epoch; ros2 only)
+/// of an MCAP that is written when `mcap` (as the CLI, which refuses them without `--mcap`).
+fn profile(name: &str, start_s: Option<f64>, mcap: bool) -> PyResult<McapProfile> {
     let bad = |m: String| pyo3::exceptions::PyValueError::new_err(m);
+    if !mcap && (name != "json" || start_s.is_some()) {
+        return Err(bad(
+            "mcap_profile= and ros2_start_time= describe the MCAP file: give mcap= too".into(),
+        ));
+    }
     match (name, start_s) {
         ("json", None) => Ok(McapProfile::Json),
         ("json", Some(_)) => Err(bad(
@@ -163,7 +169,7 @@ pub fn transfer(
 ) -> PyResult<Transfer> {
     check_progress(py, progress.as_ref())?;
     let max_memory = max_memory.map(memory_limit).transpose()?;
-    let mcap_profile = profile(mcap_profile, ros2_start_time)?;
+    let mcap_profile = profile(mcap_profile, ros2_start_time, mcap.is_some())?;
     let mut solve = crate::solve::solve_options(solver, 1e-10)?;
     solve.compliance = crate::solve::compliance_choice(compliance)?;
     let options = TransferOptions {

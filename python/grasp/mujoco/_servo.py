@@ -239,7 +239,8 @@ def joint_stiffness(mujoco, model, data, j, name):
                "drive the jaw's joint by joint actuators, or control='mujoco-force'")
     if not k > 0:
         refuse(name, f"joint '{model.joint(j).name}' has no stiffness (no position actuator, no joint stiffness)",
-               "give it a position actuator or a joint stiffness, or control='mujoco-force'")
+               "give it a position actuator (a URDF has none: an MJCF that attaches the URDF and adds "
+               "one, docs/guide/mujoco.md \"URDF grippers\") or a joint stiffness, or control='mujoco-force'")
     return k, applied + spring
 
 

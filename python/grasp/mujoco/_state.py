@@ -71,8 +71,9 @@ def load_model(path, *, mesh_dir=None, fuse_static=None, balance_inertia=False):
         return load_urdf(mujoco, p, root, **urdf)
     given = given_options(**urdf)
     if given:
+        why = "a binary model" if root is None else "its root element is not <robot>"
         raise ModelLoadError(f"{' and '.join(given)} {'applies' if len(given) == 1 else 'apply'} to a URDF model "
-                             f"only; {p} is not one (its root element is not <robot>)",
+                             f"only; {p} is not one ({why})",
                              "leave them out: an MJCF sets them in its <compiler> "
                              "(meshdir, fusestatic, balanceinertia)")
     if root is not None:

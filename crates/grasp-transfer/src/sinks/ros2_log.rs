@@ -8,9 +8,9 @@
 //! - `/tf_static` (`tf2_msgs/msg/TFMessage`, once, transient-local): `world` to each
 //!   `<finger>/contact` (origin the contact point; x, y, z along `t1`, `t2` and the inward
 //!   normal);
-//! - `/tf` (`tf2_msgs/msg/TFMessage`, every step): `world` to `object` (the object's centre
-//!   of mass and orientation after the step's rigid displacement);
-//! - `/grasp/<finger>/wrench` (`geometry_msgs/msg/WrenchStamped`, every step, frame
+//! - `/tf` (`tf2_msgs/msg/TFMessage`, every solved step): `world` to `object` (the object's
+//!   centre of mass and orientation after the step's rigid displacement);
+//! - `/grasp/<finger>/wrench` (`geometry_msgs/msg/WrenchStamped`, every solved step, frame
 //!   `<finger>/contact`): the force the finger puts on the object (x, y: friction along `t1`,
 //!   `t2`; z: the normal force) and its moment about the contact point (zero while released);
 //! - `/grasp/<finger>/pressure` (`sensor_msgs/msg/Image`, `32FC1`, Pa) and
@@ -26,6 +26,10 @@
 //!   the margin and every finger's state (`ros2/grasp_msgs`);
 //! - `/grasp/scene` (`visualization_msgs/msg/MarkerArray`): the object, contacts and
 //!   fingertips once, then every step the force arrows ([`super::ros2_scene_markers`]).
+//!
+//! A step without forces (no equilibrium, no convergence: `--keep-going`) has its
+//! `/grasp/step` report, which says why, and deletes the force arrows; it writes no wrench, no
+//! image and no `/tf` (tf2 keeps the last pose).
 //!
 //! Stamps (headers, and each record's log and publish time) are the schedule's time plus the
 //! start time asked for (0 by default: the Unix epoch), so a simulated hand-off can be laid
@@ -45,7 +49,7 @@ use super::mcap_log::{warning_metadata, FingerMessage, FingersMessage};
 use super::ros2_definitions::schema_text;
 use super::ros2_messages::{
     cdr_message, contact_frame_id, FingerState, Header, Pose, StepReport, TfMessage, Time,
-    TransformStamped, WrenchStamped,
+    TransformStamped, WrenchStamped, OBJECT_FRAME,
 };
 use super::ros2_patch_images::finger_images;
 use super::ros2_scene_markers::{force_markers, scene_markers, ArrowScale};
@@ -102,7 +106,7 @@ pub struct Ros2McapSink {
     scene_channel: u16,
     fingers: Vec<(String, FingerChannels)>,
     /// Scene size, m, and the force arrows' scale, m per N.
-    drawing: (f64, f64),
+    drawing: ArrowScale,
     static_sent: bool,
     sequence: u32,
     warnings: WarningTally,
@@ -128,7 +132,10 @@ impl Ros2McapSink {
             tf_static_channel: 0,
             scene_channel: 0,
             fingers: Vec::new(),
-            drawing: (1.0, 1.0),
+            drawing: ArrowScale {
+                m_per_n: 1.0,
+                size_m: 1.0,
+            },
             static_sent: false,
             sequence: 0,
             warnings: WarningTally::new(),
@@ -187,6 +194,29 @@ impl Ros2McapSink {
         };
         let r = self.writer()?.write_to_known_channel(&header, &data);
         r.map_err(|e| self.err(e))
+    }
+
+    /// Every finger's wrench and images at a solved step `r`, stamped `stamp` (`ns`).
+    fn write_fingers(
+        &mut self,
+        run: &RunInfo,
+        r: &StepRecord,
+        ns: u64,
+        stamp: Time,
+    ) -> Result<(), TransferError> {
+        for i in 0..self.fingers.len() {
+            let (name, channels) = &self.fingers[i];
+            let wrench = (channels.wrench, finger_wrench(run, r, name, stamp));
+            let images: Vec<_> = finger_images(run, r, name, stamp)
+                .into_iter()
+                .filter_map(|(kind, image)| channels.images.get(kind).map(|&c| (c, image)))
+                .collect();
+            self.write(wrench.0, ns, &wrench.1)?;
+            for (channel, image) in images {
+                self.write(channel, ns, &image)?;
+            }
+        }
+        Ok(())
     }
 
     /// Each finger's channels: its wrench and its images (those its patch and sensor give).
@@ -251,7 +281,7 @@ fn object_transform(run: &RunInfo, r: &StepRecord, stamp: Time) -> TfMessage {
                 stamp,
                 frame_id: "world".into(),
             },
-            child_frame_id: "object".into(),
+            child_frame_id: OBJECT_FRAME.into(),
             transform: Pose {
                 position: (com + t).into(),
                 orientation: UnitQuaternion::from_scaled_axis(w).into(),
@@ -353,6 +383,17 @@ fn step_report(r: &StepRecord, stamp: Time) -> StepReport {
     }
 }
 
+/// Why a stamp cannot be written: schedule time `time_s` (s) is `ns` after the epoch, past
+/// what a ROS 2 stamp holds.
+fn past_2038(time_s: f64, ns: u64) -> String {
+    format!(
+        "schedule time {time_s} s would be stamped {} s after the Unix epoch, past 2038-01-19 \
+         03:14:07 UTC, the last a ROS 2 stamp holds (its seconds are a 32-bit integer): give an \
+         earlier start time (--ros2-start-time, ros2_start_time=)",
+        ns / 1_000_000_000
+    )
+}
+
 impl Sink for Ros2McapSink {
     fn begin(&mut self, run: &RunInfo) -> Result<(), TransferError> {
         if let Some(problem) = run
@@ -363,7 +404,8 @@ impl Sink for Ros2McapSink {
         {
             return Err(self.err(problem));
         }
-        self.drawing = drawing_scale(run.model);
+        let (size_m, m_per_n) = drawing_scale(run.model);
+        self.drawing = ArrowScale { m_per_n, size_m };
         self.tf_static_channel = self.channel("tf2_msgs/msg/TFMessage", "/tf_static", 1)?;
         self.tf_channel = self.channel("tf2_msgs/msg/TFMessage", "/tf", 10)?;
         self.step_channel = self.channel("grasp_msgs/msg/StepReport", "/grasp/step", 10)?;
@@ -379,24 +421,19 @@ impl Sink for Ros2McapSink {
         };
         self.warnings.add(at, &r.solution.warnings);
         let ns = self.stamp_ns(r.time_s);
-        let stamp = Time::from_ns(ns);
-        let (size_m, m_per_n) = self.drawing;
+        let stamp = Time::from_ns(ns).ok_or_else(|| self.err(past_2038(r.time_s, ns)))?;
         if !self.static_sent {
             self.write(self.tf_static_channel, ns, &contact_transforms(run, stamp))?;
-            self.write(self.scene_channel, ns, &scene_markers(run, stamp, size_m))?;
+            let scene = scene_markers(run, stamp, self.drawing.size_m);
+            self.write(self.scene_channel, ns, &scene)?;
             self.static_sent = true;
         }
-        self.write(self.tf_channel, ns, &object_transform(run, r, stamp))?;
         self.write(self.step_channel, ns, &step_report(r, stamp))?;
-        for (name, channels) in self.fingers.clone() {
-            self.write(channels.wrench, ns, &finger_wrench(run, r, &name, stamp))?;
-            for (kind, image) in finger_images(run, r, &name, stamp) {
-                if let Some(&channel) = channels.images.get(kind) {
-                    self.write(channel, ns, &image)?;
-                }
-            }
+        if r.solution.status.has_forces() {
+            self.write(self.tf_channel, ns, &object_transform(run, r, stamp))?;
+            self.write_fingers(run, r, ns, stamp)?;
         }
-        let arrows = force_markers(run, r, stamp, ArrowScale { m_per_n, size_m });
+        let arrows = force_markers(run, r, stamp, self.drawing);
         self.write(self.scene_channel, ns, &arrows)
     }
 

@@ -13,6 +13,9 @@ pub fn contact_frame_id(name: &str) -> String {
     format!("{name}/contact")
 }
 
+/// The object's frame: its centre of mass, with the world's axes at the reference pose.
+pub const OBJECT_FRAME: &str = "object";
+
 /// `builtin_interfaces/msg/Time` (and `Duration`: the same fields).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Time {
@@ -23,13 +26,14 @@ pub struct Time {
 }
 
 impl Time {
-    /// The time `ns` nanoseconds after the epoch (clamped to what `Time` holds: 1970 to 2038).
-    pub fn from_ns(ns: u64) -> Self {
-        let sec = (ns / 1_000_000_000).min(i32::MAX as u64) as i32;
-        Time {
+    /// The time `ns` nanoseconds after the epoch; `None` past what `Time` holds (its seconds
+    /// are an `int32`: 2038-01-19).
+    pub fn from_ns(ns: u64) -> Option<Self> {
+        let sec = i32::try_from(ns / 1_000_000_000).ok()?;
+        Some(Time {
             sec,
             nanosec: (ns % 1_000_000_000) as u32,
-        }
+        })
     }
 
     /// Zero (a marker's lifetime of zero: forever).
@@ -207,10 +211,19 @@ pub struct Marker {
     pub text: String,
     /// Unused: empty.
     pub mesh_resource: String,
-    /// Unused: an empty `visualization_msgs/MeshFile` (file name, bytes).
-    pub mesh_file: (String, Bytes),
+    /// Unused: an empty `visualization_msgs/MeshFile`.
+    pub mesh_file: MeshFile,
     /// Unused: false.
     pub mesh_use_embedded_materials: bool,
+}
+
+/// `visualization_msgs/msg/MeshFile`.
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct MeshFile {
+    /// The file's name.
+    pub filename: String,
+    /// Its bytes.
+    pub data: Bytes,
 }
 
 /// `sensor_msgs/msg/CompressedImage`.
@@ -316,9 +329,16 @@ mod tests {
     /// A header at 1.5 s in frame "ab": int32 sec, uint32 nanosec, then the string (length
     /// with its terminator, bytes, NUL), each aligned to its size from the body's start.
     #[test]
+    fn a_stamp_past_2038_is_none_not_a_clamped_one() {
+        let last = i32::MAX as u64 * 1_000_000_000 + 999_999_999;
+        assert_eq!(Time::from_ns(last).map(|t| t.sec), Some(i32::MAX));
+        assert!(Time::from_ns(last + 1).is_none());
+    }
+
+    #[test]
     fn a_header_encodes_as_ros_2_cdr() {
         let h = Header {
-            stamp: Time::from_ns(1_500_000_000),
+            stamp: Time::from_ns(1_500_000_000).unwrap(),
             frame_id: "ab".into(),
         };
         let bytes = cdr_message(&h).unwrap();

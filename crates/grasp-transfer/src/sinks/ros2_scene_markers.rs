@@ -2,8 +2,9 @@
 //! topic, so rviz2 shows a hand-off replayed with `ros2 bag play`: the same drawing as the JSON
 //! profile's `foxglove.SceneUpdate` ([`super::foxglove_scene`]), in the `world` frame.
 //!
-//! - once, at the first step: the object (namespace `object`: its shape's triangles as a
-//!   `TRIANGLE_LIST`, or the box around the contacts as a `CUBE`), the contact points
+//! - once, at the first step: the object (namespace `object`, in the `object` frame and locked
+//!   to it: its shape's triangles as a `TRIANGLE_LIST`, or the box around the contacts as a
+//!   `CUBE`), the contact points
 //!   (`contacts`, one `SPHERE_LIST`) and each fingertip (`fingertips`, id = the finger's index
 //!   in the scene: a `SPHERE`, `CYLINDER` or `CUBE`);
 //! - every step: each finger's normal and friction force as `ARROW`s from the tail to the
@@ -11,7 +12,8 @@
 //!   `2 i + 1` friction, blue and orange, `arrow_m_per_n` m per N); an arrow too short to
 //!   draw (a released finger) is a `DELETE` of its id, so no stale arrow stays.
 //!
-//! Every marker lives until replaced (lifetime zero).
+//! Every marker but the object is in the `world` frame; every marker lives until replaced
+//! (lifetime zero).
 
 use nalgebra::{UnitQuaternion, Vector3 as V3};
 
@@ -19,7 +21,8 @@ use super::colour_key::{unit_rgb, FRICTION_FORCE_RGB, NORMAL_FORCE_RGB};
 use super::drawing_scale::contact_bounds;
 use super::fingertip_drawing::{tip_drawings, z_to, TipDrawing};
 use super::ros2_messages::{
-    Bytes, ColorRgba, CompressedImage, Header, Marker, MarkerArray, Pose, Time,
+    Bytes, ColorRgba, CompressedImage, Header, Marker, MarkerArray, MeshFile, Pose, Time,
+    OBJECT_FRAME,
 };
 use super::sink::RunInfo;
 use crate::stepper::StepRecord;
@@ -80,23 +83,25 @@ fn marker(stamp: Time, ns: &str, id: i32, kind: i32) -> Marker {
         uv_coordinates: Vec::new(),
         text: String::new(),
         mesh_resource: String::new(),
-        mesh_file: (String::new(), Bytes::default()),
+        mesh_file: MeshFile::default(),
         mesh_use_embedded_materials: false,
     }
 }
 
-/// The object: its surface's triangles, or the box around the contacts (`size_m`: the scene's
-/// size).
+/// The object in its own frame (`object`: the centre of mass, world axes at the reference
+/// pose), locked to it so it moves as `/tf` moves the object: its surface's triangles, or the
+/// box around the contacts (`size_m`: the scene's size).
 fn object_marker(run: &RunInfo, stamp: Time, size_m: f64) -> Marker {
     let g = run.model;
-    match g.object_surface() {
+    let com = g.center_of_mass_m();
+    let mut m = match g.object_surface() {
         Some(s) => {
             let mut m = marker(stamp, "object", 0, TRIANGLE_LIST);
             m.points = s
                 .triangles
                 .iter()
                 .flatten()
-                .map(|&k| V3::from(s.vertices_m[k as usize]).into())
+                .map(|&k| (V3::from(s.vertices_m[k as usize]) - com).into())
                 .collect();
             m.color = rgba([0.78, 0.78, 0.82], 0.45);
             m
@@ -104,12 +109,15 @@ fn object_marker(run: &RunInfo, stamp: Time, size_m: f64) -> Marker {
         None => {
             let (lo, hi) = contact_bounds(g);
             let mut m = marker(stamp, "object", 0, CUBE);
-            m.pose = pose((lo + hi) * 0.5, UnitQuaternion::identity());
+            m.pose = pose((lo + hi) * 0.5 - com, UnitQuaternion::identity());
             m.scale = (hi - lo).map(|x| x.max(0.04 * size_m)).into();
             m.color = rgba([0.78, 0.78, 0.82], 0.3);
             m
         }
-    }
+    };
+    m.header.frame_id = OBJECT_FRAME.into();
+    m.frame_locked = true;
+    m
 }
 
 /// One fingertip's marker, id `id`.
