@@ -60,8 +60,10 @@ def typestore(store):
     from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
     ts = get_typestore(getattr(Stores, store))
-    for name in ("FingerState", "StepReport"):
-        ts.register(get_types_from_msg((MSG_DIR / f"{name}.msg").read_text(), f"grasp_msgs/msg/{name}"))
+    types = {}
+    for msg in sorted(MSG_DIR.glob("*.msg")):
+        types.update(get_types_from_msg(msg.read_text(), f"grasp_msgs/msg/{msg.stem}"))
+    ts.register(types)
     return ts
 
 
@@ -189,6 +191,31 @@ def test_wrenches_frames_and_images_agree_with_the_element_fields(run_cli, tmp_p
                 assert np.array_equal(pixels[j, i], want), (finger, kind, k)
                 images += 1
     assert checked > 0 and images > 0
+
+
+def test_hands_and_mounted_cores_are_the_csvs(run_cli, tmp_path):
+    """A gripper on a compliant arm (`hands`) with mounted fingers: each step's hand
+    displacement equals the CSV's (both float64 as solved), and each mounted finger's core
+    displacement has the CSV's length (`<finger>_core_moved_m`, to 4 ulps: a hypotenuse)."""
+    path, csv = record(run_cli, tmp_path, "plate_transfer_gripper")
+    rows = csv_rows(csv)
+    reports = [m for topic, _, _, m in decoded_by_rosbags(path) if topic == "/grasp/step"]
+    assert len(reports) == len(rows)
+    hands = checked = 0
+    for row, r in zip(rows, reports):
+        for h in r.hands:
+            for axis, k in zip("xyz", range(3)):
+                assert h.translation_m[k] == float(row[f"{h.name}_translation_{axis}_m"])
+                assert h.rotation_rad[k] == float(row[f"{h.name}_rotation_{axis}_rad"])
+            hands += 1
+        for f in r.fingers:
+            moved = row.get(f"{f.name}_core_moved_m")
+            if moved:
+                assert close(math.hypot(*f.core_displacement_m), float(moved)), (f.name, row["step"])
+                checked += 1
+            else:
+                assert all(math.isnan(v) for v in f.core_displacement_m)
+    assert hands > 0 and checked > 0
 
 
 def test_the_file_is_valid_mcap_for_the_rerun_checker(run_cli, tmp_path):

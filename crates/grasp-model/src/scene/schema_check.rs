@@ -375,11 +375,11 @@ mod tests {
         serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
     }
 
-    /// Every scene of `examples/` and `examples/mujoco/` (schedules, MuJoCo material maps and
-    /// reports are not scenes), found by listing the folders.
+    /// Every scene of `examples/` and `examples/mujoco/` (schedules, MuJoCo material maps,
+    /// reports and states are not scenes), found by listing the folders.
     #[test]
     fn every_bundled_example_fits_the_schema() {
-        let not_a_scene = [".schedule.json", ".materials.json", ".report.json"];
+        let not_a_scene = [".schedule.json", ".materials.json", ".report.json", ".state.json"];
         let mut checked = 0;
         for folder in ["", "mujoco/"] {
             let dir = format!("{}/../../examples/{folder}", env!("CARGO_MANIFEST_DIR"));

@@ -100,6 +100,14 @@ const DEFINITIONS: &[Definition] = &[
         text: include_str!("../../ros2/grasp_msgs/msg/FingerState.msg"),
     },
     Definition {
+        name: "grasp_msgs/msg/HandState",
+        text: include_str!("../../ros2/grasp_msgs/msg/HandState.msg"),
+    },
+    Definition {
+        name: "grasp_msgs/msg/ServoState",
+        text: include_str!("../../ros2/grasp_msgs/msg/ServoState.msg"),
+    },
+    Definition {
         name: "grasp_msgs/msg/StepReport",
         text: include_str!("../../ros2/grasp_msgs/msg/StepReport.msg"),
     },

@@ -45,11 +45,11 @@ use nalgebra::{UnitQuaternion, Vector3 as V3};
 use serde::Serialize;
 
 use super::drawing_scale::drawing_scale;
-use super::mcap_log::{warning_metadata, FingerMessage, FingersMessage};
+use super::mcap_log::{warning_metadata, FingerMessage, FingersMessage, HandMessage, ServoMessage};
 use super::ros2_definitions::schema_text;
 use super::ros2_messages::{
-    cdr_message, contact_frame_id, FingerState, Header, Pose, StepReport, TfMessage, Time,
-    TransformStamped, WrenchStamped, OBJECT_FRAME,
+    cdr_message, contact_frame_id, FingerState, HandState, Header, Pose, ServoState, StepReport,
+    TfMessage, Time, TransformStamped, WrenchStamped, OBJECT_FRAME,
 };
 use super::ros2_patch_images::finger_images;
 use super::ros2_scene_markers::{force_markers, scene_markers, ArrowScale};
@@ -340,12 +340,31 @@ fn finger_state(
         friction_utilization: f.friction_utilization,
         slip_margin: frictional.map_or(f64::NAN, slip_margin),
         slip_margin_counted: frictional.is_some_and(|s| carrying(s, load_scale_n)),
+        core_displacement_m: f.core_displacement_m.unwrap_or([f64::NAN; 3]),
         stick_fraction: if contact > 0 {
             stick as f64 / contact as f64
         } else {
             0.0
         },
         slip_fraction: f.slip_fraction,
+    }
+}
+
+fn hand_state(h: HandMessage) -> HandState {
+    HandState {
+        name: h.name,
+        force_n: h.force_n,
+        moment_nm: h.moment_nm,
+        translation_m: h.translation_m,
+        rotation_rad: h.rotation_rad,
+    }
+}
+
+fn servo_state(v: ServoMessage) -> ServoState {
+    ServoState {
+        name: v.name,
+        force_n: v.force_n,
+        travel_m: v.travel_m,
     }
 }
 
@@ -380,6 +399,8 @@ fn step_report(r: &StepRecord, stamp: Time) -> StepReport {
         margin_held_to_n: m.margin_held_to_n.unwrap_or(f64::NAN),
         margin_failing_finger: m.margin_failing_finger.unwrap_or_default(),
         fingers,
+        hands: m.hands.into_iter().map(hand_state).collect(),
+        servos: m.servos.into_iter().map(servo_state).collect(),
     }
 }
 

@@ -267,6 +267,8 @@ pub struct FingerState {
     pub slip_margin: f64,
     /// Counted in the step's smallest slip margin.
     pub slip_margin_counted: bool,
+    /// A mounted finger's core displacement, world frame, m (NaN without).
+    pub core_displacement_m: [f64; 3],
     /// Of the elements in contact.
     pub stick_fraction: f64,
     /// Of the elements in contact.
@@ -308,6 +310,36 @@ pub struct StepReport {
     pub margin_failing_finger: String,
     /// Every finger.
     pub fingers: Vec<FingerState>,
+    /// Each hand of the grasp.
+    pub hands: Vec<HandState>,
+    /// Each servo of the grasp.
+    pub servos: Vec<ServoState>,
+}
+
+/// `grasp_msgs/msg/HandState` (`ros2/grasp_msgs/msg/HandState.msg`), world frame.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HandState {
+    /// Name.
+    pub name: String,
+    /// N.
+    pub force_n: [f64; 3],
+    /// N m.
+    pub moment_nm: [f64; 3],
+    /// m.
+    pub translation_m: [f64; 3],
+    /// rad.
+    pub rotation_rad: [f64; 3],
+}
+
+/// `grasp_msgs/msg/ServoState` (`ros2/grasp_msgs/msg/ServoState.msg`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ServoState {
+    /// Name.
+    pub name: String,
+    /// N.
+    pub force_n: f64,
+    /// m.
+    pub travel_m: f64,
 }
 
 /// The 4-byte encapsulation header of a serialized ROS 2 message: plain CDR, little-endian.
