@@ -96,7 +96,12 @@ fn example_files(suffix: &str) -> Vec<String> {
 /// Every bundled example scene (`examples/*.json` and `examples/mujoco/*.json`, without the
 /// schedules, MuJoCo material maps, reports and states), as paths relative to `examples/`.
 pub fn example_scenes() -> Vec<String> {
-    let not_a_scene = [".schedule.json", ".materials.json", ".report.json", ".state.json"];
+    let not_a_scene = [
+        ".schedule.json",
+        ".materials.json",
+        ".report.json",
+        ".state.json",
+    ];
     example_files(".json")
         .into_iter()
         .filter(|n| !not_a_scene.iter().any(|s| n.ends_with(s)))

@@ -379,7 +379,12 @@ mod tests {
     /// reports and states are not scenes), found by listing the folders.
     #[test]
     fn every_bundled_example_fits_the_schema() {
-        let not_a_scene = [".schedule.json", ".materials.json", ".report.json", ".state.json"];
+        let not_a_scene = [
+            ".schedule.json",
+            ".materials.json",
+            ".report.json",
+            ".state.json",
+        ];
         let mut checked = 0;
         for folder in ["", "mujoco/"] {
             let dir = format!("{}/../../examples/{folder}", env!("CARGO_MANIFEST_DIR"));
