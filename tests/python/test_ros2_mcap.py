@@ -218,6 +218,25 @@ def test_hands_and_mounted_cores_are_the_csvs(run_cli, tmp_path):
     assert hands > 0 and checked > 0
 
 
+def test_the_topics_written_once_are_offered_transient_local(run_cli, tmp_path):
+    """rosbags parses each channel's offered QoS (rosbag2's YAML): reliable everywhere; the
+    topics written once (the static frames, the scene's drawing) transient-local with depth 1,
+    so a subscriber that joins a `ros2 bag play` later still receives them; the others volatile."""
+    checker("rosbags", "rosbags is the second independent ROS 2 reader")
+    from rosbags.rosbag2 import Reader
+    from rosbags.interfaces import QosDurability, QosReliability
+
+    path, _ = record(run_cli, tmp_path, "plate_transfer")
+    with Reader(path) as reader:
+        for c in reader.connections:
+            (qos,) = c.ext.offered_qos_profiles
+            assert qos.reliability == QosReliability.RELIABLE, c.topic
+            latched = c.topic in ("/tf_static", "/grasp/scene")
+            assert qos.durability == (QosDurability.TRANSIENT_LOCAL if latched else QosDurability.VOLATILE), c.topic
+            assert (qos.depth == 1) == latched, c.topic
+
+
+@pytest.mark.skipif(rerun_cli() is None, reason="the rerun CLI (scripts/install-checkers.sh) is not installed")
 def test_the_file_is_valid_mcap_for_the_rerun_checker(run_cli, tmp_path):
     path, _ = record(run_cli, tmp_path, "plate_transfer_taxels")
     p = subprocess.run([rerun_cli(), "mcap", "check", str(path)], capture_output=True, text=True, env={"CI": "1", "PATH": "/usr/bin:/bin"})
@@ -319,7 +338,7 @@ def test_a_step_without_forces_has_its_report_and_no_forces_poses_or_images(run_
             assert "/tf" in written and "/grasp/f1/wrench" in written
         else:
             assert written == set() and report.reason
-            arrows = msgs["/grasp/scene"][-1].markers
+            arrows = msgs["/grasp/force_arrows"][-1].markers
             assert arrows and all(a.action == 2 for a in arrows)  # DELETE
 
 

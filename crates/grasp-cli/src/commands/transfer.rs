@@ -148,7 +148,7 @@ const OPEN_MCAP: &str = "Foxglove (https://app.foxglove.dev or the desktop app),
                          /grasp/tactile/<finger>/gel with a gel image)";
 const OPEN_ROS2_MCAP: &str = "ros2 bag info {} (ROS 2 Iron or later; Humble: ros2 bag info -s mcap {}), \
                               ros2 bag play the same way with rviz2, PlotJuggler or Foxglove; topics \
-                              /tf, /tf_static, /grasp/step, /grasp/scene, /grasp/<finger>/wrench, \
+                              /tf, /tf_static, /grasp/step, /grasp/scene, /grasp/force_arrows, /grasp/<finger>/wrench, \
                               /grasp/<finger>/pressure, /grasp/<finger>/contact_state";
 const OPEN_CSV: &str = "one row per step, a column per quantity: any spreadsheet, or Python's \
                         pandas.read_csv";

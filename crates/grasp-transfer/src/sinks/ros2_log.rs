@@ -5,7 +5,7 @@
 //! Foxglove and the Python readers of rosbag2 (`rosbags`, `mcap-ros2-support`) open as it is.
 //!
 //! Topics (`<finger>` each scene finger's name):
-//! - `/tf_static` (`tf2_msgs/msg/TFMessage`, once, transient-local): `world` to each
+//! - `/tf_static` (`tf2_msgs/msg/TFMessage`, once, transient-local: [`LATCHED`]): `world` to each
 //!   `<finger>/contact` (origin the contact point; x, y, z along `t1`, `t2` and the inward
 //!   normal);
 //! - `/tf` (`tf2_msgs/msg/TFMessage`, every solved step): `world` to `object` (the object's
@@ -24,8 +24,9 @@
 //!   `/grasp/<finger>/gel_height` (`32FC1`, m);
 //! - `/grasp/step` (`grasp_msgs/msg/StepReport`, every step): the solve's outcome and work,
 //!   the margin and every finger's state (`ros2/grasp_msgs`);
-//! - `/grasp/scene` (`visualization_msgs/msg/MarkerArray`): the object, contacts and
-//!   fingertips once, then every step the force arrows ([`super::ros2_scene_markers`]).
+//! - `/grasp/scene` (`visualization_msgs/msg/MarkerArray`, once, transient-local): the object,
+//!   contacts and fingertips; `/grasp/force_arrows` (the same type, every step): the force
+//!   arrows ([`super::ros2_scene_markers`]).
 //!
 //! A step without forces (no equilibrium, no convergence: `--keep-going`) has its
 //! `/grasp/step` report, which says why, and deletes the force arrows; it writes no wrench, no
@@ -58,6 +59,10 @@ use crate::error::TransferError;
 use crate::slip_margin::{carrying, slip_margin, step_slip_margins};
 use crate::stepper::StepRecord;
 use grasp_model::{FingerSolution, SolveAt, WarningTally};
+
+/// The topics written once and offered transient-local (depth 1), so that a subscriber that
+/// joins a `ros2 bag play` later (rviz2 started after it) still receives them.
+const LATCHED: [&str; 2] = ["/tf_static", "/grasp/scene"];
 
 /// The offered QoS of a recorded topic as rosbag2 stores it (`offered_qos_profiles`):
 /// reliable, keep-last `depth`, volatile or (`/tf_static`) transient-local, every duration
@@ -104,6 +109,7 @@ pub struct Ros2McapSink {
     tf_channel: u16,
     tf_static_channel: u16,
     scene_channel: u16,
+    arrows_channel: u16,
     fingers: Vec<(String, FingerChannels)>,
     /// Scene size, m, and the force arrows' scale, m per N.
     drawing: ArrowScale,
@@ -131,6 +137,7 @@ impl Ros2McapSink {
             tf_channel: 0,
             tf_static_channel: 0,
             scene_channel: 0,
+            arrows_channel: 0,
             fingers: Vec::new(),
             drawing: ArrowScale {
                 m_per_n: 1.0,
@@ -171,7 +178,7 @@ impl Ros2McapSink {
                 id
             }
         };
-        let qos = qos_yaml(depth, topic == "/tf_static");
+        let qos = qos_yaml(depth, LATCHED.contains(&topic));
         let metadata = BTreeMap::from([("offered_qos_profiles".to_string(), qos)]);
         let id = self.writer()?.add_channel(schema, topic, "cdr", &metadata);
         id.map_err(|e| self.err(e))
@@ -431,7 +438,12 @@ impl Sink for Ros2McapSink {
         self.tf_channel = self.channel("tf2_msgs/msg/TFMessage", "/tf", 10)?;
         self.step_channel = self.channel("grasp_msgs/msg/StepReport", "/grasp/step", 10)?;
         self.scene_channel =
-            self.channel("visualization_msgs/msg/MarkerArray", "/grasp/scene", 10)?;
+            self.channel("visualization_msgs/msg/MarkerArray", "/grasp/scene", 1)?;
+        self.arrows_channel = self.channel(
+            "visualization_msgs/msg/MarkerArray",
+            "/grasp/force_arrows",
+            10,
+        )?;
         self.finger_channels(run)
     }
 
@@ -455,7 +467,7 @@ impl Sink for Ros2McapSink {
             self.write_fingers(run, r, ns, stamp)?;
         }
         let arrows = force_markers(run, r, stamp, self.drawing);
-        self.write(self.scene_channel, ns, &arrows)
+        self.write(self.arrows_channel, ns, &arrows)
     }
 
     fn finish(&mut self) -> Result<(), TransferError> {
