@@ -1,16 +1,17 @@
-//! The scene as `visualization_msgs/msg/MarkerArray` for the ROS 2 profile's `/grasp/scene`
-//! topic, so rviz2 shows a hand-off replayed with `ros2 bag play`: the same drawing as the JSON
-//! profile's `foxglove.SceneUpdate` ([`super::foxglove_scene`]), in the `world` frame.
+//! The scene as `visualization_msgs/msg/MarkerArray` for the ROS 2 profile, so rviz2 shows a
+//! hand-off replayed with `ros2 bag play`: the same drawing as the JSON profile's
+//! `foxglove.SceneUpdate` ([`super::foxglove_scene`]).
 //!
-//! - once, at the first step: the object (namespace `object`, in the `object` frame and locked
-//!   to it: its shape's triangles as a `TRIANGLE_LIST`, or the box around the contacts as a
-//!   `CUBE`), the contact points
+//! - `/grasp/scene`, once, at the first step ([`scene_markers`]): the object (namespace
+//!   `object`, in the `object` frame and locked to it: its shape's triangles as a
+//!   `TRIANGLE_LIST`, or the box around the contacts as a `CUBE`), the contact points
 //!   (`contacts`, one `SPHERE_LIST`) and each fingertip (`fingertips`, id = the finger's index
 //!   in the scene: a `SPHERE`, `CYLINDER` or `CUBE`);
-//! - every step: each finger's normal and friction force as `ARROW`s from the tail to the
-//!   centre of pressure, pushing on the object (namespace `forces`, ids `2 i` normal and
-//!   `2 i + 1` friction, blue and orange, `arrow_m_per_n` m per N); an arrow too short to
-//!   draw (a released finger) is a `DELETE` of its id, so no stale arrow stays.
+//! - `/grasp/force_arrows`, every step ([`force_markers`]): each finger's normal and friction
+//!   force as `ARROW`s from the tail to the centre of pressure, pushing on the object
+//!   (namespace `forces`, ids `2 i` normal and `2 i + 1` friction, blue and orange,
+//!   `arrow_m_per_n` m per N); an arrow too short to draw (a released finger) is a `DELETE` of
+//!   its id, so no stale arrow stays.
 //!
 //! Every marker but the object is in the `world` frame; every marker lives until replaced
 //! (lifetime zero).
