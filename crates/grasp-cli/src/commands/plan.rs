@@ -171,9 +171,29 @@ pub enum ObjectiveArg {
 }
 
 /// `grasp plan`.
+/// The finger names of `scene` can name the replay's ROS 2 topics (when it writes them):
+/// refused before the planning rather than after it.
+fn check_replay_names(
+    args: &Args,
+    profile: grasp_transfer::McapProfile,
+    scene: &grasp_model::LoadedScene,
+) -> Result<()> {
+    if args.mcap.is_none() || profile == grasp_transfer::McapProfile::Json {
+        return Ok(());
+    }
+    let names = scene.finger_names();
+    match names
+        .iter()
+        .find_map(|n| grasp_transfer::ros_name_problem(n))
+    {
+        Some(problem) => anyhow::bail!("--mcap-profile ros2: {problem}"),
+        None => Ok(()),
+    }
+}
+
 pub fn execute(args: Args) -> Result<ExitCode> {
     // A bad profile is refused before the planning, not after it.
-    args.mcap_profile.profile()?;
+    let profile = args.mcap_profile.profile()?;
     let targets: Vec<&Path> = [Some(&args.out), args.report.as_ref(), args.plot.as_ref()]
         .into_iter()
         .flatten()
@@ -189,6 +209,7 @@ pub fn execute(args: Args) -> Result<ExitCode> {
         .transpose()?;
     let scene = crate::load_scene::load_scene(&args.scene)?;
     args.solve.check_memory(&scene, &args.scene)?;
+    check_replay_names(&args, profile, &scene)?;
     let template = args
         .template
         .as_deref()
