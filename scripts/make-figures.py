@@ -327,8 +327,11 @@ FIGURES = [
            "mujoco_handoff", lambda r: f"{r.wall_s:.1f}", deterministic=False),
     Figure("MuJoCo hand-off measured when", "docs/guide/mujoco.md", r"s on the 2-core machine on ([^)]*)\):",
            "mujoco_handoff", Run.conditions, deterministic=False),
+    # Not deterministic: the recording's MuJoCo layer is written by the Python Rerun SDK, whose
+    # batcher cuts chunks on a timer, so the size moves with the machine's load (0.70 to
+    # 0.73 MB in four runs of the same build, 29 November 2026).
     Figure("MuJoCo hand-off recording size", "docs/guide/mujoco.md", r"the Rerun recording ([\d.]+) MB pass",
-           "mujoco_handoff", mb("handoff.rrd", 2)),
+           "mujoco_handoff", mb("handoff.rrd", 2), deterministic=False),
     # docs/guide/solving.md, the error estimate
     Figure("error estimate coarse-grid ratio", "docs/guide/solving.md", r"coarse grids \[\[11, 11\]\], ratio ([\d.]+)",
            "error_estimate", output(r"ratio ([\d.]+)")),
