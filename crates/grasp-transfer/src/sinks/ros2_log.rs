@@ -65,8 +65,8 @@ use grasp_model::{FingerSolution, SolveAt, WarningTally};
 const LATCHED: [&str; 2] = ["/tf_static", "/grasp/scene"];
 
 /// The offered QoS of a recorded topic as rosbag2 stores it (`offered_qos_profiles`):
-/// reliable, keep-last `depth`, volatile or (`/tf_static`) transient-local, every duration
-/// unset (rmw's "infinite").
+/// reliable, keep-last `depth`, volatile or (the [`LATCHED`] topics) transient-local, every
+/// duration unset (rmw's "infinite").
 fn qos_yaml(depth: u32, transient_local: bool) -> String {
     let infinite = "\n    sec: 9223372036\n    nsec: 854775807";
     format!(
