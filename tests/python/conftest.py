@@ -51,6 +51,24 @@ def element_records(finger):
     return [{field: values[k] for field, values in columns.items()} for k in range(n)]
 
 
+def numbers_close(a, b, path=""):
+    """JSON values equal, numbers to 1e-9 relative or 1e-12 absolute (in m and N: for numbers
+    near zero): MuJoCo's last bits may differ by machine, and two descriptions of one model
+    compile to the same model up to round-off. Each caller says why the tolerance fits it."""
+    if isinstance(a, dict):
+        assert set(a) == set(b), path
+        for k in a:
+            numbers_close(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, list):
+        assert len(a) == len(b), path
+        for i, (x, y) in enumerate(zip(a, b)):
+            numbers_close(x, y, f"{path}[{i}]")
+    elif isinstance(a, float) or isinstance(b, float):
+        assert a == pytest.approx(b, rel=1e-9, abs=1e-12), path
+    else:
+        assert a == b, path
+
+
 @pytest.fixture
 def cube_a_dict():
     return json.loads((EXAMPLES / "cube_a.json").read_text())

@@ -27,7 +27,7 @@ import numpy as np
 import pytest
 
 import grasp
-from conftest import EXAMPLES, ROOT, checker, rerun_cli
+from conftest import EXAMPLES, ROOT, checker, numbers_close, rerun_cli
 
 mujoco = checker("mujoco", reason="MuJoCo is not installed (scripts/install-checkers.sh installs mujoco==4.0.0)")
 import grasp.mujoco as gm  # noqa: E402
@@ -290,22 +290,6 @@ def test_mujoco_commands_write_what_grasp_solve_and_grasp_transfer_run(run_cli, 
     proc = run_cli("transfer", tmp_path / "h.json", "--schedule", tmp_path / "h.schedule.json", "--mcap", mcap, "--rrd", rrd)
     assert proc.returncode == 0, proc.stderr
     assert rerun("rrd", "verify", rrd).returncode == 0 and rerun("mcap", "check", mcap).returncode == 0
-
-
-def numbers_close(a, b, path=""):
-    """JSON values equal, numbers to 1e-9 relative (MuJoCo's last bits may differ by machine)."""
-    if isinstance(a, dict):
-        assert set(a) == set(b), path
-        for k in a:
-            numbers_close(a[k], b[k], f"{path}.{k}")
-    elif isinstance(a, list):
-        assert len(a) == len(b), path
-        for i, (x, y) in enumerate(zip(a, b)):
-            numbers_close(x, y, f"{path}[{i}]")
-    elif isinstance(a, float) or isinstance(b, float):
-        assert a == pytest.approx(b, rel=1e-9, abs=1e-12), path
-    else:
-        assert a == b, path
 
 
 def test_mujoco_committed_examples_are_what_the_commands_make(pinch, handoff):

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import grasp
-from conftest import EXAMPLES, ROOT, checker
+from conftest import EXAMPLES, ROOT, checker, numbers_close
 
 mujoco = checker("mujoco", reason="MuJoCo is not installed (scripts/install-checkers.sh installs mujoco==4.0.0)")
 import grasp.mujoco as gm  # noqa: E402
@@ -38,22 +38,6 @@ TET = "v 0 0 0\nv 0.01 0 0\nv 0 0.01 0\nv 0 0 0.01\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf
 def python_m(*args, cwd=ROOT):
     return subprocess.run([sys.executable, "-m", "grasp.mujoco", *map(str, args)], capture_output=True, text=True,
                           cwd=cwd, timeout=120)
-
-
-def numbers_close(a, b, path=""):
-    """JSON values equal, numbers to REL relative or ABS absolute."""
-    if isinstance(a, dict):
-        assert set(a) == set(b), path
-        for k in a:
-            numbers_close(a[k], b[k], f"{path}.{k}")
-    elif isinstance(a, list):
-        assert len(a) == len(b), path
-        for i, (x, y) in enumerate(zip(a, b)):
-            numbers_close(x, y, f"{path}[{i}]")
-    elif isinstance(a, float) or isinstance(b, float):
-        assert a == pytest.approx(b, rel=REL, abs=ABS), path
-    else:
-        assert a == b, path
 
 
 def grasp_of(path, text=None):

@@ -13,7 +13,7 @@
 //! drawn as a pad, so a nearly flat tip does not fill the view.
 
 use grasp_model::tip_curvatures_per_m;
-use grasp_model::FingerModel;
+use grasp_model::{ContactFrame, FingerModel};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 use super::sink::RunInfo;
@@ -96,9 +96,7 @@ fn drawing(m: &FingerModel, k: [f64; 2], flat_size_m: Option<[f64; 2]>, size_m: 
         (false, false) => {
             let [a, b] = flat_size_m.unwrap_or([1.5 * side[0], 1.5 * side[1]]);
             let thick = 0.25 * a.min(b);
-            let frame = Matrix3::from_columns(&[f.t1, f.t2, f.normal]);
-            let rotation =
-                UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(frame));
+            let rotation = frame_rotation(f);
             TipDrawing::Pad {
                 centre: f.origin_m - f.normal * (0.5 * thick),
                 rotation,
@@ -106,6 +104,14 @@ fn drawing(m: &FingerModel, k: [f64; 2], flat_size_m: Option<[f64; 2]>, size_m: 
             }
         }
     }
+}
+
+/// The rotation taking the x, y and z axes to a contact frame's `t1`, `t2` and inward normal
+/// (orthonormal and right-handed: `t1 x t2 = n`), as a pad's pose and as the ROS 2 profile's
+/// contact frame.
+pub fn frame_rotation(f: &ContactFrame) -> UnitQuaternion<f64> {
+    let axes = Matrix3::from_columns(&[f.t1, f.t2, f.normal]);
+    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(axes))
 }
 
 /// The rotation taking the z axis to the unit vector `axis` (a cylinder's pose).

@@ -428,6 +428,38 @@ pub(super) fn warning_metadata(
     }
 }
 
+/// An MCAP writer on `file` with `profile` (`""`: the JSON profile, `"ros2"`), named for this
+/// library; `path` names the file in errors.
+pub(super) fn open_writer(
+    file: File,
+    path: &Path,
+    profile: &str,
+) -> Result<mcap::Writer<BufWriter<File>>, TransferError> {
+    mcap::WriteOptions::new()
+        .profile(profile)
+        .library(concat!("grasp-transfer ", env!("CARGO_PKG_VERSION")))
+        .create(BufWriter::new(file))
+        .map_err(|e| io_err_chain("mcap", path, &e))
+}
+
+/// Closes an MCAP log: the run's `warnings` as metadata records (spelt by `respell`,
+/// [`WARNING_METADATA`]), the summary, and the file synced to disk (`path` names it in errors).
+pub(super) fn close_writer(
+    mut w: mcap::Writer<BufWriter<File>>,
+    warnings: &WarningTally,
+    respell: fn(&str) -> String,
+    path: &Path,
+) -> Result<(), TransferError> {
+    let err = |e: &dyn std::error::Error| io_err_chain("mcap", path, e);
+    for warning in warnings.warnings() {
+        w.write_metadata(&warning_metadata(&warning, respell))
+            .map_err(|e| err(&e))?;
+    }
+    w.finish().map_err(|e| err(&e))?;
+    let file = w.into_inner().into_inner().map_err(|e| err(e.error()))?;
+    file.sync_all().map_err(|e| err(&e))
+}
+
 impl McapSink {
     /// Creates (or truncates) the file at `path` and writes to it.
     pub fn create(path: &Path) -> Result<Self, TransferError> {
@@ -437,11 +469,7 @@ impl McapSink {
 
     /// Writes to an open file; `path` names it in error messages.
     pub fn from_file(file: File, path: &Path) -> Result<Self, TransferError> {
-        let writer = mcap::WriteOptions::new()
-            .profile("")
-            .library(concat!("grasp-transfer ", env!("CARGO_PKG_VERSION")))
-            .create(BufWriter::new(file))
-            .map_err(|e| io_err_chain("mcap", path, &e))?;
+        let writer = open_writer(file, path, "")?;
         Ok(McapSink {
             path: path.to_path_buf(),
             writer: Some(writer),
@@ -601,19 +629,10 @@ impl Sink for McapSink {
     }
 
     fn finish(&mut self) -> Result<(), TransferError> {
-        if let Some(mut w) = self.writer.take() {
-            for warning in self.warnings.warnings() {
-                w.write_metadata(&warning_metadata(&warning, self.respell))
-                    .map_err(|e| self.err(e))?;
-            }
-            w.finish().map_err(|e| self.err(e))?;
-            let file = w
-                .into_inner()
-                .into_inner()
-                .map_err(|e| self.err(e.error()))?;
-            file.sync_all().map_err(|e| self.err(e))?;
+        match self.writer.take() {
+            Some(w) => close_writer(w, &self.warnings, self.respell, &self.path),
+            None => Ok(()),
         }
-        Ok(())
     }
 
     fn abort(&mut self) {

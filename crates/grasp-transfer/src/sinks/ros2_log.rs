@@ -46,7 +46,10 @@ use nalgebra::{UnitQuaternion, Vector3 as V3};
 use serde::Serialize;
 
 use super::drawing_scale::drawing_scale;
-use super::mcap_log::{warning_metadata, FingerMessage, FingersMessage, HandMessage, ServoMessage};
+use super::fingertip_drawing::frame_rotation;
+use super::mcap_log::{
+    close_writer, open_writer, FingerMessage, FingersMessage, HandMessage, ServoMessage,
+};
 use super::ros2_definitions::schema_text;
 use super::ros2_messages::{
     cdr_message, contact_frame_id, FingerState, HandState, Header, Pose, ServoState, StepReport,
@@ -54,7 +57,7 @@ use super::ros2_messages::{
 };
 use super::ros2_patch_images::finger_images;
 use super::ros2_scene_markers::{force_markers, scene_markers, ArrowScale};
-use super::sink::{io_err, io_err_chain, RunInfo, Sink};
+use super::sink::{io_err, RunInfo, Sink};
 use crate::error::TransferError;
 use crate::slip_margin::{carrying, slip_margin, step_slip_margins};
 use crate::stepper::StepRecord;
@@ -123,11 +126,7 @@ impl Ros2McapSink {
     /// Writes to an open file (`path` names it in errors); stamps start `start_ns` after the
     /// Unix epoch.
     pub fn from_file(file: File, path: &Path, start_ns: u64) -> Result<Self, TransferError> {
-        let writer = mcap::WriteOptions::new()
-            .profile("ros2")
-            .library(concat!("grasp-transfer ", env!("CARGO_PKG_VERSION")))
-            .create(BufWriter::new(file))
-            .map_err(|e| io_err_chain("mcap", path, &e))?;
+        let writer = open_writer(file, path, "ros2")?;
         Ok(Ros2McapSink {
             path: path.to_path_buf(),
             writer: Some(writer),
@@ -254,8 +253,6 @@ fn contact_transforms(run: &RunInfo, stamp: Time) -> TfMessage {
         .iter()
         .map(|f| {
             let fr = f.frame();
-            let axes = nalgebra::Matrix3::from_columns(&[fr.t1, fr.t2, fr.normal]);
-            let rotation = nalgebra::Rotation3::from_matrix(&axes);
             TransformStamped {
                 header: Header {
                     stamp,
@@ -264,7 +261,7 @@ fn contact_transforms(run: &RunInfo, stamp: Time) -> TfMessage {
                 child_frame_id: contact_frame_id(f.name()),
                 transform: Pose {
                     position: fr.origin_m.into(),
-                    orientation: UnitQuaternion::from_rotation_matrix(&rotation).into(),
+                    orientation: frame_rotation(fr).into(),
                 },
             }
         })
@@ -471,19 +468,10 @@ impl Sink for Ros2McapSink {
     }
 
     fn finish(&mut self) -> Result<(), TransferError> {
-        if let Some(mut w) = self.writer.take() {
-            for warning in self.warnings.warnings() {
-                w.write_metadata(&warning_metadata(&warning, self.respell))
-                    .map_err(|e| self.err(e))?;
-            }
-            w.finish().map_err(|e| self.err(e))?;
-            let file = w
-                .into_inner()
-                .into_inner()
-                .map_err(|e| self.err(e.error()))?;
-            file.sync_all().map_err(|e| self.err(e))?;
+        match self.writer.take() {
+            Some(w) => close_writer(w, &self.warnings, self.respell, &self.path),
+            None => Ok(()),
         }
-        Ok(())
     }
 
     fn abort(&mut self) {
