@@ -8,6 +8,7 @@ pub mod contact_validity;
 pub mod convex_solve;
 pub mod element_columns;
 pub mod grasp_solver;
+pub(crate) mod iterate_accuracy;
 pub mod patch_check;
 pub mod readout;
 pub mod residuals;

@@ -15,7 +15,10 @@
 //! `omega = 1` until an iterate's program has no solution: the iteration then does not give up
 //! but backs off halfway towards the last input whose program was feasible, halving `omega`
 //! (down to [`SolveOptions::min_relaxation`]) and letting it grow back after each feasible iterate (a
-//! Krasnoselskii-Mann iteration). Converged when `max |T(F) - F| <= sequential_tolerance Fu`.
+//! Krasnoselskii-Mann iteration). Converged when `max |T(F) - F| <= sequential_tolerance Fu`
+//! on an iterate solved to the solve's tolerance: a cold sequence solves its other iterates
+//! only to a share of the change still made ([`IterateAccuracy`], an inexact fixed-point
+//! iteration).
 //! Outcomes: converged; no equilibrium (for coulomb, with the fingers that lack grip, read from
 //! the infeasibility certificate); no convergence within the iteration limit.
 
@@ -29,16 +32,17 @@ use crate::program::cones::finger_cones::ConeLaw;
 use crate::scene::scene_format::ModelKind;
 use crate::solve::contact_state::ContactState;
 use crate::solve::convex_solve::{add_run, start_of};
+use crate::solve::iterate_accuracy::IterateAccuracy;
 use crate::solve::readout::{build_solution, cannot_hold_reason, escape_reason, failed};
 use crate::solve::residuals::{FrictionRule, SolvedWith};
 use crate::solve::solution::{
     SequentialReport, Solution, SolveStatus, SolverStats, LOADED_FRACTION,
 };
 use crate::solver::iterate::Iterate;
-use crate::solver::options::SolveOptions;
+use crate::solver::options::{SolveOptions, SolverChoice};
 use crate::solver::outcome::{Certificate, ConvexOutcome, Start};
 use crate::solver::predictor::{affine_coefficients, combine};
-use crate::solver::program_solver::ProgramSolver;
+use crate::solver::program_solver::{ProgramSolver, StartMemory};
 
 /// Element normal forces per finger (N) from a scaled primal.
 fn normal_forces(model: &GraspModel, x_scaled: &[f64]) -> Vec<Vec<f64>> {
@@ -323,6 +327,11 @@ struct Sequence<'a> {
     clock: Instant,
     /// The damping of the fixed-point iteration.
     relax: Relaxation,
+    /// How accurately the next convex solve is solved.
+    accuracy: IterateAccuracy,
+    /// The first input and start of an inexact sequence: an inexact sequence that ends
+    /// without an answer is run again from them, exactly ([`exactly_again`]).
+    first: Option<FirstIterate>,
 }
 
 impl Sequence<'_> {
@@ -378,6 +387,8 @@ pub(crate) fn solve_sequential(
             omega: 1.0,
             last_feasible: None,
         },
+        accuracy: IterateAccuracy::new(options.tolerance, options.sequential_tolerance, false),
+        first: None,
     };
     let StepPrograms { main, energy } = programs;
     if coulomb {
@@ -392,6 +403,11 @@ pub(crate) fn solve_sequential(
         .then(|| warm_forces(model, &commanded, state))
         .flatten();
     seq.report.warm_started = warm.is_some();
+    seq.accuracy = IterateAccuracy::new(
+        options.tolerance,
+        options.sequential_tolerance,
+        warm.is_none() && may_be_inexact(model, options),
+    );
     let mut start_at: Option<Iterate> = None;
     let mut input = match warm {
         Some(f) => Input::of_forces(f),
@@ -410,8 +426,20 @@ pub(crate) fn solve_sequential(
             loads: model.guess_loads(loads_n),
         },
     };
+    if seq.accuracy.inexact() {
+        seq.first = Some(FirstIterate::of(main, &input, start_at.as_ref()));
+    }
     let programs = StepPrograms { main, energy };
     iterate(programs, loads_n, state, &mut seq, &mut input, start_at)
+}
+
+/// True when a cold sequence of `model` under `options` may solve its iterates inexactly
+/// ([`IterateAccuracy`]): the native solver answers them and every finger's compliance is the
+/// FFT operator (an iterate costs a tenth of a second or more, not the microseconds of a small
+/// dense patch, whose sequences stay as they were).
+fn may_be_inexact(model: &GraspModel, options: &SolveOptions) -> bool {
+    let matrix_free = model.fingers.iter().all(|f| f.compliance_m_per_n.is_fft());
+    matrix_free && options.solver != SolverChoice::Clarabel
 }
 
 /// The damping of the fixed-point iteration: the relaxation `omega` and the last input
@@ -466,7 +494,12 @@ fn iterate(
             Some(it) => Start::At(it),
             None => start_of(seq.options),
         };
-        let run = main.solve(model, seq.options, start)?;
+        let last_allowed = seq.report.iterations >= seq.options.max_sequential_iterations;
+        let options = SolveOptions {
+            tolerance: seq.accuracy.tolerance(last_allowed),
+            ..*seq.options
+        };
+        let run = main.solve(model, &options, start)?;
         start_at = None;
         add_run(&mut seq.stats, &run);
         let next = match run.outcome {
@@ -500,9 +533,62 @@ fn iterate(
         match next {
             Next::Again => {}
             Next::From(it) => start_at = Some(it),
+            Next::Done(sol) if !sol.status.has_forces() && seq.accuracy.was_inexact() => {
+                match exactly_again(seq, main, input) {
+                    Some(start) => start_at = start,
+                    None => return Ok(*sol),
+                }
+            }
             Next::Done(sol) => return Ok(*sol),
         }
     }
+}
+
+/// Where an inexact sequence began: its first input, the first solve's start and what the
+/// step program's warm starts read then.
+struct FirstIterate {
+    input: Input,
+    start: Option<Iterate>,
+    memory: StartMemory,
+}
+
+impl FirstIterate {
+    fn of(main: &ProgramSolver, input: &Input, start: Option<&Iterate>) -> Self {
+        FirstIterate {
+            input: input.clone(),
+            start: start.cloned(),
+            memory: main.start_memory(),
+        }
+    }
+}
+
+/// An inexact sequence that ended without an answer (no equilibrium, no convergence) runs
+/// again as an exact one would have from its beginning (its first input and start, the warm
+/// starts' memory as it was), so that inexact iterates never change such an outcome (an
+/// oscillating iteration's path depends on every iterate). Returns the start of the first
+/// solve, or `None` when the sequence kept no beginning (it then ends with its outcome). The
+/// counts of the report are the exact run's; the solver work of both runs is counted.
+fn exactly_again(
+    seq: &mut Sequence<'_>,
+    main: &mut ProgramSolver,
+    input: &mut Input,
+) -> Option<Option<Iterate>> {
+    let FirstIterate {
+        input: first,
+        start,
+        memory,
+    } = seq.first.take()?;
+    main.restore_memory(memory);
+    *input = first;
+    seq.report.iterations = 0;
+    seq.report.damped_iterations = 0;
+    seq.relax = Relaxation {
+        omega: 1.0,
+        last_feasible: None,
+    };
+    let o = seq.options;
+    seq.accuracy = IterateAccuracy::new(o.tolerance, o.sequential_tolerance, false);
+    Some(start)
 }
 
 /// A solved iterate's point: its scaled primal and equality multipliers.
@@ -529,8 +615,15 @@ fn after_solved(
         .as_ref()
         .map_or(f64::INFINITY, |f| largest_change(f, &out));
     seq.report.last_change_n = change;
-    if change <= seq.report.tolerance_n {
+    if change <= seq.report.tolerance_n && seq.accuracy.exact() {
         return Next::Done(Box::new(converged(main, seq, state, x, multipliers, cones)));
+    }
+    if change <= seq.report.tolerance_n {
+        // An inexact iterate met the tolerance: the next, from its output, is solved exactly.
+        seq.accuracy.finish();
+    } else {
+        seq.accuracy
+            .record(change / seq.model.scales.element_force_n);
     }
     if seq.report.iterations >= seq.options.max_sequential_iterations {
         return Next::Done(Box::new(
@@ -575,6 +668,14 @@ fn after_infeasible(
             Ok((f, it)) => {
                 *input = Input::of_forces(f);
                 seq.report.iterations = 0;
+                seq.accuracy = IterateAccuracy::new(
+                    options.tolerance,
+                    options.sequential_tolerance,
+                    may_be_inexact(model, options),
+                );
+                if seq.accuracy.inexact() {
+                    seq.first = Some(FirstIterate::of(main, input, Some(&it)));
+                }
                 Next::From(it)
             }
             Err((status, reason)) => Next::Done(Box::new(seq.fail(status, reason))),

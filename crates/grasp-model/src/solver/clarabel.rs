@@ -308,7 +308,7 @@ pub(crate) fn settings(
 }
 
 /// Clarabel's workspace for one program: created at the first solve; later solves update `q`,
-/// `A` and `b` in place when they changed.
+/// `A` and `b` in place when they changed, and the settings (tolerances) to their own.
 pub(crate) struct ClarabelWorkspace {
     form: ClarabelForm,
     solver: Option<DefaultSolver<f64>>,
@@ -358,6 +358,10 @@ impl ClarabelWorkspace {
         let err = |e: clarabel::solver::DataUpdateError| ModelError::Solver(e.to_string());
         let solver = match self.solver.as_mut() {
             Some(s) => {
+                // The tolerances may differ from solve to solve (a sequence's inexact iterates):
+                // the settings the solver was made with are not kept.
+                s.update_settings(settings.clone())
+                    .map_err(|e| ModelError::Solver(format!("Clarabel settings: {e}")))?;
                 if fresh.a.nzval != self.form.a.nzval {
                     s.update_A(&fresh.a.nzval).map_err(err)?;
                 }

@@ -55,6 +55,16 @@ pub(crate) struct ProgramSolver {
     kept: Option<KeptCertificate>,
 }
 
+/// What a warm start reads besides the program: the last solution, the trail of the
+/// prediction and the kept certificate. Kept to run a sequence of solves again as it first ran
+/// ([`ProgramSolver::restore_memory`]).
+#[derive(Debug, Clone)]
+pub(crate) struct StartMemory {
+    last: Option<Iterate>,
+    trail: Trail,
+    kept: Option<KeptCertificate>,
+}
+
 impl ProgramSolver {
     pub(crate) fn new(program: ConeProgram) -> Self {
         ProgramSolver {
@@ -72,6 +82,25 @@ impl ProgramSolver {
     /// The last solution, whichever backend gave it.
     pub(crate) fn last(&self) -> Option<&Iterate> {
         self.last.as_ref()
+    }
+
+    /// A copy of what the warm starts read now.
+    pub(crate) fn start_memory(&self) -> StartMemory {
+        StartMemory {
+            last: self.last.clone(),
+            trail: self.trail.clone(),
+            kept: self.kept.clone(),
+        }
+    }
+
+    /// Makes the warm starts read `memory` (taken by [`ProgramSolver::start_memory`]) again,
+    /// and the native solver's kept factors go (made afresh on the next solve): its next
+    /// solves run as they did after `memory` was taken from a fresh solver.
+    pub(crate) fn restore_memory(&mut self, memory: StartMemory) {
+        self.last = memory.last;
+        self.trail = memory.trail;
+        self.kept = memory.kept;
+        self.native = None;
     }
 
     /// The native solver's workspace (created if no native solve ran yet), with the program.
@@ -405,6 +434,40 @@ mod tests {
         let wrench = model.wrench_at_center_of_mass(&force, &Vector3::zeros());
         program.set_external_wrench(model, &wrench);
         program
+    }
+
+    /// Clarabel's forces for the pad under a pull of 0.05 N (friction for 0.2 N) at the
+    /// tolerances `tolerances`, solved one after another by one workspace: the last solve's.
+    fn clarabel_forces(tolerances: &[f64]) -> Vec<f64> {
+        let model = pad();
+        let base = ConeProgram::assemble(&model, &[], ConeLaw::Tresca, &[0.5]);
+        let mut solver = ProgramSolver::new(pad_program(&model, &base, 0.2, 0.05));
+        let mut x = Vec::new();
+        for &tolerance in tolerances {
+            let options = SolveOptions {
+                solver: SolverChoice::Clarabel,
+                tolerance,
+                ..SolveOptions::default()
+            };
+            match solver.solve(&model, &options, Start::Cold).unwrap().outcome {
+                ConvexOutcome::Solved { x: solved, .. } => x = solved,
+                other => panic!("{other:?}"),
+            }
+        }
+        x
+    }
+
+    /// A workspace's solve answers to its own tolerance, not to the first solve's (a
+    /// sequence's inexact iterates change it from solve to solve): after a solve at 1e-2, a
+    /// solve at 1e-10 gives the bits a fresh workspace gives at 1e-10 (Clarabel is
+    /// deterministic), and they are not the 1e-2 answer's.
+    #[test]
+    fn a_clarabel_solve_takes_its_own_tolerance() {
+        let fresh = clarabel_forces(&[1e-10]);
+        let after_loose = clarabel_forces(&[1e-2, 1e-10]);
+        let loose = clarabel_forces(&[1e-2]);
+        assert_eq!(after_loose, fresh);
+        assert_ne!(loose, fresh, "the tolerances must give different answers");
     }
 
     /// Whether Clarabel, alone and from scratch, finds `program` infeasible.
