@@ -2,36 +2,47 @@
 //! an inexact fixed-point iteration.
 //!
 //! An iterate's output only has to be accurate to a share of the change the iteration still
-//! makes: while the normal forces still move by `d` between iterates, an output wrong by
-//! `eta d` moves the next change by about as much, and the iteration converges as before. So
-//! each convex solve of a cold sequence stops at a relative tolerance [`ETA`] times the change
-//! predicted for it (the last change times the last contraction ratio, in element force units
-//! `Fu`), at most [`LOOSEST`] and at least the solve's own tolerance. The iteration converges
-//! only on an iterate solved to the solve's own tolerance, as before: the accepted answer is
-//! one Tresca program's solution to full accuracy, its change from its input within the
-//! sequential tolerance. An inexact iterate that meets the sequential tolerance is followed by
-//! an exact one from its output; a change predicted within [`FINISH_MARGIN`] of the tolerance
-//! is solved exactly at once, so that this is rare.
+//! makes: while the normal forces still move by `d` between iterates, an output error well
+//! below `d` moves the next change by about as much, and the iteration converges as before
+//! (linearly, at the same rate). So each convex solve of an inexact sequence stops at a
+//! relative tolerance [`ETA`] times the change predicted for it (the last change times the
+//! last contraction ratio, in element force units `Fu`), at most [`LOOSEST`] and at least the
+//! solve's own tolerance. The solve's tolerance is relative to `max(1, max |x|)` (the native
+//! solver's natural residual), so [`ETA`] is an empirical factor, not the share of `d` an
+//! output is off by: it was tuned on the frictional rough pad (below), whose changes it leaves
+//! as they were. The iteration converges only on an iterate solved to the solve's own
+//! tolerance, as before: the accepted answer is one Tresca program's solution to full
+//! accuracy, its change from its input within the sequential tolerance. An inexact iterate
+//! that meets the sequential tolerance is followed by exact ones (from its output, damped as
+//! the iteration damps); a change predicted within [`FINISH_MARGIN`] of the tolerance is
+//! solved exactly at once, so that this is rare.
 //!
-//! Which sequences are inexact:
-//! - a cold one (no previous step's forces: a single solve, a hand-off's first step, a cold
-//!   restart), from its first solve (whose change is not known: the energy model's forces,
-//!   its first input, are not Coulomb's) to [`LOOSEST`];
+//! Which sequences are inexact ([`crate::solve::sequential`] decides):
+//! - a cold coulomb one (no previous step's forces: a single solve, a hand-off's first step, a
+//!   step after a cold restart, every step with warm starts off) whose fingers are all FFT
+//!   patches too large to write out as matrices, answered by the native solver: from its first
+//!   solve (whose change is not known: the energy model's forces, its first input, are not
+//!   Coulomb's) to [`LOOSEST`];
 //! - not a warm one: a warm hand-off step starts near its fixed point (at it, when its forces
 //!   were extrapolated along a ramp) and ends in one to three iterates, so an inexact iterate
 //!   there only adds the exact one that must end the sequence (measured on the coulomb plate
 //!   hand-off with every iterate but the first inexact: 134 Newton steps instead of 128);
-//! - not one Clarabel answers (`solver: clarabel`): an interior-point solve is not continued
-//!   from the last iterate, and its loose answers are not what its reference role asks;
+//! - not one Clarabel can answer: with `solver: clarabel` each solve is an interior-point
+//!   solve afresh, and a small patch's native stall falls back to Clarabel, which should
+//!   not answer at a loose tolerance; a small patch's iterate costs microseconds anyway;
 //! - not one whose sequential tolerance is infinite (the first iterate is the answer), and
-//!   never the last iterate the iteration limit allows (the caller asks for it exactly).
+//!   never the last iterate the iteration limit allows.
+//!
+//! An inexact sequence that ends without an answer runs again exactly
+//! (`crate::solve::sequential`'s `exactly_again`), so inexact iterates do not change a
+//! failed outcome.
 
-/// The share of the predicted change an inexact iterate's solve may leave as error
-/// (relative, on the scaled program). Measured on the frictional rough pad of `grasp bench`
+/// The factor from an iterate's predicted change (element force units) to the relative
+/// tolerance its solve stops at. Measured on the frictional rough pad of `grasp bench`
 /// (`examples/rough_sphere_on_flat_friction.json` at 256 x 256, cold, seven Tresca iterates,
-/// changes 4e-5 N to 4e-14 N), with [`LOOSEST`] 1e-2: 0.1 leaves the seven iterates as they
-/// were and takes 361 conjugate-gradient iterations in all instead of 525 (2.1-2.3 s instead of
-/// 3.2-3.3 s); with 1e-2 and [`LOOSEST`] 1e-3, 397.
+/// changes 4e-5 N to 4e-14 N), with [`LOOSEST`] 1e-2: 0.1 leaves the seven iterates and their
+/// changes as they were and takes 361 conjugate-gradient iterations in all instead of 525
+/// (2.1-2.5 s instead of 3.2-3.3 s); 1e-2 with [`LOOSEST`] 1e-3, 397.
 pub(crate) const ETA: f64 = 0.1;
 
 /// The loosest tolerance an iterate is solved to (the first of a cold sequence; relative, on
@@ -56,8 +67,12 @@ pub(crate) struct IterateAccuracy {
     current: f64,
     /// False when every solve is exact (module docs).
     inexact: bool,
+    /// The last solve was given the solve's own tolerance.
+    last_exact: bool,
     /// Some solve was given a tolerance looser than the solve's own.
     used_inexact: bool,
+    /// An inexact iterate met the sequential tolerance: every later solve is exact.
+    finished: bool,
 }
 
 impl IterateAccuracy {
@@ -72,17 +87,20 @@ impl IterateAccuracy {
             last: None,
             current: if inexact { full.max(LOOSEST) } else { full },
             inexact,
+            last_exact: true,
             used_inexact: false,
+            finished: false,
         }
     }
 
-    /// The tolerance of the next convex solve; `last_allowed`: it is the last the iteration
-    /// limit allows (then exact).
+    /// The tolerance of the next convex solve, noted as the last solve's; `last_allowed`: it
+    /// is the last the iteration limit allows (then exact).
     pub(crate) fn tolerance(&mut self, last_allowed: bool) -> f64 {
-        if last_allowed {
+        if last_allowed || self.finished {
             self.current = self.full;
         }
-        self.used_inexact |= self.current > self.full;
+        self.last_exact = self.current <= self.full;
+        self.used_inexact |= !self.last_exact;
         self.current
     }
 
@@ -96,9 +114,10 @@ impl IterateAccuracy {
         self.used_inexact
     }
 
-    /// True when the last solve was solved to the solve's own tolerance.
+    /// True when the last solve (the last [`IterateAccuracy::tolerance`] given) was solved
+    /// to the solve's own tolerance.
     pub(crate) fn exact(&self) -> bool {
-        self.current <= self.full
+        self.last_exact
     }
 
     /// Records an iterate's change `change_fu` (element force units, above the sequential
@@ -120,8 +139,11 @@ impl IterateAccuracy {
         };
     }
 
-    /// Asks for the next solve to be exact (an inexact iterate met the sequential tolerance).
-    pub(crate) fn finish(&mut self) {
+    /// Records that an inexact iterate's change `change_fu` (element force units) met the
+    /// sequential tolerance: this and every later solve is exact.
+    pub(crate) fn finish(&mut self, change_fu: f64) {
+        self.last = Some(change_fu);
+        self.finished = true;
         self.current = self.full;
     }
 }
@@ -136,6 +158,7 @@ mod tests {
     fn first_solve() {
         let mut exact = IterateAccuracy::new(1e-10, 1e-7, false);
         assert_eq!(exact.tolerance(false), 1e-10);
+        assert!(exact.exact());
         exact.record(5.2);
         assert_eq!(exact.tolerance(false), 1e-10);
         assert!(!exact.inexact() && !exact.was_inexact());
@@ -146,7 +169,7 @@ mod tests {
         assert_eq!(IterateAccuracy::new(0.5, 1e-7, true).tolerance(false), 0.5);
         // An infinite sequential tolerance accepts the first iterate: nothing is inexact.
         let mut any = IterateAccuracy::new(1e-10, f64::INFINITY, true);
-        assert!(any.exact());
+        assert_eq!(any.tolerance(false), 1e-10);
         any.record(5.2);
         assert_eq!(any.tolerance(false), 1e-10);
     }
@@ -165,12 +188,13 @@ mod tests {
         assert!(!a.exact());
         for c in [4.8e-3, 1.4e-4] {
             a.record(c);
+            assert!(a.tolerance(false) > 1e-10, "{c}");
             assert!(!a.exact(), "{c}");
         }
         // Predicted 4e-6 * 4e-6 / 1.4e-4 = 1.1e-7, within ten times the tolerance: exact.
         a.record(4e-6);
         assert_eq!(a.tolerance(false), 1e-10);
-        assert!(a.was_inexact());
+        assert!(a.exact() && a.was_inexact());
         let mut b = IterateAccuracy::new(1e-10, 1e-7, true);
         assert!(b.inexact());
         b.record(5.2);
@@ -178,14 +202,19 @@ mod tests {
         assert!(b.exact() && !b.was_inexact());
     }
 
-    /// A growing change predicts no contraction; a finished schedule is exact.
+    /// A growing change predicts no contraction; a finished schedule stays exact, whatever
+    /// change follows.
     #[test]
     fn growth_and_finish() {
         let mut a = IterateAccuracy::new(1e-10, 1e-7, true);
         a.record(1e-3);
         a.record(2e-3);
         assert!((a.tolerance(false) - ETA * 2e-3).abs() <= 1e-18);
-        a.finish();
+        assert!(!a.exact());
+        a.finish(5e-8);
+        assert_eq!(a.tolerance(false), 1e-10);
         assert!(a.exact());
+        a.record(1.0);
+        assert_eq!(a.tolerance(false), 1e-10);
     }
 }

@@ -27,6 +27,7 @@ use std::time::Instant;
 use crate::error::ModelError;
 use crate::model::equilibrium::Wrench;
 use crate::model::grasp_model::{Control, GraspModel};
+use crate::model::patch_compliance::MATERIALISED_UNKNOWNS;
 use crate::program::cone_program::ConeProgram;
 use crate::program::cones::finger_cones::ConeLaw;
 use crate::scene::scene_format::ModelKind;
@@ -39,10 +40,11 @@ use crate::solve::solution::{
     SequentialReport, Solution, SolveStatus, SolverStats, LOADED_FRACTION,
 };
 use crate::solver::iterate::Iterate;
+use crate::solver::kept_certificate::KeptCertificate;
 use crate::solver::options::{SolveOptions, SolverChoice};
 use crate::solver::outcome::{Certificate, ConvexOutcome, Start};
 use crate::solver::predictor::{affine_coefficients, combine};
-use crate::solver::program_solver::{ProgramSolver, StartMemory};
+use crate::solver::program_solver::ProgramSolver;
 
 /// Element normal forces per finger (N) from a scaled primal.
 fn normal_forces(model: &GraspModel, x_scaled: &[f64]) -> Vec<Vec<f64>> {
@@ -403,11 +405,7 @@ pub(crate) fn solve_sequential(
         .then(|| warm_forces(model, &commanded, state))
         .flatten();
     seq.report.warm_started = warm.is_some();
-    seq.accuracy = IterateAccuracy::new(
-        options.tolerance,
-        options.sequential_tolerance,
-        warm.is_none() && may_be_inexact(model, options),
-    );
+    let inexact = warm.is_none() && may_be_inexact(model, options);
     let mut start_at: Option<Iterate> = None;
     let mut input = match warm {
         Some(f) => Input::of_forces(f),
@@ -426,20 +424,42 @@ pub(crate) fn solve_sequential(
             loads: model.guess_loads(loads_n),
         },
     };
-    if seq.accuracy.inexact() {
-        seq.first = Some(FirstIterate::of(main, &input, start_at.as_ref()));
-    }
+    begin(&mut seq, main, &input, start_at.as_ref(), inexact);
     let programs = StepPrograms { main, energy };
     iterate(programs, loads_n, state, &mut seq, &mut input, start_at)
 }
 
-/// True when a cold sequence of `model` under `options` may solve its iterates inexactly
-/// ([`IterateAccuracy`]): the native solver answers them and every finger's compliance is the
-/// FFT operator (an iterate costs a tenth of a second or more, not the microseconds of a small
-/// dense patch, whose sequences stay as they were).
+/// True when a cold coulomb sequence of `model` under `options` may solve its iterates
+/// inexactly ([`IterateAccuracy`]): the native solver answers them and every finger's
+/// compliance is an FFT operator too large to write out (an iterate costs a tenth of a second
+/// or more, not the microseconds of a small patch, and no stall can fall back to Clarabel at a
+/// loose tolerance). Every other sequence stays as it was.
 fn may_be_inexact(model: &GraspModel, options: &SolveOptions) -> bool {
-    let matrix_free = model.fingers.iter().all(|f| f.compliance_m_per_n.is_fft());
-    matrix_free && options.solver != SolverChoice::Clarabel
+    let matrix_free = model
+        .fingers
+        .iter()
+        .all(|f| f.compliance_m_per_n.is_fft() && f.n_unknowns() > MATERIALISED_UNKNOWNS);
+    model.kind() == ModelKind::Coulomb && matrix_free && options.solver != SolverChoice::Clarabel
+}
+
+/// Begins a sequence's iteration from `input` and the first solve's start `start`, every
+/// iterate exact or, when `inexact`, its accuracy following the changes; an inexact one
+/// keeps its beginning for [`exactly_again`].
+fn begin(
+    seq: &mut Sequence<'_>,
+    main: &ProgramSolver,
+    input: &Input,
+    start: Option<&Iterate>,
+    inexact: bool,
+) {
+    let o = seq.options;
+    seq.accuracy = IterateAccuracy::new(o.tolerance, o.sequential_tolerance, inexact);
+    seq.first = seq.accuracy.inexact().then(|| FirstIterate {
+        input: input.clone(),
+        start: start.cloned(),
+        kept: main.kept_certificate(),
+        fallback: seq.stats.fallback.clone(),
+    });
 }
 
 /// The damping of the fixed-point iteration: the relaxation `omega` and the last input
@@ -534,8 +554,8 @@ fn iterate(
             Next::Again => {}
             Next::From(it) => start_at = Some(it),
             Next::Done(sol) if !sol.status.has_forces() && seq.accuracy.was_inexact() => {
-                match exactly_again(seq, main, input) {
-                    Some(start) => start_at = start,
+                match seq.first.take() {
+                    Some(first) => start_at = exactly_again(seq, main, input, first),
                     None => return Ok(*sol),
                 }
             }
@@ -544,51 +564,44 @@ fn iterate(
     }
 }
 
-/// Where an inexact sequence began: its first input, the first solve's start and what the
-/// step program's warm starts read then.
+/// Where an inexact sequence began (kept by [`begin`]): two vectors of the unknowns at most.
 struct FirstIterate {
+    /// The first input.
     input: Input,
+    /// The first solve's start (the energy model's solution of a cold start).
     start: Option<Iterate>,
-    memory: StartMemory,
-}
-
-impl FirstIterate {
-    fn of(main: &ProgramSolver, input: &Input, start: Option<&Iterate>) -> Self {
-        FirstIterate {
-            input: input.clone(),
-            start: start.cloned(),
-            memory: main.start_memory(),
-        }
-    }
+    /// The step program's kept certificate then.
+    kept: Option<KeptCertificate>,
+    /// The solve's fallback note then.
+    fallback: Option<String>,
 }
 
 /// An inexact sequence that ended without an answer (no equilibrium, no convergence) runs
-/// again as an exact one would have from its beginning (its first input and start, the warm
-/// starts' memory as it was), so that inexact iterates never change such an outcome (an
-/// oscillating iteration's path depends on every iterate). Returns the start of the first
-/// solve, or `None` when the sequence kept no beginning (it then ends with its outcome). The
-/// counts of the report are the exact run's; the solver work of both runs is counted.
+/// again from its beginning `first` with every iterate exact, so that inexact iterates do not
+/// change such an outcome (an oscillating iteration's path depends on every iterate): the same
+/// first input and start, the step program's warm starts forgotten
+/// ([`ProgramSolver::forget_solutions`]; at a single solve or a hand-off's first step they
+/// had nothing to read either, so the run is the exact iteration's). Returns the first solve's
+/// start. The report is the exact run's; the solver work of both runs is counted.
 fn exactly_again(
     seq: &mut Sequence<'_>,
     main: &mut ProgramSolver,
     input: &mut Input,
-) -> Option<Option<Iterate>> {
-    let FirstIterate {
-        input: first,
-        start,
-        memory,
-    } = seq.first.take()?;
-    main.restore_memory(memory);
-    *input = first;
+    first: FirstIterate,
+) -> Option<Iterate> {
+    main.forget_solutions(first.kept);
+    seq.stats.fallback = first.fallback;
+    *input = first.input;
     seq.report.iterations = 0;
     seq.report.damped_iterations = 0;
+    seq.report.last_change_n = f64::INFINITY;
     seq.relax = Relaxation {
         omega: 1.0,
         last_feasible: None,
     };
     let o = seq.options;
     seq.accuracy = IterateAccuracy::new(o.tolerance, o.sequential_tolerance, false);
-    Some(start)
+    first.start
 }
 
 /// A solved iterate's point: its scaled primal and equality multipliers.
@@ -618,12 +631,12 @@ fn after_solved(
     if change <= seq.report.tolerance_n && seq.accuracy.exact() {
         return Next::Done(Box::new(converged(main, seq, state, x, multipliers, cones)));
     }
+    let change_fu = change / seq.model.scales.element_force_n;
     if change <= seq.report.tolerance_n {
         // An inexact iterate met the tolerance: the next, from its output, is solved exactly.
-        seq.accuracy.finish();
+        seq.accuracy.finish(change_fu);
     } else {
-        seq.accuracy
-            .record(change / seq.model.scales.element_force_n);
+        seq.accuracy.record(change_fu);
     }
     if seq.report.iterations >= seq.options.max_sequential_iterations {
         return Next::Done(Box::new(
@@ -668,14 +681,7 @@ fn after_infeasible(
             Ok((f, it)) => {
                 *input = Input::of_forces(f);
                 seq.report.iterations = 0;
-                seq.accuracy = IterateAccuracy::new(
-                    options.tolerance,
-                    options.sequential_tolerance,
-                    may_be_inexact(model, options),
-                );
-                if seq.accuracy.inexact() {
-                    seq.first = Some(FirstIterate::of(main, input, Some(&it)));
-                }
+                begin(seq, main, input, Some(&it), may_be_inexact(model, options));
                 Next::From(it)
             }
             Err((status, reason)) => Next::Done(Box::new(seq.fail(status, reason))),

@@ -85,7 +85,9 @@ pub struct SolveOptions {
     /// many element force units `Fu` between iterates (dimensionless, in
     /// `SEQUENTIAL_TOLERANCE_RANGE`; `inf` accepts the first iterate).
     pub sequential_tolerance: f64,
-    /// Sequential solve: largest number of convex solves per step (in `ITERATION_RANGE`).
+    /// Sequential solve: largest number of convex solves per run of the fixed-point
+    /// iteration (in `ITERATION_RANGE`); a cold restart, and the exact run that follows an
+    /// inexact one without an answer, count afresh.
     pub max_sequential_iterations: u32,
     /// Sequential solve: smallest relaxation `omega` of the damped fixed-point iteration
     /// before an iterate without solution is reported as the outcome (dimensionless, in

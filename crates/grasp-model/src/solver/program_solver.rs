@@ -55,16 +55,6 @@ pub(crate) struct ProgramSolver {
     kept: Option<KeptCertificate>,
 }
 
-/// What a warm start reads besides the program: the last solution, the trail of the
-/// prediction and the kept certificate. Kept to run a sequence of solves again as it first ran
-/// ([`ProgramSolver::restore_memory`]).
-#[derive(Debug, Clone)]
-pub(crate) struct StartMemory {
-    last: Option<Iterate>,
-    trail: Trail,
-    kept: Option<KeptCertificate>,
-}
-
 impl ProgramSolver {
     pub(crate) fn new(program: ConeProgram) -> Self {
         ProgramSolver {
@@ -84,23 +74,19 @@ impl ProgramSolver {
         self.last.as_ref()
     }
 
-    /// A copy of what the warm starts read now.
-    pub(crate) fn start_memory(&self) -> StartMemory {
-        StartMemory {
-            last: self.last.clone(),
-            trail: self.trail.clone(),
-            kept: self.kept.clone(),
-        }
+    /// A copy of the certificate kept from Clarabel's last proof that a program had no
+    /// solution ([`KeptCertificate`]).
+    pub(crate) fn kept_certificate(&self) -> Option<KeptCertificate> {
+        self.kept.clone()
     }
 
-    /// Makes the warm starts read `memory` (taken by [`ProgramSolver::start_memory`]) again,
-    /// and the native solver's kept factors go (made afresh on the next solve): its next
-    /// solves run as they did after `memory` was taken from a fresh solver.
-    pub(crate) fn restore_memory(&mut self, memory: StartMemory) {
-        self.last = memory.last;
-        self.trail = memory.trail;
-        self.kept = memory.kept;
-        self.native = None;
+    /// Forgets the solutions the warm starts read (the last one and the prediction's trail)
+    /// and keeps `kept` as the kept certificate: the next solves run as a fresh solver's with
+    /// that certificate (a sequence run again from its beginning).
+    pub(crate) fn forget_solutions(&mut self, kept: Option<KeptCertificate>) {
+        self.last = None;
+        self.trail = Trail::default();
+        self.kept = kept;
     }
 
     /// The native solver's workspace (created if no native solve ran yet), with the program.
