@@ -171,6 +171,14 @@ impl FingerModel {
         self.patch.len() * (1 + self.n_tangential)
     }
 
+    /// True when this finger's compliance is an FFT operator too large to write out as a
+    /// matrix (more than `MATERIALISED_UNKNOWNS`, 3,072, unknowns):
+    /// Clarabel, the interior-point fallback and the sensitivities cannot take it.
+    pub fn is_matrix_free(&self) -> bool {
+        self.compliance_m_per_n.is_fft()
+            && self.n_unknowns() > crate::model::patch_compliance::MATERIALISED_UNKNOWNS
+    }
+
     /// Unit direction (world) of component `c` (0 normal, 1 `t1`, 2 `t2`).
     pub fn direction(&self, c: usize) -> Vector3<f64> {
         match c {

@@ -449,10 +449,7 @@ fn spring_cost_change(
 /// Refuses a finger on the FFT compliance too large for the derivative's dense system, with
 /// the way out: a dense compliance where it fits, a coarser grid where it does not.
 fn refuse_fine_fft(model: &GraspModel) -> Result<(), ModelError> {
-    let Some(f) = model.fingers.iter().find(|f| {
-        f.compliance_m_per_n.is_fft()
-            && f.n_unknowns() > crate::model::patch_compliance::MATERIALISED_UNKNOWNS
-    }) else {
+    let Some(f) = model.fingers.iter().find(|f| f.is_matrix_free()) else {
         return Ok(());
     };
     // The derivative's system is dense in the free directions (n_free^2 entries).

@@ -26,8 +26,7 @@ use std::time::Instant;
 
 use crate::error::ModelError;
 use crate::model::equilibrium::Wrench;
-use crate::model::grasp_model::{Control, GraspModel};
-use crate::model::patch_compliance::MATERIALISED_UNKNOWNS;
+use crate::model::grasp_model::{Control, FingerModel, GraspModel};
 use crate::program::cone_program::ConeProgram;
 use crate::program::cones::finger_cones::ConeLaw;
 use crate::scene::scene_format::ModelKind;
@@ -435,10 +434,7 @@ pub(crate) fn solve_sequential(
 /// or more, not the microseconds of a small patch, and no stall can fall back to Clarabel at a
 /// loose tolerance). Every other sequence stays as it was.
 fn may_be_inexact(model: &GraspModel, options: &SolveOptions) -> bool {
-    let matrix_free = model
-        .fingers
-        .iter()
-        .all(|f| f.compliance_m_per_n.is_fft() && f.n_unknowns() > MATERIALISED_UNKNOWNS);
+    let matrix_free = model.fingers.iter().all(FingerModel::is_matrix_free);
     model.kind() == ModelKind::Coulomb && matrix_free && options.solver != SolverChoice::Clarabel
 }
 

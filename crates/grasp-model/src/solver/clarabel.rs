@@ -27,8 +27,7 @@ use crate::program::cones::finger_cones::ConeLaw;
 use crate::solver::outcome::{Certificate, ConvexOutcome};
 
 use crate::error::ModelError;
-use crate::model::grasp_model::GraspModel;
-use crate::model::patch_compliance::MATERIALISED_UNKNOWNS;
+use crate::model::grasp_model::{FingerModel, GraspModel};
 use crate::option_names;
 
 /// Where a finger's conic rows are in Clarabel's form.
@@ -329,10 +328,7 @@ impl ClarabelWorkspace {
         ClarabelWorkspace {
             form: ClarabelForm::assemble(model, program, RADIUS_FLOOR),
             solver: None,
-            matrix_free: model
-                .fingers
-                .iter()
-                .any(|f| f.compliance_m_per_n.is_fft() && f.n_unknowns() > MATERIALISED_UNKNOWNS),
+            matrix_free: model.fingers.iter().any(FingerModel::is_matrix_free),
         }
     }
 
