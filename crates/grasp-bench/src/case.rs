@@ -396,12 +396,14 @@ pub const LAYER_CASES: [Case; 11] = [
 /// Rough and ridged contact on fine patches (`examples/rough_sphere_on_flat.json`: a 10 mm
 /// silicone pad, E 2 MPa, under 0.5 N, a random surface of rms 20 um; the same pad ridged,
 /// `examples/ridged_sphere_on_flat.json`; the rough pad with friction, mu 0.5, and a
-/// tangential 0.1 N under the coulomb model), model build and one solve; and the smooth Hertz
-/// sphere at 2048 x 2048, the largest patch. Targets (the rough-contact work's, on the 2-core
-/// machine): rough 1024 x 1024 within 5 s, smooth 2048 x 2048 within 15 s; the peer beside
-/// the 256 x 256 rough and ridged cases (at least 10x its time for the rough one), the
-/// frictional case at most 2x the frictionless one ([`LAYER_PAIRS`]).
-pub const ROUGH_CASES: [Case; 5] = [
+/// tangential 0.1 N under the coulomb model, and its smooth twin,
+/// `examples/smooth_sphere_on_flat_friction.json`), model build and one solve; and the smooth
+/// Hertz sphere at 2048 x 2048, the largest patch. Targets (the rough-contact work's, on the
+/// 2-core machine): rough 1024 x 1024 within 5 s, smooth 2048 x 2048 within 15 s; the peer
+/// beside the 256 x 256 rough and ridged cases (at least 10x its time for the rough one), the
+/// frictional rough case at most 2x the frictionless one and at most 1.5x its smooth twin
+/// (the bound of the ridged pad pinch against its smooth pads) ([`LAYER_PAIRS`]).
+pub const ROUGH_CASES: [Case; 6] = [
     case(
         "rough_256x256_fft",
         OneShot,
@@ -427,6 +429,14 @@ pub const ROUGH_CASES: [Case; 5] = [
         false,
     ),
     case(
+        "smooth_friction_256x256_fft",
+        OneShot,
+        "smooth_sphere_on_flat_friction",
+        Some([256, 256]),
+        None,
+        false,
+    ),
+    case(
         "rough_1024x1024_fft",
         OneShot,
         "rough_sphere_on_flat",
@@ -446,7 +456,7 @@ pub const ROUGH_CASES: [Case; 5] = [
 
 /// The (layered, viscoelastic or textured; plain) case pairs whose time ratio is bounded, with
 /// the bound.
-pub const LAYER_PAIRS: [(&str, &str, f64); 6] = [
+pub const LAYER_PAIRS: [(&str, &str, f64); 7] = [
     ("pad_pinch_64x64_fft", "pad_pinch_halfspace_64x64_fft", 1.5),
     (
         "pad_pinch_18x18_dense",
@@ -457,6 +467,11 @@ pub const LAYER_PAIRS: [(&str, &str, f64); 6] = [
     ("ridged_pad_256x256_fft", "smooth_pad_256x256_fft", 1.5),
     ("taxel_handoff_64x64_fft", "plain_handoff_64x64_fft", 1.3),
     ("rough_friction_256x256_fft", "rough_256x256_fft", 2.0),
+    (
+        "rough_friction_256x256_fft",
+        "smooth_friction_256x256_fft",
+        1.5,
+    ),
 ];
 
 /// Margins of a held grasp, which no load capacity bounds (the viscoelastic plate hold: two
@@ -559,6 +574,7 @@ pub fn bundled(stem: &str) -> Option<(&'static str, Option<&'static str>)> {
         "ridged_gel" => (example!("ridged_gel.json"), None),
         "rough_sphere_on_flat" => (example!("rough_sphere_on_flat.json"), None),
         "rough_sphere_on_flat_friction" => (example!("rough_sphere_on_flat_friction.json"), None),
+        "smooth_sphere_on_flat_friction" => (example!("smooth_sphere_on_flat_friction.json"), None),
         "ridged_sphere_on_flat" => (example!("ridged_sphere_on_flat.json"), None),
         _ => return None,
     })

@@ -21,11 +21,11 @@ use crate::error::ModelError;
 use crate::model::grasp_model::GraspModel;
 use crate::option_names;
 use crate::program::cone_program::ConeProgram;
-use crate::solver::grid_continuation::CoarseLevel;
+use crate::solver::grid_continuation::{CoarseLevel, CONTINUED_FORCING};
 use crate::solver::iterate::Iterate;
 use crate::solver::kept_certificate::KeptCertificate;
 use crate::solver::native::native_result::{Counts, NativeResult, NativeStatus};
-use crate::solver::native::newton::semismooth_newton::Limits;
+use crate::solver::native::newton::semismooth_newton::{Limits, FORCING_MAX};
 use crate::solver::native::NativeSolver;
 use crate::solver::options::{SolveOptions, SolverChoice};
 use crate::solver::solve_progress::SolveProgress;
@@ -179,6 +179,7 @@ impl ProgramSolver {
         let limits = Limits {
             tolerance: options.tolerance,
             max_iterations: options.max_iterations.min(MAX_NEWTON_ITERATIONS),
+            forcing: FORCING_MAX,
             progress: self.progress.as_deref(),
         };
         let predicted = match start {
@@ -240,7 +241,8 @@ fn fft_stall(why: &str) -> ConvexOutcome {
 }
 
 /// A native solve of `program` without a start: from the coarser grids' answer where the model
-/// has them ([`CoarseLevel`], made on the first call and kept in `coarse`), else cold; and cold
+/// has them ([`CoarseLevel`], made on the first call and kept in `coarse`; the settling Newton
+/// systems then solved to [`CONTINUED_FORCING`]), else cold; and cold
 /// again when the solve from the coarse grids' answer does not converge, so that they never
 /// lose a solve a cold start finds. All the work is counted.
 fn solve_cold(
@@ -260,7 +262,11 @@ fn solve_cold(
         result.add(counts);
         return result;
     };
-    let mut result = native.solve(program, &[&guess], limits);
+    let continued = Limits {
+        forcing: CONTINUED_FORCING,
+        ..limits
+    };
+    let mut result = native.solve(program, &[&guess], continued);
     if result.status != NativeStatus::Converged {
         counts.add(result.counts());
         result = native.solve(program, &[], limits);

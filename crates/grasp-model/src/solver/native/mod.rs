@@ -116,4 +116,19 @@ impl NativeSolver {
         self.blocks.iter().for_each(FingerBlockData::release_work);
         result
     }
+
+    /// At most `limits.max_iterations` Newton steps on `program` from `start`, kept where they
+    /// end whether or not they converge (no interior-point method after a stall); `None` when
+    /// `start` is not an iterate of `program`.
+    pub(crate) fn steps(
+        &mut self,
+        program: &ConeProgram,
+        start: &Iterate,
+        limits: Limits,
+    ) -> Option<NativeResult> {
+        let result =
+            semismooth_newton::steps(&self.blocks, &mut self.caches, program, start, limits);
+        self.blocks.iter().for_each(FingerBlockData::release_work);
+        result
+    }
 }

@@ -15,7 +15,7 @@ use crate::solver::native::NativeSolver;
 
 use super::linearisation::{cold_pattern, linearise};
 use super::reduced_factor::{key_of, ReducedFactor};
-use super::semismooth_newton::{dual_of, Limits};
+use super::semismooth_newton::{dual_of, Limits, FORCING_MAX};
 
 /// Element spacing `h`, m (the pad is `2h x h` with a 2 x 1 grid).
 const H_M: f64 = 1e-3;
@@ -70,6 +70,7 @@ fn one_newton_step_solves_a_statically_determinate_pad() {
         let limits = Limits {
             tolerance: 1e-12,
             max_iterations: 10,
+            forcing: FORCING_MAX,
             progress: None,
         };
         let result = native.solve(&program, &[], limits);
@@ -103,6 +104,7 @@ fn linearisation_classifies_free_and_fixed_directions() {
     let limits = Limits {
         tolerance: 1e-12,
         max_iterations: 10,
+        forcing: FORCING_MAX,
         progress: None,
     };
     let solved = native.solve(&program, &[], limits).iterate;
@@ -174,6 +176,7 @@ fn reduced_factor_reproduces_the_block_and_the_equality_rows() {
 const LIMITS: Limits = Limits {
     tolerance: 1e-12,
     max_iterations: 10,
+    forcing: FORCING_MAX,
     progress: None,
 };
 
@@ -284,6 +287,7 @@ fn a_rough_pad_slips_on_its_lighter_element_and_sticks_on_the_other() {
     let limits = Limits {
         tolerance: 1e-12,
         max_iterations: 30,
+        forcing: FORCING_MAX,
         progress: None,
     };
     let result = native.solve(&program, &[], limits);

@@ -45,11 +45,12 @@ const TARGET: f64 = 1e-2;
 const CG_SHARE: f64 = 1e-4;
 /// The largest relative accuracy a projected CG run of a Newton step stops at (inexact
 /// Newton, Dembo, Eisenstat and Steihaug, SIAM J. Numer. Anal. 19, 1982): a step solves its
-/// system to `eta = min(FORCING_MAX, rho)` of its right-hand side, `rho` the natural residual
-/// relative to the forces, so the steps far from the solution (whose contact sets still
+/// system to `eta = min(forcing, rho)` of its right-hand side (`forcing` this value unless the
+/// solve's [`Limits`] say otherwise: a grid continuation's levels and the fine grid started
+/// from them), `rho` the natural residual relative to the forces, so the steps far from the solution (whose contact sets still
 /// change) take a few iterations and the last ones, where `rho` is small, converge as the
 /// exact steps do (superlinearly: `eta` falls with the residual). The cold start's all-stick
-/// step, a first guess only, stops at `FORCING_MAX` too.
+/// step, a first guess only, stops at `forcing` too.
 ///
 /// Measured on the frictionless Hertz patch of 1024 x 1024 elements: exact steps (1e-12) take
 /// 4 Newton steps and 68 iterations; 1e-4, 5 and 36; 1e-2, 7 and 37 (each Newton step also
@@ -72,6 +73,10 @@ pub(crate) struct Limits<'p> {
     pub tolerance: f64,
     /// Newton iterations (the cold start's all-stick step included).
     pub max_iterations: u32,
+    /// The loosest relative accuracy of a Newton step's iterative solve while the contact
+    /// pattern settles ([`FORCING_MAX`] from a cold or warm start; looser on a grid
+    /// continuation's coarse levels and on the fine grid started from them).
+    pub forcing: f64,
     /// Told the counts once per Newton step, when given.
     pub progress: Option<&'p SolveProgress>,
 }
@@ -240,6 +245,22 @@ pub(crate) fn run(
     Newton::new(blocks, program, caches, limits, Counts::default()).iterate(start, true)
 }
 
+/// At most `limits.max_iterations` Newton steps from `start`, without the interior-point
+/// method after a stall: the result's iterate is where the steps ended, converged or not (a
+/// grid continuation's nested step, `crate::solver::grid_continuation`).
+pub(crate) fn steps(
+    blocks: &[FingerBlockData],
+    caches: &mut [FactorCache],
+    program: &ConeProgram,
+    start: &Iterate,
+    limits: Limits,
+) -> Option<NativeResult> {
+    let start = state_of(blocks, program, start)?;
+    Some(
+        Newton::new(blocks, program, caches, limits, Counts::default()).iterate(Some(start), false),
+    )
+}
+
 /// The iteration's state at `it` (`None` for another layout).
 fn state_of(blocks: &[FingerBlockData], program: &ConeProgram, it: &Iterate) -> Option<State> {
     let fits = it.x.len() == program.n_unknowns && it.lambda.len() == program.equality_rows();
@@ -391,7 +412,7 @@ impl<'a, 'p> Newton<'a, 'p> {
         self.counts.newton_steps += 1;
         let aim = StepAim {
             natural_tolerance: 0.0,
-            relative: FORCING_MAX,
+            relative: self.limits.forcing,
         };
         match self.step_of(&lins, &e_res, aim) {
             Some(step) => {
@@ -407,7 +428,7 @@ impl<'a, 'p> Newton<'a, 'p> {
 
     /// Damped Newton steps from `s` until the convergence test holds or the descent stalls,
     /// at the latest when `limits.max_iterations` (at most [`JOINT_ITERATIONS`]) steps have
-    /// been taken since the run began. A step is inexact ([`FORCING_MAX`]) while the contact
+    /// been taken since the run began. A step is inexact (`limits.forcing`) while the contact
     /// pattern settles (the first step, and whenever the free directions' elements changed
     /// since the last), from any start: a cold one, a coarser grid's answer
     /// (`crate::solver::grid_continuation`), the last solution of another program (a hand-off
@@ -464,7 +485,7 @@ impl<'a, 'p> Newton<'a, 'p> {
             };
             let relative = match settling {
                 true => (res_max / max_abs(&s.x[..program.finger_unknowns()]).max(1.0))
-                    .clamp(CG_TOLERANCE, FORCING_MAX),
+                    .clamp(CG_TOLERANCE, limits.forcing.max(CG_TOLERANCE)),
                 false => CG_TOLERANCE,
             };
             let aim = StepAim {
