@@ -46,6 +46,7 @@ use crate::model::equilibrium::{MotionPlane, RowReduction, Wrench};
 use crate::model::grasp_model::GraspModel;
 use crate::model::spring_loads::for_each_unit_load;
 use crate::program::cones::finger_cones::{ConeLaw, FingerCones};
+use crate::scene::scene_format::ModelKind;
 
 /// Largest floor on the Tresca radii Clarabel is given, in element force units `Fu` (the
 /// floor is this or Clarabel's tolerance, whichever is smaller). A disc of radius 0
@@ -136,6 +137,19 @@ pub struct ConeProgram {
 }
 
 impl ConeProgram {
+    /// The program of `model` with the scene's prescribed loads and the cones of its contact
+    /// law (the associated friction cone for the energy model, Tresca sets for coulomb), the
+    /// friction coefficients at the loads' first guess ([`GraspModel::guess_loads`]).
+    pub(crate) fn with_scene_loads(model: &GraspModel) -> ConeProgram {
+        let loads = model.scene_loads_n();
+        let law = match model.kind() {
+            ModelKind::Energy => ConeLaw::Associated,
+            ModelKind::Coulomb => ConeLaw::Tresca,
+        };
+        let mu = model.mu_at(&model.guess_loads(&loads));
+        ConeProgram::assemble(model, &loads, law, &mu)
+    }
+
     /// Assembles the program for `model` with prescribed loads `loads_n` (one per
     /// force-controlled finger, N; checked by the caller), cones of kind `law` and, for the
     /// associated law, friction coefficients `mu` (one per finger). Tresca radii start at 0.

@@ -12,7 +12,6 @@ use crate::model::grasp_model::GraspModel;
 use crate::model::patch_compliance::CompliancePath;
 use crate::model::spring_loads::add_hand_poses;
 use crate::program::cone_program::ConeProgram;
-use crate::program::cones::finger_cones::ConeLaw;
 use crate::scene::scene_format::ModelKind;
 use crate::solve::contact_state::ContactState;
 use crate::solve::convex_solve::solve_once;
@@ -54,24 +53,13 @@ struct TimeStepModel {
     model: Arc<GraspModel>,
 }
 
-/// The program of `model` with the scene's prescribed loads, the cones of its contact law.
-fn program_of(model: &GraspModel) -> ConeProgram {
-    let loads = model.scene_loads_n();
-    let law = match model.kind() {
-        ModelKind::Energy => ConeLaw::Associated,
-        ModelKind::Coulomb => ConeLaw::Tresca,
-    };
-    let mu = model.mu_at(&model.guess_loads(&loads));
-    ConeProgram::assemble(model, &loads, law, &mu)
-}
-
 impl GraspSolver {
     /// Assembles the program of `model` with the scene's prescribed loads; the solver keeps
     /// the model (pass an `Arc` to share it, or the model itself to hand it over).
     pub fn new(model: impl Into<Arc<GraspModel>>, options: SolveOptions) -> Self {
         let model: Arc<GraspModel> = model.into();
         let clock = Instant::now();
-        let program = program_of(&model);
+        let program = ConeProgram::with_scene_loads(&model);
         GraspSolver {
             model,
             stepped: None,
@@ -101,7 +89,7 @@ impl GraspSolver {
             }),
             None => None,
         };
-        self.main = ProgramSolver::new(program_of(self.step_model()));
+        self.main = ProgramSolver::new(ConeProgram::with_scene_loads(self.step_model()));
         self.energy = None;
         self.pending_assembly_s += clock.elapsed().as_secs_f64();
         Ok(())

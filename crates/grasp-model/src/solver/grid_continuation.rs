@@ -172,7 +172,6 @@ fn solved(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::program::cones::finger_cones::ConeLaw;
     use crate::scene::scene_format::Scene;
     use crate::solver::native::newton::semismooth_newton::FORCING_MAX;
 
@@ -181,12 +180,6 @@ mod tests {
         let text = text.replace("[64, 64]", &format!("[{side}, {side}]"));
         let scene = Scene::from_json_str(&text).expect("a valid scene");
         GraspModel::from_scene(&scene).expect("a usable model")
-    }
-
-    fn program_of(model: &GraspModel) -> ConeProgram {
-        let loads = model.scene_loads_n();
-        let mu = model.mu_at(&model.guess_loads(&loads));
-        ConeProgram::assemble(model, &loads, ConeLaw::Associated, &mu)
     }
 
     const LIMITS: Limits = Limits {
@@ -215,7 +208,7 @@ mod tests {
         ];
         for (k, text) in scenes.into_iter().enumerate() {
             let model = model_of(text, 128);
-            let program = program_of(&model);
+            let program = ConeProgram::with_scene_loads(&model);
             let mut level = CoarseLevel::new(&model, &program).expect("two coarse levels");
             assert!(
                 level.below.is_some(),

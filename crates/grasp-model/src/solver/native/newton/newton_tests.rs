@@ -7,7 +7,6 @@
 
 use crate::model::grasp_model::GraspModel;
 use crate::program::cone_program::ConeProgram;
-use crate::program::cones::finger_cones::ConeLaw;
 use crate::scene::scene_format::Scene;
 use crate::solver::iterate::Iterate;
 use crate::solver::native::native_result::NativeStatus;
@@ -44,12 +43,6 @@ fn pad(com_x_m: f64) -> GraspModel {
     GraspModel::from_scene(&scene).expect("a usable model")
 }
 
-fn program_of(model: &GraspModel) -> ConeProgram {
-    let loads = model.scene_loads_n();
-    let mu = model.mu_at(&model.guess_loads(&loads));
-    ConeProgram::assemble(model, &loads, ConeLaw::Associated, &mu)
-}
-
 /// The statics answer `(F_left, F_right)`, N.
 fn statics(com_x_m: f64) -> [f64; 2] {
     let r = WEIGHT_N * (0.5 + com_x_m / H_M);
@@ -65,7 +58,7 @@ fn statics(com_x_m: f64) -> [f64; 2] {
 fn one_newton_step_solves_a_statically_determinate_pad() {
     for c in [0.0, 2e-4, -3e-4] {
         let model = pad(c);
-        let program = program_of(&model);
+        let program = ConeProgram::with_scene_loads(&model);
         let mut native = NativeSolver::new(&model, &program);
         let limits = Limits {
             tolerance: 1e-12,
@@ -99,7 +92,7 @@ fn one_newton_step_solves_a_statically_determinate_pad() {
 #[test]
 fn linearisation_classifies_free_and_fixed_directions() {
     let model = pad(2e-4);
-    let program = program_of(&model);
+    let program = ConeProgram::with_scene_loads(&model);
     let mut native = NativeSolver::new(&model, &program);
     let limits = Limits {
         tolerance: 1e-12,
@@ -130,7 +123,7 @@ fn linearisation_classifies_free_and_fixed_directions() {
 #[test]
 fn reduced_factor_reproduces_the_block_and_the_equality_rows() {
     let model = pad(0.0);
-    let program = program_of(&model);
+    let program = ConeProgram::with_scene_loads(&model);
     let native = NativeSolver::new(&model, &program);
     let block = &native.blocks()[0];
     let lin = cold_pattern(block, &[0.0, 0.0], &[true, true]);
@@ -183,7 +176,7 @@ const LIMITS: Limits = Limits {
 /// The pad with its centre of mass at `x = -1e-4` m, its program and a native solver.
 fn pad_and_solver() -> (GraspModel, ConeProgram, NativeSolver) {
     let model = pad(-1e-4);
-    let program = program_of(&model);
+    let program = ConeProgram::with_scene_loads(&model);
     let native = NativeSolver::new(&model, &program);
     (model, program, native)
 }
@@ -282,7 +275,7 @@ fn rough_pad(com_x_m: f64, tilt: f64) -> GraspModel {
 fn a_rough_pad_slips_on_its_lighter_element_and_sticks_on_the_other() {
     let (c, tilt) = (0.3 * H_M, 0.1);
     let model = rough_pad(c, tilt);
-    let program = program_of(&model);
+    let program = ConeProgram::with_scene_loads(&model);
     let mut native = NativeSolver::new(&model, &program);
     let limits = Limits {
         tolerance: 1e-12,
